@@ -1,0 +1,130 @@
+"""Export of a cam contour for manufacturing: DXF (ezdxf), CSV or SVG, within a chord tolerance.
+
+The curve is given either as a callable ``u -> (2, m)`` mm on u in [0, 1] (closed: u = 0 and u = 1 are the same
+point), e.g. :meth:`camdyn.geometry.GeometryResult.contour_fn`, which evaluates the exact contour; or as a dense
+closed sample ``(2, n)`` mm (first point not repeated), which is taken to be the periodic cubic spline through
+the samples (chord-length parametrised), so its points must be dense enough for that spline to be the curve.
+The curve is then resampled adaptively: an interval is halved until the curve deviates from its chord by at
+most ``tolerance`` mm, so the written polyline is within the tolerance of the curve everywhere.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Callable
+
+import numpy as np
+
+from .errors import InputError, NumericalError
+
+FORMATS = (".dxf", ".csv", ".svg")
+_PROBES = 15  # interior samples per interval for its chord deviation; odd, so the midpoint is one
+_START = 64  # initial equal intervals in u
+_MAX_POINTS = 200_000
+
+
+def _spline(xy: np.ndarray) -> Callable[[np.ndarray], np.ndarray]:
+    """The closed periodic cubic spline through a dense sample (2, n), as u in [0, 1] -> (2, m)."""
+    from scipy.interpolate import CubicSpline
+
+    closed = np.concatenate([xy, xy[:, :1]], axis=1)
+    chord = np.hypot(*np.diff(closed, axis=1))
+    if np.any(chord == 0.0):
+        raise InputError("contour", "repeated consecutive points: give each point once, without closing the loop")
+    knots = np.concatenate([[0.0], np.cumsum(chord)])
+    sp = CubicSpline(knots / knots[-1], closed, axis=1, bc_type="periodic")
+    return lambda u: sp(np.mod(u, 1.0))
+
+
+def _chord_deviation(a: np.ndarray, b: np.ndarray, pts: np.ndarray) -> np.ndarray:
+    """Largest distance of pts (k, m, 2) from the segments a-b (k, 2), per segment."""
+    d = b - a
+    L2 = np.maximum(np.sum(d * d, axis=-1), 1e-300)[:, None]
+    w = np.clip(np.sum((pts - a[:, None]) * d[:, None], axis=-1) / L2, 0.0, 1.0)
+    return np.max(np.linalg.norm(pts - (a[:, None] + w[..., None] * d[:, None]), axis=-1), axis=1)
+
+
+def resample(curve: Callable[[np.ndarray], np.ndarray], tolerance: float) -> np.ndarray:
+    """Vertices (2, k) of a closed polyline within ``tolerance`` mm of the closed curve u -> (2, m)."""
+    u = np.linspace(0.0, 1.0, _START + 1)
+    frac = np.arange(1, _PROBES + 1) / (_PROBES + 1)
+    while True:
+        ends = np.asarray(curve(u)).T  # (k+1, 2)
+        probe_u = u[:-1, None] + np.diff(u)[:, None] * frac
+        probes = np.asarray(curve(probe_u.ravel())).T.reshape(len(u) - 1, _PROBES, 2)
+        bad = _chord_deviation(ends[:-1], ends[1:], probes) > tolerance
+        if not bad.any():
+            return ends[:-1].T
+        if len(u) > _MAX_POINTS:
+            raise NumericalError("contour", f"more than {_MAX_POINTS} points needed for a {tolerance:g} mm tolerance")
+        u = np.sort(np.concatenate([u, 0.5 * (u[:-1] + u[1:])[bad]]))
+
+
+def _write_dxf(xy: np.ndarray, path: Path) -> None:
+    import ezdxf
+    from ezdxf import units
+
+    doc = ezdxf.new("R2010")
+    doc.units = units.MM
+    doc.modelspace().add_lwpolyline(xy.T.tolist(), format="xy", close=True, dxfattribs={"layer": "CAM"})
+    doc.saveas(path)
+
+
+def _write_csv(xy: np.ndarray, path: Path) -> None:
+    np.savetxt(path, xy.T, delimiter=",", header="x_mm,y_mm", comments="", fmt="%.6f")
+
+
+def _write_svg(xy: np.ndarray, path: Path) -> None:
+    lo, hi = xy.min(axis=1), xy.max(axis=1)
+    pad = 0.05 * float(np.max(hi - lo))
+    x0, y0, w, h = lo[0] - pad, -hi[1] - pad, hi[0] - lo[0] + 2 * pad, hi[1] - lo[1] + 2 * pad
+    pts = " ".join(f"{x:.4f},{-y:.4f}" for x, y in xy.T)  # SVG's y axis points down
+    stroke = 0.004 * max(w, h)
+    path.write_text(
+        f'<svg xmlns="http://www.w3.org/2000/svg" width="{w:.3f}mm" height="{h:.3f}mm" '
+        f'viewBox="{x0:.4f} {y0:.4f} {w:.4f} {h:.4f}">\n'
+        f'  <polygon points="{pts}" fill="none" stroke="black" stroke-width="{stroke:.4f}"/>\n'
+        f'  <circle cx="0" cy="0" r="{2 * stroke:.4f}" fill="black"/>\n</svg>\n'
+    )
+
+
+_WRITERS = {".dxf": _write_dxf, ".csv": _write_csv, ".svg": _write_svg}
+
+
+def write_profile(contour_xy, path, *, tolerance: float = 0.01, force: bool = False) -> dict:
+    """Write a closed cam contour (mm, cam frame) to ``path``; the format follows the suffix.
+
+    ``contour_xy``: a dense closed sample (2, n) or a callable u -> (2, m) on u in [0, 1] (see the module
+    docstring). ``tolerance``: the largest chord deviation, mm. Refuses to overwrite an existing file unless
+    ``force``. Returns ``{path, format, points, tolerance_mm, x_min_mm, x_max_mm, y_min_mm, y_max_mm}``.
+    """
+    path = Path(path)
+    suffix = path.suffix.lower()
+    if suffix not in _WRITERS:
+        raise InputError(str(path), f"unknown format {suffix or '(no suffix)'!r}: use one of {', '.join(FORMATS)}")
+    if not tolerance > 0.0:
+        raise InputError("--tolerance", f"must be positive, got {tolerance:g} mm")
+    if path.exists() and not force:
+        raise InputError(str(path), "exists; pass --force to overwrite it")
+    if callable(contour_xy):
+        curve = contour_xy
+    else:
+        xy = np.asarray(contour_xy, dtype=float)
+        if xy.ndim != 2 or xy.shape[0] != 2 or xy.shape[1] < 4:
+            raise InputError("contour", f"expected a (2, n >= 4) array of x, y in mm, got shape {xy.shape}")
+        if not np.all(np.isfinite(xy)):
+            raise InputError("contour", "the contour has non-finite points")
+        curve = _spline(xy)
+    pts = resample(curve, tolerance)
+    _WRITERS[suffix](pts, path)
+    lo, hi = pts.min(axis=1), pts.max(axis=1)
+    return {
+        "path": str(path),
+        "format": suffix[1:],
+        "points": int(pts.shape[1]),
+        "tolerance_mm": tolerance,
+        "x_min_mm": float(lo[0]),
+        "x_max_mm": float(hi[0]),
+        "y_min_mm": float(lo[1]),
+        "y_max_mm": float(hi[1]),
+    }

@@ -1,0 +1,152 @@
+"""The command line: verdicts, exit codes, the JSON and CSV contracts, and one-line errors for bad input."""
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from camdyn.cli import main
+
+ROOT = Path(__file__).resolve().parents[1]
+LECTURE = ROOT / "cases" / "lecture.toml"
+
+
+def run(capsys, *argv):
+    code = main([str(a) for a in argv])
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+@pytest.fixture(scope="module")
+def lecture_json():
+    import io
+    from contextlib import redirect_stdout
+
+    buf = io.StringIO()
+    with redirect_stdout(buf):
+        code = main(["check", str(LECTURE), "--json"])
+    return code, json.loads(buf.getvalue())
+
+
+def test_check_lecture_passes_with_contract_keys(lecture_json):
+    code, doc = lecture_json
+    assert code == 0 and doc["verdict"] == "pass" and doc["case"] == "lecture" and doc["speed_rpm"] == 300
+    assert {c["name"] for c in doc["checks"]} >= {"contact_force", "speed_margin"}
+    for c in doc["checks"]:
+        assert set(c) >= {"name", "value", "limit", "unit", "ok"}
+    assert set(doc["kinematic"]) >= {"min_contact_force_N", "min_contact_force_deg", "jump_speed_rpm"}
+    dyn = doc["dynamic"]
+    assert dyn["model"] == "compliant" and dyn["separations"] == []
+    assert set(dyn) >= {"min_contact_force_N", "min_contact_force_deg", "jump_speed_rpm", "separations", "residual_vibration_mm"}
+    # a compliant train jumps a little below the rigid (kinematic) jump speed
+    assert 0.9 * doc["kinematic"]["jump_speed_rpm"] < dyn["jump_speed_rpm"] < doc["kinematic"]["jump_speed_rpm"]
+    assert any("240 deg" in w for w in doc["warnings"])
+
+
+def test_check_fast_case_fails_with_separation(capsys):
+    code, out, _ = run(capsys, "check", ROOT / "cases" / "lecture-fast.toml", "--json")
+    doc = json.loads(out)
+    assert code == 1 and doc["verdict"] == "fail"
+    seps = doc["dynamic"]["separations"]
+    assert seps and all(set(s) >= {"start_deg", "end_deg", "max_gap_mm", "impact_speed_m_s"} for s in seps)
+    assert max(s["max_gap_mm"] for s in seps) > 0.1
+
+
+def test_check_speed_override_and_text_output(capsys):
+    code, out, _ = run(capsys, "check", LECTURE, "--speed", "200")
+    assert code == 0 and "contact_force" in out and "PASS" in out
+
+
+def test_table_columns_and_values(capsys, tmp_path):
+    code, out, _ = run(capsys, "table", LECTURE, "--step", "10")
+    assert code == 0
+    lines = out.strip().splitlines()
+    assert lines[0] == "theta_deg,s_mm,v_mm_per_rad,a_mm_per_rad2,j_mm_per_rad3,contact_force_N" or lines[0].startswith(
+        "theta_deg,s_mm,v_mm_per_rad,a_mm_per_rad2,j_mm_per_rad3,contact_force_N")
+    data = np.loadtxt(lines[1:], delimiter=",")
+    assert data.shape[0] == 36
+    row = data[data[:, 0] == 120][0]
+    assert row[1] == pytest.approx(3.910, abs=1e-3)  # lecture table: f(120) = 0.391 cm
+    # kinematic force at a dwell: k s + F0 = 2 N/mm * 20 mm + 30 N
+    assert data[data[:, 0] == 200][0][5] == pytest.approx(70.0, abs=1e-9)
+    target = tmp_path / "t.csv"
+    assert run(capsys, "table", LECTURE, "-o", target)[0] == 0
+    code, _, err = run(capsys, "table", LECTURE, "-o", target)
+    assert code == 2 and "--force" in err
+    assert run(capsys, "table", LECTURE, "-o", target, "--force")[0] == 0
+
+
+BAD = [
+    ("[motion\nsegments = [", "TOML"),
+    ('[dynamics]\nspeed = 300\nmas = 0.5\n', "did you mean 'mass'"),
+    ('[dynamics]\nspeed = -300\n', "dynamics.speed"),
+    ('[dynamics]\nspeed = "fast"\n', "dynamics.speed"),
+    ('[dynamics]\nspeed = nan\n', "dynamics.speed"),
+    ('[dynamics]\nspeed = 300\nmass = 0\n', "dynamics.mass"),
+]
+
+LECTURE_TEXT = LECTURE.read_text()
+
+
+@pytest.mark.parametrize("text, expected", BAD)
+def test_bad_input_one_line_exit_2(capsys, tmp_path, text, expected):
+    case = tmp_path / "bad.toml"
+    if text.startswith("[dynamics]"):
+        head = LECTURE_TEXT.split("[dynamics]")[0]
+        text = head + text
+    case.write_text(text)
+    code, out, err = run(capsys, "check", case)
+    assert code == 2 and out == ""
+    assert len(err.strip().splitlines()) == 1 and str(case) in err and expected in err and "Traceback" not in err
+
+
+@pytest.mark.parametrize(
+    "replace, expected",
+    [
+        (('{ law = "dwell",     end = 240 }', '{ law = "dwell",     end = 170 }'), "motion.segments[2].end"),
+        (("preload = 30", "preload = -10"), "dynamics.preload"),
+        (('end = 360, lift = -20', 'end = 350, lift = -20'), "not 360"),
+        (("damping_ratio = 0.05\ntrain", "damping_ratio = 0.05\ndamping = 3\ntrain"), "not both"),
+        (("spring_rate = 2.0", "spring_rate = 2.0\ntorsion_rate = 3"), "dynamics.torsion_rate"),
+    ],
+)
+def test_bad_case_values(capsys, tmp_path, replace, expected):
+    case = tmp_path / "bad.toml"
+    assert replace[0] in LECTURE_TEXT
+    case.write_text(LECTURE_TEXT.replace(*replace))
+    code, _, err = run(capsys, "check", case)
+    assert code == 2 and expected in err and len(err.strip().splitlines()) == 1
+
+
+def test_missing_file_and_bad_speed(capsys):
+    code, _, err = run(capsys, "check", "nope.toml")
+    assert code == 2 and "nope.toml" in err
+    code, _, err = run(capsys, "check", LECTURE, "--speed", "-5")
+    assert code == 2 and "--speed" in err
+
+
+def test_console_script_fresh_process():
+    proc = subprocess.run([sys.executable, "-m", "camdyn.cli", "check", str(LECTURE)], capture_output=True, text=True, timeout=300)
+    assert proc.returncode == 0, proc.stderr
+    assert "verdict: PASS" in proc.stdout
+
+
+def test_profile_writes_dxf_and_refuses_overwrite(capsys, tmp_path):
+    import ezdxf
+
+    target = tmp_path / "cam.dxf"
+    code, out, _ = run(capsys, "profile", LECTURE, "-o", target)
+    assert code == 0 and target.exists() and "points" in out
+    doc = ezdxf.readfile(target)
+    poly = list(doc.modelspace().query("LWPOLYLINE"))[0]
+    pts = np.array([p[:2] for p in poly.get_points()])
+    radius = np.hypot(pts[:, 0], pts[:, 1])
+    assert radius.min() == pytest.approx(40.0, abs=0.02)  # the base circle
+    # in the top dwell the roller centre is at (e, sqrt(Rp^2 - e^2) + h): the contour is Rr inside that radius
+    top = np.hypot(5.0, np.sqrt(50.0**2 - 5.0**2) + 20.0) - 10.0
+    assert radius.max() == pytest.approx(top, abs=0.01)
+    code, _, err = run(capsys, "profile", LECTURE, "-o", target)
+    assert code == 2 and "--force" in err

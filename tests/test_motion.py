@@ -1,0 +1,139 @@
+"""Motion laws and programs: closed forms against autodiff, published coefficients, the lecture's table."""
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+import pytest
+
+from camdyn import InputError, LAWS, Program, law
+
+X = jnp.linspace(0.0, 1.0, 2001)
+
+
+@pytest.mark.parametrize("name", LAWS)
+def test_law_derivatives_match_autodiff(name):
+    vals = np.asarray(law(name, X))
+    y = lambda x: law(name, x)[0]  # noqa: E731
+    d1 = jax.vmap(jax.grad(y))
+    d2 = jax.vmap(jax.grad(jax.grad(y)))
+    d3 = jax.vmap(jax.grad(jax.grad(jax.grad(y))))
+    xi = X[1:-1]  # piece boundaries are measure-zero; autodiff picks one side there, as the closed form does
+    for k, d in ((1, d1), (2, d2), (3, d3)):
+        np.testing.assert_allclose(np.asarray(d(xi)), vals[k, 1:-1], rtol=1e-9, atol=1e-8, err_msg=f"{name} order {k}")
+
+
+@pytest.mark.parametrize("name", [n for n in LAWS if n != "dwell"])
+def test_law_boundary_values(name):
+    y0, y1 = np.asarray(law(name, 0.0)), np.asarray(law(name, 1.0))
+    assert y0[0] == pytest.approx(0.0, abs=1e-14) and y1[0] == pytest.approx(1.0, abs=1e-12)
+    expected_v = 1.0 if name == "constant-velocity" else 0.0
+    assert y0[1] == pytest.approx(expected_v, abs=1e-12) and y1[1] == pytest.approx(expected_v, abs=1e-12)
+
+
+# Peak velocity, acceleration and jerk coefficients of the normalized rise (Norton, Design of Machinery, table 8-3)
+NORTON = {
+    "harmonic": (1.5708, 4.9348, None),
+    "cycloidal": (2.0, 6.2832, 39.478),
+    "polynomial-345": (1.8750, 5.7735, 60.0),
+    "polynomial-4567": (2.1875, 7.5132, 52.5),
+    "modified-trapezoid": (2.0, 4.8881, 61.426),
+    "modified-sine": (1.7596, 5.5280, 69.466),
+    "constant-acceleration": (2.0, 4.0, None),
+}
+
+
+@pytest.mark.parametrize("name", NORTON)
+def test_peak_coefficients(name):
+    vals = np.abs(np.asarray(law(name, jnp.linspace(0, 1, 200001))))
+    cv, ca, cj = NORTON[name]
+    assert vals[1].max() == pytest.approx(cv, rel=2e-4)
+    assert vals[2].max() == pytest.approx(ca, rel=2e-4)
+    if cj is not None:
+        assert vals[3].max() == pytest.approx(cj, rel=2e-4)
+
+
+def test_closed_forms():
+    x = np.linspace(0, 1, 101)
+    np.testing.assert_allclose(np.asarray(law("cycloidal", x)[0]), x - np.sin(2 * np.pi * x) / (2 * np.pi), atol=1e-14)
+    np.testing.assert_allclose(np.asarray(law("harmonic", x)[0]), (1 - np.cos(np.pi * x)) / 2, atol=1e-14)
+    np.testing.assert_allclose(np.asarray(law("polynomial-345", x)[0]), 10 * x**3 - 15 * x**4 + 6 * x**5, atol=1e-14)
+    np.testing.assert_allclose(np.asarray(law("polynomial-4567", x)[0]), 35 * x**4 - 84 * x**5 + 70 * x**6 - 20 * x**7, atol=1e-13)
+
+
+LECTURE = [
+    {"law": "dwell", "end": 90},
+    {"law": "cycloidal", "end": 180, "lift": 20},
+    {"law": "dwell", "end": 240},
+    {"law": "harmonic", "end": 360, "lift": -20},
+]
+
+# The lecture's table (cm): angle, f, f', f''. Misread digits in the OCR are corrected here and listed:
+# 110 deg f'' printed 5.018 (is 5.016), 250 deg f printed 1.968 (is 1.966), 320 deg f' printed -1.289 (is -1.299),
+# 150 deg f'' printed "- 441" (lost digits: -4.411), 180 deg f printed 2.0G0.
+LECTURE_TABLE = [
+    (100, 0.018, 0.298, 3.274), (110, 0.131, 1.052, 5.016), (120, 0.391, 1.910, 4.411), (130, 0.780, 2.470, 1.742),
+    (140, 1.220, 2.470, -1.742), (150, 1.609, 1.910, -4.411), (160, 1.869, 1.052, -5.016), (170, 1.982, 0.298, -3.274),
+    (180, 2.000, 0.000, 0.000), (250, 1.966, -0.388, -2.173), (260, 1.866, -0.750, -1.949), (270, 1.707, -1.061, -1.591),
+    (280, 1.500, -1.299, -1.125), (290, 1.259, -1.449, -0.582), (300, 1.000, -1.500, 0.000), (310, 0.741, -1.449, 0.582),
+    (320, 0.500, -1.299, 1.125), (330, 0.293, -1.061, 1.591), (340, 0.134, -0.750, 1.949), (350, 0.034, -0.388, 2.173),
+]
+
+
+def test_lecture_table():
+    prog = Program.from_segments(LECTURE)
+    table = np.array(LECTURE_TABLE)
+    vals = np.asarray(prog(np.deg2rad(table[:, 0]))) / 10.0  # mm -> cm
+    np.testing.assert_allclose(vals[:3].T, table[:, 1:], atol=5.1e-4)  # the table's 3 decimals
+
+
+def test_lecture_program_warnings_name_angle_and_jump():
+    warnings = Program.from_segments(LECTURE).continuity_warnings()
+    assert len(warnings) == 2
+    assert "240 deg" in warnings[0] and "-22.5 mm/rad^2" in warnings[0]  # -(h/2)(pi/beta)^2 = -10 (1.5)^2
+    assert "0 deg" in warnings[1]
+
+
+def test_smooth_program_has_no_warnings():
+    prog = Program.from_segments([{"law": "dwell", "end": 60}, {"law": "cycloidal", "end": 180, "lift": 10},
+                                  {"law": "dwell", "end": 200}, {"law": "polynomial-345", "end": 360, "lift": -10}])
+    assert prog.continuity_warnings() == []
+
+
+def test_velocity_jump_is_reported():
+    prog = Program.from_segments([{"law": "constant-velocity", "end": 180, "lift": 10}, {"law": "constant-velocity", "end": 360, "lift": -10}])
+    w = prog.continuity_warnings()
+    assert any("velocity jumps" in s and "180 deg" in s for s in w)
+
+
+def test_program_periodic_and_jittable():
+    prog = Program.from_segments(LECTURE)
+    th = jnp.linspace(-1.0, 7.0, 50)
+    np.testing.assert_allclose(np.asarray(jax.jit(lambda p, t: p(t))(prog, th)), np.asarray(prog(th + 2 * np.pi)), atol=1e-12)
+    np.testing.assert_allclose(np.asarray(prog._eval(np, np.asarray(th))), np.asarray(prog(th)), atol=1e-12)
+
+
+def test_program_derivatives_match_finite_differences():
+    prog = Program.from_segments(LECTURE)
+    th = np.deg2rad(np.array([100.0, 135.0, 170.0, 250.0, 300.0, 355.0]))
+    h = 1e-5
+    v = np.asarray(prog(th))
+    for k in range(3):
+        fd = (np.asarray(prog(th + h))[k] - np.asarray(prog(th - h))[k]) / (2 * h)
+        np.testing.assert_allclose(fd, v[k + 1], rtol=1e-6, atol=1e-6)
+
+
+@pytest.mark.parametrize(
+    "segments, where, text",
+    [
+        ([{"law": "cycloidl", "end": 360, "lift": 0}], "law", "did you mean 'cycloidal'"),
+        ([{"law": "dwell", "end": 90}, {"law": "dwell", "end": 80}], "[1].end", "overlaps"),
+        ([{"law": "dwell", "end": 300}], "[0].end", "not 360"),
+        ([{"law": "harmonic", "end": 180, "lift": 5}, {"law": "harmonic", "end": 360, "lift": -4}], "motion.segments", "does not close"),
+        ([{"law": "harmonic", "end": 180, "lift": -5}, {"law": "harmonic", "end": 360, "lift": 5}], "[0].lift", "below zero"),
+        ([{"law": "dwell", "end": 180, "lift": 3}, {"law": "dwell", "end": 360}], "[0].lift", "cannot lift"),
+    ],
+)
+def test_program_errors(segments, where, text):
+    with pytest.raises(InputError) as err:
+        Program.from_segments(segments)
+    assert where in err.value.where and text in err.value.message
