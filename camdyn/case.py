@@ -25,7 +25,8 @@ _STRICT = ConfigDict(extra="forbid", allow_inf_nan=False, frozen=True)
 
 
 class SegmentSpec(BaseModel):
-    """One motion segment: ``law`` up to ``end`` (deg), rising by ``lift`` (mm; negative for a return)."""
+    """One motion segment: ``law`` up to ``end`` (deg), rising by ``lift`` (mm; deg of arm swing for an
+    oscillating follower; negative for a return)."""
 
     model_config = _STRICT
     law: str
@@ -189,8 +190,6 @@ def case_from_dict(raw: dict, source: Path | None = None) -> Case:
         if spec.follower is None:
             raise InputError("follower", "the [follower] table is required with [motion]")
         motion = Program.from_segments([s.model_dump() for s in spec.motion.segments], unit="rad" if spec.follower.type.startswith("oscillating") else "mm")
-        if spec.follower.type.startswith("oscillating"):
-            raise InputError("follower.type", "motion programs for oscillating followers are not supported yet: use a translating follower or a [path] case")
         follower = spec.follower
         warnings += motion.continuity_warnings()
     elif spec.path is not None or spec.mechanism is not None:

@@ -70,6 +70,22 @@ def _finite_or_none(x: float) -> float | None:
     return None if x is None or not math.isfinite(x) else float(x)
 
 
+def _forces_in_newton(case, resp):
+    """An oscillating follower's torques (N*m) as contact forces (N) through the lever arm of the normal."""
+    import dataclasses
+
+    import numpy as np
+
+    from .errors import NumericalError
+    from .geometry import lever_arm_mm
+
+    arm_m = np.asarray(lever_arm_mm(case.motion, case.follower, np.deg2rad(resp.theta_deg))) / 1000.0
+    if np.any(arm_m <= 1e-9):
+        at = float(resp.theta_deg[int(np.argmin(arm_m))])
+        raise NumericalError(f"follower at {at:.1f} deg", "the contact normal passes through the arm pivot: no lever arm to carry the load")
+    return dataclasses.replace(resp, force=resp.force / arm_m, kinematic_force=resp.kinematic_force / arm_m)
+
+
 def run_check(case, speed_rpm: float | None = None) -> CheckReport:
     """Kinematic and dynamic interface force, jump speeds, separations and the verdict at ``speed_rpm``."""
     import jax.numpy as jnp
@@ -91,8 +107,10 @@ def run_check(case, speed_rpm: float | None = None) -> CheckReport:
         # the frequency-domain steady state is exact without separation: an independent check of the solve
         f_lin = float(dyn.linear_min_force(motion, model, jnp.asarray([omega]))[0])
         if abs(f_lin - resp.min_force) > 5e-3 * max(1.0, float(abs(resp.force).max())):
-            warnings.append(f"time-domain and frequency-domain steady states disagree: least force {resp.min_force:.4g} N vs {f_lin:.4g} N")
+            warnings.append(f"time-domain and frequency-domain steady states disagree: least force {resp.min_force:.4g} vs {f_lin:.4g} {'N*m' if case.oscillating else 'N'}")
     warnings += list(resp.warnings)
+    if case.oscillating:
+        resp = _forces_in_newton(case, resp)
 
     kin_force = resp.kinematic_force
     i_kin = int(kin_force.argmin())

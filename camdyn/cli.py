@@ -100,6 +100,10 @@ def motion_table(case, step_deg: float = 1.0) -> dict:
         cols |= {"phi_deg": np.degrees(vals[0]), "phi1_per_rad": vals[1], "phi2_per_rad2": vals[2], "phi3_per_rad3": vals[3]}
     else:
         cols |= {"s_mm": vals[0], "v_mm_per_rad": vals[1], "a_mm_per_rad2": vals[2], "j_mm_per_rad3": vals[3]}
+    if case.oscillating:
+        from .geometry import lever_arm_mm
+
+        force = force / (np.asarray(lever_arm_mm(case.motion, case.follower, np.asarray(theta))) / 1000.0)
     cols["contact_force_N"] = force
     if case.follower is not None:
         from .geometry import analyze

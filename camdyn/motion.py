@@ -210,7 +210,7 @@ class Program(Motion):
 
     @classmethod
     def from_segments(cls, segments: list[dict], key: str = "motion.segments", unit: str = "mm") -> Program:
-        """Validate ``[{law, end, lift}, ...]`` (deg, mm) and build the program.
+        """Validate ``[{law, end, lift}, ...]`` (deg; lift in mm, or in deg of arm swing when unit is "rad").
 
         Raises :class:`InputError` naming the segment for an unknown law, a non-increasing end, a program
         that does not end at 360 degrees, does not close (net lift 0) or dips below zero lift.
@@ -219,9 +219,11 @@ class Program(Motion):
             raise InputError(key, "at least one segment is required")
         segs: list[Segment] = []
         start, base = 0.0, 0.0
+        lu = "mm" if unit == "mm" else "deg"
+        to_unit = 1.0 if unit == "mm" else math.pi / 180.0
         for i, raw in enumerate(segments):
             where = f"{key}[{i}]"
-            name, end, lift = raw["law"], float(raw["end"]), float(raw.get("lift", 0.0))
+            name, end, lift = raw["law"], float(raw["end"]), float(raw.get("lift", 0.0))  # lift in lu
             if name not in _LAW_TABLES:
                 from difflib import get_close_matches
 
@@ -237,19 +239,19 @@ class Program(Motion):
             if end > 360.0 + 1e-9:
                 raise InputError(f"{where}.end", f"segment ends at {end:g} deg, past 360 deg")
             if name == "dwell" and lift != 0.0:
-                raise InputError(f"{where}.lift", f"a dwell cannot lift (got lift = {lift:g} mm)")
+                raise InputError(f"{where}.lift", f"a dwell cannot lift (got lift = {lift:g} {lu})")
             if name != "dwell" and lift == 0.0:
-                raise InputError(f"{where}.lift", f"a {name} segment needs a non-zero lift, mm")
-            segs.append(Segment(name, start, end, lift, base))
+                raise InputError(f"{where}.lift", f"a {name} segment needs a non-zero lift, {lu}")
+            segs.append(Segment(name, start, end, lift * to_unit, base * to_unit))
             if base + lift < -1e-9:
                 raise InputError(
-                    f"{where}.lift", f"the follower goes below zero lift at {end:g} deg (lift {base + lift:g} mm)"
+                    f"{where}.lift", f"the follower goes below zero lift at {end:g} deg (lift {base + lift:g} {lu})"
                 )
             start, base = end, base + lift
         if abs(start - 360.0) > 1e-9:
             raise InputError(f"{key}[{len(segs) - 1}].end", f"the last segment ends at {start:g} deg, not 360")
         if abs(base) > 1e-9:
-            raise InputError(key, f"the program does not close: net lift is {base:g} mm, must be 0")
+            raise InputError(key, f"the program does not close: net lift is {base:g} {lu}, must be 0")
         return cls._from_checked(tuple(segs), unit)
 
     @classmethod

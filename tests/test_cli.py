@@ -150,3 +150,30 @@ def test_profile_writes_dxf_and_refuses_overwrite(capsys, tmp_path):
     assert radius.max() == pytest.approx(top, abs=0.01)
     code, _, err = run(capsys, "profile", LECTURE, "-o", target)
     assert code == 2 and "--force" in err
+
+
+def test_oscillating_case_forces_in_newton(capsys):
+    import jax.numpy as jnp
+
+    from camdyn.case import load_case
+    from camdyn.geometry import lever_arm_mm
+
+    case_path = ROOT / "cases" / "oscillating.toml"
+    code, out, _ = run(capsys, "table", case_path, "--step", "30")
+    assert code == 0
+    header = out.splitlines()[0].split(",")
+    assert header[:6] == ["theta_deg", "phi_deg", "phi1_per_rad", "phi2_per_rad2", "phi3_per_rad3", "contact_force_N"]
+    data = np.loadtxt(out.splitlines()[1:], delimiter=",")
+    case = load_case(case_path)
+    d = case.spec.dynamics
+    w = d.speed * 2 * np.pi / 60
+    th = np.deg2rad(data[:, 0])
+    phi, phi1, phi2, _ = np.asarray(case.motion(jnp.asarray(th)))
+    c = 2 * d.damping_ratio * np.sqrt(d.torsion_rate * d.inertia)
+    torque = d.inertia * w**2 * phi2 + c * w * phi1 + d.torsion_rate * phi + d.preload_torque
+    force = torque / (np.asarray(lever_arm_mm(case.motion, case.follower, th)) / 1000.0)
+    np.testing.assert_allclose(data[:, 5], force, rtol=1e-9)
+    np.testing.assert_allclose(data[:, 1], np.degrees(phi), atol=1e-9)
+    code, out, _ = run(capsys, "check", case_path, "--json")
+    doc = json.loads(out)
+    assert code == 0 and doc["dynamic"]["min_contact_force_N"] > 10.0 and "residual_vibration_rad" in doc["dynamic"]
