@@ -1,0 +1,526 @@
+"""Follower dynamics against closed forms and independent integrators.
+
+Two motion structures are used, so that every jitted diffrax solve compiles at most twice:
+
+* the eccentric cam (two harmonic segments, s = e (1 - cos theta)): closed-form kinematic jump speed, and the
+  stiff-train limit (its acceleration is continuous, so the compliant force can converge to the kinematic one);
+* the lecture cam (cases/lecture.toml): everything else, with its motion re-derived here in numpy (cycloidal
+  rise 20 mm over 90-180 deg, harmonic return over 240-360 deg) so the references share no code with camdyn.
+
+Units: the motion in mm and mm/rad, the model in SI (N/m, N*s/m), like camdyn.
+"""
+
+from __future__ import annotations
+
+import math
+
+import jax.numpy as jnp
+import numpy as np
+import pytest
+from scipy.integrate import solve_ivp
+from scipy.optimize import brentq
+
+import camdyn  # noqa: F401  (float64)
+from camdyn import dynamics as dyn
+from camdyn.case import case_from_dict
+from camdyn.motion import Program
+
+RPM = 2 * math.pi / 60
+N = 4096  # one grid for every compliant_response / linear_min_force call (one compile per structure)
+
+LECTURE = {
+    "name": "lecture",
+    "motion": {
+        "segments": [
+            {"law": "dwell", "end": 90},
+            {"law": "cycloidal", "end": 180, "lift": 20},
+            {"law": "dwell", "end": 240},
+            {"law": "harmonic", "end": 360, "lift": -20},
+        ]
+    },
+    "follower": {"type": "translating-roller", "base_radius": 40, "roller_radius": 10, "offset": 5, "rotation": "cw"},
+    "dynamics": {
+        "speed": 300,
+        "mass": 0.5,
+        "spring_rate": 2.0,
+        "preload": 30,
+        "damping_ratio": 0.05,
+        "train_stiffness": 1000,
+        "train_damping_ratio": 0.05,
+        "restitution": 0.0,
+        "external_force": 0,
+    },
+}
+BREAKS = (0.0, 0.5 * math.pi, math.pi, 4 * math.pi / 3, 2 * math.pi)  # lecture segment boundaries, rad
+
+
+def model_of(m, k, f0, c, fext=0.0, kf=math.inf, cf=0.0, e=0.0):
+    """FollowerModel from SI numbers (k, kf in N/m)."""
+    return dyn.FollowerModel(*(jnp.asarray(float(v)) for v in (m, k, f0, c, fext, kf, cf, e)), scale=1e-3)
+
+
+def with_(model, **kw):
+    """A copy of ``model`` with some SI fields replaced (same pytree structure: no recompilation)."""
+    fields = dict(mass=model.mass, stiffness=model.stiffness, preload=model.preload, damping=model.damping, external=model.external,
+                  train_stiffness=model.train_stiffness, train_damping=model.train_damping, restitution=model.restitution)
+    fields.update({k: jnp.asarray(float(v)) for k, v in kw.items()})
+    return dyn.FollowerModel(**fields, scale=model.scale)
+
+
+def params(model):
+    names = ("mass", "stiffness", "preload", "damping", "external", "train_stiffness", "train_damping", "restitution")
+    return {n: float(getattr(model, n)) for n in names}
+
+
+# ------------------------------------------------------------------ independent lecture motion (numpy)
+def lecture_motion(theta):
+    """(s, s', s'') of the lecture cam in mm and per rad, written from the textbook laws."""
+    th = np.mod(np.asarray(theta, float), 2 * math.pi)
+    s, s1, s2 = np.zeros_like(th), np.zeros_like(th), np.zeros_like(th)
+    rise = (th >= BREAKS[1]) & (th < BREAKS[2])
+    b = BREAKS[2] - BREAKS[1]
+    x = (th[rise] - BREAKS[1]) / b  # cycloidal: s = h (x - sin(2 pi x) / (2 pi))
+    s[rise] = 20 * (x - np.sin(2 * math.pi * x) / (2 * math.pi))
+    s1[rise] = 20 / b * (1 - np.cos(2 * math.pi * x))
+    s2[rise] = 20 / b**2 * 2 * math.pi * np.sin(2 * math.pi * x)
+    dwell = (th >= BREAKS[2]) & (th < BREAKS[3])
+    s[dwell] = 20.0
+    ret = th >= BREAKS[3]
+    b = BREAKS[4] - BREAKS[3]
+    x = (th[ret] - BREAKS[3]) / b  # harmonic return: s = 20 - 10 (1 - cos(pi x))
+    s[ret] = 20 - 10 * (1 - np.cos(math.pi * x))
+    s1[ret] = -10 * math.pi / b * np.sin(math.pi * x)
+    s2[ret] = -10 * (math.pi / b) ** 2 * np.cos(math.pi * x)
+    return s, s1, s2
+
+
+def lecture_s_s1(th):
+    """Scalar (s, s') of the lecture cam for the scipy right-hand sides (math, not numpy: speed)."""
+    th = th % (2 * math.pi)
+    if th < BREAKS[1]:
+        return 0.0, 0.0
+    if th < BREAKS[2]:
+        b = BREAKS[2] - BREAKS[1]
+        x = (th - BREAKS[1]) / b
+        return 20 * (x - math.sin(2 * math.pi * x) / (2 * math.pi)), 20 / b * (1 - math.cos(2 * math.pi * x))
+    if th < BREAKS[3]:
+        return 20.0, 0.0
+    b = BREAKS[4] - BREAKS[3]
+    x = (th - BREAKS[3]) / b
+    return 20 - 10 * (1 - math.cos(math.pi * x)), -10 * math.pi / b * math.sin(math.pi * x)
+
+
+def kin_force_np(model, omega, theta):
+    """Fi = m w^2 s'' + c w s' + k s + F0 + F_ext with s in m (eq. 7 of the CCM paper), N."""
+    p = params(model)
+    s, s1, s2 = (v * 1e-3 for v in lecture_motion(theta))
+    return p["mass"] * omega**2 * s2 + p["damping"] * omega * s1 + p["stiffness"] * s + p["preload"] + p["external"]
+
+
+# --------------------------------------------------- independent compliant model in time, SI (scipy)
+def scipy_revolutions(model, omega, z0, revs=1, n=N, rtol=1e-11, atol=1e-12):
+    """Integrate the compliant follower with solve_ivp (DOP853) in time, SI state (x m, v m/s).
+
+    ``m x'' = Fi - (k x + F0) - c x' - F_ext``, ``Fi = max(0, k_f (s - x) + c_f (w s' - x'))`` while s > x.
+    Restarted at every segment boundary (where s'' jumps). ``z0`` is (x mm, dx/dtheta mm/rad) at theta = 0;
+    returns x (mm) and dx/dtheta (mm/rad) on the grid of every revolution, shape (revs, n), and the end state.
+    """
+    p = params(model)
+    m, k, f0, c, fe, kf, cf = (p[n_] for n_ in ("mass", "stiffness", "preload", "damping", "external", "train_stiffness", "train_damping"))
+
+    def rhs(t, y):
+        x, v = y
+        s, s1 = lecture_s_s1(omega * t)
+        s, sdot = s * 1e-3, s1 * 1e-3 * omega
+        fi = max(0.0, kf * (s - x) + cf * (sdot - v)) if s > x else 0.0
+        return [v, (fi - (k * x + f0) - c * v - fe) / m]
+
+    theta = np.arange(n) * (2 * math.pi / n)
+    y = np.array([z0[0] * 1e-3, z0[1] * 1e-3 * omega])
+    xs, ps = np.empty((revs, n)), np.empty((revs, n))
+    for r in range(revs):
+        for a, b in zip(BREAKS[:-1], BREAKS[1:]):
+            sel = (theta >= a) & (theta < b)
+            t_a, t_b = (a + 2 * math.pi * r) / omega, (b + 2 * math.pi * r) / omega
+            sol = solve_ivp(rhs, (t_a, t_b), y, method="DOP853", rtol=rtol, atol=atol, dense_output=True)
+            assert sol.success, sol.message
+            yy = sol.sol((theta[sel] + 2 * math.pi * r) / omega)
+            xs[r, sel], ps[r, sel] = yy[0] * 1e3, yy[1] * 1e3 / omega
+            y = sol.y[:, -1]
+    return xs, ps, np.array([y[0] * 1e3, y[1] * 1e3 / omega])
+
+
+def contact_force_np(model, omega, theta, x, p):
+    """Interface force of the compliant model from (x mm, dx/dtheta mm/rad), N."""
+    q = params(model)
+    s, s1, _ = lecture_motion(theta)
+    f = q["train_stiffness"] * 1e-3 * (s - x) + q["train_damping"] * omega * 1e-3 * (s1 - p)
+    return np.where(s > x, np.maximum(0.0, f), 0.0)
+
+
+# -------------------------------------------------------------------------------------- fixtures
+@pytest.fixture(scope="module")
+def lecture():
+    case = case_from_dict(LECTURE)
+    return case.motion, case.model
+
+
+@pytest.fixture(scope="module")
+def lecture_300(lecture):
+    """diffrax periodic steady state of the lecture case at 300 rpm (compiles the shooting once)."""
+    motion, model = lecture
+    return dyn.compliant_response(motion, model, 300 * RPM, n=N)
+
+
+@pytest.fixture(scope="module")
+def scipy_300(lecture, lecture_300):
+    """solve_ivp over one revolution from camdyn's periodic initial state."""
+    _, model = lecture
+    r = lecture_300
+    return scipy_revolutions(model, 300 * RPM, (r.x[0], r.dx[0]))
+
+
+E_MM = 10.0
+
+
+def eccentric(e):
+    return Program.from_segments([{"law": "harmonic", "end": 180, "lift": 2 * e}, {"law": "harmonic", "end": 360, "lift": -2 * e}])
+
+
+# ================================================================================== 1. kinematic
+def test_lecture_model_from_case(lecture):
+    """The case loader's SI conversion (N/mm -> N/m, damping ratios -> c) that every test below relies on."""
+    _, model = lecture
+    p = params(model)
+    assert p["stiffness"] == 2000.0 and p["train_stiffness"] == 1e6 and p["preload"] == 30.0
+    assert p["damping"] == pytest.approx(2 * 0.05 * math.sqrt(2000 * 0.5), rel=1e-14)
+    assert p["train_damping"] == pytest.approx(2 * 0.05 * math.sqrt(1e6 * 0.5), rel=1e-14)
+
+
+@pytest.mark.parametrize("m, k, f0", [(0.5, 2000.0, 30.0), (1.2, 15000.0, 5.0), (0.2, 500.0, 80.0)])
+def test_kinematic_jump_speed_eccentric_closed_form(m, k, f0):
+    # s = e (1 - cos t), s'' = e cos t, c = 0:
+    #   Fi = m w^2 e cos t + k e (1 - cos t) + F0 = (m e w^2 - k e) cos t + k e + F0.
+    # If m e w^2 > k e the least value is at t = 180 deg: Fi_min = 2 k e + F0 - m e w^2, which is 0 at
+    #   w_jump^2 = (2 k e + F0) / (m e).   (If m e w^2 <= k e, Fi >= F0 > 0 everywhere: no jump.)
+    e_mm = E_MM  # one motion structure for all (the segments, lift included, are static: new lift = recompile)
+    e = e_mm * 1e-3
+    w_ref = math.sqrt((2 * k * e + f0) / (m * e))
+    assert m * e * w_ref**2 > k * e  # the closed form's own condition holds at its root
+    w, at = dyn.kinematic_jump_speed(eccentric(e_mm), model_of(m, k, f0, 0.0))
+    assert w == pytest.approx(w_ref, rel=1e-6)
+    assert at == pytest.approx(180.0, abs=1e-3)
+
+
+def test_kinematic_jump_speed_eccentric_damped():
+    # With damping, Fi = A cos t + B sin t + k e + F0, A = (m w^2 - k) e, B = c w e, so
+    #   min Fi = k e + F0 - e sqrt((m w^2 - k)^2 + c^2 w^2)  at  t = pi + atan2(B, A).
+    # min Fi = 0 is a quadratic in u = w^2: m^2 u^2 + (c^2 - 2 m k) u + k^2 - ((k e + F0) / e)^2 = 0.
+    e_mm, m, k, f0, c = E_MM, 0.5, 2000.0, 30.0, 40.0
+    e = e_mm * 1e-3
+    motion, model = eccentric(e_mm), model_of(m, k, f0, c)
+    a2, a1, a0 = m**2, c**2 - 2 * m * k, k**2 - ((k * e + f0) / e) ** 2
+    u = (-a1 + math.sqrt(a1 * a1 - 4 * a2 * a0)) / (2 * a2)
+    w_ref = math.sqrt(u)
+    at_ref = math.degrees(math.pi + math.atan2(c * w_ref * e, (m * w_ref**2 - k) * e))
+    w, at = dyn.kinematic_jump_speed(motion, model)
+    assert w == pytest.approx(w_ref, rel=1e-6)
+    assert at == pytest.approx(at_ref, abs=1e-3)
+    assert 180.0 < at < 270.0  # damping moves the minimum into the return, where c w s' < 0
+
+    # brute force: least Fi over a fine angle grid, for speeds on a 0.01 rad/s grid around the answer
+    theta = jnp.asarray(np.arange(7200) * (2 * math.pi / 7200))
+    speeds = np.arange(w_ref - 0.303, w_ref + 0.3, 0.01)  # off the answer (here w_ref = 100 rad/s exactly)
+    fmin = np.array([float(jnp.min(dyn._kinematic_force_jit(motion, model, jnp.asarray(ws), theta))) for ws in speeds])
+    first = speeds[np.nonzero(fmin <= 0.0)[0][0]]
+    assert fmin[0] > 0.0
+    assert first - 0.01 < w < first
+    # and the undamped closed form is not the answer here (damping matters by far more than the tolerance)
+    assert abs(w - math.sqrt((2 * k * e + f0) / (m * e))) > 0.1
+
+
+def test_kinematic_jump_speed_none():
+    """No acceleration, no jump: a pure dwell has Fi = k s + F0 > 0 at every speed."""
+    w, at = dyn.kinematic_jump_speed(Program.from_segments([{"law": "dwell", "end": 360}]), model_of(0.5, 2000.0, 30.0, 10.0))
+    assert math.isinf(w) and math.isnan(at)
+
+
+def test_kinematic_force_by_hand(lecture):
+    motion, model = lecture
+    model = with_(model, external=7.5, damping=55.0)  # make the c and F_ext terms matter
+    omega = 437 * RPM
+    theta = np.arange(N) * (2 * math.pi / N) + 1e-4
+    got = np.asarray(dyn._kinematic_force_jit(motion, model, jnp.asarray(omega, dtype=float), jnp.asarray(theta)))
+    ref = kin_force_np(model, omega, theta)
+    assert np.max(np.abs(got - ref)) < 1e-9 * np.max(np.abs(ref))
+    # each term is really there: the damping and external terms are each far above the tolerance
+    s1 = lecture_motion(theta)[1]
+    assert np.max(np.abs(55.0 * omega * s1 * 1e-3)) > 1e6 * 1e-9 * np.max(np.abs(ref))
+
+
+# ============================================================================ 2. compliant model
+def test_stiff_train_tends_to_kinematic_force():
+    """Eccentric cam (continuous acceleration) at 900 rpm: the compliant force converges to the kinematic one as
+    1/k_f, with the first-order correction Fi_dyn ~ Fi_kin - (m w^2 Fi'' + c w Fi' + k Fi) / k_f
+    (from x = s - Fi/k_f + O(c_f w / k_f^2) substituted into the follower's equation of motion)."""
+    e_mm, m, k, f0, zeta = E_MM, 0.5, 2000.0, 30.0, 0.05
+    c = 2 * zeta * math.sqrt(k * m)
+    motion = eccentric(e_mm)
+    omega = 900 * RPM
+    theta = np.arange(N) * (2 * math.pi / N)
+    e = e_mm * 1e-3
+    # kinematic force and its theta derivatives in closed form
+    a, b, d = (m * omega**2 - k) * e, c * omega * e, k * e + f0
+    fk = a * np.cos(theta) + b * np.sin(theta) + d
+    fk1 = -a * np.sin(theta) + b * np.cos(theta)
+    fk2 = -a * np.cos(theta) - b * np.sin(theta)
+    span = fk.max() - fk.min()
+    assert span > 40.0
+    errs, first_order = [], []
+    for kf in (1e6, 1e7, 1e8):  # 1e3, 1e4, 1e5 N/mm
+        model = model_of(m, k, f0, c, kf=kf, cf=2 * 0.05 * math.sqrt(kf * m))
+        r = dyn.compliant_response(motion, model, omega, n=N)
+        assert not r.separations and r.periodicity_error < 1e-8
+        errs.append(np.max(np.abs(r.force - fk)))
+        corr = fk - (m * omega**2 * fk2 + c * omega * fk1 + k * fk) / kf
+        first_order.append(np.max(np.abs(r.force - corr)))
+    errs = np.array(errs)
+    assert errs[-1] < 1e-4 * span  # 1e5 N/mm: within 0.01 % of the force range
+    assert np.all(errs[1:] < 0.15 * errs[:-1])  # ~1/k_f: ten times smaller per decade
+    assert np.all(np.array(first_order) < 0.1 * errs)  # and it is the predicted O(1/k_f) term
+
+
+def test_diffrax_vs_solve_ivp_periodic(lecture, lecture_300, scipy_300):
+    motion, model = lecture
+    r = lecture_300
+    omega = 300 * RPM
+    assert not r.separations
+    assert r.periodicity_error < 1e-9
+    xs, ps, z_end = scipy_300
+    x_err = np.max(np.abs(xs[0] - r.x))
+    p_err = np.max(np.abs(ps[0] - r.dx))
+    theta = np.arange(N) * (2 * math.pi / N)
+    f_ref = contact_force_np(model, omega, theta, xs[0], ps[0])
+    f_err = np.max(np.abs(f_ref - r.force))
+    assert x_err < 1e-7, x_err  # mm (measured ~2e-9)
+    assert p_err < 1e-6, p_err  # mm/rad (~5e-8)
+    assert f_err < 1e-4, f_err  # N (~2e-6)
+    # the scipy orbit from camdyn's initial state is periodic too
+    assert np.max(np.abs(z_end - np.array([r.x[0], r.dx[0]]))) < 1e-7
+    # camdyn's grid and kinematic force are what they say
+    assert np.max(np.abs(r.s - lecture_motion(theta)[0])) < 1e-12
+    assert np.max(np.abs(r.kinematic_force - kin_force_np(model, omega, theta))) < 1e-9
+
+
+def test_diffrax_vs_solve_ivp_with_separation(lecture):
+    """Lecture cam at 600 rpm (above the jump speed): three plain revolutions from the quasi-static start, with
+    lift-offs and landings, by diffrax (camdyn's one-revolution solve, chained) and by solve_ivp."""
+    motion, model = lecture
+    omega = 600 * RPM
+    theta = np.arange(N) * (2 * math.pi / N)
+    z0 = np.array([-30.0 / 1e3, 0.0])  # x = s - Fi/k_f = -F0/k_f at theta = 0 (dwell), mm
+    xs, ps, _ = scipy_revolutions(model, omega, z0, revs=3, rtol=1e-10, atol=1e-12)
+    z = jnp.asarray(z0)
+    for rev in range(3):
+        traj, z, _, ok = dyn._rev_jit(motion, model, jnp.asarray(omega), z, jnp.asarray(theta))
+        traj = np.asarray(traj)
+        assert bool(ok)
+        f = contact_force_np(model, omega, theta, traj[:, 0], traj[:, 1])
+        assert np.mean(f <= 0.0) > 0.05  # it does fly
+        x_err = np.max(np.abs(traj[:, 0] - xs[rev]))
+        f_err = np.max(np.abs(f - contact_force_np(model, omega, theta, xs[rev], ps[rev])))
+        assert x_err < 1e-6, (rev, x_err)  # mm (measured 1e-8 .. 4e-8: contact damps the difference out)
+        assert f_err < 1e-3, (rev, f_err)  # N (1e-5 .. 4e-5)
+
+
+# =============================================================================== 3. free flight
+def flight_closed_form(model, omega, theta0, x0_mm, p0_mm):
+    """x(theta) (mm) of m x'' + c x' + k x = -(F0 + F_ext) (underdamped) from (x0, dx/dtheta0) at theta0."""
+    q = params(model)
+    m, k, c = q["mass"], q["stiffness"], q["damping"]
+    xeq = -(q["preload"] + q["external"]) / k
+    wn = math.sqrt(k / m)
+    zeta = c / (2 * math.sqrt(k * m))
+    assert zeta < 1.0
+    wd = wn * math.sqrt(1 - zeta**2)
+    u0, v0 = x0_mm * 1e-3 - xeq, p0_mm * 1e-3 * omega
+    a, b = u0, (v0 + zeta * wn * u0) / wd
+
+    def x(theta):
+        t = (np.asarray(theta) - theta0) / omega
+        return 1e3 * (xeq + np.exp(-zeta * wn * t) * (a * np.cos(wd * t) + b * np.sin(wd * t)))
+
+    def v(theta):  # m/s
+        t = (np.asarray(theta) - theta0) / omega
+        env = np.exp(-zeta * wn * t)
+        return env * (-zeta * wn * (a * np.cos(wd * t) + b * np.sin(wd * t)) + wd * (-a * np.sin(wd * t) + b * np.cos(wd * t)))
+
+    return x, v
+
+
+def lift_off(model, omega, lo_deg, hi_deg):
+    return brentq(lambda t: float(kin_force_np(model, omega, np.array([t]))[0]), math.radians(lo_deg), math.radians(hi_deg), xtol=1e-14)
+
+
+def test_free_flight_closed_form(lecture):
+    motion, model = lecture
+    model = with_(model, external=5.0, damping=20.0, train_stiffness=math.inf, train_damping=0.0)
+    omega = 600 * RPM
+    t_lo = lift_off(model, omega, 130, 155)
+    s0, s10, _ = lecture_motion(np.array([t_lo]))
+    # same argument types as rigid_response (strong float64): one compile shared with the rigid tests
+    sol = dyn._flight(motion, model, jnp.asarray(omega, dtype=float), jnp.asarray(t_lo, dtype=float), jnp.asarray([s0[0], s10[0]]))
+    t1 = float(sol.ts[-1])
+    x_cf, _ = flight_closed_form(model, omega, t_lo, s0[0], s10[0])
+    # landing where the closed-form x meets the cam again
+    th = np.linspace(t_lo + 1e-3, t_lo + math.pi, 20001)
+    gap = x_cf(th) - lecture_motion(th)[0]
+    j = int(np.nonzero(gap < 0)[0][0])
+    t_land = brentq(lambda t: float(x_cf(t) - lecture_motion(np.array([t]))[0][0]), th[j - 1], th[j], xtol=1e-15)
+    assert math.degrees(t_land - t_lo) > 20.0  # a real flight
+    assert abs(t1 - t_land) < 1e-8, (t1, t_land)
+    y1 = np.asarray(sol.ys[-1])
+    assert abs(y1[0] - lecture_motion(np.array([t1]))[0][0]) < 1e-8  # the event: x = s at the landing
+    # the dense solution against the closed form before the landing
+    angles = t_lo + (t1 - t_lo) * np.array([0.01, 0.1, 0.3, 0.5, 0.7, 0.9, 0.999])
+    got = np.array([float(sol.evaluate(jnp.asarray(a))[0]) for a in angles])
+    assert np.max(np.abs(got - x_cf(angles))) < 5e-8, np.abs(got - x_cf(angles))  # mm (measured 4e-9)
+    assert np.all(got > lecture_motion(angles)[0])  # airborne
+
+
+# ================================================================================= 4. rigid model
+@pytest.fixture(scope="module")
+def rigid_600(lecture):
+    motion, model = lecture
+    rigid = with_(model, train_stiffness=math.inf, train_damping=0.0)
+    omega = 600 * RPM
+    return rigid, omega, dyn.rigid_response(motion, rigid, omega, n=N)
+
+
+def test_rigid_lift_off_and_landing(lecture, rigid_600):
+    motion, _ = lecture
+    rigid, omega, r = rigid_600
+    assert len(r.separations) == 1
+    sep = r.separations[0]
+    t_lo = lift_off(rigid, omega, 130, 155)
+    # lift-off: the zero of camdyn's own kinematic force too
+    t_lo2 = brentq(lambda t: float(dyn.kinematic_force(motion, rigid, omega, jnp.asarray(t))), math.radians(130), math.radians(155), xtol=1e-14)
+    assert abs(t_lo - t_lo2) < 1e-10
+    assert sep.start_deg == pytest.approx(math.degrees(t_lo), abs=1e-7)
+    # landing: where the closed-form flight from the lift-off meets the cam
+    s0, s10, _ = lecture_motion(np.array([t_lo]))
+    x_cf, v_cf = flight_closed_form(rigid, omega, t_lo, s0[0], s10[0])
+    th = np.linspace(t_lo + 1e-3, t_lo + math.pi, 20001)
+    j = int(np.nonzero(x_cf(th) - lecture_motion(th)[0] < 0)[0][0])
+    t_land = brentq(lambda t: float(x_cf(t) - lecture_motion(np.array([t]))[0][0]), th[j - 1], th[j], xtol=1e-15)
+    assert sep.end_deg == pytest.approx(math.degrees(t_land) % 360, abs=1e-6)
+    assert sep.bounces == 0
+    # impact speed |x' - w s'| at the landing, and the largest gap on the grid
+    _, s1_land, _ = lecture_motion(np.array([t_land]))
+    assert sep.impact_speed == pytest.approx(abs(v_cf(t_land) - omega * s1_land[0] * 1e-3), rel=1e-6)
+    theta = np.arange(N) * (2 * math.pi / N)
+    fly = (theta > t_lo) & (theta < t_land)
+    assert np.max(np.abs(r.x[fly] - x_cf(theta[fly]))) < 1e-7
+    assert sep.max_gap == pytest.approx(np.max(x_cf(theta[fly]) - lecture_motion(theta[fly])[0]), abs=1e-7)
+    assert np.all(r.force[fly] == 0.0) and np.all(r.x[~fly] == r.s[~fly])
+
+
+def test_rigid_restitution_bounces(lecture, rigid_600):
+    motion, _ = lecture
+    rigid, omega, r0 = rigid_600
+    r5 = dyn.rigid_response(motion, with_(rigid, restitution=0.5), omega, n=N)
+    assert len(r5.separations) == 1
+    s0, s5 = r0.separations[0], r5.separations[0]
+    assert s5.start_deg == s0.start_deg  # same lift-off (a property of the kinematic force only)
+    assert s5.impact_speed == pytest.approx(s0.impact_speed, rel=1e-9)  # same first flight
+    assert s5.bounces > s0.bounces and s5.bounces >= 3
+    assert s5.end_deg > s0.end_deg  # bouncing lasts beyond the first touchdown
+
+
+def test_rigid_bouncing_dies_out(lecture, rigid_600):
+    """e = 0.5: impact speeds halve per bounce, 0.65 m/s -> 1e-6 m/s in ~20 bounces (Zeno: finite total time).
+    The bounce count and the end of the separation must not depend on the safety cap ``max_bounces``."""
+    motion, _ = lecture
+    rigid, omega, _ = rigid_600
+    model = with_(rigid, restitution=0.5)
+    capped = dyn.rigid_response(motion, model, omega, n=N, max_bounces=60).separations[0]
+    assert capped.bounces < 60, capped
+    free = dyn.rigid_response(motion, model, omega, n=N).separations[0]
+    assert free.bounces == capped.bounces and free.end_deg == pytest.approx(capped.end_deg, abs=1e-9)
+
+
+def test_rigid_jump_speed(lecture):
+    motion, model = lecture
+    rigid = with_(model, train_stiffness=math.inf, train_damping=0.0)
+    w_kin, at = dyn.kinematic_jump_speed(motion, rigid)
+    assert dyn.dynamic_jump_speed(motion, rigid, w_max=10 * w_kin) == w_kin
+    below = dyn.rigid_response(motion, rigid, 0.999 * w_kin, n=N)
+    above = dyn.rigid_response(motion, rigid, 1.001 * w_kin, n=N)
+    assert not below.separations and below.min_force > 0.0
+    assert len(above.separations) == 1
+    assert above.separations[0].start_deg < at < above.separations[0].end_deg
+
+
+# ============================================================== 5. frequency domain and jump speed
+def test_linear_min_force_vs_diffrax(lecture):
+    motion, model = lecture
+    rpms = np.array([120.0, 250.0, 380.0, 470.0])
+    lin = np.asarray(dyn.linear_min_force(motion, model, jnp.asarray(rpms * RPM), n=N))
+    td = np.array([dyn.compliant_response(motion, model, w * RPM, n=N).min_force for w in rpms])
+    assert np.all(td > 0.0)
+    assert np.max(np.abs(lin - td)) < 1e-4, np.abs(lin - td)  # N (measured <= 6e-6)
+
+
+def test_dynamic_jump_speed_vs_bisection(lecture):
+    motion, model = lecture
+    w_kin, _ = dyn.kinematic_jump_speed(motion, model)
+    w_dyn = dyn.dynamic_jump_speed(motion, model, w_max=4 * w_kin)
+    assert 0.8 * w_kin < w_dyn < 1.1 * w_kin
+
+    def fmin(w):
+        return float(dyn.min_contact_force(motion, model, jnp.asarray(w), n=N))
+
+    lo, hi = w_dyn - 2 * RPM, w_dyn + 2 * RPM
+    assert fmin(lo) > 0.0 and fmin(hi) <= 0.0
+    while hi - lo > 0.05 * RPM:
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if fmin(mid) > 0.0 else (lo, mid)
+    assert abs(0.5 * (lo + hi) - w_dyn) / RPM < 0.1, (0.5 * (lo + hi) / RPM, w_dyn / RPM)  # rpm (measured 0.004)
+
+
+# ============================================================================ 6. residual vibration
+def test_residual_vibration(lecture, lecture_300, scipy_300):
+    """Residual vibration in the dwells of the lecture case at 300 rpm.
+
+    camdyn reports max |x - x_static| over the dwells, x_static = (k_f s - F0 - F_ext)/(k + k_f). The harmonic return ends at 360 deg with
+    an acceleration step of 22.5 mm/rad^2 into the 0-90 deg dwell, a step of m w^2 da in the kinematic force: x_qs
+    jumps by that / k_f while x cannot, so the follower starts the dwell that far from equilibrium and rings down
+    from there. The largest deviation is that initial one, whatever the damping; more train damping makes the
+    ringing die out faster, which is what the deviation later in the dwell shows.
+    """
+    motion, model = lecture
+    omega = 300 * RPM
+    r = lecture_300
+    theta = np.arange(N) * (2 * math.pi / N)
+    # independent: |x - x_static| in the dwells of the scipy orbit (k = 2, k_f = 1000 N/mm, F0 = 30 N)
+    xs = scipy_300[0][0]
+    s = lecture_motion(theta)[0]
+    dwell = (theta < BREAKS[1]) | ((theta >= BREAKS[2]) & (theta < BREAKS[3]))
+    ref = np.max(np.abs(xs - (1000.0 * s - 30.0) / (2.0 + 1000.0))[dwell])
+    assert r.residual_vibration == pytest.approx(ref, abs=1e-6)
+    step_mm = 0.5 * omega**2 * 22.5e-3 / 1e6 * 1e3  # m w^2 da / k_f, mm
+    assert r.residual_vibration == pytest.approx(step_mm, rel=0.02)
+
+    def late_ringing(resp):
+        """Largest |x - x_static| over 45-90 deg (second half of the first dwell), exact static equilibrium
+        x = (k_f s - F0) / (k + k_f) of the spring-train pair (s = 0 there)."""
+        sel = (theta >= math.pi / 4) & (theta < BREAKS[1])
+        return np.max(np.abs(resp.x[sel] - (-30.0 / (2000.0 + 1e6) * 1e3)))
+
+    resid, ring = [r.residual_vibration], [late_ringing(r)]
+    for zf in (0.2, 0.5):
+        rz = dyn.compliant_response(motion, with_(model, train_damping=2 * zf * math.sqrt(1e6 * 0.5)), omega, n=N)
+        resid.append(rz.residual_vibration)
+        ring.append(late_ringing(rz))
+    assert resid[0] > 0 and np.all(np.diff(resid) <= 0.0)  # positive, never grows with damping
+    assert ring[0] > 1e-3 and ring[1] < 0.1 * ring[0] and ring[2] < 0.1 * ring[1], ring  # dies out much faster
