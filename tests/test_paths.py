@@ -1,0 +1,103 @@
+"""Closed target paths: closure, exact derivatives, precision points, Ye & Smith eq. 9, input errors."""
+
+import math
+
+import jax.numpy as jnp
+import numpy as np
+import pytest
+
+import camdyn  # noqa: F401  (float64)
+from camdyn.errors import InputError
+from camdyn.paths import build_path, parse_path
+
+TABLE_I_X = [28, 29, 33, 38, 44, 50, 57, 63, 68, 74, 77, 79, 79, 78, 75, 70, 65, 59, 53, 45, 41, 35, 30, 27, 26, 25, 28]
+TABLE_I_Y = [11, 12, 15, 18, 24, 32, 34, 41, 47, 53, 58, 62, 64.5, 65.5, 65, 63, 60, 55, 49, 42, 36, 29, 24, 19, 15, 13, 11]
+
+PATHS = {
+    "ellipse": dict(type="ellipse", center=[10, -5], semi_major=30, semi_minor=12, rotation=25),
+    "circle": dict(type="circle", center=[0, 0], radius=20, reverse=True),
+    "rectangle": dict(type="rectangle", center=[5, 5], width=60, height=40, corner_radius=6, rotation=10),
+    "eight": dict(type="eight", center=[0, 0], width=40, height=20, phase=0.1),
+    "line": dict(type="line", start=[-20, 0], end=[20, 10]),
+    "racetrack": dict(type="racetrack", center=[-300, 200], straight=100, radius=100 / math.pi),
+    "points": dict(type="points", x=TABLE_I_X, y=TABLE_I_Y),
+}
+
+
+@pytest.mark.parametrize("name", PATHS)
+def test_closed_and_derivatives_match_finite_differences(name):
+    path = build_path(PATHS[name])
+    assert np.allclose(np.asarray(path(jnp.asarray([0.0, 1.0]))), np.asarray(path(jnp.asarray([1.0, 2.0]))), atol=1e-9)
+    rng = np.random.default_rng(1)
+    breaks = np.array(path.breaks_u + (1.0,))
+    h = 1e-6
+    for u in rng.uniform(0, 1, 6):
+        if np.min(np.abs((breaks - u + 0.5) % 1.0 - 0.5)) < 5 * h:  # central differences need a smooth stencil
+            continue
+        d = np.asarray(path.derivatives(jnp.asarray(u)))
+        for k in (1, 2, 3):
+            lower = lambda v: np.asarray(path.derivatives(jnp.asarray(v)))[k - 1]  # noqa: E731
+            fd = (lower(u + h) - lower(u - h)) / (2 * h)
+            scale = np.max(np.abs(d[k])) + 1e-12
+            assert np.max(np.abs(fd - d[k])) < 1e-6 * scale * 10 ** (k - 1), (name, k, fd, d[k])
+
+
+def test_precision_points_are_passed_exactly_in_order():
+    path = build_path(PATHS["points"])
+    pts = np.column_stack([TABLE_I_X, TABLE_I_Y])[:-1].astype(float)
+    knots = np.asarray(path.knots)[:-1]
+    assert np.max(np.abs(np.asarray(path(jnp.asarray(knots))) - pts)) < 1e-10
+    # C2 at the knots (periodic cubic spline): second derivative continuous, third jumps
+    for u in knots[1:4]:
+        left, right = (np.asarray(path.derivatives(jnp.asarray(u + e))) for e in (-1e-9, 1e-9))
+        assert np.max(np.abs(left[2] - right[2])) < 1e-3 * np.max(np.abs(left[2]))
+
+
+def test_racetrack_is_ye_smith_eq9():
+    path = build_path(PATHS["racetrack"])
+    index = np.array([0, 800, 1500, 2500, 3500])
+    xy = np.asarray(path(jnp.asarray(index / 4000)))
+    xg, yg, r = -250.0, 200.0, 100 / math.pi
+    expect = [
+        (xg, yg - r),  # F0 = (-250, 168.169)
+        (xg + r * math.sin(math.pi * 0.8), yg - r * math.cos(math.pi * 0.8)),  # (-231.29, 225.75)
+        (xg - 50, yg + r),
+        (xg - 100 - r * math.sin(math.pi / 2), yg + r * math.cos(math.pi / 2)),
+        (xg - 100 + 50, yg - r),
+    ]
+    assert np.allclose(xy, expect, atol=1e-10)
+    assert np.allclose(xy[1], [-231.29, 225.75], atol=5e-3)
+    # dXF/dI at I = 800 (the paper prints -0.080917, 0.0587795: its pi is rounded; exact is -0.1 cos 36 deg)
+    v = np.asarray(path.derivatives(jnp.asarray(0.2)))[1] / 4000
+    assert np.allclose(v, [-0.1 * math.cos(math.radians(36)), 0.1 * math.sin(math.radians(36))], atol=1e-12)
+    assert path.breaks_u == (0.0, 0.25, 0.5, 0.75)
+
+
+def test_rectangle_corners():
+    sharp = build_path(dict(type="rectangle", center=[0, 0], width=40, height=20))
+    round_ = build_path(dict(type="rectangle", center=[0, 0], width=40, height=20, corner_radius=4))
+    assert len(sharp.sharp_u) == 4 and round_.sharp_u == () and len(round_.breaks_u) == 8
+    assert float(sharp.total) == pytest.approx(120.0) and float(round_.total) == pytest.approx(120 - 8 * 4 + 2 * math.pi * 4)
+    xy = np.asarray(round_(jnp.linspace(0, 1, 2001)))
+    assert xy[:, 0].max() == pytest.approx(20.0) and xy[:, 1].min() == pytest.approx(-10.0)
+    # unit speed in arc length: |P'| = perimeter everywhere
+    speed = [np.linalg.norm(np.asarray(round_.derivatives(jnp.asarray(u)))[1]) for u in (0.03, 0.1, 0.37, 0.8)]
+    assert np.allclose(speed, float(round_.total))
+
+
+@pytest.mark.parametrize(
+    "table, key",
+    [
+        (dict(type="ellipse", center=[0, 0], semi_major=3), "path.semi_minor"),
+        (dict(type="circle", center=[0, 0], radius=-1), "path.radius"),
+        (dict(type="circle", center=[0, 0], radius=1, width=3), "path.width"),
+        (dict(type="rectangle", center=[0, 0], width=10, height=10, corner_radius=6), "path.corner_radius"),
+        (dict(type="points", x=[0, 1, 2, 3], y=[0, 1, 2]), "path.y"),
+        (dict(type="spiral"), "path.type"),
+        (dict(type="line", start=[1, 1], end=[1, 1]), "path.end"),
+    ],
+)
+def test_invalid_tables_name_the_key(table, key):
+    with pytest.raises(InputError) as err:
+        parse_path(table)
+    assert err.value.where == key
