@@ -200,7 +200,7 @@ def case_from_dict(raw: dict, source: Path | None = None) -> Case:
         from .linkage import synthesize_motion
 
         synthesis = synthesize_motion(spec.path, spec.mechanism)
-        motion, follower = synthesis.motion, synthesis.follower
+        motion, follower = synthesis.tabulated, synthesis.follower
         warnings += list(synthesis.warnings)
     else:
         raise InputError("motion", "the case needs [motion] segments, or [path] and [mechanism]")

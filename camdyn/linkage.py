@@ -35,7 +35,7 @@ from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_valida
 
 from .errors import InputError, NumericalError
 from .geometry import FollowerSpec
-from .motion import Motion
+from .motion import HermiteMotion, Motion
 from .paths import Path, PathSpec, build_path, parse_path, taylor
 
 TWO_PI = 2.0 * math.pi
@@ -343,7 +343,9 @@ class CamLinkMotion(Motion):
             res = _wrap(val - theta)
             a, b = jnp.where(res < 0.0, u, a), jnp.where(res > 0.0, u, b)
             nxt = u - res / jnp.where(der > 0.0, der, 1.0)
-            ok = (nxt > a) & (nxt < b) & (der > 0.0)
+            # closed bracket: a converged iterate sits on the end its own residual set, and a Newton step of
+            # zero length must not be mistaken for one that left the bracket (it would bisect away from the root)
+            ok = (nxt >= a) & (nxt <= b) & (der > 0.0)
             return (jnp.where(res == 0.0, u, jnp.where(ok, nxt, 0.5 * (a + b))), a, b), None
 
         (u, _, _), _ = jax.lax.scan(step, (u, a, b), None, length=8)
@@ -686,12 +688,14 @@ def _points(chain, u, theta):
 class Synthesis:
     """Result of :func:`synthesize_motion`.
 
-    ``motion``: the follower motion (:class:`CamLinkMotion`); ``follower``: the cam-follower geometry in the
+    ``motion``: the follower motion (:class:`CamLinkMotion`); ``tabulated``: its quintic Hermite table, which
+    the case hands to the dynamics (exact at the knots, error in ``summary["motion_table_error"]``); ``follower``: the cam-follower geometry in the
     shared conventions of :mod:`camdyn.geometry` (cam centre at the origin). ``json()`` gives the summary for
     ``check --json``; :meth:`linkage_at` the joint positions for drawings.
     """
 
     motion: CamLinkMotion
+    tabulated: HermiteMotion
     follower: FollowerSpec
     path_spec: PathSpec
     mechanism: MechanismSpec
@@ -877,11 +881,14 @@ def synthesize_motion(path: dict, mechanism: dict) -> Synthesis:
     out0 = float(out.min())
     # breaks: path curvature breaks and switches with a tangent break
     brk_u = sorted(set(pth.breaks_u) | set(pth.sharp_u))
-    breaks = tuple(sorted({round(float(np.interp(b, tab_u, tab_theta)) % TWO_PI * 180 / math.pi, 9) % 360.0 for b in brk_u}))
     core = CamLinkMotion(
         chain=chain, crank_dyad=dyad, theta0=jnp.asarray(th0), out0=jnp.asarray(out0), tab_u=jnp.asarray(tab_u),
         tab_theta=jnp.asarray(tab_theta), sense=jnp.asarray(sense), unit=unit, breaks_deg=(),
     )
+    # exact cam angles of the breaks (the table's linear interpolation would miss them by up to ~1e-5 rad,
+    # enough to put a jump of s'' inside an interval of the dynamics' step controller or the Hermite table)
+    brk_theta = _vmap(core._theta_raw, np.asarray(brk_u, dtype=float)) if brk_u else np.zeros(0)
+    breaks = tuple(sorted({round(float(b) % TWO_PI * 180 / math.pi, 9) % 360.0 for b in brk_theta}))
     motion = _with_breaks(core, breaks)
     # --- samples at 1-degree steps: motion, forward check, pitch and contour
     theta = np.deg2rad(np.arange(360.0))
@@ -919,12 +926,18 @@ def synthesize_motion(path: dict, mechanism: dict) -> Synthesis:
         "synthesis_time_s": time.perf_counter() - t_start,
         **extra,
     }
+    # the consumers that evaluate the motion millions of times (ODE right-hand side, sweeps) read a table
+    tabulated = HermiteMotion.from_motion(motion)
+    tab_err = tabulated.max_error(motion)
+    summary["motion_table_error"] = dict(zip(("s", "s1", "s2", "s3"), map(float, tab_err)))
+    if tab_err[2] > 1e-4 * max(float(np.ptp(vals[2])), 1e-12):
+        warnings.append(f"the tabulated follower motion misses the exact s'' by up to {tab_err[2]:.3g} per rad^2; the dynamics use the table")
     if unit == "mm":
         summary["stroke_mm"] = float(vals[0].max() - vals[0].min())
     else:
         summary["swing_deg"] = math.degrees(float(vals[0].max() - vals[0].min()))
     return Synthesis(
-        motion=motion, follower=follower, path_spec=ps, mechanism=ms, summary=summary, theta_deg=np.arange(360.0),
+        motion=motion, tabulated=tabulated, follower=follower, path_spec=ps, mechanism=ms, summary=summary, theta_deg=np.arange(360.0),
         pitch=pitch, contour=contour, path_xy=target, traced_xy=traced, sharp_corners=sharp, warnings=warnings,
     )
 

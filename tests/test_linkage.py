@@ -1,7 +1,6 @@
 """Assur dyads, cam-linkage synthesis (Ye & Smith 2005 section 8, the CCM), derivatives and errors."""
 
 import math
-import time
 import tomllib
 from pathlib import Path
 
@@ -14,6 +13,7 @@ import pytest
 import camdyn  # noqa: F401  (float64)
 from camdyn.errors import InputError, NumericalError
 from camdyn.linkage import cross2, rrp_kinematics, rrr, rrr_kinematics, rrr_reach_miss, synthesize_motion
+from camdyn.motion import evaluate
 
 CASES = Path(__file__).resolve().parents[1] / "cases"
 SHIPPED = ("racetrack", "ellipse", "square", "circle", "eight", "line")
@@ -195,6 +195,11 @@ def test_forward_check_of_every_shipped_case(name):
     j = syn.json()
     assert j["max_path_error_mm"] < 1e-3
     assert np.max(np.linalg.norm(syn.traced_xy - syn.path_xy, axis=1)) == pytest.approx(j["max_path_error_mm"])
+    # the dynamics read the quintic table: it must follow the exact motion (s to a micron, s'' to 2e-5 of its range)
+    tab, th = syn.tabulated, jnp.asarray(np.random.default_rng(1).uniform(0.0, 2 * np.pi, 400))
+    exact, table = np.asarray(evaluate(syn.motion, th)), np.asarray(evaluate(tab, th))
+    assert np.max(np.abs(table[0] - exact[0])) < 1e-6 and syn.summary["motion_table_error"]["s"] < 1e-6
+    assert np.max(np.abs(table[2] - exact[2])) < 2e-5 * np.ptp(exact[2])
     assert {"crank_mm", "coupler_mm", "start_angle_deg", "pitch", "contour", "path_xy", "traced_xy", "sharp_corners", "warnings"} <= set(j)
     assert ("stroke_mm" in j) == (syn.motion.unit == "mm") and ("swing_deg" in j) == (syn.motion.unit == "rad")
     assert not syn.sharp_corners
@@ -208,9 +213,7 @@ def test_forward_check_of_every_shipped_case(name):
 
 def test_square_speed_and_sharp_corners():
     case = load("square")
-    t0 = time.perf_counter()
     syn = synthesize_motion(dict(case["path"], corner_radius=3.0), case["mechanism"])
-    assert time.perf_counter() - t0 < 2.0  # the corner-radius advice calls this ~10 times
     assert syn.summary["max_path_error_mm"] < 1e-3 and len(syn.motion.breaks_deg) == 8
     sharp = synthesize_motion(dict(case["path"], corner_radius=0.0), case["mechanism"])
     assert sharp.sharp_corners and any("sharp corners" in w for w in sharp.warnings)

@@ -5,7 +5,7 @@ import jax.numpy as jnp
 import numpy as np
 import pytest
 
-from camdyn import InputError, LAWS, Program, law
+from camdyn import HermiteMotion, InputError, LAWS, Program, law
 
 X = jnp.linspace(0.0, 1.0, 2001)
 
@@ -137,3 +137,33 @@ def test_program_errors(segments, where, text):
     with pytest.raises(InputError) as err:
         Program.from_segments(segments)
     assert where in err.value.where and text in err.value.message
+
+
+# ------------------------------------------------------------------------------------------ Hermite table
+def test_hermite_table_reproduces_a_program():
+    """The quintic table of the lecture program: exact at the knots, O(h^6) between, one-sided at the breaks."""
+    prog = Program.from_segments(LECTURE)
+    tab = HermiteMotion.from_motion(prog, n=720)
+    err = tab.max_error(prog)
+    assert err[0] < 1e-12 and err[1] < 1e-9 and err[2] < 1e-6
+    # an independent check off the midpoints, on a random sample of angles
+    th = jnp.asarray(np.random.default_rng(0).uniform(0, 2 * np.pi, 5000))
+    np.testing.assert_allclose(np.asarray(tab(th))[:3], np.asarray(prog(th))[:3], atol=1e-6)
+    # the s'' jump at 240 deg (harmonic return after a dwell) is kept, not smeared over a step
+    b = np.deg2rad(240.0)
+    for side in (-1e-9, 1e-9):
+        np.testing.assert_allclose(np.asarray(tab(b + side))[2], np.asarray(prog(b + side))[2], atol=1e-5)
+    # s is at round-off already; s'' converges as h^4: halving the step cuts its error 16-fold
+    fine = HermiteMotion.from_motion(prog, n=1440).max_error(prog)
+    assert 12 < err[2] / fine[2] < 20
+
+
+def test_hermite_table_derivatives_are_its_own():
+    """s', s'', s''' of the table are the derivatives of its s (autodiff), so the dynamics see one curve."""
+    tab = HermiteMotion.from_motion(Program.from_segments(LECTURE), n=360)
+    th = jnp.deg2rad(jnp.array([10.3, 95.0, 171.7, 250.2, 333.3]))
+    s = lambda t: tab(t)[0]  # noqa: E731
+    v = np.asarray(tab(th))
+    np.testing.assert_allclose(np.asarray(jax.vmap(jax.grad(s))(th)), v[1], rtol=1e-10, atol=1e-10)
+    np.testing.assert_allclose(np.asarray(jax.vmap(jax.grad(jax.grad(s)))(th)), v[2], rtol=1e-9, atol=1e-9)
+    assert tab.unit == "mm" and tab.breaks_deg == Program.from_segments(LECTURE).breaks_deg
