@@ -106,7 +106,12 @@ def kinematic_jump_speed(motion: Motion, model: FollowerModel, n: int = 7200) ->
     if not np.isfinite(w[i]):
         return math.inf, math.nan
     h = TWO_PI / n
-    res = minimize_scalar(lambda t: float(w_at(np.array([t]))[0]), bounds=(theta[i] - h, theta[i] + h), method="bounded", options={"xatol": 1e-10})
+    cap = 1e6 * w[i]  # a finite stand-in for "no jump here": Brent's parabola steps turn inf into NaN
+
+    def objective(t):
+        return min(float(w_at(np.array([t]))[0]), cap)
+
+    res = minimize_scalar(objective, bounds=(theta[i] - h, theta[i] + h), method="bounded", options={"xatol": 1e-10})
     if res.fun < w[i]:
         return float(res.fun), math.degrees(res.x) % 360.0
     return float(w[i]), math.degrees(theta[i])
@@ -493,32 +498,56 @@ def response(motion: Motion, model: FollowerModel, omega: float, n: int = 3600) 
 _FFT_N = 4096
 
 
-@eqx.filter_jit
-def linear_min_force(motion: Motion, model: FollowerModel, omegas, n: int = _FFT_N):
-    """Least interface force (N) of the compliant model's periodic orbit if it never separates, per speed.
-
-    While the follower stays on the cam the model is linear and time-invariant with a periodic input, so its
-    steady state is exact in the frequency domain (harmonic balance by FFT):
-    ``X_k = (k_f + i k w c_f) S_k / (k + k_f - m (k w)^2 + i k w (c + c_f))``. The result is the true
-    steady state for every speed whose least force is positive, which is all the jump speed needs. Vectorized
-    over ``omegas`` (any shape).
-    """
+def _steady_force_at(motion: Motion, model: FollowerModel, n: int):
+    """``omega -> interface force`` on the grid ``theta_k = 2 pi k / n`` of the compliant model's periodic orbit
+    while it stays on the cam (harmonic balance by FFT)."""
     theta = jnp.arange(n) * (TWO_PI / n)
     s, s1, _, _ = motion(theta) * model.scale
     spec = jnp.fft.rfft(s)
     k = jnp.arange(spec.shape[0])
     m, kk, c, kf, cf = model.mass, model.stiffness, model.damping, model.train_stiffness, model.train_damping
 
-    def one(omega):
+    def force(omega):
         wk = k * omega
         x_spec = spec * (kf + 1j * wk * cf) / (kk + kf - m * wk**2 + 1j * wk * (c + cf))
         x_spec = x_spec.at[0].set((kf * spec[0] - n * (model.preload + model.external)) / (kk + kf))
         x = jnp.fft.irfft(x_spec, n)
         x1 = jnp.fft.irfft(1j * k * x_spec, n)
-        return jnp.min(kf * (s - x) + cf * omega * (s1 - x1))
+        return kf * (s - x) + cf * omega * (s1 - x1)
+
+    return force
+
+
+@eqx.filter_jit
+def linear_min_force(motion: Motion, model: FollowerModel, omegas, n: int = _FFT_N, weight=None):
+    """Least interface force (N) of the compliant model's periodic orbit if it never separates, per speed.
+
+    While the follower stays on the cam the model is linear and time-invariant with a periodic input, so its
+    steady state is exact in the frequency domain (harmonic balance by FFT):
+    ``X_k = (k_f + i k w c_f) S_k / (k + k_f - m (k w)^2 + i k w (c + c_f))``. The result is the true
+    steady state for every speed whose least force is positive, which is all the jump speed needs. Vectorized
+    over ``omegas`` (any shape). ``weight``: optional (n,) factor per angle theta_k = 2 pi k / n applied before
+    the minimum (``1000 / lever_arm_mm`` turns an oscillating follower's torque into its contact force in N).
+    """
+    force = _steady_force_at(motion, model, n)
+
+    def one(omega):
+        f = force(omega)
+        return jnp.min(f if weight is None else f * weight)
 
     omegas = jnp.asarray(omegas, dtype=float)
     return jax.lax.map(one, omegas.ravel(), batch_size=64).reshape(omegas.shape)
+
+
+@eqx.filter_jit
+def linear_contact_force(motion: Motion, model: FollowerModel, omegas, n: int = _FFT_N):
+    """The whole interface force (N or N*m) of :func:`linear_min_force`'s steady state: shape (*omegas.shape, n).
+
+    Angles ``theta_j = 2 pi j / n``. Exact wherever it stays positive; affine in the preload (raising F0 adds
+    ``k_f / (k + k_f) * dF0`` at every angle and speed), which is what spring sizing (``sizing.py``) uses.
+    """
+    omegas = jnp.asarray(omegas, dtype=float)
+    return jax.lax.map(_steady_force_at(motion, model, n), omegas.ravel(), batch_size=64).reshape(omegas.shape + (n,))
 
 
 def dynamic_jump_speed(motion: Motion, model: FollowerModel, *, w_max: float, tol_rpm: float = 0.1, grid: int = 2000) -> float:
