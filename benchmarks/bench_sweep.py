@@ -1,0 +1,203 @@
+"""Benchmark: camdyn jump maps against a solve_ivp loop, the dynamic jump speed, and ``camdyn check`` latency.
+
+    python benchmarks/bench_sweep.py [--grid 100] [--sample 30] [--seed 0] [--with-diffrax] [--no-check]
+
+Runs unchanged on CPU or on a GPU machine (it prints ``jax.devices()``; the map is sharded over all of them).
+Prints one aligned table:
+
+(a) the jump map of cases/lecture.toml (compliant follower) over ``grid`` speeds 100-700 rpm x ``grid`` spring
+    rates 0.5-5 N/mm (preload fixed at the case's 30 N): camdyn's batched map (``camdyn.sweep.jump_map``:
+    frequency-domain steady state for every point, exact piecewise-linear stepping of the nonlinear model for
+    the separated ones), compile + first run, then the run alone (best of 2); against a
+    ``scipy.integrate.solve_ivp`` loop of the same model, one point at a time: RK45 at rtol 1e-6 (the loosest
+    tolerance whose least force agrees with camdyn's to 0.01 N, as bench_dynamics.py found; checked again here
+    on every sampled point), revolution after revolution from the quasi-static start until the state repeats
+    to 1e-6 mm; where the follower separates it stops after as many revolutions as camdyn integrates a
+    separated point (``GAP_REVS``), least force 0 and the largest gap over the last ``GAP_LAST`` revolutions,
+    as camdyn reports it. The motion is the lecture's closed form in scalar ``math`` (the fastest right-hand
+    side a scipy user would write). The loop over all grid points would take far too long, so it runs on a
+    random sample of points and its time is extrapolated per class (points that stay on the cam and points
+    that separate have different costs) to the whole grid's mix.
+(b) the dynamic jump speed of lecture.toml (``dynamics.dynamic_jump_speed``) after compilation;
+(c) ``camdyn check cases/lecture.toml`` as fresh processes, cold (CAMDYN_NO_CACHE=1) and warm (persistent XLA
+    cache), with the import / compile / run split (see bench_dynamics.py).
+
+The machine may be shared: the load average is printed, and the ratio is taken within this one process.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE))
+ROOT = HERE.parent
+CASE = ROOT / "cases" / "lecture.toml"
+N = 3600  # the least-force grid (0.1 deg), as camdyn's
+
+
+def scipy_point(p: dict, omega: float, rtol=1e-6, atol=1e-8, method="RK45", tol=1e-6, max_revs=60, sep_revs=6, last=2):
+    """One grid point by a solve_ivp loop: (least force N, separated, largest gap mm, revolutions)."""
+    import numpy as np
+    from scipy.integrate import solve_ivp
+
+    from bench_dynamics import lecture_s_s1
+
+    m, k, f0, c, fe, kf, cf = (p[n] for n in ("m", "k", "f0", "c", "fe", "kf", "cf"))
+    sc = 1e-3
+    den = m * omega**2 * sc
+
+    def rhs(th, y):
+        x, v = y
+        s, s1 = lecture_s_s1(th)
+        fi = max(0.0, kf * sc * (s - x) + cf * omega * sc * (s1 - v)) if s > x else 0.0
+        return [v, (fi - (k * sc * x + f0) - c * omega * sc * v - fe) / den]
+
+    breaks = (0.0, 0.5 * math.pi, math.pi, 4 * math.pi / 3, 2 * math.pi)
+    theta = np.arange(N) * (2 * math.pi / N)
+    ss = np.array([lecture_s_s1(t) for t in theta])
+    z = np.array([-(f0 + fe) / (kf * sc), 0.0])  # quasi-static start at theta = 0 (dwell, s = 0)
+    gaps, first_sep, fmin = [], None, math.nan
+    for rev in range(1, max_revs + 1):
+        z_start, xs, vs, y = z, np.empty(N), np.empty(N), z
+        for a, b in zip(breaks[:-1], breaks[1:], strict=True):
+            sol = solve_ivp(rhs, (a, b), y, method=method, rtol=rtol, atol=atol, dense_output=True)
+            sel = (theta >= a) & (theta < b)
+            xs[sel], vs[sel] = sol.sol(theta[sel])
+            y = sol.y[:, -1]
+        z = y
+        f = kf * sc * (ss[:, 0] - xs) + cf * omega * sc * (ss[:, 1] - vs)
+        fmin = float(np.where(ss[:, 0] > xs, np.maximum(f, 0.0), 0.0).min())
+        gaps.append(max(0.0, float(np.max(xs - ss[:, 0]))))
+        if fmin <= 0.0 and first_sep is None:
+            first_sep = rev
+        if np.max(np.abs(z - z_start)) < tol or (first_sep is not None and rev >= sep_revs):
+            break
+    separated = first_sep is not None
+    return (0.0 if separated else fmin), separated, (max(gaps[-last:]) if separated else 0.0), rev
+
+
+def timed(fn, repeat=1):
+    best, out = math.inf, None
+    for _ in range(repeat):
+        t = time.perf_counter()
+        out = fn()
+        best = min(best, time.perf_counter() - t)
+    return best, out
+
+
+def main() -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--grid", type=int, default=100, help="speeds and spring rates per axis (default 100)")
+    ap.add_argument("--sample", type=int, default=30, help="grid points timed with the solve_ivp loop (default 30)")
+    ap.add_argument("--seed", type=int, default=0)
+    ap.add_argument("--with-diffrax", action="store_true", help="also time the map with diffrax (adaptive Tsit5) for the separated points")
+    ap.add_argument("--no-check", action="store_true", help="skip (c), the camdyn check subprocesses")
+    opts = ap.parse_args()
+    t_all = time.perf_counter()
+    os.environ.setdefault("EQX_ON_ERROR", "nan")  # as the command line runs
+
+    import jax
+    import numpy as np
+
+    import camdyn  # noqa: F401  (float64)
+    from camdyn import dynamics as dyn
+    from camdyn import sweep
+    from camdyn.case import load_case
+
+    case = load_case(CASE)
+    speeds = np.linspace(100.0, 700.0, opts.grid)
+    rates = np.linspace(0.5, 5.0, opts.grid)
+    npts = speeds.size * rates.size
+    rows: list[tuple[str, str, str]] = []
+
+    # (a) camdyn's batched map
+    t_first, jm = timed(lambda: sweep.jump_map(case, speeds, rates))
+    t_run, jm = timed(lambda: sweep.jump_map(case, speeds, rates), repeat=2)
+    n_sep = int(jm.separated.sum())
+    rows.append((f"camdyn jump map {speeds.size}x{rates.size}: compile + run", f"{t_first:.2f} s", f"compile ~{t_first - t_run:.2f} s"))
+    rows.append((f"camdyn jump map {speeds.size}x{rates.size}: run", f"{t_run:.2f} s", f"{npts} points, {n_sep} separated; {t_run / npts * 1e6:.0f} us/point on {jm.devices} device(s)"))
+    if opts.with_diffrax:
+        t_dx1, jm_dx = timed(lambda: sweep.jump_map(case, speeds, rates, gap_method="diffrax"))
+        t_dx, jm_dx = timed(lambda: sweep.jump_map(case, speeds, rates, gap_method="diffrax"))
+        sel = jm.separated
+        dg = np.abs(jm_dx.max_gap[sel] - jm.max_gap[sel])
+        rows.append(("camdyn jump map, diffrax for separated pts: run", f"{t_dx:.2f} s", f"compile ~{t_dx1 - t_dx:.2f} s; gap vs exact stepping: median |diff| {np.median(dg):.1e} mm (chaotic bounces differ)"))
+
+    # the solve_ivp loop on a random sample of grid points
+    rng = np.random.default_rng(opts.seed)
+    picks = rng.choice(npts, size=min(opts.sample, npts), replace=False)
+    base = case.model
+    t_by_class: dict[bool, list[float]] = {False: [], True: []}
+    dev_f, sep_ok, dgap = [], 0, []
+    for flat in picks:
+        i, j = divmod(int(flat), rates.size)
+        k_si = rates[j] * 1e3
+        p = {"m": float(base.mass), "k": k_si, "f0": float(base.preload), "c": float(sweep._damping(case, np.array([k_si]))[0]),
+             "fe": float(base.external), "kf": float(base.train_stiffness), "cf": float(base.train_damping)}
+        t = time.perf_counter()
+        f_sp, sep_sp, gap_sp, _ = scipy_point(p, speeds[i] * dyn.RPM, sep_revs=sweep.GAP_REVS, last=sweep.GAP_LAST)
+        t_by_class[bool(jm.separated[i, j])].append(time.perf_counter() - t)
+        sep_ok += sep_sp == bool(jm.separated[i, j])
+        dev_f.append(abs(f_sp - jm.min_force[i, j]))
+        if sep_sp and jm.separated[i, j]:
+            dgap.append(abs(gap_sp - jm.max_gap[i, j]))
+    n_s = len(picks)
+    matched = sum(d < 0.01 for d in dev_f)
+    mean = {cls: (float(np.mean(ts)) if ts else float(np.mean(t_by_class[not cls]))) for cls, ts in t_by_class.items()}
+    t_scipy = mean[False] * (npts - n_sep) + mean[True] * n_sep
+    rows.append((f"solve_ivp loop RK45 rtol 1e-6, {n_s} sampled points", f"{sum(map(sum, t_by_class.values())):.2f} s",
+                 f"{mean[False] * 1e3:.0f} ms/point in contact ({len(t_by_class[False])}), {mean[True] * 1e3:.0f} ms/point separated ({len(t_by_class[True])})"))
+    rows.append(("  accuracy against camdyn on the sample", f"{max(dev_f):.1e} N",
+                 f"largest |least force diff|; {matched}/{n_s} within 0.01 N, separation agrees at {sep_ok}/{n_s}"
+                 + (f"; gap median |diff| {np.median(dgap):.1e} mm over {len(dgap)} (chaotic bounces differ)" if dgap else "")))
+    rows.append((f"solve_ivp loop extrapolated to {npts} points", f"{t_scipy:.0f} s", f"per-class means x the map's {npts - n_sep} contact + {n_sep} separated points (not run)"))
+    rows.append(("ratio solve_ivp / camdyn map (run)", f"{t_scipy / t_run:.0f}x", f"goal >= 200x; including camdyn's compile: {t_scipy / t_first:.0f}x"))
+
+    # (b) dynamic jump speed
+    omega = case.speed_rpm * dyn.RPM
+    w_kin, _ = dyn.kinematic_jump_speed(case.motion, base)
+    w_max = 4.0 * max(case.limits.speed_margin * omega, w_kin)
+    t_j1, _ = timed(lambda: dyn.dynamic_jump_speed(case.motion, base, w_max=w_max))
+    t_j, w_dyn = timed(lambda: dyn.dynamic_jump_speed(case.motion, base, w_max=w_max), repeat=5)
+    rows.append(("dynamic jump speed: compile + run", f"{t_j1:.2f} s", ""))
+    rows.append(("dynamic jump speed: run", f"{t_j * 1e3:.0f} ms", f"{w_dyn / dyn.RPM:.2f} rpm; goal < 200 ms"))
+
+    # (c) camdyn check as fresh processes
+    if not opts.no_check:
+        from bench_dynamics import camdyn_cmd, check_process
+
+        cache = tempfile.mkdtemp(prefix="camdyn-bench-cache-")
+        try:
+            env = {k: v for k, v in os.environ.items() if k != "CAMDYN_NO_CACHE"}
+            wall_c, br_c = check_process(env | {"CAMDYN_NO_CACHE": "1"})
+            warm_env = env | {"XDG_CACHE_HOME": cache}
+            subprocess.run([*camdyn_cmd(), "check", str(CASE)], env=warm_env, capture_output=True)  # fill the cache
+            wall_w, br_w = check_process(warm_env)
+        finally:
+            shutil.rmtree(cache, ignore_errors=True)
+        for label, wall, br in (("cold cache", wall_c, br_c), ("warm cache", wall_w, br_w)):
+            rows.append((f"camdyn check ({label}), fresh process", f"{wall:.2f} s", f"import {br['import']:.2f} s + compile {br['first'] - br['second']:.2f} s + run {br['second']:.2f} s (exit {br['rc']})"))
+
+    w1 = max(len(a) for a, _, _ in rows)
+    w2 = max(len(b) for _, b, _ in rows)
+    load = ", ".join(f"{x:.1f}" for x in os.getloadavg()) if hasattr(os, "getloadavg") else "n/a"
+    print(f"camdyn sweep benchmark: {CASE.name}, compliant model; devices {jax.devices()}; {os.cpu_count()} cores, load average {load}")
+    print(f"{'what':<{w1}}  {'time':>{w2}}  note")
+    print(f"{'-' * w1}  {'-' * w2}  ----")
+    for a, b, c in rows:
+        print(f"{a:<{w1}}  {b:>{w2}}  {c}")
+    print(f"(benchmark total {time.perf_counter() - t_all:.0f} s)")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,165 @@
+"""Jump maps (camdyn sweep): the CSV contract, agreement with the dynamics models, sharding, the command line."""
+
+import os
+import subprocess
+import sys
+import tomllib
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from camdyn import dynamics as dyn
+from camdyn.case import case_from_dict, load_case
+from camdyn.cli import main
+from camdyn.sweep import CSV_COLUMNS, jump_map
+
+ROOT = Path(__file__).resolve().parents[1]
+LECTURE = ROOT / "cases" / "lecture.toml"
+
+
+@pytest.fixture(scope="module")
+def lecture():
+    return load_case(LECTURE)
+
+
+@pytest.fixture(scope="module")
+def small_map(lecture):
+    # 300 rpm stays on the cam at every rate; 520 rpm at 2 N/mm separates with a periodic bounce
+    return jump_map(lecture, [300.0, 520.0, 650.0], [1.0, 2.0])
+
+
+def _model_with_rate(case, rate_n_per_mm):
+    """The case's follower with another spring rate (preload fixed; damping from the damping ratio)."""
+    import equinox as eqx
+    import jax.numpy as jnp
+
+    k = rate_n_per_mm * 1e3
+    c = 2.0 * case.spec.dynamics.damping_ratio * np.sqrt(k * float(case.model.mass))
+    return eqx.tree_at(lambda m: (m.stiffness, m.damping), case.model, (jnp.asarray(float(k)), jnp.asarray(float(c))))
+
+
+def test_csv_columns_and_rows(small_map):
+    lines = small_map.csv.strip().splitlines()
+    assert tuple(lines[0].split(",")) == CSV_COLUMNS
+    assert lines[0] == "speed_rpm,spring_rate_N_per_mm,min_contact_force_N,separated,max_gap_mm"
+    data = np.loadtxt(lines[1:], delimiter=",")
+    assert data.shape == (6, 5)
+    assert list(data[:, 0]) == [300, 300, 520, 520, 650, 650] and list(data[:, 1]) == [1, 2] * 3
+    sep = data[:, 3].astype(bool)
+    assert set(data[:, 3]) <= {0.0, 1.0}
+    assert np.all(data[sep, 2] == 0.0) and np.all(data[~sep, 2] > 0.0)  # least force 0 where it separates
+    assert np.all(data[sep, 4] > 0.0) and np.all(data[~sep, 4] == 0.0)
+
+
+def test_separation_agrees_with_dynamics(lecture):
+    fast = load_case(ROOT / "cases" / "lecture-fast.toml")
+    jm_fast = jump_map(fast, [600.0])  # the case's own spring rate
+    jm_slow = jump_map(lecture, [300.0])
+    assert jm_fast.separated[0, 0] and jm_fast.min_force[0, 0] == 0.0 and jm_fast.max_gap[0, 0] > 0.1
+    assert not jm_slow.separated[0, 0] and jm_slow.max_gap[0, 0] == 0.0
+    # the boundary at the case's spring rate is the dynamic jump speed
+    w_jump = dyn.dynamic_jump_speed(lecture.motion, lecture.model, w_max=2000 * dyn.RPM) / dyn.RPM
+    jm = jump_map(lecture, [w_jump - 1.0, w_jump + 1.0])
+    assert list(jm.separated[:, 0]) == [False, True]
+
+
+def test_steady_state_vs_diffrax(lecture, small_map):
+    """The map's frequency-domain steady state against the diffrax time-domain shooting (compliant_response)."""
+    for i, j in ((0, 0), (0, 1)):
+        rpm, rate = small_map.speeds_rpm[i], small_map.spring_rates[j]
+        resp = dyn.compliant_response(lecture.motion, _model_with_rate(lecture, rate), rpm * dyn.RPM)
+        assert not resp.separations and not small_map.separated[i, j]
+        assert small_map.min_force[i, j] == pytest.approx(resp.min_force, abs=0.01)
+    # a third point, near the jump boundary
+    jm = jump_map(lecture, [480.0])
+    resp = dyn.compliant_response(lecture.motion, lecture.model, 480.0 * dyn.RPM)
+    assert 0.0 < resp.min_force < 2.0 and jm.min_force[0, 0] == pytest.approx(resp.min_force, abs=0.01)
+
+
+def test_gap_vs_diffrax_shooting(lecture, small_map):
+    """A periodic bounce (520 rpm, 2 N/mm): the map's largest gap against the diffrax periodic orbit."""
+    resp = dyn.compliant_response(lecture.motion, lecture.model, 520.0 * dyn.RPM)
+    assert resp.separations and resp.periodicity_error < 1e-6
+    gap = max(s.max_gap for s in resp.separations)
+    assert small_map.separated[1, 1] and small_map.max_gap[1, 1] == pytest.approx(gap, abs=1e-3)
+
+
+def test_rigid_map_agrees_with_kinematics_and_flight(lecture):
+    raw = tomllib.loads(LECTURE.read_text())
+    for key in ("train_stiffness", "train_damping_ratio"):
+        raw["dynamics"].pop(key)
+    rigid = case_from_dict(raw)
+    w_kin = dyn.kinematic_jump_speed(rigid.motion, rigid.model)[0] / dyn.RPM
+    jm = jump_map(rigid, [w_kin - 1.0, 600.0])
+    assert jm.model == "rigid" and list(jm.separated[:, 0]) == [False, True]
+    resp = dyn.rigid_response(rigid.motion, rigid.model, 600.0 * dyn.RPM)
+    assert jm.max_gap[1, 0] == pytest.approx(max(s.max_gap for s in resp.separations), rel=1e-6)
+
+
+def test_oscillating_forces_in_newton():
+    from camdyn.checks import _forces_in_newton
+
+    case = load_case(ROOT / "cases" / "oscillating.toml")
+    jm = jump_map(case, [case.speed_rpm])
+    resp = _forces_in_newton(case, dyn.compliant_response(case.motion, case.model, case.speed_rpm * dyn.RPM))
+    assert jm.oscillating and jm.spring_rate_unit == "N*m/rad"
+    assert jm.min_force[0, 0] == pytest.approx(resp.min_force, abs=0.01)
+
+
+def test_sharded_over_two_devices_equals_one(small_map):
+    """Two host devices (a subprocess): the grid sharded over both equals the grid on one of them."""
+    code = (
+        "import sys, jax, numpy as np, camdyn\n"
+        "from camdyn.case import load_case\n"
+        "from camdyn.sweep import jump_map\n"
+        "assert jax.device_count() == 2, jax.devices()\n"
+        f"case = load_case({str(LECTURE)!r})\n"
+        "grid = ([300.0, 520.0, 650.0], [1.0, 2.0])\n"
+        "two, one = jump_map(case, *grid), jump_map(case, *grid, devices=jax.devices()[:1])\n"
+        "assert two.devices == 2 and one.devices == 1\n"
+        "assert two.csv == one.csv, (two.csv, one.csv)\n"
+        "sys.stdout.write(two.csv)\n"
+    )
+    env = os.environ | {"XLA_FLAGS": "--xla_force_host_platform_device_count=2", "JAX_PLATFORMS": "cpu", "EQX_ON_ERROR": "nan"}
+    out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, timeout=300)
+    assert out.returncode == 0, out.stderr[-2000:]
+    two = np.loadtxt(out.stdout.strip().splitlines()[1:], delimiter=",")
+    one = np.loadtxt(small_map.csv.strip().splitlines()[1:], delimiter=",")
+    assert two.shape == one.shape == (6, 5)
+    np.testing.assert_allclose(two[:, :4], one[:, :4], rtol=1e-9, atol=1e-9)  # this process: maybe another platform
+
+
+def test_cli_writes_csv_and_png(capsys, tmp_path):
+    argv = ["sweep", str(LECTURE), "--speeds", "300:520:2", "--spring-rates", "1:2:2", "-o", str(tmp_path)]
+    assert main(argv) == 0
+    out = capsys.readouterr().out
+    csv, png = tmp_path / "lecture-sweep.csv", tmp_path / "lecture-sweep.png"
+    assert "preload kept" in out and csv.exists() and png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert len(csv.read_text().strip().splitlines()) == 1 + 4
+    assert main(argv) == 2 and "--force" in capsys.readouterr().err  # nothing overwritten without --force
+    assert main([*argv, "--force"]) == 0
+
+
+@pytest.mark.parametrize(
+    "flag, value",
+    [
+        ("--speeds", "100-700-3"),
+        ("--speeds", "100:700"),
+        ("--speeds", "a:700:3"),
+        ("--speeds", "100:700:2.5"),
+        ("--speeds", "700:100:3"),
+        ("--speeds", "0:100:3"),
+        ("--speeds", "100:700:0"),
+        ("--speeds", "100:700:1"),
+        ("--speeds", "100:inf:3"),
+        ("--spring-rates", "1:2:x"),
+    ],
+)
+def test_cli_bad_grid_is_one_line_exit_2(capsys, flag, value):
+    grids = {"--speeds": "100:700:3", flag: value}
+    argv = ["sweep", str(LECTURE), *(a for kv in grids.items() for a in kv), "-o", "/nonexistent-camdyn-dir"]
+    code = main(argv)
+    err = capsys.readouterr().err
+    assert code == 2
+    assert len(err.strip().splitlines()) == 1 and flag in err and err.startswith("camdyn: ")
