@@ -18,6 +18,7 @@ _API = {
     "Motion": "motion",
     "Program": "motion",
     "Segment": "motion",
+    "HermiteMotion": "motion",
     "law": "motion",
     "evaluate": "motion",
     "FollowerModel": "dynamics",
@@ -33,6 +34,18 @@ _API = {
     "CheckReport": "checks",
     "run_check": "checks",
     "FollowerSpec": "geometry",
+    "min_base_radius": "geometry",
+    "Synthesis": "linkage",
+    "synthesize_motion": "linkage",
+    "synthesize_dimensions": "linkage",
+    "SpringSizing": "sizing",
+    "size_spring": "sizing",
+    "plot_feasible_region": "sizing",
+    "JumpMap": "sweep",
+    "jump_map": "sweep",
+    "plot_jump_map": "sweep",
+    "write_report": "report",
+    "write_profile": "export",
 }
 
 __all__ = sorted(_API)

@@ -74,12 +74,34 @@ def cmd_check(args) -> int:
     from .case import load_case
     from .checks import run_check
 
-    report = run_check(load_case(args.case), args.speed)
+    case = load_case(args.case)
+    if args.report:
+        from .report import output_dir
+
+        output_dir(args.report)
+    report = run_check(case, args.speed)
     if args.json:
         print(json.dumps(report.json(), indent=2))
     else:
         _print_check(report)
+    if args.report:
+        from .report import progress, write_report
+
+        with progress() as task:
+            advance, done = task(5)
+            written = write_report(case, args.report, check=report, advance=advance)
+            done(f"{case.name}: {len(written.pngs)} pages")
+        print(f"wrote {written.pdf} and {len(written.pngs)} PNG pages", file=sys.stderr)
     return 0 if report.verdict == "pass" else 1
+
+
+# ------------------------------------------------------------------------------------- report
+def cmd_report(args) -> int:
+    from .report import report_cases
+
+    for written in report_cases(args.cases, args.output, speed_rpm=args.speed):
+        print(f"wrote {written.pdf} ({len(written.pngs)} pages, {written.verdict}) and {', '.join(p.name for p in written.pngs)}")
+    return 0
 
 
 # -------------------------------------------------------------------------------------- table
@@ -153,6 +175,157 @@ def cmd_profile(args) -> int:
     return 0
 
 
+# --------------------------------------------------------------------------------------- size
+def _print_size(sz) -> None:
+    import numpy as np
+    from rich.console import Console
+    from rich.table import Table
+
+    from .sizing import TIE_BREAK
+
+    console = Console(highlight=False, soft_wrap=True)
+    u = sz.units
+    console.print(f"[bold]{sz.case_name}[/bold]  spring sizing")
+    console.print(
+        f"contact force >= {sz.min_contact_force:g} N at every angle and every speed up to {sz.top_speed_rpm:.4g} rpm "
+        f"({sz.margin:g} x {sz.speed_rpm:g} rpm); {sz.model} follower; least peak spring force"
+    )
+    jump = lambda w: "none" if w == float("inf") else f"{w:.1f}"  # noqa: E731
+    fmt = lambda x, scale: f"{0.0 if abs(x) < 1e-9 * max(1.0, abs(scale)) else x:.4g}"  # noqa: E731
+    designs = [("chosen", sz.chosen)] + ([("kinematic LP", sz.kinematic)] if sz.model == "compliant" else [])
+    designs += [("current", sz.current), ("current rate", sz.at_current_rate)]
+    table = Table(show_edge=False, pad_edge=False, box=None, header_style="bold")
+    table.add_column("")
+    for name, _ in designs:
+        table.add_column(name, justify="right", no_wrap=True)
+    ds = [d for _, d in designs]
+    spring = "torque" if sz.oscillating else "force"
+    table.add_row(f"rate ({u['rate']})", *(f"{d.rate:.4g}" for d in ds))
+    table.add_row(f"preload ({u['preload']})", *(fmt(d.preload, d.peak_spring) for d in ds))
+    table.add_row(f"peak spring {spring} ({u['spring']})", *(f"{d.peak_spring:.4g}" for d in ds))
+    table.add_row("peak contact force (N)", *(f"{d.peak_contact:.4g}" for d in ds))
+    table.add_row("least contact force (N)", *(fmt(d.least_force, d.peak_contact) for d in ds))
+    table.add_row("kinematic jump speed (rpm)", *(jump(d.kinematic_jump_rpm) for d in ds))
+    table.add_row("dynamic jump speed (rpm)", *(jump(d.dynamic_jump_rpm) for d in ds))
+    holds = (d.least_force >= sz.min_contact_force - 1e-6 * max(1.0, abs(d.peak_contact)) for d in ds)
+    table.add_row(f"holds up to {sz.top_speed_rpm:.4g} rpm", *("[green]yes[/green]" if h else "[bold red]no[/bold red]" for h in holds))
+    console.print(table)
+    console.print("[dim]contact forces: over every angle and every speed up to the top speed; current rate: the least preload that holds with the case's own rate[/dim]")
+    if sz.model == "compliant":
+        c, k = sz.chosen, sz.kinematic
+        console.print(
+            f"dynamic correction (compliant train): rate {c.rate - k.rate:+.4g} {u['rate']}, preload {c.preload - k.preload:+.4g} {u['preload']}, "
+            f"peak spring {c.peak_spring - k.peak_spring:+.4g} {u['spring']}; dynamic jump speed {jump(k.dynamic_jump_rpm)} -> {jump(c.dynamic_jump_rpm)} rpm "
+            f"(the kinematic answer's least dynamic contact force is {k.least_force:.4g} N)"
+        )
+    where = ", ".join(f"{a:.1f} deg" if a == b else f"{a:.1f}-{b:.1f} deg" for a, b, _ in sz.binding[:4])
+    line = f"binding (kinematic): {where}" if where else "binding (kinematic): -"
+    if sz.dynamic_binding is not None:
+        line += f"; dynamic: {sz.dynamic_binding[0]:.1f} deg at {sz.dynamic_binding[1]:.4g} rpm"
+    console.print(line)
+    region = Table(show_edge=False, pad_edge=False, box=None, header_style="bold", title="feasible region: preload >= least preload(rate)", title_justify="left")
+    for col in (f"rate ({u['rate']})", f"least preload ({u['preload']}): kinematic", "dynamic", f"peak spring ({u['spring']})"):
+        region.add_column(col, justify="right", no_wrap=True)
+    n = len(sz.region_rate)
+    for i in np.unique(np.linspace(0, n - 1, 6).round().astype(int)):
+        dyn_pre = sz.region_preload_dynamic[i] if sz.region_preload_dynamic is not None else sz.region_preload_kinematic[i]
+        peak = sz.region_rate[i] * sz.s_max + dyn_pre
+        region.add_row(f"{sz.region_rate[i]:.4g}", fmt(sz.region_preload_kinematic[i], peak), "-" if sz.region_preload_dynamic is None else fmt(dyn_pre, peak), f"{peak:.4g}")
+    console.print(region)
+    console.print(f"[dim]tie-break:[/dim] {TIE_BREAK}")
+    console.print(f"[dim]damping:[/dim] {sz.damping}")
+    for w in sz.warnings:
+        console.print(f"[yellow]warning:[/yellow] {w}")
+    c = sz.chosen
+    console.print(f"size: [bold]rate {c.rate:.4g} {u['rate']}, preload {c.preload:.4g} {u['preload']}[/bold] (peak spring {c.peak_spring:.4g} {u['spring']})")
+
+
+def cmd_size(args) -> int:
+    from .case import load_case
+    from .sizing import size_spring
+
+    sz = size_spring(load_case(args.case), args.max_speed, args.margin, args.min_rate)
+    if args.json:
+        print(json.dumps(sz.json(), indent=2))
+    else:
+        _print_size(sz)
+    return 0
+
+
+# -------------------------------------------------------------------------------------- sweep
+def _parse_grid(flag: str, text: str):
+    """``A:B:N`` -> N equally spaced values from A to B (positive, A <= B, N >= 1); InputError naming the flag."""
+    import math
+
+    import numpy as np
+
+    from .errors import InputError
+
+    parts = text.split(":")
+    if len(parts) != 3:
+        raise InputError(flag, f"expected A:B:N (from A to B in N values, e.g. 100:700:61), got {text!r}")
+    try:
+        a, b, n = float(parts[0]), float(parts[1]), int(parts[2])
+    except ValueError:
+        raise InputError(flag, f"expected A:B:N with numbers A and B and a whole number N, got {text!r}") from None
+    if not (math.isfinite(a) and math.isfinite(b) and a > 0 and b > 0):
+        raise InputError(flag, f"A and B must be positive numbers, got {text!r}")
+    if a > b:
+        raise InputError(flag, f"A must not exceed B, got {text!r}")
+    if n < 1 or (n == 1 and a != b):
+        raise InputError(flag, f"N must be at least 1 (and N = 1 needs A = B), got {text!r}")
+    return np.linspace(a, b, n)
+
+
+def cmd_sweep(args) -> int:
+    import time
+
+    import numpy as np
+    from rich.console import Console
+    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
+
+    from .case import load_case
+    from .errors import InputError
+    from .sweep import jump_map, save_png
+
+    speeds = _parse_grid("--speeds", args.speeds)
+    rates = _parse_grid("--spring-rates", args.spring_rates) if args.spring_rates is not None else None
+    case = load_case(args.case)
+    out = Path(args.output)
+    csv_path, png_path = out / f"{case.name}-sweep.csv", out / f"{case.name}-sweep.png"
+    for path in (csv_path, png_path):
+        if path.exists() and not args.force:
+            raise InputError(str(path), "exists; pass --force to overwrite it")
+    t0 = time.perf_counter()
+    columns = (TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn())
+    with Progress(*columns, console=Console(stderr=True), disable=not sys.stderr.isatty()) as bar:
+        tasks: dict = {}
+
+        def progress(phase, done, total):
+            if phase not in tasks:
+                tasks[phase] = bar.add_task(phase, total=total)
+            bar.update(tasks[phase], completed=done)
+
+        jm = jump_map(case, speeds, rates, progress=progress)
+    elapsed = time.perf_counter() - t0
+    _write_new(csv_path, jm.csv, True)
+    save_png(jm, png_path)
+    ku = jm.spring_rate_unit
+    n_sep = int(np.count_nonzero(jm.separated))
+    print(
+        f"{case.name}: jump map of {jm.separated.size} points ({speeds.size} speeds {speeds[0]:g}-{speeds[-1]:g} rpm x "
+        f"{jm.spring_rates.size} spring rates {jm.spring_rates[0]:g}-{jm.spring_rates[-1]:g} {ku}), {jm.model} follower, "
+        f"{elapsed:.1f} s on {jm.devices} device(s)"
+    )
+    print(f"preload kept at the case's {jm.preload:g} {jm.preload_unit} while the spring rate varies" + ("; spring rates are torsion rates, N*m/rad (column spring_rate_N_per_mm)" if jm.oscillating else ""))
+    gap = np.nanmax(jm.max_gap) if n_sep else 0.0
+    print(f"separated at {n_sep} of {jm.separated.size} points" + (f" (largest gap {gap:.4g} mm)" if n_sep else "") + f"; least contact force on the map {float(np.min(jm.min_force)):.4g} N")
+    for note in jm.notes:
+        print(f"warning: {note}", file=sys.stderr)
+    print(f"wrote {csv_path} and {png_path}")
+    return 0
+
+
 # ---------------------------------------------------------------------------------- plumbing
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="camdyn", description="Cam mechanism design and follower dynamics: prove the follower never leaves the cam.")
@@ -163,7 +336,14 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("case", help="case file (TOML)")
     p.add_argument("--speed", type=float, metavar="RPM", help="cam speed, rpm (default: the case's)")
     p.add_argument("--json", action="store_true", help="print one JSON document")
+    p.add_argument("--report", metavar="DIR", help="also write the design-review report (DIR/<case>.pdf and a PNG per page)")
     p.set_defaults(func=cmd_check)
+
+    p = sub.add_parser("report", help="design-review report per case: DIR/<case>.pdf and DIR/<case>-<n>-<page>.png")
+    p.add_argument("cases", nargs="+", metavar="CASE", help="case files (TOML)")
+    p.add_argument("-o", "--output", default="reports", metavar="DIR", help="output folder (default: reports); camdyn's own report files there are overwritten")
+    p.add_argument("--speed", type=float, metavar="RPM", help="cam speed, rpm (default: each case's)")
+    p.set_defaults(func=cmd_report)
 
     p = sub.add_parser("table", help="CSV of the follower motion and kinematic contact force per angle")
     p.add_argument("case", help="case file (TOML)")
@@ -178,6 +358,22 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--tolerance", type=float, default=0.01, metavar="MM", help="chord tolerance, mm (default 0.01)")
     p.add_argument("--force", action="store_true", help="overwrite FILE if it exists")
     p.set_defaults(func=cmd_profile)
+
+    p = sub.add_parser("size", help="return spring (rate, preload) with the least peak force that holds up to margin x speed")
+    p.add_argument("case", help="case file (TOML)")
+    p.add_argument("--max-speed", type=float, metavar="RPM", help="maximum cam speed, rpm (default: the case's speed)")
+    p.add_argument("--margin", type=float, metavar="X", help="hold up to X times the maximum speed (default: the case's speed_margin)")
+    p.add_argument("--min-rate", type=float, default=0.0, metavar="K", help="least spring rate, N/mm (N*m/rad oscillating; default 0)")
+    p.add_argument("--json", action="store_true", help="print one JSON document")
+    p.set_defaults(func=cmd_size)
+
+    p = sub.add_parser("sweep", help="jump map over speeds x spring rates: DIR/<case>-sweep.csv and DIR/<case>-sweep.png")
+    p.add_argument("case", help="case file (TOML)")
+    p.add_argument("--speeds", required=True, metavar="A:B:N", help="cam speeds, rpm: N values from A to B")
+    p.add_argument("--spring-rates", metavar="A:B:N", help="spring rates, N/mm (N*m/rad oscillating): N values from A to B (default: the case's); the preload stays the case's")
+    p.add_argument("-o", "--output", default=".", metavar="DIR", help="output folder (default: the current one)")
+    p.add_argument("--force", action="store_true", help="overwrite the files if they exist")
+    p.set_defaults(func=cmd_sweep)
     return parser
 
 
