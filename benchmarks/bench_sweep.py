@@ -28,70 +28,15 @@ The machine may be shared: the load average is printed, and the ratio is taken w
 from __future__ import annotations
 
 import argparse
-import math
 import os
-import shutil
-import subprocess
 import sys
-import tempfile
 import time
 from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
-ROOT = HERE.parent
-CASE = ROOT / "cases" / "lecture.toml"
-N = 3600  # the least-force grid (0.1 deg), as camdyn's
 
-
-def scipy_point(p: dict, omega: float, rtol=1e-6, atol=1e-8, method="RK45", tol=1e-6, max_revs=60, sep_revs=6, last=2):
-    """One grid point by a solve_ivp loop: (least force N, separated, largest gap mm, revolutions)."""
-    import numpy as np
-    from scipy.integrate import solve_ivp
-
-    from bench_dynamics import lecture_s_s1
-
-    m, k, f0, c, fe, kf, cf = (p[n] for n in ("m", "k", "f0", "c", "fe", "kf", "cf"))
-    sc = 1e-3
-    den = m * omega**2 * sc
-
-    def rhs(th, y):
-        x, v = y
-        s, s1 = lecture_s_s1(th)
-        fi = max(0.0, kf * sc * (s - x) + cf * omega * sc * (s1 - v)) if s > x else 0.0
-        return [v, (fi - (k * sc * x + f0) - c * omega * sc * v - fe) / den]
-
-    breaks = (0.0, 0.5 * math.pi, math.pi, 4 * math.pi / 3, 2 * math.pi)
-    theta = np.arange(N) * (2 * math.pi / N)
-    ss = np.array([lecture_s_s1(t) for t in theta])
-    z = np.array([-(f0 + fe) / (kf * sc), 0.0])  # quasi-static start at theta = 0 (dwell, s = 0)
-    gaps, first_sep, fmin = [], None, math.nan
-    for rev in range(1, max_revs + 1):
-        z_start, xs, vs, y = z, np.empty(N), np.empty(N), z
-        for a, b in zip(breaks[:-1], breaks[1:], strict=True):
-            sol = solve_ivp(rhs, (a, b), y, method=method, rtol=rtol, atol=atol, dense_output=True)
-            sel = (theta >= a) & (theta < b)
-            xs[sel], vs[sel] = sol.sol(theta[sel])
-            y = sol.y[:, -1]
-        z = y
-        f = kf * sc * (ss[:, 0] - xs) + cf * omega * sc * (ss[:, 1] - vs)
-        fmin = float(np.where(ss[:, 0] > xs, np.maximum(f, 0.0), 0.0).min())
-        gaps.append(max(0.0, float(np.max(xs - ss[:, 0]))))
-        if fmin <= 0.0 and first_sep is None:
-            first_sep = rev
-        if np.max(np.abs(z - z_start)) < tol or (first_sep is not None and rev >= sep_revs):
-            break
-    separated = first_sep is not None
-    return (0.0 if separated else fmin), separated, (max(gaps[-last:]) if separated else 0.0), rev
-
-
-def timed(fn, repeat=1):
-    best, out = math.inf, None
-    for _ in range(repeat):
-        t = time.perf_counter()
-        out = fn()
-        best = min(best, time.perf_counter() - t)
-    return best, out
+from bench_dynamics import CASE, check_latency_rows, scipy_point, timed  # noqa: E402  (the shared loop and timer)
 
 
 def main() -> int:
@@ -173,19 +118,7 @@ def main() -> int:
 
     # (c) camdyn check as fresh processes
     if not opts.no_check:
-        from bench_dynamics import camdyn_cmd, check_process
-
-        cache = tempfile.mkdtemp(prefix="camdyn-bench-cache-")
-        try:
-            env = {k: v for k, v in os.environ.items() if k != "CAMDYN_NO_CACHE"}
-            wall_c, br_c = check_process(env | {"CAMDYN_NO_CACHE": "1"})
-            warm_env = env | {"XDG_CACHE_HOME": cache}
-            subprocess.run([*camdyn_cmd(), "check", str(CASE)], env=warm_env, capture_output=True)  # fill the cache
-            wall_w, br_w = check_process(warm_env)
-        finally:
-            shutil.rmtree(cache, ignore_errors=True)
-        for label, wall, br in (("cold cache", wall_c, br_c), ("warm cache", wall_w, br_w)):
-            rows.append((f"camdyn check ({label}), fresh process", f"{wall:.2f} s", f"import {br['import']:.2f} s + compile {br['first'] - br['second']:.2f} s + run {br['second']:.2f} s (exit {br['rc']})"))
+        rows += check_latency_rows()
 
     w1 = max(len(a) for a, _, _ in rows)
     w2 = max(len(b) for _, b, _ in rows)

@@ -28,6 +28,7 @@ import optimistix as optx
 from scipy.optimize import brentq, minimize_scalar
 
 from .errors import NumericalError
+from .programs import cached_jit
 from .motion import TWO_PI, Motion, evaluate
 
 RPM = TWO_PI / 60.0  # rad/s per rpm
@@ -65,7 +66,7 @@ def kinematic_force(motion: Motion, model: FollowerModel, omega, theta):
     return model.mass * omega**2 * s2 + model.damping * omega * s1 + model.stiffness * s + model.preload + model.external
 
 
-_kinematic_force_jit = eqx.filter_jit(kinematic_force)
+_kinematic_force_jit = cached_jit(kinematic_force)
 
 
 def _quadratic_jump_speed(a, b, c):
@@ -152,7 +153,7 @@ def _contact_force(motion, model, omega, theta, x, p):
     return jnp.where(s > x, jnp.maximum(0.0, model.train_stiffness * sc * (s - x) + model.train_damping * omega * sc * (s1 - p)), 0.0)
 
 
-_contact_force_jit = eqx.filter_jit(_contact_force)
+_contact_force_jit = cached_jit(_contact_force)
 _MAX_STEPS = 200_000
 
 
@@ -163,7 +164,7 @@ def _quasi_static_start(motion, model, omega):
 
 
 _NEWTON_ITERS = 8
-_quasi_static_jit = eqx.filter_jit(_quasi_static_start)
+_quasi_static_jit = cached_jit(_quasi_static_start)
 
 
 def _variational_field(theta, y, args):
@@ -192,7 +193,7 @@ def _rev_with_sensitivity(motion, model, omega, z0, theta):
     return ys[:-1, :2], ys[-1, :2], ys[-1, 2:].reshape(2, 2), sol.result == diffrax.RESULTS.successful
 
 
-_rev_jit = eqx.filter_jit(_rev_with_sensitivity)
+_rev_jit = cached_jit(_rev_with_sensitivity)
 _PLAIN_REVS = 60  # after Newton stalls (non-smooth bouncing): revolutions of plain iteration at most
 
 
@@ -518,7 +519,7 @@ def _steady_force_at(motion: Motion, model: FollowerModel, n: int):
     return force
 
 
-@eqx.filter_jit
+@cached_jit
 def linear_min_force(motion: Motion, model: FollowerModel, omegas, n: int = _FFT_N, weight=None):
     """Least interface force (N) of the compliant model's periodic orbit if it never separates, per speed.
 

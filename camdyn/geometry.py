@@ -44,10 +44,8 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from functools import partial
 from typing import Callable, Literal
 
-import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
@@ -55,6 +53,8 @@ from pydantic import BaseModel, ConfigDict, Field
 
 from .checks import Check
 from .errors import InputError, NumericalError
+from .motion import evaluate
+from .programs import cached_jit
 
 FOLLOWER_TYPES = ("translating-roller", "translating-flat", "oscillating-roller", "oscillating-flat")
 
@@ -251,13 +251,7 @@ def _point(kind: str, p, th0, sv):
     )
 
 
-@eqx.filter_jit
-def _motion_values(motion, theta):
-    """s and its first three derivatives at theta (rad): compiled once per motion and array bucket."""
-    return motion(theta)
-
-
-@partial(jax.jit, static_argnames="kind")
+@cached_jit
 def _geometry(p, theta, sv, kind: str):
     """Vectorised :func:`_point`, compiled once per follower type and array bucket whatever the motion (it is
     evaluated apart), the rotation and the lengths: sweeps and base-circle bisection reuse it."""
@@ -278,7 +272,7 @@ def _eval_np(motion, f: FollowerSpec, theta_rad, base_radius: float | None = Non
     parts = []
     for chunk in padded.reshape(-1, _CHUNK):
         theta = jnp.asarray(chunk)
-        sv = _motion_values(motion, theta)
+        sv = evaluate(motion, theta)
         parts.append(_geometry(p, theta, sv, f.type) | {"s": sv[0]})
     out = {k: np.concatenate([np.asarray(part[k]) for part in parts])[:n] for k in parts[0]}
     return {k: v.reshape(theta_rad.shape + v.shape[1:]) for k, v in out.items()}

@@ -18,7 +18,8 @@ from scipy.optimize import minimize_scalar
 
 import camdyn  # noqa: F401  (float64)
 from camdyn import InputError, Motion, Program
-from camdyn.geometry import CUSP_MM, FollowerSpec, _motion_values, analyze, lever_arm_mm, min_base_radius
+from camdyn.geometry import CUSP_MM, FollowerSpec, analyze, lever_arm_mm, min_base_radius
+from camdyn.motion import evaluate
 
 LECTURE_SEGMENTS = [
     {"law": "dwell", "end": 90},
@@ -53,7 +54,7 @@ def svaj(motion, theta_deg) -> np.ndarray:
     """s and its first three derivatives at theta_deg (the motion's closed forms, via camdyn's compiled evaluator)."""
     theta = np.zeros(max(4096, len(theta_deg)))
     theta[: len(theta_deg)] = np.deg2rad(theta_deg)
-    return np.asarray(_motion_values(motion, jnp.asarray(theta)))[:, : len(theta_deg)]
+    return np.asarray(evaluate(motion, jnp.asarray(theta)))[:, : len(theta_deg)]
 
 
 def R90(xy):
