@@ -146,3 +146,58 @@ def run_check(case, speed_rpm: float | None = None) -> CheckReport:
     for sep in resp.separations:
         warnings.append(f"the follower leaves the cam at {sep.start_deg:.1f} deg and lands at {sep.end_deg:.1f} deg (gap up to {sep.max_gap:.3g} {unit}, impact at {sep.impact_speed:.3g} m/s)")
     return CheckReport(case, rpm, checks, kinematic, dynamic, resp, tuple(warnings), tuple(advice), geo)
+
+
+# ------------------------------------------------------------------------------ corner advice
+def corner_radius_advice(case, speed_rpm: float | None = None, *, evaluations: int = 6, advance=None) -> str | None:
+    """For a failing path case with sharp corners: the corner radius (mm) with which it passes, or why none does.
+
+    The sharp corner is the cause (the follower's velocity jumps there), so the remedy is a fillet: bisect
+    ``[path] corner_radius`` between 0 (fails) and half the shorter side on the full check's verdict, with
+    ``evaluations`` checks in all (each re-synthesizes the mechanism). ``advance(description)`` is called before
+    each. None if the case has no sharp corners.
+    """
+    from .case import case_from_dict
+    from .errors import CamdynError
+
+    syn = case.synthesis
+    if syn is None or not syn.sharp_corners or case.spec.path.get("type") != "rectangle":
+        return None
+    raw = case.spec.model_dump(exclude_none=True)
+    r_max = 0.5 * min(float(raw["path"]["width"]), float(raw["path"]["height"]))
+    rpm = float(speed_rpm if speed_rpm is not None else case.speed_rpm)
+    seen: dict[float, CheckReport | None] = {}
+
+    def verdict(r: float) -> bool:
+        if advance is not None:
+            advance(f"corner_radius {r:g} mm")
+        trial = {**raw, "path": {**raw["path"], "corner_radius": r}}
+        try:
+            seen[r] = run_check(case_from_dict(trial, source=case.source), rpm)
+        except CamdynError:  # a radius the mechanism cannot trace counts as failing
+            seen[r] = None
+        return seen[r] is not None and seen[r].verdict == "pass"
+
+    tidy = lambda r: max(round(r, 1), 0.1)  # noqa: E731 - a radius to 0.1 mm is what a drawing gives
+    lo, hi = 0.0, None
+    first = tidy(r_max / 8.0)
+    if verdict(first):
+        hi = first
+    else:
+        lo, top = first, tidy(0.98 * r_max)
+        if not verdict(top):
+            return f"no corner radius up to {top:g} mm passes at {rpm:g} rpm: the sharp corners are not the only problem"
+        hi = top
+    for _ in range(evaluations - len(seen)):
+        mid = tidy(0.5 * (lo + hi))
+        if mid in (lo, hi):
+            break
+        lo, hi = (lo, mid) if verdict(mid) else (mid, hi)
+    rep = seen[hi]
+    force = next(c for c in rep.checks if c.name == "contact_force")
+    margin = next(c for c in rep.checks if c.name == "speed_margin")
+    margin_txt = "no jump" if margin.value is None else f"speed margin {margin.value:.3g}"
+    return (
+        f"sharp corners: [path] corner_radius = {hi:g} mm passes at {rpm:g} rpm (least contact force {force.value:.3g} N, "
+        f"{margin_txt}){f'; {lo:g} mm fails' if lo > 0 else ''}"
+    )

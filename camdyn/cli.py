@@ -18,7 +18,8 @@ os.environ.setdefault("EQX_ON_ERROR", "nan")
 
 
 def _enable_compilation_cache() -> None:
-    """Persist compiled XLA programs between runs (the user's second ``check`` skips most compile time)."""
+    """Persist compiled XLA programs and traced camdyn programs between runs (the user's second ``check`` skips
+    most of JAX's tracing and compilation)."""
     if os.environ.get("CAMDYN_NO_CACHE"):
         return
     import jax
@@ -30,6 +31,9 @@ def _enable_compilation_cache() -> None:
         return
     jax.config.update("jax_compilation_cache_dir", str(root))
     jax.config.update("jax_persistent_cache_min_compile_time_secs", 0.1)
+    from . import programs
+
+    programs.enable(root.parent / "programs")
 
 
 def _write_new(path: Path, text: str, force: bool) -> None:
@@ -44,6 +48,7 @@ def _write_new(path: Path, text: str, force: bool) -> None:
 # -------------------------------------------------------------------------------------- check
 def _print_check(report) -> None:
     from rich.console import Console
+    from rich.markup import escape
     from rich.table import Table
 
     console = Console(highlight=False, soft_wrap=True)
@@ -63,9 +68,9 @@ def _print_check(report) -> None:
         table.add_row(c.name, value, c.sense, f"{c.limit:g}", c.unit, result)
     console.print(table)
     for w in report.warnings:
-        console.print(f"[yellow]warning:[/yellow] {w}")
+        console.print(f"[yellow]warning:[/yellow] {escape(w)}")
     for a in report.advice:
-        console.print(f"[cyan]advice:[/cyan] {a}")
+        console.print(f"[cyan]advice:[/cyan] {escape(a)}")
     colour = "green" if report.verdict == "pass" else "red"
     console.print(f"verdict: [bold {colour}]{report.verdict.upper()}[/bold {colour}]")
 
@@ -80,6 +85,18 @@ def cmd_check(args) -> int:
 
         output_dir(args.report)
     report = run_check(case, args.speed)
+    if report.verdict == "fail" and case.synthesis is not None and case.synthesis.sharp_corners:
+        import dataclasses
+
+        from .checks import corner_radius_advice
+        from .report import progress
+
+        with progress() as task:
+            advance, done = task(6)
+            tip = corner_radius_advice(case, report.speed_rpm, advance=advance)
+            done("corner radius found")
+        if tip:
+            report = dataclasses.replace(report, advice=report.advice + (tip,))
     if args.json:
         print(json.dumps(report.json(), indent=2))
     else:
@@ -326,6 +343,77 @@ def cmd_sweep(args) -> int:
     return 0
 
 
+# --------------------------------------------------------------------------------- synthesize
+def _print_synthesize(res, output: Path, elapsed: float) -> None:
+    from rich.console import Console
+    from rich.table import Table
+
+    console = Console(highlight=False, soft_wrap=True)
+    s, m = res.summary, res.mechanism
+    fb = s.get("fourbar")
+    console.print(f"[bold]{res.case.name}[/bold]  CCM for the {res.case.spec.path['type']} path, dimensions by differential evolution (seed {s['seed']})")
+    table = Table(show_edge=False, pad_edge=False, box=None, header_style="bold")
+    table.add_column("")
+    table.add_column("CCM", justify="right", no_wrap=True)
+    table.add_column("best four-bar" if fb else "", justify="right", no_wrap=True)
+    f = lambda x: f"{x:.4g}"  # noqa: E731
+    conv = lambda ok, n: f"{'yes' if ok else 'no'} ({n} gen)"  # noqa: E731
+    table.add_row("crank (mm)", f(s["crank_mm"]), f(fb["crank"]) if fb else "")
+    table.add_row("coupler (mm)", f(s["coupler_mm"]), f(fb["coupler"]) if fb else "")
+    table.add_row("link C-E / rocker (mm)", f(m["link"]), f(fb["rocker"]) if fb else "")
+    table.add_row("stroke (mm)", f(s["stroke_mm"]), "-" if fb else "")
+    table.add_row("least transmission angle (deg)", f"{min(s['min_transmission_angle_deg'], s['min_slider_angle_deg']):.1f}", f"{fb['min_transmission_angle_deg']:.1f}" if fb else "")
+    table.add_row("base radius (mm)", f"{s['base_radius_mm']:g}", "-" if fb else "")
+    err = lambda x: f"{x:.2g}" if x < 1e-3 else f"{x:.4g}"  # noqa: E731
+    table.add_row("max path error (mm)", err(s["max_path_error_mm"]), err(s["fourbar_path_error_mm"]) if fb else "")
+    table.add_row("optimizer converged", conv(s["optimizer_converged"], s["generations"]), conv(fb["optimizer_converged"], fb["generations"]) if fb else "")
+    console.print(table)
+    console.print(f"[dim]cam centre ({m['cam_center'][0]:g}, {m['cam_center'][1]:g}) mm, slider line through ({m['slider_point'][0]:g}, {m['slider_point'][1]:g}) mm at {m['slider_angle']:g} deg, crank turns {s['rotation']}; objective {s['objective']}[/dim]")
+    for note in res.notes:
+        console.print(f"[cyan]note:[/cyan] {note}")
+    for w in s["warnings"]:
+        console.print(f"[yellow]warning:[/yellow] {w}")
+    if not res.constraints_met:
+        console.print(f"[bold red]constraints not met:[/bold red] {'; '.join(s['violations'])} (try a larger --maxiter or another --seed)")
+    console.print(f"wrote {output} in {elapsed:.1f} s; next: camdyn check {output}")
+
+
+def cmd_synthesize(args) -> int:
+    import time
+
+    from rich.console import Console
+    from rich.progress import BarColumn, MofNCompleteColumn, Progress, SpinnerColumn, TextColumn, TimeElapsedColumn
+
+    from .errors import InputError
+    from .synthesize import read_path_file, synthesize_case
+
+    out = Path(args.output)
+    if out.exists() and not args.force:  # before minutes of work, not after
+        raise InputError(str(out), "exists; pass --force to overwrite it")
+    if out.resolve() == Path(args.case).resolve():
+        raise InputError(str(out), "is the input path file; write the case to another file")
+    raw = read_path_file(args.case)
+    t0 = time.perf_counter()
+    columns = (SpinnerColumn(), TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn())
+    with Progress(*columns, console=Console(stderr=True), disable=not sys.stderr.isatty()) as bar:
+        tasks: dict = {}
+
+        def progress(phase, done, total):
+            if phase not in tasks:
+                tasks[phase] = bar.add_task(phase, total=total)
+            bar.update(tasks[phase], completed=done, total=total)
+
+        res = synthesize_case(raw, source=Path(args.case), name=out.stem, seed=args.seed, maxiter=args.maxiter, progress=progress)
+    elapsed = time.perf_counter() - t0
+    _write_new(out, res.text, args.force)
+    if args.json:
+        doc = {"output": str(out), "constraints_met": res.constraints_met, "time_s": elapsed, "mechanism": res.mechanism, "dynamics": res.dynamics, "summary": res.summary, "notes": res.notes}
+        print(json.dumps(doc, indent=2, default=lambda o: o.item() if hasattr(o, "item") else str(o)))
+    else:
+        _print_synthesize(res, out, elapsed)
+    return 0 if res.constraints_met else 1
+
+
 # ---------------------------------------------------------------------------------- plumbing
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="camdyn", description="Cam mechanism design and follower dynamics: prove the follower never leaves the cam.")
@@ -374,6 +462,15 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("-o", "--output", default=".", metavar="DIR", help="output folder (default: the current one)")
     p.add_argument("--force", action="store_true", help="overwrite the files if they exist")
     p.set_defaults(func=cmd_sweep)
+
+    p = sub.add_parser("synthesize", help="choose a CCM's dimensions for a path (differential evolution) and write a complete case file")
+    p.add_argument("case", metavar="PATH.toml", help="path file: [path], [dynamics], optional name, description, [limits], [synthesis]")
+    p.add_argument("-o", "--output", required=True, metavar="CASE.toml", help="the case file to write")
+    p.add_argument("--force", action="store_true", help="overwrite CASE.toml if it exists")
+    p.add_argument("--seed", type=int, metavar="N", help="optimizer seed (default: [synthesis] seed, else 0)")
+    p.add_argument("--maxiter", type=int, metavar="N", help="most optimizer generations (default: [synthesis] maxiter, else 200)")
+    p.add_argument("--json", action="store_true", help="print one JSON document (the mechanism, the summary and the four-bar comparison)")
+    p.set_defaults(func=cmd_synthesize)
     return parser
 
 

@@ -177,3 +177,20 @@ def test_oscillating_case_forces_in_newton(capsys):
     code, out, _ = run(capsys, "check", case_path, "--json")
     doc = json.loads(out)
     assert code == 0 and doc["dynamic"]["min_contact_force_N"] > 10.0 and "residual_vibration_rad" in doc["dynamic"]
+
+
+def test_sharp_square_gets_the_corner_radius_that_passes(capsys, tmp_path, monkeypatch):
+    import functools
+
+    from camdyn import checks
+
+    # three checks instead of six: 2.5 mm (r_max / 8) passes, then 1.2 and 1.9 mm fail (2.2 fails, 2.3 passes)
+    monkeypatch.setattr(checks, "corner_radius_advice", functools.partial(checks.corner_radius_advice, evaluations=3))
+    text = (ROOT / "cases" / "square.toml").read_text().replace("corner_radius = 5.0", "corner_radius = 0.0")
+    (tmp_path / "sharp.toml").write_text(text)
+    code, out, _ = run(capsys, "check", tmp_path / "sharp.toml", "--json")
+    doc = json.loads(out)
+    assert code == 1 and doc["verdict"] == "fail"
+    assert any("sharp corners" in w and "unbounded" in w for w in doc["warnings"])
+    (tip,) = doc["advice"]
+    assert tip.startswith("sharp corners: [path] corner_radius = 2.5 mm passes at 60 rpm") and tip.endswith("; 1.9 mm fails")

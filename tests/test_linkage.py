@@ -123,9 +123,14 @@ def test_ye_smith_section_8(racetrack):
     assert yt1 == pytest.approx(-22.5475, abs=1e-3)
     assert xt1 == pytest.approx(-88.3139, abs=1e-3)  # the paper prints -88.3199: an arithmetic slip
     assert abs(xt1 - -88.3199) > 5e-3
-    # the synthesized contour array carries the same point at the same cam angle
-    i = int(np.argmin(np.abs(np.linalg.norm(racetrack.pitch - [xe1, ye1], axis=1))))
-    assert np.linalg.norm(racetrack.pitch[i] - [xe1, ye1]) < 1.5  # 1-degree sampling of the pitch curve
+    # camdyn's cam geometry from the synthesized follower (an independent route: the envelope of the roller
+    # about the arm pivot, not eqs. 6-8) gives the same pitch and contour points, of the exact and tabulated motion
+    from camdyn.geometry import _eval_np
+
+    for motion in (racetrack.motion, racetrack.tabulated):
+        ev = _eval_np(motion, racetrack.follower, np.array([theta]))
+        assert np.allclose(np.ravel(ev["pitch"]), [xe1, ye1], atol=1e-6)
+        assert np.allclose(np.ravel(ev["contour"]), [xt1, yt1], atol=1e-6)
 
 
 def test_follower_spec_reproduces_the_pitch_curve(racetrack):

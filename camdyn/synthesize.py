@@ -1,0 +1,235 @@
+"""``camdyn synthesize``: choose a CCM's dimensions for a path and write a complete case file.
+
+The input (a *path file*, TOML) is a case file without ``[mechanism]``: ``name``, ``description``, ``[path]``
+(required), ``[dynamics]`` (required: ``speed``, ``mass`` and ``spring_rate``; ``preload`` is sized when it is
+left out), ``[limits]``, and an optional ``[synthesis]`` table of optimizer options (:class:`SynthesisSpec`).
+:func:`synthesize_case` runs :func:`camdyn.linkage.synthesize_dimensions` on it and returns the case file's
+text with a header comment saying how it was made; the text is loaded back (:func:`camdyn.case.case_from_dict`)
+before it is returned, so what is written is a case that ``camdyn check`` accepts.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+import textwrap
+import tomllib
+from dataclasses import dataclass, field
+from difflib import get_close_matches
+from pathlib import Path
+from typing import Any, Callable
+
+from pydantic import BaseModel, ConfigDict, Field, ValidationError
+
+from .case import Case, DynamicsSpec, LimitsSpec, _validation_error, case_from_dict
+from .errors import InputError
+
+_STRICT = ConfigDict(extra="forbid", allow_inf_nan=False, frozen=True)
+PRELOAD_STEP = 0.1  # N: a sized preload is rounded up to this (and at least one step above the least that holds)
+
+
+class SynthesisSpec(BaseModel):
+    """The ``[synthesis]`` table of a path file: options of the dimensional synthesis."""
+
+    model_config = _STRICT
+    seed: int = Field(default=0, ge=0, description="random seed of the optimizer (the same seed gives the same design)")
+    maxiter: int = Field(default=200, ge=1, le=100000, description="most generations of differential evolution (each: the CCM and the four-bar comparison)")
+    popsize: int = Field(default=15, ge=5, le=1000, description="population per free dimension")
+    max_pressure_angle: float | None = Field(default=None, gt=0, lt=80, description="deg, the cam is sized for it; default: [limits] max_pressure_angle, else 30")
+    roller_radius: float = Field(default=10.0, gt=0, description="follower roller radius, mm")
+    fourbar: bool = Field(default=True, description="also fit the best plain four-bar to the path (the CCM paper's comparison)")
+
+
+class PathFileSpec(BaseModel):
+    """A whole path file (the input of ``camdyn synthesize``)."""
+
+    model_config = _STRICT
+    name: str | None = None
+    description: str = ""
+    path: dict[str, Any] | None = None
+    dynamics: DynamicsSpec | None = None
+    limits: LimitsSpec = LimitsSpec()
+    synthesis: SynthesisSpec = SynthesisSpec()
+
+
+@dataclass
+class SynthesizedCase:
+    """What :func:`synthesize_case` made: the case file ``text``, the loaded ``case``, the ``[mechanism]`` table
+    and the optimizer's ``summary`` (see :func:`camdyn.linkage.synthesize_dimensions`)."""
+
+    text: str
+    case: Case
+    mechanism: dict
+    summary: dict
+    dynamics: dict
+    preload_sized: bool = False
+    notes: list[str] = field(default_factory=list)
+
+    @property
+    def constraints_met(self) -> bool:
+        return bool(self.summary["constraints_met"])
+
+
+def read_path_file(path: str | Path) -> dict:
+    """The parsed TOML of a path file (:class:`InputError` for a missing file or bad TOML)."""
+    try:
+        return tomllib.loads(Path(path).read_text(encoding="utf-8"))
+    except FileNotFoundError:
+        raise InputError("", "no such file") from None
+    except tomllib.TOMLDecodeError as err:
+        raise InputError("TOML", str(err)) from None
+
+
+def validate_path_file(raw: dict) -> PathFileSpec:
+    """Validate a path file; every problem is one :class:`InputError` naming the key."""
+    from .paths import PathSpec, parse_path
+
+    if "mechanism" in raw:
+        raise InputError("mechanism", "a path file has no [mechanism] table: camdyn synthesize chooses it (remove it, or run camdyn check on a case file)")
+    try:
+        spec = PathFileSpec.model_validate(raw)
+    except ValidationError as err:
+        raise _validation_error(err, PathFileSpec) from None
+    if spec.path is None:
+        raise InputError("path", "the [path] table is required: the closed curve the tracing point must follow (type = ellipse, circle, rectangle, eight, line, racetrack or points)")
+    for key in spec.path:
+        if key not in PathSpec.model_fields:
+            hint = get_close_matches(key, list(PathSpec.model_fields), n=1)
+            raise InputError(f"path.{key}", "unknown key" + (f" (did you mean {hint[0]!r}?)" if hint else f"; valid keys: {', '.join(PathSpec.model_fields)}"))
+    parse_path(spec.path)
+    if spec.dynamics is None:
+        raise InputError("dynamics", "the [dynamics] table is required: give at least speed (rpm), mass (kg) and spring_rate (N/mm); preload (N) is sized when left out")
+    d = spec.dynamics
+    for key in ("inertia", "torsion_rate", "preload_torque", "train_torsion_rate"):
+        if getattr(d, key) is not None:
+            raise InputError(f"dynamics.{key}", "the synthesized CCM has a translating follower: use mass, spring_rate, preload, train_stiffness")
+    for key, what in (("mass", "the slider's moving mass, kg"), ("spring_rate", "the return spring's rate, N/mm (the preload may be left out: it is then sized)")):
+        if getattr(d, key) is None:
+            raise InputError(f"dynamics.{key}", f"required key is missing: {what}")
+    s = spec.synthesis
+    if s.max_pressure_angle is not None and spec.limits.max_pressure_angle is not None and s.max_pressure_angle > spec.limits.max_pressure_angle:
+        raise InputError("synthesis.max_pressure_angle", f"{s.max_pressure_angle:g} deg exceeds [limits] max_pressure_angle = {spec.limits.max_pressure_angle:g} deg: the case would fail its own check")
+    return spec
+
+
+# ------------------------------------------------------------------------------------------ writing
+def _fmt(x: float) -> str:
+    return f"{x:.3g}" if abs(x) >= 1e-3 or x == 0.0 else f"{x:.1e}"
+
+
+def dumps_case(doc: dict, header: list[str]) -> str:
+    """TOML text of ``doc`` (tomli-w) with arrays of numbers on one line and ``header`` as comment lines."""
+    import tomli_w
+
+    body = tomli_w.dumps(doc, multiline_strings=True)
+
+    def inline(m: re.Match) -> str:
+        items = [line.strip().removesuffix(",") for line in m.group(2).splitlines()]
+        return f"{m.group(1)}[{', '.join(items)}]\n"
+
+    short = re.sub(r"^([A-Za-z0-9_]+ = )\[\n((?:    [^\n\[\]{}]*,\n)+)\]\n", inline, body, flags=re.M)
+    if tomllib.loads(short) == tomllib.loads(body):  # only ever a change of layout
+        body = short
+    lines = [w for line in header for w in textwrap.wrap(line, 112, break_long_words=False, break_on_hyphens=False)]
+    return "".join(f"# {line}\n" for line in lines) + "\n" + body
+
+
+def _header(source: Path | None, summary: dict, sized: str | None) -> list[str]:
+    from importlib.metadata import PackageNotFoundError, version
+
+    from .linkage import DIMENSION_OBJECTIVE
+
+    try:
+        ver = f" {version('camdyn')}"
+    except PackageNotFoundError:  # a source tree on sys.path
+        ver = ""
+    src = f" {source}" if source is not None else ""
+    lines = [
+        f"Written by `camdyn synthesize{src}` (camdyn{ver}): the [mechanism] dimensions were chosen by scipy's "
+        f"differential_evolution (seed {summary['seed']}, maxiter {summary['maxiter']}, popsize {summary['popsize']}; "
+        f"{summary['generations']} generations, {'converged' if summary['optimizer_converged'] else 'not converged'}).",
+        f"Objective: {DIMENSION_OBJECTIVE}; pressure angle <= {summary['max_pressure_angle_deg']:g} deg, "
+        f"contour curvature radius >= {summary['min_curvature_ratio']:g} roller radii.",
+        "Constraints: every dyad closes, the crank turns monotonically once per loop, transmission angles >= 30 deg.",
+        f"CCM: crank {summary['crank_mm']:.3f} mm, coupler {summary['coupler_mm']:.3f} mm (eq. 5), stroke {summary['stroke_mm']:.3f} mm, "
+        f"base radius {summary['base_radius_mm']:g} mm, least transmission angles {summary['min_transmission_angle_deg']:.1f} deg "
+        f"(coupler-link) and {summary['min_slider_angle_deg']:.1f} deg (link-slider).",
+        f"Path error: CCM {_fmt(summary['max_path_error_mm'])} mm (forward check of the exact synthesis)"
+        + (f"; the best plain four-bar found (Grashof crank-rocker, transmission >= 30 deg) {_fmt(summary['fourbar_path_error_mm'])} mm." if "fourbar_path_error_mm" in summary else "."),
+    ]
+    if not summary["constraints_met"]:
+        lines.append("NOT MET: " + "; ".join(summary["violations"]) + " (try a larger maxiter or another seed)")
+    if sized:
+        lines.append(sized)
+    lines.append("Units: lengths mm, angles deg, speed rpm, mass kg, force N, stiffness N/mm.")
+    return lines
+
+
+def _size_preload(doc: dict, source: Path | None, progress) -> tuple[float, str]:
+    """The least preload (N) that holds at the case's spring rate up to speed_margin x speed, rounded up."""
+    from .sizing import size_spring
+
+    trial = dict(doc, dynamics=dict(doc["dynamics"], preload=1e6))  # holds at rest whatever the motion
+    case = case_from_dict(trial, source=source)
+    progress("spring sizing", 0, 1)
+    sz = size_spring(case)
+    progress("spring sizing", 1, 1)
+    least = float(sz.at_current_rate.preload)
+    preload = (math.floor(least / PRELOAD_STEP) + 1) * PRELOAD_STEP
+    preload = round(max(preload, PRELOAD_STEP), 3)
+    note = (
+        f"preload sized by camdyn's spring sizing: the least that keeps the contact force >= {sz.min_contact_force:g} N up to "
+        f"{sz.top_speed_rpm:.4g} rpm at spring_rate {doc['dynamics']['spring_rate']:g} N/mm is {least:.4g} N, rounded up to {preload:g} N."
+    )
+    return preload, note
+
+
+def synthesize_case(
+    raw: dict,
+    *,
+    source: Path | None = None,
+    name: str | None = None,
+    seed: int | None = None,
+    maxiter: int | None = None,
+    progress: Callable[[str, int, int], None] | None = None,
+) -> SynthesizedCase:
+    """Synthesize a CCM for the parsed path file ``raw`` and build the complete case file.
+
+    ``seed`` and ``maxiter`` override ``[synthesis]``; ``name`` is the case name when the file gives none.
+    ``progress(phase, done, total)`` follows the optimizer. Raises :class:`InputError` for a bad path file and
+    :class:`NumericalError` when no design can be synthesized.
+    """
+    from .linkage import synthesize_dimensions
+
+    spec = validate_path_file(raw)
+    opts = spec.synthesis
+    for flag, v in (("--seed", seed), ("--maxiter", maxiter)):
+        if v is not None and v < (0 if flag == "--seed" else 1):
+            raise InputError(flag, f"must be {'>= 0' if flag == '--seed' else '>= 1'} (got {v})")
+    seed = opts.seed if seed is None else seed
+    maxiter = opts.maxiter if maxiter is None else maxiter
+    max_pa = opts.max_pressure_angle or spec.limits.max_pressure_angle or 30.0
+    tick = progress or (lambda phase, done, total: None)
+    result = synthesize_dimensions(
+        spec.path, seed=seed, maxiter=maxiter, popsize=opts.popsize, max_pressure_angle=max_pa, min_curvature_ratio=spec.limits.min_curvature_ratio,
+        roller_radius=opts.roller_radius,
+        fourbar=opts.fourbar, progress=tick,
+    )
+    summary, mechanism = result["summary"], result["mechanism"]
+    dynamics = dict(raw["dynamics"])
+    doc: dict[str, Any] = {"name": spec.name or name or "case"}
+    doc["description"] = spec.description or f"CCM synthesized by camdyn synthesize for the {spec.path['type']} path{f' of {source.name}' if source else ''}."
+    doc |= {"path": dict(raw["path"]), "mechanism": mechanism, "dynamics": dynamics}
+    if "limits" in raw:
+        doc["limits"] = dict(raw["limits"])
+    sized_note = None
+    if spec.dynamics.preload is None:
+        preload, sized_note = _size_preload(doc, source, tick)
+        keys = list(dynamics)
+        at = keys.index("spring_rate") + 1
+        dynamics = dict([*list(dynamics.items())[:at], ("preload", preload), *list(dynamics.items())[at:]])
+        doc["dynamics"] = dynamics
+    text = dumps_case(doc, _header(source, summary, sized_note))
+    case = case_from_dict(tomllib.loads(text), source=source)
+    notes = [sized_note] if sized_note else []
+    return SynthesizedCase(text=text, case=case, mechanism=mechanism, summary=summary, dynamics=dynamics, preload_sized=sized_note is not None, notes=notes)

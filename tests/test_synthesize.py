@@ -1,0 +1,163 @@
+"""``camdyn synthesize``: dimensional synthesis of a CCM for a path, written as a case file that loads and
+traces the path; the four-bar comparison; --force; one-line errors for bad path files."""
+
+import json
+import re
+import tomllib
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from camdyn.case import load_case
+from camdyn.cli import main
+from camdyn.linkage import _ccm_eval, _ccm_score, _curve_error, _fourbar_curve, _fourbar_score, _vmap
+from camdyn.paths import build_path, parse_path
+from camdyn.synthesize import dumps_case
+
+ROOT = Path(__file__).resolve().parents[1]
+
+SQUARE = """\
+name = "square-synth"
+
+[path]
+type = "rectangle"
+center = [0.0, 0.0]
+width = 40.0
+height = 40.0
+corner_radius = 5.0
+
+[dynamics]
+speed = 60.0
+mass = 0.2
+spring_rate = 0.5
+preload = 10.0
+damping_ratio = 0.05
+
+[limits]
+min_contact_force = 2.0
+
+[synthesis]
+maxiter = 25
+"""
+
+
+def run(capsys, *argv):
+    code = main([str(a) for a in argv])
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+@pytest.fixture(scope="module")
+def synthesized(tmp_path_factory):
+    """One synthesis (small maxiter: the test is about the plumbing and the constraints, not the optimum)."""
+    import io
+    from contextlib import redirect_stdout
+
+    d = tmp_path_factory.mktemp("synth")
+    src, out = d / "square-path.toml", d / "square.toml"
+    src.write_text(SQUARE)
+    out.write_text("stale\n")  # --force replaces it
+    buf = io.StringIO()
+    with redirect_stdout(buf):
+        code = main(["synthesize", str(src), "-o", str(out), "--force", "--seed", "1", "--json"])
+    return code, json.loads(buf.getvalue()), src, out
+
+
+def test_writes_a_case_that_loads_and_traces_the_path(synthesized):
+    code, doc, _, out = synthesized
+    assert code == 0 and doc["constraints_met"] and doc["output"] == str(out)
+    text = out.read_text()
+    assert text.startswith("# Written by `camdyn synthesize") and "seed 1" in text and "four-bar" in text
+    raw = tomllib.loads(text)
+    assert raw["name"] == "square-synth" and raw["path"]["corner_radius"] == 5.0 and raw["dynamics"]["preload"] == 10.0
+    mech = raw["mechanism"]
+    assert mech["type"] == "ccm" and mech == doc["mechanism"]
+    assert re.search(r"^cam_center = \[[^\n]+\]$", text, re.M)  # short arrays on one line
+    for v in (*mech["cam_center"], *mech["slider_point"], mech["link"], mech["slider_angle"]):
+        assert round(v, 3) == v  # readable numbers
+    case = load_case(out)
+    s = case.synthesis.summary
+    assert s["max_path_error_mm"] < 1e-3  # forward check
+    assert s["min_transmission_angle_deg"] >= 30.0 and s["min_slider_angle_deg"] >= 30.0
+    assert np.all(np.diff(np.asarray(case.synthesis.motion.tab_theta)) > 0)  # the crank turns monotonically
+    assert s["base_radius_mm"] == mech["base_radius"] == doc["summary"]["base_radius_mm"]
+    assert doc["summary"]["stroke_mm"] == pytest.approx(s["stroke_mm"], rel=1e-9)
+
+
+def test_ccm_path_error_is_far_below_the_best_four_bar(synthesized):
+    _, doc, _, _ = synthesized
+    s = doc["summary"]
+    assert s["max_path_error_mm"] < 1e-3
+    assert s["fourbar_path_error_mm"] > 0.1 and s["fourbar_path_error_mm"] > 1e3 * max(s["max_path_error_mm"], 1e-12)
+    fb = s["fourbar"]
+    assert set(fb) >= {"crank", "coupler", "rocker", "min_transmission_angle_deg", "closes"}
+
+
+def test_refuses_to_overwrite_without_force(synthesized, capsys):
+    _, _, src, out = synthesized
+    before = out.read_bytes()
+    code, stdout, err = run(capsys, "synthesize", src, "-o", out)
+    assert code == 2 and stdout == "" and len(err.strip().splitlines()) == 1
+    assert "exists; pass --force" in err
+    assert out.read_bytes() == before
+
+
+@pytest.mark.parametrize(
+    "text, needle",
+    [
+        ('name = "x"\n[dynamics]\nspeed = 60.0\nmass = 0.2\nspring_rate = 0.5\n', "path: the [path] table is required"),
+        (SQUARE.replace("maxiter = 25", "maxiterr = 25"), "synthesis.maxiterr: unknown key (did you mean 'maxiter'?)"),
+        (SQUARE.replace("corner_radius", "corner_radiu"), "path.corner_radiu: unknown key (did you mean 'corner_radius'?)"),
+        (SQUARE.replace("mass = 0.2", "mas = 0.2"), "dynamics.mas: unknown key (did you mean 'mass'?)"),
+        (SQUARE.split("[dynamics]")[0], "dynamics: the [dynamics] table is required"),
+        (SQUARE.replace("spring_rate = 0.5\n", ""), "dynamics.spring_rate: required key is missing"),
+        (SQUARE + '\n[mechanism]\ntype = "ccm"\n', "mechanism: a path file has no [mechanism] table"),
+        (SQUARE.replace("width = 40.0", "width = -40.0"), "path.width"),
+        (SQUARE.replace("[limits]", "[limits]\nmax_pressure_angle = 25.0").replace("maxiter = 25", "max_pressure_angle = 35.0"), "synthesis.max_pressure_angle"),
+        ("[path\n", "TOML"),
+    ],
+)
+def test_bad_path_files_give_one_line_and_exit_2(tmp_path, capsys, text, needle):
+    src, out = tmp_path / "in.toml", tmp_path / "out.toml"
+    src.write_text(text)
+    code, stdout, err = run(capsys, "synthesize", src, "-o", out)
+    assert code == 2 and stdout == "" and not out.exists()
+    assert len(err.strip().splitlines()) == 1 and err.startswith(f"camdyn: {src}: ") and needle in err
+    assert "Traceback" not in err
+
+
+def test_missing_input_file(tmp_path, capsys):
+    code, _, err = run(capsys, "synthesize", tmp_path / "nope.toml", "-o", tmp_path / "out.toml")
+    assert code == 2 and "no such file" in err
+
+
+def test_shipped_path_files_validate():
+    from camdyn.synthesize import read_path_file, validate_path_file
+
+    files = sorted((ROOT / "cases" / "paths").glob("*.toml"))
+    assert files
+    for f in files:
+        validate_path_file(read_path_file(f))
+
+
+def test_population_score_matches_one_at_a_time_and_exact_curve_error():
+    t = _vmap(build_path(parse_path({"type": "ellipse", "center": [0, 0], "semi_major": 30, "semi_minor": 15})).point, np.arange(256) / 256)
+    rng = np.random.default_rng(0)
+    x = np.column_stack([rng.uniform(-100, 100, 6), rng.uniform(-100, 100, 6), rng.uniform(-180, 180, 6), rng.uniform(-40, 40, 6), rng.uniform(50, 300, 6)]).T
+    batch = _ccm_eval(x, t, 30.0, 10.0)["cost"]
+    assert np.allclose(batch, [_ccm_score(x[:, i], t, 30.0)[0] for i in range(x.shape[1])])
+    # a four-bar whose coupler point is the crank pin traces a circle: error = distance between the circles
+    fb = np.array([0.0, 0.0, 80.0, 10.0, 20.0, 90.0, 70.0, 0.0, 0.0, 1.0])
+    curve, miss, tmin = _fourbar_curve(fb)
+    assert miss == 0.0 and 0.0 < tmin <= 90.0
+    circle = 20.5 * np.column_stack([np.cos(np.arange(256) / 256 * 2 * np.pi), np.sin(np.arange(256) / 256 * 2 * np.pi)])
+    assert float(_curve_error(curve, circle)) == pytest.approx(0.5, abs=2e-3)
+    assert _fourbar_score(fb[:, None], circle)[0] == pytest.approx(0.5, abs=0.05)  # proxy on every 4th sample
+
+
+def test_dumps_case_keeps_short_arrays_on_one_line():
+    doc = {"name": "x", "description": "two\nlines", "path": {"type": "points", "x": [1, 2.5, 3], "y": [0, 1, 0]}, "mechanism": {"cam_center": [1.25, -3.0]}}
+    text = dumps_case(doc, ["made by a test"])
+    assert text.startswith("# made by a test\n") and "x = [1, 2.5, 3]\n" in text and "cam_center = [1.25, -3.0]\n" in text
+    assert tomllib.loads(text) == doc
