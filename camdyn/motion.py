@@ -22,6 +22,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from .errors import InputError
+from .programs import cached_jit
 
 TWO_PI = 2.0 * math.pi
 
@@ -46,7 +47,7 @@ class Motion(eqx.Module):
         return theta_deg, np.asarray(evaluate(self, jnp.deg2rad(theta_deg)))
 
 
-@eqx.filter_jit
+@cached_jit
 def evaluate(motion: Motion, theta):
     """``motion(theta)`` compiled once per motion structure (eager evaluation dispatches op by op)."""
     return motion(theta)
@@ -290,15 +291,18 @@ class Program(Motion):
         """Velocity and acceleration jumps at segment boundaries (the fundamental law of cam design)."""
         out = []
         n = len(self.segments)
+        # the jump in the units the segments' lift was given in: mm, or deg of arm swing (an oscillating
+        # follower's motion is in rad); per radian of cam angle, as the SVAJ page plots it
+        lu, to_user = ("mm", 1.0) if self.unit == "mm" else ("deg", 180.0 / math.pi)
         for i, seg in enumerate(self.segments):
             nxt = self.segments[(i + 1) % n]
             left = self._segment_end(seg)
             right = self._eval(np, np.deg2rad(seg.end % 360.0))
-            for order, name, unit in ((1, "velocity", "mm/rad"), (2, "acceleration", "mm/rad^2")):
+            for order, name, unit in ((1, "velocity", f"{lu}/rad"), (2, "acceleration", f"{lu}/rad^2")):
                 jump = right[order] - left[order]
                 if abs(jump) > 1e-9 * max(1.0, abs(left[order]), abs(right[order])):
                     out.append(
-                        f"{name} jumps by {jump:+.4g} {unit} at {seg.end % 360.0:g} deg "
+                        f"{name} jumps by {jump * to_user:+.4g} {unit} at {seg.end % 360.0:g} deg "
                         f"({seg.law} -> {nxt.law}): infinite {'acceleration' if order == 1 else 'jerk'}"
                     )
         return out

@@ -78,11 +78,15 @@ C = {
     "advice": "#1b6e75",
     "path": "#9ecae1",
     "traced": "#d62728",
+    "constraint": "#b3b3b3",  # one cam angle's constraint on the spring
+    "iso": "#7b4fa0",  # iso-lines of the peak spring force
 }
 
 _GRID = 3600  # angles per revolution of the dynamics (dynamics.response's default n)
 _SPEEDS = 2000  # speeds of dynamics.dynamic_jump_speed's scan
 _EPS_DEG = 1e-7  # one-sided limits at the motion's breaks
+_MAP_SPEEDS, _MAP_RATES = 48, 24  # the spring-sizing page's jump map
+_MAP_TOP = 0.25  # ... and the top of its axes (figure fraction)
 _RIGHT = 0.87  # right edge of plot axes (room for the time-unit axes)
 _LEFT = 0.11
 
@@ -211,8 +215,41 @@ class ReportData:
             weight = None
             if self.oscillating:
                 weight = jnp.asarray(self._newton_per_torque(np.arange(nf) * (TWO_PI / nf)))
-            out["linear"] = np.asarray(dyn.linear_min_force(case.motion, case.model, jnp.asarray(w), n=nf, weight=weight))
+            out["linear"] = np.asarray(dyn.linear_min_force(case.motion, case.model, jnp.asarray(w), nf, weight))
         return out
+
+    # ----------------------------------------------------------------------------- springs
+    @cached_property
+    def sizing(self):
+        """:func:`camdyn.sizing.size_spring` at the case's speed and speed_margin, or the reason it cannot apply."""
+        from .sizing import size_spring
+
+        try:
+            return size_spring(self.case)
+        except CamdynError as err:
+            return str(err)
+
+    @cached_property
+    def jump_map(self):
+        """A small jump map at the case's preload over the sizing page's rates and the dynamics page's speeds
+        (gaps not integrated: the map shows the least force and the jump boundary), or the error message."""
+        from .sweep import jump_map
+
+        chk, sz = self.check, self.sizing
+        rpm = chk.speed_rpm
+        top = 1.6 * max(self.margin_rpm, rpm)
+        for j in (chk.dynamic["jump_speed_rpm"], chk.kinematic["jump_speed_rpm"]):
+            if j is not None:  # past the case's jump speeds, however fast: the map shows the jump boundary
+                top = max(top, 1.15 * j)
+        d = self.case.spec.dynamics
+        k_cur = float(d.torsion_rate if self.oscillating else d.spring_rate)
+        k_top = float(sz.region_rate[-1]) if not isinstance(sz, str) else 2.0 * k_cur
+        speeds = np.linspace(top / _MAP_SPEEDS, top, _MAP_SPEEDS)
+        rates = np.linspace(k_top / _MAP_RATES, k_top, _MAP_RATES)
+        try:
+            return jump_map(self.case, speeds, rates, gaps=False)
+        except CamdynError as err:
+            return str(err)
 
     def _newton_per_torque(self, theta_rad: np.ndarray) -> np.ndarray:
         from .geometry import lever_arm_mm
@@ -1056,13 +1093,171 @@ def draw_mechanism(fig, data: ReportData) -> None:
     ax_e.set_title(f"path error (largest {err.max():.2g} mm)", fontsize=9)
 
 
+# --------------------------------------------------------------------------- 6 spring sizing
+def _u(unit: str) -> str:
+    """A unit as camdyn's text output writes it (N*m/rad) as this report prints it (N\u00b7m/rad)."""
+    return unit.replace("*", "\u00b7")
+
+
+def _small(x: float, scale: float) -> str:
+    """``x`` to 4 digits, and 0 where it is round-off against ``scale`` (a zero rate from the LP: 1e-17)."""
+    return _fmt(0.0 if abs(x) <= 1e-9 * max(1.0, abs(scale)) else x)
+
+
+_DASH = "\u2013"
+
+
+def _jump(rpm: float) -> str:
+    return "unbounded" if not math.isfinite(rpm) else f"{rpm:.1f} rpm"
+
+
+def draw_springs(fig, data: ReportData) -> None:
+    sz = data.sizing
+    flow = _Flow(fig, 0.94)
+    if isinstance(sz, str):
+        flow.para("Spring sizing does not apply to this case:", size=9, weight="bold", color=C["fail"])
+        flow.para(sz, size=8.5, width=110, color=C["ink"])
+        _spring_jump_map(fig, data)
+        return
+    u = {k: _u(v) for k, v in sz.units.items()}
+    osc = sz.oscillating
+    force = "torque" if osc else "force"
+    k_sym, f_sym = ("k", "T0") if osc else ("k", "F0")
+    nb = lambda text: text.replace(" ", "\u00a0")  # noqa: E731  (a formula is not broken across lines)
+    constraint = nb(f"{f_sym} \u2265 r \u2212 {k_sym} s")
+    caption = (
+        f"The return spring with the least peak spring {force} {nb(f'P = {k_sym} s_max + {f_sym}')} that keeps the contact force \u2265 "
+        f"min_contact_force = {sz.min_contact_force:g} N at every cam angle and every speed up to {sz.top_speed_rpm:.4g} rpm "
+        f"(speed_margin {sz.margin:g} \u00d7 {sz.speed_rpm:g} rpm), {sz.model} follower. Each grey line is one cam angle's "
+        f"constraint {constraint} (shown: the envelope and the binding angles); the springs above all of them hold."
+    )
+    fig.text(0.06, 0.94, "\n".join(textwrap.wrap(caption, 140)), size=7.5, color=C["grey"], va="top", linespacing=1.3)
+
+    from .sizing import plot_feasible_region
+
+    ax = fig.add_axes([_LEFT, 0.615, 0.95 - _LEFT, 0.26])
+    plot_feasible_region(ax, sz, colors={"kinematic": C["kin"], "dynamic": C["dyn"], "lines": C["constraint"], "iso": C["iso"], "chosen": C["ok"], "current": C["ink"]})
+    if osc:
+        ax.set_xlabel(f"torsion rate k ({u['rate']})")
+        ax.set_ylabel(f"preload torque T0 ({u['preload']})")
+    else:
+        ax.set_xlabel(f"spring rate k ({u['rate']})")
+        ax.set_ylabel(f"preload F0 ({u['preload']})")
+    ax.set_title(f"feasible springs: preload against rate (holding up to {sz.top_speed_rpm:.4g} rpm)", fontsize=9)
+    for t in ax.texts:  # the iso-line labels, in this report's way of writing units
+        t.set_text(_u(t.get_text()))
+    for line in ax.lines:  # a spring at the least rate (often 0) sits on the left edge: draw it whole
+        if line.get_marker() not in (None, "None", ""):
+            line.set_clip_on(False)
+    ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.12), ncol=4, fontsize=7)
+
+    # the springs compared
+    flow = _Flow(fig, 0.545)
+    flow.heading("Springs compared")
+    designs = [("chosen", sz.chosen)] + ([("kinematic LP\nanswer", sz.kinematic)] if sz.model == "compliant" else [])
+    designs += [("current\ndesign", sz.current), ("current rate,\nleast preload", sz.at_current_rate)]
+    xs = [0.52, 0.67, 0.82, 0.97] if len(designs) == 4 else [0.57, 0.77, 0.97]
+    head = [(0.0, f"forces over every angle and\nevery speed up to {sz.top_speed_rpm:.4g} rpm", {"color": C["grey"], "linespacing": 1.3})]
+    head += [(x, name, {"weight": "bold", "ha": "right", "linespacing": 1.3, "color": C["ok"] if name == "chosen" else C["grey"]}) for x, (name, _) in zip(xs, designs)]
+    flow.row(head, size=8.2)
+    flow.y -= flow.h(8.2) * 1.05
+    holds = [d.least_force >= sz.min_contact_force - 1e-6 * max(1.0, abs(d.peak_contact)) for _, d in designs]
+    rows = [
+        (f"{'torsion' if osc else 'spring'} rate {k_sym} ({u['rate']})", [_small(d.rate, d.peak_spring / max(sz.s_max, 1e-300)) for _, d in designs]),
+        (f"preload {f_sym} ({u['preload']})", [_small(d.preload, d.peak_spring) for _, d in designs]),
+        (f"peak spring {force} P ({u['spring']})", [_fmt(d.peak_spring) for _, d in designs]),
+        # a design that misses the limit by less than 4 digits shows the digits it misses by
+        ("least contact force (N)", [_small(d.least_force, d.peak_contact) if h else f"{d.least_force:.7g}" for (_, d), h in zip(designs, holds)]),
+        ("peak contact force (N)", [_fmt(d.peak_contact) for _, d in designs]),
+        ("jump speed, kinematic (rigid)", [_jump(d.kinematic_jump_rpm) for _, d in designs]),
+        ("jump speed, dynamic", [_jump(d.dynamic_jump_rpm) for _, d in designs]),
+    ]
+    for label, vals in rows:
+        flow.row([(0.0, label, {"color": C["grey"]})] + [(x, v, {"ha": "right"}) for x, v in zip(xs, vals)], size=8.2)
+    flow.row(
+        [(0.0, f"holds up to {sz.top_speed_rpm:.4g} rpm", {"color": C["grey"]})]
+        + [(x, "yes" if h else "NO", {"ha": "right", "weight": "bold", "color": C["ok"] if h else C["fail"]}) for x, h in zip(xs, holds)],
+        size=8.2,
+    )
+    flow.y -= flow.h(8) * 0.4
+    # where it binds, and how
+    where = ", ".join(f"{a:.1f}\u00b0" if a == b else f"{a:.1f}\u2013{b:.1f}\u00b0" for a, b, _ in sz.binding[:4])
+    speeds = sorted({round(w) for _, _, w in sz.binding[:4]})
+    line = f"Binding (kinematic): {where or _DASH}" + (f" at {', '.join(f'{w:g}' for w in speeds)} rpm" if speeds else "")
+    if sz.dynamic_binding is not None:
+        line += f"; dynamic: {sz.dynamic_binding[0]:.1f}\u00b0 at {sz.dynamic_binding[1]:.4g} rpm"
+    lift = f"{math.degrees(sz.s_max):.4g}\u00b0 of swing" if osc else f"{sz.s_max:.4g} mm"
+    line += f". Full lift s_max = {lift}: the spring's deflection beyond its preload."
+    damping = nb(sz.damping.split(":")[0])  # how c was treated; the method's detail is in `camdyn size`
+    notes = [(line, C["ink"], 0)]
+    notes.append((f"Chosen: the least peak spring {force}; ties (a binding angle at full lift) go to the least preload. Damping: {damping}.", C["grey"], 3))
+    if sz.model == "compliant":
+        c, k = sz.chosen, sz.kinematic
+        correction = (
+            f"Dynamic correction for the compliant train, over the kinematic LP answer: preload {nb(f'{c.preload - k.preload:+.4g} ' + u['preload'])}, "
+            f"peak spring {force} {nb(f'{c.peak_spring - k.peak_spring:+.4g} ' + u['spring'])}."
+        )
+        notes.append((correction, C["grey"], 2))
+    notes += [(f"Warning: {w}.", C["warn"], 1) for w in sz.warnings]
+    # what fits above the jump map, the least important notes left out first (`camdyn size` prints them all)
+    size, width = 7.6, 124
+    height = lambda text: flow.h(size, len(textwrap.wrap(text, width))) * 0.93 + flow.h(size) * 0.25  # noqa: E731
+    room = flow.y - (_MAP_TOP + 0.03)
+    for prio in sorted({p for _, _, p in notes}, reverse=True):
+        if sum(height(t) for t, _, _ in notes) <= room:
+            break
+        notes = [n for n in notes if n[2] != prio or prio == 0]
+    for text, colour, _ in notes:
+        text = text.replace("N*m", _u("N*m"))
+        flow.para(text, size=size, width=width, color=colour)
+        flow.y -= flow.h(size) * 0.25
+    _spring_jump_map(fig, data)
+
+
+def _spring_jump_map(fig, data: ReportData) -> None:
+    """The jump map at the case's preload: least contact force over cam speed and spring rate."""
+    from .sweep import plot_jump_map
+
+    top, bottom = _MAP_TOP, 0.095  # room for the legend under the axes
+    jm = data.jump_map
+    ax = fig.add_axes([_LEFT, bottom, 0.79 - _LEFT, top - bottom])
+    osc = data.oscillating
+    pre = f"{float(data.case.model.preload):g} {_u('N*m') if osc else 'N'}"
+    title = f"jump map: least contact force at the case's preload {'T0' if osc else 'F0'} = {pre}"
+    if isinstance(jm, str):
+        ax.text(0.5, 0.5, "\n".join(textwrap.wrap(f"no jump map: {jm}", 90)), transform=ax.transAxes, ha="center", va="center", color=C["fail"], size=8)
+        ax.set_axis_off()
+        ax.set_title(title, fontsize=9)
+        return
+    mesh = plot_jump_map(ax, jm)
+    if mesh is not None:
+        mesh.set_rasterized(True)  # 1152 cells: an image in the PDF is a tenth of the bytes of as many paths
+    ku = _u(jm.spring_rate_unit)
+    ax.set_title(title, fontsize=9)
+    ax.set_xlabel("cam speed (rpm)")
+    ax.set_ylabel(f"{'torsion' if osc else 'spring'} rate ({ku})")
+    from matplotlib import patheffects
+
+    outline = [patheffects.withStroke(linewidth=2.2, foreground=C["ink"])]  # legible on light and dark colours
+    ax.axvline(data.margin_rpm, color=C["margin"], lw=1.0, ls="-.", path_effects=outline, label=f"{data.case.limits.speed_margin:g} \u00d7 speed")
+    ax.grid(False)
+    leg = ax.legend(loc="upper center", bbox_to_anchor=(0.5 * (_LEFT + 0.79), bottom - 0.036), bbox_transform=fig.transFigure, ncol=3, fontsize=7)
+    for t in leg.get_texts():
+        t.set_text(_u(t.get_text()))
+    if mesh is not None:
+        cax = fig.add_axes([0.81, bottom, 0.015, top - bottom])
+        cb = fig.colorbar(mesh, cax=cax)
+        cb.set_label("least contact force (N)", fontsize=7.5)
+        cb.ax.tick_params(labelsize=7)
+
+
 PAGES: list[Page] = [
     Page("summary", "Summary", draw_summary),
     Page("svaj", "Follower motion (SVAJ)", draw_svaj),
     Page("cam", "Cam profile", draw_cam, lambda data: data.check.geometry is not None),
     Page("dynamics", "Dynamics", draw_dynamics),
     Page("mechanism", "Mechanism and path", draw_mechanism, lambda data: data.case.synthesis is not None),
-    # a spring-sizing page goes here: Page("springs", "Spring sizing", draw_springs)
+    Page("springs", "Spring sizing", draw_springs),
 ]
 
 

@@ -326,6 +326,7 @@ def jump_map(
     progress: Callable[[str, int, int], None] | None = None,
     gap_method: str = "exact",
     devices=None,
+    gaps: bool = True,
 ) -> JumpMap:
     """Jump map of ``case`` over ``speeds_rpm`` x ``spring_rates`` (N/mm; N*m/rad for an oscillating follower).
 
@@ -333,7 +334,9 @@ def jump_map(
     ``gap_method``: how the compliant model's separated points are integrated: ``"exact"`` (piecewise-linear
     stepping, :func:`_exact_gap_kernel`) or ``"diffrax"`` (adaptive Tsit5 on the vector field of
     :mod:`camdyn.dynamics`, the reference; about 20x slower). ``devices``: the JAX devices to shard the grid
-    over (default: all local devices); the result does not depend on them.
+    over (default: all local devices); the result does not depend on them. ``gaps=False`` skips the largest gap
+    of the separated points (the nonlinear integration, most of the cost of a rigid follower's map): their
+    ``max_gap`` is NaN; the least force, the separation and the jump boundary are the same.
     """
     devices = tuple(jax.devices() if devices is None else devices)
     if gap_method not in ("exact", "diffrax"):
@@ -374,7 +377,7 @@ def jump_map(
         signed = _batched(_kinematic_kernel, const, [omega, k_si, c_si], LINEAR_CHUNK, tick("kinematic force", npts), devices)
         separated = signed <= 0.0
         gap = np.zeros(npts)
-        idx = np.nonzero(separated)[0]
+        idx = np.nonzero(separated)[0] if gaps else np.zeros(0, dtype=int)
         step = tick("flights (rigid model, one point at a time)", idx.size)
         for i in idx:
             # Python floats, as case.follower_model builds them: the compiled flight solve is reused
@@ -394,7 +397,7 @@ def jump_map(
         signed, z0 = _batched(_linear_kernel, const, [omega, k_si, c_si], LINEAR_CHUNK, tick("steady state (frequency domain)", npts), devices)
         separated = signed <= 0.0
         gap = np.zeros(npts)
-        idx = np.nonzero(separated)[0]
+        idx = np.nonzero(separated)[0] if gaps else np.zeros(0, dtype=int)
         if idx.size and gap_method == "exact":
             tab = np.asarray(evaluate(motion, jnp.asarray(theta[::GAP_STRIDE])))[:3]
             w_tab = _lever_arm_mm(case, theta[::GAP_STRIDE]) if case.oscillating else np.ones(tab.shape[1])
@@ -411,7 +414,11 @@ def jump_map(
             g = _batched(_gap_kernel, gconst, [omega[idx], k_si[idx], c_si[idx], z0[idx]], GAP_CHUNK, tick("separated points (nonlinear model)", idx.size), devices)
             gap[idx] = np.maximum(g, 0.0)
         model = "compliant"
-    failed = int(np.count_nonzero(~np.isfinite(gap)))
+    if not gaps:
+        gap[separated] = np.nan
+        if separated.any():
+            notes.append("gaps not computed (gaps=False): max_gap_mm is NaN where the follower separates")
+    failed = int(np.count_nonzero(~np.isfinite(gap))) if gaps else 0
     if failed:
         notes.append(f"the flight integration failed at {failed} separated point(s): their max_gap_mm is NaN")
     if not np.all(np.isfinite(signed)):

@@ -93,6 +93,19 @@ def test_lecture_program_warnings_name_angle_and_jump():
     assert "0 deg" in warnings[1]
 
 
+def test_oscillating_program_warnings_are_in_degrees_of_swing():
+    # the lecture's shape as an arm swing of 15 deg: lift is given in deg, the motion is in rad; the jump is
+    # reported in the user's unit, deg of swing per rad of cam angle: -(h/2)(pi/beta)^2 = -7.5 (1.5)^2
+    segs = [{**s, "lift": s.get("lift", 0.0) * 0.75} for s in LECTURE]
+    warnings = Program.from_segments(segs, unit="rad").continuity_warnings()
+    assert len(warnings) == 2
+    assert "240 deg" in warnings[0] and "-16.88 deg/rad^2" in warnings[0]
+    assert all("mm" not in w for w in warnings)
+    jumps = Program.from_segments([{"law": "constant-velocity", "end": 180, "lift": 10}, {"law": "constant-velocity", "end": 360, "lift": -10}], unit="rad").continuity_warnings()
+    # 10 deg over pi rad, then back: the velocity jumps by -2 * 10 / pi deg/rad at 180 deg
+    assert any("velocity jumps by -6.366 deg/rad at 180 deg" in w for w in jumps)
+
+
 def test_smooth_program_has_no_warnings():
     prog = Program.from_segments([{"law": "dwell", "end": 60}, {"law": "cycloidal", "end": 180, "lift": 10},
                                   {"law": "dwell", "end": 200}, {"law": "polynomial-345", "end": 360, "lift": -10}])

@@ -1,4 +1,5 @@
-"""Design-review reports: pages, titles, non-blank images, byte-identical PDFs, the path-case page, the CLI."""
+"""Design-review reports: pages, titles, non-blank images, byte-identical PDFs, the path-case page, the spring-sizing
+page, the CLI."""
 
 import json
 import re
@@ -11,12 +12,14 @@ from matplotlib.image import imread
 from camdyn.case import load_case
 from camdyn.checks import run_check
 from camdyn.cli import main
-from camdyn.report import A4, DPI, PAGES, ReportData, render
+from camdyn.report import A4, DPI, PAGES, ReportData, draw_springs, render
+from camdyn.sizing import SpringSizing
 
 ROOT = Path(__file__).resolve().parents[1]
 LECTURE = ROOT / "cases" / "lecture.toml"
 PATH_CASE = ROOT / "cases" / "racetrack.toml"  # the quickest path case (oscillating linkage, rigid follower)
 TRANSLATING = ("Summary", "Follower motion (SVAJ)", "Cam profile", "Dynamics")
+SPRINGS = "Spring sizing"  # the last page of every case
 
 
 @pytest.fixture(scope="module")
@@ -29,7 +32,8 @@ def lecture(tmp_path_factory):
 @pytest.fixture(scope="module")
 def path_case(tmp_path_factory):
     case = load_case(PATH_CASE)
-    return render(ReportData(case, run_check(case)), tmp_path_factory.mktemp("path"))
+    data = ReportData(case, run_check(case))
+    return data, render(data, tmp_path_factory.mktemp("path"))
 
 
 def _pdf_pages(pdf: Path) -> int:
@@ -47,9 +51,9 @@ def _assert_looks_like_a_page(png: Path) -> None:
 
 def test_pages_titles_and_names(lecture):
     data, written = lecture
-    assert written.titles == TRANSLATING and written.verdict == "pass"
-    assert [p.name for p in written.pngs] == ["lecture-1-summary.png", "lecture-2-svaj.png", "lecture-3-cam.png", "lecture-4-dynamics.png"]
-    assert written.pdf.name == "lecture.pdf" and _pdf_pages(written.pdf) == 4
+    assert written.titles == TRANSLATING + (SPRINGS,) and written.verdict == "pass"
+    assert [p.name for p in written.pngs] == ["lecture-1-summary.png", "lecture-2-svaj.png", "lecture-3-cam.png", "lecture-4-dynamics.png", "lecture-5-springs.png"]
+    assert written.pdf.name == "lecture.pdf" and _pdf_pages(written.pdf) == 5
     raw = written.pdf.read_bytes()
     assert b"CreationDate" not in raw and b"ModDate" not in raw and b"camdyn design review: lecture" in raw
     assert written.pdf.stat().st_size < 1_000_000
@@ -67,14 +71,50 @@ def test_pages_are_not_blank(lecture):
 
 
 def test_path_case_gets_the_mechanism_page(path_case):
-    assert path_case.titles == TRANSLATING + ("Mechanism and path",)
-    assert path_case.pngs[-1].name == "racetrack-5-mechanism.png" and _pdf_pages(path_case.pdf) == 5
-    for png in path_case.pngs:
+    data, written = path_case
+    assert written.titles == TRANSLATING + ("Mechanism and path", SPRINGS)
+    assert [p.name for p in written.pngs[-2:]] == ["racetrack-5-mechanism.png", "racetrack-6-springs.png"] and _pdf_pages(written.pdf) == 6
+    for png in written.pngs:
         _assert_looks_like_a_page(png)
+    # an oscillating (path) follower is sized in torsion units; its rigid follower has no dynamic correction
+    sz = data.sizing
+    assert isinstance(sz, SpringSizing) and sz.oscillating and sz.model == "rigid" and sz.units["rate"] == "N*m/rad"
+    assert data.jump_map.oscillating and data.jump_map.spring_rate_unit == "N*m/rad"
+
+
+def test_spring_page_agrees_with_the_check(lecture):
+    """The sizing page's current design is the case's own spring: its jump speeds are the check's; the chosen
+    spring holds up to speed_margin x speed; the jump map sits on the page's rates at the case's preload."""
+    data, _ = lecture
+    sz, chk = data.sizing, data.check
+    assert isinstance(sz, SpringSizing) and sz.model == "compliant" and not sz.oscillating
+    assert sz.top_speed_rpm == pytest.approx(1.25 * 300.0)
+    assert (sz.current.rate, sz.current.preload) == (2.0, 30.0)
+    assert sz.current.kinematic_jump_rpm == pytest.approx(chk.kinematic["jump_speed_rpm"], rel=1e-3)
+    assert sz.current.dynamic_jump_rpm == pytest.approx(chk.dynamic["jump_speed_rpm"], rel=1e-3)
+    assert sz.chosen.least_force >= sz.min_contact_force - 1e-6 and sz.chosen.dynamic_jump_rpm >= sz.top_speed_rpm * (1 - 1e-3)
+    assert sz.chosen.peak_spring < sz.current.peak_spring
+    jm = data.jump_map
+    assert jm.preload == 30.0 and jm.spring_rates[-1] == pytest.approx(sz.region_rate[-1]) and jm.speeds_rpm[-1] > chk.dynamic["jump_speed_rpm"]
+    assert jm.separated.any() and not jm.separated[:, -1][jm.speeds_rpm < 300.0].any()
+
+
+def test_spring_page_says_why_sizing_does_not_apply(lecture):
+    from matplotlib.figure import Figure
+
+    data, _ = lecture
+    bad = ReportData(data.case, data.check)
+    bad.__dict__["sizing"] = "motion: the follower does not move: there is no spring to size"  # what size_spring raised
+    bad.__dict__["jump_map"] = data.jump_map
+    fig = Figure(figsize=A4)
+    draw_springs(fig, bad)
+    texts = " ".join(t.get_text() for t in fig.texts)
+    assert "Spring sizing does not apply to this case" in texts and "no spring to size" in texts
+    assert len(fig.axes) == 2  # the jump map and its colour bar still drawn
 
 
 def test_page_list_is_the_extension_point():
-    assert [p.slug for p in PAGES][:4] == ["summary", "svaj", "cam", "dynamics"]
+    assert [p.slug for p in PAGES] == ["summary", "svaj", "cam", "dynamics", "mechanism", "springs"]
     assert len({p.slug for p in PAGES}) == len(PAGES)
 
 

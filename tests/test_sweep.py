@@ -52,6 +52,20 @@ def test_csv_columns_and_rows(small_map):
     assert np.all(data[sep, 4] > 0.0) and np.all(data[~sep, 4] == 0.0)
 
 
+def test_map_without_gaps(lecture, small_map):
+    """gaps=False (the report's jump map): the same least force and separation, no gap integration (NaN)."""
+    jm = jump_map(lecture, small_map.speeds_rpm, small_map.spring_rates, gaps=False)
+    np.testing.assert_array_equal(jm.separated, small_map.separated)
+    np.testing.assert_allclose(jm.min_force, small_map.min_force, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(jm.contact_force, small_map.contact_force, rtol=0, atol=1e-12)
+    assert small_map.separated.any() and np.all(np.isnan(jm.max_gap[jm.separated])) and np.all(jm.max_gap[~jm.separated] == 0.0)
+    assert any("gaps not computed" in n for n in jm.notes)
+    # a rigid follower: no flights are integrated either
+    rigid = load_case(ROOT / "cases" / "racetrack.toml")
+    jr = jump_map(rigid, [100.0, 700.0], [1.0], gaps=False)
+    assert jr.model == "rigid" and list(jr.separated[:, 0]) == [False, True] and np.isnan(jr.max_gap[1, 0])
+
+
 def test_separation_agrees_with_dynamics(lecture):
     fast = load_case(ROOT / "cases" / "lecture-fast.toml")
     jm_fast = jump_map(fast, [600.0])  # the case's own spring rate
