@@ -143,6 +143,18 @@ def check_process(env: dict) -> tuple[float, dict]:
     return wall, json.loads(inst.stdout.strip().splitlines()[-1])
 
 
+def print_table(title: str, rows: list[tuple[str, str, str]], t_start: float) -> None:
+    """The benchmark's aligned table (what, time, note) under ``title``, and its total time."""
+    w1 = max(len(a) for a, _, _ in rows)
+    w2 = max(len(b) for _, b, _ in rows)
+    print(title)
+    print(f"{'what':<{w1}}  {'time':>{w2}}  note")
+    print(f"{'-' * w1}  {'-' * w2}  ----")
+    for a, b, c in rows:
+        print(f"{a:<{w1}}  {b:>{w2}}  {c}")
+    print(f"(benchmark total {time.perf_counter() - t_start:.0f} s)")
+
+
 def check_latency_rows(repeat: int = 3) -> list[tuple[str, str, str]]:
     """``camdyn check`` of the lecture case as fresh processes: with no caches, and with the caches a previous
     run left (JAX's compiled programs and camdyn's traced ones); best of ``repeat`` walls, with the breakdown."""
@@ -206,14 +218,7 @@ def main() -> int:
 
     rows += check_latency_rows()
 
-    w1 = max(len(a) for a, _, _ in rows)
-    w2 = max(len(b) for _, b, _ in rows)
-    print(f"camdyn dynamics benchmark: {CASE.name} at {case.speed_rpm:g} rpm, compliant model, {N}-point grid, {os.cpu_count()} cores")
-    print(f"{'what':<{w1}}  {'time':>{w2}}  note")
-    print(f"{'-' * w1}  {'-' * w2}  ----")
-    for a, b, c in rows:
-        print(f"{a:<{w1}}  {b:>{w2}}  {c}")
-    print(f"(benchmark total {time.perf_counter() - t_all:.0f} s)")
+    print_table(f"camdyn dynamics benchmark: {CASE.name} at {case.speed_rpm:g} rpm, compliant model, {N}-point grid, {os.cpu_count()} cores", rows, t_all)
     return 0
 
 

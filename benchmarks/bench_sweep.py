@@ -36,7 +36,7 @@ from pathlib import Path
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
-from bench_dynamics import CASE, check_latency_rows, scipy_point, timed  # noqa: E402  (the shared loop and timer)
+from bench_dynamics import CASE, check_latency_rows, print_table, scipy_point, timed  # noqa: E402  (the shared loop and timer)
 
 
 def main() -> int:
@@ -120,15 +120,8 @@ def main() -> int:
     if not opts.no_check:
         rows += check_latency_rows()
 
-    w1 = max(len(a) for a, _, _ in rows)
-    w2 = max(len(b) for _, b, _ in rows)
     load = ", ".join(f"{x:.1f}" for x in os.getloadavg()) if hasattr(os, "getloadavg") else "n/a"
-    print(f"camdyn sweep benchmark: {CASE.name}, compliant model; devices {jax.devices()}; {os.cpu_count()} cores, load average {load}")
-    print(f"{'what':<{w1}}  {'time':>{w2}}  note")
-    print(f"{'-' * w1}  {'-' * w2}  ----")
-    for a, b, c in rows:
-        print(f"{a:<{w1}}  {b:>{w2}}  {c}")
-    print(f"(benchmark total {time.perf_counter() - t_all:.0f} s)")
+    print_table(f"camdyn sweep benchmark: {CASE.name}, compliant model; devices {jax.devices()}; {os.cpu_count()} cores, load average {load}", rows, t_all)
     return 0
 
 
