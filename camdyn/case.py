@@ -145,10 +145,16 @@ def _where(loc: tuple) -> str:
     return out
 
 
-def _validation_error(err: ValidationError, cls: type[BaseModel] = CaseSpec) -> InputError:
+def validation_error(err: ValidationError, cls: type[BaseModel] = CaseSpec, table: str = "") -> InputError:
+    """The first problem of a pydantic validation as one :class:`InputError` naming the key (prefixed with
+    ``table``, e.g. ``path.width``), with the nearest valid key for an unknown one."""
     e = err.errors()[0]
     loc = tuple(p for p in e["loc"] if not (isinstance(p, str) and ("[" in p or p.startswith("function-"))))
-    where = _where(loc) or "case"
+    msg = e["msg"].removeprefix("Value error, ")
+    if table and not loc and ":" in msg:  # a table-level validator names its key: "key: message"
+        key, msg = msg.split(":", 1)
+        loc, msg = (key.strip(),), msg.strip()
+    where = ".".join(filter(None, (table, _where(loc)))) or "case"
     if e["type"] == "extra_forbidden":
         owner = _model_at(cls, loc)
         hint = get_close_matches(str(loc[-1]), list(owner.model_fields), n=1) if owner else []
@@ -156,23 +162,25 @@ def _validation_error(err: ValidationError, cls: type[BaseModel] = CaseSpec) -> 
         return InputError(where, "unknown key" + (f" (did you mean {hint[0]!r}?)" if hint else "") + valid)
     if e["type"] == "missing":
         return InputError(where, "required key is missing")
-    msg = e["msg"].removeprefix("Value error, ")
     if "input" in e and not isinstance(e["input"], dict | list):
         msg += f" (got {e['input']!r})"
     return InputError(where, msg)
 
 
 # ------------------------------------------------------------------------------------ loading
-def load_case(path: str | Path) -> Case:
-    """Read, validate and build a case file. Raises :class:`InputError` (one line) on any problem."""
-    path = Path(path)
+def read_toml(path: str | Path) -> dict:
+    """The parsed TOML of a case (or path) file; :class:`InputError` for a missing file or bad TOML."""
     try:
-        raw = tomllib.loads(path.read_text(encoding="utf-8"))
+        return tomllib.loads(Path(path).read_text(encoding="utf-8"))
     except FileNotFoundError:
         raise InputError("", "no such file") from None
     except tomllib.TOMLDecodeError as err:
         raise InputError("TOML", str(err)) from None
-    return case_from_dict(raw, source=path)
+
+
+def load_case(path: str | Path) -> Case:
+    """Read, validate and build a case file. Raises :class:`InputError` (one line) on any problem."""
+    return case_from_dict(read_toml(path), source=Path(path))
 
 
 def case_from_dict(raw: dict, source: Path | None = None) -> Case:
@@ -180,7 +188,7 @@ def case_from_dict(raw: dict, source: Path | None = None) -> Case:
     try:
         spec = CaseSpec.model_validate(raw)
     except ValidationError as err:
-        raise _validation_error(err) from None
+        raise validation_error(err) from None
     name = spec.name or (source.stem if source else "case")
     warnings: list[str] = []
     synthesis = None

@@ -10,6 +10,7 @@ import argparse
 import json
 import os
 import sys
+from contextlib import contextmanager
 from pathlib import Path
 
 # Before equinox loads: its runtime checks otherwise embed host callbacks, which keep JAX from caching the
@@ -36,11 +37,34 @@ def _enable_compilation_cache() -> None:
     programs.enable(root.parent / "programs")
 
 
-def _write_new(path: Path, text: str, force: bool) -> None:
+def _refuse_overwrite(path: Path, force: bool) -> None:
     from .errors import InputError
 
     if path.exists() and not force:
         raise InputError(str(path), "exists; pass --force to overwrite it")
+
+
+@contextmanager
+def _phase_progress():
+    """A rich progress bar on stderr (silent when stderr is not a terminal), one task per phase; yields the
+    ``progress(phase, done, total)`` callback that camdyn's long computations take."""
+    from rich.console import Console
+    from rich.progress import BarColumn, MofNCompleteColumn, Progress, SpinnerColumn, TextColumn, TimeElapsedColumn
+
+    columns = (SpinnerColumn(), TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn())
+    with Progress(*columns, console=Console(stderr=True), disable=not sys.stderr.isatty()) as bar:
+        tasks: dict = {}
+
+        def progress(phase, done, total):
+            if phase not in tasks:
+                tasks[phase] = bar.add_task(phase, total=total)
+            bar.update(tasks[phase], completed=done, total=total)
+
+        yield progress
+
+
+def _write_new(path: Path, text: str, force: bool) -> None:
+    _refuse_overwrite(path, force)
     path.parent.mkdir(parents=True, exist_ok=True)
     path.write_text(text, encoding="utf-8")
 
@@ -196,6 +220,7 @@ def cmd_profile(args) -> int:
 def _print_size(sz) -> None:
     import numpy as np
     from rich.console import Console
+    from rich.markup import escape
     from rich.table import Table
 
     from .sizing import TIE_BREAK
@@ -252,7 +277,7 @@ def _print_size(sz) -> None:
     console.print(f"[dim]tie-break:[/dim] {TIE_BREAK}")
     console.print(f"[dim]damping:[/dim] {sz.damping}")
     for w in sz.warnings:
-        console.print(f"[yellow]warning:[/yellow] {w}")
+        console.print(f"[yellow]warning:[/yellow] {escape(w)}")
     c = sz.chosen
     console.print(f"size: [bold]rate {c.rate:.4g} {u['rate']}, preload {c.preload:.4g} {u['preload']}[/bold] (peak spring {c.peak_spring:.4g} {u['spring']})")
 
@@ -298,11 +323,8 @@ def cmd_sweep(args) -> int:
     import time
 
     import numpy as np
-    from rich.console import Console
-    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
 
     from .case import load_case
-    from .errors import InputError
     from .sweep import jump_map, save_png
 
     speeds = _parse_grid("--speeds", args.speeds)
@@ -311,18 +333,9 @@ def cmd_sweep(args) -> int:
     out = Path(args.output)
     csv_path, png_path = out / f"{case.name}-sweep.csv", out / f"{case.name}-sweep.png"
     for path in (csv_path, png_path):
-        if path.exists() and not args.force:
-            raise InputError(str(path), "exists; pass --force to overwrite it")
+        _refuse_overwrite(path, args.force)
     t0 = time.perf_counter()
-    columns = (TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn())
-    with Progress(*columns, console=Console(stderr=True), disable=not sys.stderr.isatty()) as bar:
-        tasks: dict = {}
-
-        def progress(phase, done, total):
-            if phase not in tasks:
-                tasks[phase] = bar.add_task(phase, total=total)
-            bar.update(tasks[phase], completed=done)
-
+    with _phase_progress() as progress:
         jm = jump_map(case, speeds, rates, progress=progress)
     elapsed = time.perf_counter() - t0
     _write_new(csv_path, jm.csv, True)
@@ -346,6 +359,7 @@ def cmd_sweep(args) -> int:
 # --------------------------------------------------------------------------------- synthesize
 def _print_synthesize(res, output: Path, elapsed: float) -> None:
     from rich.console import Console
+    from rich.markup import escape
     from rich.table import Table
 
     console = Console(highlight=False, soft_wrap=True)
@@ -370,39 +384,28 @@ def _print_synthesize(res, output: Path, elapsed: float) -> None:
     console.print(table)
     console.print(f"[dim]cam centre ({m['cam_center'][0]:g}, {m['cam_center'][1]:g}) mm, slider line through ({m['slider_point'][0]:g}, {m['slider_point'][1]:g}) mm at {m['slider_angle']:g} deg, crank turns {s['rotation']}; objective {s['objective']}[/dim]")
     for note in res.notes:
-        console.print(f"[cyan]note:[/cyan] {note}")
+        console.print(f"[cyan]note:[/cyan] {escape(note)}")
     for w in s["warnings"]:
-        console.print(f"[yellow]warning:[/yellow] {w}")
+        console.print(f"[yellow]warning:[/yellow] {escape(w)}")
     if not res.constraints_met:
-        console.print(f"[bold red]constraints not met:[/bold red] {'; '.join(s['violations'])} (try a larger --maxiter or another --seed)")
+        console.print(f"[bold red]constraints not met:[/bold red] {escape('; '.join(s['violations']))} (try a larger --maxiter or another --seed)")
     console.print(f"wrote {output} in {elapsed:.1f} s; next: camdyn check {output}")
 
 
 def cmd_synthesize(args) -> int:
     import time
 
-    from rich.console import Console
-    from rich.progress import BarColumn, MofNCompleteColumn, Progress, SpinnerColumn, TextColumn, TimeElapsedColumn
-
+    from .case import read_toml
     from .errors import InputError
-    from .synthesize import read_path_file, synthesize_case
+    from .synthesize import synthesize_case
 
     out = Path(args.output)
-    if out.exists() and not args.force:  # before minutes of work, not after
-        raise InputError(str(out), "exists; pass --force to overwrite it")
+    _refuse_overwrite(out, args.force)  # before minutes of work, not after
     if out.resolve() == Path(args.case).resolve():
         raise InputError(str(out), "is the input path file; write the case to another file")
-    raw = read_path_file(args.case)
+    raw = read_toml(args.case)
     t0 = time.perf_counter()
-    columns = (SpinnerColumn(), TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn())
-    with Progress(*columns, console=Console(stderr=True), disable=not sys.stderr.isatty()) as bar:
-        tasks: dict = {}
-
-        def progress(phase, done, total):
-            if phase not in tasks:
-                tasks[phase] = bar.add_task(phase, total=total)
-            bar.update(tasks[phase], completed=done, total=total)
-
+    with _phase_progress() as progress:
         res = synthesize_case(raw, source=Path(args.case), name=out.stem, seed=args.seed, maxiter=args.maxiter, progress=progress)
     elapsed = time.perf_counter() - t0
     _write_new(out, res.text, args.force)

@@ -433,12 +433,9 @@ def parse_mechanism(mech: dict) -> MechanismSpec:
     try:
         return MechanismSpec.model_validate(mech)
     except ValidationError as exc:
-        err = exc.errors()[0]
-        loc = ".".join(str(p) for p in err["loc"])
-        msg = err["msg"].removeprefix("Value error, ")
-        if not loc and ":" in msg:
-            loc, msg = msg.split(":", 1)
-        raise InputError(f"mechanism.{loc}" if loc else "mechanism", msg.strip()) from None
+        from .case import validation_error
+
+        raise validation_error(exc, MechanismSpec, "mechanism") from None
 
 
 # ============================================================================================ synthesis
@@ -807,17 +804,21 @@ def _choose_base_radius(s: np.ndarray, s1: np.ndarray, s2: np.ndarray, e: float,
     d0 = max(float(np.max(np.abs(s1 - sense * e) / tan_max - s)), 1e-3)
     rp = max(math.hypot(d0, e), abs(e) + rr, 1.5 * rr)
     for _ in range(200):
-        d0 = math.sqrt(rp * rp - e * e)
-        y = d0 + s
-        v1 = np.column_stack([np.zeros_like(s) + sense * y, s1 - sense * e])  # P' - sense J P, P = (e, y)
-        v2 = np.column_stack([2 * sense * s1 - e, s2 - y])  # P'' - 2 sense J P' - P
-        kappa = (v1[:, 0] * v2[:, 1] - v1[:, 1] * v2[:, 0]) / np.linalg.norm(v1, axis=1) ** 3
-        convex = -sense * kappa  # traversal opposite to the cam's turn: convex where this is > 0
-        rho_min = 1.0 / convex.max() if convex.max() > 0 else np.inf
-        if rho_min >= 2.5 * rr or sharp:  # at sharp corners no base radius can save the curvature
-            break
+        if sharp or _pitch_convexity(rp, s, s1, s2, e, sense) <= 1.0 / (2.5 * rr):  # at sharp corners no base
+            break  # radius can save the curvature
         rp *= 1.05
     return math.ceil((rp - rr) * 2.0) / 2.0
+
+
+def _pitch_convexity(rp, s, s1, s2, e, sense):
+    """Largest convex curvature (1/mm) of the pitch curve of a translating roller at (e, d0 + s), d0 =
+    sqrt(rp^2 - e^2), on a cam turning with ``sense``, over the last axis (s, s1, s2 (..., n); rp, e, sense
+    broadcast against (..., 1)); <= 0 where the pitch curve is nowhere convex."""
+    y = np.sqrt(np.maximum(rp * rp - e * e, 1e-12)) + s
+    v1x, v1y = sense * y, s1 - sense * e  # P' - sense J P, P = (e, y)
+    v2x, v2y = 2.0 * sense * s1 - e, s2 - y  # P'' - 2 sense J P' - P
+    kappa = (v1x * v2y - v1y * v2x) / (np.hypot(v1x, v1y) ** 3 + 1e-300)
+    return (-sense * kappa).max(-1)  # traversal opposite to the cam's turn: convex where this is > 0
 
 
 def synthesize_motion(path: dict, mechanism: dict) -> Synthesis:
@@ -1061,11 +1062,7 @@ def _prime_radius_for_curvature(s, s1, s2, e, sense, rp0, rho_min):
     e, sense = e[:, None], sense[:, None]
 
     def ok(rp):
-        y = np.sqrt(np.maximum(rp[:, None] ** 2 - e * e, 1e-12)) + s
-        v1x, v1y = sense * y, s1 - sense * e
-        v2x, v2y = 2.0 * sense * s1 - e, s2 - y
-        kappa = (v1x * v2y - v1y * v2x) / (np.hypot(v1x, v1y) ** 3 + 1e-300)
-        return (-sense * kappa).max(1) <= 1.0 / rho_min
+        return _pitch_convexity(rp[:, None], s, s1, s2, e, sense) <= 1.0 / rho_min
 
     lo, hi = np.log(rp0), np.log(rp0) + 100 * math.log(1.05)
     for _ in range(16):
@@ -1156,46 +1153,46 @@ def _ccm_score(x: np.ndarray, t: np.ndarray, max_pa: float, rr: float = 10.0, sh
     return float(out["cost"][0]), {k: float(v[0]) for k, v in out.items() if k != "cost"}
 
 
-def _fourbar_curve(x, n: int = 360, xp=np):
+def _fourbar_curve(x, n: int = 360):
     """Coupler curves of four-bars x = (ax, ay, dx, dy, crank, coupler, rocker, px, py, mode), (10,) or (10, S).
 
     Crank A-B, coupler B-C (coupler point B + px along BC + py across), rocker D-C, assembly mode sign(mode).
     Returns the curves (n, 2) or (S, n, 2), how far the loop misses closing (mm) and the least transmission
-    angle at C (deg, folded into [0, 90]), each () or (S,). ``xp``: numpy, or jax.numpy inside a jit.
+    angle at C (deg, folded into [0, 90]), each () or (S,).
     """
-    x = xp.asarray(x, dtype=float)
+    x = np.asarray(x, dtype=float)
     single = x.ndim == 1
     ax, ay, dx, dy, r2, r3, r4, px, py, mode = (v[:, None] for v in x.reshape(10, -1))
     th = np.linspace(0.0, TWO_PI, n, endpoint=False)[None]
-    bx, by = ax + r2 * xp.cos(th), ay + r2 * xp.sin(th)
+    bx, by = ax + r2 * np.cos(th), ay + r2 * np.sin(th)
     vx, vy = dx - bx, dy - by
     dist2 = vx * vx + vy * vy
-    dist = xp.sqrt(dist2)
-    miss = xp.clip(xp.maximum(dist - (r3 + r4), xp.abs(r3 - r4) - dist), 0.0, None).max(1)
+    dist = np.sqrt(dist2)
+    miss = np.clip(np.maximum(dist - (r3 + r4), np.abs(r3 - r4) - dist), 0.0, None).max(1)
     f = (r3 * r3 - r4 * r4 + dist2) / (2.0 * dist2)
-    h = xp.where(mode >= 0.0, 1.0, -1.0) * xp.sqrt(xp.clip(r3 * r3 / dist2 - f * f, 0.0, None))
+    h = np.where(mode >= 0.0, 1.0, -1.0) * np.sqrt(np.clip(r3 * r3 / dist2 - f * f, 0.0, None))
     cx, cy = bx + f * vx + h * vy, by + f * vy - h * vx
     ux, uy = (cx - bx) / r3, (cy - by) / r3
-    curve = xp.stack([bx + px * ux - py * uy, by + px * uy + py * ux], axis=-1)
+    curve = np.stack([bx + px * ux - py * uy, by + px * uy + py * ux], axis=-1)
     cos_mu = ((bx - cx) * (dx - cx) + (by - cy) * (dy - cy)) / (r3 * r4)
-    mu = xp.degrees(xp.arccos(xp.clip(cos_mu, -1.0, 1.0)))
-    tmin = xp.minimum(mu, 180.0 - mu).min(1)
+    mu = np.degrees(np.arccos(np.clip(cos_mu, -1.0, 1.0)))
+    tmin = np.minimum(mu, 180.0 - mu).min(1)
     return (curve[0], miss[0], tmin[0]) if single else (curve, miss, tmin)
 
 
-def _polyline_distance(pts, poly, xp=np):
+def _polyline_distance(pts, poly):
     """Distance (mm) from each point (..., a, 2) to the closed polyline (..., b, 2): (..., a)."""
-    ab = xp.roll(poly, -1, axis=-2) - poly
+    ab = np.roll(poly, -1, axis=-2) - poly
     ap = pts[..., :, None, :] - poly[..., None, :, :]
-    tt = xp.clip(xp.sum(ap * ab[..., None, :, :], -1) / xp.maximum(xp.sum(ab * ab, -1), 1e-300)[..., None, :], 0.0, 1.0)
-    return xp.sqrt(xp.min(xp.sum((ap - tt[..., None] * ab[..., None, :, :]) ** 2, -1), axis=-1))
+    tt = np.clip(np.sum(ap * ab[..., None, :, :], -1) / np.maximum(np.sum(ab * ab, -1), 1e-300)[..., None, :], 0.0, 1.0)
+    return np.sqrt(np.min(np.sum((ap - tt[..., None] * ab[..., None, :, :]) ** 2, -1), axis=-1))
 
 
-def _curve_error(curve, t, xp=np):
+def _curve_error(curve, t):
     """Largest distance (mm) between the target samples t (n, 2) and a closed curve (m, 2) or curves (S, m, 2),
     either way (the Hausdorff distance of the two closed polylines)."""
-    tt = xp.broadcast_to(t, curve.shape[:-2] + t.shape)
-    return xp.maximum(_polyline_distance(tt, curve, xp).max(-1), _polyline_distance(curve, tt, xp).max(-1))
+    tt = np.broadcast_to(t, curve.shape[:-2] + t.shape)
+    return np.maximum(_polyline_distance(tt, curve).max(-1), _polyline_distance(curve, tt).max(-1))
 
 
 def _near_distance(pts, poly):

@@ -102,12 +102,9 @@ def parse_path(path: dict) -> PathSpec:
     try:
         spec = PathSpec.model_validate(path)
     except ValidationError as exc:
-        err = exc.errors()[0]
-        loc = ".".join(str(p) for p in err["loc"])
-        msg = err["msg"].removeprefix("Value error, ")
-        if not loc and ":" in msg:  # model-level validator: "key: message"
-            loc, msg = msg.split(":", 1)
-        raise InputError(f"path.{loc}" if loc else "path", msg.strip()) from None
+        from .case import validation_error
+
+        raise validation_error(exc, PathSpec, "path") from None
     if spec.type == "rectangle" and spec.corner_radius is None:
         spec = spec.model_copy(update={"corner_radius": 0.0})
     return spec

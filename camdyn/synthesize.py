@@ -15,13 +15,12 @@ import re
 import textwrap
 import tomllib
 from dataclasses import dataclass, field
-from difflib import get_close_matches
 from pathlib import Path
 from typing import Any, Callable
 
 from pydantic import BaseModel, ConfigDict, Field, ValidationError
 
-from .case import Case, DynamicsSpec, LimitsSpec, _validation_error, case_from_dict
+from .case import Case, DynamicsSpec, LimitsSpec, case_from_dict, validation_error
 from .errors import InputError
 
 _STRICT = ConfigDict(extra="forbid", allow_inf_nan=False, frozen=True)
@@ -70,32 +69,18 @@ class SynthesizedCase:
         return bool(self.summary["constraints_met"])
 
 
-def read_path_file(path: str | Path) -> dict:
-    """The parsed TOML of a path file (:class:`InputError` for a missing file or bad TOML)."""
-    try:
-        return tomllib.loads(Path(path).read_text(encoding="utf-8"))
-    except FileNotFoundError:
-        raise InputError("", "no such file") from None
-    except tomllib.TOMLDecodeError as err:
-        raise InputError("TOML", str(err)) from None
-
-
 def validate_path_file(raw: dict) -> PathFileSpec:
     """Validate a path file; every problem is one :class:`InputError` naming the key."""
-    from .paths import PathSpec, parse_path
+    from .paths import parse_path
 
     if "mechanism" in raw:
         raise InputError("mechanism", "a path file has no [mechanism] table: camdyn synthesize chooses it (remove it, or run camdyn check on a case file)")
     try:
         spec = PathFileSpec.model_validate(raw)
     except ValidationError as err:
-        raise _validation_error(err, PathFileSpec) from None
+        raise validation_error(err, PathFileSpec) from None
     if spec.path is None:
         raise InputError("path", "the [path] table is required: the closed curve the tracing point must follow (type = ellipse, circle, rectangle, eight, line, racetrack or points)")
-    for key in spec.path:
-        if key not in PathSpec.model_fields:
-            hint = get_close_matches(key, list(PathSpec.model_fields), n=1)
-            raise InputError(f"path.{key}", "unknown key" + (f" (did you mean {hint[0]!r}?)" if hint else f"; valid keys: {', '.join(PathSpec.model_fields)}"))
     parse_path(spec.path)
     if spec.dynamics is None:
         raise InputError("dynamics", "the [dynamics] table is required: give at least speed (rpm), mass (kg) and spring_rate (N/mm); preload (N) is sized when left out")

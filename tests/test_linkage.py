@@ -13,7 +13,6 @@ import pytest
 import camdyn  # noqa: F401  (float64)
 from camdyn.errors import InputError, NumericalError
 from camdyn.linkage import cross2, rrp_kinematics, rrr, rrr_kinematics, rrr_reach_miss, synthesize_motion
-from camdyn.motion import evaluate
 
 CASES = Path(__file__).resolve().parents[1] / "cases"
 SHIPPED = ("racetrack", "ellipse", "square", "circle", "eight", "line")

@@ -133,12 +133,13 @@ def test_missing_input_file(tmp_path, capsys):
 
 
 def test_shipped_path_files_validate():
-    from camdyn.synthesize import read_path_file, validate_path_file
+    from camdyn.case import read_toml
+    from camdyn.synthesize import validate_path_file
 
     files = sorted((ROOT / "cases" / "paths").glob("*.toml"))
     assert files
     for f in files:
-        validate_path_file(read_path_file(f))
+        validate_path_file(read_toml(f))
 
 
 def test_population_score_matches_one_at_a_time_and_exact_curve_error():
