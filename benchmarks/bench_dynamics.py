@@ -38,8 +38,8 @@ _INSTRUMENTED = r"""
 import json, sys, time, os, io, contextlib
 t0 = time.perf_counter()
 import camdyn.cli as cli
-cli._enable_compilation_cache()
-import jax, diffrax, camdyn.case, camdyn.dynamics, camdyn.checks  # what check imports
+cli._enable_caches()
+import jax, diffrax, camdyn.cli.check  # what check imports
 t1 = time.perf_counter()
 out = {"import": t1 - t0}
 for key in ("first", "second"):
@@ -127,7 +127,7 @@ def timed(fn, repeat=1):
 
 def camdyn_cmd() -> list[str]:
     exe = Path(sys.executable).with_name("camdyn")
-    return [str(exe)] if exe.exists() else [sys.executable, "-m", "camdyn.cli"]
+    return [str(exe)] if exe.exists() else [sys.executable, "-m", "camdyn"]
 
 
 def check_process(env: dict) -> tuple[float, dict]:
@@ -178,14 +178,14 @@ def main() -> int:
     t = time.perf_counter()
     import jax.numpy as jnp
 
-    import camdyn  # noqa: F401  (float64)
-    from camdyn import dynamics as dyn
-    from camdyn.case import load_case
+    from camdyn._core.units import RPM
+    from camdyn.model import dynamics as dyn
+    from camdyn.model.case import load_case
 
     t_import = time.perf_counter() - t
     case = load_case(CASE)
     motion, model = case.motion, case.model
-    omega = case.speed_rpm * dyn.RPM
+    omega = case.speed_rpm * RPM
     rows: list[tuple[str, str, str]] = []  # (what, time, note)
 
     # (a) camdyn / diffrax
@@ -213,7 +213,7 @@ def main() -> int:
     t_j1, _ = timed(lambda: dyn.dynamic_jump_speed(motion, model, w_max=w_max))
     t_j2, w_dyn = timed(lambda: dyn.dynamic_jump_speed(motion, model, w_max=w_max), repeat=3)
     rows.append(("dynamic jump speed: compile + run", f"{t_j1:.2f} s", ""))
-    rows.append(("dynamic jump speed: run", f"{t_j2 * 1e3:.0f} ms", f"{w_dyn / dyn.RPM:.2f} rpm (kinematic {w_kin / dyn.RPM:.2f} rpm)"))
+    rows.append(("dynamic jump speed: run", f"{t_j2 * 1e3:.0f} ms", f"{w_dyn / RPM:.2f} rpm (kinematic {w_kin / RPM:.2f} rpm)"))
     _ = jnp  # keep the import explicit: jax is part of the import time above
 
     rows += check_latency_rows()

@@ -6,7 +6,7 @@ Runs unchanged on CPU or on a GPU machine (it prints ``jax.devices()``; the map 
 Prints one aligned table:
 
 (a) the jump map of cases/lecture.toml (compliant follower) over ``grid`` speeds 100-700 rpm x ``grid`` spring
-    rates 0.5-5 N/mm (preload fixed at the case's 30 N): camdyn's batched map (``camdyn.sweep.jump_map``:
+    rates 0.5-5 N/mm (preload fixed at the case's 30 N): camdyn's batched map (``camdyn.design.sweep.jump_map``:
     frequency-domain steady state for every point, exact piecewise-linear stepping of the nonlinear model for
     the separated ones), compile + first run, then the run alone (best of 2); against a
     ``scipy.integrate.solve_ivp`` loop of the same model, one point at a time: RK45 at rtol 1e-6 (the loosest
@@ -53,10 +53,10 @@ def main() -> int:
     import jax
     import numpy as np
 
-    import camdyn  # noqa: F401  (float64)
-    from camdyn import dynamics as dyn
-    from camdyn import sweep
-    from camdyn.case import load_case
+    from camdyn._core.units import RPM
+    from camdyn.design import sweep
+    from camdyn.model import dynamics as dyn
+    from camdyn.model.case import load_case
 
     case = load_case(CASE)
     speeds = np.linspace(100.0, 700.0, opts.grid)
@@ -89,7 +89,7 @@ def main() -> int:
         p = {"m": float(base.mass), "k": k_si, "f0": float(base.preload), "c": float(sweep._damping(case, np.array([k_si]))[0]),
              "fe": float(base.external), "kf": float(base.train_stiffness), "cf": float(base.train_damping)}
         t = time.perf_counter()
-        f_sp, sep_sp, gap_sp, _ = scipy_point(p, speeds[i] * dyn.RPM, sep_revs=sweep.GAP_REVS, last=sweep.GAP_LAST)
+        f_sp, sep_sp, gap_sp, _ = scipy_point(p, speeds[i] * RPM, sep_revs=sweep.GAP_REVS, last=sweep.GAP_LAST)
         t_by_class[bool(jm.separated[i, j])].append(time.perf_counter() - t)
         sep_ok += sep_sp == bool(jm.separated[i, j])
         dev_f.append(abs(f_sp - jm.min_force[i, j]))
@@ -108,13 +108,13 @@ def main() -> int:
     rows.append(("ratio solve_ivp / camdyn map (run)", f"{t_scipy / t_run:.0f}x", f"goal >= 200x; including camdyn's compile: {t_scipy / t_first:.0f}x"))
 
     # (b) dynamic jump speed
-    omega = case.speed_rpm * dyn.RPM
+    omega = case.speed_rpm * RPM
     w_kin, _ = dyn.kinematic_jump_speed(case.motion, base)
     w_max = 4.0 * max(case.limits.speed_margin * omega, w_kin)
     t_j1, _ = timed(lambda: dyn.dynamic_jump_speed(case.motion, base, w_max=w_max))
     t_j, w_dyn = timed(lambda: dyn.dynamic_jump_speed(case.motion, base, w_max=w_max), repeat=5)
     rows.append(("dynamic jump speed: compile + run", f"{t_j1:.2f} s", ""))
-    rows.append(("dynamic jump speed: run", f"{t_j * 1e3:.0f} ms", f"{w_dyn / dyn.RPM:.2f} rpm; goal < 200 ms"))
+    rows.append(("dynamic jump speed: run", f"{t_j * 1e3:.0f} ms", f"{w_dyn / RPM:.2f} rpm; goal < 200 ms"))
 
     # (c) camdyn check as fresh processes
     if not opts.no_check:

@@ -1,51 +1,66 @@
 """camdyn: cam mechanism synthesis, geometry and follower dynamics; prove the follower never leaves the cam.
 
-The public API is flat (``camdyn.Program``, ``camdyn.load_case``, ``camdyn.run_check``, ...). Submodules load
-on first use, so ``import camdyn`` stays cheap and the command line can configure JAX and equinox first.
+The public API is flat (``camdyn.load_case``, ``camdyn.run_check``, ``camdyn.size_spring``, ...); each name
+loads its module on first use, so ``import camdyn`` stays cheap (no JAX) and the command line answers at once.
+The house, one way through: :mod:`camdyn.spec` (the case-file schema) -> :mod:`camdyn.model` (SI models:
+motion, geometry, dynamics, linkages) -> :mod:`camdyn.design` (checks, sizing, sweeps, synthesis) ->
+:mod:`camdyn.plot` and :mod:`camdyn.report` -> :mod:`camdyn.cli`.
 """
 
 from importlib import import_module
 
-import jax
-
-jax.config.update("jax_enable_x64", True)
-
 _API = {
-    "CamdynError": "errors",
-    "InputError": "errors",
-    "NumericalError": "errors",
-    "LAWS": "motion",
-    "Motion": "motion",
-    "Program": "motion",
-    "Segment": "motion",
-    "HermiteMotion": "motion",
-    "law": "motion",
-    "evaluate": "motion",
-    "FollowerModel": "dynamics",
-    "Response": "dynamics",
-    "Separation": "dynamics",
-    "kinematic_force": "dynamics",
-    "kinematic_jump_speed": "dynamics",
-    "dynamic_jump_speed": "dynamics",
-    "response": "dynamics",
-    "Case": "case",
-    "load_case": "case",
-    "Check": "checks",
-    "CheckReport": "checks",
-    "run_check": "checks",
-    "FollowerSpec": "geometry",
-    "min_base_radius": "geometry",
-    "Synthesis": "linkage",
-    "synthesize_motion": "linkage",
-    "synthesize_dimensions": "linkage",
-    "SpringSizing": "sizing",
-    "size_spring": "sizing",
-    "plot_feasible_region": "sizing",
-    "JumpMap": "sweep",
-    "jump_map": "sweep",
-    "plot_jump_map": "sweep",
-    "write_report": "report",
-    "write_profile": "export",
+    # errors
+    "CamdynError": "._core.errors",
+    "InputError": "._core.errors",
+    "NumericalError": "._core.errors",
+    # schema
+    "CaseSpec": ".spec",
+    "FollowerSpec": ".spec",
+    "PathFileSpec": ".spec",
+    "load_case_spec": ".spec",
+    # models
+    "LAWS": ".model.motion",
+    "Motion": ".model.motion",
+    "Program": ".model.motion",
+    "Segment": ".model.motion",
+    "HermiteMotion": ".model.motion",
+    "law": ".model.motion",
+    "evaluate": ".model.motion",
+    "FollowerModel": ".model.follower",
+    "Case": ".model.case",
+    "load_case": ".model.case",
+    "case_from_dict": ".model.case",
+    "CamGeometry": ".model.geometry",
+    "analyze": ".model.geometry",
+    "lever_arm_mm": ".model.geometry",
+    "Response": ".model.dynamics",
+    "Separation": ".model.dynamics",
+    "kinematic_force": ".model.dynamics",
+    "kinematic_jump_speed": ".model.dynamics",
+    "dynamic_jump_speed": ".model.dynamics",
+    "response": ".model.dynamics",
+    "Synthesis": ".model.linkage",
+    "synthesize_motion": ".model.linkage",
+    # design
+    "Check": ".design._check",
+    "CheckKind": ".design._check",
+    "CheckReport": ".design.checks",
+    "run_check": ".design.checks",
+    "judge_geometry": ".design.geometry",
+    "min_base_radius": ".design.geometry",
+    "motion_table": ".design.table",
+    "SpringSizing": ".design.sizing",
+    "size_spring": ".design.sizing",
+    "JumpMap": ".design.sweep",
+    "jump_map": ".design.sweep",
+    "synthesize_dimensions": ".design.dimensions",
+    "synthesize_case": ".design.synthesize",
+    # figures, reports, files
+    "plot_feasible_region": ".plot",
+    "plot_jump_map": ".plot",
+    "write_report": ".report",
+    "write_profile": ".export",
 }
 
 __all__ = sorted(_API)
@@ -53,5 +68,9 @@ __all__ = sorted(_API)
 
 def __getattr__(name: str):
     if name in _API:
-        return getattr(import_module(f".{_API[name]}", __name__), name)
+        return getattr(import_module(_API[name], __name__), name)
     raise AttributeError(f"module 'camdyn' has no attribute {name!r}")
+
+
+def __dir__():
+    return __all__

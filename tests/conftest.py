@@ -2,4 +2,4 @@ import os
 
 os.environ.setdefault("EQX_ON_ERROR", "nan")  # as the CLI runs: solver results are checked explicitly
 
-import camdyn  # noqa: E402,F401  (float64 on)
+import camdyn.model  # noqa: E402,F401  (float64 on)

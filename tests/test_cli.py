@@ -129,7 +129,7 @@ def test_missing_file_and_bad_speed(capsys):
 
 
 def test_console_script_fresh_process():
-    proc = subprocess.run([sys.executable, "-m", "camdyn.cli", "check", str(LECTURE)], capture_output=True, text=True, timeout=300)
+    proc = subprocess.run([sys.executable, "-m", "camdyn", "check", str(LECTURE)], capture_output=True, text=True, timeout=300)
     assert proc.returncode == 0, proc.stderr
     assert "verdict: PASS" in proc.stdout
 
@@ -155,8 +155,8 @@ def test_profile_writes_dxf_and_refuses_overwrite(capsys, tmp_path):
 def test_oscillating_case_forces_in_newton(capsys):
     import jax.numpy as jnp
 
-    from camdyn.case import load_case
-    from camdyn.geometry import lever_arm_mm
+    from camdyn.model.case import load_case
+    from camdyn.model.geometry import lever_arm_mm
 
     case_path = ROOT / "cases" / "oscillating.toml"
     code, out, _ = run(capsys, "table", case_path, "--step", "30")
@@ -182,10 +182,11 @@ def test_oscillating_case_forces_in_newton(capsys):
 def test_sharp_square_gets_the_corner_radius_that_passes(capsys, tmp_path, monkeypatch):
     import functools
 
-    from camdyn import checks
+    from camdyn.cli import check
+    from camdyn.design.advice import corner_radius_advice
 
     # three checks instead of six: 2.5 mm (r_max / 8) passes, then 1.2 and 1.9 mm fail (2.2 fails, 2.3 passes)
-    monkeypatch.setattr(checks, "corner_radius_advice", functools.partial(checks.corner_radius_advice, evaluations=3))
+    monkeypatch.setattr(check, "corner_radius_advice", functools.partial(corner_radius_advice, evaluations=3))
     text = (ROOT / "cases" / "square.toml").read_text().replace("corner_radius = 5.0", "corner_radius = 0.0")
     (tmp_path / "sharp.toml").write_text(text)
     code, out, _ = run(capsys, "check", tmp_path / "sharp.toml", "--json")

@@ -20,10 +20,12 @@ import pytest
 from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
 
-import camdyn  # noqa: F401  (float64)
-from camdyn import dynamics as dyn
-from camdyn.case import case_from_dict
-from camdyn.motion import Program
+import camdyn.model  # noqa: F401  (float64)
+from camdyn.model import dynamics as dyn
+from camdyn.model.dynamics import _compliant, _rigid
+from camdyn.model.follower import FollowerModel
+from camdyn.model.case import case_from_dict
+from camdyn.model.motion import Program
 
 RPM = 2 * math.pi / 60
 N = 4096  # one grid for every compliant_response / linear_min_force call (one compile per structure)
@@ -56,7 +58,7 @@ BREAKS = (0.0, 0.5 * math.pi, math.pi, 4 * math.pi / 3, 2 * math.pi)  # lecture 
 
 def model_of(m, k, f0, c, fext=0.0, kf=math.inf, cf=0.0, e=0.0):
     """FollowerModel from SI numbers (k, kf in N/m)."""
-    return dyn.FollowerModel(*(jnp.asarray(float(v)) for v in (m, k, f0, c, fext, kf, cf, e)), scale=1e-3)
+    return FollowerModel(*(jnp.asarray(float(v)) for v in (m, k, f0, c, fext, kf, cf, e)), scale=1e-3)
 
 
 def with_(model, **kw):
@@ -64,7 +66,7 @@ def with_(model, **kw):
     fields = dict(mass=model.mass, stiffness=model.stiffness, preload=model.preload, damping=model.damping, external=model.external,
                   train_stiffness=model.train_stiffness, train_damping=model.train_damping, restitution=model.restitution)
     fields.update({k: jnp.asarray(float(v)) for k, v in kw.items()})
-    return dyn.FollowerModel(**fields, scale=model.scale)
+    return FollowerModel(**fields, scale=model.scale)
 
 
 def params(model):
@@ -231,7 +233,7 @@ def test_kinematic_jump_speed_eccentric_damped():
     # brute force: least Fi over a fine angle grid, for speeds on a 0.01 rad/s grid around the answer
     theta = jnp.asarray(np.arange(7200) * (2 * math.pi / 7200))
     speeds = np.arange(w_ref - 0.303, w_ref + 0.3, 0.01)  # off the answer (here w_ref = 100 rad/s exactly)
-    fmin = np.array([float(jnp.min(dyn._kinematic_force_jit(motion, model, jnp.asarray(ws), theta))) for ws in speeds])
+    fmin = np.array([float(jnp.min(dyn.kinematic_force_jit(motion, model, jnp.asarray(ws), theta))) for ws in speeds])
     first = speeds[np.nonzero(fmin <= 0.0)[0][0]]
     assert fmin[0] > 0.0
     assert first - 0.01 < w < first
@@ -250,7 +252,7 @@ def test_kinematic_force_by_hand(lecture):
     model = with_(model, external=7.5, damping=55.0)  # make the c and F_ext terms matter
     omega = 437 * RPM
     theta = np.arange(N) * (2 * math.pi / N) + 1e-4
-    got = np.asarray(dyn._kinematic_force_jit(motion, model, jnp.asarray(omega, dtype=float), jnp.asarray(theta)))
+    got = np.asarray(dyn.kinematic_force_jit(motion, model, jnp.asarray(omega, dtype=float), jnp.asarray(theta)))
     ref = kin_force_np(model, omega, theta)
     assert np.max(np.abs(got - ref)) < 1e-9 * np.max(np.abs(ref))
     # each term is really there: the damping and external terms are each far above the tolerance
@@ -322,7 +324,7 @@ def test_diffrax_vs_solve_ivp_with_separation(lecture):
     xs, ps, _ = scipy_revolutions(model, omega, z0, revs=3, rtol=1e-10, atol=1e-12)
     z = jnp.asarray(z0)
     for rev in range(3):
-        traj, z, _, ok = dyn._rev_jit(motion, model, jnp.asarray(omega), z, jnp.asarray(theta))
+        traj, z, _, ok = _compliant._rev_jit(motion, model, jnp.asarray(omega), z, jnp.asarray(theta))
         traj = np.asarray(traj)
         assert bool(ok)
         f = contact_force_np(model, omega, theta, traj[:, 0], traj[:, 1])
@@ -369,7 +371,7 @@ def test_free_flight_closed_form(lecture):
     t_lo = lift_off(model, omega, 130, 155)
     s0, s10, _ = lecture_motion(np.array([t_lo]))
     # same argument types as rigid_response (strong float64): one compile shared with the rigid tests
-    sol = dyn._flight(motion, model, jnp.asarray(omega, dtype=float), jnp.asarray(t_lo, dtype=float), jnp.asarray([s0[0], s10[0]]))
+    sol = _rigid._flight(motion, model, jnp.asarray(omega, dtype=float), jnp.asarray(t_lo, dtype=float), jnp.asarray([s0[0], s10[0]]))
     t1 = float(sol.ts[-1])
     x_cf, _ = flight_closed_form(model, omega, t_lo, s0[0], s10[0])
     # landing where the closed-form x meets the cam again

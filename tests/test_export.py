@@ -8,10 +8,11 @@ import ezdxf
 import numpy as np
 import pytest
 
-import camdyn  # noqa: F401  (float64)
+import camdyn.model  # noqa: F401  (float64)
 from camdyn import InputError, Program
 from camdyn.export import resample, write_profile
-from camdyn.geometry import FollowerSpec, analyze
+from camdyn.model.geometry import analyze
+from camdyn.spec import FollowerSpec
 
 
 @pytest.fixture(scope="module")

@@ -16,10 +16,20 @@ import numpy as np
 import pytest
 from scipy.optimize import minimize_scalar
 
-import camdyn  # noqa: F401  (float64)
+import camdyn.model  # noqa: F401  (float64)
 from camdyn import InputError, Motion, Program
-from camdyn.geometry import CUSP_MM, FollowerSpec, analyze, lever_arm_mm, min_base_radius
-from camdyn.motion import evaluate
+from camdyn._core.units import CUSP_MM
+from camdyn.design.geometry import judge_geometry, min_base_radius
+from camdyn.model.geometry import analyze, lever_arm_mm
+from camdyn.spec import FollowerSpec, parse
+
+
+def judged(motion, fol, **limits):
+    """The cam's geometry and its judgment: (geometry, {name: check}, warnings, advice)."""
+    geo = analyze(motion, fol)
+    checks, warnings, advice = judge_geometry(geo, motion, **limits)
+    return geo, {c.name: c for c in checks}, warnings, advice
+from camdyn.model.motion import evaluate
 
 LECTURE_SEGMENTS = [
     {"law": "dwell", "end": 90},
@@ -146,36 +156,34 @@ def test_fourth_column_is_least_base_radius_for_a_flat_face(lecture, lecture_col
 def test_lecture_flat_faced_example_at_both_base_radii(lecture):
     """3.2 cm (the lecture's choice) leaves a small cusp near 156.5 deg; 4 cm (the roller example's) is sound."""
     face = 42.0  # 2.6 cm above + 1.6 cm below the centreline
-    at_32 = analyze(lecture, flat(32.0, face_width=face))
-    checks = {c.name: c for c in at_32.checks}
+    at_32, checks, _, advice = judged(lecture, flat(32.0, face_width=face))
     assert at_32.cusp and at_32.undercut and not checks["curvature"].ok
     assert at_32.min_radius_of_curvature_mm == pytest.approx(32.0 - 32.852, abs=2e-3)
     assert at_32.min_radius_of_curvature_at_deg == pytest.approx(156.5, abs=0.2)
     assert checks["pressure_angle"].ok and checks["pressure_angle"].value == pytest.approx(0.0, abs=1e-9)
-    assert any("base_radius >= 32.86 mm" in a for a in at_32.advice)
+    assert any("base_radius >= 32.86 mm" in a for a in advice)
     # the face: the contact runs over t = f' in [-1.5, 8/pi] cm (the table's 2.470 misses the 135-deg peak)
     lo, hi = at_32.face_range_mm
     assert (lo, hi) == (pytest.approx(-15.0, abs=1e-9), pytest.approx(80 / math.pi, abs=1e-6))
     assert -16.0 < lo and hi < 26.0 and checks["face_width"].ok
     assert at_32.json()["min_face_width_mm"] == pytest.approx(15.0 + 80 / math.pi, abs=1e-6)
-    at_40 = analyze(lecture, flat(40.0, face_width=40.0))
-    assert not at_40.cusp and all(c.ok for c in at_40.checks if c.name != "face_width")
+    at_40, checks_40, _, _ = judged(lecture, flat(40.0, face_width=40.0))
+    assert not at_40.cusp and all(c.ok for c in checks_40.values() if c.name != "face_width")
     assert at_40.min_radius_of_curvature_mm == pytest.approx(40.0 - 32.852, abs=2e-3)
-    assert not {c.name: c for c in at_40.checks}["face_width"].ok  # a 40 mm face is too narrow
+    assert not checks_40["face_width"].ok  # a 40 mm face is too narrow
 
 
 def test_lecture_roller_example_at_both_base_radii(lecture):
     """Both base radii pass: pressure angle against Norton's closed form, curvature ratio above 1.5."""
     s, s1 = svaj(lecture, np.arange(3600) / 10)[:2]
     for rb_lecture, ratio in ((40.0, 2.885), (32.0, 2.248)):
-        res = analyze(lecture, roller(rb_lecture))
+        res, checks, _, advice = judged(lecture, roller(rb_lecture))
         phi = np.degrees(np.arctan((s1 - DELTA) / (rb_lecture + RR + s)))
         np.testing.assert_allclose(res.pressure_angle_deg, phi, atol=1e-9)
         assert res.max_pressure_angle_deg == pytest.approx(np.max(np.abs(phi)), abs=1e-9)
-        checks = {c.name: c for c in res.checks}
         assert checks["pressure_angle"].ok and checks["pressure_angle"].value < 22.0
         assert checks["curvature"].value == pytest.approx(ratio, abs=1e-3) and checks["curvature"].ok
-        assert not res.undercut and res.advice == []
+        assert not res.undercut and advice == []
     assert min_base_radius(lecture, roller()) == pytest.approx(22.53, abs=0.01)
 
 
@@ -366,7 +374,7 @@ def test_oscillating_roller_against_finite_differences(swing, rotation):
     np.testing.assert_allclose(np.abs(res.pressure_angle_deg)[smooth], np.degrees(np.arccos(cosphi))[smooth], atol=1e-4)
     lever = lever_arm_mm(swing, fol, th)
     np.testing.assert_allclose(lever, 80.0 * np.cos(np.deg2rad(res.pressure_angle_deg)), atol=1e-9)
-    assert res.checks[0].limit == 35.0
+    assert judged(swing, fol)[1]["pressure_angle"].limit == 35.0
 
 
 def test_oscillating_flat_envelope_and_lever(swing):
@@ -399,15 +407,15 @@ def test_oscillating_flat_envelope_and_lever(swing):
 # --------------------------------------------------------------------------- judgments and errors
 def test_undercut_and_base_circle_advice(lecture):
     fol = FollowerSpec(type="translating-roller", base_radius=5.0, roller_radius=25.0)
-    res = analyze(lecture, fol)
-    curv = {c.name: c for c in res.checks}["curvature"]
+    res, checks, warnings, advice = judged(lecture, fol)
+    curv = checks["curvature"]
     assert res.undercut and res.cusp and not curv.ok and curv.value <= 0.0
-    assert res.warnings and "undercut" in res.warnings[0]
+    assert warnings and "undercut" in warnings[0]
     rb = min_base_radius(lecture, fol)
-    assert any(f"base_radius >= {math.ceil(rb * 100) / 100:.2f} mm" in a for a in res.advice)
-    above = analyze(lecture, fol.model_copy(update={"base_radius": rb + 1e-3}))
-    below = analyze(lecture, fol.model_copy(update={"base_radius": rb - 1e-2}))
-    assert all(c.ok for c in above.checks) and not all(c.ok for c in below.checks)
+    assert any(f"base_radius >= {math.ceil(rb * 100) / 100:.2f} mm" in a for a in advice)
+    above = judged(lecture, fol.model_copy(update={"base_radius": rb + 1e-3}))[1]
+    below = judged(lecture, fol.model_copy(update={"base_radius": rb - 1e-2}))[1]
+    assert all(c.ok for c in above.values()) and not all(c.ok for c in below.values())
     j = res.json()
     assert set(j) >= {"max_pressure_angle_deg", "max_pressure_angle_at_deg", "min_radius_of_curvature_mm",
                       "min_radius_of_curvature_at_deg", "undercut"}
@@ -415,24 +423,23 @@ def test_undercut_and_base_circle_advice(lecture):
 
 
 def test_limits_follow_the_case(lecture):
-    res = analyze(lecture, roller(32.0), max_pressure_angle=20.0, min_curvature_ratio=2.5)
-    checks = {c.name: c for c in res.checks}
+    checks = judged(lecture, roller(32.0), max_pressure_angle=20.0, min_curvature_ratio=2.5)[1]
     assert not checks["pressure_angle"].ok and not checks["curvature"].ok  # 21.7 deg, ratio 2.25
     rb = min_base_radius(lecture, roller(32.0), max_pressure_angle=20.0, min_curvature_ratio=2.5)
-    ok = analyze(lecture, roller(32.0).model_copy(update={"base_radius": rb}), max_pressure_angle=20.0, min_curvature_ratio=2.5)
-    assert all(c.ok for c in ok.checks)
+    ok = judged(lecture, roller(32.0).model_copy(update={"base_radius": rb}), max_pressure_angle=20.0, min_curvature_ratio=2.5)[1]
+    assert all(c.ok for c in ok.values())
     assert CUSP_MM < 1e-3
 
 
 @pytest.mark.parametrize(
     "spec, where",
     [
-        ({"type": "translating-roller", "base_radius": 20}, "follower.roller_radius"),
         ({"type": "translating-roller", "base_radius": 20, "roller_radius": 5, "offset": 30}, "follower.offset"),
-        ({"type": "oscillating-roller", "base_radius": 20, "roller_radius": 5}, "follower.type"),
+        ({"type": "oscillating-roller", "base_radius": 20, "roller_radius": 5, "pivot_distance": 60, "arm_length": 50}, "follower.type"),
     ],
 )
 def test_bad_followers_are_input_errors(lecture, spec, where):
+    """What the geometry refuses: a follower that cannot be assembled, or that cannot carry the motion."""
     with pytest.raises(InputError) as err:
         analyze(lecture, FollowerSpec(**spec))
     assert err.value.where == where
@@ -447,3 +454,20 @@ def test_oscillating_assembly_errors(swing):
     assert err.value.where == "follower.pivot_distance"
     with pytest.raises(InputError):
         lever_arm_mm(Program.from_segments(LECTURE_SEGMENTS), roller(), np.zeros(3))
+
+
+@pytest.mark.parametrize(
+    "spec, where",
+    [
+        ({"type": "translating-roller", "base_radius": 20}, "follower.roller_radius"),
+        ({"type": "oscillating-roller", "base_radius": 20, "roller_radius": 5}, "follower.pivot_distance"),
+        ({"type": "oscillating-flat", "base_radius": 20, "pivot_distance": 50, "arm_length": 30}, "follower.arm_length"),
+        ({"type": "translating-flat", "base_radius": 20, "roller_radius": 5}, "follower.roller_radius"),
+        ({"type": "oscillating-roller", "base_radius": 20, "roller_radius": 5, "pivot_distance": 50, "arm_length": 40, "offset": 2}, "follower.offset"),
+    ],
+)
+def test_follower_keys_are_the_schemas(spec, where):
+    """The keys a follower type needs, and those it does not take, are refused by the schema, naming the key."""
+    with pytest.raises(InputError) as err:
+        parse(FollowerSpec, spec, "follower")
+    assert err.value.where == where

@@ -10,9 +10,9 @@ import jax.numpy as jnp
 import numpy as np
 import pytest
 
-import camdyn  # noqa: F401  (float64)
-from camdyn.errors import InputError, NumericalError
-from camdyn.linkage import cross2, rrp_kinematics, rrr, rrr_kinematics, rrr_reach_miss, synthesize_motion
+import camdyn.model  # noqa: F401  (float64)
+from camdyn._core.errors import InputError, NumericalError
+from camdyn.model.linkage import cross2, rrp_kinematics, rrr, rrr_kinematics, rrr_reach_miss, synthesize_motion
 
 CASES = Path(__file__).resolve().parents[1] / "cases"
 SHIPPED = ("racetrack", "ellipse", "square", "circle", "eight", "line")
@@ -124,7 +124,7 @@ def test_ye_smith_section_8(racetrack):
     assert abs(xt1 - -88.3199) > 5e-3
     # camdyn's cam geometry from the synthesized follower (an independent route: the envelope of the roller
     # about the arm pivot, not eqs. 6-8) gives the same pitch and contour points, of the exact and tabulated motion
-    from camdyn.geometry import _eval_np
+    from camdyn.model.geometry._kernel import evaluate_geometry as _eval_np
 
     for motion in (racetrack.motion, racetrack.tabulated):
         ev = _eval_np(motion, racetrack.follower, np.array([theta]))

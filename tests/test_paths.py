@@ -6,9 +6,9 @@ import jax.numpy as jnp
 import numpy as np
 import pytest
 
-import camdyn  # noqa: F401  (float64)
-from camdyn.errors import InputError
-from camdyn.paths import build_path, parse_path
+import camdyn.model  # noqa: F401  (float64)
+from camdyn._core.errors import InputError
+from camdyn.model.paths import build_path, parse_path
 
 TABLE_I_X = [28, 29, 33, 38, 44, 50, 57, 63, 68, 74, 77, 79, 79, 78, 75, 70, 65, 59, 53, 45, 41, 35, 30, 27, 26, 25, 28]
 TABLE_I_Y = [11, 12, 15, 18, 24, 32, 34, 41, 47, 53, 58, 62, 64.5, 65.5, 65, 63, 60, 55, 49, 42, 36, 29, 24, 19, 15, 13, 11]

@@ -11,8 +11,8 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-import camdyn  # noqa: F401  (float64)
-from camdyn import programs
+import camdyn.model  # noqa: F401  (float64)
+from camdyn._core import jit as programs
 
 ROOT = Path(__file__).resolve().parents[1]
 

@@ -9,11 +9,11 @@ import numpy as np
 import pytest
 from matplotlib.image import imread
 
-from camdyn.case import load_case
-from camdyn.checks import run_check
+from camdyn.model.case import load_case
+from camdyn.design.checks import run_check
 from camdyn.cli import main
 from camdyn.report import A4, DPI, PAGES, ReportData, draw_springs, render
-from camdyn.sizing import SpringSizing
+from camdyn.design.sizing import SpringSizing
 
 ROOT = Path(__file__).resolve().parents[1]
 LECTURE = ROOT / "cases" / "lecture.toml"

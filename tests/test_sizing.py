@@ -21,11 +21,13 @@ import jax.numpy as jnp
 import numpy as np
 import pytest
 
-import camdyn  # noqa: F401  (float64)
-from camdyn import dynamics as dyn
-from camdyn.case import case_from_dict, load_case
+import camdyn.model  # noqa: F401  (float64)
+from camdyn._core.units import RPM
+from camdyn.model import dynamics as dyn
+from camdyn.model.case import case_from_dict, load_case
 from camdyn.cli import main
-from camdyn.sizing import SpringSizing, _Problem, plot_feasible_region, size_spring
+from camdyn.design.sizing import SpringSizing, _Problem, size_spring
+from camdyn.plot import plot_feasible_region
 
 ROOT = Path(__file__).resolve().parents[1]
 RPM = 2 * math.pi / 60
@@ -185,7 +187,7 @@ def test_oscillating_rigid_in_torsion_units():
     # here from the torque balance on a finer grid, at speeds up to the top speed
     assert sz.chosen.least_force == pytest.approx(2.0, abs=1e-6)
     case = case_from_dict(raw)
-    from camdyn.geometry import lever_arm_mm
+    from camdyn.model.geometry import lever_arm_mm
 
     theta = np.linspace(0, 2 * np.pi, 20001)
     phi, phi1, phi2 = case.motion._eval(np, theta)[:3]

@@ -9,10 +9,11 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from camdyn import dynamics as dyn
-from camdyn.case import case_from_dict, load_case
+from camdyn._core.units import RPM
+from camdyn.model import dynamics as dyn
+from camdyn.model.case import case_from_dict, load_case
 from camdyn.cli import main
-from camdyn.sweep import CSV_COLUMNS, jump_map
+from camdyn.design.sweep import CSV_COLUMNS, jump_map
 
 ROOT = Path(__file__).resolve().parents[1]
 LECTURE = ROOT / "cases" / "lecture.toml"
@@ -73,7 +74,7 @@ def test_separation_agrees_with_dynamics(lecture):
     assert jm_fast.separated[0, 0] and jm_fast.min_force[0, 0] == 0.0 and jm_fast.max_gap[0, 0] > 0.1
     assert not jm_slow.separated[0, 0] and jm_slow.max_gap[0, 0] == 0.0
     # the boundary at the case's spring rate is the dynamic jump speed
-    w_jump = dyn.dynamic_jump_speed(lecture.motion, lecture.model, w_max=2000 * dyn.RPM) / dyn.RPM
+    w_jump = dyn.dynamic_jump_speed(lecture.motion, lecture.model, w_max=2000 * RPM) / RPM
     jm = jump_map(lecture, [w_jump - 1.0, w_jump + 1.0])
     assert list(jm.separated[:, 0]) == [False, True]
 
@@ -82,18 +83,18 @@ def test_steady_state_vs_diffrax(lecture, small_map):
     """The map's frequency-domain steady state against the diffrax time-domain shooting (compliant_response)."""
     for i, j in ((0, 0), (0, 1)):
         rpm, rate = small_map.speeds_rpm[i], small_map.spring_rates[j]
-        resp = dyn.compliant_response(lecture.motion, _model_with_rate(lecture, rate), rpm * dyn.RPM)
+        resp = dyn.compliant_response(lecture.motion, _model_with_rate(lecture, rate), rpm * RPM)
         assert not resp.separations and not small_map.separated[i, j]
         assert small_map.min_force[i, j] == pytest.approx(resp.min_force, abs=0.01)
     # a third point, near the jump boundary
     jm = jump_map(lecture, [480.0])
-    resp = dyn.compliant_response(lecture.motion, lecture.model, 480.0 * dyn.RPM)
+    resp = dyn.compliant_response(lecture.motion, lecture.model, 480.0 * RPM)
     assert 0.0 < resp.min_force < 2.0 and jm.min_force[0, 0] == pytest.approx(resp.min_force, abs=0.01)
 
 
 def test_gap_vs_diffrax_shooting(lecture, small_map):
     """A periodic bounce (520 rpm, 2 N/mm): the map's largest gap against the diffrax periodic orbit."""
-    resp = dyn.compliant_response(lecture.motion, lecture.model, 520.0 * dyn.RPM)
+    resp = dyn.compliant_response(lecture.motion, lecture.model, 520.0 * RPM)
     assert resp.separations and resp.periodicity_error < 1e-6
     gap = max(s.max_gap for s in resp.separations)
     assert small_map.separated[1, 1] and small_map.max_gap[1, 1] == pytest.approx(gap, abs=1e-3)
@@ -104,19 +105,19 @@ def test_rigid_map_agrees_with_kinematics_and_flight(lecture):
     for key in ("train_stiffness", "train_damping_ratio"):
         raw["dynamics"].pop(key)
     rigid = case_from_dict(raw)
-    w_kin = dyn.kinematic_jump_speed(rigid.motion, rigid.model)[0] / dyn.RPM
+    w_kin = dyn.kinematic_jump_speed(rigid.motion, rigid.model)[0] / RPM
     jm = jump_map(rigid, [w_kin - 1.0, 600.0])
     assert jm.model == "rigid" and list(jm.separated[:, 0]) == [False, True]
-    resp = dyn.rigid_response(rigid.motion, rigid.model, 600.0 * dyn.RPM)
+    resp = dyn.rigid_response(rigid.motion, rigid.model, 600.0 * RPM)
     assert jm.max_gap[1, 0] == pytest.approx(max(s.max_gap for s in resp.separations), rel=1e-6)
 
 
 def test_oscillating_forces_in_newton():
-    from camdyn.checks import _forces_in_newton
+    from camdyn.design.checks import forces_in_newton as _forces_in_newton
 
     case = load_case(ROOT / "cases" / "oscillating.toml")
     jm = jump_map(case, [case.speed_rpm])
-    resp = _forces_in_newton(case, dyn.compliant_response(case.motion, case.model, case.speed_rpm * dyn.RPM))
+    resp = _forces_in_newton(case, dyn.compliant_response(case.motion, case.model, case.speed_rpm * RPM))
     assert jm.oscillating and jm.spring_rate_unit == "N*m/rad"
     assert jm.min_force[0, 0] == pytest.approx(resp.min_force, abs=0.01)
 
@@ -125,8 +126,8 @@ def test_sharded_over_two_devices_equals_one(small_map):
     """Two host devices (a subprocess): the grid sharded over both equals the grid on one of them."""
     code = (
         "import sys, jax, numpy as np, camdyn\n"
-        "from camdyn.case import load_case\n"
-        "from camdyn.sweep import jump_map\n"
+        "from camdyn.model.case import load_case\n"
+        "from camdyn.design.sweep import jump_map\n"
         "assert jax.device_count() == 2, jax.devices()\n"
         f"case = load_case({str(LECTURE)!r})\n"
         "grid = ([300.0, 520.0, 650.0], [1.0, 2.0])\n"

@@ -9,11 +9,12 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from camdyn.case import load_case
+from camdyn.model.case import load_case
 from camdyn.cli import main
-from camdyn.linkage import _ccm_eval, _ccm_score, _curve_error, _fourbar_curve, _fourbar_score, _vmap
-from camdyn.paths import build_path, parse_path
-from camdyn.synthesize import dumps_case
+from camdyn.design.dimensions import _ccm_eval, _ccm_score, _curve_error, _fourbar_curve, _fourbar_score
+from camdyn.model.linkage import vmap_scalar as _vmap
+from camdyn.model.paths import build_path, parse_path
+from camdyn.export import dumps_case
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -133,8 +134,8 @@ def test_missing_input_file(tmp_path, capsys):
 
 
 def test_shipped_path_files_validate():
-    from camdyn.case import read_toml
-    from camdyn.synthesize import validate_path_file
+    from camdyn.spec import read_toml
+    from camdyn.design.synthesize import validate_path_file
 
     files = sorted((ROOT / "cases" / "paths").glob("*.toml"))
     assert files

@@ -25,7 +25,10 @@ from typing import Callable
 
 import numpy as np
 
-from .errors import CamdynError, InputError
+from .._core.errors import CamdynError, InputError
+from .._core.outputs import output_dir, safe_stem
+from .._core.progress import Progress, counter
+from .._core.units import RPM
 
 A4 = (8.27, 11.69)  # portrait, inches
 DPI = 100  # PNG resolution: 827 x 1169 px per page
@@ -113,7 +116,7 @@ class ReportData:
 
     @property
     def omega(self) -> float:
-        from .dynamics import RPM
+        from .._core.units import RPM
 
         return self.check.speed_rpm * RPM
 
@@ -131,7 +134,7 @@ class ReportData:
         dynamics already compiled (a path motion compiles for seconds per new array shape)."""
         import jax.numpy as jnp
 
-        from .motion import evaluate
+        from ..model.motion import evaluate
 
         n = _GRID
         flat = np.asarray(theta_deg, dtype=float).ravel()
@@ -175,12 +178,12 @@ class ReportData:
     @cached_property
     def margin_response(self):
         """The steady state at speed_margin x speed (forces in N), or the error message if it cannot be had."""
-        from . import dynamics as dyn
-        from .checks import _forces_in_newton
+        from ..model import dynamics as dyn
+        from ..design.checks import forces_in_newton
 
         try:
-            resp = dyn.response(self.case.motion, self.case.model, self.margin_rpm * dyn.RPM)
-            return _forces_in_newton(self.case, resp) if self.oscillating else resp
+            resp = dyn.response(self.case.motion, self.case.model, self.margin_rpm * RPM)
+            return forces_in_newton(self.case, resp)
         except CamdynError as err:
             return str(err)
 
@@ -190,8 +193,8 @@ class ReportData:
         frequency-domain steady state (exact until the follower separates)."""
         import jax.numpy as jnp
 
-        from . import dynamics as dyn
-        from .motion import TWO_PI
+        from ..model import dynamics as dyn
+        from .._core.units import FFT_GRID, TWO_PI
 
         case, chk = self.case, self.check
         rpm = chk.speed_rpm
@@ -200,18 +203,18 @@ class ReportData:
             if j is not None and j < 8.0 * rpm:
                 top = max(top, 1.15 * j)
         speeds = np.linspace(top / _SPEEDS, top, _SPEEDS)  # the jump-speed scan's array shape: compiled already
-        w = speeds * dyn.RPM
+        w = speeds * RPM
         # the kinematic force is a quadratic in the speed at every angle: three evaluations give it all
         # the very theta array (shape and JAX weak type) of dynamics.response, so its compiled force is reused
         theta = jnp.asarray(np.arange(_GRID) * (TWO_PI / _GRID)) if case.model.rigid else jnp.arange(_GRID) * (TWO_PI / _GRID)
-        f = [np.asarray(dyn._kinematic_force_jit(case.motion, case.model, jnp.asarray(x, dtype=float), theta)) for x in (0.0, 1.0, -1.0)]
+        f = [np.asarray(dyn.kinematic_force_jit(case.motion, case.model, jnp.asarray(x, dtype=float), theta)) for x in (0.0, 1.0, -1.0)]
         a, b, c = 0.5 * (f[1] + f[2]) - f[0], 0.5 * (f[1] - f[2]), f[0]
         kin = w[:, None] ** 2 * a + w[:, None] * b + c
         if self.oscillating:
             kin = kin * self._newton_per_torque(np.asarray(theta))
         out = {"rpm": speeds, "kinematic": kin.min(axis=1), "linear": None}
         if not case.model.rigid:
-            nf = dyn._FFT_N
+            nf = FFT_GRID
             weight = None
             if self.oscillating:
                 weight = jnp.asarray(self._newton_per_torque(np.arange(nf) * (TWO_PI / nf)))
@@ -222,7 +225,7 @@ class ReportData:
     @cached_property
     def sizing(self):
         """:func:`camdyn.sizing.size_spring` at the case's speed and speed_margin, or the reason it cannot apply."""
-        from .sizing import size_spring
+        from ..design.sizing import size_spring
 
         try:
             return size_spring(self.case)
@@ -233,7 +236,7 @@ class ReportData:
     def jump_map(self):
         """A small jump map at the case's preload over the sizing page's rates and the dynamics page's speeds
         (gaps not integrated: the map shows the least force and the jump boundary), or the error message."""
-        from .sweep import jump_map
+        from ..design.sweep import jump_map
 
         chk, sz = self.check, self.sizing
         rpm = chk.speed_rpm
@@ -252,7 +255,7 @@ class ReportData:
             return str(err)
 
     def _newton_per_torque(self, theta_rad: np.ndarray) -> np.ndarray:
-        from .geometry import lever_arm_mm
+        from ..model.geometry import lever_arm_mm
 
         return 1000.0 / np.asarray(lever_arm_mm(self.case.motion, self.case.follower, theta_rad))
 
@@ -521,9 +524,9 @@ def _draw_inputs(fig, data: ReportData, flow: _Flow) -> None:
         columns.append(("motion", rows))
         columns.append(("follower", _kv_lines(case.follower.model_dump(exclude_unset=True))))
     else:
-        path = {k: v for k, v in (spec.path or {}).items()}
+        path = spec.path.model_dump(exclude_unset=True)
         columns.append(("path", [(k, f"{_fmt(v)} {_geom_unit(k, v)}".strip()) for k, v in path.items()]))
-        mech = [(k, f"{_fmt(v)} {_geom_unit(k, v)}".strip()) for k, v in (spec.mechanism or {}).items()]
+        mech = [(k, f"{_fmt(v)} {_geom_unit(k, v)}".strip()) for k, v in spec.mechanism.model_dump(exclude_unset=True).items()]
         sm = case.synthesis.summary
         mech += [("\u2192 crank", f"{sm['crank_mm']:.4g} mm"), ("\u2192 coupler", f"{sm['coupler_mm']:.4g} mm"), ("\u2192 base radius", f"{sm['base_radius_mm']:.4g} mm")]
         if "stroke_mm" in sm:
@@ -1133,7 +1136,7 @@ def draw_springs(fig, data: ReportData) -> None:
     )
     fig.text(0.06, 0.94, "\n".join(textwrap.wrap(caption, 140)), size=7.5, color=C["grey"], va="top", linespacing=1.3)
 
-    from .sizing import plot_feasible_region
+    from ..plot import plot_feasible_region
 
     ax = fig.add_axes([_LEFT, 0.615, 0.95 - _LEFT, 0.26])
     plot_feasible_region(ax, sz, colors={"kinematic": C["kin"], "dynamic": C["dyn"], "lines": C["constraint"], "iso": C["iso"], "chosen": C["ok"], "current": C["ink"]})
@@ -1216,7 +1219,7 @@ def draw_springs(fig, data: ReportData) -> None:
 
 def _spring_jump_map(fig, data: ReportData) -> None:
     """The jump map at the case's preload: least contact force over cam speed and spring rate."""
-    from .sweep import plot_jump_map
+    from ..plot import plot_jump_map
 
     top, bottom = _MAP_TOP, 0.095  # room for the legend under the axes
     jm = data.jump_map
@@ -1272,25 +1275,8 @@ class Written:
     verdict: str
 
 
-def output_dir(path) -> Path:
-    """The report folder, created if missing; :class:`InputError` if it cannot be one."""
-    path = Path(path)
-    if path.exists() and not path.is_dir():
-        raise InputError(str(path), "exists and is not a folder: give -o a folder for the reports")
-    try:
-        path.mkdir(parents=True, exist_ok=True)
-    except OSError as err:
-        raise InputError(str(path), f"cannot create the report folder: {err.strerror or err}") from None
-    return path
-
-
-def _slug(name: str) -> str:
-    s = re.sub(r"[^A-Za-z0-9._-]+", "-", name).strip("-.")
-    return s or "case"
-
-
 def output_names(case_name: str, pages: list[Page]) -> tuple[str, list[str]]:
-    stem = _slug(case_name)
+    stem = safe_stem(case_name)
     return f"{stem}.pdf", [f"{stem}-{i}-{p.slug}.png" for i, p in enumerate(pages, start=1)]
 
 
@@ -1307,13 +1293,13 @@ def _style():
         yield
 
 
-def render(data: ReportData, out_dir: Path, *, advance: Callable[[str], None] | None = None) -> Written:
+def render(data: ReportData, out_dir: Path, *, progress: Progress | None = None) -> Written:
     """Draw every page that applies to the case into ``out_dir``: the PDF and one PNG per page."""
     import matplotlib
     from matplotlib.backends.backend_pdf import PdfPages
     from matplotlib.figure import Figure
 
-    out_dir = output_dir(out_dir)
+    out_dir = output_dir(out_dir, "report")
     pages = [p for p in PAGES if p.applies(data)]
     pdf_name, png_names = output_names(data.case.name, pages)
     stem = pdf_name[:-4]
@@ -1327,10 +1313,9 @@ def render(data: ReportData, out_dir: Path, *, advance: Callable[[str], None] | 
         "ModDate": None,
     }
     pngs = []
+    tick = counter(progress, f"{data.case.name}: report pages", len(pages))
     with _style(), PdfPages(out_dir / pdf_name, metadata=meta) as pdf:
         for i, page in enumerate(pages, start=1):
-            if advance is not None:
-                advance(f"{data.case.name}: {page.title.lower()}")
             fig = Figure(figsize=A4)
             _header(fig, data, page.title, i, len(pages))
             page.draw(fig, data)
@@ -1338,6 +1323,7 @@ def render(data: ReportData, out_dir: Path, *, advance: Callable[[str], None] | 
             png = out_dir / png_names[i - 1]
             _save_png(fig, png, version)
             pngs.append(png)
+            tick()
     for old in _own_pngs(out_dir, stem):
         if old.name not in png_names:
             old.unlink()
@@ -1369,69 +1355,39 @@ def _version() -> str:
         return "0"
 
 
-def write_report(case, out_dir, *, check=None, speed_rpm: float | None = None, advance: Callable[[str], None] | None = None) -> Written:
-    """Check ``case`` (unless ``check``, a :class:`camdyn.checks.CheckReport`, is given) and write its report."""
-    from .checks import run_check
+def write_report(case, out_dir, *, check=None, speed_rpm: float | None = None, progress: Progress | None = None) -> Written:
+    """Check ``case`` (unless ``check``, a :class:`camdyn.design.checks.CheckReport`, is given) and write its report."""
+    from ..design.checks import run_check
 
     if check is None:
-        if advance is not None:
-            advance(f"{case.name}: checking")
         check = run_check(case, speed_rpm)
-    return render(ReportData(case, check), Path(out_dir), advance=advance)
+    return render(ReportData(case, check), Path(out_dir), progress=progress)
 
 
-@contextmanager
-def progress():
-    """A rich progress bar on stderr (silent when stderr is not a terminal); yields ``task(name, total)``."""
-    from rich.console import Console
-    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
+def report_cases(paths: list[str | Path], out_dir, *, speed_rpm: float | None = None, specs=None, progress: Progress | None = None) -> list[Written]:
+    """Load, check and report every case file in ``paths`` (bad input stops before any work, naming the file).
+    ``specs``: the files' validated :class:`camdyn.spec.CaseSpec`, where the caller has read them already."""
+    from ..model.case import build_case, load_case
 
-    console = Console(stderr=True)
-    bar = Progress(TextColumn("{task.description:<40}"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn(), console=console, disable=not console.is_terminal, transient=False)
-
-    def task(total: int):
-        tid = bar.add_task("", total=total)
-
-        def advance(desc: str) -> None:
-            t = bar.tasks[[t.id for t in bar.tasks].index(tid)]
-            if t.description:
-                bar.advance(tid)
-            bar.update(tid, description=desc)
-
-        def done(desc: str) -> None:
-            bar.update(tid, description=desc, completed=total)
-
-        return advance, done
-
-    with bar:
-        yield task
-
-
-def report_cases(paths: list[str | Path], out_dir, *, speed_rpm: float | None = None) -> list[Written]:
-    """Load, check and report every case file in ``paths`` (bad input stops before any work, naming the file)."""
-    from .case import load_case
-
-    output_dir(out_dir)
+    output_dir(out_dir, "report")
     cases = []
-    for p in paths:
+    for i, p in enumerate(paths):
         try:
-            cases.append(load_case(p))
+            cases.append(load_case(p) if specs is None else build_case(specs[i], source=Path(p)))
         except CamdynError as err:
             raise type(err)(f"{p}: {err.where}" if err.where else str(p), err.message) from None
     stems: dict[str, str] = {}
     for p, c in zip(paths, cases):
-        stem = _slug(c.name)
+        stem = safe_stem(c.name)
         if stem in stems:
             raise InputError(str(p), f"case name {c.name!r} is also the name of {stems[stem]}: their reports would overwrite each other")
         stems[stem] = str(p)
     out = []
-    with progress() as task:
-        for p, case in zip(paths, cases):
-            advance, done = task(2 + len(PAGES))
-            try:
-                written = write_report(case, out_dir, speed_rpm=speed_rpm, advance=advance)
-            except CamdynError as err:
-                raise type(err)(f"{p}: {err.where}" if err.where else str(p), err.message) from None
-            done(f"{case.name}: {written.verdict}, {len(written.pngs)} pages")
-            out.append(written)
+    tick = counter(progress, "cases", len(cases))
+    for p, case in zip(paths, cases):
+        try:
+            out.append(write_report(case, out_dir, speed_rpm=speed_rpm, progress=progress))
+        except CamdynError as err:
+            raise type(err)(f"{p}: {err.where}" if err.where else str(p), err.message) from None
+        tick()
     return out

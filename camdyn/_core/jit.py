@@ -39,7 +39,7 @@ def enable(directory: str | Path) -> None:
 def _fingerprint() -> str:
     """camdyn's source and the JAX stack's versions: a change to either invalidates every program."""
     h = hashlib.sha256()
-    for path in sorted(Path(__file__).parent.glob("*.py")):
+    for path in sorted(Path(__file__).parents[1].rglob("*.py")):
         h.update(path.read_bytes())
     for dist in ("jax", "jaxlib", "equinox", "diffrax", "optimistix", "lineax"):
         try:

@@ -14,100 +14,24 @@ comes to rest at the two ends, so the tangent never jumps), the precision points
 from __future__ import annotations
 
 import math
-from typing import Literal
 
 import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
 from jax.experimental import jet
-from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
 from scipy.interpolate import CubicSpline
 
-from .errors import InputError
+from .._core.errors import InputError
+from .._core.units import TWO_PI
+from ..spec import PathSpec, parse
 
-TWO_PI = 2.0 * math.pi
 _CHAIN_PIECES = 12
-PATH_TYPES = ("ellipse", "circle", "rectangle", "eight", "line", "racetrack", "points")
-
-Pair = tuple[float, float]
 
 
-# ------------------------------------------------------------------------------------------------ spec
-class PathSpec(BaseModel):
-    """The ``[path]`` table: the closed curve the tracing point must follow (lengths mm, angles deg).
-
-    Every path starts at u = 0 at the point named in ``type``'s description and runs once round; the
-    tracing point goes round it once per cam revolution.
-    """
-
-    model_config = ConfigDict(extra="forbid", frozen=True)
-
-    type: Literal["ellipse", "circle", "rectangle", "eight", "line", "racetrack", "points"] = Field(
-        description="ellipse | circle | rectangle | eight | line | racetrack | points"
-    )
-    center: Pair | None = Field(default=None, description="centre of the curve (x, y), mm (all but line, points)")
-    semi_major: float | None = Field(default=None, gt=0, description="ellipse: semi-axis along `rotation`, mm; starts at its end, runs anticlockwise")
-    semi_minor: float | None = Field(default=None, gt=0, description="ellipse: the other semi-axis, mm")
-    radius: float | None = Field(default=None, gt=0, description="circle: radius (starts at angle `rotation`); racetrack: radius of the two semicircles, mm")
-    width: float | None = Field(default=None, gt=0, description="rectangle, eight: extent along `rotation`, mm")
-    height: float | None = Field(default=None, gt=0, description="rectangle, eight: extent across it, mm")
-    corner_radius: float | None = Field(default=None, ge=0, description="rectangle: corner fillet radius, mm (0: sharp corners; the follower acceleration is then unbounded); the rectangle starts at the middle of its right side")
-    straight: float | None = Field(default=None, gt=0, description="racetrack: length of each straight, mm (Ye & Smith eq. 9: starts at the lower end of the right semicircle)")
-    start: Pair | None = Field(default=None, description="line: first end (x, y), mm; the point runs start -> end -> start")
-    end: Pair | None = Field(default=None, description="line: second end (x, y), mm")
-    x: list[float] | None = Field(default=None, description="points: x of the precision points in order, mm (a last point equal to the first is dropped)")
-    y: list[float] | None = Field(default=None, description="points: y of the precision points, mm")
-    rotation: float = Field(default=0.0, description="turn of the curve about its centre, deg anticlockwise")
-    reverse: bool = Field(default=False, description="run the curve the other way round (clockwise)")
-    phase: float = Field(default=0.0, ge=0.0, lt=1.0, description="shift the start point by this fraction of a loop")
-
-    @model_validator(mode="after")
-    def _keys_for_type(self) -> PathSpec:
-        need = _NEEDS[self.type]
-        for key in need:
-            if getattr(self, key) is None:
-                raise ValueError(f"{key}: required for a {self.type} path")
-        allowed = set(need) | _OPTIONAL.get(self.type, set()) | {"type", "rotation", "reverse", "phase"}
-        for key in type(self).model_fields:
-            if key not in allowed and key not in _DEFAULTED and getattr(self, key) is not None:
-                raise ValueError(f"{key}: not used by a {self.type} path (keys: {', '.join(sorted(allowed))})")
-        if self.type == "line" and math.dist(self.start, self.end) == 0.0:
-            raise ValueError("end: the line has zero length")
-        if self.type == "points":
-            if len(self.x) != len(self.y):
-                raise ValueError(f"y: {len(self.y)} values for {len(self.x)} x values")
-            if len(self.x) < 4:
-                raise ValueError("x: at least 4 precision points are needed")
-        if self.type == "rectangle" and 2.0 * (self.corner_radius or 0.0) > min(self.width, self.height):
-            raise ValueError(f"corner_radius: {self.corner_radius:g} mm is more than half the shorter side")
-        return self
-
-
-_NEEDS = {
-    "ellipse": ("center", "semi_major", "semi_minor"),
-    "circle": ("center", "radius"),
-    "rectangle": ("center", "width", "height"),
-    "eight": ("center", "width", "height"),
-    "line": ("start", "end"),
-    "racetrack": ("center", "straight", "radius"),
-    "points": ("x", "y"),
-}
-_OPTIONAL = {"rectangle": {"corner_radius"}}
-_DEFAULTED = {"rotation", "reverse", "phase"}
-
-
-def parse_path(path: dict) -> PathSpec:
-    """Validate a ``[path]`` table; errors name ``path.<key>``."""
-    try:
-        spec = PathSpec.model_validate(path)
-    except ValidationError as exc:
-        from .case import validation_error
-
-        raise validation_error(exc, PathSpec, "path") from None
-    if spec.type == "rectangle" and spec.corner_radius is None:
-        spec = spec.model_copy(update={"corner_radius": 0.0})
-    return spec
+def parse_path(path: dict | PathSpec) -> PathSpec:
+    """A validated ``[path]`` table (a :class:`camdyn.spec.PathSpec`); errors name ``path.<key>``."""
+    return path if isinstance(path, PathSpec) else parse(PathSpec, path, "path")
 
 
 # ------------------------------------------------------------------------------------------------ paths
@@ -298,7 +222,7 @@ def build_path(spec: PathSpec | dict) -> Path:
             c, a[0] = (p0 + p1) / 2.0, -(p1 - p0) / 2.0
         return Trig(center=jnp.asarray(c), a=jnp.asarray(a), b=jnp.asarray(b), local_breaks=(), local_sharp=(), **common)
     if t == "rectangle":
-        w, h, r = spec.width, spec.height, spec.corner_radius
+        w, h, r = spec.width, spec.height, spec.corner_radius or 0.0
         quarter = ("arc", (r, math.pi / 2))
         pieces = [("line", h / 2 - r), quarter, ("line", w - 2 * r), quarter, ("line", h - 2 * r), quarter, ("line", w - 2 * r), quarter, ("line", h / 2 - r)]
         pieces = [p for p in pieces if p[0] == "arc" or p[1] > 0.0]

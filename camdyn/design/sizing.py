@@ -54,13 +54,17 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
+import jax.numpy as jnp
 import numpy as np
+from scipy.optimize import linprog, minimize_scalar
 
-from .errors import InputError, NumericalError
-
-RPM = 2.0 * math.pi / 60.0
-_N_THETA = 3600  # kinematic LP grid
-_N_FFT = 4096  # frequency-domain steady state
+from .._core.errors import InputError, NumericalError
+from .._core.units import FFT_GRID, RPM, THETA_GRID, TWO_PI, damping_from_ratio, rate_from_si, rate_to_si
+from ..model import dynamics as dyn
+from ..model.geometry import newton_per_torque_at
+from ..model.motion import evaluate
+_N_THETA = THETA_GRID  # kinematic LP grid
+_N_FFT = FFT_GRID  # frequency-domain steady state
 _N_SPEEDS = 160  # dynamic requirement: 0 and 160 speeds up to W
 _N_REFINE = 17
 _N_VERIFY_CHUNKS = 7  # verification: 7 * 161 speeds in [0, W]
@@ -139,6 +143,10 @@ class SpringDesign:
     kinematic_jump_rpm: float  # inf: none
     dynamic_jump_rpm: float
 
+    def holds(self, fmin: float) -> bool:
+        """Whether the least contact force meets ``fmin`` (N), to 1e-6 of the peak contact force."""
+        return bool(self.least_force >= fmin - 1e-6 * max(1.0, abs(self.peak_contact)))
+
     def json(self, oscillating: bool, fmin: float) -> dict:
         if oscillating:
             keys = {"torsion_rate_N_m_per_rad": self.rate, "preload_torque_N_m": self.preload, "peak_spring_torque_N_m": self.peak_spring}
@@ -154,7 +162,7 @@ class SpringDesign:
             "peak_contact_force_rpm": self.peak_contact_rpm,
             "kinematic_jump_speed_rpm": _inf_none(self.kinematic_jump_rpm),
             "dynamic_jump_speed_rpm": _inf_none(self.dynamic_jump_rpm),
-            "holds": bool(self.least_force >= fmin - 1e-6 * max(1.0, abs(self.peak_contact))),
+            "holds": self.holds(fmin),
         }
 
 
@@ -246,8 +254,6 @@ class _Problem:
     """The case in SI generalized units (N, m or N*m, rad) on the LP angle grid."""
 
     def __init__(self, case, max_speed_rpm, margin, min_rate):
-        from .motion import TWO_PI
-
         self.case, self.motion, self.model = case, case.motion, case.model
         self.osc = case.oscillating
         if self.osc and case.follower is None:
@@ -259,12 +265,11 @@ class _Problem:
         self.m, self.ext, self.kf = float(m.mass), float(m.external), float(m.train_stiffness)
         self.c_fixed = float(d.damping) if d.damping is not None else None
         self.zeta = float(d.damping_ratio or 0.0)
-        self.k_unit = 1.0 if self.osc else 1e3  # user rate -> SI (N/mm -> N/m)
         self.speed_rpm = float(case.speed_rpm if max_speed_rpm is None else max_speed_rpm)
         self.margin = float(case.limits.speed_margin if margin is None else margin)
         self.W = self.margin * self.speed_rpm * RPM
         self.fmin = float(case.limits.min_contact_force)
-        self.k_lo = float(min_rate) * self.k_unit
+        self.k_lo = rate_to_si(float(min_rate), self.osc)
         if self.fmin < 0.0:
             raise InputError("limits.min_contact_force", f"sizing needs a least contact force >= 0 N (got {self.fmin:g}): below 0 the follower has left the cam")
 
@@ -301,10 +306,6 @@ class _Problem:
         if hasattr(self.motion, "_eval"):
             v = np.asarray(self.motion._eval(np, theta))
         else:
-            import jax.numpy as jnp
-
-            from .motion import evaluate
-
             v = np.asarray(evaluate(self.motion, jnp.asarray(theta)))
         return v[0] * self.scale, v[1] * self.scale, v[2] * self.scale
 
@@ -313,13 +314,7 @@ class _Problem:
         theta = np.atleast_1d(np.asarray(theta, dtype=float))
         if not self.osc:
             return np.ones_like(theta)
-        from .geometry import lever_arm_mm
-
-        arm = np.asarray(lever_arm_mm(self.motion, self.case.follower, theta)) / 1000.0
-        if np.any(arm <= 1e-9):
-            at = math.degrees(float(theta[int(np.argmin(arm))]))
-            raise InputError("follower", f"no spring can hold the follower at {at:.1f} deg: the contact normal passes through the arm pivot (no lever arm)")
-        return arm
+        return 1.0 / newton_per_torque_at(self.motion, self.case.follower, theta)
 
     def _polish_extreme(self, t0, v0, sign):
         _, v = _refine(lambda t: -sign * self._vals(t)[0], np.array([t0]), self.step)
@@ -329,7 +324,7 @@ class _Problem:
     def damping(self, k):
         if self.c_fixed is not None:
             return self.c_fixed
-        return 2.0 * self.zeta * math.sqrt(max(k, 0.0) * self.m)
+        return damping_from_ratio(self.zeta, max(k, 0.0), self.m)
 
     # ---- kinematic requirement
     def required(self, c, s1=None, s2=None, req=None):
@@ -413,8 +408,6 @@ class _Problem:
         tie-break takes k_end, the least preload F0 = P* - k_end s_max: what a second, lexicographic LP minimizing
         F0 at the optimal peak returns, without its tolerance. The LP value is checked against P* (1e-7).
         """
-        from scipy.optimize import linprog
-
         opts = {"primal_feasibility_tolerance": 1e-10, "dual_feasibility_tolerance": 1e-10}
         for _ in range(8):
             s = self.s
@@ -446,8 +439,6 @@ class _Problem:
     # ---- one-dimensional minimization in u = sqrt(k)
     def minimize_in_sqrt_k(self, peak_of, u_lo, u_hi, rtol, scan=0, seeds=()):
         """argmin of peak_of(u) on [u_lo, u_hi], ties broken towards the largest u within rtol of the least."""
-        from scipy.optimize import minimize_scalar
-
         cache: dict[float, float] = {}
 
         def f(u):
@@ -489,8 +480,6 @@ class _Problem:
 
     # ---- dynamics
     def fft_setup(self):
-        from .motion import TWO_PI
-
         if not hasattr(self, "req_f"):
             theta_f = np.arange(_N_FFT) * (TWO_PI / _N_FFT)
             self.arm_f = self._arm(theta_f)
@@ -498,20 +487,13 @@ class _Problem:
             self.speeds = np.linspace(0.0, self.W, _N_SPEEDS + 1)
 
     def with_spring(self, k, f0):
-        import equinox as eqx
-        import jax.numpy as jnp
-
-        return eqx.tree_at(lambda m: (m.stiffness, m.preload, m.damping), self.model, (jnp.asarray(float(k)), jnp.asarray(float(f0)), jnp.asarray(float(self.damping(k)))))
+        return self.model.with_spring(float(k), float(f0))
 
     def contact_force(self, k, f0, speeds):
         """Frequency-domain steady-state interface force (N or N*m), shape (len(speeds), _N_FFT)."""
-        import jax.numpy as jnp
-
-        from .dynamics import linear_contact_force
-
-        out = np.asarray(linear_contact_force(self.motion, self.with_spring(k, f0), jnp.asarray(speeds, dtype=float), _N_FFT))
+        out = np.asarray(dyn.linear_contact_force(self.motion, self.with_spring(k, f0), jnp.asarray(speeds, dtype=float), _N_FFT))
         if not np.all(np.isfinite(out)):
-            raise NumericalError(f"sizing, rate {k / self.k_unit:.4g}", "the steady-state contact force is not finite")
+            raise NumericalError(f"sizing, rate {rate_from_si(k, self.osc):.4g}", "the steady-state contact force is not finite")
         return out
 
     def preload_dynamic(self, k, refine=True):
@@ -566,8 +548,6 @@ class _Problem:
 
     # ---- evaluation of one spring
     def design(self, k, f0) -> SpringDesign:
-        from . import dynamics as dyn
-
         c = self.damping(k)
         base = k * self.s + f0 + self.ext
         g_lo, w_lo = _least_quadratic(self.m * self.s2, c * self.s1, self.W)
@@ -585,7 +565,7 @@ class _Problem:
             w_max = 4.0 * max(self.W, w_kin if math.isfinite(w_kin) else 0.0)
             w_dyn = dyn.dynamic_jump_speed(self.motion, model, w_max=w_max) if np.min(base) >= 0.0 else 0.0
         return SpringDesign(
-            rate=k / self.k_unit,
+            rate=rate_from_si(k, self.osc),
             preload=f0,
             peak_spring=k * self.s_max + f0,
             least_force_kinematic=kin_lo[0],
@@ -714,75 +694,9 @@ def size_spring(case, max_speed_rpm: float | None = None, margin: float | None =
         dynamic_binding=dyn_bind,
         damping=damping_note,
         method=method,
-        region_rate=rates / p.k_unit,
+        region_rate=rate_from_si(rates, p.osc),
         region_preload_kinematic=pre_kin,
         region_preload_dynamic=pre_dyn,
         lines=lines,
         warnings=tuple(warnings),
     )
-
-
-# ------------------------------------------------------------------------------------------ plot
-# colours of plot_feasible_region by role
-PLOT_COLORS = {
-    "kinematic": "tab:green",  # feasible region (kinematic) and the kinematic LP answer
-    "dynamic": "tab:blue",  # feasible region (dynamic, compliant train)
-    "lines": "0.55",  # constraint lines
-    "iso": "tab:orange",  # iso-lines of the peak spring force
-    "chosen": "tab:red",
-    "current": "k",
-}
-
-
-def plot_feasible_region(ax, sizing: SpringSizing, colors: dict | None = None) -> None:
-    """The rate-preload plane: constraint lines (the binding ones and those forming the envelope), the feasible
-    region shaded (kinematic; dynamic too for a compliant follower), iso-lines of the peak spring force, the
-    chosen spring, the kinematic LP answer and the case's current spring. ``colors`` overrides any of the
-    colours by role (keys of :data:`PLOT_COLORS`), as the design-review report does with its own palette."""
-    col = PLOT_COLORS | (colors or {})
-    u = sizing.units
-    k = np.asarray(sizing.region_rate)
-    f_kin = np.asarray(sizing.region_preload_kinematic)
-    f_dyn = None if sizing.region_preload_dynamic is None else np.asarray(sizing.region_preload_dynamic)
-    pts = [sizing.chosen, sizing.kinematic, sizing.current]
-    lows = [f_kin.min(), *(d.preload for d in pts)] + ([] if f_dyn is None else [f_dyn.min()])
-    highs = [f_kin.max(), *(d.preload for d in pts)] + ([] if f_dyn is None else [f_dyn.max()])
-    span = max(highs) - min(lows) or max(1.0, abs(max(highs)))
-    y0, y1 = min(lows) - 0.15 * span, max(highs) + 0.25 * span
-    kin_label = "feasible (kinematic)"
-    ax.fill_between(k, f_kin, y1, color=col["kinematic"], alpha=0.15, label=kin_label, linewidth=0)
-    ax.plot(k, f_kin, color=col["kinematic"], lw=1.5)
-    if f_dyn is not None:
-        ax.fill_between(k, f_dyn, y1, color=col["dynamic"], alpha=0.15, label="feasible (dynamic, compliant train)", linewidth=0)
-        ax.plot(k, f_dyn, color=col["dynamic"], lw=1.5)
-    for n, (theta_deg, s, r) in enumerate(sizing.lines):
-        ax.plot(k, r - k * s, color=col["lines"], lw=0.6, ls="-", label="constraint lines (envelope, binding)" if n == 0 else None)
-    s_max = sizing.s_max
-    peaks = sorted({round(d.peak_spring, 9) for d in pts})
-    labelled: list[float] = []
-    for n, peak in enumerate(peaks):
-        ax.plot(k, peak - k * s_max, color=col["iso"], lw=0.8, ls=":", label="iso peak spring force" if n == 0 else None)
-        if any(abs(peak - q) <= 0.03 * max(abs(peak), abs(q), 1e-300) for q in labelled):
-            continue  # one label for iso-lines that nearly coincide
-        # the label on the part of the line inside the plot, staggered along it from one line to the next
-        seen = np.nonzero((peak - k * s_max > y0 + 0.08 * (y1 - y0)) & (peak - k * s_max < y1 - 0.12 * (y1 - y0)))[0]
-        if seen.size == 0:
-            continue
-        kx = k[seen[min(len(seen) - 1, (len(seen) * (1 + len(labelled))) // 4)]]
-        ax.annotate(f"P = {peak:.4g} {u['spring']}", (kx, peak - kx * s_max), xytext=(3, 2), textcoords="offset points", fontsize=7,
-                    color=col["iso"], bbox=dict(fc="white", ec="none", alpha=0.75, pad=0.6))
-        labelled.append(peak)
-    if sizing.model == "compliant":
-        ax.plot([sizing.kinematic.rate], [sizing.kinematic.preload], "o", mfc="none", mec=col["kinematic"], ms=8, label="kinematic LP answer")
-    ax.plot([sizing.chosen.rate], [sizing.chosen.preload], "*", color=col["chosen"], ms=12, label="chosen")
-    ax.plot([sizing.current.rate], [sizing.current.preload], "s", mfc="none", mec=col["current"], ms=7, label="current design")
-    ax.set_xlim(k[0], k[-1])
-    ax.set_ylim(y0, y1)
-    if sizing.oscillating:
-        ax.set_xlabel(f"torsion rate k [{u['rate']}]")
-        ax.set_ylabel(f"preload torque T0 [{u['preload']}]")
-    else:
-        ax.set_xlabel(f"spring rate k [{u['rate']}]")
-        ax.set_ylabel(f"preload F0 [{u['preload']}]")
-    ax.set_title(f"{sizing.case_name}: springs that hold up to {sizing.top_speed_rpm:.4g} rpm")
-    ax.legend(fontsize=7, loc="best")

@@ -38,11 +38,16 @@ import jax.numpy as jnp
 import numpy as np
 from jax.sharding import Mesh, PartitionSpec
 
-from . import dynamics as dyn
-from .errors import InputError, NumericalError
-from .motion import TWO_PI
+from .._core.errors import InputError, NumericalError
+from .._core.progress import Progress, counter
+from .._core.units import RPM, THETA_GRID, TWO_PI, rate_from_si, rate_to_si
+from ..model import dynamics as dyn
+from ..model.dynamics._compliant import _vector_field
+from ..model.follower import FollowerModel
+from ..model.geometry import newton_per_torque_at
+from ..model.motion import evaluate
 
-GRID_N = 3600  # angle grid of the least force: 0.1 deg, the grid of ``camdyn check``
+GRID_N = THETA_GRID  # angle grid of the least force: 0.1 deg, the grid of ``camdyn check``
 GAP_REVS = 6  # revolutions of the nonlinear model from the linear steady state
 GAP_LAST = 2  # the largest gap is taken over the last GAP_LAST of them
 GAP_SAMPLES = 1440  # diffrax: samples per revolution for the largest gap (0.25 deg)
@@ -135,7 +140,7 @@ def _batched(kernel: Callable, const, batched: list[np.ndarray], chunk: int, pro
 
 
 # ----------------------------------------------------------------------------------- kernels
-def _with_spring(base: dyn.FollowerModel, k, c) -> dyn.FollowerModel:
+def _with_spring(base: FollowerModel, k, c) -> FollowerModel:
     return eqx.tree_at(lambda m: (m.stiffness, m.damping), base, (k, c))
 
 
@@ -281,7 +286,7 @@ def _gap_kernel(const, omega, k, c, z0):
     motion, base, jumps, ts, s_ts, weight_ts = const
     md = _with_spring(base, k, c)
     sol = diffrax.diffeqsolve(
-        diffrax.ODETerm(dyn._vector_field),
+        diffrax.ODETerm(_vector_field),
         diffrax.Tsit5(),
         t0=0.0,
         t1=TWO_PI * GAP_REVS,
@@ -300,22 +305,7 @@ def _gap_kernel(const, omega, k, c, z0):
 
 # -------------------------------------------------------------------------------------- map
 def _lever_arm_mm(case, theta) -> np.ndarray:
-    from .geometry import lever_arm_mm
-
-    if case.follower is None:
-        raise InputError("follower", "an oscillating follower needs its geometry to convert torques to contact forces")
-    arm = np.asarray(lever_arm_mm(case.motion, case.follower, np.asarray(theta)), dtype=float)
-    if np.any(arm <= 1e-6):
-        at = math.degrees(float(np.asarray(theta)[int(np.argmin(arm))])) % 360.0
-        raise NumericalError(f"follower at {at:.1f} deg", "the contact normal passes through the arm pivot: no lever arm to carry the load")
-    return arm
-
-
-def _damping(case, k_si: np.ndarray) -> np.ndarray:
-    d = case.spec.dynamics
-    if d.damping is not None:
-        return np.full_like(k_si, float(d.damping))
-    return 2.0 * (d.damping_ratio or 0.0) * np.sqrt(k_si * float(case.model.mass))
+    return 1000.0 / newton_per_torque_at(case.motion, case.follower, np.asarray(theta))
 
 
 def jump_map(
@@ -323,7 +313,7 @@ def jump_map(
     speeds_rpm,
     spring_rates=None,
     *,
-    progress: Callable[[str, int, int], None] | None = None,
+    progress: Progress | None = None,
     gap_method: str = "exact",
     devices=None,
     gaps: bool = True,
@@ -341,35 +331,25 @@ def jump_map(
     devices = tuple(jax.devices() if devices is None else devices)
     if gap_method not in ("exact", "diffrax"):
         raise ValueError(f"gap_method must be 'exact' or 'diffrax', not {gap_method!r}")
-    from .motion import evaluate
-
     motion, base = case.motion, case.model
-    d = case.spec.dynamics
-    rate0 = float(d.torsion_rate if case.oscillating else d.spring_rate)
+    rate0 = float(rate_from_si(base.stiffness, case.oscillating))
     speeds = np.atleast_1d(np.asarray(speeds_rpm, dtype=float))
     rates = np.atleast_1d(np.asarray(spring_rates if spring_rates is not None else [rate0], dtype=float))
     if speeds.size == 0 or rates.size == 0 or not (np.all(speeds > 0) and np.all(rates > 0) and np.all(np.isfinite(speeds)) and np.all(np.isfinite(rates))):
         raise InputError("sweep", "speeds and spring rates must be positive and finite")
     ns, nk = speeds.size, rates.size
     sp, kr = np.meshgrid(speeds, rates, indexing="ij")
-    omega = sp.ravel() * dyn.RPM
-    k_si = kr.ravel() * (1.0 if case.oscillating else 1e3)
-    c_si = _damping(case, k_si)
+    omega = sp.ravel() * RPM
+    k_si = rate_to_si(kr.ravel(), case.oscillating)
+    c_si = np.asarray(base.damping_at(jnp.asarray(k_si)))
     npts = omega.size
 
     theta = np.arange(GRID_N) * (TWO_PI / GRID_N)
     vals = np.asarray(evaluate(motion, jnp.asarray(theta))) * base.scale
-    weight = 1.0 / (_lever_arm_mm(case, theta) / 1000.0) if case.oscillating else np.ones(GRID_N)
+    weight = newton_per_torque_at(motion, case.follower, theta) if case.oscillating else np.ones(GRID_N)
 
     def tick(phase, total):
-        done = [0]
-
-        def f(m):
-            done[0] += m
-            if progress is not None:
-                progress(phase, done[0], total)
-
-        return f
+        return counter(progress, phase, total)
 
     notes: list[str] = []
     if base.rigid:
@@ -440,53 +420,3 @@ def jump_map(
         devices=len(devices),
         notes=tuple(notes),
     )
-
-
-# ------------------------------------------------------------------------------------- plot
-def plot_jump_map(ax, jm: JumpMap):
-    """Draw the map on a matplotlib ``ax``: least force over speed x spring rate, the jump boundary (least force
-    of the in-contact model = 0) and the operating point. A single spring rate (or speed) gives a line plot.
-    Returns the artist a colorbar can use (None for a line plot)."""
-    ku = jm.spring_rate_unit
-    op_label = f"operating point ({jm.speed_rpm:g} rpm, {jm.spring_rate:g} {ku})"
-    title = f"{jm.case}: jump map, {jm.model} follower, preload {jm.preload:g} {jm.preload_unit} fixed"
-    ax.set_title(title, fontsize=10)
-    if jm.spring_rates.size > 1 and jm.speeds_rpm.size > 1:
-        mesh = ax.pcolormesh(jm.speeds_rpm, jm.spring_rates, jm.min_force.T, shading="nearest", cmap="viridis")
-        cs = ax.contour(jm.speeds_rpm, jm.spring_rates, jm.contact_force.T, levels=[0.0], colors="red", linewidths=1.5)
-        ax.plot([], [], color="red", label="jump boundary (Fi = 0)")
-        del cs
-        ax.plot([jm.speed_rpm], [jm.spring_rate], marker="*", markersize=12, color="white", markeredgecolor="black", linestyle="none", label=op_label)
-        ax.set_xlabel("cam speed (rpm)")
-        ax.set_ylabel(f"spring rate ({ku})")
-        ax.legend(loc="upper left", fontsize=8)
-        return mesh
-    if jm.spring_rates.size == 1:
-        x, xlabel, f, op_x = jm.speeds_rpm, "cam speed (rpm)", jm.contact_force[:, 0], jm.speed_rpm
-        ax.set_title(title + f", spring rate {jm.spring_rates[0]:g} {ku}", fontsize=10)
-    else:
-        x, xlabel, f, op_x = jm.spring_rates, f"spring rate ({ku})", jm.contact_force[0, :], jm.spring_rate
-        ax.set_title(title + f", {jm.speeds_rpm[0]:g} rpm", fontsize=10)
-    ax.plot(x, np.maximum(f, 0.0), color="C0", marker="." if x.size < 50 else None, label="least contact force")
-    ax.axhline(0.0, color="grey", linewidth=0.8)
-    cross = np.nonzero(np.diff(np.sign(f)) != 0)[0]
-    for j, i in enumerate(cross):  # linear interpolation of the sign change
-        xb = x[i] - f[i] * (x[i + 1] - x[i]) / (f[i + 1] - f[i])
-        ax.axvline(xb, color="red", linewidth=1.2, label="jump boundary (Fi = 0)" if j == 0 else None)
-    ax.axvline(op_x, color="black", linestyle="--", linewidth=1.0, label=op_label)
-    ax.set_xlabel(xlabel)
-    ax.set_ylabel("least contact force (N)")
-    ax.legend(loc="best", fontsize=8)
-    return None
-
-
-def save_png(jm: JumpMap, path) -> None:
-    """Write the heat map (or line plot) of ``jm`` as a PNG (matplotlib, no pyplot state)."""
-    from matplotlib.figure import Figure
-
-    fig = Figure(figsize=(8, 5.5), layout="constrained")
-    ax = fig.add_subplot()
-    art = plot_jump_map(ax, jm)
-    if art is not None:
-        fig.colorbar(art, ax=ax, label="least contact force (N)")
-    fig.savefig(path, dpi=120)

@@ -1,7 +1,7 @@
 """Export of a cam contour for manufacturing: DXF (ezdxf), CSV or SVG, within a chord tolerance.
 
 The curve is given either as a callable ``u -> (2, m)`` mm on u in [0, 1] (closed: u = 0 and u = 1 are the same
-point), e.g. :meth:`camdyn.geometry.GeometryResult.contour_fn`, which evaluates the exact contour; or as a dense
+point), e.g. :meth:`camdyn.model.geometry.CamGeometry.contour_fn`, which evaluates the exact contour; or as a dense
 closed sample ``(2, n)`` mm (first point not repeated), which is taken to be the periodic cubic spline through
 the samples (chord-length parametrised), so its points must be dense enough for that spline to be the curve.
 The curve is then resampled adaptively: an interval is halved until the curve deviates from its chord by at
@@ -15,7 +15,7 @@ from typing import Callable
 
 import numpy as np
 
-from .errors import InputError, NumericalError
+from .._core.errors import InputError, NumericalError
 
 FORMATS = (".dxf", ".csv", ".svg")
 _PROBES = 15  # interior samples per interval for its chord deviation; odd, so the midpoint is one

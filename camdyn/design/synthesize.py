@@ -11,44 +11,21 @@ before it is returned, so what is written is a case that ``camdyn check`` accept
 from __future__ import annotations
 
 import math
-import re
-import textwrap
 import tomllib
 from dataclasses import dataclass, field
+from importlib.metadata import PackageNotFoundError, version
 from pathlib import Path
-from typing import Any, Callable
+from typing import Any
 
-from pydantic import BaseModel, ConfigDict, Field, ValidationError
+from .._core.errors import InputError
+from .._core.progress import Progress
+from ..export.toml import dumps_case
+from ..model.case import Case, case_from_dict
+from ..spec import PathFileSpec, parse
+from .dimensions import DIMENSION_OBJECTIVE, synthesize_dimensions
+from .sizing import size_spring
 
-from .case import Case, DynamicsSpec, LimitsSpec, case_from_dict, validation_error
-from .errors import InputError
-
-_STRICT = ConfigDict(extra="forbid", allow_inf_nan=False, frozen=True)
 PRELOAD_STEP = 0.1  # N: a sized preload is rounded up to this (and at least one step above the least that holds)
-
-
-class SynthesisSpec(BaseModel):
-    """The ``[synthesis]`` table of a path file: options of the dimensional synthesis."""
-
-    model_config = _STRICT
-    seed: int = Field(default=0, ge=0, description="random seed of the optimizer (the same seed gives the same design)")
-    maxiter: int = Field(default=200, ge=1, le=100000, description="most generations of differential evolution (each: the CCM and the four-bar comparison)")
-    popsize: int = Field(default=15, ge=5, le=1000, description="population per free dimension")
-    max_pressure_angle: float | None = Field(default=None, gt=0, lt=80, description="deg, the cam is sized for it; default: [limits] max_pressure_angle, else 30")
-    roller_radius: float = Field(default=10.0, gt=0, description="follower roller radius, mm")
-    fourbar: bool = Field(default=True, description="also fit the best plain four-bar to the path (the CCM paper's comparison)")
-
-
-class PathFileSpec(BaseModel):
-    """A whole path file (the input of ``camdyn synthesize``)."""
-
-    model_config = _STRICT
-    name: str | None = None
-    description: str = ""
-    path: dict[str, Any] | None = None
-    dynamics: DynamicsSpec | None = None
-    limits: LimitsSpec = LimitsSpec()
-    synthesis: SynthesisSpec = SynthesisSpec()
 
 
 @dataclass
@@ -71,30 +48,7 @@ class SynthesizedCase:
 
 def validate_path_file(raw: dict) -> PathFileSpec:
     """Validate a path file; every problem is one :class:`InputError` naming the key."""
-    from .paths import parse_path
-
-    if "mechanism" in raw:
-        raise InputError("mechanism", "a path file has no [mechanism] table: camdyn synthesize chooses it (remove it, or run camdyn check on a case file)")
-    try:
-        spec = PathFileSpec.model_validate(raw)
-    except ValidationError as err:
-        raise validation_error(err, PathFileSpec) from None
-    if spec.path is None:
-        raise InputError("path", "the [path] table is required: the closed curve the tracing point must follow (type = ellipse, circle, rectangle, eight, line, racetrack or points)")
-    parse_path(spec.path)
-    if spec.dynamics is None:
-        raise InputError("dynamics", "the [dynamics] table is required: give at least speed (rpm), mass (kg) and spring_rate (N/mm); preload (N) is sized when left out")
-    d = spec.dynamics
-    for key in ("inertia", "torsion_rate", "preload_torque", "train_torsion_rate"):
-        if getattr(d, key) is not None:
-            raise InputError(f"dynamics.{key}", "the synthesized CCM has a translating follower: use mass, spring_rate, preload, train_stiffness")
-    for key, what in (("mass", "the slider's moving mass, kg"), ("spring_rate", "the return spring's rate, N/mm (the preload may be left out: it is then sized)")):
-        if getattr(d, key) is None:
-            raise InputError(f"dynamics.{key}", f"required key is missing: {what}")
-    s = spec.synthesis
-    if s.max_pressure_angle is not None and spec.limits.max_pressure_angle is not None and s.max_pressure_angle > spec.limits.max_pressure_angle:
-        raise InputError("synthesis.max_pressure_angle", f"{s.max_pressure_angle:g} deg exceeds [limits] max_pressure_angle = {spec.limits.max_pressure_angle:g} deg: the case would fail its own check")
-    return spec
+    return parse(PathFileSpec, raw)
 
 
 # ------------------------------------------------------------------------------------------ writing
@@ -102,28 +56,7 @@ def _fmt(x: float) -> str:
     return f"{x:.3g}" if abs(x) >= 1e-3 or x == 0.0 else f"{x:.1e}"
 
 
-def dumps_case(doc: dict, header: list[str]) -> str:
-    """TOML text of ``doc`` (tomli-w) with arrays of numbers on one line and ``header`` as comment lines."""
-    import tomli_w
-
-    body = tomli_w.dumps(doc, multiline_strings=True)
-
-    def inline(m: re.Match) -> str:
-        items = [line.strip().removesuffix(",") for line in m.group(2).splitlines()]
-        return f"{m.group(1)}[{', '.join(items)}]\n"
-
-    short = re.sub(r"^([A-Za-z0-9_]+ = )\[\n((?:    [^\n\[\]{}]*,\n)+)\]\n", inline, body, flags=re.M)
-    if tomllib.loads(short) == tomllib.loads(body):  # only ever a change of layout
-        body = short
-    lines = [w for line in header for w in textwrap.wrap(line, 112, break_long_words=False, break_on_hyphens=False)]
-    return "".join(f"# {line}\n" for line in lines) + "\n" + body
-
-
 def _header(source: Path | None, summary: dict, sized: str | None) -> list[str]:
-    from importlib.metadata import PackageNotFoundError, version
-
-    from .linkage import DIMENSION_OBJECTIVE
-
     try:
         ver = f" {version('camdyn')}"
     except PackageNotFoundError:  # a source tree on sys.path
@@ -152,8 +85,6 @@ def _header(source: Path | None, summary: dict, sized: str | None) -> list[str]:
 
 def _size_preload(doc: dict, source: Path | None, progress) -> tuple[float, str]:
     """The least preload (N) that holds at the case's spring rate up to speed_margin x speed, rounded up."""
-    from .sizing import size_spring
-
     trial = dict(doc, dynamics=dict(doc["dynamics"], preload=1e6))  # holds at rest whatever the motion
     case = case_from_dict(trial, source=source)
     progress("spring sizing", 0, 1)
@@ -170,13 +101,13 @@ def _size_preload(doc: dict, source: Path | None, progress) -> tuple[float, str]
 
 
 def synthesize_case(
-    raw: dict,
+    raw: dict | PathFileSpec,
     *,
     source: Path | None = None,
     name: str | None = None,
     seed: int | None = None,
     maxiter: int | None = None,
-    progress: Callable[[str, int, int], None] | None = None,
+    progress: Progress | None = None,
 ) -> SynthesizedCase:
     """Synthesize a CCM for the parsed path file ``raw`` and build the complete case file.
 
@@ -184,9 +115,8 @@ def synthesize_case(
     ``progress(phase, done, total)`` follows the optimizer. Raises :class:`InputError` for a bad path file and
     :class:`NumericalError` when no design can be synthesized.
     """
-    from .linkage import synthesize_dimensions
-
-    spec = validate_path_file(raw)
+    spec = raw if isinstance(raw, PathFileSpec) else validate_path_file(raw)
+    raw = spec.model_dump(mode="json", exclude_unset=True)
     opts = spec.synthesis
     for flag, v in (("--seed", seed), ("--maxiter", maxiter)):
         if v is not None and v < (0 if flag == "--seed" else 1):
@@ -203,7 +133,7 @@ def synthesize_case(
     summary, mechanism = result["summary"], result["mechanism"]
     dynamics = dict(raw["dynamics"])
     doc: dict[str, Any] = {"name": spec.name or name or "case"}
-    doc["description"] = spec.description or f"CCM synthesized by camdyn synthesize for the {spec.path['type']} path{f' of {source.name}' if source else ''}."
+    doc["description"] = spec.description or f"CCM synthesized by camdyn synthesize for the {spec.path.type} path{f' of {source.name}' if source else ''}."
     doc |= {"path": dict(raw["path"]), "mechanism": mechanism, "dynamics": dynamics}
     if "limits" in raw:
         doc["limits"] = dict(raw["limits"])

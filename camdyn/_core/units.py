@@ -1,0 +1,57 @@
+"""Units, grids, defaults and the few conversions every layer shares: each lives here and nowhere else.
+
+Case files speak the designer's units (mm, deg, rpm, N/mm); the models work in SI (m, rad, rad/s, N/m), or in
+the rotational equivalent for an oscillating arm (rad, N*m/rad, N*m). Plain Python and numpy only: the
+schema imports this module, and it must not pull in JAX.
+"""
+
+from __future__ import annotations
+
+import math
+
+TWO_PI = 2.0 * math.pi
+RPM = TWO_PI / 60.0  # rad/s per rpm
+M_PER_MM = 1e-3  # a translating follower's motion is in mm, its dynamics in m
+N_PER_M_PER_N_PER_MM = 1e3  # spring rates: N/mm -> N/m
+
+# angle grids
+THETA_GRID = 3600  # angles per revolution of the dynamics, the checks and the tables (0.1 deg)
+FFT_GRID = 4096  # angles per revolution of the frequency-domain steady state
+
+# defaults of the [limits] table
+DEFAULT_SPEED_MARGIN = 1.25
+DEFAULT_MIN_CONTACT_FORCE_N = 0.0
+DEFAULT_MAX_PRESSURE_ANGLE_DEG = {"translating": 30.0, "oscillating": 35.0}
+DEFAULT_MIN_CURVATURE_RATIO = 1.5
+DEFAULT_TRAIN_DAMPING_RATIO = 0.05
+CUSP_MM = 1e-6  # a flat-faced contour radius of curvature under 1 nm is a cusp: that check's limit
+
+
+def default_max_pressure_angle(translating: bool) -> float:
+    """The pressure-angle limit (deg) where ``[limits] max_pressure_angle`` is not given."""
+    return DEFAULT_MAX_PRESSURE_ANGLE_DEG["translating" if translating else "oscillating"]
+
+
+def rate_to_si(rate, oscillating: bool):
+    """A spring or train rate as the case file gives it (N/mm; N*m/rad for an oscillating arm) in SI."""
+    return rate if oscillating else rate * N_PER_M_PER_N_PER_MM
+
+
+def rate_from_si(rate, oscillating: bool):
+    """The inverse of :func:`rate_to_si`: N/m -> N/mm (an arm's N*m/rad stays)."""
+    return rate if oscillating else rate / N_PER_M_PER_N_PER_MM
+
+
+def motion_scale(oscillating: bool) -> float:
+    """Motion unit -> SI: mm -> m for a translating follower, rad stays rad for an arm."""
+    return 1.0 if oscillating else M_PER_MM
+
+
+def damping_from_ratio(ratio, stiffness, mass):
+    """Viscous damping c = 2 zeta sqrt(k m) (N*s/m, or N*m*s/rad): floats, numpy or JAX arrays."""
+    return 2.0 * ratio * (stiffness * mass) ** 0.5
+
+
+def newton_per_torque(lever_arm_mm):
+    """The factor that turns an arm's torque (N*m) into its contact force (N) through the lever arm (mm)."""
+    return 1000.0 / lever_arm_mm

@@ -1,0 +1,177 @@
+"""The ``camdyn`` command line: parse, call the library, format. No physics here.
+
+Exit codes: 0 every check passes (or the work is written), 1 a check fails, 2 invalid input or a numerical
+failure (one line on stderr naming the file, the key or angle, and what is wrong; ``--debug`` shows the
+traceback). The parser is built without importing JAX (``camdyn --help`` and ``--version`` answer at once), a
+case file is validated before any model is built (a typo is reported before JAX loads), and each command's
+module is imported only when that command runs.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import os
+import sys
+from importlib import import_module
+from importlib.metadata import PackageNotFoundError, version
+from pathlib import Path
+
+# Before equinox loads: its runtime checks otherwise embed host callbacks, which keep JAX from caching the
+# compiled diffrax solves on disk (camdyn checks every solver result itself, so NaN-on-error loses nothing).
+os.environ.setdefault("EQX_ON_ERROR", "nan")
+
+COMMANDS = ("check", "table", "profile", "size", "sweep", "synthesize", "report")
+
+
+def _version() -> str:
+    try:
+        return version("camdyn")
+    except PackageNotFoundError:  # a source tree on sys.path
+        return "0+unknown"
+
+
+def _positive_rpm(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"must be a positive number of rpm (got {text!r})") from None
+    if not (value > 0 and math.isfinite(value)):
+        raise argparse.ArgumentTypeError(f"must be a positive number of rpm (got {text})")
+    return value
+
+
+class _Parser(argparse.ArgumentParser):
+    """argparse with camdyn's error format: one line on stderr, exit code 2."""
+
+    def error(self, message: str):
+        self.exit(2, f"camdyn: {message}\n")
+
+
+def build_parser() -> argparse.ArgumentParser:
+    common = argparse.ArgumentParser(add_help=False)
+    common.add_argument("--debug", action="store_true", default=argparse.SUPPRESS, help="show the traceback of an error")
+    parser = _Parser(prog="camdyn", description="Cam mechanism design and follower dynamics: prove the follower never leaves the cam.")
+    parser.add_argument("--version", action="version", version=f"camdyn {_version()}")
+    parser.add_argument("--debug", action="store_true", default=False, help="show the traceback of an error")
+    sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
+
+    def command(name: str, help: str) -> argparse.ArgumentParser:
+        return sub.add_parser(name, help=help, parents=[common])
+
+    p = command("check", "stability margins and a verdict (exit 0 pass, 1 fail, 2 error)")
+    p.add_argument("case", help="case file (TOML)")
+    p.add_argument("--speed", type=_positive_rpm, metavar="RPM", help="cam speed, rpm (default: the case's)")
+    p.add_argument("--json", action="store_true", help="print one JSON document")
+    p.add_argument("--report", metavar="DIR", help="also write the design-review report (DIR/<case>.pdf and a PNG per page)")
+
+    p = command("report", "design-review report per case: DIR/<case>.pdf and DIR/<case>-<n>-<page>.png")
+    p.add_argument("cases", nargs="+", metavar="CASE", help="case files (TOML)")
+    p.add_argument("-o", "--output", default="reports", metavar="DIR", help="output folder (default: reports); camdyn's own report files there are overwritten")
+    p.add_argument("--speed", type=_positive_rpm, metavar="RPM", help="cam speed, rpm (default: each case's)")
+
+    p = command("table", "CSV of the follower motion and kinematic contact force per angle")
+    p.add_argument("case", help="case file (TOML)")
+    p.add_argument("--step", type=float, default=1.0, metavar="DEG", help="angle step, deg (default 1)")
+    p.add_argument("-o", "--output", metavar="FILE", help="write to FILE instead of standard output")
+    p.add_argument("--force", action="store_true", help="overwrite FILE if it exists")
+
+    p = command("profile", "the cam contour for manufacturing: DXF, CSV or SVG by the file suffix")
+    p.add_argument("case", help="case file (TOML)")
+    p.add_argument("-o", "--output", required=True, metavar="FILE", help="cam.dxf, cam.csv or cam.svg")
+    p.add_argument("--tolerance", type=float, default=0.01, metavar="MM", help="chord tolerance, mm (default 0.01)")
+    p.add_argument("--force", action="store_true", help="overwrite FILE if it exists")
+
+    p = command("size", "return spring (rate, preload) with the least peak force that holds up to margin x speed")
+    p.add_argument("case", help="case file (TOML)")
+    p.add_argument("--max-speed", type=float, metavar="RPM", help="maximum cam speed, rpm (default: the case's speed)")
+    p.add_argument("--margin", type=float, metavar="X", help="hold up to X times the maximum speed (default: the case's speed_margin)")
+    p.add_argument("--min-rate", type=float, default=0.0, metavar="K", help="least spring rate, N/mm (N*m/rad oscillating; default 0)")
+    p.add_argument("--json", action="store_true", help="print one JSON document")
+
+    p = command("sweep", "jump map over speeds x spring rates: DIR/<case>-sweep.csv and DIR/<case>-sweep.png")
+    p.add_argument("case", help="case file (TOML)")
+    p.add_argument("--speeds", required=True, metavar="A:B:N", help="cam speeds, rpm: N values from A to B")
+    p.add_argument("--spring-rates", metavar="A:B:N", help="spring rates, N/mm (N*m/rad oscillating): N values from A to B (default: the case's); the preload stays the case's")
+    p.add_argument("-o", "--output", default=".", metavar="DIR", help="output folder (default: the current one)")
+    p.add_argument("--force", action="store_true", help="overwrite the files if they exist")
+
+    p = command("synthesize", "choose a CCM's dimensions for a path (differential evolution) and write a complete case file")
+    p.add_argument("case", metavar="PATH.toml", help="path file: [path], [dynamics], optional name, description, [limits], [synthesis]")
+    p.add_argument("-o", "--output", required=True, metavar="CASE.toml", help="the case file to write")
+    p.add_argument("--force", action="store_true", help="overwrite CASE.toml if it exists")
+    p.add_argument("--seed", type=int, metavar="N", help="optimizer seed (default: [synthesis] seed, else 0)")
+    p.add_argument("--maxiter", type=int, metavar="N", help="most optimizer generations (default: [synthesis] maxiter, else 200)")
+    p.add_argument("--json", action="store_true", help="print one JSON document (the mechanism, the summary and the four-bar comparison)")
+    return parser
+
+
+def _enable_caches() -> None:
+    """Persist compiled XLA programs and traced camdyn programs between runs (the user's second ``check`` skips
+    most of JAX's tracing and compilation). ``CAMDYN_NO_CACHE`` turns both off."""
+    if os.environ.get("CAMDYN_NO_CACHE"):
+        return
+    root = Path(os.environ.get("XDG_CACHE_HOME", Path.home() / ".cache")) / "camdyn"
+    try:
+        (root / "jax").mkdir(parents=True, exist_ok=True)
+    except OSError:
+        return
+    import jax
+
+    from .._core import jit
+
+    jax.config.update("jax_compilation_cache_dir", str(root / "jax"))
+    jax.config.update("jax_persistent_cache_min_compile_time_secs", 0.1)
+    jit.enable(root / "programs")
+
+
+def _validate(args) -> None:
+    """Read and validate the input files before any model is built: a typo is reported before JAX loads."""
+    from .._core.errors import CamdynError
+    from ..spec import load_case_spec, load_path_file
+
+    if args.command == "synthesize":
+        args.spec = load_path_file(args.case)
+    elif args.command == "report":
+        args.specs = []
+        for p in args.cases:
+            try:
+                args.specs.append(load_case_spec(p))
+            except CamdynError as err:  # name the file among several
+                raise type(err)(f"{p}: {err.where}" if err.where else str(p), err.message) from None
+    else:
+        args.spec = load_case_spec(args.case)
+
+
+def main(argv: list[str] | None = None) -> int:
+    try:
+        args = build_parser().parse_args(argv)
+    except SystemExit as exit_:  # --help, --version, or a usage error already reported in one line
+        return int(exit_.code or 0)
+    from .._core.errors import CamdynError
+
+    source = getattr(args, "case", "") or ""
+    try:
+        _validate(args)
+        run = import_module(f".{args.command}", __name__).run
+        _enable_caches()
+        return run(args)
+    except CamdynError as err:
+        if args.debug:
+            raise
+        print(f"camdyn: {source + ': ' if source else ''}{err}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        return 130
+    except BrokenPipeError:  # the reader (``| head``) has gone: nothing more to say
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return 141
+    except Exception as err:  # a bug: still one line, the traceback on request
+        if args.debug:
+            raise
+        print(f"camdyn: {source + ': ' if source else ''}internal error: {type(err).__name__}: {err} (run with --debug for the traceback)", file=sys.stderr)
+        return 2
+
+
+if __name__ == "__main__":
+    sys.exit(main())

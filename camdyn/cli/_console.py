@@ -1,0 +1,45 @@
+"""What the command line shows: rich tables, coloured notes, and the progress bar of long computations."""
+
+from __future__ import annotations
+
+import sys
+from contextlib import contextmanager
+
+from rich.console import Console
+from rich.markup import escape
+from rich.progress import BarColumn, MofNCompleteColumn, Progress, SpinnerColumn, TextColumn, TimeElapsedColumn
+from rich.table import Table
+
+
+def console() -> Console:
+    return Console(highlight=False, soft_wrap=True)
+
+
+def table(*columns: tuple[str, str]) -> Table:
+    """An aligned table without borders; columns as (header, justify)."""
+    t = Table(show_edge=False, pad_edge=False, box=None, header_style="bold")
+    for name, just in columns:
+        t.add_column(name, justify=just, no_wrap=just == "right")
+    return t
+
+
+def notes(con: Console, kind: str, colour: str, texts) -> None:
+    """One line per note: ``kind: text`` (the text escaped, never read as markup)."""
+    for text in texts:
+        con.print(f"[{colour}]{kind}:[/{colour}] {escape(text)}")
+
+
+@contextmanager
+def progress_bar():
+    """A rich progress bar on stderr, one task per phase (silent when stderr is not a terminal); yields the
+    ``progress(phase, done, total)`` callback that camdyn's long computations take."""
+    columns = (SpinnerColumn(), TextColumn("{task.description:<34}"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn())
+    with Progress(*columns, console=Console(stderr=True), disable=not sys.stderr.isatty()) as bar:
+        tasks: dict = {}
+
+        def progress(phase: str, done: int, total: int) -> None:
+            if phase not in tasks:
+                tasks[phase] = bar.add_task(phase, total=total)
+            bar.update(tasks[phase], completed=done, total=total)
+
+        yield progress

@@ -1,0 +1,57 @@
+"""``camdyn check CASE.toml``: the checks table, warnings, advice and the verdict (exit 0 pass, 1 fail)."""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import sys
+from pathlib import Path
+
+from .._core.outputs import output_dir
+from ..design.advice import corner_radius_advice
+from ..design.checks import CheckReport, run_check
+from ..model.case import build_case
+from ..report import write_report
+from ._console import console, notes, progress_bar, table
+
+
+def print_check(report: CheckReport) -> None:
+    con = console()
+    case = report.case
+    con.print(f"[bold]{case.name}[/bold]  {case.spec.description}".rstrip())
+    dyn, kin = report.dynamic, report.kinematic
+    con.print(
+        f"speed {report.speed_rpm:g} rpm, {dyn['model']} follower; least contact force {dyn['min_contact_force_N']:.4g} N "
+        f"at {dyn['min_contact_force_deg']:.1f} deg (kinematic {kin['min_contact_force_N']:.4g} N at {kin['min_contact_force_deg']:.1f} deg)"
+    )
+    t = table(("check", "left"), ("value", "right"), ("", "center"), ("limit", "right"), ("unit", "left"), ("result", "left"))
+    for c in report.checks:
+        value = "unbounded" if c.value is None else f"{c.value:.4g}"
+        result = "[green]pass[/green]" if c.ok else "[bold red]FAIL[/bold red]"
+        t.add_row(c.name, value, c.sense, f"{c.limit:g}", c.unit, result)
+    con.print(t)
+    notes(con, "warning", "yellow", report.warnings)
+    notes(con, "advice", "cyan", report.advice)
+    colour = "green" if report.verdict == "pass" else "red"
+    con.print(f"verdict: [bold {colour}]{report.verdict.upper()}[/bold {colour}]")
+
+
+def run(args) -> int:
+    case = build_case(args.spec, source=Path(args.case))
+    if args.report:
+        output_dir(args.report, "report")
+    report = run_check(case, args.speed)
+    if report.verdict == "fail" and case.synthesis is not None and case.synthesis.sharp_corners:
+        with progress_bar() as progress:
+            tip = corner_radius_advice(case, report.speed_rpm, progress=progress)
+        if tip:
+            report = dataclasses.replace(report, advice=report.advice + (tip,))
+    if args.json:
+        print(json.dumps(report.json(), indent=2))
+    else:
+        print_check(report)
+    if args.report:
+        with progress_bar() as progress:
+            written = write_report(case, args.report, check=report, progress=progress)
+        print(f"wrote {written.pdf} and {len(written.pngs)} PNG pages", file=sys.stderr)
+    return 0 if report.verdict == "pass" else 1

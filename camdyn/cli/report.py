@@ -1,0 +1,14 @@
+"""``camdyn report CASE.toml ... -o DIR``: a design-review PDF and a PNG per page for each case."""
+
+from __future__ import annotations
+
+from ..report import report_cases
+from ._console import progress_bar
+
+
+def run(args) -> int:
+    with progress_bar() as progress:
+        written = report_cases(args.cases, args.output, speed_rpm=args.speed, specs=args.specs, progress=progress)
+    for w in written:
+        print(f"wrote {w.pdf} ({len(w.pngs)} pages, {w.verdict}) and {', '.join(p.name for p in w.pngs)}")
+    return 0

@@ -1,0 +1,81 @@
+"""``camdyn size CASE.toml``: the return spring with the least peak force that holds up to margin x speed."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+from rich.markup import escape
+from rich.table import Table
+
+from ..design.sizing import TIE_BREAK, SpringSizing, size_spring
+from ..model.case import build_case
+from . import _console
+
+
+def print_size(sz: SpringSizing) -> None:
+    console = _console.console()
+    u = sz.units
+    console.print(f"[bold]{sz.case_name}[/bold]  spring sizing")
+    console.print(
+        f"contact force >= {sz.min_contact_force:g} N at every angle and every speed up to {sz.top_speed_rpm:.4g} rpm "
+        f"({sz.margin:g} x {sz.speed_rpm:g} rpm); {sz.model} follower; least peak spring force"
+    )
+    jump = lambda w: "none" if w == float("inf") else f"{w:.1f}"  # noqa: E731
+    fmt = lambda x, scale: f"{0.0 if abs(x) < 1e-9 * max(1.0, abs(scale)) else x:.4g}"  # noqa: E731
+    designs = [("chosen", sz.chosen)] + ([("kinematic LP", sz.kinematic)] if sz.model == "compliant" else [])
+    designs += [("current", sz.current), ("current rate", sz.at_current_rate)]
+    table = Table(show_edge=False, pad_edge=False, box=None, header_style="bold")
+    table.add_column("")
+    for name, _ in designs:
+        table.add_column(name, justify="right", no_wrap=True)
+    ds = [d for _, d in designs]
+    spring = "torque" if sz.oscillating else "force"
+    table.add_row(f"rate ({u['rate']})", *(f"{d.rate:.4g}" for d in ds))
+    table.add_row(f"preload ({u['preload']})", *(fmt(d.preload, d.peak_spring) for d in ds))
+    table.add_row(f"peak spring {spring} ({u['spring']})", *(f"{d.peak_spring:.4g}" for d in ds))
+    table.add_row("peak contact force (N)", *(f"{d.peak_contact:.4g}" for d in ds))
+    table.add_row("least contact force (N)", *(fmt(d.least_force, d.peak_contact) for d in ds))
+    table.add_row("kinematic jump speed (rpm)", *(jump(d.kinematic_jump_rpm) for d in ds))
+    table.add_row("dynamic jump speed (rpm)", *(jump(d.dynamic_jump_rpm) for d in ds))
+    holds = (d.holds(sz.min_contact_force) for d in ds)
+    table.add_row(f"holds up to {sz.top_speed_rpm:.4g} rpm", *("[green]yes[/green]" if h else "[bold red]no[/bold red]" for h in holds))
+    console.print(table)
+    console.print("[dim]contact forces: over every angle and every speed up to the top speed; current rate: the least preload that holds with the case's own rate[/dim]")
+    if sz.model == "compliant":
+        c, k = sz.chosen, sz.kinematic
+        console.print(
+            f"dynamic correction (compliant train): rate {c.rate - k.rate:+.4g} {u['rate']}, preload {c.preload - k.preload:+.4g} {u['preload']}, "
+            f"peak spring {c.peak_spring - k.peak_spring:+.4g} {u['spring']}; dynamic jump speed {jump(k.dynamic_jump_rpm)} -> {jump(c.dynamic_jump_rpm)} rpm "
+            f"(the kinematic answer's least dynamic contact force is {k.least_force:.4g} N)"
+        )
+    where = ", ".join(f"{a:.1f} deg" if a == b else f"{a:.1f}-{b:.1f} deg" for a, b, _ in sz.binding[:4])
+    line = f"binding (kinematic): {where}" if where else "binding (kinematic): -"
+    if sz.dynamic_binding is not None:
+        line += f"; dynamic: {sz.dynamic_binding[0]:.1f} deg at {sz.dynamic_binding[1]:.4g} rpm"
+    console.print(line)
+    region = Table(show_edge=False, pad_edge=False, box=None, header_style="bold", title="feasible region: preload >= least preload(rate)", title_justify="left")
+    for col in (f"rate ({u['rate']})", f"least preload ({u['preload']}): kinematic", "dynamic", f"peak spring ({u['spring']})"):
+        region.add_column(col, justify="right", no_wrap=True)
+    n = len(sz.region_rate)
+    for i in np.unique(np.linspace(0, n - 1, 6).round().astype(int)):
+        dyn_pre = sz.region_preload_dynamic[i] if sz.region_preload_dynamic is not None else sz.region_preload_kinematic[i]
+        peak = sz.region_rate[i] * sz.s_max + dyn_pre
+        region.add_row(f"{sz.region_rate[i]:.4g}", fmt(sz.region_preload_kinematic[i], peak), "-" if sz.region_preload_dynamic is None else fmt(dyn_pre, peak), f"{peak:.4g}")
+    console.print(region)
+    console.print(f"[dim]tie-break:[/dim] {TIE_BREAK}")
+    console.print(f"[dim]damping:[/dim] {sz.damping}")
+    for w in sz.warnings:
+        console.print(f"[yellow]warning:[/yellow] {escape(w)}")
+    c = sz.chosen
+    console.print(f"size: [bold]rate {c.rate:.4g} {u['rate']}, preload {c.preload:.4g} {u['preload']}[/bold] (peak spring {c.peak_spring:.4g} {u['spring']})")
+
+
+def run(args) -> int:
+    sz = size_spring(build_case(args.spec, source=Path(args.case)), args.max_speed, args.margin, args.min_rate)
+    if args.json:
+        print(json.dumps(sz.json(), indent=2))
+    else:
+        print_size(sz)
+    return 0

@@ -1,0 +1,66 @@
+"""``camdyn sweep CASE.toml --speeds A:B:N``: the jump map over speeds x spring rates, as CSV and PNG."""
+
+from __future__ import annotations
+
+import math
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+from .._core.errors import InputError
+from .._core.outputs import refuse_overwrite, safe_stem, write_new
+from ..design.sweep import jump_map
+from ..model.case import build_case
+from ..plot import save_png
+from ._console import progress_bar
+
+
+def _parse_grid(flag: str, text: str):
+    """``A:B:N`` -> N equally spaced values from A to B (positive, A <= B, N >= 1); InputError naming the flag."""
+    parts = text.split(":")
+    if len(parts) != 3:
+        raise InputError(flag, f"expected A:B:N (from A to B in N values, e.g. 100:700:61), got {text!r}")
+    try:
+        a, b, n = float(parts[0]), float(parts[1]), int(parts[2])
+    except ValueError:
+        raise InputError(flag, f"expected A:B:N with numbers A and B and a whole number N, got {text!r}") from None
+    if not (math.isfinite(a) and math.isfinite(b) and a > 0 and b > 0):
+        raise InputError(flag, f"A and B must be positive numbers, got {text!r}")
+    if a > b:
+        raise InputError(flag, f"A must not exceed B, got {text!r}")
+    if n < 1 or (n == 1 and a != b):
+        raise InputError(flag, f"N must be at least 1 (and N = 1 needs A = B), got {text!r}")
+    return np.linspace(a, b, n)
+
+
+def run(args) -> int:
+    speeds = _parse_grid("--speeds", args.speeds)
+    rates = _parse_grid("--spring-rates", args.spring_rates) if args.spring_rates is not None else None
+    case = build_case(args.spec, source=Path(args.case))
+    out = Path(args.output)
+    stem = safe_stem(case.name)
+    csv_path, png_path = out / f"{stem}-sweep.csv", out / f"{stem}-sweep.png"
+    for path in (csv_path, png_path):
+        refuse_overwrite(path, args.force)
+    t0 = time.perf_counter()
+    with progress_bar() as progress:
+        jm = jump_map(case, speeds, rates, progress=progress)
+    elapsed = time.perf_counter() - t0
+    write_new(csv_path, jm.csv, True)
+    save_png(jm, png_path)
+    ku = jm.spring_rate_unit
+    n_sep = int(np.count_nonzero(jm.separated))
+    print(
+        f"{case.name}: jump map of {jm.separated.size} points ({speeds.size} speeds {speeds[0]:g}-{speeds[-1]:g} rpm x "
+        f"{jm.spring_rates.size} spring rates {jm.spring_rates[0]:g}-{jm.spring_rates[-1]:g} {ku}), {jm.model} follower, "
+        f"{elapsed:.1f} s on {jm.devices} device(s)"
+    )
+    print(f"preload kept at the case's {jm.preload:g} {jm.preload_unit} while the spring rate varies" + ("; spring rates are torsion rates, N*m/rad (column spring_rate_N_per_mm)" if jm.oscillating else ""))
+    gap = np.nanmax(jm.max_gap) if n_sep else 0.0
+    print(f"separated at {n_sep} of {jm.separated.size} points" + (f" (largest gap {gap:.4g} mm)" if n_sep else "") + f"; least contact force on the map {float(np.min(jm.min_force)):.4g} N")
+    for note in jm.notes:
+        print(f"warning: {note}", file=sys.stderr)
+    print(f"wrote {csv_path} and {png_path}")
+    return 0

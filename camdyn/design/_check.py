@@ -1,0 +1,48 @@
+"""The verdict primitive: every judgment camdyn makes is a :class:`Check` with a value, a limit and a unit."""
+
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass
+from enum import Enum
+
+
+class CheckKind(str, Enum):
+    """What a check judges (its ``name`` in the JSON contract)."""
+
+    CONTACT_FORCE = "contact_force"
+    SPEED_MARGIN = "speed_margin"
+    PRESSURE_ANGLE = "pressure_angle"
+    CURVATURE = "curvature"
+    FACE_WIDTH = "face_width"
+
+
+@dataclass(frozen=True)
+class Check:
+    """One pass/fail judgment: the value must be ``sense`` (">=", ">" or "<=") the limit."""
+
+    name: str
+    value: float | None  # None: unbounded (e.g. no jump at any speed)
+    limit: float
+    unit: str
+    sense: str = ">="
+
+    @property
+    def ok(self) -> bool:
+        if self.value is None:  # unbounded: infinitely good for ">=" and ">", infinitely bad for "<="
+            return self.sense != "<="
+        return {">=": self.value >= self.limit, ">": self.value > self.limit, "<=": self.value <= self.limit}[self.sense]
+
+    @property
+    def kind(self) -> CheckKind:
+        return CheckKind(self.name)
+
+    def json(self) -> dict:
+        d = asdict(self)
+        d.pop("sense")
+        d["ok"] = self.ok
+        return d
+
+
+def find(checks, kind: CheckKind) -> Check | None:
+    """The check of ``kind`` among ``checks``, or None."""
+    return next((c for c in checks if c.name == kind.value), None)

@@ -1,0 +1,81 @@
+"""A case built: the validated spec turned into its models, once (motion, follower geometry, dynamics)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from .._core.errors import InputError
+from .._core.units import THETA_GRID
+from ..spec import CaseSpec, FollowerSpec, LimitsSpec, load_case_spec, parse
+from .follower import FollowerModel, follower_model
+from .linkage import synthesize_motion
+from .motion import Motion, Program
+
+
+@dataclass(frozen=True)
+class Case:
+    """A validated case and its models: the motion, the follower geometry, the dynamic model and the limits."""
+
+    name: str
+    source: Path | None
+    spec: CaseSpec
+    motion: Motion
+    follower: FollowerSpec | None
+    model: FollowerModel
+    synthesis: Any = None  # linkage.Synthesis for path cases
+    warnings: tuple[str, ...] = field(default=())
+
+    @property
+    def speed_rpm(self) -> float:
+        return self.spec.dynamics.speed
+
+    @property
+    def limits(self) -> LimitsSpec:
+        return self.spec.limits
+
+    @property
+    def oscillating(self) -> bool:
+        return self.motion.unit == "rad"
+
+
+def load_case(path: str | Path) -> Case:
+    """Read, validate and build a case file. Raises :class:`InputError` (one line) on any problem."""
+    return build_case(load_case_spec(path), source=Path(path))
+
+
+def case_from_dict(raw: dict, source: Path | None = None) -> Case:
+    """Validate a parsed case (the TOML as a dict) and build the :class:`Case`."""
+    return build_case(parse(CaseSpec, raw), source)
+
+
+def build_case(spec: CaseSpec, source: Path | None = None) -> Case:
+    """The models of a validated case: a motion program with its follower, or a path synthesized by its
+    cam-linkage; then the follower's dynamic model in SI."""
+    name = spec.name or (source.stem if source else "case")
+    warnings: list[str] = []
+    synthesis = None
+    if spec.motion is not None:
+        motion = Program.from_specs(spec.motion.segments, unit="rad" if spec.oscillating else "mm")
+        follower = spec.follower
+        warnings += motion.continuity_warnings()
+    else:
+        synthesis = synthesize_motion(spec.path, spec.mechanism)
+        motion, follower = synthesis.tabulated, synthesis.follower
+        warnings += list(synthesis.warnings)
+    model = follower_model(spec.dynamics, oscillating=spec.oscillating)
+    _check_holds_at_rest(motion, model, spec.oscillating)
+    return Case(name, source, spec, motion, follower, model, synthesis, tuple(warnings))
+
+
+def _check_holds_at_rest(motion: Motion, model: FollowerModel, oscillating: bool) -> None:
+    theta_deg = np.arange(THETA_GRID) * (360.0 / THETA_GRID)
+    vals = motion._eval(np, np.deg2rad(theta_deg)) if hasattr(motion, "_eval") else motion.sample(THETA_GRID)[1]
+    at_rest = float(model.stiffness) * vals[0] * model.scale + float(model.preload) + float(model.external)
+    i = int(at_rest.argmin())
+    if at_rest[i] <= 0.0:
+        key, unit = ("dynamics.preload_torque", "N*m") if oscillating else ("dynamics.preload", "N")
+        raise InputError(key, f"the spring cannot hold the follower on the cam even at rest: spring + external load is {at_rest[i]:.4g} {unit} at {theta_deg[i]:g} deg")

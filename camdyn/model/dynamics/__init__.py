@@ -1,0 +1,30 @@
+"""Single-DOF follower dynamics on diffrax: interface force, separation, flight, impact, jump speed.
+
+The follower (mass m, return spring k with preload F0, damper c, constant external force F_ext pushing it onto
+the cam) is driven by a cam turning at constant speed w, theta = w t. Two time-domain models:
+
+* compliant (a follower train of stiffness k_f and damping c_f between cam and mass):
+  ``m x'' = Fi - (k x + F0) - c x' - F_ext`` with ``Fi = max(0, k_f (s - x) + c_f (w s' - x'))`` while s > x
+  (:mod:`._compliant`, shooting on diffrax; in contact also exact in the frequency domain, :mod:`._harmonic`);
+* rigid: contact (x = s) until the kinematic force falls to zero; flight under spring and damper until the
+  follower meets the cam again; impact ``x'+ = w s' - e (x'- - w s')``; contact again when the bounces die
+  (:mod:`._rigid`).
+
+Both are integrated in the cam angle (state: x and dx/dtheta, in the motion's unit: mm or rad), so segment
+boundaries are fixed angles that the step-size controller is told about (``jump_ts``). Everything is in SI
+inside; ``scale`` converts the motion's unit to m (1e-3) or keeps rad (1.0), and the same equations then
+hold for the rotational equivalent of an oscillating follower (inertia, torsion spring, torques).
+"""
+
+from ._compliant import compliant_response, min_contact_force, periodic_orbit
+from ._harmonic import linear_contact_force, linear_min_force, steady_force_at
+from ._kinematic import kinematic_force, kinematic_force_jit, kinematic_jump_speed
+from ._response import dynamic_jump_speed, response
+from ._result import Response, Separation
+from ._rigid import rigid_response
+
+__all__ = [
+    "Response", "Separation", "compliant_response", "dynamic_jump_speed", "kinematic_force", "kinematic_force_jit", "kinematic_jump_speed",
+    "linear_contact_force", "linear_min_force", "min_contact_force", "periodic_orbit", "response", "rigid_response",
+    "steady_force_at",
+]

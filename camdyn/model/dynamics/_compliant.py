@@ -1,0 +1,202 @@
+"""The compliant follower in the time domain (diffrax): the periodic steady state by shooting.
+
+``m x'' = Fi - (k x + F0) - c x' - F_ext`` with ``Fi = max(0, k_f (s - x) + c_f (w s' - x'))`` while s > x,
+integrated in the cam angle (state: x and dx/dtheta in the motion's unit), so segment boundaries are fixed
+angles that the step-size controller is told about (``jump_ts``).
+"""
+
+from __future__ import annotations
+
+import math
+
+import diffrax
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+import numpy as np
+
+from ..._core.errors import NumericalError
+from ..._core.jit import cached_jit
+from ..._core.units import RPM, THETA_GRID, TWO_PI
+from ..follower import FollowerModel
+from ..motion import Motion, evaluate
+from ._kinematic import kinematic_force_jit, kinematic_force
+from ._result import Response, _dwell_mask, _separations_from_mask
+
+
+_RTOL, _ATOL = 1e-9, 1e-10
+
+
+def _vector_field(theta, y, args):
+    """d/dtheta of (x, p = dx/dtheta) for the compliant model (``contact`` True) or free flight."""
+    motion, model, omega, contact = args
+    x, p = y
+    s, s1, _, _ = motion(theta)
+    sc = model.scale
+    fi = jnp.where(
+        contact & (s > x),
+        jnp.maximum(0.0, model.train_stiffness * sc * (s - x) + model.train_damping * omega * sc * (s1 - p)),
+        0.0,
+    )
+    f_net = fi - (model.stiffness * sc * x + model.preload) - model.damping * omega * sc * p - model.external
+    return jnp.stack([p, f_net / (model.mass * omega**2 * sc)])
+
+
+def _controller(motion: Motion, theta0, revs: float):
+    breaks = np.deg2rad(np.asarray(motion.breaks_deg, dtype=float))
+    jumps = (breaks[None, :] + TWO_PI * np.arange(-1, math.ceil(revs) + 2)[:, None]).ravel()
+    jumps = jnp.asarray(np.sort(jumps)) + 0.0 * theta0
+    pid = diffrax.PIDController(rtol=_RTOL, atol=_ATOL)
+    if jumps.size == 0:
+        return pid
+    return diffrax.ClipStepSizeController(pid, jump_ts=jumps)
+
+
+def _contact_force(motion, model, omega, theta, x, p):
+    s, s1, _, _ = motion(theta)
+    sc = model.scale
+    return jnp.where(s > x, jnp.maximum(0.0, model.train_stiffness * sc * (s - x) + model.train_damping * omega * sc * (s1 - p)), 0.0)
+
+
+_contact_force_jit = cached_jit(_contact_force)
+
+
+_MAX_STEPS = 200_000
+
+
+def _quasi_static_start(motion, model, omega):
+    s, s1, _, _ = motion(jnp.asarray(0.0))
+    fi = kinematic_force(motion, model, omega, jnp.asarray(0.0))
+    return jnp.stack([s - fi / (model.train_stiffness * model.scale), s1])
+
+
+_NEWTON_ITERS = 8
+
+
+_quasi_static_jit = cached_jit(_quasi_static_start)
+
+
+def _variational_field(theta, y, args):
+    """State and monodromy sensitivities: d/dtheta (z, M) = (f(z), J_f(z) M), J_f by JAX autodiff."""
+    z, m = y[:2], y[2:].reshape(2, 2)
+    f = lambda z_: _vector_field(theta, z_, args)  # noqa: E731
+    return jnp.concatenate([f(z), (jax.jacfwd(f)(z) @ m).ravel()])
+
+
+def _rev_with_sensitivity(motion, model, omega, z0, theta):
+    """One revolution from z0: the state on ``theta`` and at 2 pi, and d z(2 pi) / d z0."""
+    sol = diffrax.diffeqsolve(
+        diffrax.ODETerm(_variational_field),
+        diffrax.Tsit5(),
+        t0=0.0,
+        t1=TWO_PI,
+        dt0=None,
+        y0=jnp.concatenate([z0, jnp.eye(2).ravel()]),
+        args=(motion, model, omega, True),
+        saveat=diffrax.SaveAt(ts=theta, t1=True),
+        stepsize_controller=_controller(motion, 0.0, 1),
+        max_steps=_MAX_STEPS,
+        throw=False,
+    )
+    ys = sol.ys
+    return ys[:-1, :2], ys[-1, :2], ys[-1, 2:].reshape(2, 2), sol.result == diffrax.RESULTS.successful
+
+
+_rev_jit = cached_jit(_rev_with_sensitivity)
+
+
+_PLAIN_REVS = 60  # after Newton stalls (non-smooth bouncing): revolutions of plain iteration at most
+
+
+def periodic_orbit(motion: Motion, model: FollowerModel, omega: float, theta):
+    """Periodic steady state of the compliant model by shooting.
+
+    Newton on ``Phi(z0) - z0 = 0``, where the one-revolution flow Phi and its Jacobian (the monodromy matrix)
+    come from one diffrax solve of the state with its variational equations (the vector field's Jacobian by
+    JAX autodiff). While the follower stays in contact the flow is affine and Newton converges in one step.
+    Where a separation makes the flow non-smooth and a Newton step does not reduce the residual, the
+    iteration falls back to plain revolutions (the transient dies out revolution by revolution).
+    Returns the trajectory on ``theta`` (n, 2) of the best iterate and its residual |Phi(z0) - z0|.
+    """
+    # the Newton bookkeeping is 2x2 numpy: eager jax ops would each compile a tiny program on first use
+    z = np.asarray(_quasi_static_jit(motion, model, jnp.asarray(omega, dtype=float)))
+    tol = 1e-10 * (1.0 + float(np.max(np.abs(z))))
+    w = jnp.asarray(omega, dtype=float)
+    best_traj, best_r, r_prev = None, math.inf, math.inf
+    for i in range(_NEWTON_ITERS + _PLAIN_REVS):
+        traj, phi, mono, ok = _rev_jit(motion, model, w, jnp.asarray(z), theta)
+        phi, mono = np.asarray(phi), np.asarray(mono)
+        if not bool(ok) or not np.all(np.isfinite(phi)):
+            raise NumericalError(f"dynamics at {omega / RPM:.1f} rpm", "the compliant-model integration failed (solver out of steps or NaN)")
+        r = float(np.linalg.norm(phi - z))
+        if r < best_r:
+            best_traj, best_r = traj, r
+        if best_r <= tol:
+            break
+        newton = i < _NEWTON_ITERS and r <= r_prev
+        z = z - np.linalg.solve(mono - np.eye(2), phi - z) if newton else phi
+        r_prev = r
+    return best_traj, best_r
+
+
+def _steady_jax(motion, model, omega, theta):
+    """Jittable periodic orbit for batched use (vmap over speeds or models): Newton then plain revolutions."""
+
+    def body(carry):
+        i, z, r_prev, best_traj, best_r = carry
+        traj, phi, mono, _ = _rev_with_sensitivity(motion, model, omega, z, theta)
+        r = phi - z
+        rn = jnp.where(jnp.all(jnp.isfinite(traj)), jnp.linalg.norm(r), jnp.nan)
+        better = rn < best_r
+        best_traj = jnp.where(better, traj, best_traj)
+        best_r = jnp.where(better, rn, best_r)
+        z_newton = z - jnp.linalg.solve(mono - jnp.eye(2), r)
+        use_newton = (i < _NEWTON_ITERS) & (rn <= r_prev) & jnp.all(jnp.isfinite(z_newton))
+        return i + 1, jnp.where(use_newton, z_newton, phi), rn, best_traj, best_r
+
+    def cond(carry):
+        i, z, _, _, best_r = carry
+        return (i < _NEWTON_ITERS + _PLAIN_REVS) & (best_r > 1e-10 * (1.0 + jnp.max(jnp.abs(z))))
+
+    z0 = _quasi_static_start(motion, model, omega)
+    init = (0, z0, jnp.inf, jnp.full((theta.shape[0], 2), jnp.nan), jnp.asarray(jnp.inf))
+    _, _, _, traj, residual = jax.lax.while_loop(cond, body, init)
+    return traj, residual
+
+
+@eqx.filter_jit
+def min_contact_force(motion, model, omega, n: int = THETA_GRID):
+    """Least steady-state interface force of the compliant model by time-domain shooting (N; NaN on failure).
+
+    Jittable and vmappable over speeds and models; the reference for :func:`linear_min_force`.
+    """
+    theta = jnp.arange(n) * (TWO_PI / n)
+    traj, _ = _steady_jax(motion, model, omega, theta)
+    return jnp.min(_contact_force(motion, model, omega, theta, traj[:, 0], traj[:, 1]))
+
+
+def compliant_response(motion: Motion, model: FollowerModel, omega: float, n: int = THETA_GRID) -> Response:
+    """Periodic steady state of the compliant follower at cam speed omega (rad/s)."""
+    theta = jnp.arange(n) * (TWO_PI / n)
+    traj, residual = periodic_orbit(motion, model, float(omega), theta)
+    x, p = np.asarray(traj[:, 0]), np.asarray(traj[:, 1])
+    fi = np.asarray(_contact_force_jit(motion, model, jnp.asarray(omega, dtype=float), theta, traj[:, 0], traj[:, 1]))
+    theta_deg = np.degrees(np.asarray(theta))
+    vals = np.asarray(evaluate(motion, theta))
+    kin = np.asarray(kinematic_force_jit(motion, model, jnp.asarray(omega, dtype=float), theta))
+    flying = fi <= 0.0
+    # contact-mode period, in cam degrees: bounces closer than this belong to one separation
+    k_total = float(model.stiffness) + float(model.train_stiffness)
+    merge_deg = math.degrees(omega * TWO_PI / math.sqrt(k_total / float(model.mass)))
+    rel = omega * model.scale * (p - vals[1])
+    seps = _separations_from_mask(theta_deg, flying, x - vals[0], rel, merge_deg)
+    # static equilibrium in a dwell: k_f (s - x) = k x + F0 + F_ext
+    kf, kk = float(model.train_stiffness) * model.scale, float(model.stiffness) * model.scale
+    x_static = (kf * vals[0] - float(model.preload) - float(model.external)) / (kk + kf)
+    dwell = _dwell_mask(motion, theta_deg)
+    resid = float(np.max(np.abs(x - x_static)[dwell])) if dwell.any() else 0.0
+    warnings = []
+    tol = 1e-6 * max(1.0, float(np.max(np.abs(vals[0]))))
+    if float(residual) > tol:
+        warnings.append(f"no exactly periodic steady state at {omega / RPM:.1f} rpm (revolution-to-revolution mismatch {float(residual):.2g} {motion.unit}): the follower's bouncing is not periodic; results are for the best of {_NEWTON_ITERS} shooting iterations and {_PLAIN_REVS} revolutions")
+    return Response("compliant", float(omega), theta_deg, vals[0], x, p, fi, kin, tuple(seps), resid, float(residual), tuple(warnings))

@@ -1,0 +1,73 @@
+"""The compliant follower's steady state in contact, exact in the frequency domain (harmonic balance by FFT).
+
+While the follower stays on the cam the compliant model is linear and time-invariant with a periodic input, so
+its periodic steady state is exact in the frequency domain:
+``X_k = (k_f + i k w c_f) S_k / (k + k_f - m (k w)^2 + i k w (c + c_f))``. This is the one place that formula is
+written; the jump speed, spring sizing, jump maps and the optimizer all read it from here.
+"""
+
+from __future__ import annotations
+
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+
+from ..._core.jit import cached_jit
+from ..._core.units import FFT_GRID, TWO_PI
+from ..follower import FollowerModel
+from ..motion import Motion
+
+
+_FFT_N = FFT_GRID
+
+
+def steady_force_at(motion: Motion, model: FollowerModel, n: int):
+    """``omega -> interface force`` on the grid ``theta_k = 2 pi k / n`` of the compliant model's periodic orbit
+    while it stays on the cam (harmonic balance by FFT)."""
+    theta = jnp.arange(n) * (TWO_PI / n)
+    s, s1, _, _ = motion(theta) * model.scale
+    spec = jnp.fft.rfft(s)
+    k = jnp.arange(spec.shape[0])
+    m, kk, c, kf, cf = model.mass, model.stiffness, model.damping, model.train_stiffness, model.train_damping
+
+    def force(omega):
+        wk = k * omega
+        x_spec = spec * (kf + 1j * wk * cf) / (kk + kf - m * wk**2 + 1j * wk * (c + cf))
+        x_spec = x_spec.at[0].set((kf * spec[0] - n * (model.preload + model.external)) / (kk + kf))
+        x = jnp.fft.irfft(x_spec, n)
+        x1 = jnp.fft.irfft(1j * k * x_spec, n)
+        return kf * (s - x) + cf * omega * (s1 - x1)
+
+    return force
+
+
+@cached_jit
+def linear_min_force(motion: Motion, model: FollowerModel, omegas, n: int = _FFT_N, weight=None):
+    """Least interface force (N) of the compliant model's periodic orbit if it never separates, per speed.
+
+    While the follower stays on the cam the model is linear and time-invariant with a periodic input, so its
+    steady state is exact in the frequency domain (harmonic balance by FFT):
+    ``X_k = (k_f + i k w c_f) S_k / (k + k_f - m (k w)^2 + i k w (c + c_f))``. The result is the true
+    steady state for every speed whose least force is positive, which is all the jump speed needs. Vectorized
+    over ``omegas`` (any shape). ``weight``: optional (n,) factor per angle theta_k = 2 pi k / n applied before
+    the minimum (``1000 / lever_arm_mm`` turns an oscillating follower's torque into its contact force in N).
+    """
+    force = steady_force_at(motion, model, n)
+
+    def one(omega):
+        f = force(omega)
+        return jnp.min(f if weight is None else f * weight)
+
+    omegas = jnp.asarray(omegas, dtype=float)
+    return jax.lax.map(one, omegas.ravel(), batch_size=64).reshape(omegas.shape)
+
+
+@eqx.filter_jit
+def linear_contact_force(motion: Motion, model: FollowerModel, omegas, n: int = _FFT_N):
+    """The whole interface force (N or N*m) of :func:`linear_min_force`'s steady state: shape (*omegas.shape, n).
+
+    Angles ``theta_j = 2 pi j / n``. Exact wherever it stays positive; affine in the preload (raising F0 adds
+    ``k_f / (k + k_f) * dF0`` at every angle and speed), which is what spring sizing (``sizing.py``) uses.
+    """
+    omegas = jnp.asarray(omegas, dtype=float)
+    return jax.lax.map(steady_force_at(motion, model, n), omegas.ravel(), batch_size=64).reshape(omegas.shape + (n,))

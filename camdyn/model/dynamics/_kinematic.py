@@ -1,0 +1,75 @@
+"""The kinematic interface force of a follower that never leaves the cam, and its closed-form jump speed."""
+
+from __future__ import annotations
+
+import math
+
+import jax.numpy as jnp
+import numpy as np
+from scipy.optimize import minimize_scalar
+
+from ..._core.jit import cached_jit
+from ..._core.units import TWO_PI
+from ..follower import FollowerModel
+from ..motion import Motion, evaluate
+
+
+def kinematic_force(motion: Motion, model: FollowerModel, omega, theta):
+    """Interface force of a follower that never leaves the cam (CCM paper eq. 7), N.
+
+    ``Fi = m w^2 s'' + c w s' + k s + F0 + F_ext`` with s in SI (scale applied), w in rad/s.
+    """
+    s, s1, s2, _ = motion(theta) * model.scale
+    return model.mass * omega**2 * s2 + model.damping * omega * s1 + model.stiffness * s + model.preload + model.external
+
+
+kinematic_force_jit = cached_jit(kinematic_force)
+
+
+def _quadratic_jump_speed(a, b, c):
+    """Least w > 0 with a w^2 + b w + c <= 0 given c > 0 (inf where none); vectorized numpy."""
+    a, b, c = np.broadcast_arrays(np.asarray(a, float), np.asarray(b, float), np.asarray(c, float))
+    w = np.full(a.shape, np.inf)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        lin = np.abs(a) <= 1e-300
+        w = np.where(lin & (b < 0), -c / np.where(b < 0, b, -1.0), w)
+        disc = b * b - 4 * a * c
+        sq = np.sqrt(np.maximum(disc, 0.0))
+        # a < 0: exactly one positive root; a > 0: the smaller root, positive only if b < 0 and disc >= 0
+        neg = (~lin) & (a < 0)
+        w = np.where(neg, (-b - sq) / (2 * np.where(neg, a, 1.0)), w)
+        pos = (~lin) & (a > 0) & (b < 0) & (disc >= 0)
+        q = -0.5 * (b - sq)  # stable form of the smaller root: c / q
+        w = np.where(pos, c / np.where(pos, q, 1.0), w)
+    return w
+
+
+def kinematic_jump_speed(motion: Motion, model: FollowerModel, n: int = 7200) -> tuple[float, float]:
+    """Least cam speed (rad/s) at which the kinematic interface force reaches zero, and the angle (deg).
+
+    At each angle Fi is the quadratic ``(m s'') w^2 + (c s') w + (k s + F0 + F_ext)`` in w, whose least
+    positive root is closed form; the minimum over angles is taken on an n-point grid and polished with a
+    bounded scalar minimization of the same closed form. ``(inf, nan)`` when no speed makes it jump.
+    """
+    m, c, k = (float(model.mass), float(model.damping), float(model.stiffness))
+    f0 = float(model.preload) + float(model.external)
+
+    def w_at(theta):
+        s, s1, s2, _ = np.asarray(evaluate(motion, jnp.asarray(theta, dtype=float))) * model.scale
+        return _quadratic_jump_speed(m * s2, c * s1, k * s + f0)
+
+    theta = np.arange(n) * (TWO_PI / n)
+    w = w_at(theta)
+    i = int(np.argmin(w))
+    if not np.isfinite(w[i]):
+        return math.inf, math.nan
+    h = TWO_PI / n
+    cap = 1e6 * w[i]  # a finite stand-in for "no jump here": Brent's parabola steps turn inf into NaN
+
+    def objective(t):
+        return min(float(w_at(np.array([t]))[0]), cap)
+
+    res = minimize_scalar(objective, bounds=(theta[i] - h, theta[i] + h), method="bounded", options={"xatol": 1e-10})
+    if res.fun < w[i]:
+        return float(res.fun), math.degrees(res.x) % 360.0
+    return float(w[i]), math.degrees(theta[i])

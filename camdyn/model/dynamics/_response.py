@@ -1,0 +1,51 @@
+"""The steady state with the model a follower calls for, and the dynamic jump speed."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..._core.errors import NumericalError
+from ..._core.units import RPM, THETA_GRID
+from ..follower import FollowerModel
+from ..motion import Motion
+from ._compliant import compliant_response
+from ._harmonic import linear_min_force
+from ._kinematic import kinematic_jump_speed
+from ._result import Response
+from ._rigid import rigid_response
+
+
+def response(motion: Motion, model: FollowerModel, omega: float, n: int = THETA_GRID) -> Response:
+    """Steady-state response with the model the parameters call for (rigid if train_stiffness is inf)."""
+    return rigid_response(motion, model, omega, n) if model.rigid else compliant_response(motion, model, omega, n)
+
+
+def dynamic_jump_speed(motion: Motion, model: FollowerModel, *, w_max: float, tol_rpm: float = 0.1, grid: int = 2000) -> float:
+    """Least cam speed (rad/s) at which the steady-state least interface force reaches 0; inf if none up to w_max.
+
+    Rigid followers: the kinematic jump speed (closed form). Compliant: below the jump speed the follower
+    stays in contact, where the model is linear, so the scan over ``grid`` speeds in (0, w_max] and the
+    bisection of the first sign change use the exact frequency-domain steady state (:func:`linear_min_force`);
+    the diffrax time-domain model is its reference (tests, and ``check`` compares both at the case speed).
+    """
+    if model.rigid:
+        return kinematic_jump_speed(motion, model)[0]
+    speeds = np.linspace(w_max / grid, w_max, grid)
+    fmin = np.asarray(linear_min_force(motion, model, speeds))
+    if not np.all(np.isfinite(fmin)):
+        bad = speeds[~np.isfinite(fmin)][0]
+        raise NumericalError(f"jump-speed search at {bad / RPM:.1f} rpm", "the steady-state force is not finite")
+    hit = np.nonzero(fmin <= 0.0)[0]
+    if hit.size == 0:
+        return math.inf
+    i = int(hit[0])
+    lo, hi = (speeds[i - 1] if i > 0 else 0.0), speeds[i]
+    while (hi - lo) / RPM > tol_rpm / 10:
+        ws = np.linspace(lo, hi, 18)[1:-1]
+        f = np.asarray(linear_min_force(motion, model, ws))
+        below = np.nonzero(f <= 0.0)[0]
+        j = int(below[0]) if below.size else len(ws)
+        lo, hi = (ws[j - 1] if j > 0 else lo), (ws[j] if j < len(ws) else hi)
+    return float(0.5 * (lo + hi))

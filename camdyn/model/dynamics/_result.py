@@ -1,0 +1,103 @@
+"""What a steady-state response is: the follower over one revolution, its contact force and its separations."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..._core.errors import NumericalError
+from ..motion import Motion
+
+
+@dataclass(frozen=True)
+class Separation:
+    """One flight from lift-off to the touchdown that ends the bouncing."""
+
+    start_deg: float
+    end_deg: float
+    max_gap: float  # motion units (mm or rad)
+    impact_speed: float  # relative speed at the first touchdown, m/s (or rad/s)
+    bounces: int = 0
+
+    def json(self, unit: str) -> dict:
+        gap_key = "max_gap_mm" if unit == "mm" else "max_gap_rad"
+        speed_key = "impact_speed_m_s" if unit == "mm" else "impact_speed_rad_s"
+        return {"start_deg": self.start_deg, "end_deg": self.end_deg, gap_key: self.max_gap, speed_key: self.impact_speed, "bounces": self.bounces}
+
+
+@dataclass(frozen=True)
+class Response:
+    """Periodic steady-state response over one revolution at cam speed ``omega`` (rad/s)."""
+
+    model: str  # "rigid" | "compliant"
+    omega: float
+    theta_deg: np.ndarray
+    s: np.ndarray  # kinematic displacement, motion units
+    x: np.ndarray  # follower displacement, motion units
+    dx: np.ndarray  # dx/dtheta, motion units per rad
+    force: np.ndarray  # interface force, N (or N*m)
+    kinematic_force: np.ndarray
+    separations: tuple[Separation, ...]
+    residual_vibration: float  # largest |x - x_static| in the dwells (static equilibrium), motion units
+    periodicity_error: float  # |Phi(y0) - y0| of the shooting, motion units
+    warnings: tuple[str, ...] = field(default=())
+
+    @property
+    def min_force(self) -> float:
+        return float(np.min(self.force))
+
+    @property
+    def min_force_deg(self) -> float:
+        return float(self.theta_deg[int(np.argmin(self.force))])
+
+
+def _dwell_mask(motion: Motion, theta_deg: np.ndarray) -> np.ndarray:
+    segs = getattr(motion, "segments", ())
+    mask = np.zeros(theta_deg.shape, bool)
+    for seg in segs:
+        if seg.law == "dwell":
+            mask |= (theta_deg >= seg.start) & (theta_deg < seg.end)
+    return mask
+
+
+def _separations_from_mask(theta_deg, flying, gap, rel_speed, merge_deg) -> list[Separation]:
+    """Flights from a boolean mask on a periodic grid; flights split by contact shorter than merge_deg merge."""
+    n = len(theta_deg)
+    if not flying.any():
+        return []
+    if flying.all():
+        raise NumericalError("dynamics", "the follower never touches the cam in steady state")
+    step = 360.0 / n
+    shift = int(np.argmin(flying))  # start the scan in contact so no flight wraps the grid end
+    idx = (np.arange(n) + shift) % n
+    runs, start = [], None
+    for j, i in enumerate(idx):
+        if flying[i] and start is None:
+            start = j
+        if not flying[i] and start is not None:
+            runs.append([start, j])
+            start = None
+    if start is not None:
+        runs.append([start, n])
+    merged = [runs[0] + [0]]
+    for r in runs[1:]:
+        if (r[0] - merged[-1][1]) * step < merge_deg:
+            merged[-1][1] = r[1]
+            merged[-1][2] += 1
+        else:
+            merged.append(r + [0])
+    out = []
+    for a, b, bounces in merged:
+        sel = idx[a:b]
+        first_touch = idx[min(b, n - 1)] if b < n else idx[0]
+        out.append(
+            Separation(
+                start_deg=float(theta_deg[idx[a]]),
+                end_deg=float(theta_deg[idx[b % n]]) if b < n else float(theta_deg[idx[0]]),
+                max_gap=float(np.max(gap[sel])),
+                impact_speed=float(abs(rel_speed[first_touch])),
+                bounces=bounces,
+            )
+        )
+    return out

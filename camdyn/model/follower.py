@@ -1,0 +1,64 @@
+"""The follower's lumped dynamic parameters in SI, built from the ``[dynamics]`` table: the one place where the
+case file's units become the models' (N/mm -> N/m, damping ratios -> damping)."""
+
+from __future__ import annotations
+
+import math
+
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+import numpy as np
+
+from .._core.units import damping_from_ratio, motion_scale, rate_to_si
+from ..spec import DynamicsSpec
+
+
+class FollowerModel(eqx.Module):
+    """Lumped follower parameters in SI (generalized: N and m, or N*m and rad for an oscillating arm).
+
+    Every field is an array leaf, so a batch of models (e.g. a sweep over spring rates) is one ``vmap``.
+    ``train_stiffness = inf`` marks a rigid follower; ``damping_ratio`` is NaN where the damping was given
+    as a constant (it then stays when the spring is re-rated).
+    """
+
+    mass: jax.Array  # kg (or kg*m^2)
+    stiffness: jax.Array  # N/m (or N*m/rad)
+    preload: jax.Array  # N (or N*m)
+    damping: jax.Array  # N*s/m (or N*m*s/rad)
+    external: jax.Array  # N (or N*m), pushing the follower onto the cam
+    train_stiffness: jax.Array  # N/m (or N*m/rad); inf for a rigid follower
+    train_damping: jax.Array  # N*s/m
+    restitution: jax.Array  # 0..1
+    scale: float = eqx.field(static=True, default=1e-3)  # motion unit -> SI length (mm -> m)
+    damping_ratio: jax.Array = eqx.field(default=math.nan, converter=jnp.asarray)  # zeta of c = 2 zeta sqrt(k m); NaN: c fixed
+
+    @property
+    def rigid(self) -> bool:
+        return bool(np.all(np.isinf(np.asarray(self.train_stiffness))))
+
+    def damping_at(self, stiffness):
+        """The spring damping at another rate: it follows sqrt(k m) when given as a ratio, else it stays."""
+        ratio = self.damping_ratio
+        return jnp.where(jnp.isnan(ratio), self.damping, damping_from_ratio(jnp.nan_to_num(ratio), stiffness, self.mass))
+
+    def with_spring(self, stiffness, preload=None) -> FollowerModel:
+        """The same follower with another spring rate (SI; and preload, if given), its damping re-derived."""
+        stiffness = jnp.asarray(stiffness, dtype=float)
+        new = (stiffness, self.preload if preload is None else jnp.asarray(preload, dtype=float), self.damping_at(stiffness))
+        return eqx.tree_at(lambda m: (m.stiffness, m.preload, m.damping), self, new)
+
+
+def follower_model(d: DynamicsSpec, *, oscillating: bool) -> FollowerModel:
+    """SI follower parameters from a validated ``[dynamics]`` table (translating: mm -> m, N/mm -> N/m)."""
+    m = d.inertia if oscillating else d.mass
+    k = rate_to_si(d.torsion_rate if oscillating else d.spring_rate, oscillating)
+    f0 = d.preload_torque if oscillating else d.preload
+    kf_in = d.train_torsion_rate if oscillating else d.train_stiffness
+    kf = math.inf if kf_in is None else rate_to_si(kf_in, oscillating)
+    c = d.damping if d.damping is not None else damping_from_ratio(d.damping_ratio or 0.0, k, m)
+    cf = 0.0 if math.isinf(kf) else damping_from_ratio(d.train_damping_ratio, kf, m)
+    ext = d.external_torque if oscillating else d.external_force
+    ratio = math.nan if d.damping is not None else (d.damping_ratio or 0.0)
+    vals = (m, k, f0, c, ext, kf, cf, d.restitution)
+    return FollowerModel(*(jnp.asarray(float(v)) for v in vals), scale=motion_scale(oscillating), damping_ratio=jnp.asarray(ratio))

@@ -1,0 +1,200 @@
+"""The geometry of one contact, exact by autodiff of the motion's Taylor polynomial, vectorised and compiled
+once per follower type; and the assembly conditions a follower must meet."""
+
+from __future__ import annotations
+
+import math
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+
+from ..._core.errors import InputError
+from ..._core.jit import cached_jit
+from ...spec import FollowerSpec
+from ..motion import evaluate
+
+_BREAK_EPS = 1e-9  # rad: one-sided limits at the motion's breaks, where s'' may jump
+
+
+def check_assembly(motion, f: FollowerSpec) -> None:
+    """Raise :class:`InputError` for a follower that cannot carry this motion or cannot be assembled (the keys
+    each follower type needs are the schema's: :class:`camdyn.spec.FollowerSpec`)."""
+    want = "mm" if f.translating else "rad"
+    if motion.unit != want:
+        raise InputError("follower.type", f"a {f.type} follower needs a motion in {want}, got {motion.unit}")
+    rp = f.base_radius + (f.roller_radius or 0.0)
+    if f.type == "translating-roller" and abs(f.offset) >= rp:
+        raise InputError("follower.offset", f"|offset| = {abs(f.offset):g} mm must be below the prime radius {rp:g} mm")
+    if not f.translating:
+        L = f.pivot_distance
+        if f.roller:
+            a = f.arm_length
+            if not abs(L - a) < rp < L + a:
+                raise InputError(
+                    "follower.arm_length",
+                    f"the roller cannot reach the prime circle (radius {rp:g} mm): need |L - a| < Rp < L + a "
+                    f"with L = {L:g} mm, a = {a:g} mm",
+                )
+        elif not abs(f.base_radius + f.offset) < L:
+            raise InputError(
+                "follower.pivot_distance",
+                f"the face cannot touch the base circle: need |base_radius + offset| = "
+                f"{abs(f.base_radius + f.offset):g} mm < pivot_distance = {L:g} mm",
+            )
+
+
+def _params(f: FollowerSpec, base_radius: float | None = None) -> jnp.ndarray:
+    """Numeric follower parameters (dynamic under jit, so base-circle bisection does not recompile)."""
+    rb = f.base_radius if base_radius is None else base_radius
+    return jnp.array(
+        [
+            rb,
+            f.roller_radius or 0.0,
+            f.offset,
+            f.pivot_distance or 0.0,
+            math.radians(f.pivot_angle),
+            f.arm_length or 0.0,
+            f.sigma,
+        ]
+    )
+
+
+# ------------------------------------------------------------------------------ follower geometry
+def _rot(angle, v):
+    c, s = jnp.cos(angle), jnp.sin(angle)
+    return jnp.stack([c * v[0] - s * v[1], s * v[0] + c * v[1]])
+
+
+def _J(v):  # rotation by +90 deg
+    return jnp.stack([-v[1], v[0]])
+
+
+def _cross(a, b):
+    return a[0] * b[1] - a[1] * b[0]
+
+
+def _pivot(p):
+    """Pivot D and the unit vector u from D towards O (fixed frame)."""
+    d = jnp.stack([jnp.cos(p[4]), jnp.sin(p[4])])
+    return p[3] * d, -d
+
+
+def _roller_centre(kind: str, p, q):
+    """Roller centre in the fixed frame at follower coordinate q (mm or rad)."""
+    rb, rr, e, L, _, a, sigma = p
+    rp = rb + rr
+    if kind == "translating-roller":
+        return jnp.stack([sigma * e, jnp.sqrt(rp**2 - e**2) + q])
+    D, u = _pivot(p)
+    psi0 = jnp.arccos((L**2 + a**2 - rp**2) / (2 * L * a))
+    return D + a * _rot(-(psi0 + q), u)
+
+
+def _flat_face(kind: str, p, q):
+    """Face of a flat follower in the fixed frame at coordinate q.
+
+    Returns (m, h, foot, along): the cam's outward normal at the contact (unit), the face's distance from O,
+    the face's reference point (axis or foot of the pivot's perpendicular) and the unit direction along the
+    face in which the face coordinate t is counted.
+    """
+    rb, _, e, L, _, _, sigma = p
+    if kind == "translating-flat":
+        m = jnp.array([0.0, 1.0])
+        return m, rb + q, jnp.stack([sigma * e, rb + q]), jnp.stack([sigma, 0.0 * sigma])
+    D, u = _pivot(p)
+    psi = jnp.arcsin((rb + e) / L) + q
+    w = _rot(-psi, u)
+    n = _J(w)
+    return -n, L * jnp.sin(psi) - e, D + e * n, w
+
+
+def _jet2(F):
+    """F(0), F'(0), F''(0) of a function of one scalar by forward-mode autodiff."""
+    d1 = jax.jacfwd(F)
+    return F(0.0), d1(0.0), jax.jacfwd(d1)(0.0)
+
+
+def _point(kind: str, p, th0, sv):
+    """Everything camdyn judges at one cam angle th0 (rad), given the motion values sv = (s, s', s'', s''').
+
+    The follower coordinate is expanded as the cubic Taylor polynomial of the motion about th0, so autodiff of
+    the geometry in t gives exact tangents and curvatures from the motion's closed-form derivatives.
+    """
+    sigma = p[6]
+    q_of = lambda t: sv[0] + t * (sv[1] + t * (sv[2] / 2 + t * sv[3] / 6))  # noqa: E731
+    cam = lambda t, v: _rot(-sigma * (th0 + t), v)  # noqa: E731
+    nan = jnp.nan
+    if kind.endswith("roller"):
+        P, P1, P2 = _jet2(lambda t: cam(t, _roller_centre(kind, p, q_of(t))))
+        speed = jnp.hypot(P1[0], P1[1])
+        N = sigma * _J(P1) / speed  # outward: the pitch curve runs cw for a ccw cam and vice versa
+        kappa = -sigma * _cross(P1, P2) / speed**3  # convex positive
+        v = cam(0.0, jax.jacfwd(lambda q: _roller_centre(kind, p, q))(sv[0]))
+        rr = p[1]
+        return dict(
+            pitch=P,
+            contour=P - rr * N,
+            kappa_pitch=kappa,
+            rho_contour=(1.0 - rr * kappa) / kappa,
+            phi=sigma * jnp.arctan2(_cross(v, N), v @ N),
+            lever=v @ N,
+            face_t=nan,
+        )
+
+    def face(t):  # the face line in the cam frame: unit normal m and distance h from O
+        m_fixed, h, _, _ = _flat_face(kind, p, q_of(t))
+        return cam(t, m_fixed), h
+
+    (m, h), (m1, h1), (m2, h2) = _jet2(face)
+    _, _, foot, along = _flat_face(kind, p, sv[0])
+    foot, along = cam(0.0, foot), cam(0.0, along)
+    a1, a2 = _cross(m, m1), _cross(m, m2)  # d alpha / d theta and its derivative (|m| = 1)
+    C = h * m + (h1 / a1) * _J(m)  # envelope of the lines x . m = h
+    if kind == "translating-flat":
+        v = m
+    else:  # velocity of the follower point at C for d psi = 1: the arm turns clockwise about D
+        D = cam(0.0, _pivot(p)[0])
+        v = -_J(C - D)
+    return dict(
+        pitch=foot,
+        contour=C,
+        kappa_pitch=nan,
+        rho_contour=h + (h2 * a1 - h1 * a2) / a1**3,
+        phi=sigma * jnp.arctan2(_cross(v, m), v @ m),
+        lever=v @ m,
+        face_t=(C - foot) @ along,
+    )
+
+
+@cached_jit
+def _geometry(p, theta, sv, kind: str):
+    """Vectorised :func:`_point`, compiled once per follower type and array bucket whatever the motion (it is
+    evaluated apart), the rotation and the lengths: sweeps and base-circle bisection reuse it."""
+    return jax.vmap(lambda th, s: _point(kind, p, th, s), in_axes=(0, 1))(theta, sv)
+
+
+_CHUNK = 4096  # angles per compiled call: a 3600-step revolution plus its breaks fits one
+
+
+def evaluate_geometry(motion, f: FollowerSpec, theta_rad, base_radius: float | None = None) -> dict[str, np.ndarray]:
+    """Evaluate at any number of angles (rad) in fixed-size chunks, so nothing recompiles per query size."""
+    theta_rad = np.asarray(theta_rad, dtype=float)
+    flat = np.atleast_1d(theta_rad).ravel()
+    n = flat.size
+    padded = np.zeros(max(1, -(-n // _CHUNK)) * _CHUNK)
+    padded[:n] = flat
+    p = _params(f, base_radius)
+    parts = []
+    for chunk in padded.reshape(-1, _CHUNK):
+        theta = jnp.asarray(chunk)
+        sv = evaluate(motion, theta)
+        parts.append(_geometry(p, theta, sv, f.type) | {"s": sv[0]})
+    out = {k: np.concatenate([np.asarray(part[k]) for part in parts])[:n] for k in parts[0]}
+    return {k: v.reshape(theta_rad.shape + v.shape[1:]) for k, v in out.items()}
+
+
+def with_breaks(motion, theta_rad: np.ndarray) -> np.ndarray:
+    """theta plus the one-sided limits at every break: extremes of s'' terms may sit exactly there."""
+    b = np.deg2rad(np.asarray(motion.breaks_deg, dtype=float))
+    return np.concatenate([theta_rad, np.mod(b - _BREAK_EPS, 2 * np.pi), b + _BREAK_EPS])

@@ -1,0 +1,42 @@
+"""The one motion interface every synthesis produces and every consumer reads.
+
+A :class:`Motion` maps cam angle theta (rad) to the follower displacement and its first three derivatives
+per radian of cam angle, ``motion(theta) -> (4, *theta.shape)`` = (s, s', s'', s'''). Translating followers
+use mm (``unit == "mm"``), oscillating followers the arm angle in rad (``unit == "rad"``). Every motion is a
+JAX pytree (an equinox module), so dynamics, geometry and sweeps can ``jit`` and ``vmap`` over it.
+"""
+
+from __future__ import annotations
+
+import equinox as eqx
+import jax.numpy as jnp
+import numpy as np
+
+from ..._core.jit import cached_jit
+from ..._core.units import THETA_GRID
+
+
+class Motion(eqx.Module):
+    """Follower motion over one cam revolution (abstract).
+
+    Subclasses implement ``__call__(theta)`` returning ``jnp.stack([s, s1, s2, s3])`` for theta in rad
+    (any shape; periodic with period 2 pi), and provide ``unit`` ("mm" or "rad") and ``breaks_deg``: the cam
+    angles (deg, in [0, 360)) where s'' or s''' may jump, which the ODE step-size controller is told about.
+    """
+
+    unit: eqx.AbstractVar[str]
+    breaks_deg: eqx.AbstractVar[tuple[float, ...]]
+
+    def __call__(self, theta):  # pragma: no cover - abstract
+        raise NotImplementedError
+
+    def sample(self, n: int = THETA_GRID) -> tuple[np.ndarray, np.ndarray]:
+        """(theta_deg, values) on ``n`` equal steps of [0, 360); values has shape (4, n)."""
+        theta_deg = np.arange(n) * (360.0 / n)
+        return theta_deg, np.asarray(evaluate(self, jnp.deg2rad(theta_deg)))
+
+
+@cached_jit
+def evaluate(motion: Motion, theta):
+    """``motion(theta)`` compiled once per motion structure (eager evaluation dispatches op by op)."""
+    return motion(theta)

@@ -1,0 +1,73 @@
+"""Quintic Hermite tables of expensive motions: exact s, s', s'' at every knot."""
+
+from __future__ import annotations
+
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+import numpy as np
+
+from ..._core.units import TWO_PI
+from ._base import Motion, evaluate
+
+
+class HermiteMotion(Motion):
+    """Piecewise quintic Hermite interpolant of another motion: exact s, s', s'' at every knot.
+
+    Motions whose every evaluation is expensive (a cam-linkage synthesis solves its dyads and a Newton
+    iteration per angle) are tabulated once for the consumers that evaluate them millions of times (the ODE
+    right-hand side, sweeps). The interpolant is C2 between knots and takes one-sided values at the source's
+    ``breaks_deg``, where s'' may jump; its error is O(h^6) in s (measured by :meth:`max_error`).
+    """
+
+    knots: jax.Array  # (m + 1,) rad, 0 .. 2 pi, the source's breaks among them
+    coef: jax.Array  # (m, 6) s = sum coef[i, k] t^k, t = theta - knots[i] (rad)
+    unit: str = eqx.field(static=True)
+    breaks_deg: tuple[float, ...] = eqx.field(static=True)
+
+    @classmethod
+    def from_motion(cls, source: Motion, n: int = 2048) -> HermiteMotion:
+        """Tabulate ``source`` on ``n`` equal steps of the revolution plus its breaks."""
+        grid = np.linspace(0.0, TWO_PI, n + 1)
+        brk = np.deg2rad(np.asarray(source.breaks_deg, dtype=float))
+        brk = brk[(brk > 1e-9) & (brk < TWO_PI - 1e-9)]
+        # a grid knot within a tenth of a step of a break would leave a sliver interval: the break replaces it
+        keep = np.array([np.all(np.abs(g - brk) > 0.1 * TWO_PI / n) for g in grid])
+        keep[[0, -1]] = True
+        knots = np.unique(np.concatenate([grid[keep], brk]))
+        h = np.diff(knots)
+        # one-sided values: evaluate just inside each interval and step back by Taylor to the knot
+        d = 1e-7 * h
+        left = np.asarray(evaluate(source, jnp.asarray(knots[:-1] + d)))  # at the start of interval i, from the right
+        right = np.asarray(evaluate(source, jnp.asarray(knots[1:] - d)))  # at its end, from the left
+        y0 = np.stack([left[0] - d * left[1] + d**2 / 2 * left[2] - d**3 / 6 * left[3],
+                       left[1] - d * left[2] + d**2 / 2 * left[3], left[2] - d * left[3]])
+        y1 = np.stack([right[0] + d * right[1] + d**2 / 2 * right[2] + d**3 / 6 * right[3],
+                       right[1] + d * right[2] + d**2 / 2 * right[3], right[2] + d * right[3]])
+        # c3..c5 from the end conditions: s(h), s'(h), s''(h) less the part of c0..c2
+        r0 = y1[0] - (y0[0] + y0[1] * h + y0[2] / 2 * h**2)
+        r1 = y1[1] - (y0[1] + y0[2] * h)
+        r2 = y1[2] - y0[2]
+        c3 = (10 * r0 - 4 * h * r1 + h**2 / 2 * r2) / h**3
+        c4 = (-15 * r0 + 7 * h * r1 - h**2 * r2) / h**4
+        c5 = (6 * r0 - 3 * h * r1 + h**2 / 2 * r2) / h**5
+        coef = np.column_stack([y0[0], y0[1], y0[2] / 2, c3, c4, c5])
+        return cls(knots=jnp.asarray(knots), coef=jnp.asarray(coef), unit=source.unit, breaks_deg=tuple(source.breaks_deg))
+
+    def __call__(self, theta):
+        theta = jnp.asarray(theta, dtype=float)
+        th = jnp.mod(theta, TWO_PI)
+        i = jnp.clip(jnp.searchsorted(self.knots, th, side="right") - 1, 0, self.coef.shape[0] - 1)
+        t = th - self.knots[i]
+        c = self.coef[i]  # (..., 6)
+        c0, c1, c2, c3, c4, c5 = (c[..., k] for k in range(6))
+        s = c0 + t * (c1 + t * (c2 + t * (c3 + t * (c4 + t * c5))))
+        s1 = c1 + t * (2 * c2 + t * (3 * c3 + t * (4 * c4 + t * 5 * c5)))
+        s2 = 2 * c2 + t * (6 * c3 + t * (12 * c4 + t * 20 * c5))
+        s3 = 6 * c3 + t * (24 * c4 + t * 60 * c5)
+        return jnp.stack([s, s1, s2, s3])
+
+    def max_error(self, source: Motion) -> np.ndarray:
+        """Largest |self - source| of (s, s', s'', s''') at the interval midpoints, where the error peaks."""
+        mid = jnp.asarray(0.5 * (np.asarray(self.knots[:-1]) + np.asarray(self.knots[1:])))
+        return np.max(np.abs(np.asarray(evaluate(self, mid)) - np.asarray(evaluate(source, mid))), axis=1)

@@ -1,0 +1,65 @@
+"""The case-file schema: the only place that knows a case file's keys, their units and the rules between them.
+
+One pydantic model per table (:class:`MotionSpec`, :class:`FollowerSpec`, :class:`DynamicsSpec`,
+:class:`LimitsSpec`, :class:`PathSpec`, :class:`MechanismSpec`), assembled into :class:`CaseSpec` (a case
+file) and :class:`PathFileSpec` (the input of ``camdyn synthesize``). Validation happens once, here, and every
+problem is one :class:`camdyn.InputError` naming the key. Nothing in this package imports JAX: a typo in a
+case file is reported before any physics is loaded.
+"""
+
+from __future__ import annotations
+
+import tomllib
+from pathlib import Path
+
+from .._core.errors import InputError
+from ._base import Table, parse, validation_error
+from .case import SCHEMA_VERSION, CaseSpec
+from .dynamics import LINEAR_KEYS, ROTARY_KEYS, DynamicsSpec
+from .follower import FOLLOWER_TYPES, FollowerSpec
+from .limits import LimitsSpec
+from .mechanism import MechanismSpec
+from .motion import LAW_NAMES, MotionSpec, SegmentSpec, check_segments
+from .path import PATH_TYPES, PathSpec
+from .pathfile import PathFileSpec, SynthesisSpec
+
+__all__ = [
+    "CaseSpec", "DynamicsSpec", "FOLLOWER_TYPES", "FollowerSpec", "LAW_NAMES", "LINEAR_KEYS", "LimitsSpec",
+    "MechanismSpec", "MotionSpec", "PATH_TYPES", "PathFileSpec", "PathSpec", "ROTARY_KEYS", "SCHEMA_VERSION",
+    "SegmentSpec", "SynthesisSpec", "Table", "check_segments", "load_case_spec", "load_path_file", "parse",
+    "read_toml", "validation_error",
+]
+
+
+def read_toml(path: str | Path) -> dict:
+    """The parsed TOML of a case (or path) file; :class:`InputError` for a file that is missing, not a file,
+    not UTF-8 text, or not TOML. A UTF-8 byte-order mark is accepted."""
+    path = Path(path)
+    try:
+        data = path.read_bytes()
+    except FileNotFoundError:
+        raise InputError("", "no such file") from None
+    except IsADirectoryError:
+        raise InputError("", "is a folder, not a case file") from None
+    except OSError as err:
+        raise InputError("", f"cannot read the file: {err.strerror or err}") from None
+    try:
+        text = data.decode("utf-8-sig")
+    except UnicodeDecodeError as err:
+        raise InputError("", f"not UTF-8 text (byte {err.start}): save the case file as UTF-8") from None
+    if "\x00" in text:
+        raise InputError("", f"contains a NUL byte (at character {text.index(chr(0))}): not a text file")
+    try:
+        return tomllib.loads(text)
+    except tomllib.TOMLDecodeError as err:
+        raise InputError("TOML", str(err)) from None
+
+
+def load_case_spec(path: str | Path) -> CaseSpec:
+    """Read and validate a case file; every problem is one :class:`InputError` naming the key."""
+    return parse(CaseSpec, read_toml(path))
+
+
+def load_path_file(path: str | Path) -> PathFileSpec:
+    """Read and validate a path file (the input of ``camdyn synthesize``)."""
+    return parse(PathFileSpec, read_toml(path))

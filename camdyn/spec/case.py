@@ -1,0 +1,57 @@
+"""A whole case file: its tables and the rules between them."""
+
+from __future__ import annotations
+
+from typing import Literal
+
+from pydantic import Field, model_validator
+
+from ._base import Table
+from .dynamics import DynamicsSpec, check_dynamics_keys
+from .follower import FollowerSpec
+from .limits import LimitsSpec
+from .mechanism import MechanismSpec
+from .motion import MotionSpec, check_segments
+from .path import PathSpec
+
+SCHEMA_VERSION = 1
+
+
+class CaseSpec(Table):
+    """A case file: ``[motion]`` and ``[follower]``, or ``[path]`` and ``[mechanism]``; then ``[dynamics]`` and
+    ``[limits]``."""
+
+    version: Literal[1] = Field(default=SCHEMA_VERSION, description="case-file schema version (1)")
+    name: str | None = Field(default=None, description="case name, used in reports and output file names (default: the file name)")
+    description: str = Field(default="", description="one line on what the case is")
+    motion: MotionSpec | None = Field(default=None, description="the follower motion as segments (with [follower])")
+    follower: FollowerSpec | None = Field(default=None, description="the follower and cam dimensions (with [motion])")
+    path: PathSpec | None = Field(default=None, description="a closed path to trace (with [mechanism]): the motion and follower are synthesized")
+    mechanism: MechanismSpec | None = Field(default=None, description="the cam-linkage that traces [path]")
+    dynamics: DynamicsSpec = Field(description="speed, mass, spring, damping")
+    limits: LimitsSpec = Field(default=LimitsSpec(), description="what a passing design must meet")
+
+    @model_validator(mode="after")
+    def _tables_fit_together(self) -> CaseSpec:
+        if self.motion is not None and (self.path is not None or self.mechanism is not None):
+            raise ValueError("motion: give either [motion] segments or [path] and [mechanism], not both")
+        if self.motion is not None:
+            if self.follower is None:
+                raise ValueError("follower: the [follower] table is required with [motion]")
+            check_segments(self.motion.segments, "mm" if self.follower.translating else "deg", key="motion.segments")
+        elif self.path is not None or self.mechanism is not None:
+            if self.path is None or self.mechanism is None:
+                raise ValueError(f"{'path' if self.path is None else 'mechanism'}: a path case needs both [path] and [mechanism]")
+            if self.follower is not None:
+                raise ValueError("follower: a path case gets its follower from the synthesis: remove [follower]")
+        else:
+            raise ValueError("motion: the case needs [motion] segments, or [path] and [mechanism]")
+        check_dynamics_keys(self.dynamics, oscillating=self.oscillating)
+        return self
+
+    @property
+    def oscillating(self) -> bool:
+        """Whether the follower is an oscillating arm (its motion in rad, its dynamics rotational)."""
+        if self.follower is not None:
+            return not self.follower.translating
+        return self.mechanism is not None and self.mechanism.type == "oscillating"

@@ -1,0 +1,59 @@
+"""The ``[dynamics]`` table: speed, moving mass, spring, damping, follower train, restitution, external load.
+
+Translating followers use the linear keys (kg, N/mm, N, N*s/m), oscillating followers the rotational ones
+(kg*m^2, N*m/rad, N*m, N*m*s/rad); :data:`LINEAR_KEYS` and :data:`ROTARY_KEYS` pair them up.
+"""
+
+from __future__ import annotations
+
+from pydantic import Field, model_validator
+
+from .._core.units import DEFAULT_TRAIN_DAMPING_RATIO
+from ._base import Real, Table
+
+# the linear key and its rotational counterpart, in pairs
+LINEAR_KEYS = ("mass", "spring_rate", "preload", "train_stiffness", "external_force")
+ROTARY_KEYS = ("inertia", "torsion_rate", "preload_torque", "train_torsion_rate", "external_torque")
+
+
+class DynamicsSpec(Table):
+    """The ``[dynamics]`` table. Translating followers use the linear keys, oscillating the rotational ones."""
+
+    speed: Real = Field(gt=0, description="cam speed, rpm")
+    # translating follower
+    mass: Real | None = Field(default=None, gt=0, description="translating: equivalent moving mass, kg")
+    spring_rate: Real | None = Field(default=None, gt=0, description="translating: return spring rate k, N/mm")
+    preload: Real | None = Field(default=None, description="translating: spring force at zero lift F0, N")
+    train_stiffness: Real | None = Field(default=None, gt=0, description="translating: follower-train (contact) stiffness k_f, N/mm; omit for a rigid follower")
+    external_force: Real = Field(default=0.0, description="translating: constant force pushing the follower onto the cam (weight, process load), N")
+    # oscillating follower (rotational equivalent)
+    inertia: Real | None = Field(default=None, gt=0, description="oscillating: arm inertia about its pivot, kg*m^2")
+    torsion_rate: Real | None = Field(default=None, gt=0, description="oscillating: return torsion spring rate, N*m/rad")
+    preload_torque: Real | None = Field(default=None, description="oscillating: spring torque at zero swing, N*m")
+    train_torsion_rate: Real | None = Field(default=None, gt=0, description="oscillating: follower-train stiffness, N*m/rad; omit for a rigid follower")
+    external_torque: Real = Field(default=0.0, description="oscillating: constant torque pushing the arm onto the cam, N*m")
+    # both
+    damping_ratio: Real | None = Field(default=None, ge=0, description="zeta: c = 2 zeta sqrt(k m) (give this or damping)")
+    damping: Real | None = Field(default=None, ge=0, description="c, N*s/m (N*m*s/rad for an oscillating arm)")
+    train_damping_ratio: Real = Field(default=DEFAULT_TRAIN_DAMPING_RATIO, ge=0, description="zeta_f: c_f = 2 zeta_f sqrt(k_f m)")
+    restitution: Real = Field(default=0.0, ge=0, le=1, description="coefficient of restitution at re-contact after a jump, 0..1")
+
+    @model_validator(mode="after")
+    def _one_damping(self) -> DynamicsSpec:
+        if self.damping_ratio is not None and self.damping is not None:
+            raise ValueError("give damping_ratio or damping, not both")
+        return self
+
+
+def check_dynamics_keys(d: DynamicsSpec, *, oscillating: bool, key: str = "dynamics") -> None:
+    """Raise ``ValueError("<key>.<name>: message")`` unless ``d`` uses the keys of its follower kind: the linear
+    ones for a translating follower, the rotational ones for an oscillating arm (mass, rate and preload needed)."""
+    use, other = (ROTARY_KEYS, LINEAR_KEYS) if oscillating else (LINEAR_KEYS, ROTARY_KEYS)
+    kind = "an oscillating" if oscillating else "a translating"
+    for k_use, k_other in zip(use, other, strict=True):
+        given = getattr(d, k_other)
+        if given is not None and (k_other not in ("external_force", "external_torque") or given != 0.0):
+            raise ValueError(f"{key}.{k_other}: {kind} follower uses {k_use}, not {k_other}")
+    for k in use[:3]:
+        if getattr(d, k) is None:
+            raise ValueError(f"{key}.{k}: required key is missing")

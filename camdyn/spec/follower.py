@@ -1,0 +1,69 @@
+"""The ``[follower]`` table: the follower type and its dimensions (mm, deg)."""
+
+from __future__ import annotations
+
+from typing import Literal
+
+from pydantic import Field, model_validator
+
+from ._base import Table
+
+FOLLOWER_TYPES = ("translating-roller", "translating-flat", "oscillating-roller", "oscillating-flat")
+
+# keys each type needs, and those it may take besides ``type``, ``base_radius`` and ``rotation``
+_NEEDS = {
+    "translating-roller": ("roller_radius",),
+    "translating-flat": (),
+    "oscillating-roller": ("roller_radius", "pivot_distance", "arm_length"),
+    "oscillating-flat": ("pivot_distance",),
+}
+_TAKES = {
+    "translating-roller": {"offset"},
+    "translating-flat": {"offset", "face_width"},
+    "oscillating-roller": {"pivot_angle"},
+    "oscillating-flat": {"offset", "pivot_angle", "face_width"},
+}
+
+
+class FollowerSpec(Table):
+    """The ``[follower]`` table of a case file (lengths mm, angles deg)."""
+
+    type: Literal["translating-roller", "translating-flat", "oscillating-roller", "oscillating-flat"] = Field(
+        default="translating-roller", description="translating-roller | translating-flat | oscillating-roller | oscillating-flat"
+    )
+    base_radius: float = Field(gt=0, description="least radius of the cam contour, mm")
+    roller_radius: float | None = Field(default=None, gt=0, description="roller radius, mm (roller followers)")
+    offset: float = Field(
+        default=0.0,
+        description="translating: axis offset e, mm, positive lowers the rise pressure angle; "
+        "oscillating-flat: distance of the face line from the pivot, mm, positive toward the cam centre",
+    )
+    rotation: Literal["cw", "ccw"] = Field(default="cw", description="sense in which the cam turns: cw | ccw")
+    pivot_distance: float | None = Field(default=None, gt=0, description="oscillating: cam centre to arm pivot, mm")
+    pivot_angle: float = Field(default=0.0, description="oscillating: direction of the pivot from the cam centre, deg")
+    arm_length: float | None = Field(default=None, gt=0, description="oscillating roller: pivot to roller centre, mm")
+    face_width: float | None = Field(default=None, gt=0, description="flat followers: usable face width, mm")
+
+    @model_validator(mode="after")
+    def _keys_for_type(self) -> FollowerSpec:
+        a = "an" if self.type.startswith("oscillating") else "a"
+        for key in _NEEDS[self.type]:
+            if getattr(self, key) is None:
+                raise ValueError(f"{key}: required for {a} {self.type} follower")
+        takes = set(_NEEDS[self.type]) | _TAKES[self.type] | {"type", "base_radius", "rotation"}
+        for key in sorted(self.model_fields_set - takes):
+            raise ValueError(f"{key}: not used by {a} {self.type} follower (its keys: {', '.join(sorted(takes))})")
+        return self
+
+    @property
+    def translating(self) -> bool:
+        return self.type.startswith("translating")
+
+    @property
+    def roller(self) -> bool:
+        return self.type.endswith("roller")
+
+    @property
+    def sigma(self) -> float:
+        """+1 for a cam turning ccw, -1 for cw."""
+        return 1.0 if self.rotation == "ccw" else -1.0

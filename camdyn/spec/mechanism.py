@@ -1,0 +1,62 @@
+"""The ``[mechanism]`` table: the cam-linkage that traces a ``[path]`` (the CCM or Ye & Smith's oscillating one)."""
+
+from __future__ import annotations
+
+from typing import Literal
+
+from pydantic import Field, model_validator
+
+from .._core.units import DEFAULT_MAX_PRESSURE_ANGLE_DEG
+from ._base import Pair, Real, Table
+
+
+class MechanismSpec(Table):
+    """The ``[mechanism]`` table (lengths mm, angles deg, points (x, y) mm in the path's frame).
+
+    ``type = "ccm"``: the combined cam mechanism of a profile cutter. The camshaft at ``cam_center`` (A) carries
+    the crank pin B; the coupler B-T carries the tracing point T and the joint C; the link C-E drives the slider
+    pin E along the slider line; the slider is the cam's translating roller follower.
+    ``type = "oscillating"``: Ye & Smith's cam-linkage. Fixed pivots O (``cam_center``) and D (``pivot``); the
+    link F-C (F traces the path) carries the pin B; the follower D-C turns with the roller arm D-E; the coupler
+    B-A joins B to the crank pin A on the cam.
+    """
+
+    type: Literal["ccm", "oscillating"] = Field(description="ccm | oscillating")
+    cam_center: Pair = Field(default=(0.0, 0.0), description="camshaft axis (A in the CCM, O in Ye & Smith), mm")
+    crank: Real | None = Field(default=None, gt=0, description="crank length (AB in the CCM, OA in Ye & Smith), mm; default: Ye & Smith eq. 5 from the extremes of |cam centre to path-side point|")
+    coupler: Real | None = Field(default=None, gt=0, description="coupler length from the crank pin towards the path (BT in the CCM, BA in Ye & Smith), mm; default: eq. 5 (give both crank and coupler or neither)")
+    crank_mode: Literal[-1, 1] = Field(default=1, description="assembly mode of the crank dyad at the path start: +1 when (path-side point, crank pin, cam centre) run anticlockwise (Ye & Smith: B0, A0, O)")
+    roller_radius: Real = Field(default=10.0, gt=0, description="follower roller radius, mm")
+    # ccm
+    joint_distance: Real | None = Field(default=None, gt=0, description="ccm: distance from the crank pin B to the joint C on the coupler, mm (default: C = T)")
+    joint_angle: Real = Field(default=0.0, description="ccm: angle from B->T to B->C, deg anticlockwise")
+    link: Real | None = Field(default=None, gt=0, description="ccm: length of the link C-E from the coupler joint to the slider pin, mm")
+    slider_point: Pair | None = Field(default=None, description="ccm: a point of the slider line, mm (default: the cam centre)")
+    slider_angle: Real | None = Field(default=None, description="ccm: direction of the slider line in which the cam lifts the slider, deg")
+    slider_mode: Literal[-1, 1] = Field(default=1, description="ccm: +1 takes the slider pin E ahead of (along slider_angle) the foot of C on the line, -1 behind")
+    base_radius: Real | None = Field(default=None, gt=0, description="ccm: cam base radius, mm (default: the least that keeps the pressure angle within max_pressure_angle and the contour free of undercut)")
+    max_pressure_angle: Real = Field(default=DEFAULT_MAX_PRESSURE_ANGLE_DEG["translating"], gt=0, lt=80, description="ccm: pressure angle used to choose the base radius, deg")
+    # oscillating
+    pivot: Pair | None = Field(default=None, description="oscillating: follower pivot D, mm")
+    path_link: Real | None = Field(default=None, gt=0, description="oscillating: link F-C from the path point to the follower joint (LFC), mm")
+    follower_link: Real | None = Field(default=None, gt=0, description="oscillating: follower D-C (LDC), mm")
+    pin_distance: Real | None = Field(default=None, description="oscillating: distance F-B along F->C of the coupler pin B (LFB), mm")
+    arm: Real | None = Field(default=None, gt=0, description="oscillating: roller arm D-E (LDE), mm")
+    arm_angle: Real = Field(default=180.0, description="oscillating: angle from D->C to D->E, deg anticlockwise (180: E on CD produced)")
+    follower_mode: Literal[-1, 1] = Field(default=1, description="oscillating: assembly mode of F, C, D (+1 anticlockwise)")
+
+    @model_validator(mode="after")
+    def _keys_for_type(self) -> MechanismSpec:
+        need = {"ccm": ("link", "slider_angle"), "oscillating": ("pivot", "path_link", "follower_link", "pin_distance", "arm")}[self.type]
+        for key in need:
+            if getattr(self, key) is None:
+                raise ValueError(f"{key}: required for a {self.type} mechanism")
+        other = {"ccm": ("pivot", "path_link", "follower_link", "pin_distance", "arm"), "oscillating": ("joint_distance", "link", "slider_point", "slider_angle", "base_radius")}[self.type]
+        for key in other:
+            if getattr(self, key) is not None:
+                raise ValueError(f"{key}: not used by a {self.type} mechanism")
+        if (self.crank is None) != (self.coupler is None):
+            raise ValueError(f"{'coupler' if self.coupler is None else 'crank'}: give crank and coupler together, or neither (eq. 5)")
+        if self.type == "oscillating" and abs(self.pin_distance - self.path_link) < 1e-9:
+            raise ValueError("pin_distance: the pin B cannot coincide with the joint C")
+        return self
