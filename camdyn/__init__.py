@@ -2,7 +2,7 @@
 
 The public API is flat (``camdyn.load_case``, ``camdyn.run_check``, ``camdyn.size_spring``, ...); each name
 loads its module on first use, so ``import camdyn`` stays cheap (no JAX) and the command line answers at once.
-The house, one way through: :mod:`camdyn.spec` (the case-file schema) -> :mod:`camdyn.model` (SI models:
+The house, one way through: :mod:`camdyn.schema` (the case-file schema) -> :mod:`camdyn.model` (SI models:
 motion, geometry, dynamics, linkages) -> :mod:`camdyn.design` (checks, sizing, sweeps, synthesis) ->
 :mod:`camdyn.plot` and :mod:`camdyn.report` -> :mod:`camdyn.cli`.
 """
@@ -15,10 +15,10 @@ _API = {
     "InputError": "._core.errors",
     "NumericalError": "._core.errors",
     # schema
-    "CaseSpec": ".spec",
-    "FollowerSpec": ".spec",
-    "PathFileSpec": ".spec",
-    "load_case_spec": ".spec",
+    "CaseSpec": ".schema",
+    "FollowerSpec": ".schema",
+    "PathFileSpec": ".schema",
+    "load_case_spec": ".schema",
     # models
     "LAWS": ".model.motion",
     "Motion": ".model.motion",

@@ -12,7 +12,7 @@ import camdyn.model  # noqa: F401  (float64)
 from camdyn import InputError, Program
 from camdyn.export import resample, write_profile
 from camdyn.model.geometry import analyze
-from camdyn.spec import FollowerSpec
+from camdyn.schema import FollowerSpec
 
 
 @pytest.fixture(scope="module")

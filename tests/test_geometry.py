@@ -21,7 +21,7 @@ from camdyn import InputError, Motion, Program
 from camdyn._core.units import CUSP_MM
 from camdyn.design.geometry import judge_geometry, min_base_radius
 from camdyn.model.geometry import analyze, lever_arm_mm
-from camdyn.spec import FollowerSpec, parse
+from camdyn.schema import FollowerSpec, parse
 
 
 def judged(motion, fol, **limits):

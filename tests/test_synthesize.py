@@ -134,7 +134,7 @@ def test_missing_input_file(tmp_path, capsys):
 
 
 def test_shipped_path_files_validate():
-    from camdyn.spec import read_toml
+    from camdyn.schema import read_toml
     from camdyn.design.synthesize import validate_path_file
 
     files = sorted((ROOT / "cases" / "paths").glob("*.toml"))

@@ -128,7 +128,7 @@ def _enable_caches() -> None:
 def _validate(args) -> None:
     """Read and validate the input files before any model is built: a typo is reported before JAX loads."""
     from .._core.errors import CamdynError
-    from ..spec import load_case_spec, load_path_file
+    from ..schema import load_case_spec, load_path_file
 
     if args.command == "synthesize":
         args.spec = load_path_file(args.case)

@@ -10,7 +10,7 @@ import numpy as np
 from .._core.errors import NumericalError
 from .._core.units import CUSP_MM, DEFAULT_MIN_CURVATURE_RATIO, THETA_GRID, default_max_pressure_angle
 from ..model.geometry import CamGeometry, GeometryExtremes, check_assembly, extremes
-from ..spec import FollowerSpec
+from ..schema import FollowerSpec
 from ._check import Check, CheckKind
 
 JAM_PRESSURE_ANGLE_DEG = 60.0  # beyond this a translating follower may jam in its guide: a warning

@@ -21,7 +21,7 @@ from .._core.errors import InputError
 from .._core.progress import Progress
 from ..export.toml import dumps_case
 from ..model.case import Case, case_from_dict
-from ..spec import PathFileSpec, parse
+from ..schema import PathFileSpec, parse
 from .dimensions import DIMENSION_OBJECTIVE, synthesize_dimensions
 from .sizing import size_spring
 

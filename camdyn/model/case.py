@@ -10,7 +10,7 @@ import numpy as np
 
 from .._core.errors import InputError
 from .._core.units import THETA_GRID
-from ..spec import CaseSpec, FollowerSpec, LimitsSpec, load_case_spec, parse
+from ..schema import CaseSpec, FollowerSpec, LimitsSpec, load_case_spec, parse
 from .follower import FollowerModel, follower_model
 from .linkage import synthesize_motion
 from .motion import Motion, Program

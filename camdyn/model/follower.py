@@ -11,7 +11,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from .._core.units import damping_from_ratio, motion_scale, rate_to_si
-from ..spec import DynamicsSpec
+from ..schema import DynamicsSpec
 
 
 class FollowerModel(eqx.Module):

@@ -34,7 +34,7 @@ import numpy as np
 
 from .._core.errors import InputError, NumericalError
 from .._core.units import TWO_PI
-from ..spec import FollowerSpec, MechanismSpec, PathSpec, parse
+from ..schema import FollowerSpec, MechanismSpec, PathSpec, parse
 from .motion import HermiteMotion, Motion
 from .paths import Path, build_path, parse_path, taylor
 
@@ -370,7 +370,7 @@ class CamLinkMotion(Motion):
 
 
 def parse_mechanism(mech: dict | MechanismSpec) -> MechanismSpec:
-    """A validated ``[mechanism]`` table (a :class:`camdyn.spec.MechanismSpec`); errors name ``mechanism.<key>``."""
+    """A validated ``[mechanism]`` table (a :class:`camdyn.schema.MechanismSpec`); errors name ``mechanism.<key>``."""
     return mech if isinstance(mech, MechanismSpec) else parse(MechanismSpec, mech, "mechanism")
 
 

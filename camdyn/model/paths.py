@@ -24,13 +24,13 @@ from scipy.interpolate import CubicSpline
 
 from .._core.errors import InputError
 from .._core.units import TWO_PI
-from ..spec import PathSpec, parse
+from ..schema import PathSpec, parse
 
 _CHAIN_PIECES = 12
 
 
 def parse_path(path: dict | PathSpec) -> PathSpec:
-    """A validated ``[path]`` table (a :class:`camdyn.spec.PathSpec`); errors name ``path.<key>``."""
+    """A validated ``[path]`` table (a :class:`camdyn.schema.PathSpec`); errors name ``path.<key>``."""
     return path if isinstance(path, PathSpec) else parse(PathSpec, path, "path")
 
 

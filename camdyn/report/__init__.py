@@ -1366,7 +1366,7 @@ def write_report(case, out_dir, *, check=None, speed_rpm: float | None = None, p
 
 def report_cases(paths: list[str | Path], out_dir, *, speed_rpm: float | None = None, specs=None, progress: Progress | None = None) -> list[Written]:
     """Load, check and report every case file in ``paths`` (bad input stops before any work, naming the file).
-    ``specs``: the files' validated :class:`camdyn.spec.CaseSpec`, where the caller has read them already."""
+    ``specs``: the files' validated :class:`camdyn.schema.CaseSpec`, where the caller has read them already."""
     from ..model.case import build_case, load_case
 
     output_dir(out_dir, "report")

@@ -1,5 +1,5 @@
 """Cam geometry: pitch curve, contour, pressure angle, curvature, undercut (the follower is a
-:class:`camdyn.spec.FollowerSpec`).
+:class:`camdyn.schema.FollowerSpec`).
 
 Conventions (Norton's), in a fixed frame with the cam centre O at the origin; all lengths mm, angles as noted:
 

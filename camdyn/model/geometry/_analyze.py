@@ -10,7 +10,7 @@ import numpy as np
 
 from ..._core.errors import InputError, NumericalError
 from ..._core.units import CUSP_MM, THETA_GRID, newton_per_torque
-from ...spec import FollowerSpec
+from ...schema import FollowerSpec
 from ._kernel import check_assembly, evaluate_geometry, with_breaks
 
 

@@ -11,7 +11,7 @@ import numpy as np
 
 from ..._core.errors import InputError
 from ..._core.jit import cached_jit
-from ...spec import FollowerSpec
+from ...schema import FollowerSpec
 from ..motion import evaluate
 
 _BREAK_EPS = 1e-9  # rad: one-sided limits at the motion's breaks, where s'' may jump
@@ -19,7 +19,7 @@ _BREAK_EPS = 1e-9  # rad: one-sided limits at the motion's breaks, where s'' may
 
 def check_assembly(motion, f: FollowerSpec) -> None:
     """Raise :class:`InputError` for a follower that cannot carry this motion or cannot be assembled (the keys
-    each follower type needs are the schema's: :class:`camdyn.spec.FollowerSpec`)."""
+    each follower type needs are the schema's: :class:`camdyn.schema.FollowerSpec`)."""
     want = "mm" if f.translating else "rad"
     if motion.unit != want:
         raise InputError("follower.type", f"a {f.type} follower needs a motion in {want}, got {motion.unit}")

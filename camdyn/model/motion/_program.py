@@ -12,7 +12,7 @@ import numpy as np
 
 from ..._core.errors import InputError
 from ..._core.units import TWO_PI
-from ...spec import SegmentSpec, check_segments, parse
+from ...schema import SegmentSpec, check_segments, parse
 from ._base import Motion
 from ._laws import _LAW_TABLES, _piece_eval
 
@@ -53,12 +53,12 @@ class Program(Motion):
 
     @classmethod
     def from_segments(cls, segments: list, key: str = "motion.segments", unit: str = "mm") -> Program:
-        """A program from ``[{law, end, lift}, ...]`` (or :class:`camdyn.spec.SegmentSpec`): ends in deg, lifts in
+        """A program from ``[{law, end, lift}, ...]`` (or :class:`camdyn.schema.SegmentSpec`): ends in deg, lifts in
         mm, or in deg of arm swing when ``unit`` is "rad".
 
         Raises :class:`InputError` naming the segment for an unknown law, a non-increasing end, a program
         that does not end at 360 degrees, does not close (net lift 0) or dips below zero lift
-        (:func:`camdyn.spec.check_segments`, the schema's rule).
+        (:func:`camdyn.schema.check_segments`, the schema's rule).
         """
         if not segments:
             raise InputError(key, "at least one segment is required")
@@ -72,7 +72,7 @@ class Program(Motion):
 
     @classmethod
     def from_specs(cls, specs: list[SegmentSpec], unit: str = "mm") -> Program:
-        """A program from segments the schema has checked (:func:`camdyn.spec.check_segments`)."""
+        """A program from segments the schema has checked (:func:`camdyn.schema.check_segments`)."""
         to_unit = 1.0 if unit == "mm" else math.pi / 180.0
         segs: list[Segment] = []
         start, base = 0.0, 0.0
