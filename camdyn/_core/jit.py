@@ -80,10 +80,15 @@ def cached_jit(fn):
         if any(isinstance(x, jax.core.Tracer) for x in leaves):  # inside jit/vmap/grad: an exported program has
             return jitted(*args, **kwargs)  # no batching or differentiation rules; the outer trace is cached anyway
         avals = tuple((np.shape(x), np.dtype(x.dtype).str) for x in leaves)
-        key = hashlib.sha256(repr((fn.__module__, fn.__qualname__, _fingerprint(), treedef, static, avals)).encode()).hexdigest()[:32]
-        exported = programs.get(key)
+        try:  # hashing the static part is cheap; its repr (the disk key) is not, for a motion of 1000 segments
+            key = (treedef, tuple(jax.tree.leaves(static)), avals)
+            exported = programs.get(key)
+        except TypeError:  # an unhashable static value: key by its text
+            key = repr((treedef, static, avals))
+            exported = programs.get(key)
         if exported is None:
-            file = _DIR / f"{fn.__name__}-{key}.jaxexport"
+            name = hashlib.sha256(repr((fn.__module__, fn.__qualname__, _fingerprint(), treedef, static, avals)).encode()).hexdigest()[:32]
+            file = _DIR / f"{fn.__name__}-{name}.jaxexport"
             exported = _load(file)
             if exported is None:
                 def flat(*xs):

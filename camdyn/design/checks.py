@@ -12,7 +12,7 @@ import numpy as np
 from .._core.units import RPM
 from ..model import dynamics as dyn
 from ..model.case import Case
-from ..model.geometry import CamGeometry, analyze, newton_per_torque_at
+from ..model.geometry import CamGeometry, analyze, lever_arm_mm, newton_per_torque_at
 from ._check import Check, CheckKind
 from .geometry import judge_geometry
 
@@ -57,6 +57,25 @@ def _finite_or_none(x: float) -> float | None:
     return None if x is None or not math.isfinite(x) else float(x)
 
 
+def _at_contact(case: Case, value_rad: float, deg: float) -> float:
+    """An arm-swing quantity (rad, rad/s) at the contact along its normal (mm, mm/s): times the lever arm there."""
+    if not math.isfinite(deg):
+        return 0.0 if value_rad == 0.0 else math.nan
+    return value_rad * float(lever_arm_mm(case.motion, case.follower, np.deg2rad([deg]))[0])
+
+
+def separation_json(case: Case, sep: dyn.Separation) -> dict:
+    """One separation as the JSON contract has it: gap (mm) and impact speed (m/s) at the contact, the arm's angular
+    gap (rad) and speed (rad/s) beside them for an oscillating follower, and ``settled``."""
+    out = {"start_deg": sep.start_deg, "end_deg": sep.end_deg}
+    if case.oscillating:
+        out |= {"max_gap_mm": _at_contact(case, sep.max_gap, sep.max_gap_deg), "impact_speed_m_s": _at_contact(case, sep.impact_speed, sep.impact_deg) / 1000.0}
+        out |= {"max_gap_rad": sep.max_gap, "impact_speed_rad_s": sep.impact_speed}
+    else:
+        out |= {"max_gap_mm": sep.max_gap, "impact_speed_m_s": sep.impact_speed}
+    return out | {"bounces": sep.bounces, "settled": sep.settled}
+
+
 def forces_in_newton(case: Case, resp: dyn.Response) -> dyn.Response:
     """A response with an oscillating follower's torques (N*m) as contact forces (N) through the lever arm of
     the contact normal; a translating follower's as it is."""
@@ -64,6 +83,16 @@ def forces_in_newton(case: Case, resp: dyn.Response) -> dyn.Response:
         return resp
     per_torque = newton_per_torque_at(case.motion, case.follower, np.deg2rad(resp.theta_deg))
     return dataclasses.replace(resp, force=resp.force * per_torque, kinematic_force=resp.kinematic_force * per_torque)
+
+
+def _separation_note(sep: dict, rpm: float, restitution: float) -> str:
+    gap = f"gap up to {sep['max_gap_mm']:.3g} mm"
+    if not sep["settled"]:
+        why = "it keeps bouncing" if sep["bounces"] else "it is not back on the cam within a revolution"
+        if sep["start_deg"] == sep["end_deg"] == 0.0:
+            return f"the follower does not stay on the cam anywhere at {rpm:g} rpm ({gap}): far beyond its jump speed"
+        return f"the follower leaves the cam at {sep['start_deg']:.1f} deg and does not settle back ({why}; restitution {restitution:g}; {gap})"
+    return f"the follower leaves the cam at {sep['start_deg']:.1f} deg and lands at {sep['end_deg']:.1f} deg ({gap}, impact at {sep['impact_speed_m_s']:.3g} m/s)"
 
 
 def run_check(case: Case, speed_rpm: float | None = None) -> CheckReport:
@@ -105,10 +134,13 @@ def run_check(case: Case, speed_rpm: float | None = None) -> CheckReport:
         "min_contact_force_N": resp.min_force,
         "min_contact_force_deg": resp.min_force_deg,
         "jump_speed_rpm": _finite_or_none(w_dyn / RPM),
-        "separations": [s.json(unit) for s in resp.separations],
-        ("residual_vibration_mm" if unit == "mm" else "residual_vibration_rad"): resp.residual_vibration,
+        "separations": [separation_json(case, s) for s in resp.separations],
+        "residual_vibration_mm": resp.residual_vibration,
         "periodicity_error": resp.periodicity_error,
     }
+    if case.oscillating:  # the contract's keys at the contact, the arm's angle beside them
+        dynamic["residual_vibration_mm"] = _at_contact(case, resp.residual_vibration, resp.residual_vibration_deg)
+        dynamic["residual_vibration_rad"] = resp.residual_vibration
     advice: list[str] = []
     geo = None
     if case.follower is not None:
@@ -117,6 +149,6 @@ def run_check(case: Case, speed_rpm: float | None = None) -> CheckReport:
         checks += tuple(geo_checks)
         warnings += geo_warnings
         advice += geo_advice
-    for sep in resp.separations:
-        warnings.append(f"the follower leaves the cam at {sep.start_deg:.1f} deg and lands at {sep.end_deg:.1f} deg (gap up to {sep.max_gap:.3g} {unit}, impact at {sep.impact_speed:.3g} m/s)")
+    for sep in dynamic["separations"]:
+        warnings.append(_separation_note(sep, rpm, float(case.model.restitution)))
     return CheckReport(case, rpm, checks, kinematic, dynamic, resp, tuple(warnings), tuple(advice), geo)

@@ -21,7 +21,7 @@ from ..._core.units import RPM, THETA_GRID, TWO_PI
 from ..follower import FollowerModel
 from ..motion import Motion, evaluate
 from ._kinematic import kinematic_force_jit, kinematic_force
-from ._result import Response, _dwell_mask, _separations_from_mask
+from ._result import Response, _separations_from_mask, residual_vibration
 
 
 _RTOL, _ATOL = 1e-9, 1e-10
@@ -193,10 +193,9 @@ def compliant_response(motion: Motion, model: FollowerModel, omega: float, n: in
     # static equilibrium in a dwell: k_f (s - x) = k x + F0 + F_ext
     kf, kk = float(model.train_stiffness) * model.scale, float(model.stiffness) * model.scale
     x_static = (kf * vals[0] - float(model.preload) - float(model.external)) / (kk + kf)
-    dwell = _dwell_mask(motion, theta_deg)
-    resid = float(np.max(np.abs(x - x_static)[dwell])) if dwell.any() else 0.0
+    resid, resid_deg = residual_vibration(motion, theta_deg, x - x_static)
     warnings = []
     tol = 1e-6 * max(1.0, float(np.max(np.abs(vals[0]))))
     if float(residual) > tol:
         warnings.append(f"no exactly periodic steady state at {omega / RPM:.1f} rpm (revolution-to-revolution mismatch {float(residual):.2g} {motion.unit}): the follower's bouncing is not periodic; results are for the best of {_NEWTON_ITERS} shooting iterations and {_PLAIN_REVS} revolutions")
-    return Response("compliant", float(omega), theta_deg, vals[0], x, p, fi, kin, tuple(seps), resid, float(residual), tuple(warnings))
+    return Response("compliant", float(omega), theta_deg, vals[0], x, p, fi, kin, tuple(seps), resid, float(residual), tuple(warnings), resid_deg)

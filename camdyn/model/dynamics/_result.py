@@ -6,24 +6,27 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..._core.errors import NumericalError
 from ..motion import Motion
 
 
 @dataclass(frozen=True)
 class Separation:
-    """One flight from lift-off to the touchdown that ends the bouncing."""
+    """One flight from lift-off to the touchdown that ends the bouncing (angles deg in [0, 360)).
+
+    Gaps and speeds are in the motion's units: mm and m/s for a translating follower, rad and rad/s of arm
+    swing for an oscillating one (camdyn.design.checks turns those into mm and m/s at the contact).
+    ``settled`` is False where the follower never returns to steady contact (it keeps bouncing, or is not back
+    on the cam two revolutions after lift-off): the flight then runs to ``end_deg`` and no further.
+    """
 
     start_deg: float
     end_deg: float
     max_gap: float  # motion units (mm or rad)
     impact_speed: float  # relative speed at the first touchdown, m/s (or rad/s)
     bounces: int = 0
-
-    def json(self, unit: str) -> dict:
-        gap_key = "max_gap_mm" if unit == "mm" else "max_gap_rad"
-        speed_key = "impact_speed_m_s" if unit == "mm" else "impact_speed_rad_s"
-        return {"start_deg": self.start_deg, "end_deg": self.end_deg, gap_key: self.max_gap, speed_key: self.impact_speed, "bounces": self.bounces}
+    max_gap_deg: float = float("nan")  # where the largest gap is
+    impact_deg: float = float("nan")  # where the first touchdown is
+    settled: bool = True
 
 
 @dataclass(frozen=True)
@@ -42,6 +45,12 @@ class Response:
     residual_vibration: float  # largest |x - x_static| in the dwells (static equilibrium), motion units
     periodicity_error: float  # |Phi(y0) - y0| of the shooting, motion units
     warnings: tuple[str, ...] = field(default=())
+    residual_vibration_deg: float = float("nan")  # where the residual vibration peaks
+
+    @property
+    def settled(self) -> bool:
+        """Whether the follower is back in steady contact after every separation."""
+        return all(s.settled for s in self.separations)
 
     @property
     def min_force(self) -> float:
@@ -50,6 +59,17 @@ class Response:
     @property
     def min_force_deg(self) -> float:
         return float(self.theta_deg[int(np.argmin(self.force))])
+
+
+def residual_vibration(motion: Motion, theta_deg: np.ndarray, deviation: np.ndarray) -> tuple[float, float]:
+    """The largest |deviation from static equilibrium| in the dwells (motion units) and its angle (deg);
+    (0, NaN) for a motion without dwells."""
+    dwell = _dwell_mask(motion, theta_deg)
+    if not dwell.any():
+        return 0.0, float("nan")
+    dev = np.where(dwell, np.abs(deviation), -1.0)
+    i = int(np.argmax(dev))
+    return float(dev[i]), float(theta_deg[i])
 
 
 def _dwell_mask(motion: Motion, theta_deg: np.ndarray) -> np.ndarray:
@@ -66,8 +86,9 @@ def _separations_from_mask(theta_deg, flying, gap, rel_speed, merge_deg) -> list
     n = len(theta_deg)
     if not flying.any():
         return []
-    if flying.all():
-        raise NumericalError("dynamics", "the follower never touches the cam in steady state")
+    if flying.all():  # far beyond the jump speed: no steady contact at all
+        i = int(np.argmax(gap))
+        return [Separation(0.0, 0.0, float(gap[i]), 0.0, 0, float(theta_deg[i]), float("nan"), settled=False)]
     step = 360.0 / n
     shift = int(np.argmin(flying))  # start the scan in contact so no flight wraps the grid end
     idx = (np.arange(n) + shift) % n
@@ -91,13 +112,16 @@ def _separations_from_mask(theta_deg, flying, gap, rel_speed, merge_deg) -> list
     for a, b, bounces in merged:
         sel = idx[a:b]
         first_touch = idx[min(b, n - 1)] if b < n else idx[0]
+        top = sel[int(np.argmax(gap[sel]))]
         out.append(
             Separation(
                 start_deg=float(theta_deg[idx[a]]),
                 end_deg=float(theta_deg[idx[b % n]]) if b < n else float(theta_deg[idx[0]]),
-                max_gap=float(np.max(gap[sel])),
+                max_gap=float(gap[top]),
                 impact_speed=float(abs(rel_speed[first_touch])),
                 bounces=bounces,
+                max_gap_deg=float(theta_deg[top]),
+                impact_deg=float(theta_deg[first_touch]),
             )
         )
     return out

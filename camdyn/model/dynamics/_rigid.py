@@ -4,6 +4,7 @@ damper (diffrax, with a landing event) until it meets the cam, impact ``x'+ = w 
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 import diffrax
 import equinox as eqx
@@ -19,10 +20,11 @@ from ..follower import FollowerModel
 from ..motion import Motion, evaluate
 from ._compliant import _ATOL, _MAX_STEPS, _RTOL, _vector_field
 from ._kinematic import kinematic_force_jit
-from ._result import Response, Separation, _dwell_mask
+from ._result import Response, Separation, residual_vibration
 
 
 _GAP_EPS = 1e-9  # motion units; a landing is detected this far below contact, so a flight starts above it
+_BREAK_EPS = 1e-10  # rad: just past a segment boundary, on its far side
 
 
 def _flight_event(t, y, args, **kwargs):
@@ -54,12 +56,105 @@ def _sample_dense(sol, ts):
     return jax.vmap(sol.evaluate)(ts)
 
 
+def _lift_off(fk, t_a: float, h: float, breaks_rad: np.ndarray) -> float:
+    """The lift-off angle (rad) in the grid step [t_a, t_a + h] where the kinematic force ``fk`` falls to zero.
+
+    Where the force is continuous, Brent's root. Where the step holds a segment boundary at which the force jumps
+    from positive to non-positive (an acceleration jump), the follower leaves exactly there: the boundary, just
+    past it. The grid's own sign change may sit on either side of a boundary on the grid, so the step is widened
+    by a step each way before giving up.
+    """
+    a, b = t_a, t_a + h
+    if fk(a) > 0.0 >= fk(b):
+        return brentq(fk, a, b, xtol=1e-13)
+    for brk in breaks_rad:  # a jump at a segment boundary in or next to this step
+        t_b = brk + TWO_PI * math.floor((t_a - brk) / TWO_PI + 0.5)
+        if a - h - 1e-12 <= t_b <= b + h + 1e-12 and fk(t_b - _BREAK_EPS) > 0.0 >= fk(t_b + _BREAK_EPS):
+            return t_b + _BREAK_EPS
+    ts = np.linspace(a - h, b + h, 33)
+    fs = [fk(t) for t in ts]
+    for k in range(32):
+        if fs[k] > 0.0 >= fs[k + 1]:
+            return brentq(fk, ts[k], ts[k + 1], xtol=1e-13)
+    raise NumericalError(f"lift-off near {math.degrees(t_a) % 360:.2f} deg", "no sign change of the kinematic force found in the step the grid flagged")
+
+
+@dataclass
+class _Flight:
+    """What a march from one lift-off found: where the bouncing ended, how high, how hard, how often."""
+
+    end: float  # rad, unwrapped
+    max_gap: float = 0.0
+    max_gap_at: float = math.nan
+    impact: float | None = None  # relative speed at the first touchdown, SI
+    impact_at: float = math.nan
+    bounces: int = 0
+    settled: bool = True
+
+
+def _march(motion, model, omega, fk, t_lo, out, vals, n, max_bounces) -> _Flight:
+    """Flights from lift-off ``t_lo`` (rad) until the follower is back in contact for good, writing the flying
+    grid points into ``out = (x, p, force)``. Bounces end when the relative speed falls below what the landing
+    tolerance itself adds; the rest of the geometric bounce sequence then adds its accumulation time."""
+    x, p, force = out
+    h = TWO_PI / n
+    w_sc = omega * model.scale
+    e = float(model.restitution)
+    s_lo = np.asarray(evaluate(motion, jnp.asarray(t_lo)))
+    y = jnp.asarray([s_lo[0], s_lo[1]])
+    fl = _Flight(end=t_lo)
+    t0 = t_lo
+    for _ in range(max_bounces + 2):
+        sol = _flight(motion, model, jnp.asarray(omega, dtype=float), jnp.asarray(t0, dtype=float), y)
+        landed = sol.result == diffrax.RESULTS.event_occurred
+        t1 = float(sol.ts[-1]) if landed else min(float(sol.ts[-1]), t_lo + TWO_PI - h)
+        k0, k1 = math.ceil(t0 / h), math.floor(t1 / h)
+        if k1 >= k0:  # sample the flight on the grid: the output arrays and the largest gap
+            count = k1 - k0 + 1
+            tt = np.clip(np.arange(k0, k0 + 2 * n) * h, t0, t1)  # fixed shape: one compile
+            yy = np.asarray(_sample_dense(sol, jnp.asarray(tt)))[:count]
+            ii = np.arange(k0, k1 + 1) % n
+            x[ii], p[ii], force[ii] = yy[:, 0], yy[:, 1], 0.0
+            gaps = yy[:, 0] - vals[0][ii]
+            if gaps.max() > fl.max_gap:
+                fl.max_gap, fl.max_gap_at = float(gaps.max()), float(tt[int(np.argmax(gaps))])
+        if not landed or t1 - t_lo > TWO_PI - h:  # not back on the cam within a revolution of lift-off
+            fl.end, fl.settled = t1, False
+            return fl
+        y1 = np.asarray(sol.ys[-1])
+        s1 = np.asarray(evaluate(motion, jnp.asarray(t1)))
+        rel = y1[1] - s1[1]  # per rad, negative: closing
+        if fl.impact is None:
+            fl.impact, fl.impact_at = abs(rel) * w_sc, t1
+        t0 = t1
+        # A landing is detected _GAP_EPS below the cam, so every relaunch gains the speed of that fall:
+        # bounces slower than it are numerical, not physical (the Zeno sequence has accumulated).
+        a_rel = abs(fk(t1)) / (float(model.mass) * omega**2 * model.scale)  # relative accel, unit/rad^2
+        v_floor = 10.0 * math.sqrt(2.0 * a_rel * _GAP_EPS)
+        if e > 0.0 and abs(rel) > v_floor:
+            fl.bounces += 1
+            y = jnp.asarray([s1[0], s1[1] - e * rel])
+            continue
+        if fk(t1) <= 0.0:  # the cam is still pulling away: another flight right away
+            fl.bounces += 1
+            y = jnp.asarray([s1[0], s1[1]])
+            continue
+        # the bounces left below the floor form a geometric sequence: flight times 2 e^k v / a, summed
+        fl.end = t1 + (2.0 * e * abs(rel) / (a_rel * (1.0 - e)) if 0.0 < e < 1.0 and a_rel > 0.0 else 0.0)
+        return fl
+    fl.end, fl.settled = t0, False  # still bouncing after max_bounces
+    return fl
+
+
 def rigid_response(motion: Motion, model: FollowerModel, omega: float, n: int = THETA_GRID, max_bounces: int = 200) -> Response:
     """Event-driven steady state of the rigid follower at cam speed omega (rad/s).
 
     In contact the follower has no state of its own, so the steady state is reached at the first touchdown:
     start in contact at the angle of the largest kinematic force and march one revolution through lift-offs
-    (zeros of the kinematic force), flights (diffrax, landing event) and impacts.
+    (zeros of the kinematic force, or jumps through zero at segment boundaries), flights (diffrax, landing
+    event) and impacts. A follower that does not settle back on the cam (it keeps bouncing, e.g. with
+    restitution 1, or stays off it for a revolution) is a result, not an error: its separation says
+    ``settled=False`` and the rest of the revolution counts as flight.
     """
     theta = np.arange(n) * (TWO_PI / n)
     theta_deg = np.degrees(theta)
@@ -70,58 +165,27 @@ def rigid_response(motion: Motion, model: FollowerModel, omega: float, n: int = 
 
     fk = lambda t: float(kinematic_force_jit(motion, model, jnp.asarray(omega, dtype=float), jnp.asarray(t, dtype=float)))  # noqa: E731
     x, p, force = vals[0].copy(), vals[1].copy(), kin.copy()
-    theta_start = theta[int(np.argmax(kin))]
+    i_start = int(np.argmax(kin))
+    theta_start = theta[i_start]
     # lift-offs: downward zero crossings of the kinematic force, in [theta_start, theta_start + 2 pi)
-    order = (np.arange(n) + int(np.argmax(kin))) % n
-    ks = kin[order]
+    ks = kin[(np.arange(n) + i_start) % n]
     crossings = [j for j in range(1, n) if ks[j - 1] > 0.0 >= ks[j]]
+    breaks = np.deg2rad(np.asarray(motion.breaks_deg, dtype=float))
     seps: list[Separation] = []
     t_end_prev = theta_start
-    w_sc = omega * model.scale
     for j in crossings:
         t_a = theta_start + (j - 1) * TWO_PI / n
         if t_a < t_end_prev:
             continue  # this zero lies inside the previous flight
-        t_lo = brentq(fk, t_a, t_a + TWO_PI / n, xtol=1e-13)
-        s_lo = np.asarray(evaluate(motion, jnp.asarray(t_lo)))
-        y = jnp.asarray([s_lo[0], s_lo[1]])
-        t0, bounces, max_gap, impact = t_lo, 0, 0.0, None
-        while True:
-            sol = _flight(motion, model, jnp.asarray(omega, dtype=float), jnp.asarray(t0, dtype=float), y)
-            if sol.result != diffrax.RESULTS.event_occurred:
-                raise NumericalError(f"dynamics at {omega / RPM:.1f} rpm, lift-off at {math.degrees(t_lo) % 360:.2f} deg", "the follower does not return to the cam within two revolutions")
-            t1 = float(sol.ts[-1])
-            # sample the flight on the grid for the output arrays and the largest gap
-            k0, k1 = math.ceil(t0 / (TWO_PI / n)), math.floor(t1 / (TWO_PI / n))
-            if k1 >= k0:
-                count = k1 - k0 + 1
-                tt = np.clip(np.arange(k0, k0 + 2 * n) * (TWO_PI / n), t0, t1)  # fixed shape: one compile
-                yy = np.asarray(_sample_dense(sol, jnp.asarray(tt)))[:count]
-                ii = np.arange(k0, k1 + 1) % n
-                x[ii], p[ii], force[ii] = yy[:, 0], yy[:, 1], 0.0
-                max_gap = max(max_gap, float(np.max(yy[:, 0] - vals[0][ii])))
-            y1 = np.asarray(sol.ys[-1])
-            s1 = np.asarray(evaluate(motion, jnp.asarray(t1)))
-            rel = y1[1] - s1[1]  # per rad, negative: closing
-            if impact is None:
-                impact = abs(rel) * w_sc
-            e = float(model.restitution)
-            t0 = t1
-            # A landing is detected _GAP_EPS below the cam, so every relaunch gains the speed of that fall:
-            # bounces slower than it are numerical, not physical (the Zeno sequence has accumulated).
-            a_rel = abs(fk(t1)) / (float(model.mass) * omega**2 * model.scale)  # relative accel, unit/rad^2
-            v_floor = 10.0 * math.sqrt(2.0 * a_rel * _GAP_EPS)
-            if e > 0.0 and abs(rel) > v_floor and bounces < max_bounces:
-                bounces += 1
-                y = jnp.asarray([s1[0], s1[1] - e * rel])
-                continue
-            if fk(t1) <= 0.0:  # the cam is still pulling away: another flight right away
-                bounces += 1
-                y = jnp.asarray([s1[0], s1[1]])
-                continue
+        t_lo = _lift_off(fk, t_a, TWO_PI / n, breaks)
+        fl = _march(motion, model, omega, fk, t_lo, (x, p, force), vals, n, max_bounces)
+        deg = lambda t: math.degrees(t) % 360.0  # noqa: E731
+        seps.append(Separation(deg(t_lo), deg(fl.end), fl.max_gap, float(fl.impact or 0.0), fl.bounces, deg(fl.max_gap_at), deg(fl.impact_at), fl.settled))
+        t_end_prev = fl.end
+        if not fl.settled:
             break
-        t_end_prev = t0
-        seps.append(Separation(math.degrees(t_lo) % 360.0, math.degrees(t0) % 360.0, max_gap, float(impact), bounces))
-    dwell = _dwell_mask(motion, theta_deg)
-    resid = float(np.max(np.abs(x - vals[0])[dwell])) if dwell.any() else 0.0
-    return Response("rigid", float(omega), theta_deg, vals[0], x, p, force, kin, tuple(seps), resid, 0.0)
+    # a grid point exactly on a boundary where the force jumps through zero takes the far side's (negative)
+    # kinematic value; the follower leaves there: a rigid follower's contact force is never below zero
+    force = np.maximum(force, 0.0)
+    resid, resid_deg = residual_vibration(motion, theta_deg, x - vals[0])
+    return Response("rigid", float(omega), theta_deg, vals[0], x, p, force, kin, tuple(seps), resid, 0.0, (), resid_deg)
