@@ -1,11 +1,13 @@
-"""Output files: names made from user data, folders to write into, and the overwrite guard.
+"""Output files: names made from user data, the files and folders a command writes, and the overwrite guard.
 
 A case's ``name`` is data, not a path: :func:`safe_stem` turns it into a file-name stem that cannot leave the
-folder the user named (no separators, no ``..``, no leading dot).
+folder the user named (no separators, no ``..``, no leading dot). Commands check where their output goes
+(:func:`output_file`, :func:`output_dir`) before they work, not after minutes of it.
 """
 
 from __future__ import annotations
 
+import os
 import re
 from pathlib import Path
 
@@ -18,15 +20,34 @@ def safe_stem(name: str) -> str:
     return s or "case"
 
 
-def output_dir(path, what: str = "output") -> Path:
-    """``path`` as a folder to write into, created if missing; :class:`InputError` if it cannot be one."""
-    path = Path(path)
+def _writable_dir(path: Path, what: str) -> Path:
+    """``path`` as an existing folder that can be written into (created, with its parents, if missing)."""
     if path.exists() and not path.is_dir():
-        raise InputError(str(path), f"exists and is not a folder: give -o a folder for the {what}")
+        raise InputError(str(path), f"exists and is not a folder: give a folder for the {what}")
     try:
         path.mkdir(parents=True, exist_ok=True)
+    except FileExistsError:
+        raise InputError(str(path), f"a part of this path is a file, not a folder: give a folder for the {what}") from None
     except OSError as err:
         raise InputError(str(path), f"cannot create the {what} folder: {err.strerror or err}") from None
+    if not os.access(path, os.W_OK | os.X_OK):
+        raise InputError(str(path), f"cannot write into this folder (permission denied): give another folder for the {what}")
+    return path
+
+
+def output_dir(path, what: str = "output") -> Path:
+    """``path`` as a folder to write into, created if missing; :class:`InputError` if it cannot be one."""
+    return _writable_dir(Path(path), what)
+
+
+def output_file(path, force: bool, what: str = "output") -> Path:
+    """``path`` as a file to write: not a folder, not an existing file unless ``force``, its folder created and
+    writable. Call it before the work that makes the file."""
+    path = Path(path)
+    if path.is_dir():
+        raise InputError(str(path), f"is a folder: give a file name for the {what}")
+    refuse_overwrite(path, force)
+    _writable_dir(path.parent if str(path.parent) else Path("."), what)
     return path
 
 
@@ -37,7 +58,9 @@ def refuse_overwrite(path: Path, force: bool) -> None:
 
 
 def write_new(path: Path, text: str, force: bool) -> None:
-    """Write ``text`` to ``path`` (its folder created), refusing to replace a file without ``force``."""
-    refuse_overwrite(path, force)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    path.write_text(text, encoding="utf-8")
+    """Write ``text`` to ``path`` (see :func:`output_file`), refusing to replace a file without ``force``."""
+    path = output_file(path, force)
+    try:
+        path.write_text(text, encoding="utf-8")
+    except OSError as err:
+        raise InputError(str(path), f"cannot write the file: {err.strerror or err}") from None

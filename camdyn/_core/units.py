@@ -24,6 +24,19 @@ DEFAULT_MIN_CONTACT_FORCE_N = 0.0
 DEFAULT_MAX_PRESSURE_ANGLE_DEG = {"translating": 30.0, "oscillating": 35.0}
 DEFAULT_MIN_CURVATURE_RATIO = 1.5
 DEFAULT_TRAIN_DAMPING_RATIO = 0.05
+# Physical bounds: a number beyond them is a typo or a unit slip, not a cam camdyn can judge (a 10 m cam, a
+# follower lighter than a milligram), and it would only send the solvers into the weeds.
+MAX_LENGTH_MM = 1e4  # 10 m
+MAX_SPEED_RPM = 1e5
+MASS_RANGE_KG = (1e-6, 1e4)
+INERTIA_RANGE_KG_M2 = (1e-12, 1e4)
+MAX_RATE_N_PER_MM = 1e7  # a spring rate; a follower train may be 10x stiffer
+MAX_TORSION_RATE_N_M_PER_RAD = 1e7
+MAX_FORCE_N = 1e7
+MAX_TORQUE_N_M = 1e6
+MAX_DAMPING = 1e7  # N*s/m or N*m*s/rad
+MAX_DAMPING_RATIO = 100.0
+
 CUSP_MM = 1e-6  # a flat-faced contour radius of curvature under 1 nm is a cusp: that check's limit
 
 

@@ -17,6 +17,8 @@ from importlib import import_module
 from importlib.metadata import PackageNotFoundError, version
 from pathlib import Path
 
+from .._core.units import MAX_SPEED_RPM
+
 # Before equinox loads: its runtime checks otherwise embed host callbacks, which keep JAX from caching the
 # compiled diffrax solves on disk (camdyn checks every solver result itself, so NaN-on-error loses nothing).
 os.environ.setdefault("EQX_ON_ERROR", "nan")
@@ -38,6 +40,8 @@ def _positive_rpm(text: str) -> float:
         raise argparse.ArgumentTypeError(f"must be a positive number of rpm (got {text!r})") from None
     if not (value > 0 and math.isfinite(value)):
         raise argparse.ArgumentTypeError(f"must be a positive number of rpm (got {text})")
+    if value > MAX_SPEED_RPM:
+        raise argparse.ArgumentTypeError(f"at most {MAX_SPEED_RPM:g} rpm (got {text})")
     return value
 
 
@@ -63,6 +67,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("case", help="case file (TOML)")
     p.add_argument("--speed", type=_positive_rpm, metavar="RPM", help="cam speed, rpm (default: the case's)")
     p.add_argument("--json", action="store_true", help="print one JSON document")
+    p.add_argument("--arrays", action="store_true", help="with --json: also the synthesis' coordinate arrays of a path case (pitch curve, contour, path, traced path)")
     p.add_argument("--report", metavar="DIR", help="also write the design-review report (DIR/<case>.pdf and a PNG per page)")
 
     p = command("report", "design-review report per case: DIR/<case>.pdf and DIR/<case>-<n>-<page>.png")
@@ -70,16 +75,17 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("-o", "--output", default="reports", metavar="DIR", help="output folder (default: reports); camdyn's own report files there are overwritten")
     p.add_argument("--speed", type=_positive_rpm, metavar="RPM", help="cam speed, rpm (default: each case's)")
 
-    p = command("table", "CSV of the follower motion and kinematic contact force per angle")
+    p = command("table", "CSV per angle: follower motion, contact force (kinematic and dynamic), cam geometry")
     p.add_argument("case", help="case file (TOML)")
     p.add_argument("--step", type=float, default=1.0, metavar="DEG", help="angle step, deg (default 1)")
+    p.add_argument("--speed", type=_positive_rpm, metavar="RPM", help="cam speed for the forces, rpm (default: the case's)")
     p.add_argument("-o", "--output", metavar="FILE", help="write to FILE instead of standard output")
     p.add_argument("--force", action="store_true", help="overwrite FILE if it exists")
 
     p = command("profile", "the cam contour for manufacturing: DXF, CSV or SVG by the file suffix")
     p.add_argument("case", help="case file (TOML)")
     p.add_argument("-o", "--output", required=True, metavar="FILE", help="cam.dxf, cam.csv or cam.svg")
-    p.add_argument("--tolerance", type=float, default=0.01, metavar="MM", help="chord tolerance, mm (default 0.01)")
+    p.add_argument("--tolerance", type=float, default=0.01, metavar="MM", help="chord tolerance, mm (default 0.01, at least 1e-6)")
     p.add_argument("--force", action="store_true", help="overwrite FILE if it exists")
 
     p = command("size", "return spring (rate, preload) with the least peak force that holds up to margin x speed")

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import json
+import math
 import sys
 from contextlib import contextmanager
 
@@ -9,6 +11,8 @@ from rich.console import Console
 from rich.markup import escape
 from rich.progress import BarColumn, MofNCompleteColumn, Progress, SpinnerColumn, TextColumn, TimeElapsedColumn
 from rich.table import Table
+
+from .._core.errors import NumericalError
 
 
 def console() -> Console:
@@ -43,3 +47,23 @@ def progress_bar():
             bar.update(tasks[phase], completed=done, total=total)
 
         yield progress
+
+
+def _finite(value, where: str):
+    """``value`` with infinities as None (the contract's "unbounded"); a NaN is a failure naming its key."""
+    if isinstance(value, dict):
+        return {k: _finite(v, f"{where}.{k}" if where else str(k)) for k, v in value.items()}
+    if isinstance(value, list | tuple):
+        return [_finite(v, f"{where}[{i}]") for i, v in enumerate(value)]
+    if hasattr(value, "item") and not isinstance(value, str):  # numpy scalars
+        value = value.item()
+    if isinstance(value, float) and not math.isfinite(value):
+        if math.isnan(value):
+            raise NumericalError(f"json {where}", "is not a number (NaN): the computation behind it failed")
+        return None
+    return value
+
+
+def json_text(doc: dict) -> str:
+    """A JSON document for scripts: strict JSON (no NaN or Infinity tokens), infinities written as null."""
+    return json.dumps(_finite(doc, ""), indent=2, allow_nan=False)

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import dataclasses
-import json
 import sys
 from pathlib import Path
 
@@ -12,7 +11,7 @@ from ..design.advice import corner_radius_advice
 from ..design.checks import CheckReport, run_check
 from ..model.case import build_case
 from ..report import write_report
-from ._console import console, notes, progress_bar, table
+from ._console import console, json_text, notes, progress_bar, table
 
 
 def print_check(report: CheckReport) -> None:
@@ -47,7 +46,7 @@ def run(args) -> int:
         if tip:
             report = dataclasses.replace(report, advice=report.advice + (tip,))
     if args.json:
-        print(json.dumps(report.json(), indent=2))
+        print(json_text(report.json(arrays=args.arrays)))
     else:
         print_check(report)
     if args.report:

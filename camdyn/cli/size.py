@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 
 import numpy as np
@@ -75,7 +74,7 @@ def print_size(sz: SpringSizing) -> None:
 def run(args) -> int:
     sz = size_spring(build_case(args.spec, source=Path(args.case)), args.max_speed, args.margin, args.min_rate)
     if args.json:
-        print(json.dumps(sz.json(), indent=2))
+        print(_console.json_text(sz.json()))
     else:
         print_size(sz)
     return 0

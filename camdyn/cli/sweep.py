@@ -10,7 +10,7 @@ from pathlib import Path
 import numpy as np
 
 from .._core.errors import InputError
-from .._core.outputs import refuse_overwrite, safe_stem, write_new
+from .._core.outputs import output_dir, output_file, safe_stem, write_new
 from ..design.sweep import jump_map
 from ..model.case import build_case
 from ..plot import save_png
@@ -39,11 +39,11 @@ def run(args) -> int:
     speeds = _parse_grid("--speeds", args.speeds)
     rates = _parse_grid("--spring-rates", args.spring_rates) if args.spring_rates is not None else None
     case = build_case(args.spec, source=Path(args.case))
-    out = Path(args.output)
-    stem = safe_stem(case.name)
+    out = output_dir(args.output, "jump map")
+    stem = safe_stem(case.name)  # the case's name is data, not a path: the files stay in the folder named
     csv_path, png_path = out / f"{stem}-sweep.csv", out / f"{stem}-sweep.png"
     for path in (csv_path, png_path):
-        refuse_overwrite(path, args.force)
+        output_file(path, args.force, "jump map")
     t0 = time.perf_counter()
     with progress_bar() as progress:
         jm = jump_map(case, speeds, rates, progress=progress)

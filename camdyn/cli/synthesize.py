@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import json
 import time
 from pathlib import Path
 
@@ -10,7 +9,7 @@ from rich.markup import escape
 from rich.table import Table
 
 from .._core.errors import InputError
-from .._core.outputs import refuse_overwrite, write_new
+from .._core.outputs import output_file, write_new
 from ..design.synthesize import synthesize_case
 from . import _console
 
@@ -47,8 +46,7 @@ def print_synthesize(res, output: Path, elapsed: float) -> None:
 
 
 def run(args) -> int:
-    out = Path(args.output)
-    refuse_overwrite(out, args.force)  # before minutes of work, not after
+    out = output_file(args.output, args.force, "case file")  # before minutes of work, not after
     if out.resolve() == Path(args.case).resolve():
         raise InputError(str(out), "is the input path file; write the case to another file")
     t0 = time.perf_counter()
@@ -58,7 +56,7 @@ def run(args) -> int:
     write_new(out, res.text, args.force)
     if args.json:
         doc = {"output": str(out), "constraints_met": res.constraints_met, "time_s": elapsed, "mechanism": res.mechanism, "dynamics": res.dynamics, "summary": res.summary, "notes": res.notes}
-        print(json.dumps(doc, indent=2, default=lambda o: o.item() if hasattr(o, "item") else str(o)))
+        print(_console.json_text(doc))
     else:
         print_synthesize(res, out, elapsed)
     return 0 if res.constraints_met else 1

@@ -17,6 +17,9 @@ from ._check import Check, CheckKind
 from .geometry import judge_geometry
 
 
+SYNTHESIS_ARRAYS = ("theta_deg", "pitch", "contour", "path_xy", "traced_xy")  # check --json --arrays only
+
+
 @dataclass(frozen=True)
 class CheckReport:
     """Everything ``camdyn check`` concludes about a case at one speed."""
@@ -35,7 +38,8 @@ class CheckReport:
     def verdict(self) -> str:
         return "pass" if all(c.ok for c in self.checks) else "fail"
 
-    def json(self) -> dict:
+    def json(self, arrays: bool = False) -> dict:
+        """The ``check --json`` document; a path case's synthesis carries its coordinate arrays only with ``arrays``."""
         out = {
             "case": self.case.name,
             "verdict": self.verdict,
@@ -49,7 +53,8 @@ class CheckReport:
         if self.geometry is not None:
             out["geometry"] = self.geometry.json()
         if self.case.synthesis is not None:
-            out["synthesis"] = self.case.synthesis.json()
+            syn = self.case.synthesis.json()
+            out["synthesis"] = syn if arrays else {k: v for k, v in syn.items() if k not in SYNTHESIS_ARRAYS}
         return out
 
 

@@ -1,4 +1,4 @@
-"""``camdyn table``: the follower motion, the kinematic contact force and the cam geometry per angle."""
+"""``camdyn table``: the follower motion, the contact force (kinematic and dynamic) and the cam geometry per angle."""
 
 from __future__ import annotations
 
@@ -7,19 +7,39 @@ import io
 import jax.numpy as jnp
 import numpy as np
 
+from .._core.errors import InputError
 from .._core.units import RPM
+from ..model import dynamics as dyn
 from ..model.case import Case
-from ..model.dynamics import kinematic_force
 from ..model.geometry import analyze, newton_per_torque_at
 from ..model.motion import evaluate
+from .checks import forces_in_newton
+
+MAX_ROWS = 1_000_000  # a table is read by people and spreadsheets: a million rows is already more than either wants
 
 
-def motion_table(case: Case, step_deg: float = 1.0) -> dict[str, np.ndarray]:
-    """Columns of ``camdyn table`` (one row per angle), kinematic, at the case speed."""
-    theta_deg = np.arange(0.0, 360.0 - 1e-9, step_deg)
+def table_angles(step_deg: float) -> np.ndarray:
+    """Cam angles (deg) from 0 in steps of ``step_deg`` below 360; :class:`InputError` for a step that is not in
+    (0, 360] or makes more than :data:`MAX_ROWS` rows."""
+    if not 0 < step_deg <= 360:
+        raise InputError("--step", f"must be in (0, 360] deg (got {step_deg:g})")
+    rows = 360.0 / step_deg
+    if rows > MAX_ROWS:
+        raise InputError("--step", f"{step_deg:g} deg makes {rows:.3g} rows; a table has at most {MAX_ROWS:,} (a step of at least {360.0 / MAX_ROWS:g} deg)")
+    return np.arange(0.0, 360.0 - 1e-9, step_deg)
+
+
+def motion_table(case: Case, step_deg: float = 1.0, speed_rpm: float | None = None) -> dict[str, np.ndarray]:
+    """Columns of ``camdyn table`` (one row per angle) at ``speed_rpm`` (default: the case's): the motion, the
+    kinematic contact force, the follower's steady-state displacement and contact force from the dynamic model
+    (interpolated from its 0.1 deg grid), and the cam geometry."""
+    theta_deg = table_angles(step_deg)
+    rpm = float(case.speed_rpm if speed_rpm is None else speed_rpm)
     theta = jnp.deg2rad(theta_deg)
     vals = np.asarray(evaluate(case.motion, theta))
-    force = np.asarray(kinematic_force(case.motion, case.model, case.speed_rpm * RPM, theta))
+    force = np.asarray(dyn.kinematic_force(case.motion, case.model, rpm * RPM, theta))
+    resp = forces_in_newton(case, dyn.response(case.motion, case.model, rpm * RPM))
+    at = lambda y: np.interp(theta_deg, resp.theta_deg, y, period=360.0)  # noqa: E731
     cols = {"theta_deg": theta_deg}
     if case.oscillating:
         cols |= {"phi_deg": np.degrees(vals[0]), "phi1_per_rad": vals[1], "phi2_per_rad2": vals[2], "phi3_per_rad3": vals[3]}
@@ -29,6 +49,11 @@ def motion_table(case: Case, step_deg: float = 1.0) -> dict[str, np.ndarray]:
     cols["contact_force_N"] = force
     if case.follower is not None:
         cols |= analyze(case.motion, case.follower).table(theta_deg)
+    if case.oscillating:
+        cols["dynamic_phi_deg"] = np.degrees(at(resp.x))
+    else:
+        cols["dynamic_x_mm"] = at(resp.x)
+    cols["dynamic_contact_force_N"] = at(resp.force)
     return cols
 
 

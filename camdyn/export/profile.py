@@ -16,11 +16,14 @@ from typing import Callable
 import numpy as np
 
 from .._core.errors import InputError, NumericalError
+from .._core.outputs import output_file
 
 FORMATS = (".dxf", ".csv", ".svg")
 _PROBES = 15  # interior samples per interval for its chord deviation; odd, so the midpoint is one
 _START = 64  # initial equal intervals in u
 _MAX_POINTS = 200_000
+MIN_TOLERANCE_MM = 1e-6  # a nanometre: finer is below any machine's resolution (and would need millions of points)
+MAX_TOLERANCE_MM = 10.0
 
 
 def _spline(xy: np.ndarray) -> Callable[[np.ndarray], np.ndarray]:
@@ -100,12 +103,13 @@ def write_profile(contour_xy, path, *, tolerance: float = 0.01, force: bool = Fa
     """
     path = Path(path)
     suffix = path.suffix.lower()
+    if path.is_dir():
+        raise InputError(str(path), "is a folder: give a file name (cam.dxf, cam.csv or cam.svg)")
     if suffix not in _WRITERS:
         raise InputError(str(path), f"unknown format {suffix or '(no suffix)'!r}: use one of {', '.join(FORMATS)}")
-    if not tolerance > 0.0:
-        raise InputError("--tolerance", f"must be positive, got {tolerance:g} mm")
-    if path.exists() and not force:
-        raise InputError(str(path), "exists; pass --force to overwrite it")
+    if not MIN_TOLERANCE_MM <= tolerance <= MAX_TOLERANCE_MM:
+        raise InputError("--tolerance", f"must be between {MIN_TOLERANCE_MM:g} and {MAX_TOLERANCE_MM:g} mm, got {tolerance:g} mm")
+    path = output_file(path, force, "contour")
     if callable(contour_xy):
         curve = contour_xy
     else:
@@ -116,7 +120,10 @@ def write_profile(contour_xy, path, *, tolerance: float = 0.01, force: bool = Fa
             raise InputError("contour", "the contour has non-finite points")
         curve = _spline(xy)
     pts = resample(curve, tolerance)
-    _WRITERS[suffix](pts, path)
+    try:
+        _WRITERS[suffix](pts, path)
+    except OSError as err:
+        raise InputError(str(path), f"cannot write the file: {err.strerror or err}") from None
     lo, hi = pts.min(axis=1), pts.max(axis=1)
     return {
         "path": str(path),

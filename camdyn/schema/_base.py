@@ -68,7 +68,8 @@ def validation_error(err: ValidationError, cls: type[BaseModel], table: str = ""
     if e["type"] == "missing":
         return InputError(where, "required key is missing")
     if "input" in e and not isinstance(e["input"], dict | list) and not keyed:
-        msg += f" (got {e['input']!r})"
+        got = e["input"]
+        msg += f" (got {got:g})" if isinstance(got, float) else f" (got {got!r})"
     return InputError(where, msg)
 
 

@@ -6,7 +6,8 @@ from typing import Literal
 
 from pydantic import Field, model_validator
 
-from ._base import Table
+from .._core.units import MAX_LENGTH_MM
+from ._base import Real, Table
 
 FOLLOWER_TYPES = ("translating-roller", "translating-flat", "oscillating-roller", "oscillating-flat")
 
@@ -31,18 +32,20 @@ class FollowerSpec(Table):
     type: Literal["translating-roller", "translating-flat", "oscillating-roller", "oscillating-flat"] = Field(
         default="translating-roller", description="translating-roller | translating-flat | oscillating-roller | oscillating-flat"
     )
-    base_radius: float = Field(gt=0, description="least radius of the cam contour, mm")
-    roller_radius: float | None = Field(default=None, gt=0, description="roller radius, mm (roller followers)")
-    offset: float = Field(
+    base_radius: Real = Field(gt=0, le=MAX_LENGTH_MM, description="least radius of the cam contour, mm")
+    roller_radius: Real | None = Field(default=None, gt=0, le=MAX_LENGTH_MM, description="roller radius, mm (roller followers)")
+    offset: Real = Field(
         default=0.0,
+        ge=-MAX_LENGTH_MM,
+        le=MAX_LENGTH_MM,
         description="translating: axis offset e, mm, positive lowers the rise pressure angle; "
         "oscillating-flat: distance of the face line from the pivot, mm, positive toward the cam centre",
     )
     rotation: Literal["cw", "ccw"] = Field(default="cw", description="sense in which the cam turns: cw | ccw")
-    pivot_distance: float | None = Field(default=None, gt=0, description="oscillating: cam centre to arm pivot, mm")
-    pivot_angle: float = Field(default=0.0, description="oscillating: direction of the pivot from the cam centre, deg")
-    arm_length: float | None = Field(default=None, gt=0, description="oscillating roller: pivot to roller centre, mm")
-    face_width: float | None = Field(default=None, gt=0, description="flat followers: usable face width, mm")
+    pivot_distance: Real | None = Field(default=None, gt=0, le=MAX_LENGTH_MM, description="oscillating: cam centre to arm pivot, mm")
+    pivot_angle: Real = Field(default=0.0, ge=-360.0, le=360.0, description="oscillating: direction of the pivot from the cam centre, deg")
+    arm_length: Real | None = Field(default=None, gt=0, le=MAX_LENGTH_MM, description="oscillating roller: pivot to roller centre, mm")
+    face_width: Real | None = Field(default=None, gt=0, le=MAX_LENGTH_MM, description="flat followers: usable face width, mm")
 
     @model_validator(mode="after")
     def _keys_for_type(self) -> FollowerSpec:

@@ -6,7 +6,10 @@ from difflib import get_close_matches
 
 from pydantic import Field
 
-from ._base import Table
+from .._core.units import MAX_LENGTH_MM
+from ._base import Real, Table
+
+MIN_SEGMENT_DEG = 0.01  # a move over less cam angle than this cannot be cut, nor followed
 
 # the named motion laws (camdyn.model.motion implements each)
 LAW_NAMES: tuple[str, ...] = (
@@ -27,8 +30,8 @@ class SegmentSpec(Table):
     oscillating follower; negative for a return)."""
 
     law: str = Field(description=f"motion law: {', '.join(LAW_NAMES)}")
-    end: float = Field(description="cam angle where the segment ends, deg (the next starts there; the last ends at 360)")
-    lift: float = Field(default=0.0, description="rise of the segment, mm (deg of arm swing for an oscillating follower); negative for a return, 0 for a dwell")
+    end: Real = Field(description="cam angle where the segment ends, deg (the next starts there; the last ends at 360)")
+    lift: Real = Field(default=0.0, ge=-MAX_LENGTH_MM, le=MAX_LENGTH_MM, description="rise of the segment, mm (deg of arm swing for an oscillating follower); negative for a return, 0 for a dwell")
 
 
 class MotionSpec(Table):
@@ -54,6 +57,8 @@ def check_segments(segments: list[SegmentSpec], lift_unit: str = "mm", key: str 
         if not end > start:
             what = "overlaps the previous segment" if end < start else "has zero length"
             raise ValueError(f"{where}.end: segment ends at {end:g} deg, {what} (starts at {start:g} deg)")
+        if seg.law != "dwell" and end - start < MIN_SEGMENT_DEG:
+            raise ValueError(f"{where}.end: a {seg.law} segment over {end - start:.3g} deg is shorter than {MIN_SEGMENT_DEG:g} deg: no cam can be cut to it")
         if end > 360.0 + 1e-9:
             raise ValueError(f"{where}.end: segment ends at {end:g} deg, past 360 deg")
         if seg.law == "dwell" and lift != 0.0:

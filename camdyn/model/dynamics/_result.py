@@ -58,6 +58,10 @@ class Response:
 
     @property
     def min_force_deg(self) -> float:
+        """Where the force is least; where the follower separates (the force is 0 over whole flights), where it
+        leaves the cam on its highest flight."""
+        if self.separations:
+            return max(self.separations, key=lambda s: s.max_gap).start_deg
         return float(self.theta_deg[int(np.argmin(self.force))])
 
 
