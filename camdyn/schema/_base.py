@@ -79,3 +79,12 @@ def parse(cls: type[BaseModel], raw, table: str = ""):
         return cls.model_validate(raw)
     except ValidationError as err:
         raise validation_error(err, cls, table) from None
+
+
+def printable_text(text: str | None) -> str | None:
+    """``text`` unless it holds control characters (a NUL byte, a newline in a name...): ValueError."""
+    if text is not None:
+        bad = [c for c in text if ord(c) < 32 and c != "\t" or ord(c) == 127]
+        if bad:
+            raise ValueError(f"contains a control character ({', '.join(sorted({repr(c) for c in bad}))}): use plain text")
+    return text

@@ -4,9 +4,9 @@ from __future__ import annotations
 
 from typing import Literal
 
-from pydantic import Field, model_validator
+from pydantic import Field, field_validator, model_validator
 
-from ._base import Table
+from ._base import Table, printable_text
 from .dynamics import DynamicsSpec, check_dynamics_keys
 from .follower import FollowerSpec
 from .limits import LimitsSpec
@@ -30,6 +30,11 @@ class CaseSpec(Table):
     mechanism: MechanismSpec | None = Field(default=None, description="the cam-linkage that traces [path]")
     dynamics: DynamicsSpec = Field(description="speed, mass, spring, damping")
     limits: LimitsSpec = Field(default=LimitsSpec(), description="what a passing design must meet")
+
+    @field_validator("name", "description")
+    @classmethod
+    def _printable(cls, text: str | None) -> str | None:
+        return printable_text(text)
 
     @model_validator(mode="after")
     def _tables_fit_together(self) -> CaseSpec:

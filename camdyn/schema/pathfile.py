@@ -4,9 +4,9 @@ from __future__ import annotations
 
 from typing import Literal
 
-from pydantic import Field, model_validator
+from pydantic import Field, field_validator, model_validator
 
-from ._base import Real, Table
+from ._base import Real, Table, printable_text
 from .case import SCHEMA_VERSION
 from .dynamics import ROTARY_KEYS, DynamicsSpec
 from .limits import LimitsSpec
@@ -34,6 +34,11 @@ class PathFileSpec(Table):
     dynamics: DynamicsSpec | None = Field(default=None, description="speed, mass, spring_rate (required); preload is sized when left out")
     limits: LimitsSpec = Field(default=LimitsSpec(), description="what a passing design must meet")
     synthesis: SynthesisSpec = Field(default=SynthesisSpec(), description="optimizer options")
+
+    @field_validator("name", "description")
+    @classmethod
+    def _printable(cls, text: str | None) -> str | None:
+        return printable_text(text)
 
     @model_validator(mode="before")
     @classmethod

@@ -108,6 +108,18 @@ _rev_jit = cached_jit(_rev_with_sensitivity)
 _PLAIN_REVS = 60  # after Newton stalls (non-smooth bouncing): revolutions of plain iteration at most
 
 
+def _integration_failure(model: FollowerModel, omega: float) -> str:
+    """Why the time integration of the compliant model can fail, in the case file's terms."""
+    k = float(model.stiffness) + float(model.train_stiffness)
+    ratio = math.sqrt(k / float(model.mass)) / omega  # contact-mode vibration periods (x 2 pi) per revolution
+    what = "the compliant-model integration failed (solver out of steps or NaN)"
+    if ratio > 1e3:
+        hz = math.sqrt(k / float(model.mass)) / TWO_PI
+        return (f"{what}: the follower train vibrates at {hz:.4g} Hz, {ratio / TWO_PI:.3g} times per cam revolution; "
+                "a slower time integration cannot resolve it: check dynamics.train_stiffness, dynamics.mass and the speed")
+    return f"{what}: check that dynamics.mass, the spring and the train stiffness are in the units the case file uses (kg, N/mm)"
+
+
 def periodic_orbit(motion: Motion, model: FollowerModel, omega: float, theta):
     """Periodic steady state of the compliant model by shooting.
 
@@ -127,7 +139,7 @@ def periodic_orbit(motion: Motion, model: FollowerModel, omega: float, theta):
         traj, phi, mono, ok = _rev_jit(motion, model, w, jnp.asarray(z), theta)
         phi, mono = np.asarray(phi), np.asarray(mono)
         if not bool(ok) or not np.all(np.isfinite(phi)):
-            raise NumericalError(f"dynamics at {omega / RPM:.1f} rpm", "the compliant-model integration failed (solver out of steps or NaN)")
+            raise NumericalError(f"dynamics at {omega / RPM:.4g} rpm", _integration_failure(model, omega))
         r = float(np.linalg.norm(phi - z))
         if r < best_r:
             best_traj, best_r = traj, r

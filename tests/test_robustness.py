@@ -1,0 +1,321 @@
+"""No crash without a verdict, no hang, no NaN (issue 13): each finding's reproducer, and a fuzz run over the
+shipped cases. Every command ends with exit 0 (pass / written), 1 (a valid design that fails, with its reason) or 2
+(one line naming the file, the key and what is wrong)."""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import random
+import tomllib
+from pathlib import Path
+
+import pytest
+
+from camdyn import InputError, load_case, response
+from camdyn._core.units import RPM
+from camdyn.cli import main
+from camdyn.schema import load_case_spec
+
+ROOT = Path(__file__).resolve().parents[1]
+CASES = sorted(p for p in (ROOT / "cases").glob("*.toml"))
+LECTURE = ROOT / "cases" / "lecture.toml"
+
+# The case a new user hit: a rigid follower whose lift-off falls on a segment boundary (issue 13, finding 1).
+RIGID_BOUNDARY = """
+name = "rigid-boundary"
+[motion]
+segments = [
+  { law = "harmonic", end = 120, lift = 15 },
+  { law = "dwell", end = 180 },
+  { law = "harmonic", end = 300, lift = -15 },
+  { law = "dwell", end = 360 },
+]
+[follower]
+type = "translating-roller"
+base_radius = 45
+roller_radius = 12
+offset = 0
+rotation = "cw"
+[dynamics]
+speed = 1200
+mass = 0.4
+spring_rate = 3
+preload = 40
+damping_ratio = 0.05
+restitution = 0.3
+"""
+
+
+def run(capsys, *argv):
+    code = main([str(a) for a in argv])
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def one_line_error(code: int, err: str) -> bool:
+    return code == 2 and len(err.strip().splitlines()) == 1 and err.startswith("camdyn: ") and "internal error" not in err
+
+
+@pytest.fixture
+def rigid_case(tmp_path):
+    path = tmp_path / "rigid.toml"
+    path.write_text(RIGID_BOUNDARY)
+    return path
+
+
+# ------------------------------------------------------------------------------------------- verdicts
+@pytest.mark.slow
+def test_rigid_lift_off_on_a_segment_boundary_gives_a_verdict_at_every_speed(capsys, rigid_case):
+    for rpm in range(1000, 1901, 100):
+        code, out, err = run(capsys, "check", rigid_case, "--speed", rpm, "--json")
+        assert code in (0, 1), f"{rpm} rpm: {err}"
+        doc = json.loads(out)
+        dyn = doc["dynamic"]
+        assert dyn["min_contact_force_N"] >= 0.0  # a rigid follower is pushed, never pulled
+        assert all(s["max_gap_mm"] > 0 for s in dyn["separations"])
+        assert (code == 1) == any(not c["ok"] for c in doc["checks"])
+    # at 1200 rpm the follower leaves the cam exactly at the boundary where the return's acceleration starts
+    code, out, _ = run(capsys, "check", rigid_case, "--speed", 1200, "--json")
+    starts = [s["start_deg"] for s in json.loads(out)["dynamic"]["separations"]]
+    assert any(abs(s - 180.0) < 1e-6 for s in starts)
+
+
+@pytest.mark.slow
+def test_bouncing_that_never_settles_is_a_fail_with_its_reason(capsys, tmp_path):
+    path = tmp_path / "elastic.toml"
+    path.write_text(RIGID_BOUNDARY.replace("restitution = 0.3", "restitution = 1.0"))
+    code, out, err = run(capsys, "check", path, "--speed", 1500)
+    assert code == 1, err
+    assert "does not settle back" in out and "FAIL" in out
+
+
+@pytest.mark.slow
+def test_far_beyond_the_jump_speed_is_a_fail_not_an_error(capsys):
+    code, out, err = run(capsys, "check", LECTURE, "--speed", 10000, "--json")
+    assert code == 1, err
+    doc = json.loads(out)
+    assert doc["verdict"] == "fail" and any("far beyond its jump speed" in w for w in doc["warnings"])
+
+
+def test_the_lecture_fast_description_says_where_it_jumps(capsys):
+    """The shipped failing case says where the follower leaves the cam, and check agrees (the cycloidal rise)."""
+    code, out, _ = run(capsys, "check", ROOT / "cases" / "lecture-fast.toml", "--json")
+    doc = json.loads(out)
+    first = min(doc["dynamic"]["separations"], key=lambda s: abs(s["start_deg"] - 145.0))
+    assert code == 1 and 140.0 < first["start_deg"] < 150.0
+    assert "cycloidal rise" in tomllib.loads((ROOT / "cases" / "lecture-fast.toml").read_text())["description"]
+    assert 140.0 < doc["dynamic"]["min_contact_force_deg"] < 150.0  # where it leaves, not "0 N at 0.0 deg"
+
+
+# ------------------------------------------------------------------------------------------- contracts
+def test_oscillating_separations_carry_mm_and_rad(capsys, tmp_path):
+    text = (ROOT / "cases" / "oscillating.toml").read_text()
+    path = tmp_path / "osc.toml"
+    path.write_text(text)
+    code, out, _ = run(capsys, "check", path, "--speed", 2000, "--json")
+    dyn = json.loads(out)["dynamic"]
+    assert {"residual_vibration_mm", "residual_vibration_rad"} <= set(dyn)
+    assert dyn["separations"], "the arm should leave the cam at 2000 rpm"
+    for s in dyn["separations"]:
+        assert {"max_gap_mm", "impact_speed_m_s", "max_gap_rad", "impact_speed_rad_s", "settled"} <= set(s)
+        # at the contact, through the lever arm: a gap of radians times tens of millimetres
+        assert 1.0 < s["max_gap_mm"] / s["max_gap_rad"] < 1000.0
+    assert "m/s" not in "".join(w for w in json.loads(out)["warnings"] if "rad/s" in w)
+
+
+def test_json_is_strict_and_path_arrays_are_optional(capsys):
+    code, out, _ = run(capsys, "check", ROOT / "cases" / "racetrack.toml", "--json")
+    assert code == 0 and "NaN" not in out and "Infinity" not in out
+    doc = json.loads(out)
+    assert "contour" not in doc["synthesis"] and "crank_mm" in doc["synthesis"]
+    assert len(out) < 20_000
+    code, out, _ = run(capsys, "check", ROOT / "cases" / "racetrack.toml", "--json", "--arrays")
+    assert len(json.loads(out)["synthesis"]["contour"]) == 360
+
+
+def test_table_speed_and_dynamic_columns(capsys):
+    code, out, _ = run(capsys, "table", LECTURE, "--step", 30, "--speed", 200)
+    header = out.splitlines()[0].split(",")
+    assert code == 0 and {"dynamic_x_mm", "dynamic_contact_force_N", "contact_force_N"} <= set(header)
+    rows = [dict(zip(header, map(float, line.split(",")))) for line in out.splitlines()[1:]]
+    # every 30 deg lies on the dynamics' 0.1 deg grid: the columns are the steady state itself there
+    case = load_case(LECTURE)
+    resp = response(case.motion, case.model, 200 * RPM)
+    for r in rows:
+        i = int(round(r["theta_deg"] * 10))
+        assert r["dynamic_contact_force_N"] == pytest.approx(resp.force[i], rel=1e-9, abs=1e-9)
+        assert r["dynamic_x_mm"] == pytest.approx(resp.x[i], rel=1e-9, abs=1e-12)
+        assert abs(r["dynamic_x_mm"] - r["s_mm"]) < 0.2  # a stiff train: the follower stays with the cam
+
+
+# --------------------------------------------------------------------------------- bad input, one line
+@pytest.mark.parametrize(
+    "content, needle",
+    [
+        (b"\x00\x01\x02binary", "NUL"),
+        ("name = 'caf\u00e9'\n".encode("latin-1"), "UTF-8"),
+        (b"[motion\n", "TOML"),
+    ],
+)
+def test_unreadable_case_files(capsys, tmp_path, content, needle):
+    path = tmp_path / "bad.toml"
+    path.write_bytes(content)
+    code, _, err = run(capsys, "check", path)
+    assert one_line_error(code, err) and needle in err
+
+
+def test_a_folder_is_not_a_case_file_and_a_bom_is_fine(capsys, tmp_path):
+    code, _, err = run(capsys, "check", tmp_path)
+    assert one_line_error(code, err) and "folder" in err
+    bom = tmp_path / "bom.toml"
+    bom.write_bytes(b"\xef\xbb\xbf" + LECTURE.read_bytes())
+    code, _, err = run(capsys, "table", bom, "--step", 90)
+    assert code == 0, err
+
+
+@pytest.mark.parametrize(
+    "old, new, key",
+    [
+        ('name = "lecture"', 'name = "a\\u0000b"', "name"),
+        ("speed = 300", "speed = true", "dynamics.speed"),
+        ("roller_radius = 10", "roller_radius = 1e12", "follower.roller_radius"),
+        ("lift = 20 }", "lift = 1e12 }", "motion.segments[1].lift"),
+        ("mass = 0.5", "mass = 1e-12", "dynamics.mass"),
+        ("spring_rate = 2.0", "spring_rate = 1e12", "dynamics.spring_rate"),
+        ("offset = 5", "offset = nan", "follower.offset"),
+        ("base_radius = 40", "base_radius = inf", "follower.base_radius"),
+        ('end = 180, lift = 20', 'end = 90.000001, lift = 20', "motion.segments[1].end"),
+    ],
+)
+def test_values_out_of_physical_range_are_refused(capsys, tmp_path, old, new, key):
+    text = LECTURE.read_text()
+    assert old in text
+    path = tmp_path / "bad.toml"
+    path.write_text(text.replace(old, new, 1))
+    code, _, err = run(capsys, "check", path)
+    assert one_line_error(code, err) and f": {key}: " in err
+
+
+def test_keys_that_do_not_apply_are_refused(capsys, tmp_path):
+    text = LECTURE.read_text().replace('type = "translating-roller"', 'type = "translating-flat"')
+    path = tmp_path / "flat.toml"
+    path.write_text(text)
+    code, _, err = run(capsys, "check", path)
+    assert one_line_error(code, err) and "follower.roller_radius: not used by a translating-flat follower" in err
+
+
+def test_command_line_details(capsys):
+    code, out, _ = run(capsys, "--version")
+    assert code == 0 and out.startswith("camdyn ")
+    with pytest.raises(InputError, match="no such file"):  # --debug after the subcommand: the traceback
+        main(["check", "missing.toml", "--debug"])
+    code, _, err = run(capsys, "table", LECTURE, "--step", 1e-7)
+    assert one_line_error(code, err) and "--step" in err and "1,000,000" in err
+    code, _, err = run(capsys, "check", LECTURE, "--speed", "inf")
+    assert one_line_error(code, err) and "--speed" in err
+
+
+def test_outputs_where_the_user_said(capsys, tmp_path):
+    # a missing folder is made; a file where a folder should be, or a folder where a file should be, is refused
+    code, _, err = run(capsys, "profile", LECTURE, "-o", tmp_path / "new" / "sub" / "cam.csv")
+    assert code == 0 and (tmp_path / "new" / "sub" / "cam.csv").exists(), err
+    (tmp_path / "afile").write_text("")
+    code, _, err = run(capsys, "profile", LECTURE, "-o", tmp_path / "afile" / "cam.csv")
+    assert one_line_error(code, err)
+    code, _, err = run(capsys, "profile", LECTURE, "-o", tmp_path / "new", "--force")
+    assert one_line_error(code, err) and "is a folder" in err
+    code, _, err = run(capsys, "profile", LECTURE, "-o", tmp_path / "x.dxf", "--tolerance", "inf")
+    assert one_line_error(code, err) and "--tolerance" in err
+
+
+@pytest.mark.skipif(hasattr(os, "geteuid") and os.geteuid() == 0, reason="root writes anywhere")
+def test_an_unwritable_folder_is_refused_before_the_work(capsys, tmp_path):
+    locked = tmp_path / "locked"
+    locked.mkdir(mode=0o500)
+    code, _, err = run(capsys, "sweep", LECTURE, "--speeds", "300:300:1", "-o", locked)
+    assert one_line_error(code, err) and "permission" in err
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name", ["../escaped", "/tmp/camdyn-absolute", "a/b\\c", ".."])
+def test_a_case_name_is_data_not_a_path(capsys, tmp_path, name):
+    text = LECTURE.read_text().replace('name = "lecture"', f"name = {json.dumps(name)}")
+    (tmp_path / "in").mkdir()
+    case = tmp_path / "in" / "c.toml"
+    case.write_text(text)
+    out = tmp_path / "in" / "out"
+    before = set(tmp_path.rglob("*")) | set(Path("/tmp").glob("camdyn-absolute*"))
+    code, _, err = run(capsys, "sweep", case, "--speeds", "300:300:1", "-o", out)
+    assert code == 0, err
+    written = (set(tmp_path.rglob("*")) | set(Path("/tmp").glob("camdyn-absolute*"))) - before
+    assert written and all(out in p.parents or p == out for p in written), written
+
+
+# ----------------------------------------------------------------------------------------------- fuzz
+_MUTATIONS = ("drop", math.nan, math.inf, -math.inf, 1e12, -1e12, 0, -1, True, "x", [1, 2], {"a": 1})
+
+
+def _mutants(seed: int, count: int):
+    """Mutated case files: one key of a shipped case dropped or replaced by something wrong."""
+    rng = random.Random(seed)
+    docs = [(p.name, tomllib.loads(p.read_text())) for p in CASES]
+    for _ in range(count):
+        name, doc = rng.choice(docs)
+        doc = json.loads(json.dumps(doc))  # a deep copy
+        tables = [k for k, v in doc.items() if isinstance(v, dict)]
+        table = rng.choice(tables)
+        key = rng.choice(list(doc[table]))
+        value = rng.choice(_MUTATIONS)
+        if value == "drop":
+            del doc[table][key]
+        elif isinstance(doc[table][key], list) and doc[table][key] and isinstance(doc[table][key][0], dict):
+            seg = rng.choice(doc[table][key])  # a motion segment: mutate one of its keys
+            seg[rng.choice(list(seg))] = value
+        else:
+            doc[table][key] = value
+        yield name, table, key, doc
+
+
+def _toml(doc: dict) -> str:
+    """TOML text of a mutated case; non-finite floats as TOML's nan/inf (tomli-w refuses them)."""
+    import tomli_w
+
+    def fix(v):
+        if isinstance(v, float) and not math.isfinite(v):
+            return f"__{v}__"
+        if isinstance(v, dict):
+            return {k: fix(x) for k, x in v.items()}
+        if isinstance(v, list):
+            return [fix(x) for x in v]
+        return v
+
+    text = tomli_w.dumps(fix(doc))
+    return text.replace('"__nan__"', "nan").replace('"__inf__"', "inf").replace('"__-inf__"', "-inf")
+
+
+@pytest.mark.slow
+def test_fuzz_every_mutant_ends_in_a_verdict_or_one_line(capsys, tmp_path):
+    """Mutants the schema refuses are checked through `camdyn check` in full (the error comes before any
+    physics); of those it accepts, a sample of the motion cases runs the whole check (a path case's synthesis
+    alone takes seconds). Exit 0, 1 or 2, at most 3 lines on stderr,
+    never an internal error."""
+    full_checks = 0
+    for i, (name, table, key, doc) in enumerate(_mutants(seed=13, count=300)):
+        path = tmp_path / f"m{i}.toml"
+        path.write_text(_toml(doc))
+        try:
+            load_case_spec(path)
+        except InputError:
+            accepted = False
+        else:
+            accepted = True
+        if accepted and (full_checks >= 6 or "path" in doc):  # a sample of full checks, of quick cases
+            continue
+        full_checks += accepted
+        code, out, err = run(capsys, "check", path)
+        where = f"mutant {i} of {name}: {table}.{key} ({err.strip()[:200]})"
+        assert code in (0, 1, 2), where
+        assert len(err.strip().splitlines()) <= 3, where
+        assert "internal error" not in err and "Traceback" not in err, where
