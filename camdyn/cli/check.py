@@ -7,6 +7,7 @@ import sys
 from pathlib import Path
 
 from .._core.outputs import output_dir
+from ..design._check import CheckKind
 from ..design.advice import corner_radius_advice
 from ..design.checks import CheckReport, run_check
 from ..model.case import build_case
@@ -27,7 +28,8 @@ def print_check(report: CheckReport) -> None:
     for c in report.checks:
         value = "unbounded" if c.value is None else f"{c.value:.4g}"
         result = "[green]pass[/green]" if c.ok else "[bold red]FAIL[/bold red]"
-        t.add_row(c.name, value, c.sense, f"{c.limit:g}", c.unit, result)
+        limit = f"{c.limit:g}" + (" (no cusp)" if c.name == CheckKind.CURVATURE.value and c.unit == "mm" else "")
+        t.add_row(c.name, value, c.sense, limit, c.unit, result)
     con.print(t)
     notes(con, "warning", "yellow", report.warnings)
     notes(con, "advice", "cyan", report.advice)

@@ -1,0 +1,116 @@
+"""The house: one way through the code (schema -> model -> design -> plot/report -> cli), no import cycle, and a
+command line that answers without loading JAX until it must."""
+
+from __future__ import annotations
+
+import ast
+import subprocess
+import sys
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+PACKAGE = ROOT / "camdyn"
+
+# each layer may import only the layers listed for it (and itself)
+LAYERS = {
+    "_core": {"_core"},
+    "schema": {"_core", "schema"},
+    "model": {"_core", "schema", "model"},
+    "export": {"_core", "export"},
+    "design": {"_core", "schema", "model", "export", "design"},
+    "plot": {"_core", "schema", "model", "design", "plot"},
+    "report": {"_core", "schema", "model", "design", "plot", "export", "report"},
+    "cli": {"_core", "schema", "model", "design", "plot", "report", "export", "cli"},
+}
+
+
+def _module(path: Path) -> str:
+    parts = path.relative_to(ROOT).with_suffix("").parts
+    return ".".join(parts[:-1] if parts[-1] == "__init__" else parts)
+
+
+def import_graph() -> dict[str, set[str]]:
+    """camdyn module -> the camdyn modules it imports (anywhere in the file, function-local imports included)."""
+    modules = {_module(p): p for p in PACKAGE.rglob("*.py")}
+    graph: dict[str, set[str]] = {m: set() for m in modules}
+    for name, path in modules.items():
+        package = name if path.name == "__init__.py" else name.rsplit(".", 1)[0]
+        for node in ast.walk(ast.parse(path.read_text())):
+            targets = []
+            if isinstance(node, ast.Import):
+                targets = [a.name for a in node.names]
+            elif isinstance(node, ast.ImportFrom):
+                base = node.module or ""
+                if node.level:
+                    anchor = package.split(".")[: len(package.split(".")) - node.level + 1]
+                    base = ".".join(anchor + ([base] if base else []))
+                targets = [base] + [f"{base}.{a.name}" for a in node.names]
+            for t in targets:
+                while t and t not in modules:  # an imported name, not a module: its module
+                    t = t.rsplit(".", 1)[0] if "." in t else ""
+                if t and t.startswith("camdyn") and t != name:
+                    graph[name].add(t)
+    return graph
+
+
+def _layer(module: str) -> str | None:
+    parts = module.split(".")
+    return parts[1] if len(parts) > 1 and parts[1] in LAYERS else None
+
+
+def test_no_import_cycle():
+    graph = import_graph()
+    state: dict[str, int] = {}
+    stack: list[str] = []
+
+    def visit(m: str) -> None:
+        state[m] = 1
+        stack.append(m)
+        for n in sorted(graph[m]):
+            if n in ("camdyn",):  # the flat API re-exports lazily (importlib), it imports nothing at load
+                continue
+            assert state.get(n) != 1, "import cycle: " + " -> ".join(stack[stack.index(n):] + [n])
+            if n not in state:
+                visit(n)
+        stack.pop()
+        state[m] = 2
+
+    for m in sorted(graph):
+        if m not in state:
+            visit(m)
+
+
+def test_every_import_runs_down_the_house():
+    bad = []
+    for m, deps in import_graph().items():
+        layer = _layer(m)
+        if layer is None:
+            continue
+        for d in deps:
+            other = _layer(d)
+            if other is not None and other not in LAYERS[layer]:
+                bad.append(f"{m} -> {d}")
+    assert not bad, "imports against the house's direction: " + "; ".join(sorted(bad))
+
+
+def _fresh(code: str) -> subprocess.CompletedProcess:
+    return subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120, cwd=ROOT)
+
+
+def test_help_and_version_do_not_load_jax():
+    proc = _fresh(
+        "import sys\nfrom camdyn.cli import main\n"
+        "for argv in (['--help'], ['--version'], ['check', '--help']):\n"
+        "    try:\n        main(argv)\n    except SystemExit:\n        pass\n"
+        "print('jax' in sys.modules, 'pydantic' in sys.modules)"
+    )
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stdout.strip().splitlines()[-1] == "False False"
+
+
+def test_a_typo_is_reported_before_jax_loads(tmp_path):
+    case = tmp_path / "typo.toml"
+    case.write_text((ROOT / "cases" / "lecture.toml").read_text().replace("mass = 0.5", "mas = 0.5"))
+    proc = _fresh(f"import sys\nfrom camdyn.cli import main\ncode = main(['check', {str(case)!r}])\nprint(code, 'jax' in sys.modules)")
+    assert proc.stdout.strip().splitlines()[-1] == "2 False"
+    assert "dynamics.mas: unknown key (did you mean 'mass'?)" in proc.stderr
