@@ -7,7 +7,7 @@ from difflib import get_close_matches
 
 from typing import Annotated
 
-from pydantic import BaseModel, ConfigDict, Field, ValidationError
+from pydantic import AfterValidator, BaseModel, ConfigDict, Field, ValidationError
 
 from .._core.errors import InputError
 
@@ -81,10 +81,15 @@ def parse(cls: type[BaseModel], raw, table: str = ""):
         raise validation_error(err, cls, table) from None
 
 
-def printable_text(text: str | None) -> str | None:
-    """``text`` unless it holds control characters (a NUL byte, a newline in a name...): ValueError."""
+def _plain(text: str | None, allowed: str) -> str | None:
+    """``text`` unless it holds control characters other than ``allowed`` (a NUL byte in a name...)."""
     if text is not None:
-        bad = [c for c in text if ord(c) < 32 and c != "\t" or ord(c) == 127]
+        bad = sorted({repr(c) for c in text if (ord(c) < 32 or ord(c) == 127) and c not in allowed})
         if bad:
-            raise ValueError(f"contains a control character ({', '.join(sorted({repr(c) for c in bad}))}): use plain text")
+            raise ValueError(f"contains a control character ({', '.join(bad)}): use plain text")
     return text
+
+
+# a name (also a file-name stem) and a description: plain text, a description may run over lines
+Name = Annotated[str, AfterValidator(lambda s: _plain(s, ""))]
+Text = Annotated[str, AfterValidator(lambda s: _plain(s, "\n\t"))]

@@ -4,9 +4,9 @@ from __future__ import annotations
 
 from typing import Literal
 
-from pydantic import Field, field_validator, model_validator
+from pydantic import Field, model_validator
 
-from ._base import Table, printable_text
+from ._base import Name, Table, Text
 from .dynamics import DynamicsSpec, check_dynamics_keys
 from .follower import FollowerSpec
 from .limits import LimitsSpec
@@ -22,19 +22,14 @@ class CaseSpec(Table):
     ``[limits]``."""
 
     version: Literal[1] = Field(default=SCHEMA_VERSION, description="case-file schema version (1)")
-    name: str | None = Field(default=None, description="case name, used in reports and output file names (default: the file name)")
-    description: str = Field(default="", description="one line on what the case is")
+    name: Name | None = Field(default=None, description="case name, used in reports and output file names (default: the file name)")
+    description: Text = Field(default="", description="one line on what the case is")
     motion: MotionSpec | None = Field(default=None, description="the follower motion as segments (with [follower])")
     follower: FollowerSpec | None = Field(default=None, description="the follower and cam dimensions (with [motion])")
     path: PathSpec | None = Field(default=None, description="a closed path to trace (with [mechanism]): the motion and follower are synthesized")
     mechanism: MechanismSpec | None = Field(default=None, description="the cam-linkage that traces [path]")
     dynamics: DynamicsSpec = Field(description="speed, mass, spring, damping")
     limits: LimitsSpec = Field(default=LimitsSpec(), description="what a passing design must meet")
-
-    @field_validator("name", "description")
-    @classmethod
-    def _printable(cls, text: str | None) -> str | None:
-        return printable_text(text)
 
     @model_validator(mode="after")
     def _tables_fit_together(self) -> CaseSpec:

@@ -4,9 +4,9 @@ from __future__ import annotations
 
 from typing import Literal
 
-from pydantic import Field, field_validator, model_validator
+from pydantic import Field, model_validator
 
-from ._base import Real, Table, printable_text
+from ._base import Name, Real, Table, Text
 from .case import SCHEMA_VERSION
 from .dynamics import ROTARY_KEYS, DynamicsSpec
 from .limits import LimitsSpec
@@ -28,17 +28,12 @@ class PathFileSpec(Table):
     """A whole path file (the input of ``camdyn synthesize``)."""
 
     version: Literal[1] = Field(default=SCHEMA_VERSION, description="path-file schema version (1)")
-    name: str | None = Field(default=None, description="case name (default: the output file name)")
-    description: str = Field(default="", description="one line on what the case is")
+    name: Name | None = Field(default=None, description="case name (default: the output file name)")
+    description: Text = Field(default="", description="one line on what the case is")
     path: PathSpec | None = Field(default=None, description="the closed curve to trace (required)")
     dynamics: DynamicsSpec | None = Field(default=None, description="speed, mass, spring_rate (required); preload is sized when left out")
     limits: LimitsSpec = Field(default=LimitsSpec(), description="what a passing design must meet")
     synthesis: SynthesisSpec = Field(default=SynthesisSpec(), description="optimizer options")
-
-    @field_validator("name", "description")
-    @classmethod
-    def _printable(cls, text: str | None) -> str | None:
-        return printable_text(text)
 
     @model_validator(mode="before")
     @classmethod

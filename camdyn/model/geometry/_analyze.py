@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 from typing import Callable
 
 import numpy as np
@@ -76,12 +76,13 @@ def extremes(motion, follower: FollowerSpec, *, base_radius: float | None = None
 
 
 @dataclass(frozen=True)
-class CamGeometry:
-    """The cam of one case. Arrays are over ``theta_deg`` (n equal steps of one revolution).
+class CamGeometry(GeometryExtremes):
+    """The cam of one case: its extremes (as :class:`GeometryExtremes`) and, over ``theta_deg`` (n equal steps of
+    one revolution), its curves.
 
     ``pitch`` and ``contour`` (2, n) are in the cam frame, mm (for flat followers ``pitch`` is the face's
     reference point, and ``rho_pitch_mm`` is NaN: a flat face has no pitch curve). Radii are signed, convex
-    positive. ``extremes`` are taken on the grid plus both sides of every break.
+    positive. The extremes are taken on the grid plus both sides of every break.
     """
 
     follower: FollowerSpec
@@ -92,39 +93,19 @@ class CamGeometry:
     rho_pitch_mm: np.ndarray
     rho_contour_mm: np.ndarray
     face_t_mm: np.ndarray
-    extremes: GeometryExtremes
     _evaluate: Callable[[np.ndarray], dict[str, np.ndarray]] = field(repr=False, compare=False)
 
-    # the extremes under the names the JSON, the reports and the checks use
     @property
     def undercut(self) -> bool:
-        return self.extremes.cusp
-
-    cusp = undercut
+        return self.cusp
 
     @property
-    def max_pressure_angle_deg(self) -> float:
-        return self.extremes.max_pressure_angle_deg
-
-    @property
-    def max_pressure_angle_at_deg(self) -> float:
-        return self.extremes.max_pressure_angle_at_deg
-
-    @property
-    def min_radius_of_curvature_mm(self) -> float:
-        return self.extremes.min_radius_of_curvature_mm
-
-    @property
-    def min_radius_of_curvature_at_deg(self) -> float:
-        return self.extremes.min_radius_of_curvature_at_deg
-
-    @property
-    def face_range_mm(self) -> tuple[float, float] | None:
-        return self.extremes.face_range_mm
+    def extremes(self) -> GeometryExtremes:
+        return GeometryExtremes(**{f.name: getattr(self, f.name) for f in fields(GeometryExtremes)})
 
     @property
     def min_face_width_mm(self) -> float | None:
-        return self.extremes.face_travel_mm
+        return self.face_travel_mm
 
     def json(self) -> dict:
         out = {
@@ -182,6 +163,7 @@ def analyze(motion, follower: FollowerSpec, *, n: int = THETA_GRID) -> CamGeomet
     with np.errstate(divide="ignore"):
         rho_p = 1.0 / ev["kappa_pitch"]
     return CamGeometry(
+        **vars(ext),
         follower=f,
         theta_deg=np.rad2deg(grid),
         pitch=ev["pitch"].T.copy(),
@@ -190,7 +172,6 @@ def analyze(motion, follower: FollowerSpec, *, n: int = THETA_GRID) -> CamGeomet
         rho_pitch_mm=rho_p,
         rho_contour_mm=ev["rho_contour"],
         face_t_mm=ev["face_t"],
-        extremes=ext,
         _evaluate=lambda theta_rad: evaluate_geometry(motion, f, theta_rad),
     )
 
