@@ -99,6 +99,21 @@ def test_far_beyond_the_jump_speed_is_a_fail_not_an_error(capsys):
     assert doc["verdict"] == "fail" and any("far beyond its jump speed" in w for w in doc["warnings"])
 
 
+@pytest.mark.slow
+def test_a_train_compressed_by_more_than_the_lift_fails(capsys, tmp_path):
+    """At 1e5 rpm with a 1.5 MN preload (what sizing asks for at that speed) the compliant train stays in
+    contact: the follower mass cannot move at 1667 Hz, so the train is squeezed by the whole lift and more, and
+    the contact force never falls. The kinematic force is -1.3 MN. The cam no longer drives the follower: FAIL."""
+    text = LECTURE.read_text().replace("speed = 300", "speed = 100000").replace("preload = 30 ", "preload = 1.5e6 ")
+    path = tmp_path / "fast.toml"
+    path.write_text(text)
+    code, out, err = run(capsys, "check", path, "--json")
+    doc = json.loads(out)
+    checks = {c["name"]: c for c in doc["checks"]}
+    assert code == 1 and checks["contact_force"]["ok"] and not checks["train_deflection"]["ok"], err
+    assert doc["kinematic"]["min_contact_force_N"] < -1e6 and checks["train_deflection"]["value"] > 1.0
+
+
 def test_the_lecture_fast_description_says_where_it_jumps(capsys):
     """The shipped failing case says where the follower leaves the cam, and check agrees (the cycloidal rise)."""
     code, out, _ = run(capsys, "check", ROOT / "cases" / "lecture-fast.toml", "--json")

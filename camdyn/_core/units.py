@@ -23,6 +23,7 @@ DEFAULT_SPEED_MARGIN = 1.25
 DEFAULT_MIN_CONTACT_FORCE_N = 0.0
 DEFAULT_MAX_PRESSURE_ANGLE_DEG = {"translating": 30.0, "oscillating": 35.0}
 DEFAULT_MIN_CURVATURE_RATIO = 1.5
+DEFAULT_MAX_TRAIN_DEFLECTION = 0.1  # of the lift: a compliant train compressed by more no longer drives the follower
 DEFAULT_TRAIN_DAMPING_RATIO = 0.05
 # Physical bounds: a number beyond them is a typo or a unit slip, not a cam camdyn can judge (a 10 m cam, a
 # follower lighter than a milligram), and it would only send the solvers into the weeds.

@@ -14,6 +14,7 @@ class CheckKind(str, Enum):
     PRESSURE_ANGLE = "pressure_angle"
     CURVATURE = "curvature"
     FACE_WIDTH = "face_width"
+    TRAIN_DEFLECTION = "train_deflection"
 
 
 @dataclass(frozen=True)

@@ -121,13 +121,19 @@ def run_check(case: Case, speed_rpm: float | None = None) -> CheckReport:
     warnings += list(resp.warnings)
     resp = forces_in_newton(case, resp)
 
+    if not model.rigid:  # a train compressed by much of the lift no longer drives the follower: a verdict
+        lift = float(np.ptp(resp.s))
+        deflection = float(np.max(resp.s - resp.x)) / lift if lift > 0.0 else 0.0
+        checks_train = (Check(CheckKind.TRAIN_DEFLECTION.value, deflection, float(limits.max_train_deflection), "ratio", "<="),)
+    else:
+        checks_train = ()
     kin_force = resp.kinematic_force
     i_kin = int(kin_force.argmin())
     unit = motion.unit
     checks = (
         Check(CheckKind.CONTACT_FORCE.value, float(resp.min_force), float(limits.min_contact_force), "N", ">"),
         Check(CheckKind.SPEED_MARGIN.value, _finite_or_none(w_dyn / omega), float(limits.speed_margin), "x", ">="),
-    )
+    ) + checks_train
     kinematic = {
         "min_contact_force_N": float(kin_force[i_kin]),
         "min_contact_force_deg": float(resp.theta_deg[i_kin]),

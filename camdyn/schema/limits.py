@@ -4,7 +4,9 @@ from __future__ import annotations
 
 from pydantic import Field
 
-from .._core.units import DEFAULT_MIN_CONTACT_FORCE_N, DEFAULT_MIN_CURVATURE_RATIO, DEFAULT_SPEED_MARGIN, MAX_FORCE_N
+from .._core.units import (
+    DEFAULT_MAX_TRAIN_DEFLECTION, DEFAULT_MIN_CONTACT_FORCE_N, DEFAULT_MIN_CURVATURE_RATIO, DEFAULT_SPEED_MARGIN, MAX_FORCE_N,
+)
 from ._base import Real, Table
 
 
@@ -15,3 +17,7 @@ class LimitsSpec(Table):
     min_contact_force: Real = Field(default=DEFAULT_MIN_CONTACT_FORCE_N, ge=-MAX_FORCE_N, le=MAX_FORCE_N, description="the least interface force over a revolution must exceed this, N")
     max_pressure_angle: Real | None = Field(default=None, gt=0, lt=90, description="deg; default 30 for translating, 35 for oscillating followers")
     min_curvature_ratio: Real = Field(default=DEFAULT_MIN_CURVATURE_RATIO, gt=0, description="least convex contour radius of curvature / roller radius")
+    max_train_deflection: Real = Field(
+        default=DEFAULT_MAX_TRAIN_DEFLECTION, gt=0, le=1,
+        description="compliant trains: the largest train deflection (cam lift minus follower motion) as a fraction of the lift; beyond it the cam no longer drives the follower",
+    )
