@@ -171,9 +171,17 @@ def test_type_keys_of_a_discriminated_union():
         y: float = 1.0
         shared: float = 0.0
 
-    tk = reference.type_keys(A | B)
+    class Doc(Table):
+        """A toy file."""
+
+        thing: A | B | None = None
+
+    tk = reference.type_keys(Doc.model_fields["thing"].annotation)
     assert tk.common == ("shared",)
     assert tk.by_type == {"a": (("x",), ()), "b": ((), ("y",))}
+    md = reference.reference_markdown([("Toy file", Doc)])
+    assert "| `type`   | string | `\"a\"`, `\"b\"` | required |" in md and "| `x`      | number |              | by type  |" in md
+    assert "| `a`    | `x`   | —" in md and "| `b`    | —     | `y`" in md
 
 
 # -- the README and the docs ----------------------------------------------------------------------------------

@@ -208,13 +208,31 @@ def _header(key: str, field: FieldInfo) -> str:
     return f"[[{key}]]" if _is_list(field.annotation) else f"[{key}]"
 
 
-def _fields(annotation) -> dict[str, FieldInfo]:
-    """The keys of a table field: a union's members' keys, each documented where it first appears."""
-    out: dict[str, FieldInfo] = {}
+def _fields(annotation) -> dict[str, list[FieldInfo]]:
+    """The keys of a table field, each with its field in every model that has it (one, unless a union)."""
+    out: dict[str, list[FieldInfo]] = {}
     for m in models_in(annotation):
         for k, f in m.model_fields.items():
-            out.setdefault(k, f)
+            out.setdefault(k, []).append(f)
     return out
+
+
+def _row(fields: list[FieldInfo], members: int = 1) -> tuple[str, str, str, str]:
+    """Type, range, default and description of a key held by ``len(fields)`` of a union's ``members``; where
+    they differ: the values of all (a literal such as ``type``, the descriptions), else "by type" (see the table
+    of each type), as is "required" by only some types."""
+    def distinct(values):
+        return list(dict.fromkeys(values))
+
+    literal = all(typing.get_origin(_strip(f.annotation)) is typing.Literal for f in fields)
+    ranges, defaults = distinct(_range(f) for f in fields), distinct(_default(f) for f in fields)
+    rng = ", ".join(ranges) if literal else ranges[0] if len(ranges) == 1 else "by type"
+    desc = "; ".join(distinct(f.description or "" for f in fields))
+    if any(f.deprecated for f in fields):
+        why = next(f.deprecated for f in fields if f.deprecated)
+        desc = f"deprecated{': ' + why if isinstance(why, str) else ''}. {desc}"
+    default = defaults[0] if len(defaults) == 1 and (len(fields) == members or defaults != ["required"]) else "by type"
+    return _type_name(fields[0].annotation), rng, default, _cell(desc)
 
 
 # -- writing the reference ------------------------------------------------------------------------------------
@@ -237,18 +255,16 @@ class _Writer:
         if doc and not re.fullmatch(r"The `\[\w+\]` table\.", doc):
             self.lines += [line for p in doc.split("\n\n") for line in (" ".join(p.split()), "")]
 
-    def keys(self, fields: dict[str, FieldInfo], prefix: str) -> None:
+    def keys(self, fields: dict[str, list[FieldInfo]], prefix: str) -> None:
         """The key table of one table; a key that holds a table links to its section."""
         rows = [("key", "type", "range", "default", "description")]
-        for name, f in fields.items():
+        n_models = max(map(len, fields.values()))
+        for name, fs in fields.items():
             key = f"`{name}`"
-            if members := models_in(f.annotation):  # a table: its header at the top level, its key inside one
-                anchor = self.anchor.get(members[0]) or _slug(f"`{_header(prefix + name, f)}`")
-                key = f"[`{_header(name, f) if not prefix else name}`](#{anchor})"
-            desc = f.description or ""
-            if f.deprecated:
-                desc = f"deprecated{': ' + f.deprecated if isinstance(f.deprecated, str) else ''}. {desc}"
-            rows.append((key, _type_name(f.annotation), _range(f), _default(f), _cell(desc)))
+            if members := models_in(fs[0].annotation):  # a table: its header at the top level, its key inside one
+                anchor = self.anchor.get(members[0]) or _slug(f"`{_header(prefix + name, fs[0])}`")
+                key = f"[`{_header(name, fs[0]) if not prefix else name}`](#{anchor})"
+            rows.append((key, *_row(fs, n_models)))
         self.table(rows)
 
     def table(self, rows: list[tuple[str, ...]]) -> None:
@@ -275,14 +291,14 @@ class _Writer:
         """A whole file (case file, path file): its keys, then each of its tables not yet written."""
         self.section(heading, 2, model.__doc__)
         self.anchor[model] = _slug(heading)
-        self.keys(model.model_fields, "")
-        self.tables(model.model_fields, "")
+        self.keys(_fields(model), "")
+        self.tables(_fields(model), "")
 
-    def tables(self, fields: dict[str, FieldInfo], prefix: str) -> None:
+    def tables(self, fields: dict[str, list[FieldInfo]], prefix: str) -> None:
         """A section per table among ``fields`` (depth first): its keys and, where they depend on ``type``, the
         keys of each type."""
         level = 2 + prefix.count(".")
-        for name, f in fields.items():
+        for name, (f, *_) in fields.items():
             members = models_in(f.annotation)
             if not members or all(m in self.anchor for m in members):
                 continue
@@ -321,12 +337,15 @@ file (key types and ranges; the rules between keys, such as the keys of each typ
 [guide](../guide.md) shows how the tables are used."""
 
 
-def reference_markdown() -> str:
-    """The Markdown key reference of case files and path files."""
+DOCUMENTS = (("Case file", CaseSpec), ("Path file", PathFileSpec))
+
+
+def reference_markdown(documents=DOCUMENTS) -> str:
+    """The Markdown key reference of ``documents`` ((heading, model) pairs: case files and path files)."""
     w = _Writer()
     w.lines = _HEAD.splitlines()
-    w.document("Case file", CaseSpec)
-    w.document("Path file", PathFileSpec)
+    for heading, model in documents:
+        w.document(heading, model)
     return "\n".join(w.lines) + "\n"
 
 
