@@ -13,10 +13,15 @@ PATH_TYPES = ("ellipse", "circle", "rectangle", "eight", "line", "racetrack", "p
 
 
 class PathSpec(Table):
-    """The ``[path]`` table: the closed curve the tracing point must follow (lengths mm, angles deg).
-
-    Every path starts at u = 0 at the point named in ``type``'s description and runs once round; the
+    """The ``[path]`` table: the closed curve the tracing point must follow (lengths mm, angles deg); the
     tracing point goes round it once per cam revolution.
+
+    Where each type starts and how it runs: ``ellipse`` at the end of ``semi_major``, anticlockwise;
+    ``circle`` at angle ``rotation``, anticlockwise; ``rectangle`` at the middle of its right side,
+    anticlockwise; ``eight`` at the crossing, x = W/2 sin w, y = H/2 sin 2w; ``line`` from ``start`` to ``end``
+    and back, at rest at both ends (harmonic); ``racetrack`` at the lower end of the right semicircle,
+    anticlockwise (Ye & Smith eq. 9); ``points`` at the first point, through every point on a periodic cubic
+    spline (chord-length knots). ``reverse`` runs the curve the other way round, ``phase`` shifts the start.
     """
 
     type: Literal["ellipse", "circle", "rectangle", "eight", "line", "racetrack", "points"] = Field(
