@@ -24,6 +24,7 @@ DEFAULT_MIN_CONTACT_FORCE_N = 0.0
 DEFAULT_MAX_PRESSURE_ANGLE_DEG = {"translating": 30.0, "oscillating": 35.0}
 DEFAULT_MIN_CURVATURE_RATIO = 1.5
 DEFAULT_TRAIN_DAMPING_RATIO = 0.05
+DEFAULT_SPEED_FLUCTUATION = 0.05  # [drive]: coefficient of speed fluctuation the flywheel is sized for
 CUSP_MM = 1e-6  # a flat-faced contour radius of curvature under 1 nm is a cusp: that check's limit
 
 
