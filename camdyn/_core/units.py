@@ -56,3 +56,9 @@ def damping_from_ratio(ratio, stiffness, mass):
 def newton_per_torque(lever_arm_mm):
     """The factor that turns an arm's torque (N*m) into its contact force (N) through the lever arm (mm)."""
     return 1000.0 / lever_arm_mm
+
+
+def torsion_rate_at_arm(torsion_rate, lever_arm_mm):
+    """The rate (N/mm) of a linear spring acting at ``lever_arm_mm`` from the pivot that gives an arm the
+    torsion rate (N*m/rad): k = k_t / r^2, small swings."""
+    return torsion_rate * newton_per_torque(lever_arm_mm) ** 2 * M_PER_MM
