@@ -1,0 +1,72 @@
+"""``camdyn spring``: the part for a case, its JSON document, and one line with exit code 2 for bad input."""
+
+import json
+from pathlib import Path
+
+import pytest
+
+from camdyn.cli import main
+
+ROOT = Path(__file__).resolve().parents[1]
+LECTURE = (ROOT / "cases" / "lecture.toml").read_text()
+OSCILLATING = (ROOT / "cases" / "oscillating.toml").read_text()
+
+
+def run(capsys, *argv):
+    code = main([str(a) for a in argv])
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def case_file(tmp_path, text, extra=""):
+    p = tmp_path / "case.toml"
+    p.write_text(text + "\n" + extra)
+    return p
+
+
+def test_spring_for_the_lecture_case(capsys):
+    code, out, err = run(capsys, "spring", ROOT / "cases" / "lecture.toml", "--json")
+    assert code == 0 and not err
+    doc = json.loads(out)
+    assert doc["case"] == "lecture" and doc["rate_N_per_mm"] == 2.0 and doc["preload_N"] == 30.0 and doc["lift_mm"] == pytest.approx(20.0)
+    s = doc["spring"]
+    assert s["rate_N_per_mm"] == pytest.approx(2.0, rel=1e-9) and all(c["ok"] for c in s["checks"])
+    assert {"wire_diameter_mm", "mean_diameter_mm", "active_coils", "total_coils", "free_length_mm", "solid_length_mm", "mass_kg", "surge"} <= set(s)
+    assert s["surge"]["cam_frequency_Hz"] == 5.0
+    code, out, _ = run(capsys, "spring", ROOT / "cases" / "lecture.toml")
+    assert code == 0 and "wire diameter" in out and "spring_fatigue_safety" in out and "surge frequency" in out
+
+
+def test_spring_within_a_table(capsys, tmp_path):
+    extra = '[spring]\nmaterial = "chrome-silicon"\noutside_diameter_max = 25\ninstalled_length = 60\nend_type = "squared"\n'
+    code, out, _ = run(capsys, "spring", case_file(tmp_path, LECTURE, extra), "--json")
+    s = json.loads(out)["spring"]
+    assert code == 0 and s["material"] == "chrome-silicon" and s["end_type"] == "squared"
+    assert s["outside_diameter_mm"] <= 25 and s["installed_length_mm"] == pytest.approx(60.0)
+
+
+def test_spring_on_an_arm(capsys, tmp_path):
+    code, out, _ = run(capsys, "spring", case_file(tmp_path, OSCILLATING, "[spring]\nlever_arm = 40\n"), "--json")
+    doc = json.loads(out)
+    assert code == 0 and doc["lever_arm_mm"] == 40
+    # torsion_rate 5 N*m/rad, preload_torque 2 N*m, swing 15 deg, at 40 mm from the pivot
+    assert doc["rate_N_per_mm"] == pytest.approx(5.0 / 0.04**2 / 1e3) and doc["preload_N"] == pytest.approx(2.0 / 0.04)
+    assert doc["lift_mm"] == pytest.approx(40 * 15 * 3.141592653589793 / 180)
+
+
+@pytest.mark.parametrize(
+    "text, extra, expected",
+    [
+        (LECTURE, '[spring]\nmaterial = "music wire"\n', "spring.material: unknown spring material (did you mean 'music-wire'?)"),
+        (LECTURE, "[spring]\noutside_diameter_max = 6\n", "spring.outside_diameter_max: no music-wire spring of 2 N/mm fits in 6 mm"),
+        (LECTURE.replace("rotation = \"cw\"", "rotation = \"cw\"\nwidth = -4"), "", "follower.width: Input should be greater than 0"),
+        (LECTURE, "[materials]\ncam = \"stel\"\n", "materials.cam: unknown material (did you mean 'steel'?)"),
+        (LECTURE, "[spring]\nlever_arm = 30\n", "spring.lever_arm: not used by a translating follower"),
+        (OSCILLATING, "", "spring.lever_arm: an oscillating follower's spring needs [spring] lever_arm"),
+        (LECTURE.replace("spring_rate = 2.0", "spring_rate = 5.8e-6"), "", "dynamics.spring_rate: no music-wire spring of 5.8e-06 N/mm"),
+    ],
+)
+def test_bad_input_is_one_line_exit_2(capsys, tmp_path, text, extra, expected):
+    code, out, err = run(capsys, "spring", case_file(tmp_path, text, extra))
+    assert code == 2 and not out
+    assert err.count("\n") == 1 and expected in err, err
