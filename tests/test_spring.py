@@ -294,3 +294,22 @@ def test_a_third_of_the_spring_mass_moves_with_the_follower():
 def test_spring_mass_on_an_arm():
     arm = with_spring_mass(model(0.002, 5.0), 0.03, lever_arm_mm=50.0)
     assert float(arm.mass) == pytest.approx(0.002 + 0.01 * 0.05**2, rel=1e-15)
+
+
+def test_the_case_preload_bound_in_the_cases_units():
+    """An arm's spring at 40 mm from the pivot: the bound comes back in N*m, and designs just inside it."""
+    from pathlib import Path
+
+    from camdyn.design.spring import case_max_preload, design_case_spring
+    from camdyn.model.case import case_from_dict
+    from camdyn.schema import read_toml
+
+    raw = read_toml(Path(__file__).resolve().parents[1] / "cases" / "oscillating.toml")
+    raw["spring"] = {"lever_arm": 40.0}
+    case = case_from_dict(raw)
+    top = case_max_preload(case, 5.0)
+    assert top == pytest.approx(max_buildable_preload(5.0 / 0.04**2 / 1e3, 40 * math.radians(15)) * 0.04, rel=1e-9)
+    assert design_case_spring(case, rate=5.0, preload=0.99 * top).ok
+    with pytest.raises(InputError):
+        design_case_spring(case, rate=5.0, preload=1.01 * top)
+    assert case_max_preload(case, 1e-4) is None

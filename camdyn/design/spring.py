@@ -311,14 +311,34 @@ def spring_loads(case, *, rate=None, preload=None) -> SpringLoads:
     return SpringLoads(float(k), float(f0 + k * lo), hi - lo, lo, key)
 
 
+def _case_spec(case, loads: SpringLoads) -> SpringSpec:
+    """The case's ``[spring]`` with its installed length moved to the least lift (where the design installs it)."""
+    spec = case.spec.spring or SpringSpec()
+    if spec.installed_length is not None and loads.installed_shift != 0.0:
+        spec = spec.model_copy(update={"installed_length": spec.installed_length - loads.installed_shift})
+    return spec
+
+
 def design_case_spring(case, *, rate=None, preload=None, rules: SpringRules = SpringRules()) -> SpringDesign:
     """The spring for a case (its ``[spring]`` table; its rate and preload unless given, in the case's units),
     with its surge judged against the cam's harmonics at the case speed."""
     loads = spring_loads(case, rate=rate, preload=preload)
-    spec = case.spec.spring or SpringSpec()
-    if spec.installed_length is not None and loads.installed_shift != 0.0:
-        spec = spec.model_copy(update={"installed_length": spec.installed_length - loads.installed_shift})
+    spec = _case_spec(case, loads)
     if loads.preload < 0:
         raise InputError("dynamics.preload", f"a compression spring cannot pull: its force at the least lift would be {loads.preload:.4g} N")
     harmonics = cam_harmonics(case.motion, case.speed_rpm)
     return design_spring(loads.rate, loads.preload, loads.lift, spec, rules=rules, rate_key=loads.rate_key, harmonics=harmonics)
+
+
+def case_max_preload(case, rate) -> float | None:
+    """The largest preload (the case's units: N, or N*m for an arm) a buildable spring of ``rate`` (N/mm, or
+    N*m/rad) can give this case within its ``[spring]`` table; None where no spring of that rate can be built.
+    Every lower preload down to the least the spring can hold is buildable too: with the sizer's least preload
+    per rate this bounds ``size --buildable``'s feasible region."""
+    loads = spring_loads(case, rate=rate, preload=0.0)
+    spec = _case_spec(case, loads)
+    top = max_buildable_preload(loads.rate, loads.lift, spec)
+    if top is None:
+        return None
+    linear = top - loads.rate * loads.installed_shift  # the spring force at zero lift
+    return linear / newton_per_torque(spec.lever_arm) if case.oscillating else linear
