@@ -70,3 +70,13 @@ def test_bad_input_is_one_line_exit_2(capsys, tmp_path, text, extra, expected):
     code, out, err = run(capsys, "spring", case_file(tmp_path, text, extra))
     assert code == 2 and not out
     assert err.count("\n") == 1 and expected in err, err
+
+
+def test_a_contact_stress_limit_needs_a_width(tmp_path):
+    from camdyn import InputError
+    from camdyn.schema import load_case_spec
+
+    with pytest.raises(InputError, match=r"limits.max_contact_stress: .*\[follower\] width"):
+        load_case_spec(case_file(tmp_path, LECTURE.replace("min_contact_force = 0", "min_contact_force = 0\nmax_contact_stress = 900")))
+    spec = load_case_spec(case_file(tmp_path, LECTURE.replace("min_contact_force = 0", "min_contact_force = 0\nmax_contact_stress = 900").replace('rotation = "cw"', 'rotation = "cw"\nwidth = 8')))
+    assert spec.limits.max_contact_stress == 900 and spec.contact_width_mm == 8

@@ -54,6 +54,9 @@ class CaseSpec(Table):
             raise ValueError("motion: the case needs [motion] segments, or [path] and [mechanism]")
         check_dynamics_keys(self.dynamics, oscillating=self.oscillating)
         check_spring_keys(self.spring, oscillating=self.oscillating)
+        if self.limits.max_contact_stress is not None and self.contact_width_mm is None:
+            where = "follower" if self.follower is not None else "mechanism"
+            raise ValueError(f"limits.max_contact_stress: the contact stress needs the contact width: give [{where}] width, mm")
         return self
 
     @property
