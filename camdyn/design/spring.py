@@ -174,8 +174,8 @@ def _constraints(c: dict, spec: SpringSpec, rules: SpringRules):
     """(name, key the user can change, value, limit, sense) in the order the search reports a dead end."""
     m = 1.0 + _MARGIN
     out = [
-        ("spring index at least 4", "index", c["index"], rules.index_min * m, ">="),
-        ("spring index at most 12", "index", c["index"], rules.index_max / m, "<="),
+        (f"spring index at least {rules.index_min:g}", "index", c["index"], rules.index_min * m, ">="),
+        (f"spring index at most {rules.index_max:g}", "index", c["index"], rules.index_max / m, "<="),
         ("outside diameter", "outside_diameter_max", c["od"], (spec.outside_diameter_max or math.inf) / m, "<="),
         ("clash allowance at the installed length", "installed_length", c["clash"], rules.clash_allowance * m, ">="),
         ("stress at full lift (n_s)", "", c["full_lift"], rules.static_safety * m, ">="),
@@ -186,45 +186,61 @@ def _constraints(c: dict, spec: SpringSpec, rules: SpringRules):
     return [(name, key, v, lim, sense, (v >= lim) if sense == ">=" else (v <= lim)) for name, key, v, lim, sense in out]
 
 
-def _dead_end(c, cons, material: str, rate: float, preload: float, lift: float, spec: SpringSpec, rules: SpringRules, rate_key: str) -> InputError:
-    """Why no candidate passes: the bore or the installed length where freeing it would let one through, else
-    the first condition that rules out the last candidates, with the best value any candidate reached."""
-    ok_all = np.ones(c["d"].shape, bool)
-    for _, key, _, _, _, ok in cons:
-        if key not in ("outside_diameter_max", "installed_length"):
-            ok_all &= ok
-    od_ok, clash_ok = cons[2][5], cons[3][5]
-    what = f"no {material} spring of {rate:.4g} N/mm"
-    if spec.outside_diameter_max is not None and (ok_all & clash_ok).any():
-        least = float(c["od"][ok_all & clash_ok].min())
-        return InputError("spring.outside_diameter_max", f"{what} fits in {spec.outside_diameter_max:g} mm: the least outside diameter that meets the other checks is {least:.3g} mm")
-    if spec.installed_length is not None and (ok_all & od_ok).any():
-        free = spec.model_copy(update={"installed_length": None})
-        cf = _candidates(rate, preload, lift, free, rules)
-        fits = np.logical_and.reduce([con[5] for con in _constraints(cf, free, rules)])
-        need = f": it needs at least {float(np.min(cf['L0'][fits] - preload / rate)):.4g} mm" if fits.any() else ""
-        return InputError("spring.installed_length", f"{what} fits at {spec.installed_length:g} mm with {preload:.4g} N preload over a {lift:.4g} mm lift{need}")
-    alive = np.ones(c["d"].shape, bool)
-    na_max = rules.active_coils_max if spec.max_active_coils is None else spec.max_active_coils
+def _feasible(rate: float, preload: float, lift: float, spec: SpringSpec, rules: SpringRules):
+    """The candidates and which of them meet every condition."""
+    c = _candidates(rate, preload, lift, spec, rules)
+    return c, np.logical_and.reduce([con[5] for con in _constraints(c, spec, rules)])
+
+
+def _first_failure(cons) -> tuple[str, float, float]:
+    """The first condition (in order) that rules out the last candidates: its name, the best value any
+    candidate still in the running reached, and its limit."""
+    alive = np.ones(cons[0][2].shape, bool)
     for name, _, v, lim, sense, ok in cons:
         if not (alive & ok).any():
             vals = v[alive & np.isfinite(v)]
-            best = (vals.max() if sense == ">=" else vals.min()) if vals.size else math.nan
-            return InputError(
-                rate_key,
-                f"{what} with {preload:.4g} N preload over a {lift:.4g} mm lift meets Shigley's design conditions "
-                f"({rules.active_coils_min:g}-{na_max:g} active coils, preferred wire sizes): every candidate fails the "
-                f"{name}: best {best:.3g} against {lim:.3g}" + _more_coils_hint(rate, preload, lift, spec, rules, na_max),
-            )
+            return name, ((vals.max() if sense == ">=" else vals.min()) if vals.size else math.nan), lim
         alive &= ok
     raise AssertionError("unreachable: some candidate passes")
 
 
+def _dead_end(c, cons, rate: float, preload: float, lift: float, spec: SpringSpec, rules: SpringRules, rate_key: str) -> InputError:
+    """Why no candidate passes: the bore, or the installed length, where freeing it would let one through; else
+    the first condition that rules out the last candidates, with the best value any candidate reached."""
+    what = f"no {spec.material} spring of {rate:.4g} N/mm"
+    if spec.outside_diameter_max is not None:
+        rest = np.logical_and.reduce([ok for _, key, _, _, _, ok in cons if key != "outside_diameter_max"])
+        if rest.any():
+            least = float(c["od"][rest].min())
+            return InputError("spring.outside_diameter_max", f"{what} fits in {spec.outside_diameter_max:g} mm: the least outside diameter that meets the other checks is {least:.3g} mm")
+    if spec.installed_length is not None:
+        cf, fits = _feasible(rate, preload, lift, spec.model_copy(update={"installed_length": None}), rules)
+        if fits.any():
+            need = float(np.min(cf["L0"][fits] - preload / rate))
+            why = f"it needs at least {need:.4g} mm" if spec.installed_length < need else f"there every candidate fails the {_first_failure(cons)[0]} (the shortest that fits is installed at {need:.4g} mm)"
+            return InputError("spring.installed_length", f"{what} fits at {spec.installed_length:g} mm with {preload:.4g} N preload over a {lift:.4g} mm lift: {why}")
+    if spec.outside_diameter_max is not None and spec.installed_length is not None:
+        cf, fits = _feasible(rate, preload, lift, spec.model_copy(update={"installed_length": None, "outside_diameter_max": None}), rules)
+        if fits.any():
+            i = np.flatnonzero(fits)[np.argmin(cf["mass"][fits])]
+            return InputError(
+                "spring.outside_diameter_max",
+                f"{what} fits in {spec.outside_diameter_max:g} mm installed at {spec.installed_length:g} mm: without those two limits the "
+                f"lightest is {float(cf['od'][i]):.3g} mm across and installed at {float(cf['L0'][i]) - preload / rate:.4g} mm",
+            )
+    name, best, lim = _first_failure(cons)
+    na_max = rules.active_coils_max if spec.max_active_coils is None else spec.max_active_coils
+    return InputError(
+        rate_key,
+        f"{what} with {preload:.4g} N preload over a {lift:.4g} mm lift meets Shigley's design conditions "
+        f"({rules.active_coils_min:g}-{na_max:g} active coils, preferred wire sizes): every candidate fails the "
+        f"{name}: best {best:.3g} against {lim:.3g}" + _more_coils_hint(rate, preload, lift, spec, rules, na_max),
+    )
+
+
 def _more_coils_hint(rate, preload, lift, spec: SpringSpec, rules: SpringRules, na_max: float) -> str:
     """Where more active coils than allowed would make a spring: say how many."""
-    more = spec.model_copy(update={"max_active_coils": 4 * na_max})
-    c = _candidates(rate, preload, lift, more, rules)
-    ok = np.logical_and.reduce([con[5] for con in _constraints(c, more, rules)])
+    c, ok = _feasible(rate, preload, lift, spec.model_copy(update={"max_active_coils": 4 * na_max}), rules)
     if not ok.any():
         return ""
     return f" (one with {float(c['na'][ok].min()):g} active coils fits: allow it with [spring] max_active_coils)"
@@ -246,7 +262,7 @@ def design_spring(rate: float, preload: float, lift: float, spec: SpringSpec | N
     cons = _constraints(c, spec, rules)
     ok = np.logical_and.reduce([con[5] for con in cons])
     if not ok.any():
-        raise _dead_end(c, cons, spec.material, rate, preload, lift, spec, rules, rate_key)
+        raise _dead_end(c, cons, rate, preload, lift, spec, rules, rate_key)
     i = np.flatnonzero(ok)[np.lexsort((c["od"][ok], c["mass"][ok]))[0]]
     spring = sp.HelicalSpring(spec.material, float(c["d"][i]), float(c["D"][i]), float(c["na"][i]), spec.end_type, float(c["L0"][i]), rules.alpha)
     installed = spring.free_length - preload / rate
@@ -261,8 +277,7 @@ def max_buildable_preload(rate: float, lift: float, spec: SpringSpec | None = No
     spec = spec or SpringSpec()
 
     def fits(f0: float) -> bool:
-        c = _candidates(rate, f0, lift, spec, rules)
-        return bool(np.logical_and.reduce([con[5] for con in _constraints(c, spec, rules)]).any())
+        return bool(_feasible(rate, f0, lift, spec, rules)[1].any())
 
     if not fits(0.0):
         return None
