@@ -80,3 +80,13 @@ def test_a_contact_stress_limit_needs_a_width(tmp_path):
         load_case_spec(case_file(tmp_path, LECTURE.replace("min_contact_force = 0", "min_contact_force = 0\nmax_contact_stress = 900")))
     spec = load_case_spec(case_file(tmp_path, LECTURE.replace("min_contact_force = 0", "min_contact_force = 0\nmax_contact_stress = 900").replace('rotation = "cw"', 'rotation = "cw"\nwidth = 8')))
     assert spec.limits.max_contact_stress == 900 and spec.contact_width_mm == 8
+
+
+def test_surge_on_a_cam_harmonic_is_named(capsys, tmp_path):
+    """At 1770 rpm (29.5 Hz) the lecture spring's 176.6 Hz surge sits on the lift's 6th harmonic (1.65 % of the
+    fundamental): a warning names it, and Shigley's 15x rule draws another."""
+    code, out, _ = run(capsys, "spring", case_file(tmp_path, LECTURE.replace("speed = 300 ", "speed = 1770 ")), "--json")
+    s = json.loads(out)["spring"]
+    assert code == 0 and s["surge"]["surge_to_cam_frequency_ratio"] == pytest.approx(5.99, abs=0.01)
+    assert any("harmonic 6 " in w for w in s["warnings"]) and any("15 to 20" in w for w in s["warnings"])
+    assert [h["harmonic"] for h in s["surge"]["harmonics_near"]] == [5, 6]
