@@ -90,3 +90,23 @@ def test_surge_on_a_cam_harmonic_is_named(capsys, tmp_path):
     assert code == 0 and s["surge"]["surge_to_cam_frequency_ratio"] == pytest.approx(5.99, abs=0.01)
     assert any("harmonic 6 " in w for w in s["warnings"]) and any("15 to 20" in w for w in s["warnings"])
     assert [h["harmonic"] for h in s["surge"]["harmonics_near"]] == [5, 6]
+
+
+def test_the_spring_drawing_carries_its_dimensions():
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from camdyn.design.spring import design_spring
+    from camdyn.plot import plot_spring
+
+    d = design_spring(2.0, 30.0, 20.0)
+    fig, ax = plt.subplots()
+    plot_spring(ax, d)
+    texts = " ".join(t.get_text() for t in ax.texts)
+    plt.close(fig)
+    for label in (f"free length {d.spring.free_length:.1f}", f"installed (preload) {d.installed_length:.1f}", f"solid {d.spring.solid_length:.1f}",
+                  f"OD {d.spring.outside_diameter:.2f}", "wire d 1.9", "13.5 active / 15.5 total coils"):
+        assert label in texts
+    assert len(ax.patches) == 2 * d.spring.total_coils + 1  # the wire cut twice per turn
