@@ -38,6 +38,8 @@ MAX_TORQUE_N_M = 1e6
 MAX_DAMPING = 1e7  # N*s/m or N*m*s/rad
 MAX_DAMPING_RATIO = 100.0
 
+DEFAULT_SPEED_FLUCTUATION = 0.05  # [drive]: coefficient of speed fluctuation the flywheel is sized for
+
 CUSP_MM = 1e-6  # a flat-faced contour radius of curvature under 1 nm is a cusp: that check's limit
 
 
@@ -69,3 +71,9 @@ def damping_from_ratio(ratio, stiffness, mass):
 def newton_per_torque(lever_arm_mm):
     """The factor that turns an arm's torque (N*m) into its contact force (N) through the lever arm (mm)."""
     return 1000.0 / lever_arm_mm
+
+
+def torsion_rate_at_arm(torsion_rate, lever_arm_mm):
+    """The rate (N/mm) of a linear spring acting at ``lever_arm_mm`` from the pivot that gives an arm the
+    torsion rate (N*m/rad): k = k_t / r^2, small swings."""
+    return torsion_rate * newton_per_torque(lever_arm_mm) ** 2 * M_PER_MM

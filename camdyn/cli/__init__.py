@@ -23,7 +23,7 @@ from .._core.units import MAX_SPEED_RPM
 # compiled diffrax solves on disk (camdyn checks every solver result itself, so NaN-on-error loses nothing).
 os.environ.setdefault("EQX_ON_ERROR", "nan")
 
-COMMANDS = ("check", "table", "profile", "size", "sweep", "synthesize", "report")
+COMMANDS = ("check", "table", "profile", "size", "sweep", "synthesize", "report", "spring")
 
 
 def _version() -> str:
@@ -109,6 +109,10 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--seed", type=int, metavar="N", help="optimizer seed (default: [synthesis] seed, else 0)")
     p.add_argument("--maxiter", type=int, metavar="N", help="most optimizer generations (default: [synthesis] maxiter, else 200)")
     p.add_argument("--json", action="store_true", help="print one JSON document (the mechanism, the summary and the four-bar comparison)")
+
+    p = command("spring", "the helical compression spring for the case's rate and preload: wire, coils, lengths, stresses, surge")
+    p.add_argument("case", help="case file (TOML); an optional [spring] table gives the material, bore, installed length and end type")
+    p.add_argument("--json", action="store_true", help="print one JSON document")
     return parser
 
 

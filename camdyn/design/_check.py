@@ -15,6 +15,16 @@ class CheckKind(str, Enum):
     CURVATURE = "curvature"
     FACE_WIDTH = "face_width"
     TRAIN_DEFLECTION = "train_deflection"
+    CONTACT_STRESS = "contact_stress"  # Hertz pressure between cam and follower, MPa
+    # the return spring as a part (camdyn spring)
+    SPRING_INDEX_MIN = "spring_index_min"
+    SPRING_INDEX_MAX = "spring_index_max"
+    SPRING_LIFT_SAFETY = "spring_lift_safety"  # Ssy / stress at full lift
+    SPRING_SOLID_SAFETY = "spring_solid_safety"  # Ssy / stress at solid
+    SPRING_FATIGUE_SAFETY = "spring_fatigue_safety"
+    SPRING_BUCKLING = "spring_buckling"  # free length against the critical free length
+    SPRING_CLASH_ALLOWANCE = "spring_clash_allowance"  # (solid deflection / full-lift deflection) - 1
+    SPRING_OUTSIDE_DIAMETER = "spring_outside_diameter"
 
 
 @dataclass(frozen=True)

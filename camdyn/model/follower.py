@@ -10,7 +10,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from .._core.units import damping_from_ratio, motion_scale, rate_to_si
+from .._core.units import M_PER_MM, damping_from_ratio, motion_scale, rate_to_si
 from ..schema import DynamicsSpec
 
 
@@ -62,3 +62,17 @@ def follower_model(d: DynamicsSpec, *, oscillating: bool) -> FollowerModel:
     ratio = math.nan if d.damping is not None else (d.damping_ratio or 0.0)
     vals = (m, k, f0, c, ext, kf, cf, d.restitution)
     return FollowerModel(*(jnp.asarray(float(v)) for v in vals), scale=motion_scale(oscillating), damping_ratio=jnp.asarray(ratio))
+
+
+def with_spring_mass(model: FollowerModel, spring_mass, *, lever_arm_mm=None) -> FollowerModel:
+    """The follower with a third of its spring's mass (kg) added to the moving mass, the classic correction for
+    a spring whose far end is fixed (the coils' kinetic energy with a linear velocity profile). For an
+    oscillating arm the spring acts at ``lever_arm_mm`` from the pivot and adds m_s r^2 / 3 to the inertia.
+    Damping given as a ratio follows the new mass; the train damping keeps its ratio too."""
+    added = spring_mass / 3.0
+    if lever_arm_mm is not None:
+        added = added * (lever_arm_mm * M_PER_MM) ** 2
+    mass = model.mass + added
+    grow = jnp.sqrt(mass / model.mass)
+    damping = jnp.where(jnp.isnan(model.damping_ratio), model.damping, model.damping * grow)
+    return eqx.tree_at(lambda m: (m.mass, m.damping, m.train_damping), model, (mass, damping, model.train_damping * grow))

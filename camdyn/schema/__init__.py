@@ -1,7 +1,8 @@
 """The case-file schema: the only place that knows a case file's keys, their units and the rules between them.
 
 One pydantic model per table (:class:`MotionSpec`, :class:`FollowerSpec`, :class:`DynamicsSpec`,
-:class:`LimitsSpec`, :class:`PathSpec`, :class:`MechanismSpec`), assembled into :class:`CaseSpec` (a case
+:class:`LimitsSpec`, :class:`PathSpec`, :class:`MechanismSpec`, :class:`SpringSpec`, :class:`MaterialsSpec`,
+:class:`DriveSpec`), assembled into :class:`CaseSpec` (a case
 file) and :class:`PathFileSpec` (the input of ``camdyn synthesize``). Validation happens once, here, and every
 problem is one :class:`camdyn.InputError` naming the key. Nothing in this package imports JAX: a typo in a
 case file is reported before any physics is loaded.
@@ -15,16 +16,20 @@ from pathlib import Path
 from .._core.errors import InputError
 from ._base import Table, parse, validation_error
 from .case import SCHEMA_VERSION, CaseSpec
+from .drive import DriveSpec
 from .dynamics import LINEAR_KEYS, ROTARY_KEYS, DynamicsSpec
 from .follower import FOLLOWER_TYPES, FollowerSpec
 from .limits import LimitsSpec
+from .materials import MATERIAL_NAMES, ElasticSpec, MaterialsSpec
 from .mechanism import MechanismSpec
 from .motion import LAW_NAMES, MotionSpec, SegmentSpec, check_segments
 from .path import PATH_TYPES, PathSpec
 from .pathfile import PathFileSpec, SynthesisSpec
+from .spring import END_TYPES, SPRING_MODELS, SpringSpec
 
 __all__ = [
-    "CaseSpec", "DynamicsSpec", "FOLLOWER_TYPES", "FollowerSpec", "LAW_NAMES", "LINEAR_KEYS", "LimitsSpec",
+    "CaseSpec", "DriveSpec", "DynamicsSpec", "END_TYPES", "ElasticSpec", "MATERIAL_NAMES", "MaterialsSpec", "SPRING_MODELS",
+    "SpringSpec", "FOLLOWER_TYPES", "FollowerSpec", "LAW_NAMES", "LINEAR_KEYS", "LimitsSpec",
     "MechanismSpec", "MotionSpec", "PATH_TYPES", "PathFileSpec", "PathSpec", "ROTARY_KEYS", "SCHEMA_VERSION",
     "SegmentSpec", "SynthesisSpec", "Table", "check_segments", "load_case_spec", "load_path_file", "parse",
     "read_toml", "validation_error",

@@ -7,19 +7,22 @@ from typing import Literal
 from pydantic import Field, model_validator
 
 from ._base import Name, Table, Text
+from .drive import DriveSpec
 from .dynamics import DynamicsSpec, check_dynamics_keys
 from .follower import FollowerSpec
 from .limits import LimitsSpec
+from .materials import MaterialsSpec
 from .mechanism import MechanismSpec
 from .motion import MotionSpec, check_segments
 from .path import PathSpec
+from .spring import SpringSpec, check_spring_keys
 
 SCHEMA_VERSION = 1
 
 
 class CaseSpec(Table):
     """A case file: ``[motion]`` and ``[follower]``, or ``[path]`` and ``[mechanism]``; then ``[dynamics]`` and
-    ``[limits]``."""
+    ``[limits]``; optionally ``[spring]``, ``[materials]`` and ``[drive]``."""
 
     version: Literal[1] = Field(default=SCHEMA_VERSION, description="case-file schema version (1)")
     name: Name | None = Field(default=None, description="case name, used in reports and output file names (default: the file name)")
@@ -30,6 +33,9 @@ class CaseSpec(Table):
     mechanism: MechanismSpec | None = Field(default=None, description="the cam-linkage that traces [path]")
     dynamics: DynamicsSpec = Field(description="speed, mass, spring, damping")
     limits: LimitsSpec = Field(default=LimitsSpec(), description="what a passing design must meet")
+    spring: SpringSpec | None = Field(default=None, description="the return spring as a part: wire material, bore, installed length, end type")
+    materials: MaterialsSpec = Field(default=MaterialsSpec(), description="elastic constants of the cam and the follower, for the contact stress")
+    drive: DriveSpec = Field(default=DriveSpec(), description="the camshaft drive: speed fluctuation for the flywheel")
 
     @model_validator(mode="after")
     def _tables_fit_together(self) -> CaseSpec:
@@ -47,6 +53,10 @@ class CaseSpec(Table):
         else:
             raise ValueError("motion: the case needs [motion] segments, or [path] and [mechanism]")
         check_dynamics_keys(self.dynamics, oscillating=self.oscillating)
+        check_spring_keys(self.spring, oscillating=self.oscillating)
+        if self.limits.max_contact_stress is not None and self.contact_width_mm is None:
+            where = "follower" if self.follower is not None else "mechanism"
+            raise ValueError(f"limits.max_contact_stress: the contact stress needs the contact width: give [{where}] width, mm")
         return self
 
     @property
@@ -55,3 +65,10 @@ class CaseSpec(Table):
         if self.follower is not None:
             return not self.follower.translating
         return self.mechanism is not None and self.mechanism.type == "oscillating"
+
+    @property
+    def contact_width_mm(self) -> float | None:
+        """The contact width along the camshaft axis, mm (``[follower] width`` or ``[mechanism] width``); None
+        where the case gives none (no contact stress then)."""
+        table = self.follower if self.follower is not None else self.mechanism
+        return None if table is None else table.width

@@ -11,7 +11,7 @@ from ._base import Real, Table
 
 FOLLOWER_TYPES = ("translating-roller", "translating-flat", "oscillating-roller", "oscillating-flat")
 
-# keys each type needs, and those it may take besides ``type``, ``base_radius`` and ``rotation``
+# keys each type needs, and those it may take besides ``type``, ``base_radius``, ``rotation`` and ``width``
 _NEEDS = {
     "translating-roller": ("roller_radius",),
     "translating-flat": (),
@@ -46,6 +46,7 @@ class FollowerSpec(Table):
     pivot_angle: Real = Field(default=0.0, ge=-360.0, le=360.0, description="oscillating: direction of the pivot from the cam centre, deg")
     arm_length: Real | None = Field(default=None, gt=0, le=MAX_LENGTH_MM, description="oscillating roller: pivot to roller centre, mm")
     face_width: Real | None = Field(default=None, gt=0, le=MAX_LENGTH_MM, description="flat followers: usable face width, mm")
+    width: Real | None = Field(default=None, gt=0, le=MAX_LENGTH_MM, description="contact width along the camshaft axis (the narrower of cam and roller or face), mm; gives the Hertz contact stress")
 
     @model_validator(mode="after")
     def _keys_for_type(self) -> FollowerSpec:
@@ -53,7 +54,7 @@ class FollowerSpec(Table):
         for key in _NEEDS[self.type]:
             if getattr(self, key) is None:
                 raise ValueError(f"{key}: required for {a} {self.type} follower")
-        takes = set(_NEEDS[self.type]) | _TAKES[self.type] | {"type", "base_radius", "rotation"}
+        takes = set(_NEEDS[self.type]) | _TAKES[self.type] | {"type", "base_radius", "rotation", "width"}
         for key in sorted(self.model_fields_set - takes):
             raise ValueError(f"{key}: not used by {a} {self.type} follower (its keys: {', '.join(sorted(takes))})")
         return self

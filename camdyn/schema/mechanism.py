@@ -27,6 +27,7 @@ class MechanismSpec(Table):
     coupler: Real | None = Field(default=None, gt=0, description="coupler length from the crank pin towards the path (BT in the CCM, BA in Ye & Smith), mm; default: eq. 5 (give both crank and coupler or neither)")
     crank_mode: Literal[-1, 1] = Field(default=1, description="assembly mode of the crank dyad at the path start: +1 when (path-side point, crank pin, cam centre) run anticlockwise (Ye & Smith: B0, A0, O)")
     roller_radius: Real = Field(default=10.0, gt=0, description="follower roller radius, mm")
+    width: Real | None = Field(default=None, gt=0, description="contact width of the roller along the camshaft axis, mm; gives the Hertz contact stress")
     # ccm
     joint_distance: Real | None = Field(default=None, gt=0, description="ccm: distance from the crank pin B to the joint C on the coupler, mm (default: C = T)")
     joint_angle: Real = Field(default=0.0, description="ccm: angle from B->T to B->C, deg anticlockwise")

@@ -262,7 +262,9 @@ class _Writer:
         for name, fs in fields.items():
             key = f"`{name}`"
             if members := models_in(fs[0].annotation):  # a table: its header at the top level, its key inside one
-                anchor = self.anchor.get(members[0]) or _slug(f"`{_header(prefix + name, fs[0])}`")
+                # a table not written yet gets its section under the first key that holds it (see tables)
+                first = next(n for n, g in fields.items() if models_in(g[0].annotation)[:1] == members[:1])
+                anchor = self.anchor.get(members[0]) or _slug(f"`{_header(prefix + first, fields[first][0])}`")
                 key = f"[`{_header(name, fs[0]) if not prefix else name}`](#{anchor})"
             rows.append((key, *_row(fs, n_models)))
         self.table(rows)

@@ -1,0 +1,67 @@
+"""``camdyn spring CASE.toml``: the helical compression spring for the case's own rate and preload, as a part."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+from ..design.spring import SpringDesign, design_case_spring, spring_loads
+from ..model.case import build_case
+from ._console import console, notes, table
+
+
+def _rows(d: SpringDesign):
+    s = d.spring
+    surge = f"{s.surge_frequency:.4g}"
+    yield "wire diameter", f"{s.wire_diameter:g}", "mm"
+    yield "mean coil diameter", f"{s.mean_diameter:.2f}", "mm"
+    yield "outside / inside diameter", f"{s.outside_diameter:.2f} / {s.inside_diameter:.2f}", "mm"
+    yield "spring index", f"{s.index:.3g}", ""
+    yield "active / total coils", f"{s.active_coils:g} / {s.total_coils:g}", ""
+    yield "free length", f"{s.free_length:.1f}", "mm"
+    yield "installed length (preload)", f"{d.installed_length:.1f}", "mm"
+    yield "length at full lift", f"{d.full_lift_length:.1f}", "mm"
+    yield "solid length", f"{s.solid_length:.2f}", "mm"
+    yield "pitch", f"{s.pitch:.2f}", "mm"
+    yield "rate", f"{s.rate:.4g}", "N/mm"
+    yield "mass (active coils)", f"{1e3 * s.mass:.3g} ({1e3 * s.active_mass:.3g})", "g"
+    yield "surge frequency", surge + (f" ({d.surge.ratio:.3g} x the cam's)" if d.surge else ""), "Hz"
+
+
+def print_spring(case_name: str, d: SpringDesign, lever_arm: float | None) -> None:
+    con = console()
+    s = d.spring
+    con.print(f"[bold]{case_name}[/bold]  return spring: {s.material} (ASTM {s.wire.astm}), {s.end_type} ends")
+    at = f" at {lever_arm:g} mm from the arm pivot" if lever_arm is not None else ""
+    con.print(f"rate {s.rate:.4g} N/mm{at}, preload {d.preload:.4g} N at the installed length, lift {d.lift:.4g} mm")
+    t = table(("part", "left"), ("value", "right"), ("unit", "left"))
+    for row in _rows(d):
+        t.add_row(*row)
+    con.print(t)
+    w = table(("working point", "left"), ("length mm", "right"), ("force N", "right"), ("stress MPa", "right"))
+    for name, length, force in (("installed", d.installed_length, d.preload), ("full lift", d.full_lift_length, d.full_lift_force), ("solid", s.solid_length, s.solid_force)):
+        w.add_row(name, f"{length:.1f}", f"{force:.4g}", f"{float(s.stress(force)):.4g}")
+    con.print(w)
+    con.print(f"[dim]wire: Sut {s.tensile_strength:.4g} MPa, torsional yield {s.torsional_yield:.4g} MPa (Shigley Tables 10-4, 10-6); stresses with the Bergstrasser factor[/dim]")
+    c = table(("check", "left"), ("value", "right"), ("", "center"), ("limit", "right"), ("unit", "left"), ("result", "left"))
+    for chk in d.checks:
+        value = "unbounded" if chk.value is None else f"{chk.value:.4g}"
+        c.add_row(chk.name, value, chk.sense, f"{chk.limit:.4g}", chk.unit, "[green]pass[/green]" if chk.ok else "[bold red]FAIL[/bold red]")
+    con.print(c)
+    notes(con, "warning", "yellow", d.warnings)
+    con.print(f"spring: [bold]{s.material} d {s.wire_diameter:g} mm, D {s.mean_diameter:.2f} mm, {s.active_coils:g} active / {s.total_coils:g} total coils, free length {s.free_length:.1f} mm[/bold]")
+
+
+def run(args) -> int:
+    case = build_case(args.spec, source=Path(args.case))
+    loads = spring_loads(case)
+    design = design_case_spring(case)
+    lever_arm = case.spec.spring.lever_arm if case.oscillating else None
+    if args.json:
+        doc = {"case": case.name, "rate_N_per_mm": loads.rate, "preload_N": loads.preload, "lift_mm": loads.lift, "spring": design.json()}
+        if lever_arm is not None:
+            doc["lever_arm_mm"] = lever_arm
+        print(json.dumps(doc, indent=2))
+    else:
+        print_spring(case.name, design, lever_arm)
+    return 0

@@ -1,0 +1,167 @@
+"""The return spring as a chain of masses (``[spring] model = "surge"``): spring surge in the follower dynamics.
+
+The lumped model puts a third of the spring's mass on the follower (:func:`camdyn.model.follower.with_spring_mass`),
+which holds while the lift's harmonics stay well below the spring's surge frequency. Here the spring of rate k
+and mass m_s is ``segments`` = N equal lumps joined by springs of rate N k, fixed at the far end; the lump at
+each end is half a lump, and the one at the follower moves with it. The case's damper c stays on the follower
+(so a slow stroke sees exactly the lumped model); the coils' own damping is a damper N c_s across each segment,
+with c_s set so the spring's first surge mode (fixed at both ends, f_s = (1/2) sqrt(k / m_s)) has the damping
+ratio ``surge_damping`` (stiffness-proportional: higher surge modes are damped more). Its surge modes make the
+spring force at the follower swing more than k x + F0 when a harmonic of the lift drives them, and the
+follower can leave the cam at a lower speed.
+
+Nodes q = (u_1, ..., u_{N-1}, x): coil positions and the follower, SI (m, or rad for an arm, with the spring's
+mass as the rotational equivalent m_s r^2). While the follower touches the cam the chain is linear with a
+periodic input, so its steady state is exact per harmonic h of the cam speed w (as for the lumped model,
+:mod:`camdyn.model.dynamics._harmonic`):
+
+    (K - (h w)^2 M + i h w C) Q_h = e_x (k_f + i h w c_f) S_h,   F_i = k_f (s - x) + c_f (s' - x') w
+
+for a compliant train; a rigid follower moves with the cam (x = s) and F_i is the force that takes. The diffrax
+time-domain model (:func:`chain_revolution`) integrates the same chain with the contact law max(0, F_i), the
+reference for the frequency-domain orbit.
+"""
+
+from __future__ import annotations
+
+import math
+
+import diffrax
+import jax.numpy as jnp
+import numpy as np
+
+from .._core.errors import InputError, NumericalError
+from .._core.units import FFT_GRID, RPM, TWO_PI
+from .follower import FollowerModel
+from .motion import Motion, evaluate
+
+DEFAULT_SEGMENTS = 16
+DEFAULT_SURGE_DAMPING = 0.02  # damping ratio of the spring's first surge mode (steel coils: light)
+
+
+def _matrices(model: FollowerModel, spring_mass: float, segments: int, surge_damping: float):
+    """Node masses (N,), stiffness and damping (N, N) of the chain with the follower as the last node (no train)."""
+    if segments < 1 or not spring_mass > 0:
+        raise InputError("spring", f"a chain needs at least one segment and a positive spring mass (got {segments}, {spring_mass})")
+    n, k, m_s = segments, float(model.stiffness), float(spring_mass)
+    w_surge = math.pi * math.sqrt(k / m_s)
+    c_s = 2.0 * surge_damping * k / w_surge  # KV damper of the whole spring: zeta_1 = c_s w_1 / (2 k)
+    mass = np.full(n, m_s / n)
+    mass[-1] = float(model.mass) + m_s / (2 * n)
+    band = np.diag(np.full(n, 2.0)) - np.diag(np.ones(n - 1), 1) - np.diag(np.ones(n - 1), -1)
+    band[-1, -1] = 1.0
+    K, C = n * k * band, n * c_s * band
+    C[-1, -1] += float(model.damping)
+    return mass, K, C
+
+
+def _spectrum(motion: Motion, model: FollowerModel, n: int):
+    """The motion (SI) on ``theta_j = 2 pi j / n`` and the lift's spectrum."""
+    vals = np.asarray(evaluate(motion, jnp.arange(n) * (TWO_PI / n))) * model.scale
+    return vals, np.fft.rfft(vals[0])
+
+
+def chain_steady_force(motion: Motion, model: FollowerModel, spring_mass: float, omega: float, *, segments: int = DEFAULT_SEGMENTS,
+                       surge_damping: float = DEFAULT_SURGE_DAMPING, n: int = FFT_GRID, _spec=None):
+    """Interface force (N, or N*m) on ``theta_j = 2 pi j / n`` of the chain's periodic orbit while the follower
+    stays on the cam, and the nodes' orbit q (n, N) with its dq/dtheta (SI). Exact wherever the force stays
+    positive."""
+    mass, K, C = _matrices(model, spring_mass, segments, surge_damping)
+    vals, S = _spec if _spec is not None else _spectrum(motion, model, n)
+    h = np.arange(S.size)
+    wh = h * omega
+    ext = float(model.preload) + float(model.external)
+    if model.rigid:  # the follower moves with the cam: solve the coils, driven through the last segment
+        Kc, Cc, mc = K[:-1, :-1], C[:-1, :-1], mass[:-1]
+        kn, cn = -K[-2, -1] if segments > 1 else 0.0, -C[-2, -1] if segments > 1 else 0.0
+        Q = np.zeros((S.size, segments), complex)
+        Q[:, -1] = S
+        if segments > 1:
+            A = Kc[None] - (wh**2)[:, None, None] * np.diag(mc)[None] + 1j * wh[:, None, None] * Cc[None]
+            b = np.zeros((S.size, segments - 1), complex)
+            b[:, -1] = (kn + 1j * wh * cn) * S
+            Q[:, :-1] = np.linalg.solve(A, b[..., None])[..., 0]
+    else:
+        kf, cf = float(model.train_stiffness), float(model.train_damping)
+        K, C = K.copy(), C.copy()
+        K[-1, -1] += kf
+        C[-1, -1] += cf
+        A = K[None] - (wh**2)[:, None, None] * np.diag(mass)[None] + 1j * wh[:, None, None] * C[None]
+        b = np.zeros((S.size, segments), complex)
+        b[:, -1] = (kf + 1j * wh * cf) * S
+        b[0, -1] = kf * S[0] - n * ext
+        Q = np.linalg.solve(A, b[..., None])[..., 0]
+    q = np.fft.irfft(Q, n, axis=0)
+    dq = np.fft.irfft(1j * h[:, None] * Q, n, axis=0)
+    s, s1, s2 = vals[0], vals[1], vals[2]
+    if model.rigid:  # what the cam must push: the follower's inertia, the last segment, the damper, the preload
+        u, du = (q[:, -2], dq[:, -2]) if segments > 1 else (0.0, 0.0)
+        c = float(model.damping)
+        fi = mass[-1] * omega**2 * s2 + K[-1, -1] * (s - u) + (C[-1, -1] - c) * omega * (s1 - du) + c * omega * s1 + ext
+    else:
+        fi = float(model.train_stiffness) * (s - q[:, -1]) + float(model.train_damping) * omega * (s1 - dq[:, -1])
+    return fi, q, dq
+
+
+def chain_min_force(motion, model, spring_mass, omegas, *, n: int = FFT_GRID, **kw) -> np.ndarray:
+    """Least steady-state interface force per speed (contact assumed, as for the jump speed)."""
+    spec = _spectrum(motion, model, n)
+    return np.array([np.min(chain_steady_force(motion, model, spring_mass, float(w), n=n, _spec=spec, **kw)[0]) for w in np.atleast_1d(omegas)])
+
+
+def chain_jump_speed(motion: Motion, model: FollowerModel, spring_mass: float, *, w_max: float, grid: int = 400, tol_rpm: float = 0.1, **kw) -> float:
+    """Least cam speed (rad/s) at which the chain's steady-state least interface force reaches 0 (inf if none
+    up to ``w_max``): a scan over ``grid`` speeds, then bisection of the first sign change."""
+    speeds = np.linspace(w_max / grid, w_max, grid)
+    fmin = chain_min_force(motion, model, spring_mass, speeds, **kw)
+    if not np.all(np.isfinite(fmin)):
+        raise NumericalError("surge model", "the steady-state force is not finite")
+    hit = np.nonzero(fmin <= 0.0)[0]
+    if hit.size == 0:
+        return math.inf
+    lo, hi = (speeds[hit[0] - 1] if hit[0] > 0 else 0.0), speeds[hit[0]]
+    while (hi - lo) / RPM > tol_rpm:
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if chain_min_force(motion, model, spring_mass, mid, **kw)[0] > 0 else (lo, mid)
+    return float(0.5 * (lo + hi))
+
+
+def _field(t, y, args):
+    motion, mass, K, C, kf, cf, ext, omega, scale = args
+    n = mass.shape[0]
+    q, v = y[:n], y[n:]
+    s, s1, _, _ = motion(omega * t) * scale
+    fi = jnp.where(s > q[-1], jnp.maximum(0.0, kf * (s - q[-1]) + cf * (omega * s1 - v[-1])), 0.0)
+    force = -(K @ q) - (C @ v)
+    force = force.at[-1].add(fi - ext)
+    return jnp.concatenate([v, force / mass])
+
+
+def chain_revolution(motion: Motion, model: FollowerModel, spring_mass: float, omega: float, q0, v0, theta, *, segments: int = DEFAULT_SEGMENTS,
+                     surge_damping: float = DEFAULT_SURGE_DAMPING, rtol: float = 1e-10, atol: float = 1e-13):
+    """diffrax: one revolution of a compliant follower with the chain, from nodes q0 and velocities v0 (SI, per
+    second) at theta = 0; returns the nodes (len(theta), N), the interface force on ``theta`` (rad) and the
+    state at 2 pi. Contact is unilateral: the follower may leave the cam."""
+    if model.rigid:
+        raise InputError("dynamics.train_stiffness", "the time-domain chain needs a compliant follower train")
+    mass, K, C = _matrices(model, spring_mass, segments, surge_damping)
+    args = (motion, jnp.asarray(mass), jnp.asarray(K), jnp.asarray(C), float(model.train_stiffness), float(model.train_damping),
+            float(model.preload) + float(model.external), float(omega), model.scale)
+    breaks = np.deg2rad(np.asarray(motion.breaks_deg, dtype=float)) / omega
+    period = TWO_PI / omega
+    ts = jnp.asarray(np.asarray(theta) / omega)
+    sol = diffrax.diffeqsolve(
+        diffrax.ODETerm(_field), diffrax.Tsit5(), t0=0.0, t1=period, dt0=None, y0=jnp.concatenate([jnp.asarray(q0), jnp.asarray(v0)]), args=args,
+        saveat=diffrax.SaveAt(ts=ts, t1=True),
+        stepsize_controller=diffrax.ClipStepSizeController(diffrax.PIDController(rtol=rtol, atol=atol), jump_ts=jnp.asarray(np.sort(breaks))),
+        max_steps=400_000, throw=False,
+    )
+    if sol.result != diffrax.RESULTS.successful:
+        raise NumericalError(f"surge model at {omega / RPM:.1f} rpm", "the chain integration failed (solver out of steps or NaN)")
+    ys = np.asarray(sol.ys)
+    nn = segments
+    q, v = ys[:-1, :nn], ys[:-1, nn:]
+    vals = np.asarray(motion(jnp.asarray(theta))) * model.scale
+    raw = float(model.train_stiffness) * (vals[0] - q[:, -1]) + float(model.train_damping) * (omega * vals[1] - v[:, -1])
+    fi = np.where(vals[0] > q[:, -1], np.maximum(0.0, raw), 0.0)
+    return q, fi, ys[-1]
