@@ -12,9 +12,12 @@ import numpy as np
 from .._core.units import RPM
 from ..model import dynamics as dyn
 from ..model.case import Case
+from ..model.contact import ContactStress
+from ..model.drive import DriveTorque
 from ..model.geometry import CamGeometry, analyze, lever_arm_mm, newton_per_torque_at
 from ._check import Check, CheckKind
 from .geometry import judge_geometry
+from .parts import case_contact, case_drive, contact_check
 
 
 SYNTHESIS_ARRAYS = ("theta_deg", "pitch", "contour", "path_xy", "traced_xy")  # check --json --arrays only
@@ -33,6 +36,8 @@ class CheckReport:
     warnings: tuple[str, ...]
     advice: tuple[str, ...] = ()
     geometry: CamGeometry | None = None
+    drive: DriveTorque | None = None  # the camshaft torque of the dynamic forces
+    contact: ContactStress | None = None  # Hertz stress, where the case gives a contact width
 
     @property
     def verdict(self) -> str:
@@ -52,6 +57,10 @@ class CheckReport:
         }
         if self.geometry is not None:
             out["geometry"] = self.geometry.json()
+        if self.drive is not None:
+            out["drive"] = self.drive.json()
+        if self.contact is not None:
+            out["contact"] = self.contact.json()
         if self.case.synthesis is not None:
             syn = self.case.synthesis.json()
             out["synthesis"] = syn if arrays else {k: v for k, v in syn.items() if k not in SYNTHESIS_ARRAYS}
@@ -160,6 +169,15 @@ def run_check(case: Case, speed_rpm: float | None = None) -> CheckReport:
         checks += tuple(geo_checks)
         warnings += geo_warnings
         advice += geo_advice
+    drive = case_drive(case, resp)
+    contact = None
+    if geo is not None and case.spec.contact_width_mm is not None:
+        if geo.undercut:  # the contour folds: no radius of curvature to press on
+            warnings.append("contact stress not computed: the contour is undercut")
+        else:
+            contact = case_contact(case, geo, resp)
+            if limits.max_contact_stress is not None:
+                checks += (contact_check(contact, limits.max_contact_stress),)
     for sep in dynamic["separations"]:
         warnings.append(_separation_note(sep, rpm, float(case.model.restitution)))
-    return CheckReport(case, rpm, checks, kinematic, dynamic, resp, tuple(warnings), tuple(advice), geo)
+    return CheckReport(case, rpm, checks, kinematic, dynamic, resp, tuple(warnings), tuple(advice), geo, drive, contact)

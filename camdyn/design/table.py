@@ -11,6 +11,7 @@ from .._core.errors import InputError
 from .._core.units import RPM
 from ..model import dynamics as dyn
 from ..model.case import Case
+from ..model.drive import camshaft_torque
 from ..model.geometry import analyze, newton_per_torque_at
 from ..model.motion import evaluate
 from .checks import forces_in_newton
@@ -46,6 +47,7 @@ def motion_table(case: Case, step_deg: float = 1.0, speed_rpm: float | None = No
         force = force * newton_per_torque_at(case.motion, case.follower, np.asarray(theta))
     else:
         cols |= {"s_mm": vals[0], "v_mm_per_rad": vals[1], "a_mm_per_rad2": vals[2], "j_mm_per_rad3": vals[3]}
+    torque = camshaft_torque(force if not case.oscillating else force / newton_per_torque_at(case.motion, case.follower, np.asarray(theta)), vals[1] * case.model.scale)
     cols["contact_force_N"] = force
     if case.follower is not None:
         cols |= analyze(case.motion, case.follower).table(theta_deg)
@@ -54,6 +56,7 @@ def motion_table(case: Case, step_deg: float = 1.0, speed_rpm: float | None = No
     else:
         cols["dynamic_x_mm"] = at(resp.x)
     cols["dynamic_contact_force_N"] = at(resp.force)
+    cols["drive_torque_N_m"] = torque  # the camshaft torque of the kinematic force, from the power balance
     return cols
 
 
