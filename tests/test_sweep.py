@@ -3,15 +3,16 @@
 import os
 import subprocess
 import sys
-import tomllib
 from pathlib import Path
 
+import equinox as eqx
+import jax.numpy as jnp
 import numpy as np
 import pytest
 
 from camdyn._core.units import RPM
 from camdyn.model import dynamics as dyn
-from camdyn.model.case import case_from_dict, load_case
+from camdyn.model.case import load_case
 from camdyn.cli import main
 from camdyn.design.sweep import CSV_COLUMNS, jump_map
 
@@ -20,8 +21,8 @@ LECTURE = ROOT / "cases" / "lecture.toml"
 
 
 @pytest.fixture(scope="module")
-def lecture():
-    return load_case(LECTURE)
+def lecture(lecture_case):
+    return lecture_case
 
 
 @pytest.fixture(scope="module")
@@ -31,10 +32,8 @@ def small_map(lecture):
 
 
 def _model_with_rate(case, rate_n_per_mm):
-    """The case's follower with another spring rate (preload fixed; damping from the damping ratio)."""
-    import equinox as eqx
-    import jax.numpy as jnp
-
+    """The case's follower with another spring rate (preload fixed; damping from the damping ratio, written out
+    here: an independent route to what the map does)."""
     k = rate_n_per_mm * 1e3
     c = 2.0 * case.spec.dynamics.damping_ratio * np.sqrt(k * float(case.model.mass))
     return eqx.tree_at(lambda m: (m.stiffness, m.damping), case.model, (jnp.asarray(float(k)), jnp.asarray(float(c))))
@@ -53,7 +52,8 @@ def test_csv_columns_and_rows(small_map):
     assert np.all(data[sep, 4] > 0.0) and np.all(data[~sep, 4] == 0.0)
 
 
-def test_map_without_gaps(lecture, small_map):
+@pytest.mark.slow
+def test_map_without_gaps(lecture, small_map, lecture_rigid_case):
     """gaps=False (the report's jump map): the same least force and separation, no gap integration (NaN)."""
     jm = jump_map(lecture, small_map.speeds_rpm, small_map.spring_rates, gaps=False)
     np.testing.assert_array_equal(jm.separated, small_map.separated)
@@ -62,13 +62,13 @@ def test_map_without_gaps(lecture, small_map):
     assert small_map.separated.any() and np.all(np.isnan(jm.max_gap[jm.separated])) and np.all(jm.max_gap[~jm.separated] == 0.0)
     assert any("gaps not computed" in n for n in jm.notes)
     # a rigid follower: no flights are integrated either
-    rigid = load_case(ROOT / "cases" / "racetrack.toml")
-    jr = jump_map(rigid, [100.0, 700.0], [1.0], gaps=False)
+    jr = jump_map(lecture_rigid_case, [100.0, 700.0], [1.0], gaps=False)
     assert jr.model == "rigid" and list(jr.separated[:, 0]) == [False, True] and np.isnan(jr.max_gap[1, 0])
 
 
-def test_separation_agrees_with_dynamics(lecture):
-    fast = load_case(ROOT / "cases" / "lecture-fast.toml")
+@pytest.mark.slow
+def test_separation_agrees_with_dynamics(lecture, lecture_fast_case):
+    fast = lecture_fast_case
     jm_fast = jump_map(fast, [600.0])  # the case's own spring rate
     jm_slow = jump_map(lecture, [300.0])
     assert jm_fast.separated[0, 0] and jm_fast.min_force[0, 0] == 0.0 and jm_fast.max_gap[0, 0] > 0.1
@@ -79,6 +79,7 @@ def test_separation_agrees_with_dynamics(lecture):
     assert list(jm.separated[:, 0]) == [False, True]
 
 
+@pytest.mark.slow
 def test_steady_state_vs_diffrax(lecture, small_map):
     """The map's frequency-domain steady state against the diffrax time-domain shooting (compliant_response)."""
     for i, j in ((0, 0), (0, 1)):
@@ -100,11 +101,9 @@ def test_gap_vs_diffrax_shooting(lecture, small_map):
     assert small_map.separated[1, 1] and small_map.max_gap[1, 1] == pytest.approx(gap, abs=1e-3)
 
 
-def test_rigid_map_agrees_with_kinematics_and_flight(lecture):
-    raw = tomllib.loads(LECTURE.read_text())
-    for key in ("train_stiffness", "train_damping_ratio"):
-        raw["dynamics"].pop(key)
-    rigid = case_from_dict(raw)
+@pytest.mark.slow
+def test_rigid_map_agrees_with_kinematics_and_flight(lecture_rigid_case):
+    rigid = lecture_rigid_case
     w_kin = dyn.kinematic_jump_speed(rigid.motion, rigid.model)[0] / RPM
     jm = jump_map(rigid, [w_kin - 1.0, 600.0])
     assert jm.model == "rigid" and list(jm.separated[:, 0]) == [False, True]
@@ -112,6 +111,7 @@ def test_rigid_map_agrees_with_kinematics_and_flight(lecture):
     assert jm.max_gap[1, 0] == pytest.approx(max(s.max_gap for s in resp.separations), rel=1e-6)
 
 
+@pytest.mark.slow
 def test_oscillating_forces_in_newton():
     from camdyn.design.checks import forces_in_newton as _forces_in_newton
 
@@ -122,6 +122,7 @@ def test_oscillating_forces_in_newton():
     assert jm.min_force[0, 0] == pytest.approx(resp.min_force, abs=0.01)
 
 
+@pytest.mark.slow
 def test_sharded_over_two_devices_equals_one(small_map):
     """Two host devices (a subprocess): the grid sharded over both equals the grid on one of them."""
     code = (
@@ -145,6 +146,7 @@ def test_sharded_over_two_devices_equals_one(small_map):
     np.testing.assert_allclose(two[:, :4], one[:, :4], rtol=1e-9, atol=1e-9)  # this process: maybe another platform
 
 
+@pytest.mark.slow
 def test_cli_writes_csv_and_png(capsys, tmp_path):
     argv = ["sweep", str(LECTURE), "--speeds", "300:520:2", "--spring-rates", "1:2:2", "-o", str(tmp_path)]
     assert main(argv) == 0
