@@ -18,15 +18,23 @@ padded to a multiple of the device count, so a progress bar can follow the chunk
   (:func:`camdyn.model.dynamics.rigid_response`), one separated point at a time (a Python loop, not batched).
 * Oscillating follower: the model is rotational; forces are converted to N through the lever arm of the
   contact normal (as ``check`` does) and gaps to mm along the normal (lever arm x arm-swing gap, first order).
-  Its spring rates are torsion rates, N*m/rad (the column keeps its name ``spring_rate_N_per_mm``).
+  Its spring rates are torsion rates, N*m/rad: the CSV column ``spring_rate_N_m_per_rad`` (the old column
+  ``spring_rate_N_per_mm`` holds the same numbers for those scripts that read it: deprecated for an arm).
+
+Every point ends with a status: a point whose computation fails (a :class:`NumericalError` of the flight model,
+a steady state or gap that is not finite, even an unexpected error at one point) is flagged ``failed: <reason>``
+with NaN numbers, and the map goes on. A grid beyond :data:`MAX_GRID_POINTS` is refused before any work.
 
 The case's preload F0 is kept fixed while the spring rate varies; damping given as ``damping_ratio`` scales
 with sqrt(k m) (:meth:`camdyn.model.follower.FollowerModel.damping_at`), damping given as ``damping`` stays fixed.
 The map and its CSV are :mod:`._result`; :mod:`._map` assembles them.
 """
 
-from ._grid import GAP_CHUNK, GAP_LAST, GAP_REVS, GAP_SAMPLES, GAP_STRIDE, GRID_N, LINEAR_CHUNK
+from ._grid import GAP_CHUNK, GAP_LAST, GAP_REVS, GAP_SAMPLES, GAP_STRIDE, GRID_N, LINEAR_CHUNK, MAX_GRID_POINTS, check_grid_size
 from ._map import jump_map
-from ._result import CSV_COLUMNS, JumpMap
+from ._result import CSV_COLUMNS, STATUS_OK, JumpMap
 
-__all__ = ["CSV_COLUMNS", "GAP_CHUNK", "GAP_LAST", "GAP_REVS", "GAP_SAMPLES", "GAP_STRIDE", "GRID_N", "JumpMap", "LINEAR_CHUNK", "jump_map"]
+__all__ = [
+    "CSV_COLUMNS", "GAP_CHUNK", "GAP_LAST", "GAP_REVS", "GAP_SAMPLES", "GAP_STRIDE", "GRID_N", "JumpMap", "LINEAR_CHUNK", "MAX_GRID_POINTS",
+    "STATUS_OK", "check_grid_size", "jump_map",
+]

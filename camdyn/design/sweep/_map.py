@@ -18,8 +18,8 @@ from ...model.motion import evaluate
 from ._contact import kinematic_kernel, linear_kernel, with_spring_damping
 from ._diffrax_gap import diffrax_gap_const, diffrax_gap_kernel
 from ._exact_gap import exact_gap_kernel
-from ._grid import GAP_CHUNK, GAP_STRIDE, GRID_N, LINEAR_CHUNK
-from ._result import JumpMap
+from ._grid import GAP_CHUNK, GAP_STRIDE, GRID_N, LINEAR_CHUNK, check_grid_size
+from ._result import STATUS_OK, JumpMap, failed
 from ._sharding import run_batched
 
 
@@ -43,6 +43,7 @@ def _points(case, speeds_rpm, spring_rates) -> _Points:
     rate0 = float(rate_from_si(base.stiffness, case.oscillating))
     speeds = np.atleast_1d(np.asarray(speeds_rpm, dtype=float))
     rates = np.atleast_1d(np.asarray(spring_rates if spring_rates is not None else [rate0], dtype=float))
+    check_grid_size(speeds.size, rates.size)
     if speeds.size == 0 or rates.size == 0 or not (np.all(speeds > 0) and np.all(rates > 0) and np.all(np.isfinite(speeds)) and np.all(np.isfinite(rates))):
         raise InputError("sweep", "speeds and spring rates must be positive and finite")
     sp, kr = np.meshgrid(speeds, rates, indexing="ij")
@@ -54,32 +55,36 @@ def _lever_arm_mm(case, theta) -> np.ndarray:
     return 1000.0 / newton_per_torque_at(case.motion, case.follower, np.asarray(theta))
 
 
-def _rigid_gaps(case, pts: _Points, idx, progress) -> np.ndarray:
-    """Largest gap (mm) of the event-driven flight model at the separated points ``idx``, one at a time; NaN
-    where the flight integration fails."""
-    base, gap = case.model, np.zeros(pts.omega.size)
+def _rigid_gaps(case, pts: _Points, idx, progress) -> tuple[np.ndarray, dict[int, str]]:
+    """Largest gap (mm) of the event-driven flight model at the separated points ``idx``, one at a time, and the
+    reason per point where the flight computation failed (its gap NaN): a point that fails never stops the map."""
+    base, gap, why = case.model, np.zeros(pts.omega.size), {}
     step = counter(progress, "flights (rigid model, one point at a time)", idx.size)
     for i in idx:
         # Python floats, as case.follower_model builds them: the compiled flight solve is reused
         md = with_spring_damping(base, jnp.asarray(float(pts.k[i])), jnp.asarray(float(pts.c[i])))
         try:
             r = dyn.rigid_response(case.motion, md, float(pts.omega[i]))
-        except NumericalError:
-            gap[i] = np.nan
+        except NumericalError as err:
+            gap[i], why[int(i)] = np.nan, str(err)
+        except Exception as err:  # noqa: BLE001  (a bug at one point: flagged in its row, the map goes on)
+            gap[i], why[int(i)] = np.nan, f"internal error in the flight model: {type(err).__name__}: {err}"
         else:
             w = _lever_arm_mm(case, np.deg2rad(r.theta_deg)) if case.oscillating else 1.0
             gap[i] = max(0.0, float(np.max((r.x - r.s) * w)))
         step(1)
-    return gap
+    return gap, why
 
 
 def _rigid_map(case, pts: _Points, angles, gaps: bool, progress, devices):
     theta, vals, weight = angles
     const = (case.model, *(jnp.asarray(v) for v in vals[:3]), jnp.asarray(weight))
     signed = run_batched(kinematic_kernel, const, [pts.omega, pts.k, pts.c], LINEAR_CHUNK, counter(progress, "kinematic force", pts.omega.size), devices)
+    why = {int(i): "the kinematic force is not finite" for i in np.nonzero(~np.isfinite(signed))[0]}
     separated = signed <= 0.0
     idx = np.nonzero(separated)[0] if gaps else np.zeros(0, dtype=int)
-    return signed, separated, _rigid_gaps(case, pts, idx, progress)
+    gap, why_gap = _rigid_gaps(case, pts, idx, progress)
+    return signed, separated, gap, why | why_gap
 
 
 def _compliant_map(case, pts: _Points, angles, gaps: bool, gap_method: str, progress, devices):
@@ -89,11 +94,12 @@ def _compliant_map(case, pts: _Points, angles, gaps: bool, gap_method: str, prog
     const = (base, jnp.asarray(vals[0]), jnp.asarray(vals[1]), spec, jnp.asarray(weight))
     tick = counter(progress, "steady state (frequency domain)", pts.omega.size)
     signed, z0 = run_batched(linear_kernel, const, [pts.omega, pts.k, pts.c], LINEAR_CHUNK, tick, devices)
+    why = {int(i): "the frequency-domain steady state is not finite" for i in np.nonzero(~np.isfinite(signed))[0]}
     separated = signed <= 0.0
     gap = np.zeros(pts.omega.size)
     idx = np.nonzero(separated)[0] if gaps else np.zeros(0, dtype=int)
     if not idx.size:
-        return signed, separated, gap
+        return signed, separated, gap, why
     tick = counter(progress, "separated points (nonlinear model)", idx.size)
     point = [pts.omega[idx], pts.k[idx], pts.c[idx]]
     if gap_method == "exact":
@@ -105,7 +111,26 @@ def _compliant_map(case, pts: _Points, angles, gaps: bool, gap_method: str, prog
         gconst = diffrax_gap_const(case, lambda t: _lever_arm_mm(case, t))
         g = run_batched(diffrax_gap_kernel, gconst, [*point, z0[idx]], GAP_CHUNK, tick, devices)
     gap[idx] = np.maximum(g, 0.0)
-    return signed, separated, gap
+    how = "exact piecewise-linear stepping" if gap_method == "exact" else "diffrax"
+    why |= {int(i): f"the gap integration of the nonlinear model ({how}) did not finish" for i in idx[~np.isfinite(g)]}
+    return signed, separated, gap, why
+
+
+def _notes(gaps: bool, separated, gap, why: dict[int, str]) -> tuple[str, ...]:
+    notes = []
+    if not gaps and separated.any():
+        notes.append("gaps not computed (gaps=False): max_gap_mm is NaN where the follower separates")
+    if why:
+        first = min(why)
+        notes.append(f"{len(why)} grid point(s) failed (status column, their numbers NaN); the first: {why[first]}")
+    train_only = separated & (gap == 0.0)
+    if gaps and train_only.any():
+        notes.append(
+            f"at {int(train_only.sum())} separated point(s) max_gap_mm is 0: the interface force reaches 0 in the follower train alone "
+            "(its damper would have to pull) while the follower never passes the cam profile (as where the spring rate dwarfs "
+            "the train stiffness, or just past the jump boundary)"
+        )
+    return tuple(notes)
 
 
 def jump_map(
@@ -138,32 +163,30 @@ def jump_map(
     weight = newton_per_torque_at(case.motion, case.follower, theta) if case.oscillating else np.ones(GRID_N)
     angles = (theta, vals, weight)
     if base.rigid:
-        signed, separated, gap = _rigid_map(case, pts, angles, gaps, progress, devices)
+        signed, separated, gap, why = _rigid_map(case, pts, angles, gaps, progress, devices)
     else:
-        signed, separated, gap = _compliant_map(case, pts, angles, gaps, gap_method, progress, devices)
-    notes: list[str] = []
+        signed, separated, gap, why = _compliant_map(case, pts, angles, gaps, gap_method, progress, devices)
     if not gaps:
         gap[separated] = np.nan
-        if separated.any():
-            notes.append("gaps not computed (gaps=False): max_gap_mm is NaN where the follower separates")
-    failed = int(np.count_nonzero(~np.isfinite(gap))) if gaps else 0
-    if failed:
-        notes.append(f"the flight integration failed at {failed} separated point(s): their max_gap_mm is NaN")
-    if not np.all(np.isfinite(signed)):
-        raise NumericalError("sweep", "the steady-state force is not finite at some grid points")
+    status = np.full(signed.shape, STATUS_OK, dtype=object)
+    bad = np.zeros(signed.shape, dtype=bool)
+    for i, reason in why.items():
+        status[i], bad[i] = failed(reason), True
+    notes = _notes(gaps, separated, gap, why)
     return JumpMap(
         case=case.name,
         model="rigid" if base.rigid else "compliant",
         oscillating=case.oscillating,
         speeds_rpm=pts.speeds_rpm,
         spring_rates=pts.rates,
-        min_force=np.where(separated, 0.0, signed).reshape(pts.shape),
+        min_force=np.where(bad, np.nan, np.where(separated, 0.0, signed)).reshape(pts.shape),
         separated=separated.reshape(pts.shape),
-        max_gap=gap.reshape(pts.shape),
+        max_gap=np.where(bad, np.nan, gap).reshape(pts.shape),
         contact_force=np.asarray(signed).reshape(pts.shape),
         speed_rpm=float(case.speed_rpm),
         spring_rate=float(rate_from_si(base.stiffness, case.oscillating)),
         preload=float(base.preload),
         devices=len(devices),
-        notes=tuple(notes),
+        notes=notes,
+        status=status.reshape(pts.shape),
     )
