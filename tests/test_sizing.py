@@ -95,7 +95,7 @@ def brute_force(raw: dict, n: int = 200001):
     case = case_from_dict(raw)
     theta = np.linspace(0.0, 2 * np.pi, n)
     s, s1, s2 = (v * 1e-3 for v in np.asarray(evaluate(case.motion, jnp.asarray(theta)))[:3])
-    m, fmin, w_top = raw["dynamics"]["mass"], raw["limits"]["min_contact_force"], raw["limits"]["speed_margin"] * raw["dynamics"]["speed"] * RPM
+    m, fmin, w_top = float(case.model.mass), case.limits.min_contact_force, case.limits.speed_margin * case.speed_rpm * RPM
 
     def least_preload(k, c):
         a, b = m * s2, c * s1
@@ -129,6 +129,49 @@ def test_lp_and_sqrt_k_minimization_vs_brute_force(damping):
     assert least_preload(k, damping_at(k))[0] <= sz.chosen.preload + 1e-8 * sz.chosen.peak_spring
     assert min(peak(kk) for kk in np.linspace(0.0, 3 * max(k, 100.0), 151)) >= sz.chosen.peak_spring * (1 - 1e-8)
     assert sz.chosen.least_force_kinematic >= 10.0 - 1e-8  # holds between grid points too (cutting planes)
+
+
+def rigid_boundary(**dynamics) -> dict:
+    """Issue 13's case: a rise to full lift, a dwell there, a return and a dwell; rigid follower."""
+    return {
+        "name": "rigid-boundary",
+        "motion": {"segments": [
+            {"law": "harmonic", "end": 120, "lift": 15}, {"law": "dwell", "end": 180},
+            {"law": "harmonic", "end": 300, "lift": -15}, {"law": "dwell", "end": 360},
+        ]},
+        "follower": {"type": "translating-roller", "base_radius": 45, "roller_radius": 12, "offset": 0, "rotation": "cw"},
+        "dynamics": {"speed": 1200, "mass": 0.4, "spring_rate": 3, "preload": 40, "damping_ratio": 0.05, "restitution": 0.3} | dynamics,
+        "limits": {},
+    }
+
+
+def test_binding_at_full_lift_with_damping_that_follows_the_rate_is_no_tie():
+    """Issue 13, 9: the binding angles (120 and 180 deg) are at full lift, yet with damping_ratio every rate costs
+    peak force: c grows like sqrt(k) and moves the binding onto the return flank after 180 deg, where the damper
+    pulls the follower off the cam. Brute force (independent) shows the rise; the answer is the least rate, 0,
+    exactly, with the warning that says why (it was a rate made by the tie tolerance, 3.7e-6 N/mm). Without damping
+    the same binding is a true tie, and the stiffest optimal spring is chosen as the README promises."""
+    raw = rigid_boundary()
+    sz = size_spring(case_from_dict(raw))
+    c = sz.chosen
+    assert {round(a, 3) for a, _, _ in sz.binding} == {120.0, 180.0}
+    assert c.rate == 0.0 and any("least rate" in w and "no tie" in w for w in sz.warnings)
+    least_preload = brute_force(raw)
+    zeta, m = raw["dynamics"]["damping_ratio"], raw["dynamics"]["mass"]
+
+    def peak(k):  # N/m -> least peak spring force (N), damping following the rate
+        f0, s_max = least_preload(k, 2 * zeta * math.sqrt(k * m))
+        return k * s_max + f0
+
+    p0, p1, p10 = peak(0.0), peak(1e3), peak(1e4)
+    assert c.peak_spring == pytest.approx(p0, rel=1e-8) and c.preload == pytest.approx(p0, rel=1e-8)
+    assert p1 - p0 > 0.02 and p10 - p1 > 0.2  # about 0.04 N per N/mm: no tie
+    undamped = size_spring(case_from_dict(rigid_boundary(damping_ratio=0.0)))
+    k_end = undamped.chosen.rate * 1e3
+    assert k_end > 10e3 and undamped.chosen.peak_spring == pytest.approx(p0, rel=1e-9)
+    f0, s_max = least_preload(k_end, 0.0)
+    assert k_end * s_max + f0 == pytest.approx(p0, rel=1e-8)  # flat: a true tie, and its stiffest end is chosen
+    assert least_preload(1.01 * k_end, 0.0)[0] + 1.01 * k_end * s_max > p0 + 1e-3  # beyond it the peak rises
 
 
 def tomllib_load(path: Path) -> dict:

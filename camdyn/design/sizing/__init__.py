@@ -23,13 +23,21 @@ broken towards the least preload: k_end, the stiffest optimal spring, which also
 over the revolution (``k mean(s) + F0 = P - k (s_max - mean(s))``); it is what a second, lexicographic LP
 minimizing F0 at P* returns, computed in closed form (no LP tolerance), and the LP's P* is checked against the
 closed form. ``min_rate`` bounds k from below: a real spring has a rate, and with the rate you have the answer
-is the least preload for it.
+is the least preload for it. With constant damping a binding angle next to full lift, on a flank where the
+follower moves, is not at full lift: the rate costs peak force there (the LP's closed form gives k_end = k_lo).
 
 **Damping.** ``damping`` (N*s/m) is a constant c and the LP above is exact. With ``damping_ratio``,
 c = 2 zeta sqrt(k m) depends on k; then for each k the least preload is still closed form,
 ``F0(k) = max_i (r_i(sqrt k) - k s_i)``, and the peak force ``P = k s_max + F0(k)`` is convex in u = sqrt(k)
 (r_i is the maximum over w of functions affine in u, and (s_max - s_i) u^2 is convex), so it is minimized exactly
 in u (bounded Brent), with the same tie-break (the largest k whose peak force is within 1e-11 of the least).
+A binding angle at full lift is then no tie by itself: c grows with k, and where the follower leaves full lift
+next to the binding angle (s' < 0 on the flank after a top, where the damper pulls it off the cam) the binding
+moves onto that flank as soon as c > 0, so every rate costs peak force (about c^2, i.e. linear in k). Where the
+least rate reaches the least peak force and the peak force rises from it, the answer is the least rate, exactly;
+the rise is judged at the k-midpoint of the stretch the 1e-11 walk found, with the preload held between grid
+angles too (on the grid alone the rise is far slower, and the walk would stop at a rate the tolerance and the
+cutting-plane rounds make).
 (Freezing c at one value and iterating the LP to a fixed point does not find this optimum: with c frozen the LP
 puts k at 0, where c = 0, although a little damping on a rising binding angle lowers the requirement like sqrt k.)
 
@@ -40,7 +48,8 @@ frequency domain (:func:`camdyn.model.dynamics.linear_contact_force`); the prelo
 exact, ``F0_dyn(k) = max over theta and w of (F_min - G) / alpha``, with w on 0 and 160 speeds up to W refined
 twice around the worst. The dynamic peak force ``k s_max + F0_dyn(k)`` is minimized over k (scan in sqrt k from
 min_rate to the rate beyond which even the static requirement at least lift costs more than the kinematic
-answer does dynamically, then bounded Brent around the best), ties within 1e-6 broken the same way (largest k).
+answer does dynamically, then bounded Brent around the best), ties within 1e-6 broken the same way (largest k,
+and the least rate where the peak force rises from it).
 The answer is then verified on 1127 speeds in [0, W] and F0 raised by any remaining deficit / alpha. Rigid
 followers: the dynamic interface force is the kinematic one, and the kinematic answer is the answer.
 

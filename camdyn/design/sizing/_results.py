@@ -10,11 +10,15 @@ from dataclasses import dataclass, field
 import numpy as np
 
 TIE_BREAK = (
-    "the least peak spring force is reached by more than one spring only where the binding angle is at full lift; "
-    "then the one with the least preload is chosen (the stiffest, which also has the least mean spring force): "
-    "exactly, as a second lexicographic LP minimizing the preload at the least peak force would, for constant "
-    "damping; else the largest rate whose peak force is within 1e-11 (kinematic) or 1e-6 (dynamic) of the least. "
-    "Otherwise the least peak force needs the least rate (min_rate; 0 is a constant-force spring)"
+    "the least peak spring force is reached by more than one spring only where the peak force stays flat as the "
+    "rate grows: the binding angle at full lift, with no damping force there that grows with the rate (with "
+    "damping_ratio the damping grows like sqrt(k), and next to a binding angle where the follower leaves full lift "
+    "it costs peak force: no tie, although the binding angle is at full lift); then the one with the least preload "
+    "is chosen (the stiffest, which also has the least mean spring force): exactly, as a second lexicographic LP "
+    "minimizing the preload at the least peak force would, for constant damping; with damping_ratio the largest "
+    "rate whose peak force is within 1e-11 (kinematic) or 1e-6 (dynamic) of the least. Where the least rate "
+    "reaches the least peak force and the peak force rises from it, the answer is the least rate (min_rate; 0 is a "
+    "constant-force spring)"
 )
 
 

@@ -44,12 +44,24 @@ def _check_options(max_speed_rpm, margin, min_rate) -> None:
         raise InputError("--min-rate", f"must be a number >= 0 (got {min_rate:g})")
 
 
+def _at_full_lift(p: Problem, bind) -> bool:
+    """Whether a binding angle is at full lift (to 1e-9 of it)."""
+    s = p.values(np.deg2rad([a for a, _, _ in bind]))[0] if bind else np.zeros(0)
+    return bool(np.any(np.abs(p.s_max - s) <= 1e-9 * abs(p.s_max)))
+
+
 def _warnings(p: Problem, k: float, min_rate: float, bind) -> tuple[str, ...]:
     out = []
     if k <= p.k_lo * (1 + 1e-9) + 1e-12:
+        why = ""
+        if p.c_fixed is None and p.zeta > 0.0 and _at_full_lift(p, bind):
+            why = (
+                "; the binding angle is at full lift, but the damping (damping_ratio) grows with the rate and, where the follower "
+                "leaves full lift, moves the binding onto that flank: no tie"
+            )
         out.append(
             f"the least peak force is reached at the least rate ({min_rate:g} {'N*m/rad' if p.osc else 'N/mm'}): any rate adds k times "
-            f"(full lift - lift at the binding angle) to the peak; pass --min-rate for the least preload with the rate you have"
+            f"(full lift - lift at the binding angle) to the peak{why}; pass --min-rate for the least preload with the rate you have"
         )
     if p.fmin == 0.0 and any(w == 0.0 for _, _, w in bind):
         at = next(a for a, _, w in bind if w == 0.0)

@@ -48,9 +48,20 @@ def _tie_end(f: Callable[[float], float], cache: dict[float, float], u_best: flo
     return lo
 
 
-def minimize_in_sqrt_k(peak_of: Callable[[float], float], u_lo, u_hi, rtol, scan=0, seeds=()) -> float:
+def _rises(f: Callable[[float], float], u_a: float, u_b: float, tol: float) -> bool:
+    """Whether the peak force rises through [u_a, u_b] rather than staying flat: its value at the midpoint in k
+    is above its value at u_a by more than tol / 8 (a rise linear in k gives tol / 2 there, a flat tie rounding)."""
+    u_mid = math.sqrt(0.5 * (u_a * u_a + u_b * u_b))
+    return f(u_mid) - f(u_a) > 0.125 * tol
+
+
+def minimize_in_sqrt_k(peak_of: Callable[[float], float], u_lo, u_hi, rtol, scan=0, seeds=(), flat_of=None) -> float:
     """argmin of ``peak_of(u)`` on [u_lo, u_hi] (bounded Brent, after a scan of ``scan`` points where given), ties
-    broken towards the largest u whose value is within ``rtol`` of the least."""
+    broken towards the largest u whose value is within ``rtol`` of the least.
+
+    Where the least rate u_lo itself reaches the least value (within rtol) and the peak force rises from there
+    (judged by ``flat_of``, default ``peak_of``: :func:`_rises`), there is no tie and the answer is u_lo: the
+    rtol walk alone would stop wherever the rise reaches rtol, a rate made by the tolerance."""
     cache: dict[float, float] = {}
 
     def f(u):
@@ -67,7 +78,11 @@ def minimize_in_sqrt_k(peak_of: Callable[[float], float], u_lo, u_hi, rtol, scan
         f(u)
     u_best = min(cache, key=lambda u: (cache[u], -u))
     best = cache[u_best]
-    return _tie_end(f, cache, u_best, best + rtol * max(1.0, abs(best)), u_hi)
+    tol = rtol * max(1.0, abs(best))
+    end = _tie_end(f, cache, u_best, best + tol, u_hi)
+    if end > u_lo and cache[u_lo] <= best + tol and _rises(flat_of or f, u_lo, end, tol):
+        return u_lo
+    return end
 
 
 def ratio_answer(p: Problem, grid: Grid) -> tuple[float, float, Grid]:
@@ -79,7 +94,13 @@ def ratio_answer(p: Problem, grid: Grid) -> tuple[float, float, Grid]:
     k_hi = max(k_lo, (peak_lo - grid.req[grid.i_min]) / (p.s_max - grid.s[grid.i_min]))
     k_hi = max(k_hi, 2.0 * k_lo, 1e-12)
     for _ in range(_CUT_ROUNDS):
-        u = minimize_in_sqrt_k(lambda u, g=grid: u * u * p.s_max + preload_kinematic(p, g, u * u), math.sqrt(k_lo), math.sqrt(k_hi), TIE_KIN)
+        u = minimize_in_sqrt_k(
+            lambda u, g=grid: u * u * p.s_max + preload_kinematic(p, g, u * u),
+            math.sqrt(k_lo),
+            math.sqrt(k_hi),
+            TIE_KIN,
+            flat_of=lambda u, g=grid: u * u * p.s_max + preload_kinematic(p, g, u * u, polish=True),  # between grid angles too
+        )
         k = u * u
         f0 = preload_kinematic(p, grid, k)
         refined = cut(p, grid, k, f0, p.damping(k))
