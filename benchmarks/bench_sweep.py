@@ -86,7 +86,7 @@ def main() -> int:
     for flat in picks:
         i, j = divmod(int(flat), rates.size)
         k_si = rates[j] * 1e3
-        p = {"m": float(base.mass), "k": k_si, "f0": float(base.preload), "c": float(sweep._damping(case, np.array([k_si]))[0]),
+        p = {"m": float(base.mass), "k": k_si, "f0": float(base.preload), "c": float(base.damping_at(k_si)),
              "fe": float(base.external), "kf": float(base.train_stiffness), "cf": float(base.train_damping)}
         t = time.perf_counter()
         f_sp, sep_sp, gap_sp, _ = scipy_point(p, speeds[i] * RPM, sep_revs=sweep.GAP_REVS, last=sweep.GAP_LAST)

@@ -2,4 +2,34 @@ import os
 
 os.environ.setdefault("EQX_ON_ERROR", "nan")  # as the CLI runs: solver results are checked explicitly
 
+import tomllib  # noqa: E402
+from pathlib import Path  # noqa: E402
+
+import pytest  # noqa: E402
+
 import camdyn.model  # noqa: E402,F401  (float64 on)
+from camdyn.model.case import case_from_dict, load_case  # noqa: E402
+
+CASES = Path(__file__).resolve().parents[1] / "cases"
+
+
+# shared cases, built once per session
+@pytest.fixture(scope="session")
+def lecture_case():
+    """cases/lecture.toml: a compliant translating roller follower."""
+    return load_case(CASES / "lecture.toml")
+
+
+@pytest.fixture(scope="session")
+def lecture_fast_case():
+    """cases/lecture-fast.toml: the lecture cam run past its jump speed."""
+    return load_case(CASES / "lecture-fast.toml")
+
+
+@pytest.fixture(scope="session")
+def lecture_rigid_case():
+    """The lecture cam with a rigid follower (no follower train)."""
+    raw = tomllib.loads((CASES / "lecture.toml").read_text())
+    for key in ("train_stiffness", "train_damping_ratio"):
+        raw["dynamics"].pop(key)
+    return case_from_dict(raw)

@@ -11,14 +11,15 @@ import numpy as np
 
 from .._core.errors import InputError
 from .._core.outputs import output_dir, output_file, safe_stem, write_new
-from ..design.sweep import jump_map
+from ..design.sweep import check_grid_size, jump_map
 from ..model.case import build_case
 from ..plot import save_png
 from ._console import progress_bar
 
 
-def _parse_grid(flag: str, text: str):
-    """``A:B:N`` -> N equally spaced values from A to B (positive, A <= B, N >= 1); InputError naming the flag."""
+def _parse_grid(flag: str, text: str) -> tuple[float, float, int]:
+    """``A:B:N`` -> (A, B, N) for N equally spaced values from A to B (positive, A <= B, N >= 1); InputError naming
+    the flag."""
     parts = text.split(":")
     if len(parts) != 3:
         raise InputError(flag, f"expected A:B:N (from A to B in N values, e.g. 100:700:61), got {text!r}")
@@ -32,12 +33,15 @@ def _parse_grid(flag: str, text: str):
         raise InputError(flag, f"A must not exceed B, got {text!r}")
     if n < 1 or (n == 1 and a != b):
         raise InputError(flag, f"N must be at least 1 (and N = 1 needs A = B), got {text!r}")
-    return np.linspace(a, b, n)
+    return a, b, n
 
 
 def run(args) -> int:
-    speeds = _parse_grid("--speeds", args.speeds)
-    rates = _parse_grid("--spring-rates", args.spring_rates) if args.spring_rates is not None else None
+    speed_grid = _parse_grid("--speeds", args.speeds)
+    rate_grid = _parse_grid("--spring-rates", args.spring_rates) if args.spring_rates is not None else None
+    check_grid_size(speed_grid[2], 1 if rate_grid is None else rate_grid[2], "--speeds x --spring-rates")  # before allocating it
+    speeds = np.linspace(*speed_grid)
+    rates = None if rate_grid is None else np.linspace(*rate_grid)
     case = build_case(args.spec, source=Path(args.case))
     out = output_dir(args.output, "jump map")
     stem = safe_stem(case.name)  # the case's name is data, not a path: the files stay in the folder named
@@ -57,9 +61,14 @@ def run(args) -> int:
         f"{jm.spring_rates.size} spring rates {jm.spring_rates[0]:g}-{jm.spring_rates[-1]:g} {ku}), {jm.model} follower, "
         f"{elapsed:.1f} s on {jm.devices} device(s)"
     )
-    print(f"preload kept at the case's {jm.preload:g} {jm.preload_unit} while the spring rate varies" + ("; spring rates are torsion rates, N*m/rad (column spring_rate_N_per_mm)" if jm.oscillating else ""))
-    gap = np.nanmax(jm.max_gap) if n_sep else 0.0
-    print(f"separated at {n_sep} of {jm.separated.size} points" + (f" (largest gap {gap:.4g} mm)" if n_sep else "") + f"; least contact force on the map {float(np.min(jm.min_force)):.4g} N")
+    print(f"preload kept at the case's {jm.preload:g} {jm.preload_unit} while the spring rate varies" + ("; spring rates are torsion rates, N*m/rad (column spring_rate_N_m_per_rad)" if jm.oscillating else ""))
+    gap = np.nanmax(jm.max_gap) if n_sep and np.isfinite(jm.max_gap).any() else 0.0
+    least = float(np.nanmin(jm.min_force)) if np.isfinite(jm.min_force).any() else math.nan
+    n_failed = int(np.count_nonzero(jm.failed))
+    print(
+        f"separated at {n_sep} of {jm.separated.size} points" + (f" (largest gap {gap:.4g} mm)" if n_sep else "") + f"; least contact force on the map {least:.4g} N"
+        + (f"; {n_failed} point(s) failed (status column)" if n_failed else "")
+    )
     for note in jm.notes:
         print(f"warning: {note}", file=sys.stderr)
     print(f"wrote {csv_path} and {png_path}")

@@ -3,7 +3,7 @@
 While the follower stays on the cam the compliant model is linear and time-invariant with a periodic input, so
 its periodic steady state is exact in the frequency domain:
 ``X_k = (k_f + i k w c_f) S_k / (k + k_f - m (k w)^2 + i k w (c + c_f))``. This is the one place that formula is
-written; the jump speed, spring sizing, jump maps and the optimizer all read it from here.
+written (:func:`steady_state`); the jump speed, spring sizing, jump maps and the optimizer all read it from here.
 """
 
 from __future__ import annotations
@@ -21,22 +21,41 @@ from ..motion import Motion
 _FFT_N = FFT_GRID
 
 
+def steady_state(spec, omega, model: FollowerModel, stiffness, damping, n: int, unit=None):
+    """The compliant model's periodic steady state in contact on ``theta_j = 2 pi j / n``: (x, dx/dtheta).
+
+    ``spec = rfft(s)`` of the cam motion on that grid; ``omega`` (rad/s), ``stiffness`` and ``damping`` (the
+    spring's, SI) are arrays, so a grid of speeds and spring rates is one ``vmap``; the mass, the train and the
+    static load come from ``model``. ``unit``: the SI value of the unit ``spec`` is in (None: SI already; the
+    model's ``scale`` for a spectrum in the motion's unit, mm or rad), which the static load is divided by.
+    ``X_k = (k_f + i k w c_f) S_k / (k + k_f - m (k w)^2 + i k w (c + c_f))``; ``X_0`` carries the static load.
+    """
+    k = jnp.arange(spec.shape[0])
+    m, kf, cf = model.mass, model.train_stiffness, model.train_damping
+    wk = k * omega
+    x_spec = spec * (kf + 1j * wk * cf) / (stiffness + kf - m * wk**2 + 1j * wk * (damping + cf))
+    static = n * (model.preload + model.external)
+    if unit is not None:
+        static = static / unit
+    x_spec = x_spec.at[0].set((kf * spec[0] - static) / (stiffness + kf))
+    return jnp.fft.irfft(x_spec, n), jnp.fft.irfft(1j * k * x_spec, n)
+
+
+def train_force(model: FollowerModel, omega, s, s1, x, x1):
+    """The follower train's force on the cam in contact, ``k_f (s - x) + c_f w (s' - x')`` (N or N*m; SI inputs)."""
+    return model.train_stiffness * (s - x) + model.train_damping * omega * (s1 - x1)
+
+
 def steady_force_at(motion: Motion, model: FollowerModel, n: int):
     """``omega -> interface force`` on the grid ``theta_k = 2 pi k / n`` of the compliant model's periodic orbit
-    while it stays on the cam (harmonic balance by FFT)."""
+    while it stays on the cam (harmonic balance by FFT, :func:`steady_state`)."""
     theta = jnp.arange(n) * (TWO_PI / n)
     s, s1, _, _ = motion(theta) * model.scale
     spec = jnp.fft.rfft(s)
-    k = jnp.arange(spec.shape[0])
-    m, kk, c, kf, cf = model.mass, model.stiffness, model.damping, model.train_stiffness, model.train_damping
 
     def force(omega):
-        wk = k * omega
-        x_spec = spec * (kf + 1j * wk * cf) / (kk + kf - m * wk**2 + 1j * wk * (c + cf))
-        x_spec = x_spec.at[0].set((kf * spec[0] - n * (model.preload + model.external)) / (kk + kf))
-        x = jnp.fft.irfft(x_spec, n)
-        x1 = jnp.fft.irfft(1j * k * x_spec, n)
-        return kf * (s - x) + cf * omega * (s1 - x1)
+        x, x1 = steady_state(spec, omega, model, model.stiffness, model.damping, n)
+        return train_force(model, omega, s, s1, x, x1)
 
     return force
 
@@ -46,8 +65,7 @@ def linear_min_force(motion: Motion, model: FollowerModel, omegas, n: int = _FFT
     """Least interface force (N) of the compliant model's periodic orbit if it never separates, per speed.
 
     While the follower stays on the cam the model is linear and time-invariant with a periodic input, so its
-    steady state is exact in the frequency domain (harmonic balance by FFT):
-    ``X_k = (k_f + i k w c_f) S_k / (k + k_f - m (k w)^2 + i k w (c + c_f))``. The result is the true
+    steady state is exact in the frequency domain (harmonic balance by FFT, :func:`steady_state`). The result is the true
     steady state for every speed whose least force is positive, which is all the jump speed needs. Vectorized
     over ``omegas`` (any shape). ``weight``: optional (n,) factor per angle theta_k = 2 pi k / n applied before
     the minimum (``1000 / lever_arm_mm`` turns an oscillating follower's torque into its contact force in N).
@@ -67,7 +85,7 @@ def linear_contact_force(motion: Motion, model: FollowerModel, omegas, n: int = 
     """The whole interface force (N or N*m) of :func:`linear_min_force`'s steady state: shape (*omegas.shape, n).
 
     Angles ``theta_j = 2 pi j / n``. Exact wherever it stays positive; affine in the preload (raising F0 adds
-    ``k_f / (k + k_f) * dF0`` at every angle and speed), which is what spring sizing (``sizing.py``) uses.
+    ``k_f / (k + k_f) * dF0`` at every angle and speed), which is what spring sizing (:mod:`camdyn.design.sizing`) uses.
     """
     omegas = jnp.asarray(omegas, dtype=float)
     return jax.lax.map(steady_force_at(motion, model, n), omegas.ravel(), batch_size=64).reshape(omegas.shape + (n,))

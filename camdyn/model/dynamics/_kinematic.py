@@ -20,7 +20,15 @@ def kinematic_force(motion: Motion, model: FollowerModel, omega, theta):
     ``Fi = m w^2 s'' + c w s' + k s + F0 + F_ext`` with s in SI (scale applied), w in rad/s.
     """
     s, s1, s2, _ = motion(theta) * model.scale
-    return model.mass * omega**2 * s2 + model.damping * omega * s1 + model.stiffness * s + model.preload + model.external
+    return kinematic_force_of(model, omega, s, s1, s2)
+
+
+def kinematic_force_of(model: FollowerModel, omega, s, s1, s2, stiffness=None, damping=None):
+    """:func:`kinematic_force` from the motion's values in SI (s, ds/dtheta, d2s/dtheta2); ``stiffness`` and
+    ``damping`` (SI) replace the model's spring where given (arrays: a grid of spring rates is one ``vmap``)."""
+    k = model.stiffness if stiffness is None else stiffness
+    c = model.damping if damping is None else damping
+    return model.mass * omega**2 * s2 + c * omega * s1 + k * s + model.preload + model.external
 
 
 kinematic_force_jit = cached_jit(kinematic_force)

@@ -1,0 +1,58 @@
+"""The kinematic answer at constant damping: a linear program in (k, F0) with cutting planes, checked against
+its closed form, and the tie-break in closed form."""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy.optimize import linprog
+
+from ..._core.errors import NumericalError
+from ._kinematic import preload_kinematic, required, worst_between
+from ._problem import Grid, Problem
+
+_LP_OPTIONS = {"primal_feasibility_tolerance": 1e-10, "dual_feasibility_tolerance": 1e-10}
+_CUT_ROUNDS = 8
+
+
+def cut(p: Problem, grid: Grid, k, f0, c) -> Grid | None:
+    """The grid with the off-grid angles where (k, f0) violates the kinematic constraint by more than 1e-9 of
+    the peak added (cutting planes); None where there is none."""
+    tol = 1e-9 * max(1.0, abs(k * p.s_max + f0))
+    new = [t for v, t in worst_between(p, grid, k, f0, c) if v < -tol]
+    return grid.with_angles(p, new) if new else None
+
+
+def _solve(p: Problem, grid: Grid, c) -> tuple[float, float]:
+    """(k, F0) of the LP on the grid: the least peak force, ties broken to the least preload."""
+    s = grid.s
+    r, _ = required(p, grid, c)
+    a_ub = -np.column_stack([s / p.s_max, np.ones_like(s)])  # variables: k s_max (N), F0 (N)
+    bounds = [(p.k_lo * p.s_max, None), (None, None)]
+    res = linprog([1.0, 1.0], A_ub=a_ub, b_ub=-r, bounds=bounds, method="highs", options=_LP_OPTIONS)
+    if res.status != 0:
+        raise NumericalError("sizing", f"the linear program failed: {res.message}")
+    gap = p.s_max - s
+    peak = float(np.max(r + p.k_lo * gap))
+    if abs(float(res.fun) - peak) > 1e-7 * max(1.0, abs(peak)):
+        raise NumericalError("sizing", f"the linear program's least peak force {res.fun:.10g} disagrees with the closed form {peak:.10g}")
+    tie = gap > 1e-12 * p.s_max
+    k = max(p.k_lo, float(np.min((peak - r[tie]) / gap[tie]))) if tie.any() else p.k_lo
+    return k, peak - k * p.s_max
+
+
+def lp(p: Problem, grid: Grid, c) -> tuple[float, float, Grid]:
+    """The kinematic LP at constant damping c, with cutting planes and the tie-break: (k, F0, the refined grid).
+
+    HiGHS solves ``min k s_max + F0 s.t. s_i k + F0 >= r_i, k >= k_lo``. Its value is also closed form: the
+    peak ``P(k) = max_i (r_i + k (s_max - s_i))`` never decreases with k, so P* = P(k_lo), and the springs
+    reaching it are k in [k_lo, k_end], ``k_end = min over s_i < s_max of (P* - r_i) / (s_max - s_i)``. The
+    tie-break takes k_end, the least preload F0 = P* - k_end s_max: what a second, lexicographic LP minimizing
+    F0 at the optimal peak returns, without its tolerance. The LP value is checked against P* (1e-7).
+    """
+    for _ in range(_CUT_ROUNDS):
+        k, f0 = _solve(p, grid, c)
+        refined = cut(p, grid, k, f0, c)
+        if refined is None:
+            return k, f0, grid
+        grid = refined
+    return k, preload_kinematic(p, grid, k, polish=True), grid

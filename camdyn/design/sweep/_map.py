@@ -1,0 +1,192 @@
+"""The jump map: the grid of (speed, spring rate) points, the in-contact least force at each, the largest gap of
+the separated ones, and the :class:`JumpMap` they make."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+
+from ..._core.errors import InputError, NumericalError
+from ..._core.progress import Progress, counter
+from ..._core.units import RPM, TWO_PI, rate_from_si, rate_to_si
+from ...model import dynamics as dyn
+from ...model.geometry import newton_per_torque_at
+from ...model.motion import evaluate
+from ._contact import kinematic_kernel, linear_kernel, with_spring_damping
+from ._diffrax_gap import diffrax_gap_const, diffrax_gap_kernel
+from ._exact_gap import exact_gap_kernel
+from ._grid import GAP_CHUNK, GAP_STRIDE, GRID_N, LINEAR_CHUNK, check_grid_size
+from ._result import STATUS_OK, JumpMap, failed
+from ._sharding import run_batched
+
+
+@dataclass(frozen=True)
+class _Points:
+    """The grid flattened speed-major: cam speed (rad/s), spring rate and damping (SI) per point."""
+
+    speeds_rpm: np.ndarray  # (ns,)
+    rates: np.ndarray  # (nk,) user units
+    omega: np.ndarray  # (ns * nk,)
+    k: np.ndarray
+    c: np.ndarray
+
+    @property
+    def shape(self) -> tuple[int, int]:
+        return self.speeds_rpm.size, self.rates.size
+
+
+def _points(case, speeds_rpm, spring_rates) -> _Points:
+    base = case.model
+    rate0 = float(rate_from_si(base.stiffness, case.oscillating))
+    speeds = np.atleast_1d(np.asarray(speeds_rpm, dtype=float))
+    rates = np.atleast_1d(np.asarray(spring_rates if spring_rates is not None else [rate0], dtype=float))
+    check_grid_size(speeds.size, rates.size)
+    if speeds.size == 0 or rates.size == 0 or not (np.all(speeds > 0) and np.all(rates > 0) and np.all(np.isfinite(speeds)) and np.all(np.isfinite(rates))):
+        raise InputError("sweep", "speeds and spring rates must be positive and finite")
+    sp, kr = np.meshgrid(speeds, rates, indexing="ij")
+    k_si = rate_to_si(kr.ravel(), case.oscillating)
+    return _Points(speeds, rates, sp.ravel() * RPM, k_si, np.asarray(base.damping_at(jnp.asarray(k_si))))
+
+
+def _lever_arm_mm(case, theta) -> np.ndarray:
+    return 1000.0 / newton_per_torque_at(case.motion, case.follower, np.asarray(theta))
+
+
+def _rigid_gaps(case, pts: _Points, idx, progress) -> tuple[np.ndarray, dict[int, str]]:
+    """Largest gap (mm) of the event-driven flight model at the separated points ``idx``, one at a time, and the
+    reason per point where the flight computation failed (its gap NaN): a point that fails never stops the map."""
+    base, gap, why = case.model, np.zeros(pts.omega.size), {}
+    step = counter(progress, "flights (rigid model, one point at a time)", idx.size)
+    for i in idx:
+        # Python floats, as case.follower_model builds them: the compiled flight solve is reused
+        md = with_spring_damping(base, jnp.asarray(float(pts.k[i])), jnp.asarray(float(pts.c[i])))
+        try:
+            r = dyn.rigid_response(case.motion, md, float(pts.omega[i]))
+        except NumericalError as err:
+            gap[i], why[int(i)] = np.nan, str(err)
+        except Exception as err:  # noqa: BLE001  (a bug at one point: flagged in its row, the map goes on)
+            gap[i], why[int(i)] = np.nan, f"internal error in the flight model: {type(err).__name__}: {err}"
+        else:
+            w = _lever_arm_mm(case, np.deg2rad(r.theta_deg)) if case.oscillating else 1.0
+            gap[i] = max(0.0, float(np.max((r.x - r.s) * w)))
+        step(1)
+    return gap, why
+
+
+def _rigid_map(case, pts: _Points, angles, gaps: bool, progress, devices):
+    theta, vals, weight = angles
+    const = (case.model, *(jnp.asarray(v) for v in vals[:3]), jnp.asarray(weight))
+    signed = run_batched(kinematic_kernel, const, [pts.omega, pts.k, pts.c], LINEAR_CHUNK, counter(progress, "kinematic force", pts.omega.size), devices)
+    why = {int(i): "the kinematic force is not finite" for i in np.nonzero(~np.isfinite(signed))[0]}
+    separated = signed <= 0.0
+    idx = np.nonzero(separated)[0] if gaps else np.zeros(0, dtype=int)
+    gap, why_gap = _rigid_gaps(case, pts, idx, progress)
+    return signed, separated, gap, why | why_gap
+
+
+def _compliant_map(case, pts: _Points, angles, gaps: bool, gap_method: str, progress, devices):
+    motion, base = case.motion, case.model
+    theta, vals, weight = angles
+    spec = jnp.fft.rfft(jnp.asarray(vals[0]))
+    const = (base, jnp.asarray(vals[0]), jnp.asarray(vals[1]), spec, jnp.asarray(weight))
+    tick = counter(progress, "steady state (frequency domain)", pts.omega.size)
+    signed, z0 = run_batched(linear_kernel, const, [pts.omega, pts.k, pts.c], LINEAR_CHUNK, tick, devices)
+    why = {int(i): "the frequency-domain steady state is not finite" for i in np.nonzero(~np.isfinite(signed))[0]}
+    separated = signed <= 0.0
+    gap = np.zeros(pts.omega.size)
+    idx = np.nonzero(separated)[0] if gaps else np.zeros(0, dtype=int)
+    if not idx.size:
+        return signed, separated, gap, why
+    tick = counter(progress, "separated points (nonlinear model)", idx.size)
+    point = [pts.omega[idx], pts.k[idx], pts.c[idx]]
+    if gap_method == "exact":
+        tab = np.asarray(evaluate(motion, jnp.asarray(theta[::GAP_STRIDE])))[:3]
+        w_tab = _lever_arm_mm(case, theta[::GAP_STRIDE]) if case.oscillating else np.ones(tab.shape[1])
+        gconst = (base, *(jnp.asarray(t) for t in tab), jnp.asarray(w_tab), jnp.fft.rfft(jnp.asarray(vals[0] / base.scale)))
+        g = run_batched(exact_gap_kernel, gconst, point, GAP_CHUNK, tick, devices)
+    else:
+        gconst = diffrax_gap_const(case, lambda t: _lever_arm_mm(case, t))
+        g = run_batched(diffrax_gap_kernel, gconst, [*point, z0[idx]], GAP_CHUNK, tick, devices)
+    gap[idx] = np.maximum(g, 0.0)
+    how = "exact piecewise-linear stepping" if gap_method == "exact" else "diffrax"
+    why |= {int(i): f"the gap integration of the nonlinear model ({how}) did not finish" for i in idx[~np.isfinite(g)]}
+    return signed, separated, gap, why
+
+
+def _notes(gaps: bool, separated, gap, why: dict[int, str]) -> tuple[str, ...]:
+    notes = []
+    if not gaps and separated.any():
+        notes.append("gaps not computed (gaps=False): max_gap_mm is NaN where the follower separates")
+    if why:
+        first = min(why)
+        notes.append(f"{len(why)} grid point(s) failed (status column, their numbers NaN); the first: {why[first]}")
+    train_only = separated & (gap == 0.0)
+    if gaps and train_only.any():
+        notes.append(
+            f"at {int(train_only.sum())} separated point(s) max_gap_mm is 0: the interface force reaches 0 in the follower train alone "
+            "(its damper would have to pull) while the follower never passes the cam profile (as where the spring rate dwarfs "
+            "the train stiffness, or just past the jump boundary)"
+        )
+    return tuple(notes)
+
+
+def jump_map(
+    case,
+    speeds_rpm,
+    spring_rates=None,
+    *,
+    progress: Progress | None = None,
+    gap_method: str = "exact",
+    devices=None,
+    gaps: bool = True,
+) -> JumpMap:
+    """Jump map of ``case`` over ``speeds_rpm`` x ``spring_rates`` (N/mm; N*m/rad for an oscillating follower).
+
+    ``spring_rates`` defaults to the case's own. ``progress(phase, done, total)`` is called after every chunk.
+    ``gap_method``: how the compliant model's separated points are integrated: ``"exact"`` (piecewise-linear
+    stepping, :mod:`._exact_gap`) or ``"diffrax"`` (adaptive Tsit5 on the vector field of
+    :mod:`camdyn.model.dynamics`, the reference; about 20x slower). ``devices``: the JAX devices to shard the
+    grid over (default: all local devices); the result does not depend on them. ``gaps=False`` skips the largest
+    gap of the separated points (the nonlinear integration, most of the cost of a rigid follower's map): their
+    ``max_gap`` is NaN; the least force, the separation and the jump boundary are the same.
+    """
+    devices = tuple(jax.devices() if devices is None else devices)
+    if gap_method not in ("exact", "diffrax"):
+        raise ValueError(f"gap_method must be 'exact' or 'diffrax', not {gap_method!r}")
+    pts = _points(case, speeds_rpm, spring_rates)
+    base = case.model
+    theta = np.arange(GRID_N) * (TWO_PI / GRID_N)
+    vals = np.asarray(evaluate(case.motion, jnp.asarray(theta))) * base.scale
+    weight = newton_per_torque_at(case.motion, case.follower, theta) if case.oscillating else np.ones(GRID_N)
+    angles = (theta, vals, weight)
+    if base.rigid:
+        signed, separated, gap, why = _rigid_map(case, pts, angles, gaps, progress, devices)
+    else:
+        signed, separated, gap, why = _compliant_map(case, pts, angles, gaps, gap_method, progress, devices)
+    if not gaps:
+        gap[separated] = np.nan
+    status = np.full(signed.shape, STATUS_OK, dtype=object)
+    bad = np.zeros(signed.shape, dtype=bool)
+    for i, reason in why.items():
+        status[i], bad[i] = failed(reason), True
+    notes = _notes(gaps, separated, gap, why)
+    return JumpMap(
+        case=case.name,
+        model="rigid" if base.rigid else "compliant",
+        oscillating=case.oscillating,
+        speeds_rpm=pts.speeds_rpm,
+        spring_rates=pts.rates,
+        min_force=np.where(bad, np.nan, np.where(separated, 0.0, signed)).reshape(pts.shape),
+        separated=separated.reshape(pts.shape),
+        max_gap=np.where(bad, np.nan, gap).reshape(pts.shape),
+        contact_force=np.asarray(signed).reshape(pts.shape),
+        speed_rpm=float(case.speed_rpm),
+        spring_rate=float(rate_from_si(base.stiffness, case.oscillating)),
+        preload=float(base.preload),
+        devices=len(devices),
+        notes=notes,
+        status=status.reshape(pts.shape),
+    )

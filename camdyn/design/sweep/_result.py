@@ -1,0 +1,93 @@
+"""The jump map as a result: arrays over (speed, spring rate), and its CSV (the public column contract: columns are
+only ever added, at the end).
+
+CSV columns: ``speed_rpm``; ``spring_rate_N_per_mm`` (for an oscillating follower it holds the torsion rate in
+N*m/rad: deprecated there, kept for the scripts that read it; use ``spring_rate_N_m_per_rad``);
+``min_contact_force_N``; ``separated`` (0/1: the interface force of the in-contact model reaches 0);
+``max_gap_mm`` (the largest overshoot of the follower beyond the cam profile; 0 where it stays on the cam, and
+also where contact is lost in the follower train alone, the follower never passing the profile);
+``spring_rate_N_m_per_rad`` (the torsion rate of an oscillating follower; empty for a translating one);
+``status`` (``ok``, or ``failed: <reason>`` for a point whose computation failed: its ``min_contact_force_N``,
+``separated`` and ``max_gap_mm`` are ``nan``).
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+from dataclasses import dataclass, field
+
+import numpy as np
+
+CSV_COLUMNS = (
+    "speed_rpm", "spring_rate_N_per_mm", "min_contact_force_N", "separated", "max_gap_mm", "spring_rate_N_m_per_rad", "status",
+)
+STATUS_OK = "ok"
+
+
+def failed(reason: str) -> str:
+    """The status of a point whose computation failed, on one line."""
+    return "failed: " + " ".join(str(reason).split())
+
+
+def _quoted(text: str) -> str:
+    """``text`` as one CSV field (quoted where it holds a comma or a quote)."""
+    buf = io.StringIO()
+    csv.writer(buf, lineterminator="").writerow([text])
+    return buf.getvalue()
+
+
+@dataclass(frozen=True)
+class JumpMap:
+    """A jump map: arrays of shape (len(speeds_rpm), len(spring_rates)), forces in N and gaps in mm."""
+
+    case: str
+    model: str  # "compliant" | "rigid"
+    oscillating: bool
+    speeds_rpm: np.ndarray  # (ns,)
+    spring_rates: np.ndarray  # (nk,) N/mm; N*m/rad for an oscillating follower
+    min_force: np.ndarray  # least interface force, N; 0 where the follower separates; NaN where the point failed
+    separated: np.ndarray  # bool: the in-contact model's least force <= 0
+    max_gap: np.ndarray  # largest gap, mm; 0 where it stays on the cam; NaN where the point failed (or gaps=False)
+    contact_force: np.ndarray  # signed least force of the in-contact model (linear steady state / kinematic), N: <= 0 beyond the jump boundary
+    speed_rpm: float  # the case's operating point
+    spring_rate: float
+    preload: float  # kept fixed over the map: N (N*m for an oscillating follower)
+    devices: int = 1
+    notes: tuple[str, ...] = field(default=())
+    status: np.ndarray | None = None  # str per point: "ok" or "failed: <reason>"; None: every point ok
+
+    @property
+    def spring_rate_unit(self) -> str:
+        return "N*m/rad" if self.oscillating else "N/mm"
+
+    @property
+    def preload_unit(self) -> str:
+        return "N*m" if self.oscillating else "N"
+
+    @property
+    def statuses(self) -> np.ndarray:
+        """The status of every point (ns, nk): ``ok`` or ``failed: <reason>``."""
+        return np.full(self.separated.shape, STATUS_OK, dtype=object) if self.status is None else self.status
+
+    @property
+    def failed(self) -> np.ndarray:
+        """Where the computation failed (bool, (ns, nk))."""
+        return self.statuses != STATUS_OK
+
+    @property
+    def csv(self) -> str:
+        """CSV text: one row per grid point (speed-major), columns :data:`CSV_COLUMNS`."""
+        sp, kr = np.meshgrid(self.speeds_rpm, self.spring_rates, indexing="ij")
+        status = self.statuses.ravel()
+        quoted = {s: _quoted(s) for s in set(status.tolist())}
+        rows = zip(sp.ravel().tolist(), kr.ravel().tolist(), self.min_force.ravel().tolist(), self.separated.ravel().tolist(),
+                   self.max_gap.ravel().tolist(), status.tolist(), strict=True)
+        buf = io.StringIO()
+        buf.write(",".join(CSV_COLUMNS) + "\n")
+        for speed, rate, force, sep, gap, st in rows:
+            ok = st == STATUS_OK
+            sep_text = "%d" % sep if ok else "nan"
+            torsion = "%.10g" % rate if self.oscillating else ""
+            buf.write("%.10g,%.10g,%.10g,%s,%.10g,%s,%s\n" % (speed, rate, force, sep_text, gap, torsion, quoted[st]))
+        return buf.getvalue()

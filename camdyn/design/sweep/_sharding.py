@@ -1,0 +1,54 @@
+"""Grid points over devices: a kernel ``kernel(const, *point)`` vmapped over points, compiled once and sharded
+over the local JAX devices (``jax.shard_map`` on a one-axis mesh), run chunk by chunk so progress can follow."""
+
+from __future__ import annotations
+
+import functools
+from collections.abc import Callable
+
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+import numpy as np
+from jax.sharding import Mesh, PartitionSpec
+
+
+def _shard_map(f, mesh, in_specs, out_specs):
+    if hasattr(jax, "shard_map"):
+        return jax.shard_map(f, mesh=mesh, in_specs=in_specs, out_specs=out_specs, check_vma=False)
+    from jax.experimental.shard_map import shard_map  # older JAX
+
+    return shard_map(f, mesh=mesh, in_specs=in_specs, out_specs=out_specs, check_rep=False)
+
+
+@functools.lru_cache(maxsize=None)
+def _sharded(kernel: Callable, devices: tuple):
+    """``kernel(const, *point)`` vmapped over grid points and sharded over ``devices``, compiled."""
+    mesh = Mesh(np.asarray(devices), ("grid",))
+
+    def run(const, *batched):
+        body = lambda c, *b: jax.vmap(lambda *p: kernel(c, *p))(*b)  # noqa: E731
+        spec = PartitionSpec("grid")
+        return _shard_map(body, mesh, (PartitionSpec(), *([spec] * len(batched))), spec)(const, *batched)
+
+    return eqx.filter_jit(run)
+
+
+def run_batched(kernel: Callable, const, batched: list[np.ndarray], chunk: int, progress: Callable[[int], None] | None, devices: tuple):
+    """Run ``kernel`` over the rows of ``batched`` in chunks of ``chunk`` points per device (padded)."""
+    n_dev = len(devices)
+    size = chunk * n_dev * (1 if devices[0].platform == "cpu" else 16)  # accelerators want wide batches
+    n = batched[0].shape[0]
+    fn = _sharded(kernel, devices)
+    outs = []
+    for start in range(0, n, size):
+        part = [b[start : start + size] for b in batched]
+        m = part[0].shape[0]
+        if m < size:  # pad with copies of the first point: one compiled shape for every chunk
+            part = [np.concatenate([p, np.repeat(p[:1], size - m, axis=0)]) for p in part]
+        res = fn(const, *(jnp.asarray(p) for p in part))
+        res = jax.tree_util.tree_map(lambda r: np.asarray(r)[:m], res)
+        outs.append(res)
+        if progress is not None:
+            progress(m)
+    return jax.tree_util.tree_map(lambda *r: np.concatenate(r), *outs)
