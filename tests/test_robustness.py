@@ -114,6 +114,16 @@ def test_a_train_compressed_by_more_than_the_lift_fails(capsys, tmp_path):
     assert doc["kinematic"]["min_contact_force_N"] < -1e6 and checks["train_deflection"]["value"] > 1.0
 
 
+def test_a_very_slow_cam_is_checked_in_the_frequency_domain(capsys):
+    """At 1e-3 rpm the train vibrates two million times a revolution: no time integration resolves that, but the
+    steady state in contact is exact in the frequency domain: quasi-static, k_f / (k + k_f) of the spring force."""
+    code, out, err = run(capsys, "check", LECTURE, "--speed", 0.001, "--json")
+    assert code == 0, err
+    doc = json.loads(out)
+    assert doc["dynamic"]["min_contact_force_N"] == pytest.approx(30.0 * 1000.0 / 1002.0, rel=1e-6)
+    assert any("frequency domain" in w for w in doc["warnings"])
+
+
 def test_the_lecture_fast_description_says_where_it_jumps(capsys):
     """The shipped failing case says where the follower leaves the cam, and check agrees (the cycloidal rise)."""
     code, out, _ = run(capsys, "check", ROOT / "cases" / "lecture-fast.toml", "--json")

@@ -20,6 +20,7 @@ from ..._core.jit import cached_jit
 from ..._core.units import RPM, THETA_GRID, TWO_PI
 from ..follower import FollowerModel
 from ..motion import Motion, evaluate
+from ._harmonic import steady_state
 from ._kinematic import kinematic_force_jit, kinematic_force
 from ._result import Response, _separations_from_mask, residual_vibration
 
@@ -187,12 +188,30 @@ def min_contact_force(motion, model, omega, n: int = THETA_GRID):
     return jnp.min(_contact_force(motion, model, omega, theta, traj[:, 0], traj[:, 1]))
 
 
+@cached_jit
+def _in_contact(motion: Motion, model: FollowerModel, omega, n: int):
+    """The frequency domain's steady state in contact on the response grid: (x, dx/dtheta), motion units."""
+    s = motion(jnp.arange(n) * (TWO_PI / n))[0]
+    return steady_state(jnp.fft.rfft(s), omega, model, model.stiffness, model.damping, n, unit=model.scale)
+
+
 def compliant_response(motion: Motion, model: FollowerModel, omega: float, n: int = THETA_GRID) -> Response:
     """Periodic steady state of the compliant follower at cam speed omega (rad/s)."""
     theta = jnp.arange(n) * (TWO_PI / n)
-    traj, residual = periodic_orbit(motion, model, float(omega), theta)
-    x, p = np.asarray(traj[:, 0]), np.asarray(traj[:, 1])
-    fi = np.asarray(_contact_force_jit(motion, model, jnp.asarray(omega, dtype=float), theta, traj[:, 0], traj[:, 1]))
+    notes = []
+    try:
+        traj, residual = periodic_orbit(motion, model, float(omega), theta)
+        x, p = traj[:, 0], traj[:, 1]
+    except NumericalError as err:
+        # Far below resonance (a very slow cam) the time integration must resolve millions of train vibrations;
+        # the steady state in contact is exact in the frequency domain, and it is the answer if it stays in contact.
+        x, p = _in_contact(motion, model, jnp.asarray(omega, dtype=float), n)
+        if float(np.min(_contact_force_jit(motion, model, jnp.asarray(omega, dtype=float), theta, x, p))) <= 0.0:
+            raise err from None
+        residual = 0.0
+        notes.append(f"at {omega / RPM:.4g} rpm the steady state comes from the frequency domain (exact in contact): the time integration cannot resolve the train's vibration")
+    fi = np.asarray(_contact_force_jit(motion, model, jnp.asarray(omega, dtype=float), theta, x, p))
+    x, p = np.asarray(x), np.asarray(p)
     theta_deg = np.degrees(np.asarray(theta))
     vals = np.asarray(evaluate(motion, theta))
     kin = np.asarray(kinematic_force_jit(motion, model, jnp.asarray(omega, dtype=float), theta))
@@ -206,7 +225,7 @@ def compliant_response(motion: Motion, model: FollowerModel, omega: float, n: in
     kf, kk = float(model.train_stiffness) * model.scale, float(model.stiffness) * model.scale
     x_static = (kf * vals[0] - float(model.preload) - float(model.external)) / (kk + kf)
     resid, resid_deg = residual_vibration(motion, theta_deg, x - x_static)
-    warnings = []
+    warnings = notes
     tol = 1e-6 * max(1.0, float(np.max(np.abs(vals[0]))))
     if float(residual) > tol:
         warnings.append(f"no exactly periodic steady state at {omega / RPM:.1f} rpm (revolution-to-revolution mismatch {float(residual):.2g} {motion.unit}): the follower's bouncing is not periodic; results are for the best of {_NEWTON_ITERS} shooting iterations and {_PLAIN_REVS} revolutions")
