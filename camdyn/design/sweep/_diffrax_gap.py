@@ -8,7 +8,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from ..._core.units import TWO_PI
-from ...model.dynamics._compliant import _vector_field
+from ...model.dynamics import vector_field
 from ...model.motion import evaluate
 from ._contact import with_spring_damping
 from ._grid import GAP_ATOL, GAP_LAST, GAP_MAX_STEPS, GAP_REVS, GAP_RTOL, GAP_SAMPLES
@@ -32,7 +32,7 @@ def diffrax_gap_kernel(const, omega, k, c, z0):
     motion, base, jumps, ts, s_ts, weight_ts = const
     md = with_spring_damping(base, k, c)
     sol = diffrax.diffeqsolve(
-        diffrax.ODETerm(_vector_field),
+        diffrax.ODETerm(vector_field),
         diffrax.Tsit5(),
         t0=0.0,
         t1=TWO_PI * GAP_REVS,

@@ -16,7 +16,7 @@ inside; ``scale`` converts the motion's unit to m (1e-3) or keeps rad (1.0), and
 hold for the rotational equivalent of an oscillating follower (inertia, torsion spring, torques).
 """
 
-from ._compliant import compliant_response, min_contact_force, periodic_orbit
+from ._compliant import compliant_response, min_contact_force, periodic_orbit, vector_field
 from ._harmonic import linear_contact_force, linear_min_force, steady_force_at, steady_state, train_force
 from ._kinematic import kinematic_force, kinematic_force_jit, kinematic_force_of, kinematic_jump_speed
 from ._response import dynamic_jump_speed, response
@@ -27,5 +27,5 @@ __all__ = [
     "Response", "Separation", "compliant_response", "dynamic_jump_speed", "kinematic_force", "kinematic_force_jit", "kinematic_force_of",
     "kinematic_jump_speed",
     "linear_contact_force", "linear_min_force", "min_contact_force", "periodic_orbit", "response", "rigid_response",
-    "steady_force_at", "steady_state", "train_force",
+    "steady_force_at", "vector_field", "steady_state", "train_force",
 ]

@@ -28,7 +28,7 @@ from ._result import Response, _separations_from_mask, residual_vibration
 _RTOL, _ATOL = 1e-9, 1e-10
 
 
-def _vector_field(theta, y, args):
+def vector_field(theta, y, args):
     """d/dtheta of (x, p = dx/dtheta) for the compliant model (``contact`` True) or free flight."""
     motion, model, omega, contact = args
     x, p = y
@@ -80,7 +80,7 @@ _quasi_static_jit = cached_jit(_quasi_static_start)
 def _variational_field(theta, y, args):
     """State and monodromy sensitivities: d/dtheta (z, M) = (f(z), J_f(z) M), J_f by JAX autodiff."""
     z, m = y[:2], y[2:].reshape(2, 2)
-    f = lambda z_: _vector_field(theta, z_, args)  # noqa: E731
+    f = lambda z_: vector_field(theta, z_, args)  # noqa: E731
     return jnp.concatenate([f(z), (jax.jacfwd(f)(z) @ m).ravel()])
 
 

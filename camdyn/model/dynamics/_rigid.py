@@ -18,7 +18,7 @@ from ..._core.errors import NumericalError
 from ..._core.units import RPM, THETA_GRID, TWO_PI
 from ..follower import FollowerModel
 from ..motion import Motion, evaluate
-from ._compliant import _ATOL, _MAX_STEPS, _RTOL, _vector_field
+from ._compliant import _ATOL, _MAX_STEPS, _RTOL, vector_field
 from ._kinematic import kinematic_force_jit
 from ._result import Response, Separation, residual_vibration
 
@@ -36,7 +36,7 @@ def _flight_event(t, y, args, **kwargs):
 def _flight(motion, model, omega, theta0, y0):
     """Free flight from theta0 until the follower lands on the cam (event) or 4 pi later."""
     return diffrax.diffeqsolve(
-        diffrax.ODETerm(_vector_field),
+        diffrax.ODETerm(vector_field),
         diffrax.Tsit5(),
         t0=theta0,
         t1=theta0 + 2 * TWO_PI,
