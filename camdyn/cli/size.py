@@ -11,6 +11,7 @@ from rich.table import Table
 from ..design.sizing import TIE_BREAK, SpringSizing, size_spring
 from ..model.case import build_case
 from . import _console
+from .spring import print_spring
 
 
 def print_size(sz: SpringSizing) -> None:
@@ -72,9 +73,12 @@ def print_size(sz: SpringSizing) -> None:
 
 
 def run(args) -> int:
-    sz = size_spring(build_case(args.spec, source=Path(args.case)), args.max_speed, args.margin, args.min_rate)
+    case = build_case(args.spec, source=Path(args.case))
+    sz = size_spring(case, args.max_speed, args.margin, args.min_rate, buildable=args.buildable)
     if args.json:
         print(_console.json_text(sz.json()))
     else:
         print_size(sz)
+        if sz.part is not None:
+            print_spring(sz.case_name, sz.part, case.spec.spring.lever_arm if case.oscillating else None)
     return 0

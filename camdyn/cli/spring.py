@@ -2,12 +2,11 @@
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 
 from ..design.spring import SpringDesign, design_case_spring, spring_loads
 from ..model.case import build_case
-from ._console import console, notes, table
+from ._console import console, json_text, notes, table
 
 
 def _rows(d: SpringDesign):
@@ -61,7 +60,7 @@ def run(args) -> int:
         doc = {"case": case.name, "rate_N_per_mm": loads.rate, "preload_N": loads.preload, "lift_mm": loads.lift, "spring": design.json()}
         if lever_arm is not None:
             doc["lever_arm_mm"] = lever_arm
-        print(json.dumps(doc, indent=2))
+        print(json_text(doc))
     else:
         print_spring(case.name, design, lever_arm)
     return 0

@@ -93,6 +93,7 @@ class SpringSizing:
     region_preload_dynamic: np.ndarray | None = field(repr=False)  # least preload per rate (dynamic), compliant
     lines: tuple[tuple[float, float, float], ...] = field(repr=False, default=())  # (theta_deg, s, r): F0 >= r - k s
     warnings: tuple[str, ...] = ()
+    part: object = None  # size --buildable: the spring as a part (camdyn.design.spring.SpringDesign)
 
     @property
     def units(self) -> dict:
@@ -146,4 +147,7 @@ class SpringSizing:
             "least_preload_dynamic": None if self.region_preload_dynamic is None else self.region_preload_dynamic[::step].tolist(),
         }
         out["warnings"] = list(self.warnings)
+        out["buildable"] = self.part is not None
+        if self.part is not None:
+            out["part"] = self.part.json()
         return out

@@ -9,6 +9,8 @@ import numpy as np
 
 from ..._core.errors import InputError
 from ..._core.units import RPM, rate_from_si
+from ..spring import design_case_spring
+from ._buildable import buildable_answer
 from ._design import design
 from ._dynamic import Dynamic, dynamic_answer
 from ._kinematic import binding, preload_kinematic, required
@@ -95,12 +97,14 @@ def _lines(p: Problem, grid: Grid, k_kin: float, f0_kin: float, rates) -> tuple[
     return tuple((math.degrees(grid.theta[i]), float(grid.s[i] / p.scale), float(r[i])) for i in sorted(idx))
 
 
-def size_spring(case, max_speed_rpm: float | None = None, margin: float | None = None, min_rate: float = 0.0) -> SpringSizing:
+def size_spring(case, max_speed_rpm: float | None = None, margin: float | None = None, min_rate: float = 0.0, buildable: bool = False) -> SpringSizing:
     """Size the return spring of ``case``: the (rate, preload) with the least peak spring force that keeps the
     interface force >= ``[limits] min_contact_force`` at every angle and every speed up to ``margin`` times
     ``max_speed_rpm`` (defaults: the case's speed and speed_margin); ``min_rate`` (N/mm, or N*m/rad for an
-    oscillating follower) bounds the rate from below. See :mod:`camdyn.design.sizing` for the method, the
-    tie-break rule and the dynamic correction. Raises :class:`InputError` on bad input."""
+    oscillating follower) bounds the rate from below. ``buildable``: the least peak force over springs that can
+    be built within the case's ``[spring]`` table, and the part (:mod:`._buildable`). See
+    :mod:`camdyn.design.sizing` for the method, the tie-break rule and the dynamic correction. Raises
+    :class:`InputError` on bad input."""
     _check_options(max_speed_rpm, margin, min_rate)
     p, grid = build_problem(case, max_speed_rpm, margin, min_rate)
     k_kin, f0_kin, damping_note, method, grid = _kinematic_answer(p, grid)
@@ -109,8 +113,13 @@ def size_spring(case, max_speed_rpm: float | None = None, margin: float | None =
     if dynamic is not None:
         k, f0, dyn_bind = dynamic_answer(dynamic, grid, k_kin)
         method += _DYNAMIC_METHOD
+    part = None
+    if buildable:
+        k, f0 = buildable_answer(case, p, grid, dynamic)
+        part = design_case_spring(case, rate=rate_from_si(k, p.osc), preload=f0)
+        method += "; buildable: the least peak force over the springs [spring] allows (a scan of rates, the designer's largest preload per rate)"
     kin_design = design(p, grid, dynamic, k_kin, f0_kin)
-    chosen = kin_design if dynamic is None else design(p, grid, dynamic, k, f0)
+    chosen = kin_design if dynamic is None and not buildable else design(p, grid, dynamic, k, f0)
     k_cur, f0_cur = float(p.model.stiffness), float(p.model.preload)
     current = design(p, grid, dynamic, k_cur, f0_cur)
     if dynamic is None:
@@ -142,5 +151,6 @@ def size_spring(case, max_speed_rpm: float | None = None, margin: float | None =
         region_preload_kinematic=pre_kin,
         region_preload_dynamic=pre_dyn,
         lines=_lines(p, grid, k_kin, f0_kin, rates),
-        warnings=_warnings(p, k, min_rate, bind),
+        warnings=() if buildable else _warnings(p, k, min_rate, bind),
+        part=part,
     )
