@@ -20,7 +20,9 @@ from camdyn.plot import (
     plot_jump_map, plot_mechanism, plot_path, plot_path_error, plot_pressure_angle, plot_svaj, plot_vibration,
 )
 from camdyn.report import A4, DPI, PAGES, STYLE, ReportData, render
+from camdyn.model.dynamics import Separation
 from camdyn.report.pages import draw_springs
+from camdyn.report.pages.summary import key_results
 
 ROOT = Path(__file__).resolve().parents[1]
 LECTURE = ROOT / "cases" / "lecture.toml"
@@ -227,6 +229,39 @@ def test_plot_functions_draw_public_results(lecture_review):
     least = [t.get_text() for t in axes[7].texts]
     assert least == [f"least {chk.dynamic['min_contact_force_N']:.3g} N at {chk.dynamic['min_contact_force_deg']:.1f}\u00b0"]
     assert axes[7].get_title() == "interface force at 300 rpm"
+
+
+def separated(response):
+    """``response`` as if the follower flew twice: 145.3 -> 15.8 deg (the larger gap) and 24.8 -> 89.2 deg."""
+    flights = (Separation(24.8, 89.2, 0.21, 0.09), Separation(145.3, 15.8, 2.23, 0.2))
+    return dataclasses.replace(response, force=np.maximum(response.force - 25.0, 0.0), separations=flights)
+
+
+def label_clear_of_zero(ax) -> None:
+    """The one label on a force panel sits wholly above the zero line (the line does not cross it)."""
+    ax.figure.canvas.draw()
+    (label,) = ax.texts
+    zero = ax.transData.transform((0.0, 0.0))[1]
+    pad = label.get_bbox_patch().get_boxstyle().pad * label.get_size() * ax.figure.dpi / 72.0  # the box around it
+    assert label.get_window_extent().y0 - pad > zero
+
+
+@pytest.mark.slow
+def test_force_panel_says_where_the_follower_leaves(lecture_review):
+    """A separated response is labelled with where the follower leaves the cam (the largest flight first), not
+    with its least force of 0 N at 0 deg; either label stays clear of the zero line."""
+    chk = lecture_review.check
+    fig = Figure(figsize=A4)
+    ax1, ax2 = fig.subplots(2, 1)
+    plot_contact_force(ax1, chk.response)
+    plot_contact_force(ax2, separated(chk.response))
+    assert [t.get_text() for t in ax2.texts] == ["leaves the cam at 145.3\u00b0, lands at 15.8\u00b0 (and 1 more flight)"]
+    assert [tuple(line.get_xdata()) for line in ax2.lines if line.get_marker() == "v"] == [(145.3, 24.8)]
+    label_clear_of_zero(ax1)
+    label_clear_of_zero(ax2)
+    data = ReportData(dataclasses.replace(lecture_review, check=dataclasses.replace(chk, response=separated(chk.response))))
+    least = dict(key_results(data))["least force, dynamic"]
+    assert least == f"{chk.dynamic['min_contact_force_N']:.4g} N: leaves the cam at 145.3\u00b0"
 
 
 @pytest.mark.slow

@@ -12,22 +12,46 @@ from ._common import C, deg_ticks, mark_breaks, shade_separations
 from .motion import display_scale, display_unit
 
 
+def flights_by_gap(response: Response) -> list:
+    """The response's separations, the largest gap first."""
+    return sorted(response.separations, key=lambda s: -s.max_gap)
+
+
 def plot_contact_force(ax, response: Response, *, colour: str = C["dyn"], title: str | None = None, breaks_deg=()) -> None:
-    """The interface force (N) over a revolution, dynamic against kinematic, the separations shaded and the
-    least force marked. ``response``: forces in N (as :class:`~camdyn.design.checks.CheckReport` holds it)."""
+    """The interface force (N) over a revolution, dynamic against kinematic, the separations shaded; marked: the
+    least force, or where the follower leaves the cam. ``response``: forces in N (as
+    :class:`~camdyn.design.checks.CheckReport` holds it)."""
     th = response.theta_deg
     ax.plot(th, response.kinematic_force, color=C["kin"], lw=1.0, ls="--", label="kinematic (rigid, never leaves)")
     ax.plot(th, response.force, color=colour, lw=1.3, label=f"dynamic ({response.model})")
     ax.axhline(0.0, color=C["ink"], lw=0.8)
     shade_separations(ax, response, label=True)
     mark_breaks(ax, breaks_deg)
-    i = int(np.argmin(response.force))
-    ax.plot(th[i], response.force[i], "o", color=colour, ms=4)
-    right = th[i] < 250.0
-    ax.annotate(f"least {response.force[i]:.3g} N at {th[i]:.1f}\u00b0", xy=(th[i], response.force[i]), xytext=(6 if right else -6, -5), textcoords="offset points", size=7, color=colour, va="top", ha="left" if right else "right")
+    if response.separations:
+        _mark_lift_off(ax, response, colour)
+    else:
+        i = int(np.argmin(response.force))
+        ax.plot(th[i], response.force[i], "o", color=colour, ms=4)
+        right = th[i] < 250.0
+        ax.annotate(f"least {response.force[i]:.3g} N at {th[i]:.1f}\u00b0", xy=(th[i], response.force[i]), xytext=(7 if right else -7, 0), textcoords="offset points",
+                    size=7, color=colour, va="center", ha="left" if right else "right", zorder=6, bbox=_LABEL_BOX)
     ax.set_ylabel("interface force (N)")
     ax.set_title(title if title is not None else f"interface force at {response.omega / RPM:.4g} rpm", fontsize=9)
     ax.legend(loc="upper right", fontsize=7, ncol=3)
+
+
+_LABEL_BOX = dict(fc="white", ec="none", alpha=0.85, pad=0.8)  # a label legible over the lines behind it
+
+
+def _mark_lift_off(ax, response: Response, colour: str) -> None:
+    """Where the follower leaves the cam (a triangle on the zero line per flight); the largest flight named."""
+    flights = flights_by_gap(response)
+    ax.plot([s.start_deg for s in flights], [0.0] * len(flights), "v", color=colour, ms=5, zorder=6, clip_on=False)
+    big = flights[0]
+    more = f" (and {len(flights) - 1} more flight{'s' if len(flights) > 2 else ''})" if len(flights) > 1 else ""
+    right = big.start_deg < 250.0
+    ax.annotate(f"leaves the cam at {big.start_deg:.1f}\u00b0, lands at {big.end_deg:.1f}\u00b0{more}", xy=(big.start_deg, 0.0), xytext=(6 if right else -6, 7),
+                textcoords="offset points", size=7, color=colour, va="bottom", ha="left" if right else "right", zorder=6, bbox=_LABEL_BOX)
 
 
 def plot_displacement(ax, response: Response, *, unit: str = "mm", speed_rpm: float | None = None, breaks_deg=()) -> None:

@@ -6,7 +6,7 @@ import textwrap
 
 from matplotlib.patches import Polygon
 
-from ...plot import deg_ticks, plot_follower, shade_separations
+from ...plot import deg_ticks, flights_by_gap, plot_follower, shade_separations
 from .._data import ReportData
 from .._layout import Flow, fmt
 from .._style import C
@@ -96,13 +96,17 @@ def key_results(data: ReportData) -> list[tuple[str, str]]:
     """(label, value) of the summary's key results."""
     chk, case = data.check, data.case
     dyn, kin = chk.dynamic, chk.kinematic
+    seps = chk.response.separations
+    if seps:  # the least force is 0 over the flights: where the follower leaves (the largest flight) says more
+        least = f"{dyn['min_contact_force_N']:.4g} N: leaves the cam at {flights_by_gap(chk.response)[0].start_deg:.1f}\u00b0"
+    else:
+        least = f"{dyn['min_contact_force_N']:.4g} N at {dyn['min_contact_force_deg']:.1f}\u00b0"
     rows = [
-        ("least force, dynamic", f"{dyn['min_contact_force_N']:.4g} N at {dyn['min_contact_force_deg']:.1f}\u00b0"),
+        ("least force, dynamic", least),
         ("least force, kinematic", f"{kin['min_contact_force_N']:.4g} N at {kin['min_contact_force_deg']:.1f}\u00b0"),
         ("jump speed, dynamic", f"{fmt(dyn['jump_speed_rpm'])} rpm"),
         ("jump speed, rigid", f"{fmt(kin['jump_speed_rpm'])} rpm" + (f" (at {kin['jump_speed_at_deg']:.1f}\u00b0)" if kin["jump_speed_at_deg"] is not None else "")),
     ]
-    seps = chk.response.separations
     if seps:
         spans = ", ".join(f"{s.start_deg:.0f}\u2013{s.end_deg:.0f}\u00b0" for s in seps[:2]) + (", \u2026" if len(seps) > 2 else "")
         gap = max(s.max_gap for s in seps) * data.to_display
