@@ -4,6 +4,7 @@ each shows, non-blank images, deterministic PDFs, the figures as a notebook call
 import dataclasses
 import json
 import re
+import tomllib
 from pathlib import Path
 
 import matplotlib
@@ -13,14 +14,16 @@ from matplotlib.figure import Figure
 from matplotlib.image import imread
 
 from camdyn.cli import main
+from camdyn.design.checks import run_check
 from camdyn.design.review import design_review
 from camdyn.design.sizing import SpringSizing
+from camdyn.model.case import case_from_dict
+from camdyn.model.dynamics import Separation
 from camdyn.plot import (
-    plot_cam_profile, plot_contact_force, plot_curvature, plot_displacement, plot_feasible_region, plot_force_vs_speed,
-    plot_jump_map, plot_mechanism, plot_path, plot_path_error, plot_pressure_angle, plot_svaj, plot_vibration,
+    face_extremes, plot_cam_profile, plot_contact_force, plot_curvature, plot_displacement, plot_feasible_region, plot_force_vs_speed,
+    plot_jump_map, plot_mechanism, plot_path, plot_path_error, plot_pressure_angle, plot_svaj, plot_vibration, square_face,
 )
 from camdyn.report import A4, DPI, PAGES, STYLE, ReportData, render
-from camdyn.model.dynamics import Separation
 from camdyn.report.pages import draw_springs
 from camdyn.report.pages.summary import key_results
 
@@ -205,6 +208,49 @@ def test_spring_page_says_why_sizing_does_not_apply(lecture_review):
     texts = " ".join(t.get_text() for t in fig.texts)
     assert "Spring sizing does not apply to this case" in texts and "no spring to size" in texts
     assert len(fig.axes) == 2  # the jump map and its colour bar still drawn
+
+
+@pytest.fixture(scope="session")
+def flat_review(lecture_review):
+    """The lecture's motion on a translating flat face (offset 5 mm, face 60 mm wide); the dynamics and sizing
+    parts of the review are the lecture's (the pages tested here do not draw them)."""
+    raw = tomllib.loads(LECTURE.read_text())
+    raw["name"] = "flat"
+    raw["follower"] = {"type": "translating-flat", "base_radius": 40.0, "offset": 5.0, "face_width": 60.0, "rotation": "cw"}
+    case = case_from_dict(raw)
+    return dataclasses.replace(lecture_review, case=case, check=run_check(case))
+
+
+@pytest.mark.slow
+def test_flat_face_shows_the_contact_travel_not_a_zero_pressure_angle(flat_review):
+    """A translating flat face has pressure angle 0 by construction; the report shows instead where the contact
+    runs along the face: t = s' - e, so from the laws t_max = 2h/beta - e at mid-rise (cycloidal, 20 mm over
+    90 deg: +20.46 mm at 135 deg) and t_min = -(h/2)(pi/beta) - e at mid-return (harmonic, 20 mm over 120 deg:
+    -20 mm at 300 deg); travel 40.46 mm of the 60 mm face."""
+    geo = flat_review.check.geometry
+    assert square_face(geo) and geo.max_pressure_angle_deg < 1e-9
+    (t_lo, th_lo), (t_hi, th_hi) = face_extremes(geo)
+    assert t_hi == pytest.approx(2 * 20.0 / (np.pi / 2) - 5.0, rel=1e-9) and th_hi == pytest.approx(135.0)
+    assert t_lo == pytest.approx(-10.0 * 1.5 - 5.0, rel=1e-9) and th_lo == pytest.approx(300.0)
+    text = drawn_pages(flat_review)
+    assert "contact on the face from t = -20.0 mm (\u03b8 = 300.0\u00b0) to +20.5 mm (\u03b8 = 135.0\u00b0): travel 40.46 of face_width 60 mm" in text["cam"]
+    assert "pressure angle 0 all round" in text["cam"] and "t from the axis (mm)" in text["cam"]
+    assert "max pressure angle" not in text["cam"] + text["summary"] and "follower motion" not in text["cam"]
+    rows = dict(key_results(ReportData(flat_review)))
+    assert rows["pressure angle"] == "0 all round (face square to its motion)" and rows["contact on the face"] == "t = -20.00 to +20.46 mm"
+    assert "(above 0: no cusp)" in text["summary"] and not re.search(r"\(\+\d{4,}%\)", text["summary"])  # no margin in % of 1e-6 mm
+
+
+@pytest.mark.slow
+def test_roller_cam_page_labels_do_not_overlap(lecture_review):
+    data = ReportData(lecture_review)
+    with matplotlib.rc_context(STYLE):
+        fig = Figure(figsize=A4)
+        next(p for p in PAGES if p.slug == "cam").draw(fig, data)
+        fig.canvas.draw()
+    (ax,) = [ax for ax in fig.axes if ax.get_aspect() == 1.0]
+    boxes = {t.get_text(): t.get_window_extent() for t in ax.texts if t.get_text() in ("contact normal", "follower motion")}
+    assert len(boxes) == 2 and not boxes["contact normal"].overlaps(boxes["follower motion"])
 
 
 # ------------------------------------------------------------------------------------ figures in a notebook

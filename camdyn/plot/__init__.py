@@ -3,7 +3,10 @@ a result: a notebook user can call them as the reports do, e.g. ``plot_feasible_
 ``plot_cam_profile(ax, run_check(case).geometry)`` or ``plot_force_vs_speed(ax, design_review(case, check))``."""
 
 from ._common import PALETTE, deg_ticks, mark_breaks, shade_separations
-from .cam import check_colour, follower_pose, plot_cam_profile, plot_curvature, plot_follower, plot_pressure_angle
+from .cam import (
+    check_colour, face_extremes, follower_pose, plot_cam_profile, plot_curvature, plot_face_contact, plot_follower, plot_pressure_angle,
+    square_face,
+)
 from .dynamics import flights_by_gap, plot_contact_force, plot_displacement, plot_force_vs_speed, plot_vibration
 from .jumpmap import plot_jump_map, save_png
 from .mechanism import mechanism_bounds, mechanism_frames, plot_mechanism, plot_path, plot_path_error
@@ -11,8 +14,8 @@ from .motion import display_scale, display_unit, plot_svaj, svaj_quantities
 from .springs import PLOT_COLORS, plot_feasible_region
 
 __all__ = [
-    "PALETTE", "PLOT_COLORS", "check_colour", "deg_ticks", "display_scale", "display_unit", "flights_by_gap", "follower_pose", "mark_breaks",
-    "mechanism_bounds", "mechanism_frames", "plot_cam_profile", "plot_contact_force", "plot_curvature", "plot_displacement",
+    "PALETTE", "PLOT_COLORS", "check_colour", "deg_ticks", "display_scale", "display_unit", "face_extremes", "flights_by_gap", "follower_pose", "mark_breaks",
+    "mechanism_bounds", "mechanism_frames", "plot_cam_profile", "plot_contact_force", "plot_curvature", "plot_displacement", "plot_face_contact",
     "plot_feasible_region", "plot_follower", "plot_force_vs_speed", "plot_jump_map", "plot_mechanism", "plot_path",
-    "plot_path_error", "plot_pressure_angle", "plot_svaj", "plot_vibration", "save_png", "shade_separations", "svaj_quantities",
+    "plot_path_error", "plot_pressure_angle", "plot_svaj", "plot_vibration", "save_png", "shade_separations", "square_face", "svaj_quantities",
 ]

@@ -24,6 +24,12 @@ def check_limit(check: CheckReport | None, name: str) -> float | None:
     return None if c is None else c.limit
 
 
+def square_face(geometry: CamGeometry) -> bool:
+    """A flat face square to its motion (translating; or oscillating with the face line through the pivot): its
+    pressure angle is 0 all round, and what matters instead is where the contact runs along the face."""
+    return not geometry.follower.roller and geometry.max_pressure_angle_deg < 1e-6
+
+
 def follower_pose(geometry: CamGeometry, theta_deg: float) -> dict:
     """The follower as the cam sees it at cam angle theta (cam frame, mm): roller centre (or face reference
     point) ``centre``, ``contact`` point, outward unit ``normal`` at the contact, the unit direction ``move`` in
@@ -103,7 +109,10 @@ def plot_cam_profile(ax, geometry: CamGeometry, check: CheckReport | None = None
         out = at["tip"] - at["centre"]
         out = out / np.linalg.norm(out) if np.linalg.norm(out) > 1e-9 else at["centre"] / max(np.linalg.norm(at["centre"]), 1e-9)
         ax.annotate(f"{th:g}\u00b0", at["tip"], xytext=tuple(9 * out), textcoords="offset points", size=7.5, color=C["grey"], ha="center", va="center", zorder=5)
-    reach = max(reach, _pressure_angle_mark(ax, geo, check_colour(check, "pressure_angle", C["margin"]), r_all))
+    if square_face(geo):
+        reach = max(reach, _face_travel_mark(ax, geo, check_colour(check, "face_width", C["margin"])))
+    else:
+        reach = max(reach, _pressure_angle_mark(ax, geo, check_colour(check, "pressure_angle", C["margin"]), r_all))
     _curvature_mark(ax, geo, check_colour(check, "curvature", C["advice"]), r_all)
     _rotation_arrow(ax, f)
     lim_r = reach * 1.06
@@ -122,13 +131,57 @@ def _pressure_angle_mark(ax, geo: CamGeometry, colour: str, r_all: float) -> flo
     L = 0.32 * r_all
     origin = at["centre"] if f.roller else at["contact"]
     arrows = ((at["normal"], at["move"], "contact normal"), (at["move"], at["normal"], "follower motion"))
+    sides = []
     for vec, other, text in arrows:
         ax.add_patch(FancyArrowPatch(origin, origin + vec * L, arrowstyle="-|>", mutation_scale=9, color=colour, lw=1.2, zorder=6))
         side = np.array([-vec[1], vec[0]])
         if side @ other > 0:
             side = -side
+        if sides and abs(vec[0] * other[1] - vec[1] * other[0]) < math.sin(math.radians(15.0)):
+            side = -sides[0]  # nearly parallel arrows: their labels either side, not on top of each other
+        sides.append(side)
         ax.annotate(text, origin + vec * L, xytext=tuple(8 * side), textcoords="offset points", size=7, color=colour, ha="left" if side[0] > 0 else "right", va="center", zorder=6)
     return float(np.max(np.abs(origin))) + L * 1.25
+
+
+def face_extremes(geometry: CamGeometry) -> tuple[tuple[float, float], tuple[float, float]]:
+    """((t_min mm, at deg), (t_max mm, at deg)): where the contact runs along a flat face, from the follower's
+    axis (translating) or the foot of the perpendicular from the pivot (oscillating); the angles on the grid."""
+    t, th = geometry.face_t_mm, geometry.theta_deg
+    lo, hi = geometry.extremes.face_range_mm  # on the grid and both sides of every break: what face_width judges
+    return (lo, float(th[int(np.argmin(t))])), (hi, float(th[int(np.argmax(t))]))
+
+
+def _face_travel_mark(ax, geo: CamGeometry, colour: str) -> float:
+    """The face at the two ends of the contact's travel along it, the contact points marked with their t;
+    returns the reach of the drawing from the cam centre."""
+    reach = 0.0
+    for t, th in face_extremes(geo):
+        at = plot_follower(ax, geo, th, colour=colour, lw=1.6, z=6, stem=False)
+        p, n = at["contact"], at["normal"]
+        ax.plot(*p, marker="o", ms=5, color=colour, zorder=7)
+        ax.annotate(f"t = {t:+.1f} mm\nat {th:.1f}\u00b0", p, xytext=tuple(16 * n), textcoords="offset points", size=7, color=colour, zorder=7,
+                    ha="left" if n[0] > 0.3 else ("right" if n[0] < -0.3 else "center"), va="bottom" if n[1] > 0.3 else ("top" if n[1] < -0.3 else "center"),
+                    bbox=dict(fc="white", ec="none", alpha=0.85, pad=0.8))
+        reach = max(reach, float(np.max(np.abs(p))) * 1.25)
+    return reach
+
+
+def plot_face_contact(ax, geometry: CamGeometry, check: CheckReport | None = None, *, breaks_deg=()) -> None:
+    """Where the contact runs along a flat face against the cam angle: t (mm), its travel shaded and its ends
+    marked (red where ``check``'s face_width fails). For a face square to its motion, what the pressure angle
+    says of a roller."""
+    geo = geometry
+    colour = check_colour(check, "face_width", C["margin"])
+    (t_lo, th_lo), (t_hi, th_hi) = face_extremes(geo)
+    ax.plot(geo.theta_deg, geo.face_t_mm, color=C["dyn"], lw=1.3)
+    ax.axhspan(t_lo, t_hi, color=colour, alpha=0.1, lw=0)
+    ax.plot([th_lo, th_hi], [t_lo, t_hi], "o", color=colour, ms=4.5)
+    if t_lo < 0.0 < t_hi:
+        ax.axhline(0, color="#888888", lw=0.6)
+    mark_breaks(ax, breaks_deg)
+    ax.set_ylabel(f"t from the {'axis' if geo.follower.translating else 'pivot foot'} (mm)")
+    ax.set_title("contact position t along the face (pressure angle 0 all round: the face is square to its motion)", fontsize=9)
 
 
 def _curvature_mark(ax, geo: CamGeometry, colour: str, r_all: float) -> None:

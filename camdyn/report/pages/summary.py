@@ -2,11 +2,12 @@
 
 from __future__ import annotations
 
+import math
 import textwrap
 
 from matplotlib.patches import Polygon
 
-from ...plot import deg_ticks, flights_by_gap, plot_follower, shade_separations
+from ...plot import deg_ticks, flights_by_gap, plot_follower, shade_separations, square_face
 from .._data import ReportData
 from .._layout import Flow, fmt
 from .._style import C
@@ -67,8 +68,15 @@ def _margin(c) -> str:
     d = c.value - c.limit if c.sense in (">=", ">") else c.limit - c.value
     if d == 0.0:
         return "0 (at the limit)"
-    rel = f" ({100.0 * d / abs(c.limit):+.0f}%)" if abs(c.limit) > 1e-9 and abs(c.limit) < 1e9 else ""
+    pct = 100.0 * d / abs(c.limit) if abs(c.limit) > 1e-9 and abs(c.limit) < 1e9 else math.inf
+    rel = f" ({pct:+.0f}%)" if abs(pct) < 1000.0 else ""  # against a limit near 0 (no cusp: 1e-6 mm) a ratio says nothing
     return f"{d:+.3g}{rel}"
+
+
+def _what(check_name: str, data: ReportData) -> str:
+    if check_name == "curvature" and data.case.follower is not None and not data.case.follower.roller:
+        return "least contour radius (above 0: no cusp)"
+    return CHECK_WHAT.get(check_name, "")
 
 
 def _checks_table(data: ReportData, flow: Flow) -> None:
@@ -81,7 +89,7 @@ def _checks_table(data: ReportData, flow: Flow) -> None:
         flow.row(
             [
                 (0.0, c.name, {"family": "DejaVu Sans Mono", "size": 7.8}),
-                (0.165, CHECK_WHAT.get(c.name, ""), {"color": C["grey"]}),
+                (0.165, _what(c.name, data), {"color": C["grey"]}),
                 (0.6, value, {"ha": "right"}),
                 (0.625, {">=": "\u2265", "<=": "\u2264", ">": ">"}.get(c.sense, c.sense), {"ha": "center"}),
                 (0.74, f"{c.limit:g} {c.unit}", {"ha": "right"}),
@@ -117,7 +125,13 @@ def key_results(data: ReportData) -> list[tuple[str, str]]:
     rows.append(("residual vibration", f"{rv:.3g} {data.unit}"))
     geo = chk.geometry
     if geo is not None:
-        rows.append(("max pressure angle", f"{geo.max_pressure_angle_deg:.2f}\u00b0 at {geo.max_pressure_angle_at_deg:.1f}\u00b0"))
+        if square_face(geo):
+            rows.append(("pressure angle", "0 all round (face square to its motion)"))
+        else:
+            rows.append(("max pressure angle", f"{geo.max_pressure_angle_deg:.2f}\u00b0 at {geo.max_pressure_angle_at_deg:.1f}\u00b0"))
+        if geo.extremes.face_range_mm is not None:
+            t_lo, t_hi = geo.extremes.face_range_mm
+            rows.append(("contact on the face", f"t = {t_lo:+.2f} to {t_hi:+.2f} mm"))
         rows.append(("least radius of curvature", f"{geo.min_radius_of_curvature_mm:.4g} mm at {geo.min_radius_of_curvature_at_deg:.1f}\u00b0" + ("  (undercut)" if geo.undercut else "")))
     if case.synthesis is not None:
         rows.append(("path error", f"{case.synthesis.summary['max_path_error_mm']:.3g} mm"))
