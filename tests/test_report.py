@@ -193,6 +193,16 @@ def test_path_case_gets_the_mechanism_page(path_case):
     text = drawn_pages(review)
     assert all(f"\u03b8 = {a}\u00b0" in text["mechanism"] for a in range(0, 360, 60)) and "path: target and traced" in text["mechanism"]
     assert "swing \u03c8" in text["svaj"] and "torque / lever arm" in text["dynamics"]
+    # the drawings and the path plots fill the page: no band of it is left empty
+    with matplotlib.rc_context(STYLE):
+        fig = Figure(figsize=A4)
+        next(p for p in PAGES if p.slug == "mechanism").draw(fig, ReportData(review))
+    spans = sorted((ax.get_position().y0, ax.get_position().y1) for ax in fig.axes)
+    reach, gaps = spans[0][1], []
+    for y0, y1 in spans[1:]:
+        gaps.append(y0 - reach)
+        reach = max(reach, y1)
+    assert spans[0][0] < 0.08 and reach > 0.85 and max(gaps) < 0.09  # titles and tick labels between the axes
     # an oscillating (path) follower is sized in torsion units; its rigid follower has no dynamic correction
     sz = review.sizing
     assert isinstance(sz, SpringSizing) and sz.oscillating and sz.model == "rigid" and sz.units["rate"] == "N*m/rad"

@@ -107,6 +107,7 @@ def plot_path(ax, synthesis: Synthesis) -> None:
     """The target path and the path the linkage traces, with cam angles marked every 45 deg."""
     target, traced = synthesis.path_xy, synthesis.traced_xy
     ax.set_aspect("equal", adjustable="datalim")
+    ax.margins(0.08)  # room for the angle labels at the path's extremes
     ax.plot(*np.c_[target.T, target[:1].T], color=C["path"], lw=4.0, label="target path")
     ax.plot(*np.c_[traced.T, traced[:1].T], color=C["traced"], lw=1.0, ls="--", label="traced by the linkage")
     for a in range(0, 360, 45):

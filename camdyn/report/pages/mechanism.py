@@ -38,6 +38,22 @@ def draw_mechanism(fig, data: ReportData) -> None:
             ax.set_ylabel("y (mm)", fontsize=7.5)
         if k >= len(angles) - NCOLS:
             ax.set_xlabel("x (mm)", fontsize=7.5)
-    plot_h = min(grid_bottom - 0.13, 0.36)
-    plot_path(fig.add_axes([0.08, 0.065, 0.38, plot_h]), syn)
-    plot_path_error(fig.add_axes([0.58, 0.065, 0.38, plot_h]), syn)
+    path_box, error_box = _path_boxes(syn.path_xy, grid_bottom - 0.075)
+    plot_path(fig.add_axes(path_box), syn)
+    plot_path_error(fig.add_axes(error_box), syn)
+
+
+def _path_boxes(path_xy: np.ndarray, top: float, bottom: float = 0.065) -> tuple[list[float], list[float]]:
+    """Axes (figure fractions) for the path and its error below the linkage drawings, filling the page down to
+    ``bottom``: side by side, or for a path much wider than tall the path across the page (as tall as it needs)
+    and the error under it, whichever draws the path larger."""
+    span = np.ptp(path_xy, axis=0)
+    dx, dy = span + 0.12 * span.max()  # room for the angle labels
+    height_in = (top - bottom) * A4[1]
+    side_in, width_in = 0.38 * A4[0], 0.88 * A4[0]
+    gap_in, error_in = 0.75, 1.5  # the path's x label and the error's title; the least error plot
+    stacked_in = min(height_in - gap_in - error_in, width_in * dy / dx)  # the path box, at the path's aspect
+    if min(width_in / dx, stacked_in / dy) <= 1.2 * min(side_in / dx, height_in / dy):
+        return [0.08, bottom, 0.38, top - bottom], [0.58, bottom, 0.38, top - bottom]
+    path_h = stacked_in / A4[1]
+    return [0.08, top - path_h, 0.88, path_h], [0.08, bottom, 0.88, top - path_h - gap_in / A4[1] - bottom]
