@@ -8,6 +8,7 @@ from pathlib import Path  # noqa: E402
 import pytest  # noqa: E402
 
 import camdyn.model  # noqa: E402,F401  (float64 on)
+from camdyn.design.checks import run_check  # noqa: E402
 from camdyn.model.case import case_from_dict, load_case  # noqa: E402
 
 CASES = Path(__file__).resolve().parents[1] / "cases"
@@ -33,3 +34,19 @@ def lecture_rigid_case():
     for key in ("train_stiffness", "train_damping_ratio"):
         raw["dynamics"].pop(key)
     return case_from_dict(raw)
+
+
+@pytest.fixture(scope="session")
+def lecture_check(lecture_case):
+    return run_check(lecture_case)
+
+
+@pytest.fixture(scope="session")
+def racetrack_case():
+    """The quickest path case: an oscillating cam-linkage, rigid follower."""
+    return load_case(CASES / "racetrack.toml")
+
+
+@pytest.fixture(scope="session")
+def racetrack_check(racetrack_case):
+    return run_check(racetrack_case)

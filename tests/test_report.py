@@ -1,92 +1,137 @@
-"""Design-review reports: pages, titles, non-blank images, byte-identical PDFs, the path-case page, the spring-sizing
-page, the CLI."""
+"""Design-review reports: the review data against the check and the motion laws, the pages a case gets and what
+each shows, non-blank images, deterministic PDFs, the figures as a notebook calls them, the CLI."""
 
+import dataclasses
 import json
 import re
+import tomllib
 from pathlib import Path
 
+import matplotlib
 import numpy as np
 import pytest
+from matplotlib.figure import Figure
 from matplotlib.image import imread
 
-from camdyn.model.case import load_case
-from camdyn.design.checks import run_check
 from camdyn.cli import main
-from camdyn.report import A4, DPI, PAGES, ReportData, draw_springs, render
+from camdyn.design.checks import run_check
+from camdyn.design.review import design_review
 from camdyn.design.sizing import SpringSizing
+from camdyn.model.case import case_from_dict
+from camdyn.model.dynamics import Separation
+from camdyn.plot import (
+    face_extremes, plot_cam_profile, plot_contact_force, plot_curvature, plot_displacement, plot_feasible_region, plot_force_vs_speed,
+    plot_jump_map, plot_mechanism, plot_path, plot_path_error, plot_pressure_angle, plot_svaj, plot_vibration, square_face,
+)
+from camdyn.report import A4, DPI, PAGES, STYLE, ReportData, render
+from camdyn.report.pages import draw_springs
+from camdyn.report.pages.summary import key_results
 
 ROOT = Path(__file__).resolve().parents[1]
 LECTURE = ROOT / "cases" / "lecture.toml"
-PATH_CASE = ROOT / "cases" / "racetrack.toml"  # the quickest path case (oscillating linkage, rigid follower)
-TRANSLATING = ("Summary", "Follower motion (SVAJ)", "Cam profile", "Dynamics")
-SPRINGS = "Spring sizing"  # the last page of every case
+# slow: a test that takes a reviewed case (JAX compiles the dynamics, the sizing and the jump map) or runs the CLI to the end
+
+# ------------------------------------------------------------------------------------------------ fixtures
+@pytest.fixture(scope="session")
+def lecture_review(lecture_case, lecture_check):
+    return design_review(lecture_case, lecture_check)
 
 
-@pytest.fixture(scope="module")
-def lecture(tmp_path_factory):
-    case = load_case(LECTURE)
-    data = ReportData(case, run_check(case))
-    return data, render(data, tmp_path_factory.mktemp("lecture"))
+@pytest.fixture(scope="session")
+def lecture(lecture_review, tmp_path_factory):
+    return lecture_review, render(lecture_review, tmp_path_factory.mktemp("lecture"))
 
 
-@pytest.fixture(scope="module")
-def path_case(tmp_path_factory):
-    case = load_case(PATH_CASE)
-    data = ReportData(case, run_check(case))
-    return data, render(data, tmp_path_factory.mktemp("path"))
+@pytest.fixture(scope="session")
+def path_case(racetrack_case, racetrack_check, tmp_path_factory):
+    review = design_review(racetrack_case, racetrack_check)
+    return review, render(review, tmp_path_factory.mktemp("path"))
 
 
-def _pdf_pages(pdf: Path) -> int:
+# ------------------------------------------------------------------------------------------------- helpers
+def expected_slugs(case) -> list[str]:
+    """The pages a case has, from what the case is: a cam page where there is a cam follower, a mechanism page
+    where a linkage was synthesized."""
+    return ["summary", "svaj", *(["cam"] if case.follower is not None else []), "dynamics", *(["mechanism"] if case.synthesis is not None else []), "springs"]
+
+
+def page_text(fig) -> str:
+    """Every text on a drawn page: figure texts, axes titles, labels, texts, legends (secondary axes too)."""
+    out = [t.get_text() for t in fig.texts]
+    axes = list(fig.axes)
+    axes += [child for ax in fig.axes for child in ax.child_axes]
+    for ax in axes:
+        out += [ax.xaxis.label.get_text(), ax.yaxis.label.get_text()] + [t.get_text() for t in ax.texts]
+        out += [ax.get_title(loc=loc) for loc in ("left", "center")] if hasattr(ax, "get_title") else []
+        if ax.get_legend() is not None:
+            out += [t.get_text() for t in ax.get_legend().get_texts()]
+    return "\n".join(out)
+
+
+def drawn_pages(review) -> dict[str, str]:
+    """slug -> the text of that page, drawn as the report draws it."""
+    data = ReportData(review)
+    out = {}
+    with matplotlib.rc_context(STYLE):
+        for page in PAGES:
+            if page.applies(data):
+                fig = Figure(figsize=A4)
+                page.draw(fig, data)
+                out[page.slug] = page_text(fig)
+    return out
+
+
+def pdf_pages(pdf: Path) -> int:
     return len(re.findall(rb"/Type\s*/Page\b(?!s)", pdf.read_bytes()))
 
 
-def _assert_looks_like_a_page(png: Path) -> None:
+def assert_looks_like_a_page(png: Path) -> None:
     img = imread(png)[..., :3]
-    assert img.shape[:2] == (round(A4[1] * DPI), round(A4[0] * DPI))
+    assert DPI >= 150 and img.shape[:2] == (int(A4[1] * DPI), int(A4[0] * DPI))  # legible on a projector; Agg truncates
     ink = np.any(img < 0.9, axis=-1).mean()  # fraction of pixels that are not (near) white
     assert 0.02 < ink < 0.6, f"{png.name}: {ink:.3f} of the page inked"
     assert img.std() > 0.05
-    assert png.stat().st_size < 200_000
+    assert png.stat().st_size < 250_000  # 256 colours at 1240 x 1753 px: 80-130 kB a page
 
 
-def test_pages_titles_and_names(lecture):
-    data, written = lecture
-    assert written.titles == TRANSLATING + (SPRINGS,) and written.verdict == "pass"
-    assert [p.name for p in written.pngs] == ["lecture-1-summary.png", "lecture-2-svaj.png", "lecture-3-cam.png", "lecture-4-dynamics.png", "lecture-5-springs.png"]
-    assert written.pdf.name == "lecture.pdf" and _pdf_pages(written.pdf) == 5
-    raw = written.pdf.read_bytes()
-    assert b"CreationDate" not in raw and b"ModDate" not in raw and b"camdyn design review: lecture" in raw
-    assert written.pdf.stat().st_size < 1_000_000
-    # the force-against-speed curve meets the check: the operating point and the jump speed
-    sweep, dyn = data.speed_sweep, data.check.dynamic
-    assert np.interp(300.0, sweep["rpm"], sweep["linear"]) == pytest.approx(dyn["min_contact_force_N"], rel=1e-3)
-    assert sweep["rpm"][np.argmax(sweep["linear"] <= 0.0)] == pytest.approx(dyn["jump_speed_rpm"], rel=2e-3)
-    # the lecture's acceleration jumps (dwell -> harmonic at 240 deg, harmonic -> dwell at 0 deg) are flagged
-    assert sorted((deg, order) for deg, order, _ in data.jumps) == [(0.0, 2), (240.0, 2)]
+# --------------------------------------------------------------------------------------------- review data
+@pytest.mark.slow
+def test_review_motion_jumps_are_the_laws(lecture_review):
+    """The one-sided values at the lecture's breaks are its laws' own: the harmonic return (-20 mm over 120 deg)
+    starts and ends with s'' = -/+ h/2 (pi/beta)^2 = -/+ 22.5 mm/rad^2 against the dwells' 0; the cycloidal rise's
+    acceleration is 0 at its ends, so its breaks (90, 180 deg) have no jump."""
+    motion = lecture_review.motion
+    assert motion.unit == "mm" and motion.breaks_deg == (0.0, 90.0, 180.0, 240.0)
+    beta = np.deg2rad(120.0)
+    a0 = -20.0 / 2.0 * (np.pi / beta) ** 2
+    left, right = motion.one_sided(240.0)
+    assert left[2] == pytest.approx(0.0, abs=1e-9) and right[2] == pytest.approx(a0, rel=1e-9)
+    left, right = motion.one_sided(0.0)
+    assert left[2] == pytest.approx(-a0, rel=1e-9) and right[2] == pytest.approx(0.0, abs=1e-9)
+    jumps = ReportData(lecture_review).jumps
+    assert [(deg, order) for deg, order, _ in jumps] == [(0.0, 2), (240.0, 2)]
+    assert [j for _, _, j in jumps] == pytest.approx([a0, a0], rel=1e-9)
 
 
-def test_pages_are_not_blank(lecture):
-    for png in lecture[1].pngs:
-        _assert_looks_like_a_page(png)
+@pytest.mark.slow
+def test_review_force_against_speed_meets_the_check(lecture_review):
+    """The frequency-domain curve passes through the check's time-domain least force at the case speed and
+    crosses zero at the check's jump speed; the kinematic curve is the check's kinematic least force there."""
+    sweep, chk = lecture_review.force_vs_speed, lecture_review.check
+    dyn, kin = chk.dynamic, chk.kinematic
+    assert np.interp(300.0, sweep.speeds_rpm, sweep.dynamic_N) == pytest.approx(dyn["min_contact_force_N"], rel=1e-3)
+    assert sweep.speeds_rpm[np.argmax(sweep.dynamic_N <= 0.0)] == pytest.approx(dyn["jump_speed_rpm"], rel=2e-3)
+    assert np.interp(300.0, sweep.speeds_rpm, sweep.kinematic_N) == pytest.approx(kin["min_contact_force_N"], rel=1e-3)
+    assert sweep.speeds_rpm[np.argmax(sweep.kinematic_N <= 0.0)] == pytest.approx(kin["jump_speed_rpm"], rel=2e-3)
+    assert lecture_review.margin_rpm == pytest.approx(375.0)
+    assert lecture_review.margin_response.omega == pytest.approx(375.0 * 2 * np.pi / 60)
 
 
-def test_path_case_gets_the_mechanism_page(path_case):
-    data, written = path_case
-    assert written.titles == TRANSLATING + ("Mechanism and path", SPRINGS)
-    assert [p.name for p in written.pngs[-2:]] == ["racetrack-5-mechanism.png", "racetrack-6-springs.png"] and _pdf_pages(written.pdf) == 6
-    for png in written.pngs:
-        _assert_looks_like_a_page(png)
-    # an oscillating (path) follower is sized in torsion units; its rigid follower has no dynamic correction
-    sz = data.sizing
-    assert isinstance(sz, SpringSizing) and sz.oscillating and sz.model == "rigid" and sz.units["rate"] == "N*m/rad"
-    assert data.jump_map.oscillating and data.jump_map.spring_rate_unit == "N*m/rad"
-
-
-def test_spring_page_agrees_with_the_check(lecture):
-    """The sizing page's current design is the case's own spring: its jump speeds are the check's; the chosen
-    spring holds up to speed_margin x speed; the jump map sits on the page's rates at the case's preload."""
-    data, _ = lecture
-    sz, chk = data.sizing, data.check
+@pytest.mark.slow
+def test_spring_page_agrees_with_the_check(lecture_review):
+    """The sizing's current design is the case's own spring: its jump speeds are the check's; the chosen spring
+    holds up to speed_margin x speed; the jump map sits on the sizing's rates at the case's preload."""
+    sz, chk = lecture_review.sizing, lecture_review.check
     assert isinstance(sz, SpringSizing) and sz.model == "compliant" and not sz.oscillating
     assert sz.top_speed_rpm == pytest.approx(1.25 * 300.0)
     assert (sz.current.rate, sz.current.preload) == (2.0, 30.0)
@@ -94,30 +139,201 @@ def test_spring_page_agrees_with_the_check(lecture):
     assert sz.current.dynamic_jump_rpm == pytest.approx(chk.dynamic["jump_speed_rpm"], rel=1e-3)
     assert sz.chosen.least_force >= sz.min_contact_force - 1e-6 and sz.chosen.dynamic_jump_rpm >= sz.top_speed_rpm * (1 - 1e-3)
     assert sz.chosen.peak_spring < sz.current.peak_spring
-    jm = data.jump_map
+    jm = lecture_review.jump_map
     assert jm.preload == 30.0 and jm.spring_rates[-1] == pytest.approx(sz.region_rate[-1]) and jm.speeds_rpm[-1] > chk.dynamic["jump_speed_rpm"]
     assert jm.separated.any() and not jm.separated[:, -1][jm.speeds_rpm < 300.0].any()
 
 
-def test_spring_page_says_why_sizing_does_not_apply(lecture):
-    from matplotlib.figure import Figure
+# ---------------------------------------------------------------------------------------------------- pages
+@pytest.mark.slow
+def test_pages_titles_and_names(lecture):
+    review, written = lecture
+    slugs = expected_slugs(review.case)
+    assert slugs == ["summary", "svaj", "cam", "dynamics", "springs"]
+    assert [p.name for p in written.pngs] == [f"lecture-{i}-{s}.png" for i, s in enumerate(slugs, start=1)]
+    assert written.titles[0] == "Summary" and written.titles[-1] == "Spring sizing" and written.verdict == "pass"
+    assert written.pdf.name == "lecture.pdf" and pdf_pages(written.pdf) == len(slugs)
+    raw = written.pdf.read_bytes()
+    assert b"CreationDate" not in raw and b"ModDate" not in raw and b"camdyn design review: lecture" in raw
+    assert written.pdf.stat().st_size < 1_000_000
 
-    data, _ = lecture
-    bad = ReportData(data.case, data.check)
-    bad.__dict__["sizing"] = "motion: the follower does not move: there is no spring to size"  # what size_spring raised
-    bad.__dict__["jump_map"] = data.jump_map
+
+@pytest.mark.slow
+def test_each_page_shows_its_content(lecture_review):
+    """Each page, drawn as the report draws it, shows what it is for, with the check's numbers."""
+    chk = lecture_review.check
+    text = drawn_pages(lecture_review)
+    assert list(text) == expected_slugs(lecture_review.case)
+    assert "PASS" in text["summary"] and all(c.name in text["summary"] for c in chk.checks)
+    assert f"{chk.dynamic['min_contact_force_N']:.4g} N at {chk.dynamic['min_contact_force_deg']:.1f}\u00b0" in text["summary"]
+    for quantity in ("lift s", "velocity ds/d\u03b8", "acceleration d\u00b2s/d\u03b8\u00b2", "jerk d\u00b3s/d\u03b8\u00b3", "time at 300 rpm (ms)"):
+        assert quantity in text["svaj"]
+    assert "acceleration jumps -22.5 mm/rad\u00b2" in text["svaj"] and "infinite jerk" in text["svaj"]
+    geo = chk.geometry
+    assert f"max pressure angle {geo.max_pressure_angle_deg:.1f}\u00b0" in text["cam"] and "radius of curvature" in text["cam"]
+    assert "interface force at 300 rpm" in text["dynamics"] and "speed_margin 1.25 \u00d7 speed = 375 rpm" in text["dynamics"]
+    assert f"jump speed {chk.dynamic['jump_speed_rpm']:.0f} rpm" in text["dynamics"]
+    assert "Springs compared" in text["springs"] and "jump map" in text["springs"]
+
+
+@pytest.mark.slow
+def test_pages_are_not_blank(lecture):
+    for png in lecture[1].pngs:
+        assert_looks_like_a_page(png)
+
+
+@pytest.mark.slow
+def test_path_case_gets_the_mechanism_page(path_case):
+    review, written = path_case
+    slugs = expected_slugs(review.case)
+    assert slugs == ["summary", "svaj", "cam", "dynamics", "mechanism", "springs"]
+    assert [p.name for p in written.pngs] == [f"racetrack-{i}-{s}.png" for i, s in enumerate(slugs, start=1)] and pdf_pages(written.pdf) == 6
+    for png in written.pngs:
+        assert_looks_like_a_page(png)
+    text = drawn_pages(review)
+    assert all(f"\u03b8 = {a}\u00b0" in text["mechanism"] for a in range(0, 360, 60)) and "path: target and traced" in text["mechanism"]
+    assert "swing \u03c8" in text["svaj"] and "torque / lever arm" in text["dynamics"]
+    # the drawings and the path plots fill the page: no band of it is left empty
+    with matplotlib.rc_context(STYLE):
+        fig = Figure(figsize=A4)
+        next(p for p in PAGES if p.slug == "mechanism").draw(fig, ReportData(review))
+    spans = sorted((ax.get_position().y0, ax.get_position().y1) for ax in fig.axes)
+    reach, gaps = spans[0][1], []
+    for y0, y1 in spans[1:]:
+        gaps.append(y0 - reach)
+        reach = max(reach, y1)
+    assert spans[0][0] < 0.08 and reach > 0.85 and max(gaps) < 0.09  # titles and tick labels between the axes
+    # an oscillating (path) follower is sized in torsion units; its rigid follower has no dynamic correction
+    sz = review.sizing
+    assert isinstance(sz, SpringSizing) and sz.oscillating and sz.model == "rigid" and sz.units["rate"] == "N*m/rad"
+    assert review.jump_map.oscillating and review.jump_map.spring_rate_unit == "N*m/rad"
+    assert review.force_vs_speed.dynamic_N is None  # a rigid follower: the kinematic curve is its dynamics
+
+
+@pytest.mark.slow
+def test_spring_page_says_why_sizing_does_not_apply(lecture_review):
+    bad = dataclasses.replace(lecture_review, sizing="motion: the follower does not move: there is no spring to size")
     fig = Figure(figsize=A4)
-    draw_springs(fig, bad)
+    draw_springs(fig, ReportData(bad))
     texts = " ".join(t.get_text() for t in fig.texts)
     assert "Spring sizing does not apply to this case" in texts and "no spring to size" in texts
     assert len(fig.axes) == 2  # the jump map and its colour bar still drawn
 
 
-def test_page_list_is_the_extension_point():
-    assert [p.slug for p in PAGES] == ["summary", "svaj", "cam", "dynamics", "mechanism", "springs"]
-    assert len({p.slug for p in PAGES}) == len(PAGES)
+@pytest.fixture(scope="session")
+def flat_review(lecture_review):
+    """The lecture's motion on a translating flat face (offset 5 mm, face 60 mm wide); the dynamics and sizing
+    parts of the review are the lecture's (the pages tested here do not draw them)."""
+    raw = tomllib.loads(LECTURE.read_text())
+    raw["name"] = "flat"
+    raw["follower"] = {"type": "translating-flat", "base_radius": 40.0, "offset": 5.0, "face_width": 60.0, "rotation": "cw"}
+    case = case_from_dict(raw)
+    return dataclasses.replace(lecture_review, case=case, check=run_check(case))
 
 
+@pytest.mark.slow
+def test_flat_face_shows_the_contact_travel_not_a_zero_pressure_angle(flat_review):
+    """A translating flat face has pressure angle 0 by construction; the report shows instead where the contact
+    runs along the face: t = s' - e, so from the laws t_max = 2h/beta - e at mid-rise (cycloidal, 20 mm over
+    90 deg: +20.46 mm at 135 deg) and t_min = -(h/2)(pi/beta) - e at mid-return (harmonic, 20 mm over 120 deg:
+    -20 mm at 300 deg); travel 40.46 mm of the 60 mm face."""
+    geo = flat_review.check.geometry
+    assert square_face(geo) and geo.max_pressure_angle_deg < 1e-9
+    (t_lo, th_lo), (t_hi, th_hi) = face_extremes(geo)
+    assert t_hi == pytest.approx(2 * 20.0 / (np.pi / 2) - 5.0, rel=1e-9) and th_hi == pytest.approx(135.0)
+    assert t_lo == pytest.approx(-10.0 * 1.5 - 5.0, rel=1e-9) and th_lo == pytest.approx(300.0)
+    text = drawn_pages(flat_review)
+    assert "contact on the face from t = -20.0 mm (\u03b8 = 300.0\u00b0) to +20.5 mm (\u03b8 = 135.0\u00b0): travel 40.46 of face_width 60 mm" in text["cam"]
+    assert "pressure angle 0 all round" in text["cam"] and "t from the axis (mm)" in text["cam"]
+    assert "max pressure angle" not in text["cam"] + text["summary"] and "follower motion" not in text["cam"]
+    rows = dict(key_results(ReportData(flat_review)))
+    assert rows["pressure angle"] == "0 all round (face square to its motion)" and rows["contact on the face"] == "t = -20.00 to +20.46 mm"
+    assert "(above 0: no cusp)" in text["summary"] and not re.search(r"\(\+\d{4,}%\)", text["summary"])  # no margin in % of 1e-6 mm
+
+
+@pytest.mark.slow
+def test_roller_cam_page_labels_do_not_overlap(lecture_review):
+    data = ReportData(lecture_review)
+    with matplotlib.rc_context(STYLE):
+        fig = Figure(figsize=A4)
+        next(p for p in PAGES if p.slug == "cam").draw(fig, data)
+        fig.canvas.draw()
+    (ax,) = [ax for ax in fig.axes if ax.get_aspect() == 1.0]
+    boxes = {t.get_text(): t.get_window_extent() for t in ax.texts if t.get_text() in ("contact normal", "follower motion")}
+    assert len(boxes) == 2 and not boxes["contact normal"].overlaps(boxes["follower motion"])
+
+
+# ------------------------------------------------------------------------------------ figures in a notebook
+@pytest.mark.slow
+def test_plot_functions_draw_public_results(lecture_review):
+    """Each figure drawn on its own axes from the public results, as a notebook would; the marked least force
+    is the check's."""
+    chk, rv = lecture_review.check, lecture_review
+    fig = Figure(figsize=(8, 16))
+    axes = fig.subplots(13, 1).ravel()
+    plot_svaj(axes[:4], rv.motion, speed_rpm=chk.speed_rpm)
+    plot_cam_profile(axes[4], chk.geometry, chk)
+    plot_pressure_angle(axes[5], chk.geometry, chk)
+    plot_curvature(axes[6], chk.geometry, chk)
+    plot_contact_force(axes[7], chk.response)
+    plot_displacement(axes[8], chk.response)
+    plot_vibration(axes[9], [(chk.response, "C0", "case speed"), (rv.margin_response, "C1", "margin")])
+    plot_force_vs_speed(axes[10], rv)
+    plot_feasible_region(axes[11], rv.sizing)
+    assert plot_jump_map(axes[12], rv.jump_map) is not None
+    assert all(ax.lines or ax.collections or ax.patches for ax in axes)
+    least = [t.get_text() for t in axes[7].texts]
+    assert least == [f"least {chk.dynamic['min_contact_force_N']:.3g} N at {chk.dynamic['min_contact_force_deg']:.1f}\u00b0"]
+    assert axes[7].get_title() == "interface force at 300 rpm"
+
+
+def separated(response):
+    """``response`` as if the follower flew twice: 145.3 -> 15.8 deg (the larger gap) and 24.8 -> 89.2 deg."""
+    flights = (Separation(24.8, 89.2, 0.21, 0.09), Separation(145.3, 15.8, 2.23, 0.2))
+    return dataclasses.replace(response, force=np.maximum(response.force - 25.0, 0.0), separations=flights)
+
+
+def label_clear_of_zero(ax) -> None:
+    """The one label on a force panel sits wholly above the zero line (the line does not cross it)."""
+    ax.figure.canvas.draw()
+    (label,) = ax.texts
+    zero = ax.transData.transform((0.0, 0.0))[1]
+    pad = label.get_bbox_patch().get_boxstyle().pad * label.get_size() * ax.figure.dpi / 72.0  # the box around it
+    assert label.get_window_extent().y0 - pad > zero
+
+
+@pytest.mark.slow
+def test_force_panel_says_where_the_follower_leaves(lecture_review):
+    """A separated response is labelled with where the follower leaves the cam (the largest flight first), not
+    with its least force of 0 N at 0 deg; either label stays clear of the zero line."""
+    chk = lecture_review.check
+    fig = Figure(figsize=A4)
+    ax1, ax2 = fig.subplots(2, 1)
+    plot_contact_force(ax1, chk.response)
+    plot_contact_force(ax2, separated(chk.response))
+    assert [t.get_text() for t in ax2.texts] == ["leaves the cam at 145.3\u00b0, lands at 15.8\u00b0 (and 1 more flight)"]
+    assert [tuple(line.get_xdata()) for line in ax2.lines if line.get_marker() == "v"] == [(145.3, 24.8)]
+    label_clear_of_zero(ax1)
+    label_clear_of_zero(ax2)
+    data = ReportData(dataclasses.replace(lecture_review, check=dataclasses.replace(chk, response=separated(chk.response))))
+    least = dict(key_results(data))["least force, dynamic"]
+    assert least == f"{chk.dynamic['min_contact_force_N']:.4g} N: leaves the cam at 145.3\u00b0"
+
+
+@pytest.mark.slow
+def test_plot_mechanism_draws_a_path_case(path_case):
+    syn = path_case[0].case.synthesis
+    fig = Figure()
+    ax1, ax2, ax3 = fig.subplots(1, 3)
+    plot_mechanism(ax1, syn, 30.0, label_joints=True)
+    plot_path(ax2, syn)
+    plot_path_error(ax3, syn)
+    assert ax1.get_title() == "\u03b8 = 30\u00b0" and {t.get_text() for t in ax1.texts} >= {"O", "A", "D"}
+    assert len(ax2.lines) >= 2 and ax3.get_yscale() == "log"
+
+
+# ----------------------------------------------------------------------------------------------------- CLI
+@pytest.mark.slow
 def test_cli_report_is_deterministic_and_keeps_foreign_files(lecture, tmp_path, capsys):
     out = tmp_path / "reports"
     out.mkdir()
@@ -127,12 +343,13 @@ def test_cli_report_is_deterministic_and_keeps_foreign_files(lecture, tmp_path, 
     code = main(["report", str(LECTURE), "-o", str(out)])
     stdout = capsys.readouterr().out
     assert code == 0 and "lecture.pdf" in stdout
-    # a second, independent run (fresh check) gives the same bytes
+    # a second, independent run (fresh check and review) gives the same bytes
     assert (out / "lecture.pdf").read_bytes() == lecture[1].pdf.read_bytes()
     names = sorted(p.name for p in out.iterdir())
     assert names == sorted(["lecture.pdf", "notes.txt", "lecture-summary.png"] + [p.name for p in lecture[1].pngs])
 
 
+@pytest.mark.slow
 def test_cli_check_report_keeps_json_on_stdout(tmp_path, capsys):
     code = main(["check", str(LECTURE), "--json", "--report", str(tmp_path / "r")])
     out, err = capsys.readouterr()

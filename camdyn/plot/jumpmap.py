@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import numpy as np
+from matplotlib.figure import Figure
 
 from ..design.sweep import JumpMap
 
@@ -46,8 +47,6 @@ def plot_jump_map(ax, jm: JumpMap):
 
 def save_png(jm: JumpMap, path) -> None:
     """Write the heat map (or line plot) of ``jm`` as a PNG (matplotlib, no pyplot state)."""
-    from matplotlib.figure import Figure
-
     fig = Figure(figsize=(8, 5.5), layout="constrained")
     ax = fig.add_subplot()
     art = plot_jump_map(ax, jm)

@@ -63,10 +63,10 @@ def plot_feasible_region(ax, sizing: SpringSizing, colors: dict | None = None) -
     ax.set_xlim(k[0], k[-1])
     ax.set_ylim(y0, y1)
     if sizing.oscillating:
-        ax.set_xlabel(f"torsion rate k [{u['rate']}]")
-        ax.set_ylabel(f"preload torque T0 [{u['preload']}]")
+        ax.set_xlabel(f"torsion rate k ({u['rate']})")
+        ax.set_ylabel(f"preload torque T0 ({u['preload']})")
     else:
-        ax.set_xlabel(f"spring rate k [{u['rate']}]")
-        ax.set_ylabel(f"preload F0 [{u['preload']}]")
+        ax.set_xlabel(f"spring rate k ({u['rate']})")
+        ax.set_ylabel(f"preload F0 ({u['preload']})")
     ax.set_title(f"{sizing.case_name}: springs that hold up to {sizing.top_speed_rpm:.4g} rpm")
     ax.legend(fontsize=7, loc="best")

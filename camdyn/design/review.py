@@ -1,0 +1,170 @@
+"""What a design review shows that must be computed, gathered once from a case and its check.
+
+:func:`design_review` takes a :class:`~camdyn.model.case.Case` and its :class:`~camdyn.design.checks.CheckReport`
+and adds what the check does not hold: the motion sampled finely with both sides of every break, the steady
+state at ``speed_margin`` x speed, the least contact force against cam speed, the spring sizing and a small
+jump map. The reports draw a :class:`Review`; a notebook user can draw it with :mod:`camdyn.plot`.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import jax.numpy as jnp
+import numpy as np
+
+from .._core.errors import CamdynError
+from .._core.progress import Progress, counter
+from .._core.units import FFT_GRID, RPM, THETA_GRID, TWO_PI, rate_from_si
+from ..model import dynamics as dyn
+from ..model.case import Case
+from ..model.geometry import newton_per_torque_at
+from ..model.motion import evaluate
+from .checks import CheckReport, forces_in_newton
+from .sizing import SpringSizing, size_spring
+from .sweep import JumpMap, jump_map
+
+SIDE_DEG = 1e-7  # how far either side of a break the one-sided values are taken (deg)
+SPEED_SCAN = 2000  # speeds of the force-against-speed curve: dynamic_jump_speed's scan, so compiled already
+MAP_SPEEDS, MAP_RATES = 48, 24  # the review's jump map: speeds x spring rates
+
+
+@dataclass(frozen=True)
+class MotionSamples:
+    """The motion on a 0.25 deg grid plus both sides (:data:`SIDE_DEG`) of every break.
+
+    ``values`` (4, n) = s, ds/dtheta, d2s/dtheta2, d3s/dtheta3 in the motion's ``unit`` (mm, or rad of arm
+    swing) per rad of cam angle to the power of the derivative."""
+
+    theta_deg: np.ndarray
+    values: np.ndarray
+    breaks_deg: tuple[float, ...]
+    unit: str
+
+    def one_sided(self, deg: float) -> tuple[np.ndarray, np.ndarray]:
+        """The values (4,) just before and just after cam angle ``deg`` (a break), in the motion's unit."""
+        th = self.theta_deg
+        i, j = np.searchsorted(th, (deg - SIDE_DEG) % 360.0), np.searchsorted(th, (deg + SIDE_DEG) % 360.0)
+        return self.values[:, i], self.values[:, j]
+
+
+@dataclass(frozen=True)
+class ForceVsSpeed:
+    """The least contact force (N) over a revolution against cam speed."""
+
+    speeds_rpm: np.ndarray
+    kinematic_N: np.ndarray  # rigid follower that never leaves the cam
+    dynamic_N: np.ndarray | None  # compliant train: frequency-domain steady state, exact until separation; None if rigid
+
+
+@dataclass(frozen=True)
+class Review:
+    """A design review's data. Where a part cannot be had for this case, it is the reason why (a str)."""
+
+    case: Case
+    check: CheckReport
+    motion: MotionSamples
+    margin_rpm: float  # speed_margin x the check's speed
+    margin_response: dyn.Response | str  # the steady state at margin_rpm, forces in N
+    force_vs_speed: ForceVsSpeed
+    sizing: SpringSizing | str  # size_spring at the case's speed and speed_margin
+    jump_map: JumpMap | str  # at the case's preload, gaps not integrated (least force and the jump boundary)
+
+
+def design_review(case: Case, check: CheckReport, *, progress: Progress | None = None) -> Review:
+    """Everything a design review of ``case`` draws beyond its ``check`` (run at the speed of the review)."""
+    tick = counter(progress, f"{case.name}: review", 5)
+    motion = sample_motion(case)
+    tick()
+    margin_rpm = case.limits.speed_margin * check.speed_rpm
+    margin = _margin_response(case, margin_rpm)
+    tick()
+    sweep = force_vs_speed(case, check, margin_rpm)
+    tick()
+    sizing = _or_reason(size_spring, case)
+    tick()
+    jm = _review_jump_map(case, check, margin_rpm, sizing)
+    tick()
+    return Review(case, check, motion, margin_rpm, margin, sweep, sizing, jm)
+
+
+def _or_reason(fn, *args, **kwargs):
+    try:
+        return fn(*args, **kwargs)
+    except CamdynError as err:
+        return str(err)
+
+
+def sample_motion(case: Case) -> MotionSamples:
+    """The motion of ``case`` on a 0.25 deg grid plus both sides of every break."""
+    grid = np.linspace(0.0, 360.0, 1441)
+    grid[-1] = 360.0 - SIDE_DEG
+    b = np.asarray(case.motion.breaks_deg, dtype=float)
+    th = np.unique(np.concatenate([grid, (b - SIDE_DEG) % 360.0, (b + SIDE_DEG) % 360.0]))
+    return MotionSamples(th, _motion_values(case, th), tuple(case.motion.breaks_deg), case.motion.unit)
+
+
+def _motion_values(case: Case, theta_deg: np.ndarray) -> np.ndarray:
+    """The motion (4, n) at any angles, evaluated in chunks of the dynamics' grid shape, which is compiled
+    already (a path motion compiles for seconds per new array shape)."""
+    n = THETA_GRID
+    flat = np.asarray(theta_deg, dtype=float).ravel()
+    parts = []
+    for i in range(0, flat.size, n):
+        chunk = np.zeros(n)
+        part = flat[i : i + n]
+        chunk[: part.size] = part
+        parts.append(np.asarray(evaluate(case.motion, jnp.deg2rad(jnp.asarray(chunk))))[:, : part.size])
+    return np.concatenate(parts, axis=1)
+
+
+def _margin_response(case: Case, margin_rpm: float) -> dyn.Response | str:
+    try:
+        resp = dyn.response(case.motion, case.model, margin_rpm * RPM)
+        return forces_in_newton(case, resp)
+    except CamdynError as err:
+        return str(err)
+
+
+def _top_speed(check: CheckReport, margin_rpm: float, jump_within: float = np.inf) -> float:
+    """The top of a speed axis: 1.6 x the faster of speed and margin, and past the jump speeds below
+    ``jump_within`` (rpm)."""
+    top = 1.6 * max(margin_rpm, check.speed_rpm)
+    for j in (check.dynamic["jump_speed_rpm"], check.kinematic["jump_speed_rpm"]):
+        if j is not None and j < jump_within:
+            top = max(top, 1.15 * j)
+    return top
+
+
+def force_vs_speed(case: Case, check: CheckReport, margin_rpm: float) -> ForceVsSpeed:
+    """Least contact force against cam speed, up to past the jump speeds (those below 8 x the check's speed):
+    kinematic (rigid) and, for a compliant train, the frequency-domain steady state."""
+    top = _top_speed(check, margin_rpm, jump_within=8.0 * check.speed_rpm)
+    speeds = np.linspace(top / SPEED_SCAN, top, SPEED_SCAN)  # the jump-speed scan's array shape: compiled already
+    w = speeds * RPM
+    # the kinematic force is a quadratic in the speed at every angle: three evaluations give it all;
+    # the very theta array (shape and JAX weak type) of dynamics.response, so its compiled force is reused
+    n = THETA_GRID
+    theta = jnp.asarray(np.arange(n) * (TWO_PI / n)) if case.model.rigid else jnp.arange(n) * (TWO_PI / n)
+    f = [np.asarray(dyn.kinematic_force_jit(case.motion, case.model, jnp.asarray(x, dtype=float), theta)) for x in (0.0, 1.0, -1.0)]
+    a, b, c = 0.5 * (f[1] + f[2]) - f[0], 0.5 * (f[1] - f[2]), f[0]
+    kin = w[:, None] ** 2 * a + w[:, None] * b + c
+    if case.oscillating:
+        kin = kin * newton_per_torque_at(case.motion, case.follower, np.asarray(theta))
+    linear = None
+    if not case.model.rigid:
+        weight = None
+        if case.oscillating:
+            weight = jnp.asarray(newton_per_torque_at(case.motion, case.follower, np.arange(FFT_GRID) * (TWO_PI / FFT_GRID)))
+        linear = np.asarray(dyn.linear_min_force(case.motion, case.model, jnp.asarray(w), FFT_GRID, weight))
+    return ForceVsSpeed(speeds, kin.min(axis=1), linear)
+
+
+def _review_jump_map(case: Case, check: CheckReport, margin_rpm: float, sizing: SpringSizing | str) -> JumpMap | str:
+    """A small jump map at the case's preload: the sizing's rates (twice the case's where sizing does not apply)
+    and speeds past the case's jump speeds, however fast; gaps not integrated."""
+    top = _top_speed(check, margin_rpm)
+    k_top = float(sizing.region_rate[-1]) if not isinstance(sizing, str) else 2.0 * float(rate_from_si(case.model.stiffness, case.oscillating))
+    speeds = np.linspace(top / MAP_SPEEDS, top, MAP_SPEEDS)
+    rates = np.linspace(k_top / MAP_RATES, k_top, MAP_RATES)
+    return _or_reason(jump_map, case, speeds, rates, gaps=False)

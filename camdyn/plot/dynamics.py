@@ -1,0 +1,137 @@
+"""The dynamics drawn: contact force, follower displacement and vibration over a revolution, and the least
+contact force against cam speed."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .._core.units import RPM
+from ..design.review import Review
+from ..model.dynamics import Response
+from ._common import C, deg_ticks, mark_breaks, shade_separations
+from .motion import display_scale, display_unit
+
+
+def flights_by_gap(response: Response) -> list:
+    """The response's separations, the largest gap first."""
+    return sorted(response.separations, key=lambda s: -s.max_gap)
+
+
+def plot_contact_force(ax, response: Response, *, colour: str = C["dyn"], title: str | None = None, breaks_deg=()) -> None:
+    """The interface force (N) over a revolution, dynamic against kinematic, the separations shaded; marked: the
+    least force, or where the follower leaves the cam. ``response``: forces in N (as
+    :class:`~camdyn.design.checks.CheckReport` holds it)."""
+    th = response.theta_deg
+    ax.plot(th, response.kinematic_force, color=C["kin"], lw=1.0, ls="--", label="kinematic (rigid, never leaves)")
+    ax.plot(th, response.force, color=colour, lw=1.3, label=f"dynamic ({response.model})")
+    ax.axhline(0.0, color=C["ink"], lw=0.8)
+    shade_separations(ax, response, label=True)
+    mark_breaks(ax, breaks_deg)
+    if response.separations:
+        _mark_lift_off(ax, response, colour)
+    else:
+        i = int(np.argmin(response.force))
+        ax.plot(th[i], response.force[i], "o", color=colour, ms=4)
+        right = th[i] < 250.0
+        ax.annotate(f"least {response.force[i]:.3g} N at {th[i]:.1f}\u00b0", xy=(th[i], response.force[i]), xytext=(7 if right else -7, 0), textcoords="offset points",
+                    size=7, color=colour, va="center", ha="left" if right else "right", zorder=6, bbox=_LABEL_BOX)
+    ax.set_ylabel("interface force (N)")
+    ax.set_title(title if title is not None else f"interface force at {response.omega / RPM:.4g} rpm", fontsize=9)
+    ax.legend(loc="upper right", fontsize=7, ncol=3)
+
+
+_LABEL_BOX = dict(fc="white", ec="none", alpha=0.85, pad=0.8)  # a label legible over the lines behind it
+
+
+def _mark_lift_off(ax, response: Response, colour: str) -> None:
+    """Where the follower leaves the cam (a triangle on the zero line per flight); the largest flight named."""
+    flights = flights_by_gap(response)
+    ax.plot([s.start_deg for s in flights], [0.0] * len(flights), "v", color=colour, ms=5, zorder=6, clip_on=False)
+    big = flights[0]
+    more = f" (and {len(flights) - 1} more flight{'s' if len(flights) > 2 else ''})" if len(flights) > 1 else ""
+    right = big.start_deg < 250.0
+    ax.annotate(f"leaves the cam at {big.start_deg:.1f}\u00b0, lands at {big.end_deg:.1f}\u00b0{more}", xy=(big.start_deg, 0.0), xytext=(6 if right else -6, 7),
+                textcoords="offset points", size=7, color=colour, va="bottom", ha="left" if right else "right", zorder=6, bbox=_LABEL_BOX)
+
+
+def plot_displacement(ax, response: Response, *, unit: str = "mm", speed_rpm: float | None = None, breaks_deg=()) -> None:
+    """The follower's displacement x against the cam's s over a revolution (``unit``: the motion's, "mm" or
+    "rad"; an arm's swing is drawn in degrees), the separations shaded."""
+    k = display_scale(unit)
+    rpm = speed_rpm if speed_rpm is not None else response.omega / RPM
+    ax.plot(response.theta_deg, response.s * k, color=C["kin"], ls="--", lw=1.0, label="kinematic s (cam)")
+    ax.plot(response.theta_deg, response.x * k, color=C["dyn"], lw=1.2, label=f"follower x at {rpm:g} rpm")
+    shade_separations(ax, response)
+    mark_breaks(ax, breaks_deg)
+    ax.set_ylabel(f"{'swing' if unit == 'rad' else 'displacement'} ({display_unit(unit)})")
+    ax.set_title("follower displacement, dynamic and kinematic", fontsize=9)
+    ax.legend(loc="upper right", fontsize=7, ncol=2)
+
+
+def plot_vibration(ax, curves, *, unit: str = "mm", breaks_deg=()) -> None:
+    """The vibratory response x - s over a revolution; ``curves``: (response, colour, label) each, the first
+    one's separations shaded. Translating: in um where it stays under half a millimetre."""
+    k = display_scale(unit)
+    peak = max(float(np.max(np.abs(r.x - r.s))) for r, _, _ in curves) * k
+    if unit == "rad":
+        scale, vu = k, "deg"
+    else:
+        scale, vu = (1000.0, "\u00b5m") if peak < 0.5 else (1.0, "mm")
+    for r, col, lab in curves:
+        ax.plot(r.theta_deg, (r.x - r.s) * scale, color=col, lw=1.1, label=lab)
+    if peak == 0.0:
+        ax.text(0.5, 0.6, "rigid follower in contact all round: x = s, no vibratory response", transform=ax.transAxes, ha="center", va="center", size=8, color=C["grey"])
+    ax.axhline(0.0, color=C["ink"], lw=0.6)
+    shade_separations(ax, curves[0][0], label=True)
+    mark_breaks(ax, breaks_deg)
+    ax.set_ylabel(f"x \u2212 s ({vu})")
+    ax.set_title("vibratory response x \u2212 s (negative: the train is compressed)", fontsize=9)
+    ax.legend(loc="upper right", fontsize=7, ncol=2)
+    deg_ticks(ax, 30.0)
+    ax.set_xlabel("cam angle \u03b8 (deg)")
+
+
+def plot_force_vs_speed(ax, review: Review) -> None:
+    """The least contact force against cam speed (kinematic; the frequency-domain steady state of a compliant
+    train), the jump speeds, speed_margin x speed, min_contact_force and the check's operating point."""
+    sw, chk = review.force_vs_speed, review.check
+    rpm = chk.speed_rpm
+    v = sw.speeds_rpm
+    ax.plot(v, sw.kinematic_N, color=C["kin"], ls="--", lw=1.0, label="kinematic (rigid)")
+    jd, jk = chk.dynamic["jump_speed_rpm"], chk.kinematic["jump_speed_rpm"]
+    if sw.dynamic_N is not None:
+        lin = sw.dynamic_N
+        ok = v <= (jd if jd is not None else np.inf)
+        ax.plot(v[ok], lin[ok], color=C["dyn"], lw=1.4, label="dynamic steady state (exact until separation)")
+        if (~ok).any():
+            ax.plot(v[~ok], lin[~ok], color=C["dyn"], lw=0.9, ls=":", alpha=0.7, label="linear model past the jump (not valid)")
+    ax.axhline(0.0, color=C["ink"], lw=0.8)
+    mf = chk.case.limits.min_contact_force
+    if mf:
+        ax.axhline(mf, color=C["limit"], ls="--", lw=0.8)
+        ax.text(v[-1], mf, f"min_contact_force {mf:g} N ", color=C["limit"], size=7, ha="right", va="bottom")
+    top = max(float(np.max(sw.kinematic_N)), mf) * 1.15
+    floor = min(float(np.min(sw.kinematic_N)), float(np.min(sw.dynamic_N)) if sw.dynamic_N is not None else 0.0)
+    ymin, ymax = max(floor, -0.8 * top) - 0.05 * top, top
+    _jump_speeds(ax, jd, jk, v[-1], ymin, ymax)
+    ax.axvline(review.margin_rpm, color=C["margin"], lw=0.9, ls="-.")
+    ax.text(review.margin_rpm, ymin + 0.68 * (ymax - ymin), f"{review.case.limits.speed_margin:g} \u00d7 speed", color=C["margin"], size=7, va="center", ha="right", rotation=90, bbox=dict(fc="white", ec="none", alpha=0.85, pad=0.8))
+    ax.plot(rpm, chk.dynamic["min_contact_force_N"], "o", color=C["dyn"] if chk.verdict == "pass" else C["fail"], ms=6, zorder=5, label=f"operating point ({rpm:g} rpm, time domain)")
+    ax.set_ylim(ymin, ymax)
+    ax.set_xlim(0.0, v[-1])
+    ax.set_xlabel("cam speed (rpm)")
+    ax.set_ylabel("least interface force (N)")
+    ax.set_title("least interface force against cam speed", fontsize=9)
+    ax.legend(loc="lower left", fontsize=7)
+
+
+def _jump_speeds(ax, jd: float | None, jk: float | None, v_top: float, ymin: float, ymax: float) -> None:
+    """The dynamic jump speed (the range past it shaded) and the rigid one where it differs."""
+    if jd is not None and jd <= v_top:
+        ax.axvspan(jd, v_top, color=C["limit"], alpha=0.08, lw=0)
+        ax.axvline(jd, color=C["limit"], lw=1.0)
+        late = jd > 0.75 * v_top
+        ax.text(jd, ymax, f" jump speed {jd:.0f} rpm " if late else f" jump speed {jd:.0f} rpm", color=C["limit"], size=7.5, va="top", ha="right" if late else "left")
+    if jk is not None and jk <= v_top and (jd is None or abs(jk - jd) > 0.02 * v_top):
+        ax.axvline(jk, color=C["kin"], lw=0.8, ls="--")
+        ax.text(jk, ymin + 0.68 * (ymax - ymin), f"rigid {jk:.0f} rpm", color=C["kin"], size=7, va="center", ha="left", rotation=90, bbox=dict(fc="white", ec="none", alpha=0.85, pad=0.8))

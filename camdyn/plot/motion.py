@@ -1,0 +1,72 @@
+"""The follower motion drawn: lift, velocity, acceleration and jerk against the cam angle (SVAJ)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .._core.units import RPM
+from ..design.review import MotionSamples
+from ._common import C, deg_ticks, mark_breaks
+
+
+def display_scale(unit: str) -> float:
+    """Motion unit -> the unit figures show it in: mm stays mm, an arm's swing in rad is shown in degrees."""
+    return 180.0 / math.pi if unit == "rad" else 1.0
+
+
+def display_unit(unit: str) -> str:
+    return "deg" if unit == "rad" else "mm"
+
+
+def svaj_quantities(unit: str) -> list[tuple[str, str]]:
+    """(name, per-radian display unit) of s, s', s'', s''' for a motion in ``unit`` ("mm" or "rad")."""
+    u = display_unit(unit)
+    osc = unit == "rad"
+    sym = "\u03c8" if osc else "s"
+    return [
+        (f"{'swing' if osc else 'lift'} {sym}", f"{u}"),
+        (f"velocity d{sym}/d\u03b8", f"{u}/rad"),
+        (f"acceleration d\u00b2{sym}/d\u03b8\u00b2", f"{u}/rad\u00b2"),
+        (f"jerk d\u00b3{sym}/d\u03b8\u00b3", f"{u}/rad\u00b3"),
+    ]
+
+
+def _time_units(unit: str, speed_rpm: float) -> list:
+    """Per-radian (left axes) -> time units at the cam speed (right axes): (label, factor), None for s."""
+    w = speed_rpm * RPM
+    if unit == "rad":
+        return [None, ("rad/s", math.pi / 180 * w), ("rad/s\u00b2", math.pi / 180 * w**2), ("rad/s\u00b3", math.pi / 180 * w**3)]
+    return [None, ("mm/s", w), ("m/s\u00b2", w**2 / 1000.0), ("m/s\u00b3", w**3 / 1000.0)]
+
+
+def plot_svaj(axes, samples: MotionSamples, *, speed_rpm: float | None = None, headroom: float = 1.0) -> None:
+    """Draw s, s', s'', s''' (per radian of cam angle) on four ``axes`` sharing x, with the breaks dotted. With
+    ``speed_rpm``: the same curves in time units on the right axes and the time along the top. ``headroom``:
+    the space above the lift curve, in units of its margin (room for labels)."""
+    th, vals = samples.theta_deg, samples.values * display_scale(samples.unit)
+    names = svaj_quantities(samples.unit)
+    right = _time_units(samples.unit, speed_rpm) if speed_rpm is not None else [None] * 4
+    for i, ax in enumerate(axes):
+        ax.plot(th, vals[i], color=C["dyn"], lw=1.3)
+        ax.axhline(0.0, color="#888888", lw=0.6, zorder=0.6)
+        mark_breaks(ax, samples.breaks_deg)
+        ax.set_ylabel(f"{names[i][0]}\n({names[i][1]})")
+        if right[i] is not None:
+            label, k = right[i]
+            sec = ax.secondary_yaxis("right", functions=(lambda y, k=k: y * k, lambda y, k=k: y / k))
+            sec.set_ylabel(f"at {speed_rpm:g} rpm ({label})", color=C["grey"])
+            sec.tick_params(colors=C["grey"])
+        if i < 3:
+            ax.tick_params(labelbottom=False)
+        lo, hi = float(np.min(vals[i])), float(np.max(vals[i]))
+        pad = 0.12 * max(hi - lo, 1e-12)
+        ax.set_ylim(lo - pad, hi + pad * (headroom if i == 0 else 1.0))
+    deg_ticks(axes[-1], 30.0)
+    axes[-1].set_xlabel("cam angle \u03b8 (deg)")
+    if speed_rpm is not None:
+        period_ms = 60000.0 / speed_rpm
+        top = axes[0].secondary_xaxis("top", functions=(lambda d: d / 360.0 * period_ms, lambda t: t / period_ms * 360.0))
+        top.set_xlabel(f"time at {speed_rpm:g} rpm (ms)", color=C["grey"])
+        top.tick_params(colors=C["grey"])

@@ -1,0 +1,63 @@
+"""What the pages draw: a :class:`~camdyn.design.review.Review` and the derivations that are for display only
+(units, the motion's jumps in display units). Nothing here computes physics: it gathers."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from functools import cached_property
+
+import numpy as np
+
+from .._core.units import RPM
+from ..design.review import Review
+from ..plot.motion import display_scale, display_unit
+
+
+@dataclass(frozen=True)
+class ReportData:
+    """A review as the pages see it."""
+
+    review: Review
+
+    @property
+    def case(self):
+        return self.review.case
+
+    @property
+    def check(self):
+        return self.review.check
+
+    @property
+    def oscillating(self) -> bool:
+        return self.case.oscillating
+
+    @property
+    def omega(self) -> float:
+        """The cam speed of the review, rad/s."""
+        return self.check.speed_rpm * RPM
+
+    @property
+    def to_display(self) -> float:
+        """Motion unit -> display unit: mm stays mm, an arm swing in rad is shown in degrees."""
+        return display_scale(self.case.motion.unit)
+
+    @property
+    def unit(self) -> str:
+        return display_unit(self.case.motion.unit)
+
+    @property
+    def breaks_deg(self) -> tuple[float, ...]:
+        return tuple(self.case.motion.breaks_deg)
+
+    @cached_property
+    def jumps(self) -> list[tuple[float, int, float]]:
+        """(angle deg, order 1 or 2, jump in display units) of the velocity and acceleration jumps at breaks."""
+        out = []
+        k = self.to_display
+        for deg in np.asarray(self.case.motion.breaks_deg, dtype=float):
+            left, right = (v * k for v in self.review.motion.one_sided(deg))
+            for order in (1, 2):
+                jump = right[order] - left[order]
+                if abs(jump) > 1e-6 * max(1.0, abs(left[order]), abs(right[order])):
+                    out.append((float(deg), order, float(jump)))
+        return out

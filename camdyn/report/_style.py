@@ -1,0 +1,54 @@
+"""The look of a report: page size, PNG resolution, the matplotlib style and the palette."""
+
+from __future__ import annotations
+
+from contextlib import contextmanager
+
+import matplotlib
+
+from ..plot import PALETTE as C  # noqa: F401  (one meaning per colour, on every page)
+
+A4 = (8.27, 11.69)  # portrait, inches
+DPI = 150  # PNG resolution: 1240 x 1754 px per page, legible on a projector
+
+LEFT = 0.11  # left edge of plot axes (figure fraction)
+RIGHT = 0.87  # right edge of plot axes with time units on their right
+
+# One style for every figure: legible on A4 when printed or shown full screen.
+STYLE = {
+    "font.family": "DejaVu Sans",
+    "font.size": 8.5,
+    "axes.titlesize": 9.5,
+    "axes.titleweight": "bold",
+    "axes.titlelocation": "left",
+    "axes.labelsize": 8.5,
+    "axes.linewidth": 0.7,
+    "axes.edgecolor": "#444444",
+    "axes.grid": True,
+    "grid.color": "#cccccc",
+    "grid.linewidth": 0.5,
+    "grid.alpha": 0.8,
+    "xtick.labelsize": 7.5,
+    "ytick.labelsize": 7.5,
+    "xtick.major.width": 0.6,
+    "ytick.major.width": 0.6,
+    "legend.fontsize": 7.5,
+    "legend.frameon": True,
+    "legend.framealpha": 0.9,
+    "legend.edgecolor": "#cccccc",
+    "lines.linewidth": 1.2,
+    "lines.solid_capstyle": "round",
+    "figure.facecolor": "white",
+    "savefig.facecolor": "white",
+    "path.simplify": True,
+    "axes.formatter.use_mathtext": True,
+    "axes.formatter.limits": (-4, 5),
+    "svg.hashsalt": "camdyn",
+}
+
+
+@contextmanager
+def style():
+    """Draw in the report's style (matplotlib rc settings, restored on exit)."""
+    with matplotlib.rc_context(STYLE):
+        yield

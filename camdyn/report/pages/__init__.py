@@ -1,0 +1,36 @@
+"""The report's pages, in order: :data:`PAGES` is the one list of them (adding a page is adding an entry)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Callable
+
+from .._data import ReportData
+from .cam import draw_cam
+from .dynamics import draw_dynamics
+from .mechanism import draw_mechanism
+from .springs import draw_springs
+from .summary import draw_summary
+from .svaj import draw_svaj
+
+
+@dataclass(frozen=True)
+class Page:
+    """One report page: ``draw(fig, data)`` fills an A4 figure; ``applies(data)`` says whether the case has it."""
+
+    slug: str  # file name part: <case>-<n>-<slug>.png
+    title: str
+    draw: Callable[[object, ReportData], None]
+    applies: Callable[[ReportData], bool] = field(default=lambda data: True)
+
+
+PAGES: list[Page] = [
+    Page("summary", "Summary", draw_summary),
+    Page("svaj", "Follower motion (SVAJ)", draw_svaj),
+    Page("cam", "Cam profile", draw_cam, lambda data: data.check.geometry is not None),
+    Page("dynamics", "Dynamics", draw_dynamics),
+    Page("mechanism", "Mechanism and path", draw_mechanism, lambda data: data.case.synthesis is not None),
+    Page("springs", "Spring sizing", draw_springs),
+]
+
+__all__ = ["PAGES", "Page", "draw_cam", "draw_dynamics", "draw_mechanism", "draw_springs", "draw_summary", "draw_svaj"]

@@ -1,0 +1,48 @@
+"""Page 4, the dynamics: the contact force at the case speed and at speed_margin x speed, the follower's
+displacement and vibration, and the least contact force against cam speed."""
+
+from __future__ import annotations
+
+from ...plot import plot_contact_force, plot_displacement, plot_force_vs_speed, plot_vibration
+from .._data import ReportData
+from .._style import LEFT, C
+
+
+def draw_dynamics(fig, data: ReportData) -> None:
+    gs = fig.add_gridspec(5, 1, left=LEFT, right=0.95, top=0.925, bottom=0.06, hspace=0.38)
+    ax_f = fig.add_subplot(gs[0])
+    ax_m = fig.add_subplot(gs[1], sharex=ax_f)
+    ax_x = fig.add_subplot(gs[2], sharex=ax_f)
+    ax_v = fig.add_subplot(gs[3], sharex=ax_f)
+    ax_w = fig.add_subplot(gs[4])
+    _force_panels(ax_f, ax_m, data)
+    for ax in (ax_f, ax_m, ax_x):
+        ax.tick_params(labelbottom=False)
+    chk, rv, unit = data.check, data.review, data.case.motion.unit
+    rpm = chk.speed_rpm
+    plot_displacement(ax_x, chk.response, unit=unit, speed_rpm=rpm, breaks_deg=data.breaks_deg)
+    curves = [(chk.response, C["dyn"], f"{rpm:g} rpm")]
+    if not isinstance(rv.margin_response, str):
+        curves.append((rv.margin_response, C["margin"], f"{rv.margin_rpm:g} rpm"))
+    plot_vibration(ax_v, curves, unit=unit, breaks_deg=data.breaks_deg)
+    plot_force_vs_speed(ax_w, rv)
+
+
+def _force_panels(ax_f, ax_m, data: ReportData) -> None:
+    """The contact force at the case speed and at speed_margin x speed, on one force scale."""
+    rpm, rv = data.check.speed_rpm, data.review
+    osc = " (contact force: torque / lever arm)" if data.oscillating else ""
+    plot_contact_force(ax_f, data.check.response, colour=C["dyn"], title=f"interface force at {rpm:g} rpm{osc}", breaks_deg=data.breaks_deg)
+    m = data.case.limits.speed_margin
+    if isinstance(rv.margin_response, str):
+        ax_m.text(0.5, 0.5, f"no steady state at {rv.margin_rpm:g} rpm:\n{rv.margin_response}", transform=ax_m.transAxes, ha="center", va="center", color=C["fail"], size=8, wrap=True)
+        ax_m.set_title(f"interface force at {m:g} \u00d7 speed = {rv.margin_rpm:g} rpm", fontsize=9)
+        ax_m.set_yticks([])
+        ax_m.grid(False)
+        return
+    plot_contact_force(ax_m, rv.margin_response, colour=C["margin"], title=f"interface force at speed_margin {m:g} \u00d7 speed = {rv.margin_rpm:g} rpm", breaks_deg=data.breaks_deg)
+    lo = min(ax_f.get_ylim()[0], ax_m.get_ylim()[0])
+    hi = max(ax_f.get_ylim()[1], ax_m.get_ylim()[1])
+    hi += 0.22 * (hi - lo)  # headroom for the legend
+    ax_f.set_ylim(lo, hi)
+    ax_m.set_ylim(lo, hi)

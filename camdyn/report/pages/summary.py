@@ -1,0 +1,292 @@
+"""Page 1, the summary: the verdict, the checks, key results, warnings and advice, key inputs, two thumbnails."""
+
+from __future__ import annotations
+
+import math
+import textwrap
+
+from matplotlib.patches import Polygon
+
+from ...plot import deg_ticks, flights_by_gap, plot_follower, shade_separations, square_face
+from .._data import ReportData
+from .._layout import Flow, fmt
+from .._style import C
+
+CHECK_WHAT = {
+    "contact_force": "least interface force, dynamic",
+    "speed_margin": "dynamic jump speed / cam speed",
+    "pressure_angle": "largest pressure angle",
+    "curvature": "least contour radius / roller radius",
+    "face_width": "contact travel along the face",
+}
+
+UNITS = {
+    "base_radius": "mm", "roller_radius": "mm", "offset": "mm", "pivot_distance": "mm", "pivot_angle": "deg",
+    "arm_length": "mm", "face_width": "mm", "speed": "rpm", "mass": "kg", "spring_rate": "N/mm", "preload": "N",
+    "train_stiffness": "N/mm", "external_force": "N", "inertia": "kg\u00b7m\u00b2", "torsion_rate": "N\u00b7m/rad",
+    "preload_torque": "N\u00b7m", "train_torsion_rate": "N\u00b7m/rad", "external_torque": "N\u00b7m",
+    "speed_margin": "\u00d7", "min_contact_force": "N", "max_pressure_angle": "deg",
+}
+NOTE_LINES = 14  # lines of warnings and advice before the rest is referred to `camdyn check`
+INPUT_ROWS = 26  # rows per column of key inputs
+
+
+def draw_summary(fig, data: ReportData) -> None:
+    flow = Flow(fig, 0.93)
+    if data.case.spec.description:
+        flow.para(data.case.spec.description, size=8.5, width=105, color=C["grey"])
+    _verdict(fig, data, flow)
+    _checks_table(data, flow)
+    _key_results(data, flow)
+    _notes(fig, data, flow)
+    flow.heading("Key inputs")
+    _draw_inputs(data, flow)
+    _glance(fig, data, flow.y - 0.02)
+
+
+def _verdict(fig, data: ReportData, flow: Flow) -> None:
+    """PASS or FAIL, large, and how many checks fail at which speed."""
+    chk = data.check
+    passed = chk.verdict == "pass"
+    flow.y -= flow.h(10)
+    fig.text(
+        flow.left + 0.012, flow.y, "PASS" if passed else "FAIL", size=26, weight="bold", va="top", color="white",
+        bbox=dict(boxstyle="round,pad=0.35", fc=C["ok"] if passed else C["fail"], ec="none"),
+    )
+    n_fail = sum(not c.ok for c in chk.checks)
+    what = "every check passes" if passed else f"{n_fail} of {len(chk.checks)} checks fail"
+    model = f"{chk.dynamic['model']} follower" + (" (oscillating arm; torques as contact forces through the lever arm)" if data.oscillating else "")
+    fig.text(flow.left + 0.2, flow.y + 0.002, f"at {chk.speed_rpm:g} rpm: {what}", size=12, va="top", weight="bold", color=C["ink"])
+    fig.text(flow.left + 0.2, flow.y - flow.h(12), model, size=8.5, va="top", color=C["grey"])
+    flow.y -= flow.h(26) * 1.35
+
+
+def _margin(c) -> str:
+    """The distance from the check's value to its limit, positive where it passes."""
+    if c.value is None:
+        return "\u221e" if c.ok else "-\u221e"
+    d = c.value - c.limit if c.sense in (">=", ">") else c.limit - c.value
+    if d == 0.0:
+        return "0 (at the limit)"
+    pct = 100.0 * d / abs(c.limit) if abs(c.limit) > 1e-9 and abs(c.limit) < 1e9 else math.inf
+    rel = f" ({pct:+.0f}%)" if abs(pct) < 1000.0 else ""  # against a limit near 0 (no cusp: 1e-6 mm) a ratio says nothing
+    return f"{d:+.3g}{rel}"
+
+
+def _what(check_name: str, data: ReportData) -> str:
+    if check_name == "curvature" and data.case.follower is not None and not data.case.follower.roller:
+        return "least contour radius (above 0: no cusp)"
+    return CHECK_WHAT.get(check_name, "")
+
+
+def _checks_table(data: ReportData, flow: Flow) -> None:
+    flow.heading("Checks")
+    cols = [(0.0, "check"), (0.165, "what"), (0.6, "value"), (0.625, ""), (0.74, "limit"), (0.78, "margin"), (1.0, "result")]
+    flow.row([(x, t, {"weight": "bold", "ha": "right" if t in ("value", "limit", "result") else "left", "color": C["grey"]}) for x, t in cols])
+    for c in data.check.checks:
+        value = "unbounded" if c.value is None else f"{c.value:.4g}"
+        ok_kw = {"color": C["ok"] if c.ok else C["fail"], "weight": "bold", "ha": "right"}
+        flow.row(
+            [
+                (0.0, c.name, {"family": "DejaVu Sans Mono", "size": 7.8}),
+                (0.165, _what(c.name, data), {"color": C["grey"]}),
+                (0.6, value, {"ha": "right"}),
+                (0.625, {">=": "\u2265", "<=": "\u2264", ">": ">"}.get(c.sense, c.sense), {"ha": "center"}),
+                (0.74, f"{c.limit:g} {c.unit}", {"ha": "right"}),
+                (0.78, _margin(c), {"color": C["ok"] if c.ok else C["fail"]}),
+                (1.0, "pass" if c.ok else "FAIL", ok_kw),
+            ],
+            size=8.5,
+        )
+
+
+def key_results(data: ReportData) -> list[tuple[str, str]]:
+    """(label, value) of the summary's key results."""
+    chk, case = data.check, data.case
+    dyn, kin = chk.dynamic, chk.kinematic
+    seps = chk.response.separations
+    if seps:  # the least force is 0 over the flights: where the follower leaves (the largest flight) says more
+        least = f"{dyn['min_contact_force_N']:.4g} N: leaves the cam at {flights_by_gap(chk.response)[0].start_deg:.1f}\u00b0"
+    else:
+        least = f"{dyn['min_contact_force_N']:.4g} N at {dyn['min_contact_force_deg']:.1f}\u00b0"
+    rows = [
+        ("least force, dynamic", least),
+        ("least force, kinematic", f"{kin['min_contact_force_N']:.4g} N at {kin['min_contact_force_deg']:.1f}\u00b0"),
+        ("jump speed, dynamic", f"{fmt(dyn['jump_speed_rpm'])} rpm"),
+        ("jump speed, rigid", f"{fmt(kin['jump_speed_rpm'])} rpm" + (f" (at {kin['jump_speed_at_deg']:.1f}\u00b0)" if kin["jump_speed_at_deg"] is not None else "")),
+    ]
+    if seps:
+        spans = ", ".join(f"{s.start_deg:.0f}\u2013{s.end_deg:.0f}\u00b0" for s in seps[:2]) + (", \u2026" if len(seps) > 2 else "")
+        gap = max(s.max_gap for s in seps) * data.to_display
+        rows.append(("separations", f"{len(seps)}: {spans}; gap {gap:.3g} {data.unit}"))
+    else:
+        rows.append(("separations", "none"))
+    rv = chk.response.residual_vibration * data.to_display
+    rows.append(("residual vibration", f"{rv:.3g} {data.unit}"))
+    geo = chk.geometry
+    if geo is not None:
+        if square_face(geo):
+            rows.append(("pressure angle", "0 all round (face square to its motion)"))
+        else:
+            rows.append(("max pressure angle", f"{geo.max_pressure_angle_deg:.2f}\u00b0 at {geo.max_pressure_angle_at_deg:.1f}\u00b0"))
+        if geo.extremes.face_range_mm is not None:
+            t_lo, t_hi = geo.extremes.face_range_mm
+            rows.append(("contact on the face", f"t = {t_lo:+.2f} to {t_hi:+.2f} mm"))
+        rows.append(("least radius of curvature", f"{geo.min_radius_of_curvature_mm:.4g} mm at {geo.min_radius_of_curvature_at_deg:.1f}\u00b0" + ("  (undercut)" if geo.undercut else "")))
+    if case.synthesis is not None:
+        rows.append(("path error", f"{case.synthesis.summary['max_path_error_mm']:.3g} mm"))
+    return rows
+
+
+def _key_results(data: ReportData, flow: Flow) -> None:
+    """The key results in two columns."""
+    flow.heading("Key results")
+    rows = key_results(data)
+    half = (len(rows) + 1) // 2
+    for i in range(half):
+        cells = []
+        for j, off in ((i, 0.0), (i + half, 0.5)):
+            if j < len(rows):
+                cells += [(off, rows[j][0], {"color": C["grey"]}), (off + 0.2, rows[j][1], {})]
+        flow.row(cells, size=8.2)
+
+
+def _notes(fig, data: ReportData, flow: Flow) -> None:
+    """The check's warnings and advice, as many as fit in :data:`NOTE_LINES` lines."""
+    chk, case = data.check, data.case
+    notes = [(w, "warning", C["warn"]) for w in chk.warnings] + [(a, "advice", C["advice"]) for a in chk.advice]
+    flow.heading("Warnings and advice" if notes else "Warnings and advice: none")
+    budget = NOTE_LINES
+    for k, (text, kind, colour) in enumerate(notes):
+        lines = textwrap.wrap(text, 112)
+        if budget - len(lines) < 1 and k < len(notes) - 1:
+            flow.para(f"\u2026 and {len(notes) - k} more: run camdyn check {case.source.name if case.source else ''}".rstrip(), size=7.8, color=C["grey"])
+            break
+        fig.text(flow.left, flow.y, kind, size=7.8, va="top", color=colour, weight="bold")
+        flow.para(text, size=7.8, width=112, indent=0.075, color=C["ink"])
+        budget -= len(lines)
+
+
+def _kv_lines(d: dict, oscillating: bool = False) -> list[tuple[str, str]]:
+    out = []
+    for k, v in d.items():
+        unit = UNITS.get(k, "")
+        if k == "damping":
+            unit = "N\u00b7m\u00b7s/rad" if oscillating else "N\u00b7s/m"
+        out.append((k, f"{fmt(v)} {unit}".strip()))
+    return out
+
+
+def _geom_unit(key: str, value) -> str:
+    """Unit of a [path] or [mechanism] value (lengths mm, angles deg)."""
+    if isinstance(value, bool | str) or "mode" in key or key in ("phase", "reverse"):
+        return ""
+    if isinstance(value, list | tuple) and len(value) > 4:
+        return ""
+    return "deg" if ("angle" in key or key == "rotation") else "mm"
+
+
+def _input_columns(data: ReportData) -> list[tuple[str, list[tuple[str, str]]]]:
+    """(title, rows) per column of the key inputs: the motion and follower, or the path and mechanism (with
+    what the synthesis chose); the dynamics and the limits."""
+    case = data.case
+    spec = case.spec
+    columns: list[tuple[str, list[tuple[str, str]]]] = []
+    if spec.motion is not None:
+        rows, start = [], 0.0
+        lu = "deg" if data.oscillating else "mm"
+        for seg in spec.motion.segments:
+            lift = "" if seg.law == "dwell" else f"  {seg.lift:+g} {lu}"
+            rows.append((f"{start:g}\u2013{seg.end:g}\u00b0", f"{seg.law}{lift}"))
+            start = seg.end
+        columns.append(("motion", rows))
+        columns.append(("follower", _kv_lines(case.follower.model_dump(exclude_unset=True))))
+    else:
+        path = spec.path.model_dump(exclude_unset=True)
+        columns.append(("path", [(k, f"{fmt(v)} {_geom_unit(k, v)}".strip()) for k, v in path.items()]))
+        columns.append(("mechanism (\u2192 synthesized)", _mechanism_rows(data)))
+    dyn_rows = _kv_lines(spec.dynamics.model_dump(exclude_unset=True), data.oscillating)
+    lim = spec.limits.model_dump()
+    pa = next((c.limit for c in data.check.checks if c.name == "pressure_angle"), None)
+    if lim.get("max_pressure_angle") is None and pa is not None:
+        lim["max_pressure_angle"] = pa
+    dyn_rows += [("", ""), ("\x00limits", "")] + _kv_lines(lim)
+    columns.append(("dynamics", dyn_rows))
+    return columns
+
+
+def _mechanism_rows(data: ReportData) -> list[tuple[str, str]]:
+    case = data.case
+    mech = [(k, f"{fmt(v)} {_geom_unit(k, v)}".strip()) for k, v in case.spec.mechanism.model_dump(exclude_unset=True).items()]
+    sm = case.synthesis.summary
+    mech += [("\u2192 crank", f"{sm['crank_mm']:.4g} mm"), ("\u2192 coupler", f"{sm['coupler_mm']:.4g} mm"), ("\u2192 base radius", f"{sm['base_radius_mm']:.4g} mm")]
+    if "stroke_mm" in sm:
+        mech.append(("\u2192 stroke", f"{sm['stroke_mm']:.4g} mm"))
+    if "swing_deg" in sm:
+        mech.append(("\u2192 swing", f"{sm['swing_deg']:.4g} deg"))
+    mech.append(("\u2192 rotation", sm["rotation"]))
+    return mech
+
+
+def _draw_inputs(data: ReportData, flow: Flow) -> None:
+    columns = _input_columns(data)
+    width = 1.0 / len(columns)
+    y0 = flow.y
+    ys = []
+    for i, (title, rows) in enumerate(columns):
+        flow.y = y0
+        x = i * width
+        flow.row([(x, title, {"weight": "bold", "color": C["grey"]})], size=8.2)
+        key_w = max([len(k) for k, _ in rows if not k.startswith("\x00")] + [8]) * 0.0083 + 0.012  # flow units
+        for k, v in rows[:INPUT_ROWS]:
+            if k.startswith("\x00"):  # a sub-heading
+                flow.row([(x, k[1:], {"weight": "bold", "color": C["grey"]})], size=8.2)
+                continue
+            flow.row([(x, k, {"color": C["grey"]}), (x + key_w, v, {})], size=7.6)
+        if len(rows) > INPUT_ROWS:
+            flow.row([(x, f"\u2026 {len(rows) - INPUT_ROWS} more", {"color": C["grey"]})], size=7.6)
+        ys.append(flow.y)
+    flow.y = min(ys)
+
+
+def _glance(fig, data: ReportData, top: float) -> None:
+    """Thumbnails in the space left at the bottom of the summary: the cam and the interface force."""
+    bottom = 0.065
+    if top - bottom < 0.12:
+        return
+    h = min(top - bottom - 0.03, 0.26)
+    y0 = top - 0.03 - h
+    geo = data.check.geometry
+    if geo is not None:
+        ax = fig.add_axes([0.1, y0, 0.24, h])
+        ax.set_aspect("equal", adjustable="datalim")
+        ax.add_patch(Polygon(geo.contour.T, closed=True, fc=C["cam"], ec=C["ink"], lw=1.0))
+        ax.plot(0, 0, "+", color=C["ink"], ms=7)
+        plot_follower(ax, geo, 0.0, colour=C["dyn"], lw=1.0)
+        ax.autoscale_view()
+        ax.set_title("cam at \u03b8 = 0", fontsize=8.5)
+        ax.set_xlabel("x (mm)", fontsize=7)
+        ax.set_ylabel("y (mm)", fontsize=7)
+        ax.tick_params(labelsize=6.5)
+        ax.grid(False)
+    _force_thumbnail(fig.add_axes([0.42, y0, 0.52, h]), data)
+
+
+def _force_thumbnail(ax, data: ReportData) -> None:
+    resp = data.check.response
+    ax.plot(resp.theta_deg, resp.kinematic_force, color=C["kin"], ls="--", lw=0.9, label="kinematic")
+    ax.plot(resp.theta_deg, resp.force, color=C["dyn"], lw=1.2, label="dynamic")
+    ax.axhline(0.0, color=C["ink"], lw=0.7)
+    mf = data.case.limits.min_contact_force
+    if mf:
+        ax.axhline(mf, color=C["limit"], ls="--", lw=0.8, label="min_contact_force")
+    shade_separations(ax, resp, label=True)
+    deg_ticks(ax, 60.0)
+    ax.set_title(f"interface force at {data.check.speed_rpm:g} rpm", fontsize=8.5)
+    ax.set_xlabel("cam angle \u03b8 (deg)", fontsize=7)
+    ax.set_ylabel("force (N)", fontsize=7)
+    ax.tick_params(labelsize=6.5)
+    ax.legend(loc="upper right", fontsize=6.5, ncol=4)
+    lo, hi = ax.get_ylim()
+    ax.set_ylim(lo, hi + 0.2 * (hi - lo))
+
