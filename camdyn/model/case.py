@@ -61,7 +61,7 @@ def build_case(spec: CaseSpec, source: Path | None = None) -> Case:
     if spec.motion is not None:
         motion = Program.from_specs(spec.motion.segments, unit="rad" if spec.oscillating else "mm")
         follower = spec.follower
-        warnings += motion.continuity_warnings()
+        warnings += motion.continuity_warnings() + motion.polynomial_warnings()
     else:
         synthesis = synthesize_motion(spec.path, spec.mechanism)
         motion, follower = synthesis.tabulated, synthesis.follower
