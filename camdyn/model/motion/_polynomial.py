@@ -17,7 +17,10 @@ import numpy as np
 
 from ...schema.motion import PolynomialSegmentSpec
 
-ILL_CONDITIONED = 1e8  # condition number beyond which half of float64's 16 digits are lost in the coefficients
+# Condition number of the system (monomials on [0, 1]) beyond which fewer than 6 of float64's 16 digits remain
+# in the coefficients, and so in s'' (a sum of large, cancelling terms): 3-4-5 has 8e2, 4-5-6-7 5e4, a degree 10
+# (three points and the jerks) 2e8, a degree 12 6e16.
+ILL_CONDITIONED = 1e10
 
 
 @dataclass(frozen=True)
@@ -88,6 +91,6 @@ def polynomial_warnings(poly: BoundaryPolynomial, where: str, start_deg: float, 
     if poly.condition > ILL_CONDITIONED:
         out.append(
             f"{where}: the polynomial (degree {len(poly.coef) - 1}) is ill-conditioned (condition number {poly.condition:.2g}): "
-            "its coefficients lose more than half their digits; use fewer points or conditions, or split the segment"
+            "its coefficients keep fewer than 6 digits; use fewer points or conditions, or split the segment"
         )
     return out

@@ -31,6 +31,8 @@ import scipy.sparse as sp
 from scipy.linalg import cho_solve_banded, cholesky_banded, LinAlgError
 from scipy.optimize import minimize_scalar
 
+from ._hermite import quintic_eval
+
 _BAND = 5  # a quintic B-spline overlaps 5 neighbours on each side
 _LOG_LAM = (-12.0, 10.0)  # log10 of the smoothing relative to trace(G) / trace(P): the search range
 _GRID = 23  # REML grid points over that range (a decade apart), then Brent around the best
@@ -95,6 +97,10 @@ class SplineFit:
     @property
     def knots(self) -> np.ndarray:
         return np.linspace(0.0, 2 * math.pi, self.coef.shape[0] + 1)
+
+    def __call__(self, x) -> np.ndarray:
+        """(s, s', s'', s''') at x (rad), derivatives per rad: shape (4, *x.shape)."""
+        return quintic_eval(np, self.knots, self.coef, x)
 
     @property
     def residual(self) -> np.ndarray:
