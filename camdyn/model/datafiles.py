@@ -58,9 +58,10 @@ def _decimals(text: str) -> int:
         return 0
 
 
-def read_csv(path: Path, shown: str, columns: tuple[str, ...], hint: str = "") -> Samples:
+def read_csv(path: Path, shown: str, columns: tuple[str, ...], hints: dict[str, str] | None = None) -> Samples:
     """The named columns of a CSV file with a header row (any order; other columns ignored; blank lines and
-    lines starting with # skipped)."""
+    lines starting with # skipped). ``hints``: a column name that may stand in the header instead, and what
+    to say about it."""
     lines = _text(path, shown).splitlines()
     body = [(n, line) for n, line in enumerate(lines, start=1) if line.strip() and not line.lstrip().startswith("#")]
     if not body:
@@ -69,6 +70,7 @@ def read_csv(path: Path, shown: str, columns: tuple[str, ...], hint: str = "") -
     names = [h.strip().strip('"').strip() for h in header.split(",")]
     missing = [c for c in columns if c not in names]
     if missing:
+        hint = "".join(f" ({text})" for name, text in (hints or {}).items() if name in names)
         raise InputError(f"{shown} line {n0}", f"expected the header {','.join(columns)}, got {header.strip()!r}{hint}")
     index = [names.index(c) for c in columns]
     values, rows, decimals = [], [], 0
@@ -100,8 +102,7 @@ def read_lift_table(path: Path, shown: str, oscillating: bool) -> Samples:
     revolution (it counts as a second sample of the first angle)."""
     column, other = ("swing_deg", "lift_mm") if oscillating else ("lift_mm", "swing_deg")
     kind = "an oscillating" if oscillating else "a translating"
-    hint = f" ({kind} follower's table gives {column}, not {other})"
-    table = read_csv(path, shown, ("theta_deg", column), hint)
+    table = read_csv(path, shown, ("theta_deg", column), {other: f"{kind} follower's table gives {column}, not {other}"})
     theta = table.values[:, 0]
     step = np.diff(theta)
     bad = np.flatnonzero(step <= 0.0)
