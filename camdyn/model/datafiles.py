@@ -92,7 +92,7 @@ def read_csv(path: Path, shown: str, columns: tuple[str, ...], hints: dict[str, 
         values.append(row)
         rows.append(n)
     if len(values) < MIN_POINTS:
-        raise InputError(shown, f"has {len(values)} data rows: at least {MIN_POINTS} are needed for one revolution")
+        raise InputError(shown, f"has {len(values)} data rows: at least {MIN_POINTS} are needed")
     return Samples(shown, np.array(values), np.array(rows), "line", 10.0**-decimals / math.sqrt(12.0))
 
 
@@ -149,9 +149,44 @@ def read_contour(path: Path, shown: str) -> Samples:
     return pts
 
 
+_SAGITTA_MM = 1e-4  # the chord of a drawn arc or spline lies this close to it: points on the curve itself
+
+
+def _arc(p1: np.ndarray, p2: np.ndarray, bulge: float) -> np.ndarray:
+    """Points strictly inside the arc from p1 to p2 of a polyline's bulge (tan of a quarter of its signed
+    included angle), on the circle itself."""
+    d = float(np.hypot(*(p2 - p1)))
+    centre = 0.5 * (p1 + p2) + d * (1 - bulge**2) / (4 * bulge) * np.array([p1[1] - p2[1], p2[0] - p1[0]]) / d
+    radius = d * (1 + bulge**2) / (4 * abs(bulge))
+    sweep = 4 * math.atan(bulge)
+    step = 2 * math.acos(max(1 - _SAGITTA_MM / radius, -1.0))
+    t = np.arange(1, max(int(math.ceil(abs(sweep) / step)), 1)) / max(int(math.ceil(abs(sweep) / step)), 1)
+    a = math.atan2(p1[1] - centre[1], p1[0] - centre[0]) + sweep * t
+    return centre + radius * np.stack([np.cos(a), np.sin(a)], axis=1)
+
+
+def _entity_points(e) -> tuple[np.ndarray, bool]:
+    """The points of a LWPOLYLINE, POLYLINE or SPLINE (arcs and splines sampled on the curve) and whether the
+    polyline is flagged closed (its closing edge then joins the last point to the first)."""
+    if e.dxftype() == "SPLINE":
+        return np.array([(v.x, v.y) for v in e.construction_tool().flattening(_SAGITTA_MM)]), False
+    if e.dxftype() == "LWPOLYLINE":
+        verts, closed = [(x, y, b) for x, y, b in e.get_points("xyb")], bool(e.closed)
+    else:
+        verts, closed = [(v.dxf.location.x, v.dxf.location.y, v.dxf.bulge) for v in e.vertices], bool(e.is_closed)
+    out = []
+    for i in range(len(verts) if closed else len(verts) - 1):
+        p1, p2, bulge = np.array(verts[i][:2]), np.array(verts[(i + 1) % len(verts)][:2]), verts[i][2]
+        out.append(p1[None, :])
+        if bulge and np.hypot(*(p2 - p1)) > 0:
+            out.append(_arc(p1, p2, bulge))
+    if not closed:
+        out.append(np.array([verts[-1][:2]]))
+    return np.concatenate(out), closed
+
+
 def _read_dxf(path: Path, shown: str) -> Samples:
     import ezdxf
-    from ezdxf import path as dxfpath
     from ezdxf import units
 
     _text(path, shown)  # the file's own errors first: missing, a folder, unreadable
@@ -159,20 +194,21 @@ def _read_dxf(path: Path, shown: str) -> Samples:
         doc = ezdxf.readfile(path)
     except (OSError, ezdxf.DXFError) as err:
         raise InputError(shown, f"not a readable DXF file: {err}") from None
+    # coordinates are mm unless the drawing declares another length unit ($INSUNITS)
     scale = units.conversion_factor(doc.units, units.MM) if doc.units else 1.0
     found = [e for e in doc.modelspace() if e.dxftype() in ("LWPOLYLINE", "POLYLINE", "SPLINE")]
     if not found:
         raise InputError(shown, "has no LWPOLYLINE, POLYLINE or SPLINE: draw the cam's outline as one closed curve")
     outlines = []
     for e in found:
-        pts = np.array([(v.x, v.y) for v in dxfpath.make_path(e).flattening(distance=1e-4)]) * scale
-        closed = bool(getattr(e, "closed", False) or getattr(e, "is_closed", False))
-        if len(pts) > 2 and not closed and np.hypot(*(pts[-1] - pts[0])) > 1e-9 * max(float(np.ptp(pts, axis=0).max()), 1e-300):
+        pts, flagged = _entity_points(e)
+        pts = pts * scale
+        if len(pts) < 3 or not (flagged or np.hypot(*(pts[-1] - pts[0])) <= 1e-6 * float(np.ptp(pts, axis=0).max())):
             outlines.append((0.0, e, pts))
             continue
         x, y = pts.T
         outlines.append((abs(0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1)))), e, pts))
-    area, e, pts = max(outlines, key=lambda t: t[0])
+    area, e, pts = max(outlines, key=lambda t: t[0])  # the largest closed curve is the outline (not a bore)
     if area == 0.0:
         gap = float(np.hypot(*(pts[-1] - pts[0])))
         raise InputError(shown, f"the {e.dxftype()} (handle {e.dxf.handle}) is open: its ends are {gap:.4g} mm apart; the outline must be closed")

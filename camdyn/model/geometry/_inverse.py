@@ -258,9 +258,12 @@ def contact_motion(samples: Samples, f: FollowerSpec) -> ContactMotion:
         keep[ConvexHull(geo["P"]).vertices] = True
     theta, q = _contacts(f, rb, geo["P"][keep], geo["N"][keep], samples.shown)
     theta = np.unwrap(theta)
-    ahead = -f.sigma * np.diff(theta)  # the contact runs against the cam's rotation
+    index = np.flatnonzero(keep)
+    # the contact runs against the cam's rotation; across a bridge (not adjacent samples) the two ends of the
+    # discrete hull's edge may straddle its normal by a sample's turn, which is no reversal
+    ahead = np.where(np.diff(index) == 1, -f.sigma * np.diff(theta), np.inf)
     if np.any(ahead <= 0.0):
-        i = int(np.flatnonzero(keep)[int(np.argmin(ahead))])
+        i = int(index[int(np.argmin(ahead))])
         raise InputError(
             samples.shown,
             f"the follower cannot follow the outline near polar angle {math.degrees(alpha[i]):.4g} deg: the contact would run backwards "
