@@ -50,3 +50,9 @@ def racetrack_case():
 @pytest.fixture(scope="session")
 def racetrack_check(racetrack_case):
     return run_check(racetrack_case)
+
+
+@pytest.fixture(scope="session")
+def lecture_check_json(lecture_check):
+    """``check --json`` of the shipped lecture case."""
+    return lecture_check.json()

@@ -55,6 +55,7 @@ class CheckReport:
             "warnings": list(self.warnings),
             "advice": list(self.advice),
         }
+        out["motion"] = self.case.motion_json()
         if self.geometry is not None:
             out["geometry"] = self.geometry.json()
         if self.drive is not None:

@@ -12,8 +12,10 @@ from .._core.errors import InputError
 from .._core.units import THETA_GRID
 from ..schema import CaseSpec, FollowerSpec, LimitsSpec, load_case_spec, parse
 from .follower import FollowerModel, follower_model
+from .geometry import ContourFit
 from .linkage import synthesize_motion
-from .motion import Motion, Program
+from .motion import Motion, MotionFit, Program
+from .sources import contour_motion, table_motion
 
 
 @dataclass(frozen=True)
@@ -28,6 +30,8 @@ class Case:
     model: FollowerModel
     synthesis: Any = None  # linkage.Synthesis for path cases
     warnings: tuple[str, ...] = field(default=())
+    fit: MotionFit | None = None  # a lift table's or a contour's fitted motion: its data and residuals
+    contour: ContourFit | None = None  # a contour case's outline: its points, fit and radial residuals
 
     @property
     def speed_rpm(self) -> float:
@@ -41,6 +45,25 @@ class Case:
     def oscillating(self) -> bool:
         return self.motion.unit == "rad"
 
+    @property
+    def motion_source(self) -> str:
+        """Where the motion comes from: "segments", "table", "contour" or "path"."""
+        if self.contour is not None:
+            return "contour"
+        if self.fit is not None:
+            return "table"
+        return "segments" if self.spec.motion is not None else "path"
+
+    def motion_json(self) -> dict:
+        """``check --json``'s ``motion``: the source and, for fitted motions, how far the fit departs from the data
+        (a contour's ``fit`` is the outline's, radial in mm; ``motion_fit`` the contact motion's)."""
+        out: dict = {"source": self.motion_source, "fit": None}
+        if self.contour is not None:
+            out |= {"fit": self.contour.json(), "motion_fit": self.fit.json(), "base_radius_mm": self.contour.base_radius}
+        elif self.fit is not None:
+            out["fit"] = self.fit.json()
+        return out
+
 
 def load_case(path: str | Path) -> Case:
     """Read, validate and build a case file. Raises :class:`InputError` (one line) on any problem."""
@@ -53,22 +76,28 @@ def case_from_dict(raw: dict, source: Path | None = None) -> Case:
 
 
 def build_case(spec: CaseSpec, source: Path | None = None) -> Case:
-    """The models of a validated case: a motion program with its follower, or a path synthesized by its
-    cam-linkage; then the follower's dynamic model in SI."""
+    """The models of a validated case: a motion program, a lift table's fit or a contour's contact motion with
+    its follower, or a path synthesized by its cam-linkage; then the follower's dynamic model in SI. Data files
+    are read relative to ``source`` (the case file)."""
     name = spec.name or (source.stem if source else "case")
     warnings: list[str] = []
-    synthesis = None
-    if spec.motion is not None:
+    synthesis = fit = contour = None
+    if spec.motion is not None and spec.motion.table is not None:
+        motion, fit, warnings = table_motion(spec, source)
+        follower = spec.follower
+    elif spec.motion is not None:
         motion = Program.from_specs(spec.motion.segments, unit="rad" if spec.oscillating else "mm")
         follower = spec.follower
-        warnings += motion.continuity_warnings()
+        warnings += motion.continuity_warnings() + motion.polynomial_warnings()
+    elif spec.follower is not None:
+        motion, follower, fit, contour, warnings = contour_motion(spec, source)
     else:
         synthesis = synthesize_motion(spec.path, spec.mechanism)
         motion, follower = synthesis.tabulated, synthesis.follower
         warnings += list(synthesis.warnings)
     model = follower_model(spec.dynamics, oscillating=spec.oscillating)
     _check_holds_at_rest(motion, model, spec.oscillating)
-    return Case(name, source, spec, motion, follower, model, synthesis, tuple(warnings))
+    return Case(name, source, spec, motion, follower, model, synthesis, tuple(warnings), fit, contour)
 
 
 def _check_holds_at_rest(motion: Motion, model: FollowerModel, oscillating: bool) -> None:

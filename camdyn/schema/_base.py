@@ -5,9 +5,9 @@ from __future__ import annotations
 import re
 from difflib import get_close_matches
 
-from typing import Annotated
+from typing import Annotated, get_args, get_origin
 
-from pydantic import AfterValidator, BaseModel, ConfigDict, Field, ValidationError
+from pydantic import AfterValidator, BaseModel, ConfigDict, Field, Tag, ValidationError
 
 from .._core.errors import InputError
 
@@ -26,20 +26,37 @@ Pair = tuple[Real, Real]
 _KEYED = re.compile(r"^([A-Za-z_][\w]*(?:\[\d+\])?(?:\.[A-Za-z_][\w]*(?:\[\d+\])?)*): (.*)$", re.S)
 
 
-def _model_at(model: type[BaseModel] | None, loc: tuple) -> type[BaseModel] | None:
-    """The pydantic model that owns the key at ``loc`` (to suggest the nearest valid key)."""
-    for part in loc[:-1]:
+def _models_in(annotation) -> list[tuple[str | None, type[BaseModel]]]:
+    """The models an annotation holds (a model, a list or optional of models, a tagged union), with their tags."""
+    if get_origin(annotation) is Annotated:
+        inner, *meta = get_args(annotation)
+        tag = next((m.tag for m in meta if isinstance(m, Tag)), None)
+        return [(tag or t, model) for t, model in _models_in(inner)]
+    if isinstance(annotation, type) and issubclass(annotation, BaseModel):
+        return [(None, annotation)]
+    return [pair for arg in get_args(annotation) for pair in _models_in(arg)]
+
+
+def _resolve(cls: type[BaseModel], loc: tuple) -> tuple[tuple, type[BaseModel] | None]:
+    """The key path of an error location without the tags of discriminated unions (pydantic puts the chosen
+    member's tag in the path: ``segments.0.polynomial.end``), and the model that owns its last key."""
+    model: type[BaseModel] | None = cls
+    tagged: dict[str, type[BaseModel]] = {}
+    out: list = []
+    owner = None
+    for part in loc:
+        if isinstance(part, str) and part in tagged:
+            model, tagged = tagged[part], {}
+            continue
+        out.append(part)
+        owner = model
         if isinstance(part, int) or model is None:
             continue
         field = model.model_fields.get(part)
-        if field is None:
-            return None
-        cand = [t for t in getattr(field.annotation, "__args__", (field.annotation,)) if isinstance(t, type) and issubclass(t, BaseModel)]
-        if not cand:
-            args = getattr(field.annotation, "__args__", ())
-            cand = [a for t in args for a in getattr(t, "__args__", ()) if isinstance(a, type) and issubclass(a, BaseModel)]
-        model = cand[0] if cand else None
-    return model
+        found = _models_in(field.annotation) if field is not None else []
+        tagged = {t: m for t, m in found if t is not None}
+        model = found[0][1] if len(found) == 1 and not tagged else None
+    return tuple(out), owner
 
 
 def _where(loc: tuple) -> str:
@@ -48,12 +65,11 @@ def _where(loc: tuple) -> str:
         out += f"[{part}]" if isinstance(part, int) else (f".{part}" if out else str(part))
     return out
 
-
 def validation_error(err: ValidationError, cls: type[BaseModel], table: str = "") -> InputError:
     """The first problem of a pydantic validation as one :class:`InputError` naming the key (prefixed with
     ``table``, e.g. ``path.width``), with the nearest valid key for an unknown one."""
     e = err.errors()[0]
-    loc = tuple(p for p in e["loc"] if not (isinstance(p, str) and ("[" in p or p.startswith("function-"))))
+    loc, owner = _resolve(cls, tuple(p for p in e["loc"] if not (isinstance(p, str) and ("[" in p or p.startswith("function-")))))
     msg = e["msg"].removeprefix("Value error, ")
     keyed = _KEYED.match(msg) if e["type"] == "value_error" else None
     if keyed:  # a table-level validator names its key: "key: message"
@@ -61,7 +77,6 @@ def validation_error(err: ValidationError, cls: type[BaseModel], table: str = ""
         loc = loc + (key,)
     where = ".".join(filter(None, (table, _where(loc)))) or "case"
     if e["type"] == "extra_forbidden":
-        owner = _model_at(cls, loc)
         hint = get_close_matches(str(loc[-1]), list(owner.model_fields), n=1) if owner else []
         valid = f"; valid keys: {', '.join(owner.model_fields)}" if owner and not hint else ""
         return InputError(where, "unknown key" + (f" (did you mean {hint[0]!r}?)" if hint else "") + valid)

@@ -27,8 +27,8 @@ class CaseSpec(Table):
     version: Literal[1] = Field(default=SCHEMA_VERSION, description="case-file schema version (1)")
     name: Name | None = Field(default=None, description="case name, used in reports and output file names (default: the file name)")
     description: Text = Field(default="", description="one line on what the case is")
-    motion: MotionSpec | None = Field(default=None, description="the follower motion as segments (with [follower])")
-    follower: FollowerSpec | None = Field(default=None, description="the follower and cam dimensions (with [motion])")
+    motion: MotionSpec | None = Field(default=None, description="the follower motion as segments or a lift table (with [follower])")
+    follower: FollowerSpec | None = Field(default=None, description="the follower and cam dimensions (with [motion]), or the follower and the cam's contour (alone)")
     path: PathSpec | None = Field(default=None, description="a closed path to trace (with [mechanism]): the motion and follower are synthesized")
     mechanism: MechanismSpec | None = Field(default=None, description="the cam-linkage that traces [path]")
     dynamics: DynamicsSpec = Field(description="speed, mass, spring, damping")
@@ -44,14 +44,20 @@ class CaseSpec(Table):
         if self.motion is not None:
             if self.follower is None:
                 raise ValueError("follower: the [follower] table is required with [motion]")
-            check_segments(self.motion.segments, "mm" if self.follower.translating else "deg", key="motion.segments")
+            if self.follower.contour is not None:
+                raise ValueError("motion: a contour case derives its motion from [follower] contour: remove [motion]")
+            if self.motion.segments:
+                check_segments(self.motion.segments, "mm" if self.follower.translating else "deg", key="motion.segments")
+        elif self.follower is not None and self.follower.contour is not None:
+            if self.path is not None or self.mechanism is not None:
+                raise ValueError("follower.contour: give either a contour or [path] and [mechanism], not both")
         elif self.path is not None or self.mechanism is not None:
             if self.path is None or self.mechanism is None:
                 raise ValueError(f"{'path' if self.path is None else 'mechanism'}: a path case needs both [path] and [mechanism]")
             if self.follower is not None:
                 raise ValueError("follower: a path case gets its follower from the synthesis: remove [follower]")
         else:
-            raise ValueError("motion: the case needs [motion] segments, or [path] and [mechanism]")
+            raise ValueError("motion: the case needs [motion] segments or a table, a [follower] contour, or [path] and [mechanism]")
         check_dynamics_keys(self.dynamics, oscillating=self.oscillating)
         check_spring_keys(self.spring, oscillating=self.oscillating)
         if self.limits.max_contact_stress is not None and self.contact_width_mm is None:

@@ -11,7 +11,7 @@ from ._base import Real, Table
 
 FOLLOWER_TYPES = ("translating-roller", "translating-flat", "oscillating-roller", "oscillating-flat")
 
-# keys each type needs, and those it may take besides ``type``, ``base_radius``, ``rotation`` and ``width``
+# keys each type needs, and those it may take besides ``type``, ``base_radius`` (or ``contour``), ``rotation`` and ``width``
 _NEEDS = {
     "translating-roller": ("roller_radius",),
     "translating-flat": (),
@@ -32,7 +32,13 @@ class FollowerSpec(Table):
     type: Literal["translating-roller", "translating-flat", "oscillating-roller", "oscillating-flat"] = Field(
         default="translating-roller", description="translating-roller | translating-flat | oscillating-roller | oscillating-flat"
     )
-    base_radius: Real = Field(gt=0, le=MAX_LENGTH_MM, description="least radius of the cam contour, mm")
+    base_radius: Real | None = Field(default=None, gt=0, le=MAX_LENGTH_MM, description="least radius of the cam contour, mm (required unless contour is given)")
+    contour: str | None = Field(
+        default=None,
+        description="the cam's outline instead of [motion] and base_radius: a CSV file (header x_mm,y_mm, as camdyn profile writes) "
+        "or a DXF file (a closed LWPOLYLINE, POLYLINE or SPLINE), relative to the case file; points in the cam frame at cam angle 0, "
+        "in sequence along the outline; the motion is derived by exact contact and the base radius is the least contour radius",
+    )
     roller_radius: Real | None = Field(default=None, gt=0, le=MAX_LENGTH_MM, description="roller radius, mm (roller followers)")
     offset: Real = Field(
         default=0.0,
@@ -54,7 +60,13 @@ class FollowerSpec(Table):
         for key in _NEEDS[self.type]:
             if getattr(self, key) is None:
                 raise ValueError(f"{key}: required for {a} {self.type} follower")
-        takes = set(_NEEDS[self.type]) | _TAKES[self.type] | {"type", "base_radius", "rotation", "width"}
+        if self.contour is None and self.base_radius is None:
+            raise ValueError('base_radius: required (or give the outline of the cam as contour = "cam.csv")')
+        if self.contour is not None and self.base_radius is not None:
+            raise ValueError("base_radius: a contour gives the base radius (its least radius): remove base_radius")
+        if self.contour is not None and not self.contour.strip():
+            raise ValueError("contour: empty file name")
+        takes = set(_NEEDS[self.type]) | _TAKES[self.type] | {"type", "base_radius", "contour", "rotation", "width"}
         for key in sorted(self.model_fields_set - takes):
             raise ValueError(f"{key}: not used by {a} {self.type} follower (its keys: {', '.join(sorted(takes))})")
         return self

@@ -1,13 +1,15 @@
-"""The ``[motion]`` table: contiguous segments of named laws covering one cam revolution."""
+"""The ``[motion]`` table: contiguous segments covering one cam revolution (named laws, or polynomials from
+boundary conditions), or a lift table read from a CSV file."""
 
 from __future__ import annotations
 
 from difflib import get_close_matches
+from typing import Annotated, Any, Literal, Union
 
-from pydantic import Field
+from pydantic import Discriminator, Field, Tag, model_validator
 
 from .._core.units import MAX_LENGTH_MM
-from ._base import Real, Table
+from ._base import Pair, Real, Table
 
 MIN_SEGMENT_DEG = 0.01  # a move over less cam angle than this cannot be cut, nor followed
 
@@ -23,36 +25,126 @@ LAW_NAMES: tuple[str, ...] = (
     "modified-trapezoid",
     "modified-sine",
 )
+POLYNOMIAL = "polynomial"  # a polynomial from boundary conditions (Norton's method)
+SEGMENT_LAWS: tuple[str, ...] = LAW_NAMES + (POLYNOMIAL,)
+
+# the boundary conditions only a polynomial segment takes
+BOUNDARY_KEYS: tuple[str, ...] = (
+    "start_velocity", "start_acceleration", "start_jerk", "end_velocity", "end_acceleration", "end_jerk", "points",
+)
 
 
 class SegmentSpec(Table):
-    """One motion segment: ``law`` up to ``end`` (deg), rising by ``lift`` (mm; deg of arm swing for an
+    """One segment of a named law: ``law`` up to ``end`` (deg), rising by ``lift`` (mm; deg of arm swing for an
     oscillating follower; negative for a return)."""
 
-    law: str = Field(description=f"motion law: {', '.join(LAW_NAMES)}")
+    law: str = Field(description=f"motion law: {', '.join(SEGMENT_LAWS)}")
     end: Real = Field(description="cam angle where the segment ends, deg (the next starts there; the last ends at 360)")
     lift: Real = Field(default=0.0, ge=-MAX_LENGTH_MM, le=MAX_LENGTH_MM, description="rise of the segment, mm (deg of arm swing for an oscillating follower); negative for a return, 0 for a dwell")
 
+    @model_validator(mode="before")
+    @classmethod
+    def _no_boundary_conditions(cls, raw: Any) -> Any:
+        if isinstance(raw, dict):
+            for key in BOUNDARY_KEYS:
+                if key in raw:
+                    raise ValueError(f'{key}: only a law = "polynomial" segment takes boundary conditions (this one is {raw.get("law")!r})')
+        return raw
+
+
+_PER = "per rad^{n} of cam angle: mm/rad^{n} (deg/rad^{n} of arm swing for an oscillating follower)"
+
+
+class PolynomialSegmentSpec(Table):
+    """A polynomial segment from boundary conditions (Norton's method): the polynomial of least degree through
+    lift 0 at the start and ``lift`` at ``end``, with the given end derivatives and interior ``points``.
+    Velocity and acceleration default to 0 at both ends, jerks are free unless given; the degree is the number
+    of conditions less one (none given: 3-4-5; zero end jerks: 4-5-6-7)."""
+
+    law: Literal["polynomial"] = Field(description='"polynomial"')
+    end: float = Field(description="cam angle where the segment ends, deg")
+    lift: float = Field(default=0.0, description="rise of the segment, mm (deg of arm swing for an oscillating follower); negative for a return")
+    start_velocity: float = Field(default=0.0, description="velocity at the start, " + _PER.format(n=1))
+    start_acceleration: float = Field(default=0.0, description="acceleration at the start, " + _PER.format(n=2))
+    start_jerk: float | None = Field(default=None, description="jerk at the start (free if not given), " + _PER.format(n=3))
+    end_velocity: float = Field(default=0.0, description="velocity at the end, " + _PER.format(n=1))
+    end_acceleration: float = Field(default=0.0, description="acceleration at the end, " + _PER.format(n=2))
+    end_jerk: float | None = Field(default=None, description="jerk at the end (free if not given), " + _PER.format(n=3))
+    points: list[Pair] = Field(
+        default_factory=list,
+        description="interior positions [[theta_deg, lift], ...]: cam angle (deg, inside the segment) and lift from the segment's start (mm; deg of swing)",
+    )
+
+    @property
+    def condition_count(self) -> int:
+        """Conditions on the polynomial: the two end lifts, four end slopes and curvatures, given jerks, points."""
+        return 6 + (self.start_jerk is not None) + (self.end_jerk is not None) + len(self.points)
+
+
+def _segment_kind(raw: Any) -> str:
+    law = raw.get("law") if isinstance(raw, dict) else getattr(raw, "law", None)
+    return POLYNOMIAL if law == POLYNOMIAL else "law"
+
+
+AnySegment = Annotated[
+    Union[Annotated[SegmentSpec, Tag("law")], Annotated[PolynomialSegmentSpec, Tag(POLYNOMIAL)]],
+    Discriminator(_segment_kind),
+]
+
 
 class MotionSpec(Table):
-    """The ``[motion]`` table."""
+    """The ``[motion]`` table: ``segments``, or a ``table`` of measured or tabulated lift."""
 
-    segments: list[SegmentSpec] = Field(min_length=1, description="the segments in order, from 0 deg")
+    segments: list[AnySegment] = Field(default_factory=list, description="the segments in order, from 0 deg (or give table)")
+    table: str | None = Field(
+        default=None,
+        description="CSV file of the lift, relative to the case file: header theta_deg,lift_mm (theta_deg,swing_deg for an "
+        "oscillating follower), one revolution, angles increasing, any spacing; fitted by a periodic quintic smoothing spline",
+    )
+    tolerance: float | None = Field(default=None, gt=0, description="table: the largest departure of the fit from the data, mm (deg oscillating; default: the smoothing the data's noise asks for)")
+
+    @model_validator(mode="after")
+    def _one_source(self) -> MotionSpec:
+        if self.table is not None and self.segments:
+            raise ValueError("table: give either segments or a table, not both")
+        if self.table is None and not self.segments:
+            raise ValueError('segments: give the motion as segments = [...] or as table = "lift.csv"')
+        if self.tolerance is not None and self.table is None:
+            raise ValueError("tolerance: bounds the fit of a table: only with table = ...")
+        if self.table is not None and not self.table.strip():
+            raise ValueError("table: empty file name")
+        return self
 
 
-def check_segments(segments: list[SegmentSpec], lift_unit: str = "mm", key: str = "segments") -> None:
+def _unknown_law(where: str, law: str) -> ValueError:
+    hint = get_close_matches(law, SEGMENT_LAWS, n=1)
+    return ValueError(f"{where}.law: unknown law {law!r}" + (f" (did you mean {hint[0]!r}?)" if hint else "") + f"; valid laws: {', '.join(SEGMENT_LAWS)}")
+
+
+def _check_polynomial(seg: PolynomialSegmentSpec, where: str, start: float, lu: str) -> None:
+    prev = start
+    for j, (theta, _) in enumerate(seg.points):
+        if not start < theta < seg.end:
+            raise ValueError(f"{where}.points[{j}]: at {theta:g} deg, outside the segment ({start:g} to {seg.end:g} deg)")
+        if not theta > prev:
+            raise ValueError(f"{where}.points[{j}]: at {theta:g} deg, not after the previous point ({prev:g} deg): give the points in increasing angle, each once")
+        prev = theta
+    given = [seg.lift, seg.start_velocity, seg.start_acceleration, seg.end_velocity, seg.end_acceleration, seg.start_jerk or 0.0, seg.end_jerk or 0.0]
+    if not any(given) and not any(lift for _, lift in seg.points):
+        raise ValueError(f'{where}.lift: a polynomial segment with no lift and no non-zero condition is a dwell: use law = "dwell" (lift in {lu})')
+
+
+def check_segments(segments: list, lift_unit: str = "mm", key: str = "segments") -> None:
     """Raise ``ValueError("<key>[i].<field>: message")`` unless the segments form a motion program: known laws,
-    increasing ends up to exactly 360 deg, dwells that do not lift and moves that do, never below zero lift,
-    net lift 0. ``lift_unit`` ("mm" or "deg") is the unit the lifts were given in, for the messages."""
+    increasing ends up to exactly 360 deg, dwells that do not lift and moves that do, polynomial points inside
+    their segment, never below zero lift at a segment's end, net lift 0. ``lift_unit`` ("mm" or "deg") is the
+    unit the lifts were given in, for the messages."""
     start, base = 0.0, 0.0
     lu = lift_unit
     for i, seg in enumerate(segments):
         where = f"{key}[{i}]"
-        if seg.law not in LAW_NAMES:
-            hint = get_close_matches(seg.law, LAW_NAMES, n=1)
-            raise ValueError(
-                f"{where}.law: unknown law {seg.law!r}" + (f" (did you mean {hint[0]!r}?)" if hint else "") + f"; valid laws: {', '.join(LAW_NAMES)}"
-            )
+        if seg.law not in SEGMENT_LAWS:
+            raise _unknown_law(where, seg.law)
         end, lift = seg.end, seg.lift
         if not end > start:
             what = "overlaps the previous segment" if end < start else "has zero length"
@@ -61,9 +153,11 @@ def check_segments(segments: list[SegmentSpec], lift_unit: str = "mm", key: str 
             raise ValueError(f"{where}.end: a {seg.law} segment over {end - start:.3g} deg is shorter than {MIN_SEGMENT_DEG:g} deg: no cam can be cut to it")
         if end > 360.0 + 1e-9:
             raise ValueError(f"{where}.end: segment ends at {end:g} deg, past 360 deg")
-        if seg.law == "dwell" and lift != 0.0:
+        if seg.law == POLYNOMIAL:
+            _check_polynomial(seg, where, start, lu)
+        elif seg.law == "dwell" and lift != 0.0:
             raise ValueError(f"{where}.lift: a dwell cannot lift (got lift = {lift:g} {lu})")
-        if seg.law != "dwell" and lift == 0.0:
+        elif seg.law != "dwell" and lift == 0.0:
             raise ValueError(f"{where}.lift: a {seg.law} segment needs a non-zero lift, {lu}")
         if base + lift < -1e-9:
             raise ValueError(f"{where}.lift: the follower goes below zero lift at {end:g} deg (lift {base + lift:g} {lu})")

@@ -42,6 +42,10 @@ ccw flat-face formulas take theta as the polar angle of the contact in the cam f
 """
 
 from ._analyze import CamGeometry, GeometryExtremes, analyze, extremes, lever_arm_mm, newton_per_torque_at
-from ._kernel import check_assembly
+from ._inverse import ContactMotion, ContourFit, contact_motion
+from ._kernel import check_assembly, check_dimensions
 
-__all__ = ["CamGeometry", "GeometryExtremes", "analyze", "check_assembly", "extremes", "lever_arm_mm", "newton_per_torque_at"]
+__all__ = [
+    "CamGeometry", "ContactMotion", "ContourFit", "GeometryExtremes", "analyze", "check_assembly", "check_dimensions",
+    "contact_motion", "extremes", "lever_arm_mm", "newton_per_torque_at",
+]

@@ -23,6 +23,11 @@ def check_assembly(motion, f: FollowerSpec) -> None:
     want = "mm" if f.translating else "rad"
     if motion.unit != want:
         raise InputError("follower.type", f"a {f.type} follower needs a motion in {want}, got {motion.unit}")
+    check_dimensions(f)
+
+
+def check_dimensions(f: FollowerSpec) -> None:
+    """Raise :class:`InputError` for a follower whose dimensions cannot be assembled on its base circle."""
     rp = f.base_radius + (f.roller_radius or 0.0)
     if f.type == "translating-roller" and abs(f.offset) >= rp:
         raise InputError("follower.offset", f"|offset| = {abs(f.offset):g} mm must be below the prime radius {rp:g} mm")

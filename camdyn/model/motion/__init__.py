@@ -1,8 +1,14 @@
-"""Follower motion: the :class:`Motion` interface, the named laws, motion programs and tabulated motions."""
+"""Follower motion: the :class:`Motion` interface, the named laws, motion programs (named laws and polynomials
+from boundary conditions), tabulated motions and motions fitted to data."""
 
 from ._base import Motion, evaluate
+from ._fitted import ACCEL_NOISE_SHARE, FittedMotion, MotionFit, fit_motion, fit_warnings
 from ._hermite import HermiteMotion
 from ._laws import LAWS, law
 from ._program import Program, Segment
+from ._spline import SplineFit, fit_periodic
 
-__all__ = ["LAWS", "HermiteMotion", "Motion", "Program", "Segment", "evaluate", "law"]
+__all__ = [
+    "ACCEL_NOISE_SHARE", "FittedMotion", "HermiteMotion", "LAWS", "Motion", "MotionFit", "Program", "Segment", "SplineFit",
+    "evaluate", "fit_motion", "fit_periodic", "fit_warnings", "law",
+]

@@ -11,6 +11,23 @@ from ..._core.units import TWO_PI
 from ._base import Motion, evaluate
 
 
+def quintic_eval(xp, knots, coef, theta):
+    """(s, s', s'', s''') of the piecewise quintic ``coef`` (m, 6) on ``knots`` (m + 1,) rad from 0 to 2 pi, at
+    theta (rad, any shape, periodic): one search for the interval and one gather, whatever the number of
+    knots. ``xp`` is jax.numpy (traceable) or numpy (no dispatch or compile cost)."""
+    theta = xp.asarray(theta, dtype=float)
+    th = xp.mod(theta, TWO_PI)
+    i = xp.clip(xp.searchsorted(knots, th, side="right") - 1, 0, coef.shape[0] - 1)
+    t = th - knots[i]
+    c = coef[i]  # (..., 6)
+    c0, c1, c2, c3, c4, c5 = (c[..., k] for k in range(6))
+    s = c0 + t * (c1 + t * (c2 + t * (c3 + t * (c4 + t * c5))))
+    s1 = c1 + t * (2 * c2 + t * (3 * c3 + t * (4 * c4 + t * 5 * c5)))
+    s2 = 2 * c2 + t * (6 * c3 + t * (12 * c4 + t * 20 * c5))
+    s3 = 6 * c3 + t * (24 * c4 + t * 60 * c5)
+    return xp.stack([s, s1, s2, s3])
+
+
 class HermiteMotion(Motion):
     """Piecewise quintic Hermite interpolant of another motion: exact s, s', s'' at every knot.
 
@@ -55,17 +72,7 @@ class HermiteMotion(Motion):
         return cls(knots=jnp.asarray(knots), coef=jnp.asarray(coef), unit=source.unit, breaks_deg=tuple(source.breaks_deg))
 
     def __call__(self, theta):
-        theta = jnp.asarray(theta, dtype=float)
-        th = jnp.mod(theta, TWO_PI)
-        i = jnp.clip(jnp.searchsorted(self.knots, th, side="right") - 1, 0, self.coef.shape[0] - 1)
-        t = th - self.knots[i]
-        c = self.coef[i]  # (..., 6)
-        c0, c1, c2, c3, c4, c5 = (c[..., k] for k in range(6))
-        s = c0 + t * (c1 + t * (c2 + t * (c3 + t * (c4 + t * c5))))
-        s1 = c1 + t * (2 * c2 + t * (3 * c3 + t * (4 * c4 + t * 5 * c5)))
-        s2 = 2 * c2 + t * (6 * c3 + t * (12 * c4 + t * 20 * c5))
-        s3 = 6 * c3 + t * (24 * c4 + t * 60 * c5)
-        return jnp.stack([s, s1, s2, s3])
+        return quintic_eval(jnp, self.knots, self.coef, theta)
 
     def max_error(self, source: Motion) -> np.ndarray:
         """Largest |self - source| of (s, s', s'', s''') at the interval midpoints, where the error peaks."""

@@ -65,8 +65,9 @@ LAWS: tuple[str, ...] = tuple(_LAW_PIECES)
 
 
 def _piece_eval(xp, u, c, w, p1, p2, y0, v0):
-    """Normalized y, y', y'', y''' of one piece at local coordinate u (works for numpy and jax arrays)."""
-    k = np.arange(_NC)
+    """Normalized y, y', y'', y''' of one piece at local coordinate u (works for numpy and jax arrays); c holds
+    the acceleration's polynomial coefficients (_NC for the named laws, more for a polynomial of high degree)."""
+    k = np.arange(c.shape[-1])
 
     def horner(coef):  # sum_i coef[..., i] u^i, without powers (autodiff-safe at u = 0)
         acc = coef[..., -1]

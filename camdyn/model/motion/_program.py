@@ -1,4 +1,5 @@
-"""Motion programs: contiguous segments of named laws covering one cam revolution."""
+"""Motion programs: contiguous segments of named laws, or of polynomials from boundary conditions, covering
+one cam revolution."""
 
 from __future__ import annotations
 
@@ -13,19 +14,35 @@ import numpy as np
 from ..._core.errors import InputError
 from ..._core.units import TWO_PI
 from ...schema import SegmentSpec, check_segments, parse
+from ...schema.motion import POLYNOMIAL, PolynomialSegmentSpec
 from ._base import Motion
-from ._laws import _LAW_TABLES, _piece_eval
+from ._laws import _LAW_TABLES, _NC, _LawTable, _piece_eval
+from ._polynomial import BoundaryPolynomial, polynomial_warnings, solve_polynomial
 
 
 @dataclass(frozen=True)
 class Segment:
-    """One segment of a motion program: ``law`` from ``start`` to ``end`` (deg), rising by ``lift`` (mm)."""
+    """One segment of a motion program: ``law`` from ``start`` to ``end`` (deg), rising by ``lift`` (mm, or rad
+    of swing); a polynomial segment carries its solved polynomial (in the case file's lift unit)."""
 
     law: str
     start: float
     end: float
     lift: float = 0.0
     base: float = 0.0  # lift at the segment start, mm
+    polynomial: BoundaryPolynomial | None = None
+
+    def table(self, to_unit: float) -> tuple[_LawTable, float]:
+        """The segment's piece table and the factor that scales its normalized y to the motion's unit: a law's
+        y runs from 0 to 1 (times the lift), a polynomial's is its own (times mm or rad per lift unit)."""
+        if self.polynomial is None:
+            return _LAW_TABLES[self.law], self.lift
+        b = np.asarray(self.polynomial.coef)
+        k = np.arange(max(len(b) - 2, 1))
+        acc = np.zeros(max(_NC, len(k)))
+        acc[: len(b) - 2] = (k[: len(b) - 2] + 1) * (k[: len(b) - 2] + 2) * b[2:]
+        one = np.ones(1)
+        return _LawTable(x0=np.zeros(1), c=acc[None, :], w=one, p1=0 * one, p2=0 * one, y0=b[:1], v0=b[1:2]), to_unit
 
 
 class Program(Motion):
@@ -62,7 +79,7 @@ class Program(Motion):
         """
         if not segments:
             raise InputError(key, "at least one segment is required")
-        specs = [s if isinstance(s, SegmentSpec) else parse(SegmentSpec, s, f"{key}[{i}]") for i, s in enumerate(segments)]
+        specs = [_segment_spec(s, f"{key}[{i}]") for i, s in enumerate(segments)]
         try:
             check_segments(specs, "mm" if unit == "mm" else "deg", key=key)
         except ValueError as err:
@@ -71,13 +88,14 @@ class Program(Motion):
         return cls.from_specs(specs, unit)
 
     @classmethod
-    def from_specs(cls, specs: list[SegmentSpec], unit: str = "mm") -> Program:
+    def from_specs(cls, specs: list, unit: str = "mm") -> Program:
         """A program from segments the schema has checked (:func:`camdyn.schema.check_segments`)."""
-        to_unit = 1.0 if unit == "mm" else math.pi / 180.0
+        to_unit = _to_unit(unit)
         segs: list[Segment] = []
         start, base = 0.0, 0.0
         for s in specs:
-            segs.append(Segment(s.law, start, s.end, s.lift * to_unit, base * to_unit))
+            poly = solve_polynomial(s, start) if isinstance(s, PolynomialSegmentSpec) else None
+            segs.append(Segment(s.law, start, s.end, s.lift * to_unit, base * to_unit, poly))
             start, base = s.end, base + s.lift
         return cls._from_checked(tuple(segs), unit)
 
@@ -85,16 +103,18 @@ class Program(Motion):
     def _from_checked(cls, segs: tuple[Segment, ...], unit: str) -> Program:
         cols: dict[str, list] = {k: [] for k in ("start", "theta0", "beta", "base", "lift", "x0", "c", "w", "p1", "p2", "y0", "v0")}
         for seg in segs:
-            t = _LAW_TABLES[seg.law]
+            t, scale = seg.table(_to_unit(unit))
             th0, beta = math.radians(seg.start), math.radians(seg.end - seg.start)
             for i in range(len(t.x0)):
                 cols["start"].append(th0 + beta * t.x0[i])
                 cols["theta0"].append(th0)
                 cols["beta"].append(beta)
                 cols["base"].append(seg.base)
-                cols["lift"].append(seg.lift)
+                cols["lift"].append(scale)
                 for k in ("x0", "c", "w", "p1", "p2", "y0", "v0"):
                     cols[k].append(getattr(t, k)[i])
+        width = max(len(c) for c in cols["c"])  # the named laws' _NC, or a high-degree polynomial's
+        cols["c"] = [np.pad(c, (0, width - len(c))) for c in cols["c"]]
         breaks = tuple(sorted({round(math.degrees(a), 12) % 360.0 for a in cols["start"]}))
         arrays = {f"_{k}": jnp.asarray(np.array(v, dtype=float)) for k, v in cols.items()}
         return cls(segments=segs, unit=unit, breaks_deg=breaks, **arrays)
@@ -133,9 +153,32 @@ class Program(Motion):
                     )
         return out
 
+    def polynomial_warnings(self) -> list[str]:
+        """Polynomial segments that overshoot the range their conditions span, or whose system is
+        ill-conditioned (:func:`camdyn.model.motion._polynomial.polynomial_warnings`)."""
+        lu = "mm" if self.unit == "mm" else "deg"
+        return [
+            w
+            for i, seg in enumerate(self.segments)
+            if seg.polynomial is not None
+            for w in polynomial_warnings(seg.polynomial, f"motion.segments[{i}]", seg.start, seg.end, lu)
+        ]
+
     def _segment_end(self, seg: Segment):
-        t = _LAW_TABLES[seg.law]
+        t, lift = seg.table(_to_unit(self.unit))
         u = np.array(1.0 - t.x0[-1])
         vals = _piece_eval(np, u, t.c[-1], t.w[-1], t.p1[-1], t.p2[-1], t.y0[-1], t.v0[-1])
         beta = math.radians(seg.end - seg.start)
-        return np.array([seg.base + seg.lift * vals[0], seg.lift * vals[1] / beta, seg.lift * vals[2] / beta**2, seg.lift * vals[3] / beta**3])
+        return np.array([seg.base + lift * vals[0], lift * vals[1] / beta, lift * vals[2] / beta**2, lift * vals[3] / beta**3])
+
+
+def _to_unit(unit: str) -> float:
+    """The case file's lift unit in the motion's: mm stays mm, deg of swing becomes rad."""
+    return 1.0 if unit == "mm" else math.pi / 180.0
+
+
+def _segment_spec(raw, where: str):
+    """A segment given as a dict (or already a spec), validated as the schema's member for its law."""
+    if not isinstance(raw, dict):
+        return raw
+    return parse(PolynomialSegmentSpec if raw.get("law") == POLYNOMIAL else SegmentSpec, raw, where)

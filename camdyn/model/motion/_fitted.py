@@ -1,0 +1,122 @@
+"""Motions fitted to data: a lift table, or the exact-contact motion of a measured contour.
+
+The fit is a periodic quintic smoothing spline (:mod:`._spline`), stored as per-interval polynomial
+coefficients in HermiteMotion's layout and evaluated by one search and one gather however many knots it has.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+import numpy as np
+
+from ..._core.units import TWO_PI
+from ._base import Motion
+from ._hermite import quintic_eval
+from ._spline import SplineFit, fit_periodic
+
+# The fitted s'' is called meaningless when the noise alone moves it by more than a tenth of its peak (two
+# standard deviations, 95 %): the jump speed goes as |s''|^(-1/2), so it would be uncertain by over 5 %, more
+# than a design's speed margin can tell apart.
+ACCEL_NOISE_SHARE = 0.10
+
+
+class FittedMotion(Motion):
+    """A smooth periodic motion fitted to data: a quintic spline (C4: s''' continuous, so no breaks) as
+    per-interval polynomial coefficients on uniform knots."""
+
+    knots: jax.Array  # (m + 1,) rad, 0 .. 2 pi
+    coef: jax.Array  # (m, 6): s = sum coef[i, k] t^k, t = theta - knots[i] (rad), the motion's unit
+    unit: str = eqx.field(static=True)
+    breaks_deg: tuple[float, ...] = eqx.field(static=True)  # none: a quintic spline is C4
+
+    def __call__(self, theta):
+        return quintic_eval(jnp, self.knots, self.coef, theta)
+
+    def _eval(self, xp, theta):
+        """Evaluate with numpy (no dispatch or compile cost) or jax.numpy."""
+        return quintic_eval(xp, xp.asarray(self.knots), xp.asarray(self.coef), theta)
+
+
+@dataclass(frozen=True)
+class MotionFit:
+    """A fitted motion's data and how far the fit departs from it, in the data's unit (mm, or deg of swing).
+
+    ``theta_deg`` and ``data`` are the samples the spline was fitted to (a lift table's rows, or the exact-contact
+    motion of a contour), ``fitted`` the spline there; ``spline`` holds the smoothing and the noise estimate."""
+
+    source: str  # "table" or "contour"
+    file: str  # as the case file names it
+    unit: str  # "mm" or "deg"
+    theta_deg: np.ndarray
+    data: np.ndarray
+    spline: SplineFit
+    tolerance: float | None = None
+
+    @property
+    def fitted(self) -> np.ndarray:
+        return self.spline.fitted
+
+    @property
+    def residual(self) -> np.ndarray:
+        """data - fit, the data's unit."""
+        return self.spline.residual
+
+    def json(self) -> dict:
+        sp = self.spline
+        i = int(np.argmax(np.abs(sp.residual)))
+        return {
+            "method": f"periodic quintic smoothing spline, {sp.coef.shape[0]} knots, smoothing by {sp.criterion}",
+            "points": int(len(self.data)),
+            "unit": self.unit,
+            "max_residual": sp.max_residual,
+            "max_residual_at_deg": float(self.theta_deg[i] % 360.0),
+            "rms_residual": sp.rms_residual,
+            "tolerance": self.tolerance,
+            "noise": sp.sigma,
+            "smoothing": sp.lam,
+            "acceleration_std": sp.accel_std,
+        }
+
+
+def fit_motion(theta_deg, data, *, unit: str, source: str, file: str, tolerance: float | None = None, rounding: float = 0.0):
+    """Fit ``data`` (mm, or deg of swing when ``unit`` is "deg") at cam angles ``theta_deg``: the
+    :class:`FittedMotion` (mm, or rad) and its :class:`MotionFit`. ``rounding`` is the data's least noise
+    (their written digits); ``tolerance`` bounds the largest residual where the caller checks the result."""
+    theta_deg = np.asarray(theta_deg, dtype=float)
+    data = np.asarray(data, dtype=float)
+    spline = fit_periodic(np.deg2rad(theta_deg), data, tolerance=tolerance, sigma_floor=rounding)
+    to_unit = 1.0 if unit == "mm" else math.pi / 180.0
+    m = spline.coef.shape[0]
+    motion = FittedMotion(
+        knots=jnp.asarray(np.linspace(0.0, TWO_PI, m + 1)),
+        coef=jnp.asarray(spline.coef * to_unit),
+        unit="mm" if unit == "mm" else "rad",
+        breaks_deg=(),
+    )
+    return motion, MotionFit(source, file, unit, theta_deg, data, spline, tolerance)
+
+
+def fit_warnings(fit: MotionFit) -> list[str]:
+    """What a designer must know about a fit: noise that makes the acceleration meaningless
+    (:data:`ACCEL_NOISE_SHARE`), and a tolerance that made the fit follow the noise."""
+    sp, u = fit.spline, fit.unit
+    out = []
+    peak = float(np.max(np.abs(2.0 * sp.coef[:, 2])))
+    band = 2.0 * sp.accel_std
+    if band > ACCEL_NOISE_SHARE * peak:
+        out.append(
+            f"{fit.file}: the data's noise (about {sp.sigma:.2g} {u}) leaves the fitted acceleration uncertain by "
+            f"+-{band:.3g} {u}/rad^2 (95 %), {100 * band / max(peak, 1e-300):.0f} % of its peak {peak:.4g} {u}/rad^2: "
+            "jump speeds and forces rest on the smoothing, not on the data; measure the lift finer or with less noise"
+        )
+    if sp.criterion == "tolerance":
+        out.append(
+            f"{fit.file}: tolerance = {fit.tolerance:g} {u} asks for less smoothing than the data's noise (about {sp.sigma:.2g} {u}) "
+            "does: the fit follows that noise and its acceleration is wavier than the motion"
+        )
+    return out

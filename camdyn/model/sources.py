@@ -1,0 +1,71 @@
+"""Motions from a case's own data: a lift table (``[motion] table``) or a cam outline (``[follower] contour``).
+
+File names are relative to the case file (to the working folder for a case built from a dict). Each builder
+returns the fitted motion, its :class:`~camdyn.model.motion.MotionFit` and the warnings a designer must read.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from .._core.errors import InputError
+from ..schema import CaseSpec, FollowerSpec
+from .datafiles import Samples, read_contour, read_lift_table
+from .geometry import ContourFit, contact_motion
+from .motion import FittedMotion, MotionFit, fit_motion, fit_warnings
+
+ZERO_SHARE = 0.01  # a table may dip below zero lift by this share of its range (noise in a dwell), no more
+
+
+def _path(name: str, source: Path | None) -> Path:
+    return (source.parent if source is not None else Path.cwd()) / name
+
+
+def _lift_level(table: Samples, lift: np.ndarray, unit: str, column: str) -> list[str]:
+    """Lift is measured from the base circle: a dip below zero beyond noise is an error, a table whose least
+    lift is well above zero gets a warning."""
+    span = float(np.ptp(lift))
+    i = int(np.argmin(lift))
+    if lift[i] < -ZERO_SHARE * span:
+        raise InputError(
+            table.where(i),
+            f"{column} = {lift[i]:g} is below zero by more than {100 * ZERO_SHARE:g} % of the table's {span:g} {unit} range: "
+            "lift is measured from the base circle (a slight dip in a dwell is taken as noise)",
+        )
+    if lift[i] > ZERO_SHARE * span:
+        return [f"{table.shown}: the least {column} is {lift[i]:g} {unit}, not 0: camdyn measures lift from the base circle (base_radius is the least contour radius)"]
+    return []
+
+
+def _within_tolerance(fit: MotionFit, table: Samples, tolerance: float | None) -> None:
+    if tolerance is None or fit.spline.max_residual <= tolerance * (1.0 + 1e-9):
+        return
+    i = int(np.argmax(np.abs(fit.residual)))
+    raise InputError(
+        "motion.tolerance",
+        f"no smooth fit comes within {tolerance:g} {fit.unit} of {table.shown}: the closest departs by {fit.spline.max_residual:.3g} {fit.unit} "
+        f"at {table.row_word} {int(table.rows[i])} ({fit.theta_deg[i]:g} deg): is the data periodic, without a step?",
+    )
+
+
+def table_motion(spec: CaseSpec, source: Path | None) -> tuple[FittedMotion, MotionFit, list[str]]:
+    """The motion fitted to the case's lift table."""
+    name, tolerance = spec.motion.table, spec.motion.tolerance
+    table = read_lift_table(_path(name, source), name, spec.oscillating)
+    theta, lift = table.values.T
+    unit, column = ("deg", "swing_deg") if spec.oscillating else ("mm", "lift_mm")
+    warnings = _lift_level(table, lift, unit, column)
+    motion, fit = fit_motion(theta, lift, unit=unit, source="table", file=name, tolerance=tolerance, rounding=table.rounding)
+    _within_tolerance(fit, table, tolerance)
+    return motion, fit, warnings + fit_warnings(fit)
+
+
+def contour_motion(spec: CaseSpec, source: Path | None) -> tuple[FittedMotion, FollowerSpec, MotionFit, ContourFit, list[str]]:
+    """The motion of the case's cam outline by exact contact, the follower with the outline's base radius."""
+    name = spec.follower.contour
+    derived = contact_motion(read_contour(_path(name, source), name), spec.follower)
+    unit = "deg" if spec.oscillating else "mm"
+    motion, fit = fit_motion(derived.theta_deg, derived.lift, unit=unit, source="contour", file=name)
+    return motion, derived.follower, fit, derived.contour, list(derived.warnings) + fit_warnings(fit)
