@@ -10,6 +10,7 @@ import pytest  # noqa: E402
 import camdyn.model  # noqa: E402,F401  (float64 on)
 from camdyn.design.checks import run_check  # noqa: E402
 from camdyn.model.case import case_from_dict, load_case  # noqa: E402
+from camdyn.model.linkage import synthesize_motion  # noqa: E402
 
 CASES = Path(__file__).resolve().parents[1] / "cases"
 
@@ -56,3 +57,23 @@ def racetrack_check(racetrack_case):
 def lecture_check_json(lecture_check):
     """``check --json`` of the shipped lecture case."""
     return lecture_check.json()
+
+
+def load_toml(name: str) -> dict:
+    """The parsed TOML of ``cases/<name>.toml``."""
+    return tomllib.loads((CASES / f"{name}.toml").read_text())
+
+
+@pytest.fixture(scope="session")
+def path_synthesis():
+    """``path_synthesis(name)``: the synthesis of the shipped path case ``name``, made once per test session
+    (each compiles its motion program for seconds)."""
+    made: dict = {}
+
+    def get(name: str):
+        if name not in made:
+            case = load_toml(name)
+            made[name] = synthesize_motion(case["path"], case["mechanism"])
+        return made[name]
+
+    return get

@@ -95,11 +95,8 @@ SAMPLE = {
                   "slider_mode": -1, "base_radius": 30.0, "max_pressure_angle": 25.0, "arm_angle": 170.0, "follower_mode": -1},
 }
 
-# MechanismSpec's validator ignores a key of the other type whose default is not None instead of refusing it
-# (the reference states the rule; remove an entry when the validator refuses that key)
-ACCEPTED_NOT_USED = {("mechanism", "ccm", "arm_angle"), ("mechanism", "ccm", "follower_mode"),
-                     ("mechanism", "oscillating", "joint_angle"), ("mechanism", "oscillating", "slider_mode"),
-                     ("mechanism", "oscillating", "max_pressure_angle")}
+# keys of another type a validator accepts (none: every table refuses them)
+ACCEPTED_NOT_USED: set[tuple[str, str, str]] = set()
 
 
 def _case(table: str, kind: str, keys: dict) -> dict:

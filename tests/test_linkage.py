@@ -11,33 +11,32 @@ import numpy as np
 import pytest
 
 import camdyn.model  # noqa: F401  (float64)
-from camdyn._core.errors import InputError, NumericalError
-from camdyn.model.linkage import cross2, rrp_kinematics, rrr, rrr_kinematics, rrr_reach_miss, synthesize_motion
+from camdyn import InputError, NumericalError
+from camdyn.model.geometry import analyze, extremes, passes
+from camdyn.model.motion import evaluate as evaluate_motion
+from camdyn.model.linkage import cross2, parse_mechanism, rrp_kinematics, rrr, rrr_kinematics, rrr_reach_miss, synthesize_motion
+from camdyn.schema import MechanismSpec
 
 CASES = Path(__file__).resolve().parents[1] / "cases"
 SHIPPED = ("racetrack", "ellipse", "square", "circle", "eight", "line")
 
 
-@eqx.filter_jit
-def _ev(motion, theta):
-    return motion(theta)
-
-
-def evaluate(motion, theta):
-    """motion(theta) through one jitted program of fixed length 64 (one compile for the whole file)."""
+def evaluate(syn, theta, motion=None):
+    """``motion(theta)`` (default: the synthesis' exact motion) at as many angles as its Hermite table has
+    intervals, padded: the program the table's construction compiled is reused, not compiled again."""
     theta = np.atleast_1d(np.asarray(theta, dtype=float))
-    out = [np.asarray(_ev(motion, jnp.asarray(np.resize(theta[i : i + 64], 64)))) for i in range(0, len(theta), 64)]
-    return np.concatenate(out, axis=1)[:, : len(theta)]
+    n = len(syn.tabulated.knots) - 1
+    assert len(theta) <= n
+    return np.asarray(evaluate_motion(motion or syn.motion, jnp.asarray(np.resize(theta, n))))[:, : len(theta)]
 
 
 def load(name):
     return tomllib.loads((CASES / f"{name}.toml").read_text())
 
 
-@pytest.fixture(scope="module")
-def racetrack():
-    case = load("racetrack")
-    return synthesize_motion(case["path"], case["mechanism"])
+@pytest.fixture
+def racetrack(path_synthesis):
+    return path_synthesis("racetrack")
 
 
 # ------------------------------------------------------------------------------------------------ dyads
@@ -83,6 +82,7 @@ def test_rrp_kinematics_against_finite_differences():
 
 
 # ------------------------------------------------------------------------------------------------ Ye & Smith
+@pytest.mark.slow
 def test_ye_smith_section_8(racetrack):
     j = racetrack.json()
     # first phase (section 4): extremes of |OB| and eq. 5
@@ -106,7 +106,7 @@ def test_ye_smith_section_8(racetrack):
     assert ang(p800["C"] - chain.pivot) == pytest.approx(164.621, abs=1e-3)
     assert np.allclose(np.asarray(p800["B"]), [-269.58, 80.7212], atol=5e-3)
     assert np.allclose(np.asarray(p800["E"]), [10.8823, -110.498], atol=1e-3)
-    crank, cam = eqx.filter_jit(lambda mm, u: (mm.crank_angle(u), mm._theta_raw(u)))(m, jnp.asarray(0.2))
+    crank, cam = eqx.filter_jit(lambda mm, u: (mm.crank_angle(u), mm.cam_angle(u)))(m, jnp.asarray(0.2))
     assert math.degrees(float(crank)) == pytest.approx(28.1442, abs=1e-4)  # theta_OA
     theta = float(cam) % (2 * math.pi)  # cam angle, not unwrapped
     assert math.degrees(theta) == pytest.approx(80.0853, abs=1e-4)
@@ -115,7 +115,7 @@ def test_ye_smith_section_8(racetrack):
     xe, ye = (float(v) for v in p800["E"])
     xe1, ye1 = xe * c + ye * s, -xe * s + ye * c
     assert (xe1, ye1) == pytest.approx((-106.974, -29.745), abs=1e-3)
-    e1 = lambda u: (lambda th, e: jnp.stack([e[0] * jnp.cos(th) + e[1] * jnp.sin(th), -e[0] * jnp.sin(th) + e[1] * jnp.cos(th)]))(m._theta_raw(u), chain.points(u)["E"])  # noqa: E731
+    e1 = lambda u: (lambda th, e: jnp.stack([e[0] * jnp.cos(th) + e[1] * jnp.sin(th), -e[0] * jnp.sin(th) + e[1] * jnp.cos(th)]))(m.cam_angle(u), chain.points(u)["E"])  # noqa: E731
     v = np.asarray(jax.jit(lambda u: jax.jvp(e1, (u,), (jnp.ones_like(u),))[1])(jnp.asarray(0.2)))
     v = v / np.linalg.norm(v)
     xt1, yt1 = xe1 + 20 * v[1], ye1 - 20 * v[0]
@@ -124,20 +124,19 @@ def test_ye_smith_section_8(racetrack):
     assert abs(xt1 - -88.3199) > 5e-3
     # camdyn's cam geometry from the synthesized follower (an independent route: the envelope of the roller
     # about the arm pivot, not eqs. 6-8) gives the same pitch and contour points, of the exact and tabulated motion
-    from camdyn.model.geometry._kernel import evaluate_geometry as _eval_np
-
     for motion in (racetrack.motion, racetrack.tabulated):
-        ev = _eval_np(motion, racetrack.follower, np.array([theta]))
-        assert np.allclose(np.ravel(ev["pitch"]), [xe1, ye1], atol=1e-6)
-        assert np.allclose(np.ravel(ev["contour"]), [xt1, yt1], atol=1e-6)
+        cols = analyze(motion, racetrack.follower, n=16).table([math.degrees(theta)])
+        assert np.allclose([cols["pitch_x_mm"][0], cols["pitch_y_mm"][0]], [xe1, ye1], atol=1e-6)
+        assert np.allclose([cols["contour_x_mm"][0], cols["contour_y_mm"][0]], [xt1, yt1], atol=1e-6)
 
 
+@pytest.mark.slow
 def test_follower_spec_reproduces_the_pitch_curve(racetrack):
     """The FollowerSpec and phi(theta) in the shared geometry convention give back the roller centre E."""
     f, m = racetrack.follower, racetrack.motion
     th = np.deg2rad(np.arange(0.0, 360.0, 7.0))
-    phi = evaluate(m, th)[0]
-    assert phi.min() >= -1e-12 and evaluate(m, np.linspace(0.0, 2 * math.pi, 1024, endpoint=False))[0].min() < 1e-5
+    phi = evaluate(racetrack, th)[0]
+    assert phi.min() >= -1e-12 and evaluate(racetrack, np.linspace(0.0, 2 * math.pi, 1024, endpoint=False))[0].min() < 1e-5
     d = f.pivot_distance * np.array([math.cos(math.radians(f.pivot_angle)), math.sin(math.radians(f.pivot_angle))])
     dn = -d / np.linalg.norm(d)
     psi0 = racetrack.summary["psi0_deg"] * math.pi / 180
@@ -150,6 +149,7 @@ def test_follower_spec_reproduces_the_pitch_curve(racetrack):
     assert np.max(np.abs(pitch - racetrack.pitch[::7])) < 1e-9
 
 
+@pytest.mark.slow
 def test_motion_derivatives_match_finite_differences_through_the_singular_positions(racetrack):
     m = racetrack.motion
     sw = [s["cam_angle_deg"] for s in racetrack.summary["switches"]]
@@ -161,12 +161,12 @@ def test_motion_derivatives_match_finite_differences_through_the_singular_positi
             for e in (-1e-7, 1e-7):
                 u = s["u"] + t + e
                 pts.append(u)
-    raw = eqx.filter_jit(lambda mm, u: jax.vmap(mm._theta_raw)(u))
+    raw = eqx.filter_jit(lambda mm, u: jax.vmap(mm.cam_angle)(u))
     pts[len(sw):] = list(np.asarray(raw(m, jnp.asarray(pts[len(sw):]))) % (2 * math.pi))
     pts += [0.3, 1.7, 4.0]
     th = np.asarray(pts)
     h = 1e-5
-    v, vp, vm = (evaluate(m, x) for x in (th, th + h, th - h))  # jitted: the motion is a JAX pytree
+    v, vp, vm = (evaluate(racetrack, x) for x in (th, th + h, th - h))
     assert np.all(np.isfinite(v))
     for k in (1, 2, 3):
         fd = (vp[k - 1] - vm[k - 1]) / (2 * h)
@@ -184,6 +184,7 @@ def test_motion_derivatives_match_finite_differences_through_the_singular_positi
     assert 0 < float(c[1, 0]) < 1e3
 
 
+@pytest.mark.slow
 def test_motion_breaks(racetrack):
     m = racetrack.motion
     assert m.unit == "rad" and m.breaks_deg == tuple(sorted(m.breaks_deg)) and len(m.breaks_deg) == 4
@@ -191,17 +192,18 @@ def test_motion_breaks(racetrack):
 
 
 # ------------------------------------------------------------------------------------------------ shipped cases
+@pytest.mark.slow
 @pytest.mark.parametrize("name", SHIPPED)
-def test_forward_check_of_every_shipped_case(name):
+def test_forward_check_of_every_shipped_case(name, path_synthesis):
     case = load(name)
     assert "motion" not in case and "follower" not in case and {"path", "mechanism", "dynamics", "limits"} <= set(case)
-    syn = synthesize_motion(case["path"], case["mechanism"])
+    syn = path_synthesis(name)
     j = syn.json()
     assert j["max_path_error_mm"] < 1e-3
     assert np.max(np.linalg.norm(syn.traced_xy - syn.path_xy, axis=1)) == pytest.approx(j["max_path_error_mm"])
     # the dynamics read the quintic table: it must follow the exact motion (s to a micron, s'' to 2e-5 of its range)
     tab, th = syn.tabulated, jnp.asarray(np.random.default_rng(1).uniform(0.0, 2 * np.pi, 400))
-    exact, table = np.asarray(evaluate(syn.motion, th)), np.asarray(evaluate(tab, th))
+    exact, table = evaluate(syn, th), evaluate(syn, th, tab)
     assert np.max(np.abs(table[0] - exact[0])) < 1e-6 and syn.summary["motion_table_error"]["s"] < 1e-6
     assert np.max(np.abs(table[2] - exact[2])) < 2e-5 * np.ptp(exact[2])
     assert {"crank_mm", "coupler_mm", "start_angle_deg", "pitch", "contour", "path_xy", "traced_xy", "sharp_corners", "warnings"} <= set(j)
@@ -215,9 +217,10 @@ def test_forward_check_of_every_shipped_case(name):
     assert np.allclose(links[tracer], syn.path_xy[[0, 90]], atol=1e-6)
 
 
-def test_square_speed_and_sharp_corners():
+@pytest.mark.slow
+def test_square_corners(path_synthesis):
     case = load("square")
-    syn = synthesize_motion(dict(case["path"], corner_radius=3.0), case["mechanism"])
+    syn = path_synthesis("square")  # corner_radius = 5: four straights and four arcs
     assert syn.summary["max_path_error_mm"] < 1e-3 and len(syn.motion.breaks_deg) == 8
     sharp = synthesize_motion(dict(case["path"], corner_radius=0.0), case["mechanism"])
     assert sharp.sharp_corners and any("sharp corners" in w for w in sharp.warnings)
@@ -237,6 +240,7 @@ def test_unreachable_path_names_the_point_and_the_miss():
         synthesize_motion(case["path"], dict(case["mechanism"], crank=34.3428, coupler=305.0))
 
 
+@pytest.mark.slow
 def test_reversing_crank_is_refused():
     case = load("circle")
     # crank and coupler that close everywhere but never reach collinear: the crank rocks instead of turning
@@ -262,3 +266,32 @@ def test_invalid_mechanism_tables_name_the_key(mech, key):
     with pytest.raises(InputError) as err:
         synthesize_motion(dict(type="circle", center=[0, 0], radius=10), mech)
     assert err.value.where == key
+
+
+def test_json_schema_declares_the_mechanism_keys_each_type_needs_and_takes():
+    rules = {r["if"]["properties"]["type"]["const"]: r["then"] for r in MechanismSpec.model_json_schema()["allOf"]}
+    tables = {"ccm": load("circle")["mechanism"], "oscillating": load("racetrack")["mechanism"]}
+    assert set(rules) == set(tables)
+    values = {k: v for t in tables.values() for k, v in t.items() if k != "type"} | dict(
+        joint_distance=10.0, joint_angle=5.0, slider_mode=-1, base_radius=50.0, max_pressure_angle=25.0, arm_angle=170.0
+    )
+    for kind, table in tables.items():
+        then = rules[kind]
+        assert set(table) <= set(then["propertyNames"]["enum"]) and set(then["required"]) <= set(table)
+        for key in then["required"]:
+            with pytest.raises(InputError, match="required for"):
+                parse_mechanism({k: v for k, v in table.items() if k != key})
+        for key in set(values) - set(then["propertyNames"]["enum"]):
+            with pytest.raises(InputError, match=f"not used by an? {kind} mechanism") as err:
+                parse_mechanism(dict(table, **{key: values[key]}))
+            assert err.value.where == f"mechanism.{key}"
+
+
+@pytest.mark.slow
+def test_chosen_base_radius_is_the_least_half_millimetre_check_accepts(path_synthesis):
+    """A path case without base_radius gets the least on a 0.5 mm grid that passes check's default limits."""
+    syn = path_synthesis("circle")
+    f, tab = syn.follower, syn.tabulated
+    assert f.base_radius % 0.5 == 0.0 and "base_radius" not in load("circle")["mechanism"]
+    assert passes(f, extremes(tab, f), 30.0, 1.5)
+    assert not passes(f, extremes(tab, f, base_radius=f.base_radius - 0.5), 30.0, 1.5)

@@ -7,8 +7,9 @@ import numpy as np
 import pytest
 
 import camdyn.model  # noqa: F401  (float64)
-from camdyn._core.errors import InputError
+from camdyn import InputError
 from camdyn.model.paths import build_path, parse_path
+from camdyn.schema import PATH_TYPES, PathSpec
 
 TABLE_I_X = [28, 29, 33, 38, 44, 50, 57, 63, 68, 74, 77, 79, 79, 78, 75, 70, 65, 59, 53, 45, 41, 35, 30, 27, 26, 25, 28]
 TABLE_I_Y = [11, 12, 15, 18, 24, 32, 34, 41, 47, 53, 58, 62, 64.5, 65.5, 65, 63, 60, 55, 49, 42, 36, 29, 24, 19, 15, 13, 11]
@@ -101,3 +102,21 @@ def test_invalid_tables_name_the_key(table, key):
     with pytest.raises(InputError) as err:
         parse_path(table)
     assert err.value.where == key
+
+
+def test_json_schema_declares_the_keys_each_type_needs_and_takes():
+    """The schema's per-type rules are the validator's: each needed key missing is refused, each key another type
+    uses is refused, and the keys the schema lists are accepted."""
+    rules = {r["if"]["properties"]["type"]["const"]: r["then"] for r in PathSpec.model_json_schema()["allOf"]}
+    assert set(rules) == set(PATH_TYPES) == {t["type"] for t in PATHS.values()}
+    values = {k: v for table in PATHS.values() for k, v in table.items() if k != "type"}
+    for table in PATHS.values():
+        then = rules[table["type"]]
+        assert set(table) <= set(then["propertyNames"]["enum"]) and set(then["required"]) <= set(table)
+        for key in then["required"]:
+            with pytest.raises(InputError, match="required for"):
+                parse_path({k: v for k, v in table.items() if k != key})
+        for key in set(values) - set(then["propertyNames"]["enum"]):
+            with pytest.raises(InputError, match=f"not used by an? {table['type']} path") as err:
+                parse_path(dict(table, **{key: values[key]}))
+            assert err.value.where == f"path.{key}"

@@ -6,13 +6,18 @@ import re
 import tomllib
 from pathlib import Path
 
+import jax.numpy as jnp
 import numpy as np
 import pytest
 
 from camdyn.model.case import load_case
 from camdyn.cli import main
-from camdyn.design.dimensions import _ccm_eval, _ccm_score, _curve_error, _fourbar_curve, _fourbar_score
-from camdyn.model.linkage import vmap_scalar as _vmap
+from camdyn.design.synthesis import (
+    ccm_objective, ccm_score, curve_error, fourbar_curve, fourbar_objective, pitch_convexity, prime_radius_for_pressure_angle, validate_path_file,
+)
+from camdyn.model.geometry import analyze as analyze_cam
+from camdyn.model.motion import evaluate
+from camdyn.model.linkage import vmap_scalar
 from camdyn.model.paths import build_path, parse_path
 from camdyn.export import dumps_case
 
@@ -65,6 +70,7 @@ def synthesized(tmp_path_factory):
     return code, json.loads(buf.getvalue()), src, out
 
 
+@pytest.mark.slow
 def test_writes_a_case_that_loads_and_traces_the_path(synthesized):
     code, doc, _, out = synthesized
     assert code == 0 and doc["constraints_met"] and doc["output"] == str(out)
@@ -86,6 +92,7 @@ def test_writes_a_case_that_loads_and_traces_the_path(synthesized):
     assert doc["summary"]["stroke_mm"] == pytest.approx(s["stroke_mm"], rel=1e-9)
 
 
+@pytest.mark.slow
 def test_ccm_path_error_is_far_below_the_best_four_bar(synthesized):
     _, doc, _, _ = synthesized
     s = doc["summary"]
@@ -95,6 +102,7 @@ def test_ccm_path_error_is_far_below_the_best_four_bar(synthesized):
     assert set(fb) >= {"crank", "coupler", "rocker", "min_transmission_angle_deg", "closes"}
 
 
+@pytest.mark.slow
 def test_refuses_to_overwrite_without_force(synthesized, capsys):
     _, _, src, out = synthesized
     before = out.read_bytes()
@@ -135,7 +143,6 @@ def test_missing_input_file(tmp_path, capsys):
 
 def test_shipped_path_files_validate():
     from camdyn.schema import read_toml
-    from camdyn.design.synthesize import validate_path_file
 
     files = sorted((ROOT / "cases" / "paths").glob("*.toml"))
     assert files
@@ -143,19 +150,19 @@ def test_shipped_path_files_validate():
         validate_path_file(read_toml(f))
 
 
-def test_population_score_matches_one_at_a_time_and_exact_curve_error():
-    t = _vmap(build_path(parse_path({"type": "ellipse", "center": [0, 0], "semi_major": 30, "semi_minor": 15})).point, np.arange(256) / 256)
+def test_population_score_matches_one_at_a_time_and_exactcurve_error():
+    t = vmap_scalar(build_path(parse_path({"type": "ellipse", "center": [0, 0], "semi_major": 30, "semi_minor": 15})).point, np.arange(256) / 256)
     rng = np.random.default_rng(0)
     x = np.column_stack([rng.uniform(-100, 100, 6), rng.uniform(-100, 100, 6), rng.uniform(-180, 180, 6), rng.uniform(-40, 40, 6), rng.uniform(50, 300, 6)]).T
-    batch = _ccm_eval(x, t, 30.0, 10.0)["cost"]
-    assert np.allclose(batch, [_ccm_score(x[:, i], t, 30.0)[0] for i in range(x.shape[1])])
+    batch = ccm_objective(x, t, 30.0, 10.0)["cost"]
+    assert np.allclose(batch, [ccm_score(x[:, i], t, 30.0)[0] for i in range(x.shape[1])])
     # a four-bar whose coupler point is the crank pin traces a circle: error = distance between the circles
     fb = np.array([0.0, 0.0, 80.0, 10.0, 20.0, 90.0, 70.0, 0.0, 0.0, 1.0])
-    curve, miss, tmin = _fourbar_curve(fb)
+    curve, miss, tmin = fourbar_curve(fb)
     assert miss == 0.0 and 0.0 < tmin <= 90.0
     circle = 20.5 * np.column_stack([np.cos(np.arange(256) / 256 * 2 * np.pi), np.sin(np.arange(256) / 256 * 2 * np.pi)])
-    assert float(_curve_error(curve, circle)) == pytest.approx(0.5, abs=2e-3)
-    assert _fourbar_score(fb[:, None], circle)[0] == pytest.approx(0.5, abs=0.05)  # proxy on every 4th sample
+    assert float(curve_error(curve, circle)) == pytest.approx(0.5, abs=2e-3)
+    assert fourbar_objective(fb[:, None], circle)[0] == pytest.approx(0.5, abs=0.05)  # proxy on every 4th sample
 
 
 def test_dumps_case_keeps_short_arrays_on_one_line():
@@ -163,3 +170,22 @@ def test_dumps_case_keeps_short_arrays_on_one_line():
     text = dumps_case(doc, ["made by a test"])
     assert text.startswith("# made by a test\n") and "x = [1, 2.5, 3]\n" in text and "cam_center = [1.25, -3.0]\n" in text
     assert tomllib.loads(text) == doc
+
+
+@pytest.mark.slow
+def test_population_cam_sizing_agrees_with_the_exact_geometry(path_synthesis):
+    """The optimizer's closed forms on sampled motion against camdyn.model.geometry's autodiff of the same cam
+    (an anticlockwise CCM): the pitch curve's convex curvature, and the prime radius at which the largest pressure
+    angle is the limit."""
+    syn = path_synthesis("circle")
+    f, tab = syn.follower, syn.tabulated
+    geo = analyze_cam(tab, f, n=720)
+    s, s1, s2, _ = np.asarray(evaluate(tab, jnp.deg2rad(jnp.asarray(geo.theta_deg))))
+    e, sense, rr = syn.summary["offset_mm"], 1.0, f.roller_radius
+    assert syn.summary["rotation"] == "ccw"
+    kappa = pitch_convexity(f.base_radius + rr, s, s1, s2, e, sense)
+    assert kappa == pytest.approx(np.max(1.0 / geo.rho_pitch_mm), rel=1e-9)
+    rp = float(prime_radius_for_pressure_angle(s, s1, e, sense, rr, 25.0))
+    assert rp > abs(e) + rr  # the pressure angle, not the roller's clearance, sets it
+    worst = np.max(np.abs(analyze_cam(tab, f.model_copy(update={"base_radius": rp - rr}), n=720).pressure_angle_deg))
+    assert worst == pytest.approx(25.0, rel=1e-9)

@@ -10,7 +10,7 @@ from rich.table import Table
 
 from .._core.errors import InputError
 from .._core.outputs import output_file, write_new
-from ..design.synthesize import synthesize_case
+from ..design.synthesis import synthesize_case
 from . import _console
 
 

@@ -21,7 +21,7 @@ def corner_radius_advice(case: Case, speed_rpm: float | None = None, *, evaluati
     syn = case.synthesis
     if syn is None or not syn.sharp_corners or case.spec.path.type != "rectangle":
         return None
-    raw = case.spec.model_dump(exclude_none=True)
+    raw = case.spec.model_dump(exclude_unset=True)
     r_max = 0.5 * min(float(raw["path"]["width"]), float(raw["path"]["height"]))
     rpm = float(speed_rpm if speed_rpm is not None else case.speed_rpm)
     seen: dict[float, CheckReport | None] = {}

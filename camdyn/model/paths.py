@@ -54,7 +54,6 @@ class Path(eqx.Module):
 
     phase: float = eqx.field(static=True)
     sign: float = eqx.field(static=True)  # +1 as defined, -1 reversed
-    # arrays, not static fields: paths that differ only in their breaks (a corner radius) share compiled code
     # NaN-padded arrays, not static fields: paths that differ only in their breaks (a corner radius, sharp or
     # not) share compiled code
     local_breaks: np.ndarray = eqx.field(converter=lambda v: _pad_nan(v))

@@ -26,6 +26,48 @@ Pair = tuple[Real, Real]
 _KEYED = re.compile(r"^([A-Za-z_][\w]*(?:\[\d+\])?(?:\.[A-Za-z_][\w]*(?:\[\d+\])?)*): (.*)$", re.S)
 
 
+# keys of a table with a ``type``: type -> (the keys it needs, the keys it may take besides); a key named for no
+# type is one every type takes
+TypeKeys = dict[str, tuple[tuple[str, ...], tuple[str, ...]]]
+
+
+def _specific(keys: TypeKeys) -> set[str]:
+    return {k for needs, optional in keys.values() for k in (*needs, *optional)}
+
+
+def check_type_keys(table: BaseModel, kind: str, keys: TypeKeys) -> None:
+    """Raise ``ValueError("key: message")`` for a key the table's ``type`` needs and lacks, or one given that
+    belongs to other types only; ``kind`` names the table in the message ("path", "mechanism")."""
+    t = table.type
+    a = "an" if t[0] in "aeiou" else "a"
+    needs, optional = keys[t]
+    for key in needs:
+        if getattr(table, key) is None:
+            raise ValueError(f"{key}: required for {a} {t} {kind}")
+    specific, takes = _specific(keys), {*needs, *optional}
+    for key in type(table).model_fields:
+        if key in specific and key not in takes and key in table.model_fields_set and getattr(table, key) is not None:
+            allowed = sorted(k for k in type(table).model_fields if k in takes or k not in specific)
+            raise ValueError(f"{key}: not used by {a} {t} {kind} (keys: {', '.join(allowed)})")
+
+
+def keys_by_type(keys: TypeKeys):
+    """A ``json_schema_extra`` that declares, per ``type``, the keys it needs and the only keys it takes (JSON
+    Schema ``if``/``then``), from the same table :func:`check_type_keys` validates with."""
+
+    def extra(schema: dict, cls: type[BaseModel]) -> None:
+        specific = _specific(keys)
+        schema["allOf"] = [
+            {
+                "if": {"properties": {"type": {"const": t}}},
+                "then": {"required": list(needs), "propertyNames": {"enum": [k for k in cls.model_fields if k not in specific or k in {*needs, *optional}]}},
+            }
+            for t, (needs, optional) in keys.items()
+        ]
+
+    return extra
+
+
 def _models_in(annotation) -> list[tuple[str | None, type[BaseModel]]]:
     """The models an annotation holds (a model, a list or optional of models, a tagged union), with their tags."""
     if get_origin(annotation) is Annotated:

@@ -4,10 +4,16 @@ from __future__ import annotations
 
 from typing import Literal
 
-from pydantic import Field, model_validator
+from pydantic import ConfigDict, Field, model_validator
 
 from .._core.units import DEFAULT_MAX_PRESSURE_ANGLE_DEG
-from ._base import Pair, Real, Table
+from ._base import Pair, Real, Table, TypeKeys, check_type_keys, keys_by_type
+
+# the keys each type needs, and those it may take besides (the keys named for neither, every type takes)
+_KEYS: TypeKeys = {
+    "ccm": (("link", "slider_angle"), ("joint_distance", "joint_angle", "slider_point", "slider_mode", "base_radius", "max_pressure_angle")),
+    "oscillating": (("pivot", "path_link", "follower_link", "pin_distance", "arm"), ("arm_angle", "follower_mode")),
+}
 
 
 class MechanismSpec(Table):
@@ -18,8 +24,10 @@ class MechanismSpec(Table):
     pin E along the slider line; the slider is the cam's translating roller follower.
     ``type = "oscillating"``: Ye & Smith's cam-linkage. Fixed pivots O (``cam_center``) and D (``pivot``); the
     link F-C (F traces the path) carries the pin B; the follower D-C turns with the roller arm D-E; the coupler
-    B-A joins B to the crank pin A on the cam.
+    B-A joins B to the crank pin A on the cam. The JSON schema says which keys each type takes.
     """
+
+    model_config = ConfigDict(json_schema_extra=keys_by_type(_KEYS))
 
     type: Literal["ccm", "oscillating"] = Field(description="ccm | oscillating")
     cam_center: Pair = Field(default=(0.0, 0.0), description="camshaft axis (A in the CCM, O in Ye & Smith), mm")
@@ -48,14 +56,7 @@ class MechanismSpec(Table):
 
     @model_validator(mode="after")
     def _keys_for_type(self) -> MechanismSpec:
-        need = {"ccm": ("link", "slider_angle"), "oscillating": ("pivot", "path_link", "follower_link", "pin_distance", "arm")}[self.type]
-        for key in need:
-            if getattr(self, key) is None:
-                raise ValueError(f"{key}: required for a {self.type} mechanism")
-        other = {"ccm": ("pivot", "path_link", "follower_link", "pin_distance", "arm"), "oscillating": ("joint_distance", "link", "slider_point", "slider_angle", "base_radius")}[self.type]
-        for key in other:
-            if getattr(self, key) is not None:
-                raise ValueError(f"{key}: not used by a {self.type} mechanism")
+        check_type_keys(self, "mechanism", _KEYS)
         if (self.crank is None) != (self.coupler is None):
             raise ValueError(f"{'coupler' if self.coupler is None else 'crank'}: give crank and coupler together, or neither (eq. 5)")
         if self.type == "oscillating" and abs(self.pin_distance - self.path_link) < 1e-9:

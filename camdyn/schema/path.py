@@ -5,11 +5,22 @@ from __future__ import annotations
 import math
 from typing import Literal
 
-from pydantic import Field, model_validator
+from pydantic import ConfigDict, Field, model_validator
 
-from ._base import Pair, Real, Table
+from ._base import Pair, Real, Table, TypeKeys, check_type_keys, keys_by_type
 
 PATH_TYPES = ("ellipse", "circle", "rectangle", "eight", "line", "racetrack", "points")
+
+# the keys each type needs, and those it may take besides (every type takes type, rotation, reverse, phase)
+_KEYS: TypeKeys = {
+    "ellipse": (("center", "semi_major", "semi_minor"), ()),
+    "circle": (("center", "radius"), ()),
+    "rectangle": (("center", "width", "height"), ("corner_radius",)),
+    "eight": (("center", "width", "height"), ()),
+    "line": (("start", "end"), ()),
+    "racetrack": (("center", "straight", "radius"), ()),
+    "points": (("x", "y"), ()),
+}
 
 
 class PathSpec(Table):
@@ -22,7 +33,10 @@ class PathSpec(Table):
     and back, at rest at both ends (harmonic); ``racetrack`` at the lower end of the right semicircle,
     anticlockwise (Ye & Smith eq. 9); ``points`` at the first point, through every point on a periodic cubic
     spline (chord-length knots). ``reverse`` runs the curve the other way round, ``phase`` shifts the start.
+    The JSON schema says which keys each type takes.
     """
+
+    model_config = ConfigDict(json_schema_extra=keys_by_type(_KEYS))
 
     type: Literal["ellipse", "circle", "rectangle", "eight", "line", "racetrack", "points"] = Field(
         description="ellipse | circle | rectangle | eight | line | racetrack | points"
@@ -45,14 +59,7 @@ class PathSpec(Table):
 
     @model_validator(mode="after")
     def _keys_for_type(self) -> PathSpec:
-        need = _NEEDS[self.type]
-        for key in need:
-            if getattr(self, key) is None:
-                raise ValueError(f"{key}: required for a {self.type} path")
-        allowed = set(need) | _OPTIONAL.get(self.type, set()) | {"type", "rotation", "reverse", "phase"}
-        for key in type(self).model_fields:
-            if key not in allowed and key not in _DEFAULTED and getattr(self, key) is not None:
-                raise ValueError(f"{key}: not used by a {self.type} path (keys: {', '.join(sorted(allowed))})")
+        check_type_keys(self, "path", _KEYS)
         if self.type == "line" and math.dist(self.start, self.end) == 0.0:
             raise ValueError("end: the line has zero length")
         if self.type == "points":
@@ -64,15 +71,3 @@ class PathSpec(Table):
             raise ValueError(f"corner_radius: {self.corner_radius:g} mm is more than half the shorter side")
         return self
 
-
-_NEEDS = {
-    "ellipse": ("center", "semi_major", "semi_minor"),
-    "circle": ("center", "radius"),
-    "rectangle": ("center", "width", "height"),
-    "eight": ("center", "width", "height"),
-    "line": ("start", "end"),
-    "racetrack": ("center", "straight", "radius"),
-    "points": ("x", "y"),
-}
-_OPTIONAL = {"rectangle": {"corner_radius"}}
-_DEFAULTED = {"rotation", "reverse", "phase"}

@@ -17,8 +17,8 @@ What it assumes of the schema (adapt :data:`FLAT_RULES` or :func:`type_keys` whe
   discriminated union of one model per type (``Annotated[A | B, Field(discriminator="type")]``): each member's
   required fields are the keys it needs, its other fields the keys it may take. In both, the keys every type
   takes are those no rule names (flat) or every member has alike (union).
-* ``MechanismSpec`` keeps its rules inside its validator; :data:`FLAT_RULES` transcribes them, and
-  ``tests/test_docs.py`` holds every rule table to the validators it describes.
+* ``PathSpec`` and ``MechanismSpec`` keep their rules in a ``_KEYS`` table (type -> (needs, may take)) that their
+  validators and their JSON Schema read too; ``tests/test_docs.py`` holds every rule table to its validator.
 * In ``[dynamics]``, :data:`~camdyn.schema.dynamics.LINEAR_KEYS` and ``ROTARY_KEYS`` pair a translating key
   with its oscillating counterpart, and the first three of each kind are required in a case file.
 """
@@ -38,7 +38,7 @@ import annotated_types as at
 from pydantic import BaseModel
 from pydantic.fields import FieldInfo
 
-from . import follower, path
+from . import follower, mechanism, path
 from .case import CaseSpec
 from .dynamics import LINEAR_KEYS, ROTARY_KEYS, DynamicsSpec
 from .follower import FollowerSpec
@@ -58,18 +58,15 @@ class FlatRules:
     takes: dict[str, typing.Collection[str]]
 
 
+def _rules(keys) -> FlatRules:
+    """A ``TypeKeys`` table of the schema (type -> (needs, may take besides)) as :class:`FlatRules`."""
+    return FlatRules({k: needs for k, (needs, _) in keys.items()}, {k: optional for k, (_, optional) in keys.items()})
+
+
 FLAT_RULES: dict[type[BaseModel], FlatRules] = {
     FollowerSpec: FlatRules(follower._NEEDS, follower._TAKES),
-    PathSpec: FlatRules(path._NEEDS, path._OPTIONAL),
-    # transcribed from MechanismSpec._keys_for_type (its `need` table; `takes`: the keys its descriptions give
-    # to that type); tests/test_docs.py checks both against the validator
-    MechanismSpec: FlatRules(
-        {"ccm": ("link", "slider_angle"), "oscillating": ("pivot", "path_link", "follower_link", "pin_distance", "arm")},
-        {
-            "ccm": ("joint_distance", "joint_angle", "slider_point", "slider_mode", "base_radius", "max_pressure_angle"),
-            "oscillating": ("arm_angle", "follower_mode"),
-        },
-    ),
+    PathSpec: _rules(path._KEYS),
+    MechanismSpec: _rules(mechanism._KEYS),
 }
 
 

@@ -3,8 +3,8 @@
 The input (a *path file*, TOML) is a case file without ``[mechanism]``: ``name``, ``description``, ``[path]``
 (required), ``[dynamics]`` (required: ``speed``, ``mass`` and ``spring_rate``; ``preload`` is sized when it is
 left out), ``[limits]``, and an optional ``[synthesis]`` table of optimizer options (:class:`SynthesisSpec`).
-:func:`synthesize_case` runs :func:`camdyn.linkage.synthesize_dimensions` on it and returns the case file's
-text with a header comment saying how it was made; the text is loaded back (:func:`camdyn.case.case_from_dict`)
+:func:`synthesize_case` runs :func:`synthesize_dimensions` on it and returns the case file's
+text with a header comment saying how it was made; the text is loaded back (:func:`camdyn.model.case.case_from_dict`)
 before it is returned, so what is written is a case that ``camdyn check`` accepts.
 """
 
@@ -17,13 +17,14 @@ from importlib.metadata import PackageNotFoundError, version
 from pathlib import Path
 from typing import Any
 
-from .._core.errors import InputError
-from .._core.progress import Progress
-from ..export.toml import dumps_case
-from ..model.case import Case, case_from_dict
-from ..schema import PathFileSpec, parse
-from .dimensions import DIMENSION_OBJECTIVE, synthesize_dimensions
-from .sizing import size_spring
+from ..._core.errors import InputError
+from ..._core.progress import Progress
+from ...export.toml import dumps_case
+from ...model.case import Case, case_from_dict
+from ...schema import PathFileSpec, parse
+from ..sizing import size_spring
+from ._ccm import DIMENSION_OBJECTIVE
+from ._optimize import synthesize_dimensions
 
 PRELOAD_STEP = 0.1  # N: a sized preload is rounded up to this (and at least one step above the least that holds)
 
@@ -31,7 +32,7 @@ PRELOAD_STEP = 0.1  # N: a sized preload is rounded up to this (and at least one
 @dataclass
 class SynthesizedCase:
     """What :func:`synthesize_case` made: the case file ``text``, the loaded ``case``, the ``[mechanism]`` table
-    and the optimizer's ``summary`` (see :func:`camdyn.linkage.synthesize_dimensions`)."""
+    and the optimizer's ``summary`` (see :func:`synthesize_dimensions`)."""
 
     text: str
     case: Case

@@ -1,0 +1,128 @@
+"""The two cam-linkages a path can drive, as chains solved backwards from the path point: the CCM of a profile
+cutter and Ye & Smith's oscillating mechanism. Each gives the path-side point of its crank dyad and its
+follower coordinate; coordinates are relative to the cam centre, mm.
+"""
+
+from __future__ import annotations
+
+import math
+
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+import numpy as np
+
+from ..._core.errors import NumericalError
+from ...schema import MechanismSpec
+from ..paths import Path
+from ._batch import vmap_scalar, where_point
+from ._dyads import cross2, rrp, rrr, rrr_reach_miss, turn, unit
+
+
+class CCMChain(eqx.Module):
+    """CCM (seed 003): crank A-B on the camshaft, coupler B-T carrying joint C, link C-E, slider E on a line.
+
+    Coordinates relative to the cam centre A. Output: slider coordinate p of E along ``direction`` (mm).
+    """
+
+    path: Path
+    center: jax.Array  # A in the case frame
+    crank: jax.Array
+    coupler: jax.Array
+    joint: jax.Array  # C in the coupler frame (x along B->T, y to its left), mm
+    link: jax.Array
+    origin: jax.Array  # a point of the slider line (relative to A)
+    direction: jax.Array  # unit lift direction
+    slider_mode: float = eqx.field(static=True)
+
+    def p_side(self, u):
+        return self.path.point(u) - self.center
+
+    def points(self, u, theta):
+        """Joint positions relative to A at path parameter u and crank angle theta (rad)."""
+        t = self.p_side(u)
+        b = self.crank * unit(theta)
+        ex = (t - b) / self.coupler
+        c = b + self.joint[0] * ex + self.joint[1] * jnp.stack([-ex[1], ex[0]])
+        p = rrp(c, self.origin, self.direction, self.link, self.slider_mode)
+        return {"B": b, "T": t, "C": c, "E": self.origin + p * self.direction, "p": p}
+
+    def output(self, u, theta):
+        return self.points(u, theta)["p"]
+
+
+class OscillatingChain(eqx.Module):
+    """Ye & Smith (seed 000): path point F, link F-C through the pin B, follower D-C with roller arm D-E.
+
+    Coordinates relative to the cam centre O. Output: psi, the arm angle turned clockwise from D->O to D->E.
+    """
+
+    path: Path
+    center: jax.Array  # O in the case frame
+    pivot: jax.Array  # D relative to O
+    path_link: jax.Array  # FC
+    follower_link: jax.Array  # DC
+    pin: jax.Array  # FB along F->C
+    arm: jax.Array  # DE
+    arm_angle: jax.Array  # angle D->C to D->E, rad anticlockwise
+    follower_mode: float = eqx.field(static=True)
+
+    def _fc(self, u):
+        f = self.path.point(u) - self.center
+        return f, rrr(f, self.pivot, self.path_link, self.follower_link, self.follower_mode)
+
+    def p_side(self, u):
+        f, c = self._fc(u)
+        return f + self.pin * (c - f) / self.path_link
+
+    def points(self, u, theta=None):
+        f, c = self._fc(u)
+        b = f + self.pin * (c - f) / self.path_link
+        e = self.pivot + self.arm * turn((c - self.pivot) / self.follower_link, self.arm_angle)
+        a, dn = e - self.pivot, -self.pivot
+        psi = jnp.arctan2(cross2(a, dn), jnp.sum(a * dn))
+        return {"F": f, "C": c, "B": b, "E": e, "psi": psi}
+
+    def output(self, u, theta):
+        return self.points(u)["psi"]
+
+
+def make_chain(path: Path, ms: MechanismSpec, r: float, l: float) -> CCMChain | OscillatingChain:
+    """The chain of a ``[mechanism]`` table tracing ``path``, with crank ``r`` and coupler ``l`` (mm)."""
+    c0 = jnp.asarray(ms.cam_center, dtype=float)
+    if ms.type == "ccm":
+        jd = ms.joint_distance if ms.joint_distance is not None else l
+        ja = math.radians(ms.joint_angle)
+        sp = np.asarray(ms.slider_point if ms.slider_point is not None else ms.cam_center, dtype=float) - np.asarray(ms.cam_center)
+        a = math.radians(ms.slider_angle)
+        return CCMChain(
+            path=path, center=c0, crank=jnp.asarray(r), coupler=jnp.asarray(l),
+            joint=jnp.asarray([jd * math.cos(ja), jd * math.sin(ja)]), link=jnp.asarray(ms.link),
+            origin=jnp.asarray(sp), direction=jnp.asarray([math.cos(a), math.sin(a)]), slider_mode=float(ms.slider_mode),
+        )
+    return OscillatingChain(
+        path=path, center=c0, pivot=jnp.asarray(ms.pivot, dtype=float) - c0, path_link=jnp.asarray(ms.path_link),
+        follower_link=jnp.asarray(ms.follower_link), pin=jnp.asarray(float(ms.pin_distance)), arm=jnp.asarray(ms.arm),
+        arm_angle=jnp.asarray(math.radians(ms.arm_angle)), follower_mode=float(ms.follower_mode),
+    )
+
+
+def check_follower_side(chain, ms: MechanismSpec, u_grid: np.ndarray) -> None:
+    """The path-driven follower dyad must close at every path point (else: where and by how much)."""
+    if ms.type != "oscillating":
+        return
+    f = vmap_scalar(chain.path.point, u_grid) - np.asarray(chain.center)
+    miss = np.asarray(rrr_reach_miss(f, np.asarray(chain.pivot), ms.path_link, ms.follower_link))
+    i = int(np.argmax(miss))
+    if miss[i] > 0.0:
+        raise NumericalError(where_point(i), f"dyad F-C-D cannot close: reach missed by {miss[i]:.4g} mm (|DF| = {np.linalg.norm(f[i] - np.asarray(chain.pivot)):.4g} mm, FC + DC = {ms.path_link + ms.follower_link:g} mm, |FC - DC| = {abs(ms.path_link - ms.follower_link):g} mm)")
+
+
+def check_ccm_slider(chain: CCMChain, motion_pts: dict, ms: MechanismSpec) -> None:
+    """The link C-E must reach the slider line at every path point (else: where and by how much)."""
+    c = np.asarray(motion_pts["C"])
+    off = np.abs(np.asarray(cross2(jnp.asarray(chain.direction), jnp.asarray(c - np.asarray(chain.origin)))))
+    miss = off - ms.link
+    i = int(np.argmax(miss))
+    if miss[i] > 0.0:
+        raise NumericalError(where_point(i), f"dyad C-E-slider cannot close: the link C-E ({ms.link:g} mm) misses the slider line by {miss[i]:.4g} mm")

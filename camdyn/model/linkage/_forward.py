@@ -1,0 +1,148 @@
+"""The follower of a synthesized cam in the shared geometry conventions, and the forward check: the linkage driven
+by the cam (crank at the cam angle, follower where the cam puts it) must trace the path again.
+
+Each function returns the :class:`camdyn.schema.FollowerSpec`, the traced points (n, 2) in the case frame, the
+roller centre and its derivative per radian of cam angle (n, 2) relative to the cam centre, and the summary
+entries it adds; warnings are appended to ``warnings``.
+"""
+
+from __future__ import annotations
+
+import math
+
+import jax.numpy as jnp
+import numpy as np
+
+from ..._core.errors import InputError
+from ..._core.units import DEFAULT_MIN_CURVATURE_RATIO
+from ...schema import FollowerSpec, MechanismSpec
+from ..geometry import min_base_radius, rounded_base_radius
+from ._dyads import cross2, rrr, turn
+
+MIN_TRANSMISSION_DEG = 30.0  # a driven dyad's transmission angle under this is warned about (and the dimensional synthesis avoids it)
+
+
+def transmission_warning(name: str, ang: np.ndarray, warnings: list[str]) -> float:
+    """Least transmission angle (deg, folded into [0, 90]) of a driven dyad; warns below 30 deg."""
+    fold = np.degrees(np.minimum(ang, np.pi - ang))
+    worst = float(fold.min())
+    if worst < MIN_TRANSMISSION_DEG:
+        warnings.append(f"transmission angle of dyad {name} falls to {worst:.1f} deg (below {MIN_TRANSMISSION_DEG:g} deg)")
+    return worst
+
+
+def pitch_contour(pos: np.ndarray, vel: np.ndarray, theta: np.ndarray, sense: float, rr: float):
+    """Pitch curve and contour in the cam frame (Ye & Smith eqs. 6-8) from the roller centre in the fixed frame.
+
+    ``pos``, ``vel``: roller centre and its derivative per radian of cam angle (n, 2), relative to the cam centre.
+    Returns (pitch, contour, velocity seen from the cam), each (n, 2) mm.
+    """
+    a = -sense * theta  # cam frame = fixed frame turned back by the cam angle
+    c, s = np.cos(a), np.sin(a)
+    rot = lambda v: np.column_stack([c * v[:, 0] - s * v[:, 1], s * v[:, 0] + c * v[:, 1]])  # noqa: E731
+    pitch = rot(pos)
+    rel = vel - sense * np.column_stack([-pos[:, 1], pos[:, 0]])  # d/dtheta seen from the cam
+    tan = rot(rel)
+    speed = np.linalg.norm(tan, axis=1)
+    unit = tan / np.where(speed > 0, speed, 1.0)[:, None]
+    contour = pitch + sense * rr * np.column_stack([unit[:, 1], -unit[:, 0]])  # eq. 8: towards the cam
+    return pitch, contour, rel
+
+
+def _angle_between(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    return np.arccos(np.clip(np.sum(a * b, 1) / (np.linalg.norm(a, axis=1) * np.linalg.norm(b, axis=1)), -1, 1))
+
+
+def _ccm_follower(ms: MechanismSpec, e: float, sense: float, base: float) -> FollowerSpec:
+    return FollowerSpec(type="translating-roller", base_radius=base, roller_radius=ms.roller_radius, offset=e, rotation="ccw" if sense > 0 else "cw")
+
+
+def _choose_base_radius(tabulated, ms: MechanismSpec, e: float, sense: float, sharp: bool) -> float:
+    """The least base radius (mm) with which ``camdyn check`` passes the cam at the mechanism's pressure-angle
+    limit and the default curvature limit (the pressure angle alone where sharp corners leave the contour no
+    curvature to meet), rounded up to 0.5 mm: :func:`camdyn.model.geometry.min_base_radius`."""
+    trial = _ccm_follower(ms, e, sense, abs(e) + ms.roller_radius)  # any base radius that assembles: a search start
+    ratio = None if sharp else DEFAULT_MIN_CURVATURE_RATIO
+    return rounded_base_radius(min_base_radius(tabulated, trial, max_pressure_angle=ms.max_pressure_angle, min_curvature_ratio=ratio))
+
+
+def ccm_forward(motion, tabulated, ms: MechanismSpec, vals, pts: dict, a_pin, l: float, sense: float, warnings: list[str]):
+    """The CCM's translating roller (base radius chosen on the ``tabulated`` motion unless given) and its forward
+    check.
+
+    ``vals``: s, s' per radian at the sample angles (2, n); ``pts``: the joints solved from the path there;
+    ``a_pin``: the crank pin at those angles (n, 2), relative to the cam centre; ``l``: the coupler, mm.
+    """
+    chain = motion.chain
+    e_dir, origin = np.asarray(chain.direction), np.asarray(chain.origin)
+    xhat = np.array([e_dir[1], -e_dir[0]])
+    e = float(origin @ xhat)  # offset of the slider line from the cam centre (follower frame x)
+    s, s1 = vals[0], vals[1]
+    base = ms.base_radius if ms.base_radius is not None else _choose_base_radius(tabulated, ms, e, sense, bool(chain.path.sharp_u))
+    rp = base + ms.roller_radius
+    if rp <= abs(e):
+        raise InputError("mechanism.base_radius", f"base + roller radius ({rp:g} mm) must exceed the slider line's offset from the cam centre ({abs(e):.4g} mm)")
+    d0 = math.sqrt(rp * rp - e * e)
+    follower = _ccm_follower(ms, e, sense, base)
+    pos = e * xhat + (d0 + s)[:, None] * e_dir
+    vel = s1[:, None] * e_dir
+    # forward: crank at the cam angle, slider where the cam puts it, then the RRR dyad B-C-E closes the coupler
+    e_pin = origin + (float(motion.out0) + s)[:, None] * e_dir
+    mode_c = float(np.sign(cross2(pts["C"][0] - pts["B"][0], e_pin[0] - pts["B"][0])))
+    c_fwd = np.asarray(rrr(a_pin, e_pin, float(np.linalg.norm(chain.joint)), ms.link, mode_c))
+    jx, jy = np.asarray(chain.joint)
+    bc = c_fwd - a_pin
+    jn2 = jx * jx + jy * jy
+    ex = (jx * bc + jy * np.column_stack([bc[:, 1], -bc[:, 0]])) / jn2  # rotate B->C back into B->T
+    traced = a_pin + l * ex + np.asarray(chain.center)
+    modes = np.sign(cross2(pts["C"] - pts["B"], pts["E"] - pts["B"]))
+    if np.any(modes != mode_c):
+        warnings.append("the forward dyad B-C-E changes assembly mode along the path: the linkage cannot run through it")
+    tmin = transmission_warning("B-C-E (angle at C)", _angle_between(pts["B"] - pts["C"], pts["E"] - pts["C"]), warnings)
+    # RRP transmission angle: 90 deg minus the link's angle to the slider line (singular when perpendicular)
+    phi = _angle_between(pts["C"] - pts["E"], np.broadcast_to(e_dir, pts["E"].shape))
+    slider_ang = transmission_warning("C-E-slider (link to the slider's normal)", np.pi / 2 - np.minimum(phi, np.pi - phi), warnings)
+    extra = {"offset_mm": e, "min_transmission_angle_deg": tmin, "min_slider_angle_deg": slider_ang, "slider_zero_mm": float(motion.out0)}
+    return follower, traced, pos, vel, extra
+
+
+def oscillating_forward(motion, tabulated, ms: MechanismSpec, vals, pts: dict, a_pin, l: float, sense: float, warnings: list[str]):
+    """Ye & Smith's oscillating roller (base radius from the arm's least reach) and its forward check; arguments
+    as :func:`ccm_forward`."""
+    chain = motion.chain
+    d = np.asarray(chain.pivot)
+    psi = np.asarray(pts["psi"])
+    if np.any(psi <= 0.0) or np.any(psi >= np.pi):
+        raise InputError(
+            "mechanism.arm_angle",
+            "the roller arm must lie clockwise of D->O (0 < psi < 180 deg) for the shared geometry convention; "
+            "this mechanism needs an 'arm side' field in FollowerSpec (or mirror the case)",
+        )
+    psi0 = float(motion.out0)
+    dn = -d / np.linalg.norm(d)
+    e0 = d + ms.arm * np.asarray(turn(jnp.asarray(dn), -psi0))
+    rp = float(np.linalg.norm(e0))
+    base = rp - ms.roller_radius
+    if base <= 0.0:
+        raise InputError("mechanism.roller_radius", f"roller radius {ms.roller_radius:g} mm exceeds the least distance {rp:.4g} mm from the cam centre to the roller centre")
+    follower = FollowerSpec(
+        type="oscillating-roller", base_radius=base, roller_radius=ms.roller_radius, pivot_distance=float(np.linalg.norm(d)),
+        pivot_angle=math.degrees(math.atan2(d[1], d[0])), arm_length=ms.arm, rotation="ccw" if sense > 0 else "cw",
+    )
+    psi_t = psi0 + vals[0]
+    arm_dir = np.asarray(turn(jnp.asarray(np.broadcast_to(dn, (len(psi_t), 2))), -jnp.asarray(psi_t)))
+    pos = d + ms.arm * arm_dir
+    vel = -ms.arm * vals[1][:, None] * np.column_stack([-arm_dir[:, 1], arm_dir[:, 0]])  # dE/dpsi = arm * (cw normal)
+    # forward: arm at phi(theta) -> C; crank at the cam angle -> A; dyad A-B-C closes; F on C->B produced
+    c_fwd = d + ms.follower_link * np.asarray(turn(jnp.asarray(arm_dir), -math.radians(ms.arm_angle)))
+    lbc = abs(ms.path_link - ms.pin_distance)
+    mode_b = float(np.sign(cross2(pts["B"][0] - a_pin[0], pts["C"][0] - a_pin[0])))
+    b_fwd = np.asarray(rrr(a_pin, c_fwd, l, lbc, mode_b))
+    e_fc = (b_fwd - c_fwd) / (ms.pin_distance - ms.path_link)
+    traced = c_fwd - ms.path_link * e_fc + np.asarray(chain.center)
+    modes = np.sign(cross2(pts["B"] - a_pin, pts["C"] - a_pin))
+    if np.any(modes != mode_b):
+        warnings.append("the forward dyad A-B-C changes assembly mode along the path: the linkage cannot run through it")
+    tmin = transmission_warning("A-B-C (angle at B)", _angle_between(a_pin - pts["B"], pts["C"] - pts["B"]), warnings)
+    extra = {"min_transmission_angle_deg": tmin, "psi0_deg": math.degrees(psi0)}
+    return follower, traced, pos, vel, extra
