@@ -24,7 +24,7 @@ from camdyn.plot import (
     plot_jump_map, plot_mechanism, plot_path, plot_path_error, plot_pressure_angle, plot_svaj, plot_vibration, square_face,
 )
 from camdyn.report import A4, DPI, PAGES, STYLE, ReportData, render
-from camdyn.report.pages import draw_springs
+from camdyn.report.pages import draw_parts, draw_springs
 from camdyn.report.pages.summary import key_results
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -51,8 +51,8 @@ def path_case(racetrack_case, racetrack_check, tmp_path_factory):
 # ------------------------------------------------------------------------------------------------- helpers
 def expected_slugs(case) -> list[str]:
     """The pages a case has, from what the case is: a cam page where there is a cam follower, a mechanism page
-    where a linkage was synthesized."""
-    return ["summary", "svaj", *(["cam"] if case.follower is not None else []), "dynamics", *(["mechanism"] if case.synthesis is not None else []), "springs"]
+    where a linkage was synthesized; the parts (drive, contact, spring) on every case."""
+    return ["summary", "svaj", *(["cam"] if case.follower is not None else []), "dynamics", *(["mechanism"] if case.synthesis is not None else []), "parts", "springs"]
 
 
 def page_text(fig) -> str:
@@ -149,7 +149,7 @@ def test_spring_page_agrees_with_the_check(lecture_review):
 def test_pages_titles_and_names(lecture):
     review, written = lecture
     slugs = expected_slugs(review.case)
-    assert slugs == ["summary", "svaj", "cam", "dynamics", "springs"]
+    assert slugs == ["summary", "svaj", "cam", "dynamics", "parts", "springs"]
     assert [p.name for p in written.pngs] == [f"lecture-{i}-{s}.png" for i, s in enumerate(slugs, start=1)]
     assert written.titles[0] == "Summary" and written.titles[-1] == "Spring sizing" and written.verdict == "pass"
     assert written.pdf.name == "lecture.pdf" and pdf_pages(written.pdf) == len(slugs)
@@ -186,8 +186,8 @@ def test_pages_are_not_blank(lecture):
 def test_path_case_gets_the_mechanism_page(path_case):
     review, written = path_case
     slugs = expected_slugs(review.case)
-    assert slugs == ["summary", "svaj", "cam", "dynamics", "mechanism", "springs"]
-    assert [p.name for p in written.pngs] == [f"racetrack-{i}-{s}.png" for i, s in enumerate(slugs, start=1)] and pdf_pages(written.pdf) == 6
+    assert slugs == ["summary", "svaj", "cam", "dynamics", "mechanism", "parts", "springs"]
+    assert [p.name for p in written.pngs] == [f"racetrack-{i}-{s}.png" for i, s in enumerate(slugs, start=1)] and pdf_pages(written.pdf) == 7
     for png in written.pngs:
         assert_looks_like_a_page(png)
     text = drawn_pages(review)
@@ -370,3 +370,13 @@ def test_cli_report_bad_input(tmp_path, capsys):
     code = main(["report", str(LECTURE), str(LECTURE), "-o", str(tmp_path)])
     err = capsys.readouterr().err
     assert code == 2 and "overwrite each other" in err
+
+
+@pytest.mark.slow
+def test_parts_page_draws_the_drive_and_the_spring(lecture):
+    """The parts page: the camshaft torque (its peak is the check's), and the case's own spring as a part."""
+    review, written = lecture
+    fig = Figure(figsize=A4)
+    draw_parts(fig, ReportData(review))
+    text = page_text(fig)
+    assert f"{review.check.drive.peak_torque:.3g}" in text and "free length" in text and "Contact stress: give" in text

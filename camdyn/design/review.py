@@ -22,6 +22,7 @@ from ..model.geometry import newton_per_torque_at
 from ..model.motion import evaluate
 from .checks import CheckReport, forces_in_newton
 from .sizing import SpringSizing, size_spring
+from .spring import SpringDesign, design_case_spring
 from .sweep import JumpMap, jump_map
 
 SIDE_DEG = 1e-7  # how far either side of a break the one-sided values are taken (deg)
@@ -69,11 +70,12 @@ class Review:
     force_vs_speed: ForceVsSpeed
     sizing: SpringSizing | str  # size_spring at the case's speed and speed_margin
     jump_map: JumpMap | str  # at the case's preload, gaps not integrated (least force and the jump boundary)
+    spring_part: SpringDesign | str = "not designed"  # the case's own spring as a part (camdyn spring)
 
 
 def design_review(case: Case, check: CheckReport, *, progress: Progress | None = None) -> Review:
     """Everything a design review of ``case`` draws beyond its ``check`` (run at the speed of the review)."""
-    tick = counter(progress, f"{case.name}: review", 5)
+    tick = counter(progress, f"{case.name}: review", 6)
     motion = sample_motion(case)
     tick()
     margin_rpm = case.limits.speed_margin * check.speed_rpm
@@ -85,7 +87,9 @@ def design_review(case: Case, check: CheckReport, *, progress: Progress | None =
     tick()
     jm = _review_jump_map(case, check, margin_rpm, sizing)
     tick()
-    return Review(case, check, motion, margin_rpm, margin, sweep, sizing, jm)
+    part = _or_reason(design_case_spring, case)
+    tick()
+    return Review(case, check, motion, margin_rpm, margin, sweep, sizing, jm, part)
 
 
 def _or_reason(fn, *args, **kwargs):

@@ -70,3 +70,25 @@ def plot_svaj(axes, samples: MotionSamples, *, speed_rpm: float | None = None, h
         top = axes[0].secondary_xaxis("top", functions=(lambda d: d / 360.0 * period_ms, lambda t: t / period_ms * 360.0))
         top.set_xlabel(f"time at {speed_rpm:g} rpm (ms)", color=C["grey"])
         top.tick_params(colors=C["grey"])
+
+
+def plot_fit(ax_lift, ax_residual, fit) -> None:
+    """A lift table's (or a contour's contact motion's) data points on the lift panel, and the fit's residuals
+    (data - fit) against cam angle, with the tolerance where one was asked for (``fit``:
+    :class:`camdyn.model.motion.MotionFit`)."""
+    th = np.asarray(fit.theta_deg)
+    every = max(1, th.size // 400)  # a few hundred markers: a 3600-point table would paint the curve over
+    ax_lift.plot(th[::every], fit.data[::every], ".", ms=2.2, color=C["limit"], alpha=0.7, label=f"{fit.source} data ({th.size} points)", zorder=4)
+    ax_lift.legend(fontsize=7, loc="upper right")
+    res = fit.residual
+    unit = fit.unit
+    scale, shown = (1000.0, "\u00b5m") if unit == "mm" and np.max(np.abs(res)) < 0.5 else (1.0, unit)
+    ax_residual.plot(th, res * scale, lw=0.7, color=C["limit"])
+    ax_residual.axhline(0.0, color="#888888", lw=0.6)
+    if fit.tolerance is not None:
+        for sign in (-1, 1):
+            ax_residual.axhline(sign * fit.tolerance * scale, color=C["grey"], lw=0.8, ls="--")
+    j = fit.json()
+    ax_residual.set_ylabel(f"data - fit\n({shown})")
+    ax_residual.set_title(f"data - fit: largest {j['max_residual'] * scale:.3g} {shown} at {j['max_residual_at_deg']:.1f}\u00b0, rms {j['rms_residual'] * scale:.3g} {shown}", fontsize=8)
+    deg_ticks(ax_residual, 45.0)

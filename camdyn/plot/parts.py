@@ -8,6 +8,7 @@ from matplotlib.patches import Circle
 from ..design.spring import SpringDesign
 from ..model.contact import ContactStress
 from ..model.drive import DriveTorque
+from ._common import C, deg_ticks
 
 
 def _coil_positions(design: SpringDesign) -> np.ndarray:
@@ -59,27 +60,27 @@ def plot_spring(ax, design: SpringDesign) -> None:
 
 def plot_drive(ax, drive: DriveTorque) -> None:
     """Camshaft torque over a revolution, its mean and its peak."""
-    ax.plot(drive.theta_deg, drive.torque, color="tab:blue", lw=1.2, label="camshaft torque")
-    ax.axhline(drive.mean_torque, color="tab:orange", lw=0.8, ls="--", label=f"mean {drive.mean_torque:.3g} N*m ({drive.mean_power:.3g} W)")
+    ax.plot(drive.theta_deg, drive.torque, color=C["dyn"], lw=1.2, label="camshaft torque")
+    ax.axhline(drive.mean_torque, color=C["margin"], lw=0.8, ls="--", label=f"mean {drive.mean_torque:.3g} N\u00b7m ({drive.mean_power:.3g} W)")
     i = int(np.argmax(np.abs(drive.torque)))
-    ax.plot([drive.theta_deg[i]], [drive.torque[i]], "o", color="tab:red", ms=5, label=f"peak {drive.peak_torque:.3g} N*m at {drive.peak_torque_at_deg:.1f} deg")
+    ax.plot([drive.theta_deg[i]], [drive.torque[i]], "o", color=C["limit"], ms=5, label=f"peak {drive.peak_torque:.3g} N\u00b7m at {drive.peak_torque_at_deg:.1f}\u00b0")
     ax.axhline(0.0, color="0.6", lw=0.5)
-    ax.set_xlim(0, 360)
-    ax.set_xlabel("cam angle [deg]")
-    ax.set_ylabel("torque [N*m]")
-    ax.set_title(f"drive: flywheel {drive.flywheel_inertia:.3g} kg*m^2 for k_s = {drive.speed_fluctuation:g}")
+    deg_ticks(ax, 45.0)
+    ax.set_xlabel("cam angle \u03b8 (deg)")
+    ax.set_ylabel("camshaft torque (N\u00b7m)")
+    ax.set_title(f"drive: flywheel {drive.flywheel_inertia:.3g} kg\u00b7m\u00b2 for a speed fluctuation of {drive.speed_fluctuation:g}")
     ax.legend(fontsize=7, loc="best")
 
 
 def plot_contact(ax, contact: ContactStress, limit_MPa: float | None = None) -> None:
     """Hertz contact pressure over a revolution, its peak and the limit."""
-    ax.plot(contact.theta_deg, contact.pressure_MPa, color="tab:purple", lw=1.2, label="peak contact pressure")
-    ax.plot([contact.peak_at_deg], [contact.peak_pressure_MPa], "o", color="tab:red", ms=5, label=f"max {contact.peak_pressure_MPa:.4g} MPa at {contact.peak_at_deg:.1f} deg")
+    ax.plot(contact.theta_deg, contact.pressure_MPa, color=C["dyn"], lw=1.2, label="peak contact pressure")
+    ax.plot([contact.peak_at_deg], [contact.peak_pressure_MPa], "o", color=C["limit"], ms=5, label=f"max {contact.peak_pressure_MPa:.4g} MPa at {contact.peak_at_deg:.1f}\u00b0")
     if limit_MPa is not None:
         ax.axhline(limit_MPa, color="k", lw=0.8, ls="--", label=f"limit {limit_MPa:g} MPa")
-    ax.set_xlim(0, 360)
+    deg_ticks(ax, 45.0)
     ax.set_ylim(bottom=0)
-    ax.set_xlabel("cam angle [deg]")
-    ax.set_ylabel("pressure [MPa]")
+    ax.set_xlabel("cam angle \u03b8 (deg)")
+    ax.set_ylabel("contact pressure (MPa)")
     ax.set_title(f"Hertz contact, width {contact.width_mm:g} mm")
     ax.legend(fontsize=7, loc="best")

@@ -9,6 +9,7 @@ from .._data import ReportData
 from .cam import draw_cam
 from .dynamics import draw_dynamics
 from .mechanism import draw_mechanism
+from .parts import draw_parts
 from .springs import draw_springs
 from .summary import draw_summary
 from .svaj import draw_svaj
@@ -30,7 +31,8 @@ PAGES: list[Page] = [
     Page("cam", "Cam profile", draw_cam, lambda data: data.check.geometry is not None),
     Page("dynamics", "Dynamics", draw_dynamics),
     Page("mechanism", "Mechanism and path", draw_mechanism, lambda data: data.case.synthesis is not None),
+    Page("parts", "Drive, contact and spring", draw_parts),
     Page("springs", "Spring sizing", draw_springs),
 ]
 
-__all__ = ["PAGES", "Page", "draw_cam", "draw_dynamics", "draw_mechanism", "draw_springs", "draw_summary", "draw_svaj"]
+__all__ = ["PAGES", "Page", "draw_cam", "draw_dynamics", "draw_mechanism", "draw_parts", "draw_springs", "draw_summary", "draw_svaj"]

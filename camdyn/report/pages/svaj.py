@@ -6,17 +6,25 @@ import textwrap
 
 import numpy as np
 
-from ...plot import plot_svaj, svaj_quantities
+from ...plot import plot_fit, plot_svaj, svaj_quantities
 from .._data import ReportData
 from .._style import LEFT, RIGHT, C
 
 
 def draw_svaj(fig, data: ReportData) -> None:
     segs = getattr(data.case.motion, "segments", ())
-    gs = fig.add_gridspec(4, 1, left=LEFT, right=RIGHT, top=0.885, bottom=0.12, hspace=0.12)
-    axes = [fig.add_subplot(gs[0])]
-    axes += [fig.add_subplot(gs[i], sharex=axes[0]) for i in range(1, 4)]
+    fit = data.case.fit  # a lift table or a contour: its data and the fit's residuals are shown too
+    if fit is None:
+        gs = fig.add_gridspec(4, 1, left=LEFT, right=RIGHT, top=0.885, bottom=0.12, hspace=0.12)
+        rows = [0, 1, 2, 3]
+    else:
+        gs = fig.add_gridspec(5, 1, left=LEFT, right=RIGHT, top=0.885, bottom=0.12, hspace=0.3, height_ratios=[3, 1.4, 3, 3, 3])
+        rows = [0, 2, 3, 4]
+    axes = [fig.add_subplot(gs[rows[0]])]
+    axes += [fig.add_subplot(gs[i], sharex=axes[0]) for i in rows[1:]]
     plot_svaj(axes, data.review.motion, speed_rpm=data.check.speed_rpm, headroom=2.2 if segs else 1.0)
+    if fit is not None:
+        plot_fit(axes[0], fig.add_subplot(gs[1], sharex=axes[0]), fit)
     _segment_laws(axes[0], segs)
     compact = _mark_jumps(axes, data)
     _note(fig, data, compact)
@@ -86,6 +94,9 @@ def _note(fig, data: ReportData, compact: bool) -> None:
                     note += f" {what} jumps ({names[order][1]}): " + ", ".join(listed) + "."
     elif data.case.motion.breaks_deg:
         note += f" Velocity and acceleration are continuous at every one of the {what}."
+    if data.case.fit is not None:
+        j = data.case.fit.json()
+        note += f" Red dots: the {data.case.fit.source}'s points; the curves are its fit ({j['method']})."
     if data.oscillating:
         note += " The swing is in degrees per radian of cam angle."
     fig.text(0.06, 0.068, "\n".join(textwrap.wrap(note, 128)[:4]), size=7.3, color=C["grey"], va="top", linespacing=1.25)
