@@ -62,14 +62,14 @@ class PolynomialSegmentSpec(Table):
     of conditions less one (none given: 3-4-5; zero end jerks: 4-5-6-7)."""
 
     law: Literal["polynomial"] = Field(description='"polynomial"')
-    end: float = Field(description="cam angle where the segment ends, deg")
-    lift: float = Field(default=0.0, description="rise of the segment, mm (deg of arm swing for an oscillating follower); negative for a return")
-    start_velocity: float = Field(default=0.0, description="velocity at the start, " + _PER.format(n=1))
-    start_acceleration: float = Field(default=0.0, description="acceleration at the start, " + _PER.format(n=2))
-    start_jerk: float | None = Field(default=None, description="jerk at the start (free if not given), " + _PER.format(n=3))
-    end_velocity: float = Field(default=0.0, description="velocity at the end, " + _PER.format(n=1))
-    end_acceleration: float = Field(default=0.0, description="acceleration at the end, " + _PER.format(n=2))
-    end_jerk: float | None = Field(default=None, description="jerk at the end (free if not given), " + _PER.format(n=3))
+    end: Real = Field(description="cam angle where the segment ends, deg")
+    lift: Real = Field(default=0.0, ge=-MAX_LENGTH_MM, le=MAX_LENGTH_MM, description="rise of the segment, mm (deg of arm swing for an oscillating follower); negative for a return")
+    start_velocity: Real = Field(default=0.0, description="velocity at the start, " + _PER.format(n=1))
+    start_acceleration: Real = Field(default=0.0, description="acceleration at the start, " + _PER.format(n=2))
+    start_jerk: Real | None = Field(default=None, description="jerk at the start (free if not given), " + _PER.format(n=3))
+    end_velocity: Real = Field(default=0.0, description="velocity at the end, " + _PER.format(n=1))
+    end_acceleration: Real = Field(default=0.0, description="acceleration at the end, " + _PER.format(n=2))
+    end_jerk: Real | None = Field(default=None, description="jerk at the end (free if not given), " + _PER.format(n=3))
     points: list[Pair] = Field(
         default_factory=list,
         description="interior positions [[theta_deg, lift], ...]: cam angle (deg, inside the segment) and lift from the segment's start (mm; deg of swing)",
@@ -101,7 +101,7 @@ class MotionSpec(Table):
         description="CSV file of the lift, relative to the case file: header theta_deg,lift_mm (theta_deg,swing_deg for an "
         "oscillating follower), one revolution, angles increasing, any spacing; fitted by a periodic quintic smoothing spline",
     )
-    tolerance: float | None = Field(default=None, gt=0, description="table: the largest departure of the fit from the data, mm (deg oscillating; default: the smoothing the data's noise asks for)")
+    tolerance: Real | None = Field(default=None, gt=0, le=MAX_LENGTH_MM, description="table: the largest departure of the fit from the data, mm (deg oscillating; default: the smoothing the data's noise asks for)")
 
     @model_validator(mode="after")
     def _one_source(self) -> MotionSpec:
