@@ -242,7 +242,7 @@ def test_plot_feasible_region(fast, ecc):
     for sz in (fast[1], ecc):
         fig, ax = plt.subplots()
         plot_feasible_region(ax, sz)
-        assert "N/mm" in ax.get_xlabel() and "[N]" in ax.get_ylabel()
+        assert "(N/mm)" in ax.get_xlabel() and "(N)" in ax.get_ylabel()
         plt.close(fig)
 
 
