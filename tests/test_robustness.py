@@ -223,6 +223,57 @@ def test_values_out_of_physical_range_are_refused(capsys, tmp_path, old, new, ke
     assert one_line_error(code, err) and f": {key}: " in err
 
 
+@pytest.mark.parametrize(
+    "case, old, new, key",
+    [
+        ("circle", "link = ", "link = 1e12 #", "mechanism.link"),
+        ("circle", "slider_point = [-24.839", "slider_point = [nan", "mechanism.slider_point[0]"),
+        ("circle", "slider_angle = ", "slider_angle = inf #", "mechanism.slider_angle"),
+        ("racetrack", "pivot = [-100.0", "pivot = [-inf", "mechanism.pivot[0]"),
+        ("racetrack", "arm = ", "arm = nan #", "mechanism.arm"),
+        ("racetrack", "pivot = [-100.0, -80.0]", "pivot = [0.0, 0.0]", "mechanism.pivot"),
+        ("ellipse", "x = [28.0, ", "x = [nan, ", "path.x[0]"),
+        ("ellipse", "y = [11.0, ", "y = [inf, ", "path.y[0]"),
+        ("eight", "center = [0.0", "center = [1e12", "path.center[0]"),
+    ],
+)
+def test_path_and_mechanism_values_are_checked_before_the_linkage(capsys, tmp_path, case, old, new, key):
+    """NaN, inf, 1e12 and a pivot on the cam centre in [path] / [mechanism]: one line naming the key (issue 13: 3,
+    14, 15), never a FollowerSpec field or a precision-loss verdict."""
+    text = (ROOT / "cases" / f"{case}.toml").read_text()
+    assert old in text
+    path = tmp_path / "bad.toml"
+    path.write_text(text.replace(old, new, 1))
+    code, _, err = run(capsys, "check", path)
+    assert one_line_error(code, err) and f": {key}: " in err and "Spec" not in err
+
+
+@pytest.mark.parametrize(
+    "old, new, key",
+    [
+        ("roller_radius = 10.0", "roller_radius = 1e12 #", "synthesis.roller_radius"),
+        ("x = [28, ", "x = [inf, ", "path.x[0]"),
+        ("y = [11, ", "y = [nan, ", "path.y[0]"),
+    ],
+)
+def test_bad_path_files_are_refused_before_the_optimizer(capsys, tmp_path, old, new, key):
+    text = (ROOT / "cases" / "paths" / "ellipse.toml").read_text()
+    assert old in text
+    path = tmp_path / "bad.toml"
+    path.write_text(text.replace(old, new, 1))
+    code, _, err = run(capsys, "synthesize", path, "-o", tmp_path / "out.toml")
+    assert one_line_error(code, err) and f": {key}: " in err and not (tmp_path / "out.toml").exists()
+
+
+def test_a_long_point_list_is_bounded(capsys, tmp_path):
+    text = (ROOT / "cases" / "paths" / "ellipse.toml").read_text()
+    many = ", ".join(["1.0"] * 10_001)
+    path = tmp_path / "long.toml"
+    path.write_text(text.replace("x = [28, ", f"x = [{many}, ", 1))
+    code, _, err = run(capsys, "synthesize", path, "-o", tmp_path / "out.toml")
+    assert one_line_error(code, err) and "path.x" in err and "10000" in err
+
+
 def test_keys_that_do_not_apply_are_refused(capsys, tmp_path):
     text = LECTURE.read_text().replace('type = "translating-roller"', 'type = "translating-flat"')
     path = tmp_path / "flat.toml"

@@ -189,3 +189,15 @@ def test_population_cam_sizing_agrees_with_the_exact_geometry(path_synthesis):
     assert rp > abs(e) + rr  # the pressure angle, not the roller's clearance, sets it
     worst = np.max(np.abs(analyze_cam(tab, f.model_copy(update={"base_radius": rp - rr}), n=720).pressure_angle_deg))
     assert worst == pytest.approx(25.0, rel=1e-9)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name", ["ellipse", "square"])
+def test_the_shipped_synthesized_cases_regenerate(tmp_path, capsys, name):
+    """`camdyn synthesize cases/paths/NAME.toml` gives the shipped cases/NAME.toml again: the same seed gives the
+    same mechanism (issue 13, 8)."""
+    out = tmp_path / f"{name}.toml"
+    code, _, err = run(capsys, "synthesize", ROOT / "cases" / "paths" / f"{name}.toml", "-o", out)
+    assert code == 0, err
+    fresh, shipped = (tomllib.loads(p.read_text()) for p in (out, ROOT / "cases" / f"{name}.toml"))
+    assert fresh == shipped

@@ -28,6 +28,7 @@ DEFAULT_TRAIN_DAMPING_RATIO = 0.05
 # Physical bounds: a number beyond them is a typo or a unit slip, not a cam camdyn can judge (a 10 m cam, a
 # follower lighter than a milligram), and it would only send the solvers into the weeds.
 MAX_LENGTH_MM = 1e4  # 10 m
+MAX_PATH_POINTS = 10_000  # precision points of a [path]: the synthesis fits a spline through every one
 MAX_SPEED_RPM = 1e5
 MASS_RANGE_KG = (1e-6, 1e4)
 INERTIA_RANGE_KG_M2 = (1e-12, 1e4)

@@ -9,6 +9,8 @@ from typing import Annotated, get_args, get_origin
 
 from pydantic import AfterValidator, BaseModel, ConfigDict, Field, Tag, ValidationError
 
+from .._core.units import MAX_LENGTH_MM
+
 from .._core.errors import InputError
 
 
@@ -21,6 +23,9 @@ class Table(BaseModel):
 # a number: an int or a float, never a bool or a string (TOML's ``true`` is not 1 rpm)
 Real = Annotated[float, Field(strict=True)]
 Pair = tuple[Real, Real]
+# a coordinate in the case's frame, mm: within the physical bound on lengths
+Coordinate = Annotated[float, Field(strict=True, ge=-MAX_LENGTH_MM, le=MAX_LENGTH_MM)]
+Point = tuple[Coordinate, Coordinate]
 
 # a validator names the key it refuses as "key: message" (the key may be dotted or indexed: "segments[2].end")
 _KEYED = re.compile(r"^([A-Za-z_][\w]*(?:\[\d+\])?(?:\.[A-Za-z_][\w]*(?:\[\d+\])?)*): (.*)$", re.S)

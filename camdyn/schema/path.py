@@ -7,7 +7,8 @@ from typing import Literal
 
 from pydantic import ConfigDict, Field, model_validator
 
-from ._base import Pair, Real, Table, TypeKeys, check_type_keys, keys_by_type
+from .._core.units import MAX_LENGTH_MM, MAX_PATH_POINTS
+from ._base import Coordinate, Point, Real, Table, TypeKeys, check_type_keys, keys_by_type
 
 PATH_TYPES = ("ellipse", "circle", "rectangle", "eight", "line", "racetrack", "points")
 
@@ -41,18 +42,18 @@ class PathSpec(Table):
     type: Literal["ellipse", "circle", "rectangle", "eight", "line", "racetrack", "points"] = Field(
         description="ellipse | circle | rectangle | eight | line | racetrack | points"
     )
-    center: Pair | None = Field(default=None, description="centre of the curve (x, y), mm (all but line, points)")
-    semi_major: Real | None = Field(default=None, gt=0, description="ellipse: semi-axis along `rotation`, mm; starts at its end, runs anticlockwise")
-    semi_minor: Real | None = Field(default=None, gt=0, description="ellipse: the other semi-axis, mm")
-    radius: Real | None = Field(default=None, gt=0, description="circle: radius (starts at angle `rotation`); racetrack: radius of the two semicircles, mm")
-    width: Real | None = Field(default=None, gt=0, description="rectangle, eight: extent along `rotation`, mm")
-    height: Real | None = Field(default=None, gt=0, description="rectangle, eight: extent across it, mm")
-    corner_radius: Real | None = Field(default=None, ge=0, description="rectangle: corner fillet radius, mm (0: sharp corners; the follower acceleration is then unbounded); the rectangle starts at the middle of its right side")
-    straight: Real | None = Field(default=None, gt=0, description="racetrack: length of each straight, mm (Ye & Smith eq. 9: starts at the lower end of the right semicircle)")
-    start: Pair | None = Field(default=None, description="line: first end (x, y), mm; the point runs start -> end -> start")
-    end: Pair | None = Field(default=None, description="line: second end (x, y), mm")
-    x: list[Real] | None = Field(default=None, description="points: x of the precision points in order, mm (a last point equal to the first is dropped)")
-    y: list[Real] | None = Field(default=None, description="points: y of the precision points, mm")
+    center: Point | None = Field(default=None, description="centre of the curve (x, y), mm (all but line, points)")
+    semi_major: Real | None = Field(default=None, gt=0, le=MAX_LENGTH_MM, description="ellipse: semi-axis along `rotation`, mm; starts at its end, runs anticlockwise")
+    semi_minor: Real | None = Field(default=None, gt=0, le=MAX_LENGTH_MM, description="ellipse: the other semi-axis, mm")
+    radius: Real | None = Field(default=None, gt=0, le=MAX_LENGTH_MM, description="circle: radius (starts at angle `rotation`); racetrack: radius of the two semicircles, mm")
+    width: Real | None = Field(default=None, gt=0, le=MAX_LENGTH_MM, description="rectangle, eight: extent along `rotation`, mm")
+    height: Real | None = Field(default=None, gt=0, le=MAX_LENGTH_MM, description="rectangle, eight: extent across it, mm")
+    corner_radius: Real | None = Field(default=None, ge=0, le=MAX_LENGTH_MM, description="rectangle: corner fillet radius, mm (0: sharp corners; the follower acceleration is then unbounded); the rectangle starts at the middle of its right side")
+    straight: Real | None = Field(default=None, gt=0, le=MAX_LENGTH_MM, description="racetrack: length of each straight, mm (Ye & Smith eq. 9: starts at the lower end of the right semicircle)")
+    start: Point | None = Field(default=None, description="line: first end (x, y), mm; the point runs start -> end -> start")
+    end: Point | None = Field(default=None, description="line: second end (x, y), mm")
+    x: list[Coordinate] | None = Field(default=None, max_length=MAX_PATH_POINTS, description="points: x of the precision points in order, mm (a last point equal to the first is dropped)")
+    y: list[Coordinate] | None = Field(default=None, max_length=MAX_PATH_POINTS, description="points: y of the precision points, mm")
     rotation: Real = Field(default=0.0, description="turn of the curve about its centre, deg anticlockwise")
     reverse: bool = Field(default=False, description="run the curve the other way round (clockwise)")
     phase: Real = Field(default=0.0, ge=0.0, lt=1.0, description="shift the start point by this fraction of a loop")

@@ -6,6 +6,7 @@ from typing import Literal
 
 from pydantic import Field, model_validator
 
+from .._core.units import MAX_LENGTH_MM
 from ._base import Name, Real, Table, Text
 from .case import SCHEMA_VERSION
 from .dynamics import ROTARY_KEYS, DynamicsSpec
@@ -20,7 +21,7 @@ class SynthesisSpec(Table):
     maxiter: int = Field(default=200, ge=1, le=100000, description="most generations of differential evolution (each: the CCM and the four-bar comparison)")
     popsize: int = Field(default=15, ge=5, le=1000, description="population per free dimension")
     max_pressure_angle: Real | None = Field(default=None, gt=0, lt=80, description="deg, the cam is sized for it; default: [limits] max_pressure_angle, else 30")
-    roller_radius: Real = Field(default=10.0, gt=0, description="follower roller radius, mm")
+    roller_radius: Real = Field(default=10.0, gt=0, le=MAX_LENGTH_MM, description="follower roller radius, mm")
     fourbar: bool = Field(default=True, description="also fit the best plain four-bar to the path (the CCM paper's comparison)")
 
 

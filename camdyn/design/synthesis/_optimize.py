@@ -30,9 +30,19 @@ def _de_seed(seed: int) -> dict:
     return {"rng": seed} if "rng" in inspect.signature(differential_evolution).parameters else {"seed": seed}
 
 
+def _quantized(energies) -> np.ndarray:
+    """Scores rounded to 10 significant digits. Differential evolution's path turns on comparisons of scores; a
+    last-bit difference between machines (another CPU's vector code in XLA) would otherwise send it elsewhere,
+    and the same seed must give the same mechanism everywhere."""
+    e = np.asarray(energies, dtype=float)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        scale = 10.0 ** (np.floor(np.log10(np.abs(e))) - 9)
+    return np.where(np.isfinite(scale) & (scale > 0), np.round(e / scale) * scale, e)
+
+
 def _run_de(phase: str, fn, bounds, *, seed: int, maxiter: int, popsize: int, tick):
-    """One differential evolution over ``bounds``, its population scored at once by ``fn`` (vectorized),
-    reporting each generation as ``tick(phase, done, maxiter)``."""
+    """One differential evolution over ``bounds``, its population scored at once by ``fn`` (vectorized, scores
+    rounded by ``_quantized``), reporting each generation as ``tick(phase, done, maxiter)``."""
     gen = [0]
     tick(phase, 0, maxiter)
 
@@ -41,7 +51,7 @@ def _run_de(phase: str, fn, bounds, *, seed: int, maxiter: int, popsize: int, ti
         tick(phase, gen[0], maxiter)
 
     res = differential_evolution(
-        fn, bounds, maxiter=maxiter, popsize=popsize, tol=1e-3, polish=False, vectorized=True, updating="deferred",
+        lambda x: _quantized(fn(x)), bounds, maxiter=maxiter, popsize=popsize, tol=1e-3, polish=False, vectorized=True, updating="deferred",
         callback=callback, **_de_seed(seed),
     )
     tick(phase, maxiter, maxiter)

@@ -12,6 +12,7 @@ import math
 
 import jax.numpy as jnp
 import numpy as np
+from pydantic import ValidationError
 
 from ..._core.errors import InputError
 from ..._core.units import DEFAULT_MIN_CURVATURE_RATIO
@@ -53,8 +54,18 @@ def _angle_between(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return np.arccos(np.clip(np.sum(a * b, 1) / (np.linalg.norm(a, axis=1) * np.linalg.norm(b, axis=1)), -1, 1))
 
 
+def _derived_follower(**fields) -> FollowerSpec:
+    """The follower a mechanism implies; a dimension beyond the schema's physical bounds is a fault of the
+    mechanism (an :class:`InputError` on ``mechanism``), not of a follower table the user never wrote."""
+    try:
+        return FollowerSpec(**fields)
+    except ValidationError as err:
+        bad = "; ".join(f"{'.'.join(map(str, e['loc']))} = {e['input']:.6g}: {e['msg'].lower()}" for e in err.errors())
+        raise InputError("mechanism", f"the cam follower this mechanism implies is out of range ({bad})") from None
+
+
 def _ccm_follower(ms: MechanismSpec, e: float, sense: float, base: float) -> FollowerSpec:
-    return FollowerSpec(type="translating-roller", base_radius=base, roller_radius=ms.roller_radius, offset=e, rotation="ccw" if sense > 0 else "cw")
+    return _derived_follower(type="translating-roller", base_radius=base, roller_radius=ms.roller_radius, offset=e, rotation="ccw" if sense > 0 else "cw")
 
 
 def _choose_base_radius(tabulated, ms: MechanismSpec, e: float, sense: float, sharp: bool) -> float:
@@ -111,12 +122,14 @@ def oscillating_forward(motion, tabulated, ms: MechanismSpec, vals, pts: dict, a
     as :func:`ccm_forward`."""
     chain = motion.chain
     d = np.asarray(chain.pivot)
+    if np.linalg.norm(d) < 1e-9 * max(ms.arm, 1.0):
+        raise InputError("mechanism.pivot", "the follower pivot D lies on the cam centre: move it off cam_center (the arm must swing about a point away from the camshaft)")
     psi = np.asarray(pts["psi"])
     if np.any(psi <= 0.0) or np.any(psi >= np.pi):
         raise InputError(
             "mechanism.arm_angle",
-            "the roller arm must lie clockwise of D->O (0 < psi < 180 deg) for the shared geometry convention; "
-            "this mechanism needs an 'arm side' field in FollowerSpec (or mirror the case)",
+            "the roller arm must lie clockwise of the line from the pivot D to the cam centre O (0 < psi < 180 deg "
+            "all the way round); camdyn cannot model an arm on the other side: mirror the mechanism (negate every y)",
         )
     psi0 = float(motion.out0)
     dn = -d / np.linalg.norm(d)
@@ -125,7 +138,7 @@ def oscillating_forward(motion, tabulated, ms: MechanismSpec, vals, pts: dict, a
     base = rp - ms.roller_radius
     if base <= 0.0:
         raise InputError("mechanism.roller_radius", f"roller radius {ms.roller_radius:g} mm exceeds the least distance {rp:.4g} mm from the cam centre to the roller centre")
-    follower = FollowerSpec(
+    follower = _derived_follower(
         type="oscillating-roller", base_radius=base, roller_radius=ms.roller_radius, pivot_distance=float(np.linalg.norm(d)),
         pivot_angle=math.degrees(math.atan2(d[1], d[0])), arm_length=ms.arm, rotation="ccw" if sense > 0 else "cw",
     )
