@@ -8,16 +8,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from camdyn.cli import main
+from _helpers import run
 
 ROOT = Path(__file__).resolve().parents[1]
 LECTURE = ROOT / "cases" / "lecture.toml"
-
-
-def run(capsys, *argv):
-    code = main([str(a) for a in argv])
-    out, err = capsys.readouterr()
-    return code, out, err
 
 
 @pytest.mark.slow

@@ -5,17 +5,11 @@ from pathlib import Path
 
 import pytest
 
-from camdyn.cli import main
+from _helpers import run
 
 ROOT = Path(__file__).resolve().parents[1]
 LECTURE = (ROOT / "cases" / "lecture.toml").read_text()
 OSCILLATING = (ROOT / "cases" / "oscillating.toml").read_text().split("\n[spring]")[0]  # without its own [spring]: each test gives one
-
-
-def run(capsys, *argv):
-    code = main([str(a) for a in argv])
-    out, err = capsys.readouterr()
-    return code, out, err
 
 
 def case_file(tmp_path, text, extra=""):

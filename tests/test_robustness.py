@@ -16,42 +16,13 @@ import pytest
 from camdyn import InputError, load_case, response
 from camdyn._core.units import RPM
 from camdyn.cli import main
+
+from _helpers import run, RIGID_BOUNDARY
 from camdyn.schema import load_case_spec
 
 ROOT = Path(__file__).resolve().parents[1]
 CASES = sorted(p for p in (ROOT / "cases").glob("*.toml"))
 LECTURE = ROOT / "cases" / "lecture.toml"
-
-# The case a new user hit: a rigid follower whose lift-off falls on a segment boundary (issue 13, finding 1).
-RIGID_BOUNDARY = """
-name = "rigid-boundary"
-[motion]
-segments = [
-  { law = "harmonic", end = 120, lift = 15 },
-  { law = "dwell", end = 180 },
-  { law = "harmonic", end = 300, lift = -15 },
-  { law = "dwell", end = 360 },
-]
-[follower]
-type = "translating-roller"
-base_radius = 45
-roller_radius = 12
-offset = 0
-rotation = "cw"
-[dynamics]
-speed = 1200
-mass = 0.4
-spring_rate = 3
-preload = 40
-damping_ratio = 0.05
-restitution = 0.3
-"""
-
-
-def run(capsys, *argv):
-    code = main([str(a) for a in argv])
-    out, err = capsys.readouterr()
-    return code, out, err
 
 
 def one_line_error(code: int, err: str) -> bool:

@@ -16,6 +16,8 @@ from camdyn._core.units import RPM
 from camdyn.model import dynamics as dyn
 from camdyn.model.case import load_case
 from camdyn.cli import main
+
+from _helpers import RIGID_BOUNDARY
 from camdyn._core.errors import InputError, NumericalError
 from camdyn.design.sweep import CSV_COLUMNS, MAX_GRID_POINTS, jump_map
 from camdyn.model.motion import evaluate
@@ -200,28 +202,6 @@ def test_cli_bad_grid_is_one_line_exit_2(capsys, flag, value):
 
 
 # ------------------------------------------------------------------------------- issue 13: robustness
-RIGID_BOUNDARY = """name = "rigid-boundary"
-[motion]
-segments = [
-  { law = "harmonic", end = 120, lift = 15 },
-  { law = "dwell", end = 180 },
-  { law = "harmonic", end = 300, lift = -15 },
-  { law = "dwell", end = 360 },
-]
-[follower]
-type = "translating-roller"
-base_radius = 45
-roller_radius = 12
-offset = 0
-rotation = "cw"
-[dynamics]
-speed = 1200
-mass = 0.4
-spring_rate = 3
-preload = 40
-damping_ratio = 0.05
-restitution = 0.3
-"""
 
 
 @pytest.mark.slow

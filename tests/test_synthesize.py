@@ -12,6 +12,8 @@ import pytest
 
 from camdyn.model.case import load_case
 from camdyn.cli import main
+
+from _helpers import run
 from camdyn.design.synthesis import (
     ccm_objective, ccm_score, curve_error, fourbar_curve, fourbar_objective, pitch_convexity, prime_radius_for_pressure_angle, validate_path_file,
 )
@@ -46,12 +48,6 @@ min_contact_force = 2.0
 [synthesis]
 maxiter = 25
 """
-
-
-def run(capsys, *argv):
-    code = main([str(a) for a in argv])
-    out, err = capsys.readouterr()
-    return code, out, err
 
 
 @pytest.fixture(scope="module")

@@ -58,17 +58,9 @@ class ContourFit:
         return self.spline.residual
 
     def json(self) -> dict:
-        sp = self.spline
-        i = int(np.argmax(np.abs(sp.residual)))
-        return {
-            "method": f"periodic quintic smoothing spline of the radius over the polar angle, {sp.coef.shape[0]} knots, smoothing by {sp.criterion}",
-            "points": int(len(self.points)),
-            "unit": "mm",
-            "max_residual": sp.max_residual,
-            "max_residual_at_polar_deg": float(self.angle_deg[i]),
-            "rms_residual": sp.rms_residual,
-            "noise": sp.sigma,
-        }
+        out = self.spline.summary(" of the radius over the polar angle")
+        i = out.pop("worst")
+        return out | {"points": int(len(self.points)), "unit": "mm", "max_residual_at_polar_deg": float(self.angle_deg[i])}
 
 
 @dataclass(frozen=True)

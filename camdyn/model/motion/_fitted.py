@@ -68,18 +68,11 @@ class MotionFit:
 
     def json(self) -> dict:
         sp = self.spline
-        i = int(np.argmax(np.abs(sp.residual)))
-        return {
-            "method": f"periodic quintic smoothing spline, {sp.coef.shape[0]} knots, smoothing by {sp.criterion}",
-            "points": int(len(self.data)),
-            "unit": self.unit,
-            "max_residual": sp.max_residual,
-            "max_residual_at_deg": float(self.theta_deg[i] % 360.0),
-            "rms_residual": sp.rms_residual,
-            "tolerance": self.tolerance,
-            "noise": sp.sigma,
-            "smoothing": sp.lam,
-            "acceleration_std": sp.accel_std,
+        out = sp.summary()
+        i = out.pop("worst")
+        return out | {
+            "points": int(len(self.data)), "unit": self.unit, "max_residual_at_deg": float(self.theta_deg[i] % 360.0),
+            "tolerance": self.tolerance, "smoothing": sp.lam, "acceleration_std": sp.accel_std,
         }
 
 

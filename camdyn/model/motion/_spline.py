@@ -118,6 +118,18 @@ class SplineFit:
     def rms_residual(self) -> float:
         return float(np.sqrt(np.mean(self.residual**2)))
 
+    def summary(self, of: str = "") -> dict:
+        """The fit as JSON (``check --json`` ``motion.fit``): method, residuals, noise; ``of`` says what was fitted
+        against what (" of the radius over the polar angle"). ``worst`` indexes the largest residual."""
+        return {
+            "method": f"periodic quintic smoothing spline{of}, {self.coef.shape[0]} knots, smoothing by {self.criterion}",
+            "points": int(len(self.y)),
+            "max_residual": self.max_residual,
+            "rms_residual": self.rms_residual,
+            "noise": self.sigma,
+            "worst": int(np.argmax(np.abs(self.residual))),
+        }
+
 
 class _Problem:
     """The normal equations (G + lam P) c = B'y of one data set, solved for any smoothing.

@@ -1,0 +1,36 @@
+"""Helpers the test modules share: the CLI run in-process, and the reproducer cases of issue 13."""
+
+from camdyn.cli import main
+
+
+def run(capsys, *argv):
+    """``camdyn ARGV`` in this process: (exit code, stdout, stderr)."""
+    code = main([str(a) for a in argv])
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+# The case a new user hit: a rigid follower whose lift-off falls on a segment boundary (issue 13, finding 1).
+RIGID_BOUNDARY = """
+name = "rigid-boundary"
+[motion]
+segments = [
+  { law = "harmonic", end = 120, lift = 15 },
+  { law = "dwell", end = 180 },
+  { law = "harmonic", end = 300, lift = -15 },
+  { law = "dwell", end = 360 },
+]
+[follower]
+type = "translating-roller"
+base_radius = 45
+roller_radius = 12
+offset = 0
+rotation = "cw"
+[dynamics]
+speed = 1200
+mass = 0.4
+spring_rate = 3
+preload = 40
+damping_ratio = 0.05
+restitution = 0.3
+"""
