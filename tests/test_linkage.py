@@ -10,6 +10,8 @@ import jax.numpy as jnp
 import numpy as np
 import pytest
 
+from _helpers import assert_keys_by_type
+
 import camdyn.model  # noqa: F401  (float64)
 from camdyn import InputError, NumericalError
 from camdyn.model.geometry import analyze, extremes, passes
@@ -276,15 +278,7 @@ def test_json_schema_declares_the_mechanism_keys_each_type_needs_and_takes():
         joint_distance=10.0, joint_angle=5.0, slider_mode=-1, base_radius=50.0, max_pressure_angle=25.0, arm_angle=170.0
     )
     for kind, table in tables.items():
-        then = rules[kind]
-        assert set(table) <= set(then["propertyNames"]["enum"]) and set(then["required"]) <= set(table)
-        for key in then["required"]:
-            with pytest.raises(InputError, match="required for"):
-                parse_mechanism({k: v for k, v in table.items() if k != key})
-        for key in set(values) - set(then["propertyNames"]["enum"]):
-            with pytest.raises(InputError, match=f"not used by an? {kind} mechanism") as err:
-                parse_mechanism(dict(table, **{key: values[key]}))
-            assert err.value.where == f"mechanism.{key}"
+        assert_keys_by_type(table, rules[kind], parse_mechanism, values, kind, "mechanism")
 
 
 @pytest.mark.slow

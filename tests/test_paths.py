@@ -6,6 +6,8 @@ import jax.numpy as jnp
 import numpy as np
 import pytest
 
+from _helpers import assert_keys_by_type
+
 import camdyn.model  # noqa: F401  (float64)
 from camdyn import InputError
 from camdyn.model.paths import build_path, parse_path
@@ -111,12 +113,4 @@ def test_json_schema_declares_the_keys_each_type_needs_and_takes():
     assert set(rules) == set(PATH_TYPES) == {t["type"] for t in PATHS.values()}
     values = {k: v for table in PATHS.values() for k, v in table.items() if k != "type"}
     for table in PATHS.values():
-        then = rules[table["type"]]
-        assert set(table) <= set(then["propertyNames"]["enum"]) and set(then["required"]) <= set(table)
-        for key in then["required"]:
-            with pytest.raises(InputError, match="required for"):
-                parse_path({k: v for k, v in table.items() if k != key})
-        for key in set(values) - set(then["propertyNames"]["enum"]):
-            with pytest.raises(InputError, match=f"not used by an? {table['type']} path") as err:
-                parse_path(dict(table, **{key: values[key]}))
-            assert err.value.where == f"path.{key}"
+        assert_keys_by_type(table, rules[table["type"]], parse_path, values, table["type"], "path")

@@ -11,20 +11,20 @@ from ._console import console, json_text, notes, table
 
 def _rows(d: SpringDesign):
     s = d.spring
-    surge = f"{s.surge_frequency:.4g}"
-    yield "wire diameter", f"{s.wire_diameter:g}", "mm"
-    yield "mean coil diameter", f"{s.mean_diameter:.2f}", "mm"
+    lengths_mm = {
+        "wire diameter": s.wire_diameter, "mean coil diameter": s.mean_diameter, "free length": s.free_length,
+        "installed length (preload)": d.installed_length, "length at full lift": d.full_lift_length,
+        "solid length": s.solid_length, "pitch": s.pitch,
+    }
+    for name, mm in lengths_mm.items():
+        yield name, f"{mm:.4g}", "mm"
     yield "outside / inside diameter", f"{s.outside_diameter:.2f} / {s.inside_diameter:.2f}", "mm"
     yield "spring index", f"{s.index:.3g}", ""
     yield "active / total coils", f"{s.active_coils:g} / {s.total_coils:g}", ""
-    yield "free length", f"{s.free_length:.1f}", "mm"
-    yield "installed length (preload)", f"{d.installed_length:.1f}", "mm"
-    yield "length at full lift", f"{d.full_lift_length:.1f}", "mm"
-    yield "solid length", f"{s.solid_length:.2f}", "mm"
-    yield "pitch", f"{s.pitch:.2f}", "mm"
     yield "rate", f"{s.rate:.4g}", "N/mm"
     yield "mass (active coils)", f"{1e3 * s.mass:.3g} ({1e3 * s.active_mass:.3g})", "g"
-    yield "surge frequency", surge + (f" ({d.surge.ratio:.3g} x the cam's)" if d.surge else ""), "Hz"
+    surge = f" ({d.surge.ratio:.3g} x the cam's)" if d.surge else ""
+    yield "surge frequency", f"{s.surge_frequency:.4g}{surge}", "Hz"
 
 
 def print_spring(case_name: str, d: SpringDesign, lever_arm: float | None) -> None:
@@ -41,7 +41,8 @@ def print_spring(case_name: str, d: SpringDesign, lever_arm: float | None) -> No
     for name, length, force in (("installed", d.installed_length, d.preload), ("full lift", d.full_lift_length, d.full_lift_force), ("solid", s.solid_length, s.solid_force)):
         w.add_row(name, f"{length:.1f}", f"{force:.4g}", f"{float(s.stress(force)):.4g}")
     con.print(w)
-    con.print(f"[dim]wire: Sut {s.tensile_strength:.4g} MPa, torsional yield {s.torsional_yield:.4g} MPa (Shigley Tables 10-4, 10-6); stresses with the Bergstrasser factor[/dim]")
+    sut, ssy = s.strengths
+    con.print(f"[dim]wire: Sut {sut:.4g} MPa, torsional yield {ssy:.4g} MPa (Shigley Tables 10-4, 10-6); stresses with the Bergstrasser factor[/dim]")
     c = table(("check", "left"), ("value", "right"), ("", "center"), ("limit", "right"), ("unit", "left"), ("result", "left"))
     for chk in d.checks:
         value = "unbounded" if chk.value is None else f"{chk.value:.4g}"

@@ -82,7 +82,7 @@ class SpringDesign:
     def checks(self) -> tuple[Check, ...]:
         """The spring's own verdict, recomputed from its dimensions."""
         s, r = self.spring, self.rules
-        ssy = s.torsional_yield
+        ssy = s.strengths[1]
         fatigue = self.fatigue_safety
         out = [
             Check(CheckKind.SPRING_INDEX_MIN.value, s.index, r.index_min, "", ">="),

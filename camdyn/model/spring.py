@@ -229,12 +229,10 @@ class HelicalSpring:
         return float(rate(self.wire_diameter, self.mean_diameter, self.active_coils, self.shear_modulus))
 
     @property
-    def tensile_strength(self) -> float:
-        return float(tensile_strength(self.wire, self.wire_diameter))
-
-    @property
-    def torsional_yield(self) -> float:
-        return float(torsional_yield(self.wire, self.wire_diameter))
+    def strengths(self) -> tuple[float, float]:
+        """(tensile strength Sut, torsional yield Ssy) of this wire size, MPa (Shigley Tables 10-4, 10-6)."""
+        w, d = self.wire, self.wire_diameter
+        return float(tensile_strength(w, d)), float(torsional_yield(w, d))
 
     def stress(self, force) -> np.ndarray:
         """Shear stress at a force (N), MPa, with the Bergstrasser factor."""
@@ -272,7 +270,7 @@ class HelicalSpring:
             return math.nan
         tau_a = self.stress(0.5 * (force_max - force_min))
         tau_m = self.stress(0.5 * (force_max + force_min))
-        return float(fatigue_safety(tau_a, tau_m, self.tensile_strength, criterion, peened))
+        return float(fatigue_safety(tau_a, tau_m, self.strengths[0], criterion, peened))
 
     def json(self) -> dict:
         return {
@@ -290,8 +288,8 @@ class HelicalSpring:
             "solid_length_mm": self.solid_length,
             "pitch_mm": self.pitch,
             "rate_N_per_mm": self.rate,
-            "tensile_strength_MPa": self.tensile_strength,
-            "torsional_yield_MPa": self.torsional_yield,
+            "tensile_strength_MPa": self.strengths[0],
+            "torsional_yield_MPa": self.strengths[1],
             "critical_free_length_mm": self.critical_free_length,
             "mass_kg": self.mass,
             "active_mass_kg": self.active_mass,
