@@ -192,7 +192,10 @@ def _input_columns(data: ReportData) -> list[tuple[str, list[tuple[str, str]]]]:
     case = data.case
     spec = case.spec
     columns: list[tuple[str, list[tuple[str, str]]]] = []
-    if spec.motion is not None:
+    if case.motion_source in ("table", "contour"):
+        columns.append((case.motion_source, _fit_rows(case)))
+        columns.append(("follower", _kv_lines(case.follower.model_dump(exclude_unset=True))))
+    elif spec.motion is not None:
         rows, start = [], 0.0
         lu = "deg" if data.oscillating else "mm"
         for seg in spec.motion.segments:
@@ -213,6 +216,17 @@ def _input_columns(data: ReportData) -> list[tuple[str, list[tuple[str, str]]]]:
     dyn_rows += [("", ""), ("\x00limits", "")] + _kv_lines(lim)
     columns.append(("dynamics", dyn_rows))
     return columns
+
+
+def _fit_rows(case) -> list[tuple[str, str]]:
+    """The data file a table or contour case was fitted to, and how closely the fit follows it."""
+    fit = (case.contour or case.fit).json()
+    file = case.spec.motion.table if case.motion_source == "table" else case.spec.follower.contour
+    unit = fit["unit"]
+    return [
+        ("file", str(file)), ("points", f"{fit['points']}"), ("max residual", f"{fmt(fit['max_residual'])} {unit}"),
+        ("rms residual", f"{fmt(fit['rms_residual'])} {unit}"), ("noise", f"{fmt(fit['noise'])} {unit}"),
+    ]
 
 
 def _mechanism_rows(data: ReportData) -> list[tuple[str, str]]:
