@@ -17,7 +17,7 @@ from camdyn.cli import main
 from camdyn.design.checks import run_check
 from camdyn.design.review import design_review
 from camdyn.design.sizing import SpringSizing
-from camdyn.model.case import case_from_dict
+from camdyn.model.case import case_from_dict, load_case
 from camdyn.model.dynamics import Separation
 from camdyn.plot import (
     face_extremes, plot_cam_profile, plot_contact_force, plot_curvature, plot_displacement, plot_feasible_region, plot_force_vs_speed,
@@ -380,3 +380,13 @@ def test_parts_page_draws_the_drive_and_the_spring(lecture):
     draw_parts(fig, ReportData(review))
     text = page_text(fig)
     assert f"{review.check.drive.peak_torque:.3g}" in text and "free length" in text and "Contact stress: give" in text
+
+
+@pytest.mark.slow
+def test_a_contour_case_shows_its_data_file_and_fit():
+    """A measured contour has no segments and no path: the summary lists the file and how the fit follows it."""
+    case = load_case(ROOT / "cases" / "measured-cam.toml")
+    text = drawn_pages(design_review(case, run_check(case)))
+    fit = case.contour.json()
+    assert "measured-cam.csv" in text["summary"] and f"{fit['points']}" in text["summary"]
+    assert "max residual" in text["summary"] and "rms residual" in text["summary"]
