@@ -366,3 +366,13 @@ def test_fuzz_every_mutant_ends_in_a_verdict_or_one_line(capsys, tmp_path):
         assert code in (0, 1, 2), where
         assert len(err.strip().splitlines()) <= 3, where
         assert "internal error" not in err and "Traceback" not in err, where
+
+
+def test_profile_of_an_undercut_flat_cam_warns(capsys, tmp_path):
+    """Issue 13, 15: `profile` draws an undercut cam (it can be made) but says, as `check` does, that it folds."""
+    text = LECTURE.read_text().replace('type = "translating-roller"', 'type = "translating-flat"').replace("base_radius = 40", "base_radius = 5")
+    text = "\n".join(line for line in text.splitlines() if not line.startswith("roller_radius"))
+    case = tmp_path / "flat.toml"
+    case.write_text(text)
+    code, out, err = run(capsys, "profile", case, "-o", tmp_path / "cam.csv")
+    assert code == 0 and out.startswith("wrote ") and "warning: undercut: the contour folds" in err
