@@ -23,7 +23,7 @@ from .._core.units import MAX_SPEED_RPM
 # compiled diffrax solves on disk (camdyn checks every solver result itself, so NaN-on-error loses nothing).
 os.environ.setdefault("EQX_ON_ERROR", "nan")
 
-COMMANDS = ("check", "table", "profile", "size", "sweep", "synthesize", "report", "spring")
+COMMANDS = ("check", "table", "profile", "size", "sweep", "synthesize", "optimize", "report", "spring")
 
 
 def _version() -> str:
@@ -110,6 +110,14 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--seed", type=int, metavar="N", help="optimizer seed (default: [synthesis] seed, else 0)")
     p.add_argument("--maxiter", type=int, metavar="N", help="most optimizer generations (default: [synthesis] maxiter, else 200)")
     p.add_argument("--json", action="store_true", help="print one JSON document (the mechanism, the summary and the four-bar comparison)")
+
+    p = command("optimize", "reshape every rise and return (B-splines) for the fastest hold, the least vibration or the least spring force")
+    p.add_argument("case", help="case file (TOML) with [motion] segments")
+    p.add_argument("-o", "--output", required=True, metavar="OUT.toml", help="the optimized case file to write")
+    p.add_argument("--objective", choices=("jump-speed", "vibration", "spring-force"), default="jump-speed", help="what to optimize (default: jump-speed)")
+    p.add_argument("--speed", type=_positive_rpm, metavar="RPM", help="design speed, rpm (default: the case's)")
+    p.add_argument("--force", action="store_true", help="overwrite OUT.toml if it exists")
+    p.add_argument("--json", action="store_true", help="print one JSON document (before, after, verification)")
 
     p = command("spring", "the helical compression spring for the case's rate and preload: wire, coils, lengths, stresses, surge")
     p.add_argument("case", help="case file (TOML); an optional [spring] table gives the material, bore, installed length and end type")

@@ -1,6 +1,6 @@
 """Files for other programs: the cam contour for manufacturing (DXF, CSV, SVG) and case files camdyn writes."""
 
 from .profile import FORMATS, resample, write_profile
-from .toml import dumps_case
+from .toml import camdyn_version, dumps_case
 
-__all__ = ["FORMATS", "dumps_case", "resample", "write_profile"]
+__all__ = ["FORMATS", "camdyn_version", "dumps_case", "resample", "write_profile"]

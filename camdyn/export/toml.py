@@ -5,8 +5,17 @@ from __future__ import annotations
 import re
 import textwrap
 import tomllib
+from importlib.metadata import PackageNotFoundError, version
 
 import tomli_w
+
+
+def camdyn_version() -> str:
+    """camdyn's installed version, for a written file's header ("" in a source tree on sys.path)."""
+    try:
+        return version("camdyn")
+    except PackageNotFoundError:
+        return ""
 
 
 def dumps_case(doc: dict, header: list[str]) -> str:

@@ -1,5 +1,5 @@
-"""The ``[motion]`` table: contiguous segments covering one cam revolution (named laws, or polynomials from
-boundary conditions), or a lift table read from a CSV file."""
+"""The ``[motion]`` table: contiguous segments covering one cam revolution (named laws, polynomials from
+boundary conditions, or B-splines), or a lift table read from a CSV file."""
 
 from __future__ import annotations
 
@@ -26,7 +26,9 @@ LAW_NAMES: tuple[str, ...] = (
     "modified-sine",
 )
 POLYNOMIAL = "polynomial"  # a polynomial from boundary conditions (Norton's method)
-SEGMENT_LAWS: tuple[str, ...] = LAW_NAMES + (POLYNOMIAL,)
+BSPLINE = "bspline"  # a clamped B-spline of the normalized lift (what camdyn optimize writes)
+BSPLINE_DEGREE = 5
+SEGMENT_LAWS: tuple[str, ...] = LAW_NAMES + (POLYNOMIAL, BSPLINE)
 
 # the boundary conditions only a polynomial segment takes
 BOUNDARY_KEYS: tuple[str, ...] = (
@@ -46,6 +48,8 @@ class SegmentSpec(Table):
     @classmethod
     def _no_boundary_conditions(cls, raw: Any) -> Any:
         if isinstance(raw, dict):
+            if "coefficients" in raw:
+                raise ValueError(f'coefficients: only a law = "bspline" segment takes control points (this one is {raw.get("law")!r})')
             for key in BOUNDARY_KEYS:
                 if key in raw:
                     raise ValueError(f'{key}: only a law = "polynomial" segment takes boundary conditions (this one is {raw.get("law")!r})')
@@ -81,13 +85,41 @@ class PolynomialSegmentSpec(Table):
         return 6 + (self.start_jerk is not None) + (self.end_jerk is not None) + len(self.points)
 
 
+class BSplineSegmentSpec(Table):
+    """A rise or return whose normalized lift y(u) (u from 0 to 1 over the segment, y from 0 to 1) is a clamped
+    B-spline of degree 5 on uniform knots with the control points ``coefficients``: the first three 0 and the last
+    three 1, so that lift, velocity and acceleration meet a dwell on either side smoothly. ``camdyn optimize``
+    writes these."""
+
+    law: Literal["bspline"] = Field(description='"bspline"')
+    end: Real = Field(description="cam angle where the segment ends, deg")
+    lift: Real = Field(default=0.0, ge=-MAX_LENGTH_MM, le=MAX_LENGTH_MM, description="rise of the segment, mm (deg of arm swing for an oscillating follower); negative for a return")
+    coefficients: list[Annotated[float, Field(strict=True, ge=-100.0, le=100.0)]] = Field(
+        min_length=BSPLINE_DEGREE + 1,
+        max_length=1000,
+        description=f"control points of y(u), dimensionless: at least {BSPLINE_DEGREE + 1}, the first three 0 and the last three 1 (degree {BSPLINE_DEGREE}, uniform knots)",
+    )
+
+    @model_validator(mode="after")
+    def _clamped_ends(self) -> BSplineSegmentSpec:
+        c = self.coefficients
+        if any(abs(v) > 1e-12 for v in c[:3]) or any(abs(v - 1.0) > 1e-12 for v in c[-3:]):
+            raise ValueError(
+                f"coefficients: the first three must be 0 and the last three 1 (got {c[:3]} ... {c[-3:]}): lift, "
+                "velocity and acceleration start at 0 and end at the full lift, at rest"
+            )
+        return self
+
+
 def _segment_kind(raw: Any) -> str:
     law = raw.get("law") if isinstance(raw, dict) else getattr(raw, "law", None)
-    return POLYNOMIAL if law == POLYNOMIAL else "law"
+    return law if law in (POLYNOMIAL, BSPLINE) else "law"
 
 
 AnySegment = Annotated[
-    Union[Annotated[SegmentSpec, Tag("law")], Annotated[PolynomialSegmentSpec, Tag(POLYNOMIAL)]],
+    Union[
+        Annotated[SegmentSpec, Tag("law")], Annotated[PolynomialSegmentSpec, Tag(POLYNOMIAL)], Annotated[BSplineSegmentSpec, Tag(BSPLINE)]
+    ],
     Discriminator(_segment_kind),
 ]
 

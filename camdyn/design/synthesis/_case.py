@@ -13,13 +13,12 @@ from __future__ import annotations
 import math
 import tomllib
 from dataclasses import dataclass, field
-from importlib.metadata import PackageNotFoundError, version
 from pathlib import Path
 from typing import Any
 
 from ..._core.errors import InputError
 from ..._core.progress import Progress
-from ...export.toml import dumps_case
+from ...export.toml import camdyn_version, dumps_case
 from ...model.case import Case, case_from_dict
 from ...schema import PathFileSpec, parse
 from ..sizing import size_spring
@@ -58,10 +57,7 @@ def _fmt(x: float) -> str:
 
 
 def _header(source: Path | None, summary: dict, sized: str | None) -> list[str]:
-    try:
-        ver = f" {version('camdyn')}"
-    except PackageNotFoundError:  # a source tree on sys.path
-        ver = ""
+    ver = f" {camdyn_version()}".rstrip()
     src = f" {source}" if source is not None else ""
     lines = [
         f"Written by `camdyn synthesize{src}` (camdyn{ver}): the [mechanism] dimensions were chosen by scipy's "

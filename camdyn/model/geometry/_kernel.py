@@ -179,6 +179,13 @@ def _geometry(p, theta, sv, kind: str):
     return jax.vmap(lambda th, s: _point(kind, p, th, s), in_axes=(0, 1))(theta, sv)
 
 
+def geometry_of(f: FollowerSpec, theta, sv) -> dict:
+    """The geometry at cam angles ``theta`` (rad) from motion values ``sv`` = (s, s', s'', s''') of shape (4, n),
+    as a traceable JAX function of ``sv``: what the optimizer differentiates (pressure angle ``phi`` rad,
+    ``kappa_pitch`` 1/mm, ``rho_contour`` mm, ``lever`` mm)."""
+    return jax.vmap(lambda th, s: _point(f.type, _params(f), th, s), in_axes=(0, 1))(theta, sv)
+
+
 _CHUNK = 4096  # angles per compiled call: a 3600-step revolution plus its breaks fits one
 
 

@@ -14,8 +14,9 @@ import numpy as np
 from ..._core.errors import InputError
 from ..._core.units import TWO_PI
 from ...schema import SegmentSpec, check_segments, parse
-from ...schema.motion import POLYNOMIAL, PolynomialSegmentSpec
+from ...schema.motion import BSPLINE, POLYNOMIAL, BSplineSegmentSpec, PolynomialSegmentSpec
 from ._base import Motion
+from ._bspline import bspline_table
 from ._laws import _LAW_TABLES, _NC, _LawTable, _piece_eval
 from ._polynomial import BoundaryPolynomial, polynomial_warnings, solve_polynomial
 
@@ -31,10 +32,13 @@ class Segment:
     lift: float = 0.0
     base: float = 0.0  # lift at the segment start, mm
     polynomial: BoundaryPolynomial | None = None
+    coefficients: tuple[float, ...] | None = None
 
     def table(self, to_unit: float) -> tuple[_LawTable, float]:
         """The segment's piece table and the factor that scales its normalized y to the motion's unit: a law's
         y runs from 0 to 1 (times the lift), a polynomial's is its own (times mm or rad per lift unit)."""
+        if self.coefficients is not None:
+            return bspline_table(self.coefficients), self.lift
         if self.polynomial is None:
             return _LAW_TABLES[self.law], self.lift
         b = np.asarray(self.polynomial.coef)
@@ -95,7 +99,8 @@ class Program(Motion):
         start, base = 0.0, 0.0
         for s in specs:
             poly = solve_polynomial(s, start) if isinstance(s, PolynomialSegmentSpec) else None
-            segs.append(Segment(s.law, start, s.end, s.lift * to_unit, base * to_unit, poly))
+            coefs = tuple(s.coefficients) if isinstance(s, BSplineSegmentSpec) else None
+            segs.append(Segment(s.law, start, s.end, s.lift * to_unit, base * to_unit, poly, coefs))
             start, base = s.end, base + s.lift
         return cls._from_checked(tuple(segs), unit)
 
@@ -181,4 +186,5 @@ def _segment_spec(raw, where: str):
     """A segment given as a dict (or already a spec), validated as the schema's member for its law."""
     if not isinstance(raw, dict):
         return raw
-    return parse(PolynomialSegmentSpec if raw.get("law") == POLYNOMIAL else SegmentSpec, raw, where)
+    model = {POLYNOMIAL: PolynomialSegmentSpec, BSPLINE: BSplineSegmentSpec}.get(raw.get("law"), SegmentSpec)
+    return parse(model, raw, where)

@@ -1,0 +1,103 @@
+"""What the optimizer holds the cam to, as JAX functions of the control points (their Jacobians by autodiff):
+the steady-state contact force at a set of speeds (the frequency-domain model of ``check``, exact in contact),
+the pressure angle and the curvature against the check's limits."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from functools import cached_property
+
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+import numpy as np
+
+from ..._core.units import default_max_pressure_angle, newton_per_torque
+from ...model.case import Case
+from ...model.dynamics import kinematic_force_of, steady_state, train_force
+from ...model.geometry import curvature_limit, geometry_of
+from ._shape import ShapeSpace
+from ._slp import with_jacobian
+
+EVERY = 4  # the linear programs see every 4th grid angle; a fine scan of each answer checks them all
+_SAFETY = 1e-4  # the limits are met with this much to spare: the check reads them on another grid
+FINE = 400  # speeds of the scan that checks each answer between the programs' speeds
+SPEED_SLOTS = 32  # speeds per linear program (a fixed count: one compiled Jacobian per case)
+
+
+@dataclass(frozen=True)
+class Rows:
+    """The case's model and limits, bound to a shape space."""
+
+    case: Case
+    space: ShapeSpace
+
+    @property
+    def min_force(self) -> float:
+        return float(self.case.limits.min_contact_force)
+
+    def forces(self, z, omegas, preload=None):
+        """Contact force (N) at each speed (rad/s) and grid angle: (len(omegas), n). ``preload`` (SI) overrides
+        the case's, traceably (the spring-force objective frees it)."""
+        case, space = self.case, self.space
+        model = case.model if preload is None else eqx.tree_at(lambda m: m.preload, case.model, preload)
+        sv = space.values(z)
+        s, s1, s2 = sv[0] * model.scale, sv[1] * model.scale, sv[2] * model.scale
+        omegas = jnp.asarray(omegas, dtype=float)
+        if model.rigid:
+            force = kinematic_force_of(model, omegas[:, None], s, s1, s2)
+        else:
+            spec = jnp.fft.rfft(s)
+            n = s.shape[0]
+
+            def one(w):
+                x, x1 = steady_state(spec, w, model, model.stiffness, model.damping, n)
+                return train_force(model, w, s, s1, x, x1)
+
+            force = jax.vmap(one)(omegas)
+        if case.oscillating:  # torque (N*m) -> the contact force (N) through the lever arm, which moves with s
+            force = force * newton_per_torque(geometry_of(case.follower, jnp.asarray(space.theta), sv)["lever"])
+        return force
+
+    def geometry(self, z):
+        """The geometry constraints as ``g <= 0``, each scaled to its limit: |phi| / phi_max - 1 and, for a roller,
+        kappa / kappa_max - 1 (the check's least contour radius over the roller radius), for a flat face
+        1 - rho / rho_min."""
+        f, lim = self.case.follower, self.case.limits
+        geo = geometry_of(f, jnp.asarray(self.space.theta), self.space.values(z))
+        phi_max = math.radians(lim.max_pressure_angle or default_max_pressure_angle(f.translating))
+        rows = [jnp.abs(geo["phi"]) / phi_max - 1.0 + _SAFETY]
+        if f.roller:
+            kappa_max = 1.0 / (f.roller_radius * (1.0 + curvature_limit(f, lim.min_curvature_ratio)))
+            rows.append(geo["kappa_pitch"] / kappa_max - 1.0 + _SAFETY)
+        else:
+            rho_min = max(curvature_limit(f, lim.min_curvature_ratio), 1e-3 * f.base_radius)
+            rows.append(1.0 - geo["rho_contour"] / rho_min + _SAFETY)
+        return jnp.concatenate(rows)
+
+
+    @cached_property
+    def sampled(self) -> np.ndarray:
+        """The grid angles the linear programs see."""
+        return np.arange(0, self.space.theta.size, EVERY)
+
+    @cached_property
+    def force_jacobian(self):
+        """``(z, speeds[SPEED_SLOTS], preload) -> (forces at the sampled angles, d/dz)``, compiled once."""
+        return with_jacobian(lambda z, speeds, preload: self.forces(z, speeds, preload)[:, self.sampled].ravel())
+
+    @cached_property
+    def least_on_scan(self):
+        """``(z, w_max, preload) -> forces' least over each of FINE speeds up to w_max``, compiled once."""
+        return jax.jit(lambda z, w, preload=None: self.forces(z, w * jnp.arange(1, FINE + 1) / FINE, preload).min(axis=1))
+
+    @cached_property
+    def geometry_jacobian(self):
+        return with_jacobian(self.geometry)
+
+
+def speed_slots(speeds) -> np.ndarray:
+    """``speeds`` padded to :data:`SPEED_SLOTS` by repeating the last (a repeated row changes no linear program)."""
+    speeds = np.asarray(speeds, dtype=float)[-SPEED_SLOTS:]
+    return np.r_[speeds, np.full(SPEED_SLOTS - speeds.size, speeds[-1])]
