@@ -93,7 +93,7 @@ class Optimization:
     def json(self) -> dict:
         return {
             "case": self.case.name, "objective": self.objective, "control_points_per_segment": self.control_points,
-            "claimed_speed_rpm": self.claimed_speed_rpm, "before": self.before.json(self.unit), "after": self.after.json(self.unit),
+            "claimed_speed_rpm": self.claimed_speed_rpm if math.isfinite(self.claimed_speed_rpm) else None, "before": self.before.json(self.unit), "after": self.after.json(self.unit),
             "verification": self.verification, "time_s": self.time_s,
         }
 
