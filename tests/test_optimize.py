@@ -134,7 +134,8 @@ def test_the_shipped_optimized_lecture_keeps_the_timing():
     before, after = lecture["motion"]["segments"], opt["motion"]["segments"]
     assert [(s["end"], s.get("lift", 0)) for s in before] == [(s["end"], s.get("lift", 0)) for s in after]
     assert [s["law"] for s in after] == ["dwell", "bspline", "dwell", "bspline"]
-    assert {k: v for k, v in opt.items() if k not in ("name", "description", "motion")} == {k: v for k, v in lecture.items() if k not in ("name", "description", "motion")}
+    assert {k: v for k, v in opt.items() if k not in ("name", "description", "motion", "optimized_from")} == {k: v for k, v in lecture.items() if k not in ("name", "description", "motion")}
+    assert opt["optimized_from"] == "lecture.toml"
     case = case_from_dict(opt)
     th = np.radians(np.r_[np.linspace(0, 89.9, 50), np.linspace(180, 239.9, 50)])
     s = np.asarray(case.motion(th))

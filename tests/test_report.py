@@ -52,7 +52,10 @@ def path_case(racetrack_case, racetrack_check, tmp_path_factory):
 def expected_slugs(case) -> list[str]:
     """The pages a case has, from what the case is: a cam page where there is a cam follower, a mechanism page
     where a linkage was synthesized; the parts (drive, contact, spring) on every case."""
-    return ["summary", "svaj", *(["cam"] if case.follower is not None else []), "dynamics", *(["mechanism"] if case.synthesis is not None else []), "parts", "springs"]
+    return [
+        "summary", "svaj", *(["cam"] if case.follower is not None else []), "dynamics", *(["mechanism"] if case.synthesis is not None else []),
+        *(["optimization"] if case.spec.optimized_from else []), "parts", "springs",
+    ]
 
 
 def page_text(fig) -> str:
@@ -390,3 +393,15 @@ def test_a_contour_case_shows_its_data_file_and_fit():
     fit = case.contour.json()
     assert "measured-cam.csv" in text["summary"] and f"{fit['points']}" in text["summary"]
     assert "max residual" in text["summary"] and "rms residual" in text["summary"]
+
+
+@pytest.mark.slow
+def test_an_optimized_case_is_compared_with_its_original():
+    """cases/lecture-optimized.toml names lecture.toml in optimized_from: its report gets the optimization page,
+    the motion and the force against speed of both, with both jump speeds."""
+    case = load_case(ROOT / "cases" / "lecture-optimized.toml")
+    review = design_review(case, run_check(case))
+    assert review.original.case.name == "lecture" and review.original.check.dynamic["jump_speed_rpm"] == pytest.approx(484.818, abs=0.01)
+    text = drawn_pages(review)
+    assert list(text) == expected_slugs(case)
+    assert "before: jump speed 485 rpm" in text["optimization"] and f"after: jump speed {review.check.dynamic['jump_speed_rpm']:.0f} rpm" in text["optimization"]

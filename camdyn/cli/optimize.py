@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 
 from .._core.errors import InputError
@@ -44,7 +45,8 @@ def run(args) -> int:
         raise InputError(str(out), "is the input case; write the optimized case to another file")
     case = build_case(args.spec, source=Path(args.case))
     with _console.progress_bar() as progress:
-        res = optimize_case(case, args.objective, speed_rpm=args.speed, progress=progress, name=out.stem)
+        source = Path(os.path.relpath(Path(args.case).resolve(), out.resolve().parent)).as_posix()
+        res = optimize_case(case, args.objective, speed_rpm=args.speed, progress=progress, name=out.stem, source=source)
     write_new(out, res.text(args.case), args.force)
     if args.json:
         print(_console.json_text(res.json() | {"output": str(out)}))

@@ -9,18 +9,19 @@ jump map. The reports draw a :class:`Review`; a notebook user can draw it with :
 from __future__ import annotations
 
 from dataclasses import dataclass
+from pathlib import Path
 
 import jax.numpy as jnp
 import numpy as np
 
-from .._core.errors import CamdynError
+from .._core.errors import CamdynError, InputError
 from .._core.progress import Progress, counter
 from .._core.units import FFT_GRID, RPM, THETA_GRID, TWO_PI, rate_from_si
 from ..model import dynamics as dyn
-from ..model.case import Case
+from ..model.case import Case, load_case
 from ..model.geometry import newton_per_torque_at
 from ..model.motion import evaluate
-from .checks import CheckReport, forces_in_newton
+from .checks import CheckReport, forces_in_newton, run_check
 from .sizing import SpringSizing, size_spring
 from .spring import SpringDesign, design_case_spring
 from .sweep import JumpMap, jump_map
@@ -59,6 +60,16 @@ class ForceVsSpeed:
 
 
 @dataclass(frozen=True)
+class Original:
+    """The case an optimized case was reshaped from (``optimized_from``): its motion, check and force against speed."""
+
+    case: Case
+    check: CheckReport
+    motion: MotionSamples
+    force_vs_speed: ForceVsSpeed
+
+
+@dataclass(frozen=True)
 class Review:
     """A design review's data. Where a part cannot be had for this case, it is the reason why (a str)."""
 
@@ -71,6 +82,7 @@ class Review:
     sizing: SpringSizing | str  # size_spring at the case's speed and speed_margin
     jump_map: JumpMap | str  # at the case's preload, gaps not integrated (least force and the jump boundary)
     spring_part: SpringDesign | str = "not designed"  # the case's own spring as a part (camdyn spring)
+    original: Original | str | None = None  # the case this one was optimized from (None: not an optimized case)
 
 
 def design_review(case: Case, check: CheckReport, *, progress: Progress | None = None) -> Review:
@@ -89,7 +101,19 @@ def design_review(case: Case, check: CheckReport, *, progress: Progress | None =
     tick()
     part = _or_reason(design_case_spring, case)
     tick()
-    return Review(case, check, motion, margin_rpm, margin, sweep, sizing, jm, part)
+    original = _or_reason(_original, case, check, sweep) if case.spec.optimized_from else None
+    return Review(case, check, motion, margin_rpm, margin, sweep, sizing, jm, part, original)
+
+
+def _original(case: Case, check: CheckReport, sweep: ForceVsSpeed) -> Original:
+    """The case ``case`` was optimized from, checked at the same speed, its force against the same speeds."""
+    where = (case.source.parent if case.source else Path.cwd()) / case.spec.optimized_from
+    if not where.is_file():
+        raise InputError("optimized_from", f"{where} is not a case file: the optimization page compares with it")
+    original = load_case(where)
+    chk = run_check(original, check.speed_rpm)
+    top = float(sweep.speeds_rpm[-1])
+    return Original(original, chk, sample_motion(original), force_vs_speed(original, chk, top, top=top))
 
 
 def _or_reason(fn, *args, **kwargs):
@@ -140,10 +164,10 @@ def _top_speed(check: CheckReport, margin_rpm: float, jump_within: float = np.in
     return top
 
 
-def force_vs_speed(case: Case, check: CheckReport, margin_rpm: float) -> ForceVsSpeed:
-    """Least contact force against cam speed, up to past the jump speeds (those below 8 x the check's speed):
-    kinematic (rigid) and, for a compliant train, the frequency-domain steady state."""
-    top = _top_speed(check, margin_rpm, jump_within=8.0 * check.speed_rpm)
+def force_vs_speed(case: Case, check: CheckReport, margin_rpm: float, *, top: float | None = None) -> ForceVsSpeed:
+    """Least contact force against cam speed, up to past the jump speeds (those below 8 x the check's speed), or
+    up to ``top`` rpm: kinematic (rigid) and, for a compliant train, the frequency-domain steady state."""
+    top = top if top is not None else _top_speed(check, margin_rpm, jump_within=8.0 * check.speed_rpm)
     speeds = np.linspace(top / SPEED_SCAN, top, SPEED_SCAN)  # the jump-speed scan's array shape: compiled already
     w = speeds * RPM
     # the kinematic force is a quadratic in the speed at every angle: three evaluations give it all;

@@ -11,10 +11,12 @@ from .dynamics import flights_by_gap, plot_contact_force, plot_displacement, plo
 from .jumpmap import plot_jump_map, save_png
 from .mechanism import mechanism_bounds, mechanism_frames, plot_mechanism, plot_path, plot_path_error
 from .motion import display_scale, display_unit, plot_fit, plot_svaj, svaj_quantities
+from .optimization import plot_motion_before_after, plot_speed_before_after
 from .parts import plot_contact, plot_drive, plot_spring
 from .springs import PLOT_COLORS, plot_feasible_region
 
 __all__ = [
+    "plot_motion_before_after", "plot_speed_before_after",
     "PALETTE", "PLOT_COLORS", "check_colour", "deg_ticks", "display_scale", "display_unit", "face_extremes", "flights_by_gap", "follower_pose", "mark_breaks",
     "mechanism_bounds", "mechanism_frames", "plot_cam_profile", "plot_contact", "plot_contact_force", "plot_curvature", "plot_displacement", "plot_drive", "plot_face_contact",
     "plot_feasible_region", "plot_fit", "plot_follower", "plot_force_vs_speed", "plot_jump_map", "plot_mechanism", "plot_path",

@@ -27,6 +27,10 @@ class CaseSpec(Table):
     version: Literal[1] = Field(default=SCHEMA_VERSION, description="case-file schema version (1)")
     name: Name | None = Field(default=None, description="case name, used in reports and output file names (default: the file name)")
     description: Text = Field(default="", description="one line on what the case is")
+    optimized_from: Text | None = Field(
+        default=None,
+        description="the case file this one was reshaped from, relative to this file (camdyn optimize writes it; the report's optimization page compares the two)",
+    )
     motion: MotionSpec | None = Field(default=None, description="the follower motion as segments or a lift table (with [follower])")
     follower: FollowerSpec | None = Field(default=None, description="the follower and cam dimensions (with [motion]), or the follower and the cam's contour (alone)")
     path: PathSpec | None = Field(default=None, description="a closed path to trace (with [mechanism]): the motion and follower are synthesized")

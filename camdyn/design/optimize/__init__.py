@@ -117,9 +117,12 @@ def metrics(case: Case, check: CheckReport | None = None) -> Metrics:
     )
 
 
-def _document(case: Case, space: ShapeSpace, z, objective: str, name: str | None, dynamics: dict | None = None) -> dict:
-    """The case file of the optimized motion: the original with its segments (and spring, if freed) replaced."""
+def _document(case: Case, space: ShapeSpace, z, objective: str, name: str | None, source: str | None, dynamics: dict | None = None) -> dict:
+    """The case file of the optimized motion: the original with its segments (and spring, if freed) replaced;
+    ``source``: the original's path relative to where the new file goes."""
     doc = case.spec.model_dump(exclude_unset=True, exclude_none=True)
+    if source:
+        doc["optimized_from"] = source
     doc["name"] = name or f"{case.name}-optimized"
     said = case.spec.description.strip().rstrip(".")
     doc["description"] = (f"{said}. " if said else "") + f"Rises and returns reshaped by camdyn optimize ({objective})."
@@ -143,10 +146,12 @@ def _verify(case: Case, speeds_rpm: list[float]) -> dict:
 
 
 def optimize_case(
-    case: Case, objective: str = "jump-speed", *, speed_rpm: float | None = None, progress: Progress | None = None, name: str | None = None
+    case: Case, objective: str = "jump-speed", *, speed_rpm: float | None = None, progress: Progress | None = None, name: str | None = None,
+    source: str | None = None,
 ) -> Optimization:
     """Reshape ``case``'s rises and returns for ``objective`` (one of :data:`OBJECTIVES`) at ``speed_rpm`` (default:
-    the case's); ``name``: the optimized case's (default: the case's with "-optimized")."""
+    the case's); ``name``: the optimized case's (default: the case's with "-optimized"); ``source``: the original
+    case file as the new one will find it (its ``optimized_from``)."""
     if objective not in OBJECTIVES:
         raise InputError("--objective", f"unknown objective {objective!r}; choose one of {', '.join(OBJECTIVES)}")
     t0 = time.perf_counter()
@@ -171,7 +176,7 @@ def optimize_case(
         z, k, f0 = spring_force(rows, w, rates)
         keys = ROTARY_KEYS if case.oscillating else LINEAR_KEYS
         dynamics = {keys[1]: float(np.round(rate_from_si(k, case.oscillating), 6)), keys[2]: float(math.ceil(f0 * 100.0) / 100.0)}
-    doc = _document(case, space, z, objective, name, dynamics)
+    doc = _document(case, space, z, objective, name, source, dynamics)
     new = build_case(CaseSpec.model_validate(doc), case.source)
     after_check = run_check(new, speed_rpm)
     after = metrics(new, after_check)

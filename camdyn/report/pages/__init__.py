@@ -9,6 +9,7 @@ from .._data import ReportData
 from .cam import draw_cam
 from .dynamics import draw_dynamics
 from .mechanism import draw_mechanism
+from .optimization import draw_optimization
 from .parts import draw_parts
 from .springs import draw_springs
 from .summary import draw_summary
@@ -31,8 +32,9 @@ PAGES: list[Page] = [
     Page("cam", "Cam profile", draw_cam, lambda data: data.check.geometry is not None),
     Page("dynamics", "Dynamics", draw_dynamics),
     Page("mechanism", "Mechanism and path", draw_mechanism, lambda data: data.case.synthesis is not None),
+    Page("optimization", "Optimization", draw_optimization, lambda data: data.review.original is not None and not isinstance(data.review.original, str)),
     Page("parts", "Drive, contact and spring", draw_parts),
     Page("springs", "Spring sizing", draw_springs),
 ]
 
-__all__ = ["PAGES", "Page", "draw_cam", "draw_dynamics", "draw_mechanism", "draw_parts", "draw_springs", "draw_summary", "draw_svaj"]
+__all__ = ["PAGES", "Page", "draw_cam", "draw_dynamics", "draw_mechanism", "draw_optimization", "draw_parts", "draw_springs", "draw_summary", "draw_svaj"]

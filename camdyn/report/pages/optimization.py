@@ -1,0 +1,25 @@
+"""The optimization page of a case ``camdyn optimize`` wrote: its motion and its holding against the original's."""
+
+from __future__ import annotations
+
+import textwrap
+
+from ...plot import plot_motion_before_after, plot_speed_before_after
+from .._data import ReportData
+from .._style import LEFT, RIGHT, C
+
+
+def draw_optimization(fig, data: ReportData) -> None:
+    review = data.review
+    gs = fig.add_gridspec(6, 1, left=LEFT, right=RIGHT, top=0.885, bottom=0.1, hspace=0.35, height_ratios=[2, 2, 2, 2, 0.3, 3.2])
+    axes = [fig.add_subplot(gs[0])]
+    axes += [fig.add_subplot(gs[i], sharex=axes[0]) for i in (1, 2, 3)]
+    plot_motion_before_after(axes, review)
+    plot_speed_before_after(fig.add_subplot(gs[5]), review)
+    b, a = review.original.check, review.check
+    note = (
+        f"Reshaped from {data.case.spec.optimized_from} by camdyn optimize: dynamic jump speed {b.dynamic['jump_speed_rpm']:.1f} -> "
+        f"{a.dynamic['jump_speed_rpm']:.1f} rpm, least force at {a.speed_rpm:g} rpm {b.dynamic['min_contact_force_N']:.3g} -> "
+        f"{a.dynamic['min_contact_force_N']:.3g} N, verdict {b.verdict} -> {a.verdict}. The segment boundaries, lifts and dwells are the original's."
+    )
+    fig.text(LEFT, 0.05, "\n".join(textwrap.wrap(note, 125)), size=7.5, color=C["grey"], va="top")
