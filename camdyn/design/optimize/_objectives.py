@@ -23,7 +23,7 @@ from ._slp import Step, maximize_least, with_jacobian
 
 RADIUS = 0.2  # first trust region of a control point (normalized lift)
 CLEAR = 1.002  # hold a little past the margin the check asks for: it reads the jump speed on its own grid
-_TOL_RPM = 0.5
+_TOL_RPM = 1.0  # the bisection stops when the jump speed is known to 1 rpm
 
 
 def _speed_set(w: float) -> np.ndarray:
