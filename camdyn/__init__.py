@@ -67,6 +67,7 @@ _API = {
     "jump_map": ".design.sweep",
     "synthesize_dimensions": ".design.synthesis",
     "synthesize_case": ".design.synthesis",
+    "optimize_case": ".design.optimize",
     "SpringDesign": ".design.spring",
     "design_spring": ".design.spring",
     "design_case_spring": ".design.spring",
