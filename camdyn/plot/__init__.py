@@ -13,10 +13,12 @@ from .mechanism import mechanism_bounds, mechanism_frames, plot_mechanism, plot_
 from .motion import display_scale, display_unit, plot_fit, plot_svaj, svaj_quantities
 from .parts import plot_contact, plot_drive, plot_spring
 from .springs import PLOT_COLORS, plot_feasible_region
+from .tolerance import plot_jump_speed_histogram, plot_tolerance_tornado, save_tolerance_png
 
 __all__ = [
     "PALETTE", "PLOT_COLORS", "check_colour", "deg_ticks", "display_scale", "display_unit", "face_extremes", "flights_by_gap", "follower_pose", "mark_breaks",
     "mechanism_bounds", "mechanism_frames", "plot_cam_profile", "plot_contact", "plot_contact_force", "plot_curvature", "plot_displacement", "plot_drive", "plot_face_contact",
     "plot_feasible_region", "plot_fit", "plot_follower", "plot_force_vs_speed", "plot_jump_map", "plot_mechanism", "plot_path",
     "plot_path_error", "plot_pressure_angle", "plot_spring", "plot_svaj", "plot_vibration", "save_png", "shade_separations", "square_face", "svaj_quantities",
+    "plot_jump_speed_histogram", "plot_tolerance_tornado", "save_tolerance_png",
 ]

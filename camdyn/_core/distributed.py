@@ -1,0 +1,62 @@
+"""JAX's own distributed runtime for the batched commands (``sweep``, ``tolerance``): one place that starts it.
+
+``initialize(coordinator, num_processes, process_id)`` calls :func:`jax.distributed.initialize` when the
+command line, the environment (``CAMDYN_COORDINATOR``, ``CAMDYN_NUM_PROCESSES``, ``CAMDYN_PROCESS_ID``) or a
+cluster JAX detects by itself (SLURM, Open MPI: ``--distributed auto``... see :func:`wanted`) asks for it.
+Afterwards ``jax.devices()`` is the global list of every process's devices, the batched kernels are sharded over
+that global mesh (:func:`camdyn.design.sweep._sharding.run_batched`), every process computes the same inputs
+and receives every result, and only process 0 writes (:func:`is_writer`). On CPU the collectives go through gloo.
+"""
+
+from __future__ import annotations
+
+import os
+
+import jax
+
+from .errors import InputError
+
+_ENV = {"coordinator": "CAMDYN_COORDINATOR", "num_processes": "CAMDYN_NUM_PROCESSES", "process_id": "CAMDYN_PROCESS_ID"}
+_CLUSTER_ENV = ("SLURM_JOB_ID", "OMPI_COMM_WORLD_SIZE")  # what jax.distributed detects by itself
+_started = False
+
+
+def _option(value, name: str, flag: str):
+    """``value`` from the command line, else the environment variable of ``name``; ints checked."""
+    if value is None:
+        value = os.environ.get(_ENV[name]) or None
+    if value is None or name == "coordinator":
+        return value
+    try:
+        number = int(value)
+    except (TypeError, ValueError):
+        raise InputError(flag, f"expected a whole number, got {value!r}") from None
+    if number < (1 if name == "num_processes" else 0):
+        raise InputError(flag, f"out of range: {number}")
+    return number
+
+
+def initialize(coordinator: str | None = None, num_processes: int | None = None, process_id: int | None = None, *, auto: bool = False) -> int:
+    """Start JAX's distributed runtime if asked (options, environment, or ``auto`` on a cluster JAX detects);
+    returns the number of processes. A no-op (1) for a single process."""
+    global _started
+    coordinator = _option(coordinator, "coordinator", "--coordinator")
+    num_processes = _option(num_processes, "num_processes", "--num-processes")
+    process_id = _option(process_id, "process_id", "--process-id")
+    detected = auto and any(v in os.environ for v in _CLUSTER_ENV)
+    if _started or (coordinator is None and num_processes in (None, 1) and not detected):
+        return jax.process_count()
+    if coordinator is None and not detected:
+        raise InputError("--coordinator", "several processes need the coordinator's address, host:port")
+    if num_processes is not None and process_id is not None and process_id >= num_processes:
+        raise InputError("--process-id", f"must be below --num-processes ({num_processes}), got {process_id}")
+    if jax.default_backend() == "cpu" or os.environ.get("JAX_PLATFORMS", "").startswith("cpu"):
+        jax.config.update("jax_cpu_collectives_implementation", "gloo")
+    jax.distributed.initialize(coordinator_address=coordinator, num_processes=num_processes, process_id=process_id)
+    _started = True
+    return jax.process_count()
+
+
+def is_writer() -> bool:
+    """Whether this process writes the outputs (process 0)."""
+    return jax.process_index() == 0
