@@ -11,6 +11,7 @@ and receives every result, and only process 0 writes (:func:`is_writer`). On CPU
 from __future__ import annotations
 
 import os
+import sys
 
 import jax
 
@@ -50,11 +51,21 @@ def initialize(coordinator: str | None = None, num_processes: int | None = None,
         raise InputError("--coordinator", "several processes need the coordinator's address, host:port")
     if num_processes is not None and process_id is not None and process_id >= num_processes:
         raise InputError("--process-id", f"must be below --num-processes ({num_processes}), got {process_id}")
-    if jax.default_backend() == "cpu" or os.environ.get("JAX_PLATFORMS", "").startswith("cpu"):
-        jax.config.update("jax_cpu_collectives_implementation", "gloo")
+    # before initialize, without asking for a backend (that would start it); only CPU devices use it
+    jax.config.update("jax_cpu_collectives_implementation", "gloo")
     jax.distributed.initialize(coordinator_address=coordinator, num_processes=num_processes, process_id=process_id)
     _started = True
+    _native_chatter_to_stderr()
     return jax.process_count()
+
+
+def _native_chatter_to_stderr() -> None:
+    """Native libraries (gloo: "[Gloo] Rank 0 is connected ...") print on file descriptor 1, which would spoil
+    ``--json``: point descriptor 1 at stderr and keep Python's ``sys.stdout`` on the real standard output."""
+    sys.stdout.flush()
+    real = os.dup(1)
+    os.dup2(2, 1)
+    sys.stdout = open(real, "w", encoding=sys.stdout.encoding or "utf-8", buffering=1)  # noqa: SIM115  (lives as long as the process)
 
 
 def is_writer() -> bool:

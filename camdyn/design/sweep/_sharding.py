@@ -65,7 +65,8 @@ def run_batched(kernel: Callable, const, batched: list[np.ndarray], chunk: int, 
         if m < size:  # pad with copies of the first point: one compiled shape for every chunk
             part = [np.concatenate([p, np.repeat(p[:1], size - m, axis=0)]) for p in part]
         if multi:
-            res = multihost_utils.process_allgather(fn(*_to_mesh(const, part, mesh)), tiled=True)
+            c, pts = _to_mesh(const, part, mesh)
+            res = multihost_utils.process_allgather(fn(c, *pts), tiled=True)
         else:
             res = fn(const, *(jnp.asarray(p) for p in part))
         res = jax.tree_util.tree_map(lambda r: np.asarray(r)[:m], res)
