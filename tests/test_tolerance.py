@@ -92,19 +92,19 @@ def test_zero_tolerances_agree_with_check(speed):
     case = case_from_dict(_lecture(zeros, speed))
     result = tolerance_study(case, 16, seed=3)
     report = run_check(case)
-    fails = {c.name: c.passed for c in report.checks}["contact_force"] is False
+    fails = bool(report.dynamic["separations"])
     assert result.probability in (0.0, 1.0)
     assert result.probability == (1.0 if fails else 0.0)
     assert (speed > 500) == fails
     # the nominal jump speed agrees with check's (a 512-angle scan grid against check's 4096)
-    assert result.nominal_jump_speed_rpm == pytest.approx(report.json()["dynamic_jump_speed_rpm"], rel=2e-4)
+    assert result.nominal_jump_speed_rpm == pytest.approx(report.dynamic["jump_speed_rpm"], rel=2e-4)
 
 
 @pytest.mark.slow
 def test_spring_rate_tolerance_matches_closed_form():
     """One tolerance (spring rate, normal): the probability of separation is Phi((k_crit - k0) / sigma), k_crit
     from the jump map of ``sweep`` over spring rates at the case speed."""
-    speed, k0, sigma = 470.0, 2.0, 0.2 / 3
+    speed, k0, sigma = 481.0, 2.0, 0.2 / 3
     case = case_from_dict(_lecture({"spring_rate": "10%"}, speed))
     rates = np.linspace(k0 - 4 * sigma, k0 + 4 * sigma, 161)
     f = jump_map(case, [speed], rates, gaps=False).contact_force[0]
@@ -114,6 +114,7 @@ def test_spring_rate_tolerance_matches_closed_form():
     result = tolerance_study(case, 2000, seed=1)
     lo, hi = result.confidence_interval
     assert 0.05 < p_closed < 0.95  # a test that means something
+    print("closed form", p_closed, "Monte Carlo", result.probability, (lo, hi))
     assert lo <= p_closed <= hi, (p_closed, result.probability, lo, hi)
     assert set(result.sensitivities) == {"spring_rate"}
     assert result.sensitivities["spring_rate"]["share_monte_carlo"] == pytest.approx(1.0, abs=0.05)

@@ -14,9 +14,9 @@ from __future__ import annotations
 import math
 import re
 from dataclasses import dataclass
-from typing import Literal
+from typing import Annotated, Literal
 
-from pydantic import Field, model_validator
+from pydantic import Discriminator, Field, Tag, model_validator
 
 from .._core.units import TOLERANCE_UNITS, tolerance_to_case_unit
 from ._base import Real, Table
@@ -33,7 +33,15 @@ class ToleranceValue(Table):
     distribution: Literal["normal", "uniform"] | None = Field(default=None, description="normal (tolerance = 3 sigma) | uniform (tolerance = half-width); default: the table's")
 
 
-Tol = str | Real | ToleranceValue
+def _kind(raw) -> str:
+    return "table" if isinstance(raw, dict | ToleranceValue) else ("text" if isinstance(raw, str) else "number")
+
+
+# a tolerance: an inline table, a text ("10%", "2 N") or a number; the tag picks which, so an error names the key
+Tol = Annotated[
+    Annotated[ToleranceValue, Tag("table")] | Annotated[str, Tag("text")] | Annotated[Real, Tag("number")],
+    Discriminator(_kind),
+]
 _HELP = ': "10%", "{u}" or a number ({u0}); or {{value = ..., distribution = "uniform"}}'
 
 
