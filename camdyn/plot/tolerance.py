@@ -40,8 +40,9 @@ def plot_tolerance_tornado(ax, result: ToleranceResult):
     ax.axvline(0.0, color=PALETTE["grey"], linewidth=0.8)
     for yi, (_, v), x in zip(y, items, vals, strict=True):
         share = v["share_monte_carlo"]
-        ax.annotate(f"MC share {share:.0%}" if math.isfinite(share) else "", (x, yi), xytext=(4 if x >= 0 else -4, 0), textcoords="offset points",
-                    ha="left" if x >= 0 else "right", va="center", fontsize=7)
+        # on the other side of zero from the bar: never over it, never past the axes
+        ax.annotate(f"MC share {share:.0%}" if math.isfinite(share) else "", (0.0, yi), xytext=(-4 if x >= 0 else 4, 0), textcoords="offset points",
+                    ha="right" if x >= 0 else "left", va="center", fontsize=7)
     ax.set_xlabel("change of the jump-speed margin per sigma (x); profile error: RMS over its harmonics")
     ax.set_title("sensitivities at the nominal design (JAX gradients) and Monte Carlo variance shares", fontsize=9)
 
