@@ -24,7 +24,7 @@ from ._sampling import SCALAR_KEYS, draw_samples, spreads
 from ._sensitivity import gradient_sensitivities, variance_shares
 
 SCAN_GRID = 512  # angles of the jump-speed search (the least force at the case speed uses THETA_GRID)
-CHUNK = 256  # samples per device per compiled call
+CHUNK_SAMPLES = 256  # samples per device per compiled call
 CONFIDENCE = 0.95  # of the interval on the probability of separation (Clopper-Pearson)
 WORST = 3  # samples written out as case files
 MAX_SAMPLES = 10_000_000
@@ -74,7 +74,7 @@ def tolerance_study(case, samples: int, seed: int = 0, *, progress: Progress | N
     w_max = _search_limit(case)
     kernel = rigid_tolerance_kernel if base.rigid else tolerance_kernel
     tick = counter(progress, "built cams (steady state, jump speed)", samples)
-    force, jump = run_batched(kernel, (base, fine, scan, jnp.asarray(w_max)), _to_si(case, vals), CHUNK, tick, devices)
+    force, jump = run_batched(kernel, (base, fine, scan, jnp.asarray(w_max)), _to_si(case, vals), CHUNK_SAMPLES, tick, devices)
     sep = int(np.count_nonzero(force <= 0.0))
     ci = binomtest(sep, samples).proportion_ci(CONFIDENCE, method="exact")
     jump_rpm = np.asarray(jump) / RPM
