@@ -9,7 +9,8 @@ from pathlib import Path
 
 from .._core.distributed import initialize, is_writer
 from .._core.outputs import output_dir, output_file, safe_stem, write_new
-from ..design.tolerance import tolerance_study, worst_case_docs
+from .._core.errors import InputError
+from ..design.tolerance import MAX_SAMPLES, tolerance_study, worst_case_docs
 from ..export.toml import dumps_case
 from ..model.case import build_case
 from ..plot import save_tolerance_png
@@ -40,6 +41,8 @@ def json_doc(result, worst_files, elapsed: float) -> dict:
 
 
 def run(args) -> int:
+    if not 1 <= args.samples <= MAX_SAMPLES:  # before any work or any folder is made
+        raise InputError("--samples", f"must be from 1 to {MAX_SAMPLES}, got {args.samples}")
     initialize(args.coordinator, args.num_processes, args.process_id, auto=args.distributed)
     case = build_case(args.spec, source=Path(args.case))
     writer = is_writer()

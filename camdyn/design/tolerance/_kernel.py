@@ -23,8 +23,8 @@ from ...model.dynamics import kinematic_force_of, steady_state, train_force
 from ...model.follower import FollowerModel
 from ...model.motion import evaluate
 
-SCAN_SPEEDS = 24  # speeds scanned in (0, w_max] for the first one that separates
-ROOT_STEPS = 8  # then Illinois steps on that bracket (superlinear: well under 0.01 rpm)
+SCAN_SPEEDS = 16  # speeds scanned in (0, w_max] for the first one that separates
+ROOT_STEPS = 7  # then Illinois steps on that bracket (superlinear: well under 0.01 rpm)
 
 
 class Grid(NamedTuple):
@@ -34,6 +34,8 @@ class Grid(NamedTuple):
     s: jax.Array  # (3, n)
     basis: jax.Array  # (3, 2K, n)
     weight: jax.Array  # (n,)
+    spec: jax.Array  # rfft of the nominal s
+    unit: jax.Array  # the motion's unit in SI (m per mm, or 1 for rad): the profile coefficients' scale
 
 
 def make_grid(case, n: int, harmonics: int, weight) -> Grid:
@@ -44,7 +46,7 @@ def make_grid(case, n: int, harmonics: int, weight) -> Grid:
     c, si = np.cos(h * theta), np.sin(h * theta)
     # a cos(h t) + b sin(h t) and its first two derivatives in theta, per unit a and b
     basis = np.stack([np.concatenate([c, si]), np.concatenate([-h * si, h * c]), np.concatenate([-h * h * c, -h * h * si])]) * case.model.scale
-    return Grid(jnp.asarray(s), jnp.asarray(basis), jnp.asarray(weight(theta)))
+    return Grid(jnp.asarray(s), jnp.asarray(basis), jnp.asarray(weight(theta)), jnp.fft.rfft(jnp.asarray(s[0])), jnp.asarray(case.model.scale))
 
 
 class Sample(NamedTuple):
@@ -67,9 +69,12 @@ def sample_model(base: FollowerModel, p: Sample) -> FollowerModel:
 
 
 def _tables(grid: Grid, p: Sample):
-    """The sample's motion on the grid (s, s', s'': SI, the profile error added) and the rfft of s."""
+    """The sample's motion on the grid (s, s', s'': SI, the profile error added) and the rfft of s: the nominal
+    spectrum plus the error's harmonics (rfft of a cos(h t) + b sin(h t) on n angles: n (a - i b) / 2 at h)."""
     s, s1, s2 = grid.s + jnp.einsum("dkn,k->dn", grid.basis, p.coeffs)
-    return s, s1, s2, jnp.fft.rfft(s)
+    k2, n = p.coeffs.shape[0] // 2, s.shape[0]
+    spec = grid.spec.at[1 : k2 + 1].add(0.5 * n * grid.unit * (p.coeffs[:k2] - 1j * p.coeffs[k2:]))
+    return s, s1, s2, spec
 
 
 def _min_force(md: FollowerModel, tabs, weight, omega, rigid: bool):
