@@ -82,7 +82,7 @@ def tolerance_study(case, samples: int, seed: int = 0, *, progress: Progress | N
     sens, w_star = _sensitivities(case, base, scan, w_max, nominal, spread, vals, jump_rpm)
     return ToleranceResult(
         case=case.name, oscillating=osc, seed=seed, speed_rpm=float(case.speed_rpm), params=params, least_force=np.asarray(force),
-        jump_speed_rpm=jump_rpm, tolerances={k: _describe(t, spread[k], osc) for k, t in ((t.key, t) for t in tols)},
+        jump_speed_rpm=jump_rpm, tolerances={t.key: _describe(t, spread[t.key], osc) for t in tols},
         probability=sep / samples, confidence_interval=(float(ci.low), float(ci.high)), sensitivities=sens,
         nominal_jump_speed_rpm=w_star / RPM, worst=tuple(int(i) for i in np.argsort(force, kind="stable")[:WORST]),
         devices=len(devices), processes=jax.process_count(),
@@ -98,8 +98,7 @@ def _sensitivities(case, base, scan, w_max, nominal, spread, vals, jump_rpm):
     """Per key: the gradient sensitivity, its share of the linearised variance and the Monte Carlo share."""
     osc = case.oscillating
     si = dict(zip(("spring_rate", "preload", "mass", "train_stiffness", "speed"), (rate_to_si(1.0, osc), 1.0, 1.0, rate_to_si(1.0, osc), RPM), strict=True))
-    nom = Sample(*(jnp.asarray(float(v[0])) for v in _to_si(case, {k: np.asarray([nominal[k]]) for k in SCALAR_KEYS} | {"profile_coeffs": np.zeros((1, 1))})[:5]),
-                 jnp.zeros(2 * PROFILE_ERROR_HARMONICS))
+    nom = Sample(base.stiffness, base.preload, base.mass, base.train_stiffness, jnp.asarray(case.speed_rpm * RPM), jnp.zeros(2 * PROFILE_ERROR_HARMONICS))
     kernel = rigid_tolerance_kernel if base.rigid else tolerance_kernel
     _, w_star = kernel((base, scan, scan, jnp.asarray(w_max)), *nom)
     w_star = float(w_star)
