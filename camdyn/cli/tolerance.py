@@ -81,11 +81,13 @@ def _print(case, result, elapsed, paths, worst_files) -> None:
         q = result.percentiles(vals)
         t.add_row(name, *(f"{q[k]:.4g}" for k in ("p1", "p5", "p50")), unit)
     con.print(t)
-    t = table(("tolerance", "left"), ("given", "right"), ("distribution", "left"), ("margin per sigma", "right"), ("linear share", "right"), ("MC share", "right"))
+    t = table(("tolerance", "left"), ("given", "right"), ("dist", "left"), ("margin/sigma", "right"), ("lin share", "right"), ("MC share", "right"))
     for key, s in result.sensitivities.items():
         tol = result.tolerances[key]
         pct = lambda v: "-" if not math.isfinite(v) else f"{v:.0%}"  # noqa: E731
-        t.add_row(key, f"{tol['tolerance']:g} {tol['unit']}", tol["distribution"], f"{s['gradient_sigma']:+.4f}", pct(s["share_linear"]), pct(s["share_monte_carlo"]))
+        t.add_row(key, f"{tol['tolerance']:.4g} {tol['unit']}", tol["distribution"], f"{s['gradient_sigma']:+.4f}", pct(s["share_linear"]), pct(s["share_monte_carlo"]))
+    for col in t.columns:  # never an ellipsis in a key's name
+        col.no_wrap = True
     if result.sensitivities:
         con.print(t)
     con.print(f"wrote {paths['csv']}, {paths['png']} and the worst samples {', '.join(str(p) for p in worst_files)}")
