@@ -1,8 +1,9 @@
 """JAX's own distributed runtime for the batched commands (``sweep``, ``tolerance``): one place that starts it.
 
-``initialize(coordinator, num_processes, process_id)`` calls :func:`jax.distributed.initialize` when the
-command line, the environment (``CAMDYN_COORDINATOR``, ``CAMDYN_NUM_PROCESSES``, ``CAMDYN_PROCESS_ID``) or a
-cluster JAX detects by itself (SLURM, Open MPI: ``--distributed auto``... see :func:`wanted`) asks for it.
+``initialize(coordinator, num_processes, process_id, auto=...)`` calls :func:`jax.distributed.initialize` when
+the command line or the environment (``CAMDYN_COORDINATOR``, ``CAMDYN_NUM_PROCESSES``, ``CAMDYN_PROCESS_ID``)
+asks for several processes, or with ``auto`` (``--distributed``) on a cluster JAX detects by itself (SLURM,
+Open MPI), which then supplies the three values.
 Afterwards ``jax.devices()`` is the global list of every process's devices, the batched kernels are sharded over
 that global mesh (:func:`camdyn.design.sweep._sharding.run_batched`), every process computes the same inputs
 and receives every result, and only process 0 writes (:func:`is_writer`). On CPU the collectives go through gloo.
