@@ -126,21 +126,37 @@ def _free_port() -> int:
         return s.getsockname()[1]
 
 
-@pytest.mark.slow
-def test_two_processes_write_the_same_csv(tmp_path):
-    case = CASES / "lecture-tolerances.toml"
-    env = {**os.environ, "JAX_PLATFORMS": "cpu", "CAMDYN_NO_CACHE": "1", "XLA_FLAGS": ""}
-    args = [sys.executable, "-m", "camdyn", "tolerance", str(case), "--samples", "300", "--seed", "5", "--json"]
-    one = subprocess.run([*args, "-o", str(tmp_path / "one")], env=env, capture_output=True, text=True, timeout=300)
+ENV = {**os.environ, "JAX_PLATFORMS": "cpu", "CAMDYN_NO_CACHE": "1", "XLA_FLAGS": ""}
+
+
+def _one_and_two(args: list[str], tmp_path: Path):
+    """Run ``args`` as 1 process into tmp/one and as 2 processes (localhost coordinator) into tmp/two: (the one's
+    stdout, the two's (stdout, stderr) per process)."""
+    one = subprocess.run([*args, "-o", str(tmp_path / "one")], env=ENV, capture_output=True, text=True, timeout=300)
     assert one.returncode == 0, one.stderr
     port = _free_port()
     procs = [
         subprocess.Popen([*args, "-o", str(tmp_path / "two"), "--coordinator", f"127.0.0.1:{port}", "--num-processes", "2", "--process-id", str(i)],
-                         env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+                         env=ENV, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
         for i in range(2)
     ]
     outs = [p.communicate(timeout=300) for p in procs]
     assert [p.returncode for p in procs] == [0, 0], [o[1][-2000:] for o in outs]
+    return one, outs
+
+
+@pytest.mark.slow
+def test_two_processes_sweep_the_same_map(tmp_path):
+    args = [sys.executable, "-m", "camdyn", "sweep", str(CASES / "lecture.toml"), "--speeds", "200:700:8", "--spring-rates", "1:3:3"]
+    _one_and_two(args, tmp_path)
+    assert (tmp_path / "two" / "lecture-sweep.csv").read_bytes() == (tmp_path / "one" / "lecture-sweep.csv").read_bytes()
+
+
+@pytest.mark.slow
+def test_two_processes_write_the_same_csv(tmp_path):
+    case = CASES / "lecture-tolerances.toml"
+    args = [sys.executable, "-m", "camdyn", "tolerance", str(case), "--samples", "300", "--seed", "5", "--json"]
+    one, outs = _one_and_two(args, tmp_path)
     doc = json.loads(outs[0][0])
     assert doc["processes"] == 2 and doc["devices"] == 2 and outs[1][0] == ""  # process 0 writes
     name = "lecture-tolerances-tolerance.csv"
