@@ -78,3 +78,31 @@ def torsion_rate_at_arm(torsion_rate, lever_arm_mm):
     """The rate (N/mm) of a linear spring acting at ``lever_arm_mm`` from the pivot that gives an arm the
     torsion rate (N*m/rad): k = k_t / r^2, small swings."""
     return torsion_rate * newton_per_torque(lever_arm_mm) ** 2 * M_PER_MM
+
+
+# [tolerances]: the units an absolute tolerance may carry, per key, as factors to the key's case-file unit
+# (translating follower, oscillating arm); a bare number is in the case-file unit (the first one listed)
+_RATE_UNITS = ({"N/mm": 1.0, "N/m": 1e-3, "kN/m": 1.0}, {"N*m/rad": 1.0})
+TOLERANCE_UNITS: dict[str, tuple[dict[str, float], dict[str, float]]] = {
+    "spring_rate": _RATE_UNITS,
+    "preload": ({"N": 1.0, "kN": 1e3}, {"N*m": 1.0}),
+    "mass": ({"kg": 1.0, "g": 1e-3}, {"kg*m^2": 1.0}),
+    "train_stiffness": _RATE_UNITS,
+    "speed": ({"rpm": 1.0}, {"rpm": 1.0}),
+    "profile_error": ({"mm": 1.0, "um": 1e-3}, {"rad": 1.0, "deg": math.pi / 180.0}),
+}
+NORMAL_TOLERANCE_SIGMAS = 3.0  # a normal tolerance is this many standard deviations
+PROFILE_ERROR_HARMONICS = 8  # a profile error is a random sum of harmonics 1..this of the revolution
+
+
+def tolerance_unit(key: str, oscillating: bool) -> str:
+    """The case-file unit of tolerance ``key`` (a bare number is in it)."""
+    return next(iter(TOLERANCE_UNITS[key][int(oscillating)]))
+
+
+def tolerance_to_case_unit(key: str, value: float, unit: str, oscillating: bool) -> float:
+    """An absolute tolerance ``value unit`` in the key's case-file unit; ValueError naming the units it takes."""
+    units = TOLERANCE_UNITS[key][int(oscillating)]
+    if unit not in units:
+        raise ValueError(f"unit {unit!r} not known here: use a percentage or one of {', '.join(units)}")
+    return value * units[unit]

@@ -23,7 +23,7 @@ from .._core.units import MAX_SPEED_RPM
 # compiled diffrax solves on disk (camdyn checks every solver result itself, so NaN-on-error loses nothing).
 os.environ.setdefault("EQX_ON_ERROR", "nan")
 
-COMMANDS = ("check", "table", "profile", "size", "sweep", "synthesize", "optimize", "report", "spring")
+COMMANDS = ("check", "table", "profile", "size", "sweep", "synthesize", "optimize", "report", "spring", "tolerance")
 
 
 def _version() -> str:
@@ -102,6 +102,16 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--spring-rates", metavar="A:B:N", help="spring rates, N/mm (N*m/rad oscillating): N values from A to B (default: the case's); the preload stays the case's")
     p.add_argument("-o", "--output", default=".", metavar="DIR", help="output folder (default: the current one)")
     p.add_argument("--force", action="store_true", help="overwrite the files if they exist")
+    _distributed_options(p)
+
+    p = command("tolerance", "Monte Carlo tolerance study of [tolerances]: DIR/<case>-tolerance.csv, .png and the worst samples as case files")
+    p.add_argument("case", help="case file (TOML) with a [tolerances] table")
+    p.add_argument("--samples", type=int, default=10000, metavar="N", help="built cams to draw (default 10000)")
+    p.add_argument("--seed", type=int, default=0, metavar="S", help="random seed (default 0)")
+    p.add_argument("-o", "--output", default=".", metavar="DIR", help="output folder (default: the current one)")
+    p.add_argument("--force", action="store_true", help="overwrite the files if they exist")
+    p.add_argument("--json", action="store_true", help="print one JSON document")
+    _distributed_options(p)
 
     p = command("synthesize", "choose a CCM's dimensions for a path (differential evolution) and write a complete case file")
     p.add_argument("case", metavar="PATH.toml", help="path file: [path], [dynamics], optional name, description, [limits], [synthesis]")
@@ -123,6 +133,14 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("case", help="case file (TOML); an optional [spring] table gives the material, bore, installed length and end type")
     p.add_argument("--json", action="store_true", help="print one JSON document")
     return parser
+
+
+def _distributed_options(p: argparse.ArgumentParser) -> None:
+    """JAX's distributed runtime (see camdyn/_core/distributed.py): the options of the batched commands."""
+    p.add_argument("--coordinator", metavar="HOST:PORT", help="several processes: the coordinator's address (or CAMDYN_COORDINATOR)")
+    p.add_argument("--num-processes", metavar="N", help="several processes: how many (or CAMDYN_NUM_PROCESSES)")
+    p.add_argument("--process-id", metavar="I", help="several processes: this one's index, 0 writes the outputs (or CAMDYN_PROCESS_ID)")
+    p.add_argument("--distributed", action="store_true", help="start JAX's distributed runtime from what it detects (SLURM, Open MPI)")
 
 
 def _enable_caches() -> None:

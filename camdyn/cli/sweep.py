@@ -9,6 +9,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .._core.distributed import initialize, is_writer
 from .._core.errors import InputError
 from .._core.outputs import output_dir, output_file, safe_stem, write_new
 from ..design.sweep import check_grid_size, jump_map
@@ -42,16 +43,21 @@ def run(args) -> int:
     check_grid_size(speed_grid[2], 1 if rate_grid is None else rate_grid[2], "--speeds x --spring-rates")  # before allocating it
     speeds = np.linspace(*speed_grid)
     rates = None if rate_grid is None else np.linspace(*rate_grid)
+    initialize(args.coordinator, args.num_processes, args.process_id, auto=args.distributed)
+    writer = is_writer()  # with several processes, process 0 writes
     case = build_case(args.spec, source=Path(args.case))
-    out = output_dir(args.output, "jump map")
     stem = safe_stem(case.name)  # the case's name is data, not a path: the files stay in the folder named
-    csv_path, png_path = out / f"{stem}-sweep.csv", out / f"{stem}-sweep.png"
-    for path in (csv_path, png_path):
-        output_file(path, args.force, "jump map")
+    csv_path, png_path = Path(args.output) / f"{stem}-sweep.csv", Path(args.output) / f"{stem}-sweep.png"
+    if writer:
+        output_dir(args.output, "jump map")
+        for path in (csv_path, png_path):
+            output_file(path, args.force, "jump map")
     t0 = time.perf_counter()
     with progress_bar() as progress:
-        jm = jump_map(case, speeds, rates, progress=progress)
+        jm = jump_map(case, speeds, rates, progress=progress if writer else None)
     elapsed = time.perf_counter() - t0
+    if not writer:
+        return 0
     write_new(csv_path, jm.csv, True)
     save_png(jm, png_path)
     ku = jm.spring_rate_unit

@@ -25,8 +25,10 @@ from .checks import CheckReport, forces_in_newton, run_check
 from .sizing import SpringSizing, size_spring
 from .spring import SpringDesign, design_case_spring
 from .sweep import JumpMap, jump_map
+from .tolerance import ToleranceResult, tolerance_study
 
 SIDE_DEG = 1e-7  # how far either side of a break the one-sided values are taken (deg)
+REVIEW_TOLERANCE_SAMPLES = 2000  # built cams of the report's tolerance page (seed 0; `camdyn tolerance` for more)
 SPEED_SCAN = 2000  # speeds of the force-against-speed curve: dynamic_jump_speed's scan, so compiled already
 MAP_SPEEDS, MAP_RATES = 48, 24  # the review's jump map: speeds x spring rates
 
@@ -83,6 +85,7 @@ class Review:
     jump_map: JumpMap | str  # at the case's preload, gaps not integrated (least force and the jump boundary)
     spring_part: SpringDesign | str = "not designed"  # the case's own spring as a part (camdyn spring)
     original: Original | str | None = None  # the case this one was optimized from (None: not an optimized case)
+    tolerance: ToleranceResult | str | None = None  # the tolerance study of [tolerances] (None: the case has none)
 
 
 def design_review(case: Case, check: CheckReport, *, progress: Progress | None = None) -> Review:
@@ -102,7 +105,8 @@ def design_review(case: Case, check: CheckReport, *, progress: Progress | None =
     part = _or_reason(design_case_spring, case)
     tick()
     original = _or_reason(_original, case, check, sweep) if case.spec.optimized_from else None
-    return Review(case, check, motion, margin_rpm, margin, sweep, sizing, jm, part, original)
+    tol = _or_reason(tolerance_study, case, REVIEW_TOLERANCE_SAMPLES, 0) if case.spec.tolerances is not None else None
+    return Review(case, check, motion, margin_rpm, margin, sweep, sizing, jm, part, original, tol)
 
 
 def _original(case: Case, check: CheckReport, sweep: ForceVsSpeed) -> Original:

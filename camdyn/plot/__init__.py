@@ -14,6 +14,7 @@ from .motion import display_scale, display_unit, plot_fit, plot_svaj, svaj_quant
 from .optimization import plot_motion_before_after, plot_speed_before_after
 from .parts import plot_contact, plot_drive, plot_spring
 from .springs import PLOT_COLORS, plot_feasible_region
+from .tolerance import plot_jump_speed_histogram, plot_tolerance_tornado, save_tolerance_png
 
 __all__ = [
     "plot_motion_before_after", "plot_speed_before_after",
@@ -21,4 +22,5 @@ __all__ = [
     "mechanism_bounds", "mechanism_frames", "plot_cam_profile", "plot_contact", "plot_contact_force", "plot_curvature", "plot_displacement", "plot_drive", "plot_face_contact",
     "plot_feasible_region", "plot_fit", "plot_follower", "plot_force_vs_speed", "plot_jump_map", "plot_mechanism", "plot_path",
     "plot_path_error", "plot_pressure_angle", "plot_spring", "plot_svaj", "plot_vibration", "save_png", "shade_separations", "square_face", "svaj_quantities",
+    "plot_jump_speed_histogram", "plot_tolerance_tornado", "save_tolerance_png",
 ]

@@ -26,6 +26,7 @@ from .motion import LAW_NAMES, MotionSpec, SegmentSpec, check_segments
 from .path import PATH_TYPES, PathSpec
 from .pathfile import PathFileSpec, SynthesisSpec
 from .spring import END_TYPES, SPRING_MODELS, SpringSpec
+from .tolerances import DISTRIBUTIONS, TOLERANCE_KEYS, Tolerance, TolerancesSpec, ToleranceValue, resolve_tolerances
 
 __all__ = [
     "CaseSpec", "DriveSpec", "DynamicsSpec", "END_TYPES", "ElasticSpec", "MATERIAL_NAMES", "MaterialsSpec", "SPRING_MODELS",
@@ -33,6 +34,7 @@ __all__ = [
     "MechanismSpec", "MotionSpec", "PATH_TYPES", "PathFileSpec", "PathSpec", "ROTARY_KEYS", "SCHEMA_VERSION",
     "SegmentSpec", "SynthesisSpec", "Table", "check_segments", "load_case_spec", "load_path_file", "parse",
     "read_toml", "validation_error",
+    "DISTRIBUTIONS", "TOLERANCE_KEYS", "Tolerance", "TolerancesSpec", "ToleranceValue", "resolve_tolerances",
 ]
 
 

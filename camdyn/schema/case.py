@@ -16,6 +16,7 @@ from .mechanism import MechanismSpec
 from .motion import MotionSpec, check_segments
 from .path import PathSpec
 from .spring import SpringSpec, check_spring_keys
+from .tolerances import TolerancesSpec, check_tolerance_keys
 
 SCHEMA_VERSION = 1
 
@@ -40,6 +41,7 @@ class CaseSpec(Table):
     spring: SpringSpec | None = Field(default=None, description="the return spring as a part: wire material, bore, installed length, end type")
     materials: MaterialsSpec = Field(default=MaterialsSpec(), description="elastic constants of the cam and the follower, for the contact stress")
     drive: DriveSpec = Field(default=DriveSpec(), description="the camshaft drive: speed fluctuation for the flywheel")
+    tolerances: TolerancesSpec | None = Field(default=None, description="how far a built cam may differ from the case (camdyn tolerance)")
 
     @model_validator(mode="after")
     def _tables_fit_together(self) -> CaseSpec:
@@ -64,6 +66,7 @@ class CaseSpec(Table):
             raise ValueError("motion: the case needs [motion] segments or a table, a [follower] contour, or [path] and [mechanism]")
         check_dynamics_keys(self.dynamics, oscillating=self.oscillating)
         check_spring_keys(self.spring, oscillating=self.oscillating)
+        check_tolerance_keys(self.tolerances, oscillating=self.oscillating)
         if self.limits.max_contact_stress is not None and self.contact_width_mm is None:
             where = "follower" if self.follower is not None else "mechanism"
             raise ValueError(f"limits.max_contact_stress: the contact stress needs the contact width: give [{where}] width, mm")

@@ -1,5 +1,9 @@
 """Grid points over devices: a kernel ``kernel(const, *point)`` vmapped over points, compiled once and sharded
-over the local JAX devices (``jax.shard_map`` on a one-axis mesh), run chunk by chunk so progress can follow."""
+over the JAX devices (``jax.shard_map`` on a one-axis mesh), run chunk by chunk so progress can follow.
+
+With several processes (:func:`camdyn._core.distributed.initialize`) the devices are every process's: each
+process holds the same inputs, gives the mesh its own devices' shards of them (``jax.make_array_from_callback``)
+and gathers every result (``multihost_utils.process_allgather``), so every process returns the whole output."""
 
 from __future__ import annotations
 
@@ -10,7 +14,8 @@ import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
-from jax.sharding import Mesh, PartitionSpec
+from jax.experimental import multihost_utils
+from jax.sharding import Mesh, NamedSharding, PartitionSpec
 
 
 def _shard_map(f, mesh, in_specs, out_specs):
@@ -31,7 +36,19 @@ def _sharded(kernel: Callable, devices: tuple):
         spec = PartitionSpec("grid")
         return _shard_map(body, mesh, (PartitionSpec(), *([spec] * len(batched))), spec)(const, *batched)
 
-    return eqx.filter_jit(run)
+    return eqx.filter_jit(run), mesh
+
+
+def _global(x, mesh, spec):
+    """``x`` (the same on every process) as a global array over ``mesh``, each process giving its own shards."""
+    x = np.asarray(x)
+    return jax.make_array_from_callback(x.shape, NamedSharding(mesh, spec), lambda idx: x[idx])
+
+
+def _to_mesh(const, part, mesh):
+    """The kernel's inputs on the global mesh of several processes: constants replicated, points sharded."""
+    const = jax.tree_util.tree_map(lambda c: _global(c, mesh, PartitionSpec()) if eqx.is_array(c) else c, const)
+    return const, [_global(p, mesh, PartitionSpec("grid")) for p in part]
 
 
 def run_batched(kernel: Callable, const, batched: list[np.ndarray], chunk: int, progress: Callable[[int], None] | None, devices: tuple):
@@ -39,14 +56,19 @@ def run_batched(kernel: Callable, const, batched: list[np.ndarray], chunk: int, 
     n_dev = len(devices)
     size = chunk * n_dev * (1 if devices[0].platform == "cpu" else 16)  # accelerators want wide batches
     n = batched[0].shape[0]
-    fn = _sharded(kernel, devices)
+    fn, mesh = _sharded(kernel, devices)
+    multi = jax.process_count() > 1
     outs = []
     for start in range(0, n, size):
         part = [b[start : start + size] for b in batched]
         m = part[0].shape[0]
         if m < size:  # pad with copies of the first point: one compiled shape for every chunk
             part = [np.concatenate([p, np.repeat(p[:1], size - m, axis=0)]) for p in part]
-        res = fn(const, *(jnp.asarray(p) for p in part))
+        if multi:
+            c, pts = _to_mesh(const, part, mesh)
+            res = multihost_utils.process_allgather(fn(c, *pts), tiled=True)
+        else:
+            res = fn(const, *(jnp.asarray(p) for p in part))
         res = jax.tree_util.tree_map(lambda r: np.asarray(r)[:m], res)
         outs.append(res)
         if progress is not None:

@@ -14,6 +14,7 @@ from .parts import draw_parts
 from .springs import draw_springs
 from .summary import draw_summary
 from .svaj import draw_svaj
+from .tolerances import draw_tolerances
 
 
 @dataclass(frozen=True)
@@ -35,6 +36,10 @@ PAGES: list[Page] = [
     Page("optimization", "Optimization", draw_optimization, lambda data: data.review.original is not None and not isinstance(data.review.original, str)),
     Page("parts", "Drive, contact and spring", draw_parts),
     Page("springs", "Spring sizing", draw_springs),
+    Page("tolerances", "Tolerances", draw_tolerances, lambda data: data.review.tolerance is not None),
 ]
 
-__all__ = ["PAGES", "Page", "draw_cam", "draw_dynamics", "draw_mechanism", "draw_optimization", "draw_parts", "draw_springs", "draw_summary", "draw_svaj"]
+__all__ = [
+    "PAGES", "Page", "draw_cam", "draw_dynamics", "draw_mechanism", "draw_optimization", "draw_parts", "draw_springs", "draw_summary", "draw_svaj",
+    "draw_tolerances",
+]

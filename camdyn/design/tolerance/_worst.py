@@ -1,0 +1,32 @@
+"""The worst samples as case files a user can ``check``: the case's own tables with the sample's spring rate,
+preload, mass, train stiffness and speed in ``[dynamics]`` (the damping keeps its ratio, as in the study).
+
+A sample's profile error is not a case-file key: the file has the nominal profile, and its header gives the
+error's RMS (the least force and jump speed in the header are the sample's, with the error)."""
+
+from __future__ import annotations
+
+from ...schema import read_toml
+from ._result import ToleranceResult
+
+_KEYS = {False: ("spring_rate", "preload", "mass", "train_stiffness"), True: ("torsion_rate", "preload_torque", "inertia", "train_torsion_rate")}
+
+
+def worst_case_docs(case, result: ToleranceResult) -> list[tuple[dict, list[str]]]:
+    """Per worst sample (least contact force first): the case as a TOML document and its header lines."""
+    raw = read_toml(case.source) if case.source is not None else case.spec.model_dump(mode="json", exclude_none=True)
+    raw.pop("tolerances", None)
+    out = []
+    for rank, i in enumerate(result.worst, start=1):
+        doc = {**raw, "name": f"{case.name}-worst-{rank}", "dynamics": dict(raw["dynamics"])}
+        for key, name in zip(("spring_rate", "preload", "mass", "train_stiffness"), _KEYS[case.oscillating], strict=True):
+            if key != "train_stiffness" or name in doc["dynamics"]:
+                doc["dynamics"][name] = float(result.params[key][i])
+        doc["dynamics"]["speed"] = float(result.params["speed"][i])
+        header = [
+            f"camdyn tolerance: sample {i} of {result.samples} (seed {result.seed}) of case {case.name!r}, worst {rank} by least contact force",
+            f"with its profile error (RMS {result.params['profile_error'][i]:.4g} {'rad' if case.oscillating else 'mm'}, not in this file): "
+            f"least contact force {result.least_force[i]:.6g} N, dynamic jump speed {result.jump_speed_rpm[i]:.6g} rpm",
+        ]
+        out.append((doc, header))
+    return out

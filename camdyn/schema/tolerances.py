@@ -1,0 +1,125 @@
+"""The ``[tolerances]`` table: how far a built cam may differ from its case file, for ``camdyn tolerance``.
+
+Each key is a tolerance: a percentage of the case's value (``"10%"``), an absolute value with a unit
+(``"2 N"``, ``"0.2 N/mm"``), or a bare number in the key's case-file unit. ``profile_error`` is absolute only
+(mm; rad for an oscillating arm): the RMS of a random smooth lift error made of low harmonics. A key is
+either such a value or an inline table ``{value = "10%", distribution = "uniform"}``; the table-wide
+``distribution`` is the default of every key: ``normal`` (the tolerance is 3 sigma) or ``uniform`` (the
+tolerance is the half-width). For ``profile_error`` the value is the RMS whatever the distribution (the
+harmonic amplitudes are normal or uniform with that variance).
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from dataclasses import dataclass
+from typing import Annotated, Literal
+
+from pydantic import Discriminator, Field, Tag, model_validator
+
+from .._core.units import TOLERANCE_UNITS, tolerance_to_case_unit
+from ._base import Real, Table
+
+TOLERANCE_KEYS = tuple(TOLERANCE_UNITS)
+DISTRIBUTIONS = ("normal", "uniform")
+_VALUE = re.compile(r"^\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*(%|[A-Za-z*/^0-9]+)?\s*$")
+
+
+class ToleranceValue(Table):
+    """One tolerance with its own distribution: ``{value = "10%", distribution = "uniform"}``."""
+
+    value: str | Real = Field(description='the tolerance: "10%", "2 N" or a number in the key\'s unit')
+    distribution: Literal["normal", "uniform"] | None = Field(default=None, description="normal (tolerance = 3 sigma) | uniform (tolerance = half-width); default: the table's")
+
+
+def _kind(raw) -> str:
+    return "table" if isinstance(raw, dict | ToleranceValue) else ("text" if isinstance(raw, str) else "number")
+
+
+# a tolerance: an inline table, a text ("10%", "2 N") or a number; the tag picks which, so an error names the key
+Tol = Annotated[
+    Annotated[ToleranceValue, Tag("table")] | Annotated[str, Tag("text")] | Annotated[Real, Tag("number")],
+    Discriminator(_kind),
+]
+_HELP = ': "10%", "{u}" or a number ({u0}); or {{value = ..., distribution = "uniform"}}'
+
+
+class TolerancesSpec(Table):
+    """The ``[tolerances]`` table (every key optional; a missing key is no tolerance)."""
+
+    spring_rate: Tol | None = Field(default=None, description="spring rate tolerance" + _HELP.format(u="0.2 N/mm", u0="N/mm; N*m/rad for an arm"))
+    preload: Tol | None = Field(default=None, description="preload tolerance" + _HELP.format(u="2 N", u0="N; N*m for an arm"))
+    mass: Tol | None = Field(default=None, description="moving mass tolerance" + _HELP.format(u="0.01 kg", u0="kg; kg*m^2 for an arm"))
+    train_stiffness: Tol | None = Field(default=None, description="follower-train stiffness tolerance" + _HELP.format(u="100 N/mm", u0="N/mm; N*m/rad for an arm"))
+    speed: Tol | None = Field(default=None, description="cam speed tolerance" + _HELP.format(u="6 rpm", u0="rpm"))
+    profile_error: Tol | None = Field(default=None, description="RMS of a random smooth lift error (harmonics 1-8), absolute only: mm (rad for an arm), e.g. 0.005 or \"5 um\"")
+    distribution: Literal["normal", "uniform"] = Field(default="normal", description="default distribution of every key: normal (tolerance = 3 sigma) | uniform (tolerance = half-width)")
+
+    @model_validator(mode="after")
+    def _values_parse(self) -> TolerancesSpec:
+        for key in TOLERANCE_KEYS:
+            raw = getattr(self, key)
+            if raw is not None:
+                _split(key, raw.value if isinstance(raw, ToleranceValue) else raw)  # units are checked with the follower kind
+        return self
+
+
+@dataclass(frozen=True)
+class Tolerance:
+    """One tolerance resolved: relative (a fraction of the case's value) or absolute (in the case-file unit)."""
+
+    key: str
+    value: float  # fraction (relative) or case-file unit (absolute)
+    relative: bool
+    distribution: str  # "normal" | "uniform"
+
+
+def _split(key: str, raw) -> tuple[float, str | None]:
+    """(number, unit or "%" or None) of a tolerance; ValueError("key: message") for one that cannot be."""
+    if isinstance(raw, bool):
+        raise ValueError(f"{key}: expected a tolerance such as \"10%\" or a number, got {raw!r}")
+    if isinstance(raw, int | float):
+        number, unit = float(raw), None
+    else:
+        m = _VALUE.match(raw)
+        if not m:
+            raise ValueError(f"{key}: expected a tolerance such as \"10%\", \"2 N\" or a number, got {raw!r}")
+        number, unit = float(m.group(1)), m.group(2)
+    if not math.isfinite(number) or number < 0:
+        raise ValueError(f"{key}: a tolerance must be zero or positive, got {raw!r}")
+    if unit == "%" and key == "profile_error":
+        raise ValueError(f"{key}: a percentage needs a scale and a profile error has none: give an RMS in mm (e.g. 0.005)")
+    if unit == "%" and number >= 100:
+        raise ValueError(f"{key}: a relative tolerance must be under 100%, got {raw!r}")
+    return number, unit
+
+
+def resolve_tolerances(spec: TolerancesSpec, *, oscillating: bool) -> tuple[Tolerance, ...]:
+    """The given tolerances resolved, in :data:`TOLERANCE_KEYS` order; ValueError("key: message") for a unit the
+    key does not take."""
+    out = []
+    for key in TOLERANCE_KEYS:
+        raw = getattr(spec, key)
+        if raw is None:
+            continue
+        dist = raw.distribution if isinstance(raw, ToleranceValue) and raw.distribution else spec.distribution
+        number, unit = _split(key, raw.value if isinstance(raw, ToleranceValue) else raw)
+        if unit == "%":
+            out.append(Tolerance(key, number / 100.0, True, dist))
+        else:
+            try:
+                value = number if unit is None else tolerance_to_case_unit(key, number, unit, oscillating)
+            except ValueError as err:
+                raise ValueError(f"{key}: {err}") from None
+            out.append(Tolerance(key, value, False, dist))
+    return tuple(out)
+
+
+def check_tolerance_keys(spec: TolerancesSpec | None, *, oscillating: bool, key: str = "tolerances") -> None:
+    """Raise ``ValueError("<key>.<name>: message")`` for a tolerance whose unit its follower kind does not take."""
+    if spec is not None:
+        try:
+            resolve_tolerances(spec, oscillating=oscillating)
+        except ValueError as err:
+            raise ValueError(f"{key}.{err}") from None

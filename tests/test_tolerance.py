@@ -1,0 +1,164 @@
+"""camdyn tolerance: the Monte Carlo tolerance study, its schema, its distributed run."""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import socket
+import subprocess
+import sys
+import tomllib
+from pathlib import Path
+
+import numpy as np
+import pytest
+from scipy.stats import norm
+
+from camdyn.cli import main
+from camdyn.design.checks import run_check
+from camdyn.design.sweep import jump_map
+from camdyn.design.tolerance import tolerance_study
+from camdyn.model.case import case_from_dict
+
+ROOT = Path(__file__).resolve().parents[1]
+CASES = ROOT / "cases"
+
+
+def _lecture(tolerances: dict | None, speed: float | None = None) -> dict:
+    raw = tomllib.loads((CASES / "lecture.toml").read_text())
+    if tolerances is not None:
+        raw["tolerances"] = tolerances
+    if speed is not None:
+        raw["dynamics"]["speed"] = speed
+    return raw
+
+
+def _write(tmp_path: Path, raw: dict, name: str = "case.toml") -> Path:
+    import tomli_w
+
+    path = tmp_path / name
+    path.write_text(tomli_w.dumps(raw))
+    return path
+
+
+@pytest.mark.parametrize(
+    ("tolerances", "argv", "message"),
+    [
+        ({"sprng_rate": "5%"}, [], "tolerances.sprng_rate: unknown key"),
+        ({"spring_rate": "-5%"}, [], "tolerances.spring_rate: a tolerance must be zero or positive"),
+        ({"preload": -1.0}, [], "tolerances.preload: a tolerance must be zero or positive"),
+        ({"profile_error": "5%"}, [], "tolerances.profile_error: a percentage needs a scale"),
+        ({"preload": "2 kg"}, [], "tolerances.preload: unit 'kg' not known here"),
+        ({"mass": {"value": "3%", "distribution": "triangular"}}, [], "tolerances.mass.distribution"),
+        ({"spring_rate": "5%"}, ["--samples", "0"], "--samples: must be from 1"),
+    ],
+)
+def test_bad_input_one_line_exit_2(tmp_path, capsys, tolerances, argv, message):
+    path = _write(tmp_path, _lecture(tolerances))
+    assert main(["tolerance", str(path), "-o", str(tmp_path / "out"), *argv]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "\n" not in err and message in err, err
+    assert not (tmp_path / "out").exists() or not any((tmp_path / "out").iterdir())
+
+
+def test_units_and_distributions_resolve():
+    from camdyn.schema import CaseSpec, parse, resolve_tolerances
+
+    spec = parse(CaseSpec, _lecture({"preload": "0.002 kN", "train_stiffness": {"value": "20%", "distribution": "uniform"}, "profile_error": "5 um", "distribution": "normal"}))
+    tol = {t.key: t for t in resolve_tolerances(spec.tolerances, oscillating=False)}
+    assert tol["preload"].value == pytest.approx(2.0) and not tol["preload"].relative
+    assert tol["train_stiffness"].distribution == "uniform" and tol["train_stiffness"].relative and tol["train_stiffness"].value == pytest.approx(0.2)
+    assert tol["profile_error"].value == pytest.approx(0.005) and tol["profile_error"].distribution == "normal"
+
+
+def test_samples_do_not_depend_on_chunks():
+    from camdyn.design.tolerance._sampling import Spread, draw_samples
+
+    nominal = {"spring_rate": 2.0, "preload": 30.0, "mass": 0.5, "train_stiffness": 1000.0, "speed": 300.0, "profile_error": 0.0}
+    spread = {"spring_rate": Spread("spring_rate", 2.0, 0.2, "normal"), "profile_error": Spread("profile_error", 0.0, 0.005, "uniform")}
+    a, b = draw_samples(spread, nominal, 1000, 7), draw_samples(spread, nominal, 1000, 7)
+    assert all(np.array_equal(a[k], b[k]) for k in a)
+    assert np.std(a["spring_rate"]) == pytest.approx(0.2 / 3, rel=0.1)  # tolerance = 3 sigma
+    rms = np.sqrt(np.mean(0.5 * np.sum(a["profile_coeffs"] ** 2, axis=1)))
+    assert rms == pytest.approx(0.005, rel=0.05)  # the profile error's RMS, on average
+    assert np.all(np.abs(a["profile_coeffs"]) <= np.sqrt(3) * 0.005 / np.sqrt(8) + 1e-15)  # uniform
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("speed", [300.0, 560.0])
+def test_zero_tolerances_agree_with_check(speed):
+    zeros = {k: "0%" for k in ("spring_rate", "preload", "mass", "train_stiffness", "speed")} | {"profile_error": 0.0}
+    case = case_from_dict(_lecture(zeros, speed))
+    result = tolerance_study(case, 16, seed=3)
+    report = run_check(case)
+    fails = bool(report.dynamic["separations"])
+    assert result.probability in (0.0, 1.0)
+    assert result.probability == (1.0 if fails else 0.0)
+    assert (speed > 500) == fails
+    # the nominal jump speed agrees with check's (a 512-angle scan grid against check's 4096)
+    assert result.nominal_jump_speed_rpm == pytest.approx(report.dynamic["jump_speed_rpm"], rel=2e-4)
+
+
+@pytest.mark.slow
+def test_spring_rate_tolerance_matches_closed_form():
+    """One tolerance (spring rate, normal): the probability of separation is Phi((k_crit - k0) / sigma), k_crit
+    from the jump map of ``sweep`` over spring rates at the case speed."""
+    speed, k0, sigma = 481.0, 2.0, 0.2 / 3
+    case = case_from_dict(_lecture({"spring_rate": "10%"}, speed))
+    rates = np.linspace(k0 - 4 * sigma, k0 + 4 * sigma, 161)
+    f = jump_map(case, [speed], rates, gaps=False).contact_force[0]
+    i = int(np.nonzero(np.diff(np.sign(f)) != 0)[0][0])
+    k_crit = rates[i] - f[i] * (rates[i + 1] - rates[i]) / (f[i + 1] - f[i])
+    p_closed = norm.cdf((k_crit - k0) / sigma)
+    result = tolerance_study(case, 2000, seed=1)
+    lo, hi = result.confidence_interval
+    assert 0.05 < p_closed < 0.95  # a test that means something
+    print("closed form", p_closed, "Monte Carlo", result.probability, (lo, hi))
+    assert lo <= p_closed <= hi, (p_closed, result.probability, lo, hi)
+    assert set(result.sensitivities) == {"spring_rate"}
+    assert result.sensitivities["spring_rate"]["share_monte_carlo"] == pytest.approx(1.0, abs=0.05)
+
+
+def _free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+ENV = {**os.environ, "JAX_PLATFORMS": "cpu", "CAMDYN_NO_CACHE": "1", "XLA_FLAGS": ""}
+
+
+def _one_and_two(args: list[str], tmp_path: Path):
+    """Run ``args`` as 1 process into tmp/one and as 2 processes (localhost coordinator) into tmp/two: (the one's
+    stdout, the two's (stdout, stderr) per process)."""
+    one = subprocess.run([*args, "-o", str(tmp_path / "one")], env=ENV, capture_output=True, text=True, timeout=300)
+    assert one.returncode == 0, one.stderr
+    port = _free_port()
+    procs = [
+        subprocess.Popen([*args, "-o", str(tmp_path / "two"), "--coordinator", f"127.0.0.1:{port}", "--num-processes", "2", "--process-id", str(i)],
+                         env=ENV, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+        for i in range(2)
+    ]
+    outs = [p.communicate(timeout=300) for p in procs]
+    assert [p.returncode for p in procs] == [0, 0], [o[1][-2000:] for o in outs]
+    return one, outs
+
+
+@pytest.mark.slow
+def test_two_processes_sweep_the_same_map(tmp_path):
+    args = [sys.executable, "-m", "camdyn", "sweep", str(CASES / "lecture.toml"), "--speeds", "200:700:8", "--spring-rates", "1:3:3"]
+    _one_and_two(args, tmp_path)
+    assert (tmp_path / "two" / "lecture-sweep.csv").read_bytes() == (tmp_path / "one" / "lecture-sweep.csv").read_bytes()
+
+
+@pytest.mark.slow
+def test_two_processes_write_the_same_csv(tmp_path):
+    case = CASES / "lecture-tolerances.toml"
+    args = [sys.executable, "-m", "camdyn", "tolerance", str(case), "--samples", "300", "--seed", "5", "--json"]
+    one, outs = _one_and_two(args, tmp_path)
+    doc = json.loads(outs[0][0])
+    assert doc["processes"] == 2 and doc["devices"] == 2 and outs[1][0] == ""  # process 0 writes
+    name = "lecture-tolerances-tolerance.csv"
+    assert (tmp_path / "two" / name).read_bytes() == (tmp_path / "one" / name).read_bytes()
+    assert json.loads(one.stdout)["probability_of_separation"] == doc["probability_of_separation"]
