@@ -21,7 +21,7 @@ from camdyn import InputError
 from camdyn._core.units import RPM
 from camdyn.design.checks import run_check
 from camdyn.design.optimize import optimize_case
-from camdyn.design.optimize._objectives import jump_speed, least_force
+from camdyn.design.optimize._objectives import hold_to, least_force
 from camdyn.design.optimize._rows import Rows
 from camdyn.design.optimize._shape import shape_space
 from camdyn.model.case import case_from_dict, load_case
@@ -104,11 +104,15 @@ def test_autodiff_jacobian_matches_finite_differences(lecture_rows):
 
 
 @pytest.mark.slow
-def test_jump_speed_objective_raises_the_lecture_by_30_percent(lecture_rows):
-    z, w = jump_speed(lecture_rows, LECTURE_JUMP_RPM * RPM)
-    assert w / RPM >= 1.30 * LECTURE_JUMP_RPM
-    assert least_force(lecture_rows, z, w)[0] >= lecture_rows.min_force  # every speed up to w, every angle
-    assert np.max(np.asarray(lecture_rows.geometry(jnp.asarray(z)))) <= 0.0  # pressure angle and curvature
+def test_reshaped_lecture_holds_at_every_speed_to_130_percent(lecture_rows):
+    """The inner problem of the jump-speed objective at 1.3 x the lecture's jump speed: a reshaped rise and return
+    that hold there, at every speed below and every angle, within the pressure-angle and curvature limits (the
+    bisection of ``jump_speed`` only repeats this; the shipped case is its whole answer)."""
+    w = 1.30 * LECTURE_JUMP_RPM * RPM
+    assert least_force(lecture_rows, lecture_rows.space.z0, w)[0] < 0.0  # the lecture's own shape jumps below w
+    step, full = hold_to(lecture_rows, w, lecture_rows.space.z0)
+    assert full >= lecture_rows.min_force and full == least_force(lecture_rows, step.x, w)[0]
+    assert np.max(np.asarray(lecture_rows.geometry(jnp.asarray(step.x)))) <= 0.0  # pressure angle and curvature
 
 
 # ---------------------------------------------------------------------------------- the shipped case
@@ -184,3 +188,14 @@ def test_spring_force_objective_lowers_the_peak_and_still_holds(capsys, tmp_path
     assert doc["after"]["verdict"] == "pass" and doc["after"]["jump_speed_rpm"] >= 1.25 * 300.0
     case = load_case(out)
     assert run_check(case).verdict == "pass"
+
+
+@pytest.mark.slow
+def test_vibration_objective_prints_before_and_after(capsys, tmp_path):
+    out = tmp_path / "quiet.toml"
+    code, stdout, err = run(capsys, "optimize", LECTURE, "-o", out, "--objective", "vibration")
+    assert code == 0, err
+    row = next(line for line in stdout.splitlines() if line.startswith("residual vibration (mm)"))
+    before, after = map(float, row.split()[-2:])
+    assert after < 0.01 * before  # the band's vibration all but gone, still passing (exit 0)
+    assert f"wrote {out}" in stdout and load_case(out).spec.optimized_from.endswith("lecture.toml")

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+from dataclasses import fields
 from pathlib import Path
 
 from .._core.errors import InputError
@@ -11,26 +12,14 @@ from ..design.optimize import optimize_case
 from ..model.case import build_case
 from . import _console
 
-_ROWS = (  # (label, Metrics field, format)
-    ("dynamic jump speed (rpm)", "jump_speed_rpm", ".1f"),
-    ("least contact force at the case speed (N)", "least_force_N", ".4g"),
-    ("peak acceleration ({u}/rad^2)", "peak_acceleration", ".4g"),
-    ("max pressure angle (deg)", "max_pressure_angle_deg", ".2f"),
-    ("least radius of curvature (mm)", "min_radius_of_curvature_mm", ".4g"),
-    ("peak spring force ({f})", "peak_spring_force", ".4g"),
-    ("residual vibration ({u})", "residual_vibration", ".3g"),
-    ("verdict", "verdict", ""),
-)
-
-
 def print_optimization(res, output: Path) -> None:
     con = _console.console()
     u, f = ("deg", "N*m") if res.case.oscillating else ("mm", "N")
     con.print(f"[bold]{res.case.name}[/bold]  optimized for {res.objective}: {len(res.document['motion']['segments'])} segments, rises and returns as B-splines")
     t = _console.table(("", "left"), ("before", "right"), ("after", "right"))
-    for label, key, fmt in _ROWS:
-        before, after = getattr(res.before, key), getattr(res.after, key)
-        t.add_row(label.format(u=u, f=f), format(before, fmt), format(after, fmt))
+    for fld in fields(res.before):
+        fmt = fld.metadata["format"]
+        t.add_row(fld.metadata["label"].format(u=u, f=f), format(getattr(res.before, fld.name), fmt), format(getattr(res.after, fld.name), fmt))
     con.print(t)
     for p in res.verification["points"]:
         td = next(v for k, v in p.items() if k.startswith("time_domain"))

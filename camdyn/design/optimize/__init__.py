@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -28,18 +28,23 @@ from ._shape import N_CONTROL, ShapeSpace, shape_space
 OBJECTIVES = ("jump-speed", "vibration", "spring-force")
 
 
+def _shown(label: str, fmt: str = ".4g"):
+    """A field of :class:`Metrics` with how the before/after table shows it ({u}: mm or deg, {f}: N or N*m)."""
+    return field(metadata={"label": label, "format": fmt})
+
+
 @dataclass(frozen=True)
 class Metrics:
     """What the before/after table compares."""
 
-    jump_speed_rpm: float  # dynamic (check's)
-    least_force_N: float  # dynamic, at the case speed
-    peak_acceleration: float  # |s''| max, mm/rad^2 (deg/rad^2 oscillating)
-    max_pressure_angle_deg: float
-    min_radius_of_curvature_mm: float
-    peak_spring_force: float  # N (N*m for an arm)
-    residual_vibration: float  # mm (deg oscillating), at the case speed
-    verdict: str
+    jump_speed_rpm: float = _shown("dynamic jump speed (rpm)", ".1f")  # check's
+    least_force_N: float = _shown("least contact force at the case speed (N)")
+    peak_acceleration: float = _shown("peak acceleration ({u}/rad^2)")  # |s''| max
+    max_pressure_angle_deg: float = _shown("max pressure angle (deg)", ".2f")
+    min_radius_of_curvature_mm: float = _shown("least radius of curvature (mm)")
+    peak_spring_force: float = _shown("peak spring force ({f})")  # N (N*m for an arm)
+    residual_vibration: float = _shown("residual vibration ({u})", ".3g")  # at the case speed
+    verdict: str = _shown("verdict", "")
 
     def json(self, unit: str) -> dict:
         return {
