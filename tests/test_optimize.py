@@ -20,7 +20,6 @@ from _helpers import run
 from camdyn import InputError
 from camdyn._core.units import RPM
 from camdyn.design.checks import run_check
-from camdyn.design.optimize import optimize_case
 from camdyn.design.optimize._objectives import hold_to, least_force
 from camdyn.design.optimize._rows import Rows
 from camdyn.design.optimize._shape import shape_space

@@ -15,11 +15,11 @@ import numpy as np
 from ..._core.errors import InputError
 from ..._core.progress import Progress
 from ..._core.units import RPM, rate_from_si
+from ...export import camdyn_version, dumps_case
 from ...model.case import Case, build_case
 from ...model.dynamics import linear_min_force, response
 from ...schema import CaseSpec
 from ...schema.dynamics import LINEAR_KEYS, ROTARY_KEYS
-from ...export import camdyn_version, dumps_case
 from ..checks import CheckReport, run_check
 from ._objectives import CLEAR, jump_speed, least_force, spring_force, vibration
 from ._rows import Rows
