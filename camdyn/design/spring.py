@@ -339,7 +339,7 @@ def _case_spec(case, loads: SpringLoads) -> SpringSpec:
     return spec
 
 
-def _surge_floor(case, top_speed_rpm: float | None) -> float:
+def surge_floor(case, top_speed_rpm: float | None) -> float:
     """The least surge frequency (Hz) clear of the cam's strong harmonics up to ``top_speed_rpm`` (default: the
     case's speed_margin times its speed)."""
     top = case.limits.speed_margin * case.speed_rpm if top_speed_rpm is None else top_speed_rpm
@@ -360,7 +360,7 @@ def design_case_spring(case, *, rate=None, preload=None, rules: SpringRules = Sp
     args = (loads.rate, loads.preload, loads.lift, spec)
     if surge != "ignore":
         try:
-            return design_spring(*args, rules=rules, rate_key=loads.rate_key, harmonics=harmonics, min_surge_hz=_surge_floor(case, top_speed_rpm))
+            return design_spring(*args, rules=rules, rate_key=loads.rate_key, harmonics=harmonics, min_surge_hz=surge_floor(case, top_speed_rpm))
         except InputError:
             if surge == "require":
                 raise
@@ -375,7 +375,7 @@ def case_max_preload(case, rate, top_speed_rpm: float | None = None) -> float | 
     ``size --buildable``'s feasible region."""
     loads = spring_loads(case, rate=rate, preload=0.0)
     spec = _case_spec(case, loads)
-    top = max_buildable_preload(loads.rate, loads.lift, spec, min_surge_hz=_surge_floor(case, top_speed_rpm))
+    top = max_buildable_preload(loads.rate, loads.lift, spec, min_surge_hz=surge_floor(case, top_speed_rpm))
     if top is None:
         return None
     linear = top - loads.rate * loads.installed_shift  # the spring force at zero lift

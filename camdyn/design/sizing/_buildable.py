@@ -33,7 +33,7 @@ from ...schema import SpringSpec
 from .._check import Check
 from ..checks import jump_speeds, speed_margin_check
 from ..parts import resolve_spring
-from ..spring import SpringDesign, case_max_preload, design_case_spring
+from ..spring import SpringDesign, case_max_preload, design_case_spring, surge_floor
 from ._dynamic import Dynamic
 from ._kinematic import preload_kinematic
 from ._problem import Grid, Problem, build_problem
@@ -88,7 +88,7 @@ def buildable_answer(case, p: Problem, grid: Grid, dynamic: Dynamic | None, surg
     rates = np.geomspace(lo, hi, _N_SCAN)
     peaks = np.array([peak(r) for r in rates])
     if not (peaks < _UNBUILDABLE).any():
-        raise InputError("spring", f"no buildable spring holds the follower: at every rate from {lo:.3g} to {hi:.3g} {'N*m/rad' if p.osc else 'N/mm'} the preload it needs exceeds what a spring of that rate within [spring] can give (a larger outside_diameter_max or installed_length, or another material, widens the choice)")
+        raise InputError("spring", f"no buildable spring holds the follower: at every rate from {lo:.3g} to {hi:.3g} {'N*m/rad' if p.osc else 'N/mm'} the preload it needs exceeds what a spring of that rate within [spring], its surge at least {surge_floor(case, surge_top_rpm):.4g} Hz (clear of the cam's strong harmonics up to {surge_top_rpm:.4g} rpm), can give (a larger outside_diameter_max or installed_length, or another material, widens the choice)")
     i = int(np.nanargmin(peaks))
     a, b = math.log(rates[max(i - 1, 0)]), math.log(rates[min(i + 1, len(rates) - 1)])
     res = minimize_scalar(lambda u: peak(math.exp(u)), bounds=(a, b), method="bounded", options={"xatol": 1e-4})
