@@ -80,6 +80,18 @@ def resolve_spring(case: Case) -> Case:
     return replace(case, model=sd.follower(), spring=sd)
 
 
+def spring_mass_notes(case: Case) -> tuple[str, ...]:
+    """What a vmapped study (sweep, tolerance) says of the spring's mass in a resolved case: held at every rate,
+    and, for the surge model, carried as its lumped third (the chain is in ``check`` and ``size``)."""
+    sd = case.spring
+    if sd is None or sd.model == "none":
+        return () if sd is None or sd.note is None else (sd.note,)
+    out = f"the spring's own mass ({1e3 * sd.mass_kg:.3g} g, the case's spring) is on the follower as its lumped third at every rate"
+    if sd.model == "surge":
+        out += "; [spring] model = \"surge\": the chain's surge is judged by check and size, not here"
+    return (out,)
+
+
 def spring_jump_speed(case: Case, spring_mass_kg: float, *, w_max: float) -> float:
     """The dynamic jump speed (rad/s; inf if none up to ``w_max``) with a spring of that mass, as ``[spring]
     model`` asks: "lumped" (a third of it on the follower) or "surge" (the spring as a chain of masses)."""
