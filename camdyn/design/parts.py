@@ -74,7 +74,10 @@ def resolve_spring(case: Case) -> Case:
     try:
         part = design_case_spring(case)
     except InputError as e:
-        note = f"the spring's own mass is left out of the dynamics: no spring of the case's rate and preload can be built within [spring] ({e})"
+        note = (
+            "the spring's own mass is left out of the dynamics: no spring of the case's rate and preload can be built "
+            f"within [spring] ({e})"
+        )
         return replace(case, spring=replace(bare, note=note))
     sd = bare.with_mass(part.spring.mass, case.spec.spring.model)
     return replace(case, model=sd.follower(), spring=sd)
@@ -86,7 +89,8 @@ def spring_mass_notes(case: Case) -> tuple[str, ...]:
     sd = case.spring
     if sd is None or sd.model == "none":
         return () if sd is None or sd.note is None else (sd.note,)
-    out = f"the spring's own mass ({1e3 * sd.mass_kg:.3g} g, the case's spring) is on the follower as its lumped third at every rate"
+    out = f"the spring's own mass ({1e3 * sd.mass_kg:.3g} g, the case's spring) is on the follower as its lumped third at every "
+    out += "rate"
     if sd.model == "surge":
         out += "; [spring] model = \"surge\": the chain's surge is judged by check and size, not here"
     return (out,)

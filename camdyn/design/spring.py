@@ -185,8 +185,9 @@ def _constraints(c: dict, spec: SpringSpec, rules: SpringRules):
         (f"fatigue ({rules.criterion}, Zimmerli; n_f)", "", c["fatigue"], rules.fatigue_safety * m, ">="),
         ("buckling (critical minus free length, mm)", "", c["buckling"], 0.0, ">="),
     ]
-    if c["min_surge_hz"] is not None:  # size --buildable: clear of the cam's strong harmonics (design.surge.surge_floor_hz)
-        out.append(("surge frequency clear of the cam's strong harmonics (Hz)", "", c["surge"], c["min_surge_hz"] * m, ">="))
+    if c["min_surge_hz"] is not None:  # clear of the cam's strong harmonics (design.surge.surge_floor_hz)
+        name = "surge frequency clear of the cam's strong harmonics (Hz)"
+        out.append((name, "", c["surge"], c["min_surge_hz"] * m, ">="))
     return [(name, key, v, lim, sense, (v >= lim) if sense == ">=" else (v <= lim)) for name, key, v, lim, sense in out]
 
 
@@ -346,7 +347,9 @@ def surge_floor(case, top_speed_rpm: float | None) -> float:
     return surge_floor_hz(cam_harmonics(case.motion, case.speed_rpm), top)
 
 
-def design_case_spring(case, *, rate=None, preload=None, rules: SpringRules = SpringRules(), surge: str = "prefer", top_speed_rpm: float | None = None) -> SpringDesign:
+def design_case_spring(
+    case, *, rate=None, preload=None, rules: SpringRules = SpringRules(), surge: str = "prefer", top_speed_rpm: float | None = None
+) -> SpringDesign:
     """The spring for a case (its ``[spring]`` table; its rate and preload unless given, in the case's units),
     with its surge judged against the cam's harmonics at the case speed. ``surge``: "prefer" the lightest spring
     whose surge frequency is clear of the cam's strong harmonics at every speed up to ``top_speed_rpm`` (default
@@ -360,7 +363,8 @@ def design_case_spring(case, *, rate=None, preload=None, rules: SpringRules = Sp
     args = (loads.rate, loads.preload, loads.lift, spec)
     if surge != "ignore":
         try:
-            return design_spring(*args, rules=rules, rate_key=loads.rate_key, harmonics=harmonics, min_surge_hz=surge_floor(case, top_speed_rpm))
+            floor = surge_floor(case, top_speed_rpm)
+            return design_spring(*args, rules=rules, rate_key=loads.rate_key, harmonics=harmonics, min_surge_hz=floor)
         except InputError:
             if surge == "require":
                 raise

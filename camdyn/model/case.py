@@ -33,7 +33,7 @@ class Case:
     warnings: tuple[str, ...] = field(default=())
     fit: MotionFit | None = None  # a lift table's or a contour's fitted motion: its data and residuals
     contour: ContourFit | None = None  # a contour case's outline: its points, fit and radial residuals
-    spring: SpringInDynamics | None = None  # the spring's own mass in ``model``, once resolved (design.parts.resolve_spring)
+    spring: SpringInDynamics | None = None  # the spring's mass in ``model``, once resolved (design.parts.resolve_spring)
 
     @property
     def speed_rpm(self) -> float:

@@ -115,7 +115,9 @@ def judged_as_written(case: Case, rate: float, preload: float, speed_rpm: float,
     return speed_margin_check(jump_speeds(resolved, omega, margin)[2], omega, margin), resolved
 
 
-def buildable_fixed_point(case: Case, speed_rpm: float, margin: float, min_rate: float) -> tuple[Case, float, float, SpringDesign, Check]:
+def buildable_fixed_point(
+    case: Case, speed_rpm: float, margin: float, min_rate: float
+) -> tuple[Case, float, float, SpringDesign, Check]:
     """``size --buildable`` with the proposed spring's own mass: (the case, its own spring, with the proposed
     spring's mass in its model; rate and preload as written, the case's units; the part; check's speed-margin
     verdict on the case with that spring). ``case`` is resolved (:func:`camdyn.design.parts.resolve_spring`)."""
@@ -137,4 +139,5 @@ def buildable_fixed_point(case: Case, speed_rpm: float, margin: float, min_rate:
             sd = case.spring.with_mass(resolved.spring.mass_kg, resolved.spring.model)  # the mass check weighs
             return replace(case, model=sd.follower(), spring=sd), rate, preload, part, check
         size_margin *= target / check.value
-    raise InputError("spring", f"size --buildable did not settle on a spring that holds with its own mass in {_ROUNDS} rounds (last: {rate:g}, {preload:g}; check's speed margin {None if check is None else check.value})")
+    last = f"last: {rate:g}, {preload:g}; check's speed margin {None if check is None else check.value}"
+    raise InputError("spring", f"size --buildable did not settle on a spring that holds with its own mass in {_ROUNDS} rounds ({last})")

@@ -94,7 +94,7 @@ class SpringSizing:
     lines: tuple[tuple[float, float, float], ...] = field(repr=False, default=())  # (theta_deg, s, r): F0 >= r - k s
     warnings: tuple[str, ...] = ()
     part: object = None  # size --buildable: the spring as a part (camdyn.design.spring.SpringDesign)
-    check: object = None  # size --buildable: check's speed-margin verdict on the spring as written, with its mass (Check)
+    check: object = None  # size --buildable: check's speed-margin verdict (Check) on the spring as written, with its mass
     spring_model: str = "none"  # how the spring's own mass is in the dynamics: none | lumped | surge
     spring_mass_kg: float = 0.0  # the spring whose mass is in the dynamics (buildable: the proposed part's)
 
