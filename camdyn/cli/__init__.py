@@ -93,7 +93,10 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--max-speed", type=float, metavar="RPM", help="maximum cam speed, rpm (default: the case's speed)")
     p.add_argument("--margin", type=float, metavar="X", help="hold up to X times the maximum speed (default: the case's speed_margin)")
     p.add_argument("--min-rate", type=float, default=0.0, metavar="K", help="least spring rate, N/mm (N*m/rad oscillating; default 0)")
-    p.add_argument("--buildable", action="store_true", help="the least peak force over springs that can be built within [spring], and the part")
+    p.add_argument("--buildable", action="store_true", help=(
+        "the least peak force over springs that can be built within [spring] (surge clear of the cam's strong harmonics), "
+        "with the part's own mass; passes check as written"
+    ))
     p.add_argument("--json", action="store_true", help="print one JSON document")
 
     p = command("sweep", "jump map over speeds x spring rates: DIR/<case>-sweep.csv and DIR/<case>-sweep.png")

@@ -16,6 +16,7 @@ from .geometry import ContourFit
 from .linkage import synthesize_motion
 from .motion import Motion, MotionFit, Program
 from .sources import contour_motion, table_motion
+from .surge import SpringInDynamics
 
 
 @dataclass(frozen=True)
@@ -32,6 +33,7 @@ class Case:
     warnings: tuple[str, ...] = field(default=())
     fit: MotionFit | None = None  # a lift table's or a contour's fitted motion: its data and residuals
     contour: ContourFit | None = None  # a contour case's outline: its points, fit and radial residuals
+    spring: SpringInDynamics | None = None  # the spring's mass in ``model``, once resolved (design.parts.resolve_spring)
 
     @property
     def speed_rpm(self) -> float:
