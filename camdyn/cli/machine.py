@@ -6,9 +6,10 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
-from .._core.outputs import output_file, safe_stem, write_new
+from .._core.outputs import output_file, write_new
 from ..design.machine import MachineResult, run_machine
 from ..report.machine import machine_output_names, write_machine_report
+from ..schema.machine import machine_stem
 from ._console import console, json_text, notes, progress_bar, table
 
 
@@ -42,7 +43,7 @@ def print_machine(result: MachineResult) -> None:
 def run(args) -> int:
     machine = args.spec
     out = Path(args.output)
-    csv_path = output_file(out / f"{safe_stem(machine.name)}-machine.csv", args.force, "machine CSV")
+    csv_path = output_file(out / f"{machine_stem(machine.name)}.csv", args.force, "machine CSV")
     if args.report:  # refuse before minutes of work, not after
         pdf, pngs = machine_output_names(machine.name)
         for name in (pdf, *pngs):

@@ -56,8 +56,8 @@ def dwell_spans(theta_deg: np.ndarray, velocity: np.ndarray) -> tuple[tuple[floa
         if still[k % still.size]:
             run = k if run is None else run
         elif run is not None:
-            if (k - run) * step >= MIN_DWELL_DEG:
-                spans.append((float(theta_deg[run % still.size]), float(theta_deg[k % still.size])))
+            if (k - 1 - run) * step >= MIN_DWELL_DEG:  # from the first still sample to the last
+                spans.append((float(theta_deg[run % still.size]), float(theta_deg[(k - 1) % still.size])))
             run = None
     return tuple(sorted(spans))
 

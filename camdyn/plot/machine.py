@@ -72,7 +72,7 @@ def plot_machine_energy(ax, result: MachineResult) -> None:
     lo, hi = int(np.argmin(energy)), int(np.argmax(energy))
     for k in (lo, hi):
         ax.axhline(energy[k], color=C["grey"], lw=0.6, ls=":")
-    ax.annotate("", (drive.theta_deg[hi], energy[hi]), (drive.theta_deg[hi], energy[lo]), arrowprops=dict(arrowstyle="<->", lw=0.8, color=C["limit"]))
+    ax.annotate("", (drive.theta_deg[hi], energy[hi]), (drive.theta_deg[hi], energy[lo]), arrowprops={"arrowstyle": "<->", "lw": 0.8, "color": C["limit"]})
     ax.annotate(f"\u0394E {drive.energy_swing:.3g} J", (drive.theta_deg[hi], 0.5 * (energy[lo] + energy[hi])), xytext=(4, 0), textcoords="offset points", fontsize=7.5, color=C["limit"])
     deg_ticks(ax, 30.0)
     ax.set_xlabel("machine angle (deg)")

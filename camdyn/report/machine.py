@@ -10,10 +10,17 @@ import matplotlib
 from matplotlib.backends.backend_pdf import PdfPages
 from matplotlib.figure import Figure
 
-from .._core.outputs import output_dir, safe_stem
+from .._core.outputs import output_dir
 from .._core.progress import Progress, counter
 from ..design.machine import MachineCam, MachineResult
-from ..plot.machine import cam_colour, plot_clearances, plot_machine_energy, plot_machine_torque, plot_timing_diagram
+from ..plot.machine import (
+    cam_colour,
+    plot_clearances,
+    plot_machine_energy,
+    plot_machine_torque,
+    plot_timing_diagram,
+)
+from ..schema.machine import machine_stem
 from ._layout import Flow, camdyn_version, fmt, hline
 from ._render import Written, _save_png
 from ._style import A4, LEFT, C, style
@@ -23,7 +30,7 @@ PAGES = (("summary", "Machine and timing"), ("drive", "Shaft torque and flywheel
 
 def machine_output_names(machine_name: str) -> tuple[str, list[str]]:
     """The PDF's and the PNGs' names: ``<machine>-machine.pdf`` and ``<machine>-machine-<n>-<slug>.png``."""
-    stem = f"{safe_stem(machine_name)}-machine"
+    stem = machine_stem(machine_name)
     return f"{stem}.pdf", [f"{stem}-{i}-{slug}.png" for i, (slug, _) in enumerate(PAGES, start=1)]
 
 
@@ -57,7 +64,7 @@ def _summary(fig, result: MachineResult) -> None:
     passed = result.verdict == "pass"
     flow.y -= flow.h(10)
     fig.text(flow.left + 0.012, flow.y, "PASS" if passed else "FAIL", size=26, weight="bold", va="top", color="white",
-             bbox=dict(boxstyle="round,pad=0.35", fc=C["ok"] if passed else C["fail"], ec="none"))
+             bbox={"boxstyle": "round,pad=0.35", "fc": C["ok"] if passed else C["fail"], "ec": "none"})
     n_fail = sum(c.verdict != "pass" for c in result.cams)
     what = f"all {len(result.cams)} cams pass" if n_fail == 0 else f"{n_fail} of {len(result.cams)} cams fail"
     gaps_fail = sum(not g.check.ok for g in result.clearances)

@@ -22,6 +22,7 @@ model is built; every problem is one :class:`InputError` naming the key (and, in
 from __future__ import annotations
 
 from dataclasses import dataclass
+from difflib import get_close_matches
 from pathlib import Path
 from typing import Literal
 
@@ -108,6 +109,11 @@ class MachineFile:
         return self.spec.name or self.source.stem
 
 
+def machine_stem(name: str) -> str:
+    """The stem of a machine's output files, ``<machine>-machine``: the name is data, never a path."""
+    return f"{safe_stem(name)}-machine"
+
+
 def _case_spec(i: int, cam: MachineCamSpec, folder: Path) -> tuple[Path, CaseSpec]:
     """The ``i``-th cam's case file, read and validated; an error names the cam, its file and the key."""
     path = folder / cam.case
@@ -137,5 +143,7 @@ def load_machine(path: str | Path) -> MachineFile:
     for i, gap in enumerate(spec.clearance):
         for who in gap.between:
             if who not in names:
-                raise InputError(f"clearance[{i}].between", f"no cam named {who!r} (cams: {', '.join(sorted(names))})")
+                hint = get_close_matches(who, sorted(names), n=1)
+                also = f" (did you mean {hint[0]!r}?)" if hint else f" (cams: {', '.join(sorted(names))})"
+                raise InputError(f"clearance[{i}].between", f"no cam named {who!r}{also}")
     return MachineFile(path, spec, tuple(cams))
