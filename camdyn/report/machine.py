@@ -21,7 +21,7 @@ from ..plot.machine import (
     plot_timing_diagram,
 )
 from ..schema.machine import machine_stem
-from ._layout import Flow, camdyn_version, fmt, hline
+from ._layout import Flow, camdyn_version, fmt, page_frame
 from ._render import Written, _save_png
 from ._style import A4, LEFT, C, style
 
@@ -35,12 +35,8 @@ def machine_output_names(machine_name: str) -> tuple[str, list[str]]:
 
 
 def _header(fig, result: MachineResult, title: str, number: int) -> None:
-    fig.text(0.06, 0.975, result.name, size=15, weight="bold", va="top", color=C["ink"])
-    fig.text(0.94, 0.973, f"{number}  {title}", size=12.5, ha="right", va="top", color=C["grey"])
-    fig.add_artist(hline(fig, 0.948))
     src = result.source.name if result.source is not None else result.name
-    fig.text(0.06, 0.014, f"camdyn {camdyn_version()} machine review  \u00b7  {src}  \u00b7  {result.speed_rpm:g} rpm", size=7, color=C["grey"])
-    fig.text(0.94, 0.014, f"page {number} of {len(PAGES)}", size=7, color=C["grey"], ha="right")
+    page_frame(fig, result.name, title, number, len(PAGES), f"machine review  \u00b7  {src}  \u00b7  {result.speed_rpm:g} rpm")
 
 
 def cam_line(cam: MachineCam) -> str:
@@ -71,7 +67,7 @@ def _summary(fig, result: MachineResult) -> None:
     if result.clearances:
         what += "; clearances hold" if gaps_fail == 0 else f"; {gaps_fail} clearance{'s' if gaps_fail > 1 else ''} too small"
     fig.text(flow.left + 0.2, flow.y + 0.002, f"at {result.speed_rpm:g} rpm: {what}", size=12, va="top", weight="bold", color=C["ink"])
-    fig.text(flow.left + 0.2, flow.y - flow.h(12), "each cam checked at the machine speed (camdyn check --speed); spring-closed", size=8.5, va="top", color=C["grey"])
+    fig.text(flow.left + 0.2, flow.y - flow.h(12), "each cam checked at the machine speed, as camdyn check --speed checks it", size=8.5, va="top", color=C["grey"])
     flow.y -= flow.h(26) * 1.35
     flow.heading("Cams")
     for i, cam in enumerate(result.cams):
@@ -106,7 +102,7 @@ def _summary(fig, result: MachineResult) -> None:
             cells += [(off, label, {"color": C["grey"]}), (off + 0.18, value, {})]
         flow.row(cells, size=8.2)
     top = flow.y - 0.04
-    height = min(top - 0.06, 0.09 * len(result.cams) + 0.08)
+    height = min(top - 0.085, 0.09 * len(result.cams) + 0.08)
     ax = fig.add_axes((LEFT + 0.06, top - height, 0.94 - LEFT - 0.08, height))
     plot_timing_diagram(ax, result)
 
