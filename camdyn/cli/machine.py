@@ -21,10 +21,15 @@ def print_machine(result: MachineResult) -> None:
               ("at", "right"), ("result", "left"))
     for cam in result.cams:
         margin = next((c.value for c in cam.check.checks if c.name == "speed_margin"), None)
-        result_text = "[green]pass[/green]" if cam.verdict == "pass" else f"[bold red]FAIL[/bold red] {', '.join(cam.failed)}"
+        result_text = "[green]pass[/green]" if cam.verdict == "pass" else "[bold red]FAIL[/bold red]"
         t.add_row(cam.name, f"{cam.phase_deg:g} deg", f"{cam.check.dynamic['min_contact_force_N']:.4g} N",
                   "unbounded" if margin is None else f"{margin:.3g} x", f"{cam.peak_torque:.4g} N*m", f"{cam.peak_torque_at_deg:.1f} deg", result_text)
     con.print(t)
+    fails = [
+        f"{cam.name}: {c.name} {'unbounded' if c.value is None else f'{c.value:.4g}'} {c.unit}, needs {c.sense} {c.limit:g}"
+        for cam in result.cams for c in cam.check.checks if not c.ok
+    ]
+    notes(con, "fails", "red", fails)
     d = result.drive
     con.print(f"shaft torque: peak {d.peak_torque:.4g} N*m at {d.peak_torque_at_deg:.1f} deg, RMS {d.rms_torque:.4g} N*m, "
               f"mean {d.mean_torque:.4g} N*m")
