@@ -58,13 +58,18 @@ speed_fluctuation = 0.04
 
 # ---- the machine file: validated before any model is built ----
 
+
 @pytest.mark.parametrize(
     ("change", "where", "message"),
     [
         (("phase = 180", "phse = 180"), "cam[1].phse", "unknown key (did you mean 'phase'?)"),
         (("speed = 420.0", "speed = -1"), "speed", "greater than 0"),
         (('name = "b"', 'name = "a"'), "cam[1].name", "is also the name of cam[0]"),
-        (('between = ["a", "b"]', 'between = ["a", "bb"]'), "clearance[0].between", "no cam named 'bb' (did you mean 'b'?)"),
+        (
+            ('between = ["a", "b"]', 'between = ["a", "bb"]'),
+            "clearance[0].between",
+            "no cam named 'bb' (did you mean 'b'?)",
+        ),
         (('between = ["a", "b"]', 'between = ["a", "a"]'), "clearance[0].between", "two different cams"),
         (("speed_fluctuation = 0.04", "speed_fluctuation = 1.5"), "drive.speed_fluctuation", "less than 1"),
         (("phase = 37.25", 'phase = "late"'), "cam[2].phase", "valid number"),
@@ -105,6 +110,7 @@ def test_the_name_is_data_not_a_path():
 
 # ---- moving to machine angles, dwells ----
 
+
 def test_at_machine_angles_moves_by_the_phase():
     theta = machine_angles()
     values = np.exp(-0.5 * ((theta - 140.0) / 5.0) ** 2)  # a bump at cam angle 140
@@ -123,6 +129,7 @@ def test_dwell_spans_find_dwells_and_one_through_zero():
 
 
 # ---- the machine against each cam's own check ----
+
 
 @pytest.fixture(scope="module")
 def machine_run(tmp_path_factory):
@@ -167,14 +174,19 @@ def test_each_column_peaks_where_its_check_puts_its_drive_peak_moved_by_the_phas
 def test_the_total_is_the_sum_and_the_flywheel_the_closed_form(machine_run):
     _, doc, cols, _ = machine_run
     total = cols["torque_total_N_m"]
-    np.testing.assert_allclose(total, cols["torque_a_N_m"] + cols["torque_b_N_m"] + cols["torque_oscillating_N_m"], atol=1e-8)
+    np.testing.assert_allclose(
+        total, cols["torque_a_N_m"] + cols["torque_b_N_m"] + cols["torque_oscillating_N_m"], atol=1e-8
+    )
     drive = doc["drive"]
     i = int(np.argmax(np.abs(total)))
-    assert math.isclose(drive["peak_torque_N_m"], abs(total[i]), rel_tol=1e-8) and drive["peak_torque_at_deg"] == pytest.approx(cols["theta_deg"][i])
+    assert math.isclose(drive["peak_torque_N_m"], abs(total[i]), rel_tol=1e-8) and drive[
+        "peak_torque_at_deg"
+    ] == pytest.approx(cols["theta_deg"][i])
     assert math.isclose(drive["rms_torque_N_m"], float(np.sqrt(np.mean(total**2))), rel_tol=1e-8)
     omega = SPEED * RPM
     assert math.isclose(drive["mean_power_W"], float(np.mean(total)) * omega, rel_tol=1e-6, abs_tol=1e-9)
-    # the energy swing by Simpson's rule on the periodic torque (a second route to the trapezoids), then I = dE / (k_s w^2)
+    # the energy swing by Simpson's rule on the periodic torque (a second route to the trapezoids),
+    # then I = dE / (k_s w^2)
     t = np.append(total, total[0]) - np.mean(total)
     energy = cumulative_simpson(t, dx=2 * np.pi / total.size, initial=0.0)
     swing = float(np.ptp(energy))
@@ -203,8 +215,15 @@ def test_a_failing_cam_fails_the_machine_exit_1(machine_run, own_checks):
     assert code == 1 and doc["verdict"] == "fail" and doc["speed_rpm"] == SPEED
     assert {c["name"]: c["failed_checks"] for c in doc["cams"]}["a"] == ["speed_margin"]
     assert set(doc["drive"]) >= {
-        "peak_torque_N_m", "peak_torque_at_deg", "rms_torque_N_m", "mean_torque_N_m", "mean_power_W", "peak_power_W",
-        "energy_swing_J", "speed_fluctuation", "flywheel_inertia_kg_m2",
+        "peak_torque_N_m",
+        "peak_torque_at_deg",
+        "rms_torque_N_m",
+        "mean_torque_N_m",
+        "mean_power_W",
+        "peak_power_W",
+        "energy_swing_J",
+        "speed_fluctuation",
+        "flywheel_inertia_kg_m2",
     }
 
 
@@ -212,11 +231,18 @@ def test_a_failing_cam_fails_the_machine_exit_1(machine_run, own_checks):
 def test_nothing_is_overwritten_without_force_and_the_report_is_deterministic(machine_run, capsys):
     _, _, _, folder = machine_run
     path, out = folder / "machine.toml", folder / "out"
-    names = ["test-machine-machine-1-summary.png", "test-machine-machine-2-drive.png", "test-machine-machine.csv", "test-machine-machine.pdf"]
+    names = [
+        "test-machine-machine-1-summary.png",
+        "test-machine-machine-2-drive.png",
+        "test-machine-machine.csv",
+        "test-machine-machine.pdf",
+    ]
     assert sorted(p.name for p in out.iterdir()) == names
     before = {name: (out / name).read_bytes() for name in names}
     code, _, err = run(capsys, "machine", path, "-o", out)
     assert code == 2 and "exists; pass --force to overwrite it" in err
     code, text, err = run(capsys, "machine", path, "-o", out, "--force", "--report")
     assert code == 1 and "verdict: FAIL" in text and "fails: a: speed_margin" in text
-    assert {name: (out / name).read_bytes() for name in sorted(p.name for p in out.iterdir())} == before  # the same bytes
+    assert {
+        name: (out / name).read_bytes() for name in sorted(p.name for p in out.iterdir())
+    } == before  # the same bytes

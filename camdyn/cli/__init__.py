@@ -23,7 +23,9 @@ from .._core.units import MAX_SPEED_RPM
 # compiled diffrax solves on disk (camdyn checks every solver result itself, so NaN-on-error loses nothing).
 os.environ.setdefault("EQX_ON_ERROR", "nan")
 
-COMMANDS = ("check", "table", "profile", "size", "sweep", "synthesize", "optimize", "report", "spring", "tolerance", "machine")
+COMMANDS = (
+    "check", "table", "profile", "size", "sweep", "synthesize", "optimize", "report", "spring", "tolerance", "machine",
+)
 
 
 def _version() -> str:
@@ -133,11 +135,13 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("case", help="case file (TOML); an optional [spring] table gives the material, bore, installed length and end type")
     p.add_argument("--json", action="store_true", help="print one JSON document")
 
-    p = command("machine", "many cams on one shaft: each checked at the machine speed, the summed shaft torque, the flywheel, clearances")
-    p.add_argument("case", metavar="MACHINE.toml", help="machine file: name, speed (rpm), [[cam]] case and phase, [[clearance]], [drive]")
-    p.add_argument("-o", "--output", default=".", metavar="DIR", help="output folder for DIR/<machine>-machine.csv (default: the current one)")
+    p = command("machine", "many cams on one shaft: each checked at its speed, shaft torque, flywheel, clearances")
+    p.add_argument("case", metavar="MACHINE.toml", help="machine file: name, speed, [[cam]] case and phase, [drive]")
+    p.add_argument("-o", "--output", default=".", metavar="DIR",
+                   help="output folder for DIR/<machine>-machine.csv (default: the current one)")
     p.add_argument("--json", action="store_true", help="print one JSON document")
-    p.add_argument("--report", action="store_true", help="also write the machine report: DIR/<machine>-machine.pdf and a PNG per page")
+    p.add_argument("--report", action="store_true",
+                   help="also write the machine report: DIR/<machine>-machine.pdf and a PNG per page")
     p.add_argument("--force", action="store_true", help="overwrite the files if they exist")
     return parser
 

@@ -17,28 +17,52 @@ def print_machine(result: MachineResult) -> None:
     con = console()
     con.print(f"[bold]{result.name}[/bold]  {result.description}".rstrip())
     con.print(f"speed {result.speed_rpm:g} rpm, {len(result.cams)} cams on the main shaft")
-    t = table(("cam", "left"), ("phase", "right"), ("least force", "right"), ("margin", "right"), ("peak torque", "right"),
-              ("at", "right"), ("result", "left"))
+    t = table(
+        ("cam", "left"),
+        ("phase", "right"),
+        ("least force", "right"),
+        ("margin", "right"),
+        ("peak torque", "right"),
+        ("at", "right"),
+        ("result", "left"),
+    )
     for cam in result.cams:
         margin = next((c.value for c in cam.check.checks if c.name == "speed_margin"), None)
         result_text = "[green]pass[/green]" if cam.verdict == "pass" else "[bold red]FAIL[/bold red]"
-        t.add_row(cam.name, f"{cam.phase_deg:g} deg", f"{cam.check.dynamic['min_contact_force_N']:.4g} N",
-                  "unbounded" if margin is None else f"{margin:.3g} x", f"{cam.peak_torque:.4g} N*m", f"{cam.peak_torque_at_deg:.1f} deg", result_text)
+        t.add_row(
+            cam.name,
+            f"{cam.phase_deg:g} deg",
+            f"{cam.check.dynamic['min_contact_force_N']:.4g} N",
+            "unbounded" if margin is None else f"{margin:.3g} x",
+            f"{cam.peak_torque:.4g} N*m",
+            f"{cam.peak_torque_at_deg:.1f} deg",
+            result_text,
+        )
     con.print(t)
     fails = [
-        f"{cam.name}: {c.name} {'unbounded' if c.value is None else f'{c.value:.4g}'} {c.unit}, needs {c.sense} {c.limit:g}"
-        for cam in result.cams for c in cam.check.checks if not c.ok
+        f"{cam.name}: {c.name} {'unbounded' if c.value is None else f'{c.value:.4g}'} {c.unit}, "
+        f"needs {c.sense} {c.limit:g}"
+        for cam in result.cams
+        for c in cam.check.checks
+        if not c.ok
     ]
     notes(con, "fails", "red", fails)
     d = result.drive
-    con.print(f"shaft torque: peak {d.peak_torque:.4g} N*m at {d.peak_torque_at_deg:.1f} deg, RMS {d.rms_torque:.4g} N*m, "
-              f"mean {d.mean_torque:.4g} N*m")
-    con.print(f"power: mean {d.mean_power:.4g} W, peak {d.peak_torque * d.omega:.4g} W; energy swing {d.energy_swing:.4g} J, "
-              f"flywheel {d.flywheel_inertia:.4g} kg*m^2 for a speed fluctuation of {d.speed_fluctuation:g}")
+    con.print(
+        f"shaft torque: peak {d.peak_torque:.4g} N*m at {d.peak_torque_at_deg:.1f} deg, RMS {d.rms_torque:.4g} N*m, "
+        f"mean {d.mean_torque:.4g} N*m"
+    )
+    con.print(
+        f"power: mean {d.mean_power:.4g} W, peak {d.peak_torque * d.omega:.4g} W; energy swing {d.energy_swing:.4g} J, "
+        f"flywheel {d.flywheel_inertia:.4g} kg*m^2 for a speed fluctuation of {d.speed_fluctuation:g}"
+    )
     for gap in result.clearances:
         ok = "[green]pass[/green]" if gap.check.ok else "[bold red]FAIL[/bold red]"
-        con.print(f"clearance {' <-> '.join(gap.between)}: least gap {gap.least_gap_mm:.4g} mm at {gap.least_gap_at_deg:.1f} deg "
-                  f"(needs {gap.min_gap_mm:g} mm) {ok}")
+        con.print(
+            f"clearance {' <-> '.join(gap.between)}: least gap {gap.least_gap_mm:.4g} mm "
+            f"at {gap.least_gap_at_deg:.1f} deg "
+            f"(needs {gap.min_gap_mm:g} mm) {ok}"
+        )
     for cam in result.cams:
         notes(con, f"warning ({cam.name})", "yellow", cam.check.warnings)
     colour = "green" if result.verdict == "pass" else "red"
@@ -61,5 +85,7 @@ def run(args) -> int:
         print(json_text(result.json()))
     else:
         print_machine(result)
-    print(f"wrote {csv_path}" + (f", {written.pdf} and {len(written.pngs)} PNG pages" if written else ""), file=sys.stderr)
+    print(
+        f"wrote {csv_path}" + (f", {written.pdf} and {len(written.pngs)} PNG pages" if written else ""), file=sys.stderr
+    )
     return 0 if result.verdict == "pass" else 1

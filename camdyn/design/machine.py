@@ -104,9 +104,15 @@ class MachineCam:
 
     def json(self) -> dict:
         return {
-            "name": self.name, "case": self.case_file, "phase_deg": self.phase_deg, "verdict": self.verdict,
-            "failed_checks": list(self.failed), "stroke": float(np.ptp(self.lift)), "stroke_unit": self.lift_unit,
-            "peak_torque_N_m": self.peak_torque, "peak_torque_at_deg": self.peak_torque_at_deg,
+            "name": self.name,
+            "case": self.case_file,
+            "phase_deg": self.phase_deg,
+            "verdict": self.verdict,
+            "failed_checks": list(self.failed),
+            "stroke": float(np.ptp(self.lift)),
+            "stroke_unit": self.lift_unit,
+            "peak_torque_N_m": self.peak_torque,
+            "peak_torque_at_deg": self.peak_torque_at_deg,
         }
 
 
@@ -132,8 +138,11 @@ class Clearance:
 
     def json(self) -> dict:
         return {
-            "between": list(self.between), "min_gap_mm": self.min_gap_mm, "least_gap_mm": self.least_gap_mm,
-            "least_gap_at_deg": self.least_gap_at_deg, "ok": self.check.ok,
+            "between": list(self.between),
+            "min_gap_mm": self.min_gap_mm,
+            "least_gap_mm": self.least_gap_mm,
+            "least_gap_at_deg": self.least_gap_at_deg,
+            "ok": self.check.ok,
         }
 
 
@@ -167,8 +176,11 @@ class MachineResult:
     def json(self) -> dict:
         """The ``machine --json`` document."""
         return {
-            "machine": self.name, "verdict": self.verdict, "speed_rpm": self.speed_rpm,
-            "cams": [c.json() for c in self.cams], "drive": self.drive.json(),
+            "machine": self.name,
+            "verdict": self.verdict,
+            "speed_rpm": self.speed_rpm,
+            "cams": [c.json() for c in self.cams],
+            "drive": self.drive.json(),
             "clearances": [g.json() for g in self.clearances],
         }
 
@@ -225,4 +237,3 @@ def run_machine(machine: MachineFile, *, progress: Progress | None = None) -> Ma
 def check_machine(path: str | Path, *, progress: Progress | None = None) -> MachineResult:
     """Read, validate and check a machine file (see :func:`run_machine`)."""
     return run_machine(load_machine(path), progress=progress)
-

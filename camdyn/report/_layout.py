@@ -28,7 +28,8 @@ def header(fig, data, title: str, number: int, total: int) -> None:
     """The case name and page title on top, the source, speed and page number at the foot."""
     case = data.case
     src = case.source.name if case.source is not None else case.name
-    page_frame(fig, case.name, title, number, total, f"design review  \u00b7  {src}  \u00b7  {data.check.speed_rpm:g} rpm")
+    foot = f"design review  \u00b7  {src}  \u00b7  {data.check.speed_rpm:g} rpm"
+    page_frame(fig, case.name, title, number, total, foot)
 
 
 def page_frame(fig, name: str, title: str, number: int, total: int, foot: str) -> None:

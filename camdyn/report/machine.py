@@ -36,7 +36,9 @@ def machine_output_names(machine_name: str) -> tuple[str, list[str]]:
 
 def _header(fig, result: MachineResult, title: str, number: int) -> None:
     src = result.source.name if result.source is not None else result.name
-    page_frame(fig, result.name, title, number, len(PAGES), f"machine review  \u00b7  {src}  \u00b7  {result.speed_rpm:g} rpm")
+    page_frame(
+        fig, result.name, title, number, len(PAGES), f"machine review  \u00b7  {src}  \u00b7  {result.speed_rpm:g} rpm"
+    )
 
 
 def cam_line(cam: MachineCam) -> str:
@@ -46,7 +48,8 @@ def cam_line(cam: MachineCam) -> str:
     margin = next((c.value for c in chk.checks if c.name == "speed_margin"), None)
     text = (
         f"least contact force {dyn['min_contact_force_N']:.3g} N at cam {dyn['min_contact_force_deg']:.1f}\u00b0, "
-        f"speed margin {fmt(margin, 3)}\u00d7, peak torque {cam.peak_torque:.3g} N\u00b7m at {cam.peak_torque_at_deg:.1f}\u00b0"
+        f"speed margin {fmt(margin, 3)}\u00d7, "
+        f"peak torque {cam.peak_torque:.3g} N\u00b7m at {cam.peak_torque_at_deg:.1f}\u00b0"
     )
     if dyn["separations"]:
         text += f", leaves the cam ({len(dyn['separations'])} flights)"
@@ -59,46 +62,92 @@ def _summary(fig, result: MachineResult) -> None:
         flow.para(result.description, size=8.5, width=105, color=C["grey"])
     passed = result.verdict == "pass"
     flow.y -= flow.h(10)
-    fig.text(flow.left + 0.012, flow.y, "PASS" if passed else "FAIL", size=26, weight="bold", va="top", color="white",
-             bbox={"boxstyle": "round,pad=0.35", "fc": C["ok"] if passed else C["fail"], "ec": "none"})
+    fig.text(
+        flow.left + 0.012,
+        flow.y,
+        "PASS" if passed else "FAIL",
+        size=26,
+        weight="bold",
+        va="top",
+        color="white",
+        bbox={"boxstyle": "round,pad=0.35", "fc": C["ok"] if passed else C["fail"], "ec": "none"},
+    )
     n_fail = sum(c.verdict != "pass" for c in result.cams)
     what = f"all {len(result.cams)} cams pass" if n_fail == 0 else f"{n_fail} of {len(result.cams)} cams fail"
     gaps_fail = sum(not g.check.ok for g in result.clearances)
     if result.clearances:
-        what += "; clearances hold" if gaps_fail == 0 else f"; {gaps_fail} clearance{'s' if gaps_fail > 1 else ''} too small"
-    fig.text(flow.left + 0.2, flow.y + 0.002, f"at {result.speed_rpm:g} rpm: {what}", size=12, va="top", weight="bold", color=C["ink"])
-    fig.text(flow.left + 0.2, flow.y - flow.h(12), "each cam checked at the machine speed, as camdyn check --speed checks it", size=8.5, va="top", color=C["grey"])
+        what += (
+            "; clearances hold"
+            if gaps_fail == 0
+            else f"; {gaps_fail} clearance{'s' if gaps_fail > 1 else ''} too small"
+        )
+    fig.text(
+        flow.left + 0.2,
+        flow.y + 0.002,
+        f"at {result.speed_rpm:g} rpm: {what}",
+        size=12,
+        va="top",
+        weight="bold",
+        color=C["ink"],
+    )
+    fig.text(
+        flow.left + 0.2,
+        flow.y - flow.h(12),
+        "each cam checked at the machine speed, as camdyn check --speed checks it",
+        size=8.5,
+        va="top",
+        color=C["grey"],
+    )
     flow.y -= flow.h(26) * 1.35
     flow.heading("Cams")
     for i, cam in enumerate(result.cams):
         ok = cam.verdict == "pass"
-        flow.row([
-            (0.0, cam.name, {"weight": "bold", "color": cam_colour(i)}),
-            (0.16, f"{cam.case_file}, phase {cam.phase_deg:g}\u00b0", {"color": C["grey"]}),
-            (1.0, "pass" if ok else "FAIL", {"ha": "right", "weight": "bold", "color": C["ok"] if ok else C["fail"]}),
-        ], size=8.5)
+        flow.row(
+            [
+                (0.0, cam.name, {"weight": "bold", "color": cam_colour(i)}),
+                (0.16, f"{cam.case_file}, phase {cam.phase_deg:g}\u00b0", {"color": C["grey"]}),
+                (
+                    1.0,
+                    "pass" if ok else "FAIL",
+                    {"ha": "right", "weight": "bold", "color": C["ok"] if ok else C["fail"]},
+                ),
+            ],
+            size=8.5,
+        )
         flow.para(cam_line(cam), size=7.8, width=120, indent=0.02, color=C["ink"])
         flow.y -= flow.h(7.8) * 0.35
     if result.clearances:
         flow.heading("Clearances")
         for gap in result.clearances:
             ok = gap.check.ok
-            flow.row([
-                (0.0, " \u2194 ".join(gap.between), {"weight": "bold"}),
-                (0.3, f"least gap {gap.least_gap_mm:.3g} mm at {gap.least_gap_at_deg:.1f}\u00b0, needs {gap.min_gap_mm:g} mm", {}),
-                (1.0, "pass" if ok else "FAIL", {"ha": "right", "weight": "bold", "color": C["ok"] if ok else C["fail"]}),
-            ], size=8.2)
+            least = f"least gap {gap.least_gap_mm:.3g} mm at {gap.least_gap_at_deg:.1f}\u00b0, needs {gap.min_gap_mm:g}"
+            flow.row(
+                [
+                    (0.0, " \u2194 ".join(gap.between), {"weight": "bold"}),
+                    (0.3, least, {}),
+                    (
+                        1.0,
+                        "pass" if ok else "FAIL",
+                        {"ha": "right", "weight": "bold", "color": C["ok"] if ok else C["fail"]},
+                    ),
+                ],
+                size=8.2,
+            )
     d = result.drive
     flow.heading("Main-shaft drive")
     rows = [
-        ("peak torque", f"{d.peak_torque:.4g} N\u00b7m at {d.peak_torque_at_deg:.1f}\u00b0"), ("RMS torque", f"{d.rms_torque:.4g} N\u00b7m"),
-        ("mean torque", f"{d.mean_torque:.4g} N\u00b7m"), ("mean power", f"{d.mean_power:.4g} W"),
-        ("peak power", f"{d.peak_torque * d.omega:.4g} W"), ("energy swing", f"{d.energy_swing:.4g} J"),
-        ("speed fluctuation", f"{d.speed_fluctuation:g}"), ("flywheel", f"{d.flywheel_inertia:.4g} kg\u00b7m\u00b2"),
+        ("peak torque", f"{d.peak_torque:.4g} N\u00b7m at {d.peak_torque_at_deg:.1f}\u00b0"),
+        ("RMS torque", f"{d.rms_torque:.4g} N\u00b7m"),
+        ("mean torque", f"{d.mean_torque:.4g} N\u00b7m"),
+        ("mean power", f"{d.mean_power:.4g} W"),
+        ("peak power", f"{d.peak_torque * d.omega:.4g} W"),
+        ("energy swing", f"{d.energy_swing:.4g} J"),
+        ("speed fluctuation", f"{d.speed_fluctuation:g}"),
+        ("flywheel", f"{d.flywheel_inertia:.4g} kg\u00b7m\u00b2"),
     ]
     for k in range(0, len(rows), 2):
         cells = []
-        for off, (label, value) in zip((0.0, 0.5), rows[k:k + 2]):
+        for off, (label, value) in zip((0.0, 0.5), rows[k : k + 2]):
             cells += [(off, label, {"color": C["grey"]}), (off + 0.18, value, {})]
         flow.row(cells, size=8.2)
     top = flow.y - 0.04
@@ -126,8 +175,12 @@ def write_machine_report(result: MachineResult, out_dir, *, progress: Progress |
     pdf_name, png_names = machine_output_names(result.name)
     version = camdyn_version()
     meta = {
-        "Title": f"camdyn machine review: {result.name}", "Subject": " | ".join(t for _, t in PAGES), "Creator": "camdyn",
-        "Producer": f"camdyn {version} (matplotlib {matplotlib.__version__})", "CreationDate": None, "ModDate": None,
+        "Title": f"camdyn machine review: {result.name}",
+        "Subject": " | ".join(t for _, t in PAGES),
+        "Creator": "camdyn",
+        "Producer": f"camdyn {version} (matplotlib {matplotlib.__version__})",
+        "CreationDate": None,
+        "ModDate": None,
     }
     tick = counter(progress, f"{result.name}: report pages", len(PAGES))
     pngs = []

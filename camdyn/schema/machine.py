@@ -44,12 +44,17 @@ class MachineCamSpec(Table):
 
     case: Name = Field(min_length=1, description="the cam's case file, relative to the machine file")
     phase: Real = Field(
-        default=0.0, ge=-360, le=360,
-        description="machine angle (deg) at which this cam's angle is 0: the cam angle is the machine angle less the phase",
+        default=0.0,
+        ge=-360,
+        le=360,
+        description="machine angle (deg) at which this cam's angle is 0: the cam angle is the machine angle less "
+        "the phase",
     )
     name: Name | None = Field(
-        default=None, min_length=1,
-        description="the cam's name in the machine (default: its case's name); unique in the machine, it names the CSV column",
+        default=None,
+        min_length=1,
+        description="the cam's name in the machine (default: its case's name); unique in the machine, it names "
+        "the CSV column",
     )
 
 
@@ -60,10 +65,13 @@ class ClearanceSpec(Table):
     from its cam's angle 0 (mm; an arm's swing in deg)."""
 
     between: tuple[Name, Name] = Field(description="the two cams' names (as the machine names them)")
-    gap: Real = Field(ge=-MAX_LENGTH_MM, le=MAX_LENGTH_MM, description="gap between the two followers (mm) with both at lift 0")
+    gap: Real = Field(
+        ge=-MAX_LENGTH_MM, le=MAX_LENGTH_MM, description="gap between the two followers (mm) with both at lift 0"
+    )
     closes: tuple[Real, Real] = Field(
         default=(1.0, 1.0),
-        description="mm the gap closes per mm of each follower's lift (per deg of an arm's swing); negative where the lift opens it",
+        description="mm the gap closes per mm of each follower's lift (per deg of an arm's swing); negative where "
+        "the lift opens it",
     )
     min_gap: Real = Field(ge=0, le=MAX_LENGTH_MM, description="the least gap the two need over a revolution, mm")
 
@@ -78,12 +86,18 @@ class MachineSpec(Table):
     """A machine file: the main-shaft speed, the ``[[cam]]`` list, optional ``[[clearance]]`` and ``[drive]``."""
 
     version: Literal[1] = Field(default=MACHINE_SCHEMA_VERSION, description="machine-file schema version (1)")
-    name: Name | None = Field(default=None, description="machine name, used in reports and output file names (default: the file name)")
+    name: Name | None = Field(
+        default=None, description="machine name, used in reports and output file names (default: the file name)"
+    )
     description: Text = Field(default="", description="one line on what the machine is")
     speed: Real = Field(gt=0, le=MAX_SPEED_RPM, description="main-shaft speed, rpm: every cam is checked at it")
     cam: list[MachineCamSpec] = Field(min_length=1, description="the cams on the main shaft")
-    clearance: list[ClearanceSpec] = Field(default=[], description="pairs of followers that share space and the gap they need")
-    drive: DriveSpec = Field(default=DriveSpec(), description="the main-shaft drive: speed fluctuation for the flywheel")
+    clearance: list[ClearanceSpec] = Field(
+        default=[], description="pairs of followers that share space and the gap they need"
+    )
+    drive: DriveSpec = Field(
+        default=DriveSpec(), description="the main-shaft drive: speed fluctuation for the flywheel"
+    )
 
 
 @dataclass(frozen=True)
@@ -136,7 +150,9 @@ def load_machine(path: str | Path) -> MachineFile:
         name = cam.name or case.name or case_path.stem
         stem = safe_stem(name)
         if stem in seen:
-            raise InputError(f"cam[{i}].name", f"{name!r} is also the name of cam[{seen[stem]}]: give each cam its own name")
+            raise InputError(
+                f"cam[{i}].name", f"{name!r} is also the name of cam[{seen[stem]}]: give each cam its own name"
+            )
         seen[stem] = i
         cams.append(MachineCamFile(name, case_path, float(cam.phase), case))
     names = {c.name for c in cams}
