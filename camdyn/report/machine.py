@@ -120,7 +120,8 @@ def _summary(fig, result: MachineResult) -> None:
         flow.heading("Clearances")
         for gap in result.clearances:
             ok = gap.check.ok
-            least = f"least gap {gap.least_gap_mm:.3g} mm at {gap.least_gap_at_deg:.1f}\u00b0, needs {gap.min_gap_mm:g}"
+            at = f"{gap.least_gap_at_deg:.1f}\u00b0"
+            least = f"least gap {gap.least_gap_mm:.3g} mm at {at}, needs {gap.min_gap_mm:g} mm"
             flow.row(
                 [
                     (0.0, " \u2194 ".join(gap.between), {"weight": "bold"}),
