@@ -23,7 +23,9 @@ from .._core.units import MAX_SPEED_RPM
 # compiled diffrax solves on disk (camdyn checks every solver result itself, so NaN-on-error loses nothing).
 os.environ.setdefault("EQX_ON_ERROR", "nan")
 
-COMMANDS = ("check", "table", "profile", "size", "sweep", "synthesize", "optimize", "report", "spring", "tolerance")
+COMMANDS = (
+    "check", "table", "profile", "size", "sweep", "synthesize", "optimize", "report", "spring", "tolerance", "machine",
+)
 
 
 def _version() -> str:
@@ -135,6 +137,15 @@ def build_parser() -> argparse.ArgumentParser:
     p = command("spring", "the helical compression spring for the case's rate and preload: wire, coils, lengths, stresses, surge")
     p.add_argument("case", help="case file (TOML); an optional [spring] table gives the material, bore, installed length and end type")
     p.add_argument("--json", action="store_true", help="print one JSON document")
+
+    p = command("machine", "many cams on one shaft: each checked at its speed, shaft torque, flywheel, clearances")
+    p.add_argument("case", metavar="MACHINE.toml", help="machine file: name, speed, [[cam]] case and phase, [drive]")
+    p.add_argument("-o", "--output", default=".", metavar="DIR",
+                   help="output folder for DIR/<machine>-machine.csv (default: the current one)")
+    p.add_argument("--json", action="store_true", help="print one JSON document")
+    p.add_argument("--report", action="store_true",
+                   help="also write the machine report: DIR/<machine>-machine.pdf and a PNG per page")
+    p.add_argument("--force", action="store_true", help="overwrite the files if they exist")
     return parser
 
 
@@ -169,9 +180,12 @@ def _validate(args) -> None:
     """Read and validate the input files before any model is built: a typo is reported before JAX loads."""
     from .._core.errors import CamdynError
     from ..schema import load_case_spec, load_path_file
+    from ..schema.machine import load_machine
 
     if args.command == "synthesize":
         args.spec = load_path_file(args.case)
+    elif args.command == "machine":
+        args.spec = load_machine(args.case)
     elif args.command == "report":
         args.specs = []
         for p in args.cases:
