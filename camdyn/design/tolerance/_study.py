@@ -17,7 +17,7 @@ from ..._core.units import PROFILE_ERROR_HARMONICS, RPM, THETA_GRID, rate_from_s
 from ...model import dynamics as dyn
 from ...model.geometry import newton_per_torque_at
 from ...schema import resolve_tolerances
-from ..sweep._sharding import run_batched
+from ..._core.sharding import run_batched
 from ._kernel import Sample, make_grid, rigid_tolerance_kernel, tolerance_kernel
 from ._result import ToleranceResult
 from ._sampling import SCALAR_KEYS, draw_samples, spreads
