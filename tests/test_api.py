@@ -3,6 +3,9 @@
 from __future__ import annotations
 
 import ast
+import os
+import subprocess
+import sys
 from importlib import import_module
 from pathlib import Path
 
@@ -98,3 +101,22 @@ def test_the_type_stub_names_each_public_name_from_its_module():
     assert stub == camdyn._API
     for name, module in stub.items():
         assert hasattr(import_module(module, "camdyn"), name), name
+
+
+def test_the_library_changes_no_global_setting_and_refuses_float32():
+    """Importing camdyn's models leaves JAX's 64-bit mode alone (as diffrax does); building a case without it is
+    refused in one line rather than computed in float32."""
+
+    code = (
+        "import jax, camdyn\nimport camdyn.model.case\nprint(jax.config.jax_enable_x64)\n"
+        "try:\n    camdyn.load_case('cases/lecture.toml')\nexcept camdyn.CamdynError as e:\n    print(e)\n"
+        "camdyn.enable_x64()\nprint(camdyn.load_case('cases/lecture.toml').name)"
+    )
+    root = Path(camdyn.__file__).resolve().parents[1]
+    env = {k: v for k, v in os.environ.items() if k != "JAX_ENABLE_X64"}
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=root, env=env, timeout=120)
+    assert out.returncode == 0, out.stderr
+    lines = out.stdout.strip().splitlines()
+    assert lines[0] == "False"
+    assert lines[1].startswith("camdyn computes in float64")
+    assert lines[-1] == "lecture"
