@@ -14,6 +14,7 @@ _API = {
     "CamdynError": "._core.errors",
     "InputError": "._core.errors",
     "NumericalError": "._core.errors",
+    "enable_x64": "._core.precision",
     # schema
     "CaseSpec": ".schema",
     "FollowerSpec": ".schema",

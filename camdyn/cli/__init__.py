@@ -19,14 +19,6 @@ from pathlib import Path
 
 from .._core.units import MAX_SPEED_RPM
 
-# Before equinox loads: its runtime checks otherwise embed host callbacks, which keep JAX from caching the
-# compiled diffrax solves on disk (camdyn checks every solver result itself, so NaN-on-error loses nothing).
-os.environ.setdefault("EQX_ON_ERROR", "nan")
-
-COMMANDS = (
-    "check", "table", "profile", "size", "sweep", "synthesize", "optimize", "report", "spring", "tolerance", "machine",
-)
-
 
 def _version() -> str:
     try:
@@ -207,6 +199,12 @@ def main(argv: list[str] | None = None) -> int:
     source = getattr(args, "case", "") or ""
     try:
         _validate(args)
+        from .._core.precision import enable_x64  # loads JAX: only once the input is known to be valid
+
+        enable_x64()  # before any model module loads: camdyn's models compute in float64
+        # before equinox loads: its runtime checks otherwise embed host callbacks, which keep JAX from caching the
+        # compiled diffrax solves on disk (camdyn checks every solver result itself, so NaN-on-error loses nothing)
+        os.environ.setdefault("EQX_ON_ERROR", "nan")
         run = import_module(f".{args.command}", __name__).run
         _enable_caches()
         return run(args)

@@ -7,14 +7,12 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, replace
 
-import jax.numpy as jnp
 import numpy as np
 
 from ..._core.errors import InputError
 from ..._core.units import RPM, THETA_GRID, TWO_PI, damping_from_ratio, rate_to_si
 from ...model.follower import FollowerModel
 from ...model.geometry import newton_per_torque_at
-from ...model.motion import evaluate
 from ..spring import min_preload
 from ._quadratic import refine
 
@@ -56,10 +54,7 @@ class Problem:
     def values(self, theta):
         """s, s', s'' (SI, per rad) at angles ``theta`` (rad)."""
         theta = np.atleast_1d(np.asarray(theta, dtype=float))
-        if hasattr(self.motion, "_eval"):
-            v = np.asarray(self.motion._eval(np, theta))
-        else:
-            v = np.asarray(evaluate(self.motion, jnp.asarray(theta)))
+        v = self.motion.host(theta)
         return v[0] * self.scale, v[1] * self.scale, v[2] * self.scale
 
     def arm(self, theta):

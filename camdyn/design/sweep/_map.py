@@ -21,7 +21,7 @@ from ._diffrax_gap import diffrax_gap_const, diffrax_gap_kernel
 from ._exact_gap import exact_gap_kernel
 from ._grid import GAP_CHUNK, GAP_STRIDE, GRID_N, LINEAR_CHUNK, check_grid_size
 from ._result import STATUS_OK, JumpMap, failed
-from ._sharding import run_batched
+from ..._core.sharding import run_batched
 
 
 @dataclass(frozen=True)

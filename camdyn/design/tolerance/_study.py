@@ -13,12 +13,12 @@ from scipy.stats import binomtest
 
 from ..._core.errors import InputError
 from ..._core.progress import Progress, counter
+from ..._core.sharding import run_batched
 from ..._core.units import PROFILE_ERROR_HARMONICS, RPM, THETA_GRID, rate_from_si, rate_to_si, tolerance_unit
 from ...model import dynamics as dyn
 from ...model.geometry import newton_per_torque_at
 from ...schema import resolve_tolerances
 from ..parts import resolve_spring
-from ..sweep._sharding import run_batched
 from ._kernel import Sample, make_grid, rigid_tolerance_kernel, tolerance_kernel
 from ._result import ToleranceResult
 from ._sampling import SCALAR_KEYS, draw_samples, spreads
