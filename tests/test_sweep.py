@@ -146,6 +146,7 @@ def test_sharded_over_two_devices_equals_one(small_map):
     """Two host devices (a subprocess): the grid sharded over both equals the grid on one of them."""
     code = (
         "import sys, jax, numpy as np, camdyn\n"
+        "camdyn.enable_x64()\n"
         "from camdyn.model.case import load_case\n"
         "from camdyn.design.sweep import jump_map\n"
         "assert jax.device_count() == 2, jax.devices()\n"
