@@ -133,7 +133,8 @@ def run_check(case: Case, speed_rpm: float | None = None) -> CheckReport:
 
     if not model.rigid:  # a train compressed by much of the lift no longer drives the follower: a verdict
         lift = float(np.ptp(resp.s))
-        deflection = float(np.max(resp.s - resp.x)) / lift if lift > 0.0 else 0.0
+        # compression only: where the follower flies above the cam (x > s) the train is unloaded, not stretched
+        deflection = float(np.max(np.clip(resp.s - resp.x, 0.0, None))) / lift if lift > 0.0 else 0.0
         checks_train = (Check(CheckKind.TRAIN_DEFLECTION.value, deflection, float(limits.max_train_deflection), "ratio", "<="),)
     else:
         checks_train = ()
