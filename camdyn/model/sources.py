@@ -57,7 +57,7 @@ def table_motion(spec: CaseSpec, source: Path | None) -> tuple[FittedMotion, Mot
     theta, lift = table.values.T
     unit, column = ("deg", "swing_deg") if spec.oscillating else ("mm", "lift_mm")
     warnings = _lift_level(table, lift, unit, column)
-    motion, fit = fit_motion(theta, lift, unit=unit, source="table", file=name, tolerance=tolerance, rounding=table.rounding)
+    motion, fit = fit_motion(theta, lift, unit=unit, source="table", file=name, tolerance=tolerance, rounding=table.rounding, repeats=table.repeats)
     _within_tolerance(fit, table, tolerance)
     return motion, fit, warnings + fit_warnings(fit)
 

@@ -162,4 +162,6 @@ def _plain(text: str | None, allowed: str) -> str | None:
 
 # a name (also a file-name stem) and a description: plain text, a description may run over lines
 Name = Annotated[str, AfterValidator(lambda s: _plain(s, ""))]
+# a data file's name, relative to the case file: plain text too (a NUL or a tab in a path is a slip, not a file)
+FileName = Name
 Text = Annotated[str, AfterValidator(lambda s: _plain(s, "\n\t"))]

@@ -9,7 +9,7 @@ from typing import Annotated, Any, Literal, Union
 from pydantic import Discriminator, Field, Tag, model_validator
 
 from .._core.units import MAX_LENGTH_MM
-from ._base import Pair, Real, Table
+from ._base import FileName, Pair, Real, Table
 
 MIN_SEGMENT_DEG = 0.01  # a move over less cam angle than this cannot be cut, nor followed
 
@@ -130,7 +130,7 @@ class MotionSpec(Table):
     """The ``[motion]`` table: ``segments``, or a ``table`` of measured or tabulated lift."""
 
     segments: list[AnySegment] = Field(default_factory=list, description="the segments in order, from 0 deg (or give table)")
-    table: str | None = Field(
+    table: FileName | None = Field(
         default=None,
         description="CSV file of the lift, relative to the case file: header theta_deg,lift_mm (theta_deg,swing_deg for an "
         "oscillating follower), one revolution, angles increasing, any spacing; fitted by a periodic quintic smoothing spline",
