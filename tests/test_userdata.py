@@ -237,7 +237,7 @@ def test_too_many_rows_are_refused(tmp_path, capsys, monkeypatch):
     rows = "".join(f"{a / 2:g},{5 * (1 - math.cos(math.radians(a / 2))):.4f}\n" for a in range(720))
     (tmp_path / "lift.csv").write_text("theta_deg,lift_mm\n" + rows)
     err = _one_line(*run(capsys, "check", _table_case(tmp_path, "lift.csv"))[::2])
-    assert "lift.csv: has 720 data rows, over the 50 a data file may give" in err
+    assert "lift.csv: has more than 50 data rows, the most a data file may give: thin it" in err
 
 
 @pytest.mark.parametrize("name, shown", [("lift\x00.csv", r"'\x00'"), ("lift\t.csv", r"'\t'")])

@@ -7,6 +7,7 @@ read bounded: a regular file of at most :data:`~camdyn._core.files.MAX_FILE_BYTE
 
 from __future__ import annotations
 
+import io
 import itertools
 import math
 from dataclasses import dataclass, replace
@@ -47,7 +48,7 @@ class Samples:
 
 def _bounded(shown: str, count: int, what: str) -> None:
     if count > MAX_ROWS:
-        raise InputError(shown, f"has {count} {what}, over the {MAX_ROWS} a data file may give: thin it (every k-th row)")
+        raise InputError(shown, f"has more than {MAX_ROWS} {what}, the most a data file may give: thin it (every k-th row)")
 
 
 def _decimals(text: str) -> int:
@@ -64,9 +65,11 @@ def read_csv(path: Path, shown: str, columns: tuple[str, ...], hints: dict[str, 
     """The named columns of a CSV file with a header row (any order; other columns ignored; blank lines and
     lines starting with # skipped). ``hints``: a column name that may stand in the header instead, and what
     to say about it."""
-    lines = read_text_file(path, shown, "data file").splitlines()
-    body = [(n, line) for n, line in enumerate(lines, start=1) if line.strip() and not line.lstrip().startswith("#")]
-    _bounded(shown, len(body) - 1, "data rows")
+    body = []  # (line number, text) of the header and the data rows; read line by line, so a file of blank lines
+    for n, line in enumerate(io.StringIO(read_text_file(path, shown, "data file"), newline=None), start=1):
+        if line.strip() and not line.lstrip().startswith("#"):  # or of millions of rows holds no list of them
+            body.append((n, line))
+            _bounded(shown, len(body) - 1, "data rows")
     if not body:
         raise InputError(shown, f"is empty: expected the header {','.join(columns)} and a row per point")
     n0, header = body[0]
