@@ -117,7 +117,8 @@ GOOD = ["theta_deg,lift_mm"] + [f"{a},{5 * (1 - math.cos(math.radians(a))):.4f}"
     "rows, where, text",
     [
         (GOOD[:5] + [GOOD[6], GOOD[5]] + GOOD[7:], "lift.csv line 7", "is below the previous row's 50 deg"),
-        (GOOD[:6] + [GOOD[5] + "1"] + GOOD[6:], "lift.csv line 7", "repeats the previous row's angle"),  # an exact repeat is dropped
+        # another lift at the same angle (an exact repeat of a row is dropped)
+        (GOOD[:6] + [GOOD[5] + "1"] + GOOD[6:], "lift.csv line 7", "repeats the previous row's angle"),
         (GOOD[:19], "lift.csv", "does not span one revolution: no data from 170 to 360 deg"),
         (GOOD + ["400,0"], "lift.csv line 38", "more than one revolution"),
         (GOOD[:4] + ["30,nan"] + GOOD[5:], "lift.csv line 5", "lift_mm = nan is not a finite number"),

@@ -11,16 +11,19 @@ from pathlib import Path
 import jax.numpy as jnp
 import numpy as np
 import pytest
+from _helpers import run
 
 from camdyn import case_from_dict, load_case, run_check
 from camdyn._core.files import MAX_FILE_BYTES
-from camdyn.design.userdata import least_force_uncertainty, least_force_warning, unit_slip_warnings
+from camdyn._core.units import RPM
+from camdyn.design.userdata import (
+    least_force_uncertainty,
+    least_force_warning,
+    unit_slip_warnings,
+)
 from camdyn.model import datafiles
 from camdyn.model import dynamics as dyn
 from camdyn.model.motion import Program
-from camdyn._core.units import RPM
-
-from _helpers import run
 
 ROOT = Path(__file__).resolve().parents[1]
 CASES = ROOT / "cases"
@@ -28,7 +31,9 @@ LECTURE_TEXT = (CASES / "lecture.toml").read_text()
 
 
 def _one_line(code: int, err: str) -> str:
-    assert code == 2 and len(err.strip().splitlines()) == 1 and err.startswith("camdyn: ") and "internal error" not in err, err
+    assert (
+        code == 2 and len(err.strip().splitlines()) == 1 and err.startswith("camdyn: ") and "internal error" not in err
+    ), err
     return err.strip()
 
 
@@ -91,7 +96,9 @@ def _noisy_table_case(tmp_path: Path, seed: int) -> tuple:
     theta = np.arange(0.0, 360.0, 0.5)
     lift = np.asarray(Program.from_segments(raw["motion"]["segments"])._eval(np, np.deg2rad(theta)))[0]
     lift = lift + 1e-3 * np.random.default_rng(seed).standard_normal(theta.size)
-    (tmp_path / "noisy.csv").write_text("theta_deg,lift_mm\n" + "".join(f"{t:g},{v:.4f}\n" for t, v in zip(theta, lift)))
+    (tmp_path / "noisy.csv").write_text(
+        "theta_deg,lift_mm\n" + "".join(f"{t:g},{v:.4f}\n" for t, v in zip(theta, lift))
+    )
     raw["motion"] = {"table": "noisy.csv"}
     return exact, case_from_dict(raw, source=tmp_path / "case.toml")
 
@@ -116,7 +123,9 @@ def test_a_clean_table_gets_no_force_warning(tmp_path):
     exact, _ = _noisy_table_case(tmp_path, 1)
     theta = np.arange(0.0, 360.0, 0.5)
     lift = np.asarray(exact.motion._eval(np, np.deg2rad(theta)))[0]
-    (tmp_path / "noisy.csv").write_text("theta_deg,lift_mm\n" + "".join(f"{t:g},{v:.9f}\n" for t, v in zip(theta, lift)))
+    (tmp_path / "noisy.csv").write_text(
+        "theta_deg,lift_mm\n" + "".join(f"{t:g},{v:.9f}\n" for t, v in zip(theta, lift))
+    )
     table = load_case(_table_case(tmp_path, "noisy.csv"))
     bound = least_force_uncertainty(table, 300.0 * RPM)
     assert bound is not None and least_force_warning(table, 29.0, bound) == []
@@ -124,7 +133,7 @@ def test_a_clean_table_gets_no_force_warning(tmp_path):
 
 @pytest.mark.slow
 def test_check_shows_the_noisy_tables_uncertainty(tmp_path, capsys):
-    exact, table = _noisy_table_case(tmp_path, 1)
+    _, table = _noisy_table_case(tmp_path, 1)
     report = run_check(table)
     u = report.dynamic["min_contact_force_uncertainty_N"]
     assert u is not None and abs(report.dynamic["min_contact_force_N"] - 29.077) <= u
@@ -146,7 +155,11 @@ def test_a_misspelt_required_key_is_named_not_missing(tmp_path, capsys):
 
 def test_an_unknown_law_is_named_before_its_keys(tmp_path, capsys):
     seg = '{ law = "cycloidal", end = 180, lift = 20 }'
-    err = _one_line(*run(capsys, "check", _case_with(tmp_path, seg, '{ law = "polynominal", end = 180, lift = 20, start_jerk = 0 }'))[::2])
+    err = _one_line(
+        *run(
+            capsys, "check", _case_with(tmp_path, seg, '{ law = "polynominal", end = 180, lift = 20, start_jerk = 0 }')
+        )[::2]
+    )
     assert "motion.segments[1].law: unknown law 'polynominal' (did you mean 'polynomial'?)" in err
 
 
@@ -157,19 +170,26 @@ def test_train_deflection_is_never_negative(tmp_path):
     report = run_check(case)
     value = next(c.value for c in report.checks if c.name == "train_deflection")
     assert report.verdict == "fail" and value >= 0.0
-    assert value == pytest.approx(np.clip(report.response.s - report.response.x, 0, None).max() / np.ptp(report.response.s))
+    assert value == pytest.approx(
+        np.clip(report.response.s - report.response.x, 0, None).max() / np.ptp(report.response.s)
+    )
 
 
 def test_unit_slips_are_warned(tmp_path):
     hz = load_case(_case_with(tmp_path, "speed = 300 ", "speed = 5 "))
     (w,) = unit_slip_warnings(hz, 5.0, 484.8)
-    assert w.startswith("dynamics.speed = 5 rpm is 1/97 of the jump speed") and "given in rev/s (Hz)? 5 rev/s is 300 rpm" in w
+    assert (
+        w.startswith("dynamics.speed = 5 rpm is 1/97 of the jump speed")
+        and "given in rev/s (Hz)? 5 rev/s is 300 rpm" in w
+    )
     assert unit_slip_warnings(hz, 5.0, 180.0) == [] and unit_slip_warnings(hz, 300.0, 484.8) == []
     nm = load_case(_case_with(tmp_path, "spring_rate = 2.0 ", "spring_rate = 2000 "))
     (w,) = unit_slip_warnings(nm, 300.0, None)
     assert w.startswith("dynamics.spring_rate = 2000 N/mm") and "was it given in N/m? 2000 N/m is 2 N/mm" in w
     theta = np.arange(0.0, 360.0, 2.0)
-    (tmp_path / "m.csv").write_text("theta_deg,lift_mm\n" + "".join(f"{t:g},{0.005 * (1 - math.cos(math.radians(t))):.7f}\n" for t in theta))
+    (tmp_path / "m.csv").write_text(
+        "theta_deg,lift_mm\n" + "".join(f"{t:g},{0.005 * (1 - math.cos(math.radians(t))):.7f}\n" for t in theta)
+    )
     metres = load_case(_table_case(tmp_path, "m.csv"))
     assert "m.csv: lift_mm spans only 0.01 mm: was it given in metres? 0.01 metres is 10 mm" in metres.warnings
 

@@ -17,7 +17,12 @@ MAX_FILE_BYTES = 16 * 2**20  # 16 MiB: a 200 000-row lift table or contour at fu
 
 
 def _kind(mode: int) -> str:
-    for test, what in ((stat.S_ISCHR, "a character device"), (stat.S_ISBLK, "a block device"), (stat.S_ISFIFO, "a FIFO (named pipe)"), (stat.S_ISSOCK, "a socket")):
+    for test, what in (
+        (stat.S_ISCHR, "a character device"),
+        (stat.S_ISBLK, "a block device"),
+        (stat.S_ISFIFO, "a FIFO (named pipe)"),
+        (stat.S_ISSOCK, "a socket"),
+    ):
         if test(mode):
             return what
     return "not a regular file"
@@ -41,7 +46,9 @@ def read_text_file(path: Path, where: str, what: str) -> str:
     if not stat.S_ISREG(info.st_mode):
         raise InputError(where, f"is {_kind(info.st_mode)}, not a {what}: name a regular file{at}")
     if info.st_size > MAX_FILE_BYTES:
-        raise InputError(where, f"is {info.st_size / 2**20:.1f} MiB, over the {MAX_FILE_BYTES // 2**20} MiB a {what} may have{at}")
+        raise InputError(
+            where, f"is {info.st_size / 2**20:.1f} MiB, over the {MAX_FILE_BYTES // 2**20} MiB a {what} may have{at}"
+        )
     try:
         with open(path, "rb") as f:
             data = f.read(MAX_FILE_BYTES + 1)

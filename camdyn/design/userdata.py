@@ -54,7 +54,9 @@ def least_force_uncertainty(case: Case, omega: float) -> float | None:
     noise = jnp.asarray(np.moveaxis(case.fit.spline.noise_coef, -1, 0) * to_unit)  # (samples, m, 6)
     theta = np.arange(FFT_GRID) * (2 * math.pi / FFT_GRID)
     base = np.asarray(_force(case, motion, omega, theta))
-    err = np.asarray(jax.vmap(lambda c: _force(case, dataclasses.replace(motion, coef=motion.coef + c), omega, theta) - base)(noise))
+    err = np.asarray(
+        jax.vmap(lambda c: _force(case, dataclasses.replace(motion, coef=motion.coef + c), omega, theta) - base)(noise)
+    )
     if case.oscillating:  # torques to contact forces through the lever arm
         per_torque = newton_per_torque_at(motion, case.follower, theta)
         base, err = base * per_torque, err * per_torque
@@ -70,11 +72,14 @@ def least_force_warning(case: Case, least_force_N: float, uncertainty_N: float |
     if uncertainty_N is None or uncertainty_N <= FORCE_NOISE_SHARE * abs(least_force_N):
         return []
     fit = case.fit
+    share = 100 * uncertainty_N / abs(least_force_N)
     return [
-        f"{fit.file}: the data's noise (about {fit.spline.sigma:.2g} {fit.unit}) leaves the least contact force "
-        f"{least_force_N:.4g} N uncertain by up to +-{uncertainty_N:.2g} N ({100 * uncertainty_N / abs(least_force_N):.2g} %; a 95 % bound): "
-        "the fitted acceleration carries that noise into the force (in a dwell the least of a noisy force falls low); "
-        "tabulate the lift finer or to less noise, or give the motion as segments"
+        (
+            f"{fit.file}: the data's noise (about {fit.spline.sigma:.2g} {fit.unit}) leaves the least contact force "
+            f"{least_force_N:.4g} N uncertain by up to +-{uncertainty_N:.2g} N ({share:.2g} %; a 95 % bound): the "
+            "fitted acceleration carries that noise into the force (in a dwell the least of a noisy force falls low); "
+            "tabulate the lift finer or to less noise, or give the motion as segments"
+        )
     ]
 
 
@@ -85,20 +90,25 @@ def unit_slip_warnings(case: Case, rpm: float, jump_rpm: float | None) -> list[s
     out = []
     if jump_rpm is not None and rpm == case.speed_rpm and jump_rpm > HZ_SLIP_RATIO * rpm:
         out.append(
-            f"dynamics.speed = {rpm:g} rpm is 1/{jump_rpm / rpm:.0f} of the jump speed ({jump_rpm:.4g} rpm): was it given in rev/s (Hz)? "
-            f"{rpm:g} rev/s is {60.0 * rpm:g} rpm"
+            f"dynamics.speed = {rpm:g} rpm is 1/{jump_rpm / rpm:.0f} of the jump speed ({jump_rpm:.4g} rpm): "
+            f"was it given in rev/s (Hz)? {rpm:g} rev/s is {60.0 * rpm:g} rpm"
         )
     model = case.model
     s = np.asarray(case.motion(jnp.linspace(0.0, 2 * math.pi, 3600, endpoint=False)))[:3] * model.scale
     spring = float(model.stiffness) * float(np.ptp(s[0]))
-    other = max(abs(float(model.preload)), abs(float(model.external)), float(model.mass) * (rpm * RPM) ** 2 * float(np.abs(s[2]).max()))
+    other = max(
+        abs(float(model.preload)),
+        abs(float(model.external)),
+        float(model.mass) * (rpm * RPM) ** 2 * float(np.abs(s[2]).max()),
+    )
     if other > 0.0 and spring > RATE_SLIP_RATIO * other:
         key, unit, slip, force = (
             ("torsion_rate", "N*m/rad", "N*mm/rad", "N*m") if case.oscillating else ("spring_rate", "N/mm", "N/m", "N")
         )
         rate = getattr(case.spec.dynamics, key)
         out.append(
-            f"dynamics.{key} = {rate:g} {unit}: over the lift its force changes by {spring:.4g} {force}, {spring / other:.0f} times the "
-            f"preload and the peak inertia force: was it given in {slip}? {rate:g} {slip} is {rate / 1000.0:g} {unit}"
+            f"dynamics.{key} = {rate:g} {unit}: over the lift its force changes by {spring:.4g} {force}, "
+            f"{spring / other:.0f} times the preload and the peak inertia force: was it given in {slip}? "
+            f"{rate:g} {slip} is {rate / 1000.0:g} {unit}"
         )
     return out

@@ -48,7 +48,8 @@ class Samples:
 
 def _bounded(shown: str, count: int, what: str) -> None:
     if count > MAX_ROWS:
-        raise InputError(shown, f"has more than {MAX_ROWS} {what}, the most a data file may give: thin it (every k-th row)")
+        most = "the most a data file may give: thin it (every k-th row)"
+        raise InputError(shown, f"has more than {MAX_ROWS} {what}, {most}")
 
 
 def _decimals(text: str) -> int:
@@ -168,7 +169,7 @@ def _arc(p1: np.ndarray, p2: np.ndarray, bulge: float) -> np.ndarray:
     sweep = 4 * math.atan(bulge)
     step = 2 * math.acos(max(1 - _SAGITTA_MM / radius, -1.0))
     # an arc flatter than the sagitta is its chord; no arc gives more points than a file may (the caller refuses)
-    n = min(int(math.ceil(abs(sweep) / step)), MAX_ROWS + 1) if step > 0.0 else 1
+    n = min(math.ceil(abs(sweep) / step), MAX_ROWS + 1) if step > 0.0 else 1
     t = np.arange(1, max(n, 1)) / max(n, 1)
     a = math.atan2(p1[1] - centre[1], p1[0] - centre[0]) + sweep * t
     return centre + radius * np.stack([np.cos(a), np.sin(a)], axis=1)

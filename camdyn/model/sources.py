@@ -47,7 +47,10 @@ def _unit_slip(table: Samples, lift: np.ndarray, unit: str, column: str) -> list
     span = float(np.ptp(lift))
     if span >= least:
         return []
-    return [f"{table.shown}: {column} spans only {span:.3g} {unit}: was it given in {other}? {span:.3g} {other} is {span * factor:.4g} {unit}"]
+    return [
+        f"{table.shown}: {column} spans only {span:.3g} {unit}: was it given in {other}? "
+        f"{span:.3g} {other} is {span * factor:.4g} {unit}"
+    ]
 
 
 def _within_tolerance(fit: MotionFit, table: Samples, tolerance: float | None) -> None:
@@ -68,7 +71,10 @@ def table_motion(spec: CaseSpec, source: Path | None) -> tuple[FittedMotion, Mot
     theta, lift = table.values.T
     unit, column = ("deg", "swing_deg") if spec.oscillating else ("mm", "lift_mm")
     warnings = _unit_slip(table, lift, unit, column) + _lift_level(table, lift, unit, column)
-    motion, fit = fit_motion(theta, lift, unit=unit, source="table", file=name, tolerance=tolerance, rounding=table.rounding, repeats=table.repeats)
+    motion, fit = fit_motion(
+        theta, lift, unit=unit, source="table", file=name, tolerance=tolerance, rounding=table.rounding,
+        repeats=table.repeats,
+    )
     _within_tolerance(fit, table, tolerance)
     return motion, fit, warnings + fit_warnings(fit)
 

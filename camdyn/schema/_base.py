@@ -117,7 +117,7 @@ def validation_error(err: ValidationError, cls: type[BaseModel], table: str = ""
     ``table``, e.g. ``path.width``), with the nearest valid key for an unknown one."""
     errors = err.errors()
     e = errors[0]
-    if e["type"] == "missing":  # a missing key beside an unknown one at the same level: the unknown one is its misspelling
+    if e["type"] == "missing":  # beside an unknown key at the same level: that one is the missing key misspelt
         e = next((x for x in errors if x["type"] == "extra_forbidden" and x["loc"][:-1] == e["loc"][:-1]), e)
     loc, owner = _resolve(cls, tuple(p for p in e["loc"] if not (isinstance(p, str) and ("[" in p or p.startswith("function-")))))
     msg = e["msg"].removeprefix("Value error, ")
@@ -128,11 +128,15 @@ def validation_error(err: ValidationError, cls: type[BaseModel], table: str = ""
     where = ".".join(filter(None, (table, _where(loc)))) or "case"
     if e["type"] == "extra_forbidden":
         hint = get_close_matches(str(loc[-1]), list(owner.model_fields), n=1) if owner else []
-        if isinstance(e.get("input"), dict) and len(loc) == 1 and not table:  # a [table] of the case file
+        got = e.get("input")
+        tabular = isinstance(got, dict) or (isinstance(got, list) and got and all(isinstance(t, dict) for t in got))
+        if len(loc) == 1 and not table and tabular:
+            # a [table] (or an array of [[tables]]) of the file
             tables = [k for k, f in owner.model_fields.items() if _models_in(f.annotation)] if owner else []
             hint = get_close_matches(str(loc[-1]), tables, n=1)
             valid = f"; tables: {', '.join(f'[{t}]' for t in tables)}" if not hint else ""
-            return InputError(where, f"unknown table [{loc[-1]}]" + (f" (did you mean [{hint[0]}]?)" if hint else "") + valid)
+            mean = f" (did you mean [{hint[0]}]?)" if hint else ""
+            return InputError(where, f"unknown table [{loc[-1]}]{mean}{valid}")
         valid = f"; valid keys: {', '.join(owner.model_fields)}" if owner and not hint else ""
         return InputError(where, "unknown key" + (f" (did you mean {hint[0]!r}?)" if hint else "") + valid)
     if e["type"] == "missing":

@@ -152,7 +152,8 @@ class MotionSpec(Table):
 
 def _unknown_law(key: str, law: str) -> ValueError:
     hint = get_close_matches(law, SEGMENT_LAWS, n=1)
-    return ValueError(f"{key}: unknown law {law!r}" + (f" (did you mean {hint[0]!r}?)" if hint else "") + f"; valid laws: {', '.join(SEGMENT_LAWS)}")
+    mean = f" (did you mean {hint[0]!r}?)" if hint else ""
+    return ValueError(f"{key}: unknown law {law!r}{mean}; valid laws: {', '.join(SEGMENT_LAWS)}")
 
 
 def _check_polynomial(seg: PolynomialSegmentSpec, where: str, start: float, lu: str) -> None:

@@ -61,7 +61,10 @@ class ContourFit:
     def json(self) -> dict:
         out = self.spline.summary(" of the radius over the polar angle")
         i = out.pop("worst")
-        return out | {"points": int(len(self.points)), "unit": "mm", "max_residual_at_polar_deg": float(self.angle_deg[i]), "repeats_dropped": self.repeats}
+        return out | {
+            "points": int(len(self.points)), "unit": "mm", "max_residual_at_polar_deg": float(self.angle_deg[i]),
+            "repeats_dropped": self.repeats,
+        }
 
 
 @dataclass(frozen=True)
