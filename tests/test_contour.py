@@ -121,7 +121,6 @@ def _turning_back():
         (CIRCLE + [60, 0], ROLLER, "cam.csv", "does not go around the cam centre"),
         (_figure_eight(), ROLLER, "cam.csv", "self-intersecting"),
         (CIRCLE[:7], ROLLER, "cam.csv", "has 7 data rows: at least 8"),
-        (np.concatenate([CIRCLE[:10], CIRCLE[9:]]), ROLLER, "cam.csv line 12", "repeats the previous point"),
         (_dented(), ROLLER, "cam.csv", "the roller (radius 10 mm) cannot follow the concave stretch around polar angle"),
         (_dented(), {"type": "oscillating-roller", "roller_radius": 2, "pivot_distance": 30, "arm_length": 12}, "cam.csv", "cannot reach the outline"),
         (None, ROLLER, "cam.csv", "no such file"),

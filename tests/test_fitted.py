@@ -117,7 +117,8 @@ GOOD = ["theta_deg,lift_mm"] + [f"{a},{5 * (1 - math.cos(math.radians(a))):.4f}"
     "rows, where, text",
     [
         (GOOD[:5] + [GOOD[6], GOOD[5]] + GOOD[7:], "lift.csv line 7", "is below the previous row's 50 deg"),
-        (GOOD[:6] + [GOOD[5]] + GOOD[6:], "lift.csv line 7", "repeats the previous row's angle"),
+        # another lift at the same angle (an exact repeat of a row is dropped)
+        (GOOD[:6] + [GOOD[5] + "1"] + GOOD[6:], "lift.csv line 7", "repeats the previous row's angle"),
         (GOOD[:19], "lift.csv", "does not span one revolution: no data from 170 to 360 deg"),
         (GOOD + ["400,0"], "lift.csv line 38", "more than one revolution"),
         (GOOD[:4] + ["30,nan"] + GOOD[5:], "lift.csv line 5", "lift_mm = nan is not a finite number"),
@@ -191,7 +192,8 @@ def test_shipped_cases_pass_and_match_the_designs_they_were_made_from(name):
     """The data files were made from designs (the scripts beside them): the fitted cases come within a few per
     cent of those designs' jump speeds."""
     report = run_check(load_case(ROOT / "cases" / f"{name}.toml")).json()
-    assert report["verdict"] == "pass" and report["warnings"] == []
+    # the valve-lift table's 0.001 mm rounding at 3000 rpm on a stiff train leaves its least force uncertain (below)
+    assert report["verdict"] == "pass" and [w for w in report["warnings"] if "uncertain by up to" not in w] == []
     if name == "polynomial":
         return
     import importlib.util
@@ -206,3 +208,6 @@ def test_shipped_cases_pass_and_match_the_designs_they_were_made_from(name):
     design = run_check(case_from_dict(raw)).json()
     for kind in ("kinematic", "dynamic"):
         assert report[kind]["jump_speed_rpm"] == pytest.approx(design[kind]["jump_speed_rpm"], rel=0.01), kind
+    noise_N = report["dynamic"]["min_contact_force_uncertainty_N"]
+    if noise_N is not None:  # the stated uncertainty covers the least force of the design the data were made from
+        assert abs(report["dynamic"]["min_contact_force_N"] - design["dynamic"]["min_contact_force_N"]) <= noise_N

@@ -18,6 +18,7 @@ from ..model.geometry import CamGeometry, analyze, lever_arm_mm, newton_per_torq
 from ._check import Check, CheckKind
 from .geometry import judge_geometry
 from .parts import case_contact, case_drive, contact_check, resolve_spring
+from .userdata import least_force_uncertainty, least_force_warning, unit_slip_warnings
 
 
 SYNTHESIS_ARRAYS = ("theta_deg", "pitch", "contour", "path_xy", "traced_xy")  # check --json --arrays only
@@ -137,6 +138,7 @@ def run_check(case: Case, speed_rpm: float | None = None) -> CheckReport:
     w_kin, at_kin, w_dyn, w_max = jump_speeds(case, omega, limits.speed_margin)
     if not math.isfinite(w_dyn) and not model.rigid:
         warnings.append(f"no jump found up to {w_max / RPM:.0f} rpm (searched 4x beyond the margin)")
+    warnings += unit_slip_warnings(case, rpm, _finite_or_none((w_dyn if math.isfinite(w_dyn) else w_kin) / RPM))
     if not model.rigid and not resp.separations:
         # the frequency-domain steady state is exact without separation: an independent check of the solve
         f_lin = float(dyn.linear_min_force(motion, model, jnp.asarray([omega]))[0])
@@ -144,10 +146,13 @@ def run_check(case: Case, speed_rpm: float | None = None) -> CheckReport:
             warnings.append(f"time-domain and frequency-domain steady states disagree: least force {resp.min_force:.4g} vs {f_lin:.4g} {'N*m' if case.oscillating else 'N'}")
     warnings += list(resp.warnings)
     resp = forces_in_newton(case, resp)
+    noise_N = None if resp.separations else least_force_uncertainty(case, omega)  # a table's noise, in contact only
+    warnings += least_force_warning(case, resp.min_force, noise_N)
 
     if not model.rigid:  # a train compressed by much of the lift no longer drives the follower: a verdict
         lift = float(np.ptp(resp.s))
-        deflection = float(np.max(resp.s - resp.x)) / lift if lift > 0.0 else 0.0
+        # compression only: where the follower flies above the cam (x > s) the train is unloaded, not stretched
+        deflection = float(np.max(np.clip(resp.s - resp.x, 0.0, None))) / lift if lift > 0.0 else 0.0
         checks_train = (Check(CheckKind.TRAIN_DEFLECTION.value, deflection, float(limits.max_train_deflection), "ratio", "<="),)
     else:
         checks_train = ()
@@ -168,6 +173,7 @@ def run_check(case: Case, speed_rpm: float | None = None) -> CheckReport:
         "model": resp.model,
         "min_contact_force_N": resp.min_force,
         "min_contact_force_deg": resp.min_force_deg,
+        "min_contact_force_uncertainty_N": noise_N,
         "jump_speed_rpm": _finite_or_none(w_dyn / RPM),
         "separations": [separation_json(case, s) for s in resp.separations],
         "residual_vibration_mm": resp.residual_vibration,

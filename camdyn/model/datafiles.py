@@ -1,21 +1,28 @@
 """The data files a case may name: a lift table (CSV) and a cam contour (CSV or DXF).
 
 Each reader checks what it reads and refuses bad input with one :class:`InputError` naming the file as the
-case file gives it, the line (CSV) or point (DXF), and what is wrong. Numbers only; no fitting here.
+case file gives it, the line (CSV) or point (DXF), and what is wrong. Numbers only; no fitting here. A file is
+read bounded: a regular file of at most :data:`~camdyn._core.files.MAX_FILE_BYTES` and :data:`MAX_ROWS` rows.
 """
 
 from __future__ import annotations
 
+import io
+import itertools
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
 
 from .._core.errors import InputError
+from .._core.files import read_text_file
 
 MIN_POINTS = 8  # fewer cannot describe a revolution, let alone its acceleration
 MAX_GAP_DEG = 45.0  # a revolution's table leaves no gap wider than an eighth of a turn
+# Most rows (CSV) or points (DXF, arcs and splines sampled) a data file may give: 500 per degree, far finer than
+# any measurement resolves, and still fitted in seconds. Files are also bounded in bytes (MAX_FILE_BYTES).
+MAX_ROWS = 200_000
 
 
 @dataclass(frozen=True)
@@ -28,24 +35,21 @@ class Samples:
     rows: np.ndarray
     row_word: str  # "line" or "point"
     rounding: float  # standard deviation of rounding to the finest digit written: step / sqrt(12)
+    repeats: int = 0  # rows dropped for exactly repeating the row before them (exports rounded to few digits)
 
     def where(self, i: int) -> str:
         return f"{self.shown} {self.row_word} {int(self.rows[i])}"
 
+    def without_repeats(self, same: np.ndarray) -> Samples:
+        """These samples less the rows ``same`` marks (each a repeat of the row before it), counted in ``repeats``."""
+        keep = ~same
+        return replace(self, values=self.values[keep], rows=self.rows[keep], repeats=self.repeats + int(same.sum()))
 
-def _text(path: Path, shown: str) -> str:
-    try:
-        data = path.read_bytes()
-    except FileNotFoundError:
-        raise InputError(shown, f"no such file ({path})") from None
-    except IsADirectoryError:
-        raise InputError(shown, "is a folder, not a data file") from None
-    except OSError as err:
-        raise InputError(shown, f"cannot read the file: {err.strerror or err}") from None
-    try:
-        return data.decode("utf-8-sig")
-    except UnicodeDecodeError as err:
-        raise InputError(shown, f"not UTF-8 text (byte {err.start})") from None
+
+def _bounded(shown: str, count: int, what: str) -> None:
+    if count > MAX_ROWS:
+        most = "the most a data file may give: thin it (every k-th row)"
+        raise InputError(shown, f"has more than {MAX_ROWS} {what}, {most}")
 
 
 def _decimals(text: str) -> int:
@@ -62,8 +66,11 @@ def read_csv(path: Path, shown: str, columns: tuple[str, ...], hints: dict[str, 
     """The named columns of a CSV file with a header row (any order; other columns ignored; blank lines and
     lines starting with # skipped). ``hints``: a column name that may stand in the header instead, and what
     to say about it."""
-    lines = _text(path, shown).splitlines()
-    body = [(n, line) for n, line in enumerate(lines, start=1) if line.strip() and not line.lstrip().startswith("#")]
+    body = []  # (line number, text) of the header and the data rows; read line by line, so a file of blank lines
+    for n, line in enumerate(io.StringIO(read_text_file(path, shown, "data file"), newline=None), start=1):
+        if line.strip() and not line.lstrip().startswith("#"):  # or of millions of rows holds no list of them
+            body.append((n, line))
+            _bounded(shown, len(body) - 1, "data rows")
     if not body:
         raise InputError(shown, f"is empty: expected the header {','.join(columns)} and a row per point")
     n0, header = body[0]
@@ -99,10 +106,12 @@ def read_csv(path: Path, shown: str, columns: tuple[str, ...], hints: dict[str, 
 def read_lift_table(path: Path, shown: str, oscillating: bool) -> Samples:
     """A lift table: theta_deg and lift_mm (oscillating: swing_deg), one revolution, angles increasing and
     distinct, any spacing, no gap over :data:`MAX_GAP_DEG`. A last row at the first angle plus 360 closes the
-    revolution (it counts as a second sample of the first angle)."""
+    revolution (it counts as a second sample of the first angle). A row exactly repeating the one before it
+    (angle and lift) is dropped and counted in ``repeats``; the same angle with another lift is refused."""
     column, other = ("swing_deg", "lift_mm") if oscillating else ("lift_mm", "swing_deg")
     kind = "an oscillating" if oscillating else "a translating"
     table = read_csv(path, shown, ("theta_deg", column), {other: f"{kind} follower's table gives {column}, not {other}"})
+    table = table.without_repeats(np.r_[False, np.all(np.diff(table.values, axis=0) == 0.0, axis=1)])
     theta = table.values[:, 0]
     step = np.diff(theta)
     bad = np.flatnonzero(step <= 0.0)
@@ -128,22 +137,21 @@ def read_lift_table(path: Path, shown: str, oscillating: bool) -> Samples:
 
 def read_contour(path: Path, shown: str) -> Samples:
     """A cam contour: points (x_mm, y_mm) in the cam frame, from a CSV (as ``camdyn profile -o cam.csv``
-    writes it) or a DXF (a closed LWPOLYLINE, POLYLINE or SPLINE); a last point repeating the first is dropped."""
+    writes it) or a DXF (a closed LWPOLYLINE, POLYLINE or SPLINE). A last point repeating the first closes the
+    outline and is dropped; so is a point exactly repeating the one before it (counted in ``repeats``)."""
     if path.suffix.lower() == ".dxf":
         pts = _read_dxf(path, shown)
     elif path.suffix.lower() == ".csv":
         pts = read_csv(path, shown, ("x_mm", "y_mm"))
     else:
         raise InputError(shown, f"unknown contour format {path.suffix or '(no suffix)'!r}: use .csv (x_mm,y_mm) or .dxf")
+    size = float(np.ptp(pts.values, axis=0).max())
+    # CMM and CAD exports repeat points once rounded to their digits: a point equal to the one before it adds nothing
+    pts = pts.without_repeats(np.r_[False, np.hypot(*np.diff(pts.values, axis=0).T) <= 1e-12 * size])
     xy = pts.values
-    size = float(np.ptp(xy, axis=0).max())
-    if np.hypot(*(xy[-1] - xy[0])) <= 1e-9 * size:
-        pts = Samples(pts.shown, xy[:-1], pts.rows[:-1], pts.row_word, pts.rounding)
+    if len(xy) > 1 and np.hypot(*(xy[-1] - xy[0])) <= 1e-9 * size:  # the closing point: the outline's convention
+        pts = replace(pts, values=xy[:-1], rows=pts.rows[:-1])
         xy = pts.values
-    same = np.flatnonzero(np.hypot(*np.diff(xy, axis=0).T) <= 1e-12 * size)
-    if same.size:
-        i = int(same[0]) + 1
-        raise InputError(pts.where(i), f"({xy[i, 0]:g}, {xy[i, 1]:g}) repeats the previous point")
     if len(xy) < MIN_POINTS:
         raise InputError(shown, f"has {len(xy)} points: at least {MIN_POINTS} are needed for an outline")
     return pts
@@ -160,26 +168,33 @@ def _arc(p1: np.ndarray, p2: np.ndarray, bulge: float) -> np.ndarray:
     radius = d * (1 + bulge**2) / (4 * abs(bulge))
     sweep = 4 * math.atan(bulge)
     step = 2 * math.acos(max(1 - _SAGITTA_MM / radius, -1.0))
-    t = np.arange(1, max(int(math.ceil(abs(sweep) / step)), 1)) / max(int(math.ceil(abs(sweep) / step)), 1)
+    # an arc flatter than the sagitta is its chord; no arc gives more points than a file may (the caller refuses)
+    n = min(math.ceil(abs(sweep) / step), MAX_ROWS + 1) if step > 0.0 else 1
+    t = np.arange(1, max(n, 1)) / max(n, 1)
     a = math.atan2(p1[1] - centre[1], p1[0] - centre[0]) + sweep * t
     return centre + radius * np.stack([np.cos(a), np.sin(a)], axis=1)
 
 
-def _entity_points(e) -> tuple[np.ndarray, bool]:
+def _entity_points(e, shown: str) -> tuple[np.ndarray, bool]:
     """The points of a LWPOLYLINE, POLYLINE or SPLINE (arcs and splines sampled on the curve) and whether the
-    polyline is flagged closed (its closing edge then joins the last point to the first)."""
+    polyline is flagged closed (its closing edge then joins the last point to the first); refused as soon as
+    they exceed :data:`MAX_ROWS`."""
     if e.dxftype() == "SPLINE":
-        return np.array([(v.x, v.y) for v in e.construction_tool().flattening(_SAGITTA_MM)]), False
+        pts = [(v.x, v.y) for v in itertools.islice(e.construction_tool().flattening(_SAGITTA_MM), MAX_ROWS + 1)]
+        _bounded(shown, len(pts), "points (arcs and splines sampled)")
+        return np.array(pts), False
     if e.dxftype() == "LWPOLYLINE":
         verts, closed = [(x, y, b) for x, y, b in e.get_points("xyb")], bool(e.closed)
     else:
         verts, closed = [(v.dxf.location.x, v.dxf.location.y, v.dxf.bulge) for v in e.vertices], bool(e.is_closed)
-    out = []
+    out, count = [], 0
     for i in range(len(verts) if closed else len(verts) - 1):
         p1, p2, bulge = np.array(verts[i][:2]), np.array(verts[(i + 1) % len(verts)][:2]), verts[i][2]
         out.append(p1[None, :])
         if bulge and np.hypot(*(p2 - p1)) > 0:
             out.append(_arc(p1, p2, bulge))
+        count += len(out[-1])
+        _bounded(shown, count, "points (arcs and splines sampled)")
     if not closed:
         out.append(np.array([verts[-1][:2]]))
     return np.concatenate(out), closed
@@ -189,7 +204,7 @@ def _read_dxf(path: Path, shown: str) -> Samples:
     import ezdxf
     from ezdxf import units
 
-    _text(path, shown)  # the file's own errors first: missing, a folder, unreadable
+    read_text_file(path, shown, "data file")  # the file's own errors first: missing, a folder, unreadable
     try:
         doc = ezdxf.readfile(path)
     except (OSError, ezdxf.DXFError) as err:
@@ -201,7 +216,7 @@ def _read_dxf(path: Path, shown: str) -> Samples:
         raise InputError(shown, "has no LWPOLYLINE, POLYLINE or SPLINE: draw the cam's outline as one closed curve")
     outlines = []
     for e in found:
-        pts, flagged = _entity_points(e)
+        pts, flagged = _entity_points(e, shown)
         pts = pts * scale
         if len(pts) < 3 or not (flagged or np.hypot(*(pts[-1] - pts[0])) <= 1e-6 * float(np.ptp(pts, axis=0).max())):
             outlines.append((0.0, e, pts))
@@ -212,4 +227,5 @@ def _read_dxf(path: Path, shown: str) -> Samples:
     if area == 0.0:
         gap = float(np.hypot(*(pts[-1] - pts[0])))
         raise InputError(shown, f"the {e.dxftype()} (handle {e.dxf.handle}) is open: its ends are {gap:.4g} mm apart; the outline must be closed")
+    _bounded(shown, len(pts), "points (arcs and splines sampled)")
     return Samples(shown, pts, np.arange(1, len(pts) + 1), "point", 0.0)

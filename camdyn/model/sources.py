@@ -17,6 +17,8 @@ from .geometry import ContourFit, contact_motion
 from .motion import FittedMotion, MotionFit, fit_motion, fit_warnings
 
 ZERO_SHARE = 0.01  # a table may dip below zero lift by this share of its range (noise in a dwell), no more
+# a table whose lift spans less than this (mm; deg of swing) is likely in metres (radians): no cam lifts less
+SLIP_RANGE = {"mm": (0.1, "metres", 1000.0), "deg": (1.0, "radians", 180.0 / np.pi)}
 
 
 def _path(name: str, source: Path | None) -> Path:
@@ -39,6 +41,18 @@ def _lift_level(table: Samples, lift: np.ndarray, unit: str, column: str) -> lis
     return []
 
 
+def _unit_slip(table: Samples, lift: np.ndarray, unit: str, column: str) -> list[str]:
+    """A warning where the table's lift is so small that its column's unit is almost surely not the one used."""
+    least, other, factor = SLIP_RANGE[unit]
+    span = float(np.ptp(lift))
+    if span >= least:
+        return []
+    return [
+        f"{table.shown}: {column} spans only {span:.3g} {unit}: was it given in {other}? "
+        f"{span:.3g} {other} is {span * factor:.4g} {unit}"
+    ]
+
+
 def _within_tolerance(fit: MotionFit, table: Samples, tolerance: float | None) -> None:
     if tolerance is None or fit.spline.max_residual <= tolerance * (1.0 + 1e-9):
         return
@@ -56,8 +70,11 @@ def table_motion(spec: CaseSpec, source: Path | None) -> tuple[FittedMotion, Mot
     table = read_lift_table(_path(name, source), name, spec.oscillating)
     theta, lift = table.values.T
     unit, column = ("deg", "swing_deg") if spec.oscillating else ("mm", "lift_mm")
-    warnings = _lift_level(table, lift, unit, column)
-    motion, fit = fit_motion(theta, lift, unit=unit, source="table", file=name, tolerance=tolerance, rounding=table.rounding)
+    warnings = _unit_slip(table, lift, unit, column) + _lift_level(table, lift, unit, column)
+    motion, fit = fit_motion(
+        theta, lift, unit=unit, source="table", file=name, tolerance=tolerance, rounding=table.rounding,
+        repeats=table.repeats,
+    )
     _within_tolerance(fit, table, tolerance)
     return motion, fit, warnings + fit_warnings(fit)
 

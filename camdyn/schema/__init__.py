@@ -14,6 +14,7 @@ import tomllib
 from pathlib import Path
 
 from .._core.errors import InputError
+from .._core.files import read_text_file
 from ._base import Table, parse, validation_error
 from .case import SCHEMA_VERSION, CaseSpec
 from .drive import DriveSpec
@@ -39,23 +40,10 @@ __all__ = [
 
 
 def read_toml(path: str | Path) -> dict:
-    """The parsed TOML of a case (or path) file; :class:`InputError` for a file that is missing, not a file,
-    not UTF-8 text, or not TOML. A UTF-8 byte-order mark is accepted."""
-    path = Path(path)
-    try:
-        data = path.read_bytes()
-    except FileNotFoundError:
-        raise InputError("", "no such file") from None
-    except IsADirectoryError:
-        raise InputError("", "is a folder, not a case file") from None
-    except OSError as err:
-        raise InputError("", f"cannot read the file: {err.strerror or err}") from None
-    try:
-        text = data.decode("utf-8-sig")
-    except UnicodeDecodeError as err:
-        raise InputError("", f"not UTF-8 text (byte {err.start}): save the case file as UTF-8") from None
-    if "\x00" in text:
-        raise InputError("", f"contains a NUL byte (at character {text.index(chr(0))}): not a text file")
+    """The parsed TOML of a case (or path) file; :class:`InputError` for a file that is missing, not a regular
+    file, too large, not UTF-8 text, or not TOML (:func:`~camdyn._core.files.read_text_file`). A UTF-8 byte-order
+    mark is accepted."""
+    text = read_text_file(Path(path), "", "case file")
     try:
         return tomllib.loads(text)
     except tomllib.TOMLDecodeError as err:

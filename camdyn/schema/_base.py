@@ -115,7 +115,10 @@ def _where(loc: tuple) -> str:
 def validation_error(err: ValidationError, cls: type[BaseModel], table: str = "") -> InputError:
     """The first problem of a pydantic validation as one :class:`InputError` naming the key (prefixed with
     ``table``, e.g. ``path.width``), with the nearest valid key for an unknown one."""
-    e = err.errors()[0]
+    errors = err.errors()
+    e = errors[0]
+    if e["type"] == "missing":  # beside an unknown key at the same level: that one is the missing key misspelt
+        e = next((x for x in errors if x["type"] == "extra_forbidden" and x["loc"][:-1] == e["loc"][:-1]), e)
     loc, owner = _resolve(cls, tuple(p for p in e["loc"] if not (isinstance(p, str) and ("[" in p or p.startswith("function-")))))
     msg = e["msg"].removeprefix("Value error, ")
     keyed = _KEYED.match(msg) if e["type"] == "value_error" else None
@@ -125,6 +128,15 @@ def validation_error(err: ValidationError, cls: type[BaseModel], table: str = ""
     where = ".".join(filter(None, (table, _where(loc)))) or "case"
     if e["type"] == "extra_forbidden":
         hint = get_close_matches(str(loc[-1]), list(owner.model_fields), n=1) if owner else []
+        got = e.get("input")
+        tabular = isinstance(got, dict) or (isinstance(got, list) and got and all(isinstance(t, dict) for t in got))
+        if len(loc) == 1 and not table and tabular:
+            # a [table] (or an array of [[tables]]) of the file
+            tables = [k for k, f in owner.model_fields.items() if _models_in(f.annotation)] if owner else []
+            hint = get_close_matches(str(loc[-1]), tables, n=1)
+            valid = f"; tables: {', '.join(f'[{t}]' for t in tables)}" if not hint else ""
+            mean = f" (did you mean [{hint[0]}]?)" if hint else ""
+            return InputError(where, f"unknown table [{loc[-1]}]{mean}{valid}")
         valid = f"; valid keys: {', '.join(owner.model_fields)}" if owner and not hint else ""
         return InputError(where, "unknown key" + (f" (did you mean {hint[0]!r}?)" if hint else "") + valid)
     if e["type"] == "missing":
@@ -154,4 +166,6 @@ def _plain(text: str | None, allowed: str) -> str | None:
 
 # a name (also a file-name stem) and a description: plain text, a description may run over lines
 Name = Annotated[str, AfterValidator(lambda s: _plain(s, ""))]
+# a data file's name, relative to the case file: plain text too (a NUL or a tab in a path is a slip, not a file)
+FileName = Name
 Text = Annotated[str, AfterValidator(lambda s: _plain(s, "\n\t"))]

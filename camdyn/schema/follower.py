@@ -7,7 +7,7 @@ from typing import Literal
 from pydantic import Field, model_validator
 
 from .._core.units import MAX_LENGTH_MM
-from ._base import Real, Table
+from ._base import FileName, Real, Table
 
 FOLLOWER_TYPES = ("translating-roller", "translating-flat", "oscillating-roller", "oscillating-flat")
 
@@ -33,7 +33,7 @@ class FollowerSpec(Table):
         default="translating-roller", description="translating-roller | translating-flat | oscillating-roller | oscillating-flat"
     )
     base_radius: Real | None = Field(default=None, gt=0, le=MAX_LENGTH_MM, description="least radius of the cam contour, mm (required unless contour is given)")
-    contour: str | None = Field(
+    contour: FileName | None = Field(
         default=None,
         description="the cam's outline instead of [motion] and base_radius: a CSV file (header x_mm,y_mm, as camdyn profile writes) "
         "or a DXF file (a closed LWPOLYLINE, POLYLINE or SPLINE), relative to the case file; points in the cam frame at cam angle 0, "

@@ -9,7 +9,7 @@ from typing import Annotated, Any, Literal, Union
 from pydantic import Discriminator, Field, Tag, model_validator
 
 from .._core.units import MAX_LENGTH_MM
-from ._base import Pair, Real, Table
+from ._base import FileName, Pair, Real, Table
 
 MIN_SEGMENT_DEG = 0.01  # a move over less cam angle than this cannot be cut, nor followed
 
@@ -48,6 +48,8 @@ class SegmentSpec(Table):
     @classmethod
     def _no_boundary_conditions(cls, raw: Any) -> Any:
         if isinstance(raw, dict):
+            if isinstance(raw.get("law"), str) and raw["law"] not in SEGMENT_LAWS:  # the law first: it decides the keys
+                raise _unknown_law("law", raw["law"])
             if "coefficients" in raw:
                 raise ValueError(f'coefficients: only a law = "bspline" segment takes control points (this one is {raw.get("law")!r})')
             for key in BOUNDARY_KEYS:
@@ -128,7 +130,7 @@ class MotionSpec(Table):
     """The ``[motion]`` table: ``segments``, or a ``table`` of measured or tabulated lift."""
 
     segments: list[AnySegment] = Field(default_factory=list, description="the segments in order, from 0 deg (or give table)")
-    table: str | None = Field(
+    table: FileName | None = Field(
         default=None,
         description="CSV file of the lift, relative to the case file: header theta_deg,lift_mm (theta_deg,swing_deg for an "
         "oscillating follower), one revolution, angles increasing, any spacing; fitted by a periodic quintic smoothing spline",
@@ -148,9 +150,10 @@ class MotionSpec(Table):
         return self
 
 
-def _unknown_law(where: str, law: str) -> ValueError:
+def _unknown_law(key: str, law: str) -> ValueError:
     hint = get_close_matches(law, SEGMENT_LAWS, n=1)
-    return ValueError(f"{where}.law: unknown law {law!r}" + (f" (did you mean {hint[0]!r}?)" if hint else "") + f"; valid laws: {', '.join(SEGMENT_LAWS)}")
+    mean = f" (did you mean {hint[0]!r}?)" if hint else ""
+    return ValueError(f"{key}: unknown law {law!r}{mean}; valid laws: {', '.join(SEGMENT_LAWS)}")
 
 
 def _check_polynomial(seg: PolynomialSegmentSpec, where: str, start: float, lu: str) -> None:
@@ -176,7 +179,7 @@ def check_segments(segments: list, lift_unit: str = "mm", key: str = "segments")
     for i, seg in enumerate(segments):
         where = f"{key}[{i}]"
         if seg.law not in SEGMENT_LAWS:
-            raise _unknown_law(where, seg.law)
+            raise _unknown_law(f"{where}.law", seg.law)
         end, lift = seg.end, seg.lift
         if not end > start:
             what = "overlaps the previous segment" if end < start else "has zero length"

@@ -47,6 +47,7 @@ class ContourFit:
     points: np.ndarray  # (n, 2) mm
     spline: SplineFit  # r(alpha), mm
     base_radius: float  # least radius of the fitted outline, mm
+    repeats: int = 0  # points dropped from the file for exactly repeating the one before them
 
     @property
     def angle_deg(self) -> np.ndarray:
@@ -60,7 +61,10 @@ class ContourFit:
     def json(self) -> dict:
         out = self.spline.summary(" of the radius over the polar angle")
         i = out.pop("worst")
-        return out | {"points": int(len(self.points)), "unit": "mm", "max_residual_at_polar_deg": float(self.angle_deg[i])}
+        return out | {
+            "points": int(len(self.points)), "unit": "mm", "max_residual_at_polar_deg": float(self.angle_deg[i]),
+            "repeats_dropped": self.repeats,
+        }
 
 
 @dataclass(frozen=True)
@@ -230,7 +234,7 @@ def contact_motion(samples: Samples, f: FollowerSpec) -> ContactMotion:
     alpha = np.arange(_DENSE) * (2 * math.pi / _DENSE)
     r_dense = spline(alpha)[0]
     rb = float(r_dense.min())
-    contour = ContourFit(samples.shown, xy, spline, rb)
+    contour = ContourFit(samples.shown, xy, spline, rb, samples.repeats)
     f = f.model_copy(update={"base_radius": rb})
     check_dimensions(f)
     geo = _outline(alpha, spline)

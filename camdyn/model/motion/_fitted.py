@@ -55,6 +55,7 @@ class MotionFit:
     data: np.ndarray
     spline: SplineFit
     tolerance: float | None = None
+    repeats: int = 0  # rows dropped from the file for exactly repeating the one before them
 
     @property
     def fitted(self) -> np.ndarray:
@@ -72,13 +73,18 @@ class MotionFit:
         return out | {
             "points": int(len(self.data)), "unit": self.unit, "max_residual_at_deg": float(self.theta_deg[i] % 360.0),
             "tolerance": self.tolerance, "smoothing": sp.lam, "acceleration_std": sp.accel_std,
+            "repeats_dropped": self.repeats,
         }
 
 
-def fit_motion(theta_deg, data, *, unit: str, source: str, file: str, tolerance: float | None = None, rounding: float = 0.0):
+def fit_motion(
+    theta_deg, data, *, unit: str, source: str, file: str, tolerance: float | None = None, rounding: float = 0.0,
+    repeats: int = 0,
+):
     """Fit ``data`` (mm, or deg of swing when ``unit`` is "deg") at cam angles ``theta_deg``: the
     :class:`FittedMotion` (mm, or rad) and its :class:`MotionFit`. ``rounding`` is the data's least noise
-    (their written digits); ``tolerance`` bounds the largest residual where the caller checks the result."""
+    (their written digits); ``tolerance`` bounds the largest residual where the caller checks the result;
+    ``repeats`` counts the rows the reader dropped as exact repeats."""
     theta_deg = np.asarray(theta_deg, dtype=float)
     data = np.asarray(data, dtype=float)
     spline = fit_periodic(np.deg2rad(theta_deg), data, tolerance=tolerance, sigma_floor=rounding)
@@ -90,7 +96,7 @@ def fit_motion(theta_deg, data, *, unit: str, source: str, file: str, tolerance:
         unit="mm" if unit == "mm" else "rad",
         breaks_deg=(),
     )
-    return motion, MotionFit(source, file, unit, theta_deg, data, spline, tolerance)
+    return motion, MotionFit(source, file, unit, theta_deg, data, spline, tolerance, repeats)
 
 
 def fit_warnings(fit: MotionFit) -> list[str]:

@@ -95,8 +95,15 @@ class SplineFit:
     fitted: np.ndarray  # the spline at x
     lam: float  # weight of integral s'''^2 dx against the squared residuals (rad^5)
     sigma: float  # the data's noise: REML's estimate, or the rounding floor where that is larger
-    accel_std: float  # largest standard deviation of s'' (unit/rad^2) that noise of size sigma leaves in the fit
     criterion: str  # how the smoothing was chosen: "REML", "REML, rounding floor" or "tolerance"
+    # the fit's response to seeded white noise of size sigma, (m, 6, _MC) per-interval coefficients like ``coef``:
+    # what the data's noise may have put into the fit (a parametric bootstrap of anything linear in the motion)
+    noise_coef: np.ndarray
+
+    @property
+    def accel_std(self) -> float:
+        """Largest pointwise standard deviation of the fitted s'' (unit/rad^2) under the data's noise."""
+        return float(np.max(np.sqrt(np.mean((2.0 * self.noise_coef[:, 2]) ** 2, axis=-1))))
 
     @property
     def knots(self) -> np.ndarray:
@@ -263,18 +270,13 @@ def fit_periodic(x, y, *, tolerance: float | None = None, sigma_floor: float = 0
         fitted=prob.B @ c,
         lam=prob.scale * 10.0**g * h**5,
         sigma=sigma,
-        accel_std=_accel_std(prob, cb, sigma),
         criterion=criterion,
+        noise_coef=piecewise(_noise_fits(prob, cb, sigma)),
     )
 
 
-def _accel_std(prob: _Problem, cb, sigma: float) -> float:
-    """Largest pointwise standard deviation of the fitted s'' under white noise of size sigma: the same linear
-    smoother applied to seeded noise samples (Monte Carlo: the exact variance needs the inverse)."""
-    if sigma == 0.0:
-        return 0.0
+def _noise_fits(prob: _Problem, cb, sigma: float) -> np.ndarray:
+    """B-spline coefficients (m, _MC) of the same linear smoother applied to seeded white-noise samples of size
+    sigma (Monte Carlo: the exact covariance needs the inverse)."""
     eps = np.random.default_rng(_SEED).standard_normal((prob.n, _MC)) * sigma
-    c = prob.solve_with(cb, np.asarray(prob.B.T @ eps))
-    h = 2 * math.pi / prob.m
-    acc = sum(np.roll(c, k, axis=0) * (2.0 * _pieces()[k, 2] / h**2) for k in range(6))  # s'' at the knots
-    return float(np.max(np.sqrt(np.mean(acc**2, axis=-1))))
+    return prob.solve_with(cb, np.asarray(prob.B.T @ eps))

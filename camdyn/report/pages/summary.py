@@ -226,7 +226,7 @@ def _fit_rows(case) -> list[tuple[str, str]]:
     return [
         ("file", str(file)), ("points", f"{fit['points']}"), ("max residual", f"{fmt(fit['max_residual'])} {unit}"),
         ("rms residual", f"{fmt(fit['rms_residual'])} {unit}"), ("noise", f"{fmt(fit['noise'])} {unit}"),
-    ]
+    ] + ([("repeats dropped", f"{fit['repeats_dropped']}")] if fit["repeats_dropped"] else [])
 
 
 def _mechanism_rows(data: ReportData) -> list[tuple[str, str]]:
