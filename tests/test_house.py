@@ -8,6 +8,8 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
+
 ROOT = Path(__file__).resolve().parents[1]
 PACKAGE = ROOT / "camdyn"
 
@@ -145,3 +147,14 @@ def private_crossings() -> list[str]:
 
 def test_no_private_name_crosses_packages():
     assert private_crossings() == []
+
+
+@pytest.mark.slow
+def test_check_imports_only_what_it_uses():
+    """`camdyn check` without --report draws nothing and samples nothing: no matplotlib, no report, no scipy.stats."""
+    proc = _fresh(
+        "import sys\nfrom camdyn.cli import main\ncode = main(['check', 'cases/lecture.toml', '--json'])\n"
+        "heavy = ('matplotlib', 'scipy.stats', 'camdyn.report', 'camdyn.plot', 'camdyn.design.tolerance')\n"
+        "print(code, sorted(m for m in heavy if m in sys.modules))"
+    )
+    assert proc.stdout.strip().splitlines()[-1] == "0 []", proc.stderr[-2000:]

@@ -10,7 +10,6 @@ from .._core.outputs import output_dir
 from ..design.advice import corner_radius_advice
 from ..design.checks import CheckKind, CheckReport, run_check
 from ..model.case import build_case
-from ..report import write_report
 from ._console import console, json_text, notes, progress_bar, table
 
 
@@ -55,6 +54,8 @@ def run(args) -> int:
     else:
         print_check(report)
     if args.report:
+        from ..report import write_report  # matplotlib loads only with --report
+
         with progress_bar() as progress:
             written = write_report(case, args.report, check=report, progress=progress)
         print(f"wrote {written.pdf} and {len(written.pngs)} PNG pages", file=sys.stderr)

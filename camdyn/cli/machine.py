@@ -8,7 +8,6 @@ from pathlib import Path
 
 from .._core.outputs import output_file, write_new
 from ..design.machine import MachineResult, run_machine
-from ..report.machine import machine_output_names, write_machine_report
 from ..schema.machine import machine_stem
 from ._console import console, json_text, notes, progress_bar, table
 
@@ -74,6 +73,8 @@ def run(args) -> int:
     out = Path(args.output)
     csv_path = output_file(out / f"{machine_stem(machine.name)}.csv", args.force, "machine CSV")
     if args.report:  # refuse before minutes of work, not after
+        from ..report.machine import machine_output_names, write_machine_report  # matplotlib only with --report
+
         pdf, pngs = machine_output_names(machine.name)
         for name in (pdf, *pngs):
             output_file(out / name, args.force, "machine report")
