@@ -24,6 +24,8 @@ JUMP_RTOL = 1e-4
 # A check whose value is within this fraction of its limit is "at limit": one rounding from the other verdict.
 AT_LIMIT_RTOL = 0.02
 
+DEFAULT_PROFILE_TOLERANCE_MM = 0.01  # chord tolerance of `camdyn profile`
+
 # defaults of the [limits] table
 DEFAULT_SPEED_MARGIN = 1.25
 DEFAULT_MIN_CONTACT_FORCE_N = 0.0

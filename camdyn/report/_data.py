@@ -3,8 +3,10 @@
 
 from __future__ import annotations
 
+import hashlib
 from dataclasses import dataclass
 from functools import cached_property
+from pathlib import Path
 
 import numpy as np
 
@@ -26,6 +28,14 @@ class ReportData:
     @property
     def check(self):
         return self.review.check
+
+    @cached_property
+    def case_sha256(self) -> str | None:
+        """The SHA-256 (hex) of the case file as it was read; None for a case built in memory."""
+        src = self.case.source
+        if src is None or not Path(src).is_file():
+            return None
+        return hashlib.sha256(Path(src).read_bytes()).hexdigest()
 
     @property
     def oscillating(self) -> bool:

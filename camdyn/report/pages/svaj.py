@@ -26,7 +26,7 @@ def draw_svaj(fig, data: ReportData) -> None:
     samples = dataclasses.replace(data.review.motion, breaks_deg=data.breaks_deg)  # dotted: segment boundaries only
     plot_svaj(axes, samples, speed_rpm=data.check.speed_rpm, headroom=2.2 if segs else 1.0)
     if fit is not None:
-        plot_fit(axes[0], fig.add_subplot(gs[1], sharex=axes[0]), fit)
+        plot_fit(axes[0], fig.add_subplot(gs[1], sharex=axes[0]), fit, data.case.contour)
     _segment_laws(axes[0], segs)
     compact = _mark_jumps(axes, data)
     _note(fig, data, compact)
@@ -98,7 +98,12 @@ def _note(fig, data: ReportData, compact: bool) -> None:
         note += f" Velocity and acceleration are continuous at every one of the {what}."
     if data.case.fit is not None:
         j = data.case.fit.json()
-        note += f" Red dots: the {data.case.fit.source}'s points; the curves are its fit ({j['method']})."
+        if data.case.contour is not None:
+            c = data.case.contour.json()
+            note += (f" Red dots: the lift at exact contact with the outline fitted to the {c['points']} points of "
+                     f"{data.case.contour.file}; the curves are its fit ({j['method']}). The residual panel is the outline's (radial, against polar angle).")
+        else:
+            note += f" Red dots: the {data.case.fit.source}'s points; the curves are its fit ({j['method']})."
     if data.oscillating:
         note += " The swing is in degrees per radian of cam angle."
     fig.text(0.06, 0.068, "\n".join(textwrap.wrap(note, 128)[:4]), size=7.3, color=C["grey"], va="top", linespacing=1.25)
