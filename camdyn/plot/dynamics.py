@@ -130,9 +130,9 @@ def plot_force_vs_speed(ax, review: Review) -> None:
     top = max(float(np.max(sw.kinematic_N)), mf) * 1.15
     floor = min(float(np.min(sw.kinematic_N)), float(np.min(sw.dynamic_N)) if sw.dynamic_N is not None else 0.0)
     ymin, ymax = max(floor, -0.8 * top) - 0.05 * top, top
-    _jump_speeds(ax, jd, jk, v[-1], ymin, ymax)
+    _jump_speeds(ax, jd, jk, v[-1], ymin, ymax, sw)
     ax.axvline(review.margin_rpm, color=C["margin"], lw=0.9, ls="-.")
-    ax.text(review.margin_rpm, ymin + 0.68 * (ymax - ymin), f"{review.case.limits.speed_margin:g} \u00d7 speed", color=C["margin"], size=7, va="center", ha="right", rotation=90, bbox=dict(fc="white", ec="none", alpha=0.85, pad=0.8))
+    ax.text(review.margin_rpm, _free_y(sw, review.margin_rpm, ymin, ymax), f"{review.case.limits.speed_margin:g} \u00d7 speed", color=C["margin"], size=7, va="center", ha="right", rotation=90, bbox=dict(fc="white", ec="none", alpha=0.85, pad=0.8))
     ax.plot(rpm, chk.dynamic["min_contact_force_N"], "o", color=C["dyn"] if chk.verdict == "pass" else C["fail"], ms=6, zorder=5, label=f"operating point ({rpm:g} rpm, time domain)")
     ax.set_ylim(ymin, ymax)
     ax.set_xlim(0.0, v[-1])
@@ -142,7 +142,18 @@ def plot_force_vs_speed(ax, review: Review) -> None:
     ax.legend(loc="lower left", fontsize=7)
 
 
-def _jump_speeds(ax, jd: float | None, jk: float | None, v_top: float, ymin: float, ymax: float) -> None:
+def _free_y(sw, rpm: float, ymin: float, ymax: float) -> float:
+    """The middle of the widest vertical gap between the curves at ``rpm``: where a vertical label there covers
+    no curve."""
+    ys = [float(np.interp(rpm, sw.speeds_rpm, sw.kinematic_N))]
+    if sw.dynamic_N is not None:
+        ys.append(float(np.interp(rpm, sw.speeds_rpm, sw.dynamic_N)))
+    edges = sorted([ymin, ymax] + [min(max(y, ymin), ymax) for y in ys])
+    k = int(np.argmax(np.diff(edges)))
+    return 0.5 * (edges[k] + edges[k + 1])
+
+
+def _jump_speeds(ax, jd: float | None, jk: float | None, v_top: float, ymin: float, ymax: float, sw) -> None:
     """The dynamic jump speed (the range past it shaded) and the rigid one where it differs."""
     if jd is not None and jd <= v_top:
         ax.axvspan(jd, v_top, color=C["limit"], alpha=0.08, lw=0)
@@ -151,4 +162,4 @@ def _jump_speeds(ax, jd: float | None, jk: float | None, v_top: float, ymin: flo
         ax.text(jd, ymax, f" jump speed {jd:.0f} rpm " if late else f" jump speed {jd:.0f} rpm", color=C["limit"], size=7.5, va="top", ha="right" if late else "left")
     if jk is not None and jk <= v_top and (jd is None or abs(jk - jd) > 0.02 * v_top):
         ax.axvline(jk, color=C["kin"], lw=0.8, ls="--")
-        ax.text(jk, ymin + 0.68 * (ymax - ymin), f"rigid {jk:.0f} rpm", color=C["kin"], size=7, va="center", ha="left", rotation=90, bbox=dict(fc="white", ec="none", alpha=0.85, pad=0.8))
+        ax.text(jk, _free_y(sw, jk, ymin, ymax), f"rigid {jk:.0f} rpm", color=C["kin"], size=7, va="center", ha="left", rotation=90, bbox=dict(fc="white", ec="none", alpha=0.85, pad=0.8))

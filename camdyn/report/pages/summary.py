@@ -151,7 +151,7 @@ def key_results(data: ReportData) -> list[tuple[str, str]]:
             rows.append(("max pressure angle", f"{geo.max_pressure_angle_deg:.2f}\u00b0 at {geo.max_pressure_angle_at_deg:.1f}\u00b0"))
         if geo.extremes.face_range_mm is not None:
             t_lo, t_hi = geo.extremes.face_range_mm
-            rows.append(("contact on the face", f"t = {t_lo:+.2f} to {t_hi:+.2f} mm"))
+            rows.append(("contact on the face", f"t = {t_lo:+.2f} to {t_hi:+.2f} mm (face centred at {geo.extremes.face_centre_mm:+.2f})"))
         rows.append(("least radius of curvature", f"{geo.min_radius_of_curvature_mm:.4g} mm at {geo.min_radius_of_curvature_at_deg:.1f}\u00b0" + ("  (undercut)" if geo.undercut else "")))
     if case.synthesis is not None:
         rows.append(("path error", f"{case.synthesis.summary['max_path_error_mm']:.3g} mm"))
