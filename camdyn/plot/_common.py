@@ -57,16 +57,17 @@ def shade_separations(ax, response, label: bool = False) -> None:
         ax.axvspan(a, b, color=C["limit"], alpha=0.13, lw=0, zorder=0.4, label="separated (force 0)" if (label and k == 0) else None)
 
 
-def legend_above_data(ax, margin: float = 0.04, **kw):
+def legend_above_data(ax, margin: float = 0.04, also=(), **kw):
     """A legend in the upper right, with the y axis raised so that no line's data (within the x limits) reaches
-    up into it: a legend never covers a curve. ``kw``: the legend's keywords (ncol, fontsize, ...)."""
+    up into it: a legend never covers a curve. ``also``: more heights (data units) to keep clear, e.g. of
+    horizontal reference lines. ``kw``: the legend's keywords (ncol, fontsize, ...)."""
     leg = ax.legend(**({"loc": "upper right"} | kw))
     fig = ax.figure
     renderer = fig._get_renderer()
     frac = leg.get_window_extent(renderer).height / max(ax.get_window_extent(renderer).height, 1.0)
     lo, hi = ax.get_ylim()
     x0, x1 = ax.get_xlim()
-    top = -math.inf
+    top = max(also, default=-math.inf)
     for line in ax.lines:
         if line.get_transform() != ax.transData:  # axhline, axvline: not data
             continue
@@ -86,3 +87,31 @@ def rotate(angle_rad: float, xy: np.ndarray) -> np.ndarray:
     """Points (2, ...) turned by ``angle_rad`` about the origin."""
     c, s = math.cos(angle_rad), math.sin(angle_rad)
     return np.array([[c, -s], [s, c]]) @ xy
+
+
+def _data_points(ax) -> np.ndarray:
+    """The display coordinates (k, 2) of every point of the axes' data lines (not of axhline or axvline)."""
+    pts = [np.column_stack([np.asarray(line.get_xdata(), float), np.asarray(line.get_ydata(), float)])
+           for line in ax.lines if line.get_transform() == ax.transData and np.size(line.get_xdata()) == np.size(line.get_ydata())]
+    pts = [p[np.all(np.isfinite(p), axis=1)] for p in pts if p.size]
+    return ax.transData.transform(np.concatenate(pts)) if pts else np.zeros((0, 2))
+
+
+LEGEND_PLACES = ("lower left", "upper right", "lower right", "upper left", "center left", "center right", "lower center", "upper center")
+
+
+def legend_clear(ax, places=LEGEND_PLACES, **kw):
+    """A legend in the first of ``places`` where it covers no point of a data curve (the one covering the fewest
+    where none is clear). ``kw``: the legend's keywords."""
+    renderer = ax.figure._get_renderer()
+    pts = _data_points(ax)
+    best, best_n = places[0], None
+    for loc in places:
+        leg = ax.legend(**({"loc": loc} | kw))
+        box = leg.get_window_extent(renderer)
+        n = int(np.count_nonzero((pts[:, 0] >= box.x0) & (pts[:, 0] <= box.x1) & (pts[:, 1] >= box.y0) & (pts[:, 1] <= box.y1)))
+        if n == 0:
+            return leg
+        if best_n is None or n < best_n:
+            best, best_n = loc, n
+    return ax.legend(**({"loc": best} | kw))

@@ -10,7 +10,7 @@ from matplotlib.patches import Circle, FancyArrowPatch, Polygon
 from .._core.units import DEFAULT_MIN_CURVATURE_RATIO
 from ..design.checks import CheckReport
 from ..model.geometry import CamGeometry
-from ._common import C, deg_ticks, mark_breaks, rotate
+from ._common import C, deg_ticks, legend_above_data, mark_breaks, rotate
 
 
 def check_colour(check: CheckReport | None, name: str, ok_colour: str) -> str:
@@ -192,6 +192,12 @@ def plot_face_contact(ax, geometry: CamGeometry, check: CheckReport | None = Non
     ax.plot([th_lo, th_hi], [t_lo, t_hi], "o", color=colour, ms=4.5)
     if t_lo < 0.0 < t_hi:
         ax.axhline(0, color="#888888", lw=0.6)
+    width = geo.follower.face_width
+    if width:  # the face's ends where the face_width check and the cam drawing put them
+        c = geo.face_centre_mm
+        for end in (c - 0.5 * width, c + 0.5 * width):
+            ax.axhline(end, color=C["limit"], lw=0.9, ls="--", label=f"face ends: face_width {width:g} mm centred at t = {c:+.2f} mm" if end < c else None)
+        legend_above_data(ax, also=(c + 0.5 * width,), fontsize=7)
     mark_breaks(ax, breaks_deg)
     ax.set_ylabel(f"t from the {'axis' if geo.follower.translating else 'pivot foot'} (mm)")
     ax.set_title("contact position t along the face (pressure angle 0 all round: the face is square to its motion)", fontsize=9)

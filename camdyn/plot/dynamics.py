@@ -10,7 +10,7 @@ import numpy as np
 from .._core.units import RPM
 from ..design.review import Review
 from ..model.dynamics import Response
-from ._common import C, deg_ticks, legend_above_data, mark_breaks, shade_separations
+from ._common import C, deg_ticks, legend_above_data, legend_clear, mark_breaks, shade_separations
 from .motion import display_scale, display_unit
 
 
@@ -125,41 +125,25 @@ def plot_force_vs_speed(ax, review: Review) -> None:
     ax.axhline(0.0, color=C["ink"], lw=0.8)
     mf = chk.case.limits.min_contact_force
     if mf:
-        ax.axhline(mf, color=C["limit"], ls="--", lw=0.8)
-        ax.text(v[-1], mf, f"min_contact_force {mf:g} N ", color=C["limit"], size=7, ha="right", va="bottom")
+        ax.axhline(mf, color=C["limit"], ls="--", lw=0.8, label=f"min_contact_force {mf:g} N")
     top = max(float(np.max(sw.kinematic_N)), mf) * 1.15
     floor = min(float(np.min(sw.kinematic_N)), float(np.min(sw.dynamic_N)) if sw.dynamic_N is not None else 0.0)
     ymin, ymax = max(floor, -0.8 * top) - 0.05 * top, top
-    _jump_speeds(ax, jd, jk, v[-1], ymin, ymax, sw)
-    ax.axvline(review.margin_rpm, color=C["margin"], lw=0.9, ls="-.")
-    ax.text(review.margin_rpm, _free_y(sw, review.margin_rpm, ymin, ymax), f"{review.case.limits.speed_margin:g} \u00d7 speed", color=C["margin"], size=7, va="center", ha="right", rotation=90, bbox=dict(fc="white", ec="none", alpha=0.85, pad=0.8))
+    _jump_speeds(ax, jd, jk, v[-1])
+    ax.axvline(review.margin_rpm, color=C["margin"], lw=0.9, ls="-.", label=f"speed_margin {review.case.limits.speed_margin:g} \u00d7 speed = {review.margin_rpm:g} rpm")
     ax.plot(rpm, chk.dynamic["min_contact_force_N"], "o", color=C["dyn"] if chk.verdict == "pass" else C["fail"], ms=6, zorder=5, label=f"operating point ({rpm:g} rpm, time domain)")
     ax.set_ylim(ymin, ymax)
     ax.set_xlim(0.0, v[-1])
     ax.set_xlabel("cam speed (rpm)")
     ax.set_ylabel("least interface force (N)")
     ax.set_title("least interface force against cam speed", fontsize=9)
-    ax.legend(loc="lower left", fontsize=7)
+    legend_clear(ax, fontsize=6.5)
 
 
-def _free_y(sw, rpm: float, ymin: float, ymax: float) -> float:
-    """The middle of the widest vertical gap between the curves at ``rpm``: where a vertical label there covers
-    no curve."""
-    ys = [float(np.interp(rpm, sw.speeds_rpm, sw.kinematic_N))]
-    if sw.dynamic_N is not None:
-        ys.append(float(np.interp(rpm, sw.speeds_rpm, sw.dynamic_N)))
-    edges = sorted([ymin, ymax] + [min(max(y, ymin), ymax) for y in ys])
-    k = int(np.argmax(np.diff(edges)))
-    return 0.5 * (edges[k] + edges[k + 1])
-
-
-def _jump_speeds(ax, jd: float | None, jk: float | None, v_top: float, ymin: float, ymax: float, sw) -> None:
-    """The dynamic jump speed (the range past it shaded) and the rigid one where it differs."""
+def _jump_speeds(ax, jd: float | None, jk: float | None, v_top: float) -> None:
+    """The dynamic jump speed (the range past it shaded) and the rigid one where it differs, named in the legend."""
     if jd is not None and jd <= v_top:
         ax.axvspan(jd, v_top, color=C["limit"], alpha=0.08, lw=0)
-        ax.axvline(jd, color=C["limit"], lw=1.0)
-        late = jd > 0.75 * v_top
-        ax.text(jd, ymax, f" jump speed {jd:.0f} rpm " if late else f" jump speed {jd:.0f} rpm", color=C["limit"], size=7.5, va="top", ha="right" if late else "left")
+        ax.axvline(jd, color=C["limit"], lw=1.0, label=f"dynamic jump speed {jd:.0f} rpm (shaded past it)")
     if jk is not None and jk <= v_top and (jd is None or abs(jk - jd) > 0.02 * v_top):
-        ax.axvline(jk, color=C["kin"], lw=0.8, ls="--")
-        ax.text(jk, _free_y(sw, jk, ymin, ymax), f"rigid {jk:.0f} rpm", color=C["kin"], size=7, va="center", ha="left", rotation=90, bbox=dict(fc="white", ec="none", alpha=0.85, pad=0.8))
+        ax.axvline(jk, color=C["kin"], lw=0.8, ls="--", label=f"rigid jump speed {jk:.0f} rpm")
