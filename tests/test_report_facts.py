@@ -24,7 +24,8 @@ from camdyn.plot import flight_spans, plot_contact_force, plot_follower
 from camdyn.report import A4, PAGES, STYLE, ReportData
 from camdyn.report.pages.dynamics import _force_panels
 from camdyn.report.pages.manufacturing import manufacturing_rows, segment_rows, title_block
-from camdyn.report.pages.summary import decision_facts, key_results
+from camdyn.report._layout import header
+from camdyn.report.pages.summary import decision_facts, draw_summary, key_results
 
 CASES = Path(__file__).resolve().parents[1] / "cases"
 
@@ -236,3 +237,21 @@ def test_dynamics_page_force_panels_legends_cover_no_curve(fast_review):
     for ax in (ax_f, ax_m):
         assert_legend_clear(ax)
         assert not ax.texts
+
+
+@pytest.mark.slow
+def test_verdict_on_every_page_and_page_one_says_what_it_did_not_evaluate(fast_review):
+    """The header of every page carries the verdict and the case file's hash; page 1 says the contact stress is
+    not evaluated (no width) and lists the decision-changing facts."""
+    data = ReportData(fast_review)
+    with matplotlib.rc_context(STYLE):
+        for k, page in enumerate(PAGES[:3], start=1):
+            fig = Figure(figsize=A4)
+            header(fig, data, page.title, k, 3)
+            texts = [t.get_text() for t in fig.texts]
+            assert "FAIL" in texts and any(f"sha256 {data.case_sha256[:12]}" in t for t in texts)
+        fig = Figure(figsize=A4)
+        draw_summary(fig, data)
+    text = "\n".join(t.get_text() for t in fig.texts)
+    assert "not evaluated: the case gives no contact width" in text and "Decision-changing facts" in text
+    assert "the follower leaves the cam: 8 flights" in text
