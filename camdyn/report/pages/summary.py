@@ -29,6 +29,7 @@ UNITS = {
     "preload_torque": "N\u00b7m", "train_torsion_rate": "N\u00b7m/rad", "external_torque": "N\u00b7m",
     "speed_margin": "\u00d7", "min_contact_force": "N", "max_pressure_angle": "deg",
 }
+IN_FACTS = ("velocity jumps by", "acceleration jumps by", "the follower leaves the cam at")  # warnings page 1 lists as facts
 NOTE_LINES = 14  # lines of warnings and advice before the rest is referred to `camdyn check`
 INPUT_ROWS = 26  # rows per column of key inputs
 
@@ -243,8 +244,14 @@ def _facts(fig, data: ReportData, flow: Flow) -> None:
 def _notes(fig, data: ReportData, flow: Flow) -> None:
     """The check's warnings and advice, as many as fit in :data:`NOTE_LINES` lines."""
     chk, case = data.check, data.case
-    notes = [(w, "warning", C["warn"]) for w in chk.warnings] + [(a, "advice", C["advice"]) for a in chk.advice]
-    flow.heading("Warnings and advice" if notes else "Warnings and advice: none")
+    # the motion's jumps and the follower's flights are in the decision-changing facts, counted from the plots
+    shown = [w for w in chk.warnings if not w.startswith(IN_FACTS)]
+    notes = [(w, "warning", C["warn"]) for w in shown] + [(a, "advice", C["advice"]) for a in chk.advice]
+    told = len(chk.warnings) - len(shown)
+    if notes:
+        flow.heading("Warnings and advice" + (f" ({told} more among the facts above)" if told else ""))
+    else:
+        flow.heading("Warnings and advice: none" + (" beyond the facts above" if told else ""))
     budget = NOTE_LINES
     for k, (text, kind, colour) in enumerate(notes):
         lines = textwrap.wrap(text, 112)
