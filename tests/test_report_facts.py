@@ -252,6 +252,9 @@ def test_verdict_on_every_page_and_page_one_says_what_it_did_not_evaluate(fast_r
             assert "FAIL" in texts and any(f"sha256 {data.case_sha256[:12]}" in t for t in texts)
         fig = Figure(figsize=A4)
         draw_summary(fig, data)
+    for ax in fig.axes:  # the force at a glance: its legend clear of the impacts' spikes
+        if ax.get_legend() is not None:
+            assert_legend_clear(ax)
     text = "\n".join(t.get_text() for t in fig.texts)
     assert "not evaluated: the case gives no contact width" in text and "Decision-changing facts" in text
     assert "the follower leaves the cam: 8 flights" in text

@@ -64,7 +64,8 @@ def legend_above_data(ax, margin: float = 0.04, also=(), **kw):
     leg = ax.legend(**({"loc": "upper right"} | kw))
     fig = ax.figure
     renderer = fig._get_renderer()
-    frac = leg.get_window_extent(renderer).height / max(ax.get_window_extent(renderer).height, 1.0)
+    box, frame = leg.get_window_extent(renderer), ax.get_window_extent(renderer)
+    below = (box.y0 - frame.y0) / max(frame.height, 1.0)  # the legend's lower edge, a fraction of the axes' height
     lo, hi = ax.get_ylim()
     x0, x1 = ax.get_xlim()
     top = max(also, default=-math.inf)
@@ -76,8 +77,8 @@ def legend_above_data(ax, margin: float = 0.04, also=(), **kw):
             inside = (x >= min(x0, x1)) & (x <= max(x0, x1)) & np.isfinite(y)
             if inside.any():
                 top = max(top, float(y[inside].max()))
-    if math.isfinite(top) and frac < 0.8:
-        need = lo + (top - lo) / (1.0 - frac - margin)
+    if math.isfinite(top) and below - margin > 0.2:
+        need = lo + (top - lo) / (below - margin)
         if need > hi:
             ax.set_ylim(lo, need)
     return leg

@@ -109,9 +109,14 @@ def _checks_table(data: ReportData, flow: Flow) -> None:
             ],
             size=8.5,
         )
-    if data.check.contact is None:
-        flow.row([(0.0, "contact_stress", {"family": "DejaVu Sans Mono", "size": 7.8}),
-                  (0.165, "not evaluated: the case gives no contact width ([follower] width)", {"color": C["grey"]})], size=8.5)
+    contact = data.check.contact
+    if contact is None:
+        what = "not evaluated: the case gives no contact width ([follower] width)"
+    elif not any(c.name == "contact_stress" for c in data.check.checks):
+        what = f"largest Hertz pressure {contact.peak_pressure_MPa:.4g} MPa: not judged, no [limits] max_contact_stress"
+    else:
+        return
+    flow.row([(0.0, "contact_stress", {"family": "DejaVu Sans Mono", "size": 7.8}), (0.165, what, {"color": C["grey"]})], size=8.5)
 
 
 def key_results(data: ReportData) -> list[tuple[str, str]]:
