@@ -34,12 +34,17 @@ def segment_rows(data: ReportData) -> list[dict]:
     th, vals = samples.theta_deg, samples.values * data.to_display
     segs = getattr(data.case.motion, "segments", ())
     spans = [(seg.law, float(seg.start), float(seg.end), float(seg.lift) * data.to_display) for seg in segs]
-    if not spans:
-        spans = [(data.case.motion_source if data.case.motion_source != "segments" else "path", 0.0, 360.0, float(np.ptp(vals[0])))]
+    if not spans:  # a table, contour or path: one row per stretch between its breaks (the whole turn without)
+        law = data.case.motion_source
+        b = list(data.breaks_deg) or [0.0]
+        ends = b[1:] + [b[0] + 360.0]
+        s_at = lambda deg: float(np.interp(deg % 360.0, th, vals[0]))  # noqa: E731
+        spans = [(law, a, e, s_at(e) - s_at(a)) for a, e in zip(b, ends)]
     jumps = data.jumps
     rows = []
     for law, a, b, lift in spans:
-        inside = (th > a) & (th < b)  # the samples just inside each boundary are the segment's own
+        # the samples just inside each boundary are the segment's own; a stretch may wrap through 0
+        inside = (th > a) & (th < b) if b <= 360.0 else (th > a) | (th < b - 360.0)
         row = {"law": law, "start_deg": a, "end_deg": b, "lift": lift}
         for order, key in ((1, "v"), (2, "a"), (3, "j")):
             i = np.flatnonzero(inside)[int(np.argmax(np.abs(vals[order][inside])))]
@@ -48,7 +53,7 @@ def segment_rows(data: ReportData) -> list[dict]:
                 row[f"{key}_deg"] = float("nan")  # a dwell: nowhere
         end = b % 360.0
         at_end = {o for d, o, _ in jumps if abs(d - end) < 1e-6}
-        row["continuity"] = "velocity jumps" if 1 in at_end else ("acceleration jumps" if 2 in at_end else "C2 (v, a continuous)")
+        row["continuity"] = "velocity jumps" if 1 in at_end else ("acceleration jumps" if 2 in at_end else "C2")
         rows.append(row)
     return rows
 
@@ -69,8 +74,8 @@ def manufacturing_rows(data: ReportData) -> list[tuple[str, str]]:
             rows.append(("offset", f"{float(f.offset):g} mm"))
         else:
             rows.append(("pivot", f"{fmt(f.pivot_distance)} mm from the cam centre at {float(f.pivot_angle):g}\u00b0" + (f", arm {fmt(f.arm_length)} mm" if f.arm_length else "")))
-        rows.append(("zero reference", f"cam angle 0 = the start of the motion (lift 0); the contour is given in the cam frame at cam angle 0, "
-                                       f"the cam turning {f.rotation}"))
+        start = "the start of the first segment (lift 0)" if getattr(case.motion, "segments", ()) else f"the {case.motion_source}'s angle 0"
+        rows.append(("zero reference", f"cam angle 0 = {start}; the contour is given in the cam frame at cam angle 0, the cam turning {f.rotation}"))
     else:
         rows.append(("cam", "no cam follower in this case: nothing to cut"))
     tol = f"camdyn profile writes the contour within a chord tolerance of {DEFAULT_PROFILE_TOLERANCE_MM:g} mm (--tolerance MM)"
@@ -100,17 +105,19 @@ def _segments(flow: Flow, data: ReportData) -> None:
     u = [names[k][1] for k in range(4)]
     flow.heading("Motion, segment by segment")
     flow.para(f"Lift in {u[0]}; peak velocity, acceleration and jerk as |largest| with its sign, per radian of cam angle "
-              f"({u[1]}, {u[2]}, {u[3]}), and the cam angle where it is; continuity at the segment's end.", size=7.5, color=C["grey"])
-    cols = [(0.0, "law", "left"), (0.2, "from\u2013to", "left"), (0.33, "lift", "right"), (0.47, "peak v (at)", "right"),
-            (0.63, "peak a (at)", "right"), (0.79, "peak j (at)", "right"), (0.81, "at the end", "left")]
+              f"({u[1]}, {u[2]}, {u[3]}), and the cam angle where it is; at the segment's end, C2: velocity and acceleration "
+              "continuous, or which of them jumps (infinite acceleration or jerk).", size=7.5, color=C["grey"])
+    cols = [(0.0, "law", "left"), (0.15, "from\u2013to", "left"), (0.32, "lift", "right"), (0.5, "peak v (at)", "right"),
+            (0.68, "peak a (at)", "right"), (0.86, "peak j (at)", "right"), (0.88, "at the end", "left")]
     flow.row([(x, t, {"weight": "bold", "color": C["grey"], "ha": ha}) for x, t, ha in cols], size=7.8)
     rows = segment_rows(data)
     for r in rows[:40]:
-        ok = r["continuity"].startswith("C2")
+        ok = r["continuity"] == "C2"
         at = {k: "0" if r[k] == 0.0 else f"{r[k]:+.4g} ({r[k + '_deg']:.1f}\u00b0)" for k in ("v", "a", "j")}
         flow.row([
-            (0.0, r["law"], {}), (0.2, f"{r['start_deg']:g}\u2013{r['end_deg']:g}\u00b0", {}), (0.33, f"{r['lift']:+.4g}", {"ha": "right"}),
-            (0.47, at["v"], {"ha": "right"}), (0.63, at["a"], {"ha": "right"}), (0.79, at["j"], {"ha": "right"}), (0.81, r["continuity"], {"color": C["ok"] if ok else C["fail"]}),
+            (0.0, r["law"], {}), (0.15, f"{r['start_deg']:.4g}\u2013{r['end_deg'] % 360.0:.4g}\u00b0", {}), (0.32, f"{r['lift']:+.4g}", {"ha": "right"}),
+            (0.5, at["v"], {"ha": "right"}), (0.68, at["a"], {"ha": "right"}), (0.86, at["j"], {"ha": "right"}),
+            (0.88, r["continuity"].replace("acceleration", "a").replace("velocity", "v"), {"color": C["ok"] if ok else C["fail"]}),
         ], size=7.6)
     if len(rows) > 40:
         flow.para(f"\u2026 {len(rows) - 40} more segments: camdyn table writes every angle", size=7.5, color=C["grey"])
