@@ -115,7 +115,7 @@ def _segments(flow: Flow, data: ReportData) -> None:
         ok = r["continuity"] == "C2"
         at = {k: "0" if r[k] == 0.0 else f"{r[k]:+.4g} ({r[k + '_deg']:.1f}\u00b0)" for k in ("v", "a", "j")}
         flow.row([
-            (0.0, r["law"], {}), (0.15, f"{r['start_deg']:.4g}\u2013{r['end_deg'] % 360.0:.4g}\u00b0", {}), (0.32, f"{r['lift']:+.4g}", {"ha": "right"}),
+            (0.0, r["law"], {}), (0.15, f"{r['start_deg']:.4g}\u2013{r['end_deg'] - 360.0 if r['end_deg'] > 360.0 else r['end_deg']:.4g}\u00b0", {}), (0.32, f"{r['lift']:+.4g}", {"ha": "right"}),
             (0.5, at["v"], {"ha": "right"}), (0.68, at["a"], {"ha": "right"}), (0.86, at["j"], {"ha": "right"}),
             (0.88, r["continuity"].replace("acceleration", "a").replace("velocity", "v"), {"color": C["ok"] if ok else C["fail"]}),
         ], size=7.6)
