@@ -18,6 +18,14 @@ N_PER_M_PER_N_PER_MM = 1e3  # spring rates: N/mm -> N/m
 THETA_GRID = 3600  # angles per revolution of the dynamics, the checks and the tables (0.1 deg)
 FFT_GRID = 4096  # angles per revolution of the frequency-domain steady state
 
+# A velocity or acceleration jump at a segment boundary smaller than this fraction of the derivative's largest
+# magnitude over the revolution is rounding (an optimizer's spline ends at 1e-6 mm/rad^2), not a jump to flag.
+JUMP_RTOL = 1e-4
+# A check whose value is within this fraction of its limit is "at limit": one rounding from the other verdict.
+AT_LIMIT_RTOL = 0.02
+
+DEFAULT_PROFILE_TOLERANCE_MM = 0.01  # chord tolerance of `camdyn profile`
+
 # defaults of the [limits] table
 DEFAULT_SPEED_MARGIN = 1.25
 DEFAULT_MIN_CONTACT_FORCE_N = 0.0

@@ -17,7 +17,7 @@ from importlib import import_module
 from importlib.metadata import PackageNotFoundError, version
 from pathlib import Path
 
-from .._core.units import MAX_SPEED_RPM
+from .._core.units import DEFAULT_PROFILE_TOLERANCE_MM, MAX_SPEED_RPM
 
 
 def _version() -> str:
@@ -79,7 +79,8 @@ def build_parser() -> argparse.ArgumentParser:
     p = command("profile", "the cam contour for manufacturing: DXF, CSV or SVG by the file suffix")
     p.add_argument("case", help="case file (TOML)")
     p.add_argument("-o", "--output", required=True, metavar="FILE", help="cam.dxf, cam.csv or cam.svg")
-    p.add_argument("--tolerance", type=float, default=0.01, metavar="MM", help="chord tolerance, mm (default 0.01, at least 1e-6)")
+    p.add_argument("--tolerance", type=float, default=DEFAULT_PROFILE_TOLERANCE_MM, metavar="MM",
+                   help=f"chord tolerance, mm (default {DEFAULT_PROFILE_TOLERANCE_MM:g}, at least 1e-6)")
     p.add_argument("--force", action="store_true", help="overwrite FILE if it exists")
 
     p = command("size", "return spring (rate, preload) with the least peak force that holds up to margin x speed")

@@ -92,6 +92,20 @@ def separation_json(case: Case, sep: dyn.Separation) -> dict:
     return out | {"bounces": sep.bounces, "settled": sep.settled}
 
 
+def flight_json(case: Case, fl: dyn.Flight) -> dict:
+    """One flight (a span of zero interface force) as the JSON contract has it: gap at the contact (mm), and the
+    arm's angular gap (rad) beside it for an oscillating follower."""
+    out = {"leave_deg": fl.leave_deg, "land_deg": fl.land_deg}
+    if case.oscillating:
+        return out | {"max_gap_mm": _at_contact(case, fl.max_gap, fl.max_gap_deg), "max_gap_rad": fl.max_gap}
+    return out | {"max_gap_mm": fl.max_gap}
+
+
+def impact_json(imp: dyn.Impact) -> dict:
+    """One landing: where, and its peak contact force (N; null for a rigid follower's impulse)."""
+    return {"deg": imp.deg, "peak_force_N": _finite_or_none(imp.peak_force), "peak_deg": _finite_or_none(imp.peak_deg)}
+
+
 def forces_in_newton(case: Case, resp: dyn.Response) -> dyn.Response:
     """A response with an oscillating follower's torques (N*m) as contact forces (N) through the lever arm of
     the contact normal; a translating follower's as it is."""
@@ -176,6 +190,9 @@ def run_check(case: Case, speed_rpm: float | None = None) -> CheckReport:
         "min_contact_force_uncertainty_N": noise_N,
         "jump_speed_rpm": _finite_or_none(w_dyn / RPM),
         "separations": [separation_json(case, s) for s in resp.separations],
+        "flights": [flight_json(case, f) for f in resp.flights],
+        "impacts": [impact_json(i) for i in resp.impacts],
+        "max_impact_force_N": _finite_or_none(resp.max_impact_force),
         "residual_vibration_mm": resp.residual_vibration,
         "periodicity_error": resp.periodicity_error,
     } | case.spring.json()

@@ -51,5 +51,6 @@ def judge_geometry(
             advice.append(f"no base radius alone fixes this: {err.message}")
     if width is not None and f.face_width is not None and width > f.face_width:
         t_min, t_max = ext.face_range_mm
-        advice.append(f"face_width >= {width:.3f} mm: the contact runs from t = {t_min:.3f} to {t_max:.3f} mm along the face")
+        advice.append(f"face_width >= {width:.3f} mm: the contact runs from t = {t_min:.3f} to {t_max:.3f} mm along the face "
+                      f"(the face centred at t = {ext.face_centre_mm:.3f} mm)")
     return checks, warnings, advice

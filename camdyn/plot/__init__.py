@@ -2,12 +2,12 @@
 a result: a notebook user can call them as the reports do, e.g. ``plot_feasible_region(ax, size_spring(case))``,
 ``plot_cam_profile(ax, run_check(case).geometry)`` or ``plot_force_vs_speed(ax, design_review(case, check))``."""
 
-from ._common import PALETTE, deg_ticks, mark_breaks, shade_separations
+from ._common import PALETTE, deg_ticks, flight_spans, legend_above_data, legend_clear, mark_breaks, shade_separations
 from .cam import (
     check_colour, face_extremes, follower_pose, plot_cam_profile, plot_curvature, plot_face_contact, plot_follower, plot_pressure_angle,
     square_face,
 )
-from .dynamics import flights_by_gap, plot_contact_force, plot_displacement, plot_force_vs_speed, plot_vibration
+from .dynamics import flight_summary, flights_by_gap, plot_contact_force, plot_displacement, plot_force_vs_speed, plot_vibration
 from .jumpmap import plot_jump_map, save_png
 from .mechanism import mechanism_bounds, mechanism_frames, plot_mechanism, plot_path, plot_path_error
 from .motion import display_scale, display_unit, plot_fit, plot_svaj, svaj_quantities
@@ -22,5 +22,5 @@ __all__ = [
     "mechanism_bounds", "mechanism_frames", "plot_cam_profile", "plot_contact", "plot_contact_force", "plot_curvature", "plot_displacement", "plot_drive", "plot_face_contact",
     "plot_feasible_region", "plot_fit", "plot_follower", "plot_force_vs_speed", "plot_jump_map", "plot_mechanism", "plot_path",
     "plot_path_error", "plot_pressure_angle", "plot_spring", "plot_svaj", "plot_vibration", "save_png", "shade_separations", "square_face", "svaj_quantities",
-    "plot_jump_speed_histogram", "plot_tolerance_tornado", "save_tolerance_png",
+    "flight_spans", "flight_summary", "legend_above_data", "legend_clear", "plot_jump_speed_histogram", "plot_tolerance_tornado", "save_tolerance_png",
 ]

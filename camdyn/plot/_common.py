@@ -41,17 +41,78 @@ def mark_breaks(ax, breaks_deg) -> None:
         ax.axvline(b, color=C["break"], lw=0.7, ls=":", zorder=0.5)
 
 
+def flight_spans(response) -> list[tuple[float, float]]:
+    """The cam-angle spans (deg, within [0, 360]) where the interface force is zero: one per flight, two where a
+    flight wraps through 0 deg."""
+    out = []
+    for f in response.flights:
+        out += [(f.leave_deg, f.land_deg)] if f.land_deg >= f.leave_deg else [(f.leave_deg, 360.0), (0.0, f.land_deg)]
+    return out
+
+
 def shade_separations(ax, response, label: bool = False) -> None:
-    """Shade the cam angles where the follower is off the cam (a flight may wrap through 0 deg)."""
-    first = True
-    for s in response.separations:
-        spans = [(s.start_deg, s.end_deg)] if s.end_deg >= s.start_deg else [(s.start_deg, 360.0), (0.0, s.end_deg)]
-        for a, b in spans:
-            ax.axvspan(a, b, color=C["limit"], alpha=0.13, lw=0, zorder=0.4, label="separated" if (label and first) else None)
-            first = False
+    """Shade the cam angles where the follower is off the cam: exactly where the interface force is zero (a
+    separation that bounces is several flights, the impacts between them left unshaded)."""
+    for k, (a, b) in enumerate(flight_spans(response)):
+        ax.axvspan(a, b, color=C["limit"], alpha=0.13, lw=0, zorder=0.4, label="separated (force 0)" if (label and k == 0) else None)
+
+
+def legend_above_data(ax, margin: float = 0.04, also=(), **kw):
+    """A legend in the upper right, with the y axis raised so that no line's data (within the x limits) reaches
+    up into it: a legend never covers a curve. ``also``: more heights (data units) to keep clear, e.g. of
+    horizontal reference lines. ``kw``: the legend's keywords (ncol, fontsize, ...)."""
+    leg = ax.legend(**({"loc": "upper right"} | kw))
+    fig = ax.figure
+    renderer = fig._get_renderer()
+    box, frame = leg.get_window_extent(renderer), ax.get_window_extent(renderer)
+    below = (box.y0 - frame.y0) / max(frame.height, 1.0)  # the legend's lower edge, a fraction of the axes' height
+    lo, hi = ax.get_ylim()
+    x0, x1 = ax.get_xlim()
+    top = max(also, default=-math.inf)
+    for line in ax.lines:
+        if line.get_transform() != ax.transData:  # axhline, axvline: not data
+            continue
+        x, y = np.asarray(line.get_xdata(), float), np.asarray(line.get_ydata(), float)
+        if x.size == y.size and x.size:
+            inside = (x >= min(x0, x1)) & (x <= max(x0, x1)) & np.isfinite(y)
+            if inside.any():
+                top = max(top, float(y[inside].max()))
+    if math.isfinite(top) and below - margin > 0.2:
+        need = lo + (top - lo) / (below - margin)
+        if need > hi:
+            ax.set_ylim(lo, need)
+    return leg
 
 
 def rotate(angle_rad: float, xy: np.ndarray) -> np.ndarray:
     """Points (2, ...) turned by ``angle_rad`` about the origin."""
     c, s = math.cos(angle_rad), math.sin(angle_rad)
     return np.array([[c, -s], [s, c]]) @ xy
+
+
+def _data_points(ax) -> np.ndarray:
+    """The display coordinates (k, 2) of every point of the axes' data lines (not of axhline or axvline)."""
+    pts = [np.column_stack([np.asarray(line.get_xdata(), float), np.asarray(line.get_ydata(), float)])
+           for line in ax.lines if line.get_transform() == ax.transData and np.size(line.get_xdata()) == np.size(line.get_ydata())]
+    pts = [p[np.all(np.isfinite(p), axis=1)] for p in pts if p.size]
+    return ax.transData.transform(np.concatenate(pts)) if pts else np.zeros((0, 2))
+
+
+LEGEND_PLACES = ("lower left", "upper right", "lower right", "upper left", "center left", "center right", "lower center", "upper center")
+
+
+def legend_clear(ax, places=LEGEND_PLACES, **kw):
+    """A legend in the first of ``places`` where it covers no point of a data curve (the one covering the fewest
+    where none is clear). ``kw``: the legend's keywords."""
+    renderer = ax.figure._get_renderer()
+    pts = _data_points(ax)
+    best, best_n = places[0], None
+    for loc in places:
+        leg = ax.legend(**({"loc": loc} | kw))
+        box = leg.get_window_extent(renderer)
+        n = int(np.count_nonzero((pts[:, 0] >= box.x0) & (pts[:, 0] <= box.x1) & (pts[:, 1] >= box.y0) & (pts[:, 1] <= box.y1)))
+        if n == 0:
+            return leg
+        if best_n is None or n < best_n:
+            best, best_n = loc, n
+    return ax.legend(**({"loc": best} | kw))

@@ -10,7 +10,7 @@ from matplotlib.patches import Circle, FancyArrowPatch, Polygon
 from .._core.units import DEFAULT_MIN_CURVATURE_RATIO
 from ..design.checks import CheckReport
 from ..model.geometry import CamGeometry
-from ._common import C, deg_ticks, mark_breaks, rotate
+from ._common import C, deg_ticks, legend_above_data, mark_breaks, rotate
 
 
 def check_colour(check: CheckReport | None, name: str, ok_colour: str) -> str:
@@ -58,6 +58,15 @@ def follower_pose(geometry: CamGeometry, theta_deg: float) -> dict:
     return {"centre": centre, "contact": contact, "normal": normal, "move": move, "pivot": pivot, "back": back}
 
 
+def _face_sense(geometry: CamGeometry) -> float:
+    """+1 where t along a flat face counts the way of the contact normal turned anticlockwise, -1 the other
+    way (taken where the contact is furthest from t = 0)."""
+    i = int(np.argmax(np.abs(geometry.face_t_mm)))
+    at = follower_pose(geometry, float(geometry.theta_deg[i]))
+    along = np.array([-at["normal"][1], at["normal"][0]])
+    return 1.0 if float((at["contact"] - at["centre"]) @ along) * float(geometry.face_t_mm[i]) >= 0.0 else -1.0
+
+
 def plot_follower(ax, geometry: CamGeometry, theta_deg: float, *, colour, lw=1.0, alpha=1.0, stem=True, z=3) -> dict:
     """Draw the follower as the cam sees it at cam angle theta (cam frame); returns :func:`follower_pose`
     with the end of its stem, ``tip``."""
@@ -70,10 +79,14 @@ def plot_follower(ax, geometry: CamGeometry, theta_deg: float, *, colour, lw=1.0
         ax.plot(*centre, marker=".", ms=2.5, color=colour, alpha=alpha, zorder=z)
         base = centre
     else:
-        along = np.array([-at["normal"][1], at["normal"][0]])
-        half = 0.5 * (f.face_width or max(2.0 * abs((contact - centre) @ along), 0.3 * f.base_radius)) + 2.0
-        mid = contact - along * ((contact - centre) @ along)
-        a, b = mid - along * half, mid + along * half
+        # the face as the face_width check takes it: face_width long (the contact's travel where none is
+        # given), centred on the middle of the travel (t from the axis or the pivot's foot)
+        along = _face_sense(geometry) * np.array([-at["normal"][1], at["normal"][0]])  # the way t counts
+        t_along = float((contact - centre) @ along)
+        mid = contact - along * t_along  # t = 0 on the face
+        half = 0.5 * (f.face_width or geometry.face_travel_mm)
+        c = geometry.face_centre_mm
+        a, b = mid + along * (c - half), mid + along * (c + half)
         ax.plot([a[0], b[0]], [a[1], b[1]], color=colour, lw=lw * 2.0, alpha=alpha, zorder=z, solid_capstyle="butt")
         base = mid
     tip = base
@@ -179,6 +192,12 @@ def plot_face_contact(ax, geometry: CamGeometry, check: CheckReport | None = Non
     ax.plot([th_lo, th_hi], [t_lo, t_hi], "o", color=colour, ms=4.5)
     if t_lo < 0.0 < t_hi:
         ax.axhline(0, color="#888888", lw=0.6)
+    width = geo.follower.face_width
+    if width:  # the face's ends where the face_width check and the cam drawing put them
+        c = geo.face_centre_mm
+        for end in (c - 0.5 * width, c + 0.5 * width):
+            ax.axhline(end, color=C["limit"], lw=0.9, ls="--", label=f"face ends: face_width {width:g} mm centred at t = {c:+.2f} mm" if end < c else None)
+        legend_above_data(ax, also=(c + 0.5 * width,), fontsize=7)
     mark_breaks(ax, breaks_deg)
     ax.set_ylabel(f"t from the {'axis' if geo.follower.translating else 'pivot foot'} (mm)")
     ax.set_title("contact position t along the face (pressure angle 0 all round: the face is square to its motion)", fontsize=9)

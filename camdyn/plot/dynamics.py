@@ -3,12 +3,14 @@ contact force against cam speed."""
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from .._core.units import RPM
 from ..design.review import Review
 from ..model.dynamics import Response
-from ._common import C, deg_ticks, mark_breaks, shade_separations
+from ._common import C, deg_ticks, legend_above_data, legend_clear, mark_breaks, shade_separations
 from .motion import display_scale, display_unit
 
 
@@ -17,41 +19,56 @@ def flights_by_gap(response: Response) -> list:
     return sorted(response.separations, key=lambda s: -s.max_gap)
 
 
-def plot_contact_force(ax, response: Response, *, colour: str = C["dyn"], title: str | None = None, breaks_deg=()) -> None:
-    """The interface force (N) over a revolution, dynamic against kinematic, the separations shaded; marked: the
-    least force, or where the follower leaves the cam. ``response``: forces in N (as
-    :class:`~camdyn.design.checks.CheckReport` holds it)."""
+def plot_contact_force(ax, response: Response, *, colour: str = C["dyn"], title: str | None = None, breaks_deg=(), legend: bool = True) -> None:
+    """The interface force (N) over a revolution, dynamic against kinematic, shaded exactly where the force is
+    zero; marked: where the follower leaves the cam (a triangle per flight) and each impact's peak force, or the
+    least force. What the marks mean is in the legend (no label on the plot covers the curve). ``response``:
+    forces in N (as :class:`~camdyn.design.checks.CheckReport` holds it). ``legend=False``: the caller places
+    the legend (:func:`~camdyn.plot.legend_above_data` once the y limits are final)."""
     th = response.theta_deg
     ax.plot(th, response.kinematic_force, color=C["kin"], lw=1.0, ls="--", label="kinematic (rigid, never leaves)")
     ax.plot(th, response.force, color=colour, lw=1.3, label=f"dynamic ({response.model})")
     ax.axhline(0.0, color=C["ink"], lw=0.8)
     shade_separations(ax, response, label=True)
     mark_breaks(ax, breaks_deg)
-    if response.separations:
-        _mark_lift_off(ax, response, colour)
+    flights = response.flights
+    if flights:
+        _mark_flights(ax, response, colour)
     else:
         i = int(np.argmin(response.force))
-        ax.plot(th[i], response.force[i], "o", color=colour, ms=4)
-        right = th[i] < 250.0
-        ax.annotate(f"least {response.force[i]:.3g} N at {th[i]:.1f}\u00b0", xy=(th[i], response.force[i]), xytext=(7 if right else -7, 0), textcoords="offset points",
-                    size=7, color=colour, va="center", ha="left" if right else "right", zorder=6, bbox=_LABEL_BOX)
+        ax.plot(th[i], response.force[i], "o", color=colour, ms=4, label=f"least {response.force[i]:.3g} N at {th[i]:.1f}\u00b0")
     ax.set_ylabel("interface force (N)")
     ax.set_title(title if title is not None else f"interface force at {response.omega / RPM:.4g} rpm", fontsize=9)
-    ax.legend(loc="upper right", fontsize=7, ncol=3)
+    if legend:
+        legend_above_data(ax, fontsize=7, ncol=2)
 
 
-_LABEL_BOX = dict(fc="white", ec="none", alpha=0.85, pad=0.8)  # a label legible over the lines behind it
+def flight_summary(response: Response) -> str:
+    """Flights and impacts in words: "3 flights (leaves the cam first at 65.2\u00b0), 3 impacts up to 1533 N"."""
+    flights, impacts = response.flights, response.impacts
+    if not flights:
+        return "none"
+    first = min(flights, key=lambda f: f.leave_deg).leave_deg
+    n = len(flights)
+    text = f"{n} flight{'s' if n > 1 else ''} (first leaves the cam at {first:.1f}\u00b0)"
+    if not impacts:
+        return text + ", never back on the cam"
+    peak = response.max_impact_force
+    strength = f" up to {peak:.4g} N" if math.isfinite(peak) else " (rigid: impulsive)"
+    return text + f", {len(impacts)} impact{'s' if len(impacts) > 1 else ''}{strength}"
 
 
-def _mark_lift_off(ax, response: Response, colour: str) -> None:
-    """Where the follower leaves the cam (a triangle on the zero line per flight); the largest flight named."""
-    flights = flights_by_gap(response)
-    ax.plot([s.start_deg for s in flights], [0.0] * len(flights), "v", color=colour, ms=5, zorder=6, clip_on=False)
-    big = flights[0]
-    more = f" (and {len(flights) - 1} more flight{'s' if len(flights) > 2 else ''})" if len(flights) > 1 else ""
-    right = big.start_deg < 250.0
-    ax.annotate(f"leaves the cam at {big.start_deg:.1f}\u00b0, lands at {big.end_deg:.1f}\u00b0{more}", xy=(big.start_deg, 0.0), xytext=(6 if right else -6, 7),
-                textcoords="offset points", size=7, color=colour, va="bottom", ha="left" if right else "right", zorder=6, bbox=_LABEL_BOX)
+def _mark_flights(ax, response: Response, colour: str) -> None:
+    """A triangle on the zero line where each flight leaves the cam, a cross on each impact's peak force."""
+    flights, impacts = response.flights, response.impacts
+    n = len(flights)
+    ax.plot([f.leave_deg for f in flights], [0.0] * n, "v", color=colour, ms=5, zorder=6, clip_on=False,
+            label=f"leaves the cam ({n} flight{'s' if n > 1 else ''})")
+    hits = [i for i in impacts if math.isfinite(i.peak_force)]
+    if hits:
+        top = max(hits, key=lambda i: i.peak_force)
+        ax.plot([i.peak_deg for i in hits], [i.peak_force for i in hits], "x", color=C["limit"], ms=5, mew=1.2, zorder=6,
+                label=f"impact ({len(hits)}), largest {top.peak_force:.4g} N at {top.peak_deg:.1f}\u00b0")
 
 
 def plot_displacement(ax, response: Response, *, unit: str = "mm", speed_rpm: float | None = None, breaks_deg=()) -> None:
@@ -65,7 +82,7 @@ def plot_displacement(ax, response: Response, *, unit: str = "mm", speed_rpm: fl
     mark_breaks(ax, breaks_deg)
     ax.set_ylabel(f"{'swing' if unit == 'rad' else 'displacement'} ({display_unit(unit)})")
     ax.set_title("follower displacement, dynamic and kinematic", fontsize=9)
-    ax.legend(loc="upper right", fontsize=7, ncol=2)
+    legend_above_data(ax, fontsize=7, ncol=2)
 
 
 def plot_vibration(ax, curves, *, unit: str = "mm", breaks_deg=()) -> None:
@@ -86,8 +103,8 @@ def plot_vibration(ax, curves, *, unit: str = "mm", breaks_deg=()) -> None:
     mark_breaks(ax, breaks_deg)
     ax.set_ylabel(f"x \u2212 s ({vu})")
     ax.set_title("vibratory response x \u2212 s (negative: the train is compressed)", fontsize=9)
-    ax.legend(loc="upper right", fontsize=7, ncol=2)
     deg_ticks(ax, 30.0)
+    legend_above_data(ax, fontsize=7, ncol=3)
     ax.set_xlabel("cam angle \u03b8 (deg)")
 
 
@@ -108,30 +125,25 @@ def plot_force_vs_speed(ax, review: Review) -> None:
     ax.axhline(0.0, color=C["ink"], lw=0.8)
     mf = chk.case.limits.min_contact_force
     if mf:
-        ax.axhline(mf, color=C["limit"], ls="--", lw=0.8)
-        ax.text(v[-1], mf, f"min_contact_force {mf:g} N ", color=C["limit"], size=7, ha="right", va="bottom")
+        ax.axhline(mf, color=C["limit"], ls="--", lw=0.8, label=f"min_contact_force {mf:g} N")
     top = max(float(np.max(sw.kinematic_N)), mf) * 1.15
     floor = min(float(np.min(sw.kinematic_N)), float(np.min(sw.dynamic_N)) if sw.dynamic_N is not None else 0.0)
     ymin, ymax = max(floor, -0.8 * top) - 0.05 * top, top
-    _jump_speeds(ax, jd, jk, v[-1], ymin, ymax)
-    ax.axvline(review.margin_rpm, color=C["margin"], lw=0.9, ls="-.")
-    ax.text(review.margin_rpm, ymin + 0.68 * (ymax - ymin), f"{review.case.limits.speed_margin:g} \u00d7 speed", color=C["margin"], size=7, va="center", ha="right", rotation=90, bbox=dict(fc="white", ec="none", alpha=0.85, pad=0.8))
+    _jump_speeds(ax, jd, jk, v[-1])
+    ax.axvline(review.margin_rpm, color=C["margin"], lw=0.9, ls="-.", label=f"speed_margin {review.case.limits.speed_margin:g} \u00d7 speed = {review.margin_rpm:g} rpm")
     ax.plot(rpm, chk.dynamic["min_contact_force_N"], "o", color=C["dyn"] if chk.verdict == "pass" else C["fail"], ms=6, zorder=5, label=f"operating point ({rpm:g} rpm, time domain)")
     ax.set_ylim(ymin, ymax)
     ax.set_xlim(0.0, v[-1])
     ax.set_xlabel("cam speed (rpm)")
     ax.set_ylabel("least interface force (N)")
     ax.set_title("least interface force against cam speed", fontsize=9)
-    ax.legend(loc="lower left", fontsize=7)
+    legend_clear(ax, fontsize=6.5)
 
 
-def _jump_speeds(ax, jd: float | None, jk: float | None, v_top: float, ymin: float, ymax: float) -> None:
-    """The dynamic jump speed (the range past it shaded) and the rigid one where it differs."""
+def _jump_speeds(ax, jd: float | None, jk: float | None, v_top: float) -> None:
+    """The dynamic jump speed (the range past it shaded) and the rigid one where it differs, named in the legend."""
     if jd is not None and jd <= v_top:
         ax.axvspan(jd, v_top, color=C["limit"], alpha=0.08, lw=0)
-        ax.axvline(jd, color=C["limit"], lw=1.0)
-        late = jd > 0.75 * v_top
-        ax.text(jd, ymax, f" jump speed {jd:.0f} rpm " if late else f" jump speed {jd:.0f} rpm", color=C["limit"], size=7.5, va="top", ha="right" if late else "left")
+        ax.axvline(jd, color=C["limit"], lw=1.0, label=f"dynamic jump speed {jd:.0f} rpm (shaded past it)")
     if jk is not None and jk <= v_top and (jd is None or abs(jk - jd) > 0.02 * v_top):
-        ax.axvline(jk, color=C["kin"], lw=0.8, ls="--")
-        ax.text(jk, ymin + 0.68 * (ymax - ymin), f"rigid {jk:.0f} rpm", color=C["kin"], size=7, va="center", ha="left", rotation=90, bbox=dict(fc="white", ec="none", alpha=0.85, pad=0.8))
+        ax.axvline(jk, color=C["kin"], lw=0.8, ls="--", label=f"rigid jump speed {jk:.0f} rpm")

@@ -72,23 +72,31 @@ def plot_svaj(axes, samples: MotionSamples, *, speed_rpm: float | None = None, h
         top.tick_params(colors=C["grey"])
 
 
-def plot_fit(ax_lift, ax_residual, fit) -> None:
-    """A lift table's (or a contour's contact motion's) data points on the lift panel, and the fit's residuals
-    (data - fit) against cam angle, with the tolerance where one was asked for (``fit``:
-    :class:`camdyn.model.motion.MotionFit`)."""
+def plot_fit(ax_lift, ax_residual, fit, contour=None) -> None:
+    """A lift table's data points on the lift panel and the fit's residuals (data - fit) against cam angle, with
+    the tolerance where one was asked for (``fit``: :class:`camdyn.model.motion.MotionFit`). With ``contour`` (a
+    :class:`camdyn.model.geometry.ContourFit`, a contour case), the residual is the user's data's: the radial
+    departure of the outline's points from its fit, against polar angle; the lift panel then marks the lift at
+    exact contact with the fitted outline (derived, not measured)."""
     th = np.asarray(fit.theta_deg)
     every = max(1, th.size // 400)  # a few hundred markers: a 3600-point table would paint the curve over
-    ax_lift.plot(th[::every], fit.data[::every], ".", ms=2.2, color=C["limit"], alpha=0.7, label=f"{fit.source} data ({th.size} points)", zorder=4)
+    label = f"{fit.source} data ({th.size} points)" if contour is None else f"lift at contact with the fitted outline ({th.size} angles)"
+    ax_lift.plot(th[::every], fit.data[::every], ".", ms=2.2, color=C["limit"], alpha=0.7, label=label, zorder=4)
     ax_lift.legend(fontsize=7, loc="upper right")
-    res = fit.residual
-    unit = fit.unit
+    if contour is not None:
+        res, unit, x = contour.residual, "mm", contour.angle_deg
+        j = contour.json()
+        at, what, where = j["max_residual_at_polar_deg"], f"outline ({j['points']} points) - fit, radial", "polar angle"
+    else:
+        res, unit, x = fit.residual, fit.unit, th
+        j = fit.json()
+        at, what, where = j["max_residual_at_deg"], "data - fit", "cam angle"
     scale, shown = (1000.0, "\u00b5m") if unit == "mm" and np.max(np.abs(res)) < 0.5 else (1.0, unit)
-    ax_residual.plot(th, res * scale, lw=0.7, color=C["limit"])
+    ax_residual.plot(x, res * scale, lw=0.7, color=C["limit"])
     ax_residual.axhline(0.0, color="#888888", lw=0.6)
-    if fit.tolerance is not None:
+    if contour is None and fit.tolerance is not None:
         for sign in (-1, 1):
             ax_residual.axhline(sign * fit.tolerance * scale, color=C["grey"], lw=0.8, ls="--")
-    j = fit.json()
-    ax_residual.set_ylabel(f"data - fit\n({shown})")
-    ax_residual.set_title(f"data - fit: largest {j['max_residual'] * scale:.3g} {shown} at {j['max_residual_at_deg']:.1f}\u00b0, rms {j['rms_residual'] * scale:.3g} {shown}", fontsize=8)
+    ax_residual.set_ylabel(f"{'data' if contour is None else 'radial'} - fit\n({shown})")
+    ax_residual.set_title(f"{what}: largest {j['max_residual'] * scale:.3g} {shown} at {where} {at:.1f}\u00b0, rms {j['rms_residual'] * scale:.3g} {shown}", fontsize=8)
     deg_ticks(ax_residual, 45.0)

@@ -3,12 +3,14 @@
 
 from __future__ import annotations
 
+import hashlib
 from dataclasses import dataclass
 from functools import cached_property
+from pathlib import Path
 
 import numpy as np
 
-from .._core.units import RPM
+from .._core.units import JUMP_RTOL, RPM
 from ..design.review import Review
 from ..plot.motion import display_scale, display_unit
 
@@ -26,6 +28,14 @@ class ReportData:
     @property
     def check(self):
         return self.review.check
+
+    @cached_property
+    def case_sha256(self) -> str | None:
+        """The SHA-256 (hex) of the case file as it was read; None for a case built in memory."""
+        src = self.case.source
+        if src is None or not Path(src).is_file():
+            return None
+        return hashlib.sha256(Path(src).read_bytes()).hexdigest()
 
     @property
     def oscillating(self) -> bool:
@@ -47,17 +57,24 @@ class ReportData:
 
     @property
     def breaks_deg(self) -> tuple[float, ...]:
+        """The segment boundaries (deg) of a segment motion (not the pieces a B-spline or polynomial is made of
+        inside a segment); a table's or path's breaks as the motion has them."""
+        segs = getattr(self.case.motion, "segments", ())
+        if segs:
+            return tuple(sorted({float(seg.end) % 360.0 for seg in segs}))
         return tuple(self.case.motion.breaks_deg)
 
     @cached_property
     def jumps(self) -> list[tuple[float, int, float]]:
-        """(angle deg, order 1 or 2, jump in display units) of the velocity and acceleration jumps at breaks."""
+        """(angle deg, order 1 or 2, jump in display units) of the velocity and acceleration jumps at the
+        boundaries: those above :data:`~camdyn._core.units.JUMP_RTOL` of the derivative's largest magnitude."""
         out = []
         k = self.to_display
-        for deg in np.asarray(self.case.motion.breaks_deg, dtype=float):
+        peak = np.max(np.abs(self.review.motion.values), axis=1) * k
+        for deg in np.asarray(self.breaks_deg, dtype=float):
             left, right = (v * k for v in self.review.motion.one_sided(deg))
             for order in (1, 2):
                 jump = right[order] - left[order]
-                if abs(jump) > 1e-6 * max(1.0, abs(left[order]), abs(right[order])):
+                if abs(jump) > JUMP_RTOL * max(float(peak[order]), abs(left[order]), abs(right[order])):
                     out.append((float(deg), order, float(jump)))
         return out

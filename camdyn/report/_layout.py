@@ -28,13 +28,20 @@ def header(fig, data, title: str, number: int, total: int) -> None:
     """The case name and page title on top, the source, speed and page number at the foot."""
     case = data.case
     src = case.source.name if case.source is not None else case.name
-    foot = f"design review  \u00b7  {src}  \u00b7  {data.check.speed_rpm:g} rpm"
-    page_frame(fig, case.name, title, number, total, foot)
+    sha = f"  \u00b7  sha256 {data.case_sha256[:12]}" if data.case_sha256 else ""
+    foot = f"design review  \u00b7  {src}{sha}  \u00b7  {data.check.speed_rpm:g} rpm"
+    page_frame(fig, case.name, title, number, total, foot, verdict=data.check.verdict)
 
 
-def page_frame(fig, name: str, title: str, number: int, total: int, foot: str) -> None:
-    """A page's name and title on top, camdyn's version, ``foot`` and the page number at the foot."""
-    fig.text(0.06, 0.975, name, size=15, weight="bold", va="top", color=C["ink"])
+def page_frame(fig, name: str, title: str, number: int, total: int, foot: str, verdict: str | None = None) -> None:
+    """A page's name and title on top (``verdict``, "pass" or "fail", in a badge beside the name), camdyn's
+    version, ``foot`` and the page number at the foot."""
+    text = fig.text(0.06, 0.975, name, size=15, weight="bold", va="top", color=C["ink"])
+    if verdict is not None:  # the verdict on every page, just right of the name
+        x = 0.06 + text.get_window_extent(fig._get_renderer()).width / (fig.dpi * fig.get_figwidth()) + 0.015
+        passed = verdict == "pass"
+        fig.text(x, 0.9715, "PASS" if passed else "FAIL", size=10, weight="bold", va="top", color="white",
+                 bbox=dict(boxstyle="round,pad=0.25", fc=C["ok"] if passed else C["fail"], ec="none"))
     fig.text(0.94, 0.973, f"{number}  {title}", size=12.5, ha="right", va="top", color=C["grey"])
     fig.add_artist(hline(fig, 0.948))
     fig.text(0.06, 0.014, f"camdyn {camdyn_version()} {foot}", size=7, color=C["grey"])

@@ -81,15 +81,15 @@ def render(review: Review, out_dir: Path, *, progress: Progress | None = None) -
 
 
 def _save_png(fig, path: Path, version: str) -> None:
-    """The page as a 256-colour PNG (plots and text survive a palette untouched; a third of the bytes)."""
+    """The page as a full-colour RGB PNG (the PDF's colours exactly: no palette), without the alpha channel."""
     buf = io.BytesIO()
     fig.savefig(buf, dpi=DPI, format="png")
     buf.seek(0)
     with Image.open(buf) as im:
-        pal = im.convert("RGB").quantize(colors=256, method=Image.Quantize.MEDIANCUT, dither=Image.Dither.NONE)
+        rgb = im.convert("RGB")
     info = PngImagePlugin.PngInfo()
     info.add_text("Software", f"camdyn {version}")
-    pal.save(path, format="PNG", optimize=True, pnginfo=info)
+    rgb.save(path, format="PNG", optimize=True, pnginfo=info)
 
 
 def write_report(case, out_dir, *, check=None, speed_rpm: float | None = None, progress: Progress | None = None) -> Written:

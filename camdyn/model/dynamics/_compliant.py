@@ -229,4 +229,4 @@ def compliant_response(motion: Motion, model: FollowerModel, omega: float, n: in
     tol = 1e-6 * max(1.0, float(np.max(np.abs(vals[0]))))
     if float(residual) > tol:
         warnings.append(f"no exactly periodic steady state at {omega / RPM:.1f} rpm (revolution-to-revolution mismatch {float(residual):.2g} {motion.unit}): the follower's bouncing is not periodic; results are for the best of {_NEWTON_ITERS} shooting iterations and {_PLAIN_REVS} revolutions")
-    return Response("compliant", float(omega), theta_deg, vals[0], x, p, fi, kin, tuple(seps), resid, float(residual), tuple(warnings), resid_deg)
+    return Response("compliant", float(omega), theta_deg, vals[0], x, p, fi, kin, tuple(seps), resid, float(residual), tuple(warnings), resid_deg, merge_deg)

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -30,6 +31,36 @@ class Separation:
 
 
 @dataclass(frozen=True)
+class Flight:
+    """One span of cam angle where the interface force is zero: from where the follower leaves the cam
+    (``leave_deg``, the first grid angle with zero force) to where it is last off it (``land_deg``, the last one;
+    deg in [0, 360), a flight may wrap through 0). ``max_gap`` in the motion's units (mm or rad)."""
+
+    leave_deg: float
+    land_deg: float
+    max_gap: float
+    max_gap_deg: float
+
+    @property
+    def span_deg(self) -> float:
+        """The flight's length in cam degrees."""
+        return (self.land_deg - self.leave_deg) % 360.0
+
+
+@dataclass(frozen=True)
+class Impact:
+    """A landing: the contact that begins at ``deg`` after a flight, and its largest force (``peak_force``, N or
+    N*m as the response holds its forces, at ``peak_deg``) within half a contact-mode period of the landing (the
+    length of a bounce's force pulse; later, the cam drives the force).
+
+    A rigid follower lands with an impulse: its ``peak_force`` is NaN (the impact speed is its separation's)."""
+
+    deg: float
+    peak_force: float
+    peak_deg: float
+
+
+@dataclass(frozen=True)
 class Response:
     """Periodic steady-state response over one revolution at cam speed ``omega`` (rad/s)."""
 
@@ -46,6 +77,39 @@ class Response:
     periodicity_error: float  # |Phi(y0) - y0| of the shooting, motion units
     warnings: tuple[str, ...] = field(default=())
     residual_vibration_deg: float = float("nan")  # where the residual vibration peaks
+    contact_period_deg: float = float("nan")  # the contact mode's period in cam degrees (compliant; an impact's span)
+
+    @property
+    def flights(self) -> tuple[Flight, ...]:
+        """The spans where the interface force is zero, each one flight (a separation with bounces holds several)."""
+        return tuple(Flight(*f) for f in _zero_runs(self.theta_deg, self.force, self.x - self.s))
+
+    @property
+    def impacts(self) -> tuple[Impact, ...]:
+        """Every landing after a flight, with its peak force (a compliant follower; NaN for a rigid one)."""
+        out = []
+        n = len(self.theta_deg)
+        step = 360.0 / n
+        window = max(1, round(0.5 * self.contact_period_deg / step)) if math.isfinite(self.contact_period_deg) else 0
+        flights = self.flights
+        if len(flights) == 1 and flights[0].span_deg >= 360.0 - 1.5 * step:
+            return ()  # never back on the cam
+        for fl in flights:
+            first = (int(round(fl.land_deg / step)) + 1) % n  # the first grid angle in contact again
+            if self.model == "rigid" or window == 0:
+                out.append(Impact(float(self.theta_deg[first]), math.nan, math.nan))
+                continue
+            idx = (first + np.arange(window)) % n
+            idx = idx[: int(np.argmin(self.force[idx] > 0.0)) or window]  # up to the next flight, if sooner
+            top = idx[int(np.argmax(self.force[idx]))]
+            out.append(Impact(float(self.theta_deg[first]), float(self.force[top]), float(self.theta_deg[top])))
+        return tuple(out)
+
+    @property
+    def max_impact_force(self) -> float:
+        """The largest impact force (N or N*m); 0 without impacts, NaN for a rigid follower's impulses."""
+        peaks = [i.peak_force for i in self.impacts]
+        return max(peaks) if peaks else 0.0
 
     @property
     def settled(self) -> bool:
@@ -83,6 +147,28 @@ def _dwell_mask(motion: Motion, theta_deg: np.ndarray) -> np.ndarray:
         if seg.law == "dwell":
             mask |= (theta_deg >= seg.start) & (theta_deg < seg.end)
     return mask
+
+
+def _zero_runs(theta_deg, force, gap) -> list[tuple[float, float, float, float]]:
+    """(first angle, last angle, largest gap, its angle) of every periodic run of grid angles where force <= 0."""
+    flying = np.asarray(force) <= 0.0
+    n = len(theta_deg)
+    if not flying.any():
+        return []
+    if flying.all():
+        i = int(np.argmax(gap))
+        return [(float(theta_deg[0]), float(theta_deg[-1]), float(gap[i]), float(theta_deg[i]))]
+    shift = int(np.argmin(flying))  # a contact angle: no run wraps the scan's end
+    idx = (np.arange(n) + shift) % n
+    f = flying[idx].astype(np.int8)
+    starts = np.flatnonzero(np.diff(np.concatenate([[0], f])) == 1)
+    ends = np.flatnonzero(np.diff(np.concatenate([f, [0]])) == -1)
+    out = []
+    for a, b in zip(starts, ends):
+        sel = idx[a : b + 1]
+        top = sel[int(np.argmax(gap[sel]))]
+        out.append((float(theta_deg[sel[0]]), float(theta_deg[sel[-1]]), float(gap[top]), float(theta_deg[top])))
+    return sorted(out)
 
 
 def _separations_from_mask(theta_deg, flying, gap, rel_speed, merge_deg) -> list[Separation]:

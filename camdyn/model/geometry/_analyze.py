@@ -38,6 +38,12 @@ class GeometryExtremes:
     def face_travel_mm(self) -> float | None:
         return None if self.face_range_mm is None else self.face_range_mm[1] - self.face_range_mm[0]
 
+    @property
+    def face_centre_mm(self) -> float | None:
+        """Where a flat face of the least width (:attr:`face_travel_mm`) is centred, t from the follower's axis
+        (or the pivot's foot): the face_width check takes the face there, and the drawings put it there."""
+        return None if self.face_range_mm is None else 0.5 * (self.face_range_mm[0] + self.face_range_mm[1])
+
 
 def _grid(n: int) -> np.ndarray:
     if n < 16:
@@ -119,6 +125,7 @@ class CamGeometry(GeometryExtremes):
         if self.min_face_width_mm is not None:
             out["min_face_width_mm"] = self.min_face_width_mm
             out["face_range_mm"] = list(self.face_range_mm)
+            out["face_centre_mm"] = self.face_centre_mm
         return out
 
     def table(self, theta_deg) -> dict[str, np.ndarray]:

@@ -12,7 +12,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from ..._core.errors import InputError
-from ..._core.units import TWO_PI
+from ..._core.units import JUMP_RTOL, TWO_PI
 from ...schema import SegmentSpec, check_segments, parse
 from ...schema.motion import BSPLINE, POLYNOMIAL, BSplineSegmentSpec, PolynomialSegmentSpec
 from ._base import Motion
@@ -148,13 +148,15 @@ class Program(Motion):
         # the jump in the units the segments' lift was given in: mm, or deg of arm swing (an oscillating
         # follower's motion is in rad); per radian of cam angle, as the SVAJ page plots it
         lu, to_user = ("mm", 1.0) if self.unit == "mm" else ("deg", 180.0 / math.pi)
+        # a jump is measured against the derivative's largest magnitude over the revolution (JUMP_RTOL)
+        peak = np.max(np.abs(self._eval(np, np.linspace(0.0, TWO_PI, 3601))), axis=1)
         for i, seg in enumerate(self.segments):
             nxt = self.segments[(i + 1) % n]
             left = self._segment_end(seg)
             right = self._eval(np, np.deg2rad(seg.end % 360.0))
             for order, name, unit in ((1, "velocity", f"{lu}/rad"), (2, "acceleration", f"{lu}/rad^2")):
                 jump = right[order] - left[order]
-                if abs(jump) > 1e-9 * max(1.0, abs(left[order]), abs(right[order])):
+                if abs(jump) > JUMP_RTOL * max(float(peak[order]), abs(left[order]), abs(right[order])):
                     out.append(
                         f"{name} jumps by {jump * to_user:+.4g} {unit} at {seg.end % 360.0:g} deg "
                         f"({seg.law} -> {nxt.law}): infinite {'acceleration' if order == 1 else 'jerk'}"

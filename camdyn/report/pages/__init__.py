@@ -8,6 +8,7 @@ from typing import Callable
 from .._data import ReportData
 from .cam import draw_cam
 from .dynamics import draw_dynamics
+from .manufacturing import draw_manufacturing
 from .mechanism import draw_mechanism
 from .optimization import draw_optimization
 from .parts import draw_parts
@@ -36,10 +37,11 @@ PAGES: list[Page] = [
     Page("optimization", "Optimization", draw_optimization, lambda data: data.review.original is not None and not isinstance(data.review.original, str)),
     Page("parts", "Drive, contact and spring", draw_parts),
     Page("springs", "Spring sizing", draw_springs),
+    Page("manufacturing", "Segments and manufacturing", draw_manufacturing),
     Page("tolerances", "Tolerances", draw_tolerances, lambda data: data.review.tolerance is not None),
 ]
 
 __all__ = [
-    "PAGES", "Page", "draw_cam", "draw_dynamics", "draw_mechanism", "draw_optimization", "draw_parts", "draw_springs", "draw_summary", "draw_svaj",
+    "PAGES", "Page", "draw_cam", "draw_dynamics", "draw_manufacturing", "draw_mechanism", "draw_optimization", "draw_parts", "draw_springs", "draw_summary", "draw_svaj",
     "draw_tolerances",
 ]

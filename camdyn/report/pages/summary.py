@@ -5,9 +5,11 @@ from __future__ import annotations
 import math
 import textwrap
 
+import numpy as np
 from matplotlib.patches import Polygon
 
-from ...plot import deg_ticks, flights_by_gap, plot_follower, shade_separations, square_face
+from ..._core.units import AT_LIMIT_RTOL
+from ...plot import deg_ticks, flight_summary, flights_by_gap, legend_above_data, plot_follower, shade_separations, square_face, svaj_quantities
 from .._data import ReportData
 from .._layout import Flow, fmt
 from .._style import C
@@ -27,6 +29,7 @@ UNITS = {
     "preload_torque": "N\u00b7m", "train_torsion_rate": "N\u00b7m/rad", "external_torque": "N\u00b7m",
     "speed_margin": "\u00d7", "min_contact_force": "N", "max_pressure_angle": "deg",
 }
+IN_FACTS = ("velocity jumps by", "acceleration jumps by", "the follower leaves the cam at")  # warnings page 1 lists as facts
 NOTE_LINES = 14  # lines of warnings and advice before the rest is referred to `camdyn check`
 INPUT_ROWS = 26  # rows per column of key inputs
 
@@ -38,6 +41,7 @@ def draw_summary(fig, data: ReportData) -> None:
     _verdict(fig, data, flow)
     _checks_table(data, flow)
     _key_results(data, flow)
+    _facts(fig, data, flow)
     _notes(fig, data, flow)
     flow.heading("Key inputs")
     _draw_inputs(data, flow)
@@ -61,13 +65,20 @@ def _verdict(fig, data: ReportData, flow: Flow) -> None:
     flow.y -= flow.h(26) * 1.35
 
 
+def at_limit(c) -> bool:
+    """Whether a check's value is within :data:`~camdyn._core.units.AT_LIMIT_RTOL` of its (nonzero) limit."""
+    return c.value is not None and c.limit != 0.0 and abs(c.value - c.limit) <= AT_LIMIT_RTOL * abs(c.limit)
+
+
 def _margin(c) -> str:
-    """The distance from the check's value to its limit, positive where it passes."""
+    """The distance from the check's value to its limit, positive where it passes; "at limit" within 2 %."""
     if c.value is None:
         return "\u221e" if c.ok else "-\u221e"
     d = c.value - c.limit if c.sense in (">=", ">") else c.limit - c.value
     if d == 0.0:
         return "0 (at the limit)"
+    if at_limit(c):
+        return f"{d:+.3g}: at limit"
     pct = 100.0 * d / abs(c.limit) if abs(c.limit) > 1e-9 and abs(c.limit) < 1e9 else math.inf
     rel = f" ({pct:+.0f}%)" if abs(pct) < 1000.0 else ""  # against a limit near 0 (no cusp: 1e-6 mm) a ratio says nothing
     return f"{d:+.3g}{rel}"
@@ -98,15 +109,24 @@ def _checks_table(data: ReportData, flow: Flow) -> None:
             ],
             size=8.5,
         )
+    contact = data.check.contact
+    if contact is None:
+        what = "not evaluated: the case gives no contact width ([follower] width)"
+    elif not any(c.name == "contact_stress" for c in data.check.checks):
+        what = f"largest Hertz pressure {contact.peak_pressure_MPa:.4g} MPa: not judged, no [limits] max_contact_stress"
+    else:
+        return
+    flow.row([(0.0, "contact_stress", {"family": "DejaVu Sans Mono", "size": 7.8}), (0.165, what, {"color": C["grey"]})], size=8.5)
 
 
 def key_results(data: ReportData) -> list[tuple[str, str]]:
     """(label, value) of the summary's key results."""
     chk, case = data.check, data.case
     dyn, kin = chk.dynamic, chk.kinematic
-    seps = chk.response.separations
+    resp = chk.response
+    seps = resp.separations
     if seps:  # the least force is 0 over the flights: where the follower leaves (the largest flight) says more
-        least = f"{dyn['min_contact_force_N']:.4g} N: leaves the cam at {flights_by_gap(chk.response)[0].start_deg:.1f}\u00b0"
+        least = f"{dyn['min_contact_force_N']:.4g} N: leaves the cam at {flights_by_gap(resp)[0].start_deg:.1f}\u00b0"
     else:
         least = f"{dyn['min_contact_force_N']:.4g} N at {dyn['min_contact_force_deg']:.1f}\u00b0"
     rows = [
@@ -115,12 +135,18 @@ def key_results(data: ReportData) -> list[tuple[str, str]]:
         ("jump speed, dynamic", f"{fmt(dyn['jump_speed_rpm'])} rpm"),
         ("jump speed, rigid", f"{fmt(kin['jump_speed_rpm'])} rpm" + (f" (at {kin['jump_speed_at_deg']:.1f}\u00b0)" if kin["jump_speed_at_deg"] is not None else "")),
     ]
-    if seps:
-        spans = ", ".join(f"{s.start_deg:.0f}\u2013{s.end_deg:.0f}\u00b0" for s in seps[:2]) + (", \u2026" if len(seps) > 2 else "")
-        gap = max(s.max_gap for s in seps) * data.to_display
-        rows.append(("separations", f"{len(seps)}: {spans}; gap {gap:.3g} {data.unit}"))
+    flights, impacts = resp.flights, resp.impacts
+    if flights:  # what the shading on the force plots is: spans of zero force, and the landings between them
+        gap = max(f.max_gap for f in flights) * data.to_display
+        rows.append(("flights (force 0)", f"{len(flights)}, first at {min(f.leave_deg for f in flights):.1f}\u00b0; gap up to {gap:.3g} {data.unit}"))
+        top = [i for i in impacts if math.isfinite(i.peak_force)]
+        if top:
+            big = max(top, key=lambda i: i.peak_force)
+            rows.append(("impacts", f"{len(impacts)}, largest {big.peak_force:.4g} N at {big.peak_deg:.1f}\u00b0"))
+        else:
+            rows.append(("impacts", f"{len(impacts)}" + (" (rigid: impulsive)" if impacts else ", never back on the cam")))
     else:
-        rows.append(("separations", "none"))
+        rows.append(("flights", "none: in contact all round"))
     rv = chk.response.residual_vibration * data.to_display
     rows.append(("residual vibration", f"{rv:.3g} {data.unit}"))
     geo = chk.geometry
@@ -131,7 +157,7 @@ def key_results(data: ReportData) -> list[tuple[str, str]]:
             rows.append(("max pressure angle", f"{geo.max_pressure_angle_deg:.2f}\u00b0 at {geo.max_pressure_angle_at_deg:.1f}\u00b0"))
         if geo.extremes.face_range_mm is not None:
             t_lo, t_hi = geo.extremes.face_range_mm
-            rows.append(("contact on the face", f"t = {t_lo:+.2f} to {t_hi:+.2f} mm"))
+            rows.append(("contact on the face", f"t = {t_lo:+.2f} to {t_hi:+.2f} mm (face centred at {geo.extremes.face_centre_mm:+.2f})"))
         rows.append(("least radius of curvature", f"{geo.min_radius_of_curvature_mm:.4g} mm at {geo.min_radius_of_curvature_at_deg:.1f}\u00b0" + ("  (undercut)" if geo.undercut else "")))
     if case.synthesis is not None:
         rows.append(("path error", f"{case.synthesis.summary['max_path_error_mm']:.3g} mm"))
@@ -151,11 +177,86 @@ def _key_results(data: ReportData, flow: Flow) -> None:
         flow.row(cells, size=8.2)
 
 
+def decision_facts(data: ReportData) -> list[str]:
+    """Every fact on the later pages that changes a decision about the design, in a line each: checks at their
+    limit, flights and impacts, a return spring that cannot be built, the tolerance study's result, velocity and
+    acceleration jumps, concave flanks."""
+    chk, rv = data.check, data.review
+    out = []
+    for c in chk.checks:
+        if at_limit(c):
+            out.append(f"{c.name} at limit: {c.value:.6g} against {c.limit:g} {c.unit} (within {100 * AT_LIMIT_RTOL:g} %: "
+                       f"{'passes' if c.ok else 'fails'} by a rounding)")
+    resp = chk.response
+    if resp.flights:
+        out.append(f"the follower leaves the cam: {flight_summary(resp)}")
+    part = rv.spring_part
+    if isinstance(part, str):
+        out.append(f"the return spring cannot be built within [spring]: {part}")
+    else:
+        bad = [c.name for c in part.checks if not c.ok]
+        if bad:
+            out.append(f"the return spring fails its own checks: {', '.join(bad)}")
+    tol = rv.tolerance
+    if isinstance(tol, str):
+        out.append(f"tolerance study failed: {tol}")
+    elif tol is not None:
+        lo, hi = tol.confidence_interval
+        p1 = tol.percentiles(tol.jump_speed_rpm)["p1"]
+        out.append(f"tolerances: P(separation) at {tol.speed_rpm:g} rpm = {tol.probability:.3g} (95 % interval {lo:.3g} to {hi:.3g}, "
+                   f"{tol.samples} built cams); 1 % of the cams jump below {p1:.1f} rpm")
+    names = svaj_quantities(data.case.motion.unit)
+    for order, what, cause in ((1, "velocity", "acceleration"), (2, "acceleration", "jerk")):
+        js = [(d, j) for d, o, j in data.jumps if o == order]
+        if js:
+            listed = ", ".join(f"{j:+.3g} at {d:.1f}\u00b0" for d, j in js[:4]) + (", \u2026" if len(js) > 4 else "")
+            out.append(f"{what} jumps at {len(js)} boundar{'ies' if len(js) > 1 else 'y'} ({names[order][1]}): {listed}: infinite {cause}")
+    geo = chk.geometry
+    if geo is not None and not geo.undercut:
+        spans = concave_spans(geo)
+        if spans:
+            where = ", ".join(f"{a:.0f}\u2013{b:.0f}\u00b0" for a, b, _ in spans[:3])
+            least = min(r for _, _, r in spans)
+            out.append(f"concave flank{'s' if len(spans) > 1 else ''} at cam angles {where}: least concave radius {least:.4g} mm "
+                       "(the grinding wheel or cutter must be smaller)")
+    return out
+
+
+def concave_spans(geo) -> list[tuple[float, float, float]]:
+    """(first deg, last deg, least |radius| mm) of each run of cam angles where the contour is concave."""
+    concave = np.asarray(geo.rho_contour_mm) < 0.0
+    if not concave.any() or concave.all():
+        return []
+    th, rho = np.asarray(geo.theta_deg), np.abs(np.asarray(geo.rho_contour_mm))
+    n = th.size
+    shift = int(np.argmin(concave))
+    idx = (np.arange(n) + shift) % n
+    c = concave[idx].astype(np.int8)
+    starts = np.flatnonzero(np.diff(np.concatenate([[0], c])) == 1)
+    ends = np.flatnonzero(np.diff(np.concatenate([c, [0]])) == -1)
+    return sorted((float(th[idx[a]]), float(th[idx[b]]), float(rho[idx[a : b + 1]].min())) for a, b in zip(starts, ends))
+
+
+def _facts(fig, data: ReportData, flow: Flow) -> None:
+    """The decision-changing facts of the later pages, each a line (or two)."""
+    facts = decision_facts(data)
+    flow.heading("Decision-changing facts" if facts else "Decision-changing facts: none beyond the checks")
+    for text in facts:
+        fig.text(flow.left, flow.y, "\u25b8", size=7.8, va="top", color=C["fail"])
+        flow.para(text, size=7.8, width=118, indent=0.02, color=C["ink"])
+
+
 def _notes(fig, data: ReportData, flow: Flow) -> None:
     """The check's warnings and advice, as many as fit in :data:`NOTE_LINES` lines."""
     chk, case = data.check, data.case
-    notes = [(w, "warning", C["warn"]) for w in chk.warnings] + [(a, "advice", C["advice"]) for a in chk.advice]
-    flow.heading("Warnings and advice" if notes else "Warnings and advice: none")
+    # the motion's jumps and the follower's flights are in the decision-changing facts, counted from the plots
+    shown = [w for w in chk.warnings if not w.startswith(IN_FACTS)]
+    notes = [(w, "warning", C["warn"]) for w in shown] + [(a, "advice", C["advice"]) for a in chk.advice]
+    told = len(chk.warnings) - len(shown)
+    if notes:
+        flow.heading("Warnings and advice" + (f" ({told} more among the facts above)" if told else ""))
+    else:
+        flow.heading("Warnings and advice: none" + (" beyond the facts above" if told else ""))
     budget = NOTE_LINES
     for k, (text, kind, colour) in enumerate(notes):
         lines = textwrap.wrap(text, 112)
@@ -300,7 +401,5 @@ def _force_thumbnail(ax, data: ReportData) -> None:
     ax.set_xlabel("cam angle \u03b8 (deg)", fontsize=7)
     ax.set_ylabel("force (N)", fontsize=7)
     ax.tick_params(labelsize=6.5)
-    ax.legend(loc="upper right", fontsize=6.5, ncol=4)
-    lo, hi = ax.get_ylim()
-    ax.set_ylim(lo, hi + 0.2 * (hi - lo))
+    legend_above_data(ax, fontsize=6.5, ncol=4)
 

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import textwrap
 
 import numpy as np
@@ -22,9 +23,10 @@ def draw_svaj(fig, data: ReportData) -> None:
         rows = [0, 2, 3, 4]
     axes = [fig.add_subplot(gs[rows[0]])]
     axes += [fig.add_subplot(gs[i], sharex=axes[0]) for i in rows[1:]]
-    plot_svaj(axes, data.review.motion, speed_rpm=data.check.speed_rpm, headroom=2.2 if segs else 1.0)
+    samples = dataclasses.replace(data.review.motion, breaks_deg=data.breaks_deg)  # dotted: segment boundaries only
+    plot_svaj(axes, samples, speed_rpm=data.check.speed_rpm, headroom=2.2 if segs else 1.0)
     if fit is not None:
-        plot_fit(axes[0], fig.add_subplot(gs[1], sharex=axes[0]), fit)
+        plot_fit(axes[0], fig.add_subplot(gs[1], sharex=axes[0]), fit, data.case.contour)
     _segment_laws(axes[0], segs)
     compact = _mark_jumps(axes, data)
     _note(fig, data, compact)
@@ -80,7 +82,7 @@ def _note(fig, data: ReportData, compact: bool) -> None:
     jumps = data.jumps
     names = svaj_quantities(data.case.motion.unit)
     what = "segment boundaries" if getattr(data.case.motion, "segments", ()) else "breaks of the path's curvature"
-    if data.case.motion.breaks_deg:
+    if data.breaks_deg:
         note = f"Dotted: {what}."
     else:
         note = "No segment boundaries: the motion is smooth all round."
@@ -92,11 +94,16 @@ def _note(fig, data: ReportData, compact: bool) -> None:
                 listed = [f"{d:.1f}\u00b0 {j:+.3g}" for d, o, j in jumps if o == order]
                 if listed:
                     note += f" {what} jumps ({names[order][1]}): " + ", ".join(listed) + "."
-    elif data.case.motion.breaks_deg:
+    elif data.breaks_deg:
         note += f" Velocity and acceleration are continuous at every one of the {what}."
     if data.case.fit is not None:
         j = data.case.fit.json()
-        note += f" Red dots: the {data.case.fit.source}'s points; the curves are its fit ({j['method']})."
+        if data.case.contour is not None:
+            c = data.case.contour.json()
+            note += (f" Red dots: the lift at exact contact with the outline fitted to the {c['points']} points of "
+                     f"{data.case.contour.file}; the curves are its fit ({j['method']}). The residual panel is the outline's (radial, against polar angle).")
+        else:
+            note += f" Red dots: the {data.case.fit.source}'s points; the curves are its fit ({j['method']})."
     if data.oscillating:
         note += " The swing is in degrees per radian of cam angle."
     fig.text(0.06, 0.068, "\n".join(textwrap.wrap(note, 128)[:4]), size=7.3, color=C["grey"], va="top", linespacing=1.25)

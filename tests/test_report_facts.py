@@ -1,0 +1,264 @@
+"""The report never contradicts itself (issue 21, section 3): flights and impacts counted from the force, the
+shading exactly where the force is zero, page 1's decision-changing facts, jumps only above rounding, the
+title block's hash, the flat face where its check puts it, legends clear of the curves."""
+
+import dataclasses
+import hashlib
+import math
+import tomllib
+from pathlib import Path
+
+import matplotlib
+import numpy as np
+import pytest
+from matplotlib.figure import Figure
+
+from camdyn.design.checks import run_check
+from camdyn.design.review import Review, _margin_response, _or_reason, sample_motion
+from camdyn.design.spring import design_case_spring
+from camdyn.design.tolerance import tolerance_study
+from camdyn.export import FORMATS
+from camdyn.model.case import case_from_dict, load_case
+from camdyn.model.dynamics import Response
+from camdyn.plot import flight_spans, plot_contact_force, plot_follower
+from camdyn.report import A4, PAGES, STYLE, ReportData
+from camdyn.report.pages.dynamics import _force_panels
+from camdyn.report.pages.manufacturing import manufacturing_rows, segment_rows, title_block
+from camdyn.report._layout import header
+from camdyn.report.pages.summary import decision_facts, draw_summary, key_results
+
+CASES = Path(__file__).resolve().parents[1] / "cases"
+
+
+# ------------------------------------------------------------------------------ flights and impacts, synthetic
+def synthetic(force, model="compliant", period_deg=10.0) -> Response:
+    """A response on a 1 deg grid with the given interface force (N) and a flat cam."""
+    n = force.size
+    th = np.arange(n) * 360.0 / n
+    z = np.zeros(n)
+    return Response(model, 1.0, th, z, z + 0.1 * (force <= 0), z, force, force, (), 0.0, 0.0, contact_period_deg=period_deg)
+
+
+def test_flights_are_the_runs_of_zero_force_and_impacts_their_landings():
+    """Three spans of zero force (one wrapping through 0 deg) are three flights; each landing is an impact whose
+    peak is the largest force within half a contact period after it, not the cam's later force."""
+    f = np.full(360, 50.0)
+    f[100:120] = 0.0  # flight 1: 100..119 deg
+    f[120:125] = [300.0, 700.0, 400.0, 100.0, 60.0]  # its impact pulse, then the cam's force
+    f[130:140] = 900.0  # later than half a contact period (5 deg) after landing: not the impact
+    f[200:210] = 0.0  # flight 2, landing at 210 with a pulse of 250 N
+    f[210:213] = [120.0, 250.0, 80.0]
+    f[213:220] = 0.0  # flight 3 right after: the pulse between two flights is a whole impact
+    f[350:] = 0.0  # flight 4 wraps: 350..4 deg
+    f[:5] = 0.0
+    r = synthetic(f)
+    assert [(fl.leave_deg, fl.land_deg) for fl in r.flights] == [(100.0, 119.0), (200.0, 209.0), (213.0, 219.0), (350.0, 4.0)]
+    assert r.flights[-1].span_deg == pytest.approx(14.0)
+    assert [(i.deg, i.peak_force, i.peak_deg) for i in r.impacts] == [(120.0, 700.0, 121.0), (210.0, 250.0, 211.0), (220.0, 50.0, 220.0), (5.0, 50.0, 5.0)]
+    assert r.max_impact_force == 700.0
+    spans = flight_spans(r)
+    assert spans == [(100.0, 119.0), (200.0, 209.0), (213.0, 219.0), (350.0, 360.0), (0.0, 4.0)]
+    assert_shading_is_the_zero_force(r)
+
+
+def test_no_flight_no_impact_and_a_rigid_landing_is_an_impulse():
+    r = synthetic(np.full(360, 5.0))
+    assert r.flights == () and r.impacts == () and r.max_impact_force == 0.0
+    f = np.full(360, 5.0)
+    f[10:20] = 0.0
+    rigid = synthetic(f, model="rigid", period_deg=math.nan)
+    (imp,) = rigid.impacts
+    assert imp.deg == 20.0 and math.isnan(imp.peak_force) and math.isnan(rigid.max_impact_force)
+    never = synthetic(np.zeros(360))
+    assert len(never.flights) == 1 and never.impacts == ()
+
+
+def assert_shading_is_the_zero_force(resp) -> None:
+    """Every grid angle in a shaded span has zero force, and every angle of zero force is in a shaded span."""
+    th = resp.theta_deg
+    shaded = np.zeros(th.size, bool)
+    for a, b in flight_spans(resp):
+        shaded |= (th >= a - 1e-9) & (th <= b + 1e-9)
+    assert np.array_equal(shaded, resp.force <= 0.0)
+
+
+# ------------------------------------------------------------------------------------------ reviews, light
+def light_review(case, check, *, margin=False, tolerance_samples=0) -> Review:
+    """A review with what the tested facts need (the sizing and jump map left out: they are not facts here)."""
+    margin_rpm = case.limits.speed_margin * check.speed_rpm
+    resp = _margin_response(case, margin_rpm) if margin else "not computed"
+    tol = None
+    if case.spec.tolerances is not None:
+        tol = _or_reason(tolerance_study, case, tolerance_samples, 0)
+    return Review(case, check, sample_motion(case), margin_rpm, resp, None, "not sized", "no map", _or_reason(design_case_spring, case), None, tol)
+
+
+@pytest.fixture(scope="module")
+def fast_review(lecture_fast_case):
+    return light_review(lecture_fast_case, run_check(lecture_fast_case), margin=True)
+
+
+@pytest.mark.slow
+def test_lecture_fast_page_one_counts_the_flights_and_impacts_of_the_plot(fast_review):
+    """lecture-fast at 600 rpm leaves the cam 8 times (the 2 bouncing separations hold 6 impacts between flights)
+    and lands 8 times, hardest at about 544 N; page 1, the JSON and the plots all say so; the shading is exactly
+    where the force is zero, at 600 and at 750 rpm (3 flights, 3 impacts up to about 1530 N)."""
+    chk = fast_review.check
+    resp, doc = chk.response, chk.json()["dynamic"]
+    assert len(resp.separations) == 2 and len(doc["separations"]) == 2  # the contract's separations stay
+    assert len(resp.flights) == len(doc["flights"]) == 8 and len(resp.impacts) == len(doc["impacts"]) == 8
+    assert doc["max_impact_force_N"] == pytest.approx(resp.max_impact_force) == pytest.approx(544.0, rel=0.02)
+    for fl, js in zip(resp.flights, doc["flights"]):
+        assert (js["leave_deg"], js["land_deg"]) == (fl.leave_deg, fl.land_deg)
+        inside = np.isin(np.round(resp.theta_deg, 6), np.round(np.arange(fl.leave_deg, fl.leave_deg + fl.span_deg + 0.05, 0.1) % 360.0, 6))
+        assert np.all(resp.force[inside] == 0.0)
+    assert_shading_is_the_zero_force(resp)
+    assert_shading_is_the_zero_force(fast_review.margin_response)
+    m = fast_review.margin_response
+    assert len(m.flights) == 3 and len(m.impacts) == 3 and m.max_impact_force == pytest.approx(1530.0, rel=0.03)
+    rows = dict(key_results(ReportData(fast_review)))
+    assert rows["flights (force 0)"].startswith("8, first at 24.8\u00b0")
+    assert rows["impacts"] == f"8, largest {resp.max_impact_force:.4g} N at {max(resp.impacts, key=lambda i: i.peak_force).peak_deg:.1f}\u00b0"
+    facts = decision_facts(ReportData(fast_review))
+    assert any(f.startswith("the follower leaves the cam: 8 flights") and f"up to {resp.max_impact_force:.4g} N" in f for f in facts)
+    with matplotlib.rc_context(STYLE):
+        fig = Figure(figsize=A4)
+        ax = fig.add_subplot()
+        plot_contact_force(ax, m)
+        labels = [t.get_text() for t in ax.get_legend().get_texts()]
+    assert "leaves the cam (3 flights)" in labels and any(t.startswith(f"impact (3), largest {m.max_impact_force:.4g} N") for t in labels)
+    assert not ax.texts  # nothing written over the curve
+    assert_legend_clear(ax)
+
+
+def assert_legend_clear(ax) -> None:
+    """No point of a data curve lies under the axes' legend."""
+    fig = ax.figure
+    renderer = fig._get_renderer()
+    box = ax.get_legend().get_window_extent(renderer)
+    for line in ax.lines:
+        if line.get_transform() != ax.transData:
+            continue
+        xy = ax.transData.transform(np.column_stack([np.asarray(line.get_xdata(), float), np.asarray(line.get_ydata(), float)]))
+        inside = (xy[:, 0] > box.x0) & (xy[:, 0] < box.x1) & (xy[:, 1] > box.y0) & (xy[:, 1] < box.y1)
+        assert not inside.any(), f"{line.get_label()} under the legend of {ax.get_title()!r}"
+
+
+@pytest.mark.slow
+def test_square_page_one_says_its_spring_cannot_be_built(path_synthesis):
+    """square passes its checks, but its own spring cannot be built (page 6): page 1 says so."""
+    case = load_case(CASES / "square.toml")
+    review = light_review(case, run_check(case))
+    assert isinstance(review.spring_part, str)
+    facts = decision_facts(ReportData(review))
+    assert any(f.startswith("the return spring cannot be built") and review.spring_part in f for f in facts)
+    data = ReportData(review)
+    rows = segment_rows(data)  # a path: a row per stretch between breaks, its jumps the facts' jumps
+    assert len(rows) == len(data.breaks_deg) and {round(r["end_deg"] % 360.0, 6) for r in rows if r["continuity"] != "C2"} == {round(d, 6) for d, _, _ in data.jumps}
+    assert data.jumps and any(f.startswith(f"acceleration jumps at {len({d for d, o, _ in data.jumps if o == 2})} boundar") for f in facts)
+    assert any("at limit" in f for f in facts) == any(c.name == "curvature" and abs(c.value / c.limit - 1) <= 0.02 for c in review.check.checks)
+
+
+@pytest.mark.slow
+def test_lecture_tolerances_page_one_carries_p_separation():
+    case = load_case(CASES / "lecture-tolerances.toml")
+    review = light_review(case, run_check(case), tolerance_samples=64)
+    tol = review.tolerance
+    facts = decision_facts(ReportData(review))
+    assert any(f.startswith(f"tolerances: P(separation) at {tol.speed_rpm:g} rpm = {tol.probability:.3g}") for f in facts)
+
+
+@pytest.mark.slow
+def test_rounding_is_not_a_jump_and_knots_are_not_boundaries():
+    """lecture-optimized's B-splines end with accelerations of about 1e-6 mm/rad^2: not a jump, on page 1 or 2
+    or in the check's warnings; its dotted boundaries are the segments' (not the knots'). The lecture's real
+    jumps (22.5 mm/rad^2) stay flagged."""
+    opt = load_case(CASES / "lecture-optimized.toml")
+    assert len(opt.motion.breaks_deg) > 4  # the knots are breaks for the integrators
+    assert not [w for w in opt.motion.continuity_warnings() if "jumps" in w]
+    data = ReportData(light_review(opt, run_check(opt)))
+    assert data.breaks_deg == (0.0, 90.0, 180.0, 240.0) and data.jumps == []
+    assert not [f for f in decision_facts(data) if "jumps" in f]
+    lecture = load_case(CASES / "lecture.toml")
+    assert len([w for w in lecture.motion.continuity_warnings() if "acceleration jumps by -22.5" in w]) == 2
+
+
+@pytest.mark.slow
+def test_title_block_manufacturing_and_segments(lecture_case, lecture_check):
+    """The title block's SHA-256 is hashlib's of the file; the segment table has the laws' peaks (cycloidal rise
+    of 20 mm over 90 deg: v = 2h/beta at its middle, a = 2 pi h / beta^2 at a quarter; harmonic return over
+    120 deg: a = h/2 (pi/beta)^2 at its ends, a jump there); the file formats are camdyn profile's."""
+    data = ReportData(light_review(lecture_case, lecture_check))
+    block = dict(title_block(data))
+    assert block["SHA-256"] == hashlib.sha256((CASES / "lecture.toml").read_bytes()).hexdigest() == data.case_sha256
+    assert block["case file"] == "lecture.toml" and block["verdict"] == "PASS at 300 rpm"
+    rows = segment_rows(data)
+    assert [r["law"] for r in rows] == ["dwell", "cycloidal", "dwell", "harmonic"]
+    rise, ret = rows[1], rows[3]
+    beta = math.pi / 2
+    assert rise["v"] == pytest.approx(2 * 20 / beta, rel=1e-6) and rise["v_deg"] == pytest.approx(135.0, abs=0.25)
+    assert rise["a"] == pytest.approx(2 * math.pi * 20 / beta**2, rel=1e-6) and rise["a_deg"] == pytest.approx(112.5, abs=0.25)
+    assert abs(ret["a"]) == pytest.approx(10 * (math.pi / (2 * math.pi / 3)) ** 2, rel=1e-6)
+    assert [r["continuity"] for r in rows] == ["C2", "C2", "acceleration jumps", "acceleration jumps"]
+    assert math.isnan(rows[0]["v_deg"])  # a dwell has no peak anywhere
+    made = dict(manufacturing_rows(data))
+    assert made["file formats"].startswith(", ".join(s.lstrip(".").upper() for s in FORMATS))
+    assert made["prime radius"].startswith("50.0000 mm") and made["base radius"].startswith("40.0000 mm")
+    assert "manufacturing" in [p.slug for p in PAGES]
+
+
+@pytest.mark.slow
+def test_flat_face_drawn_where_the_face_width_check_puts_it(lecture_case):
+    """The face is drawn face_width long, centred on the middle of the contact's travel: both extreme contacts
+    lie on it, at the distances from its ends that the check's margin gives."""
+    raw = tomllib.loads((CASES / "lecture.toml").read_text())
+    raw["follower"] = {"type": "translating-flat", "base_radius": 40.0, "offset": 5.0, "face_width": 44.0, "rotation": "cw"}
+    geo = run_check(case_from_dict(raw)).geometry
+    lo, hi = geo.face_range_mm
+    c = geo.face_centre_mm
+    assert c == pytest.approx(0.5 * (lo + hi)) and hi - lo <= 44.0
+    fig = Figure()
+    ax = fig.add_subplot()
+    for t, th in ((lo, 300.0), (hi, 135.0)):
+        ax.clear()
+        at = plot_follower(ax, geo, th, colour="k", stem=False)
+        (line,) = ax.lines
+        a, b = np.column_stack([line.get_xdata(), line.get_ydata()])
+        assert np.linalg.norm(b - a) == pytest.approx(44.0, rel=1e-9)
+        d = sorted([np.linalg.norm(at["contact"] - a), np.linalg.norm(at["contact"] - b)])
+        assert d == pytest.approx(sorted([t - (c - 22.0), (c + 22.0) - t]), abs=1e-6)
+
+
+@pytest.mark.slow
+def test_dynamics_page_force_panels_legends_cover_no_curve(fast_review):
+    """Page 4 of lecture-fast: both force panels on one scale, each legend clear of every curve (the marks'
+    labels are in the legends, nothing is written over the curves)."""
+    with matplotlib.rc_context(STYLE):
+        fig = Figure(figsize=A4)
+        ax_f, ax_m = fig.subplots(2, 1)
+        _force_panels(ax_f, ax_m, ReportData(fast_review))
+    assert ax_f.get_ylim() == ax_m.get_ylim()
+    for ax in (ax_f, ax_m):
+        assert_legend_clear(ax)
+        assert not ax.texts
+
+
+@pytest.mark.slow
+def test_verdict_on_every_page_and_page_one_says_what_it_did_not_evaluate(fast_review):
+    """The header of every page carries the verdict and the case file's hash; page 1 says the contact stress is
+    not evaluated (no width) and lists the decision-changing facts."""
+    data = ReportData(fast_review)
+    with matplotlib.rc_context(STYLE):
+        for k, page in enumerate(PAGES[:3], start=1):
+            fig = Figure(figsize=A4)
+            header(fig, data, page.title, k, 3)
+            texts = [t.get_text() for t in fig.texts]
+            assert "FAIL" in texts and any(f"sha256 {data.case_sha256[:12]}" in t for t in texts)
+        fig = Figure(figsize=A4)
+        draw_summary(fig, data)
+    for ax in fig.axes:  # the force at a glance: its legend clear of the impacts' spikes
+        if ax.get_legend() is not None:
+            assert_legend_clear(ax)
+    text = "\n".join(t.get_text() for t in fig.texts)
+    assert "not evaluated: the case gives no contact width" in text and "Decision-changing facts" in text
+    assert "the follower leaves the cam: 8 flights" in text
