@@ -83,16 +83,17 @@ def _holds(sz: SpringSizing, d) -> bool:
 
 
 def _springs_compared(flow: Flow, sz: SpringSizing) -> None:
-    """A table: the chosen spring, the kinematic LP answer (compliant train), the current design and the current
+    """A table: the chosen spring (or plain size's bound), the kinematic LP answer (compliant train), the current design and the current
     rate with its least preload; their forces and jump speeds, and whether each holds."""
     u = {k: pretty_unit(v) for k, v in sz.units.items()}
     force, k_sym, f_sym = _symbols(sz)
     flow.heading("Springs compared")
-    designs = [("chosen", sz.chosen)] + ([("kinematic LP\nanswer", sz.kinematic)] if sz.model == "compliant" else [])
+    answer = "chosen" if sz.part is not None else "bound\n(not a part)"  # plain size: the least peak force, no spring
+    designs = [(answer, sz.chosen)] + ([("kinematic LP\nanswer", sz.kinematic)] if sz.model == "compliant" else [])
     designs += [("current\ndesign", sz.current), ("current rate,\nleast preload", sz.at_current_rate)]
     xs = [0.52, 0.67, 0.82, 0.97] if len(designs) == 4 else [0.57, 0.77, 0.97]
     head = [(0.0, f"forces over every angle and\nevery speed up to {sz.top_speed_rpm:.4g} rpm", {"color": C["grey"], "linespacing": 1.3})]
-    head += [(x, name, {"weight": "bold", "ha": "right", "linespacing": 1.3, "color": C["ok"] if name == "chosen" else C["grey"]}) for x, (name, _) in zip(xs, designs)]
+    head += [(x, name, {"weight": "bold", "ha": "right", "linespacing": 1.3, "color": C["ok"] if name == answer else C["grey"]}) for x, (name, _) in zip(xs, designs)]
     flow.row(head, size=8.2)
     flow.y -= flow.h(8.2) * 1.05
     holds = [_holds(sz, d) for _, d in designs]
