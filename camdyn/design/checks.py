@@ -129,7 +129,7 @@ def jump_speeds(case: Case, omega: float, margin: float) -> tuple[float, float, 
     """(kinematic jump speed rad/s, where deg, dynamic jump speed rad/s, the top of its search rad/s) of a case
     whose spring is resolved (:func:`camdyn.design.parts.resolve_spring`): the dynamic one with its spring model."""
     w_kin, at_kin = dyn.kinematic_jump_speed(case.motion, case.model)
-    w_max = 4.0 * max(margin * omega, w_kin if math.isfinite(w_kin) else 0.0)
+    w_max = dyn.jump_search_limit(margin * omega, w_kin)
     return w_kin, at_kin, case.spring.jump_speed(case.motion, w_max=w_max), w_max
 
 
@@ -172,7 +172,6 @@ def run_check(case: Case, speed_rpm: float | None = None) -> CheckReport:
         checks_train = ()
     kin_force = resp.kinematic_force
     i_kin = int(kin_force.argmin())
-    unit = motion.unit
     checks = (
         Check(CheckKind.CONTACT_FORCE.value, float(resp.min_force), float(limits.min_contact_force), "N", ">"),
         speed_margin_check(w_dyn, omega, limits.speed_margin),

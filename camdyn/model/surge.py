@@ -33,7 +33,7 @@ import numpy as np
 
 from .._core.errors import InputError, NumericalError
 from .._core.units import FFT_GRID, RPM, TWO_PI
-from .dynamics import dynamic_jump_speed
+from .dynamics import dynamic_jump_speed, first_zero_speed
 from .follower import FollowerModel, with_spring_mass
 from .motion import Motion, evaluate
 
@@ -114,18 +114,8 @@ def chain_min_force(motion, model, spring_mass, omegas, *, n: int = FFT_GRID, **
 def chain_jump_speed(motion: Motion, model: FollowerModel, spring_mass: float, *, w_max: float, grid: int = 400, tol_rpm: float = 0.1, **kw) -> float:
     """Least cam speed (rad/s) at which the chain's steady-state least interface force reaches 0 (inf if none
     up to ``w_max``): a scan over ``grid`` speeds, then bisection of the first sign change."""
-    speeds = np.linspace(w_max / grid, w_max, grid)
-    fmin = chain_min_force(motion, model, spring_mass, speeds, **kw)
-    if not np.all(np.isfinite(fmin)):
-        raise NumericalError("surge model", "the steady-state force is not finite")
-    hit = np.nonzero(fmin <= 0.0)[0]
-    if hit.size == 0:
-        return math.inf
-    lo, hi = (speeds[hit[0] - 1] if hit[0] > 0 else 0.0), speeds[hit[0]]
-    while (hi - lo) / RPM > tol_rpm:
-        mid = 0.5 * (lo + hi)
-        lo, hi = (mid, hi) if chain_min_force(motion, model, spring_mass, mid, **kw)[0] > 0 else (lo, mid)
-    return float(0.5 * (lo + hi))
+    least = lambda ws: chain_min_force(motion, model, spring_mass, ws, **kw)  # noqa: E731
+    return first_zero_speed(least, w_max, grid=grid, width_rpm=tol_rpm, points=1, where="surge model")
 
 
 def _field(t, y, args):

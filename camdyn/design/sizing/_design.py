@@ -39,7 +39,7 @@ def design(p: Problem, grid: Grid, dynamic: Dynamic | None, k, f0) -> SpringDesi
         lo, hi, w_dyn = kin_lo, kin_hi, w_kin
     else:
         lo, hi, _ = dynamic.verify(k, f0)
-        w_max = 4.0 * max(p.W, w_kin if math.isfinite(w_kin) else 0.0)
+        w_max = dyn.jump_search_limit(p.W, w_kin)
         w_dyn = dyn.dynamic_jump_speed(p.motion, model, w_max=w_max) if holds_at_rest else 0.0
     return SpringDesign(
         rate=rate_from_si(k, p.osc),

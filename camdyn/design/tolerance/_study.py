@@ -43,7 +43,7 @@ def _search_limit(case) -> float:
     """The jump-speed search limit, rad/s: ``camdyn check``'s, 4x beyond the margin (or the kinematic jump)."""
     omega = case.speed_rpm * RPM
     w_kin, _ = dyn.kinematic_jump_speed(case.motion, case.model)
-    return 4.0 * max(case.limits.speed_margin * omega, w_kin if math.isfinite(w_kin) else 0.0)
+    return dyn.jump_search_limit(case.limits.speed_margin * omega, w_kin)
 
 
 def _to_si(case, vals: dict[str, np.ndarray]) -> list[np.ndarray]:

@@ -7,7 +7,7 @@ import math
 import numpy as np
 
 from ..._core.errors import NumericalError
-from ..._core.units import RPM, THETA_GRID
+from ..._core.units import JUMP_SEARCH_FACTOR, RPM, THETA_GRID
 from ..follower import FollowerModel
 from ..motion import Motion
 from ._compliant import compliant_response
@@ -32,20 +32,34 @@ def dynamic_jump_speed(motion: Motion, model: FollowerModel, *, w_max: float, to
     """
     if model.rigid:
         return kinematic_jump_speed(motion, model)[0]
+    least = lambda ws: np.asarray(linear_min_force(motion, model, ws))  # noqa: E731
+    return first_zero_speed(least, w_max, grid=grid, width_rpm=tol_rpm / 10, points=16, where="jump-speed search")
+
+
+def first_zero_speed(least_force, w_max: float, *, grid: int, width_rpm: float, points: int, where: str) -> float:
+    """The jump-speed search, for every steady-state model: the least speed (rad/s) in (0, ``w_max``] at which
+    ``least_force(omegas)`` (the least interface force at each speed, an array) reaches 0, inf if none. A scan
+    of ``grid`` speeds, then ``points`` speeds at a time (1: bisection) into the first sign change until it is
+    ``width_rpm`` wide; ``where`` names the model in a numerical error."""
     speeds = np.linspace(w_max / grid, w_max, grid)
-    fmin = np.asarray(linear_min_force(motion, model, speeds))
+    fmin = least_force(speeds)
     if not np.all(np.isfinite(fmin)):
         bad = speeds[~np.isfinite(fmin)][0]
-        raise NumericalError(f"jump-speed search at {bad / RPM:.1f} rpm", "the steady-state force is not finite")
+        raise NumericalError(f"{where} at {bad / RPM:.1f} rpm", "the steady-state force is not finite")
     hit = np.nonzero(fmin <= 0.0)[0]
     if hit.size == 0:
         return math.inf
     i = int(hit[0])
     lo, hi = (speeds[i - 1] if i > 0 else 0.0), speeds[i]
-    while (hi - lo) / RPM > tol_rpm / 10:
-        ws = np.linspace(lo, hi, 18)[1:-1]
-        f = np.asarray(linear_min_force(motion, model, ws))
-        below = np.nonzero(f <= 0.0)[0]
+    while (hi - lo) / RPM > width_rpm:
+        ws = np.linspace(lo, hi, points + 2)[1:-1]
+        below = np.nonzero(least_force(ws) <= 0.0)[0]
         j = int(below[0]) if below.size else len(ws)
         lo, hi = (ws[j - 1] if j > 0 else lo), (ws[j] if j < len(ws) else hi)
     return float(0.5 * (lo + hi))
+
+
+def jump_search_limit(top_omega: float, kinematic_jump: float) -> float:
+    """The top of every dynamic jump-speed search (rad/s): ``JUMP_SEARCH_FACTOR`` times the higher of the
+    fastest speed a verdict needs (margin x speed) and the kinematic jump speed, so the first crossing lies inside."""
+    return JUMP_SEARCH_FACTOR * max(top_omega, kinematic_jump if math.isfinite(kinematic_jump) else 0.0)

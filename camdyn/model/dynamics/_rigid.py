@@ -15,7 +15,7 @@ import optimistix as optx
 from scipy.optimize import brentq
 
 from ..._core.errors import NumericalError
-from ..._core.units import RPM, THETA_GRID, TWO_PI
+from ..._core.units import THETA_GRID, TWO_PI
 from ..follower import FollowerModel
 from ..motion import Motion, evaluate
 from ._compliant import _ATOL, _MAX_STEPS, _RTOL, vector_field
