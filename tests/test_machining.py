@@ -298,3 +298,53 @@ def test_outline_in_inches_is_the_mm_outline_over_25_4(capsys, tmp_path, suffix)
         assert 'width="' in inch.read_text() and 'in" height' in inch.read_text()
         a, b = (np.array(re.search(r'points="([^"]+)"', p.read_text()).group(1).replace(",", " ").split(), float) for p in (mm, inch))
     np.testing.assert_allclose(b * 25.4, a, atol=2e-4)
+
+
+def _ecam(capsys, tmp_path, src: Path, n: int):
+    out = tmp_path / f"ecam-{n}.csv"
+    code, _, err = run(capsys, "table", src, "--ecam", n, "-o", out)
+    assert code == 0, err
+    lines = out.read_text().splitlines()
+    assert lines[0].startswith("# ") and "per master degree" in lines[0]
+    assert lines[1] == "master_deg,position,velocity,acceleration"
+    return lines[0], np.loadtxt(out, delimiter=",", skiprows=2).T
+
+
+@pytest.mark.parametrize("name, unit", [("lecture.toml", "mm"), ("oscillating.toml", "deg")])
+def test_ecam_velocity_and_acceleration_are_the_derivatives_of_position(capsys, tmp_path, name, unit):
+    header, (m, s, v, a) = _ecam(capsys, tmp_path, CASES / name, 7200)
+    assert f"position {unit}; velocity {unit}/deg; acceleration {unit}/deg^2" in header.split(": ", 1)[1]
+    np.testing.assert_allclose(m, np.arange(7200) * 0.05)
+    h = 0.05  # deg: periodic central differences, error h^2 / 6 times the next derivative
+    dv = (np.roll(s, -1) - np.roll(s, 1)) / (2 * h)
+    da = (np.roll(v, -1) - np.roll(v, 1)) / (2 * h)
+    case, _ = _geometry(CASES / name)  # a difference across a segment's end sees the jump in the law's next derivative
+    breaks = np.asarray(case.motion.breaks_deg, float)
+    smooth = np.min(np.abs((m[:, None] - breaks[None] + 180.0) % 360.0 - 180.0), axis=1) > 1.5 * h
+    assert smooth.sum() > 7000
+    assert np.max(np.abs(dv - v)[smooth]) <= 1e-5 * np.max(np.abs(v))
+    assert np.max(np.abs(da - a)[smooth]) <= 1e-4 * np.max(np.abs(a))
+    assert np.max(np.abs(dv - v)) <= 5e-4 * np.max(np.abs(v))  # at a break too: velocity is continuous
+
+
+@pytest.mark.parametrize("name", ["lecture.toml", "oscillating.toml"])
+def test_ecam_equals_the_tables_columns_per_master_degree(capsys, tmp_path, name):
+    _, (m, s, v, a) = _ecam(capsys, tmp_path, CASES / name, 360)
+    code, out, err = run(capsys, "table", CASES / name, "--step", 1)
+    assert code == 0, err
+    rows = list(csv.DictReader(out.splitlines()))
+    col = lambda k: np.array([float(r[k]) for r in rows])  # noqa: E731
+    np.testing.assert_allclose(col("theta_deg"), m)
+    per_deg = math.pi / 180
+    if "s_mm" in rows[0]:
+        ts, tv, ta = col("s_mm"), col("v_mm_per_rad") * per_deg, col("a_mm_per_rad2") * per_deg**2
+    else:  # oscillating: deg, rad/rad = deg/deg, rad/rad^2 -> deg/deg^2
+        ts, tv, ta = col("phi_deg"), col("phi1_per_rad"), col("phi2_per_rad2") * per_deg
+    np.testing.assert_allclose(s, ts, rtol=1e-8, atol=1e-9)
+    np.testing.assert_allclose(v, tv, rtol=1e-8, atol=1e-12)
+    np.testing.assert_allclose(a, ta, rtol=1e-8, atol=1e-12)
+
+
+def test_ecam_bad_count_is_one_line(capsys, tmp_path):
+    code, _, err = run(capsys, "table", CASES / "lecture.toml", "--ecam", 1)
+    assert code == 2 and "--ecam" in err and err.count("\n") == 1
