@@ -68,6 +68,8 @@ def run(args) -> int:
         from ..export import solid  # the optional extra: say how to get it before any work
 
         solid.require_cad()
+        if args.keyway:
+            solid.parse_keyway(args.keyway)  # a typo is refused before the model is built
     grind = args.grinder_wheel_radius is not None or args.follower_lift
     if suffix in (".nc", ".step", ".stl") or grind:  # checked before the work (write_profile checks its own)
         output_file(out, args.force, "profile")

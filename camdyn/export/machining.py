@@ -64,7 +64,7 @@ def check_tool_fits(theta_deg: np.ndarray, rho_contour_mm: np.ndarray, radius_mm
     )
 
 
-def _segment_distance(pts: np.ndarray, poly: np.ndarray) -> np.ndarray:
+def segment_distance(pts: np.ndarray, poly: np.ndarray) -> np.ndarray:
     """Distance of points (m, 2) from the closed polyline (k, 2), exact over the chords next to the nearest
     ``_NEAR`` vertices (a KD-tree finds them)."""
     from scipy.spatial import cKDTree
@@ -214,7 +214,7 @@ def cutter_path(contour: Curve, offset: Callable[[float], Curve], cutter_radius_
     moves = fit_arcs(P, dev) if arcs else [Move(p.copy()) for p in np.concatenate([P[1:], P[:1]])]
     path = CutterPath(P[0].copy(), tuple(moves), math.nan, math.nan)
     outline = resample(contour, tolerance_mm / 100).T
-    d = _segment_distance(path.points(), outline)
+    d = segment_distance(path.points(), outline)
     lo, hi = float(d.min()), float(d.max())
     slack = tolerance_mm / 100 + 1e-9  # the dense outline's own chords
     if lo < cutter_radius_mm - slack or hi > cutter_radius_mm + tolerance_mm + slack:
