@@ -61,6 +61,8 @@ def _option_errors(args, suffix: str) -> None:
 def run(args) -> int:
     out = Path(args.output)
     suffix = out.suffix.lower()
+    if out.is_dir():
+        raise InputError(str(out), f"is a folder: give a file name ({', '.join('cam' + f for f in FORMATS)})")
     if suffix not in FORMATS:
         raise InputError(str(out), f"unknown format {suffix or '(no suffix)'!r}: use one of {', '.join(FORMATS)}")
     _option_errors(args, suffix)
