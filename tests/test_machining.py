@@ -21,7 +21,7 @@ from camdyn.model.geometry import analyze
 from camdyn.model.motion import evaluate
 from camdyn.schema import load_case_spec
 
-from _helpers import run
+from _helpers import distance_to_outline, run
 
 CASES = Path(__file__).parent.parent / "cases"
 
@@ -87,19 +87,6 @@ def _geometry(path: Path):
     return case, analyze(case.motion, case.follower)
 
 
-def _distance(pts: np.ndarray, poly: np.ndarray) -> np.ndarray:
-    """Exact distance of points (m, 2) from the closed polyline (k, 2): every chord, in blocks."""
-    a, b = poly, np.roll(poly, -1, axis=0)
-    d = b - a
-    L2 = np.sum(d * d, 1)
-    out = np.empty(len(pts))
-    for i in range(0, len(pts), 256):
-        p = pts[i : i + 256, None, :]
-        w = np.clip(np.sum((p - a) * d, -1) / L2, 0.0, 1.0)
-        out[i : i + 256] = np.min(np.linalg.norm(p - a - w[..., None] * d, axis=-1), axis=1)
-    return out
-
-
 def _dense_outline(geo, n: int = 40_000) -> np.ndarray:
     return geo.contour_fn()(np.arange(n) / n).T
 
@@ -131,6 +118,7 @@ def _gcode_points(text: str, scale: float = 1.0) -> tuple[np.ndarray, int]:
     return np.concatenate(pts[1:-1]), arcs
 
 
+@pytest.mark.slow  # each follower type's geometry compiles once
 @pytest.mark.parametrize("name", ["lecture.toml", "oscillating.toml", "valve-lift.toml", "osc-flat"])
 @pytest.mark.parametrize("arcs", [False, True])
 def test_cutter_centre_stays_at_the_cutter_radius_and_never_gouges(capsys, tmp_path, name, arcs):
@@ -142,12 +130,12 @@ def test_cutter_centre_stays_at_the_cutter_radius_and_never_gouges(capsys, tmp_p
     assert code == 0, err
     text = out.read_text()
     pts, n_arcs = _gcode_points(text)
-    d = _distance(pts, _dense_outline(geo))
+    d = distance_to_outline(pts, _dense_outline(geo))
     sag = 1e-5  # the dense outline's own chords (40 000 of them) lie inside the convex contour by at most this
     assert d.min() >= rc - sag, f"gouge: {rc - d.min():.2e} mm"
     assert d.max() <= rc + tol + sag
     # all round: every point of the outline has the path within the cutter radius (and the tolerance) of it
-    assert _distance(_dense_outline(geo, 2000), pts).max() <= rc + tol + sag
+    assert distance_to_outline(_dense_outline(geo, 2000), pts).max() <= rc + tol + sag
     assert (n_arcs > 0) == arcs
     head = text.splitlines()[:12]
     assert re.search(r"sha256 [0-9a-f]{64}", "\n".join(head))
@@ -184,6 +172,7 @@ def test_climb_runs_clockwise_conventional_counterclockwise(capsys, tmp_path):
     assert area["--climb"] < 0 < area["--conventional"]
 
 
+@pytest.mark.slow
 def test_a_concave_stretch_tighter_than_the_cutter_is_refused(capsys, tmp_path):
     src = _case_file(tmp_path, "concave")
     _, geo = _geometry(src)
@@ -198,7 +187,7 @@ def test_a_concave_stretch_tighter_than_the_cutter_is_refused(capsys, tmp_path):
     out = tmp_path / "fits.nc"
     code, _, err = run(capsys, "profile", src, "-o", out, "--cutter-radius", fits * 0.98)
     assert code == 0, err
-    d = _distance(_gcode_points(out.read_text())[0], _dense_outline(geo))
+    d = distance_to_outline(_gcode_points(out.read_text())[0], _dense_outline(geo))
     assert d.min() >= fits * 0.98 - 1e-5
 
 

@@ -14,24 +14,13 @@ from scipy.spatial import cKDTree
 import camdyn.model  # noqa: F401  (float64)
 from camdyn.export.solid import parse_keyway, removed_area_mm2
 
-from _helpers import run
+from _helpers import distance_to_outline, run
 
 CASES = Path(__file__).parent.parent / "cases"
 
 
 def _polygon_area(xy: np.ndarray) -> float:
     return 0.5 * abs(float(np.sum(xy[:, 0] * np.roll(xy[:, 1], -1) - np.roll(xy[:, 0], -1) * xy[:, 1])))
-
-
-def _distance(pts: np.ndarray, poly: np.ndarray) -> np.ndarray:
-    a, b = poly, np.roll(poly, -1, axis=0)
-    d = b - a
-    out = np.empty(len(pts))
-    for i in range(0, len(pts), 256):
-        p = pts[i : i + 256, None, :]
-        w = np.clip(np.sum((p - a) * d, -1) / np.sum(d * d, 1), 0.0, 1.0)
-        out[i : i + 256] = np.min(np.linalg.norm(p - a - w[..., None] * d, axis=-1), axis=1)
-    return out
 
 
 def _stl_volume(path: Path) -> float:
@@ -89,7 +78,7 @@ def test_step_volume_and_outline(capsys, tmp_path, name):
     assert len(bottom) >= len(on) // 3  # the outline at z = 0 (and again at z = t)
     # the spline lies on the exact contour (on which the CSV's vertices lie) within the tolerance: its distance from
     # the CSV polyline is at most the polyline's own chord sagitta plus that; every vertex is near the spline
-    assert _distance(bottom, outline).max() <= 2 * tol
+    assert distance_to_outline(bottom, outline).max() <= 2 * tol
     assert cKDTree(bottom).query(outline)[0].max() <= tol
 
 
