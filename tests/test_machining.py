@@ -14,14 +14,13 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from _helpers import distance_to_outline, run
 
 import camdyn.model  # noqa: F401  (float64)
 from camdyn.model.case import build_case
 from camdyn.model.geometry import analyze
 from camdyn.model.motion import evaluate
 from camdyn.schema import load_case_spec
-
-from _helpers import distance_to_outline, run
 
 CASES = Path(__file__).parent.parent / "cases"
 
@@ -322,7 +321,7 @@ def test_ecam_equals_the_tables_columns_per_master_degree(capsys, tmp_path, name
     code, out, err = run(capsys, "table", CASES / name, "--step", 1)
     assert code == 0, err
     rows = list(csv.DictReader(out.splitlines()))
-    col = lambda k: np.array([float(r[k]) for r in rows])  # noqa: E731
+    col = lambda k: np.array([float(r[k]) for r in rows])
     np.testing.assert_allclose(col("theta_deg"), m)
     per_deg = math.pi / 180
     if "s_mm" in rows[0]:

@@ -9,12 +9,11 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from _helpers import distance_to_outline, run
 from scipy.spatial import cKDTree
 
 import camdyn.model  # noqa: F401  (float64)
 from camdyn.export.solid import parse_keyway, removed_area_mm2
-
-from _helpers import distance_to_outline, run
 
 CASES = Path(__file__).parent.parent / "cases"
 

@@ -67,7 +67,8 @@ def run(args) -> int:
         raise InputError(str(out), f"unknown format {suffix or '(no suffix)'!r}: use one of {', '.join(FORMATS)}")
     _option_errors(args, suffix)
     if suffix in (".step", ".stl"):
-        from ..export import solid  # the optional extra: say how to get it before any work
+        # the optional extra: say how to get it before any work
+        from ..export import solid
 
         solid.require_cad()
         if args.keyway:
@@ -107,7 +108,13 @@ def _check_tool(geo, radius_mm: float, tol: float, tool: str) -> None:
 
 
 def _cutter_path(args, case, geo, out: Path) -> str:
-    from ..export.machining import DEFAULT_FEED_MM_PER_MIN, MIN_MACHINING_TOLERANCE_MM, cutter_path, gcode_text, sha256_of
+    from ..export.machining import (
+        DEFAULT_FEED_MM_PER_MIN,
+        MIN_MACHINING_TOLERANCE_MM,
+        cutter_path,
+        gcode_text,
+        sha256_of,
+    )
 
     tol, rc = args.tolerance, args.cutter_radius
     if tol < MIN_MACHINING_TOLERANCE_MM:
