@@ -31,7 +31,8 @@ def _option_errors(args, suffix: str) -> None:
     given = {
         "--cutter-radius": args.cutter_radius is not None, "--feed": args.feed is not None, "--arcs": args.arcs,
         "--climb/--conventional": args.conventional or args.climb, "--grinder-wheel-radius": grind,
-        "--follower-lift": args.follower_lift, "--step": args.step is not None, "--thickness": args.thickness is not None,
+        "--follower-lift": args.follower_lift, "--step": args.step is not None,
+        "--thickness": args.thickness is not None,
         "--bore": args.bore is not None, "--keyway": args.keyway is not None,
     }
     takes = {
@@ -49,7 +50,7 @@ def _option_errors(args, suffix: str) -> None:
     if suffix in (".step", ".stl") and args.thickness is None:
         raise InputError("--thickness", f"a solid ({suffix}) needs the plate's thickness, mm")
     if grind and args.follower_lift:
-        raise InputError("--follower-lift", "write the wheel-centre table and the lift table to two files, one at a time")
+        raise InputError("--follower-lift", "write the wheel-centre table and the lift table one at a time")
     if args.step is not None and not (grind or args.follower_lift):
         raise InputError("--step", "is the angle step of a grinder table (--grinder-wheel-radius or --follower-lift)")
     for flag, value in (("--cutter-radius", args.cutter_radius), ("--grinder-wheel-radius", args.grinder_wheel_radius),
@@ -80,7 +81,9 @@ def run(args) -> int:
     if case.follower is None:
         raise InputError("follower", "the case has no cam follower geometry")
     geo = analyze(case.motion, case.follower)
-    _, warnings, _ = judge_geometry(geo, case.motion, max_pressure_angle=case.limits.max_pressure_angle, min_curvature_ratio=case.limits.min_curvature_ratio)
+    lim = case.limits
+    _, warnings, _ = judge_geometry(geo, case.motion, max_pressure_angle=lim.max_pressure_angle,
+                                    min_curvature_ratio=lim.min_curvature_ratio)
     if suffix == ".nc":
         line = _cutter_path(args, case, geo, out)
     elif grind:
@@ -118,7 +121,8 @@ def _cutter_path(args, case, geo, out: Path) -> str:
 
     tol, rc = args.tolerance, args.cutter_radius
     if tol < MIN_MACHINING_TOLERANCE_MM:
-        raise InputError("--tolerance", f"a cutter path needs at least {MIN_MACHINING_TOLERANCE_MM:g} mm (a machine's resolution), got {tol:g} mm")
+        least = MIN_MACHINING_TOLERANCE_MM
+        raise InputError("--tolerance", f"a cutter path needs at least {least:g} mm (a machine's resolution), got {tol:g} mm")
     _check_tool(geo, rc, tol, "cutter")
     path = cutter_path(geo.contour_fn(), geo.offset_fn, rc, tol, climb=not args.conventional, arcs=args.arcs)
     feed = DEFAULT_FEED_MM_PER_MIN if args.feed is None else args.feed
@@ -128,8 +132,10 @@ def _cutter_path(args, case, geo, out: Path) -> str:
         f"case {Path(args.case).name} sha256 {sha256_of(args.case)}",
         f"cutter radius {rc:g} mm, diameter {2 * rc:g} mm; {sense} round the cam with a right-hand spindle M3",
         "tool-centre path: no cutter compensation G41/G42; XY in the cam frame, the cam axis at X0 Y0",
-        f"chord tolerance {tol:g} mm: the path lies {path.min_distance_mm:.4f}..{path.max_distance_mm:.4f} mm from the outline, never nearer than the cutter radius",
-        f"feed {feed:g} mm/min; Z0 the cutting depth, safe Z above the part; spindle, coolant and work offset are the operator's",
+        f"chord tolerance {tol:g} mm: the path lies {path.min_distance_mm:.4f}..{path.max_distance_mm:.4f} mm from "
+        + "the outline, never nearer than the cutter radius",
+        f"feed {feed:g} mm/min; Z0 the cutting depth, safe Z above the part; spindle, coolant and work offset are "
+        + "the operator's",
         f"units {'mm G21' if args.units == 'mm' else 'inch G20'}",
     ]
     write_new(out, gcode_text(path, header=header, feed_mm_per_min=feed, units=args.units), args.force)
@@ -154,12 +160,16 @@ def _grinder(args, case, geo, out: Path) -> str:
     else:
         rw = args.grinder_wheel_radius
         _check_tool(geo, rw, args.tolerance, "grinding wheel")
-        col, val = f"wheel_center_{u}", grinder_table(geo.contour_fn(), theta, rw, case.follower.sigma, args.tolerance) * scale
+        centre = grinder_table(geo.contour_fn(), theta, rw, case.follower.sigma, args.tolerance)
+        col, val = f"wheel_center_{u}", centre * scale
         what = f"wheel centre, wheel radius {rw:g} mm"
     fmt = "%.6f" if u == "mm" or col == "lift_deg" else "%.7f"
     rows = "\n".join(f"{t:.4f},{fmt % v}" for t, v in zip(theta, val))
     write_new(out, f"theta_deg,{col}\n{rows}\n", args.force)
-    return f"wrote {args.output}: {len(theta)} angles every {step:g} deg, {what}, {col} {val.min():.4f}..{val.max():.4f}"
+    return (
+        f"wrote {args.output}: {len(theta)} angles every {step:g} deg, {what}, {col} "
+        f"{val.min():.4f}..{val.max():.4f}"
+    )
 
 
 def _solid(args, geo, out: Path) -> str:

@@ -42,7 +42,8 @@ def sha256_of(path) -> str:
     return hashlib.sha256(Path(path).read_bytes()).hexdigest()
 
 
-def check_tool_fits(theta_deg: np.ndarray, rho_contour_mm: np.ndarray, radius_mm: float, tolerance_mm: float, tool: str) -> None:
+def check_tool_fits(theta_deg: np.ndarray, rho_contour_mm: np.ndarray, radius_mm: float, tolerance_mm: float,
+                    tool: str) -> None:
     """:class:`InputError` if a concave stretch of the contour is tighter than a tool of ``radius_mm`` standing off
     by half the tolerance: the message names the stretch's angles, its least radius and the largest tool that fits.
 
@@ -60,7 +61,8 @@ def check_tool_fits(theta_deg: np.ndarray, rho_contour_mm: np.ndarray, radius_mm
     raise InputError(
         f"theta = {at[0]:.1f}..{at[-1]:.1f} deg",
         f"a concave stretch of the contour (least radius {least:.3f} mm) is tighter than the {tool} of radius "
-        f"{radius_mm:g} mm: it would cut into the cam; the largest {tool} that fits has radius {math.floor(fits * 1000) / 1000:.3f} mm",
+        f"{radius_mm:g} mm: it would cut into the cam; the largest {tool} that fits has radius "
+        f"{math.floor(fits * 1000) / 1000:.3f} mm",
     )
 
 
@@ -200,7 +202,8 @@ def cutter_path(contour: Curve, offset: Callable[[float], Curve], cutter_radius_
     """The cutter-centre path round the cam (mm): lines (or arcs) within the tolerance, climb milling (clockwise
     round the cam, a right-hand spindle) or conventional; it starts at its farthest point from the axis.
 
-    ``contour``: the outline u -> (2, m); ``offset(d)``: the curve at distance d outward (:meth:`CamGeometry.offset_fn`).
+    ``contour``: the outline u -> (2, m); ``offset(d)``: the curve at distance d outward
+    (:meth:`CamGeometry.offset_fn`).
     :class:`NumericalError` if the path, measured against a dense outline, comes nearer than the cutter radius or
     farther than the radius plus the tolerance (a self-intersecting offset the curvature check did not see).
     """
@@ -220,7 +223,8 @@ def cutter_path(contour: Curve, offset: Callable[[float], Curve], cutter_radius_
     if lo < cutter_radius_mm - slack or hi > cutter_radius_mm + tolerance_mm + slack:
         raise NumericalError(
             "cutter path",
-            f"the path comes {lo:.4f}..{hi:.4f} mm from the outline, not within {cutter_radius_mm:g}..{cutter_radius_mm + tolerance_mm:g} mm: "
+            f"the path comes {lo:.4f}..{hi:.4f} mm from the outline, not within {cutter_radius_mm:g}.."
+            f"{cutter_radius_mm + tolerance_mm:g} mm: "
             "the cutter would cut into the cam (a narrow neck or groove); use a smaller cutter",
         )
     return CutterPath(path.start, path.moves, lo, hi)
@@ -261,7 +265,8 @@ def _comment(text: str) -> str:
     return text.replace("(", "[").replace(")", "]").encode("ascii", "replace").decode()
 
 
-def grinder_table(contour: Curve, theta_deg: np.ndarray, wheel_radius_mm: float, sigma: int, tolerance_mm: float) -> np.ndarray:
+def grinder_table(contour: Curve, theta_deg: np.ndarray, wheel_radius_mm: float, sigma: float,
+                  tolerance_mm: float) -> np.ndarray:
     """Distance (mm) from the cam axis to the wheel centre at each cam angle (deg), the wheel on the fixed +y axis
     (the follower's side), the cam turned by theta in its sense ``sigma`` (+1 ccw, -1 cw).
 

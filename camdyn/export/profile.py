@@ -19,7 +19,8 @@ from .._core.errors import InputError, NumericalError
 from .._core.outputs import output_file
 from .._core.units import MM_PER_INCH
 
-FORMATS = (".dxf", ".csv", ".svg", ".nc", ".step", ".stl")  # what ``camdyn profile`` writes (.csv also a grinder's table)
+# what ``camdyn profile`` writes, by suffix (.csv also a grinder's table; .step and .stl need camdyn[cad])
+FORMATS = (".dxf", ".csv", ".svg", ".nc", ".step", ".stl")
 OUTLINE_FORMATS = (".dxf", ".csv", ".svg")  # the outline itself (write_profile)
 _PROBES = 15  # interior samples per interval for its chord deviation; odd, so the midpoint is one
 _START = 64  # initial equal intervals in u
@@ -117,7 +118,8 @@ def write_profile(contour_xy, path, *, tolerance: float = 0.01, force: bool = Fa
     if path.is_dir():
         raise InputError(str(path), "is a folder: give a file name (cam.dxf, cam.csv or cam.svg)")
     if suffix not in _WRITERS:
-        raise InputError(str(path), f"unknown format {suffix or '(no suffix)'!r}: use one of {', '.join(OUTLINE_FORMATS)}")
+        known = ", ".join(OUTLINE_FORMATS)
+        raise InputError(str(path), f"unknown format {suffix or '(no suffix)'!r}: use one of {known}")
     if units not in ("mm", "in"):
         raise InputError("--units", f"must be mm or in, got {units!r}")
     if not MIN_TOLERANCE_MM <= tolerance <= MAX_TOLERANCE_MM:

@@ -78,7 +78,7 @@ def _check_hole(contour: np.ndarray, bore_mm: float | None, keyway_mm) -> None:
     least = float(np.min(np.hypot(*contour)))
     if reach >= least:
         what = "bore and keyway reach" if keyway_mm else "bore reaches"
-        raise InputError("--bore", f"the {what} {reach:.3f} mm from the axis; the outline comes within {least:.3f} mm of it")
+        raise InputError("--bore", f"the {what} {reach:.3f} mm from the axis; the outline comes within {least:.3f} mm")
 
 
 def _spline_outline(contour: Callable[[np.ndarray], np.ndarray], tolerance_mm: float, exact: np.ndarray):
@@ -98,7 +98,7 @@ def _spline_outline(contour: Callable[[np.ndarray], np.ndarray], tolerance_mm: f
             n = int(np.clip(len(pts) // 8, 16, 64))
             return [edge.trim(i / n, (i + 1) / n) for i in range(n)], dev
         tol /= 4
-    raise NumericalError("solid", f"the B-spline outline stays {dev:.4f} mm from the contour, over the {tolerance_mm:g} mm tolerance")
+    raise NumericalError("solid", f"the B-spline outline strays {dev:.4f} mm from the contour: over {tolerance_mm:g} mm")
 
 
 def _export_step(part, path: Path, units: str) -> None:
@@ -147,4 +147,5 @@ def write_solid(contour: Callable[[np.ndarray], np.ndarray], path, *, thickness_
         raise InputError(str(path), f"cannot write the file: {err.strerror or err}") from None
     if not path.exists():
         raise NumericalError(str(path), "the CAD kernel wrote no file")
-    return {"path": str(path), "format": suffix[1:], "volume_mm3": volume, "area_mm2": area, "outline_deviation_mm": dev}
+    return {"path": str(path), "format": suffix[1:], "volume_mm3": volume, "area_mm2": area,
+            "outline_deviation_mm": dev}
