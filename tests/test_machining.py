@@ -199,6 +199,8 @@ def test_wrong_options_are_refused_in_one_line(capsys, tmp_path):
         (["-o", tmp_path / "a.nc", "--cutter-radius", -1], "--cutter-radius"),
         (["-o", tmp_path / "a.csv", "--grinder-wheel-radius", 100, "--follower-lift"], "--follower-lift"),
         (["-o", tmp_path / "a.nc", "--cutter-radius", 3, "--tolerance", 1e-5], "--tolerance"),
+        (["-o", tmp_path / "a.csv", "--grinder-wheel-radius", 100, "--tolerance", "inf"], "--tolerance"),
+        (["-o", tmp_path / "a.csv", "--follower-lift", "--step", 0], "--step"),
     ]:
         code, _, err = run(capsys, "profile", src, *argv)
         assert code == 2 and where in err and err.count("\n") == 1, err

@@ -18,6 +18,7 @@ from .._core.units import MM_PER_INCH
 from ..design.geometry import judge_geometry
 from ..design.table import table_angles
 from ..export import FORMATS, write_profile
+from ..export.profile import MAX_TOLERANCE_MM, MIN_TOLERANCE_MM
 from ..model.case import build_case
 from ..model.geometry import analyze
 from . import _version
@@ -53,6 +54,10 @@ def _option_errors(args, suffix: str) -> None:
         raise InputError("--follower-lift", "write the wheel-centre table and the lift table one at a time")
     if args.step is not None and not (grind or args.follower_lift):
         raise InputError("--step", "is the angle step of a grinder table (--grinder-wheel-radius or --follower-lift)")
+    if not MIN_TOLERANCE_MM <= args.tolerance <= MAX_TOLERANCE_MM:
+        raise InputError("--tolerance", f"must be between {MIN_TOLERANCE_MM:g} and {MAX_TOLERANCE_MM:g} mm, got {args.tolerance:g} mm")
+    if args.step is not None:
+        table_angles(args.step)
     for flag, value in (("--cutter-radius", args.cutter_radius), ("--grinder-wheel-radius", args.grinder_wheel_radius),
                         ("--feed", args.feed), ("--thickness", args.thickness), ("--bore", args.bore)):
         if value is not None and not (0 < value < 1e6):
