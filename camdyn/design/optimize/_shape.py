@@ -15,7 +15,8 @@ from ..._core.errors import InputError
 from ..._core.units import FFT_GRID, TWO_PI
 from ...model.case import Case
 from ...model.motion import Program
-from ...model.motion._bspline import CLAMPED, basis
+from ...model.motion import BSPLINE_CLAMPED as CLAMPED
+from ...model.motion import bspline_basis as basis
 
 N_CONTROL = 16  # control points per reshaped segment (10 free; the reference used 16 pieces)
 
