@@ -37,6 +37,12 @@ DEFAULT_FEED_MM_PER_MIN = 300.0
 MAX_ARC_SWEEP_DEG = 180.0  # one G02/G03 turns at most a half circle: a controller's I, J stay well conditioned
 
 
+def reference_tolerance(tolerance_mm: float) -> float:
+    """Chord tolerance (mm) of the dense outline a path is measured against: a hundredth of the user's, at least
+    10 nm (finer would need more points than a polyline may have)."""
+    return max(tolerance_mm / 100, 1e-5)
+
+
 def sha256_of(path) -> str:
     """The file's SHA-256 (hex): a G-code header names the case it was made from."""
     return hashlib.sha256(Path(path).read_bytes()).hexdigest()
@@ -216,10 +222,11 @@ def cutter_path(contour: Curve, offset: Callable[[float], Curve], cutter_radius_
     P = np.roll(P, -int(np.argmax(np.hypot(*P.T))), axis=0)
     moves = fit_arcs(P, dev) if arcs else [Move(p.copy()) for p in np.concatenate([P[1:], P[:1]])]
     path = CutterPath(P[0].copy(), tuple(moves), math.nan, math.nan)
-    outline = resample(contour, tolerance_mm / 100).T
+    ref = reference_tolerance(tolerance_mm)
+    outline = resample(contour, ref).T
     d = segment_distance(path.points(), outline)
     lo, hi = float(d.min()), float(d.max())
-    slack = tolerance_mm / 100 + 1e-9  # the dense outline's own chords
+    slack = ref + 1e-9  # the dense outline's own chords
     if lo < cutter_radius_mm - slack or hi > cutter_radius_mm + tolerance_mm + slack:
         raise NumericalError(
             "cutter path",
@@ -278,7 +285,7 @@ def grinder_table(contour: Curve, theta_deg: np.ndarray, wheel_radius_mm: float,
     th = np.deg2rad(np.asarray(theta_deg, dtype=float))
     e = np.stack([np.sin(sigma * th), np.cos(sigma * th)], axis=1)  # R(-sigma theta) (0, 1)
     ep = np.stack([e[:, 1], -e[:, 0]], axis=1)
-    u, pts = resample_u(contour, tolerance_mm / 100)
+    u, pts = resample_u(contour, reference_tolerance(tolerance_mm))
     pts = pts.T  # (k, 2)
 
     def reach(P, rows):  # P (..., 2) against rows of e: the wheel centre distance that touches each point

@@ -23,7 +23,7 @@ import numpy as np
 from .._core.errors import InputError, NumericalError
 from .._core.outputs import output_file
 from .._core.units import MM_PER_INCH
-from .machining import segment_distance
+from .machining import reference_tolerance, segment_distance
 from .profile import resample
 
 CAD_HINT = "a solid (.step, .stl) needs the optional extra: pip install 'camdyn[cad]' (build123d)"
@@ -125,7 +125,7 @@ def write_solid(contour: Callable[[np.ndarray], np.ndarray], path, *, thickness_
 
     path = output_file(Path(path), force, "solid")
     suffix = path.suffix.lower()
-    exact = resample(contour, tolerance_mm / 100).T
+    exact = resample(contour, reference_tolerance(tolerance_mm)).T
     _check_hole(exact.T, bore_mm, keyway_mm)
     edges, dev = _spline_outline(contour, tolerance_mm, exact)
     face = Face(Wire(edges))
