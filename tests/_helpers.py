@@ -1,5 +1,6 @@
 """Helpers the test modules share: the CLI run in-process, and the reproducer cases of issue 13."""
 
+import numpy as np
 import pytest
 
 from camdyn import InputError
@@ -51,3 +52,16 @@ preload = 40
 damping_ratio = 0.05
 restitution = 0.3
 """
+
+
+def distance_to_outline(pts: np.ndarray, poly: np.ndarray) -> np.ndarray:
+    """Exact distance of points (m, 2) from the closed polyline (k, 2): every chord, in blocks."""
+    a, b = poly, np.roll(poly, -1, axis=0)
+    d = b - a
+    L2 = np.sum(d * d, 1)
+    out = np.empty(len(pts))
+    for i in range(0, len(pts), 256):
+        p = pts[i : i + 256, None, :]
+        w = np.clip(np.sum((p - a) * d, -1) / L2, 0.0, 1.0)
+        out[i : i + 256] = np.min(np.linalg.norm(p - a - w[..., None] * d, axis=-1), axis=1)
+    return out

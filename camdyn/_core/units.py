@@ -12,6 +12,7 @@ import math
 TWO_PI = 2.0 * math.pi
 RPM = TWO_PI / 60.0  # rad/s per rpm
 M_PER_MM = 1e-3  # a translating follower's motion is in mm, its dynamics in m
+MM_PER_INCH = 25.4  # profile --units in: files for shops that work in inches (the inch is defined as 25.4 mm)
 N_PER_M_PER_N_PER_MM = 1e3  # spring rates: N/mm -> N/m
 
 # angle grids

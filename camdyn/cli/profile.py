@@ -1,28 +1,189 @@
-"""``camdyn profile CASE.toml -o cam.dxf|cam.csv|cam.svg``: the cam contour for manufacturing."""
+"""``camdyn profile CASE.toml -o FILE``: the cam for manufacturing, by the file's suffix.
+
+.dxf / .csv / .svg the outline; .nc a CNC cutter-centre path (``--cutter-radius``); .csv with
+``--grinder-wheel-radius`` a cam grinder's table, with ``--follower-lift`` the lift per degree; .step / .stl the
+plate as a solid (``--thickness``; the optional extra ``camdyn[cad]``).
+"""
 
 from __future__ import annotations
 
 import sys
 from pathlib import Path
 
+import numpy as np
+
 from .._core.errors import InputError
+from .._core.outputs import output_file, write_new
+from .._core.units import MM_PER_INCH
 from ..design.geometry import judge_geometry
-from ..export import write_profile
+from ..design.table import table_angles
+from ..export import FORMATS, write_profile
+from ..export.profile import MAX_TOLERANCE_MM, MIN_TOLERANCE_MM
 from ..model.case import build_case
 from ..model.geometry import analyze
+from . import _version
+
+_DENSE_CURVATURE = 20_000  # angles on which a tool's fit in every concave stretch is judged (0.018 deg)
+
+
+def _option_errors(args, suffix: str) -> None:
+    """Refuse an option that does not apply to the file asked for: nothing the user gave is silently ignored."""
+    grind = args.grinder_wheel_radius is not None
+    given = {
+        "--cutter-radius": args.cutter_radius is not None, "--feed": args.feed is not None, "--arcs": args.arcs,
+        "--climb/--conventional": args.conventional or args.climb, "--grinder-wheel-radius": grind,
+        "--follower-lift": args.follower_lift, "--step": args.step is not None,
+        "--thickness": args.thickness is not None,
+        "--bore": args.bore is not None, "--keyway": args.keyway is not None,
+    }
+    takes = {
+        ".nc": {"--cutter-radius", "--feed", "--arcs", "--climb/--conventional"},
+        ".csv": {"--grinder-wheel-radius", "--follower-lift", "--step"},
+        ".step": {"--thickness", "--bore", "--keyway"},
+        ".stl": {"--thickness", "--bore", "--keyway"},
+    }.get(suffix, set())
+    for flag, on in given.items():
+        if on and flag not in takes:
+            what = {".nc": "a cutter path", ".csv": "an outline or grinder CSV", ".step": "a solid", ".stl": "a solid"}
+            raise InputError(flag, f"does not apply to {what.get(suffix, 'an outline')} ({args.output})")
+    if suffix == ".nc" and args.cutter_radius is None:
+        raise InputError("--cutter-radius", "a cutter path (.nc) needs the cutter radius, mm")
+    if suffix in (".step", ".stl") and args.thickness is None:
+        raise InputError("--thickness", f"a solid ({suffix}) needs the plate's thickness, mm")
+    if grind and args.follower_lift:
+        raise InputError("--follower-lift", "write the wheel-centre table and the lift table one at a time")
+    if args.step is not None and not (grind or args.follower_lift):
+        raise InputError("--step", "is the angle step of a grinder table (--grinder-wheel-radius or --follower-lift)")
+    if not MIN_TOLERANCE_MM <= args.tolerance <= MAX_TOLERANCE_MM:
+        raise InputError("--tolerance", f"must be between {MIN_TOLERANCE_MM:g} and {MAX_TOLERANCE_MM:g} mm, got {args.tolerance:g} mm")
+    if args.step is not None:
+        table_angles(args.step)
+    for flag, value in (("--cutter-radius", args.cutter_radius), ("--grinder-wheel-radius", args.grinder_wheel_radius),
+                        ("--feed", args.feed), ("--thickness", args.thickness), ("--bore", args.bore)):
+        if value is not None and not (0 < value < 1e6):
+            raise InputError(flag, f"must be a positive number (got {value:g})")
 
 
 def run(args) -> int:
+    out = Path(args.output)
+    suffix = out.suffix.lower()
+    if out.is_dir():
+        raise InputError(str(out), f"is a folder: give a file name ({', '.join('cam' + f for f in FORMATS)})")
+    if suffix not in FORMATS:
+        raise InputError(str(out), f"unknown format {suffix or '(no suffix)'!r}: use one of {', '.join(FORMATS)}")
+    _option_errors(args, suffix)
+    if suffix in (".step", ".stl"):
+        # the optional extra: say how to get it before any work
+        from ..export import solid
+
+        solid.require_cad()
+        if args.keyway:
+            solid.parse_keyway(args.keyway)  # a typo is refused before the model is built
+    grind = args.grinder_wheel_radius is not None or args.follower_lift
+    if suffix in (".nc", ".step", ".stl") or grind:  # checked before the work (write_profile checks its own)
+        output_file(out, args.force, "profile")
     case = build_case(args.spec, source=Path(args.case))
     if case.follower is None:
         raise InputError("follower", "the case has no cam follower geometry")
     geo = analyze(case.motion, case.follower)
-    _, warnings, _ = judge_geometry(geo, case.motion, max_pressure_angle=case.limits.max_pressure_angle, min_curvature_ratio=case.limits.min_curvature_ratio)
-    info = write_profile(geo.contour_fn(), Path(args.output), tolerance=args.tolerance, force=args.force)
+    lim = case.limits
+    _, warnings, _ = judge_geometry(geo, case.motion, max_pressure_angle=lim.max_pressure_angle,
+                                    min_curvature_ratio=lim.min_curvature_ratio)
+    if suffix == ".nc":
+        line = _cutter_path(args, case, geo, out)
+    elif grind:
+        line = _grinder(args, case, geo, out)
+    elif suffix in (".step", ".stl"):
+        line = _solid(args, geo, out)
+    else:
+        info = write_profile(geo.contour_fn(), out, tolerance=args.tolerance, force=args.force, units=args.units)
+        line = (
+            f"wrote {args.output}: {info['points']} points within {info['tolerance_mm']:g} mm, "
+            f"x {info['x_min_mm']:.3f}..{info['x_max_mm']:.3f} mm, y {info['y_min_mm']:.3f}..{info['y_max_mm']:.3f} mm"
+            + ("" if args.units == "mm" else " (written in inches)")
+        )
     for w in warnings:  # an undercut cam can still be drawn, but the user must know it cannot be followed
         print(f"warning: {w}", file=sys.stderr)
-    print(
-        f"wrote {args.output}: {info['points']} points within {info['tolerance_mm']:g} mm, "
-        f"x {info['x_min_mm']:.3f}..{info['x_max_mm']:.3f} mm, y {info['y_min_mm']:.3f}..{info['y_max_mm']:.3f} mm"
-    )
+    print(line)
     return 0
+
+
+def _check_tool(geo, radius_mm: float, tol: float, tool: str) -> None:
+    from ..export.machining import check_tool_fits
+
+    theta = np.arange(_DENSE_CURVATURE) * (360.0 / _DENSE_CURVATURE)
+    check_tool_fits(theta, geo.table(theta)["rho_contour_mm"], radius_mm, tol, tool)
+
+
+def _cutter_path(args, case, geo, out: Path) -> str:
+    from ..export.machining import (
+        DEFAULT_FEED_MM_PER_MIN,
+        MIN_MACHINING_TOLERANCE_MM,
+        cutter_path,
+        gcode_text,
+        sha256_of,
+    )
+
+    tol, rc = args.tolerance, args.cutter_radius
+    if tol < MIN_MACHINING_TOLERANCE_MM:
+        least = MIN_MACHINING_TOLERANCE_MM
+        raise InputError("--tolerance", f"a cutter path needs at least {least:g} mm (a machine's resolution), got {tol:g} mm")
+    _check_tool(geo, rc, tol, "cutter")
+    path = cutter_path(geo.contour_fn(), geo.offset_fn, rc, tol, climb=not args.conventional, arcs=args.arcs)
+    feed = DEFAULT_FEED_MM_PER_MIN if args.feed is None else args.feed
+    sense = "conventional, counterclockwise" if args.conventional else "climb, clockwise"
+    header = [
+        f"camdyn {_version()} profile: cam {case.name}",
+        f"case {Path(args.case).name} sha256 {sha256_of(args.case)}",
+        f"cutter radius {rc:g} mm, diameter {2 * rc:g} mm; {sense} round the cam with a right-hand spindle M3",
+        "tool-centre path: no cutter compensation G41/G42; XY in the cam frame, the cam axis at X0 Y0",
+        f"chord tolerance {tol:g} mm: the path lies {path.min_distance_mm:.4f}..{path.max_distance_mm:.4f} mm from "
+        + "the outline, never nearer than the cutter radius",
+        f"feed {feed:g} mm/min; Z0 the cutting depth, safe Z above the part; spindle, coolant and work offset are "
+        + "the operator's",
+        f"units {'mm G21' if args.units == 'mm' else 'inch G20'}",
+    ]
+    write_new(out, gcode_text(path, header=header, feed_mm_per_min=feed, units=args.units), args.force)
+    kind = "arcs and lines" if args.arcs else "lines"
+    return (
+        f"wrote {args.output}: {len(path.moves)} moves ({kind}), cutter radius {rc:g} mm, the path "
+        f"{path.min_distance_mm:.4f}..{path.max_distance_mm:.4f} mm from the outline (tolerance {tol:g} mm)"
+    )
+
+
+def _grinder(args, case, geo, out: Path) -> str:
+    from ..export.machining import grinder_table
+    from ..model.motion import evaluate
+
+    step = 0.5 if args.step is None else args.step
+    theta = table_angles(step)
+    scale, u = (1.0, "mm") if args.units == "mm" else (1.0 / MM_PER_INCH, "in")
+    if args.follower_lift:
+        s = np.asarray(evaluate(case.motion, np.deg2rad(theta)))[0]
+        col, val = ("lift_deg", np.degrees(s)) if case.oscillating else (f"lift_{u}", s * scale)
+        what = "follower lift"
+    else:
+        rw = args.grinder_wheel_radius
+        _check_tool(geo, rw, args.tolerance, "grinding wheel")
+        centre = grinder_table(geo.contour_fn(), theta, rw, case.follower.sigma, args.tolerance)
+        col, val = f"wheel_center_{u}", centre * scale
+        what = f"wheel centre, wheel radius {rw:g} mm"
+    fmt = "%.6f" if u == "mm" or col == "lift_deg" else "%.7f"
+    rows = "\n".join(f"{t:.4f},{fmt % v}" for t, v in zip(theta, val))
+    write_new(out, f"theta_deg,{col}\n{rows}\n", args.force)
+    return (
+        f"wrote {args.output}: {len(theta)} angles every {step:g} deg, {what}, {col} "
+        f"{val.min():.4f}..{val.max():.4f}"
+    )
+
+
+def _solid(args, geo, out: Path) -> str:
+    from ..export import solid
+
+    keyway = solid.parse_keyway(args.keyway) if args.keyway else None
+    info = solid.write_solid(geo.contour_fn(), out, thickness_mm=args.thickness, bore_mm=args.bore, keyway_mm=keyway,
+                             tolerance_mm=args.tolerance, units=args.units, force=args.force)
+    return (
+        f"wrote {args.output}: cam plate {args.thickness:g} mm thick, volume {info['volume_mm3']:.1f} mm^3, "
+        f"outline within {info['outline_deviation_mm']:.4f} mm of the contour (tolerance {args.tolerance:g} mm)"
+    )

@@ -60,6 +60,27 @@ def motion_table(case: Case, step_deg: float = 1.0, speed_rpm: float | None = No
     return cols
 
 
+MAX_ECAM_POINTS = 100_000  # a servo drive's cam table holds a few thousand points at most
+
+
+def ecam_table(case: Case, n: int) -> tuple[dict[str, np.ndarray], str]:
+    """A servo e-cam table: ``n`` evenly spaced master angles (deg, from 0 below 360) and the follower's position,
+    velocity and acceleration per master degree (mm, mm/deg, mm/deg^2; oscillating deg, deg/deg, deg/deg^2), the
+    units a drive's cam table takes (slave units per master unit). Returns the columns and a line naming the units."""
+    if not 2 <= n <= MAX_ECAM_POINTS:
+        raise InputError("--ecam", f"must be between 2 and {MAX_ECAM_POINTS:,} master angles (got {n})")
+    master = np.arange(n) * (360.0 / n)
+    s, v, a, _ = np.asarray(evaluate(case.motion, jnp.deg2rad(master)))
+    rad = np.pi / 180.0  # per master degree: d/d(deg) = (pi / 180) d/d(rad)
+    if case.oscillating:
+        s, v, a, unit = np.degrees(s), np.degrees(v) * rad, np.degrees(a) * rad**2, "deg"
+    else:
+        v, a, unit = v * rad, a * rad**2, "mm"
+    cols = {"master_deg": master, "position": s, "velocity": v, "acceleration": a}
+    units = f"master: cam angle, deg; position {unit}; velocity {unit}/deg; acceleration {unit}/deg^2 (per master degree)"
+    return cols, units
+
+
 def csv_text(cols: dict[str, np.ndarray]) -> str:
     """The columns as CSV text with a header row."""
     buf = io.StringIO()

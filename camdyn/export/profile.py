@@ -17,8 +17,11 @@ import numpy as np
 
 from .._core.errors import InputError, NumericalError
 from .._core.outputs import output_file
+from .._core.units import MM_PER_INCH
 
-FORMATS = (".dxf", ".csv", ".svg")
+# what ``camdyn profile`` writes, by suffix (.csv also a grinder's table; .step and .stl need camdyn[cad])
+FORMATS = (".dxf", ".csv", ".svg", ".nc", ".step", ".stl")
+OUTLINE_FORMATS = (".dxf", ".csv", ".svg")  # the outline itself (write_profile)
 _PROBES = 15  # interior samples per interval for its chord deviation; odd, so the midpoint is one
 _START = 64  # initial equal intervals in u
 _MAX_POINTS = 200_000
@@ -47,8 +50,9 @@ def _chord_deviation(a: np.ndarray, b: np.ndarray, pts: np.ndarray) -> np.ndarra
     return np.max(np.linalg.norm(pts - (a[:, None] + w[..., None] * d[:, None]), axis=-1), axis=1)
 
 
-def resample(curve: Callable[[np.ndarray], np.ndarray], tolerance: float) -> np.ndarray:
-    """Vertices (2, k) of a closed polyline within ``tolerance`` mm of the closed curve u -> (2, m)."""
+def resample_u(curve: Callable[[np.ndarray], np.ndarray], tolerance: float) -> tuple[np.ndarray, np.ndarray]:
+    """Parameters u (k,) and vertices (2, k) of a closed polyline within ``tolerance`` mm of the closed curve
+    u -> (2, m)."""
     u = np.linspace(0.0, 1.0, _START + 1)
     frac = np.arange(1, _PROBES + 1) / (_PROBES + 1)
     while True:
@@ -57,56 +61,67 @@ def resample(curve: Callable[[np.ndarray], np.ndarray], tolerance: float) -> np.
         probes = np.asarray(curve(probe_u.ravel())).T.reshape(len(u) - 1, _PROBES, 2)
         bad = _chord_deviation(ends[:-1], ends[1:], probes) > tolerance
         if not bad.any():
-            return ends[:-1].T
+            return u[:-1], ends[:-1].T
         if len(u) > _MAX_POINTS:
             raise NumericalError("contour", f"more than {_MAX_POINTS} points needed for a {tolerance:g} mm tolerance")
         u = np.sort(np.concatenate([u, 0.5 * (u[:-1] + u[1:])[bad]]))
 
 
-def _write_dxf(xy: np.ndarray, path: Path) -> None:
+def resample(curve: Callable[[np.ndarray], np.ndarray], tolerance: float) -> np.ndarray:
+    """Vertices (2, k) of a closed polyline within ``tolerance`` mm of the closed curve u -> (2, m)."""
+    return resample_u(curve, tolerance)[1]
+
+
+def _write_dxf(xy: np.ndarray, path: Path, unit: str) -> None:
     import ezdxf
     from ezdxf import units
 
     doc = ezdxf.new("R2010")
-    doc.units = units.MM
+    doc.units = units.MM if unit == "mm" else units.IN
     doc.modelspace().add_lwpolyline(xy.T.tolist(), format="xy", close=True, dxfattribs={"layer": "CAM"})
     doc.saveas(path)
 
 
-def _write_csv(xy: np.ndarray, path: Path) -> None:
-    np.savetxt(path, xy.T, delimiter=",", header="x_mm,y_mm", comments="", fmt="%.6f")
+def _write_csv(xy: np.ndarray, path: Path, unit: str) -> None:
+    fmt = "%.6f" if unit == "mm" else "%.7f"
+    np.savetxt(path, xy.T, delimiter=",", header=f"x_{unit},y_{unit}", comments="", fmt=fmt)
 
 
-def _write_svg(xy: np.ndarray, path: Path) -> None:
+def _write_svg(xy: np.ndarray, path: Path, unit: str) -> None:
     lo, hi = xy.min(axis=1), xy.max(axis=1)
     pad = 0.05 * float(np.max(hi - lo))
     x0, y0, w, h = lo[0] - pad, -hi[1] - pad, hi[0] - lo[0] + 2 * pad, hi[1] - lo[1] + 2 * pad
-    pts = " ".join(f"{x:.4f},{-y:.4f}" for x, y in xy.T)  # SVG's y axis points down
+    nd = 4 if unit == "mm" else 6  # 0.1 um either way
+    pts = " ".join(f"{x:.{nd}f},{-y:.{nd}f}" for x, y in xy.T)  # SVG's y axis points down
     stroke = 0.004 * max(w, h)
     path.write_text(
-        f'<svg xmlns="http://www.w3.org/2000/svg" width="{w:.3f}mm" height="{h:.3f}mm" '
-        f'viewBox="{x0:.4f} {y0:.4f} {w:.4f} {h:.4f}">\n'
-        f'  <polygon points="{pts}" fill="none" stroke="black" stroke-width="{stroke:.4f}"/>\n'
-        f'  <circle cx="0" cy="0" r="{2 * stroke:.4f}" fill="black"/>\n</svg>\n'
+        f'<svg xmlns="http://www.w3.org/2000/svg" width="{w:.4f}{unit}" height="{h:.4f}{unit}" '
+        f'viewBox="{x0:.{nd}f} {y0:.{nd}f} {w:.{nd}f} {h:.{nd}f}">\n'
+        f'  <polygon points="{pts}" fill="none" stroke="black" stroke-width="{stroke:.{nd}f}"/>\n'
+        f'  <circle cx="0" cy="0" r="{2 * stroke:.{nd}f}" fill="black"/>\n</svg>\n'
     )
 
 
 _WRITERS = {".dxf": _write_dxf, ".csv": _write_csv, ".svg": _write_svg}
 
 
-def write_profile(contour_xy, path, *, tolerance: float = 0.01, force: bool = False) -> dict:
+def write_profile(contour_xy, path, *, tolerance: float = 0.01, force: bool = False, units: str = "mm") -> dict:
     """Write a closed cam contour (mm, cam frame) to ``path``; the format follows the suffix.
 
     ``contour_xy``: a dense closed sample (2, n) or a callable u -> (2, m) on u in [0, 1] (see the module
-    docstring). ``tolerance``: the largest chord deviation, mm. Refuses to overwrite an existing file unless
-    ``force``. Returns ``{path, format, points, tolerance_mm, x_min_mm, x_max_mm, y_min_mm, y_max_mm}``.
+    docstring). ``tolerance``: the largest chord deviation, mm. ``units``: the file's, ``"mm"`` or ``"in"`` (the
+    DXF's $INSUNITS, the CSV's ``x_in,y_in`` columns, the SVG's size). Refuses to overwrite an existing file unless
+    ``force``. Returns ``{path, format, points, tolerance_mm, units, x_min_mm, x_max_mm, y_min_mm, y_max_mm}``.
     """
     path = Path(path)
     suffix = path.suffix.lower()
     if path.is_dir():
         raise InputError(str(path), "is a folder: give a file name (cam.dxf, cam.csv or cam.svg)")
     if suffix not in _WRITERS:
-        raise InputError(str(path), f"unknown format {suffix or '(no suffix)'!r}: use one of {', '.join(FORMATS)}")
+        known = ", ".join(OUTLINE_FORMATS)
+        raise InputError(str(path), f"unknown format {suffix or '(no suffix)'!r}: use one of {known}")
+    if units not in ("mm", "in"):
+        raise InputError("--units", f"must be mm or in, got {units!r}")
     if not MIN_TOLERANCE_MM <= tolerance <= MAX_TOLERANCE_MM:
         raise InputError("--tolerance", f"must be between {MIN_TOLERANCE_MM:g} and {MAX_TOLERANCE_MM:g} mm, got {tolerance:g} mm")
     path = output_file(path, force, "contour")
@@ -121,7 +136,7 @@ def write_profile(contour_xy, path, *, tolerance: float = 0.01, force: bool = Fa
         curve = _spline(xy)
     pts = resample(curve, tolerance)
     try:
-        _WRITERS[suffix](pts, path)
+        _WRITERS[suffix](pts if units == "mm" else pts / MM_PER_INCH, path, units)
     except OSError as err:
         raise InputError(str(path), f"cannot write the file: {err.strerror or err}") from None
     lo, hi = pts.min(axis=1), pts.max(axis=1)
@@ -130,6 +145,7 @@ def write_profile(contour_xy, path, *, tolerance: float = 0.01, force: bool = Fa
         "format": suffix[1:],
         "points": int(pts.shape[1]),
         "tolerance_mm": tolerance,
+        "units": units,
         "x_min_mm": float(lo[0]),
         "x_max_mm": float(hi[0]),
         "y_min_mm": float(lo[1]),

@@ -153,6 +153,17 @@ class CamGeometry(GeometryExtremes):
         """The exact contour as a closed curve u in [0, 1] -> (2, m) mm, for :func:`camdyn.export.write_profile`."""
         return lambda u: self._evaluate(2 * np.pi * np.asarray(u, dtype=float))["contour"].T
 
+    def offset_fn(self, distance_mm: float) -> Callable[[np.ndarray], np.ndarray]:
+        """The curve ``distance_mm`` outward from the contour along its normal (a cutter's or a grinding wheel's
+        centre), as u in [0, 1] -> (2, m) mm like :meth:`contour_fn`; a true offset only where the contour's
+        concave radii exceed the distance."""
+
+        def curve(u):
+            ev = self._evaluate(2 * np.pi * np.asarray(u, dtype=float))
+            return (ev["contour"] + distance_mm * ev["normal"]).T
+
+        return curve
+
 
 def analyze(motion, follower: FollowerSpec, *, n: int = THETA_GRID) -> CamGeometry:
     """Pitch curve, contour, pressure angle and curvature of a cam on n equal steps, and their extremes.

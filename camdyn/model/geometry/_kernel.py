@@ -140,6 +140,7 @@ def _point(kind: str, p, th0, sv):
         return dict(
             pitch=P,
             contour=P - rr * N,
+            normal=N,
             kappa_pitch=kappa,
             rho_contour=(1.0 - rr * kappa) / kappa,
             phi=sigma * jnp.arctan2(_cross(v, N), v @ N),
@@ -164,6 +165,7 @@ def _point(kind: str, p, th0, sv):
     return dict(
         pitch=foot,
         contour=C,
+        normal=m,
         kappa_pitch=nan,
         rho_contour=h + (h2 * a1 - h1 * a2) / a1**3,
         phi=sigma * jnp.arctan2(_cross(v, m), v @ m),
