@@ -109,6 +109,7 @@ def build_parser() -> argparse.ArgumentParser:
         "the least peak force over springs that can be built within [spring] (surge clear of the cam's strong harmonics), "
         "with the part's own mass; passes check as written"
     ))
+    p.add_argument("--verbose", action="store_true", help="also say how ties between springs and the damping are handled")
     p.add_argument("--json", action="store_true", help="print one JSON document")
 
     p = command("sweep", "jump map over speeds x spring rates: DIR/<case>-sweep.csv and DIR/<case>-sweep.png")

@@ -14,7 +14,7 @@ from . import _console
 from .spring import print_spring
 
 
-def print_size(sz: SpringSizing) -> None:
+def print_size(sz: SpringSizing, verbose: bool = False) -> None:
     console = _console.console()
     u = sz.units
     console.print(f"[bold]{sz.case_name}[/bold]  spring sizing")
@@ -65,8 +65,11 @@ def print_size(sz: SpringSizing) -> None:
         peak = sz.region_rate[i] * sz.s_max + dyn_pre
         region.add_row(f"{sz.region_rate[i]:.4g}", fmt(sz.region_preload_kinematic[i], peak), "-" if sz.region_preload_dynamic is None else fmt(dyn_pre, peak), f"{peak:.4g}")
     console.print(region)
-    console.print(f"[dim]tie-break:[/dim] {TIE_BREAK}")
-    console.print(f"[dim]damping:[/dim] {sz.damping}")
+    if verbose:  # how ties are broken and how damping follows the rate: the method, not the answer
+        console.print(f"[dim]tie-break:[/dim] {TIE_BREAK}")
+        console.print(f"[dim]damping:[/dim] {sz.damping}")
+    else:
+        console.print("[dim]ties go to the least preload; --verbose says how ties and damping are handled[/dim]")
     for w in sz.warnings:
         console.print(f"[yellow]warning:[/yellow] {escape(w)}")
     c = sz.chosen
@@ -101,7 +104,7 @@ def run(args) -> int:
     if args.json:
         print(_console.json_text(sz.json()))
     else:
-        print_size(sz)
+        print_size(sz, args.verbose)
         if sz.part is not None:
             print_spring(sz.case_name, sz.part, case.spec.spring.lever_arm if case.oscillating else None)
     return 0
