@@ -195,3 +195,16 @@ def test_sharp_square_gets_the_corner_radius_that_passes(capsys, tmp_path, monke
     assert m, tip
     passes, force, fails = map(float, m.groups())
     assert fails < 5.0 < passes <= 20.0 and force >= 2.0  # the shipped 5 mm fillets pass; min_contact_force 2 N
+
+
+def test_long_runs_say_each_phase_on_a_pipe_unless_quiet(capsys, tmp_path):
+    """Where stderr is no terminal (a pipe, a log, CI), a long command still says what it is doing, one line per
+    phase; --quiet silences it (issue 23)."""
+    args = ["sweep", str(ROOT / "cases" / "lecture.toml"), "--speeds", "200:600:5", "--spring-rates", "1:2:2", "-o", str(tmp_path)]
+    code, _, err = run(capsys, *args)
+    assert code == 0, err
+    phases = [line for line in err.splitlines() if line.startswith("camdyn: ")]
+    assert phases and all(" done in " in p or p.endswith(" ...") for p in phases), err
+    assert any("steady state" in p for p in phases)
+    code, _, err = run(capsys, *args, "--force", "--quiet")
+    assert code == 0 and "camdyn: " not in err, err

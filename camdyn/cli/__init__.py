@@ -49,6 +49,7 @@ class _Parser(argparse.ArgumentParser):
 def build_parser() -> argparse.ArgumentParser:
     common = argparse.ArgumentParser(add_help=False)
     common.add_argument("--debug", action="store_true", default=argparse.SUPPRESS, help="show the traceback of an error")
+    common.add_argument("--quiet", action="store_true", help="no progress on stderr (errors are still reported)")
     parser = _Parser(prog="camdyn", description="Cam mechanism design and follower dynamics: prove the follower never leaves the cam.")
     parser.add_argument("--version", action="version", version=f"camdyn {_version()}")
     parser.add_argument("--debug", action="store_true", default=False, help="show the traceback of an error")

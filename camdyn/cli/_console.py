@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 import math
 import sys
+import time
 from contextlib import contextmanager
 
 from rich.console import Console
@@ -34,19 +35,46 @@ def notes(con: Console, kind: str, colour: str, texts) -> None:
 
 
 @contextmanager
-def progress_bar():
-    """A rich progress bar on stderr, one task per phase (silent when stderr is not a terminal); yields the
-    ``progress(phase, done, total)`` callback that camdyn's long computations take."""
-    columns = (SpinnerColumn(), TextColumn("{task.description:<34}"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn())
-    with Progress(*columns, console=Console(stderr=True), disable=not sys.stderr.isatty()) as bar:
-        tasks: dict = {}
+def progress_bar(quiet: bool = False):
+    """Yields the ``progress(phase, done, total)`` callback that camdyn's long computations take: a rich bar per
+    phase on a terminal; where stderr is a pipe or a log, one line as each phase starts and one as it ends, so a
+    long run is never silent; nothing with ``quiet`` (``--quiet``)."""
+    if quiet:
+        yield lambda phase, done, total: None
+    elif sys.stderr.isatty():
+        columns = (SpinnerColumn(), TextColumn("{task.description:<34}"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn())
+        with Progress(*columns, console=Console(stderr=True)) as bar:
+            tasks: dict = {}
 
-        def progress(phase: str, done: int, total: int) -> None:
-            if phase not in tasks:
-                tasks[phase] = bar.add_task(phase, total=total)
-            bar.update(tasks[phase], completed=done, total=total)
+            def progress(phase: str, done: int, total: int) -> None:
+                if phase not in tasks:
+                    tasks[phase] = bar.add_task(phase, total=total)
+                bar.update(tasks[phase], completed=done, total=total)
 
-        yield progress
+            yield progress
+    else:
+        yield _phase_lines()
+
+
+def _phase_lines():
+    """The progress callback for a pipe: ``camdyn: <phase> ...`` when a phase starts, ``... done in N s`` at its end."""
+    started: dict[str, float] = {}
+    ended: set[str] = set()
+    last = [time.perf_counter()]  # a phase first heard of at its end began when the one before it ended
+
+    def progress(phase: str, done: int, total: int) -> None:
+        now = time.perf_counter()
+        finished = bool(total) and done >= total
+        if phase not in started:
+            started[phase] = now if not finished else last[0]
+            if not finished:
+                print(f"camdyn: {phase} ...", file=sys.stderr, flush=True)
+        if finished and phase not in ended:
+            ended.add(phase)
+            print(f"camdyn: {phase} done in {now - started[phase]:.1f} s", file=sys.stderr, flush=True)
+        last[0] = now
+
+    return progress
 
 
 def _finite(value, where: str):

@@ -45,7 +45,7 @@ def run(args) -> int:
         output_dir(args.report, "report")
     report = run_check(case, args.speed)
     if report.verdict == "fail" and case.synthesis is not None and case.synthesis.sharp_corners:
-        with progress_bar() as progress:
+        with progress_bar(args.quiet) as progress:
             tip = corner_radius_advice(case, report.speed_rpm, progress=progress)
         if tip:
             report = dataclasses.replace(report, advice=report.advice + (tip,))
@@ -56,7 +56,7 @@ def run(args) -> int:
     if args.report:
         from ..report import write_report  # matplotlib loads only with --report
 
-        with progress_bar() as progress:
+        with progress_bar(args.quiet) as progress:
             written = write_report(case, args.report, check=report, progress=progress)
         print(f"wrote {written.pdf} and {len(written.pngs)} PNG pages", file=sys.stderr)
     return 0 if report.verdict == "pass" else 1

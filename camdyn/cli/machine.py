@@ -78,7 +78,7 @@ def run(args) -> int:
         pdf, pngs = machine_output_names(machine.name)
         for name in (pdf, *pngs):
             output_file(out / name, args.force, "machine report")
-    with progress_bar() as progress:
+    with progress_bar(args.quiet) as progress:
         result = run_machine(machine, progress=progress)
         written = write_machine_report(result, out, progress=progress) if args.report else None
     write_new(csv_path, result.csv, args.force)

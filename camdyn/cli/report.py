@@ -7,7 +7,7 @@ from ._console import progress_bar
 
 
 def run(args) -> int:
-    with progress_bar() as progress:
+    with progress_bar(args.quiet) as progress:
         written = report_cases(args.cases, args.output, speed_rpm=args.speed, specs=args.specs, progress=progress)
     for w in written:
         print(f"wrote {w.pdf} ({len(w.pngs)} pages, {w.verdict}) and {', '.join(p.name for p in w.pngs)}")

@@ -53,7 +53,7 @@ def run(args) -> int:
         for path in (csv_path, png_path):
             output_file(path, args.force, "jump map")
     t0 = time.perf_counter()
-    with progress_bar() as progress:
+    with progress_bar(args.quiet) as progress:
         jm = jump_map(case, speeds, rates, progress=progress if writer else None)
     elapsed = time.perf_counter() - t0
     if not writer:

@@ -50,7 +50,7 @@ def run(args) -> int:
     if out.resolve() == Path(args.case).resolve():
         raise InputError(str(out), "is the input path file; write the case to another file")
     t0 = time.perf_counter()
-    with _console.progress_bar() as progress:
+    with _console.progress_bar(args.quiet) as progress:
         res = synthesize_case(args.spec, source=Path(args.case), name=out.stem, seed=args.seed, maxiter=args.maxiter, progress=progress)
     elapsed = time.perf_counter() - t0
     write_new(out, res.text, args.force)

@@ -53,7 +53,7 @@ def run(args) -> int:
         for p in (paths["csv"], paths["png"], *paths["worst"]):
             output_file(p, args.force, "tolerance study")
     t0 = time.perf_counter()
-    with progress_bar() as progress:
+    with progress_bar(args.quiet) as progress:
         result = tolerance_study(case, args.samples, args.seed, progress=progress if writer else None)
     elapsed = time.perf_counter() - t0
     worst_files = paths["worst"][: len(result.worst)]
