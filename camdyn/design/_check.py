@@ -27,6 +27,31 @@ class CheckKind(str, Enum):
     SPRING_CLASH_ALLOWANCE = "spring_clash_allowance"  # (solid deflection / full-lift deflection) - 1
     SPRING_OUTSIDE_DIAMETER = "spring_outside_diameter"
 
+    @property
+    def label(self) -> str:
+        """What the check's value is, in words (the report's and the terminal's "what" column)."""
+        return _LABELS[self]
+
+
+_LABELS = {
+    CheckKind.CONTACT_FORCE: "least interface force, dynamic",
+    CheckKind.SPEED_MARGIN: "dynamic jump speed / cam speed",
+    CheckKind.PRESSURE_ANGLE: "largest pressure angle",
+    CheckKind.CURVATURE: "least contour radius / roller radius",
+    CheckKind.FACE_WIDTH: "contact travel along the face",
+    CheckKind.TRAIN_DEFLECTION: "largest train compression / lift",
+    CheckKind.CONTACT_STRESS: "largest Hertz contact pressure",
+    CheckKind.CLEARANCE: "least gap between two followers",
+    CheckKind.SPRING_INDEX_MIN: "spring index D/d, at least",
+    CheckKind.SPRING_INDEX_MAX: "spring index D/d, at most",
+    CheckKind.SPRING_LIFT_SAFETY: "shear yield strength / stress at full lift",
+    CheckKind.SPRING_SOLID_SAFETY: "shear yield strength / stress at solid",
+    CheckKind.SPRING_FATIGUE_SAFETY: "fatigue safety factor",
+    CheckKind.SPRING_BUCKLING: "free length, against the buckling limit",
+    CheckKind.SPRING_CLASH_ALLOWANCE: "solid deflection / full-lift deflection - 1",
+    CheckKind.SPRING_OUTSIDE_DIAMETER: "outside diameter",
+}
+
 
 @dataclass(frozen=True)
 class Check:

@@ -9,18 +9,20 @@ import numpy as np
 from matplotlib.patches import Polygon
 
 from ..._core.units import AT_LIMIT_RTOL
-from ...plot import deg_ticks, flight_summary, flights_by_gap, legend_above_data, plot_follower, shade_separations, square_face, svaj_quantities
+from ...design.checks import CheckKind
+from ...plot import (
+    deg_ticks,
+    flight_summary,
+    flights_by_gap,
+    legend_above_data,
+    plot_follower,
+    shade_separations,
+    square_face,
+    svaj_quantities,
+)
 from .._data import ReportData
 from .._layout import Flow, fmt
 from .._style import C
-
-CHECK_WHAT = {
-    "contact_force": "least interface force, dynamic",
-    "speed_margin": "dynamic jump speed / cam speed",
-    "pressure_angle": "largest pressure angle",
-    "curvature": "least contour radius / roller radius",
-    "face_width": "contact travel along the face",
-}
 
 UNITS = {
     "base_radius": "mm", "roller_radius": "mm", "offset": "mm", "pivot_distance": "mm", "pivot_angle": "deg",
@@ -87,7 +89,7 @@ def _margin(c) -> str:
 def _what(check_name: str, data: ReportData) -> str:
     if check_name == "curvature" and data.case.follower is not None and not data.case.follower.roller:
         return "least contour radius (above 0: no cusp)"
-    return CHECK_WHAT.get(check_name, "")
+    return CheckKind(check_name).label
 
 
 def _checks_table(data: ReportData, flow: Flow) -> None:
