@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 from camdyn import HermiteMotion, InputError, LAWS, Program, law
+from camdyn.schema import LAW_NAMES
 
 X = jnp.linspace(0.0, 1.0, 2001)
 
@@ -180,3 +181,8 @@ def test_hermite_table_derivatives_are_its_own():
     np.testing.assert_allclose(np.asarray(jax.vmap(jax.grad(s))(th)), v[1], rtol=1e-10, atol=1e-10)
     np.testing.assert_allclose(np.asarray(jax.vmap(jax.grad(jax.grad(s)))(th)), v[2], rtol=1e-9, atol=1e-9)
     assert tab.unit == "mm" and tab.breaks_deg == Program.from_segments(LECTURE).breaks_deg
+
+
+def test_the_schema_names_every_law_the_model_implements():
+    """A law is added in two places (docs/extending.md): the model's pieces and the schema's name list."""
+    assert tuple(LAW_NAMES) == tuple(LAWS)
