@@ -93,7 +93,7 @@ def maximize_least(values: Callable, geometry: Callable, x0: np.ndarray, *, radi
     v, Jv = _value_and_jacobian(values, x)
     g, Jg = _value_and_jacobian(geometry, x)
     radius = np.broadcast_to(np.asarray(radius, dtype=float), x.shape)
-    best, delta, steps = merit(v, g), radius, 0
+    best, delta, steps = merit(v, g), radius.copy(), 0  # a writable trust region (the broadcast is a read-only view)
     for steps in range(1, _MAX_STEPS + 1):
         bounds = [(max(-delta[i], lo[i] - x[i]), min(delta[i], hi[i] - x[i])) for i in range(n)]
         lp = _linear_step(v, Jv, g, Jg, bounds)
@@ -110,7 +110,7 @@ def maximize_least(values: Callable, geometry: Callable, x0: np.ndarray, *, radi
             x, v, Jv, g, Jg, best = trial, v2, Jv2, g2, Jg2, m2
             delta = np.minimum(2.0 * delta, 4.0 * radius) if np.any(np.abs(dx) > 0.9 * delta) else delta
         else:
-            delta *= 0.5
+            delta = 0.5 * delta
         if np.all(delta < 1e-5 * radius):
             break
     return Step(x, float(np.min(v)), float(np.max(g)), steps)
