@@ -28,7 +28,7 @@ def print_optimization(res, output: Path) -> None:
         td = next(v for k, v in p.items() if k.startswith("time_domain"))
         fd = next(v for k, v in p.items() if k.startswith("frequency_domain"))
         said = ", separates" if p["separated"] else ("" if p["margin_held"] else f", under the {res.margin:.4g} {f} margin")
-        con.print(f"[dim]time domain at {p['speed_rpm']:.0f} rpm: least force {td:.4g} {f} (frequency domain {fd:.4g} {f}){said}[/dim]")
+        con.print(f"[dim]time domain at {p['speed_rpm']:.1f} rpm: least force {td:.4g} {f} (frequency domain {fd:.4g} {f}){said}[/dim]")
     if res.robust is not None:
         con.print(f"robust: P(separation) <= {res.robust['separation_probability']:g} up to {res.robust['speed_rpm']:.1f} rpm "
                   f"({res.robust['samples']} built cams of [tolerances])")

@@ -319,7 +319,7 @@ def optimize_case(
     after = metrics(new, after_check, margin)
     claimed = after.margin_speed_rpm if objective == "jump-speed" else case.limits.speed_margin * rpm
     checked = [w / RPM for w in _dips(new, claimed * RPM, _VERIFIED)] if not new.model.rigid else []
-    checked = sorted(set(round(v, 3) for v in checked + ([0.99 * claimed] if objective == "jump-speed" else [rpm])))
+    checked = sorted(set(round(v, 1) for v in checked + [0.99 * claimed] + ([] if objective == "jump-speed" else [rpm])))
     verification = _verify(new, checked, margin)
     refusals = _refusals(objective, before_check, after_check, before, after, _motion_kept(new, space), verification)
     robust_claim = None
