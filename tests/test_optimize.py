@@ -23,7 +23,8 @@ from _helpers import run
 from camdyn import InputError
 from camdyn._core.units import RPM
 from camdyn.design.checks import run_check
-from camdyn.design.optimize import default_margin, margin_speed, optimize_case
+from camdyn.design.optimize import _robust_claim, default_margin
+from camdyn.design.tolerance import tolerance_study
 from camdyn.design.optimize._objectives import hold_to, least_slack
 from camdyn.design.optimize._rows import Rows
 from camdyn.design.optimize._shape import shape_space
@@ -311,3 +312,18 @@ def test_where_it_cannot_improve_it_writes_nothing(capsys, tmp_path):
     out = tmp_path / "out.toml"
     code, stdout, err = run(capsys, "optimize", LECTURE, "-o", out, "--objective", "spring-force", "--min-force", "100")
     assert code == 1 and not out.exists() and "cannot improve" in stdout and "wrote nothing" in stdout, stdout + err
+
+
+@pytest.mark.slow
+def test_the_robust_claim_is_where_one_built_cam_in_a_thousand_separates():
+    """``--robust``'s claim (the 1e-3 quantile of the built cams' jump speeds) against the tolerance study's own
+    count of separations at that speed (the least force of each built cam there; the speed spread taken out)."""
+    raw = tomllib.loads((ROOT / "cases" / "lecture-tolerances.toml").read_text())
+    claim = _robust_claim(case_from_dict(raw), None)
+    assert claim["samples"] == 4000 and claim["speed_rpm"] < claim["nominal_jump_speed_rpm"]
+    raw["dynamics"]["speed"] = claim["speed_rpm"]
+    raw["tolerances"].pop("speed")
+    at = tolerance_study(case_from_dict(raw), 4000)
+    assert at.probability <= 2e-3  # 4 of 4000 below the quantile, and a built cam that re-holds above its jump
+    raw["dynamics"]["speed"] = 1.05 * claim["speed_rpm"]
+    assert tolerance_study(case_from_dict(raw), 4000).probability > 1e-3  # a claim 5 % higher would not hold
