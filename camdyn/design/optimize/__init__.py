@@ -57,7 +57,7 @@ class Metrics:
 
     def json(self, unit: str) -> dict:
         return {
-            "jump_speed_rpm": self.jump_speed_rpm, "least_contact_force_N": self.least_force_N,
+            "jump_speed_rpm": _finite_or_none(self.jump_speed_rpm), "least_contact_force_N": self.least_force_N,
             f"peak_acceleration_{unit}_per_rad2": self.peak_acceleration, "max_pressure_angle_deg": self.max_pressure_angle_deg,
             "min_radius_of_curvature_mm": self.min_radius_of_curvature_mm,
             "peak_spring_force_N_m" if unit == "deg" else "peak_spring_force_N": self.peak_spring_force,
@@ -213,7 +213,7 @@ def _verify(case: Case, speeds_rpm: list[float], margin: float) -> dict:
         held = bool(r.min_force >= margin - 1e-3 * float(np.abs(r.force).max())) and not r.separations
         points.append({"speed_rpm": rpm, f"time_domain_least_force_{unit}": r.min_force, f"frequency_domain_least_force_{unit}": fd,
                        "separated": bool(r.separations), "margin_held": held})
-    least = min((p[f"time_domain_least_force_{unit}"] for p in points), default=math.nan)
+    least = min((p[f"time_domain_least_force_{unit}"] for p in points), default=None)
     return {"model": "rigid" if case.model.rigid else "compliant", "points": points, "least_force": least, "unit": unit.replace("_", "*")}
 
 
@@ -332,7 +332,7 @@ def optimize_case(
 def _refused(objective: str, before: Metrics, case: Case, margin: float, control_points: int, t0: float, why: str) -> Optimization:
     """The input itself, with why nothing better was found."""
     doc = case.spec.model_dump(exclude_unset=True, exclude_none=True)
-    empty = {"model": "compliant", "points": [], "least_force": math.nan, "unit": "N*m" if case.oscillating else "N"}
+    empty = {"model": "compliant", "points": [], "least_force": None, "unit": "N*m" if case.oscillating else "N"}
     return Optimization(objective, before, before, case, doc, math.nan, empty, control_points, time.perf_counter() - t0, margin, (why,))
 
 
