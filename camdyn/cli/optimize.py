@@ -9,7 +9,7 @@ from pathlib import Path
 
 from .._core.errors import InputError
 from .._core.outputs import output_file, write_new
-from ..design.optimize import optimize_case
+from ..design.optimize import floor_rpm, optimize_case
 from ..model.case import build_case
 from . import _console
 
@@ -30,10 +30,10 @@ def print_optimization(res, output: Path) -> None:
         said = ", separates" if p["separated"] else ("" if p["margin_held"] else f", under the {res.margin:.4g} {f} margin")
         con.print(f"[dim]time domain at {p['speed_rpm']:.1f} rpm: least force {td:.4g} {f} (frequency domain {fd:.4g} {f}){said}[/dim]")
     if res.robust is not None:
-        con.print(f"robust: P(separation) <= {res.robust['separation_probability']:g} up to {res.robust['speed_rpm']:.1f} rpm "
+        con.print(f"robust: P(separation) <= {res.robust['separation_probability']:g} up to {floor_rpm(res.robust['speed_rpm']):.1f} rpm "
                   f"({res.robust['samples']} built cams of [tolerances])")
     if res.written:
-        con.print(f"claimed: the margin holds at every speed up to {res.claimed_speed_rpm:.1f} rpm")
+        con.print(f"claimed: the margin holds at every speed up to {floor_rpm(res.claimed_speed_rpm):.1f} rpm")
         con.print(f"wrote {output} in {res.time_s:.1f} s; next: camdyn check {output}")
     else:
         con.print(f"[bold]cannot improve[/bold] {res.case.name} for {res.objective}; wrote nothing ({res.time_s:.1f} s):")

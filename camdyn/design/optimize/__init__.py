@@ -66,6 +66,11 @@ class Metrics:
         }
 
 
+def floor_rpm(rpm: float) -> float:
+    """A claimed speed as printed (to 0.1 rpm): rounded down, never past what holds."""
+    return math.floor(rpm * 10.0) / 10.0 if math.isfinite(rpm) else rpm
+
+
 def _finite_or_none(x: float) -> float | None:
     return float(x) if math.isfinite(x) else None
 
@@ -117,7 +122,7 @@ class Optimization:
             "the spring are the original's.",
             f"Objective: {aim}. Linear programs (HiGHS) on the frequency-domain steady state, its Jacobian by JAX autodiff.",
             f"Dynamic jump speed {b.jump_speed_rpm:.1f} -> {a.jump_speed_rpm:.1f} rpm; the force margin of {self.margin:.4g} {f} "
-            f"holds to {b.margin_speed_rpm:.1f} -> {a.margin_speed_rpm:.1f} rpm; least contact force at the case speed "
+            f"holds to {floor_rpm(b.margin_speed_rpm):.1f} -> {floor_rpm(a.margin_speed_rpm):.1f} rpm; least contact force at the case speed "
             f"{b.least_force_N:.3g} -> {a.least_force_N:.3g} N; max pressure angle {b.max_pressure_angle_deg:.2f} -> "
             f"{a.max_pressure_angle_deg:.2f} deg; verdict {b.verdict} -> {a.verdict}.",
             "Checked by the time-domain (diffrax) model at " + ", ".join(f"{p['speed_rpm']:.0f}" for p in self.verification["points"])
@@ -336,4 +341,4 @@ def _refused(objective: str, before: Metrics, case: Case, margin: float, control
     return Optimization(objective, before, before, case, doc, math.nan, empty, control_points, time.perf_counter() - t0, margin, (why,))
 
 
-__all__ = ["MARGIN_OF_PRELOAD", "OBJECTIVES", "Metrics", "Optimization", "default_margin", "least_slack", "margin_speed", "metrics", "optimize_case"]
+__all__ = ["MARGIN_OF_PRELOAD", "OBJECTIVES", "Metrics", "Optimization", "default_margin", "floor_rpm", "least_slack", "margin_speed", "metrics", "optimize_case"]
