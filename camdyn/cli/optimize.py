@@ -18,7 +18,8 @@ def print_optimization(res, output: Path) -> None:
     con = _console.console()
     u, f = res.unit, res.force_unit
     con.print(f"[bold]{res.case.name}[/bold]  optimized for {res.objective}: {len(res.document['motion']['segments'])} segments, "
-              f"rises and returns as B-splines of {res.control_points} control points; force margin {res.margin:.4g} {f}")
+              f"rises and returns as B-splines of {res.control_points} control points")
+    con.print(f"force margin {res.margin:.4g} {f}")
     t = _console.table(("", "left"), ("before", "right"), ("after", "right"))
     for fld in fields(res.before):
         fmt = fld.metadata["format"]
