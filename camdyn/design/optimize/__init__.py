@@ -280,13 +280,13 @@ def _robust_claim(case: Case, progress: Progress | None) -> dict:
 
 def optimize_case(
     case: Case, objective: str = "jump-speed", *, speed_rpm: float | None = None, progress: Progress | None = None, name: str | None = None,
-    source: str | None = None, min_force: float | None = None, control_points: int = N_CONTROL, robust: bool = False,
+    source: str | None = None, min_force: float | None = None, control_points: int | None = None, robust: bool = False,
 ) -> Optimization:
     """Reshape ``case``'s rises and returns for ``objective`` (one of :data:`OBJECTIVES`) at ``speed_rpm`` (default:
     the case's); ``name``: the optimized case's (default: the case's with "-optimized"); ``source``: the original
     case file as the new one will find it (its ``optimized_from``); ``min_force``: the force margin to keep at
     every speed held (N; N*m for an arm; default :func:`default_margin`); ``control_points``: per reshaped
-    segment; ``robust``: claim the speed up to which P(separation) <= 1e-3 over the case's ``[tolerances]``.
+    segment (default :data:`N_CONTROL`); ``robust``: claim the speed up to which P(separation) <= 1e-3 over the case's ``[tolerances]``.
     The answer's ``refusals`` say why it is not to be written (no better, or a check it would break)."""
     if objective not in OBJECTIVES:
         raise InputError("--objective", f"unknown objective {objective!r}; choose one of {', '.join(OBJECTIVES)}")
@@ -296,6 +296,7 @@ def optimize_case(
     if not math.isfinite(margin) or margin < 0.0:
         raise InputError("--min-force", f"must be a finite force >= 0, got {margin:g}")
     t0 = time.perf_counter()
+    control_points = N_CONTROL if control_points is None else control_points
     space = shape_space(case, n_control=control_points)
     rows = Rows(case, space, margin)
     before_check = run_check(case, speed_rpm)
