@@ -180,6 +180,9 @@ def main() -> int:
 
     from camdyn._core.units import RPM
     from camdyn.model import dynamics as dyn
+    from camdyn import enable_x64
+
+    enable_x64()
     from camdyn.model.case import load_case
 
     t_import = time.perf_counter() - t

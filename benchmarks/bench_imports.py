@@ -40,6 +40,9 @@ def main() -> int:
     import ezdxf
     import numpy as np
 
+    from camdyn import enable_x64
+
+    enable_x64()
     from camdyn.model.case import load_case
     from camdyn.model.datafiles import read_contour, read_lift_table
     from camdyn.model.geometry import analyze, contact_motion

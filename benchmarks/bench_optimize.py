@@ -32,7 +32,9 @@ sys.path.insert(0, str(HERE))
 
 from bench_dynamics import print_table, timed  # noqa: E402
 
-import camdyn.model  # noqa: E402,F401  (float64)
+import camdyn  # noqa: E402
+
+camdyn.enable_x64()
 from camdyn._core.units import RPM  # noqa: E402
 from camdyn.design.optimize import optimize_case  # noqa: E402
 from camdyn.design.optimize._objectives import _speed_set, least_slack  # noqa: E402

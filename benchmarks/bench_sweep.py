@@ -56,6 +56,9 @@ def main() -> int:
     from camdyn._core.units import RPM
     from camdyn.design import sweep
     from camdyn.model import dynamics as dyn
+    from camdyn import enable_x64
+
+    enable_x64()
     from camdyn.model.case import load_case
 
     case = load_case(CASE)

@@ -27,6 +27,9 @@ def inner(opts) -> int:
     """One configuration: compile, then time the study; process 0 prints JSON."""
     from camdyn._core.distributed import initialize, is_writer
     from camdyn.design.tolerance import CHUNK_SAMPLES, tolerance_study
+    from camdyn import enable_x64
+
+    enable_x64()
     from camdyn.model.case import load_case
 
     initialize(opts.coordinator, opts.num_processes, opts.process_id)

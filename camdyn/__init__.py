@@ -14,6 +14,7 @@ _API = {
     "CamdynError": "._core.errors",
     "InputError": "._core.errors",
     "NumericalError": "._core.errors",
+    "enable_x64": "._core.precision",
     # schema
     "CaseSpec": ".schema",
     "FollowerSpec": ".schema",
@@ -74,11 +75,17 @@ _API = {
     "case_drive": ".design.parts",
     "case_contact": ".design.parts",
     "spring_jump_speed": ".design.parts",
+    "MachineResult": ".design.machine",
+    "check_machine": ".design.machine",
+    "run_machine": ".design.machine",
+    "load_machine": ".schema.machine",
+    "MachineSpec": ".schema.machine",
     # figures, reports, files
     "plot_feasible_region": ".plot",
     "plot_jump_map": ".plot",
     "write_report": ".report",
     "write_profile": ".export",
+    "write_machine_report": ".report.machine",
 }
 
 __all__ = sorted(_API)

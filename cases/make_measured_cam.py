@@ -12,7 +12,9 @@ from pathlib import Path
 
 import numpy as np
 
-import camdyn.model  # noqa: F401  (float64)
+import camdyn  # noqa: E402
+
+camdyn.enable_x64()
 from camdyn.model.geometry import analyze
 from camdyn.model.motion import Program
 from camdyn.schema import FollowerSpec

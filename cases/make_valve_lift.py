@@ -17,7 +17,9 @@ from pathlib import Path
 
 import numpy as np
 
-import camdyn.model  # noqa: F401  (float64)
+import camdyn  # noqa: E402
+
+camdyn.enable_x64()
 from camdyn.model.motion import Program
 
 RAMP, V_OPEN, V_CLOSE, NOSE_ACC = 0.25, 0.55, 0.55, -14.0

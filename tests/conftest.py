@@ -7,7 +7,10 @@ from pathlib import Path  # noqa: E402
 
 import pytest  # noqa: E402
 
-import camdyn.model  # noqa: E402,F401  (float64 on)
+import camdyn  # noqa: E402
+
+camdyn.enable_x64()  # the tests run as the command line does: camdyn's models compute in float64
+
 from camdyn.design.checks import run_check  # noqa: E402
 from camdyn.model.case import case_from_dict, load_case  # noqa: E402
 from camdyn.model.linkage import synthesize_motion  # noqa: E402

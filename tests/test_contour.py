@@ -50,7 +50,7 @@ def test_exact_contact_inverts_the_cam_geometry(name):
     case = case_from_dict(raw | {"follower": follower})
     xy = analyze(case.motion, case.follower).contour_fn()(np.linspace(0.0, 1.0, 2000, endpoint=False)).T
     derived = contact_motion(_samples(xy), _without_base_radius(follower))
-    truth = np.asarray(case.motion._eval(np, np.deg2rad(derived.theta_deg)))[0]
+    truth = np.asarray(case.motion.host(np.deg2rad(derived.theta_deg)))[0]
     scale = 1.0 if case.follower.translating else 180.0 / math.pi
     assert derived.follower.base_radius == pytest.approx(follower["base_radius"], abs=1e-5)
     assert np.abs(derived.lift - truth * scale).max() < (2e-5 if case.follower.translating else 1e-6)
@@ -171,7 +171,7 @@ def test_dxf_arcs_give_the_eccentric_cams_closed_form(tmp_path):
     th = np.linspace(0, 2 * np.pi, 721)
     n = np.stack([-np.sin(th), np.cos(th)], axis=1)
     want = radius + n @ c - case.follower.base_radius
-    got = np.asarray(case.motion._eval(np, th))
+    got = np.asarray(case.motion.host(th))
     np.testing.assert_allclose(got[0], want, atol=2e-6)
     np.testing.assert_allclose(got[2], -(n @ c), atol=1e-4)  # s'' of a sinusoid
     assert case.motion_json()["source"] == "contour" and case.motion_json()["fit"]["max_residual"] < 1e-6

@@ -187,8 +187,10 @@ def test_type_keys_of_a_discriminated_union():
 def test_readme_quick_start_is_the_two_commands():
     """CI (.ci/run) runs the second; the first is what a newcomer types."""
     lines = (ROOT / "README.md").read_text(encoding="utf-8").splitlines()
+    test_command = "pip install -e '.[test]' -c constraints.txt && python -m pytest"
     assert "pip install . && camdyn check cases/lecture.toml" in lines
-    assert "pip install -e '.[test]' && python -m pytest" in lines
+    assert test_command in lines
+    assert test_command in (ROOT / ".ci" / "run").read_text(encoding="utf-8").splitlines()
 
 
 def _anchors(md: Path) -> set[str]:

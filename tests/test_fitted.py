@@ -96,7 +96,7 @@ def test_fitted_motion_evaluates_like_its_spline_jitted_vmapped_and_in_numpy():
     th = np.linspace(-1.0, 8.0, 77)
     want = fit.spline(th) * math.pi / 180
     np.testing.assert_allclose(np.asarray(evaluate(motion, jnp.asarray(th))), want, rtol=1e-12, atol=1e-14)
-    np.testing.assert_allclose(np.asarray(motion._eval(np, th)), want, rtol=1e-12, atol=1e-14)
+    np.testing.assert_allclose(np.asarray(motion.host(th)), want, rtol=1e-12, atol=1e-14)
     np.testing.assert_allclose(np.asarray(jax.vmap(jax.grad(lambda t: motion(t)[0]))(jnp.asarray(th))), want[1], rtol=1e-9, atol=1e-12)
 
 
@@ -169,7 +169,7 @@ def test_table_motion_json_exposes_the_fit(tmp_path):
 def _sampled(tmp_path, step: float, noise: float) -> dict:
     case = load_case(LECTURE)
     theta = np.arange(0.0, 360.0, step)
-    lift = np.asarray(case.motion._eval(np, np.deg2rad(theta)))[0]
+    lift = np.asarray(case.motion.host(np.deg2rad(theta)))[0]
     lift = lift + noise * np.random.default_rng(7).standard_normal(theta.size)
     rows = ["theta_deg,lift_mm"] + [f"{t:g},{v:.4f}" for t, v in zip(theta, lift)]
     return run_check(load_case(_table_case(tmp_path, rows))).json()

@@ -114,3 +114,34 @@ def test_a_typo_is_reported_before_jax_loads(tmp_path):
     proc = _fresh(f"import sys\nfrom camdyn.cli import main\ncode = main(['check', {str(case)!r}])\nprint(code, 'jax' in sys.modules)")
     assert proc.stdout.strip().splitlines()[-1] == "2 False"
     assert "dynamics.mas: unknown key (did you mean 'mass'?)" in proc.stderr
+
+
+def private_crossings() -> list[str]:
+    """Imports of a private name, or of a name from a private module (``_x``), from outside the importer's own
+    package and its ancestors (``camdyn._core`` is the shared infrastructure, public to camdyn)."""
+    modules = {_module(p): p for p in PACKAGE.rglob("*.py")}
+    found = []
+    for name, path in sorted(modules.items()):
+        package = name if path.name == "__init__.py" else name.rsplit(".", 1)[0]
+        for node in ast.walk(ast.parse(path.read_text())):
+            if not isinstance(node, ast.ImportFrom):
+                continue
+            base = node.module or ""
+            if node.level:
+                anchor = package.split(".")[: len(package.split(".")) - node.level + 1]
+                base = ".".join(anchor + ([base] if base else []))
+            if not base.startswith("camdyn"):
+                continue
+            for alias in node.names:
+                target = f"{base}.{alias.name}" if f"{base}.{alias.name}" in modules else base
+                home = target if modules[target].name == "__init__.py" else target.rsplit(".", 1)[0]
+                if package == home or package.startswith(home + "."):
+                    continue  # its own package, or a parent's private module
+                hidden = [c for c in target.split(".")[1:] if c.startswith("_") and c != "_core" and not c.startswith("__")]
+                if hidden or (alias.name.startswith("_") and not alias.name.startswith("__")):
+                    found.append(f"{name}: {alias.name} from {target}")
+    return found
+
+
+def test_no_private_name_crosses_packages():
+    assert private_crossings() == []

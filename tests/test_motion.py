@@ -122,7 +122,7 @@ def test_program_periodic_and_jittable():
     prog = Program.from_segments(LECTURE)
     th = jnp.linspace(-1.0, 7.0, 50)
     np.testing.assert_allclose(np.asarray(jax.jit(lambda p, t: p(t))(prog, th)), np.asarray(prog(th + 2 * np.pi)), atol=1e-12)
-    np.testing.assert_allclose(np.asarray(prog._eval(np, np.asarray(th))), np.asarray(prog(th)), atol=1e-12)
+    np.testing.assert_allclose(np.asarray(prog.host(np.asarray(th))), np.asarray(prog(th)), atol=1e-12)
 
 
 def test_program_derivatives_match_finite_differences():

@@ -114,7 +114,7 @@ def test_overshoot_warning_says_by_how_much_and_where():
     prog = Program.from_segments([{"law": "polynomial", "end": 180, "lift": 20, "points": [[100, 2], [170, 19]]}, {"law": "polynomial", "end": 360, "lift": -20}])
     (warning,) = prog.polynomial_warnings()
     th = np.linspace(0.0, 180.0, 180001)
-    s = np.asarray(prog._eval(np, np.deg2rad(th)))[0]
+    s = np.asarray(prog.host(np.deg2rad(th)))[0]
     over = s.max() - 20.0
     assert over > 1.0 and "motion.segments[0]" in warning and "overshoots its range 0 to 20 mm" in warning
     assert f"{over:.4g} mm above it at {th[s.argmax()]:.4g} deg" in warning

@@ -266,7 +266,10 @@ def test_oscillating_rigid_in_torsion_units():
     theta = np.linspace(0, 2 * np.pi, 20001)
     phi, phi1, phi2 = np.asarray(evaluate(case.motion, jnp.asarray(theta)))[:3]
     arm = np.asarray(lever_arm_mm(case.motion, case.follower, theta)) / 1000.0
-    inertia, zeta = raw["dynamics"]["inertia"], raw["dynamics"]["damping_ratio"]
+    # the arm carries a third of its spring's mass at the spring's lever arm ([spring] model = "lumped")
+    assert sz.spring_model == "lumped" and sz.spring_mass_kg > 0.0
+    inertia = raw["dynamics"]["inertia"] + sz.spring_mass_kg * (raw["spring"]["lever_arm"] / 1000.0) ** 2 / 3.0
+    zeta = raw["dynamics"]["damping_ratio"]
     k, t0 = sz.chosen.rate, sz.chosen.preload
     c = 2 * zeta * math.sqrt(k * inertia)
     least = min(np.min((inertia * w**2 * phi2 + c * w * phi1 + k * phi + t0) / arm) for w in np.linspace(0, sz.top_speed_rpm * RPM, 41))

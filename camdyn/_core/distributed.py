@@ -5,7 +5,7 @@ the command line or the environment (``CAMDYN_COORDINATOR``, ``CAMDYN_NUM_PROCES
 asks for several processes, or with ``auto`` (``--distributed``) on a cluster JAX detects by itself (SLURM,
 Open MPI), which then supplies the three values.
 Afterwards ``jax.devices()`` is the global list of every process's devices, the batched kernels are sharded over
-that global mesh (:func:`camdyn.design.sweep._sharding.run_batched`), every process computes the same inputs
+that global mesh (:func:`camdyn._core.sharding.run_batched`), every process computes the same inputs
 and receives every result, and only process 0 writes (:func:`is_writer`). On CPU the collectives go through gloo.
 """
 

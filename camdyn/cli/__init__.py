@@ -20,12 +20,6 @@ from pathlib import Path
 
 from .._core.units import MAX_SPEED_RPM
 
-# Before equinox loads: its runtime checks otherwise embed host callbacks, which keep JAX from caching the
-# compiled diffrax solves on disk (camdyn checks every solver result itself, so NaN-on-error loses nothing).
-os.environ.setdefault("EQX_ON_ERROR", "nan")
-
-COMMANDS = ("check", "table", "profile", "size", "sweep", "synthesize", "optimize", "report", "spring", "tolerance")
-
 
 def _version() -> str:
     try:
@@ -94,7 +88,10 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--max-speed", type=float, metavar="RPM", help="maximum cam speed, rpm (default: the case's speed)")
     p.add_argument("--margin", type=float, metavar="X", help="hold up to X times the maximum speed (default: the case's speed_margin)")
     p.add_argument("--min-rate", type=float, default=0.0, metavar="K", help="least spring rate, N/mm (N*m/rad oscillating; default 0)")
-    p.add_argument("--buildable", action="store_true", help="the least peak force over springs that can be built within [spring], and the part")
+    p.add_argument("--buildable", action="store_true", help=(
+        "the least peak force over springs that can be built within [spring] (surge clear of the cam's strong harmonics), "
+        "with the part's own mass; passes check as written"
+    ))
     p.add_argument("--json", action="store_true", help="print one JSON document")
 
     p = command("sweep", "jump map over speeds x spring rates: DIR/<case>-sweep.csv and DIR/<case>-sweep.png")
@@ -136,6 +133,15 @@ def build_parser() -> argparse.ArgumentParser:
     p = command("spring", "the helical compression spring for the case's rate and preload: wire, coils, lengths, stresses, surge")
     p.add_argument("case", help="case file (TOML); an optional [spring] table gives the material, bore, installed length and end type")
     p.add_argument("--json", action="store_true", help="print one JSON document")
+
+    p = command("machine", "many cams on one shaft: each checked at its speed, shaft torque, flywheel, clearances")
+    p.add_argument("case", metavar="MACHINE.toml", help="machine file: name, speed, [[cam]] case and phase, [drive]")
+    p.add_argument("-o", "--output", default=".", metavar="DIR",
+                   help="output folder for DIR/<machine>-machine.csv (default: the current one)")
+    p.add_argument("--json", action="store_true", help="print one JSON document")
+    p.add_argument("--report", action="store_true",
+                   help="also write the machine report: DIR/<machine>-machine.pdf and a PNG per page")
+    p.add_argument("--force", action="store_true", help="overwrite the files if they exist")
     return parser
 
 
@@ -170,9 +176,12 @@ def _validate(args) -> None:
     """Read and validate the input files before any model is built: a typo is reported before JAX loads."""
     from .._core.errors import CamdynError
     from ..schema import load_case_spec, load_path_file
+    from ..schema.machine import load_machine
 
     if args.command == "synthesize":
         args.spec = load_path_file(args.case)
+    elif args.command == "machine":
+        args.spec = load_machine(args.case)
     elif args.command == "report":
         args.specs = []
         for p in args.cases:
@@ -194,6 +203,12 @@ def main(argv: list[str] | None = None) -> int:
     source = getattr(args, "case", "") or ""
     try:
         _validate(args)
+        from .._core.precision import enable_x64  # loads JAX: only once the input is known to be valid
+
+        enable_x64()  # before any model module loads: camdyn's models compute in float64
+        # before equinox loads: its runtime checks otherwise embed host callbacks, which keep JAX from caching the
+        # compiled diffrax solves on disk (camdyn checks every solver result itself, so NaN-on-error loses nothing)
+        os.environ.setdefault("EQX_ON_ERROR", "nan")
         run = import_module(f".{args.command}", __name__).run
         _enable_caches()
         return run(args)

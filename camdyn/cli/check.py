@@ -7,9 +7,8 @@ import sys
 from pathlib import Path
 
 from .._core.outputs import output_dir
-from ..design._check import CheckKind
 from ..design.advice import corner_radius_advice
-from ..design.checks import CheckReport, run_check
+from ..design.checks import CheckKind, CheckReport, run_check
 from ..model.case import build_case
 from ..report import write_report
 from ._console import console, json_text, notes, progress_bar, table

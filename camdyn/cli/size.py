@@ -24,7 +24,8 @@ def print_size(sz: SpringSizing) -> None:
     )
     jump = lambda w: "none" if w == float("inf") else f"{w:.1f}"  # noqa: E731
     fmt = lambda x, scale: f"{0.0 if abs(x) < 1e-9 * max(1.0, abs(scale)) else x:.4g}"  # noqa: E731
-    designs = [("chosen", sz.chosen)] + ([("kinematic LP", sz.kinematic)] if sz.model == "compliant" else [])
+    designs = [("chosen" if sz.part is not None else "bound", sz.chosen)]  # plain size: a bound on the force, not a part
+    designs += [("kinematic LP", sz.kinematic)] if sz.model == "compliant" else []
     designs += [("current", sz.current), ("current rate", sz.at_current_rate)]
     table = Table(show_edge=False, pad_edge=False, box=None, header_style="bold")
     table.add_column("")
@@ -69,7 +70,29 @@ def print_size(sz: SpringSizing) -> None:
     for w in sz.warnings:
         console.print(f"[yellow]warning:[/yellow] {escape(w)}")
     c = sz.chosen
-    console.print(f"size: [bold]rate {c.rate:.4g} {u['rate']}, preload {c.preload:.4g} {u['preload']}[/bold] (peak spring {c.peak_spring:.4g} {u['spring']})")
+    spring = f"rate {c.rate:.4g} {u['rate']}, preload {c.preload:.4g} {u['preload']}"
+    if sz.part is None:
+        console.print(
+            f"size: [bold]a lower bound, not a spring[/bold]: no spring holds to {sz.top_speed_rpm:.4g} rpm with a peak force "
+            f"below {c.peak_spring:.4g} {u['spring']} ({spring}{_preload_deflection(sz)}); such a spring may not exist as a "
+            "part: "
+            "[bold]camdyn size --buildable[/bold] proposes one that can be built and passes check with its own mass"
+        )
+        return
+    chk = sz.check
+    console.print(
+        f"size: [bold]{spring}[/bold] (peak spring {c.peak_spring:.4g} {u['spring']}), the part below; check with its own "
+        f"mass ({sz.spring_model}, {1e3 * sz.spring_mass_kg:.3g} g): speed_margin {chk.value:.5g} {chk.sense} {chk.limit:g} "
+        + ("[green]pass[/green]" if chk.ok else "[bold red]FAIL[/bold red]")
+    )
+
+
+def _preload_deflection(sz: SpringSizing) -> str:
+    """The spring's deflection at its preload (mm; translating followers), which says whether it can be a part."""
+    c = sz.chosen
+    if sz.oscillating or not c.rate > 0.0 or c.preload <= 0.0:
+        return ""
+    return f"; {c.preload / c.rate:.4g} mm of preload deflection"
 
 
 def run(args) -> int:

@@ -16,6 +16,7 @@ class CheckKind(str, Enum):
     FACE_WIDTH = "face_width"
     TRAIN_DEFLECTION = "train_deflection"
     CONTACT_STRESS = "contact_stress"  # Hertz pressure between cam and follower, MPa
+    CLEARANCE = "clearance"  # camdyn machine: the least gap between two followers that share space, mm
     # the return spring as a part (camdyn spring)
     SPRING_INDEX_MIN = "spring_index_min"
     SPRING_INDEX_MAX = "spring_index_max"

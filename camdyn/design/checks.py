@@ -17,7 +17,7 @@ from ..model.drive import DriveTorque
 from ..model.geometry import CamGeometry, analyze, lever_arm_mm, newton_per_torque_at
 from ._check import Check, CheckKind
 from .geometry import judge_geometry
-from .parts import case_contact, case_drive, contact_check
+from .parts import case_contact, case_drive, contact_check, resolve_spring
 
 
 SYNTHESIS_ARRAYS = ("theta_deg", "pitch", "contour", "path_xy", "traced_xy")  # check --json --arrays only
@@ -110,17 +110,31 @@ def _separation_note(sep: dict, rpm: float, restitution: float) -> str:
     return f"the follower leaves the cam at {sep['start_deg']:.1f} deg and lands at {sep['end_deg']:.1f} deg ({gap}, impact at {sep['impact_speed_m_s']:.3g} m/s)"
 
 
+def jump_speeds(case: Case, omega: float, margin: float) -> tuple[float, float, float, float]:
+    """(kinematic jump speed rad/s, where deg, dynamic jump speed rad/s, the top of its search rad/s) of a case
+    whose spring is resolved (:func:`camdyn.design.parts.resolve_spring`): the dynamic one with its spring model."""
+    w_kin, at_kin = dyn.kinematic_jump_speed(case.motion, case.model)
+    w_max = 4.0 * max(margin * omega, w_kin if math.isfinite(w_kin) else 0.0)
+    return w_kin, at_kin, case.spring.jump_speed(case.motion, w_max=w_max), w_max
+
+
+def speed_margin_check(w_dyn: float, omega: float, margin: float) -> Check:
+    """``[limits] speed_margin``: the dynamic jump speed over the speed, at least ``margin``. The one comparison
+    ``check`` judges and ``size`` proposes a spring by."""
+    return Check(CheckKind.SPEED_MARGIN.value, _finite_or_none(w_dyn / omega), float(margin), "x", ">=")
+
+
 def run_check(case: Case, speed_rpm: float | None = None) -> CheckReport:
-    """Kinematic and dynamic interface force, jump speeds, separations and the verdict at ``speed_rpm``."""
+    """Kinematic and dynamic interface force, jump speeds, separations and the verdict at ``speed_rpm``, with the
+    spring's own mass as ``[spring] model`` asks (:func:`camdyn.design.parts.resolve_spring`)."""
+    case = resolve_spring(case)
     rpm = float(speed_rpm if speed_rpm is not None else case.speed_rpm)
     omega = rpm * RPM
     motion, model, limits = case.motion, case.model, case.limits
-    warnings = list(case.warnings)
+    warnings = list(case.warnings) + ([case.spring.note] if case.spring.note else [])
 
     resp = dyn.response(motion, model, omega)
-    w_kin, at_kin = dyn.kinematic_jump_speed(motion, model)
-    w_max = 4.0 * max(limits.speed_margin * omega, w_kin if math.isfinite(w_kin) else 0.0)
-    w_dyn = dyn.dynamic_jump_speed(motion, model, w_max=w_max)
+    w_kin, at_kin, w_dyn, w_max = jump_speeds(case, omega, limits.speed_margin)
     if not math.isfinite(w_dyn) and not model.rigid:
         warnings.append(f"no jump found up to {w_max / RPM:.0f} rpm (searched 4x beyond the margin)")
     if not model.rigid and not resp.separations:
@@ -142,7 +156,7 @@ def run_check(case: Case, speed_rpm: float | None = None) -> CheckReport:
     unit = motion.unit
     checks = (
         Check(CheckKind.CONTACT_FORCE.value, float(resp.min_force), float(limits.min_contact_force), "N", ">"),
-        Check(CheckKind.SPEED_MARGIN.value, _finite_or_none(w_dyn / omega), float(limits.speed_margin), "x", ">="),
+        speed_margin_check(w_dyn, omega, limits.speed_margin),
     ) + checks_train
     kinematic = {
         "min_contact_force_N": float(kin_force[i_kin]),
@@ -158,7 +172,7 @@ def run_check(case: Case, speed_rpm: float | None = None) -> CheckReport:
         "separations": [separation_json(case, s) for s in resp.separations],
         "residual_vibration_mm": resp.residual_vibration,
         "periodicity_error": resp.periodicity_error,
-    }
+    } | case.spring.json()
     if case.oscillating:  # the contract's keys at the contact, the arm's angle beside them
         dynamic["residual_vibration_mm"] = _at_contact(case, resp.residual_vibration, resp.residual_vibration_deg)
         dynamic["residual_vibration_rad"] = resp.residual_vibration

@@ -1,19 +1,22 @@
 """From forces to parts for a whole case: the drive and the contact stress of ``camdyn check``'s response, the
-contact-stress verdict, and the jump speed with the spring's own mass. (The spring is :mod:`camdyn.design.spring`.)"""
+contact-stress verdict, and the spring's own mass in the dynamics. (The spring is :mod:`camdyn.design.spring`.)"""
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 
-from .._core.units import M_PER_MM
+from .._core.errors import InputError
 from ..model.case import Case
 from ..model.contact import ContactStress, cam_contact
 from ..model.drive import DriveTorque, drive_torque, follower_velocity
-from ..model.dynamics import Response, dynamic_jump_speed
-from ..model.follower import FollowerModel, with_spring_mass
+from ..model.dynamics import Response
+from ..model.follower import FollowerModel
 from ..model.geometry import CamGeometry, newton_per_torque_at
-from ..model.surge import chain_jump_speed
+from ..model.surge import SpringInDynamics
 from ._check import Check, CheckKind
+from .spring import design_case_spring
 
 
 def case_drive(case: Case, resp: Response) -> DriveTorque:
@@ -46,15 +49,56 @@ def contact_check(contact: ContactStress, max_contact_stress_MPa: float) -> Chec
 def with_spring(case: Case, spring_mass_kg: float) -> FollowerModel:
     """The case's follower model with a third of its spring's mass moving with it (the lumped correction; an
     arm's spring acts at ``[spring] lever_arm``)."""
-    arm = case.spec.spring.lever_arm if case.oscillating else None
-    return with_spring_mass(case.model, spring_mass_kg, lever_arm_mm=arm)
+    return _bare(case).with_mass(spring_mass_kg, "lumped").follower()
+
+
+def _bare(case: Case) -> SpringInDynamics:
+    """The case's follower with a massless spring: what :func:`resolve_spring` adds the spring's mass to."""
+    spec = case.spec.spring
+    arm = spec.lever_arm if spec is not None and case.oscillating else None
+    return SpringInDynamics("none", 0.0, arm, case.model if case.spring is None else case.spring.bare)
+
+
+def resolve_spring(case: Case) -> Case:
+    """The case with its spring's own mass in the dynamics, as ``[spring] model`` asks: the spring is the part
+    ``camdyn spring`` designs for the case's rate and preload (:func:`camdyn.design.spring.design_case_spring`),
+    and its mass enters ``case.model`` as a third on the follower ("lumped", and "surge", whose jump speed is the
+    chain's: :class:`camdyn.model.surge.SpringInDynamics`). Without a ``[spring]`` table the spring is massless
+    (its part is not known); where no spring can be built the mass stays out and ``case.spring.note`` says why.
+    Idempotent: a resolved case comes back as it is."""
+    if case.spring is not None:
+        return case
+    bare = _bare(case)
+    if case.spec.spring is None:
+        return replace(case, spring=bare)
+    try:
+        part = design_case_spring(case)
+    except InputError as e:
+        note = (
+            "the spring's own mass is left out of the dynamics: no spring of the case's rate and preload can be built "
+            f"within [spring] ({e})"
+        )
+        return replace(case, spring=replace(bare, note=note))
+    sd = bare.with_mass(part.spring.mass, case.spec.spring.model)
+    return replace(case, model=sd.follower(), spring=sd)
+
+
+def spring_mass_notes(case: Case) -> tuple[str, ...]:
+    """What a vmapped study (sweep, tolerance) says of the spring's mass in a resolved case: held at every rate,
+    and, for the surge model, carried as its lumped third (the chain is in ``check`` and ``size``)."""
+    sd = case.spring
+    if sd is None or sd.model == "none":
+        return () if sd is None or sd.note is None else (sd.note,)
+    out = f"the spring's own mass ({1e3 * sd.mass_kg:.3g} g, the case's spring) is on the follower as its lumped third at every "
+    out += "rate"
+    if sd.model == "surge":
+        out += "; [spring] model = \"surge\": the chain's surge is judged by check and size, not here"
+    return (out,)
 
 
 def spring_jump_speed(case: Case, spring_mass_kg: float, *, w_max: float) -> float:
-    """The dynamic jump speed (rad/s; inf if none up to ``w_max``) with the spring's own mass, as ``[spring]
+    """The dynamic jump speed (rad/s; inf if none up to ``w_max``) with a spring of that mass, as ``[spring]
     model`` asks: "lumped" (a third of it on the follower) or "surge" (the spring as a chain of masses)."""
     spec = case.spec.spring
-    if spec is None or spec.model == "lumped":
-        return dynamic_jump_speed(case.motion, with_spring(case, spring_mass_kg), w_max=w_max)
-    mass = spring_mass_kg * (spec.lever_arm * M_PER_MM) ** 2 if case.oscillating else spring_mass_kg  # an arm's: m_s r^2
-    return chain_jump_speed(case.motion, case.model, mass, w_max=w_max)
+    model = "lumped" if spec is None else spec.model
+    return _bare(case).with_mass(spring_mass_kg, model).jump_speed(case.motion, w_max=w_max)

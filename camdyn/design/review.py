@@ -22,6 +22,7 @@ from ..model.case import Case, load_case
 from ..model.geometry import newton_per_torque_at
 from ..model.motion import evaluate
 from .checks import CheckReport, forces_in_newton, run_check
+from .parts import resolve_spring
 from .sizing import SpringSizing, size_spring
 from .spring import SpringDesign, design_case_spring
 from .sweep import JumpMap, jump_map
@@ -90,6 +91,7 @@ class Review:
 
 def design_review(case: Case, check: CheckReport, *, progress: Progress | None = None) -> Review:
     """Everything a design review of ``case`` draws beyond its ``check`` (run at the speed of the review)."""
+    case = resolve_spring(case)  # the spring's own mass ([spring] model), as check weighs it
     tick = counter(progress, f"{case.name}: review", 6)
     motion = sample_motion(case)
     tick()

@@ -24,7 +24,7 @@ from .._core.units import THETA_GRID, newton_per_torque, torsion_rate_at_arm
 from ..model import spring as sp
 from ..schema import SpringSpec
 from ._check import Check, CheckKind
-from .surge import CamHarmonics, SurgeReport, cam_harmonics, judge_surge
+from .surge import CamHarmonics, SurgeReport, cam_harmonics, judge_surge, surge_floor_hz
 
 
 @dataclass(frozen=True)
@@ -139,7 +139,7 @@ def _wire_sizes(material) -> np.ndarray:
     return np.array([d for d in PREFERRED_WIRE_MM if lo <= d <= hi])
 
 
-def _candidates(rate: float, preload: float, lift: float, spec: SpringSpec, rules: SpringRules) -> dict:
+def _candidates(rate: float, preload: float, lift: float, spec: SpringSpec, rules: SpringRules, min_surge_hz: float | None = None) -> dict:
     """Every (wire size, active coils) pair with the mean diameter that gives the rate, and what each is judged on."""
     wire = sp.wire(spec.material)
     d1 = _wire_sizes(wire)
@@ -163,7 +163,8 @@ def _candidates(rate: float, preload: float, lift: float, spec: SpringSpec, rule
     with np.errstate(divide="ignore"):  # a spring shorter than solid at its free length has no stress to judge
         solid = ssy / sp.shear_stress(rate * (L0 - Ls), D, d)
     return {
-        "d": d, "D": D, "na": na, "L0": L0, "Ls": Ls,
+        "d": d, "D": D, "na": na, "L0": L0, "Ls": Ls, "min_surge_hz": min_surge_hz,
+        "surge": sp.surge_frequency(rate, sp.coil_mass(d, D, na, wire.density_kg_m3)),
         "mass": sp.coil_mass(d, D, sp.total_coils(na, spec.end_type), wire.density_kg_m3),
         "index": D / d, "od": D + d, "clash": (L0 - Ls) / y1 - 1.0,
         "solid": np.where(L0 > Ls, solid, -np.inf), "full_lift": ssy / sp.shear_stress(f1, D, d),
@@ -184,12 +185,15 @@ def _constraints(c: dict, spec: SpringSpec, rules: SpringRules):
         (f"fatigue ({rules.criterion}, Zimmerli; n_f)", "", c["fatigue"], rules.fatigue_safety * m, ">="),
         ("buckling (critical minus free length, mm)", "", c["buckling"], 0.0, ">="),
     ]
+    if c["min_surge_hz"] is not None:  # clear of the cam's strong harmonics (design.surge.surge_floor_hz)
+        name = "surge frequency clear of the cam's strong harmonics (Hz)"
+        out.append((name, "", c["surge"], c["min_surge_hz"] * m, ">="))
     return [(name, key, v, lim, sense, (v >= lim) if sense == ">=" else (v <= lim)) for name, key, v, lim, sense in out]
 
 
-def _feasible(rate: float, preload: float, lift: float, spec: SpringSpec, rules: SpringRules):
+def _feasible(rate: float, preload: float, lift: float, spec: SpringSpec, rules: SpringRules, min_surge_hz: float | None = None):
     """The candidates and which of them meet every condition."""
-    c = _candidates(rate, preload, lift, spec, rules)
+    c = _candidates(rate, preload, lift, spec, rules, min_surge_hz)
     return c, np.logical_and.reduce([con[5] for con in _constraints(c, spec, rules)])
 
 
@@ -215,13 +219,13 @@ def _dead_end(c, cons, rate: float, preload: float, lift: float, spec: SpringSpe
             least = float(c["od"][rest].min())
             return InputError("spring.outside_diameter_max", f"{what} fits in {spec.outside_diameter_max:g} mm: the least outside diameter that meets the other checks is {least:.3g} mm")
     if spec.installed_length is not None:
-        cf, fits = _feasible(rate, preload, lift, spec.model_copy(update={"installed_length": None}), rules)
+        cf, fits = _feasible(rate, preload, lift, spec.model_copy(update={"installed_length": None}), rules, c["min_surge_hz"])
         if fits.any():
             need = float(np.min(cf["L0"][fits] - preload / rate))
             why = f"it needs at least {need:.4g} mm" if spec.installed_length < need else f"there every candidate fails the {_first_failure(cons)[0]} (the shortest that fits is installed at {need:.4g} mm)"
             return InputError("spring.installed_length", f"{what} fits at {spec.installed_length:g} mm with {preload:.4g} N preload over a {lift:.4g} mm lift: {why}")
     if spec.outside_diameter_max is not None and spec.installed_length is not None:
-        cf, fits = _feasible(rate, preload, lift, spec.model_copy(update={"installed_length": None, "outside_diameter_max": None}), rules)
+        cf, fits = _feasible(rate, preload, lift, spec.model_copy(update={"installed_length": None, "outside_diameter_max": None}), rules, c["min_surge_hz"])
         if fits.any():
             i = np.flatnonzero(fits)[np.argmin(cf["mass"][fits])]
             return InputError(
@@ -235,23 +239,24 @@ def _dead_end(c, cons, rate: float, preload: float, lift: float, spec: SpringSpe
         rate_key,
         f"{what} with {preload:.4g} N preload over a {lift:.4g} mm lift meets Shigley's design conditions "
         f"({rules.active_coils_min:g}-{na_max:g} active coils, preferred wire sizes): every candidate fails the "
-        f"{name}: best {best:.3g} against {lim:.3g}" + _more_coils_hint(rate, preload, lift, spec, rules, na_max),
+        f"{name}: best {best:.3g} against {lim:.3g}" + _more_coils_hint(rate, preload, lift, spec, rules, na_max, c["min_surge_hz"]),
     )
 
 
-def _more_coils_hint(rate, preload, lift, spec: SpringSpec, rules: SpringRules, na_max: float) -> str:
+def _more_coils_hint(rate, preload, lift, spec: SpringSpec, rules: SpringRules, na_max: float, min_surge_hz=None) -> str:
     """Where more active coils than allowed would make a spring: say how many."""
-    c, ok = _feasible(rate, preload, lift, spec.model_copy(update={"max_active_coils": 4 * na_max}), rules)
+    c, ok = _feasible(rate, preload, lift, spec.model_copy(update={"max_active_coils": 4 * na_max}), rules, min_surge_hz)
     if not ok.any():
         return ""
     return f" (one with {float(c['na'][ok].min()):g} active coils fits: allow it with [spring] max_active_coils)"
 
 
-def design_spring(rate: float, preload: float, lift: float, spec: SpringSpec | None = None, *, rules: SpringRules = SpringRules(), rate_key: str = "dynamics.spring_rate", harmonics: CamHarmonics | None = None) -> SpringDesign:
+def design_spring(rate: float, preload: float, lift: float, spec: SpringSpec | None = None, *, rules: SpringRules = SpringRules(), rate_key: str = "dynamics.spring_rate", harmonics: CamHarmonics | None = None, min_surge_hz: float | None = None) -> SpringDesign:
     """The lightest helical compression spring of ``rate`` (N/mm) giving ``preload`` (N) at its installed length
     and compressed a further ``lift`` (mm), within ``spec`` (``[spring]``: material, bore, installed length,
     end type) and Shigley's design conditions. :class:`InputError` (naming the binding key, ``rate_key`` for
-    the rate itself) when none fits. ``harmonics``: the cam's, to judge the chosen spring's surge against."""
+    the rate itself) when none fits. ``harmonics``: the cam's, to judge the chosen spring's surge against;
+    ``min_surge_hz``: the least surge frequency a candidate may have (:func:`camdyn.design.surge.surge_floor_hz`)."""
     spec = spec or SpringSpec()
     if not (math.isfinite(rate) and rate > 0):
         raise InputError(rate_key, f"a spring needs a positive rate (got {rate:g} N/mm)")
@@ -259,7 +264,7 @@ def design_spring(rate: float, preload: float, lift: float, spec: SpringSpec | N
         raise InputError("preload", f"a compression spring cannot pull: the preload at the installed length must be >= 0 (got {preload:g} N)")
     if not (math.isfinite(lift) and lift > 0):
         raise InputError("lift", f"the working stroke must be positive (got {lift:g} mm)")
-    c = _candidates(rate, preload, lift, spec, rules)
+    c = _candidates(rate, preload, lift, spec, rules, min_surge_hz)
     cons = _constraints(c, spec, rules)
     ok = np.logical_and.reduce([con[5] for con in cons])
     if not ok.any():
@@ -271,14 +276,14 @@ def design_spring(rate: float, preload: float, lift: float, spec: SpringSpec | N
     return design if harmonics is None else design.with_surge(harmonics)
 
 
-def max_buildable_preload(rate: float, lift: float, spec: SpringSpec | None = None, *, rules: SpringRules = SpringRules(), tol: float = 1e-3) -> float | None:
+def max_buildable_preload(rate: float, lift: float, spec: SpringSpec | None = None, *, rules: SpringRules = SpringRules(), tol: float = 1e-3, min_surge_hz: float | None = None) -> float | None:
     """The largest preload (N) for which a spring of ``rate`` (N/mm) and ``lift`` (mm) can be built within
     ``spec``; None when none can, even without preload. Every lower preload is buildable too (a smaller preload
     lowers every stress and shortens the spring), so ``size --buildable`` may use it as a bound on F0."""
     spec = spec or SpringSpec()
 
     def fits(f0: float) -> bool:
-        return bool(_feasible(rate, f0, lift, spec, rules)[1].any())
+        return bool(_feasible(rate, f0, lift, spec, rules, min_surge_hz)[1].any())
 
     if not fits(0.0):
         return None
@@ -335,26 +340,55 @@ def _case_spec(case, loads: SpringLoads) -> SpringSpec:
     return spec
 
 
-def design_case_spring(case, *, rate=None, preload=None, rules: SpringRules = SpringRules()) -> SpringDesign:
+def surge_floor(case, top_speed_rpm: float | None) -> float:
+    """The least surge frequency (Hz) clear of the cam's strong harmonics up to ``top_speed_rpm`` (default: the
+    case's speed_margin times its speed)."""
+    top = case.limits.speed_margin * case.speed_rpm if top_speed_rpm is None else top_speed_rpm
+    return surge_floor_hz(cam_harmonics(case.motion, case.speed_rpm), top)
+
+
+def design_case_spring(
+    case, *, rate=None, preload=None, rules: SpringRules = SpringRules(), surge: str = "prefer", top_speed_rpm: float | None = None
+) -> SpringDesign:
     """The spring for a case (its ``[spring]`` table; its rate and preload unless given, in the case's units),
-    with its surge judged against the cam's harmonics at the case speed."""
+    with its surge judged against the cam's harmonics at the case speed. ``surge``: "prefer" the lightest spring
+    whose surge frequency is clear of the cam's strong harmonics at every speed up to ``top_speed_rpm`` (default
+    speed_margin x speed; :func:`camdyn.design.surge.surge_floor_hz`), else the lightest (its warnings say where
+    it surges); "require" only such a spring (``size --buildable``); "ignore" the lightest."""
     loads = spring_loads(case, rate=rate, preload=preload)
     spec = _case_spec(case, loads)
     if loads.preload < 0:
         raise InputError("dynamics.preload", f"a compression spring cannot pull: its force at the least lift would be {loads.preload:.4g} N")
     harmonics = cam_harmonics(case.motion, case.speed_rpm)
-    return design_spring(loads.rate, loads.preload, loads.lift, spec, rules=rules, rate_key=loads.rate_key, harmonics=harmonics)
+    args = (loads.rate, loads.preload, loads.lift, spec)
+    if surge != "ignore":
+        try:
+            floor = surge_floor(case, top_speed_rpm)
+            return design_spring(*args, rules=rules, rate_key=loads.rate_key, harmonics=harmonics, min_surge_hz=floor)
+        except InputError:
+            if surge == "require":
+                raise
+    return design_spring(*args, rules=rules, rate_key=loads.rate_key, harmonics=harmonics)
 
 
-def case_max_preload(case, rate) -> float | None:
+def case_max_preload(case, rate, top_speed_rpm: float | None = None) -> float | None:
     """The largest preload (the case's units: N, or N*m for an arm) a buildable spring of ``rate`` (N/mm, or
-    N*m/rad) can give this case within its ``[spring]`` table; None where no spring of that rate can be built.
-    Every lower preload down to the least the spring can hold is buildable too: with the sizer's least preload
-    per rate this bounds ``size --buildable``'s feasible region."""
+    N*m/rad) can give this case within its ``[spring]`` table, its surge frequency clear of the cam's strong
+    harmonics up to ``top_speed_rpm``; None where no spring of that rate can be built. Every lower preload down
+    to the least the spring can hold is buildable too: with the sizer's least preload per rate this bounds
+    ``size --buildable``'s feasible region."""
     loads = spring_loads(case, rate=rate, preload=0.0)
     spec = _case_spec(case, loads)
-    top = max_buildable_preload(loads.rate, loads.lift, spec)
+    top = max_buildable_preload(loads.rate, loads.lift, spec, min_surge_hz=surge_floor(case, top_speed_rpm))
     if top is None:
         return None
     linear = top - loads.rate * loads.installed_shift  # the spring force at zero lift
     return linear / newton_per_torque(spec.lever_arm) if case.oscillating else linear
+
+
+def min_preload(case) -> float:
+    """``[limits] min_preload``: the least preload (seat load) a spring proposed for the case may have, in the
+    case's units (N, or N*m for an arm, as ``[dynamics] preload`` / ``preload_torque``: SI); -inf where none is
+    given. ``size`` honours it; an optimizer that frees the preload bounds it below by this."""
+    f0 = case.limits.min_preload
+    return -math.inf if f0 is None else float(f0)

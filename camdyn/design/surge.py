@@ -6,6 +6,11 @@ frequency. A surge frequency on a strong harmonic makes the coils resonate: the 
 k x + F0, and the follower may jump early. Shigley (Mechanical Engineering Design, section 10-9) asks for a
 critical frequency 15 to 20 times the frequency of the motion; that rule and the harmonic next to f_s are
 judged here.
+
+``size --buildable`` (and the spring ``check`` weighs, where one exists) keeps the surge frequency clear of the
+strong harmonics at every speed up to the top one (:func:`surge_floor_hz`): above the highest strong harmonic
+(lift amplitude >= 1 % of the largest) by a quarter of the harmonic spacing at the top speed. At a lower speed
+every harmonic moves down, so no strong one comes within a quarter spacing of f_s at any speed in [0, top].
 """
 
 from __future__ import annotations
@@ -67,6 +72,15 @@ class SurgeReport:
             "surge_to_cam_frequency_ratio": self.ratio,
             "harmonics_near": [{"harmonic": j, "frequency_Hz": f, "relative_amplitude": a} for j, f, a in self.near],
         }
+
+
+def surge_floor_hz(harmonics: CamHarmonics, top_speed_rpm: float) -> float:
+    """The least surge frequency (Hz) clear of the cam's strong harmonics at every speed up to ``top_speed_rpm``:
+    ``(J + 1/4) * top / 60``, J the highest harmonic whose lift amplitude is at least 1 % of the largest."""
+    rel = harmonics.amplitudes[1:] / np.max(harmonics.amplitudes[1:])
+    strong = np.nonzero(rel >= STRONG_HARMONIC)[0]
+    top_j = int(strong[-1]) + 1 if strong.size else 1
+    return (top_j + ON_HARMONIC) * top_speed_rpm / 60.0
 
 
 def judge_surge(surge_hz: float, harmonics: CamHarmonics) -> SurgeReport:

@@ -8,6 +8,7 @@ from typing import Any
 
 import numpy as np
 
+from .._core.precision import require_x64
 from .._core.errors import InputError
 from .._core.units import THETA_GRID
 from ..schema import CaseSpec, FollowerSpec, LimitsSpec, load_case_spec, parse
@@ -16,6 +17,7 @@ from .geometry import ContourFit
 from .linkage import synthesize_motion
 from .motion import Motion, MotionFit, Program
 from .sources import contour_motion, table_motion
+from .surge import SpringInDynamics
 
 
 @dataclass(frozen=True)
@@ -32,6 +34,7 @@ class Case:
     warnings: tuple[str, ...] = field(default=())
     fit: MotionFit | None = None  # a lift table's or a contour's fitted motion: its data and residuals
     contour: ContourFit | None = None  # a contour case's outline: its points, fit and radial residuals
+    spring: SpringInDynamics | None = None  # the spring's mass in ``model``, once resolved (design.parts.resolve_spring)
 
     @property
     def speed_rpm(self) -> float:
@@ -79,6 +82,7 @@ def build_case(spec: CaseSpec, source: Path | None = None) -> Case:
     """The models of a validated case: a motion program, a lift table's fit or a contour's contact motion with
     its follower, or a path synthesized by its cam-linkage; then the follower's dynamic model in SI. Data files
     are read relative to ``source`` (the case file)."""
+    require_x64()
     name = spec.name or (source.stem if source else "case")
     warnings: list[str] = []
     synthesis = fit = contour = None
@@ -102,7 +106,7 @@ def build_case(spec: CaseSpec, source: Path | None = None) -> Case:
 
 def _check_holds_at_rest(motion: Motion, model: FollowerModel, oscillating: bool) -> None:
     theta_deg = np.arange(THETA_GRID) * (360.0 / THETA_GRID)
-    vals = motion._eval(np, np.deg2rad(theta_deg)) if hasattr(motion, "_eval") else motion.sample(THETA_GRID)[1]
+    vals = motion.host(np.deg2rad(theta_deg))
     at_rest = float(model.stiffness) * vals[0] * model.scale + float(model.preload) + float(model.external)
     i = int(at_rest.argmin())
     if at_rest[i] <= 0.0:

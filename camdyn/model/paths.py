@@ -245,9 +245,3 @@ def build_path(spec: PathSpec | dict) -> Path:
     cs = CubicSpline(knots, closed, bc_type="periodic")
     coef = np.transpose(cs.c, (1, 0, 2))  # (n, 4, 2)
     return Spline(knots=jnp.asarray(knots), coef=jnp.asarray(coef), local_breaks=tuple(float(k) for k in knots[:-1]), local_sharp=(), **common)
-
-
-def precision_points(spec: PathSpec) -> np.ndarray:
-    """The distinct precision points of a ``points`` path, (n, 2) mm."""
-    pts = np.column_stack([spec.x, spec.y]).astype(float)
-    return pts[:-1] if np.allclose(pts[0], pts[-1]) else pts

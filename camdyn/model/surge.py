@@ -25,6 +25,7 @@ reference for the frequency-domain orbit.
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass, replace
 
 import diffrax
 import jax.numpy as jnp
@@ -32,7 +33,8 @@ import numpy as np
 
 from .._core.errors import InputError, NumericalError
 from .._core.units import FFT_GRID, RPM, TWO_PI
-from .follower import FollowerModel
+from .dynamics import dynamic_jump_speed
+from .follower import FollowerModel, with_spring_mass
 from .motion import Motion, evaluate
 
 DEFAULT_SEGMENTS = 16
@@ -165,3 +167,52 @@ def chain_revolution(motion: Motion, model: FollowerModel, spring_mass: float, o
     raw = float(model.train_stiffness) * (vals[0] - q[:, -1]) + float(model.train_damping) * (omega * vals[1] - v[:, -1])
     fi = np.where(vals[0] > q[:, -1], np.maximum(0.0, raw), 0.0)
     return q, fi, ys[-1]
+
+
+SPRING_MODELS = ("none", "lumped", "surge")  # how the spring's own mass enters the dynamics
+
+
+@dataclass(frozen=True)
+class SpringInDynamics:
+    """How the return spring's own mass enters the follower dynamics (``[spring] model``).
+
+    ``"none"``: a massless spring (no ``[spring]`` table, so no part whose mass is known, or no spring of the
+    case's rate and preload can be built within it: ``note`` says which). ``"lumped"``: a third of its mass moves
+    with the follower (:func:`camdyn.model.follower.with_spring_mass`). ``"surge"``: the spring as a chain of
+    masses (this module); the time-domain response keeps the lumped third, the jump speed is the chain's."""
+
+    model: str
+    mass_kg: float  # the whole spring, end coils included (0 for "none")
+    lever_arm_mm: float | None  # an oscillating arm's spring acts here; None: translating
+    bare: FollowerModel  # the follower without the spring's mass
+    note: str | None = None
+
+    @property
+    def generalized_mass(self) -> float:
+        """The spring's mass in the follower's coordinate: kg, or kg*m^2 for an arm (m_s r^2)."""
+        r = 1.0 if self.lever_arm_mm is None else (self.lever_arm_mm * 1e-3) ** 2
+        return self.mass_kg * r
+
+    def follower(self, bare: FollowerModel | None = None) -> FollowerModel:
+        """The follower model the dynamics integrate: ``bare`` (default the case's) with the lumped third of the
+        spring's mass, for both spring models ("none": as it is)."""
+        bare = self.bare if bare is None else bare
+        if self.model == "none":
+            return bare
+        return with_spring_mass(bare, self.mass_kg, lever_arm_mm=self.lever_arm_mm)
+
+    def jump_speed(self, motion: Motion, bare: FollowerModel | None = None, *, w_max: float) -> float:
+        """The dynamic jump speed (rad/s; inf if none up to ``w_max``) of the follower ``bare`` (default the
+        case's) with this spring: the lumped model's (:func:`camdyn.model.dynamics.dynamic_jump_speed`), or
+        the chain's for "surge" (:func:`chain_jump_speed`)."""
+        bare = self.bare if bare is None else bare
+        if self.model == "surge":
+            return chain_jump_speed(motion, bare, self.generalized_mass, w_max=w_max, tol_rpm=0.01)
+        return dynamic_jump_speed(motion, self.follower(bare), w_max=w_max)
+
+    def with_mass(self, mass_kg: float, model: str | None = None) -> SpringInDynamics:
+        """The same follower with another spring (kg), and spring model if given."""
+        return replace(self, mass_kg=float(mass_kg), model=self.model if model is None else model, note=None)
+
+    def json(self) -> dict:
+        return {"spring_model": self.model, "spring_mass_kg": self.mass_kg if self.model != "none" else None}

@@ -58,7 +58,11 @@ def plot_feasible_region(ax, sizing: SpringSizing, colors: dict | None = None) -
         labelled.append(peak)
     if sizing.model == "compliant":
         ax.plot([sizing.kinematic.rate], [sizing.kinematic.preload], "o", mfc="none", mec=col["kinematic"], ms=8, label="kinematic LP answer")
-    ax.plot([sizing.chosen.rate], [sizing.chosen.preload], "*", color=col["chosen"], ms=12, label="chosen")
+    if sizing.part is not None:  # a part that can be built: the answer
+        ax.plot([sizing.chosen.rate], [sizing.chosen.preload], "*", color=col["chosen"], ms=12, label="chosen (buildable)")
+    else:  # the least peak force any spring needs: a bound, maybe no spring at all
+        label = "bound: least peak force (not a part; size --buildable)"
+        ax.plot([sizing.chosen.rate], [sizing.chosen.preload], "D", mfc="none", mec=col["chosen"], ms=8, label=label)
     ax.plot([sizing.current.rate], [sizing.current.preload], "s", mfc="none", mec=col["current"], ms=7, label="current design")
     ax.set_xlim(k[0], k[-1])
     ax.set_ylim(y0, y1)

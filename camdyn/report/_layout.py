@@ -26,13 +26,18 @@ def hline(fig, y: float, x0: float = 0.06, x1: float = 0.94, **kw) -> Line2D:
 
 def header(fig, data, title: str, number: int, total: int) -> None:
     """The case name and page title on top, the source, speed and page number at the foot."""
-    ver = camdyn_version()
     case = data.case
-    fig.text(0.06, 0.975, case.name, size=15, weight="bold", va="top", color=C["ink"])
+    src = case.source.name if case.source is not None else case.name
+    foot = f"design review  \u00b7  {src}  \u00b7  {data.check.speed_rpm:g} rpm"
+    page_frame(fig, case.name, title, number, total, foot)
+
+
+def page_frame(fig, name: str, title: str, number: int, total: int, foot: str) -> None:
+    """A page's name and title on top, camdyn's version, ``foot`` and the page number at the foot."""
+    fig.text(0.06, 0.975, name, size=15, weight="bold", va="top", color=C["ink"])
     fig.text(0.94, 0.973, f"{number}  {title}", size=12.5, ha="right", va="top", color=C["grey"])
     fig.add_artist(hline(fig, 0.948))
-    src = case.source.name if case.source is not None else case.name
-    fig.text(0.06, 0.014, f"camdyn {ver} design review  \u00b7  {src}  \u00b7  {data.check.speed_rpm:g} rpm", size=7, color=C["grey"])
+    fig.text(0.06, 0.014, f"camdyn {camdyn_version()} {foot}", size=7, color=C["grey"])
     fig.text(0.94, 0.014, f"page {number} of {total}", size=7, color=C["grey"], ha="right")
 
 

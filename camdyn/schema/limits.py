@@ -21,4 +21,11 @@ class LimitsSpec(Table):
         default=DEFAULT_MAX_TRAIN_DEFLECTION, gt=0, le=1,
         description="compliant trains: the largest train deflection (cam lift minus follower motion) as a fraction of the lift; beyond it the cam no longer drives the follower",
     )
+    min_preload: Real | None = Field(
+        default=None, ge=0, le=MAX_FORCE_N,
+        description=(
+            "the least preload a proposed spring may give at zero lift (a seat load), N (N*m for an oscillating arm): "
+            "honoured by size and optimize --objective spring-force"
+        ),
+    )
     max_contact_stress: Real | None = Field(default=None, gt=0, description="largest Hertz contact pressure between cam and follower over a revolution, MPa (needs [follower] width)")

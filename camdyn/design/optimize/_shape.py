@@ -18,7 +18,8 @@ from ..._core.errors import InputError
 from ..._core.units import FFT_GRID, TWO_PI
 from ...model.case import Case
 from ...model.motion import Program
-from ...model.motion._bspline import CLAMPED, basis
+from ...model.motion import BSPLINE_CLAMPED as CLAMPED
+from ...model.motion import bspline_basis as basis
 
 MIN_CONTROL, MAX_CONTROL = 2 * CLAMPED + 1, 64  # at least one free point; past 64 the programs only slow down
 N_CONTROL = 16  # control points per reshaped segment by default (10 free); docs/guide.md gives the measurements

@@ -73,7 +73,7 @@ class Dynamic:
                 if b2 > best:
                     best, w, j = b2, w2, j2
                 h = ws[1] - ws[0]
-        return best / self.alpha(k), 360.0 * j / _N_FFT, w / RPM
+        return max(best / self.alpha(k), self.p.f0_lo), 360.0 * j / _N_FFT, w / RPM
 
     def verify(self, k, f0):
         """Least and largest dynamic interface force (N) on 1127 speeds in [0, W], each (value, theta_deg,

@@ -43,7 +43,8 @@ def worst_between(p: Problem, grid: Grid, k, f0, c, count=8):
 
 
 def preload_kinematic(p: Problem, grid: Grid, k, polish=False) -> float:
-    """The least preload that holds with rate k (on the grid; ``polish``: also between grid points)."""
+    """The least preload that holds with rate k (on the grid; ``polish``: also between grid points), and at
+    least ``[limits] min_preload``."""
     c = p.damping(k)
     r, _ = required(p, grid, c)
     f0 = float(np.max(r - k * grid.s))
@@ -51,7 +52,7 @@ def preload_kinematic(p: Problem, grid: Grid, k, polish=False) -> float:
         worst = worst_between(p, grid, k, f0, c)
         if worst and worst[0][0] < 0.0:
             f0 -= worst[0][0]
-    return f0
+    return max(f0, p.f0_lo)
 
 
 def _runs(on: np.ndarray) -> list[list[int]]:

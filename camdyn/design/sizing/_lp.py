@@ -27,16 +27,18 @@ def _solve(p: Problem, grid: Grid, c) -> tuple[float, float]:
     s = grid.s
     r, _ = required(p, grid, c)
     a_ub = -np.column_stack([s / p.s_max, np.ones_like(s)])  # variables: k s_max (N), F0 (N)
-    bounds = [(p.k_lo * p.s_max, None), (None, None)]
+    bounds = [(p.k_lo * p.s_max, None), (None if p.f0_lo == -np.inf else p.f0_lo, None)]
     res = linprog([1.0, 1.0], A_ub=a_ub, b_ub=-r, bounds=bounds, method="highs", options=_LP_OPTIONS)
     if res.status != 0:
         raise NumericalError("sizing", f"the linear program failed: {res.message}")
     gap = p.s_max - s
-    peak = float(np.max(r + p.k_lo * gap))
+    peak_req = float(np.max(r + p.k_lo * gap))
+    peak = max(peak_req, p.k_lo * p.s_max + p.f0_lo)  # min_preload: the peak k s_max + F0 grows with k at F0 = f0_lo
     if abs(float(res.fun) - peak) > 1e-7 * max(1.0, abs(peak)):
         raise NumericalError("sizing", f"the linear program's least peak force {res.fun:.10g} disagrees with the closed form {peak:.10g}")
     tie = gap > 1e-12 * p.s_max
     k = max(p.k_lo, float(np.min((peak - r[tie]) / gap[tie]))) if tie.any() else p.k_lo
+    k = max(p.k_lo, min(k, (peak - p.f0_lo) / p.s_max))  # no tie beyond the rate where F0 would fall below f0_lo
     return k, peak - k * p.s_max
 
 

@@ -7,14 +7,13 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, replace
 
-import jax.numpy as jnp
 import numpy as np
 
 from ..._core.errors import InputError
 from ..._core.units import RPM, THETA_GRID, TWO_PI, damping_from_ratio, rate_to_si
 from ...model.follower import FollowerModel
 from ...model.geometry import newton_per_torque_at
-from ...model.motion import evaluate
+from ..spring import min_preload
 from ._quadratic import refine
 
 STEP = TWO_PI / THETA_GRID  # rad: the kinematic grid's spacing
@@ -42,6 +41,7 @@ class Problem:
     W: float  # rad/s: the constraints hold for every speed in [0, W]
     fmin: float  # N
     k_lo: float  # SI: the least rate
+    f0_lo: float  # N (N*m): the least preload, ``[limits] min_preload`` (-inf: free)
     s_max: float = math.nan  # SI: full lift, polished between grid angles
     s_min: float = math.nan
 
@@ -54,10 +54,7 @@ class Problem:
     def values(self, theta):
         """s, s', s'' (SI, per rad) at angles ``theta`` (rad)."""
         theta = np.atleast_1d(np.asarray(theta, dtype=float))
-        if hasattr(self.motion, "_eval"):
-            v = np.asarray(self.motion._eval(np, theta))
-        else:
-            v = np.asarray(evaluate(self.motion, jnp.asarray(theta)))
+        v = self.motion.host(theta)
         return v[0] * self.scale, v[1] * self.scale, v[2] * self.scale
 
     def arm(self, theta):
@@ -124,7 +121,7 @@ def build_problem(case, max_speed_rpm, margin, min_rate) -> tuple[Problem, Grid]
         motion=case.motion, follower=case.follower, model=model, osc=osc, rigid=model.rigid, scale=model.scale,
         m=float(model.mass), ext=float(model.external), kf=float(model.train_stiffness), c_fixed=c_fixed, zeta=zeta,
         speed_rpm=speed_rpm, margin=margin, W=margin * speed_rpm * RPM, fmin=float(case.limits.min_contact_force),
-        k_lo=rate_to_si(float(min_rate), osc),
+        k_lo=rate_to_si(float(min_rate), osc), f0_lo=min_preload(case),
     )
     if p.fmin < 0.0:
         raise InputError("limits.min_contact_force", f"sizing needs a least contact force >= 0 N (got {p.fmin:g}): below 0 the follower has left the cam")

@@ -94,6 +94,9 @@ class SpringSizing:
     lines: tuple[tuple[float, float, float], ...] = field(repr=False, default=())  # (theta_deg, s, r): F0 >= r - k s
     warnings: tuple[str, ...] = ()
     part: object = None  # size --buildable: the spring as a part (camdyn.design.spring.SpringDesign)
+    check: object = None  # size --buildable: check's speed-margin verdict (Check) on the spring as written, with its mass
+    spring_model: str = "none"  # how the spring's own mass is in the dynamics: none | lumped | surge
+    spring_mass_kg: float = 0.0  # the spring whose mass is in the dynamics (buildable: the proposed part's)
 
     @property
     def units(self) -> dict:
@@ -148,6 +151,10 @@ class SpringSizing:
         }
         out["warnings"] = list(self.warnings)
         out["buildable"] = self.part is not None
+        out["spring_model"] = self.spring_model
+        out["spring_mass_kg"] = self.spring_mass_kg if self.spring_model != "none" else None
+        out["bound"] = self.part is None  # plain size: the least peak force any spring needs, not a part
         if self.part is not None:
             out["part"] = self.part.json()
+            out["check"] = self.check.json()
         return out

@@ -8,9 +8,9 @@ import math
 import numpy as np
 
 from ..._core.errors import InputError
-from ..._core.units import RPM, rate_from_si
-from ..spring import design_case_spring
-from ._buildable import buildable_answer
+from ..._core.units import RPM, rate_from_si, rate_to_si
+from ..parts import resolve_spring
+from ._buildable import HEADROOM, WRITTEN_DIGITS, buildable_fixed_point
 from ._design import design
 from ._dynamic import Dynamic, dynamic_answer
 from ._kinematic import binding, preload_kinematic, required
@@ -106,6 +106,12 @@ def size_spring(case, max_speed_rpm: float | None = None, margin: float | None =
     :mod:`camdyn.design.sizing` for the method, the tie-break rule and the dynamic correction. Raises
     :class:`InputError` on bad input."""
     _check_options(max_speed_rpm, margin, min_rate)
+    case = resolve_spring(case)
+    part = check = None
+    if buildable:
+        speed = float(case.speed_rpm if max_speed_rpm is None else max_speed_rpm)
+        top_margin = float(case.limits.speed_margin if margin is None else margin)
+        case, rate_w, f0_w, part, check = buildable_fixed_point(case, speed, top_margin, min_rate)
     p, grid = build_problem(case, max_speed_rpm, margin, min_rate)
     k_kin, f0_kin, damping_note, method, grid = _kinematic_answer(p, grid)
     dynamic = None if p.rigid else Dynamic.of(p)
@@ -113,11 +119,13 @@ def size_spring(case, max_speed_rpm: float | None = None, margin: float | None =
     if dynamic is not None:
         k, f0, dyn_bind = dynamic_answer(dynamic, grid, k_kin)
         method += _DYNAMIC_METHOD
-    part = None
     if buildable:
-        k, f0 = buildable_answer(case, p, grid, dynamic)
-        part = design_case_spring(case, rate=rate_from_si(k, p.osc), preload=f0)
-        method += "; buildable: the least peak force over the springs [spring] allows (a scan of rates, the designer's largest preload per rate)"
+        k, f0 = rate_to_si(rate_w, p.osc), f0_w
+        method += (
+            "; buildable: the least peak force over the springs [spring] allows, their surge clear of the cam's strong harmonics (a scan "
+            f"of rates, the designer's largest preload per rate), with the proposed spring's own mass ({case.spring.model}), sized to "
+            f"{1 + HEADROOM:g} x the top speed and written to {WRITTEN_DIGITS} digits"
+        )
     kin_design = design(p, grid, dynamic, k_kin, f0_kin)
     chosen = kin_design if dynamic is None and not buildable else design(p, grid, dynamic, k, f0)
     k_cur, f0_cur = float(p.model.stiffness), float(p.model.preload)
@@ -153,4 +161,7 @@ def size_spring(case, max_speed_rpm: float | None = None, margin: float | None =
         lines=_lines(p, grid, k_kin, f0_kin, rates),
         warnings=() if buildable else _warnings(p, k, min_rate, bind),
         part=part,
+        check=check,
+        spring_model=case.spring.model,
+        spring_mass_kg=case.spring.mass_kg,
     )

@@ -1,7 +1,7 @@
 """Jump maps: least interface force, separation and largest gap over a grid of cam speeds and spring rates.
 
 The map is computed batched: every kernel is one ``jax.vmap`` over grid points, compiled once and sharded over
-all local JAX devices (:mod:`._sharding`: ``jax.shard_map`` on a one-axis mesh; the grid is cut into chunks
+all local JAX devices (:mod:`camdyn._core.sharding`: ``jax.shard_map`` on a one-axis mesh; the grid is cut into chunks
 padded to a multiple of the device count, so a progress bar can follow the chunks).
 
 * Compliant follower (:mod:`._contact`): while the follower stays on the cam the model is linear, so the steady

@@ -2,7 +2,7 @@
 
 Compliant: the frequency-domain steady state (:func:`camdyn.model.dynamics.steady_state`, harmonic balance), exact
 while the follower stays on the cam; rigid: the kinematic force, closed form per angle. Both are kernels
-``kernel(const, omega, k, c)`` for :func:`._sharding.run_batched`; forces are weighted per angle (1 for a
+``kernel(const, omega, k, c)`` for :func:`camdyn._core.sharding.run_batched`; forces are weighted per angle (1 for a
 translating follower, 1 / lever arm for an oscillating one: N).
 """
 

@@ -15,12 +15,13 @@ from ..._core.units import RPM, TWO_PI, rate_from_si, rate_to_si
 from ...model import dynamics as dyn
 from ...model.geometry import newton_per_torque_at
 from ...model.motion import evaluate
+from ..parts import resolve_spring, spring_mass_notes
 from ._contact import kinematic_kernel, linear_kernel, with_spring_damping
 from ._diffrax_gap import diffrax_gap_const, diffrax_gap_kernel
 from ._exact_gap import exact_gap_kernel
 from ._grid import GAP_CHUNK, GAP_STRIDE, GRID_N, LINEAR_CHUNK, check_grid_size
 from ._result import STATUS_OK, JumpMap, failed
-from ._sharding import run_batched
+from ..._core.sharding import run_batched
 
 
 @dataclass(frozen=True)
@@ -156,6 +157,7 @@ def jump_map(
     devices = tuple(jax.devices() if devices is None else devices)
     if gap_method not in ("exact", "diffrax"):
         raise ValueError(f"gap_method must be 'exact' or 'diffrax', not {gap_method!r}")
+    case = resolve_spring(case)  # [spring] model: the spring's own mass (its lumped third) on the follower
     pts = _points(case, speeds_rpm, spring_rates)
     base = case.model
     theta = np.arange(GRID_N) * (TWO_PI / GRID_N)
@@ -172,7 +174,7 @@ def jump_map(
     bad = np.zeros(signed.shape, dtype=bool)
     for i, reason in why.items():
         status[i], bad[i] = failed(reason), True
-    notes = _notes(gaps, separated, gap, why)
+    notes = _notes(gaps, separated, gap, why) + spring_mass_notes(case)
     return JumpMap(
         case=case.name,
         model="rigid" if base.rigid else "compliant",

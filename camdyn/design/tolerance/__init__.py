@@ -4,8 +4,8 @@ separates at the case speed; the spread of its jump speed and least contact forc
 Every sample is drawn up front (:mod:`._sampling`, ``numpy.random.default_rng(seed)``), so the result does not
 depend on how the samples are chunked or sharded. One compiled, vmapped kernel (:mod:`._kernel`) computes per
 sample the least force at its cam speed (the sweep's frequency-domain steady state on the 0.1 deg grid; the
-kinematic force for a rigid follower) and its dynamic jump speed (a scan of 24 speeds up to ``check``'s search
-limit on a 512-angle grid, then Illinois steps), run in chunks by :func:`camdyn.design.sweep._sharding.run_batched`
+kinematic force for a rigid follower) and its dynamic jump speed (a scan of 16 speeds up to ``check``'s search
+limit on a 512-angle grid, then Illinois steps), run in chunks by :func:`camdyn._core.sharding.run_batched`
 over every device of every process. :mod:`._sensitivity` linearises the jump-speed margin with JAX gradients
 and sets it against the Monte Carlo variance shares; :mod:`._result` holds the result and its CSV.
 """

@@ -1,5 +1,5 @@
 """One built cam: its least contact force at the case speed and its dynamic jump speed, as a kernel for
-:func:`camdyn.design.sweep._sharding.run_batched` (vmapped over samples, sharded over devices).
+:func:`camdyn._core.sharding.run_batched` (vmapped over samples, sharded over devices).
 
 A sample is the follower's parameters (spring rate, preload, mass, train stiffness: SI), its cam speed (rad/s)
 and the coefficients of its profile error (motion unit: mm or rad; cos and sin of harmonics 1..K). The force is

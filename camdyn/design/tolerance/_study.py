@@ -13,11 +13,12 @@ from scipy.stats import binomtest
 
 from ..._core.errors import InputError
 from ..._core.progress import Progress, counter
+from ..._core.sharding import run_batched
 from ..._core.units import PROFILE_ERROR_HARMONICS, RPM, THETA_GRID, rate_from_si, rate_to_si, tolerance_unit
 from ...model import dynamics as dyn
 from ...model.geometry import newton_per_torque_at
 from ...schema import resolve_tolerances
-from ..sweep._sharding import run_batched
+from ..parts import resolve_spring
 from ._kernel import Sample, make_grid, rigid_tolerance_kernel, tolerance_kernel
 from ._result import ToleranceResult
 from ._sampling import SCALAR_KEYS, draw_samples, spreads
@@ -58,6 +59,7 @@ def tolerance_study(case, samples: int, seed: int = 0, *, progress: Progress | N
     if not 1 <= samples <= MAX_SAMPLES:
         raise InputError("--samples", f"must be from 1 to {MAX_SAMPLES}, got {samples}")
     devices = tuple(jax.devices() if devices is None else devices)
+    case = resolve_spring(case)  # [spring] model: the spring's own mass (its lumped third) in the nominal mass
     osc, base = case.oscillating, case.model
     tols = resolve_tolerances(case.spec.tolerances, oscillating=osc) if case.spec.tolerances is not None else ()
     if base.rigid and any(t.key == "train_stiffness" for t in tols):

@@ -2,6 +2,8 @@
 from boundary conditions), tabulated motions and motions fitted to data."""
 
 from ._base import Motion, evaluate
+from ._bspline import CLAMPED as BSPLINE_CLAMPED
+from ._bspline import basis as bspline_basis
 from ._fitted import ACCEL_NOISE_SHARE, FittedMotion, MotionFit, fit_motion, fit_warnings
 from ._hermite import HermiteMotion
 from ._laws import LAWS, law
@@ -9,6 +11,6 @@ from ._program import Program, Segment
 from ._spline import SplineFit, fit_periodic
 
 __all__ = [
-    "ACCEL_NOISE_SHARE", "FittedMotion", "HermiteMotion", "LAWS", "Motion", "MotionFit", "Program", "Segment", "SplineFit",
-    "evaluate", "fit_motion", "fit_periodic", "fit_warnings", "law",
+    "ACCEL_NOISE_SHARE", "BSPLINE_CLAMPED", "FittedMotion", "HermiteMotion", "LAWS", "Motion", "MotionFit", "Program", "Segment", "SplineFit",
+    "bspline_basis", "evaluate", "fit_motion", "fit_periodic", "fit_warnings", "law",
 ]

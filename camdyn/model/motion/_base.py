@@ -30,6 +30,11 @@ class Motion(eqx.Module):
     def __call__(self, theta):  # pragma: no cover - abstract
         raise NotImplementedError
 
+    def host(self, theta) -> np.ndarray:
+        """s and its first three derivatives at ``theta`` (rad) as a numpy array of shape (4, *theta.shape): the compiled
+        evaluation here; motions with a numpy form override it (no dispatch or compile cost)."""
+        return np.asarray(evaluate(self, jnp.asarray(theta, dtype=float)))
+
     def sample(self, n: int = THETA_GRID) -> tuple[np.ndarray, np.ndarray]:
         """(theta_deg, values) on ``n`` equal steps of [0, 360); values has shape (4, n)."""
         theta_deg = np.arange(n) * (360.0 / n)

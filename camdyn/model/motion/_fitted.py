@@ -37,9 +37,8 @@ class FittedMotion(Motion):
     def __call__(self, theta):
         return quintic_eval(jnp, self.knots, self.coef, theta)
 
-    def _eval(self, xp, theta):
-        """Evaluate with numpy (no dispatch or compile cost) or jax.numpy."""
-        return quintic_eval(xp, xp.asarray(self.knots), xp.asarray(self.coef), theta)
+    def host(self, theta) -> np.ndarray:
+        return quintic_eval(np, np.asarray(self.knots), np.asarray(self.coef), theta)
 
 
 @dataclass(frozen=True)

@@ -127,6 +127,9 @@ class Program(Motion):
     def __call__(self, theta):
         return self._eval(jnp, theta)
 
+    def host(self, theta) -> np.ndarray:
+        return self._eval(np, theta)
+
     def _eval(self, xp, theta):
         """Evaluate with jax.numpy (traceable) or numpy (no dispatch or compile cost, for validation)."""
         start = xp.asarray(self._start)
