@@ -23,6 +23,7 @@ from ...model.follower import FollowerModel
 from ...schema import CaseSpec
 from ...schema.dynamics import LINEAR_KEYS, ROTARY_KEYS
 from ..checks import CheckReport, run_check
+from ..parts import resolve_spring
 from ..tolerance import tolerance_study
 from ._objectives import CLEAR, jump_speed, least_slack, spring_force, vibration
 from ._rows import Rows
@@ -296,6 +297,7 @@ def optimize_case(
     if not math.isfinite(margin) or margin < 0.0:
         raise InputError("--min-force", f"must be a finite force >= 0, got {margin:g}")
     t0 = time.perf_counter()
+    case = resolve_spring(case)  # the model check judges: with the spring's own mass where [spring] gives the part
     control_points = N_CONTROL if control_points is None else control_points
     space = shape_space(case, n_control=control_points)
     rows = Rows(case, space, margin)
@@ -320,7 +322,7 @@ def optimize_case(
     except NumericalError as err:  # the programs found nothing to write: the input stands
         return _refused(objective, before, case, margin, control_points, t0, f"the optimizer found no answer: {err.message}")
     doc = _document(case, space, z, objective, name, source, dynamics)
-    new = build_case(CaseSpec.model_validate(doc), case.source)
+    new = resolve_spring(build_case(CaseSpec.model_validate(doc), case.source))
     after_check = run_check(new, speed_rpm)
     after = metrics(new, after_check, margin)
     claimed = after.margin_speed_rpm if objective == "jump-speed" else case.limits.speed_margin * rpm
