@@ -113,7 +113,8 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--speed", type=float, default=650.0, help="speed of the inner-problem comparison, rpm")
     ap.add_argument("--full", action="store_true", help="also the whole optimize_case")
-    ap.add_argument("--control-points", type=int, nargs="+", default=[16], metavar="N", help="of the whole optimize_case (default: 16)")
+    ap.add_argument("--control-points", type=int, nargs="+", default=[16], metavar="N",
+                    help="of the whole optimize_case (default: 16)")
     args = ap.parse_args()
     t0 = time.perf_counter()
     case = load_case(CASE)
@@ -123,8 +124,9 @@ def main() -> None:
         for n in args.control_points:
             t, res = timed(lambda n=n: optimize_case(case, control_points=n))
             table.append((f"optimize_case, jump-speed, {n} control points", f"{t:.1f} s",
-                          f"margin {res.margin:.3g} N held to {res.before.margin_speed_rpm:.1f} -> {res.claimed_speed_rpm:.1f} rpm; "
-                          f"jump speed {res.before.jump_speed_rpm:.1f} -> {res.after.jump_speed_rpm:.1f} rpm, {res.after.verdict}"))
+                          f"margin {res.margin:.3g} N held to {res.before.margin_speed_rpm:.1f} -> "
+                          f"{res.claimed_speed_rpm:.1f} rpm; jump speed {res.before.jump_speed_rpm:.1f} -> "
+                          f"{res.after.jump_speed_rpm:.1f} rpm, {res.after.verdict}"))
     print_table(f"camdyn optimize on {CASE.name}", table, t0)
 
 

@@ -239,9 +239,11 @@ def test_a_rejected_step_shrinks_a_trust_region_given_as_one_number():
 def test_monotone_control_points_keep_a_segment_within_its_lift(lecture_rows):
     space = lecture_rows.space
     assert np.max(np.asarray(space.order(jnp.asarray(space.z0)))) <= 0.0  # the start already in order
-    z = np.sort(np.random.default_rng(0).uniform(0.0, 1.0, (len(space.moving), space.n_free // len(space.moving))), axis=1).ravel()
+    per = space.n_free // len(space.moving)
+    z = np.sort(np.random.default_rng(0).uniform(0.0, 1.0, (len(space.moving), per)), axis=1).ravel()
     assert np.max(np.asarray(space.order(jnp.asarray(z)))) <= 0.0
-    assert within_lifts(case_from_dict(tomllib.loads(LECTURE.read_text()) | {"motion": {"segments": space.segments(z)}})) == []
+    raw = tomllib.loads(LECTURE.read_text()) | {"motion": {"segments": space.segments(z)}}
+    assert within_lifts(case_from_dict(raw)) == []
     z[3] = 1.01  # a control point past the lift: the order says so
     assert np.max(np.asarray(space.order(jnp.asarray(z)))) > 0.0
 

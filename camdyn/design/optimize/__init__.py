@@ -53,16 +53,21 @@ class Metrics:
     max_pressure_angle_deg: float = _shown("max pressure angle (deg)", ".2f")
     min_radius_of_curvature_mm: float = _shown("least radius of curvature (mm)")
     peak_spring_force: float = _shown("peak spring force ({f})")  # N (N*m for an arm)
-    residual_vibration: float = _shown("residual vibration ({u})", ".3g")  # at the case speed: mm (deg of swing for an arm)
+    residual_vibration: float = _shown(
+        "residual vibration ({u})", ".3g"
+    )  # at the case speed: mm (deg of swing for an arm)
     verdict: str = _shown("verdict", "")
 
     def json(self, unit: str) -> dict:
         return {
-            "jump_speed_rpm": _finite_or_none(self.jump_speed_rpm), "least_contact_force_N": self.least_force_N,
-            f"peak_acceleration_{unit}_per_rad2": self.peak_acceleration, "max_pressure_angle_deg": self.max_pressure_angle_deg,
+            "jump_speed_rpm": _finite_or_none(self.jump_speed_rpm),
+            "least_contact_force_N": self.least_force_N,
+            f"peak_acceleration_{unit}_per_rad2": self.peak_acceleration,
+            "max_pressure_angle_deg": self.max_pressure_angle_deg,
             "min_radius_of_curvature_mm": self.min_radius_of_curvature_mm,
             "peak_spring_force_N_m" if unit == "deg" else "peak_spring_force_N": self.peak_spring_force,
-            f"residual_vibration_{unit}": self.residual_vibration, "verdict": self.verdict,
+            f"residual_vibration_{unit}": self.residual_vibration,
+            "verdict": self.verdict,
             "margin_speed_rpm": _finite_or_none(self.margin_speed_rpm),
         }
 
@@ -112,21 +117,25 @@ class Optimization:
         ver = f" {camdyn_version()}".rstrip()
         f = self.force_unit
         aim = {
-            "jump-speed": f"the largest speed up to which the least contact force stays >= {self.margin:.4g} {f} at every speed",
+            "jump-speed": f"the largest speed up to which the least contact force stays >= {self.margin:.4g} {f} "
+            "at every speed",
             "vibration": "the least residual vibration in the dwells over 0.9-1.1 x the case speed, holding there",
             "spring-force": "the least peak spring force (preload and rate free) holding to speed_margin x speed",
         }[self.objective]
         header = [
-            f"Written by `camdyn optimize {source} --objective {self.objective} --control-points {self.control_points}` (camdyn{ver}): "
-            f'every rise and return is a clamped B-spline of degree 5 with {self.control_points} control points (law = "bspline"), '
-            "monotone within [0, 1]; the segment boundaries, lifts and dwells, the follower, the limits and (but for spring-force) "
-            "the spring are the original's.",
-            f"Objective: {aim}. Linear programs (HiGHS) on the frequency-domain steady state, its Jacobian by JAX autodiff.",
-            f"Dynamic jump speed {b.jump_speed_rpm:.1f} -> {a.jump_speed_rpm:.1f} rpm; the force margin of {self.margin:.4g} {f} "
-            f"holds to {floor_rpm(b.margin_speed_rpm):.1f} -> {floor_rpm(a.margin_speed_rpm):.1f} rpm; least contact force at the case speed "
+            f"Written by `camdyn optimize {source} --objective {self.objective} --control-points "
+            f"{self.control_points}` (camdyn{ver}): every rise and return is a clamped B-spline of degree 5 with "
+            f'{self.control_points} control points (law = "bspline"), monotone within [0, 1]; the segment boundaries, '
+            "lifts and dwells, the follower, the limits and (but for spring-force) the spring are the original's.",
+            f"Objective: {aim}. Linear programs (HiGHS) on the frequency-domain steady state, its Jacobian by JAX "
+            "autodiff.",
+            f"Dynamic jump speed {b.jump_speed_rpm:.1f} -> {a.jump_speed_rpm:.1f} rpm; the force margin of "
+            f"{self.margin:.4g} {f} holds to {floor_rpm(b.margin_speed_rpm):.1f} -> "
+            f"{floor_rpm(a.margin_speed_rpm):.1f} rpm; least contact force at the case speed "
             f"{b.least_force_N:.3g} -> {a.least_force_N:.3g} N; max pressure angle {b.max_pressure_angle_deg:.2f} -> "
             f"{a.max_pressure_angle_deg:.2f} deg; verdict {b.verdict} -> {a.verdict}.",
-            "Checked by the time-domain (diffrax) model at " + ", ".join(f"{p['speed_rpm']:.0f}" for p in self.verification["points"])
+            "Checked by the time-domain (diffrax) model at "
+            + ", ".join(f"{p['speed_rpm']:.0f}" for p in self.verification["points"])
             + f" rpm (least force {self.verification['least_force']:.4g} {f}).",
         ]
         return dumps_case(self.document, header)
@@ -134,10 +143,18 @@ class Optimization:
     def json(self) -> dict:
         margin_key = "force_margin_N_m" if self.case.oscillating else "force_margin_N"
         return {
-            "case": self.case.name, "objective": self.objective, "control_points_per_segment": self.control_points,
-            "claimed_speed_rpm": _finite_or_none(self.claimed_speed_rpm), "before": self.before.json(self.unit), "after": self.after.json(self.unit),
-            "verification": self.verification, "time_s": self.time_s,
-            margin_key: self.margin, "written": self.written, "refusals": list(self.refusals), "robust": self.robust,
+            "case": self.case.name,
+            "objective": self.objective,
+            "control_points_per_segment": self.control_points,
+            "claimed_speed_rpm": _finite_or_none(self.claimed_speed_rpm),
+            "before": self.before.json(self.unit),
+            "after": self.after.json(self.unit),
+            "verification": self.verification,
+            "time_s": self.time_s,
+            margin_key: self.margin,
+            "written": self.written,
+            "refusals": list(self.refusals),
+            "robust": self.robust,
         }
 
 
@@ -168,7 +185,9 @@ def metrics(case: Case, check: CheckReport | None = None, margin: float = 0.0) -
     geo = chk.geometry
     jump = chk.dynamic["jump_speed_rpm"]
     w_max = 4.0 * max(case.limits.speed_margin * chk.speed_rpm, jump if jump is not None else 0.0) * RPM
-    residual = chk.dynamic["residual_vibration_rad"] * to_user if case.oscillating else chk.dynamic["residual_vibration_mm"]
+    residual = (
+        chk.dynamic["residual_vibration_rad"] * to_user if case.oscillating else chk.dynamic["residual_vibration_mm"]
+    )
     return Metrics(
         jump_speed_rpm=float(jump if jump is not None else math.inf),
         margin_speed_rpm=float(margin_speed(case, margin, w_max) / RPM),
@@ -182,7 +201,9 @@ def metrics(case: Case, check: CheckReport | None = None, margin: float = 0.0) -
     )
 
 
-def _document(case: Case, space: ShapeSpace, z, objective: str, name: str | None, source: str | None, dynamics: dict | None = None) -> dict:
+def _document(
+    case: Case, space: ShapeSpace, z, objective: str, name: str | None, source: str | None, dynamics: dict | None = None
+) -> dict:
     """The case file of the optimized motion: the original with its segments (and spring, if freed) replaced;
     ``source``: the original's path relative to where the new file goes."""
     doc = case.spec.model_dump(exclude_unset=True, exclude_none=True)
@@ -215,12 +236,28 @@ def _verify(case: Case, speeds_rpm: list[float], margin: float) -> dict:
     for rpm in speeds_rpm:
         w = rpm * RPM
         r = response(case.motion, case.model, w)
-        fd = float(np.asarray(linear_min_force(case.motion, case.model, np.array([w])))[0]) if not case.model.rigid else math.nan
+        fd = (
+            float(np.asarray(linear_min_force(case.motion, case.model, np.array([w])))[0])
+            if not case.model.rigid
+            else math.nan
+        )
         held = bool(r.min_force >= margin - 1e-3 * float(np.abs(r.force).max())) and not r.separations
-        points.append({"speed_rpm": rpm, f"time_domain_least_force_{unit}": r.min_force, f"frequency_domain_least_force_{unit}": fd,
-                       "separated": bool(r.separations), "margin_held": held})
+        points.append(
+            {
+                "speed_rpm": rpm,
+                f"time_domain_least_force_{unit}": r.min_force,
+                f"frequency_domain_least_force_{unit}": fd,
+                "separated": bool(r.separations),
+                "margin_held": held,
+            }
+        )
     least = min((p[f"time_domain_least_force_{unit}"] for p in points), default=None)
-    return {"model": "rigid" if case.model.rigid else "compliant", "points": points, "least_force": least, "unit": unit.replace("_", "*")}
+    return {
+        "model": "rigid" if case.model.rigid else "compliant",
+        "points": points,
+        "least_force": least,
+        "unit": unit.replace("_", "*"),
+    }
 
 
 def _motion_kept(new: Case, space: ShapeSpace) -> list[str]:
@@ -237,14 +274,18 @@ def _motion_kept(new: Case, space: ShapeSpace) -> list[str]:
             s, v = sv[0, inside], sv[1, inside] * math.copysign(1.0, lift)
             tol = 1e-9 * abs(lift)
             if s.min() < lo - tol or s.max() > hi + tol:
-                out.append(f"segment {i + 1} leaves its range ({s.min() / space.to_unit:.6g} to {s.max() / space.to_unit:.6g})")
+                out.append(
+                    f"segment {i + 1} leaves its range ({s.min() / space.to_unit:.6g} to {s.max() / space.to_unit:.6g})"
+                )
             if v.min() < -tol:
                 out.append(f"segment {i + 1} reverses (velocity {v.min() / space.to_unit:.3g} against its lift)")
         start, base = spec.end, base + spec.lift * space.to_unit
     return out
 
 
-def _refusals(objective: str, before: CheckReport, after: CheckReport, b: Metrics, a: Metrics, kept: list[str], verification: dict) -> list[str]:
+def _refusals(
+    objective: str, before: CheckReport, after: CheckReport, b: Metrics, a: Metrics, kept: list[str], verification: dict
+) -> list[str]:
     """Why the answer must not be written: no better than the input on the objective, a check the input passed
     failing, the motion leaving its range, or the time-domain model finding the margin broken."""
     out = []
@@ -254,17 +295,31 @@ def _refusals(objective: str, before: CheckReport, after: CheckReport, b: Metric
         "spring-force": a.peak_spring_force >= b.peak_spring_force * (1.0 - _BETTER),
     }[objective]
     if worse:
-        what = {"jump-speed": "the speed holding the force margin", "vibration": "the residual vibration", "spring-force": "the peak spring force"}
+        what = {
+            "jump-speed": "the speed holding the force margin",
+            "vibration": "the residual vibration",
+            "spring-force": "the peak spring force",
+        }
         out.append(f"no better on {objective}: {what[objective]} would go {_pair(objective, b, a)}")
     passed = {c.name for c in before.checks if c.ok}
-    out += [f"check {c.name} passed before and would fail ({c.value:.6g} against {c.limit:.6g} {c.unit})" for c in after.checks if c.name in passed and not c.ok]
+    out += [
+        f"check {c.name} passed before and would fail ({c.value:.6g} against {c.limit:.6g} {c.unit})"
+        for c in after.checks
+        if c.name in passed and not c.ok
+    ]
     out += kept
-    out += [f"the time-domain model finds the margin broken at {p['speed_rpm']:.1f} rpm" for p in verification["points"] if not p["margin_held"]]
+    out += [
+        f"the time-domain model finds the margin broken at {p['speed_rpm']:.1f} rpm"
+        for p in verification["points"]
+        if not p["margin_held"]
+    ]
     return out
 
 
 def _pair(objective: str, b: Metrics, a: Metrics) -> str:
-    name = {"jump-speed": "margin_speed_rpm", "vibration": "residual_vibration", "spring-force": "peak_spring_force"}[objective]
+    name = {"jump-speed": "margin_speed_rpm", "vibration": "residual_vibration", "spring-force": "peak_spring_force"}[
+        objective
+    ]
     return f"{getattr(b, name):.4g} -> {getattr(a, name):.4g}"
 
 
@@ -272,27 +327,44 @@ def _robust_claim(case: Case, progress: Progress | None) -> dict:
     """The speed up to which P(separation) <= :data:`ROBUST_SEPARATION` over the case's ``[tolerances]``: that
     quantile of the built cams' jump speeds (the tolerance study's kernel)."""
     if case.spec.tolerances is None:
-        raise InputError("--robust", "the case has no [tolerances]: give them to claim a speed at P(separation) <= 1e-3")
+        raise InputError(
+            "--robust", "the case has no [tolerances]: give them to claim a speed at P(separation) <= 1e-3"
+        )
     study = tolerance_study(case, ROBUST_SAMPLES, progress=progress)
     jumps = np.asarray(study.jump_speed_rpm, dtype=float)
-    return {"separation_probability": ROBUST_SEPARATION, "samples": study.samples,
-            "speed_rpm": _finite_or_none(float(np.quantile(jumps, ROBUST_SEPARATION))), "nominal_jump_speed_rpm": _finite_or_none(study.nominal_jump_speed_rpm)}
+    return {
+        "separation_probability": ROBUST_SEPARATION,
+        "samples": study.samples,
+        "speed_rpm": _finite_or_none(float(np.quantile(jumps, ROBUST_SEPARATION))),
+        "nominal_jump_speed_rpm": _finite_or_none(study.nominal_jump_speed_rpm),
+    }
 
 
 def optimize_case(
-    case: Case, objective: str = "jump-speed", *, speed_rpm: float | None = None, progress: Progress | None = None, name: str | None = None,
-    source: str | None = None, min_force: float | None = None, control_points: int | None = None, robust: bool = False,
+    case: Case,
+    objective: str = "jump-speed",
+    *,
+    speed_rpm: float | None = None,
+    progress: Progress | None = None,
+    name: str | None = None,
+    source: str | None = None,
+    min_force: float | None = None,
+    control_points: int | None = None,
+    robust: bool = False,
 ) -> Optimization:
     """Reshape ``case``'s rises and returns for ``objective`` (one of :data:`OBJECTIVES`) at ``speed_rpm`` (default:
     the case's); ``name``: the optimized case's (default: the case's with "-optimized"); ``source``: the original
     case file as the new one will find it (its ``optimized_from``); ``min_force``: the force margin to keep at
     every speed held (N; N*m for an arm; default :func:`default_margin`); ``control_points``: per reshaped
-    segment (default :data:`N_CONTROL`); ``robust``: claim the speed up to which P(separation) <= 1e-3 over the case's ``[tolerances]``.
+    segment (default :data:`N_CONTROL`); ``robust``: claim the speed up to which P(separation) <= 1e-3 over the
+    case's ``[tolerances]``.
     The answer's ``refusals`` say why it is not to be written (no better, or a check it would break)."""
     if objective not in OBJECTIVES:
         raise InputError("--objective", f"unknown objective {objective!r}; choose one of {', '.join(OBJECTIVES)}")
     if robust and case.spec.tolerances is None:
-        raise InputError("--robust", "the case has no [tolerances]: give them to claim a speed at P(separation) <= 1e-3")
+        raise InputError(
+            "--robust", "the case has no [tolerances]: give them to claim a speed at P(separation) <= 1e-3"
+        )
     margin = default_margin(case) if min_force is None else float(min_force)
     if not math.isfinite(margin) or margin < 0.0:
         raise InputError("--min-force", f"must be a finite force >= 0, got {margin:g}")
@@ -309,7 +381,9 @@ def optimize_case(
         if objective == "jump-speed":
             w0 = before.margin_speed_rpm * RPM
             if not math.isfinite(w0):
-                raise InputError("case", "the case does not jump within the check's search: there is no jump speed to raise")
+                raise InputError(
+                    "case", "the case does not jump within the check's search: there is no jump speed to raise"
+                )
             z, _ = jump_speed(rows, w0, progress)
         elif objective == "vibration":
             z = vibration(rows, rpm * RPM)
@@ -318,30 +392,65 @@ def optimize_case(
             rates = float(case.model.stiffness) * np.array([0.25, 0.5, 1.0, 2.0])
             z, k, f0 = spring_force(rows, w, rates)
             keys = ROTARY_KEYS if case.oscillating else LINEAR_KEYS
-            dynamics = {keys[1]: float(np.round(rate_from_si(k, case.oscillating), 6)), keys[2]: float(math.ceil(f0 * 100.0) / 100.0)}
+            dynamics = {
+                keys[1]: float(np.round(rate_from_si(k, case.oscillating), 6)),
+                keys[2]: float(math.ceil(f0 * 100.0) / 100.0),
+            }
     except NumericalError as err:  # the programs found nothing to write: the input stands
-        return _refused(objective, before, case, margin, control_points, t0, f"the optimizer found no answer: {err.message}")
+        return _refused(
+            objective, before, case, margin, control_points, t0, f"the optimizer found no answer: {err.message}"
+        )
     doc = _document(case, space, z, objective, name, source, dynamics)
     new = resolve_spring(build_case(CaseSpec.model_validate(doc), case.source))
     after_check = run_check(new, speed_rpm)
     after = metrics(new, after_check, margin)
     claimed = after.margin_speed_rpm if objective == "jump-speed" else case.limits.speed_margin * rpm
     checked = [w / RPM for w in _dips(new, claimed * RPM, _VERIFIED)] if not new.model.rigid else []
-    checked = sorted(set(round(v, 1) for v in checked + [0.99 * claimed] + ([] if objective == "jump-speed" else [rpm])))
+    checked = sorted(
+        set(round(v, 1) for v in checked + [0.99 * claimed] + ([] if objective == "jump-speed" else [rpm]))
+    )
     verification = _verify(new, checked, margin)
     refusals = _refusals(objective, before_check, after_check, before, after, _motion_kept(new, space), verification)
     robust_claim = None
     if robust and not refusals:
         robust_claim = _robust_claim(new, progress)
         claimed = robust_claim["speed_rpm"] if robust_claim["speed_rpm"] is not None else math.nan
-    return Optimization(objective, before, after, new, doc, claimed, verification, control_points, time.perf_counter() - t0, margin, tuple(refusals), robust_claim)
+    return Optimization(
+        objective,
+        before,
+        after,
+        new,
+        doc,
+        claimed,
+        verification,
+        control_points,
+        time.perf_counter() - t0,
+        margin,
+        tuple(refusals),
+        robust_claim,
+    )
 
 
-def _refused(objective: str, before: Metrics, case: Case, margin: float, control_points: int, t0: float, why: str) -> Optimization:
+def _refused(
+    objective: str, before: Metrics, case: Case, margin: float, control_points: int, t0: float, why: str
+) -> Optimization:
     """The input itself, with why nothing better was found."""
     doc = case.spec.model_dump(exclude_unset=True, exclude_none=True)
     empty = {"model": "compliant", "points": [], "least_force": None, "unit": "N*m" if case.oscillating else "N"}
-    return Optimization(objective, before, before, case, doc, math.nan, empty, control_points, time.perf_counter() - t0, margin, (why,))
+    return Optimization(
+        objective, before, before, case, doc, math.nan, empty, control_points, time.perf_counter() - t0, margin, (why,)
+    )
 
 
-__all__ = ["MARGIN_OF_PRELOAD", "OBJECTIVES", "Metrics", "Optimization", "default_margin", "floor_rpm", "least_slack", "margin_speed", "metrics", "optimize_case"]
+__all__ = [
+    "MARGIN_OF_PRELOAD",
+    "OBJECTIVES",
+    "Metrics",
+    "Optimization",
+    "default_margin",
+    "floor_rpm",
+    "least_slack",
+    "margin_speed",
+    "metrics",
+    "optimize_case",
+]

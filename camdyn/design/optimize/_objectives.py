@@ -1,7 +1,8 @@
 """The three objectives of ``camdyn optimize``, each a sequence of linear programs (:mod:`._slp`):
 
 * ``jump-speed``: the largest speed W up to which the least contact force keeps its margin (``Rows.margin``
-  and ``min_contact_force``) at every speed, by bisection on W (a speed set up to W, refined where a finer scan finds a lower force);
+  and ``min_contact_force``) at every speed, by bisection on W (a speed set up to W, refined where a finer
+  scan finds a lower force);
 * ``vibration``: the least residual vibration in the dwells over a speed band, while holding there;
 * ``spring-force``: the least peak spring force (preload and rate free) that holds to ``speed_margin`` x speed.
 """
@@ -48,7 +49,9 @@ def hold_to(rows: Rows, w: float, z0: np.ndarray) -> tuple[Step, float]:
     step, radius = Step(z0, -math.inf, math.inf, 0), RADIUS
     for _ in range(6):
         sp = jnp.asarray(speed_slots(speeds))
-        step = maximize_least(lambda z: rows.force_jacobian(z, sp, None), rows.geometry_jacobian, step.x, radius=radius, scale=scale)
+        step = maximize_least(
+            lambda z: rows.force_jacobian(z, sp, None), rows.geometry_jacobian, step.x, radius=radius, scale=scale
+        )
         full, at = least_slack(rows, step.x, w)
         if full >= min(0.0, step.value - 1e-3 * scale) or step.value < 0.0:
             return step, full  # held (or cannot be: the programs' own speeds already fail)
@@ -86,7 +89,9 @@ def _band(speed: float) -> np.ndarray:
     return speed * np.linspace(0.9, 1.1, 9)
 
 
-def _held(rows: Rows, objective, x0: np.ndarray, w: float, *, preload_free: bool = False, lower=None, radius=RADIUS) -> Step:
+def _held(
+    rows: Rows, objective, x0: np.ndarray, w: float, *, preload_free: bool = False, lower=None, radius=RADIUS
+) -> Step:
     """Maximize the least of ``objective(x)`` within the geometry limits, holding the contact force at the limit at
     every speed up to ``w`` (rad/s): the programs' speed set grows where a fine scan finds the force below it.
     ``x`` is the control points, and the preload (SI) after them where ``preload_free``."""
@@ -104,7 +109,9 @@ def _held(rows: Rows, objective, x0: np.ndarray, w: float, *, preload_free: bool
     speeds, step, cushion = _speed_set(w), Step(x0, -math.inf, math.inf, 0), 1e-2 * scale
     for _ in range(8):
         sp = jnp.asarray(speed_slots(speeds))
-        step = maximize_least(objective_jac, lambda x: limits_jac(x, sp, cushion), step.x, radius=radius, scale=scale, lower=lower)
+        step = maximize_least(
+            objective_jac, lambda x: limits_jac(x, sp, cushion), step.x, radius=radius, scale=scale, lower=lower
+        )
         full, at = least_slack(rows, *split(step.x) if preload_free else (step.x,), w)
         if full >= 0.0:
             break
@@ -121,7 +128,9 @@ def vibration(rows: Rows, omega: float, band: bool = True) -> np.ndarray:
     at the limit up to ``speed_margin`` x ``omega``."""
     case, space = rows.case, rows.space
     if case.model.rigid:
-        raise InputError("--objective", "vibration: a rigid follower does not vibrate in contact (give [dynamics] train_stiffness)")
+        raise InputError(
+            "--objective", "vibration: a rigid follower does not vibrate in contact (give [dynamics] train_stiffness)"
+        )
     dwell = np.asarray(np.abs(space.matrix[0]).sum(axis=1) == 0.0)
     idx = np.nonzero(dwell)[0][::4]
     speeds = _band(omega) if band else np.array([omega])

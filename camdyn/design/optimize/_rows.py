@@ -101,7 +101,9 @@ class Rows:
     @cached_property
     def least_on_scan(self):
         """``(z, w_max, preload) -> the least slack at each of FINE speeds up to w_max``, compiled once."""
-        return jax.jit(lambda z, w, preload=None: self.slack(z, w * jnp.arange(1, FINE + 1) / FINE, preload).min(axis=1))
+        return jax.jit(
+            lambda z, w, preload=None: self.slack(z, w * jnp.arange(1, FINE + 1) / FINE, preload).min(axis=1)
+        )
 
     @cached_property
     def geometry_jacobian(self):

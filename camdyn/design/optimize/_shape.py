@@ -53,7 +53,7 @@ class ShapeSpace:
         free = self.n_control - 2 * CLAMPED
         rows = []
         for k in range(len(self.moving)):
-            c = jnp.concatenate([jnp.zeros(1), z[k * free:(k + 1) * free], jnp.ones(1)])
+            c = jnp.concatenate([jnp.zeros(1), z[k * free : (k + 1) * free], jnp.ones(1)])
             rows.append(c[:-1] - c[1:])
         return jnp.concatenate(rows)
 
@@ -61,7 +61,9 @@ class ShapeSpace:
         """The full control points of each reshaped segment (clamped ends included)."""
         free = self.n_control - 2 * CLAMPED
         z = np.asarray(z, dtype=float)
-        return [np.r_[np.zeros(CLAMPED), z[i * free:(i + 1) * free], np.ones(CLAMPED)] for i in range(len(self.moving))]
+        return [
+            np.r_[np.zeros(CLAMPED), z[i * free : (i + 1) * free], np.ones(CLAMPED)] for i in range(len(self.moving))
+        ]
 
     def segments(self, z) -> list[dict]:
         """The case file's ``[motion] segments`` with the reshaped ones as ``law = "bspline"``."""
@@ -82,7 +84,9 @@ def shape_space(case: Case, n: int = FFT_GRID, n_control: int = N_CONTROL) -> Sh
     """The shape space of a segment case with ``n_control`` control points per reshaped segment; a path, table or
     contour case has no segments to reshape."""
     if not MIN_CONTROL <= n_control <= MAX_CONTROL:
-        raise InputError("--control-points", f"{n_control} control points per segment: give {MIN_CONTROL} to {MAX_CONTROL}")
+        raise InputError(
+            "--control-points", f"{n_control} control points per segment: give {MIN_CONTROL} to {MAX_CONTROL}"
+        )
     if case.motion_source != "segments":
         why = {
             "path": "its motion is fixed by the path the linkage must trace (reshape the path, or synthesize again)",
