@@ -13,6 +13,7 @@ import argparse
 import math
 import os
 import sys
+import traceback
 from importlib import import_module
 from importlib.metadata import PackageNotFoundError, version
 from pathlib import Path
@@ -143,6 +144,12 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("-o", "--output", required=True, metavar="OUT.toml", help="the optimized case file to write")
     p.add_argument("--objective", choices=("jump-speed", "vibration", "spring-force"), default="jump-speed", help="what to optimize (default: jump-speed)")
     p.add_argument("--speed", type=_positive_rpm, metavar="RPM", help="design speed, rpm (default: the case's)")
+    p.add_argument("--min-force", type=float, metavar="F", help="the least contact force to keep at every speed up to "
+                   "the claimed one, N (N*m for an arm; default: 5 %% of the static preload)")
+    p.add_argument("--control-points", type=int, metavar="N", help="B-spline control points per rise and return "
+                   "(default: 16)")
+    p.add_argument("--robust", action="store_true", help="claim the speed up to which P(separation) <= 1e-3 over the "
+                   "case's [tolerances]")
     p.add_argument("--force", action="store_true", help="overwrite OUT.toml if it exists")
     p.add_argument("--json", action="store_true", help="print one JSON document (before, after, verification)")
 
@@ -230,7 +237,7 @@ def main(argv: list[str] | None = None) -> int:
         return run(args)
     except CamdynError as err:
         if args.debug:
-            raise
+            traceback.print_exc()
         print(f"camdyn: {source + ': ' if source else ''}{err}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:
@@ -238,9 +245,9 @@ def main(argv: list[str] | None = None) -> int:
     except BrokenPipeError:  # the reader (``| head``) has gone: nothing more to say
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 141
-    except Exception as err:  # a bug: still one line, the traceback on request
+    except Exception as err:  # a bug: still one line (exit 2), the traceback on request
         if args.debug:
-            raise
+            traceback.print_exc()
         print(f"camdyn: {source + ': ' if source else ''}internal error: {type(err).__name__}: {err} (run with --debug for the traceback)", file=sys.stderr)
         return 2
 

@@ -1,4 +1,5 @@
-"""``camdyn optimize CASE.toml -o OUT.toml``: reshape the rises and returns for an objective, write the case."""
+"""``camdyn optimize CASE.toml -o OUT.toml``: reshape the rises and returns for an objective, write the case
+only where it is better than the input on the objective and breaks nothing the input passed (else exit 1)."""
 
 from __future__ import annotations
 
@@ -8,24 +9,56 @@ from pathlib import Path
 
 from .._core.errors import InputError
 from .._core.outputs import output_file, write_new
-from ..design.optimize import optimize_case
+from ..design.optimize import floor_rpm, optimize_case
 from ..model.case import build_case
 from . import _console
 
+
 def print_optimization(res, output: Path) -> None:
     con = _console.console()
-    u, f = ("deg", "N*m") if res.case.oscillating else ("mm", "N")
-    con.print(f"[bold]{res.case.name}[/bold]  optimized for {res.objective}: {len(res.document['motion']['segments'])} segments, rises and returns as B-splines")
+    u, f = res.unit, res.force_unit
+    con.print(
+        f"[bold]{res.case.name}[/bold]  optimized for {res.objective}: "
+        f"{len(res.document['motion']['segments'])} segments, "
+        f"rises and returns as B-splines of {res.control_points} control points"
+    )
+    con.print(f"force margin {res.margin:.4g} {f}")
     t = _console.table(("", "left"), ("before", "right"), ("after", "right"))
     for fld in fields(res.before):
         fmt = fld.metadata["format"]
-        t.add_row(fld.metadata["label"].format(u=u, f=f), format(getattr(res.before, fld.name), fmt), format(getattr(res.after, fld.name), fmt))
+        t.add_row(
+            fld.metadata["label"].format(u=u, f=f),
+            format(getattr(res.before, fld.name), fmt),
+            format(getattr(res.after, fld.name), fmt),
+        )
     con.print(t)
     for p in res.verification["points"]:
         td = next(v for k, v in p.items() if k.startswith("time_domain"))
         fd = next(v for k, v in p.items() if k.startswith("frequency_domain"))
-        con.print(f"[dim]time domain at {p['speed_rpm']:.0f} rpm: least force {td:.4g} (frequency domain {fd:.4g}){', separates' if p['separated'] else ''}[/dim]")
-    con.print(f"wrote {output} in {res.time_s:.1f} s; next: camdyn check {output}")
+        said = (
+            ", separates"
+            if p["separated"]
+            else ("" if p["margin_held"] else f", under the {res.margin:.4g} {f} margin")
+        )
+        con.print(
+            f"[dim]time domain at {p['speed_rpm']:.1f} rpm: least force {td:.4g} {f} "
+            f"(frequency domain {fd:.4g} {f}){said}[/dim]"
+        )
+    if res.robust is not None:
+        con.print(
+            f"robust: P(separation) <= {res.robust['separation_probability']:g} "
+            f"up to {floor_rpm(res.robust['speed_rpm']):.1f} rpm "
+            f"({res.robust['samples']} built cams of [tolerances])"
+        )
+    if res.written:
+        con.print(f"claimed: the margin holds at every speed up to {floor_rpm(res.claimed_speed_rpm):.1f} rpm")
+        con.print(f"wrote {output} in {res.time_s:.1f} s; next: camdyn check {output}")
+    else:
+        con.print(
+            f"[bold]cannot improve[/bold] {res.case.name} for {res.objective}; wrote nothing ({res.time_s:.1f} s):"
+        )
+        for why in res.refusals:
+            con.print(f"  - {why}")
 
 
 def run(args) -> int:
@@ -35,10 +68,21 @@ def run(args) -> int:
     case = build_case(args.spec, source=Path(args.case))
     with _console.progress_bar() as progress:
         source = Path(os.path.relpath(Path(args.case).resolve(), out.resolve().parent)).as_posix()
-        res = optimize_case(case, args.objective, speed_rpm=args.speed, progress=progress, name=out.stem, source=source)
-    write_new(out, res.text(args.case), args.force)
+        res = optimize_case(
+            case,
+            args.objective,
+            speed_rpm=args.speed,
+            progress=progress,
+            name=out.stem,
+            source=source,
+            min_force=args.min_force,
+            control_points=args.control_points,
+            robust=args.robust,
+        )
+    if res.written:
+        write_new(out, res.text(args.case), args.force)
     if args.json:
-        print(_console.json_text(res.json() | {"output": str(out)}))
+        print(_console.json_text(res.json() | {"output": str(out) if res.written else None}))
     else:
         print_optimization(res, out)
-    return 0 if res.after.verdict == "pass" else 1
+    return 0 if res.written and res.after.verdict == "pass" else 1

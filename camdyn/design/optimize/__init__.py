@@ -10,22 +10,31 @@ import math
 import time
 from dataclasses import dataclass, field
 
+import equinox as eqx
 import numpy as np
 
-from ..._core.errors import InputError
+from ..._core.errors import InputError, NumericalError
 from ..._core.progress import Progress
 from ..._core.units import RPM, rate_from_si
 from ...export import camdyn_version, dumps_case
 from ...model.case import Case, build_case
-from ...model.dynamics import linear_min_force, response
+from ...model.dynamics import dynamic_jump_speed, linear_min_force, response
+from ...model.follower import FollowerModel
 from ...schema import CaseSpec
 from ...schema.dynamics import LINEAR_KEYS, ROTARY_KEYS
 from ..checks import CheckReport, run_check
-from ._objectives import CLEAR, jump_speed, least_force, spring_force, vibration
+from ..parts import resolve_spring
+from ..tolerance import tolerance_study
+from ._objectives import CLEAR, jump_speed, least_slack, spring_force, vibration
 from ._rows import Rows
 from ._shape import N_CONTROL, ShapeSpace, shape_space
 
 OBJECTIVES = ("jump-speed", "vibration", "spring-force")
+MARGIN_OF_PRELOAD = 0.05  # the default force margin: this share of the static preload
+ROBUST_SEPARATION = 1e-3  # --robust: the claim is the speed up to which P(separation) stays at or below this
+ROBUST_SAMPLES = 4000  # built cams drawn for it (4 below the 1e-3 quantile)
+_BETTER = 1e-3  # an answer must beat the input on its objective by this share to be written
+_VERIFIED = 3  # the time-domain model checks this many of the force's dips below the claim, and the claim
 
 
 def _shown(label: str, fmt: str = ".4g"):
@@ -38,91 +47,163 @@ class Metrics:
     """What the before/after table compares."""
 
     jump_speed_rpm: float = _shown("dynamic jump speed (rpm)", ".1f")  # check's
+    margin_speed_rpm: float = _shown("speed holding the force margin (rpm)", ".1f")  # :func:`margin_speed`
     least_force_N: float = _shown("least contact force at the case speed (N)")
     peak_acceleration: float = _shown("peak acceleration ({u}/rad^2)")  # |s''| max
     max_pressure_angle_deg: float = _shown("max pressure angle (deg)", ".2f")
     min_radius_of_curvature_mm: float = _shown("least radius of curvature (mm)")
     peak_spring_force: float = _shown("peak spring force ({f})")  # N (N*m for an arm)
-    residual_vibration: float = _shown("residual vibration ({u})", ".3g")  # at the case speed
+    residual_vibration: float = _shown(
+        "residual vibration ({u})", ".3g"
+    )  # at the case speed: mm (deg of swing for an arm)
     verdict: str = _shown("verdict", "")
 
     def json(self, unit: str) -> dict:
         return {
-            "jump_speed_rpm": self.jump_speed_rpm, "least_contact_force_N": self.least_force_N,
-            f"peak_acceleration_{unit}_per_rad2": self.peak_acceleration, "max_pressure_angle_deg": self.max_pressure_angle_deg,
+            "jump_speed_rpm": _finite_or_none(self.jump_speed_rpm),
+            "least_contact_force_N": self.least_force_N,
+            f"peak_acceleration_{unit}_per_rad2": self.peak_acceleration,
+            "max_pressure_angle_deg": self.max_pressure_angle_deg,
             "min_radius_of_curvature_mm": self.min_radius_of_curvature_mm,
             "peak_spring_force_N_m" if unit == "deg" else "peak_spring_force_N": self.peak_spring_force,
-            f"residual_vibration_{unit}": self.residual_vibration, "verdict": self.verdict,
+            f"residual_vibration_{unit}": self.residual_vibration,
+            "verdict": self.verdict,
+            "margin_speed_rpm": _finite_or_none(self.margin_speed_rpm),
         }
+
+
+def floor_rpm(rpm: float) -> float:
+    """A claimed speed as printed (to 0.1 rpm): rounded down, never past what holds."""
+    return math.floor(rpm * 10.0) / 10.0 if math.isfinite(rpm) else rpm
+
+
+def _finite_or_none(x: float) -> float | None:
+    return float(x) if math.isfinite(x) else None
 
 
 @dataclass(frozen=True)
 class Optimization:
-    """The optimized case (as a case-file dict and as a :class:`Case`), what changed, and how it was verified."""
+    """The optimized case (as a case-file dict and as a :class:`Case`), what changed, how it was verified, and
+    why it is not to be written (``refusals``: empty when it is)."""
 
     objective: str
     before: Metrics
     after: Metrics
     case: Case
     document: dict  # the case file to write
-    claimed_speed_rpm: float  # what the optimizer's own scan promised (jump-speed: up to where it holds)
+    claimed_speed_rpm: float  # the speed up to which the written design keeps the force margin (robust: P(sep) <= 1e-3)
     verification: dict  # the time-domain model against the frequency domain at the claimed speeds
     control_points: int
     time_s: float
+    margin: float = 0.0  # the force margin held (N; N*m for an arm)
+    refusals: tuple[str, ...] = ()  # why the answer is no better than the input, or invalid
+    robust: dict | None = None  # --robust: the tolerance study's claim
 
     @property
     def unit(self) -> str:
         return "deg" if self.case.oscillating else "mm"
 
+    @property
+    def force_unit(self) -> str:
+        return "N*m" if self.case.oscillating else "N"
+
+    @property
+    def written(self) -> bool:
+        return not self.refusals
+
     def text(self, source: str) -> str:
         """The case file, with a header saying how it was made from ``source``."""
         b, a = self.before, self.after
         ver = f" {camdyn_version()}".rstrip()
+        f = self.force_unit
         aim = {
-            "jump-speed": f"the largest speed up to which the least contact force stays >= {self.case.limits.min_contact_force:g} N at every speed",
+            "jump-speed": f"the largest speed up to which the least contact force stays >= {self.margin:.4g} {f} "
+            "at every speed",
             "vibration": "the least residual vibration in the dwells over 0.9-1.1 x the case speed, holding there",
             "spring-force": "the least peak spring force (preload and rate free) holding to speed_margin x speed",
         }[self.objective]
         header = [
-            f"Written by `camdyn optimize {source} --objective {self.objective}` (camdyn{ver}): every rise and return is a "
-            f'clamped B-spline of degree 5 with {self.control_points} control points (law = "bspline"); the segment boundaries, '
+            f"Written by `camdyn optimize {source} --objective {self.objective} --control-points "
+            f"{self.control_points}` (camdyn{ver}): every rise and return is a clamped B-spline of degree 5 with "
+            f'{self.control_points} control points (law = "bspline"), monotone within [0, 1]; the segment boundaries, '
             "lifts and dwells, the follower, the limits and (but for spring-force) the spring are the original's.",
-            f"Objective: {aim}. Linear programs (HiGHS) on the frequency-domain steady state, its Jacobian by JAX autodiff.",
-            f"Dynamic jump speed {b.jump_speed_rpm:.1f} -> {a.jump_speed_rpm:.1f} rpm; least contact force at the case speed "
+            f"Objective: {aim}. Linear programs (HiGHS) on the frequency-domain steady state, its Jacobian by JAX "
+            "autodiff.",
+            f"Dynamic jump speed {b.jump_speed_rpm:.1f} -> {a.jump_speed_rpm:.1f} rpm; the force margin of "
+            f"{self.margin:.4g} {f} holds to {floor_rpm(b.margin_speed_rpm):.1f} -> "
+            f"{floor_rpm(a.margin_speed_rpm):.1f} rpm; least contact force at the case speed "
             f"{b.least_force_N:.3g} -> {a.least_force_N:.3g} N; max pressure angle {b.max_pressure_angle_deg:.2f} -> "
             f"{a.max_pressure_angle_deg:.2f} deg; verdict {b.verdict} -> {a.verdict}.",
-            "Checked by the time-domain (diffrax) model at " + ", ".join(f"{p['speed_rpm']:.0f}" for p in self.verification["points"]) + " rpm.",
+            "Checked by the time-domain (diffrax) model at "
+            + ", ".join(f"{p['speed_rpm']:.0f}" for p in self.verification["points"])
+            + f" rpm (least force {self.verification['least_force']:.4g} {f}).",
         ]
         return dumps_case(self.document, header)
 
     def json(self) -> dict:
+        margin_key = "force_margin_N_m" if self.case.oscillating else "force_margin_N"
         return {
-            "case": self.case.name, "objective": self.objective, "control_points_per_segment": self.control_points,
-            "claimed_speed_rpm": self.claimed_speed_rpm if math.isfinite(self.claimed_speed_rpm) else None, "before": self.before.json(self.unit), "after": self.after.json(self.unit),
-            "verification": self.verification, "time_s": self.time_s,
+            "case": self.case.name,
+            "objective": self.objective,
+            "control_points_per_segment": self.control_points,
+            "claimed_speed_rpm": _finite_or_none(self.claimed_speed_rpm),
+            "before": self.before.json(self.unit),
+            "after": self.after.json(self.unit),
+            "verification": self.verification,
+            "time_s": self.time_s,
+            margin_key: self.margin,
+            "written": self.written,
+            "refusals": list(self.refusals),
+            "robust": self.robust,
         }
 
 
-def metrics(case: Case, check: CheckReport | None = None) -> Metrics:
+def default_margin(case: Case) -> float:
+    """The force margin to keep when none is given: :data:`MARGIN_OF_PRELOAD` of the static preload (N; N*m)."""
+    return MARGIN_OF_PRELOAD * abs(float(case.model.preload))
+
+
+def _less_preload(model: FollowerModel, margin: float) -> FollowerModel:
+    """The model whose interface force is ``model``'s less ``margin`` at every angle and speed in contact: the
+    steady state is affine in the preload, a change dF0 moving the force by k_f / (k + k_f) dF0."""
+    share = 1.0 if model.rigid else float(model.train_stiffness / (model.stiffness + model.train_stiffness))
+    return eqx.tree_at(lambda m: m.preload, model, model.preload - margin / share)
+
+
+def margin_speed(case: Case, margin: float, w_max: float) -> float:
+    """The least speed (rad/s) at which the least interface force falls to ``margin`` (N; N*m for an arm), by
+    ``check``'s own jump-speed search on the model less the margin; inf if none up to ``w_max``."""
+    return dynamic_jump_speed(case.motion, _less_preload(case.model, margin), w_max=w_max)
+
+
+def metrics(case: Case, check: CheckReport | None = None, margin: float = 0.0) -> Metrics:
     chk = check or run_check(case)
     theta = np.linspace(0.0, 2 * math.pi, 7200, endpoint=False)
     sv = np.asarray(case.motion(theta))
     to_user = 1.0 if case.motion.unit == "mm" else 180.0 / math.pi
     m = case.model
     geo = chk.geometry
+    jump = chk.dynamic["jump_speed_rpm"]
+    w_max = 4.0 * max(case.limits.speed_margin * chk.speed_rpm, jump if jump is not None else 0.0) * RPM
+    residual = (
+        chk.dynamic["residual_vibration_rad"] * to_user if case.oscillating else chk.dynamic["residual_vibration_mm"]
+    )
     return Metrics(
-        jump_speed_rpm=float(chk.dynamic["jump_speed_rpm"]),
+        jump_speed_rpm=float(jump if jump is not None else math.inf),
+        margin_speed_rpm=float(margin_speed(case, margin, w_max) / RPM),
         least_force_N=float(chk.dynamic["min_contact_force_N"]),
         peak_acceleration=float(np.abs(sv[2]).max() * to_user),
         max_pressure_angle_deg=float(geo.max_pressure_angle_deg) if geo else math.nan,
         min_radius_of_curvature_mm=float(geo.min_radius_of_curvature_mm) if geo else math.nan,
         peak_spring_force=float(m.preload + m.stiffness * sv[0].max() * m.scale),
-        residual_vibration=float(chk.dynamic.get("residual_vibration_mm", chk.dynamic.get("residual_vibration_deg", math.nan))),
+        residual_vibration=float(residual),
         verdict=chk.verdict,
     )
 
 
-def _document(case: Case, space: ShapeSpace, z, objective: str, name: str | None, source: str | None, dynamics: dict | None = None) -> dict:
+def _document(
+    case: Case, space: ShapeSpace, z, objective: str, name: str | None, source: str | None, dynamics: dict | None = None
+) -> dict:
     """The case file of the optimized motion: the original with its segments (and spring, if freed) replaced;
     ``source``: the original's path relative to where the new file goes."""
     doc = case.spec.model_dump(exclude_unset=True, exclude_none=True)
@@ -137,57 +218,239 @@ def _document(case: Case, space: ShapeSpace, z, objective: str, name: str | None
     return doc
 
 
-def _verify(case: Case, speeds_rpm: list[float]) -> dict:
+def _dips(case: Case, w_claim: float, count: int) -> list[float]:
+    """The speeds (rad/s) of the ``count`` lowest local minima of the frequency-domain least force over speed
+    below ``w_claim``: where a margin is thinnest, which a few evenly spread speeds would miss."""
+    speeds = np.linspace(w_claim / 1000.0, w_claim, 1000)
+    f = np.asarray(linear_min_force(case.motion, case.model, speeds))
+    inner = np.nonzero((f[1:-1] <= f[:-2]) & (f[1:-1] <= f[2:]))[0] + 1
+    return sorted(float(speeds[i]) for i in inner[np.argsort(f[inner])][:count])
+
+
+def _verify(case: Case, speeds_rpm: list[float], margin: float) -> dict:
     """The diffrax time-domain steady state against the frequency domain the optimizer used, at ``speeds_rpm``:
-    least interface force of each (N; N*m for an arm) and whether the follower separates."""
+    least interface force of each (N; N*m for an arm), whether the follower separates and whether it keeps
+    ``margin`` (to 0.1 % of the largest force: the two models agree to well within it)."""
     unit = "N_m" if case.oscillating else "N"
     points = []
     for rpm in speeds_rpm:
         w = rpm * RPM
         r = response(case.motion, case.model, w)
-        fd = float(np.asarray(linear_min_force(case.motion, case.model, np.array([w])))[0]) if not case.model.rigid else math.nan
-        points.append({"speed_rpm": rpm, f"time_domain_least_force_{unit}": r.min_force, f"frequency_domain_least_force_{unit}": fd, "separated": bool(r.separations)})
-    return {"model": "rigid" if case.model.rigid else "compliant", "points": points}
+        fd = (
+            float(np.asarray(linear_min_force(case.motion, case.model, np.array([w])))[0])
+            if not case.model.rigid
+            else math.nan
+        )
+        held = bool(r.min_force >= margin - 1e-3 * float(np.abs(r.force).max())) and not r.separations
+        points.append(
+            {
+                "speed_rpm": rpm,
+                f"time_domain_least_force_{unit}": r.min_force,
+                f"frequency_domain_least_force_{unit}": fd,
+                "separated": bool(r.separations),
+                "margin_held": held,
+            }
+        )
+    least = min((p[f"time_domain_least_force_{unit}"] for p in points), default=None)
+    return {
+        "model": "rigid" if case.model.rigid else "compliant",
+        "points": points,
+        "least_force": least,
+        "unit": unit.replace("_", "*"),
+    }
+
+
+def _motion_kept(new: Case, space: ShapeSpace) -> list[str]:
+    """Where a reshaped segment leaves its lift's range or reverses, on a 0.01 deg grid (the control points'
+    order rules it out; this is the written file's own proof)."""
+    theta = np.radians(np.arange(0.0, 360.0, 0.01))
+    sv = np.asarray(new.motion(theta))
+    out, start, base = [], 0.0, 0.0
+    for i, spec in enumerate(space.specs):
+        inside = (theta >= math.radians(start)) & (theta < math.radians(spec.end))
+        if i in space.moving and inside.any():
+            lift = spec.lift * space.to_unit
+            lo, hi = sorted((base, base + lift))
+            s, v = sv[0, inside], sv[1, inside] * math.copysign(1.0, lift)
+            tol = 1e-9 * abs(lift)
+            if s.min() < lo - tol or s.max() > hi + tol:
+                out.append(
+                    f"segment {i + 1} leaves its range ({s.min() / space.to_unit:.6g} to {s.max() / space.to_unit:.6g})"
+                )
+            if v.min() < -tol:
+                out.append(f"segment {i + 1} reverses (velocity {v.min() / space.to_unit:.3g} against its lift)")
+        start, base = spec.end, base + spec.lift * space.to_unit
+    return out
+
+
+def _refusals(
+    objective: str, before: CheckReport, after: CheckReport, b: Metrics, a: Metrics, kept: list[str], verification: dict
+) -> list[str]:
+    """Why the answer must not be written: no better than the input on the objective, a check the input passed
+    failing, the motion leaving its range, or the time-domain model finding the margin broken."""
+    out = []
+    worse = {
+        "jump-speed": a.margin_speed_rpm <= b.margin_speed_rpm * (1.0 + _BETTER) or a.jump_speed_rpm < b.jump_speed_rpm,
+        "vibration": a.residual_vibration >= b.residual_vibration * (1.0 - _BETTER),
+        "spring-force": a.peak_spring_force >= b.peak_spring_force * (1.0 - _BETTER),
+    }[objective]
+    if worse:
+        what = {
+            "jump-speed": "the speed holding the force margin",
+            "vibration": "the residual vibration",
+            "spring-force": "the peak spring force",
+        }
+        out.append(f"no better on {objective}: {what[objective]} would go {_pair(objective, b, a)}")
+    passed = {c.name for c in before.checks if c.ok}
+    out += [
+        f"check {c.name} passed before and would fail ({c.value:.6g} against {c.limit:.6g} {c.unit})"
+        for c in after.checks
+        if c.name in passed and not c.ok
+    ]
+    out += kept
+    out += [
+        f"the time-domain model finds the margin broken at {p['speed_rpm']:.1f} rpm"
+        for p in verification["points"]
+        if not p["margin_held"]
+    ]
+    return out
+
+
+def _pair(objective: str, b: Metrics, a: Metrics) -> str:
+    name = {"jump-speed": "margin_speed_rpm", "vibration": "residual_vibration", "spring-force": "peak_spring_force"}[
+        objective
+    ]
+    return f"{getattr(b, name):.4g} -> {getattr(a, name):.4g}"
+
+
+def _robust_claim(case: Case, progress: Progress | None) -> dict:
+    """The speed up to which P(separation) <= :data:`ROBUST_SEPARATION` over the case's ``[tolerances]``: that
+    quantile of the built cams' jump speeds (the tolerance study's kernel)."""
+    if case.spec.tolerances is None:
+        raise InputError(
+            "--robust", "the case has no [tolerances]: give them to claim a speed at P(separation) <= 1e-3"
+        )
+    study = tolerance_study(case, ROBUST_SAMPLES, progress=progress)
+    jumps = np.asarray(study.jump_speed_rpm, dtype=float)
+    return {
+        "separation_probability": ROBUST_SEPARATION,
+        "samples": study.samples,
+        "speed_rpm": _finite_or_none(float(np.quantile(jumps, ROBUST_SEPARATION))),
+        "nominal_jump_speed_rpm": _finite_or_none(study.nominal_jump_speed_rpm),
+    }
 
 
 def optimize_case(
-    case: Case, objective: str = "jump-speed", *, speed_rpm: float | None = None, progress: Progress | None = None, name: str | None = None,
+    case: Case,
+    objective: str = "jump-speed",
+    *,
+    speed_rpm: float | None = None,
+    progress: Progress | None = None,
+    name: str | None = None,
     source: str | None = None,
+    min_force: float | None = None,
+    control_points: int | None = None,
+    robust: bool = False,
 ) -> Optimization:
     """Reshape ``case``'s rises and returns for ``objective`` (one of :data:`OBJECTIVES`) at ``speed_rpm`` (default:
     the case's); ``name``: the optimized case's (default: the case's with "-optimized"); ``source``: the original
-    case file as the new one will find it (its ``optimized_from``)."""
+    case file as the new one will find it (its ``optimized_from``); ``min_force``: the force margin to keep at
+    every speed held (N; N*m for an arm; default :func:`default_margin`); ``control_points``: per reshaped
+    segment (default :data:`N_CONTROL`); ``robust``: claim the speed up to which P(separation) <= 1e-3 over the
+    case's ``[tolerances]``.
+    The answer's ``refusals`` say why it is not to be written (no better, or a check it would break)."""
     if objective not in OBJECTIVES:
         raise InputError("--objective", f"unknown objective {objective!r}; choose one of {', '.join(OBJECTIVES)}")
+    if robust and case.spec.tolerances is None:
+        raise InputError(
+            "--robust", "the case has no [tolerances]: give them to claim a speed at P(separation) <= 1e-3"
+        )
+    margin = default_margin(case) if min_force is None else float(min_force)
+    if not math.isfinite(margin) or margin < 0.0:
+        raise InputError("--min-force", f"must be a finite force >= 0, got {margin:g}")
     t0 = time.perf_counter()
-    space = shape_space(case)
-    rows = Rows(case, space)
+    case = resolve_spring(case)  # the model check judges: with the spring's own mass where [spring] gives the part
+    control_points = N_CONTROL if control_points is None else control_points
+    space = shape_space(case, n_control=control_points)
+    rows = Rows(case, space, margin)
     before_check = run_check(case, speed_rpm)
-    before = metrics(case, before_check)
+    before = metrics(case, before_check, margin)
     rpm = float(speed_rpm if speed_rpm is not None else case.speed_rpm)
     dynamics: dict = {}
-    claimed = math.nan
-    if objective == "jump-speed":
-        w0 = before.jump_speed_rpm * RPM
-        if not math.isfinite(w0):
-            raise InputError("case", "the case does not jump within the check's search: there is no jump speed to raise")
-        z, w = jump_speed(rows, w0, progress)
-        claimed = w / RPM
-    elif objective == "vibration":
-        z = vibration(rows, rpm * RPM)
-    else:
-        w = case.limits.speed_margin * rpm * RPM * CLEAR
-        rates = float(case.model.stiffness) * np.array([0.25, 0.5, 1.0, 2.0])
-        z, k, f0 = spring_force(rows, w, rates)
-        keys = ROTARY_KEYS if case.oscillating else LINEAR_KEYS
-        dynamics = {keys[1]: float(np.round(rate_from_si(k, case.oscillating), 6)), keys[2]: float(math.ceil(f0 * 100.0) / 100.0)}
+    try:
+        if objective == "jump-speed":
+            w0 = before.margin_speed_rpm * RPM
+            if not math.isfinite(w0):
+                raise InputError(
+                    "case", "the case does not jump within the check's search: there is no jump speed to raise"
+                )
+            z, _ = jump_speed(rows, w0, progress)
+        elif objective == "vibration":
+            z = vibration(rows, rpm * RPM)
+        else:
+            w = case.limits.speed_margin * rpm * RPM * CLEAR
+            rates = float(case.model.stiffness) * np.array([0.25, 0.5, 1.0, 2.0])
+            z, k, f0 = spring_force(rows, w, rates)
+            keys = ROTARY_KEYS if case.oscillating else LINEAR_KEYS
+            dynamics = {
+                keys[1]: float(np.round(rate_from_si(k, case.oscillating), 6)),
+                keys[2]: float(math.ceil(f0 * 100.0) / 100.0),
+            }
+    except NumericalError as err:  # the programs found nothing to write: the input stands
+        return _refused(
+            objective, before, case, margin, control_points, t0, f"the optimizer found no answer: {err.message}"
+        )
     doc = _document(case, space, z, objective, name, source, dynamics)
-    new = build_case(CaseSpec.model_validate(doc), case.source)
+    new = resolve_spring(build_case(CaseSpec.model_validate(doc), case.source))
     after_check = run_check(new, speed_rpm)
-    after = metrics(new, after_check)
-    checked = [rpm] if not math.isfinite(claimed) else [0.5 * claimed, 0.9 * claimed, 0.99 * claimed]
-    verification = _verify(new, checked)
-    return Optimization(objective, before, after, new, doc, claimed, verification, N_CONTROL, time.perf_counter() - t0)
+    after = metrics(new, after_check, margin)
+    claimed = after.margin_speed_rpm if objective == "jump-speed" else case.limits.speed_margin * rpm
+    checked = [w / RPM for w in _dips(new, claimed * RPM, _VERIFIED)] if not new.model.rigid else []
+    checked = sorted(
+        set(round(v, 1) for v in checked + [0.99 * claimed] + ([] if objective == "jump-speed" else [rpm]))
+    )
+    verification = _verify(new, checked, margin)
+    refusals = _refusals(objective, before_check, after_check, before, after, _motion_kept(new, space), verification)
+    robust_claim = None
+    if robust and not refusals:
+        robust_claim = _robust_claim(new, progress)
+        claimed = robust_claim["speed_rpm"] if robust_claim["speed_rpm"] is not None else math.nan
+    return Optimization(
+        objective,
+        before,
+        after,
+        new,
+        doc,
+        claimed,
+        verification,
+        control_points,
+        time.perf_counter() - t0,
+        margin,
+        tuple(refusals),
+        robust_claim,
+    )
 
 
-__all__ = ["OBJECTIVES", "Metrics", "Optimization", "least_force", "metrics", "optimize_case"]
+def _refused(
+    objective: str, before: Metrics, case: Case, margin: float, control_points: int, t0: float, why: str
+) -> Optimization:
+    """The input itself, with why nothing better was found."""
+    doc = case.spec.model_dump(exclude_unset=True, exclude_none=True)
+    empty = {"model": "compliant", "points": [], "least_force": None, "unit": "N*m" if case.oscillating else "N"}
+    return Optimization(
+        objective, before, before, case, doc, math.nan, empty, control_points, time.perf_counter() - t0, margin, (why,)
+    )
+
+
+__all__ = [
+    "MARGIN_OF_PRELOAD",
+    "OBJECTIVES",
+    "Metrics",
+    "Optimization",
+    "default_margin",
+    "floor_rpm",
+    "least_slack",
+    "margin_speed",
+    "metrics",
+    "optimize_case",
+]

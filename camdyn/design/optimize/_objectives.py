@@ -1,7 +1,8 @@
 """The three objectives of ``camdyn optimize``, each a sequence of linear programs (:mod:`._slp`):
 
-* ``jump-speed``: the largest speed W up to which the least contact force stays at ``min_contact_force`` at
-  every speed, by bisection on W (a speed set up to W, refined where a finer scan finds a lower force);
+* ``jump-speed``: the largest speed W up to which the least contact force keeps its margin (``Rows.margin``
+  and ``min_contact_force``) at every speed, by bisection on W (a speed set up to W, refined where a finer
+  scan finds a lower force);
 * ``vibration``: the least residual vibration in the dwells over a speed band, while holding there;
 * ``spring-force``: the least peak spring force (preload and rate free) that holds to ``speed_margin`` x speed.
 """
@@ -14,7 +15,7 @@ import math
 import jax.numpy as jnp
 import numpy as np
 
-from ..._core.errors import InputError
+from ..._core.errors import InputError, NumericalError
 from ..._core.progress import Progress, counter
 from ..._core.units import RPM
 from ...model.dynamics import steady_state
@@ -30,26 +31,29 @@ def _speed_set(w: float) -> np.ndarray:
     return w * np.r_[np.linspace(0.05, 0.9, 18), np.linspace(0.92, 1.0, 5)]
 
 
-def least_force(rows: Rows, z, w_max: float, preload=None) -> tuple[float, float]:
-    """Least contact force (N) over a fine scan of speeds up to ``w_max`` (rad/s) and every grid angle, and the
-    speed where it occurs (rad/s); ``preload`` (SI) overrides the case's."""
+def least_slack(rows: Rows, z, w_max: float, preload=None) -> tuple[float, float]:
+    """Least contact force over its margin (N; N*m for an arm, :meth:`Rows.slack`) over a fine scan of speeds up
+    to ``w_max`` (rad/s) and every grid angle, and the speed where it occurs (rad/s); ``preload`` (SI) overrides
+    the case's."""
     f = np.asarray(rows.least_on_scan(jnp.asarray(z), w_max, preload))
     i = int(np.argmin(f))
     return float(f[i]), float(w_max * (i + 1) / FINE)
 
 
 def hold_to(rows: Rows, w: float, z0: np.ndarray) -> tuple[Step, float]:
-    """Control points that maximize the least contact force at every speed up to ``w`` (rad/s) within the
-    geometry limits, and that least force over the fine scan (N). The programs hold a set of speeds; a speed of
-    the scan where the force dips below both the limit and the programs' answer joins the set."""
+    """Control points that maximize the least slack (:meth:`Rows.slack`) at every speed up to ``w`` (rad/s) within
+    the geometry limits, and that least slack over the fine scan. The programs hold a set of speeds; a speed of
+    the scan where the slack dips below both zero and the programs' answer joins the set."""
     speeds = _speed_set(w)
-    scale = max(abs(float(rows.case.model.preload)) * (1.0 if not rows.case.oscillating else 1e3), 1.0)
+    scale = rows.scale
     step, radius = Step(z0, -math.inf, math.inf, 0), RADIUS
     for _ in range(6):
         sp = jnp.asarray(speed_slots(speeds))
-        step = maximize_least(lambda z: rows.force_jacobian(z, sp, None), rows.geometry_jacobian, step.x, radius=radius, scale=scale)
-        full, at = least_force(rows, step.x, w)
-        if full >= min(rows.min_force, step.value - 1e-3 * scale) or step.value < rows.min_force:
+        step = maximize_least(
+            lambda z: rows.force_jacobian(z, sp, None), rows.geometry_jacobian, step.x, radius=radius, scale=scale
+        )
+        full, at = least_slack(rows, step.x, w)
+        if full >= min(0.0, step.value - 1e-3 * scale) or step.value < 0.0:
             return step, full  # held (or cannot be: the programs' own speeds already fail)
         speeds = np.r_[speeds, at]
         radius = 0.25 * RADIUS
@@ -59,11 +63,11 @@ def hold_to(rows: Rows, w: float, z0: np.ndarray) -> tuple[Step, float]:
 def jump_speed(rows: Rows, w0: float, progress: Progress | None = None) -> tuple[np.ndarray, float]:
     """The reshaped control points and the largest speed (rad/s) up to which they hold, by bisection from the
     case's own ``w0`` (its dynamic jump speed, or the speed where its force first falls to the limit)."""
-    z, fmin = rows.space.z0, rows.min_force
+    z = rows.space.z0
     tick = counter(progress, "optimize", 12)
     lo, hi = 0.95 * w0, None
     step, full = hold_to(rows, lo, z)
-    if full < fmin or step.violation > 1e-6:
+    if full < 0.0 or step.violation > 1e-6:
         lo = 0.5 * w0  # the fitted start may sit just off the case's own margin: start lower
         step, full = hold_to(rows, lo, z)
     z = step.x
@@ -71,7 +75,7 @@ def jump_speed(rows: Rows, w0: float, progress: Progress | None = None) -> tuple
     for _ in range(12):
         tick()
         step, full = hold_to(rows, w, z)
-        if full >= fmin and step.violation <= 1e-6:
+        if full >= 0.0 and step.violation <= 1e-6:
             lo, z = w, step.x
         else:
             hi = w
@@ -85,17 +89,18 @@ def _band(speed: float) -> np.ndarray:
     return speed * np.linspace(0.9, 1.1, 9)
 
 
-def _held(rows: Rows, objective, x0: np.ndarray, w: float, *, preload_free: bool = False, lower=None, radius=RADIUS) -> Step:
+def _held(
+    rows: Rows, objective, x0: np.ndarray, w: float, *, preload_free: bool = False, lower=None, radius=RADIUS
+) -> Step:
     """Maximize the least of ``objective(x)`` within the geometry limits, holding the contact force at the limit at
     every speed up to ``w`` (rad/s): the programs' speed set grows where a fine scan finds the force below it.
     ``x`` is the control points, and the preload (SI) after them where ``preload_free``."""
-    space, fmin = rows.space, rows.min_force
-    scale = max(abs(float(rows.case.model.preload)) * (1.0 if not rows.case.oscillating else 1e3), 1.0)
+    space, scale = rows.space, rows.scale
     split = (lambda x: (x[:-1], x[-1])) if preload_free else (lambda x: (x, None))
 
     def limits(x, speeds, cushion):
         z, f0 = split(x)
-        hold = (fmin + cushion - rows.forces(z, speeds, f0)[:, rows.sampled].ravel()) / scale
+        hold = (cushion - rows.slack(z, speeds, f0)[:, rows.sampled].ravel()) / scale
         return jnp.concatenate([rows.geometry(z), hold])
 
     limits_jac, objective_jac = with_jacobian(limits), with_jacobian(objective)
@@ -104,14 +109,16 @@ def _held(rows: Rows, objective, x0: np.ndarray, w: float, *, preload_free: bool
     speeds, step, cushion = _speed_set(w), Step(x0, -math.inf, math.inf, 0), 1e-2 * scale
     for _ in range(8):
         sp = jnp.asarray(speed_slots(speeds))
-        step = maximize_least(objective_jac, lambda x: limits_jac(x, sp, cushion), step.x, radius=radius, scale=scale, lower=lower)
-        full, at = least_force(rows, *split(step.x) if preload_free else (step.x,), w)
-        if full >= fmin:
+        step = maximize_least(
+            objective_jac, lambda x: limits_jac(x, sp, cushion), step.x, radius=radius, scale=scale, lower=lower
+        )
+        full, at = least_slack(rows, *split(step.x) if preload_free else (step.x,), w)
+        if full >= 0.0:
             break
         if np.min(np.abs(speeds - at)) > 1e-9 * w:
             speeds = np.r_[speeds, at]  # a dip between the programs' speeds: hold that speed too
         else:  # a dip between the programs' angles: hold the sampled ones higher by what it missed
-            cushion += 1.5 * (fmin - full)
+            cushion += 1.5 * (-full)
     return step
 
 
@@ -121,7 +128,9 @@ def vibration(rows: Rows, omega: float, band: bool = True) -> np.ndarray:
     at the limit up to ``speed_margin`` x ``omega``."""
     case, space = rows.case, rows.space
     if case.model.rigid:
-        raise InputError("--objective", "vibration: a rigid follower does not vibrate in contact (give [dynamics] train_stiffness)")
+        raise InputError(
+            "--objective", "vibration: a rigid follower does not vibrate in contact (give [dynamics] train_stiffness)"
+        )
     dwell = np.asarray(np.abs(space.matrix[0]).sum(axis=1) == 0.0)
     idx = np.nonzero(dwell)[0][::4]
     speeds = _band(omega) if band else np.array([omega])
@@ -146,14 +155,14 @@ def spring_force(rows: Rows, w: float, rates: np.ndarray) -> tuple[np.ndarray, f
     lower = np.r_[np.full(space.n_free, -np.inf), 0.0]
     best = None
     for k in rates:
-        r = Rows(dataclasses.replace(case, model=case.model.with_spring(k)), space)
+        r = dataclasses.replace(rows, case=dataclasses.replace(case, model=case.model.with_spring(k)))
         f0 = float(case.model.preload)
         radius = np.r_[np.full(space.n_free, RADIUS), max(0.5 * f0, 1.0)]  # the preload moves in newtons
         step = _held(r, lambda x: -x[-1:], np.r_[space.z0, f0], w, preload_free=True, lower=lower, radius=radius)
         peak = k * lift + step.x[-1]
-        held = least_force(r, step.x[:-1], w, step.x[-1])[0] >= r.min_force
+        held = least_slack(r, step.x[:-1], w, step.x[-1])[0] >= 0.0
         if step.violation <= 1e-6 and held and (best is None or peak < best[0]):
             best = (peak, step.x[:-1], float(k), float(step.x[-1]))
     if best is None:
-        raise InputError("--objective", "spring-force: no spring rate tried holds within the geometry limits")
+        raise NumericalError("spring-force", "no spring rate tried holds within the geometry limits")
     return best[1], best[2], best[3]

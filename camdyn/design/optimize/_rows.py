@@ -1,6 +1,7 @@
 """What the optimizer holds the cam to, as JAX functions of the control points (their Jacobians by autodiff):
-the steady-state contact force at a set of speeds (the frequency-domain model of ``check``, exact in contact),
-the pressure angle and the curvature against the check's limits."""
+the steady-state contact force at a set of speeds (the frequency-domain model of ``check``, exact in contact)
+over the force margin to keep, the pressure angle and the curvature against the check's limits, and the
+control points' order (monotone within [0, 1]: the segment within its lift, never reversing)."""
 
 from __future__ import annotations
 
@@ -32,14 +33,16 @@ class Rows:
 
     case: Case
     space: ShapeSpace
+    margin: float = 0.0  # the least interface force to keep at every speed held (N; N*m for an arm)
 
     @property
-    def min_force(self) -> float:
-        return float(self.case.limits.min_contact_force)
+    def scale(self) -> float:
+        """The size of the forces (N; N*m for an arm): the static preload."""
+        return max(abs(float(self.case.model.preload)), abs(self.margin), 1e-3)
 
     def forces(self, z, omegas, preload=None):
-        """Contact force (N) at each speed (rad/s) and grid angle: (len(omegas), n). ``preload`` (SI) overrides
-        the case's, traceably (the spring-force objective frees it)."""
+        """Interface force (N; N*m for an arm) at each speed (rad/s) and grid angle: (len(omegas), n). ``preload``
+        (SI) overrides the case's, traceably (the spring-force objective frees it)."""
         case, space = self.case, self.space
         model = case.model if preload is None else eqx.tree_at(lambda m: m.preload, case.model, preload)
         sv = space.values(z)
@@ -56,9 +59,17 @@ class Rows:
                 return train_force(model, w, s, s1, x, x1)
 
             force = jax.vmap(one)(omegas)
-        if case.oscillating:  # torque (N*m) -> the contact force (N) through the lever arm, which moves with s
-            force = force * newton_per_torque(geometry_of(case.follower, jnp.asarray(space.theta), sv)["lever"])
         return force
+
+    def slack(self, z, omegas, preload=None):
+        """:meth:`forces` over the least to keep (N; N*m for an arm): >= 0 where both the margin and the check's
+        ``min_contact_force`` (N at the contact; through the lever arm, which moves with s, for an arm) hold."""
+        fmin = float(self.case.limits.min_contact_force)
+        need = max(self.margin, fmin)
+        if self.case.oscillating:
+            lever = geometry_of(self.case.follower, jnp.asarray(self.space.theta), self.space.values(z))["lever"]
+            need = jnp.maximum(self.margin, fmin / newton_per_torque(lever))
+        return self.forces(z, omegas, preload) - need
 
     def geometry(self, z):
         """The geometry constraints as ``g <= 0``, each scaled to its limit: |phi| / phi_max - 1 and, for a roller,
@@ -74,8 +85,8 @@ class Rows:
         else:
             rho_min = max(curvature_limit(f, lim.min_curvature_ratio), 1e-3 * f.base_radius)
             rows.append(1.0 - geo["rho_contour"] / rho_min + _SAFETY)
+        rows.append(self.space.order(z))
         return jnp.concatenate(rows)
-
 
     @cached_property
     def sampled(self) -> np.ndarray:
@@ -84,13 +95,15 @@ class Rows:
 
     @cached_property
     def force_jacobian(self):
-        """``(z, speeds[SPEED_SLOTS], preload) -> (forces at the sampled angles, d/dz)``, compiled once."""
-        return with_jacobian(lambda z, speeds, preload: self.forces(z, speeds, preload)[:, self.sampled].ravel())
+        """``(z, speeds[SPEED_SLOTS], preload) -> (slack at the sampled angles, d/dz)``, compiled once."""
+        return with_jacobian(lambda z, speeds, preload: self.slack(z, speeds, preload)[:, self.sampled].ravel())
 
     @cached_property
     def least_on_scan(self):
-        """``(z, w_max, preload) -> forces' least over each of FINE speeds up to w_max``, compiled once."""
-        return jax.jit(lambda z, w, preload=None: self.forces(z, w * jnp.arange(1, FINE + 1) / FINE, preload).min(axis=1))
+        """``(z, w_max, preload) -> the least slack at each of FINE speeds up to w_max``, compiled once."""
+        return jax.jit(
+            lambda z, w, preload=None: self.slack(z, w * jnp.arange(1, FINE + 1) / FINE, preload).min(axis=1)
+        )
 
     @cached_property
     def geometry_jacobian(self):

