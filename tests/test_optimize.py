@@ -18,6 +18,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 import pytest
+import tomli_w
 
 from _helpers import run
 from camdyn import InputError
@@ -330,3 +331,18 @@ def test_the_robust_claim_is_where_one_built_cam_in_a_thousand_separates():
     assert at.probability <= 2e-3  # 4 of 4000 below the quantile, and a built cam that re-holds above its jump
     raw["dynamics"]["speed"] = 1.05 * claim["speed_rpm"]
     assert tolerance_study(case_from_dict(raw), 4000).probability > 1e-3  # a claim 5 % higher would not hold
+
+
+@pytest.mark.slow
+def test_spring_force_keeps_the_seat_load(capsys, tmp_path):
+    """``[limits] min_preload`` (a seat load) bounds the freed preload below: the written spring keeps it."""
+    raw = tomllib.loads(LECTURE.read_text())
+    raw.setdefault("limits", {})["min_preload"] = 40.0  # above the lecture's 30 N and the 20.5 N free answer
+    case_file = tmp_path / "seat.toml"
+    case_file.write_text(tomli_w.dumps(raw))
+    out = tmp_path / "out.toml"
+    code, stdout, err = run(capsys, "optimize", case_file, "-o", out, "--objective", "spring-force")
+    assert code == 0, stdout + err
+    written = tomllib.loads(out.read_text())
+    assert written["dynamics"]["preload"] >= 40.0
+    assert peak_spring(load_case(out)) < peak_spring(load_case(case_file))

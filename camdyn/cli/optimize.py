@@ -66,7 +66,7 @@ def run(args) -> int:
     if out.resolve() == Path(args.case).resolve():
         raise InputError(str(out), "is the input case; write the optimized case to another file")
     case = build_case(args.spec, source=Path(args.case))
-    with _console.progress_bar() as progress:
+    with _console.progress_bar(args.quiet) as progress:
         source = Path(os.path.relpath(Path(args.case).resolve(), out.resolve().parent)).as_posix()
         res = optimize_case(
             case,

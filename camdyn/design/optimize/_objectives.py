@@ -19,6 +19,7 @@ from ..._core.errors import InputError, NumericalError
 from ..._core.progress import Progress, counter
 from ..._core.units import RPM
 from ...model.dynamics import steady_state
+from ..spring import min_preload
 from ._rows import FINE, Rows, speed_slots
 from ._slp import Step, maximize_least, with_jacobian
 
@@ -95,7 +96,7 @@ def _held(
     """Maximize the least of ``objective(x)`` within the geometry limits, holding the contact force at the limit at
     every speed up to ``w`` (rad/s): the programs' speed set grows where a fine scan finds the force below it.
     ``x`` is the control points, and the preload (SI) after them where ``preload_free``."""
-    space, scale = rows.space, rows.scale
+    scale = rows.scale
     split = (lambda x: (x[:-1], x[-1])) if preload_free else (lambda x: (x, None))
 
     def limits(x, speeds, cushion):
@@ -152,11 +153,12 @@ def spring_force(rows: Rows, w: float, rates: np.ndarray) -> tuple[np.ndarray, f
     up to ``w`` (rad/s): linear programs in the control points and the preload, per trial rate."""
     case, space = rows.case, rows.space
     lift = float(np.max(space.offset[0] + space.matrix[0] @ space.z0)) * case.model.scale
-    lower = np.r_[np.full(space.n_free, -np.inf), 0.0]
+    seat = max(0.0, min_preload(case))  # [limits] min_preload: the seat load a valve or machine spring must keep
+    lower = np.r_[np.full(space.n_free, -np.inf), seat]
     best = None
     for k in rates:
         r = dataclasses.replace(rows, case=dataclasses.replace(case, model=case.model.with_spring(k)))
-        f0 = float(case.model.preload)
+        f0 = max(float(case.model.preload), seat)
         radius = np.r_[np.full(space.n_free, RADIUS), max(0.5 * f0, 1.0)]  # the preload moves in newtons
         step = _held(r, lambda x: -x[-1:], np.r_[space.z0, f0], w, preload_free=True, lower=lower, radius=radius)
         peak = k * lift + step.x[-1]
