@@ -129,6 +129,10 @@ def test_lecture_fast_page_one_counts_the_flights_and_impacts_of_the_plot(fast_r
     assert "leaves the cam (3 flights)" in labels and any(t.startswith(f"impact (3), largest {m.max_impact_force:.4g} N") for t in labels)
     assert not ax.texts  # nothing written over the curve
     assert_legend_clear(ax)
+    # check's own warnings say the same: one note of the 8 flights and the largest impact, no "leaves ... lands"
+    notes = [w for w in chk.warnings if "leaves the cam" in w]
+    assert len(notes) == 1 and notes[0].startswith("the follower leaves the cam 8 times a revolution at 600 rpm")
+    assert f"8 impacts, the largest {resp.max_impact_force:.4g} N" in notes[0]
 
 
 def assert_legend_clear(ax) -> None:

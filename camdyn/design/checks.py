@@ -125,6 +125,21 @@ def _separation_note(sep: dict, rpm: float, restitution: float) -> str:
     return f"the follower leaves the cam at {sep['start_deg']:.1f} deg and lands at {sep['end_deg']:.1f} deg ({gap}, impact at {sep['impact_speed_m_s']:.3g} m/s)"
 
 
+def _flights_note(dynamic: dict, rpm: float) -> str:
+    """Every flight (where the interface force is zero) and the largest impact: what the report's page 1 says."""
+    flights, impacts = dynamic["flights"], dynamic["impacts"]
+    spans = ", ".join(f"{f['leave_deg']:.1f}-{f['land_deg']:.1f}" for f in flights[:4]) + (", ..." if len(flights) > 4 else "")
+    gap = max(f["max_gap_mm"] for f in flights)
+    times = {1: "once", 2: "twice"}.get(len(flights), f"{len(flights)} times")
+    note = f"the follower leaves the cam {times} a revolution at {rpm:g} rpm (flights {spans} deg; gap up to {gap:.3g} mm)"
+    forces = [i for i in impacts if i["peak_force_N"] is not None]
+    if forces:
+        top = max(forces, key=lambda i: i["peak_force_N"])
+        many = f"{len(impacts)} impacts, the largest" if len(impacts) > 1 else "an impact of"
+        note += f"; {many} {top['peak_force_N']:.4g} N at {top['peak_deg']:.1f} deg"
+    return note
+
+
 def jump_speeds(case: Case, omega: float, margin: float) -> tuple[float, float, float, float]:
     """(kinematic jump speed rad/s, where deg, dynamic jump speed rad/s, the top of its search rad/s) of a case
     whose spring is resolved (:func:`camdyn.design.parts.resolve_spring`): the dynamic one with its spring model."""
@@ -215,6 +230,10 @@ def run_check(case: Case, speed_rpm: float | None = None) -> CheckReport:
             contact = case_contact(case, geo, resp)
             if limits.max_contact_stress is not None:
                 checks += (contact_check(contact, limits.max_contact_stress),)
+    by_flights = bool(dynamic["flights"]) and not case.model.rigid  # a compliant train's flights and impacts
     for sep in dynamic["separations"]:
-        warnings.append(_separation_note(sep, rpm, float(case.model.restitution)))
+        if not (by_flights and sep["settled"]):  # one flight-and-impacts note says it, as the report does
+            warnings.append(_separation_note(sep, rpm, float(case.model.restitution)))
+    if by_flights:
+        warnings.append(_flights_note(dynamic, rpm))
     return CheckReport(case, rpm, checks, kinematic, dynamic, resp, tuple(warnings), tuple(advice), geo, drive, contact)
