@@ -110,7 +110,15 @@ def scipy_point(p: dict, omega: float, rtol=1e-6, atol=1e-8, method="RK45", tol=
 
 def scipy_steady(model, omega, rtol, atol, method="DOP853", tol=1e-6, max_revs=200):
     """Revolution-to-revolution solve_ivp loop until |z(2 pi) - z(0)| < tol (mm, mm/rad): (least force N, revolutions)."""
-    names = {"m": "mass", "k": "stiffness", "f0": "preload", "c": "damping", "fe": "external", "kf": "train_stiffness", "cf": "train_damping"}
+    names = {
+        "m": "mass",
+        "k": "stiffness",
+        "f0": "preload",
+        "c": "damping",
+        "fe": "external",
+        "kf": "train_stiffness",
+        "cf": "train_damping",
+    }
     p = {key: float(getattr(model, name)) for key, name in names.items()}
     fmin, _, _, revs = scipy_point(p, omega, rtol, atol, method, tol=tol, max_revs=max_revs, sep_revs=max_revs)
     return fmin, revs
@@ -167,7 +175,13 @@ def check_latency_rows(repeat: int = 3) -> list[tuple[str, str, str]]:
         for label, env in (("no cache", base | {"CAMDYN_NO_CACHE": "1"}), ("warm cache", warm_env)):
             wall, br = min((check_process(env) for _ in range(repeat)), key=lambda r: r[0])
             comp = br["first"] - br["second"]
-            rows.append((f"camdyn check ({label}), fresh process", f"{wall:.2f} s", f"import {br['import']:.2f} s + trace/compile {comp:.2f} s + run {br['second']:.2f} s (exit {br['rc']}); best of {repeat}"))
+            rows.append(
+                (
+                    f"camdyn check ({label}), fresh process",
+                    f"{wall:.2f} s",
+                    f"import {br['import']:.2f} s + trace/compile {comp:.2f} s + run {br['second']:.2f} s (exit {br['rc']}); best of {repeat}",
+                )
+            )
     finally:
         shutil.rmtree(cache, ignore_errors=True)
     return rows
@@ -178,9 +192,9 @@ def main() -> int:
     t = time.perf_counter()
     import jax.numpy as jnp
 
+    from camdyn import enable_x64
     from camdyn._core.units import RPM
     from camdyn.model import dynamics as dyn
-    from camdyn import enable_x64
 
     enable_x64()
     from camdyn.model.case import load_case
@@ -197,18 +211,36 @@ def main() -> int:
     f_dx = r.min_force
     rows.append(("import jax + camdyn (this process)", f"{t_import:.2f} s", ""))
     rows.append(("camdyn steady state: compile + run", f"{t_first:.2f} s", f"compile ~{t_first - t_run:.2f} s"))
-    rows.append(("camdyn steady state: run", f"{t_run * 1e3:.0f} ms", f"least force {f_dx:.4f} N, periodicity {r.periodicity_error:.1e} mm"))
+    rows.append(
+        (
+            "camdyn steady state: run",
+            f"{t_run * 1e3:.0f} ms",
+            f"least force {f_dx:.4f} N, periodicity {r.periodicity_error:.1e} mm",
+        )
+    )
 
     # (b) scipy loop: the loosest tolerance whose least force agrees to 0.01 N, and camdyn's own tolerance
     matched = None
     for method, rtol, atol in (("RK45", 1e-6, 1e-8), ("DOP853", 1e-9, 1e-10)):
         t_sp, (f_sp, revs) = timed(lambda: scipy_steady(model, omega, rtol, atol, method), repeat=2)
         ok = abs(f_sp - f_dx) < 0.01
-        rows.append((f"solve_ivp loop {method} rtol {rtol:.0e}", f"{t_sp:.2f} s", f"least force {f_sp:.4f} N ({f_sp - f_dx:+.1e}), {revs} revs, ratio {t_sp / t_run:.1f}x{'' if ok else '  (not matched)'}"))
+        rows.append(
+            (
+                f"solve_ivp loop {method} rtol {rtol:.0e}",
+                f"{t_sp:.2f} s",
+                f"least force {f_sp:.4f} N ({f_sp - f_dx:+.1e}), {revs} revs, ratio {t_sp / t_run:.1f}x{'' if ok else '  (not matched)'}",
+            )
+        )
         if ok and matched is None:
             matched = t_sp
     if matched is not None:
-        rows.append(("ratio solve_ivp / camdyn (run)", f"{matched / t_run:.1f}x", "loosest scipy tolerance with least force within 0.01 N"))
+        rows.append(
+            (
+                "ratio solve_ivp / camdyn (run)",
+                f"{matched / t_run:.1f}x",
+                "loosest scipy tolerance with least force within 0.01 N",
+            )
+        )
 
     # dynamic jump speed
     w_kin, _ = dyn.kinematic_jump_speed(motion, model)
@@ -216,12 +248,18 @@ def main() -> int:
     t_j1, _ = timed(lambda: dyn.dynamic_jump_speed(motion, model, w_max=w_max))
     t_j2, w_dyn = timed(lambda: dyn.dynamic_jump_speed(motion, model, w_max=w_max), repeat=3)
     rows.append(("dynamic jump speed: compile + run", f"{t_j1:.2f} s", ""))
-    rows.append(("dynamic jump speed: run", f"{t_j2 * 1e3:.0f} ms", f"{w_dyn / RPM:.2f} rpm (kinematic {w_kin / RPM:.2f} rpm)"))
+    rows.append(
+        ("dynamic jump speed: run", f"{t_j2 * 1e3:.0f} ms", f"{w_dyn / RPM:.2f} rpm (kinematic {w_kin / RPM:.2f} rpm)")
+    )
     _ = jnp  # keep the import explicit: jax is part of the import time above
 
     rows += check_latency_rows()
 
-    print_table(f"camdyn dynamics benchmark: {CASE.name} at {case.speed_rpm:g} rpm, compliant model, {N}-point grid, {os.cpu_count()} cores", rows, t_all)
+    print_table(
+        f"camdyn dynamics benchmark: {CASE.name} at {case.speed_rpm:g} rpm, compliant model, {N}-point grid, {os.cpu_count()} cores",
+        rows,
+        t_all,
+    )
     return 0
 
 

@@ -66,7 +66,11 @@ def gradient_rows(rows: Rows) -> list[tuple[str, str, str]]:
     err = float(np.max(np.abs(np.asarray(J) - np.asarray(Jfd))) / np.max(np.abs(np.asarray(J))))
     return [
         ("Jacobian by autodiff (jvp x 20)", f"{1e3 * t_ad:.1f} ms", f"{J.shape[0]} rows x {J.shape[1]} control points"),
-        ("Jacobian by central differences", f"{1e3 * t_fd:.1f} ms", f"{t_fd / t_ad:.1f}x the autodiff time; largest difference {err:.1e} of the largest entry"),
+        (
+            "Jacobian by central differences",
+            f"{1e3 * t_fd:.1f} ms",
+            f"{t_fd / t_ad:.1f}x the autodiff time; largest difference {err:.1e} of the largest entry",
+        ),
     ]
 
 
@@ -101,11 +105,28 @@ def inner_rows(rows: Rows, rpm: float) -> list[tuple[str, str, str]]:
     ]
     x0 = np.r_[rows.space.z0, float(np.min(at(np.r_[rows.space.z0, 0.0])[0]))]
     fz(jnp.asarray(rows.space.z0))
-    t_sq, res = timed(lambda: minimize(lambda x: -x[n], x0, jac=lambda x: np.r_[np.zeros(n), -1.0], constraints=cons, method="SLSQP", options={"maxiter": 200}))
+    t_sq, res = timed(
+        lambda: minimize(
+            lambda x: -x[n],
+            x0,
+            jac=lambda x: np.r_[np.zeros(n), -1.0],
+            constraints=cons,
+            method="SLSQP",
+            options={"maxiter": 200},
+        )
+    )
     sq_full = least_slack(rows, res.x[:n], w)[0]
     return [
-        (f"inner problem at {rpm:g} rpm: SLP + HiGHS", f"{t_slp:.2f} s", f"least force {slp_full:.3f} N over the fine scan ({step.steps} steps)"),
-        (f"inner problem at {rpm:g} rpm: SLSQP", f"{t_sq:.2f} s", f"least force {sq_full:.3f} N over the fine scan ({res.nit} iterations, {res.message})"),
+        (
+            f"inner problem at {rpm:g} rpm: SLP + HiGHS",
+            f"{t_slp:.2f} s",
+            f"least force {slp_full:.3f} N over the fine scan ({step.steps} steps)",
+        ),
+        (
+            f"inner problem at {rpm:g} rpm: SLSQP",
+            f"{t_sq:.2f} s",
+            f"least force {sq_full:.3f} N over the fine scan ({res.nit} iterations, {res.message})",
+        ),
     ]
 
 
@@ -113,8 +134,14 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--speed", type=float, default=650.0, help="speed of the inner-problem comparison, rpm")
     ap.add_argument("--full", action="store_true", help="also the whole optimize_case")
-    ap.add_argument("--control-points", type=int, nargs="+", default=[16], metavar="N",
-                    help="of the whole optimize_case (default: 16)")
+    ap.add_argument(
+        "--control-points",
+        type=int,
+        nargs="+",
+        default=[16],
+        metavar="N",
+        help="of the whole optimize_case (default: 16)",
+    )
     args = ap.parse_args()
     t0 = time.perf_counter()
     case = load_case(CASE)
@@ -123,10 +150,15 @@ def main() -> None:
     if args.full:
         for n in args.control_points:
             t, res = timed(lambda n=n: optimize_case(case, control_points=n))
-            table.append((f"optimize_case, jump-speed, {n} control points", f"{t:.1f} s",
-                          f"margin {res.margin:.3g} N held to {res.before.margin_speed_rpm:.1f} -> "
-                          f"{res.claimed_speed_rpm:.1f} rpm; jump speed {res.before.jump_speed_rpm:.1f} -> "
-                          f"{res.after.jump_speed_rpm:.1f} rpm, {res.after.verdict}"))
+            table.append(
+                (
+                    f"optimize_case, jump-speed, {n} control points",
+                    f"{t:.1f} s",
+                    f"margin {res.margin:.3g} N held to {res.before.margin_speed_rpm:.1f} -> "
+                    f"{res.claimed_speed_rpm:.1f} rpm; jump speed {res.before.jump_speed_rpm:.1f} -> "
+                    f"{res.after.jump_speed_rpm:.1f} rpm, {res.after.verdict}",
+                )
+            )
     print_table(f"camdyn optimize on {CASE.name}", table, t0)
 
 

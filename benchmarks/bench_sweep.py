@@ -44,7 +44,11 @@ def main() -> int:
     ap.add_argument("--grid", type=int, default=100, help="speeds and spring rates per axis (default 100)")
     ap.add_argument("--sample", type=int, default=30, help="grid points timed with the solve_ivp loop (default 30)")
     ap.add_argument("--seed", type=int, default=0)
-    ap.add_argument("--with-diffrax", action="store_true", help="also time the map with diffrax (adaptive Tsit5) for the separated points")
+    ap.add_argument(
+        "--with-diffrax",
+        action="store_true",
+        help="also time the map with diffrax (adaptive Tsit5) for the separated points",
+    )
     ap.add_argument("--no-check", action="store_true", help="skip (c), the camdyn check subprocesses")
     opts = ap.parse_args()
     t_all = time.perf_counter()
@@ -53,10 +57,10 @@ def main() -> int:
     import jax
     import numpy as np
 
+    from camdyn import enable_x64
     from camdyn._core.units import RPM
     from camdyn.design import sweep
     from camdyn.model import dynamics as dyn
-    from camdyn import enable_x64
 
     enable_x64()
     from camdyn.model.case import load_case
@@ -71,14 +75,32 @@ def main() -> int:
     t_first, jm = timed(lambda: sweep.jump_map(case, speeds, rates))
     t_run, jm = timed(lambda: sweep.jump_map(case, speeds, rates), repeat=2)
     n_sep = int(jm.separated.sum())
-    rows.append((f"camdyn jump map {speeds.size}x{rates.size}: compile + run", f"{t_first:.2f} s", f"compile ~{t_first - t_run:.2f} s"))
-    rows.append((f"camdyn jump map {speeds.size}x{rates.size}: run", f"{t_run:.2f} s", f"{npts} points, {n_sep} separated; {t_run / npts * 1e6:.0f} us/point on {jm.devices} device(s)"))
+    rows.append(
+        (
+            f"camdyn jump map {speeds.size}x{rates.size}: compile + run",
+            f"{t_first:.2f} s",
+            f"compile ~{t_first - t_run:.2f} s",
+        )
+    )
+    rows.append(
+        (
+            f"camdyn jump map {speeds.size}x{rates.size}: run",
+            f"{t_run:.2f} s",
+            f"{npts} points, {n_sep} separated; {t_run / npts * 1e6:.0f} us/point on {jm.devices} device(s)",
+        )
+    )
     if opts.with_diffrax:
         t_dx1, jm_dx = timed(lambda: sweep.jump_map(case, speeds, rates, gap_method="diffrax"))
         t_dx, jm_dx = timed(lambda: sweep.jump_map(case, speeds, rates, gap_method="diffrax"))
         sel = jm.separated
         dg = np.abs(jm_dx.max_gap[sel] - jm.max_gap[sel])
-        rows.append(("camdyn jump map, diffrax for separated pts: run", f"{t_dx:.2f} s", f"compile ~{t_dx1 - t_dx:.2f} s; gap vs exact stepping: median |diff| {np.median(dg):.1e} mm (chaotic bounces differ)"))
+        rows.append(
+            (
+                "camdyn jump map, diffrax for separated pts: run",
+                f"{t_dx:.2f} s",
+                f"compile ~{t_dx1 - t_dx:.2f} s; gap vs exact stepping: median |diff| {np.median(dg):.1e} mm (chaotic bounces differ)",
+            )
+        )
 
     # the solve_ivp loop on a random sample of grid points
     rng = np.random.default_rng(opts.seed)
@@ -89,8 +111,15 @@ def main() -> int:
     for flat in picks:
         i, j = divmod(int(flat), rates.size)
         k_si = rates[j] * 1e3
-        p = {"m": float(base.mass), "k": k_si, "f0": float(base.preload), "c": float(base.damping_at(k_si)),
-             "fe": float(base.external), "kf": float(base.train_stiffness), "cf": float(base.train_damping)}
+        p = {
+            "m": float(base.mass),
+            "k": k_si,
+            "f0": float(base.preload),
+            "c": float(base.damping_at(k_si)),
+            "fe": float(base.external),
+            "kf": float(base.train_stiffness),
+            "cf": float(base.train_damping),
+        }
         t = time.perf_counter()
         f_sp, sep_sp, gap_sp, _ = scipy_point(p, speeds[i] * RPM, sep_revs=sweep.GAP_REVS, last=sweep.GAP_LAST)
         t_by_class[bool(jm.separated[i, j])].append(time.perf_counter() - t)
@@ -102,13 +131,39 @@ def main() -> int:
     matched = sum(d < 0.01 for d in dev_f)
     mean = {cls: (float(np.mean(ts)) if ts else float(np.mean(t_by_class[not cls]))) for cls, ts in t_by_class.items()}
     t_scipy = mean[False] * (npts - n_sep) + mean[True] * n_sep
-    rows.append((f"solve_ivp loop RK45 rtol 1e-6, {n_s} sampled points", f"{sum(map(sum, t_by_class.values())):.2f} s",
-                 f"{mean[False] * 1e3:.0f} ms/point in contact ({len(t_by_class[False])}), {mean[True] * 1e3:.0f} ms/point separated ({len(t_by_class[True])})"))
-    rows.append(("  accuracy against camdyn on the sample", f"{max(dev_f):.1e} N",
-                 f"largest |least force diff|; {matched}/{n_s} within 0.01 N, separation agrees at {sep_ok}/{n_s}"
-                 + (f"; gap median |diff| {np.median(dgap):.1e} mm over {len(dgap)} (chaotic bounces differ)" if dgap else "")))
-    rows.append((f"solve_ivp loop extrapolated to {npts} points", f"{t_scipy:.0f} s", f"per-class means x the map's {npts - n_sep} contact + {n_sep} separated points (not run)"))
-    rows.append(("ratio solve_ivp / camdyn map (run)", f"{t_scipy / t_run:.0f}x", f"goal >= 200x; including camdyn's compile: {t_scipy / t_first:.0f}x"))
+    rows.append(
+        (
+            f"solve_ivp loop RK45 rtol 1e-6, {n_s} sampled points",
+            f"{sum(map(sum, t_by_class.values())):.2f} s",
+            f"{mean[False] * 1e3:.0f} ms/point in contact ({len(t_by_class[False])}), {mean[True] * 1e3:.0f} ms/point separated ({len(t_by_class[True])})",
+        )
+    )
+    rows.append(
+        (
+            "  accuracy against camdyn on the sample",
+            f"{max(dev_f):.1e} N",
+            f"largest |least force diff|; {matched}/{n_s} within 0.01 N, separation agrees at {sep_ok}/{n_s}"
+            + (
+                f"; gap median |diff| {np.median(dgap):.1e} mm over {len(dgap)} (chaotic bounces differ)"
+                if dgap
+                else ""
+            ),
+        )
+    )
+    rows.append(
+        (
+            f"solve_ivp loop extrapolated to {npts} points",
+            f"{t_scipy:.0f} s",
+            f"per-class means x the map's {npts - n_sep} contact + {n_sep} separated points (not run)",
+        )
+    )
+    rows.append(
+        (
+            "ratio solve_ivp / camdyn map (run)",
+            f"{t_scipy / t_run:.0f}x",
+            f"goal >= 200x; including camdyn's compile: {t_scipy / t_first:.0f}x",
+        )
+    )
 
     # (b) dynamic jump speed
     omega = case.speed_rpm * RPM
@@ -124,7 +179,11 @@ def main() -> int:
         rows += check_latency_rows()
 
     load = ", ".join(f"{x:.1f}" for x in os.getloadavg()) if hasattr(os, "getloadavg") else "n/a"
-    print_table(f"camdyn sweep benchmark: {CASE.name}, compliant model; devices {jax.devices()}; {os.cpu_count()} cores, load average {load}", rows, t_all)
+    print_table(
+        f"camdyn sweep benchmark: {CASE.name}, compliant model; devices {jax.devices()}; {os.cpu_count()} cores, load average {load}",
+        rows,
+        t_all,
+    )
     return 0
 
 

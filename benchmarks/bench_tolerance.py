@@ -25,9 +25,9 @@ ROOT = Path(__file__).resolve().parents[1]
 
 def inner(opts) -> int:
     """One configuration: compile, then time the study; process 0 prints JSON."""
+    from camdyn import enable_x64
     from camdyn._core.distributed import initialize, is_writer
     from camdyn.design.tolerance import CHUNK_SAMPLES, tolerance_study
-    from camdyn import enable_x64
 
     enable_x64()
     from camdyn.model.case import load_case
@@ -43,8 +43,19 @@ def inner(opts) -> int:
     res = tolerance_study(case, opts.samples, seed=0)
     run_s = time.perf_counter() - t0
     if is_writer():
-        print(json.dumps({"devices": res.devices, "processes": res.processes, "platform": jax.devices()[0].platform,
-                          "compile_s": compile_s, "run_s": run_s, "samples_per_s": opts.samples / run_s, "probability": res.probability}))
+        print(
+            json.dumps(
+                {
+                    "devices": res.devices,
+                    "processes": res.processes,
+                    "platform": jax.devices()[0].platform,
+                    "compile_s": compile_s,
+                    "run_s": run_s,
+                    "samples_per_s": opts.samples / run_s,
+                    "probability": res.probability,
+                }
+            )
+        )
     return 0
 
 
@@ -57,8 +68,16 @@ def _run(extra_env: dict, args: list[str], processes: int = 1) -> dict:
     with socket.socket() as s:
         s.bind(("127.0.0.1", 0))
         port = s.getsockname()[1]
-    procs = [subprocess.Popen([*base, "--coordinator", f"127.0.0.1:{port}", "--num-processes", str(processes), "--process-id", str(i)],
-                              env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True) for i in range(processes)]
+    procs = [
+        subprocess.Popen(
+            [*base, "--coordinator", f"127.0.0.1:{port}", "--num-processes", str(processes), "--process-id", str(i)],
+            env=env,
+            stdout=subprocess.PIPE,
+            stderr=subprocess.PIPE,
+            text=True,
+        )
+        for i in range(processes)
+    ]
     outs = [p.communicate() for p in procs]
     if any(p.returncode for p in procs):
         raise RuntimeError("\n".join(o[1][-2000:] for o in outs))
@@ -81,15 +100,29 @@ def main() -> int:
     flags = os.environ.get("XLA_FLAGS", "")
     configs = {
         "1dev": ("1 local device", {"XLA_FLAGS": f"{flags} --xla_force_host_platform_device_count=1"}, 1),
-        "2dev": ("2 local CPU devices", {"XLA_FLAGS": f"{flags} --xla_force_host_platform_device_count=2", "JAX_PLATFORMS": "cpu"}, 1),
-        "2proc": ("2 processes x 1 CPU device", {"XLA_FLAGS": f"{flags} --xla_force_host_platform_device_count=1", "JAX_PLATFORMS": "cpu"}, 2),
+        "2dev": (
+            "2 local CPU devices",
+            {"XLA_FLAGS": f"{flags} --xla_force_host_platform_device_count=2", "JAX_PLATFORMS": "cpu"},
+            1,
+        ),
+        "2proc": (
+            "2 processes x 1 CPU device",
+            {"XLA_FLAGS": f"{flags} --xla_force_host_platform_device_count=1", "JAX_PLATFORMS": "cpu"},
+            2,
+        ),
     }
-    print(f"camdyn tolerance benchmark: {opts.samples} samples of {Path(opts.case).name}; {os.cpu_count()} CPUs, load average {os.getloadavg()[0]:.2f}")
-    print(f"{'configuration':<28} {'platform':>8} {'compile s':>10} {'run s':>8} {'samples/s':>10} {'P(separation)':>14}")
+    print(
+        f"camdyn tolerance benchmark: {opts.samples} samples of {Path(opts.case).name}; {os.cpu_count()} CPUs, load average {os.getloadavg()[0]:.2f}"
+    )
+    print(
+        f"{'configuration':<28} {'platform':>8} {'compile s':>10} {'run s':>8} {'samples/s':>10} {'P(separation)':>14}"
+    )
     for key in opts.configs.split(","):
         name, env, procs = configs[key]
         r = _run(env, args, procs)
-        print(f"{name:<28} {r['platform']:>8} {r['compile_s']:>10.1f} {r['run_s']:>8.1f} {r['samples_per_s']:>10.0f} {r['probability']:>14.4g}")
+        print(
+            f"{name:<28} {r['platform']:>8} {r['compile_s']:>10.1f} {r['run_s']:>8.1f} {r['samples_per_s']:>10.0f} {r['probability']:>14.4g}"
+        )
     return 0
 
 

@@ -7,7 +7,6 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-
 from _helpers import run
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -16,7 +15,11 @@ LECTURE = ROOT / "cases" / "lecture.toml"
 
 @pytest.mark.slow
 def test_check_reports_drive_and_contact_stress(capsys, tmp_path):
-    text = LECTURE.read_text().replace("rotation = ", "width = 10\nrotation = ", 1).replace("[limits]", "[limits]\nmax_contact_stress = 400")
+    text = (
+        LECTURE.read_text()
+        .replace("rotation = ", "width = 10\nrotation = ", 1)
+        .replace("[limits]", "[limits]\nmax_contact_stress = 400")
+    )
     case = tmp_path / "wide.toml"
     case.write_text(text)
     code, out, err = run(capsys, "check", case, "--json")
@@ -36,4 +39,6 @@ def test_table_torque_is_force_times_follower_velocity(capsys):
     header = out.splitlines()[0].split(",")
     data = np.loadtxt(out.splitlines()[1:], delimiter=",")
     col = {name: data[:, i] for i, name in enumerate(header)}
-    np.testing.assert_allclose(col["drive_torque_N_m"], col["contact_force_N"] * col["v_mm_per_rad"] / 1000.0, rtol=1e-8, atol=1e-12)
+    np.testing.assert_allclose(
+        col["drive_torque_N_m"], col["contact_force_N"] * col["v_mm_per_rad"] / 1000.0, rtol=1e-8, atol=1e-12
+    )

@@ -8,10 +8,9 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from _helpers import run
 
 from camdyn.cli import main
-
-from _helpers import run
 
 ROOT = Path(__file__).resolve().parents[1]
 LECTURE = ROOT / "cases" / "lecture.toml"
@@ -37,7 +36,13 @@ def test_check_lecture_passes_with_contract_keys(lecture_json):
     assert set(doc["kinematic"]) >= {"min_contact_force_N", "min_contact_force_deg", "jump_speed_rpm"}
     dyn = doc["dynamic"]
     assert dyn["model"] == "compliant" and dyn["separations"] == []
-    assert set(dyn) >= {"min_contact_force_N", "min_contact_force_deg", "jump_speed_rpm", "separations", "residual_vibration_mm"}
+    assert set(dyn) >= {
+        "min_contact_force_N",
+        "min_contact_force_deg",
+        "jump_speed_rpm",
+        "separations",
+        "residual_vibration_mm",
+    }
     # a compliant train jumps a little below the rigid (kinematic) jump speed
     assert 0.9 * doc["kinematic"]["jump_speed_rpm"] < dyn["jump_speed_rpm"] < doc["kinematic"]["jump_speed_rpm"]
     assert any("240 deg" in w for w in doc["warnings"])
@@ -62,7 +67,8 @@ def test_table_columns_and_values(capsys, tmp_path):
     assert code == 0
     lines = out.strip().splitlines()
     assert lines[0] == "theta_deg,s_mm,v_mm_per_rad,a_mm_per_rad2,j_mm_per_rad3,contact_force_N" or lines[0].startswith(
-        "theta_deg,s_mm,v_mm_per_rad,a_mm_per_rad2,j_mm_per_rad3,contact_force_N")
+        "theta_deg,s_mm,v_mm_per_rad,a_mm_per_rad2,j_mm_per_rad3,contact_force_N"
+    )
     data = np.loadtxt(lines[1:], delimiter=",")
     assert data.shape[0] == 36
     row = data[data[:, 0] == 120][0]
@@ -78,11 +84,11 @@ def test_table_columns_and_values(capsys, tmp_path):
 
 BAD = [
     ("[motion\nsegments = [", "TOML"),
-    ('[dynamics]\nspeed = 300\nmas = 0.5\n', "did you mean 'mass'"),
-    ('[dynamics]\nspeed = -300\n', "dynamics.speed"),
+    ("[dynamics]\nspeed = 300\nmas = 0.5\n", "did you mean 'mass'"),
+    ("[dynamics]\nspeed = -300\n", "dynamics.speed"),
     ('[dynamics]\nspeed = "fast"\n', "dynamics.speed"),
-    ('[dynamics]\nspeed = nan\n', "dynamics.speed"),
-    ('[dynamics]\nspeed = 300\nmass = 0\n', "dynamics.mass"),
+    ("[dynamics]\nspeed = nan\n", "dynamics.speed"),
+    ("[dynamics]\nspeed = 300\nmass = 0\n", "dynamics.mass"),
 ]
 
 LECTURE_TEXT = LECTURE.read_text()
@@ -105,7 +111,7 @@ def test_bad_input_one_line_exit_2(capsys, tmp_path, text, expected):
     [
         (('{ law = "dwell",     end = 240 }', '{ law = "dwell",     end = 170 }'), "motion.segments[2].end"),
         (("preload = 30", "preload = -10"), "dynamics.preload"),
-        (('end = 360, lift = -20', 'end = 350, lift = -20'), "not 360"),
+        (("end = 360, lift = -20", "end = 350, lift = -20"), "not 360"),
         (("damping_ratio = 0.05\ntrain", "damping_ratio = 0.05\ndamping = 3\ntrain"), "not both"),
         (("spring_rate = 2.0", "spring_rate = 2.0\ntorsion_rate = 3"), "dynamics.torsion_rate"),
     ],
@@ -126,7 +132,9 @@ def test_missing_file_and_bad_speed(capsys):
 
 
 def test_console_script_fresh_process():
-    proc = subprocess.run([sys.executable, "-m", "camdyn", "check", str(LECTURE)], capture_output=True, text=True, timeout=300)
+    proc = subprocess.run(
+        [sys.executable, "-m", "camdyn", "check", str(LECTURE)], capture_output=True, text=True, timeout=300
+    )
     assert proc.returncode == 0, proc.stderr
     assert "verdict: PASS" in proc.stdout
 
@@ -191,7 +199,10 @@ def test_sharp_square_gets_the_corner_radius_that_passes(capsys, tmp_path, monke
     assert code == 1 and doc["verdict"] == "fail"
     assert any("sharp corners" in w and "unbounded" in w for w in doc["warnings"])
     (tip,) = doc["advice"]
-    m = re.fullmatch(r"sharp corners: \[path\] corner_radius = ([\d.]+) mm passes at 60 rpm \(least contact force ([\d.]+) N, .*\); ([\d.]+) mm fails", tip)
+    m = re.fullmatch(
+        r"sharp corners: \[path\] corner_radius = ([\d.]+) mm passes at 60 rpm \(least contact force ([\d.]+) N, .*\); ([\d.]+) mm fails",
+        tip,
+    )
     assert m, tip
     passes, force, fails = map(float, m.groups())
     assert fails < 5.0 < passes <= 20.0 and force >= 2.0  # the shipped 5 mm fillets pass; min_contact_force 2 N
@@ -200,7 +211,16 @@ def test_sharp_square_gets_the_corner_radius_that_passes(capsys, tmp_path, monke
 def test_long_runs_say_each_phase_on_a_pipe_unless_quiet(capsys, tmp_path):
     """Where stderr is no terminal (a pipe, a log, CI), a long command still says what it is doing, one line per
     phase; --quiet silences it (issue 23)."""
-    args = ["sweep", str(ROOT / "cases" / "lecture.toml"), "--speeds", "200:600:5", "--spring-rates", "1:2:2", "-o", str(tmp_path)]
+    args = [
+        "sweep",
+        str(ROOT / "cases" / "lecture.toml"),
+        "--speeds",
+        "200:600:5",
+        "--spring-rates",
+        "1:2:2",
+        "-o",
+        str(tmp_path),
+    ]
     code, _, err = run(capsys, *args)
     assert code == 0, err
     phases = [line for line in err.splitlines() if line.startswith("camdyn: ")]

@@ -66,7 +66,9 @@ E_MM, RB_MM = 5.0, 30.0
 
 
 def eccentric():
-    return Program.from_segments([{"law": "harmonic", "end": 180, "lift": 2 * E_MM}, {"law": "harmonic", "end": 360, "lift": -2 * E_MM}])
+    return Program.from_segments(
+        [{"law": "harmonic", "end": 180, "lift": 2 * E_MM}, {"law": "harmonic", "end": 360, "lift": -2 * E_MM}]
+    )
 
 
 def test_eccentric_cam_flat_face_is_a_cylinder_on_a_plane():
@@ -84,7 +86,15 @@ def test_eccentric_cam_flat_face_is_a_cylinder_on_a_plane():
     assert cs.json()["max_contact_stress_MPa"] == cs.peak_pressure_MPa
 
 
-STEEP = Program.from_segments([{"law": "dwell", "end": 90}, {"law": "cycloidal", "end": 150, "lift": 30}, {"law": "dwell", "end": 210}, {"law": "cycloidal", "end": 270, "lift": -30}, {"law": "dwell", "end": 360}])
+STEEP = Program.from_segments(
+    [
+        {"law": "dwell", "end": 90},
+        {"law": "cycloidal", "end": 150, "lift": 30},
+        {"law": "dwell", "end": 210},
+        {"law": "cycloidal", "end": 270, "lift": -30},
+        {"law": "dwell", "end": 360},
+    ]
+)
 
 
 def test_roller_on_concave_flanks():

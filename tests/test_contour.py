@@ -11,8 +11,8 @@ from pathlib import Path
 
 import ezdxf
 import numpy as np
-from ezdxf.math import BSpline
 import pytest
+from ezdxf.math import BSpline
 
 from camdyn import case_from_dict, load_case
 from camdyn.cli import main
@@ -25,12 +25,49 @@ LECTURE = tomllib.loads((ROOT / "cases" / "lecture.toml").read_text())
 OSCILLATING = tomllib.loads((ROOT / "cases" / "oscillating.toml").read_text())
 
 FOLLOWERS = {
-    "translating-roller cw": (LECTURE, {"type": "translating-roller", "base_radius": 40, "roller_radius": 10, "offset": 5, "rotation": "cw"}),
-    "translating-roller ccw": (LECTURE, {"type": "translating-roller", "base_radius": 40, "roller_radius": 10, "offset": -5, "rotation": "ccw"}),
+    "translating-roller cw": (
+        LECTURE,
+        {"type": "translating-roller", "base_radius": 40, "roller_radius": 10, "offset": 5, "rotation": "cw"},
+    ),
+    "translating-roller ccw": (
+        LECTURE,
+        {"type": "translating-roller", "base_radius": 40, "roller_radius": 10, "offset": -5, "rotation": "ccw"},
+    ),
     "translating-flat": (LECTURE, {"type": "translating-flat", "base_radius": 50, "offset": 3, "rotation": "ccw"}),
-    "oscillating-roller": (OSCILLATING, {"type": "oscillating-roller", "base_radius": 40, "roller_radius": 8, "pivot_distance": 110, "arm_length": 90, "rotation": "ccw", "pivot_angle": 30}),
-    "oscillating-flat cw": (OSCILLATING, {"type": "oscillating-flat", "base_radius": 60, "pivot_distance": 120, "offset": 10, "rotation": "cw", "pivot_angle": -20}),
-    "oscillating-flat ccw": (OSCILLATING, {"type": "oscillating-flat", "base_radius": 80, "pivot_distance": 150, "offset": -10, "rotation": "ccw", "pivot_angle": 100}),
+    "oscillating-roller": (
+        OSCILLATING,
+        {
+            "type": "oscillating-roller",
+            "base_radius": 40,
+            "roller_radius": 8,
+            "pivot_distance": 110,
+            "arm_length": 90,
+            "rotation": "ccw",
+            "pivot_angle": 30,
+        },
+    ),
+    "oscillating-flat cw": (
+        OSCILLATING,
+        {
+            "type": "oscillating-flat",
+            "base_radius": 60,
+            "pivot_distance": 120,
+            "offset": 10,
+            "rotation": "cw",
+            "pivot_angle": -20,
+        },
+    ),
+    "oscillating-flat ccw": (
+        OSCILLATING,
+        {
+            "type": "oscillating-flat",
+            "base_radius": 80,
+            "pivot_distance": 150,
+            "offset": -10,
+            "rotation": "ccw",
+            "pivot_angle": 100,
+        },
+    ),
 }
 
 
@@ -121,8 +158,18 @@ def _turning_back():
         (CIRCLE + [60, 0], ROLLER, "cam.csv", "does not go around the cam centre"),
         (_figure_eight(), ROLLER, "cam.csv", "self-intersecting"),
         (CIRCLE[:7], ROLLER, "cam.csv", "has 7 data rows: at least 8"),
-        (_dented(), ROLLER, "cam.csv", "the roller (radius 10 mm) cannot follow the concave stretch around polar angle"),
-        (_dented(), {"type": "oscillating-roller", "roller_radius": 2, "pivot_distance": 30, "arm_length": 12}, "cam.csv", "cannot reach the outline"),
+        (
+            _dented(),
+            ROLLER,
+            "cam.csv",
+            "the roller (radius 10 mm) cannot follow the concave stretch around polar angle",
+        ),
+        (
+            _dented(),
+            {"type": "oscillating-roller", "roller_radius": 2, "pivot_distance": 30, "arm_length": 12},
+            "cam.csv",
+            "cannot reach the outline",
+        ),
         (None, ROLLER, "cam.csv", "no such file"),
     ],
 )
@@ -140,7 +187,9 @@ def test_not_star_shaped_names_the_point(tmp_path):
     _write_csv(tmp_path / "cam.csv", xy)
     with pytest.raises(Exception) as err:
         contact_motion(read_contour(tmp_path / "cam.csv", "cam.csv"), _without_base_radius(ROLLER | {"base_radius": 1}))
-    assert re.search(r"cam.csv line \d+", err.value.where) and ("not star-shaped" in err.value.message or "self-intersecting" in err.value.message)
+    assert re.search(r"cam.csv line \d+", err.value.where) and (
+        "not star-shaped" in err.value.message or "self-intersecting" in err.value.message
+    )
 
 
 def test_contour_and_motion_keys_are_refused_together(capsys, tmp_path):
@@ -156,7 +205,9 @@ def _eccentric_dxf(path: Path, centre=(3.0, -2.0), radius=40.0, closed=True) -> 
     doc.units = ezdxf.units.MM
     cx, cy = centre
     doc.modelspace().add_circle((0, 0), 5)  # a bore: not an outline
-    doc.modelspace().add_lwpolyline([(cx + radius, cy, 0, 0, 1), (cx - radius, cy, 0, 0, 1)], format="xyseb", close=closed)
+    doc.modelspace().add_lwpolyline(
+        [(cx + radius, cy, 0, 0, 1), (cx - radius, cy, 0, 0, 1)], format="xyseb", close=closed
+    )
     doc.saveas(path)
 
 
@@ -229,9 +280,15 @@ def _round_trip(tmp_path: Path, raw: dict, reference: dict) -> dict:
     got = _check_json(_case_file(tmp_path / "contour.toml", contour))
     for kind in ("kinematic", "dynamic"):
         assert got[kind]["jump_speed_rpm"] == pytest.approx(reference[kind]["jump_speed_rpm"], rel=0.005), kind
-    assert got["geometry"]["max_pressure_angle_deg"] == pytest.approx(reference["geometry"]["max_pressure_angle_deg"], abs=0.05)
-    assert got["geometry"]["min_radius_of_curvature_mm"] == pytest.approx(reference["geometry"]["min_radius_of_curvature_mm"], rel=0.01)
-    assert got["motion"]["source"] == "contour" and got["motion"]["base_radius_mm"] == pytest.approx(raw["follower"]["base_radius"], abs=1e-3)
+    assert got["geometry"]["max_pressure_angle_deg"] == pytest.approx(
+        reference["geometry"]["max_pressure_angle_deg"], abs=0.05
+    )
+    assert got["geometry"]["min_radius_of_curvature_mm"] == pytest.approx(
+        reference["geometry"]["min_radius_of_curvature_mm"], rel=0.01
+    )
+    assert got["motion"]["source"] == "contour" and got["motion"]["base_radius_mm"] == pytest.approx(
+        raw["follower"]["base_radius"], abs=1e-3
+    )
     return got
 
 

@@ -78,21 +78,56 @@ def test_every_key_of_a_shipped_case_is_documented(case):
 
 # -- the per-type tables agree with the validators ------------------------------------------------------------
 
-SEGMENTS = [{"law": "dwell", "end": 90}, {"law": "cycloidal", "end": 180, "lift": 20},
-            {"law": "dwell", "end": 240}, {"law": "harmonic", "end": 360, "lift": -20}]
+SEGMENTS = [
+    {"law": "dwell", "end": 90},
+    {"law": "cycloidal", "end": 180, "lift": 20},
+    {"law": "dwell", "end": 240},
+    {"law": "harmonic", "end": 360, "lift": -20},
+]
 TRANSLATING = {"speed": 300.0, "mass": 0.5, "spring_rate": 2.0, "preload": 30.0}
 OSCILLATING = {"speed": 200.0, "inertia": 0.002, "torsion_rate": 5.0, "preload_torque": 2.0}
 
 # a valid value of every type-specific key (a case needs only its own type's)
 SAMPLE = {
-    "follower": {"roller_radius": 8.0, "pivot_distance": 110.0, "arm_length": 90.0, "offset": 2.0, "pivot_angle": 10.0,
-                 "face_width": 30.0},
-    "path": {"center": [0.0, 0.0], "semi_major": 20.0, "semi_minor": 10.0, "radius": 10.0, "width": 40.0, "height": 20.0,
-             "corner_radius": 2.0, "straight": 50.0, "start": [0.0, 0.0], "end": [10.0, 0.0],
-             "x": [0.0, 10.0, 10.0, 0.0], "y": [0.0, 0.0, 10.0, 10.0]},
-    "mechanism": {"link": 60.0, "slider_angle": 90.0, "pivot": [-100.0, -80.0], "path_link": 260.0, "follower_link": 205.0,
-                  "pin_distance": 150.0, "arm": 115.0, "joint_distance": 5.0, "joint_angle": 10.0, "slider_point": [1.0, 2.0],
-                  "slider_mode": -1, "base_radius": 30.0, "max_pressure_angle": 25.0, "arm_angle": 170.0, "follower_mode": -1},
+    "follower": {
+        "roller_radius": 8.0,
+        "pivot_distance": 110.0,
+        "arm_length": 90.0,
+        "offset": 2.0,
+        "pivot_angle": 10.0,
+        "face_width": 30.0,
+    },
+    "path": {
+        "center": [0.0, 0.0],
+        "semi_major": 20.0,
+        "semi_minor": 10.0,
+        "radius": 10.0,
+        "width": 40.0,
+        "height": 20.0,
+        "corner_radius": 2.0,
+        "straight": 50.0,
+        "start": [0.0, 0.0],
+        "end": [10.0, 0.0],
+        "x": [0.0, 10.0, 10.0, 0.0],
+        "y": [0.0, 0.0, 10.0, 10.0],
+    },
+    "mechanism": {
+        "link": 60.0,
+        "slider_angle": 90.0,
+        "pivot": [-100.0, -80.0],
+        "path_link": 260.0,
+        "follower_link": 205.0,
+        "pin_distance": 150.0,
+        "arm": 115.0,
+        "joint_distance": 5.0,
+        "joint_angle": 10.0,
+        "slider_point": [1.0, 2.0],
+        "slider_mode": -1,
+        "base_radius": 30.0,
+        "max_pressure_angle": 25.0,
+        "arm_angle": 170.0,
+        "follower_mode": -1,
+    },
 }
 
 # keys of another type a validator accepts (none: every table refuses them)
@@ -103,12 +138,18 @@ def _case(table: str, kind: str, keys: dict) -> dict:
     """A case whose ``table`` has ``type = kind`` and ``keys``; the other tables minimal and valid."""
     body = {"type": kind, **keys}
     if table == "follower":
-        return {"motion": {"segments": SEGMENTS}, "follower": {"base_radius": 40.0, **body},
-                "dynamics": OSCILLATING if kind.startswith("oscillating") else TRANSLATING}
+        return {
+            "motion": {"segments": SEGMENTS},
+            "follower": {"base_radius": 40.0, **body},
+            "dynamics": OSCILLATING if kind.startswith("oscillating") else TRANSLATING,
+        }
     if table == "path":
         return {"path": body, "mechanism": {"type": "ccm", "link": 60.0, "slider_angle": 90.0}, "dynamics": TRANSLATING}
-    return {"path": {"type": "circle", "center": [0.0, 0.0], "radius": 20.0}, "mechanism": body,
-            "dynamics": OSCILLATING if kind == "oscillating" else TRANSLATING}
+    return {
+        "path": {"type": "circle", "center": [0.0, 0.0], "radius": 20.0},
+        "mechanism": body,
+        "dynamics": OSCILLATING if kind == "oscillating" else TRANSLATING,
+    }
 
 
 def _refused(raw: dict) -> str:
@@ -136,7 +177,11 @@ def _other_keys():
         named = {k for n, o in tk.by_type.values() for k in (*n, *o)}
         for kind, (needs, optional) in tk.by_type.items():
             for key in sorted(named - set(needs) - set(optional)):
-                mark = pytest.mark.xfail(strict=True, reason="validator ignores it") if (table, kind, key) in ACCEPTED_NOT_USED else ()
+                mark = (
+                    pytest.mark.xfail(strict=True, reason="validator ignores it")
+                    if (table, kind, key) in ACCEPTED_NOT_USED
+                    else ()
+                )
                 yield pytest.param(table, kind, key, marks=mark, id=f"{table}-{kind}-{key}")
 
 
@@ -147,8 +192,10 @@ def test_a_key_of_another_type_is_refused(table, kind, key):
     assert _refused(_case(table, kind, {**{k: sample[k] for k in needs}, key: sample[key]})) == f"{table}.{key}"
 
 
-@pytest.mark.parametrize(("kind", "dynamics", "keys"), [("translating-roller", TRANSLATING, LINEAR_KEYS),
-                                                        ("oscillating-roller", OSCILLATING, ROTARY_KEYS)])
+@pytest.mark.parametrize(
+    ("kind", "dynamics", "keys"),
+    [("translating-roller", TRANSLATING, LINEAR_KEYS), ("oscillating-roller", OSCILLATING, ROTARY_KEYS)],
+)
 def test_dynamics_needs_the_first_three_keys_of_its_kind(kind, dynamics, keys):
     case = _case("follower", kind, {k: SAMPLE["follower"][k] for k in TYPED["follower"].by_type[kind][0]})
     for key in keys[:3]:
@@ -177,7 +224,10 @@ def test_type_keys_of_a_discriminated_union():
     assert tk.common == ("shared",)
     assert tk.by_type == {"a": (("x",), ()), "b": ((), ("y",))}
     md = reference.reference_markdown([("Toy file", Doc)])
-    assert "| `type`   | string | `\"a\"`, `\"b\"` | required |" in md and "| `x`      | number |              | by type  |" in md
+    assert (
+        '| `type`   | string | `"a"`, `"b"` | required |' in md
+        and "| `x`      | number |              | by type  |" in md
+    )
     assert "| `a`    | `x`   | —" in md and "| `b`    | —     | `y`" in md
 
 

@@ -30,11 +30,22 @@ M, K, F0, C = 0.5, 2000.0, 30.0, 3.0  # kg, N/m, N, N*s/m
 
 def eccentric_cam():
     e_mm = E_M * 1e3
-    return Program.from_segments([{"law": "harmonic", "end": 180, "lift": 2 * e_mm}, {"law": "harmonic", "end": 360, "lift": -2 * e_mm}])
+    return Program.from_segments(
+        [{"law": "harmonic", "end": 180, "lift": 2 * e_mm}, {"law": "harmonic", "end": 360, "lift": -2 * e_mm}]
+    )
 
 
 def rigid(c=C):
-    vals = dict(mass=M, stiffness=K, preload=F0, damping=c, external=0.0, train_stiffness=math.inf, train_damping=0.0, restitution=0.0)
+    vals = dict(
+        mass=M,
+        stiffness=K,
+        preload=F0,
+        damping=c,
+        external=0.0,
+        train_stiffness=math.inf,
+        train_damping=0.0,
+        restitution=0.0,
+    )
     return FollowerModel(**{k: np.asarray(float(v)) for k, v in vals.items()})
 
 
@@ -76,7 +87,14 @@ def test_eccentric_cam_against_closed_form(rpm, c):
 def test_json_keys_and_units():
     d = kinematic_drive(eccentric_cam(), rigid(), 300 * RPM)
     out = d.json()
-    for key in ("peak_torque_N_m", "rms_torque_N_m", "mean_power_W", "flywheel_inertia_kg_m2", "energy_swing_J", "speed_fluctuation"):
+    for key in (
+        "peak_torque_N_m",
+        "rms_torque_N_m",
+        "mean_power_W",
+        "flywheel_inertia_kg_m2",
+        "energy_swing_J",
+        "speed_fluctuation",
+    ):
         assert math.isfinite(out[key])
     assert out["speed_fluctuation"] == 0.05
     assert out["max_torque_N_m"] >= out["mean_torque_N_m"] >= out["min_torque_N_m"]
@@ -93,7 +111,14 @@ def test_bad_grid_and_speed_refused():
 
 
 LECTURE = {
-    "motion": {"segments": [{"law": "dwell", "end": 90}, {"law": "cycloidal", "end": 180, "lift": 20}, {"law": "dwell", "end": 240}, {"law": "harmonic", "end": 360, "lift": -20}]},
+    "motion": {
+        "segments": [
+            {"law": "dwell", "end": 90},
+            {"law": "cycloidal", "end": 180, "lift": 20},
+            {"law": "dwell", "end": 240},
+            {"law": "harmonic", "end": 360, "lift": -20},
+        ]
+    },
     "follower": {"type": "translating-roller", "base_radius": 40, "roller_radius": 10, "offset": 5},
     "dynamics": {"speed": 300, "mass": 0.5, "spring_rate": 2.0, "preload": 30, "damping_ratio": 0.05},
 }
@@ -124,13 +149,17 @@ def test_energy_balance_rigid_follower():
 @pytest.mark.slow
 def test_energy_balance_compliant_train():
     """With a compliant train the loss is w^2 [c mean(x'^2) + c_f mean((s' - x')^2)], from the diffrax orbit."""
-    case = case_from_dict({**LECTURE, "dynamics": {**LECTURE["dynamics"], "train_stiffness": 1000, "train_damping_ratio": 0.05}})
+    case = case_from_dict(
+        {**LECTURE, "dynamics": {**LECTURE["dynamics"], "train_stiffness": 1000, "train_damping_ratio": 0.05}}
+    )
     w = 300 * RPM
     resp = dyn.response(case.motion, case.model, w)
     assert resp.model == "compliant" and not resp.separations
     d = response_drive(case.motion, resp, scale=case.model.scale)
     _, vals = case.motion.sample(resp.theta_deg.size)
     s1, x1 = vals[1] * 1e-3, resp.dx * 1e-3
-    loss = w**2 * (float(case.model.damping) * np.mean(x1**2) + float(case.model.train_damping) * np.mean((s1 - x1) ** 2))
+    loss = w**2 * (
+        float(case.model.damping) * np.mean(x1**2) + float(case.model.train_damping) * np.mean((s1 - x1) ** 2)
+    )
     assert d.mean_power == pytest.approx(loss, rel=2e-5)  # the rectangle rule's O(h^2), as for the rigid follower
     assert np.max(np.abs(d.torque)) * w > 50 * loss

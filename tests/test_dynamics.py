@@ -22,9 +22,9 @@ from scipy.optimize import brentq
 
 import camdyn.model  # noqa: F401  (float64)
 from camdyn.model import dynamics as dyn
+from camdyn.model.case import case_from_dict
 from camdyn.model.dynamics import _compliant, _rigid
 from camdyn.model.follower import FollowerModel
-from camdyn.model.case import case_from_dict
 from camdyn.model.motion import Program
 
 RPM = 2 * math.pi / 60
@@ -63,8 +63,16 @@ def model_of(m, k, f0, c, fext=0.0, kf=math.inf, cf=0.0, e=0.0):
 
 def with_(model, **kw):
     """A copy of ``model`` with some SI fields replaced (same pytree structure: no recompilation)."""
-    fields = dict(mass=model.mass, stiffness=model.stiffness, preload=model.preload, damping=model.damping, external=model.external,
-                  train_stiffness=model.train_stiffness, train_damping=model.train_damping, restitution=model.restitution)
+    fields = dict(
+        mass=model.mass,
+        stiffness=model.stiffness,
+        preload=model.preload,
+        damping=model.damping,
+        external=model.external,
+        train_stiffness=model.train_stiffness,
+        train_damping=model.train_damping,
+        restitution=model.restitution,
+    )
     fields.update({k: jnp.asarray(float(v)) for k, v in kw.items()})
     return FollowerModel(**fields, scale=model.scale)
 
@@ -128,7 +136,9 @@ def scipy_revolutions(model, omega, z0, revs=1, n=N, rtol=1e-11, atol=1e-12):
     returns x (mm) and dx/dtheta (mm/rad) on the grid of every revolution, shape (revs, n), and the end state.
     """
     p = params(model)
-    m, k, f0, c, fe, kf, cf = (p[n_] for n_ in ("mass", "stiffness", "preload", "damping", "external", "train_stiffness", "train_damping"))
+    m, k, f0, c, fe, kf, cf = (
+        p[n_] for n_ in ("mass", "stiffness", "preload", "damping", "external", "train_stiffness", "train_damping")
+    )
 
     def rhs(t, y):
         x, v = y
@@ -186,7 +196,9 @@ E_MM = 10.0
 
 
 def eccentric(e):
-    return Program.from_segments([{"law": "harmonic", "end": 180, "lift": 2 * e}, {"law": "harmonic", "end": 360, "lift": -2 * e}])
+    return Program.from_segments(
+        [{"law": "harmonic", "end": 180, "lift": 2 * e}, {"law": "harmonic", "end": 360, "lift": -2 * e}]
+    )
 
 
 # ================================================================================== 1. kinematic
@@ -243,7 +255,9 @@ def test_kinematic_jump_speed_eccentric_damped():
 
 def test_kinematic_jump_speed_none():
     """No acceleration, no jump: a pure dwell has Fi = k s + F0 > 0 at every speed."""
-    w, at = dyn.kinematic_jump_speed(Program.from_segments([{"law": "dwell", "end": 360}]), model_of(0.5, 2000.0, 30.0, 10.0))
+    w, at = dyn.kinematic_jump_speed(
+        Program.from_segments([{"law": "dwell", "end": 360}]), model_of(0.5, 2000.0, 30.0, 10.0)
+    )
     assert math.isinf(w) and math.isnan(at)
 
 
@@ -355,13 +369,20 @@ def flight_closed_form(model, omega, theta0, x0_mm, p0_mm):
     def v(theta):  # m/s
         t = (np.asarray(theta) - theta0) / omega
         env = np.exp(-zeta * wn * t)
-        return env * (-zeta * wn * (a * np.cos(wd * t) + b * np.sin(wd * t)) + wd * (-a * np.sin(wd * t) + b * np.cos(wd * t)))
+        return env * (
+            -zeta * wn * (a * np.cos(wd * t) + b * np.sin(wd * t)) + wd * (-a * np.sin(wd * t) + b * np.cos(wd * t))
+        )
 
     return x, v
 
 
 def lift_off(model, omega, lo_deg, hi_deg):
-    return brentq(lambda t: float(kin_force_np(model, omega, np.array([t]))[0]), math.radians(lo_deg), math.radians(hi_deg), xtol=1e-14)
+    return brentq(
+        lambda t: float(kin_force_np(model, omega, np.array([t]))[0]),
+        math.radians(lo_deg),
+        math.radians(hi_deg),
+        xtol=1e-14,
+    )
 
 
 def test_free_flight_closed_form(lecture):
@@ -371,7 +392,9 @@ def test_free_flight_closed_form(lecture):
     t_lo = lift_off(model, omega, 130, 155)
     s0, s10, _ = lecture_motion(np.array([t_lo]))
     # same argument types as rigid_response (strong float64): one compile shared with the rigid tests
-    sol = _rigid._flight(motion, model, jnp.asarray(omega, dtype=float), jnp.asarray(t_lo, dtype=float), jnp.asarray([s0[0], s10[0]]))
+    sol = _rigid._flight(
+        motion, model, jnp.asarray(omega, dtype=float), jnp.asarray(t_lo, dtype=float), jnp.asarray([s0[0], s10[0]])
+    )
     t1 = float(sol.ts[-1])
     x_cf, _ = flight_closed_form(model, omega, t_lo, s0[0], s10[0])
     # landing where the closed-form x meets the cam again
@@ -406,7 +429,12 @@ def test_rigid_lift_off_and_landing(lecture, rigid_600):
     sep = r.separations[0]
     t_lo = lift_off(rigid, omega, 130, 155)
     # lift-off: the zero of camdyn's own kinematic force too
-    t_lo2 = brentq(lambda t: float(dyn.kinematic_force(motion, rigid, omega, jnp.asarray(t))), math.radians(130), math.radians(155), xtol=1e-14)
+    t_lo2 = brentq(
+        lambda t: float(dyn.kinematic_force(motion, rigid, omega, jnp.asarray(t))),
+        math.radians(130),
+        math.radians(155),
+        xtol=1e-14,
+    )
     assert abs(t_lo - t_lo2) < 1e-10
     assert sep.start_deg == pytest.approx(math.degrees(t_lo), abs=1e-7)
     # landing: where the closed-form flight from the lift-off meets the cam

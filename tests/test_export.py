@@ -109,7 +109,14 @@ def test_refuses_to_overwrite_without_force(cam, tmp_path):
     assert path.read_text().startswith("x_mm,y_mm")
 
 
-@pytest.mark.parametrize("name, tol, match", [("cam.step", 0.01, "unknown format"), ("cam.dxf", 0.0, "between 1e-06 and 10 mm"), ("cam.dxf", float("inf"), "between")])
+@pytest.mark.parametrize(
+    "name, tol, match",
+    [
+        ("cam.step", 0.01, "unknown format"),
+        ("cam.dxf", 0.0, "between 1e-06 and 10 mm"),
+        ("cam.dxf", float("inf"), "between"),
+    ],
+)
 def test_bad_requests(cam, tmp_path, name, tol, match):
     with pytest.raises(InputError, match=match):
         write_profile(cam.contour, tmp_path / name, tolerance=tol)

@@ -22,12 +22,14 @@ LECTURE = ROOT / "cases" / "lecture.toml"
 
 def smooth(x):
     """A periodic test signal and its first three derivatives."""
-    return np.stack([
-        3 * np.sin(x) + np.cos(3 * x) + 0.5 * np.sin(5 * x + 1),
-        3 * np.cos(x) - 3 * np.sin(3 * x) + 2.5 * np.cos(5 * x + 1),
-        -3 * np.sin(x) - 9 * np.cos(3 * x) - 12.5 * np.sin(5 * x + 1),
-        -3 * np.cos(x) + 27 * np.sin(3 * x) - 62.5 * np.cos(5 * x + 1),
-    ])
+    return np.stack(
+        [
+            3 * np.sin(x) + np.cos(3 * x) + 0.5 * np.sin(5 * x + 1),
+            3 * np.cos(x) - 3 * np.sin(3 * x) + 2.5 * np.cos(5 * x + 1),
+            -3 * np.sin(x) - 9 * np.cos(3 * x) - 12.5 * np.sin(5 * x + 1),
+            -3 * np.cos(x) + 27 * np.sin(3 * x) - 62.5 * np.cos(5 * x + 1),
+        ]
+    )
 
 
 # ------------------------------------------------------------------------------------------- the spline
@@ -70,7 +72,9 @@ def test_noise_is_estimated_and_its_effect_on_the_acceleration_is_bounded():
     """REML finds the noise it was given; the Monte Carlo acceleration spread agrees with refits of fresh noise."""
     x = np.arange(720) * (2 * np.pi / 720)
     sigma = 0.01
-    fits = [fit_periodic(x, smooth(x)[0] + sigma * np.random.default_rng(10 + k).standard_normal(720)) for k in range(6)]
+    fits = [
+        fit_periodic(x, smooth(x)[0] + sigma * np.random.default_rng(10 + k).standard_normal(720)) for k in range(6)
+    ]
     for f in fits:
         assert f.sigma == pytest.approx(sigma, rel=0.12) and f.criterion == "REML"
         assert f.rms_residual == pytest.approx(sigma, rel=0.2)
@@ -97,7 +101,9 @@ def test_fitted_motion_evaluates_like_its_spline_jitted_vmapped_and_in_numpy():
     want = fit.spline(th) * math.pi / 180
     np.testing.assert_allclose(np.asarray(evaluate(motion, jnp.asarray(th))), want, rtol=1e-12, atol=1e-14)
     np.testing.assert_allclose(np.asarray(motion.host(th)), want, rtol=1e-12, atol=1e-14)
-    np.testing.assert_allclose(np.asarray(jax.vmap(jax.grad(lambda t: motion(t)[0]))(jnp.asarray(th))), want[1], rtol=1e-9, atol=1e-12)
+    np.testing.assert_allclose(
+        np.asarray(jax.vmap(jax.grad(lambda t: motion(t)[0]))(jnp.asarray(th))), want[1], rtol=1e-9, atol=1e-12
+    )
 
 
 # --------------------------------------------------------------------------------------------- tables
@@ -141,7 +147,10 @@ def test_tolerance_that_cannot_be_met_is_refused(capsys, tmp_path):
     case = _table_case(tmp_path, rows, "tolerance = 0.001")
     assert main(["check", str(case)]) == 2
     err = capsys.readouterr().err
-    assert "motion.tolerance: no smooth fit comes within 0.001 mm of lift.csv: the closest departs by 0.25 mm at line" in err
+    assert (
+        "motion.tolerance: no smooth fit comes within 0.001 mm of lift.csv: the closest departs by 0.25 mm at line"
+        in err
+    )
 
 
 def test_noise_that_swamps_the_acceleration_is_warned(tmp_path):
@@ -181,7 +190,9 @@ def _sampled(tmp_path, step: float, noise: float) -> dict:
 def test_sampled_table_gives_the_jump_speeds_back(tmp_path, lecture_check_json, step, noise, within):
     got = _sampled(tmp_path, step, noise)
     for kind in ("kinematic", "dynamic"):
-        assert got[kind]["jump_speed_rpm"] == pytest.approx(lecture_check_json[kind]["jump_speed_rpm"], rel=within), kind
+        assert got[kind]["jump_speed_rpm"] == pytest.approx(lecture_check_json[kind]["jump_speed_rpm"], rel=within), (
+            kind
+        )
     assert got["motion"]["source"] == "table" and got["motion"]["fit"]["points"] == int(360 / step)
     json.dumps(got)  # the contract stays plain JSON
 

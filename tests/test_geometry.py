@@ -29,6 +29,8 @@ def judged(motion, fol, **limits):
     geo = analyze(motion, fol)
     checks, warnings, advice = judge_geometry(geo, motion, **limits)
     return geo, {c.name: c for c in checks}, warnings, advice
+
+
 from camdyn.model.motion import evaluate
 
 LECTURE_SEGMENTS = [
@@ -52,7 +54,11 @@ def lecture():
 
 def roller(rb_lecture_mm=40.0, rotation="cw"):
     return FollowerSpec(
-        type="translating-roller", base_radius=lecture_base(rb_lecture_mm), roller_radius=RR, offset=DELTA, rotation=rotation
+        type="translating-roller",
+        base_radius=lecture_base(rb_lecture_mm),
+        roller_radius=RR,
+        offset=DELTA,
+        rotation=rotation,
     )
 
 
@@ -145,7 +151,9 @@ def test_fourth_column_is_least_base_radius_for_a_flat_face(lecture, lecture_col
     # its largest tabulated value is 3.147 cm at 160 deg, which the lecture rounds up to r_b = 3.2 cm; between the
     # 10-degree rows it peaks higher, at 156.5 deg (closed-form cycloid, maximised independently):
     L, beta = 2.0, math.pi / 2
-    g = lambda x: -(L * (x - math.sin(2 * math.pi * x) / (2 * math.pi)) + 2 * math.pi * L / beta**2 * math.sin(2 * math.pi * x))  # noqa: E731
+    g = lambda x: (
+        -(L * (x - math.sin(2 * math.pi * x) / (2 * math.pi)) + 2 * math.pi * L / beta**2 * math.sin(2 * math.pi * x))
+    )  # noqa: E731
     peak = minimize_scalar(lambda x: -g(x), bounds=(0.5, 1.0), method="bounded", options={"xatol": 1e-12})
     assert 90 + 90 * peak.x == pytest.approx(156.5, abs=0.1)
     assert g(peak.x) == pytest.approx(3.2852, abs=1e-4) and g(peak.x) > 3.2
@@ -237,7 +245,9 @@ def test_lecture_roller_contour_against_its_numerical_routes(lecture):
     mid = res.table(deg + h / 2)
     q = np.stack([mid["contour_x_mm"], mid["contour_y_mm"]])
     assert np.hypot(*(roller_circles(pitch, RR) - q))[~near_break].max() < 1e-3
-    assert res.min_radius_of_curvature_mm == pytest.approx(1.0 / np.max(three_point(pitch, RR)[1][~near_break]) - RR, abs=1e-3)
+    assert res.min_radius_of_curvature_mm == pytest.approx(
+        1.0 / np.max(three_point(pitch, RR)[1][~near_break]) - RR, abs=1e-3
+    )
 
 
 def test_flat_contour_is_the_lecture_formula_both_senses(lecture):
@@ -303,7 +313,10 @@ def test_eccentric_circle_roller_pressure_angle_by_hand(rotation):
     """Radial roller on a disc: pitch circle Rc about (0, -e); sin(phi) = e sin(theta) / Rc."""
     e, rb, rr = 6.0, 30.0, 8.0
     rc = rb + e + rr
-    res = analyze(Eccentric(e=e, r=rc), FollowerSpec(type="translating-roller", base_radius=rb, roller_radius=rr, rotation=rotation))
+    res = analyze(
+        Eccentric(e=e, r=rc),
+        FollowerSpec(type="translating-roller", base_radius=rb, roller_radius=rr, rotation=rotation),
+    )
     th = np.deg2rad(res.theta_deg)
     np.testing.assert_allclose(np.hypot(res.pitch[0], res.pitch[1] + e), rc, atol=1e-9)
     np.testing.assert_allclose(np.hypot(res.contour[0], res.contour[1] + e), rb + e, atol=1e-9)
@@ -343,8 +356,13 @@ def fd_curve(xy, h):
 @pytest.mark.parametrize("rotation", ["cw", "ccw"])
 def test_oscillating_roller_against_finite_differences(swing, rotation):
     fol = FollowerSpec(
-        type="oscillating-roller", base_radius=40, roller_radius=10, pivot_distance=100, arm_length=80,
-        pivot_angle=30, rotation=rotation,
+        type="oscillating-roller",
+        base_radius=40,
+        roller_radius=10,
+        pivot_distance=100,
+        arm_length=80,
+        pivot_angle=30,
+        rotation=rotation,
     )
     res = analyze(swing, fol)
     h = np.deg2rad(0.1)
@@ -368,8 +386,12 @@ def test_oscillating_roller_against_finite_differences(swing, rotation):
     # pressure angle from the arm: angle between the normal and the roller's path (perpendicular to the arm)
     arm = E - D[:, None]
     v_fixed = np.stack([arm[1], -arm[0]]) / 80.0  # d/dpsi of a clockwise turn
-    v = np.stack([np.cos(-sig * th) * v_fixed[0] - np.sin(-sig * th) * v_fixed[1],
-                  np.sin(-sig * th) * v_fixed[0] + np.cos(-sig * th) * v_fixed[1]])
+    v = np.stack(
+        [
+            np.cos(-sig * th) * v_fixed[0] - np.sin(-sig * th) * v_fixed[1],
+            np.sin(-sig * th) * v_fixed[0] + np.cos(-sig * th) * v_fixed[1],
+        ]
+    )
     cosphi = np.sum(v * normal, axis=0)
     np.testing.assert_allclose(np.abs(res.pressure_angle_deg)[smooth], np.degrees(np.arccos(cosphi))[smooth], atol=1e-4)
     lever = lever_arm_mm(swing, fol, th)
@@ -417,8 +439,13 @@ def test_undercut_and_base_circle_advice(lecture):
     below = judged(lecture, fol.model_copy(update={"base_radius": rb - 1e-2}))[1]
     assert all(c.ok for c in above.values()) and not all(c.ok for c in below.values())
     j = res.json()
-    assert set(j) >= {"max_pressure_angle_deg", "max_pressure_angle_at_deg", "min_radius_of_curvature_mm",
-                      "min_radius_of_curvature_at_deg", "undercut"}
+    assert set(j) >= {
+        "max_pressure_angle_deg",
+        "max_pressure_angle_at_deg",
+        "min_radius_of_curvature_mm",
+        "min_radius_of_curvature_at_deg",
+        "undercut",
+    }
     assert "min_face_width_mm" not in j
 
 
@@ -426,7 +453,9 @@ def test_limits_follow_the_case(lecture):
     checks = judged(lecture, roller(32.0), max_pressure_angle=20.0, min_curvature_ratio=2.5)[1]
     assert not checks["pressure_angle"].ok and not checks["curvature"].ok  # 21.7 deg, ratio 2.25
     rb = min_base_radius(lecture, roller(32.0), max_pressure_angle=20.0, min_curvature_ratio=2.5)
-    ok = judged(lecture, roller(32.0).model_copy(update={"base_radius": rb}), max_pressure_angle=20.0, min_curvature_ratio=2.5)[1]
+    ok = judged(
+        lecture, roller(32.0).model_copy(update={"base_radius": rb}), max_pressure_angle=20.0, min_curvature_ratio=2.5
+    )[1]
     assert all(c.ok for c in ok.values())
     assert CUSP_MM < 1e-3
 
@@ -435,7 +464,16 @@ def test_limits_follow_the_case(lecture):
     "spec, where",
     [
         ({"type": "translating-roller", "base_radius": 20, "roller_radius": 5, "offset": 30}, "follower.offset"),
-        ({"type": "oscillating-roller", "base_radius": 20, "roller_radius": 5, "pivot_distance": 60, "arm_length": 50}, "follower.type"),
+        (
+            {
+                "type": "oscillating-roller",
+                "base_radius": 20,
+                "roller_radius": 5,
+                "pivot_distance": 60,
+                "arm_length": 50,
+            },
+            "follower.type",
+        ),
     ],
 )
 def test_bad_followers_are_input_errors(lecture, spec, where):
@@ -447,7 +485,12 @@ def test_bad_followers_are_input_errors(lecture, spec, where):
 
 def test_oscillating_assembly_errors(swing):
     with pytest.raises(InputError, match="cannot reach") as err:
-        analyze(swing, FollowerSpec(type="oscillating-roller", base_radius=40, roller_radius=10, pivot_distance=200, arm_length=60))
+        analyze(
+            swing,
+            FollowerSpec(
+                type="oscillating-roller", base_radius=40, roller_radius=10, pivot_distance=200, arm_length=60
+            ),
+        )
     assert err.value.where == "follower.arm_length"
     with pytest.raises(InputError) as err:
         analyze(swing, FollowerSpec(type="oscillating-flat", base_radius=40, pivot_distance=30))
@@ -461,9 +504,22 @@ def test_oscillating_assembly_errors(swing):
     [
         ({"type": "translating-roller", "base_radius": 20}, "follower.roller_radius"),
         ({"type": "oscillating-roller", "base_radius": 20, "roller_radius": 5}, "follower.pivot_distance"),
-        ({"type": "oscillating-flat", "base_radius": 20, "pivot_distance": 50, "arm_length": 30}, "follower.arm_length"),
+        (
+            {"type": "oscillating-flat", "base_radius": 20, "pivot_distance": 50, "arm_length": 30},
+            "follower.arm_length",
+        ),
         ({"type": "translating-flat", "base_radius": 20, "roller_radius": 5}, "follower.roller_radius"),
-        ({"type": "oscillating-roller", "base_radius": 20, "roller_radius": 5, "pivot_distance": 50, "arm_length": 40, "offset": 2}, "follower.offset"),
+        (
+            {
+                "type": "oscillating-roller",
+                "base_radius": 20,
+                "roller_radius": 5,
+                "pivot_distance": 50,
+                "arm_length": 40,
+                "offset": 2,
+            },
+            "follower.offset",
+        ),
     ],
 )
 def test_follower_keys_are_the_schemas(spec, where):

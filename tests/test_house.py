@@ -71,7 +71,7 @@ def test_no_import_cycle():
         for n in sorted(graph[m]):
             if n in ("camdyn",):  # the flat API re-exports lazily (importlib), it imports nothing at load
                 continue
-            assert state.get(n) != 1, "import cycle: " + " -> ".join(stack[stack.index(n):] + [n])
+            assert state.get(n) != 1, "import cycle: " + " -> ".join(stack[stack.index(n) :] + [n])
             if n not in state:
                 visit(n)
         stack.pop()
@@ -113,7 +113,9 @@ def test_help_and_version_do_not_load_jax():
 def test_a_typo_is_reported_before_jax_loads(tmp_path):
     case = tmp_path / "typo.toml"
     case.write_text((ROOT / "cases" / "lecture.toml").read_text().replace("mass = 0.5", "mas = 0.5"))
-    proc = _fresh(f"import sys\nfrom camdyn.cli import main\ncode = main(['check', {str(case)!r}])\nprint(code, 'jax' in sys.modules)")
+    proc = _fresh(
+        f"import sys\nfrom camdyn.cli import main\ncode = main(['check', {str(case)!r}])\nprint(code, 'jax' in sys.modules)"
+    )
     assert proc.stdout.strip().splitlines()[-1] == "2 False"
     assert "dynamics.mas: unknown key (did you mean 'mass'?)" in proc.stderr
 
@@ -139,7 +141,9 @@ def private_crossings() -> list[str]:
                 home = target if modules[target].name == "__init__.py" else target.rsplit(".", 1)[0]
                 if package == home or package.startswith(home + "."):
                     continue  # its own package, or a parent's private module
-                hidden = [c for c in target.split(".")[1:] if c.startswith("_") and c != "_core" and not c.startswith("__")]
+                hidden = [
+                    c for c in target.split(".")[1:] if c.startswith("_") and c != "_core" and not c.startswith("__")
+                ]
                 if hidden or (alias.name.startswith("_") and not alias.name.startswith("__")):
                     found.append(f"{name}: {alias.name} from {target}")
     return found

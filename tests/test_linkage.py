@@ -9,14 +9,21 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 import pytest
-
 from _helpers import assert_keys_by_type
 
 import camdyn.model  # noqa: F401  (float64)
 from camdyn import InputError, NumericalError
 from camdyn.model.geometry import analyze, extremes, passes
+from camdyn.model.linkage import (
+    cross2,
+    parse_mechanism,
+    rrp_kinematics,
+    rrr,
+    rrr_kinematics,
+    rrr_reach_miss,
+    synthesize_motion,
+)
 from camdyn.model.motion import evaluate as evaluate_motion
-from camdyn.model.linkage import cross2, parse_mechanism, rrp_kinematics, rrr, rrr_kinematics, rrr_reach_miss, synthesize_motion
 from camdyn.schema import MechanismSpec
 
 CASES = Path(__file__).resolve().parents[1] / "cases"
@@ -67,7 +74,9 @@ def test_rrr_velocity_matches_ye_smith_explicit_formulas_and_acceleration_fd():
     assert float(k["theta_pm"][1]) == pytest.approx(w_ab, rel=1e-12)
     assert float(k["theta_qm"][1]) == pytest.approx(w_cb, rel=1e-12)
     h = 1e-5
-    at = lambda tau: np.asarray(rrr(p[0] + p[1] * tau + p[2] * tau**2 / 2, q[0] + q[1] * tau + q[2] * tau**2 / 2, lp, lq, 1))  # noqa: E731
+    at = lambda tau: np.asarray(
+        rrr(p[0] + p[1] * tau + p[2] * tau**2 / 2, q[0] + q[1] * tau + q[2] * tau**2 / 2, lp, lq, 1)
+    )  # noqa: E731
     fd2 = (at(h) - 2 * at(0.0) + at(-h)) / h**2
     assert np.allclose(np.asarray(k["M"][2]), fd2, atol=1e-5)
 
@@ -78,7 +87,9 @@ def test_rrp_kinematics_against_finite_differences():
     k = rrp_kinematics(c, origin, direction, 6.0, 1)
     assert float(k["p"][0]) == pytest.approx(3.0 + math.sqrt(36 - 16))
     h = 1e-5
-    pos = lambda tau: float(rrp_kinematics(np.array([c[0] + c[1] * tau + c[2] * tau**2 / 2, c[1], c[2]]), origin, direction, 6.0, 1)["p"][0])  # noqa: E731
+    pos = lambda tau: float(
+        rrp_kinematics(np.array([c[0] + c[1] * tau + c[2] * tau**2 / 2, c[1], c[2]]), origin, direction, 6.0, 1)["p"][0]
+    )  # noqa: E731
     assert float(k["p"][1]) == pytest.approx((pos(h) - pos(-h)) / (2 * h), rel=1e-8)
     assert float(k["p"][2]) == pytest.approx((pos(h) - 2 * pos(0) + pos(-h)) / h**2, rel=1e-4)
 
@@ -117,7 +128,9 @@ def test_ye_smith_section_8(racetrack):
     xe, ye = (float(v) for v in p800["E"])
     xe1, ye1 = xe * c + ye * s, -xe * s + ye * c
     assert (xe1, ye1) == pytest.approx((-106.974, -29.745), abs=1e-3)
-    e1 = lambda u: (lambda th, e: jnp.stack([e[0] * jnp.cos(th) + e[1] * jnp.sin(th), -e[0] * jnp.sin(th) + e[1] * jnp.cos(th)]))(m.cam_angle(u), chain.points(u)["E"])  # noqa: E731
+    e1 = lambda u: (
+        lambda th, e: jnp.stack([e[0] * jnp.cos(th) + e[1] * jnp.sin(th), -e[0] * jnp.sin(th) + e[1] * jnp.cos(th)])
+    )(m.cam_angle(u), chain.points(u)["E"])  # noqa: E731
     v = np.asarray(jax.jit(lambda u: jax.jvp(e1, (u,), (jnp.ones_like(u),))[1])(jnp.asarray(0.2)))
     v = v / np.linalg.norm(v)
     xt1, yt1 = xe1 + 20 * v[1], ye1 - 20 * v[0]
@@ -138,14 +151,24 @@ def test_follower_spec_reproduces_the_pitch_curve(racetrack):
     f, m = racetrack.follower, racetrack.motion
     th = np.deg2rad(np.arange(0.0, 360.0, 7.0))
     phi = evaluate(racetrack, th)[0]
-    assert phi.min() >= -1e-12 and evaluate(racetrack, np.linspace(0.0, 2 * math.pi, 1024, endpoint=False))[0].min() < 1e-5
+    assert (
+        phi.min() >= -1e-12 and evaluate(racetrack, np.linspace(0.0, 2 * math.pi, 1024, endpoint=False))[0].min() < 1e-5
+    )
     d = f.pivot_distance * np.array([math.cos(math.radians(f.pivot_angle)), math.sin(math.radians(f.pivot_angle))])
     dn = -d / np.linalg.norm(d)
     psi0 = racetrack.summary["psi0_deg"] * math.pi / 180
-    dist0 = np.linalg.norm(d + f.arm_length * np.array([math.cos(-psi0) * dn[0] - math.sin(-psi0) * dn[1], math.sin(-psi0) * dn[0] + math.cos(-psi0) * dn[1]]))
+    dist0 = np.linalg.norm(
+        d
+        + f.arm_length
+        * np.array(
+            [math.cos(-psi0) * dn[0] - math.sin(-psi0) * dn[1], math.sin(-psi0) * dn[0] + math.cos(-psi0) * dn[1]]
+        )
+    )
     assert dist0 == pytest.approx(f.base_radius + f.roller_radius, rel=1e-12)
     psi = psi0 + phi
-    e = d + f.arm_length * np.column_stack([np.cos(-psi) * dn[0] - np.sin(-psi) * dn[1], np.sin(-psi) * dn[0] + np.cos(-psi) * dn[1]])
+    e = d + f.arm_length * np.column_stack(
+        [np.cos(-psi) * dn[0] - np.sin(-psi) * dn[1], np.sin(-psi) * dn[0] + np.cos(-psi) * dn[1]]
+    )
     a = -th  # ccw cam: cam frame = fixed frame turned back by theta
     pitch = np.column_stack([np.cos(a) * e[:, 0] - np.sin(a) * e[:, 1], np.sin(a) * e[:, 0] + np.cos(a) * e[:, 1]])
     assert np.max(np.abs(pitch - racetrack.pitch[::7])) < 1e-9
@@ -164,7 +187,7 @@ def test_motion_derivatives_match_finite_differences_through_the_singular_positi
                 u = s["u"] + t + e
                 pts.append(u)
     raw = eqx.filter_jit(lambda mm, u: jax.vmap(mm.cam_angle)(u))
-    pts[len(sw):] = list(np.asarray(raw(m, jnp.asarray(pts[len(sw):]))) % (2 * math.pi))
+    pts[len(sw) :] = list(np.asarray(raw(m, jnp.asarray(pts[len(sw) :]))) % (2 * math.pi))
     pts += [0.3, 1.7, 4.0]
     th = np.asarray(pts)
     h = 1e-5
@@ -208,7 +231,17 @@ def test_forward_check_of_every_shipped_case(name, path_synthesis):
     exact, table = evaluate(syn, th), evaluate(syn, th, tab)
     assert np.max(np.abs(table[0] - exact[0])) < 1e-6 and syn.summary["motion_table_error"]["s"] < 1e-6
     assert np.max(np.abs(table[2] - exact[2])) < 2e-5 * np.ptp(exact[2])
-    assert {"crank_mm", "coupler_mm", "start_angle_deg", "pitch", "contour", "path_xy", "traced_xy", "sharp_corners", "warnings"} <= set(j)
+    assert {
+        "crank_mm",
+        "coupler_mm",
+        "start_angle_deg",
+        "pitch",
+        "contour",
+        "path_xy",
+        "traced_xy",
+        "sharp_corners",
+        "warnings",
+    } <= set(j)
     assert ("stroke_mm" in j) == (syn.motion.unit == "mm") and ("swing_deg" in j) == (syn.motion.unit == "rad")
     assert not syn.sharp_corners
     # the contour lies one roller radius inside the pitch curve

@@ -148,7 +148,9 @@ def test_gcode_header_names_case_hash_cutter_tolerance_and_inches(capsys, tmp_pa
     src = CASES / "lecture.toml"
     code, _, err = run(capsys, "profile", src, "-o", tmp_path / "mm.nc", "--cutter-radius", 5, "--feed", 254)
     assert code == 0, err
-    code, _, err = run(capsys, "profile", src, "-o", tmp_path / "in.nc", "--cutter-radius", 5, "--feed", 254, "--units", "in")
+    code, _, err = run(
+        capsys, "profile", src, "-o", tmp_path / "in.nc", "--cutter-radius", 5, "--feed", 254, "--units", "in"
+    )
     assert code == 0, err
     mm, inch = (tmp_path / "mm.nc").read_text(), (tmp_path / "in.nc").read_text()
     assert hashlib.sha256(src.read_bytes()).hexdigest() in mm and "lecture" in mm
@@ -257,7 +259,10 @@ def test_follower_lift_table_and_inches(capsys, tmp_path):
     src = CASES / "lecture.toml"
     case, _ = _geometry(src)
     assert run(capsys, "profile", src, "-o", tmp_path / "lift.csv", "--follower-lift", "--step", 1)[0] == 0
-    assert run(capsys, "profile", src, "-o", tmp_path / "lift-in.csv", "--follower-lift", "--step", 1, "--units", "in")[0] == 0
+    assert (
+        run(capsys, "profile", src, "-o", tmp_path / "lift-in.csv", "--follower-lift", "--step", 1, "--units", "in")[0]
+        == 0
+    )
     head = (tmp_path / "lift.csv").read_text().splitlines()[0]
     assert head == "theta_deg,lift_mm" and (tmp_path / "lift-in.csv").read_text().startswith("theta_deg,lift_in\n")
     t, s = np.loadtxt(tmp_path / "lift.csv", delimiter=",", skiprows=1).T
@@ -286,7 +291,10 @@ def test_outline_in_inches_is_the_mm_outline_over_25_4(capsys, tmp_path, suffix)
         a, b = (np.array([p[:2] for p in d.modelspace().query("LWPOLYLINE")[0].get_points()]) for d in docs)
     else:
         assert 'width="' in inch.read_text() and 'in" height' in inch.read_text()
-        a, b = (np.array(re.search(r'points="([^"]+)"', p.read_text()).group(1).replace(",", " ").split(), float) for p in (mm, inch))
+        a, b = (
+            np.array(re.search(r'points="([^"]+)"', p.read_text()).group(1).replace(",", " ").split(), float)
+            for p in (mm, inch)
+        )
     np.testing.assert_allclose(b * 25.4, a, atol=2e-4)
 
 

@@ -5,7 +5,7 @@ import jax.numpy as jnp
 import numpy as np
 import pytest
 
-from camdyn import HermiteMotion, InputError, LAWS, Program, law
+from camdyn import LAWS, HermiteMotion, InputError, Program, law
 from camdyn.schema import LAW_NAMES
 
 X = jnp.linspace(0.0, 1.0, 2001)
@@ -58,7 +58,9 @@ def test_closed_forms():
     np.testing.assert_allclose(np.asarray(law("cycloidal", x)[0]), x - np.sin(2 * np.pi * x) / (2 * np.pi), atol=1e-14)
     np.testing.assert_allclose(np.asarray(law("harmonic", x)[0]), (1 - np.cos(np.pi * x)) / 2, atol=1e-14)
     np.testing.assert_allclose(np.asarray(law("polynomial-345", x)[0]), 10 * x**3 - 15 * x**4 + 6 * x**5, atol=1e-14)
-    np.testing.assert_allclose(np.asarray(law("polynomial-4567", x)[0]), 35 * x**4 - 84 * x**5 + 70 * x**6 - 20 * x**7, atol=1e-13)
+    np.testing.assert_allclose(
+        np.asarray(law("polynomial-4567", x)[0]), 35 * x**4 - 84 * x**5 + 70 * x**6 - 20 * x**7, atol=1e-13
+    )
 
 
 LECTURE = [
@@ -72,11 +74,26 @@ LECTURE = [
 # 110 deg f'' printed 5.018 (is 5.016), 250 deg f printed 1.968 (is 1.966), 320 deg f' printed -1.289 (is -1.299),
 # 150 deg f'' printed "- 441" (lost digits: -4.411), 180 deg f printed 2.0G0.
 LECTURE_TABLE = [
-    (100, 0.018, 0.298, 3.274), (110, 0.131, 1.052, 5.016), (120, 0.391, 1.910, 4.411), (130, 0.780, 2.470, 1.742),
-    (140, 1.220, 2.470, -1.742), (150, 1.609, 1.910, -4.411), (160, 1.869, 1.052, -5.016), (170, 1.982, 0.298, -3.274),
-    (180, 2.000, 0.000, 0.000), (250, 1.966, -0.388, -2.173), (260, 1.866, -0.750, -1.949), (270, 1.707, -1.061, -1.591),
-    (280, 1.500, -1.299, -1.125), (290, 1.259, -1.449, -0.582), (300, 1.000, -1.500, 0.000), (310, 0.741, -1.449, 0.582),
-    (320, 0.500, -1.299, 1.125), (330, 0.293, -1.061, 1.591), (340, 0.134, -0.750, 1.949), (350, 0.034, -0.388, 2.173),
+    (100, 0.018, 0.298, 3.274),
+    (110, 0.131, 1.052, 5.016),
+    (120, 0.391, 1.910, 4.411),
+    (130, 0.780, 2.470, 1.742),
+    (140, 1.220, 2.470, -1.742),
+    (150, 1.609, 1.910, -4.411),
+    (160, 1.869, 1.052, -5.016),
+    (170, 1.982, 0.298, -3.274),
+    (180, 2.000, 0.000, 0.000),
+    (250, 1.966, -0.388, -2.173),
+    (260, 1.866, -0.750, -1.949),
+    (270, 1.707, -1.061, -1.591),
+    (280, 1.500, -1.299, -1.125),
+    (290, 1.259, -1.449, -0.582),
+    (300, 1.000, -1.500, 0.000),
+    (310, 0.741, -1.449, 0.582),
+    (320, 0.500, -1.299, 1.125),
+    (330, 0.293, -1.061, 1.591),
+    (340, 0.134, -0.750, 1.949),
+    (350, 0.034, -0.388, 2.173),
 ]
 
 
@@ -102,19 +119,30 @@ def test_oscillating_program_warnings_are_in_degrees_of_swing():
     assert len(warnings) == 2
     assert "240 deg" in warnings[0] and "-16.88 deg/rad^2" in warnings[0]
     assert all("mm" not in w for w in warnings)
-    jumps = Program.from_segments([{"law": "constant-velocity", "end": 180, "lift": 10}, {"law": "constant-velocity", "end": 360, "lift": -10}], unit="rad").continuity_warnings()
+    jumps = Program.from_segments(
+        [{"law": "constant-velocity", "end": 180, "lift": 10}, {"law": "constant-velocity", "end": 360, "lift": -10}],
+        unit="rad",
+    ).continuity_warnings()
     # 10 deg over pi rad, then back: the velocity jumps by -2 * 10 / pi deg/rad at 180 deg
     assert any("velocity jumps by -6.366 deg/rad at 180 deg" in w for w in jumps)
 
 
 def test_smooth_program_has_no_warnings():
-    prog = Program.from_segments([{"law": "dwell", "end": 60}, {"law": "cycloidal", "end": 180, "lift": 10},
-                                  {"law": "dwell", "end": 200}, {"law": "polynomial-345", "end": 360, "lift": -10}])
+    prog = Program.from_segments(
+        [
+            {"law": "dwell", "end": 60},
+            {"law": "cycloidal", "end": 180, "lift": 10},
+            {"law": "dwell", "end": 200},
+            {"law": "polynomial-345", "end": 360, "lift": -10},
+        ]
+    )
     assert prog.continuity_warnings() == []
 
 
 def test_velocity_jump_is_reported():
-    prog = Program.from_segments([{"law": "constant-velocity", "end": 180, "lift": 10}, {"law": "constant-velocity", "end": 360, "lift": -10}])
+    prog = Program.from_segments(
+        [{"law": "constant-velocity", "end": 180, "lift": 10}, {"law": "constant-velocity", "end": 360, "lift": -10}]
+    )
     w = prog.continuity_warnings()
     assert any("velocity jumps" in s and "180 deg" in s for s in w)
 
@@ -122,7 +150,9 @@ def test_velocity_jump_is_reported():
 def test_program_periodic_and_jittable():
     prog = Program.from_segments(LECTURE)
     th = jnp.linspace(-1.0, 7.0, 50)
-    np.testing.assert_allclose(np.asarray(jax.jit(lambda p, t: p(t))(prog, th)), np.asarray(prog(th + 2 * np.pi)), atol=1e-12)
+    np.testing.assert_allclose(
+        np.asarray(jax.jit(lambda p, t: p(t))(prog, th)), np.asarray(prog(th + 2 * np.pi)), atol=1e-12
+    )
     np.testing.assert_allclose(np.asarray(prog.host(np.asarray(th))), np.asarray(prog(th)), atol=1e-12)
 
 
@@ -142,8 +172,16 @@ def test_program_derivatives_match_finite_differences():
         ([{"law": "cycloidl", "end": 360, "lift": 0}], "law", "did you mean 'cycloidal'"),
         ([{"law": "dwell", "end": 90}, {"law": "dwell", "end": 80}], "[1].end", "overlaps"),
         ([{"law": "dwell", "end": 300}], "[0].end", "not 360"),
-        ([{"law": "harmonic", "end": 180, "lift": 5}, {"law": "harmonic", "end": 360, "lift": -4}], "motion.segments", "does not close"),
-        ([{"law": "harmonic", "end": 180, "lift": -5}, {"law": "harmonic", "end": 360, "lift": 5}], "[0].lift", "below zero"),
+        (
+            [{"law": "harmonic", "end": 180, "lift": 5}, {"law": "harmonic", "end": 360, "lift": -4}],
+            "motion.segments",
+            "does not close",
+        ),
+        (
+            [{"law": "harmonic", "end": 180, "lift": -5}, {"law": "harmonic", "end": 360, "lift": 5}],
+            "[0].lift",
+            "below zero",
+        ),
         ([{"law": "dwell", "end": 180, "lift": 3}, {"law": "dwell", "end": 360}], "[0].lift", "cannot lift"),
     ],
 )

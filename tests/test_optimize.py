@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import csv
 import io
-import json
 import math
 import tomllib
 from pathlib import Path
@@ -19,17 +18,17 @@ import jax.numpy as jnp
 import numpy as np
 import pytest
 import tomli_w
-
 from _helpers import run
+
 from camdyn import InputError
 from camdyn._core.units import RPM
 from camdyn.design.checks import run_check
 from camdyn.design.optimize import _robust_claim, default_margin
-from camdyn.design.tolerance import tolerance_study
 from camdyn.design.optimize._objectives import hold_to, least_slack
 from camdyn.design.optimize._rows import Rows
 from camdyn.design.optimize._shape import shape_space
 from camdyn.design.optimize._slp import maximize_least, with_jacobian
+from camdyn.design.tolerance import tolerance_study
 from camdyn.model.case import case_from_dict, load_case
 from camdyn.model.dynamics import linear_min_force
 from camdyn.model.motion import Program
@@ -43,7 +42,14 @@ LECTURE_JUMP_RPM = 484.8
 
 
 def program(law: dict) -> Program:
-    return Program.from_segments([{"law": "dwell", "end": 90}, {"end": 180, "lift": 20} | law, {"law": "dwell", "end": 240}, {"law": "cycloidal", "end": 360, "lift": -20}])
+    return Program.from_segments(
+        [
+            {"law": "dwell", "end": 90},
+            {"end": 180, "lift": 20} | law,
+            {"law": "dwell", "end": 240},
+            {"law": "cycloidal", "end": 360, "lift": -20},
+        ]
+    )
 
 
 # ------------------------------------------------------------------------------------------- the law
@@ -68,7 +74,10 @@ def test_bspline_derivatives_are_exact():
 @pytest.mark.parametrize(
     "segment, needle",
     [
-        ({"law": "bspline", "end": 180, "lift": 20, "coefficients": [0, 0, 0.1, 0.5, 1, 1, 1]}, "first three must be 0"),
+        (
+            {"law": "bspline", "end": 180, "lift": 20, "coefficients": [0, 0, 0.1, 0.5, 1, 1, 1]},
+            "first three must be 0",
+        ),
         ({"law": "bspline", "end": 180, "lift": 20, "coefficients": [0, 0, 0, 1, 1]}, "coefficients"),
         ({"law": "bspline", "end": 180, "lift": 20, "coefficients": [0, 0, 0, float("nan"), 1, 1, 1]}, "finite"),
         ({"law": "cycloidal", "end": 180, "lift": 20, "coefficients": [0, 0, 0, 1, 1, 1]}, 'only a law = "bspline"'),
@@ -106,7 +115,10 @@ def test_autodiff_jacobian_matches_finite_differences(lecture_rows):
     for k in (0, 7, 13, 19):
         e = np.zeros_like(z)
         e[k] = h
-        fd = (np.asarray(lecture_rows.force_jacobian(jnp.asarray(z + e), speeds, None)[0]) - np.asarray(lecture_rows.force_jacobian(jnp.asarray(z - e), speeds, None)[0])) / (2 * h)
+        fd = (
+            np.asarray(lecture_rows.force_jacobian(jnp.asarray(z + e), speeds, None)[0])
+            - np.asarray(lecture_rows.force_jacobian(jnp.asarray(z - e), speeds, None)[0])
+        ) / (2 * h)
         assert np.allclose(J[:, k], fd, rtol=1e-6, atol=1e-6 * np.abs(fd).max())
 
 
@@ -145,7 +157,9 @@ def test_the_shipped_optimized_lecture_keeps_the_timing():
     before, after = lecture["motion"]["segments"], opt["motion"]["segments"]
     assert [(s["end"], s.get("lift", 0)) for s in before] == [(s["end"], s.get("lift", 0)) for s in after]
     assert [s["law"] for s in after] == ["dwell", "bspline", "dwell", "bspline"]
-    assert {k: v for k, v in opt.items() if k not in ("name", "description", "motion", "optimized_from")} == {k: v for k, v in lecture.items() if k not in ("name", "description", "motion")}
+    assert {k: v for k, v in opt.items() if k not in ("name", "description", "motion", "optimized_from")} == {
+        k: v for k, v in lecture.items() if k not in ("name", "description", "motion")
+    }
     assert opt["optimized_from"] == "lecture.toml"
     case = case_from_dict(opt)
     th = np.radians(np.r_[np.linspace(0, 89.9, 50), np.linspace(180, 239.9, 50)])
@@ -161,7 +175,9 @@ def test_its_table_columns_are_derivatives_of_each_other(capsys):
     th = np.radians([float(r["theta_deg"]) for r in rows])
     cols = [np.array([float(r[c]) for r in rows]) for c in ("s_mm", "v_mm_per_rad", "a_mm_per_rad2", "j_mm_per_rad3")]
     deg = np.degrees(th)
-    away = np.min(np.abs(deg[:, None] - np.array([0.0, 90.0, 180.0, 240.0, 360.0])), axis=1) > 0.2  # the jerk steps at the ends
+    away = (
+        np.min(np.abs(deg[:, None] - np.array([0.0, 90.0, 180.0, 240.0, 360.0])), axis=1) > 0.2
+    )  # the jerk steps at the ends
     for lo, hi in zip(cols, cols[1:]):
         fd = np.gradient(lo, th)
         assert np.max(np.abs(fd - hi)[away]) < 2e-3 * np.max(np.abs(hi))

@@ -49,7 +49,10 @@ def test_contact_of_the_check_response(checked):
     assert cs.e_star_GPa == pytest.approx(1 / ((1 - 0.292**2) / 207 + (1 - 0.3**2) / 200))
     i = int(np.argmax(cs.pressure_MPa))
     # the peak against the formula at that angle, from the reported normal force and equivalent radius
-    p = math.sqrt(cs.normal_force_N[i] * cs.e_star_GPa * 1e9 / (math.pi * 8e-3 * cs.equivalent_radius_mm[i] * 1e-3)) / 1e6
+    p = (
+        math.sqrt(cs.normal_force_N[i] * cs.e_star_GPa * 1e9 / (math.pi * 8e-3 * cs.equivalent_radius_mm[i] * 1e-3))
+        / 1e6
+    )
     assert cs.peak_pressure_MPa == pytest.approx(p, rel=1e-12)
     assert contact_check(cs, 2 * p).ok and not contact_check(cs, 0.5 * p).ok
     if case.oscillating:  # the contact force is the normal force

@@ -4,12 +4,13 @@ import json
 from pathlib import Path
 
 import pytest
-
 from _helpers import run
 
 ROOT = Path(__file__).resolve().parents[1]
 LECTURE = (ROOT / "cases" / "lecture.toml").read_text()
-OSCILLATING = (ROOT / "cases" / "oscillating.toml").read_text().split("\n[spring]")[0]  # without its own [spring]: each test gives one
+OSCILLATING = (
+    (ROOT / "cases" / "oscillating.toml").read_text().split("\n[spring]")[0]
+)  # without its own [spring]: each test gives one
 
 
 def case_file(tmp_path, text, extra=""):
@@ -22,10 +23,24 @@ def test_spring_for_the_lecture_case(capsys):
     code, out, err = run(capsys, "spring", ROOT / "cases" / "lecture.toml", "--json")
     assert code == 0 and not err
     doc = json.loads(out)
-    assert doc["case"] == "lecture" and doc["rate_N_per_mm"] == 2.0 and doc["preload_N"] == 30.0 and doc["lift_mm"] == pytest.approx(20.0)
+    assert (
+        doc["case"] == "lecture"
+        and doc["rate_N_per_mm"] == 2.0
+        and doc["preload_N"] == 30.0
+        and doc["lift_mm"] == pytest.approx(20.0)
+    )
     s = doc["spring"]
     assert s["rate_N_per_mm"] == pytest.approx(2.0, rel=1e-9) and all(c["ok"] for c in s["checks"])
-    assert {"wire_diameter_mm", "mean_diameter_mm", "active_coils", "total_coils", "free_length_mm", "solid_length_mm", "mass_kg", "surge"} <= set(s)
+    assert {
+        "wire_diameter_mm",
+        "mean_diameter_mm",
+        "active_coils",
+        "total_coils",
+        "free_length_mm",
+        "solid_length_mm",
+        "mass_kg",
+        "surge",
+    } <= set(s)
     assert s["surge"]["cam_frequency_Hz"] == 5.0
     code, out, _ = run(capsys, "spring", ROOT / "cases" / "lecture.toml")
     assert code == 0 and "wire diameter" in out and "spring_fatigue_safety" in out and "surge frequency" in out
@@ -51,13 +66,29 @@ def test_spring_on_an_arm(capsys, tmp_path):
 @pytest.mark.parametrize(
     "text, extra, expected",
     [
-        (LECTURE, '[spring]\nmaterial = "music wire"\n', "spring.material: unknown spring material (did you mean 'music-wire'?)"),
-        (LECTURE, "[spring]\noutside_diameter_max = 6\n", "spring.outside_diameter_max: no music-wire spring of 2 N/mm fits in 6 mm"),
-        (LECTURE.replace("rotation = \"cw\"", "rotation = \"cw\"\nwidth = -4"), "", "follower.width: Input should be greater than 0"),
-        (LECTURE, "[materials]\ncam = \"stel\"\n", "materials.cam: unknown material (did you mean 'steel'?)"),
+        (
+            LECTURE,
+            '[spring]\nmaterial = "music wire"\n',
+            "spring.material: unknown spring material (did you mean 'music-wire'?)",
+        ),
+        (
+            LECTURE,
+            "[spring]\noutside_diameter_max = 6\n",
+            "spring.outside_diameter_max: no music-wire spring of 2 N/mm fits in 6 mm",
+        ),
+        (
+            LECTURE.replace('rotation = "cw"', 'rotation = "cw"\nwidth = -4'),
+            "",
+            "follower.width: Input should be greater than 0",
+        ),
+        (LECTURE, '[materials]\ncam = "stel"\n', "materials.cam: unknown material (did you mean 'steel'?)"),
         (LECTURE, "[spring]\nlever_arm = 30\n", "spring.lever_arm: not used by a translating follower"),
         (OSCILLATING, "", "spring.lever_arm: an oscillating follower's spring needs [spring] lever_arm"),
-        (LECTURE.replace("spring_rate = 2.0", "spring_rate = 5.8e-6"), "", "dynamics.spring_rate: no music-wire spring of 5.8e-06 N/mm"),
+        (
+            LECTURE.replace("spring_rate = 2.0", "spring_rate = 5.8e-6"),
+            "",
+            "dynamics.spring_rate: no music-wire spring of 5.8e-06 N/mm",
+        ),
     ],
 )
 def test_bad_input_is_one_line_exit_2(capsys, tmp_path, text, extra, expected):
@@ -71,15 +102,28 @@ def test_a_contact_stress_limit_needs_a_width(tmp_path):
     from camdyn.schema import load_case_spec
 
     with pytest.raises(InputError, match=r"limits.max_contact_stress: .*\[follower\] width"):
-        load_case_spec(case_file(tmp_path, LECTURE.replace("min_contact_force = 0", "min_contact_force = 0\nmax_contact_stress = 900")))
-    spec = load_case_spec(case_file(tmp_path, LECTURE.replace("min_contact_force = 0", "min_contact_force = 0\nmax_contact_stress = 900").replace('rotation = "cw"', 'rotation = "cw"\nwidth = 8')))
+        load_case_spec(
+            case_file(
+                tmp_path, LECTURE.replace("min_contact_force = 0", "min_contact_force = 0\nmax_contact_stress = 900")
+            )
+        )
+    spec = load_case_spec(
+        case_file(
+            tmp_path,
+            LECTURE.replace("min_contact_force = 0", "min_contact_force = 0\nmax_contact_stress = 900").replace(
+                'rotation = "cw"', 'rotation = "cw"\nwidth = 8'
+            ),
+        )
+    )
     assert spec.limits.max_contact_stress == 900 and spec.contact_width_mm == 8
 
 
 def test_surge_on_a_cam_harmonic_is_named(capsys, tmp_path):
     """At 1770 rpm (29.5 Hz) the lecture spring's 176.6 Hz surge sits on the lift's 6th harmonic (1.65 % of the
     fundamental): a warning names it, and Shigley's 15x rule draws another."""
-    code, out, _ = run(capsys, "spring", case_file(tmp_path, LECTURE.replace("speed = 300 ", "speed = 1770 ")), "--json")
+    code, out, _ = run(
+        capsys, "spring", case_file(tmp_path, LECTURE.replace("speed = 300 ", "speed = 1770 ")), "--json"
+    )
     s = json.loads(out)["spring"]
     assert code == 0 and s["surge"]["surge_to_cam_frequency_ratio"] == pytest.approx(5.99, abs=0.01)
     assert any("harmonic 6 " in w for w in s["warnings"]) and any("15 to 20" in w for w in s["warnings"])
@@ -100,7 +144,13 @@ def test_the_spring_drawing_carries_its_dimensions():
     plot_spring(ax, d)
     texts = " ".join(t.get_text() for t in ax.texts)
     plt.close(fig)
-    for label in (f"free length {d.spring.free_length:.1f}", f"installed (preload) {d.installed_length:.1f}", f"solid {d.spring.solid_length:.1f}",
-                  f"OD {d.spring.outside_diameter:.2f}", "wire d 1.9", "13.5 active / 15.5 total coils"):
+    for label in (
+        f"free length {d.spring.free_length:.1f}",
+        f"installed (preload) {d.installed_length:.1f}",
+        f"solid {d.spring.solid_length:.1f}",
+        f"OD {d.spring.outside_diameter:.2f}",
+        "wire d 1.9",
+        "13.5 active / 15.5 total coils",
+    ):
         assert label in texts
     assert len(ax.patches) == 2 * d.spring.total_coils + 1  # the wire cut twice per turn

@@ -5,7 +5,6 @@ import math
 import jax.numpy as jnp
 import numpy as np
 import pytest
-
 from _helpers import assert_keys_by_type
 
 import camdyn.model  # noqa: F401  (float64)
@@ -14,7 +13,35 @@ from camdyn.model.paths import build_path, parse_path
 from camdyn.schema import PATH_TYPES, PathSpec
 
 TABLE_I_X = [28, 29, 33, 38, 44, 50, 57, 63, 68, 74, 77, 79, 79, 78, 75, 70, 65, 59, 53, 45, 41, 35, 30, 27, 26, 25, 28]
-TABLE_I_Y = [11, 12, 15, 18, 24, 32, 34, 41, 47, 53, 58, 62, 64.5, 65.5, 65, 63, 60, 55, 49, 42, 36, 29, 24, 19, 15, 13, 11]
+TABLE_I_Y = [
+    11,
+    12,
+    15,
+    18,
+    24,
+    32,
+    34,
+    41,
+    47,
+    53,
+    58,
+    62,
+    64.5,
+    65.5,
+    65,
+    63,
+    60,
+    55,
+    49,
+    42,
+    36,
+    29,
+    24,
+    19,
+    15,
+    13,
+    11,
+]
 
 PATHS = {
     "ellipse": dict(type="ellipse", center=[10, -5], semi_major=30, semi_minor=12, rotation=25),
@@ -80,7 +107,9 @@ def test_rectangle_corners():
     sharp = build_path(dict(type="rectangle", center=[0, 0], width=40, height=20))
     round_ = build_path(dict(type="rectangle", center=[0, 0], width=40, height=20, corner_radius=4))
     assert len(sharp.sharp_u) == 4 and round_.sharp_u == () and len(round_.breaks_u) == 8
-    assert float(sharp.total) == pytest.approx(120.0) and float(round_.total) == pytest.approx(120 - 8 * 4 + 2 * math.pi * 4)
+    assert float(sharp.total) == pytest.approx(120.0) and float(round_.total) == pytest.approx(
+        120 - 8 * 4 + 2 * math.pi * 4
+    )
     xy = np.asarray(round_(jnp.linspace(0, 1, 2001)))
     assert xy[:, 0].max() == pytest.approx(20.0) and xy[:, 1].min() == pytest.approx(-10.0)
     # unit speed in arc length: |P'| = perimeter everywhere

@@ -32,7 +32,10 @@ FROM_CONDITIONS = [
 
 def _toml(segments) -> str:
     rows = ",\n".join(
-        "  { " + ", ".join(f"{k} = {v!r}" if isinstance(v, str) else f"{k} = {v}" for k, v in s.items()).replace("'", '"') + " }" for s in segments
+        "  { "
+        + ", ".join(f"{k} = {v!r}" if isinstance(v, str) else f"{k} = {v}" for k, v in s.items()).replace("'", '"')
+        + " }"
+        for s in segments
     )
     lecture = (ROOT / "cases" / "lecture.toml").read_text()
     return "[motion]\nsegments = [\n" + rows + "\n]\n\n[follower]" + lecture.split("[follower]")[1]
@@ -52,7 +55,9 @@ def test_no_options_is_345_and_zero_end_jerks_is_4567(capsys, tmp_path):
     head_b, b = _table(capsys, tmp_path, "conditions", FROM_CONDITIONS)
     assert head_a == head_b and a.shape == b.shape
     for k, name in enumerate(head_a):
-        np.testing.assert_allclose(b[:, k], a[:, k], rtol=1e-9, atol=1e-9 * max(1.0, np.abs(a[:, k]).max()), err_msg=name)
+        np.testing.assert_allclose(
+            b[:, k], a[:, k], rtol=1e-9, atol=1e-9 * max(1.0, np.abs(a[:, k]).max()), err_msg=name
+        )
 
 
 def test_degrees_follow_the_conditions():
@@ -65,14 +70,26 @@ def test_degrees_follow_the_conditions():
 
 def test_norton_single_dwell_3456():
     """Norton's single-dwell rise-fall (h = 25 mm at mid-span, one segment): y = h (64x^3 - 192x^4 + 192x^5 - 64x^6)."""
-    prog = Program.from_segments([{"law": "polynomial", "end": 180, "lift": 0, "points": [[90, 25]]}, {"law": "dwell", "end": 360}])
-    np.testing.assert_allclose(prog.segments[0].polynomial.coef, 25 * np.array([0, 0, 0, 64, -192, 192, -64]), atol=1e-9)
+    prog = Program.from_segments(
+        [{"law": "polynomial", "end": 180, "lift": 0, "points": [[90, 25]]}, {"law": "dwell", "end": 360}]
+    )
+    np.testing.assert_allclose(
+        prog.segments[0].polynomial.coef, 25 * np.array([0, 0, 0, 64, -192, 192, -64]), atol=1e-9
+    )
     assert prog.polynomial_warnings() == [] and prog.continuity_warnings() == []
 
 
 SEGMENTS = [
     {"law": "dwell", "end": 30},
-    {"law": "polynomial", "end": 110, "lift": 12, "start_jerk": 0, "end_velocity": 9, "end_acceleration": -3, "points": [[60, 3.5]]},
+    {
+        "law": "polynomial",
+        "end": 110,
+        "lift": 12,
+        "start_jerk": 0,
+        "end_velocity": 9,
+        "end_acceleration": -3,
+        "points": [[60, 3.5]],
+    },
     {"law": "polynomial", "end": 190, "lift": 8, "start_velocity": 9, "start_acceleration": -3, "end_jerk": 5},
     {"law": "polynomial", "end": 330, "lift": -20, "start_jerk": 5, "points": [[250, -9], [300, -18]]},
     {"law": "dwell", "end": 360},
@@ -91,7 +108,12 @@ def test_every_condition_is_met_by_autodiff_of_the_program():
         if seg["law"] == "polynomial":
             at0, at1 = math.radians(start) + eps, math.radians(seg["end"]) - eps
             want0 = [base, seg.get("start_velocity", 0), seg.get("start_acceleration", 0), seg.get("start_jerk")]
-            want1 = [base + seg["lift"], seg.get("end_velocity", 0), seg.get("end_acceleration", 0), seg.get("end_jerk")]
+            want1 = [
+                base + seg["lift"],
+                seg.get("end_velocity", 0),
+                seg.get("end_acceleration", 0),
+                seg.get("end_jerk"),
+            ]
             for k in range(4):
                 for at, want in ((at0, want0[k]), (at1, want1[k])):
                     if want is not None:
@@ -104,14 +126,25 @@ def test_every_condition_is_met_by_autodiff_of_the_program():
 
 
 def test_oscillating_conditions_are_in_degrees_of_swing():
-    deg = Program.from_segments([{"law": "polynomial", "end": 180, "lift": 15, "end_velocity": 2}, {"law": "polynomial", "end": 360, "lift": -15, "start_velocity": 2}], unit="rad")
+    deg = Program.from_segments(
+        [
+            {"law": "polynomial", "end": 180, "lift": 15, "end_velocity": 2},
+            {"law": "polynomial", "end": 360, "lift": -15, "start_velocity": 2},
+        ],
+        unit="rad",
+    )
     th = jnp.deg2rad(jnp.array([180.0 - 1e-7]))
     assert math.degrees(float(deg(th)[1][0])) == pytest.approx(2.0, rel=1e-5)
     assert math.degrees(float(deg(jnp.deg2rad(jnp.array([180.0])))[0][0])) == pytest.approx(15.0, rel=1e-9)
 
 
 def test_overshoot_warning_says_by_how_much_and_where():
-    prog = Program.from_segments([{"law": "polynomial", "end": 180, "lift": 20, "points": [[100, 2], [170, 19]]}, {"law": "polynomial", "end": 360, "lift": -20}])
+    prog = Program.from_segments(
+        [
+            {"law": "polynomial", "end": 180, "lift": 20, "points": [[100, 2], [170, 19]]},
+            {"law": "polynomial", "end": 360, "lift": -20},
+        ]
+    )
     (warning,) = prog.polynomial_warnings()
     th = np.linspace(0.0, 180.0, 180001)
     s = np.asarray(prog.host(np.deg2rad(th)))[0]
@@ -122,18 +155,35 @@ def test_overshoot_warning_says_by_how_much_and_where():
 
 def test_ill_conditioned_polynomial_is_warned():
     points = [[10 + 160 * (i + 1) / 8, 20 * ((i + 1) / 8) ** 2] for i in range(7)]
-    prog = Program.from_segments([{"law": "polynomial", "end": 180, "lift": 20, "start_jerk": 0, "end_jerk": 0, "points": points}, {"law": "polynomial", "end": 360, "lift": -20}])
+    prog = Program.from_segments(
+        [
+            {"law": "polynomial", "end": 180, "lift": 20, "start_jerk": 0, "end_jerk": 0, "points": points},
+            {"law": "polynomial", "end": 360, "lift": -20},
+        ]
+    )
     assert any("ill-conditioned (condition number" in w and "degree 14" in w for w in prog.polynomial_warnings())
 
 
 @pytest.mark.parametrize(
     "segment, where, text",
     [
-        ({"law": "cycloidal", "end": 180, "lift": 20, "start_velocity": 1}, "[1].start_velocity", 'only a law = "polynomial" segment'),
+        (
+            {"law": "cycloidal", "end": 180, "lift": 20, "start_velocity": 1},
+            "[1].start_velocity",
+            'only a law = "polynomial" segment',
+        ),
         ({"law": "polynomial", "end": 180, "lift": 20, "end_jrek": 0}, "[1].end_jrek", "did you mean 'end_jerk'"),
         ({"law": "polynomal", "end": 180, "lift": 20}, "[1].law", "did you mean 'polynomial'"),
-        ({"law": "polynomial", "end": 180, "lift": 20, "points": [[60, 3]]}, "[1].points[0]", "outside the segment (90 to 180 deg)"),
-        ({"law": "polynomial", "end": 180, "lift": 20, "points": [[120, 3], [110, 2]]}, "[1].points[1]", "not after the previous point"),
+        (
+            {"law": "polynomial", "end": 180, "lift": 20, "points": [[60, 3]]},
+            "[1].points[0]",
+            "outside the segment (90 to 180 deg)",
+        ),
+        (
+            {"law": "polynomial", "end": 180, "lift": 20, "points": [[120, 3], [110, 2]]},
+            "[1].points[1]",
+            "not after the previous point",
+        ),
         ({"law": "polynomial", "end": 180}, "[1].lift", 'use law = "dwell"'),
     ],
 )
@@ -145,7 +195,15 @@ def test_schema_refusals(segment, where, text):
 
 def test_case_file_errors_name_the_key(capsys, tmp_path):
     case = tmp_path / "bad.toml"
-    case.write_text(_toml([{"law": "dwell", "end": 90}, {"law": "harmonic", "end": 180, "lift": 20, "end_jerk": 0}, {"law": "cycloidal", "end": 360, "lift": -20}]))
+    case.write_text(
+        _toml(
+            [
+                {"law": "dwell", "end": 90},
+                {"law": "harmonic", "end": 180, "lift": 20, "end_jerk": 0},
+                {"law": "cycloidal", "end": 360, "lift": -20},
+            ]
+        )
+    )
     assert main(["check", str(case)]) == 2
     err = capsys.readouterr().err.strip()
     assert len(err.splitlines()) == 1 and "motion.segments[1].end_jerk" in err and "polynomial" in err

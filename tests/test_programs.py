@@ -41,7 +41,9 @@ def test_programs_persist_and_static_fields_are_part_of_the_key(tmp_path, monkey
     assert len(list(tmp_path.glob("_value-*.jaxexport"))) == 4
     # a new wrapper (as in a fresh process) reads the programs back instead of tracing
     second = programs.cached_jit(_value)
-    assert np.allclose(second(cube, x, 1.0), 3 * x**3 + 1) and np.allclose(second(Poly(jnp.asarray(-1.0), 2), x, 1.0), 1 - x**2)
+    assert np.allclose(second(cube, x, 1.0), 3 * x**3 + 1) and np.allclose(
+        second(Poly(jnp.asarray(-1.0), 2), x, 1.0), 1 - x**2
+    )
     assert len(list(tmp_path.glob("_value-*.jaxexport"))) == 4
     # under a transformation the plain jit runs (exported programs have no batching rule)
     assert np.allclose(jax.vmap(lambda c: second(Poly(c, 2), x, 0.0))(jnp.arange(3.0)), np.arange(3.0)[:, None] * x**2)

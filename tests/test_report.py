@@ -21,8 +21,21 @@ from camdyn.design.sizing import SpringSizing
 from camdyn.model.case import case_from_dict, load_case
 from camdyn.model.dynamics import Separation
 from camdyn.plot import (
-    face_extremes, plot_cam_profile, plot_contact_force, plot_curvature, plot_displacement, plot_feasible_region, plot_force_vs_speed,
-    plot_jump_map, plot_mechanism, plot_path, plot_path_error, plot_pressure_angle, plot_svaj, plot_vibration, square_face,
+    face_extremes,
+    plot_cam_profile,
+    plot_contact_force,
+    plot_curvature,
+    plot_displacement,
+    plot_feasible_region,
+    plot_force_vs_speed,
+    plot_jump_map,
+    plot_mechanism,
+    plot_path,
+    plot_path_error,
+    plot_pressure_angle,
+    plot_svaj,
+    plot_vibration,
+    square_face,
 )
 from camdyn.report import A4, DPI, PAGES, STYLE, ReportData, render
 from camdyn.report.pages import draw_parts, draw_springs
@@ -31,6 +44,7 @@ from camdyn.report.pages.summary import key_results
 ROOT = Path(__file__).resolve().parents[1]
 LECTURE = ROOT / "cases" / "lecture.toml"
 # slow: a test that takes a reviewed case (JAX compiles the dynamics, the sizing and the jump map) or runs the CLI to the end
+
 
 # ------------------------------------------------------------------------------------------------ fixtures
 @pytest.fixture(scope="session")
@@ -54,8 +68,15 @@ def expected_slugs(case) -> list[str]:
     """The pages a case has, from what the case is: a cam page where there is a cam follower, a mechanism page
     where a linkage was synthesized; the parts (drive, contact, spring) on every case."""
     return [
-        "summary", "svaj", *(["cam"] if case.follower is not None else []), "dynamics", *(["mechanism"] if case.synthesis is not None else []),
-        *(["optimization"] if case.spec.optimized_from else []), "parts", "springs", "manufacturing",
+        "summary",
+        "svaj",
+        *(["cam"] if case.follower is not None else []),
+        "dynamics",
+        *(["mechanism"] if case.synthesis is not None else []),
+        *(["optimization"] if case.spec.optimized_from else []),
+        "parts",
+        "springs",
+        "manufacturing",
     ]
 
 
@@ -143,10 +164,16 @@ def test_spring_page_agrees_with_the_check(lecture_review):
     assert (sz.current.rate, sz.current.preload) == (2.0, 30.0)
     assert sz.current.kinematic_jump_rpm == pytest.approx(chk.kinematic["jump_speed_rpm"], rel=1e-3)
     assert sz.current.dynamic_jump_rpm == pytest.approx(chk.dynamic["jump_speed_rpm"], rel=1e-3)
-    assert sz.chosen.least_force >= sz.min_contact_force - 1e-6 and sz.chosen.dynamic_jump_rpm >= sz.top_speed_rpm * (1 - 1e-3)
+    assert sz.chosen.least_force >= sz.min_contact_force - 1e-6 and sz.chosen.dynamic_jump_rpm >= sz.top_speed_rpm * (
+        1 - 1e-3
+    )
     assert sz.chosen.peak_spring < sz.current.peak_spring
     jm = lecture_review.jump_map
-    assert jm.preload == 30.0 and jm.spring_rates[-1] == pytest.approx(sz.region_rate[-1]) and jm.speeds_rpm[-1] > chk.dynamic["jump_speed_rpm"]
+    assert (
+        jm.preload == 30.0
+        and jm.spring_rates[-1] == pytest.approx(sz.region_rate[-1])
+        and jm.speeds_rpm[-1] > chk.dynamic["jump_speed_rpm"]
+    )
     assert jm.separated.any() and not jm.separated[:, -1][jm.speeds_rpm < 300.0].any()
 
 
@@ -157,7 +184,11 @@ def test_pages_titles_and_names(lecture):
     slugs = expected_slugs(review.case)
     assert slugs == ["summary", "svaj", "cam", "dynamics", "parts", "springs", "manufacturing"]
     assert [p.name for p in written.pngs] == [f"lecture-{i}-{s}.png" for i, s in enumerate(slugs, start=1)]
-    assert written.titles[0] == "Summary" and written.titles[-1] == "Segments and manufacturing" and written.verdict == "pass"
+    assert (
+        written.titles[0] == "Summary"
+        and written.titles[-1] == "Segments and manufacturing"
+        and written.verdict == "pass"
+    )
     assert written.pdf.name == "lecture.pdf" and pdf_pages(written.pdf) == len(slugs)
     raw = written.pdf.read_bytes()
     assert b"CreationDate" not in raw and b"ModDate" not in raw and b"camdyn design review: lecture" in raw
@@ -171,13 +202,28 @@ def test_each_page_shows_its_content(lecture_review):
     text = drawn_pages(lecture_review)
     assert list(text) == expected_slugs(lecture_review.case)
     assert "PASS" in text["summary"] and all(c.name in text["summary"] for c in chk.checks)
-    assert f"{chk.dynamic['min_contact_force_N']:.4g} N at {chk.dynamic['min_contact_force_deg']:.1f}\u00b0" in text["summary"]
-    for quantity in ("lift s", "velocity ds/d\u03b8", "acceleration d\u00b2s/d\u03b8\u00b2", "jerk d\u00b3s/d\u03b8\u00b3", "time at 300 rpm (ms)"):
+    assert (
+        f"{chk.dynamic['min_contact_force_N']:.4g} N at {chk.dynamic['min_contact_force_deg']:.1f}\u00b0"
+        in text["summary"]
+    )
+    for quantity in (
+        "lift s",
+        "velocity ds/d\u03b8",
+        "acceleration d\u00b2s/d\u03b8\u00b2",
+        "jerk d\u00b3s/d\u03b8\u00b3",
+        "time at 300 rpm (ms)",
+    ):
         assert quantity in text["svaj"]
     assert "acceleration jumps -22.5 mm/rad\u00b2" in text["svaj"] and "infinite jerk" in text["svaj"]
     geo = chk.geometry
-    assert f"max pressure angle {geo.max_pressure_angle_deg:.1f}\u00b0" in text["cam"] and "radius of curvature" in text["cam"]
-    assert "interface force at 300 rpm" in text["dynamics"] and "speed_margin 1.25 \u00d7 speed = 375 rpm" in text["dynamics"]
+    assert (
+        f"max pressure angle {geo.max_pressure_angle_deg:.1f}\u00b0" in text["cam"]
+        and "radius of curvature" in text["cam"]
+    )
+    assert (
+        "interface force at 300 rpm" in text["dynamics"]
+        and "speed_margin 1.25 \u00d7 speed = 375 rpm" in text["dynamics"]
+    )
     assert f"dynamic jump speed {chk.dynamic['jump_speed_rpm']:.0f} rpm" in text["dynamics"]
     assert "Springs compared" in text["springs"] and "jump map" in text["springs"]
 
@@ -193,11 +239,16 @@ def test_path_case_gets_the_mechanism_page(path_case):
     review, written = path_case
     slugs = expected_slugs(review.case)
     assert slugs == ["summary", "svaj", "cam", "dynamics", "mechanism", "parts", "springs", "manufacturing"]
-    assert [p.name for p in written.pngs] == [f"racetrack-{i}-{s}.png" for i, s in enumerate(slugs, start=1)] and pdf_pages(written.pdf) == 8
+    assert [p.name for p in written.pngs] == [
+        f"racetrack-{i}-{s}.png" for i, s in enumerate(slugs, start=1)
+    ] and pdf_pages(written.pdf) == 8
     for png in written.pngs:
         assert_looks_like_a_page(png)
     text = drawn_pages(review)
-    assert all(f"\u03b8 = {a}\u00b0" in text["mechanism"] for a in range(0, 360, 60)) and "path: target and traced" in text["mechanism"]
+    assert (
+        all(f"\u03b8 = {a}\u00b0" in text["mechanism"] for a in range(0, 360, 60))
+        and "path: target and traced" in text["mechanism"]
+    )
     assert "swing \u03c8" in text["svaj"] and "torque / lever arm" in text["dynamics"]
     # the drawings and the path plots fill the page: no band of it is left empty
     with matplotlib.rc_context(STYLE):
@@ -232,7 +283,13 @@ def flat_review(lecture_review):
     parts of the review are the lecture's (the pages tested here do not draw them)."""
     raw = tomllib.loads(LECTURE.read_text())
     raw["name"] = "flat"
-    raw["follower"] = {"type": "translating-flat", "base_radius": 40.0, "offset": 5.0, "face_width": 60.0, "rotation": "cw"}
+    raw["follower"] = {
+        "type": "translating-flat",
+        "base_radius": 40.0,
+        "offset": 5.0,
+        "face_width": 60.0,
+        "rotation": "cw",
+    }
     case = case_from_dict(raw)
     return dataclasses.replace(lecture_review, case=case, check=run_check(case))
 
@@ -249,13 +306,18 @@ def test_flat_face_shows_the_contact_travel_not_a_zero_pressure_angle(flat_revie
     assert t_hi == pytest.approx(2 * 20.0 / (np.pi / 2) - 5.0, rel=1e-9) and th_hi == pytest.approx(135.0)
     assert t_lo == pytest.approx(-10.0 * 1.5 - 5.0, rel=1e-9) and th_lo == pytest.approx(300.0)
     text = drawn_pages(flat_review)
-    assert "contact on the face from t = -20.0 mm (\u03b8 = 300.0\u00b0) to +20.5 mm (\u03b8 = 135.0\u00b0): travel 40.46 of face_width 60 mm" in text["cam"]
+    assert (
+        "contact on the face from t = -20.0 mm (\u03b8 = 300.0\u00b0) to +20.5 mm (\u03b8 = 135.0\u00b0): travel 40.46 of face_width 60 mm"
+        in text["cam"]
+    )
     assert "pressure angle 0 all round" in text["cam"] and "t from the axis (mm)" in text["cam"]
     assert "max pressure angle" not in text["cam"] + text["summary"] and "follower motion" not in text["cam"]
     rows = dict(key_results(ReportData(flat_review)))
     assert rows["pressure angle"] == "0 all round (face square to its motion)"
     assert rows["contact on the face"] == "t = -20.00 to +20.46 mm (face centred at +0.23)"
-    assert "(above 0: no cusp)" in text["summary"] and not re.search(r"\(\+\d{4,}%\)", text["summary"])  # no margin in % of 1e-6 mm
+    assert "(above 0: no cusp)" in text["summary"] and not re.search(
+        r"\(\+\d{4,}%\)", text["summary"]
+    )  # no margin in % of 1e-6 mm
 
 
 @pytest.mark.slow
@@ -266,7 +328,9 @@ def test_roller_cam_page_labels_do_not_overlap(lecture_review):
         next(p for p in PAGES if p.slug == "cam").draw(fig, data)
         fig.canvas.draw()
     (ax,) = [ax for ax in fig.axes if ax.get_aspect() == 1.0]
-    boxes = {t.get_text(): t.get_window_extent() for t in ax.texts if t.get_text() in ("contact normal", "follower motion")}
+    boxes = {
+        t.get_text(): t.get_window_extent() for t in ax.texts if t.get_text() in ("contact normal", "follower motion")
+    }
     assert len(boxes) == 2 and not boxes["contact normal"].overlaps(boxes["follower motion"])
 
 
@@ -290,7 +354,9 @@ def test_plot_functions_draw_public_results(lecture_review):
     assert plot_jump_map(axes[12], rv.jump_map) is not None
     assert all(ax.lines or ax.collections or ax.patches for ax in axes)
     least = f"least {chk.dynamic['min_contact_force_N']:.3g} N at {chk.dynamic['min_contact_force_deg']:.1f}\u00b0"
-    assert not axes[7].texts and least in [t.get_text() for t in axes[7].get_legend().get_texts()]  # named in the legend
+    assert not axes[7].texts and least in [
+        t.get_text() for t in axes[7].get_legend().get_texts()
+    ]  # named in the legend
     assert axes[7].get_title() == "interface force at 300 rpm"
 
 
@@ -313,7 +379,9 @@ def test_force_panel_says_where_the_follower_leaves(lecture_review):
     plot_contact_force(ax2, resp)
     flights = resp.flights
     assert flights and not ax1.texts and not ax2.texts
-    assert [tuple(line.get_xdata()) for line in ax2.lines if line.get_marker() == "v"] == [tuple(f.leave_deg for f in flights)]
+    assert [tuple(line.get_xdata()) for line in ax2.lines if line.get_marker() == "v"] == [
+        tuple(f.leave_deg for f in flights)
+    ]
     labels = [t.get_text() for t in ax2.get_legend().get_texts()]
     assert f"leaves the cam ({len(flights)} flight{'s' if len(flights) > 1 else ''})" in labels
     assert any(t.startswith(f"impact ({len(resp.impacts)}), largest {resp.max_impact_force:.4g} N") for t in labels)
@@ -400,7 +468,12 @@ def test_an_optimized_case_is_compared_with_its_original():
     the motion and the force against speed of both, with both jump speeds."""
     case = load_case(ROOT / "cases" / "lecture-optimized.toml")
     review = design_review(case, run_check(case))
-    assert review.original.case.name == "lecture" and review.original.check.dynamic["jump_speed_rpm"] == pytest.approx(484.818, abs=0.01)
+    assert review.original.case.name == "lecture" and review.original.check.dynamic["jump_speed_rpm"] == pytest.approx(
+        484.818, abs=0.01
+    )
     text = drawn_pages(review)
     assert list(text) == expected_slugs(case)
-    assert "before: jump speed 485 rpm" in text["optimization"] and f"after: jump speed {review.check.dynamic['jump_speed_rpm']:.0f} rpm" in text["optimization"]
+    assert (
+        "before: jump speed 485 rpm" in text["optimization"]
+        and f"after: jump speed {review.check.dynamic['jump_speed_rpm']:.0f} rpm" in text["optimization"]
+    )

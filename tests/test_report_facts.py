@@ -2,7 +2,6 @@
 shading exactly where the force is zero, page 1's decision-changing facts, jumps only above rounding, the
 title block's hash, the flat face where its check puts it, legends clear of the curves."""
 
-import dataclasses
 import hashlib
 import math
 import tomllib
@@ -22,9 +21,9 @@ from camdyn.model.case import case_from_dict, load_case
 from camdyn.model.dynamics import Response
 from camdyn.plot import flight_spans, plot_contact_force, plot_follower
 from camdyn.report import A4, PAGES, STYLE, ReportData
+from camdyn.report._layout import header
 from camdyn.report.pages.dynamics import _force_panels
 from camdyn.report.pages.manufacturing import manufacturing_rows, segment_rows, title_block
-from camdyn.report._layout import header
 from camdyn.report.pages.summary import decision_facts, draw_summary, key_results
 
 CASES = Path(__file__).resolve().parents[1] / "cases"
@@ -36,7 +35,9 @@ def synthetic(force, model="compliant", period_deg=10.0) -> Response:
     n = force.size
     th = np.arange(n) * 360.0 / n
     z = np.zeros(n)
-    return Response(model, 1.0, th, z, z + 0.1 * (force <= 0), z, force, force, (), 0.0, 0.0, contact_period_deg=period_deg)
+    return Response(
+        model, 1.0, th, z, z + 0.1 * (force <= 0), z, force, force, (), 0.0, 0.0, contact_period_deg=period_deg
+    )
 
 
 def test_flights_are_the_runs_of_zero_force_and_impacts_their_landings():
@@ -52,9 +53,19 @@ def test_flights_are_the_runs_of_zero_force_and_impacts_their_landings():
     f[350:] = 0.0  # flight 4 wraps: 350..4 deg
     f[:5] = 0.0
     r = synthetic(f)
-    assert [(fl.leave_deg, fl.land_deg) for fl in r.flights] == [(100.0, 119.0), (200.0, 209.0), (213.0, 219.0), (350.0, 4.0)]
+    assert [(fl.leave_deg, fl.land_deg) for fl in r.flights] == [
+        (100.0, 119.0),
+        (200.0, 209.0),
+        (213.0, 219.0),
+        (350.0, 4.0),
+    ]
     assert r.flights[-1].span_deg == pytest.approx(14.0)
-    assert [(i.deg, i.peak_force, i.peak_deg) for i in r.impacts] == [(120.0, 700.0, 121.0), (210.0, 250.0, 211.0), (220.0, 50.0, 220.0), (5.0, 50.0, 5.0)]
+    assert [(i.deg, i.peak_force, i.peak_deg) for i in r.impacts] == [
+        (120.0, 700.0, 121.0),
+        (210.0, 250.0, 211.0),
+        (220.0, 50.0, 220.0),
+        (5.0, 50.0, 5.0),
+    ]
     assert r.max_impact_force == 700.0
     spans = flight_spans(r)
     assert spans == [(100.0, 119.0), (200.0, 209.0), (213.0, 219.0), (350.0, 360.0), (0.0, 4.0)]
@@ -90,7 +101,19 @@ def light_review(case, check, *, margin=False, tolerance_samples=0) -> Review:
     tol = None
     if case.spec.tolerances is not None:
         tol = _or_reason(tolerance_study, case, tolerance_samples, 0)
-    return Review(case, check, sample_motion(case), margin_rpm, resp, None, "not sized", "no map", _or_reason(design_case_spring, case), None, tol)
+    return Review(
+        case,
+        check,
+        sample_motion(case),
+        margin_rpm,
+        resp,
+        None,
+        "not sized",
+        "no map",
+        _or_reason(design_case_spring, case),
+        None,
+        tol,
+    )
 
 
 @pytest.fixture(scope="module")
@@ -110,7 +133,10 @@ def test_lecture_fast_page_one_counts_the_flights_and_impacts_of_the_plot(fast_r
     assert doc["max_impact_force_N"] == pytest.approx(resp.max_impact_force) == pytest.approx(544.0, rel=0.02)
     for fl, js in zip(resp.flights, doc["flights"]):
         assert (js["leave_deg"], js["land_deg"]) == (fl.leave_deg, fl.land_deg)
-        inside = np.isin(np.round(resp.theta_deg, 6), np.round(np.arange(fl.leave_deg, fl.leave_deg + fl.span_deg + 0.05, 0.1) % 360.0, 6))
+        inside = np.isin(
+            np.round(resp.theta_deg, 6),
+            np.round(np.arange(fl.leave_deg, fl.leave_deg + fl.span_deg + 0.05, 0.1) % 360.0, 6),
+        )
         assert np.all(resp.force[inside] == 0.0)
     assert_shading_is_the_zero_force(resp)
     assert_shading_is_the_zero_force(fast_review.margin_response)
@@ -118,15 +144,23 @@ def test_lecture_fast_page_one_counts_the_flights_and_impacts_of_the_plot(fast_r
     assert len(m.flights) == 3 and len(m.impacts) == 3 and m.max_impact_force == pytest.approx(1530.0, rel=0.03)
     rows = dict(key_results(ReportData(fast_review)))
     assert rows["flights (force 0)"].startswith("8, first at 24.8\u00b0")
-    assert rows["impacts"] == f"8, largest {resp.max_impact_force:.4g} N at {max(resp.impacts, key=lambda i: i.peak_force).peak_deg:.1f}\u00b0"
+    assert (
+        rows["impacts"]
+        == f"8, largest {resp.max_impact_force:.4g} N at {max(resp.impacts, key=lambda i: i.peak_force).peak_deg:.1f}\u00b0"
+    )
     facts = decision_facts(ReportData(fast_review))
-    assert any(f.startswith("the follower leaves the cam: 8 flights") and f"up to {resp.max_impact_force:.4g} N" in f for f in facts)
+    assert any(
+        f.startswith("the follower leaves the cam: 8 flights") and f"up to {resp.max_impact_force:.4g} N" in f
+        for f in facts
+    )
     with matplotlib.rc_context(STYLE):
         fig = Figure(figsize=A4)
         ax = fig.add_subplot()
         plot_contact_force(ax, m)
         labels = [t.get_text() for t in ax.get_legend().get_texts()]
-    assert "leaves the cam (3 flights)" in labels and any(t.startswith(f"impact (3), largest {m.max_impact_force:.4g} N") for t in labels)
+    assert "leaves the cam (3 flights)" in labels and any(
+        t.startswith(f"impact (3), largest {m.max_impact_force:.4g} N") for t in labels
+    )
     assert not ax.texts  # nothing written over the curve
     assert_legend_clear(ax)
     # check's own warnings say the same: one note of the 8 flights and the largest impact, no "leaves ... lands"
@@ -143,7 +177,9 @@ def assert_legend_clear(ax) -> None:
     for line in ax.lines:
         if line.get_transform() != ax.transData:
             continue
-        xy = ax.transData.transform(np.column_stack([np.asarray(line.get_xdata(), float), np.asarray(line.get_ydata(), float)]))
+        xy = ax.transData.transform(
+            np.column_stack([np.asarray(line.get_xdata(), float), np.asarray(line.get_ydata(), float)])
+        )
         inside = (xy[:, 0] > box.x0) & (xy[:, 0] < box.x1) & (xy[:, 1] > box.y0) & (xy[:, 1] < box.y1)
         assert not inside.any(), f"{line.get_label()} under the legend of {ax.get_title()!r}"
 
@@ -158,9 +194,15 @@ def test_square_page_one_says_its_spring_cannot_be_built(path_synthesis):
     assert any(f.startswith("the return spring cannot be built") and review.spring_part in f for f in facts)
     data = ReportData(review)
     rows = segment_rows(data)  # a path: a row per stretch between breaks, its jumps the facts' jumps
-    assert len(rows) == len(data.breaks_deg) and {round(r["end_deg"] % 360.0, 6) for r in rows if r["continuity"] != "C2"} == {round(d, 6) for d, _, _ in data.jumps}
-    assert data.jumps and any(f.startswith(f"acceleration jumps at {len({d for d, o, _ in data.jumps if o == 2})} boundar") for f in facts)
-    assert any("at limit" in f for f in facts) == any(c.name == "curvature" and abs(c.value / c.limit - 1) <= 0.02 for c in review.check.checks)
+    assert len(rows) == len(data.breaks_deg) and {
+        round(r["end_deg"] % 360.0, 6) for r in rows if r["continuity"] != "C2"
+    } == {round(d, 6) for d, _, _ in data.jumps}
+    assert data.jumps and any(
+        f.startswith(f"acceleration jumps at {len({d for d, o, _ in data.jumps if o == 2})} boundar") for f in facts
+    )
+    assert any("at limit" in f for f in facts) == any(
+        c.name == "curvature" and abs(c.value / c.limit - 1) <= 0.02 for c in review.check.checks
+    )
 
 
 @pytest.mark.slow
@@ -169,7 +211,9 @@ def test_lecture_tolerances_page_one_carries_p_separation():
     review = light_review(case, run_check(case), tolerance_samples=64)
     tol = review.tolerance
     facts = decision_facts(ReportData(review))
-    assert any(f.startswith(f"tolerances: P(separation) at {tol.speed_rpm:g} rpm = {tol.probability:.3g}") for f in facts)
+    assert any(
+        f.startswith(f"tolerances: P(separation) at {tol.speed_rpm:g} rpm = {tol.probability:.3g}") for f in facts
+    )
 
 
 @pytest.mark.slow
@@ -201,7 +245,9 @@ def test_title_block_manufacturing_and_segments(lecture_case, lecture_check):
     rise, ret = rows[1], rows[3]
     beta = math.pi / 2
     assert rise["v"] == pytest.approx(2 * 20 / beta, rel=1e-6) and rise["v_deg"] == pytest.approx(135.0, abs=0.25)
-    assert rise["a"] == pytest.approx(2 * math.pi * 20 / beta**2, rel=1e-6) and rise["a_deg"] == pytest.approx(112.5, abs=0.25)
+    assert rise["a"] == pytest.approx(2 * math.pi * 20 / beta**2, rel=1e-6) and rise["a_deg"] == pytest.approx(
+        112.5, abs=0.25
+    )
     assert abs(ret["a"]) == pytest.approx(10 * (math.pi / (2 * math.pi / 3)) ** 2, rel=1e-6)
     assert [r["continuity"] for r in rows] == ["C2", "C2", "acceleration jumps", "acceleration jumps"]
     assert math.isnan(rows[0]["v_deg"])  # a dwell has no peak anywhere
@@ -216,7 +262,13 @@ def test_flat_face_drawn_where_the_face_width_check_puts_it(lecture_case):
     """The face is drawn face_width long, centred on the middle of the contact's travel: both extreme contacts
     lie on it, at the distances from its ends that the check's margin gives."""
     raw = tomllib.loads((CASES / "lecture.toml").read_text())
-    raw["follower"] = {"type": "translating-flat", "base_radius": 40.0, "offset": 5.0, "face_width": 44.0, "rotation": "cw"}
+    raw["follower"] = {
+        "type": "translating-flat",
+        "base_radius": 40.0,
+        "offset": 5.0,
+        "face_width": 44.0,
+        "rotation": "cw",
+    }
     geo = run_check(case_from_dict(raw)).geometry
     lo, hi = geo.face_range_mm
     c = geo.face_centre_mm

@@ -12,12 +12,11 @@ import tomllib
 from pathlib import Path
 
 import pytest
+from _helpers import RIGID_BOUNDARY, run
 
 from camdyn import InputError, load_case, response
 from camdyn._core.units import RPM
 from camdyn.cli import main
-
-from _helpers import run, RIGID_BOUNDARY
 from camdyn.schema import load_case_spec
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -26,7 +25,9 @@ LECTURE = ROOT / "cases" / "lecture.toml"
 
 
 def one_line_error(code: int, err: str) -> bool:
-    return code == 2 and len(err.strip().splitlines()) == 1 and err.startswith("camdyn: ") and "internal error" not in err
+    return (
+        code == 2 and len(err.strip().splitlines()) == 1 and err.startswith("camdyn: ") and "internal error" not in err
+    )
 
 
 @pytest.fixture
@@ -182,7 +183,7 @@ def test_a_folder_is_not_a_case_file_and_a_bom_is_fine(capsys, tmp_path):
         ("spring_rate = 2.0", "spring_rate = 1e12", "dynamics.spring_rate"),
         ("offset = 5", "offset = nan", "follower.offset"),
         ("base_radius = 40", "base_radius = inf", "follower.base_radius"),
-        ('end = 180, lift = 20', 'end = 90.000001, lift = 20', "motion.segments[1].end"),
+        ("end = 180, lift = 20", "end = 90.000001, lift = 20", "motion.segments[1].end"),
     ],
 )
 def test_values_out_of_physical_range_are_refused(capsys, tmp_path, old, new, key):
@@ -371,7 +372,11 @@ def test_fuzz_every_mutant_ends_in_a_verdict_or_one_line(capsys, tmp_path):
 
 def test_profile_of_an_undercut_flat_cam_warns(capsys, tmp_path):
     """Issue 13, 15: `profile` draws an undercut cam (it can be made) but says, as `check` does, that it folds."""
-    text = LECTURE.read_text().replace('type = "translating-roller"', 'type = "translating-flat"').replace("base_radius = 40", "base_radius = 5")
+    text = (
+        LECTURE.read_text()
+        .replace('type = "translating-roller"', 'type = "translating-flat"')
+        .replace("base_radius = 40", "base_radius = 5")
+    )
     text = "\n".join(line for line in text.splitlines() if not line.startswith("roller_radius"))
     case = tmp_path / "flat.toml"
     case.write_text(text)

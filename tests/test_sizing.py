@@ -23,11 +23,11 @@ import pytest
 
 import camdyn.model  # noqa: F401  (float64)
 from camdyn._core.units import RPM
+from camdyn.cli import main
+from camdyn.design.sizing import SpringSizing, size_spring
 from camdyn.model import dynamics as dyn
 from camdyn.model.case import case_from_dict
 from camdyn.model.motion import evaluate
-from camdyn.cli import main
-from camdyn.design.sizing import SpringSizing, size_spring
 from camdyn.plot import plot_feasible_region
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -39,7 +39,12 @@ def eccentric(**dynamics) -> dict:
     d = {"speed": SPEED, "mass": M, "spring_rate": 1.0, "preload": 10.0, "external_force": FEXT} | dynamics
     return {
         "name": "eccentric",
-        "motion": {"segments": [{"law": "harmonic", "end": 180, "lift": 2 * E}, {"law": "harmonic", "end": 360, "lift": -2 * E}]},
+        "motion": {
+            "segments": [
+                {"law": "harmonic", "end": 180, "lift": 2 * E},
+                {"law": "harmonic", "end": 360, "lift": -2 * E},
+            ]
+        },
         "follower": {"type": "translating-flat", "base_radius": 30},
         "dynamics": {k: v for k, v in d.items() if v is not None},
         "limits": {"min_contact_force": FMIN, "speed_margin": MARGIN},
@@ -72,7 +77,11 @@ def test_eccentric_closed_form(ecc):
     binding = {(round(a, 3), round(w, 3)) for a, _, w in ecc.binding}
     assert binding == {(0.0, 0.0), (180.0, round(W / RPM, 3))}
     doc = ecc.json()
-    assert doc["spring_rate_N_per_mm"] == c.rate and doc["preload_N"] == c.preload and doc["peak_spring_force_N"] == c.peak_spring
+    assert (
+        doc["spring_rate_N_per_mm"] == c.rate
+        and doc["preload_N"] == c.preload
+        and doc["peak_spring_force_N"] == c.peak_spring
+    )
     assert doc["jump_speed_rpm"] == pytest.approx(w_jump / RPM, rel=1e-6)
     json.dumps(doc)  # serializable
 
@@ -95,7 +104,11 @@ def brute_force(raw: dict, n: int = 200001):
     case = case_from_dict(raw)
     theta = np.linspace(0.0, 2 * np.pi, n)
     s, s1, s2 = (v * 1e-3 for v in np.asarray(evaluate(case.motion, jnp.asarray(theta)))[:3])
-    m, fmin, w_top = float(case.model.mass), case.limits.min_contact_force, case.limits.speed_margin * case.speed_rpm * RPM
+    m, fmin, w_top = (
+        float(case.model.mass),
+        case.limits.min_contact_force,
+        case.limits.speed_margin * case.speed_rpm * RPM,
+    )
 
     def least_preload(k, c):
         a, b = m * s2, c * s1
@@ -118,7 +131,9 @@ def test_lp_and_sqrt_k_minimization_vs_brute_force(damping):
     raw["limits"] = {"min_contact_force": 10.0, "speed_margin": 1.25}
     sz = size_spring(case_from_dict(raw))
     least_preload = brute_force(raw)
-    damping_at = lambda k: damping.get("damping", 2 * damping.get("damping_ratio", 0.0) * math.sqrt(k * raw["dynamics"]["mass"]))  # noqa: E731
+    damping_at = lambda k: damping.get(
+        "damping", 2 * damping.get("damping_ratio", 0.0) * math.sqrt(k * raw["dynamics"]["mass"])
+    )  # noqa: E731
 
     def peak(k):  # N/m -> the least peak spring force (N) at that rate
         f0, s_max = least_preload(k, damping_at(k))
@@ -135,12 +150,30 @@ def rigid_boundary(**dynamics) -> dict:
     """Issue 13's case: a rise to full lift, a dwell there, a return and a dwell; rigid follower."""
     return {
         "name": "rigid-boundary",
-        "motion": {"segments": [
-            {"law": "harmonic", "end": 120, "lift": 15}, {"law": "dwell", "end": 180},
-            {"law": "harmonic", "end": 300, "lift": -15}, {"law": "dwell", "end": 360},
-        ]},
-        "follower": {"type": "translating-roller", "base_radius": 45, "roller_radius": 12, "offset": 0, "rotation": "cw"},
-        "dynamics": {"speed": 1200, "mass": 0.4, "spring_rate": 3, "preload": 40, "damping_ratio": 0.05, "restitution": 0.3} | dynamics,
+        "motion": {
+            "segments": [
+                {"law": "harmonic", "end": 120, "lift": 15},
+                {"law": "dwell", "end": 180},
+                {"law": "harmonic", "end": 300, "lift": -15},
+                {"law": "dwell", "end": 360},
+            ]
+        },
+        "follower": {
+            "type": "translating-roller",
+            "base_radius": 45,
+            "roller_radius": 12,
+            "offset": 0,
+            "rotation": "cw",
+        },
+        "dynamics": {
+            "speed": 1200,
+            "mass": 0.4,
+            "spring_rate": 3,
+            "preload": 40,
+            "damping_ratio": 0.05,
+            "restitution": 0.3,
+        }
+        | dynamics,
         "limits": {},
     }
 
@@ -215,9 +248,25 @@ def test_dynamic_correction_moves_the_kinematic_answer(fast):
     assert cho.peak_spring > kin.peak_spring and cho.preload > kin.preload
     doc = sz.json()
     corr = doc["dynamic_correction"]
-    assert corr["preload_N"] == pytest.approx(cho.preload - kin.preload) and corr["spring_rate_N_per_mm"] == pytest.approx(cho.rate - kin.rate)
-    for key in ("spring_rate_N_per_mm", "preload_N", "peak_spring_force_N", "jump_speed_rpm", "kinematic_jump_speed_rpm", "dynamic_jump_speed_rpm",
-                "peak_contact_force_N", "max_speed_rpm", "margin", "current", "tie_break", "kinematic_answer", "feasible_region", "at_current_rate"):
+    assert corr["preload_N"] == pytest.approx(cho.preload - kin.preload) and corr[
+        "spring_rate_N_per_mm"
+    ] == pytest.approx(cho.rate - kin.rate)
+    for key in (
+        "spring_rate_N_per_mm",
+        "preload_N",
+        "peak_spring_force_N",
+        "jump_speed_rpm",
+        "kinematic_jump_speed_rpm",
+        "dynamic_jump_speed_rpm",
+        "peak_contact_force_N",
+        "max_speed_rpm",
+        "margin",
+        "current",
+        "tie_break",
+        "kinematic_answer",
+        "feasible_region",
+        "at_current_rate",
+    ):
         assert key in doc
     assert doc["current"]["holds"] is False and doc["at_current_rate"]["holds"] is True
     assert doc["at_current_rate"]["spring_rate_N_per_mm"] == 2.0
@@ -229,7 +278,9 @@ def test_linear_contact_force_matches_linear_min_force(fast):
     w = jnp.linspace(300.0 * RPM, 500.0 * RPM, 16)  # shapes compiled already: 16 (dynamic_jump_speed), 17 (sizing)
     whole = np.asarray(dyn.linear_contact_force(case.motion, case.model, jnp.append(w, 600.0 * RPM)))[:16]
     assert whole.shape == (16, 4096)
-    assert np.allclose(whole.min(axis=1), np.asarray(dyn.linear_min_force(case.motion, case.model, w)), rtol=0, atol=1e-9)
+    assert np.allclose(
+        whole.min(axis=1), np.asarray(dyn.linear_min_force(case.motion, case.model, w)), rtol=0, atol=1e-9
+    )
 
 
 @pytest.mark.slow
@@ -272,7 +323,10 @@ def test_oscillating_rigid_in_torsion_units():
     zeta = raw["dynamics"]["damping_ratio"]
     k, t0 = sz.chosen.rate, sz.chosen.preload
     c = 2 * zeta * math.sqrt(k * inertia)
-    least = min(np.min((inertia * w**2 * phi2 + c * w * phi1 + k * phi + t0) / arm) for w in np.linspace(0, sz.top_speed_rpm * RPM, 41))
+    least = min(
+        np.min((inertia * w**2 * phi2 + c * w * phi1 + k * phi + t0) / arm)
+        for w in np.linspace(0, sz.top_speed_rpm * RPM, 41)
+    )
     assert least == pytest.approx(2.0, abs=1e-4) and least >= 2.0 - 1e-7
 
 

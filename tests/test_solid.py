@@ -26,7 +26,9 @@ def _stl_volume(path: Path) -> float:
     """Signed volume of a binary STL by the divergence theorem (the sum of the tetrahedra on its triangles)."""
     raw = path.read_bytes()
     (n,) = struct.unpack("<I", raw[80:84])
-    tri = np.frombuffer(raw[84 : 84 + 50 * n], dtype=np.dtype([("n", "<f4", 3), ("v", "<f4", (3, 3)), ("a", "<u2")]))["v"]
+    tri = np.frombuffer(raw[84 : 84 + 50 * n], dtype=np.dtype([("n", "<f4", 3), ("v", "<f4", (3, 3)), ("a", "<u2")]))[
+        "v"
+    ]
     tri = tri.astype(float)
     return float(np.sum(np.einsum("ij,ij->i", tri[:, 0], np.cross(tri[:, 1], tri[:, 2])))) / 6.0
 
@@ -43,8 +45,19 @@ def test_keyway_text_and_the_removed_area():
 
 @pytest.mark.parametrize("bad", ["6", "6x", "x2", "-6x2", "6x0", "axb"])
 def test_bad_keyway_is_one_line(capsys, tmp_path, bad):
-    code, _, err = run(capsys, "profile", CASES / "lecture.toml", "-o", tmp_path / "c.step", "--thickness", 10,
-                       "--bore", 20, "--keyway", bad)
+    code, _, err = run(
+        capsys,
+        "profile",
+        CASES / "lecture.toml",
+        "-o",
+        tmp_path / "c.step",
+        "--thickness",
+        10,
+        "--bore",
+        20,
+        "--keyway",
+        bad,
+    )
     assert code == 2 and err.count("\n") == 1 and ("--keyway" in err or "camdyn[cad]" in err)
 
 
@@ -86,7 +99,9 @@ def test_stl_volume_and_inch_step(capsys, tmp_path):
     src, t = CASES / "lecture.toml", 8.0
     assert run(capsys, "profile", src, "-o", tmp_path / "cam.csv")[0] == 0
     for out, units in (("cam.stl", "mm"), ("cam-in.stl", "in"), ("cam-in.step", "in")):
-        code, _, err = run(capsys, "profile", src, "-o", tmp_path / out, "--thickness", t, "--bore", 16, "--units", units)
+        code, _, err = run(
+            capsys, "profile", src, "-o", tmp_path / out, "--thickness", t, "--bore", 16, "--units", units
+        )
         assert code == 0, err
     outline = np.loadtxt(tmp_path / "cam.csv", delimiter=",", skiprows=1)
     expect = (_polygon_area(outline) - removed_area_mm2(16.0, None)) * t
@@ -98,5 +113,7 @@ def test_stl_volume_and_inch_step(capsys, tmp_path):
 
 def test_a_bore_through_the_outline_is_refused(capsys, tmp_path):
     pytest.importorskip("build123d")
-    code, _, err = run(capsys, "profile", CASES / "lecture.toml", "-o", tmp_path / "c.step", "--thickness", 10, "--bore", 85)
+    code, _, err = run(
+        capsys, "profile", CASES / "lecture.toml", "-o", tmp_path / "c.step", "--thickness", 10, "--bore", 85
+    )
     assert code == 2 and "--bore" in err and err.count("\n") == 1 and not (tmp_path / "c.step").exists()

@@ -28,7 +28,7 @@ import pytest
 import camdyn.model  # noqa: F401  (float64)
 from camdyn import InputError
 from camdyn._core.materials import PREFERRED_WIRE_MM, WIRES
-from camdyn.design.spring import SpringRules, design_spring, max_buildable_preload
+from camdyn.design.spring import design_spring, max_buildable_preload
 from camdyn.design.surge import CamHarmonics, cam_harmonics, judge_surge
 from camdyn.model import spring as sp
 from camdyn.model.follower import FollowerModel, with_spring_mass
@@ -144,7 +144,9 @@ def test_end_types_table_10_1(end):
         "squared": (na + 2, d * (na + 3), p * na + 3 * d),
         "squared-ground": (na + 2, d * (na + 2), p * na + 2 * d),
     }[end]
-    assert (sp.total_coils(na, end), sp.solid_length(d, na, end), sp.free_length(p, d, na, end)) == pytest.approx(expect)
+    assert (sp.total_coils(na, end), sp.solid_length(d, na, end), sp.free_length(p, d, na, end)) == pytest.approx(
+        expect
+    )
     assert sp.pitch(sp.free_length(p, d, na, end), d, na, end) == pytest.approx(p)
 
 
@@ -182,7 +184,11 @@ def test_every_designed_spring_meets_its_own_checks():
         try:
             d = design_spring(rate, preload, lift, spec)
         except InputError as err:
-            assert err.where in ("dynamics.spring_rate", "spring.outside_diameter_max", "spring.installed_length") and "\n" not in str(err)
+            assert err.where in (
+                "dynamics.spring_rate",
+                "spring.outside_diameter_max",
+                "spring.installed_length",
+            ) and "\n" not in str(err)
             continue
         built += 1
         s = d.spring
@@ -208,8 +214,20 @@ def test_lecture_spring_is_a_part():
     assert s.surge_frequency == pytest.approx(0.5 * math.sqrt(s.rate * 1e3 / s.active_mass), rel=1e-12)
     assert s.mass == pytest.approx(s.active_mass * s.total_coils / s.active_coils, rel=1e-12)
     out = d.json()
-    for key in ("wire_diameter_mm", "mean_diameter_mm", "outside_diameter_mm", "active_coils", "total_coils", "free_length_mm",
-                "solid_length_mm", "installed_length_mm", "mass_kg", "surge_frequency_Hz", "stress_solid_MPa", "fatigue_safety"):
+    for key in (
+        "wire_diameter_mm",
+        "mean_diameter_mm",
+        "outside_diameter_mm",
+        "active_coils",
+        "total_coils",
+        "free_length_mm",
+        "solid_length_mm",
+        "installed_length_mm",
+        "mass_kg",
+        "surge_frequency_Hz",
+        "stress_solid_MPa",
+        "fatigue_safety",
+    ):
         assert out[key] is not None
 
 
@@ -243,7 +261,9 @@ def test_max_buildable_preload_bounds_the_preload():
 # ------------------------------------------------------------------------------------------ surge
 def test_eccentric_cam_has_one_harmonic():
     e = 5.0
-    motion = Program.from_segments([{"law": "harmonic", "end": 180, "lift": 2 * e}, {"law": "harmonic", "end": 360, "lift": -2 * e}])
+    motion = Program.from_segments(
+        [{"law": "harmonic", "end": 180, "lift": 2 * e}, {"law": "harmonic", "end": 360, "lift": -2 * e}]
+    )
     h = cam_harmonics(motion, 600.0)
     assert h.amplitudes[0] == pytest.approx(e, rel=1e-12) and h.amplitudes[1] == pytest.approx(e, rel=1e-12)
     assert np.max(h.amplitudes[2:]) < 1e-12 * e
@@ -267,7 +287,16 @@ def test_surge_on_a_strong_harmonic_is_a_warning_naming_it():
 # ------------------------------------------------------------------------------------------ mass
 def model(m=0.5, k=2000.0, zeta=0.05, kf=1e6, zeta_f=0.05):
     c, cf = 2 * zeta * math.sqrt(k * m), 2 * zeta_f * math.sqrt(kf * m)
-    vals = dict(mass=m, stiffness=k, preload=30.0, damping=c, external=0.0, train_stiffness=kf, train_damping=cf, restitution=0.0)
+    vals = dict(
+        mass=m,
+        stiffness=k,
+        preload=30.0,
+        damping=c,
+        external=0.0,
+        train_stiffness=kf,
+        train_damping=cf,
+        restitution=0.0,
+    )
     return FollowerModel(**{a: np.asarray(float(v)) for a, v in vals.items()}, damping_ratio=np.asarray(zeta))
 
 

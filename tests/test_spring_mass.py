@@ -38,6 +38,7 @@ def _case(name: str, dynamics: dict | None = None, spring: dict | None = None, l
 
 # ---- an independent model of the spring: a uniform distributed mass (the wave equation), solved exactly ----
 
+
 def _continuum_min_force(s, m, k, c, kf, cf, f0, ms, zeta_s, w):
     """Least interface force (N) of a compliant follower whose spring is a uniform rod of rate k and mass ms
     fixed at its far end: per harmonic its dynamic stiffness at the follower is k* beta cot(beta), k* = k + i w c_s,
@@ -75,9 +76,16 @@ def test_spring_model_changes_checks_jump_speed_as_an_independent_model_does():
     carries a third of the spring's mass: the closed form) and the surge model's (a distributed mass solved
     exactly, no chain), and the JSON names the model."""
     sized = {"spring_rate": 1.361, "preload": 148.2}
-    out = {m: run_check(_case("lecture-fast", sized, None if m == "none" else {"model": m})) for m in ("none", "lumped", "surge")}
+    out = {
+        m: run_check(_case("lecture-fast", sized, None if m == "none" else {"model": m}))
+        for m in ("none", "lumped", "surge")
+    }
     jump = {m: r.dynamic["jump_speed_rpm"] for m, r in out.items()}
-    assert {m: r.json()["dynamic"]["spring_model"] for m, r in out.items()} == {"none": "none", "lumped": "lumped", "surge": "surge"}
+    assert {m: r.json()["dynamic"]["spring_model"] for m, r in out.items()} == {
+        "none": "none",
+        "lumped": "lumped",
+        "surge": "surge",
+    }
     ms = out["lumped"].dynamic["spring_mass_kg"]
     assert out["none"].dynamic["spring_mass_kg"] is None and out["surge"].dynamic["spring_mass_kg"] == ms > 0.0
     # lumped: the follower 0.5 kg plus a third of the spring, no [spring] table
@@ -163,7 +171,10 @@ def test_min_preload_is_honoured(lecture_rigid_case, floor):
     free = size_spring(lecture_rigid_case)
     assert free.chosen.preload < floor
     case = dataclasses.replace(
-        lecture_rigid_case, spec=lecture_rigid_case.spec.model_copy(update={"limits": lecture_rigid_case.spec.limits.model_copy(update={"min_preload": floor})})
+        lecture_rigid_case,
+        spec=lecture_rigid_case.spec.model_copy(
+            update={"limits": lecture_rigid_case.spec.limits.model_copy(update={"min_preload": floor})}
+        ),
     )
     sz = size_spring(case)
     assert sz.chosen.preload == pytest.approx(floor, abs=1e-9) and sz.chosen.rate == pytest.approx(0.0, abs=1e-12)
@@ -175,8 +186,12 @@ def test_min_preload_is_honoured(lecture_rigid_case, floor):
 def test_min_preload_below_the_answer_changes_nothing(lecture_rigid_case):
     free = size_spring(lecture_rigid_case)
     limits = lecture_rigid_case.spec.limits.model_copy(update={"min_preload": 0.5 * free.chosen.preload})
-    sz = size_spring(dataclasses.replace(lecture_rigid_case, spec=lecture_rigid_case.spec.model_copy(update={"limits": limits})))
-    assert (sz.chosen.rate, sz.chosen.preload) == pytest.approx((free.chosen.rate, free.chosen.preload), rel=1e-9, abs=1e-9)
+    sz = size_spring(
+        dataclasses.replace(lecture_rigid_case, spec=lecture_rigid_case.spec.model_copy(update={"limits": limits}))
+    )
+    assert (sz.chosen.rate, sz.chosen.preload) == pytest.approx(
+        (free.chosen.rate, free.chosen.preload), rel=1e-9, abs=1e-9
+    )
 
 
 def test_min_preload_is_a_case_key(tmp_path, capsys):

@@ -19,14 +19,36 @@ from camdyn.model.surge import chain_jump_speed, chain_revolution, chain_steady_
 
 RPM = 2 * math.pi / 60
 LECTURE = {
-    "motion": {"segments": [{"law": "dwell", "end": 90}, {"law": "cycloidal", "end": 180, "lift": 20}, {"law": "dwell", "end": 240}, {"law": "harmonic", "end": 360, "lift": -20}]},
+    "motion": {
+        "segments": [
+            {"law": "dwell", "end": 90},
+            {"law": "cycloidal", "end": 180, "lift": 20},
+            {"law": "dwell", "end": 240},
+            {"law": "harmonic", "end": 360, "lift": -20},
+        ]
+    },
     "follower": {"type": "translating-roller", "base_radius": 40, "roller_radius": 10, "offset": 5},
     "dynamics": {"speed": 300, "mass": 0.5, "spring_rate": 2.0, "preload": 30, "damping_ratio": 0.05},
 }
 VALVE = {
-    "motion": {"segments": [{"law": "dwell", "end": 100}, {"law": "polynomial-345", "end": 180, "lift": 10}, {"law": "polynomial-345", "end": 260, "lift": -10}, {"law": "dwell", "end": 360}]},
+    "motion": {
+        "segments": [
+            {"law": "dwell", "end": 100},
+            {"law": "polynomial-345", "end": 180, "lift": 10},
+            {"law": "polynomial-345", "end": 260, "lift": -10},
+            {"law": "dwell", "end": 360},
+        ]
+    },
     "follower": {"type": "translating-flat", "base_radius": 20},
-    "dynamics": {"speed": 3000, "mass": 0.08, "spring_rate": 30, "preload": 250, "damping_ratio": 0.05, "train_stiffness": 20000, "train_damping_ratio": 0.05},
+    "dynamics": {
+        "speed": 3000,
+        "mass": 0.08,
+        "spring_rate": 30,
+        "preload": 250,
+        "damping_ratio": 0.05,
+        "train_stiffness": 20000,
+        "train_damping_ratio": 0.05,
+    },
 }
 
 
@@ -37,7 +59,11 @@ def test_a_massless_chain_is_the_lumped_spring(train):
     w, n = 300 * RPM, 4096
     fi, _, _ = chain_steady_force(case.motion, case.model, 1e-12, w, n=n)
     theta = np.arange(n) * (2 * math.pi / n)
-    lumped = dyn.steady_force_at(case.motion, case.model, n)(w) if train else dyn.kinematic_force(case.motion, case.model, w, theta)
+    lumped = (
+        dyn.steady_force_at(case.motion, case.model, n)(w)
+        if train
+        else dyn.kinematic_force(case.motion, case.model, w, theta)
+    )
     # what differs is the spring's own inertia (1e-12 kg) and the coils' damper (~ sqrt(m_s): 2e-8 N*s/m)
     np.testing.assert_allclose(fi, np.asarray(lumped), rtol=0, atol=1e-6)
 
@@ -80,5 +106,7 @@ def test_the_case_chooses_its_spring_model():
     lumped = case_from_dict({**VALVE, "spring": {"model": "lumped"}})
     surge = case_from_dict({**VALVE, "spring": {"model": "surge"}})
     w_l = spring_jump_speed(lumped, 0.08, w_max=8000 * RPM)
-    assert w_l == pytest.approx(dyn.dynamic_jump_speed(lumped.motion, with_spring_mass(lumped.model, 0.08), w_max=8000 * RPM))
+    assert w_l == pytest.approx(
+        dyn.dynamic_jump_speed(lumped.motion, with_spring_mass(lumped.model, 0.08), w_max=8000 * RPM)
+    )
     assert spring_jump_speed(surge, 0.08, w_max=8000 * RPM) < 0.9 * w_l

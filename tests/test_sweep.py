@@ -11,15 +11,14 @@ import equinox as eqx
 import jax.numpy as jnp
 import numpy as np
 import pytest
+from _helpers import RIGID_BOUNDARY
 
+from camdyn._core.errors import InputError, NumericalError
 from camdyn._core.units import RPM
+from camdyn.cli import main
+from camdyn.design.sweep import CSV_COLUMNS, MAX_GRID_POINTS, jump_map
 from camdyn.model import dynamics as dyn
 from camdyn.model.case import load_case
-from camdyn.cli import main
-
-from _helpers import RIGID_BOUNDARY
-from camdyn._core.errors import InputError, NumericalError
-from camdyn.design.sweep import CSV_COLUMNS, MAX_GRID_POINTS, jump_map
 from camdyn.model.motion import evaluate
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -74,7 +73,11 @@ def test_map_without_gaps(lecture, small_map, lecture_rigid_case):
     np.testing.assert_array_equal(jm.separated, small_map.separated)
     np.testing.assert_allclose(jm.min_force, small_map.min_force, rtol=0, atol=1e-12)
     np.testing.assert_allclose(jm.contact_force, small_map.contact_force, rtol=0, atol=1e-12)
-    assert small_map.separated.any() and np.all(np.isnan(jm.max_gap[jm.separated])) and np.all(jm.max_gap[~jm.separated] == 0.0)
+    assert (
+        small_map.separated.any()
+        and np.all(np.isnan(jm.max_gap[jm.separated]))
+        and np.all(jm.max_gap[~jm.separated] == 0.0)
+    )
     assert any("gaps not computed" in n for n in jm.notes)
     # a rigid follower: no flights are integrated either
     jr = jump_map(lecture_rigid_case, [100.0, 700.0], [1.0], gaps=False)
@@ -157,7 +160,11 @@ def test_sharded_over_two_devices_equals_one(small_map):
         "assert two.csv == one.csv, (two.csv, one.csv)\n"
         "sys.stdout.write(two.csv)\n"
     )
-    env = os.environ | {"XLA_FLAGS": "--xla_force_host_platform_device_count=2", "JAX_PLATFORMS": "cpu", "EQX_ON_ERROR": "nan"}
+    env = os.environ | {
+        "XLA_FLAGS": "--xla_force_host_platform_device_count=2",
+        "JAX_PLATFORMS": "cpu",
+        "EQX_ON_ERROR": "nan",
+    }
     out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, timeout=300)
     assert out.returncode == 0, out.stderr[-2000:]
     two = np.loadtxt(out.stdout.strip().splitlines()[1:], delimiter=",", usecols=range(5))
@@ -224,7 +231,10 @@ def test_failed_points_are_flagged_and_the_map_goes_on(lecture_rigid_case, monke
     status = [r["status"] for r in rows]
     assert status[:2] == ["ok", "ok"]
     assert status[2] == "failed: rigid model: the flight does not end"
-    assert status[3].startswith("failed: internal error") and "ValueError: f(a) and f(b) must have different signs" in status[3]
+    assert (
+        status[3].startswith("failed: internal error")
+        and "ValueError: f(a) and f(b) must have different signs" in status[3]
+    )
     for r in rows[2:]:
         assert r["min_contact_force_N"] == r["separated"] == r["max_gap_mm"] == "nan"
     assert rows[0]["separated"] == "0" and rows[1]["separated"] == "1" and float(rows[1]["max_gap_mm"]) > 0.0
@@ -252,7 +262,16 @@ def test_issue_case_sweep_writes_its_csv(tmp_path, capsys):
 def test_grid_beyond_the_budget_is_refused(lecture, capsys):
     """Issue 13, 2: an absurd grid is refused at once, in one line naming the budget (exit 2), by the command line
     before it allocates the grid, and by the library before any work."""
-    argv = ["sweep", str(LECTURE), "--speeds", "1:1e6:1000000000", "--spring-rates", "1:2:1000000", "-o", "/nonexistent-camdyn-dir"]
+    argv = [
+        "sweep",
+        str(LECTURE),
+        "--speeds",
+        "1:1e6:1000000000",
+        "--spring-rates",
+        "1:2:1000000",
+        "-o",
+        "/nonexistent-camdyn-dir",
+    ]
     assert main(argv) == 2
     err = capsys.readouterr().err
     assert len(err.strip().splitlines()) == 1 and f"budget of {MAX_GRID_POINTS:,} points" in err

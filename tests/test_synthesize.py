@@ -9,19 +9,25 @@ from pathlib import Path
 import jax.numpy as jnp
 import numpy as np
 import pytest
-
-from camdyn.model.case import load_case
-from camdyn.cli import main
-
 from _helpers import run
+
+from camdyn.cli import main
 from camdyn.design.synthesis import (
-    ccm_objective, ccm_score, curve_error, fourbar_curve, fourbar_objective, pitch_convexity, prime_radius_for_pressure_angle, validate_path_file,
+    ccm_objective,
+    ccm_score,
+    curve_error,
+    fourbar_curve,
+    fourbar_objective,
+    pitch_convexity,
+    prime_radius_for_pressure_angle,
+    validate_path_file,
 )
-from camdyn.model.geometry import analyze as analyze_cam
-from camdyn.model.motion import evaluate
-from camdyn.model.linkage import vmap_scalar
-from camdyn.model.paths import build_path, parse_path
 from camdyn.export import dumps_case
+from camdyn.model.case import load_case
+from camdyn.model.geometry import analyze as analyze_cam
+from camdyn.model.linkage import vmap_scalar
+from camdyn.model.motion import evaluate
+from camdyn.model.paths import build_path, parse_path
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -113,13 +119,21 @@ def test_refuses_to_overwrite_without_force(synthesized, capsys):
     [
         ('name = "x"\n[dynamics]\nspeed = 60.0\nmass = 0.2\nspring_rate = 0.5\n', "path: the [path] table is required"),
         (SQUARE.replace("maxiter = 25", "maxiterr = 25"), "synthesis.maxiterr: unknown key (did you mean 'maxiter'?)"),
-        (SQUARE.replace("corner_radius", "corner_radiu"), "path.corner_radiu: unknown key (did you mean 'corner_radius'?)"),
+        (
+            SQUARE.replace("corner_radius", "corner_radiu"),
+            "path.corner_radiu: unknown key (did you mean 'corner_radius'?)",
+        ),
         (SQUARE.replace("mass = 0.2", "mas = 0.2"), "dynamics.mas: unknown key (did you mean 'mass'?)"),
         (SQUARE.split("[dynamics]")[0], "dynamics: the [dynamics] table is required"),
         (SQUARE.replace("spring_rate = 0.5\n", ""), "dynamics.spring_rate: required key is missing"),
         (SQUARE + '\n[mechanism]\ntype = "ccm"\n', "mechanism: a path file has no [mechanism] table"),
         (SQUARE.replace("width = 40.0", "width = -40.0"), "path.width"),
-        (SQUARE.replace("[limits]", "[limits]\nmax_pressure_angle = 25.0").replace("maxiter = 25", "max_pressure_angle = 35.0"), "synthesis.max_pressure_angle"),
+        (
+            SQUARE.replace("[limits]", "[limits]\nmax_pressure_angle = 25.0").replace(
+                "maxiter = 25", "max_pressure_angle = 35.0"
+            ),
+            "synthesis.max_pressure_angle",
+        ),
         ("[path\n", "TOML"),
     ],
 )
@@ -147,24 +161,44 @@ def test_shipped_path_files_validate():
 
 
 def test_population_score_matches_one_at_a_time_and_exactcurve_error():
-    t = vmap_scalar(build_path(parse_path({"type": "ellipse", "center": [0, 0], "semi_major": 30, "semi_minor": 15})).point, np.arange(256) / 256)
+    t = vmap_scalar(
+        build_path(parse_path({"type": "ellipse", "center": [0, 0], "semi_major": 30, "semi_minor": 15})).point,
+        np.arange(256) / 256,
+    )
     rng = np.random.default_rng(0)
-    x = np.column_stack([rng.uniform(-100, 100, 6), rng.uniform(-100, 100, 6), rng.uniform(-180, 180, 6), rng.uniform(-40, 40, 6), rng.uniform(50, 300, 6)]).T
+    x = np.column_stack(
+        [
+            rng.uniform(-100, 100, 6),
+            rng.uniform(-100, 100, 6),
+            rng.uniform(-180, 180, 6),
+            rng.uniform(-40, 40, 6),
+            rng.uniform(50, 300, 6),
+        ]
+    ).T
     batch = ccm_objective(x, t, 30.0, 10.0)["cost"]
     assert np.allclose(batch, [ccm_score(x[:, i], t, 30.0)[0] for i in range(x.shape[1])])
     # a four-bar whose coupler point is the crank pin traces a circle: error = distance between the circles
     fb = np.array([0.0, 0.0, 80.0, 10.0, 20.0, 90.0, 70.0, 0.0, 0.0, 1.0])
     curve, miss, tmin = fourbar_curve(fb)
     assert miss == 0.0 and 0.0 < tmin <= 90.0
-    circle = 20.5 * np.column_stack([np.cos(np.arange(256) / 256 * 2 * np.pi), np.sin(np.arange(256) / 256 * 2 * np.pi)])
+    circle = 20.5 * np.column_stack(
+        [np.cos(np.arange(256) / 256 * 2 * np.pi), np.sin(np.arange(256) / 256 * 2 * np.pi)]
+    )
     assert float(curve_error(curve, circle)) == pytest.approx(0.5, abs=2e-3)
     assert fourbar_objective(fb[:, None], circle)[0] == pytest.approx(0.5, abs=0.05)  # proxy on every 4th sample
 
 
 def test_dumps_case_keeps_short_arrays_on_one_line():
-    doc = {"name": "x", "description": "two\nlines", "path": {"type": "points", "x": [1, 2.5, 3], "y": [0, 1, 0]}, "mechanism": {"cam_center": [1.25, -3.0]}}
+    doc = {
+        "name": "x",
+        "description": "two\nlines",
+        "path": {"type": "points", "x": [1, 2.5, 3], "y": [0, 1, 0]},
+        "mechanism": {"cam_center": [1.25, -3.0]},
+    }
     text = dumps_case(doc, ["made by a test"])
-    assert text.startswith("# made by a test\n") and "x = [1, 2.5, 3]\n" in text and "cam_center = [1.25, -3.0]\n" in text
+    assert (
+        text.startswith("# made by a test\n") and "x = [1, 2.5, 3]\n" in text and "cam_center = [1.25, -3.0]\n" in text
+    )
     assert tomllib.loads(text) == doc
 
 

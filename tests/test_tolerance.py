@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import json
-import math
 import os
 import socket
 import subprocess
@@ -65,18 +64,42 @@ def test_bad_input_one_line_exit_2(tmp_path, capsys, tolerances, argv, message):
 def test_units_and_distributions_resolve():
     from camdyn.schema import CaseSpec, parse, resolve_tolerances
 
-    spec = parse(CaseSpec, _lecture({"preload": "0.002 kN", "train_stiffness": {"value": "20%", "distribution": "uniform"}, "profile_error": "5 um", "distribution": "normal"}))
+    spec = parse(
+        CaseSpec,
+        _lecture(
+            {
+                "preload": "0.002 kN",
+                "train_stiffness": {"value": "20%", "distribution": "uniform"},
+                "profile_error": "5 um",
+                "distribution": "normal",
+            }
+        ),
+    )
     tol = {t.key: t for t in resolve_tolerances(spec.tolerances, oscillating=False)}
     assert tol["preload"].value == pytest.approx(2.0) and not tol["preload"].relative
-    assert tol["train_stiffness"].distribution == "uniform" and tol["train_stiffness"].relative and tol["train_stiffness"].value == pytest.approx(0.2)
+    assert (
+        tol["train_stiffness"].distribution == "uniform"
+        and tol["train_stiffness"].relative
+        and tol["train_stiffness"].value == pytest.approx(0.2)
+    )
     assert tol["profile_error"].value == pytest.approx(0.005) and tol["profile_error"].distribution == "normal"
 
 
 def test_samples_do_not_depend_on_chunks():
     from camdyn.design.tolerance._sampling import Spread, draw_samples
 
-    nominal = {"spring_rate": 2.0, "preload": 30.0, "mass": 0.5, "train_stiffness": 1000.0, "speed": 300.0, "profile_error": 0.0}
-    spread = {"spring_rate": Spread("spring_rate", 2.0, 0.2, "normal"), "profile_error": Spread("profile_error", 0.0, 0.005, "uniform")}
+    nominal = {
+        "spring_rate": 2.0,
+        "preload": 30.0,
+        "mass": 0.5,
+        "train_stiffness": 1000.0,
+        "speed": 300.0,
+        "profile_error": 0.0,
+    }
+    spread = {
+        "spring_rate": Spread("spring_rate", 2.0, 0.2, "normal"),
+        "profile_error": Spread("profile_error", 0.0, 0.005, "uniform"),
+    }
     a, b = draw_samples(spread, nominal, 1000, 7), draw_samples(spread, nominal, 1000, 7)
     assert all(np.array_equal(a[k], b[k]) for k in a)
     assert np.std(a["spring_rate"]) == pytest.approx(0.2 / 3, rel=0.1)  # tolerance = 3 sigma
@@ -136,8 +159,23 @@ def _one_and_two(args: list[str], tmp_path: Path):
     assert one.returncode == 0, one.stderr
     port = _free_port()
     procs = [
-        subprocess.Popen([*args, "-o", str(tmp_path / "two"), "--coordinator", f"127.0.0.1:{port}", "--num-processes", "2", "--process-id", str(i)],
-                         env=ENV, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+        subprocess.Popen(
+            [
+                *args,
+                "-o",
+                str(tmp_path / "two"),
+                "--coordinator",
+                f"127.0.0.1:{port}",
+                "--num-processes",
+                "2",
+                "--process-id",
+                str(i),
+            ],
+            env=ENV,
+            stdout=subprocess.PIPE,
+            stderr=subprocess.PIPE,
+            text=True,
+        )
         for i in range(2)
     ]
     outs = [p.communicate(timeout=300) for p in procs]
@@ -147,9 +185,21 @@ def _one_and_two(args: list[str], tmp_path: Path):
 
 @pytest.mark.slow
 def test_two_processes_sweep_the_same_map(tmp_path):
-    args = [sys.executable, "-m", "camdyn", "sweep", str(CASES / "lecture.toml"), "--speeds", "200:700:8", "--spring-rates", "1:3:3"]
+    args = [
+        sys.executable,
+        "-m",
+        "camdyn",
+        "sweep",
+        str(CASES / "lecture.toml"),
+        "--speeds",
+        "200:700:8",
+        "--spring-rates",
+        "1:3:3",
+    ]
     _one_and_two(args, tmp_path)
-    assert (tmp_path / "two" / "lecture-sweep.csv").read_bytes() == (tmp_path / "one" / "lecture-sweep.csv").read_bytes()
+    assert (tmp_path / "two" / "lecture-sweep.csv").read_bytes() == (
+        tmp_path / "one" / "lecture-sweep.csv"
+    ).read_bytes()
 
 
 @pytest.mark.slow

@@ -38,7 +38,13 @@ def _option(value, name: str, flag: str):
     return number
 
 
-def initialize(coordinator: str | None = None, num_processes: int | None = None, process_id: int | None = None, *, auto: bool = False) -> int:
+def initialize(
+    coordinator: str | None = None,
+    num_processes: int | None = None,
+    process_id: int | None = None,
+    *,
+    auto: bool = False,
+) -> int:
     """Start JAX's distributed runtime if asked (options, environment, or ``auto`` on a cluster JAX detects);
     returns the number of processes. A no-op (1) for a single process."""
     global _started

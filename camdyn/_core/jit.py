@@ -87,10 +87,13 @@ def cached_jit(fn):
             key = repr((treedef, static, avals))
             exported = programs.get(key)
         if exported is None:
-            name = hashlib.sha256(repr((fn.__module__, fn.__qualname__, _fingerprint(), treedef, static, avals)).encode()).hexdigest()[:32]
+            name = hashlib.sha256(
+                repr((fn.__module__, fn.__qualname__, _fingerprint(), treedef, static, avals)).encode()
+            ).hexdigest()[:32]
             file = _DIR / f"{fn.__name__}-{name}.jaxexport"
             exported = _load(file)
             if exported is None:
+
                 def flat(*xs):
                     a, kw = eqx.combine(jax.tree.unflatten(treedef, xs), static)
                     return fn(*a, **kw)

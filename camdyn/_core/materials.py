@@ -50,16 +50,30 @@ class WireMaterial:
 _INF = float("inf")
 WIRES: dict[str, WireMaterial] = {
     "music-wire": WireMaterial(
-        "music-wire", "A228", ((0.10, 6.5, 0.145, 2211.0),),
+        "music-wire",
+        "A228",
+        ((0.10, 6.5, 0.145, 2211.0),),
         ((0.8, 203.4), (1.61, 200.0), (3.18, 198.2), (_INF, 196.5)),
         ((0.8, 82.7), (1.61, 81.7), (3.18, 81.0), (_INF, 80.0)),
-        7860.0, 0.45, 2.6,
+        7860.0,
+        0.45,
+        2.6,
     ),
-    "oil-tempered": WireMaterial("oil-tempered", "A229", ((0.5, 12.7, 0.187, 1855.0),), ((_INF, 196.5),), ((_INF, 77.2),), 7860.0, 0.50, 1.3),
-    "chrome-silicon": WireMaterial("chrome-silicon", "A401", ((1.6, 9.5, 0.108, 1974.0),), ((_INF, 203.4),), ((_INF, 77.2),), 7860.0, 0.50, 4.0),
+    "oil-tempered": WireMaterial(
+        "oil-tempered", "A229", ((0.5, 12.7, 0.187, 1855.0),), ((_INF, 196.5),), ((_INF, 77.2),), 7860.0, 0.50, 1.3
+    ),
+    "chrome-silicon": WireMaterial(
+        "chrome-silicon", "A401", ((1.6, 9.5, 0.108, 1974.0),), ((_INF, 203.4),), ((_INF, 77.2),), 7860.0, 0.50, 4.0
+    ),
     "stainless-302": WireMaterial(
-        "stainless-302", "A313", ((0.3, 2.5, 0.146, 1867.0), (2.5, 5.0, 0.263, 2065.0), (5.0, 10.0, 0.478, 2911.0)),
-        ((_INF, 193.0),), ((_INF, 69.0),), 7920.0, 0.35, 7.6,
+        "stainless-302",
+        "A313",
+        ((0.3, 2.5, 0.146, 1867.0), (2.5, 5.0, 0.263, 2065.0), (5.0, 10.0, 0.478, 2911.0)),
+        ((_INF, 193.0),),
+        ((_INF, 69.0),),
+        7920.0,
+        0.35,
+        7.6,
     ),
 }
 WIRE_NAMES: tuple[str, ...] = tuple(WIRES)
@@ -70,10 +84,51 @@ ZIMMERLI_MAX_WIRE_MM = 10.0
 
 # Preferred wire diameters, mm: the ISO 3 R40 preferred numbers from 0.5 to 12.5 mm (spring-wire standards such
 # as EN 10270-1 list these sizes among their nominal diameters)
-_R40 = (1.00, 1.06, 1.12, 1.18, 1.25, 1.32, 1.40, 1.50, 1.60, 1.70, 1.80, 1.90, 2.00, 2.12, 2.24, 2.36, 2.50, 2.65,
-        2.80, 3.00, 3.15, 3.35, 3.55, 3.75, 4.00, 4.25, 4.50, 4.75, 5.00, 5.30, 5.60, 6.00, 6.30, 6.70, 7.10, 7.50,
-        8.00, 8.50, 9.00, 9.50)
-PREFERRED_WIRE_MM: tuple[float, ...] = tuple(sorted({round(f * v, 3) for f in (0.1, 1.0, 10.0) for v in _R40 if 0.5 <= f * v <= 12.5}))
+_R40 = (
+    1.00,
+    1.06,
+    1.12,
+    1.18,
+    1.25,
+    1.32,
+    1.40,
+    1.50,
+    1.60,
+    1.70,
+    1.80,
+    1.90,
+    2.00,
+    2.12,
+    2.24,
+    2.36,
+    2.50,
+    2.65,
+    2.80,
+    3.00,
+    3.15,
+    3.35,
+    3.55,
+    3.75,
+    4.00,
+    4.25,
+    4.50,
+    4.75,
+    5.00,
+    5.30,
+    5.60,
+    6.00,
+    6.30,
+    6.70,
+    7.10,
+    7.50,
+    8.00,
+    8.50,
+    9.00,
+    9.50,
+)
+PREFERRED_WIRE_MM: tuple[float, ...] = tuple(
+    sorted({round(f * v, 3) for f in (0.1, 1.0, 10.0) for v in _R40 if 0.5 <= f * v <= 12.5})
+)
 
 
 def unknown_name(kind: str, name: str, names) -> str:

@@ -27,11 +27,15 @@ def _writable_dir(path: Path, what: str) -> Path:
     try:
         path.mkdir(parents=True, exist_ok=True)
     except FileExistsError:
-        raise InputError(str(path), f"a part of this path is a file, not a folder: give a folder for the {what}") from None
+        raise InputError(
+            str(path), f"a part of this path is a file, not a folder: give a folder for the {what}"
+        ) from None
     except OSError as err:
         raise InputError(str(path), f"cannot create the {what} folder: {err.strerror or err}") from None
     if not os.access(path, os.W_OK | os.X_OK):
-        raise InputError(str(path), f"cannot write into this folder (permission denied): give another folder for the {what}")
+        raise InputError(
+            str(path), f"cannot write into this folder (permission denied): give another folder for the {what}"
+        )
     return path
 
 

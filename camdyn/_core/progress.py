@@ -6,7 +6,8 @@ draws it (a rich bar on a terminal). Nothing here draws.
 
 from __future__ import annotations
 
-from typing import Callable, Protocol
+from collections.abc import Callable
+from typing import Protocol
 
 
 class Progress(Protocol):

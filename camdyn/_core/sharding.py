@@ -26,7 +26,7 @@ def _shard_map(f, mesh, in_specs, out_specs):
     return shard_map(f, mesh=mesh, in_specs=in_specs, out_specs=out_specs, check_rep=False)
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def _sharded(kernel: Callable, devices: tuple):
     """``kernel(const, *point)`` vmapped over grid points and sharded over ``devices``, compiled."""
     mesh = Mesh(np.asarray(devices), ("grid",))
@@ -51,7 +51,14 @@ def _to_mesh(const, part, mesh):
     return const, [_global(p, mesh, PartitionSpec("grid")) for p in part]
 
 
-def run_batched(kernel: Callable, const, batched: list[np.ndarray], chunk: int, progress: Callable[[int], None] | None, devices: tuple):
+def run_batched(
+    kernel: Callable,
+    const,
+    batched: list[np.ndarray],
+    chunk: int,
+    progress: Callable[[int], None] | None,
+    devices: tuple,
+):
     """Run ``kernel`` over the rows of ``batched`` in chunks of ``chunk`` points per device (padded)."""
     n_dev = len(devices)
     size = chunk * n_dev * (1 if devices[0].platform == "cpu" else 16)  # accelerators want wide batches

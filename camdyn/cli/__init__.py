@@ -49,9 +49,14 @@ class _Parser(argparse.ArgumentParser):
 
 def build_parser() -> argparse.ArgumentParser:
     common = argparse.ArgumentParser(add_help=False)
-    common.add_argument("--debug", action="store_true", default=argparse.SUPPRESS, help="show the traceback of an error")
+    common.add_argument(
+        "--debug", action="store_true", default=argparse.SUPPRESS, help="show the traceback of an error"
+    )
     common.add_argument("--quiet", action="store_true", help="no progress on stderr (errors are still reported)")
-    parser = _Parser(prog="camdyn", description="Cam mechanism design and follower dynamics: prove the follower never leaves the cam.")
+    parser = _Parser(
+        prog="camdyn",
+        description="Cam mechanism design and follower dynamics: prove the follower never leaves the cam.",
+    )
     parser.add_argument("--version", action="version", version=f"camdyn {_version()}")
     parser.add_argument("--debug", action="store_true", default=False, help="show the traceback of an error")
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
@@ -63,66 +68,144 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("case", help="case file (TOML)")
     p.add_argument("--speed", type=_positive_rpm, metavar="RPM", help="cam speed, rpm (default: the case's)")
     p.add_argument("--json", action="store_true", help="print one JSON document")
-    p.add_argument("--arrays", action="store_true", help="with --json: also the synthesis' coordinate arrays of a path case (pitch curve, contour, path, traced path)")
-    p.add_argument("--report", metavar="DIR", help="also write the design-review report (DIR/<case>.pdf and a PNG per page)")
+    p.add_argument(
+        "--arrays",
+        action="store_true",
+        help="with --json: also the synthesis' coordinate arrays of a path case (pitch curve, contour, path, traced path)",
+    )
+    p.add_argument(
+        "--report", metavar="DIR", help="also write the design-review report (DIR/<case>.pdf and a PNG per page)"
+    )
 
     p = command("report", "design-review report per case: DIR/<case>.pdf and DIR/<case>-<n>-<page>.png")
     p.add_argument("cases", nargs="+", metavar="CASE", help="case files (TOML)")
-    p.add_argument("-o", "--output", default="reports", metavar="DIR", help="output folder (default: reports); camdyn's own report files there are overwritten")
+    p.add_argument(
+        "-o",
+        "--output",
+        default="reports",
+        metavar="DIR",
+        help="output folder (default: reports); camdyn's own report files there are overwritten",
+    )
     p.add_argument("--speed", type=_positive_rpm, metavar="RPM", help="cam speed, rpm (default: each case's)")
 
     p = command("table", "CSV per angle: follower motion, contact force (kinematic and dynamic), cam geometry")
     p.add_argument("case", help="case file (TOML)")
     p.add_argument("--step", type=float, default=1.0, metavar="DEG", help="angle step, deg (default 1)")
-    p.add_argument("--speed", type=_positive_rpm, metavar="RPM", help="cam speed for the forces, rpm (default: the case's)")
+    p.add_argument(
+        "--speed", type=_positive_rpm, metavar="RPM", help="cam speed for the forces, rpm (default: the case's)"
+    )
     p.add_argument("-o", "--output", metavar="FILE", help="write to FILE instead of standard output")
     p.add_argument("--force", action="store_true", help="overwrite FILE if it exists")
-    p.add_argument("--ecam", type=int, metavar="N", help="a servo e-cam table instead: N evenly spaced master angles, master_deg,position,velocity,acceleration (per master degree)")
+    p.add_argument(
+        "--ecam",
+        type=int,
+        metavar="N",
+        help="a servo e-cam table instead: N evenly spaced master angles, master_deg,position,velocity,acceleration (per master degree)",
+    )
 
-    p = command("profile", "the cam for manufacturing by the file suffix: outline (DXF, CSV, SVG), cutter path (.nc), grinder table (.csv), solid (STEP, STL)")
+    p = command(
+        "profile",
+        "the cam for manufacturing by the file suffix: outline (DXF, CSV, SVG), cutter path (.nc), grinder table (.csv), solid (STEP, STL)",
+    )
     p.add_argument("case", help="case file (TOML)")
-    p.add_argument("-o", "--output", required=True, metavar="FILE", help="cam.dxf, cam.csv, cam.svg, cam.nc, cam.step or cam.stl")
-    p.add_argument("--tolerance", type=float, default=DEFAULT_PROFILE_TOLERANCE_MM, metavar="MM",
-                   help=f"chord tolerance, mm (default {DEFAULT_PROFILE_TOLERANCE_MM:g}, at least 1e-6; a cutter path at least 0.001)")
-    p.add_argument("--units", choices=("mm", "in"), default="mm", help="the file's length unit (default mm); the options stay in mm")
+    p.add_argument(
+        "-o", "--output", required=True, metavar="FILE", help="cam.dxf, cam.csv, cam.svg, cam.nc, cam.step or cam.stl"
+    )
+    p.add_argument(
+        "--tolerance",
+        type=float,
+        default=DEFAULT_PROFILE_TOLERANCE_MM,
+        metavar="MM",
+        help=f"chord tolerance, mm (default {DEFAULT_PROFILE_TOLERANCE_MM:g}, at least 1e-6; a cutter path at least 0.001)",
+    )
+    p.add_argument(
+        "--units",
+        choices=("mm", "in"),
+        default="mm",
+        help="the file's length unit (default mm); the options stay in mm",
+    )
     p.add_argument("--force", action="store_true", help="overwrite FILE if it exists")
     g = p.add_argument_group("CNC cutter path (.nc, ISO G-code)")
-    g.add_argument("--cutter-radius", type=float, metavar="MM", help="the end mill's radius, mm: the path is its centre, offset by camdyn")
+    g.add_argument(
+        "--cutter-radius",
+        type=float,
+        metavar="MM",
+        help="the end mill's radius, mm: the path is its centre, offset by camdyn",
+    )
     g.add_argument("--feed", type=float, metavar="MM_PER_MIN", help="feed rate, mm/min (default 300)")
     sense = g.add_mutually_exclusive_group()
     sense.add_argument("--climb", action="store_true", help="climb milling, clockwise round the cam (the default)")
-    sense.add_argument("--conventional", action="store_true", help="conventional milling, counterclockwise round the cam")
+    sense.add_argument(
+        "--conventional", action="store_true", help="conventional milling, counterclockwise round the cam"
+    )
     g.add_argument("--arcs", action="store_true", help="G02/G03 arcs fitted within the tolerance instead of lines")
     g = p.add_argument_group("cam grinder table (.csv)")
-    g.add_argument("--grinder-wheel-radius", type=float, metavar="MM", help="the wheel's radius, mm: theta_deg,wheel_center_mm per cam angle")
-    g.add_argument("--follower-lift", action="store_true", help="the follower's lift per cam angle instead: theta_deg,lift_mm (lift_deg oscillating)")
+    g.add_argument(
+        "--grinder-wheel-radius",
+        type=float,
+        metavar="MM",
+        help="the wheel's radius, mm: theta_deg,wheel_center_mm per cam angle",
+    )
+    g.add_argument(
+        "--follower-lift",
+        action="store_true",
+        help="the follower's lift per cam angle instead: theta_deg,lift_mm (lift_deg oscillating)",
+    )
     g.add_argument("--step", type=float, metavar="DEG", help="angle step of a grinder table, deg (default 0.5)")
     g = p.add_argument_group("solid (.step, .stl; pip install 'camdyn[cad]')")
     g.add_argument("--thickness", type=float, metavar="MM", help="the cam plate's thickness, mm")
     g.add_argument("--bore", type=float, metavar="MM", help="the shaft bore's diameter, mm")
-    g.add_argument("--keyway", metavar="WIDTHxDEPTH", help="a keyway in the bore, mm: its width and its depth beyond the bore, on the cam frame's +y axis")
+    g.add_argument(
+        "--keyway",
+        metavar="WIDTHxDEPTH",
+        help="a keyway in the bore, mm: its width and its depth beyond the bore, on the cam frame's +y axis",
+    )
 
     p = command("size", "return spring (rate, preload) with the least peak force that holds up to margin x speed")
     p.add_argument("case", help="case file (TOML)")
     p.add_argument("--max-speed", type=float, metavar="RPM", help="maximum cam speed, rpm (default: the case's speed)")
-    p.add_argument("--margin", type=float, metavar="X", help="hold up to X times the maximum speed (default: the case's speed_margin)")
-    p.add_argument("--min-rate", type=float, default=0.0, metavar="K", help="least spring rate, N/mm (N*m/rad oscillating; default 0)")
-    p.add_argument("--buildable", action="store_true", help=(
-        "the least peak force over springs that can be built within [spring] (surge clear of the cam's strong harmonics), "
-        "with the part's own mass; passes check as written"
-    ))
-    p.add_argument("--verbose", action="store_true", help="also say how ties between springs and the damping are handled")
+    p.add_argument(
+        "--margin",
+        type=float,
+        metavar="X",
+        help="hold up to X times the maximum speed (default: the case's speed_margin)",
+    )
+    p.add_argument(
+        "--min-rate",
+        type=float,
+        default=0.0,
+        metavar="K",
+        help="least spring rate, N/mm (N*m/rad oscillating; default 0)",
+    )
+    p.add_argument(
+        "--buildable",
+        action="store_true",
+        help=(
+            "the least peak force over springs that can be built within [spring] (surge clear of the cam's strong harmonics), "
+            "with the part's own mass; passes check as written"
+        ),
+    )
+    p.add_argument(
+        "--verbose", action="store_true", help="also say how ties between springs and the damping are handled"
+    )
     p.add_argument("--json", action="store_true", help="print one JSON document")
 
     p = command("sweep", "jump map over speeds x spring rates: DIR/<case>-sweep.csv and DIR/<case>-sweep.png")
     p.add_argument("case", help="case file (TOML)")
     p.add_argument("--speeds", required=True, metavar="A:B:N", help="cam speeds, rpm: N values from A to B")
-    p.add_argument("--spring-rates", metavar="A:B:N", help="spring rates, N/mm (N*m/rad oscillating): N values from A to B (default: the case's); the preload stays the case's")
+    p.add_argument(
+        "--spring-rates",
+        metavar="A:B:N",
+        help="spring rates, N/mm (N*m/rad oscillating): N values from A to B (default: the case's); the preload stays the case's",
+    )
     p.add_argument("-o", "--output", default=".", metavar="DIR", help="output folder (default: the current one)")
     p.add_argument("--force", action="store_true", help="overwrite the files if they exist")
     _distributed_options(p)
 
-    p = command("tolerance", "Monte Carlo tolerance study of [tolerances]: DIR/<case>-tolerance.csv, .png and the worst samples as case files")
+    p = command(
+        "tolerance",
+        "Monte Carlo tolerance study of [tolerances]: DIR/<case>-tolerance.csv, .png and the worst samples as case files",
+    )
     p.add_argument("case", help="case file (TOML) with a [tolerances] table")
     p.add_argument("--samples", type=int, default=10000, metavar="N", help="built cams to draw (default 10000)")
     p.add_argument("--seed", type=int, default=0, metavar="S", help="random seed (default 0)")
@@ -131,49 +214,104 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--json", action="store_true", help="print one JSON document")
     _distributed_options(p)
 
-    p = command("synthesize", "choose a CCM's dimensions for a path (differential evolution) and write a complete case file")
-    p.add_argument("case", metavar="PATH.toml", help="path file: [path], [dynamics], optional name, description, [limits], [synthesis]")
+    p = command(
+        "synthesize", "choose a CCM's dimensions for a path (differential evolution) and write a complete case file"
+    )
+    p.add_argument(
+        "case",
+        metavar="PATH.toml",
+        help="path file: [path], [dynamics], optional name, description, [limits], [synthesis]",
+    )
     p.add_argument("-o", "--output", required=True, metavar="CASE.toml", help="the case file to write")
     p.add_argument("--force", action="store_true", help="overwrite CASE.toml if it exists")
     p.add_argument("--seed", type=int, metavar="N", help="optimizer seed (default: [synthesis] seed, else 0)")
-    p.add_argument("--maxiter", type=int, metavar="N", help="most optimizer generations (default: [synthesis] maxiter, else 200)")
-    p.add_argument("--json", action="store_true", help="print one JSON document (the mechanism, the summary and the four-bar comparison)")
+    p.add_argument(
+        "--maxiter", type=int, metavar="N", help="most optimizer generations (default: [synthesis] maxiter, else 200)"
+    )
+    p.add_argument(
+        "--json",
+        action="store_true",
+        help="print one JSON document (the mechanism, the summary and the four-bar comparison)",
+    )
 
-    p = command("optimize", "reshape every rise and return (B-splines) for the fastest hold, the least vibration or the least spring force")
+    p = command(
+        "optimize",
+        "reshape every rise and return (B-splines) for the fastest hold, the least vibration or the least spring force",
+    )
     p.add_argument("case", help="case file (TOML) with [motion] segments")
     p.add_argument("-o", "--output", required=True, metavar="OUT.toml", help="the optimized case file to write")
-    p.add_argument("--objective", choices=("jump-speed", "vibration", "spring-force"), default="jump-speed", help="what to optimize (default: jump-speed)")
+    p.add_argument(
+        "--objective",
+        choices=("jump-speed", "vibration", "spring-force"),
+        default="jump-speed",
+        help="what to optimize (default: jump-speed)",
+    )
     p.add_argument("--speed", type=_positive_rpm, metavar="RPM", help="design speed, rpm (default: the case's)")
-    p.add_argument("--min-force", type=float, metavar="F", help="the least contact force to keep at every speed up to "
-                   "the claimed one, N (N*m for an arm; default: 5 %% of the static preload)")
-    p.add_argument("--control-points", type=int, metavar="N", help="B-spline control points per rise and return "
-                   "(default: 16)")
-    p.add_argument("--robust", action="store_true", help="claim the speed up to which P(separation) <= 1e-3 over the "
-                   "case's [tolerances]")
+    p.add_argument(
+        "--min-force",
+        type=float,
+        metavar="F",
+        help="the least contact force to keep at every speed up to "
+        "the claimed one, N (N*m for an arm; default: 5 %% of the static preload)",
+    )
+    p.add_argument(
+        "--control-points", type=int, metavar="N", help="B-spline control points per rise and return (default: 16)"
+    )
+    p.add_argument(
+        "--robust",
+        action="store_true",
+        help="claim the speed up to which P(separation) <= 1e-3 over the case's [tolerances]",
+    )
     p.add_argument("--force", action="store_true", help="overwrite OUT.toml if it exists")
     p.add_argument("--json", action="store_true", help="print one JSON document (before, after, verification)")
 
-    p = command("spring", "the helical compression spring for the case's rate and preload: wire, coils, lengths, stresses, surge")
-    p.add_argument("case", help="case file (TOML); an optional [spring] table gives the material, bore, installed length and end type")
+    p = command(
+        "spring",
+        "the helical compression spring for the case's rate and preload: wire, coils, lengths, stresses, surge",
+    )
+    p.add_argument(
+        "case",
+        help="case file (TOML); an optional [spring] table gives the material, bore, installed length and end type",
+    )
     p.add_argument("--json", action="store_true", help="print one JSON document")
 
     p = command("machine", "many cams on one shaft: each checked at its speed, shaft torque, flywheel, clearances")
     p.add_argument("case", metavar="MACHINE.toml", help="machine file: name, speed, [[cam]] case and phase, [drive]")
-    p.add_argument("-o", "--output", default=".", metavar="DIR",
-                   help="output folder for DIR/<machine>-machine.csv (default: the current one)")
+    p.add_argument(
+        "-o",
+        "--output",
+        default=".",
+        metavar="DIR",
+        help="output folder for DIR/<machine>-machine.csv (default: the current one)",
+    )
     p.add_argument("--json", action="store_true", help="print one JSON document")
-    p.add_argument("--report", action="store_true",
-                   help="also write the machine report: DIR/<machine>-machine.pdf and a PNG per page")
+    p.add_argument(
+        "--report",
+        action="store_true",
+        help="also write the machine report: DIR/<machine>-machine.pdf and a PNG per page",
+    )
     p.add_argument("--force", action="store_true", help="overwrite the files if they exist")
     return parser
 
 
 def _distributed_options(p: argparse.ArgumentParser) -> None:
     """JAX's distributed runtime (see camdyn/_core/distributed.py): the options of the batched commands."""
-    p.add_argument("--coordinator", metavar="HOST:PORT", help="several processes: the coordinator's address (or CAMDYN_COORDINATOR)")
+    p.add_argument(
+        "--coordinator",
+        metavar="HOST:PORT",
+        help="several processes: the coordinator's address (or CAMDYN_COORDINATOR)",
+    )
     p.add_argument("--num-processes", metavar="N", help="several processes: how many (or CAMDYN_NUM_PROCESSES)")
-    p.add_argument("--process-id", metavar="I", help="several processes: this one's index, 0 writes the outputs (or CAMDYN_PROCESS_ID)")
-    p.add_argument("--distributed", action="store_true", help="start JAX's distributed runtime from what it detects (SLURM, Open MPI)")
+    p.add_argument(
+        "--process-id",
+        metavar="I",
+        help="several processes: this one's index, 0 writes the outputs (or CAMDYN_PROCESS_ID)",
+    )
+    p.add_argument(
+        "--distributed",
+        action="store_true",
+        help="start JAX's distributed runtime from what it detects (SLURM, Open MPI)",
+    )
 
 
 def _enable_caches() -> None:
@@ -248,7 +386,10 @@ def main(argv: list[str] | None = None) -> int:
     except Exception as err:  # a bug: still one line (exit 2), the traceback on request
         if args.debug:
             traceback.print_exc()
-        print(f"camdyn: {source + ': ' if source else ''}internal error: {type(err).__name__}: {err} (run with --debug for the traceback)", file=sys.stderr)
+        print(
+            f"camdyn: {source + ': ' if source else ''}internal error: {type(err).__name__}: {err} (run with --debug for the traceback)",
+            file=sys.stderr,
+        )
         return 2
 
 

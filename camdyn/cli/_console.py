@@ -42,7 +42,13 @@ def progress_bar(quiet: bool = False):
     if quiet:
         yield lambda phase, done, total: None
     elif sys.stderr.isatty():
-        columns = (SpinnerColumn(), TextColumn("{task.description:<34}"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn())
+        columns = (
+            SpinnerColumn(),
+            TextColumn("{task.description:<34}"),
+            BarColumn(),
+            MofNCompleteColumn(),
+            TimeElapsedColumn(),
+        )
         with Progress(*columns, console=Console(stderr=True)) as bar:
             tasks: dict = {}
 

@@ -30,11 +30,16 @@ def _option_errors(args, suffix: str) -> None:
     """Refuse an option that does not apply to the file asked for: nothing the user gave is silently ignored."""
     grind = args.grinder_wheel_radius is not None
     given = {
-        "--cutter-radius": args.cutter_radius is not None, "--feed": args.feed is not None, "--arcs": args.arcs,
-        "--climb/--conventional": args.conventional or args.climb, "--grinder-wheel-radius": grind,
-        "--follower-lift": args.follower_lift, "--step": args.step is not None,
+        "--cutter-radius": args.cutter_radius is not None,
+        "--feed": args.feed is not None,
+        "--arcs": args.arcs,
+        "--climb/--conventional": args.conventional or args.climb,
+        "--grinder-wheel-radius": grind,
+        "--follower-lift": args.follower_lift,
+        "--step": args.step is not None,
         "--thickness": args.thickness is not None,
-        "--bore": args.bore is not None, "--keyway": args.keyway is not None,
+        "--bore": args.bore is not None,
+        "--keyway": args.keyway is not None,
     }
     takes = {
         ".nc": {"--cutter-radius", "--feed", "--arcs", "--climb/--conventional"},
@@ -55,11 +60,19 @@ def _option_errors(args, suffix: str) -> None:
     if args.step is not None and not (grind or args.follower_lift):
         raise InputError("--step", "is the angle step of a grinder table (--grinder-wheel-radius or --follower-lift)")
     if not MIN_TOLERANCE_MM <= args.tolerance <= MAX_TOLERANCE_MM:
-        raise InputError("--tolerance", f"must be between {MIN_TOLERANCE_MM:g} and {MAX_TOLERANCE_MM:g} mm, got {args.tolerance:g} mm")
+        raise InputError(
+            "--tolerance",
+            f"must be between {MIN_TOLERANCE_MM:g} and {MAX_TOLERANCE_MM:g} mm, got {args.tolerance:g} mm",
+        )
     if args.step is not None:
         table_angles(args.step)
-    for flag, value in (("--cutter-radius", args.cutter_radius), ("--grinder-wheel-radius", args.grinder_wheel_radius),
-                        ("--feed", args.feed), ("--thickness", args.thickness), ("--bore", args.bore)):
+    for flag, value in (
+        ("--cutter-radius", args.cutter_radius),
+        ("--grinder-wheel-radius", args.grinder_wheel_radius),
+        ("--feed", args.feed),
+        ("--thickness", args.thickness),
+        ("--bore", args.bore),
+    ):
         if value is not None and not (0 < value < 1e6):
             raise InputError(flag, f"must be a positive number (got {value:g})")
 
@@ -87,8 +100,9 @@ def run(args) -> int:
         raise InputError("follower", "the case has no cam follower geometry")
     geo = analyze(case.motion, case.follower)
     lim = case.limits
-    _, warnings, _ = judge_geometry(geo, case.motion, max_pressure_angle=lim.max_pressure_angle,
-                                    min_curvature_ratio=lim.min_curvature_ratio)
+    _, warnings, _ = judge_geometry(
+        geo, case.motion, max_pressure_angle=lim.max_pressure_angle, min_curvature_ratio=lim.min_curvature_ratio
+    )
     if suffix == ".nc":
         line = _cutter_path(args, case, geo, out)
     elif grind:
@@ -127,7 +141,9 @@ def _cutter_path(args, case, geo, out: Path) -> str:
     tol, rc = args.tolerance, args.cutter_radius
     if tol < MIN_MACHINING_TOLERANCE_MM:
         least = MIN_MACHINING_TOLERANCE_MM
-        raise InputError("--tolerance", f"a cutter path needs at least {least:g} mm (a machine's resolution), got {tol:g} mm")
+        raise InputError(
+            "--tolerance", f"a cutter path needs at least {least:g} mm (a machine's resolution), got {tol:g} mm"
+        )
     _check_tool(geo, rc, tol, "cutter")
     path = cutter_path(geo.contour_fn(), geo.offset_fn, rc, tol, climb=not args.conventional, arcs=args.arcs)
     feed = DEFAULT_FEED_MM_PER_MIN if args.feed is None else args.feed
@@ -172,8 +188,7 @@ def _grinder(args, case, geo, out: Path) -> str:
     rows = "\n".join(f"{t:.4f},{fmt % v}" for t, v in zip(theta, val))
     write_new(out, f"theta_deg,{col}\n{rows}\n", args.force)
     return (
-        f"wrote {args.output}: {len(theta)} angles every {step:g} deg, {what}, {col} "
-        f"{val.min():.4f}..{val.max():.4f}"
+        f"wrote {args.output}: {len(theta)} angles every {step:g} deg, {what}, {col} {val.min():.4f}..{val.max():.4f}"
     )
 
 
@@ -181,8 +196,16 @@ def _solid(args, geo, out: Path) -> str:
     from ..export import solid
 
     keyway = solid.parse_keyway(args.keyway) if args.keyway else None
-    info = solid.write_solid(geo.contour_fn(), out, thickness_mm=args.thickness, bore_mm=args.bore, keyway_mm=keyway,
-                             tolerance_mm=args.tolerance, units=args.units, force=args.force)
+    info = solid.write_solid(
+        geo.contour_fn(),
+        out,
+        thickness_mm=args.thickness,
+        bore_mm=args.bore,
+        keyway_mm=keyway,
+        tolerance_mm=args.tolerance,
+        units=args.units,
+        force=args.force,
+    )
     return (
         f"wrote {args.output}: cam plate {args.thickness:g} mm thick, volume {info['volume_mm3']:.1f} mm^3, "
         f"outline within {info['outline_deviation_mm']:.4f} mm of the contour (tolerance {args.tolerance:g} mm)"

@@ -24,7 +24,9 @@ def print_size(sz: SpringSizing, verbose: bool = False) -> None:
     )
     jump = lambda w: "none" if w == float("inf") else f"{w:.1f}"  # noqa: E731
     fmt = lambda x, scale: f"{0.0 if abs(x) < 1e-9 * max(1.0, abs(scale)) else x:.4g}"  # noqa: E731
-    designs = [("chosen" if sz.part is not None else "bound", sz.chosen)]  # plain size: a bound on the force, not a part
+    designs = [
+        ("chosen" if sz.part is not None else "bound", sz.chosen)
+    ]  # plain size: a bound on the force, not a part
     designs += [("kinematic LP", sz.kinematic)] if sz.model == "compliant" else []
     designs += [("current", sz.current), ("current rate", sz.at_current_rate)]
     table = Table(show_edge=False, pad_edge=False, box=None, header_style="bold")
@@ -41,9 +43,14 @@ def print_size(sz: SpringSizing, verbose: bool = False) -> None:
     table.add_row("kinematic jump speed (rpm)", *(jump(d.kinematic_jump_rpm) for d in ds))
     table.add_row("dynamic jump speed (rpm)", *(jump(d.dynamic_jump_rpm) for d in ds))
     holds = (d.holds(sz.min_contact_force) for d in ds)
-    table.add_row(f"holds up to {sz.top_speed_rpm:.4g} rpm", *("[green]yes[/green]" if h else "[bold red]no[/bold red]" for h in holds))
+    table.add_row(
+        f"holds up to {sz.top_speed_rpm:.4g} rpm",
+        *("[green]yes[/green]" if h else "[bold red]no[/bold red]" for h in holds),
+    )
     console.print(table)
-    console.print("[dim]contact forces: over every angle and every speed up to the top speed; current rate: the least preload that holds with the case's own rate[/dim]")
+    console.print(
+        "[dim]contact forces: over every angle and every speed up to the top speed; current rate: the least preload that holds with the case's own rate[/dim]"
+    )
     if sz.model == "compliant":
         c, k = sz.chosen, sz.kinematic
         console.print(
@@ -56,14 +63,33 @@ def print_size(sz: SpringSizing, verbose: bool = False) -> None:
     if sz.dynamic_binding is not None:
         line += f"; dynamic: {sz.dynamic_binding[0]:.1f} deg at {sz.dynamic_binding[1]:.4g} rpm"
     console.print(line)
-    region = Table(show_edge=False, pad_edge=False, box=None, header_style="bold", title="feasible region: preload >= least preload(rate)", title_justify="left")
-    for col in (f"rate ({u['rate']})", f"least preload ({u['preload']}): kinematic", "dynamic", f"peak spring ({u['spring']})"):
+    region = Table(
+        show_edge=False,
+        pad_edge=False,
+        box=None,
+        header_style="bold",
+        title="feasible region: preload >= least preload(rate)",
+        title_justify="left",
+    )
+    for col in (
+        f"rate ({u['rate']})",
+        f"least preload ({u['preload']}): kinematic",
+        "dynamic",
+        f"peak spring ({u['spring']})",
+    ):
         region.add_column(col, justify="right", no_wrap=True)
     n = len(sz.region_rate)
     for i in np.unique(np.linspace(0, n - 1, 6).round().astype(int)):
-        dyn_pre = sz.region_preload_dynamic[i] if sz.region_preload_dynamic is not None else sz.region_preload_kinematic[i]
+        dyn_pre = (
+            sz.region_preload_dynamic[i] if sz.region_preload_dynamic is not None else sz.region_preload_kinematic[i]
+        )
         peak = sz.region_rate[i] * sz.s_max + dyn_pre
-        region.add_row(f"{sz.region_rate[i]:.4g}", fmt(sz.region_preload_kinematic[i], peak), "-" if sz.region_preload_dynamic is None else fmt(dyn_pre, peak), f"{peak:.4g}")
+        region.add_row(
+            f"{sz.region_rate[i]:.4g}",
+            fmt(sz.region_preload_kinematic[i], peak),
+            "-" if sz.region_preload_dynamic is None else fmt(dyn_pre, peak),
+            f"{peak:.4g}",
+        )
     console.print(region)
     if verbose:  # how ties are broken and how damping follows the rate: the method, not the answer
         console.print(f"[dim]tie-break:[/dim] {TIE_BREAK}")

@@ -12,9 +12,13 @@ from ._console import console, json_text, notes, table
 def _rows(d: SpringDesign):
     s = d.spring
     lengths_mm = {
-        "wire diameter": s.wire_diameter, "mean coil diameter": s.mean_diameter, "free length": s.free_length,
-        "installed length (preload)": d.installed_length, "length at full lift": d.full_lift_length,
-        "solid length": s.solid_length, "pitch": s.pitch,
+        "wire diameter": s.wire_diameter,
+        "mean coil diameter": s.mean_diameter,
+        "free length": s.free_length,
+        "installed length (preload)": d.installed_length,
+        "length at full lift": d.full_lift_length,
+        "solid length": s.solid_length,
+        "pitch": s.pitch,
     }
     for name, mm in lengths_mm.items():
         yield name, f"{mm:.4g}", "mm"
@@ -38,18 +42,35 @@ def print_spring(case_name: str, d: SpringDesign, lever_arm: float | None) -> No
         t.add_row(*row)
     con.print(t)
     w = table(("working point", "left"), ("length mm", "right"), ("force N", "right"), ("stress MPa", "right"))
-    for name, length, force in (("installed", d.installed_length, d.preload), ("full lift", d.full_lift_length, d.full_lift_force), ("solid", s.solid_length, s.solid_force)):
+    for name, length, force in (
+        ("installed", d.installed_length, d.preload),
+        ("full lift", d.full_lift_length, d.full_lift_force),
+        ("solid", s.solid_length, s.solid_force),
+    ):
         w.add_row(name, f"{length:.1f}", f"{force:.4g}", f"{float(s.stress(force)):.4g}")
     con.print(w)
     sut, ssy = s.strengths
-    con.print(f"[dim]wire: Sut {sut:.4g} MPa, torsional yield {ssy:.4g} MPa (Shigley Tables 10-4, 10-6); stresses with the Bergstrasser factor[/dim]")
-    c = table(("check", "left"), ("value", "right"), ("", "center"), ("limit", "right"), ("unit", "left"), ("result", "left"))
+    con.print(
+        f"[dim]wire: Sut {sut:.4g} MPa, torsional yield {ssy:.4g} MPa (Shigley Tables 10-4, 10-6); stresses with the Bergstrasser factor[/dim]"
+    )
+    c = table(
+        ("check", "left"), ("value", "right"), ("", "center"), ("limit", "right"), ("unit", "left"), ("result", "left")
+    )
     for chk in d.checks:
         value = "unbounded" if chk.value is None else f"{chk.value:.4g}"
-        c.add_row(chk.name, value, chk.sense, f"{chk.limit:.4g}", chk.unit, "[green]pass[/green]" if chk.ok else "[bold red]FAIL[/bold red]")
+        c.add_row(
+            chk.name,
+            value,
+            chk.sense,
+            f"{chk.limit:.4g}",
+            chk.unit,
+            "[green]pass[/green]" if chk.ok else "[bold red]FAIL[/bold red]",
+        )
     con.print(c)
     notes(con, "warning", "yellow", d.warnings)
-    con.print(f"spring: [bold]{s.material} d {s.wire_diameter:g} mm, D {s.mean_diameter:.2f} mm, {s.active_coils:g} active / {s.total_coils:g} total coils, free length {s.free_length:.1f} mm[/bold]")
+    con.print(
+        f"spring: [bold]{s.material} d {s.wire_diameter:g} mm, D {s.mean_diameter:.2f} mm, {s.active_coils:g} active / {s.total_coils:g} total coils, free length {s.free_length:.1f} mm[/bold]"
+    )
 
 
 def run(args) -> int:
@@ -58,7 +79,13 @@ def run(args) -> int:
     design = design_case_spring(case)
     lever_arm = case.spec.spring.lever_arm if case.oscillating else None
     if args.json:
-        doc = {"case": case.name, "rate_N_per_mm": loads.rate, "preload_N": loads.preload, "lift_mm": loads.lift, "spring": design.json()}
+        doc = {
+            "case": case.name,
+            "rate_N_per_mm": loads.rate,
+            "preload_N": loads.preload,
+            "lift_mm": loads.lift,
+            "spring": design.json(),
+        }
         if lever_arm is not None:
             doc["lever_arm_mm"] = lever_arm
         print(json_text(doc))

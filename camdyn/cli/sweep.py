@@ -40,7 +40,9 @@ def _parse_grid(flag: str, text: str) -> tuple[float, float, int]:
 def run(args) -> int:
     speed_grid = _parse_grid("--speeds", args.speeds)
     rate_grid = _parse_grid("--spring-rates", args.spring_rates) if args.spring_rates is not None else None
-    check_grid_size(speed_grid[2], 1 if rate_grid is None else rate_grid[2], "--speeds x --spring-rates")  # before allocating it
+    check_grid_size(
+        speed_grid[2], 1 if rate_grid is None else rate_grid[2], "--speeds x --spring-rates"
+    )  # before allocating it
     speeds = np.linspace(*speed_grid)
     rates = None if rate_grid is None else np.linspace(*rate_grid)
     initialize(args.coordinator, args.num_processes, args.process_id, auto=args.distributed)
@@ -67,12 +69,17 @@ def run(args) -> int:
         f"{jm.spring_rates.size} spring rates {jm.spring_rates[0]:g}-{jm.spring_rates[-1]:g} {ku}), {jm.model} follower, "
         f"{elapsed:.1f} s on {jm.devices} device(s)"
     )
-    print(f"preload kept at the case's {jm.preload:g} {jm.preload_unit} while the spring rate varies" + ("; spring rates are torsion rates, N*m/rad (column spring_rate_N_m_per_rad)" if jm.oscillating else ""))
+    print(
+        f"preload kept at the case's {jm.preload:g} {jm.preload_unit} while the spring rate varies"
+        + ("; spring rates are torsion rates, N*m/rad (column spring_rate_N_m_per_rad)" if jm.oscillating else "")
+    )
     gap = np.nanmax(jm.max_gap) if n_sep and np.isfinite(jm.max_gap).any() else 0.0
     least = float(np.nanmin(jm.min_force)) if np.isfinite(jm.min_force).any() else math.nan
     n_failed = int(np.count_nonzero(jm.failed))
     print(
-        f"separated at {n_sep} of {jm.separated.size} points" + (f" (largest gap {gap:.4g} mm)" if n_sep else "") + f"; least contact force on the map {least:.4g} N"
+        f"separated at {n_sep} of {jm.separated.size} points"
+        + (f" (largest gap {gap:.4g} mm)" if n_sep else "")
+        + f"; least contact force on the map {least:.4g} N"
         + (f"; {n_failed} point(s) failed (status column)" if n_failed else "")
     )
     for note in jm.notes:

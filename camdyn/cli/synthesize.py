@@ -18,7 +18,9 @@ def print_synthesize(res, output: Path, elapsed: float) -> None:
     console = _console.console()
     s, m = res.summary, res.mechanism
     fb = s.get("fourbar")
-    console.print(f"[bold]{res.case.name}[/bold]  CCM for the {res.case.spec.path.type} path, dimensions by differential evolution (seed {s['seed']})")
+    console.print(
+        f"[bold]{res.case.name}[/bold]  CCM for the {res.case.spec.path.type} path, dimensions by differential evolution (seed {s['seed']})"
+    )
     table = Table(show_edge=False, pad_edge=False, box=None, header_style="bold")
     table.add_column("")
     table.add_column("CCM", justify="right", no_wrap=True)
@@ -29,19 +31,31 @@ def print_synthesize(res, output: Path, elapsed: float) -> None:
     table.add_row("coupler (mm)", f(s["coupler_mm"]), f(fb["coupler"]) if fb else "")
     table.add_row("link C-E / rocker (mm)", f(m["link"]), f(fb["rocker"]) if fb else "")
     table.add_row("stroke (mm)", f(s["stroke_mm"]), "-" if fb else "")
-    table.add_row("least transmission angle (deg)", f"{min(s['min_transmission_angle_deg'], s['min_slider_angle_deg']):.1f}", f"{fb['min_transmission_angle_deg']:.1f}" if fb else "")
+    table.add_row(
+        "least transmission angle (deg)",
+        f"{min(s['min_transmission_angle_deg'], s['min_slider_angle_deg']):.1f}",
+        f"{fb['min_transmission_angle_deg']:.1f}" if fb else "",
+    )
     table.add_row("base radius (mm)", f"{s['base_radius_mm']:g}", "-" if fb else "")
     err = lambda x: f"{x:.2g}" if x < 1e-3 else f"{x:.4g}"  # noqa: E731
     table.add_row("max path error (mm)", err(s["max_path_error_mm"]), err(s["fourbar_path_error_mm"]) if fb else "")
-    table.add_row("optimizer converged", conv(s["optimizer_converged"], s["generations"]), conv(fb["optimizer_converged"], fb["generations"]) if fb else "")
+    table.add_row(
+        "optimizer converged",
+        conv(s["optimizer_converged"], s["generations"]),
+        conv(fb["optimizer_converged"], fb["generations"]) if fb else "",
+    )
     console.print(table)
-    console.print(f"[dim]cam centre ({m['cam_center'][0]:g}, {m['cam_center'][1]:g}) mm, slider line through ({m['slider_point'][0]:g}, {m['slider_point'][1]:g}) mm at {m['slider_angle']:g} deg, crank turns {s['rotation']}; objective {s['objective']}[/dim]")
+    console.print(
+        f"[dim]cam centre ({m['cam_center'][0]:g}, {m['cam_center'][1]:g}) mm, slider line through ({m['slider_point'][0]:g}, {m['slider_point'][1]:g}) mm at {m['slider_angle']:g} deg, crank turns {s['rotation']}; objective {s['objective']}[/dim]"
+    )
     for note in res.notes:
         console.print(f"[cyan]note:[/cyan] {escape(note)}")
     for w in s["warnings"]:
         console.print(f"[yellow]warning:[/yellow] {escape(w)}")
     if not res.constraints_met:
-        console.print(f"[bold red]constraints not met:[/bold red] {escape('; '.join(s['violations']))} (try a larger --maxiter or another --seed)")
+        console.print(
+            f"[bold red]constraints not met:[/bold red] {escape('; '.join(s['violations']))} (try a larger --maxiter or another --seed)"
+        )
     console.print(f"wrote {output} in {elapsed:.1f} s; next: camdyn check {output}")
 
 
@@ -51,11 +65,21 @@ def run(args) -> int:
         raise InputError(str(out), "is the input path file; write the case to another file")
     t0 = time.perf_counter()
     with _console.progress_bar(args.quiet) as progress:
-        res = synthesize_case(args.spec, source=Path(args.case), name=out.stem, seed=args.seed, maxiter=args.maxiter, progress=progress)
+        res = synthesize_case(
+            args.spec, source=Path(args.case), name=out.stem, seed=args.seed, maxiter=args.maxiter, progress=progress
+        )
     elapsed = time.perf_counter() - t0
     write_new(out, res.text, args.force)
     if args.json:
-        doc = {"output": str(out), "constraints_met": res.constraints_met, "time_s": elapsed, "mechanism": res.mechanism, "dynamics": res.dynamics, "summary": res.summary, "notes": res.notes}
+        doc = {
+            "output": str(out),
+            "constraints_met": res.constraints_met,
+            "time_s": elapsed,
+            "mechanism": res.mechanism,
+            "dynamics": res.dynamics,
+            "summary": res.summary,
+            "notes": res.notes,
+        }
         print(_console.json_text(doc))
     else:
         print_synthesize(res, out, elapsed)

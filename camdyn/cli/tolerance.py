@@ -8,8 +8,8 @@ import time
 from pathlib import Path
 
 from .._core.distributed import initialize, is_writer
-from .._core.outputs import output_dir, output_file, safe_stem, write_new
 from .._core.errors import InputError
+from .._core.outputs import output_dir, output_file, safe_stem, write_new
 from ..design.tolerance import MAX_SAMPLES, tolerance_study, worst_case_docs
 from ..export.toml import dumps_case
 from ..model.case import build_case
@@ -18,25 +18,41 @@ from ._console import console, json_text, progress_bar, table
 
 
 def _paths(out: Path, stem: str, worst: int) -> dict:
-    return {"csv": out / f"{stem}-tolerance.csv", "png": out / f"{stem}-tolerance.png",
-            "worst": [out / f"{stem}-worst-{r}.toml" for r in range(1, worst + 1)]}
+    return {
+        "csv": out / f"{stem}-tolerance.csv",
+        "png": out / f"{stem}-tolerance.png",
+        "worst": [out / f"{stem}-worst-{r}.toml" for r in range(1, worst + 1)],
+    }
 
 
 def json_doc(result, worst_files, elapsed: float) -> dict:
     """The ``--json`` document (keys only ever added)."""
     return {
-        "case": result.case, "samples": result.samples, "seed": result.seed,
-        "probability_of_separation": result.probability, "confidence_interval": list(result.confidence_interval),
-        "jump_speed_rpm": result.percentiles(result.jump_speed_rpm), "least_contact_force_N": result.percentiles(result.least_force),
+        "case": result.case,
+        "samples": result.samples,
+        "seed": result.seed,
+        "probability_of_separation": result.probability,
+        "confidence_interval": list(result.confidence_interval),
+        "jump_speed_rpm": result.percentiles(result.jump_speed_rpm),
+        "least_contact_force_N": result.percentiles(result.least_force),
         "sensitivities": result.sensitivities,
         "worst": [
-            {"sample": i, "file": str(f), "least_contact_force_N": float(result.least_force[i]), "jump_speed_rpm": float(result.jump_speed_rpm[i]),
-             "separated": bool(result.least_force[i] <= 0.0)}
+            {
+                "sample": i,
+                "file": str(f),
+                "least_contact_force_N": float(result.least_force[i]),
+                "jump_speed_rpm": float(result.jump_speed_rpm[i]),
+                "separated": bool(result.least_force[i] <= 0.0),
+            }
             for i, f in zip(result.worst, worst_files, strict=True)
         ],
         "time_s": elapsed,
-        "nominal_jump_speed_rpm": result.nominal_jump_speed_rpm, "speed_rpm": result.speed_rpm, "tolerances": result.tolerances,
-        "confidence": 0.95, "devices": result.devices, "processes": result.processes,
+        "nominal_jump_speed_rpm": result.nominal_jump_speed_rpm,
+        "speed_rpm": result.speed_rpm,
+        "tolerances": result.tolerances,
+        "confidence": 0.95,
+        "devices": result.devices,
+        "processes": result.processes,
     }
 
 
@@ -73,19 +89,40 @@ def run(args) -> int:
 def _print(case, result, elapsed, paths, worst_files) -> None:
     con = console()
     lo, hi = result.confidence_interval
-    con.print(f"{case.name}: {result.samples} built cams (seed {result.seed}) at {result.speed_rpm:g} rpm, {elapsed:.1f} s on "
-              f"{result.devices} device(s), {result.processes} process(es)")
-    con.print(f"probability of separation {result.probability:.4g} (95% interval {lo:.4g} to {hi:.4g}); nominal jump speed {result.nominal_jump_speed_rpm:.1f} rpm")
+    con.print(
+        f"{case.name}: {result.samples} built cams (seed {result.seed}) at {result.speed_rpm:g} rpm, {elapsed:.1f} s on "
+        f"{result.devices} device(s), {result.processes} process(es)"
+    )
+    con.print(
+        f"probability of separation {result.probability:.4g} (95% interval {lo:.4g} to {hi:.4g}); nominal jump speed {result.nominal_jump_speed_rpm:.1f} rpm"
+    )
     t = table(("quantity", "left"), ("P1", "right"), ("P5", "right"), ("P50", "right"), ("unit", "left"))
-    for name, vals, unit in (("jump speed", result.jump_speed_rpm, "rpm"), ("least contact force", result.least_force, "N")):
+    for name, vals, unit in (
+        ("jump speed", result.jump_speed_rpm, "rpm"),
+        ("least contact force", result.least_force, "N"),
+    ):
         q = result.percentiles(vals)
         t.add_row(name, *(f"{q[k]:.4g}" for k in ("p1", "p5", "p50")), unit)
     con.print(t)
-    t = table(("tolerance", "left"), ("given", "right"), ("dist", "left"), ("margin/sigma", "right"), ("lin share", "right"), ("MC share", "right"))
+    t = table(
+        ("tolerance", "left"),
+        ("given", "right"),
+        ("dist", "left"),
+        ("margin/sigma", "right"),
+        ("lin share", "right"),
+        ("MC share", "right"),
+    )
     for key, s in result.sensitivities.items():
         tol = result.tolerances[key]
         pct = lambda v: "-" if not math.isfinite(v) else f"{v:.0%}"  # noqa: E731
-        t.add_row(key, f"{tol['tolerance']:.4g} {tol['unit']}", tol["distribution"], f"{s['gradient_sigma']:+.4f}", pct(s["share_linear"]), pct(s["share_monte_carlo"]))
+        t.add_row(
+            key,
+            f"{tol['tolerance']:.4g} {tol['unit']}",
+            tol["distribution"],
+            f"{s['gradient_sigma']:+.4f}",
+            pct(s["share_linear"]),
+            pct(s["share_monte_carlo"]),
+        )
     for col in t.columns:  # never an ellipsis in a key's name
         col.no_wrap = True
     if result.sensitivities:

@@ -67,7 +67,9 @@ class Check:
     def ok(self) -> bool:
         if self.value is None:  # unbounded: infinitely good for ">=" and ">", infinitely bad for "<="
             return self.sense != "<="
-        return {">=": self.value >= self.limit, ">": self.value > self.limit, "<=": self.value <= self.limit}[self.sense]
+        return {">=": self.value >= self.limit, ">": self.value > self.limit, "<=": self.value <= self.limit}[
+            self.sense
+        ]
 
     @property
     def kind(self) -> CheckKind:

@@ -11,7 +11,13 @@ from .checks import CheckReport, run_check
 CORNER_EVALUATIONS = 6  # full checks of the corner-radius bisection
 
 
-def corner_radius_advice(case: Case, speed_rpm: float | None = None, *, evaluations: int = CORNER_EVALUATIONS, progress: Progress | None = None) -> str | None:
+def corner_radius_advice(
+    case: Case,
+    speed_rpm: float | None = None,
+    *,
+    evaluations: int = CORNER_EVALUATIONS,
+    progress: Progress | None = None,
+) -> str | None:
     """For a failing path case with sharp corners: the corner radius (mm) with which it passes, or why none does.
 
     The sharp corner is the cause (the follower's velocity jumps there), so the remedy is a fillet: bisect
@@ -44,7 +50,9 @@ def corner_radius_advice(case: Case, speed_rpm: float | None = None, *, evaluati
     else:
         lo, top = first, tidy(0.98 * r_max)
         if not verdict(top):
-            return f"no corner radius up to {top:g} mm passes at {rpm:g} rpm: the sharp corners are not the only problem"
+            return (
+                f"no corner radius up to {top:g} mm passes at {rpm:g} rpm: the sharp corners are not the only problem"
+            )
         hi = top
     for _ in range(evaluations - len(seen)):
         mid = tidy(0.5 * (lo + hi))

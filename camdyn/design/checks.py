@@ -20,7 +20,6 @@ from .geometry import judge_geometry
 from .parts import case_contact, case_drive, contact_check, resolve_spring
 from .userdata import least_force_uncertainty, least_force_warning, unit_slip_warnings
 
-
 SYNTHESIS_ARRAYS = ("theta_deg", "pitch", "contour", "path_xy", "traced_xy")  # check --json --arrays only
 
 
@@ -85,7 +84,10 @@ def separation_json(case: Case, sep: dyn.Separation) -> dict:
     gap (rad) and speed (rad/s) beside them for an oscillating follower, and ``settled``."""
     out = {"start_deg": sep.start_deg, "end_deg": sep.end_deg}
     if case.oscillating:
-        out |= {"max_gap_mm": _at_contact(case, sep.max_gap, sep.max_gap_deg), "impact_speed_m_s": _at_contact(case, sep.impact_speed, sep.impact_deg) / 1000.0}
+        out |= {
+            "max_gap_mm": _at_contact(case, sep.max_gap, sep.max_gap_deg),
+            "impact_speed_m_s": _at_contact(case, sep.impact_speed, sep.impact_deg) / 1000.0,
+        }
         out |= {"max_gap_rad": sep.max_gap, "impact_speed_rad_s": sep.impact_speed}
     else:
         out |= {"max_gap_mm": sep.max_gap, "impact_speed_m_s": sep.impact_speed}
@@ -128,10 +130,14 @@ def _separation_note(sep: dict, rpm: float, restitution: float) -> str:
 def _flights_note(dynamic: dict, rpm: float) -> str:
     """Every flight (where the interface force is zero) and the largest impact: what the report's page 1 says."""
     flights, impacts = dynamic["flights"], dynamic["impacts"]
-    spans = ", ".join(f"{f['leave_deg']:.1f}-{f['land_deg']:.1f}" for f in flights[:4]) + (", ..." if len(flights) > 4 else "")
+    spans = ", ".join(f"{f['leave_deg']:.1f}-{f['land_deg']:.1f}" for f in flights[:4]) + (
+        ", ..." if len(flights) > 4 else ""
+    )
     gap = max(f["max_gap_mm"] for f in flights)
     times = {1: "once", 2: "twice"}.get(len(flights), f"{len(flights)} times")
-    note = f"the follower leaves the cam {times} a revolution at {rpm:g} rpm (flights {spans} deg; gap up to {gap:.3g} mm)"
+    note = (
+        f"the follower leaves the cam {times} a revolution at {rpm:g} rpm (flights {spans} deg; gap up to {gap:.3g} mm)"
+    )
     forces = [i for i in impacts if i["peak_force_N"] is not None]
     if forces:
         top = max(forces, key=lambda i: i["peak_force_N"])
@@ -172,7 +178,9 @@ def run_check(case: Case, speed_rpm: float | None = None) -> CheckReport:
         # the frequency-domain steady state is exact without separation: an independent check of the solve
         f_lin = float(dyn.linear_min_force(motion, model, jnp.asarray([omega]))[0])
         if abs(f_lin - resp.min_force) > 5e-3 * max(1.0, float(abs(resp.force).max())):
-            warnings.append(f"time-domain and frequency-domain steady states disagree: least force {resp.min_force:.4g} vs {f_lin:.4g} {'N*m' if case.oscillating else 'N'}")
+            warnings.append(
+                f"time-domain and frequency-domain steady states disagree: least force {resp.min_force:.4g} vs {f_lin:.4g} {'N*m' if case.oscillating else 'N'}"
+            )
     warnings += list(resp.warnings)
     resp = forces_in_newton(case, resp)
     noise_N = None if resp.separations else least_force_uncertainty(case, omega)  # a table's noise, in contact only
@@ -182,7 +190,9 @@ def run_check(case: Case, speed_rpm: float | None = None) -> CheckReport:
         lift = float(np.ptp(resp.s))
         # compression only: where the follower flies above the cam (x > s) the train is unloaded, not stretched
         deflection = float(np.max(np.clip(resp.s - resp.x, 0.0, None))) / lift if lift > 0.0 else 0.0
-        checks_train = (Check(CheckKind.TRAIN_DEFLECTION.value, deflection, float(limits.max_train_deflection), "ratio", "<="),)
+        checks_train = (
+            Check(CheckKind.TRAIN_DEFLECTION.value, deflection, float(limits.max_train_deflection), "ratio", "<="),
+        )
     else:
         checks_train = ()
     kin_force = resp.kinematic_force
@@ -217,7 +227,9 @@ def run_check(case: Case, speed_rpm: float | None = None) -> CheckReport:
     geo = None
     if case.follower is not None:
         geo = analyze(motion, case.follower)
-        geo_checks, geo_warnings, geo_advice = judge_geometry(geo, motion, max_pressure_angle=limits.max_pressure_angle, min_curvature_ratio=limits.min_curvature_ratio)
+        geo_checks, geo_warnings, geo_advice = judge_geometry(
+            geo, motion, max_pressure_angle=limits.max_pressure_angle, min_curvature_ratio=limits.min_curvature_ratio
+        )
         checks += tuple(geo_checks)
         warnings += geo_warnings
         advice += geo_advice

@@ -19,7 +19,11 @@ def _limits(f: FollowerSpec, max_pressure_angle: float | None) -> float:
 
 
 def judge_geometry(
-    geo: CamGeometry, motion, *, max_pressure_angle: float | None = None, min_curvature_ratio: float = DEFAULT_MIN_CURVATURE_RATIO
+    geo: CamGeometry,
+    motion,
+    *,
+    max_pressure_angle: float | None = None,
+    min_curvature_ratio: float = DEFAULT_MIN_CURVATURE_RATIO,
 ) -> tuple[list[Check], list[str], list[str]]:
     """The geometry checks of a cam (pressure angle, curvature, face width), its warnings and advice.
 
@@ -30,7 +34,15 @@ def judge_geometry(
     f, ext = geo.follower, geo.extremes
     max_pa = _limits(f, max_pressure_angle)
     checks = [Check(CheckKind.PRESSURE_ANGLE.value, ext.max_pressure_angle_deg, max_pa, "deg", "<=")]
-    checks.append(Check(CheckKind.CURVATURE.value, ext.curvature, curvature_limit(f, min_curvature_ratio), "ratio" if f.roller else "mm", ">="))
+    checks.append(
+        Check(
+            CheckKind.CURVATURE.value,
+            ext.curvature,
+            curvature_limit(f, min_curvature_ratio),
+            "ratio" if f.roller else "mm",
+            ">=",
+        )
+    )
     width = ext.face_travel_mm
     if width is not None and f.face_width is not None:
         checks.append(Check(CheckKind.FACE_WIDTH.value, width, f.face_width, "mm", "<="))
@@ -38,19 +50,29 @@ def judge_geometry(
     warnings: list[str] = []
     if ext.cusp:
         what = "the roller radius reaches the pitch curve's convex radius" if f.roller else "rho = Rb + s + s'' <= 0"
-        warnings.append(f"undercut: the contour folds ({what}); least radius {ext.min_radius_of_curvature_mm:.4g} mm at {ext.min_radius_of_curvature_at_deg:.4g} deg")
+        warnings.append(
+            f"undercut: the contour folds ({what}); least radius {ext.min_radius_of_curvature_mm:.4g} mm at {ext.min_radius_of_curvature_at_deg:.4g} deg"
+        )
     if ext.max_pressure_angle_deg >= JAM_PRESSURE_ANGLE_DEG:
-        warnings.append(f"pressure angle {ext.max_pressure_angle_deg:.3g} deg at {ext.max_pressure_angle_at_deg:.4g} deg: the follower may jam")
+        warnings.append(
+            f"pressure angle {ext.max_pressure_angle_deg:.3g} deg at {ext.max_pressure_angle_at_deg:.4g} deg: the follower may jam"
+        )
 
     advice: list[str] = []
     if not all(c.ok for c in checks[:2]):
         try:
-            rb = min_base_radius(motion, f, max_pressure_angle=max_pa, min_curvature_ratio=min_curvature_ratio, n=len(geo.theta_deg))
-            advice.append(f"base_radius >= {math.ceil(rb * 100) / 100:.2f} mm would meet the pressure-angle ({max_pa:g} deg) and curvature limits")
+            rb = min_base_radius(
+                motion, f, max_pressure_angle=max_pa, min_curvature_ratio=min_curvature_ratio, n=len(geo.theta_deg)
+            )
+            advice.append(
+                f"base_radius >= {math.ceil(rb * 100) / 100:.2f} mm would meet the pressure-angle ({max_pa:g} deg) and curvature limits"
+            )
         except NumericalError as err:
             advice.append(f"no base radius alone fixes this: {err.message}")
     if width is not None and f.face_width is not None and width > f.face_width:
         t_min, t_max = ext.face_range_mm
-        advice.append(f"face_width >= {width:.3f} mm: the contact runs from t = {t_min:.3f} to {t_max:.3f} mm along the face "
-                      f"(the face centred at t = {ext.face_centre_mm:.3f} mm)")
+        advice.append(
+            f"face_width >= {width:.3f} mm: the contact runs from t = {t_min:.3f} to {t_max:.3f} mm along the face "
+            f"(the face centred at t = {ext.face_centre_mm:.3f} mm)"
+        )
     return checks, warnings, advice

@@ -26,7 +26,9 @@ def case_drive(case: Case, resp: Response) -> DriveTorque:
     if case.oscillating:  # back to the arm torque (N*m): the generalized force that works on the swing
         force = force / newton_per_torque_at(case.motion, case.follower, np.deg2rad(resp.theta_deg))
     velocity = follower_velocity(case.motion, resp.theta_deg, case.model.scale)
-    return drive_torque(resp.theta_deg, force, velocity, resp.omega, speed_fluctuation=case.spec.drive.speed_fluctuation)
+    return drive_torque(
+        resp.theta_deg, force, velocity, resp.omega, speed_fluctuation=case.spec.drive.speed_fluctuation
+    )
 
 
 def case_contact(case: Case, geometry: CamGeometry, resp: Response) -> ContactStress | None:
@@ -92,7 +94,7 @@ def spring_mass_notes(case: Case) -> tuple[str, ...]:
     out = f"the spring's own mass ({1e3 * sd.mass_kg:.3g} g, the case's spring) is on the follower as its lumped third at every "
     out += "rate"
     if sd.model == "surge":
-        out += "; [spring] model = \"surge\": the chain's surge is judged by check and size, not here"
+        out += '; [spring] model = "surge": the chain\'s surge is judged by check and size, not here'
     return (out,)
 
 

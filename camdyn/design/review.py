@@ -59,7 +59,9 @@ class ForceVsSpeed:
 
     speeds_rpm: np.ndarray
     kinematic_N: np.ndarray  # rigid follower that never leaves the cam
-    dynamic_N: np.ndarray | None  # compliant train: frequency-domain steady state, exact until separation; None if rigid
+    dynamic_N: (
+        np.ndarray | None
+    )  # compliant train: frequency-domain steady state, exact until separation; None if rigid
 
 
 @dataclass(frozen=True)
@@ -180,7 +182,10 @@ def force_vs_speed(case: Case, check: CheckReport, margin_rpm: float, *, top: fl
     # the very theta array (shape and JAX weak type) of dynamics.response, so its compiled force is reused
     n = THETA_GRID
     theta = jnp.asarray(np.arange(n) * (TWO_PI / n)) if case.model.rigid else jnp.arange(n) * (TWO_PI / n)
-    f = [np.asarray(dyn.kinematic_force_jit(case.motion, case.model, jnp.asarray(x, dtype=float), theta)) for x in (0.0, 1.0, -1.0)]
+    f = [
+        np.asarray(dyn.kinematic_force_jit(case.motion, case.model, jnp.asarray(x, dtype=float), theta))
+        for x in (0.0, 1.0, -1.0)
+    ]
     a, b, c = 0.5 * (f[1] + f[2]) - f[0], 0.5 * (f[1] - f[2]), f[0]
     kin = w[:, None] ** 2 * a + w[:, None] * b + c
     if case.oscillating:
@@ -189,7 +194,9 @@ def force_vs_speed(case: Case, check: CheckReport, margin_rpm: float, *, top: fl
     if not case.model.rigid:
         weight = None
         if case.oscillating:
-            weight = jnp.asarray(newton_per_torque_at(case.motion, case.follower, np.arange(FFT_GRID) * (TWO_PI / FFT_GRID)))
+            weight = jnp.asarray(
+                newton_per_torque_at(case.motion, case.follower, np.arange(FFT_GRID) * (TWO_PI / FFT_GRID))
+            )
         linear = np.asarray(dyn.linear_min_force(case.motion, case.model, jnp.asarray(w), FFT_GRID, weight))
     return ForceVsSpeed(speeds, kin.min(axis=1), linear)
 
@@ -198,7 +205,11 @@ def _review_jump_map(case: Case, check: CheckReport, margin_rpm: float, sizing: 
     """A small jump map at the case's preload: the sizing's rates (twice the case's where sizing does not apply)
     and speeds past the case's jump speeds, however fast; gaps not integrated."""
     top = _top_speed(check, margin_rpm)
-    k_top = float(sizing.region_rate[-1]) if not isinstance(sizing, str) else 2.0 * float(rate_from_si(case.model.stiffness, case.oscillating))
+    k_top = (
+        float(sizing.region_rate[-1])
+        if not isinstance(sizing, str)
+        else 2.0 * float(rate_from_si(case.model.stiffness, case.oscillating))
+    )
     speeds = np.linspace(top / MAP_SPEEDS, top, MAP_SPEEDS)
     rates = np.linspace(k_top / MAP_RATES, k_top, MAP_RATES)
     return _or_reason(jump_map, case, speeds, rates, gaps=False)

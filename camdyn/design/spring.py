@@ -87,15 +87,33 @@ class SpringDesign:
         out = [
             Check(CheckKind.SPRING_INDEX_MIN.value, s.index, r.index_min, "", ">="),
             Check(CheckKind.SPRING_INDEX_MAX.value, s.index, r.index_max, "", "<="),
-            Check(CheckKind.SPRING_LIFT_SAFETY.value, ssy / float(s.stress(self.full_lift_force)), r.static_safety, "x", ">="),
-            Check(CheckKind.SPRING_SOLID_SAFETY.value, ssy / float(s.stress(s.solid_force)), r.static_safety, "x", ">="),
+            Check(
+                CheckKind.SPRING_LIFT_SAFETY.value,
+                ssy / float(s.stress(self.full_lift_force)),
+                r.static_safety,
+                "x",
+                ">=",
+            ),
+            Check(
+                CheckKind.SPRING_SOLID_SAFETY.value, ssy / float(s.stress(s.solid_force)), r.static_safety, "x", ">="
+            ),
             # inf: nothing alternates (unbounded); NaN: a wire over Zimmerli's 10 mm has no fatigue data (fails)
-            Check(CheckKind.SPRING_FATIGUE_SAFETY.value, None if fatigue == math.inf else (0.0 if math.isnan(fatigue) else fatigue), r.fatigue_safety, "x", ">="),
+            Check(
+                CheckKind.SPRING_FATIGUE_SAFETY.value,
+                None if fatigue == math.inf else (0.0 if math.isnan(fatigue) else fatigue),
+                r.fatigue_safety,
+                "x",
+                ">=",
+            ),
             Check(CheckKind.SPRING_BUCKLING.value, s.free_length, s.critical_free_length, "mm", "<="),
             Check(CheckKind.SPRING_CLASH_ALLOWANCE.value, self.clash_allowance, r.clash_allowance, "x", ">="),
         ]
         if self.outside_diameter_max is not None:
-            out.append(Check(CheckKind.SPRING_OUTSIDE_DIAMETER.value, s.outside_diameter, self.outside_diameter_max, "mm", "<="))
+            out.append(
+                Check(
+                    CheckKind.SPRING_OUTSIDE_DIAMETER.value, s.outside_diameter, self.outside_diameter_max, "mm", "<="
+                )
+            )
         return tuple(out)
 
     def with_surge(self, harmonics: CamHarmonics) -> SpringDesign:
@@ -139,7 +157,9 @@ def _wire_sizes(material) -> np.ndarray:
     return np.array([d for d in PREFERRED_WIRE_MM if lo <= d <= hi])
 
 
-def _candidates(rate: float, preload: float, lift: float, spec: SpringSpec, rules: SpringRules, min_surge_hz: float | None = None) -> dict:
+def _candidates(
+    rate: float, preload: float, lift: float, spec: SpringSpec, rules: SpringRules, min_surge_hz: float | None = None
+) -> dict:
     """Every (wire size, active coils) pair with the mean diameter that gives the rate, and what each is judged on."""
     wire = sp.wire(spec.material)
     d1 = _wire_sizes(wire)
@@ -163,12 +183,21 @@ def _candidates(rate: float, preload: float, lift: float, spec: SpringSpec, rule
     with np.errstate(divide="ignore"):  # a spring shorter than solid at its free length has no stress to judge
         solid = ssy / sp.shear_stress(rate * (L0 - Ls), D, d)
     return {
-        "d": d, "D": D, "na": na, "L0": L0, "Ls": Ls, "min_surge_hz": min_surge_hz,
+        "d": d,
+        "D": D,
+        "na": na,
+        "L0": L0,
+        "Ls": Ls,
+        "min_surge_hz": min_surge_hz,
         "surge": sp.surge_frequency(rate, sp.coil_mass(d, D, na, wire.density_kg_m3)),
         "mass": sp.coil_mass(d, D, sp.total_coils(na, spec.end_type), wire.density_kg_m3),
-        "index": D / d, "od": D + d, "clash": (L0 - Ls) / y1 - 1.0,
-        "solid": np.where(L0 > Ls, solid, -np.inf), "full_lift": ssy / sp.shear_stress(f1, D, d),
-        "fatigue": fatigue, "buckling": Lcr - L0,
+        "index": D / d,
+        "od": D + d,
+        "clash": (L0 - Ls) / y1 - 1.0,
+        "solid": np.where(L0 > Ls, solid, -np.inf),
+        "full_lift": ssy / sp.shear_stress(f1, D, d),
+        "fatigue": fatigue,
+        "buckling": Lcr - L0,
     }
 
 
@@ -191,7 +220,9 @@ def _constraints(c: dict, spec: SpringSpec, rules: SpringRules):
     return [(name, key, v, lim, sense, (v >= lim) if sense == ">=" else (v <= lim)) for name, key, v, lim, sense in out]
 
 
-def _feasible(rate: float, preload: float, lift: float, spec: SpringSpec, rules: SpringRules, min_surge_hz: float | None = None):
+def _feasible(
+    rate: float, preload: float, lift: float, spec: SpringSpec, rules: SpringRules, min_surge_hz: float | None = None
+):
     """The candidates and which of them meet every condition."""
     c = _candidates(rate, preload, lift, spec, rules, min_surge_hz)
     return c, np.logical_and.reduce([con[5] for con in _constraints(c, spec, rules)])
@@ -209,7 +240,9 @@ def _first_failure(cons) -> tuple[str, float, float]:
     raise AssertionError("unreachable: some candidate passes")
 
 
-def _dead_end(c, cons, rate: float, preload: float, lift: float, spec: SpringSpec, rules: SpringRules, rate_key: str) -> InputError:
+def _dead_end(
+    c, cons, rate: float, preload: float, lift: float, spec: SpringSpec, rules: SpringRules, rate_key: str
+) -> InputError:
     """Why no candidate passes: the bore, or the installed length, where freeing it would let one through; else
     the first condition that rules out the last candidates, with the best value any candidate reached."""
     what = f"no {spec.material} spring of {rate:.4g} N/mm"
@@ -217,15 +250,34 @@ def _dead_end(c, cons, rate: float, preload: float, lift: float, spec: SpringSpe
         rest = np.logical_and.reduce([ok for _, key, _, _, _, ok in cons if key != "outside_diameter_max"])
         if rest.any():
             least = float(c["od"][rest].min())
-            return InputError("spring.outside_diameter_max", f"{what} fits in {spec.outside_diameter_max:g} mm: the least outside diameter that meets the other checks is {least:.3g} mm")
+            return InputError(
+                "spring.outside_diameter_max",
+                f"{what} fits in {spec.outside_diameter_max:g} mm: the least outside diameter that meets the other checks is {least:.3g} mm",
+            )
     if spec.installed_length is not None:
-        cf, fits = _feasible(rate, preload, lift, spec.model_copy(update={"installed_length": None}), rules, c["min_surge_hz"])
+        cf, fits = _feasible(
+            rate, preload, lift, spec.model_copy(update={"installed_length": None}), rules, c["min_surge_hz"]
+        )
         if fits.any():
             need = float(np.min(cf["L0"][fits] - preload / rate))
-            why = f"it needs at least {need:.4g} mm" if spec.installed_length < need else f"there every candidate fails the {_first_failure(cons)[0]} (the shortest that fits is installed at {need:.4g} mm)"
-            return InputError("spring.installed_length", f"{what} fits at {spec.installed_length:g} mm with {preload:.4g} N preload over a {lift:.4g} mm lift: {why}")
+            why = (
+                f"it needs at least {need:.4g} mm"
+                if spec.installed_length < need
+                else f"there every candidate fails the {_first_failure(cons)[0]} (the shortest that fits is installed at {need:.4g} mm)"
+            )
+            return InputError(
+                "spring.installed_length",
+                f"{what} fits at {spec.installed_length:g} mm with {preload:.4g} N preload over a {lift:.4g} mm lift: {why}",
+            )
     if spec.outside_diameter_max is not None and spec.installed_length is not None:
-        cf, fits = _feasible(rate, preload, lift, spec.model_copy(update={"installed_length": None, "outside_diameter_max": None}), rules, c["min_surge_hz"])
+        cf, fits = _feasible(
+            rate,
+            preload,
+            lift,
+            spec.model_copy(update={"installed_length": None, "outside_diameter_max": None}),
+            rules,
+            c["min_surge_hz"],
+        )
         if fits.any():
             i = np.flatnonzero(fits)[np.argmin(cf["mass"][fits])]
             return InputError(
@@ -239,19 +291,34 @@ def _dead_end(c, cons, rate: float, preload: float, lift: float, spec: SpringSpe
         rate_key,
         f"{what} with {preload:.4g} N preload over a {lift:.4g} mm lift meets Shigley's design conditions "
         f"({rules.active_coils_min:g}-{na_max:g} active coils, preferred wire sizes): every candidate fails the "
-        f"{name}: best {best:.3g} against {lim:.3g}" + _more_coils_hint(rate, preload, lift, spec, rules, na_max, c["min_surge_hz"]),
+        f"{name}: best {best:.3g} against {lim:.3g}"
+        + _more_coils_hint(rate, preload, lift, spec, rules, na_max, c["min_surge_hz"]),
     )
 
 
-def _more_coils_hint(rate, preload, lift, spec: SpringSpec, rules: SpringRules, na_max: float, min_surge_hz=None) -> str:
+def _more_coils_hint(
+    rate, preload, lift, spec: SpringSpec, rules: SpringRules, na_max: float, min_surge_hz=None
+) -> str:
     """Where more active coils than allowed would make a spring: say how many."""
-    c, ok = _feasible(rate, preload, lift, spec.model_copy(update={"max_active_coils": 4 * na_max}), rules, min_surge_hz)
+    c, ok = _feasible(
+        rate, preload, lift, spec.model_copy(update={"max_active_coils": 4 * na_max}), rules, min_surge_hz
+    )
     if not ok.any():
         return ""
     return f" (one with {float(c['na'][ok].min()):g} active coils fits: allow it with [spring] max_active_coils)"
 
 
-def design_spring(rate: float, preload: float, lift: float, spec: SpringSpec | None = None, *, rules: SpringRules = SpringRules(), rate_key: str = "dynamics.spring_rate", harmonics: CamHarmonics | None = None, min_surge_hz: float | None = None) -> SpringDesign:
+def design_spring(
+    rate: float,
+    preload: float,
+    lift: float,
+    spec: SpringSpec | None = None,
+    *,
+    rules: SpringRules = SpringRules(),
+    rate_key: str = "dynamics.spring_rate",
+    harmonics: CamHarmonics | None = None,
+    min_surge_hz: float | None = None,
+) -> SpringDesign:
     """The lightest helical compression spring of ``rate`` (N/mm) giving ``preload`` (N) at its installed length
     and compressed a further ``lift`` (mm), within ``spec`` (``[spring]``: material, bore, installed length,
     end type) and Shigley's design conditions. :class:`InputError` (naming the binding key, ``rate_key`` for
@@ -261,7 +328,10 @@ def design_spring(rate: float, preload: float, lift: float, spec: SpringSpec | N
     if not (math.isfinite(rate) and rate > 0):
         raise InputError(rate_key, f"a spring needs a positive rate (got {rate:g} N/mm)")
     if not (math.isfinite(preload) and preload >= 0):
-        raise InputError("preload", f"a compression spring cannot pull: the preload at the installed length must be >= 0 (got {preload:g} N)")
+        raise InputError(
+            "preload",
+            f"a compression spring cannot pull: the preload at the installed length must be >= 0 (got {preload:g} N)",
+        )
     if not (math.isfinite(lift) and lift > 0):
         raise InputError("lift", f"the working stroke must be positive (got {lift:g} mm)")
     c = _candidates(rate, preload, lift, spec, rules, min_surge_hz)
@@ -270,13 +340,29 @@ def design_spring(rate: float, preload: float, lift: float, spec: SpringSpec | N
     if not ok.any():
         raise _dead_end(c, cons, rate, preload, lift, spec, rules, rate_key)
     i = np.flatnonzero(ok)[np.lexsort((c["od"][ok], c["mass"][ok]))[0]]
-    spring = sp.HelicalSpring(spec.material, float(c["d"][i]), float(c["D"][i]), float(c["na"][i]), spec.end_type, float(c["L0"][i]), rules.alpha)
+    spring = sp.HelicalSpring(
+        spec.material,
+        float(c["d"][i]),
+        float(c["D"][i]),
+        float(c["na"][i]),
+        spec.end_type,
+        float(c["L0"][i]),
+        rules.alpha,
+    )
     installed = spring.free_length - preload / rate
     design = SpringDesign(spring, float(preload), float(lift), installed, rules, spec.outside_diameter_max)
     return design if harmonics is None else design.with_surge(harmonics)
 
 
-def max_buildable_preload(rate: float, lift: float, spec: SpringSpec | None = None, *, rules: SpringRules = SpringRules(), tol: float = 1e-3, min_surge_hz: float | None = None) -> float | None:
+def max_buildable_preload(
+    rate: float,
+    lift: float,
+    spec: SpringSpec | None = None,
+    *,
+    rules: SpringRules = SpringRules(),
+    tol: float = 1e-3,
+    min_surge_hz: float | None = None,
+) -> float | None:
     """The largest preload (N) for which a spring of ``rate`` (N/mm) and ``lift`` (mm) can be built within
     ``spec``; None when none can, even without preload. Every lower preload is buildable too (a smaller preload
     lowers every stress and shortens the spring), so ``size --buildable`` may use it as a bound on F0."""
@@ -319,7 +405,10 @@ def spring_loads(case, *, rate=None, preload=None) -> SpringLoads:
     if case.oscillating:
         spec = case.spec.spring
         if spec is None or spec.lever_arm is None:
-            raise InputError("spring.lever_arm", "an oscillating follower's spring needs [spring] lever_arm: the distance from the arm pivot to the spring, mm")
+            raise InputError(
+                "spring.lever_arm",
+                "an oscillating follower's spring needs [spring] lever_arm: the distance from the arm pivot to the spring, mm",
+            )
         r = spec.lever_arm
         k = torsion_rate_at_arm(d.torsion_rate if rate is None else rate, r)
         f0 = (d.preload_torque if preload is None else preload) * newton_per_torque(r)
@@ -348,7 +437,13 @@ def surge_floor(case, top_speed_rpm: float | None) -> float:
 
 
 def design_case_spring(
-    case, *, rate=None, preload=None, rules: SpringRules = SpringRules(), surge: str = "prefer", top_speed_rpm: float | None = None
+    case,
+    *,
+    rate=None,
+    preload=None,
+    rules: SpringRules = SpringRules(),
+    surge: str = "prefer",
+    top_speed_rpm: float | None = None,
 ) -> SpringDesign:
     """The spring for a case (its ``[spring]`` table; its rate and preload unless given, in the case's units),
     with its surge judged against the cam's harmonics at the case speed. ``surge``: "prefer" the lightest spring
@@ -358,7 +453,10 @@ def design_case_spring(
     loads = spring_loads(case, rate=rate, preload=preload)
     spec = _case_spec(case, loads)
     if loads.preload < 0:
-        raise InputError("dynamics.preload", f"a compression spring cannot pull: its force at the least lift would be {loads.preload:.4g} N")
+        raise InputError(
+            "dynamics.preload",
+            f"a compression spring cannot pull: its force at the least lift would be {loads.preload:.4g} N",
+        )
     harmonics = cam_harmonics(case.motion, case.speed_rpm)
     args = (loads.rate, loads.preload, loads.lift, spec)
     if surge != "ignore":

@@ -91,7 +91,9 @@ def judge_surge(surge_hz: float, harmonics: CamHarmonics) -> SurgeReport:
     near = tuple((j, j * fc, harmonics.relative(j)) for j in (lo, lo + 1) if j < harmonics.amplitudes.size)
     warnings = []
     if r < SURGE_MIN_RATIO:
-        warnings.append(f"spring surge at {surge_hz:.4g} Hz is only {r:.3g} times the cam frequency ({fc:.4g} Hz at {harmonics.speed_rpm:g} rpm): Shigley asks for 15 to 20")
+        warnings.append(
+            f"spring surge at {surge_hz:.4g} Hz is only {r:.3g} times the cam frequency ({fc:.4g} Hz at {harmonics.speed_rpm:g} rpm): Shigley asks for 15 to 20"
+        )
     j = max(1, int(round(r)))
     rel = harmonics.relative(j)
     if abs(r - j) <= ON_HARMONIC and rel >= STRONG_HARMONIC:

@@ -26,7 +26,10 @@ def table_angles(step_deg: float) -> np.ndarray:
         raise InputError("--step", f"must be in (0, 360] deg (got {step_deg:g})")
     rows = 360.0 / step_deg
     if rows > MAX_ROWS:
-        raise InputError("--step", f"{step_deg:g} deg makes {rows:.3g} rows; a table has at most {MAX_ROWS:,} (a step of at least {360.0 / MAX_ROWS:g} deg)")
+        raise InputError(
+            "--step",
+            f"{step_deg:g} deg makes {rows:.3g} rows; a table has at most {MAX_ROWS:,} (a step of at least {360.0 / MAX_ROWS:g} deg)",
+        )
     return np.arange(0.0, 360.0 - 1e-9, step_deg)
 
 
@@ -43,11 +46,19 @@ def motion_table(case: Case, step_deg: float = 1.0, speed_rpm: float | None = No
     at = lambda y: np.interp(theta_deg, resp.theta_deg, y, period=360.0)  # noqa: E731
     cols = {"theta_deg": theta_deg}
     if case.oscillating:
-        cols |= {"phi_deg": np.degrees(vals[0]), "phi1_per_rad": vals[1], "phi2_per_rad2": vals[2], "phi3_per_rad3": vals[3]}
+        cols |= {
+            "phi_deg": np.degrees(vals[0]),
+            "phi1_per_rad": vals[1],
+            "phi2_per_rad2": vals[2],
+            "phi3_per_rad3": vals[3],
+        }
         force = force * newton_per_torque_at(case.motion, case.follower, np.asarray(theta))
     else:
         cols |= {"s_mm": vals[0], "v_mm_per_rad": vals[1], "a_mm_per_rad2": vals[2], "j_mm_per_rad3": vals[3]}
-    torque = camshaft_torque(force if not case.oscillating else force / newton_per_torque_at(case.motion, case.follower, np.asarray(theta)), vals[1] * case.model.scale)
+    torque = camshaft_torque(
+        force if not case.oscillating else force / newton_per_torque_at(case.motion, case.follower, np.asarray(theta)),
+        vals[1] * case.model.scale,
+    )
     cols["contact_force_N"] = force
     if case.follower is not None:
         cols |= analyze(case.motion, case.follower).table(theta_deg)
@@ -77,7 +88,9 @@ def ecam_table(case: Case, n: int) -> tuple[dict[str, np.ndarray], str]:
     else:
         v, a, unit = v * rad, a * rad**2, "mm"
     cols = {"master_deg": master, "position": s, "velocity": v, "acceleration": a}
-    units = f"master: cam angle, deg; position {unit}; velocity {unit}/deg; acceleration {unit}/deg^2 (per master degree)"
+    units = (
+        f"master: cam angle, deg; position {unit}; velocity {unit}/deg; acceleration {unit}/deg^2 (per master degree)"
+    )
     return cols, units
 
 

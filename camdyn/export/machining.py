@@ -48,8 +48,9 @@ def sha256_of(path) -> str:
     return hashlib.sha256(Path(path).read_bytes()).hexdigest()
 
 
-def check_tool_fits(theta_deg: np.ndarray, rho_contour_mm: np.ndarray, radius_mm: float, tolerance_mm: float,
-                    tool: str) -> None:
+def check_tool_fits(
+    theta_deg: np.ndarray, rho_contour_mm: np.ndarray, radius_mm: float, tolerance_mm: float, tool: str
+) -> None:
     """:class:`InputError` if a concave stretch of the contour is tighter than a tool of ``radius_mm`` standing off
     by half the tolerance: the message names the stretch's angles, its least radius and the largest tool that fits.
 
@@ -203,8 +204,15 @@ class CutterPath:
         return np.concatenate(out)
 
 
-def cutter_path(contour: Curve, offset: Callable[[float], Curve], cutter_radius_mm: float, tolerance_mm: float,
-                *, climb: bool = True, arcs: bool = False) -> CutterPath:
+def cutter_path(
+    contour: Curve,
+    offset: Callable[[float], Curve],
+    cutter_radius_mm: float,
+    tolerance_mm: float,
+    *,
+    climb: bool = True,
+    arcs: bool = False,
+) -> CutterPath:
     """The cutter-centre path round the cam (mm): lines (or arcs) within the tolerance, climb milling (clockwise
     round the cam, a right-hand spindle) or conventional; it starts at its farthest point from the axis.
 
@@ -272,8 +280,9 @@ def _comment(text: str) -> str:
     return text.replace("(", "[").replace(")", "]").encode("ascii", "replace").decode()
 
 
-def grinder_table(contour: Curve, theta_deg: np.ndarray, wheel_radius_mm: float, sigma: float,
-                  tolerance_mm: float) -> np.ndarray:
+def grinder_table(
+    contour: Curve, theta_deg: np.ndarray, wheel_radius_mm: float, sigma: float, tolerance_mm: float
+) -> np.ndarray:
     """Distance (mm) from the cam axis to the wheel centre at each cam angle (deg), the wheel on the fixed +y axis
     (the follower's side), the cam turned by theta in its sense ``sigma`` (+1 ccw, -1 cw).
 

@@ -10,8 +10,8 @@ most ``tolerance`` mm, so the written polyline is within the tolerance of the cu
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from pathlib import Path
-from typing import Callable
 
 import numpy as np
 
@@ -123,7 +123,9 @@ def write_profile(contour_xy, path, *, tolerance: float = 0.01, force: bool = Fa
     if units not in ("mm", "in"):
         raise InputError("--units", f"must be mm or in, got {units!r}")
     if not MIN_TOLERANCE_MM <= tolerance <= MAX_TOLERANCE_MM:
-        raise InputError("--tolerance", f"must be between {MIN_TOLERANCE_MM:g} and {MAX_TOLERANCE_MM:g} mm, got {tolerance:g} mm")
+        raise InputError(
+            "--tolerance", f"must be between {MIN_TOLERANCE_MM:g} and {MAX_TOLERANCE_MM:g} mm, got {tolerance:g} mm"
+        )
     path = output_file(path, force, "contour")
     if callable(contour_xy):
         curve = contour_xy

@@ -98,7 +98,9 @@ def _spline_outline(contour: Callable[[np.ndarray], np.ndarray], tolerance_mm: f
             n = int(np.clip(len(pts) // 8, 16, 64))
             return [edge.trim(i / n, (i + 1) / n) for i in range(n)], dev
         tol /= 4
-    raise NumericalError("solid", f"the B-spline outline strays {dev:.4f} mm from the contour: over {tolerance_mm:g} mm")
+    raise NumericalError(
+        "solid", f"the B-spline outline strays {dev:.4f} mm from the contour: over {tolerance_mm:g} mm"
+    )
 
 
 def _export_step(part, path: Path, units: str) -> None:
@@ -115,9 +117,17 @@ def _export_step(part, path: Path, units: str) -> None:
         Interface_Static.SetCVal_s("write.step.unit", "MM")
 
 
-def write_solid(contour: Callable[[np.ndarray], np.ndarray], path, *, thickness_mm: float, bore_mm: float | None = None,
-                keyway_mm: tuple[float, float] | None = None, tolerance_mm: float = 0.01, units: str = "mm",
-                force: bool = False) -> dict:
+def write_solid(
+    contour: Callable[[np.ndarray], np.ndarray],
+    path,
+    *,
+    thickness_mm: float,
+    bore_mm: float | None = None,
+    keyway_mm: tuple[float, float] | None = None,
+    tolerance_mm: float = 0.01,
+    units: str = "mm",
+    force: bool = False,
+) -> dict:
     """Write the cam plate (STEP or STL by the suffix); returns ``{path, format, volume_mm3, area_mm2,
     outline_deviation_mm}``: the solid's volume (OpenCascade's), its outline's area and deviation from the contour."""
     require_cad()
@@ -147,5 +157,10 @@ def write_solid(contour: Callable[[np.ndarray], np.ndarray], path, *, thickness_
         raise InputError(str(path), f"cannot write the file: {err.strerror or err}") from None
     if not path.exists():
         raise NumericalError(str(path), "the CAD kernel wrote no file")
-    return {"path": str(path), "format": suffix[1:], "volume_mm3": volume, "area_mm2": area,
-            "outline_deviation_mm": dev}
+    return {
+        "path": str(path),
+        "format": suffix[1:],
+        "volume_mm3": volume,
+        "area_mm2": area,
+        "outline_deviation_mm": dev,
+    }

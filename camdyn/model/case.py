@@ -8,8 +8,8 @@ from typing import Any
 
 import numpy as np
 
-from .._core.precision import require_x64
 from .._core.errors import InputError
+from .._core.precision import require_x64
 from .._core.units import THETA_GRID
 from ..schema import CaseSpec, FollowerSpec, LimitsSpec, load_case_spec, parse
 from .follower import FollowerModel, follower_model
@@ -34,7 +34,9 @@ class Case:
     warnings: tuple[str, ...] = field(default=())
     fit: MotionFit | None = None  # a lift table's or a contour's fitted motion: its data and residuals
     contour: ContourFit | None = None  # a contour case's outline: its points, fit and radial residuals
-    spring: SpringInDynamics | None = None  # the spring's mass in ``model``, once resolved (design.parts.resolve_spring)
+    spring: SpringInDynamics | None = (
+        None  # the spring's mass in ``model``, once resolved (design.parts.resolve_spring)
+    )
 
     @property
     def speed_rpm(self) -> float:
@@ -62,7 +64,11 @@ class Case:
         (a contour's ``fit`` is the outline's, radial in mm; ``motion_fit`` the contact motion's)."""
         out: dict = {"source": self.motion_source, "fit": None}
         if self.contour is not None:
-            out |= {"fit": self.contour.json(), "motion_fit": self.fit.json(), "base_radius_mm": self.contour.base_radius}
+            out |= {
+                "fit": self.contour.json(),
+                "motion_fit": self.fit.json(),
+                "base_radius_mm": self.contour.base_radius,
+            }
         elif self.fit is not None:
             out["fit"] = self.fit.json()
         return out
@@ -111,4 +117,7 @@ def _check_holds_at_rest(motion: Motion, model: FollowerModel, oscillating: bool
     i = int(at_rest.argmin())
     if at_rest[i] <= 0.0:
         key, unit = ("dynamics.preload_torque", "N*m") if oscillating else ("dynamics.preload", "N")
-        raise InputError(key, f"the spring cannot hold the follower on the cam even at rest: spring + external load is {at_rest[i]:.4g} {unit} at {theta_deg[i]:g} deg")
+        raise InputError(
+            key,
+            f"the spring cannot hold the follower on the cam even at rest: spring + external load is {at_rest[i]:.4g} {unit} at {theta_deg[i]:g} deg",
+        )

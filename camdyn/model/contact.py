@@ -45,7 +45,10 @@ def line_contact(force, curvature, width, e_star):
     force, curvature = np.broadcast_arrays(np.asarray(force, dtype=float), np.asarray(curvature, dtype=float))
     touching = force > 0.0
     if np.any(touching & ~(curvature > 0.0)):
-        raise NumericalError("contact", "the curvature sum 1/R1 + 1/R2 is not positive where the bodies touch (a roller larger than the hollow it runs in)")
+        raise NumericalError(
+            "contact",
+            "the curvature sum 1/R1 + 1/R2 is not positive where the bodies touch (a roller larger than the hollow it runs in)",
+        )
     f = np.where(touching, force, 0.0)
     k = np.where(touching, curvature, 1.0)
     b = np.sqrt(4.0 * f / (math.pi * width * e_star * k))
@@ -55,7 +58,9 @@ def line_contact(force, curvature, width, e_star):
 
 def cylinders(force, radius1, radius2, width, e_star):
     """:func:`line_contact` of two cylinders of signed radii (m; negative: concave; ``math.inf``: a plane)."""
-    return line_contact(force, 1.0 / np.asarray(radius1, dtype=float) + 1.0 / np.asarray(radius2, dtype=float), width, e_star)
+    return line_contact(
+        force, 1.0 / np.asarray(radius1, dtype=float) + 1.0 / np.asarray(radius2, dtype=float), width, e_star
+    )
 
 
 @dataclass(frozen=True)
@@ -93,7 +98,10 @@ class ContactStress:
 
 def _undercut(theta_deg, bad) -> NumericalError:
     at = float(np.asarray(theta_deg)[np.argmax(bad)])
-    return NumericalError(f"theta = {at:.4g} deg", "the contour is undercut (a cusp): the follower cannot touch it there, so no Hertz contact stress")
+    return NumericalError(
+        f"theta = {at:.4g} deg",
+        "the contour is undercut (a cusp): the follower cannot touch it there, so no Hertz contact stress",
+    )
 
 
 def equivalent_curvature_per_mm(geometry: CamGeometry) -> np.ndarray:
@@ -122,7 +130,9 @@ def normal_force(geometry: CamGeometry, force) -> np.ndarray:
     return force / np.cos(np.deg2rad(geometry.pressure_angle_deg))
 
 
-def cam_contact(geometry: CamGeometry, force, *, width_mm: float, cam: tuple[float, float], follower: tuple[float, float]) -> ContactStress:
+def cam_contact(
+    geometry: CamGeometry, force, *, width_mm: float, cam: tuple[float, float], follower: tuple[float, float]
+) -> ContactStress:
     """Hertz contact stress over a revolution.
 
     ``force``: the interface force (N) on ``geometry.theta_deg``, as ``camdyn check`` reports it (the

@@ -110,19 +110,28 @@ def read_lift_table(path: Path, shown: str, oscillating: bool) -> Samples:
     (angle and lift) is dropped and counted in ``repeats``; the same angle with another lift is refused."""
     column, other = ("swing_deg", "lift_mm") if oscillating else ("lift_mm", "swing_deg")
     kind = "an oscillating" if oscillating else "a translating"
-    table = read_csv(path, shown, ("theta_deg", column), {other: f"{kind} follower's table gives {column}, not {other}"})
+    table = read_csv(
+        path, shown, ("theta_deg", column), {other: f"{kind} follower's table gives {column}, not {other}"}
+    )
     table = table.without_repeats(np.r_[False, np.all(np.diff(table.values, axis=0) == 0.0, axis=1)])
     theta = table.values[:, 0]
     step = np.diff(theta)
     bad = np.flatnonzero(step <= 0.0)
     if bad.size:
         i = int(bad[0]) + 1
-        what = "repeats the previous row's angle" if step[i - 1] == 0.0 else f"is below the previous row's {theta[i - 1]:g} deg: angles must increase"
+        what = (
+            "repeats the previous row's angle"
+            if step[i - 1] == 0.0
+            else f"is below the previous row's {theta[i - 1]:g} deg: angles must increase"
+        )
         raise InputError(table.where(i), f"theta_deg = {theta[i]:g} {what}")
     beyond = np.flatnonzero(theta - theta[0] > 360.0 + 1e-9)
     if beyond.size:
         i = int(beyond[0])
-        raise InputError(table.where(i), f"theta_deg = {theta[i]:g} is more than one revolution after the first row's {theta[0]:g} deg")
+        raise InputError(
+            table.where(i),
+            f"theta_deg = {theta[i]:g} is more than one revolution after the first row's {theta[0]:g} deg",
+        )
     gaps = np.append(step, theta[0] + 360.0 - theta[-1])
     j = int(np.argmax(gaps))
     if gaps[j] > MAX_GAP_DEG:
@@ -144,7 +153,9 @@ def read_contour(path: Path, shown: str) -> Samples:
     elif path.suffix.lower() == ".csv":
         pts = read_csv(path, shown, ("x_mm", "y_mm"))
     else:
-        raise InputError(shown, f"unknown contour format {path.suffix or '(no suffix)'!r}: use .csv (x_mm,y_mm) or .dxf")
+        raise InputError(
+            shown, f"unknown contour format {path.suffix or '(no suffix)'!r}: use .csv (x_mm,y_mm) or .dxf"
+        )
     size = float(np.ptp(pts.values, axis=0).max())
     # CMM and CAD exports repeat points once rounded to their digits: a point equal to the one before it adds nothing
     pts = pts.without_repeats(np.r_[False, np.hypot(*np.diff(pts.values, axis=0).T) <= 1e-12 * size])
@@ -226,6 +237,9 @@ def _read_dxf(path: Path, shown: str) -> Samples:
     area, e, pts = max(outlines, key=lambda t: t[0])  # the largest closed curve is the outline (not a bore)
     if area == 0.0:
         gap = float(np.hypot(*(pts[-1] - pts[0])))
-        raise InputError(shown, f"the {e.dxftype()} (handle {e.dxf.handle}) is open: its ends are {gap:.4g} mm apart; the outline must be closed")
+        raise InputError(
+            shown,
+            f"the {e.dxftype()} (handle {e.dxf.handle}) is open: its ends are {gap:.4g} mm apart; the outline must be closed",
+        )
     _bounded(shown, len(pts), "points (arcs and splines sampled)")
     return Samples(shown, pts, np.arange(1, len(pts) + 1), "point", 0.0)

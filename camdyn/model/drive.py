@@ -97,12 +97,18 @@ class DriveTorque:
         }
 
 
-def drive_torque(theta_deg, force, velocity, omega: float, *, speed_fluctuation: float = DEFAULT_SPEED_FLUCTUATION) -> DriveTorque:
+def drive_torque(
+    theta_deg, force, velocity, omega: float, *, speed_fluctuation: float = DEFAULT_SPEED_FLUCTUATION
+) -> DriveTorque:
     """The drive of a force F (N, or an arm's N*m) and velocity s' (m/rad, or rad/rad) given on equal steps
     ``theta_deg`` of one revolution, at cam speed ``omega`` (rad/s)."""
     theta_deg = np.asarray(theta_deg, dtype=float)
     steps = np.diff(theta_deg)
-    if theta_deg.ndim != 1 or theta_deg.size < 16 or not np.allclose(steps, 360.0 / theta_deg.size, rtol=1e-9, atol=1e-9):
+    if (
+        theta_deg.ndim != 1
+        or theta_deg.size < 16
+        or not np.allclose(steps, 360.0 / theta_deg.size, rtol=1e-9, atol=1e-9)
+    ):
         raise InputError("theta_deg", "the drive needs equal steps over one revolution [0, 360)")
     if not (omega > 0 and np.isfinite(omega)):
         raise InputError("omega", f"the cam speed must be positive (got {omega})")
@@ -117,7 +123,9 @@ def follower_velocity(motion: Motion, theta_deg, scale: float) -> np.ndarray:
     return np.asarray(evaluate(motion, jnp.deg2rad(jnp.asarray(theta_deg, dtype=float))))[1] * scale
 
 
-def response_drive(motion: Motion, resp: Response, *, scale: float, speed_fluctuation: float = DEFAULT_SPEED_FLUCTUATION) -> DriveTorque:
+def response_drive(
+    motion: Motion, resp: Response, *, scale: float, speed_fluctuation: float = DEFAULT_SPEED_FLUCTUATION
+) -> DriveTorque:
     """The drive of a steady-state response, from its dynamic interface force.
 
     ``resp`` is in the model's own units, as :func:`camdyn.model.dynamics.response` returns it: N for a
@@ -128,7 +136,14 @@ def response_drive(motion: Motion, resp: Response, *, scale: float, speed_fluctu
     return drive_torque(resp.theta_deg, resp.force, velocity, resp.omega, speed_fluctuation=speed_fluctuation)
 
 
-def kinematic_drive(motion: Motion, model: FollowerModel, omega: float, *, n: int = THETA_GRID, speed_fluctuation: float = DEFAULT_SPEED_FLUCTUATION) -> DriveTorque:
+def kinematic_drive(
+    motion: Motion,
+    model: FollowerModel,
+    omega: float,
+    *,
+    n: int = THETA_GRID,
+    speed_fluctuation: float = DEFAULT_SPEED_FLUCTUATION,
+) -> DriveTorque:
     """The drive of a follower that never leaves the cam (its kinematic interface force), n equal steps."""
     theta_deg = np.arange(n) * (360.0 / n)
     force = np.asarray(kinematic_force_jit(motion, model, float(omega), jnp.deg2rad(jnp.asarray(theta_deg))))

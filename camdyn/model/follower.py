@@ -31,7 +31,9 @@ class FollowerModel(eqx.Module):
     train_damping: jax.Array  # N*s/m
     restitution: jax.Array  # 0..1
     scale: float = eqx.field(static=True, default=1e-3)  # motion unit -> SI length (mm -> m)
-    damping_ratio: jax.Array = eqx.field(default=math.nan, converter=jnp.asarray)  # zeta of c = 2 zeta sqrt(k m); NaN: c fixed
+    damping_ratio: jax.Array = eqx.field(
+        default=math.nan, converter=jnp.asarray
+    )  # zeta of c = 2 zeta sqrt(k m); NaN: c fixed
 
     @property
     def rigid(self) -> bool:
@@ -40,12 +42,18 @@ class FollowerModel(eqx.Module):
     def damping_at(self, stiffness):
         """The spring damping at another rate: it follows sqrt(k m) when given as a ratio, else it stays."""
         ratio = self.damping_ratio
-        return jnp.where(jnp.isnan(ratio), self.damping, damping_from_ratio(jnp.nan_to_num(ratio), stiffness, self.mass))
+        return jnp.where(
+            jnp.isnan(ratio), self.damping, damping_from_ratio(jnp.nan_to_num(ratio), stiffness, self.mass)
+        )
 
     def with_spring(self, stiffness, preload=None) -> FollowerModel:
         """The same follower with another spring rate (SI; and preload, if given), its damping re-derived."""
         stiffness = jnp.asarray(stiffness, dtype=float)
-        new = (stiffness, self.preload if preload is None else jnp.asarray(preload, dtype=float), self.damping_at(stiffness))
+        new = (
+            stiffness,
+            self.preload if preload is None else jnp.asarray(preload, dtype=float),
+            self.damping_at(stiffness),
+        )
         return eqx.tree_at(lambda m: (m.stiffness, m.preload, m.damping), self, new)
 
 
@@ -61,7 +69,9 @@ def follower_model(d: DynamicsSpec, *, oscillating: bool) -> FollowerModel:
     ext = d.external_torque if oscillating else d.external_force
     ratio = math.nan if d.damping is not None else (d.damping_ratio or 0.0)
     vals = (m, k, f0, c, ext, kf, cf, d.restitution)
-    return FollowerModel(*(jnp.asarray(float(v)) for v in vals), scale=motion_scale(oscillating), damping_ratio=jnp.asarray(ratio))
+    return FollowerModel(
+        *(jnp.asarray(float(v)) for v in vals), scale=motion_scale(oscillating), damping_ratio=jnp.asarray(ratio)
+    )
 
 
 def with_spring_mass(model: FollowerModel, spring_mass, *, lever_arm_mm=None) -> FollowerModel:
@@ -75,4 +85,6 @@ def with_spring_mass(model: FollowerModel, spring_mass, *, lever_arm_mm=None) ->
     mass = model.mass + added
     grow = jnp.sqrt(mass / model.mass)
     damping = jnp.where(jnp.isnan(model.damping_ratio), model.damping, model.damping * grow)
-    return eqx.tree_at(lambda m: (m.mass, m.damping, m.train_damping), model, (mass, damping, model.train_damping * grow))
+    return eqx.tree_at(
+        lambda m: (m.mass, m.damping, m.train_damping), model, (mass, damping, model.train_damping * grow)
+    )

@@ -194,10 +194,20 @@ def _chain(pieces: list, start: np.ndarray, head0: float, joints_sharp: bool, fi
     pad = _CHAIN_PIECES - len(v0)  # a fixed piece count: every chain shares one compiled program
     p0, head, kappa = np.array(p0), np.array(head), np.array(kappa)
     v0 = np.concatenate([v0, np.full(pad, 2.0)])  # v < 1 never reaches the padding
-    p0, head, kappa = np.vstack([p0, np.zeros((pad, 2))]), np.append(head, np.zeros(pad)), np.append(kappa, np.zeros(pad))
+    p0, head, kappa = (
+        np.vstack([p0, np.zeros((pad, 2))]),
+        np.append(head, np.zeros(pad)),
+        np.append(kappa, np.zeros(pad)),
+    )
     return Chain(
-        v0=jnp.asarray(v0), p0=jnp.asarray(p0), head=jnp.asarray(head), kappa=jnp.asarray(kappa),
-        total=jnp.asarray(total), local_breaks=joints, local_sharp=joints if joints_sharp else (), **kw,
+        v0=jnp.asarray(v0),
+        p0=jnp.asarray(p0),
+        head=jnp.asarray(head),
+        kappa=jnp.asarray(kappa),
+        total=jnp.asarray(total),
+        local_breaks=joints,
+        local_sharp=joints if joints_sharp else (),
+        **kw,
     )
 
 
@@ -219,11 +229,23 @@ def build_path(spec: PathSpec | dict) -> Path:
         else:  # start + (end - start)(1 - cos w)/2: at rest at both ends, no tangent jump
             p0, p1 = np.asarray(spec.start, dtype=float), np.asarray(spec.end, dtype=float)
             c, a[0] = (p0 + p1) / 2.0, -(p1 - p0) / 2.0
-        return Trig(center=jnp.asarray(c), a=jnp.asarray(a), b=jnp.asarray(b), local_breaks=(), local_sharp=(), **common)
+        return Trig(
+            center=jnp.asarray(c), a=jnp.asarray(a), b=jnp.asarray(b), local_breaks=(), local_sharp=(), **common
+        )
     if t == "rectangle":
         w, h, r = spec.width, spec.height, spec.corner_radius or 0.0
         quarter = ("arc", (r, math.pi / 2))
-        pieces = [("line", h / 2 - r), quarter, ("line", w - 2 * r), quarter, ("line", h - 2 * r), quarter, ("line", w - 2 * r), quarter, ("line", h / 2 - r)]
+        pieces = [
+            ("line", h / 2 - r),
+            quarter,
+            ("line", w - 2 * r),
+            quarter,
+            ("line", h - 2 * r),
+            quarter,
+            ("line", w - 2 * r),
+            quarter,
+            ("line", h / 2 - r),
+        ]
         pieces = [p for p in pieces if p[0] == "arc" or p[1] > 0.0]
         head0 = math.radians(spec.rotation) + math.pi / 2
         return _chain(pieces, c + rot @ np.array([w / 2, 0.0]), head0, r == 0.0, False, **common)
@@ -231,7 +253,9 @@ def build_path(spec: PathSpec | dict) -> Path:
         r, length = spec.radius, spec.straight
         half = ("arc", (r, math.pi))
         g = c + rot @ np.array([length / 2, -r])  # lower end of the right semicircle: Ye & Smith's F0
-        return _chain([half, ("line", length), half, ("line", length)], g, math.radians(spec.rotation), False, True, **common)
+        return _chain(
+            [half, ("line", length), half, ("line", length)], g, math.radians(spec.rotation), False, True, **common
+        )
     # points: periodic cubic spline, chord-length knots
     pts = np.column_stack([spec.x, spec.y]).astype(float)
     if np.allclose(pts[0], pts[-1]):
@@ -244,4 +268,10 @@ def build_path(spec: PathSpec | dict) -> Path:
     knots = np.concatenate([[0.0], np.cumsum(chord)]) / chord.sum()
     cs = CubicSpline(knots, closed, bc_type="periodic")
     coef = np.transpose(cs.c, (1, 0, 2))  # (n, 4, 2)
-    return Spline(knots=jnp.asarray(knots), coef=jnp.asarray(coef), local_breaks=tuple(float(k) for k in knots[:-1]), local_sharp=(), **common)
+    return Spline(
+        knots=jnp.asarray(knots),
+        coef=jnp.asarray(coef),
+        local_breaks=tuple(float(k) for k in knots[:-1]),
+        local_sharp=(),
+        **common,
+    )

@@ -37,7 +37,9 @@ def _lift_level(table: Samples, lift: np.ndarray, unit: str, column: str) -> lis
             "lift is measured from the base circle (a slight dip in a dwell is taken as noise)",
         )
     if lift[i] > ZERO_SHARE * span:
-        return [f"{table.shown}: the least {column} is {lift[i]:g} {unit}, not 0: camdyn measures lift from the base circle (base_radius is the least contour radius)"]
+        return [
+            f"{table.shown}: the least {column} is {lift[i]:g} {unit}, not 0: camdyn measures lift from the base circle (base_radius is the least contour radius)"
+        ]
     return []
 
 
@@ -72,14 +74,22 @@ def table_motion(spec: CaseSpec, source: Path | None) -> tuple[FittedMotion, Mot
     unit, column = ("deg", "swing_deg") if spec.oscillating else ("mm", "lift_mm")
     warnings = _unit_slip(table, lift, unit, column) + _lift_level(table, lift, unit, column)
     motion, fit = fit_motion(
-        theta, lift, unit=unit, source="table", file=name, tolerance=tolerance, rounding=table.rounding,
+        theta,
+        lift,
+        unit=unit,
+        source="table",
+        file=name,
+        tolerance=tolerance,
+        rounding=table.rounding,
         repeats=table.repeats,
     )
     _within_tolerance(fit, table, tolerance)
     return motion, fit, warnings + fit_warnings(fit)
 
 
-def contour_motion(spec: CaseSpec, source: Path | None) -> tuple[FittedMotion, FollowerSpec, MotionFit, ContourFit, list[str]]:
+def contour_motion(
+    spec: CaseSpec, source: Path | None
+) -> tuple[FittedMotion, FollowerSpec, MotionFit, ContourFit, list[str]]:
     """The motion of the case's cam outline by exact contact, the follower with the outline's base radius."""
     name = spec.follower.contour
     derived = contact_motion(read_contour(_path(name, source), name), spec.follower)

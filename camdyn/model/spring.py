@@ -264,7 +264,9 @@ class HelicalSpring:
     def surge_frequency(self) -> float:
         return float(surge_frequency(self.rate, self.active_mass))
 
-    def fatigue_safety(self, force_min: float, force_max: float, criterion: str = "gerber", peened: bool = False) -> float:
+    def fatigue_safety(
+        self, force_min: float, force_max: float, criterion: str = "gerber", peened: bool = False
+    ) -> float:
         """Fatigue factor of safety cycling between two forces (N); NaN over Zimmerli's 10 mm."""
         if self.wire_diameter > ZIMMERLI_MAX_WIRE_MM:
             return math.nan

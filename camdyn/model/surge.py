@@ -44,7 +44,9 @@ DEFAULT_SURGE_DAMPING = 0.02  # damping ratio of the spring's first surge mode (
 def _matrices(model: FollowerModel, spring_mass: float, segments: int, surge_damping: float):
     """Node masses (N,), stiffness and damping (N, N) of the chain with the follower as the last node (no train)."""
     if segments < 1 or not spring_mass > 0:
-        raise InputError("spring", f"a chain needs at least one segment and a positive spring mass (got {segments}, {spring_mass})")
+        raise InputError(
+            "spring", f"a chain needs at least one segment and a positive spring mass (got {segments}, {spring_mass})"
+        )
     n, k, m_s = segments, float(model.stiffness), float(spring_mass)
     w_surge = math.pi * math.sqrt(k / m_s)
     c_s = 2.0 * surge_damping * k / w_surge  # KV damper of the whole spring: zeta_1 = c_s w_1 / (2 k)
@@ -63,8 +65,17 @@ def _spectrum(motion: Motion, model: FollowerModel, n: int):
     return vals, np.fft.rfft(vals[0])
 
 
-def chain_steady_force(motion: Motion, model: FollowerModel, spring_mass: float, omega: float, *, segments: int = DEFAULT_SEGMENTS,
-                       surge_damping: float = DEFAULT_SURGE_DAMPING, n: int = FFT_GRID, _spec=None):
+def chain_steady_force(
+    motion: Motion,
+    model: FollowerModel,
+    spring_mass: float,
+    omega: float,
+    *,
+    segments: int = DEFAULT_SEGMENTS,
+    surge_damping: float = DEFAULT_SURGE_DAMPING,
+    n: int = FFT_GRID,
+    _spec=None,
+):
     """Interface force (N, or N*m) on ``theta_j = 2 pi j / n`` of the chain's periodic orbit while the follower
     stays on the cam, and the nodes' orbit q (n, N) with its dq/dtheta (SI). Exact wherever the force stays
     positive."""
@@ -108,10 +119,24 @@ def chain_steady_force(motion: Motion, model: FollowerModel, spring_mass: float,
 def chain_min_force(motion, model, spring_mass, omegas, *, n: int = FFT_GRID, **kw) -> np.ndarray:
     """Least steady-state interface force per speed (contact assumed, as for the jump speed)."""
     spec = _spectrum(motion, model, n)
-    return np.array([np.min(chain_steady_force(motion, model, spring_mass, float(w), n=n, _spec=spec, **kw)[0]) for w in np.atleast_1d(omegas)])
+    return np.array(
+        [
+            np.min(chain_steady_force(motion, model, spring_mass, float(w), n=n, _spec=spec, **kw)[0])
+            for w in np.atleast_1d(omegas)
+        ]
+    )
 
 
-def chain_jump_speed(motion: Motion, model: FollowerModel, spring_mass: float, *, w_max: float, grid: int = 400, tol_rpm: float = 0.1, **kw) -> float:
+def chain_jump_speed(
+    motion: Motion,
+    model: FollowerModel,
+    spring_mass: float,
+    *,
+    w_max: float,
+    grid: int = 400,
+    tol_rpm: float = 0.1,
+    **kw,
+) -> float:
     """Least cam speed (rad/s) at which the chain's steady-state least interface force reaches 0 (inf if none
     up to ``w_max``): a scan over ``grid`` speeds, then bisection of the first sign change."""
     least = lambda ws: chain_min_force(motion, model, spring_mass, ws, **kw)  # noqa: E731
@@ -129,32 +154,66 @@ def _field(t, y, args):
     return jnp.concatenate([v, force / mass])
 
 
-def chain_revolution(motion: Motion, model: FollowerModel, spring_mass: float, omega: float, q0, v0, theta, *, segments: int = DEFAULT_SEGMENTS,
-                     surge_damping: float = DEFAULT_SURGE_DAMPING, rtol: float = 1e-10, atol: float = 1e-13):
+def chain_revolution(
+    motion: Motion,
+    model: FollowerModel,
+    spring_mass: float,
+    omega: float,
+    q0,
+    v0,
+    theta,
+    *,
+    segments: int = DEFAULT_SEGMENTS,
+    surge_damping: float = DEFAULT_SURGE_DAMPING,
+    rtol: float = 1e-10,
+    atol: float = 1e-13,
+):
     """diffrax: one revolution of a compliant follower with the chain, from nodes q0 and velocities v0 (SI, per
     second) at theta = 0; returns the nodes (len(theta), N), the interface force on ``theta`` (rad) and the
     state at 2 pi. Contact is unilateral: the follower may leave the cam."""
     if model.rigid:
         raise InputError("dynamics.train_stiffness", "the time-domain chain needs a compliant follower train")
     mass, K, C = _matrices(model, spring_mass, segments, surge_damping)
-    args = (motion, jnp.asarray(mass), jnp.asarray(K), jnp.asarray(C), float(model.train_stiffness), float(model.train_damping),
-            float(model.preload) + float(model.external), float(omega), model.scale)
+    args = (
+        motion,
+        jnp.asarray(mass),
+        jnp.asarray(K),
+        jnp.asarray(C),
+        float(model.train_stiffness),
+        float(model.train_damping),
+        float(model.preload) + float(model.external),
+        float(omega),
+        model.scale,
+    )
     breaks = np.deg2rad(np.asarray(motion.breaks_deg, dtype=float)) / omega
     period = TWO_PI / omega
     ts = jnp.asarray(np.asarray(theta) / omega)
     sol = diffrax.diffeqsolve(
-        diffrax.ODETerm(_field), diffrax.Tsit5(), t0=0.0, t1=period, dt0=None, y0=jnp.concatenate([jnp.asarray(q0), jnp.asarray(v0)]), args=args,
+        diffrax.ODETerm(_field),
+        diffrax.Tsit5(),
+        t0=0.0,
+        t1=period,
+        dt0=None,
+        y0=jnp.concatenate([jnp.asarray(q0), jnp.asarray(v0)]),
+        args=args,
         saveat=diffrax.SaveAt(ts=ts, t1=True),
-        stepsize_controller=diffrax.ClipStepSizeController(diffrax.PIDController(rtol=rtol, atol=atol), jump_ts=jnp.asarray(np.sort(breaks))),
-        max_steps=400_000, throw=False,
+        stepsize_controller=diffrax.ClipStepSizeController(
+            diffrax.PIDController(rtol=rtol, atol=atol), jump_ts=jnp.asarray(np.sort(breaks))
+        ),
+        max_steps=400_000,
+        throw=False,
     )
     if sol.result != diffrax.RESULTS.successful:
-        raise NumericalError(f"surge model at {omega / RPM:.1f} rpm", "the chain integration failed (solver out of steps or NaN)")
+        raise NumericalError(
+            f"surge model at {omega / RPM:.1f} rpm", "the chain integration failed (solver out of steps or NaN)"
+        )
     ys = np.asarray(sol.ys)
     nn = segments
     q, v = ys[:-1, :nn], ys[:-1, nn:]
     vals = np.asarray(motion(jnp.asarray(theta))) * model.scale
-    raw = float(model.train_stiffness) * (vals[0] - q[:, -1]) + float(model.train_damping) * (omega * vals[1] - v[:, -1])
+    raw = float(model.train_stiffness) * (vals[0] - q[:, -1]) + float(model.train_damping) * (
+        omega * vals[1] - v[:, -1]
+    )
     fi = np.where(vals[0] > q[:, -1], np.maximum(0.0, raw), 0.0)
     return q, fi, ys[-1]
 

@@ -54,7 +54,15 @@ def shade_separations(ax, response, label: bool = False) -> None:
     """Shade the cam angles where the follower is off the cam: exactly where the interface force is zero (a
     separation that bounces is several flights, the impacts between them left unshaded)."""
     for k, (a, b) in enumerate(flight_spans(response)):
-        ax.axvspan(a, b, color=C["limit"], alpha=0.13, lw=0, zorder=0.4, label="separated (force 0)" if (label and k == 0) else None)
+        ax.axvspan(
+            a,
+            b,
+            color=C["limit"],
+            alpha=0.13,
+            lw=0,
+            zorder=0.4,
+            label="separated (force 0)" if (label and k == 0) else None,
+        )
 
 
 def legend_above_data(ax, margin: float = 0.04, also=(), **kw):
@@ -92,13 +100,25 @@ def rotate(angle_rad: float, xy: np.ndarray) -> np.ndarray:
 
 def _data_points(ax) -> np.ndarray:
     """The display coordinates (k, 2) of every point of the axes' data lines (not of axhline or axvline)."""
-    pts = [np.column_stack([np.asarray(line.get_xdata(), float), np.asarray(line.get_ydata(), float)])
-           for line in ax.lines if line.get_transform() == ax.transData and np.size(line.get_xdata()) == np.size(line.get_ydata())]
+    pts = [
+        np.column_stack([np.asarray(line.get_xdata(), float), np.asarray(line.get_ydata(), float)])
+        for line in ax.lines
+        if line.get_transform() == ax.transData and np.size(line.get_xdata()) == np.size(line.get_ydata())
+    ]
     pts = [p[np.all(np.isfinite(p), axis=1)] for p in pts if p.size]
     return ax.transData.transform(np.concatenate(pts)) if pts else np.zeros((0, 2))
 
 
-LEGEND_PLACES = ("lower left", "upper right", "lower right", "upper left", "center left", "center right", "lower center", "upper center")
+LEGEND_PLACES = (
+    "lower left",
+    "upper right",
+    "lower right",
+    "upper left",
+    "center left",
+    "center right",
+    "lower center",
+    "upper center",
+)
 
 
 def legend_clear(ax, places=LEGEND_PLACES, **kw):
@@ -110,7 +130,11 @@ def legend_clear(ax, places=LEGEND_PLACES, **kw):
     for loc in places:
         leg = ax.legend(**({"loc": loc} | kw))
         box = leg.get_window_extent(renderer)
-        n = int(np.count_nonzero((pts[:, 0] >= box.x0) & (pts[:, 0] <= box.x1) & (pts[:, 1] >= box.y0) & (pts[:, 1] <= box.y1)))
+        n = int(
+            np.count_nonzero(
+                (pts[:, 0] >= box.x0) & (pts[:, 0] <= box.x1) & (pts[:, 1] >= box.y0) & (pts[:, 1] <= box.y1)
+            )
+        )
         if n == 0:
             return leg
         if best_n is None or n < best_n:

@@ -96,12 +96,22 @@ def plot_follower(ax, geometry: CamGeometry, theta_deg: float, *, colour, lw=1.0
         else:
             d = at["pivot"] - base
             tip = base + d / np.linalg.norm(d) * min(np.linalg.norm(d), stem_len)
-        ax.plot([base[0], tip[0]], [base[1], tip[1]], color=colour, lw=lw * 1.6, alpha=alpha, zorder=z, solid_capstyle="butt")
+        ax.plot(
+            [base[0], tip[0]],
+            [base[1], tip[1]],
+            color=colour,
+            lw=lw * 1.6,
+            alpha=alpha,
+            zorder=z,
+            solid_capstyle="butt",
+        )
     at["tip"] = tip
     return at
 
 
-def plot_cam_profile(ax, geometry: CamGeometry, check: CheckReport | None = None, *, angles=(0.0, 90.0, 180.0, 270.0)) -> None:
+def plot_cam_profile(
+    ax, geometry: CamGeometry, check: CheckReport | None = None, *, angles=(0.0, 90.0, 180.0, 270.0)
+) -> None:
     """The cam in its frame: contour, pitch curve, base circle, the follower at ``angles`` (grey), the follower at
     the largest pressure angle with its motion and the contact normal, the osculating circle at the least radius
     of curvature and the sense of rotation. The marks turn red where ``check`` fails that check."""
@@ -111,8 +121,21 @@ def plot_cam_profile(ax, geometry: CamGeometry, check: CheckReport | None = None
     contour, pitch = geo.contour, geo.pitch
     ax.add_patch(Polygon(contour.T, closed=True, fc=C["cam"], ec=C["ink"], lw=1.3, zorder=1, label="cam contour"))
     if f.roller:
-        ax.plot(*np.c_[pitch, pitch[:, :1]], color=C["dyn"], lw=0.9, ls="--", zorder=2, label="pitch curve (roller centre)")
-    ax.add_patch(Circle((0, 0), f.base_radius, fill=False, ec=C["grey"], lw=0.8, ls=":", zorder=2, label=f"base circle, radius {f.base_radius:.4g} mm"))
+        ax.plot(
+            *np.c_[pitch, pitch[:, :1]], color=C["dyn"], lw=0.9, ls="--", zorder=2, label="pitch curve (roller centre)"
+        )
+    ax.add_patch(
+        Circle(
+            (0, 0),
+            f.base_radius,
+            fill=False,
+            ec=C["grey"],
+            lw=0.8,
+            ls=":",
+            zorder=2,
+            label=f"base circle, radius {f.base_radius:.4g} mm",
+        )
+    )
     ax.plot(0, 0, marker="+", color=C["ink"], ms=9, mew=1.2, zorder=4)
     r_all = np.hypot(pitch[0], pitch[1]).max() + (f.roller_radius or 0.0)
     reach = r_all
@@ -120,8 +143,22 @@ def plot_cam_profile(ax, geometry: CamGeometry, check: CheckReport | None = None
         at = plot_follower(ax, geo, th, colour=C["grey"], lw=0.9, alpha=0.85, z=3)
         reach = max(reach, float(np.max(np.abs(at["tip"]))) + 0.1 * r_all)
         out = at["tip"] - at["centre"]
-        out = out / np.linalg.norm(out) if np.linalg.norm(out) > 1e-9 else at["centre"] / max(np.linalg.norm(at["centre"]), 1e-9)
-        ax.annotate(f"{th:g}\u00b0", at["tip"], xytext=tuple(9 * out), textcoords="offset points", size=7.5, color=C["grey"], ha="center", va="center", zorder=5)
+        out = (
+            out / np.linalg.norm(out)
+            if np.linalg.norm(out) > 1e-9
+            else at["centre"] / max(np.linalg.norm(at["centre"]), 1e-9)
+        )
+        ax.annotate(
+            f"{th:g}\u00b0",
+            at["tip"],
+            xytext=tuple(9 * out),
+            textcoords="offset points",
+            size=7.5,
+            color=C["grey"],
+            ha="center",
+            va="center",
+            zorder=5,
+        )
     if square_face(geo):
         reach = max(reach, _face_travel_mark(ax, geo, check_colour(check, "face_width", C["margin"])))
     else:
@@ -146,14 +183,28 @@ def _pressure_angle_mark(ax, geo: CamGeometry, colour: str, r_all: float) -> flo
     arrows = ((at["normal"], at["move"], "contact normal"), (at["move"], at["normal"], "follower motion"))
     sides = []
     for vec, other, text in arrows:
-        ax.add_patch(FancyArrowPatch(origin, origin + vec * L, arrowstyle="-|>", mutation_scale=9, color=colour, lw=1.2, zorder=6))
+        ax.add_patch(
+            FancyArrowPatch(
+                origin, origin + vec * L, arrowstyle="-|>", mutation_scale=9, color=colour, lw=1.2, zorder=6
+            )
+        )
         side = np.array([-vec[1], vec[0]])
         if side @ other > 0:
             side = -side
         if sides and abs(vec[0] * other[1] - vec[1] * other[0]) < math.sin(math.radians(15.0)):
             side = -sides[0]  # nearly parallel arrows: their labels either side, not on top of each other
         sides.append(side)
-        ax.annotate(text, origin + vec * L, xytext=tuple(8 * side), textcoords="offset points", size=7, color=colour, ha="left" if side[0] > 0 else "right", va="center", zorder=6)
+        ax.annotate(
+            text,
+            origin + vec * L,
+            xytext=tuple(8 * side),
+            textcoords="offset points",
+            size=7,
+            color=colour,
+            ha="left" if side[0] > 0 else "right",
+            va="center",
+            zorder=6,
+        )
     return float(np.max(np.abs(origin))) + L * 1.25
 
 
@@ -173,9 +224,18 @@ def _face_travel_mark(ax, geo: CamGeometry, colour: str) -> float:
         at = plot_follower(ax, geo, th, colour=colour, lw=1.6, z=6, stem=False)
         p, n = at["contact"], at["normal"]
         ax.plot(*p, marker="o", ms=5, color=colour, zorder=7)
-        ax.annotate(f"t = {t:+.1f} mm\nat {th:.1f}\u00b0", p, xytext=tuple(16 * n), textcoords="offset points", size=7, color=colour, zorder=7,
-                    ha="left" if n[0] > 0.3 else ("right" if n[0] < -0.3 else "center"), va="bottom" if n[1] > 0.3 else ("top" if n[1] < -0.3 else "center"),
-                    bbox=dict(fc="white", ec="none", alpha=0.85, pad=0.8))
+        ax.annotate(
+            f"t = {t:+.1f} mm\nat {th:.1f}\u00b0",
+            p,
+            xytext=tuple(16 * n),
+            textcoords="offset points",
+            size=7,
+            color=colour,
+            zorder=7,
+            ha="left" if n[0] > 0.3 else ("right" if n[0] < -0.3 else "center"),
+            va="bottom" if n[1] > 0.3 else ("top" if n[1] < -0.3 else "center"),
+            bbox=dict(fc="white", ec="none", alpha=0.85, pad=0.8),
+        )
         reach = max(reach, float(np.max(np.abs(p))) * 1.25)
     return reach
 
@@ -196,11 +256,19 @@ def plot_face_contact(ax, geometry: CamGeometry, check: CheckReport | None = Non
     if width:  # the face's ends where the face_width check and the cam drawing put them
         c = geo.face_centre_mm
         for end in (c - 0.5 * width, c + 0.5 * width):
-            ax.axhline(end, color=C["limit"], lw=0.9, ls="--", label=f"face ends: face_width {width:g} mm centred at t = {c:+.2f} mm" if end < c else None)
+            ax.axhline(
+                end,
+                color=C["limit"],
+                lw=0.9,
+                ls="--",
+                label=f"face ends: face_width {width:g} mm centred at t = {c:+.2f} mm" if end < c else None,
+            )
         legend_above_data(ax, also=(c + 0.5 * width,), fontsize=7)
     mark_breaks(ax, breaks_deg)
     ax.set_ylabel(f"t from the {'axis' if geo.follower.translating else 'pivot foot'} (mm)")
-    ax.set_title("contact position t along the face (pressure angle 0 all round: the face is square to its motion)", fontsize=9)
+    ax.set_title(
+        "contact position t along the face (pressure angle 0 all round: the face is square to its motion)", fontsize=9
+    )
 
 
 def _curvature_mark(ax, geo: CamGeometry, colour: str, r_all: float) -> None:
@@ -218,7 +286,18 @@ def _rotation_arrow(ax, f) -> None:
     arc_r = 0.22 * f.base_radius
     sign = f.sigma
     a0, a1 = (math.radians(200), math.radians(340)) if sign > 0 else (math.radians(340), math.radians(200))
-    ax.add_patch(FancyArrowPatch((arc_r * math.cos(a0), arc_r * math.sin(a0)), (arc_r * math.cos(a1), arc_r * math.sin(a1)), connectionstyle=f"arc3,rad={0.5 * sign}", arrowstyle="-|>", mutation_scale=8, color=C["ink"], lw=0.9, zorder=4))
+    ax.add_patch(
+        FancyArrowPatch(
+            (arc_r * math.cos(a0), arc_r * math.sin(a0)),
+            (arc_r * math.cos(a1), arc_r * math.sin(a1)),
+            connectionstyle=f"arc3,rad={0.5 * sign}",
+            arrowstyle="-|>",
+            mutation_scale=8,
+            color=C["ink"],
+            lw=0.9,
+            zorder=4,
+        )
+    )
     ax.text(0, -arc_r * 1.9, f"turns {f.rotation}", size=7.5, ha="center", va="center", color=C["ink"])
 
 
@@ -245,7 +324,14 @@ def plot_pressure_angle(ax, geometry: CamGeometry, check: CheckReport | None = N
     ax.set_title("pressure angle", fontsize=9)
 
 
-def plot_curvature(ax, geometry: CamGeometry, check: CheckReport | None = None, *, min_curvature_ratio: float = DEFAULT_MIN_CURVATURE_RATIO, breaks_deg=()) -> None:
+def plot_curvature(
+    ax,
+    geometry: CamGeometry,
+    check: CheckReport | None = None,
+    *,
+    min_curvature_ratio: float = DEFAULT_MIN_CURVATURE_RATIO,
+    breaks_deg=(),
+) -> None:
     """The contour's (and a roller's pitch curve's) radius of curvature against the cam angle, convex > 0, with
     the limit (``min_curvature_ratio`` x roller radius; no cusp for a flat face) and the least value marked."""
     geo, f = geometry, geometry.follower
@@ -262,12 +348,25 @@ def plot_curvature(ax, geometry: CamGeometry, check: CheckReport | None = None, 
         ax.plot(th, rho_p, color=C["dyn"], lw=0.8, ls="--", alpha=0.7, label="pitch curve")
         r_lim = min_curvature_ratio * f.roller_radius
         ax.axhline(r_lim, color=C["limit"], ls="--", lw=0.9)
-        ax.text(2, r_lim, f" limit {min_curvature_ratio:g} \u00d7 roller radius = {r_lim:.3g} mm (convex)", color=C["limit"], size=7, va="bottom")
+        ax.text(
+            2,
+            r_lim,
+            f" limit {min_curvature_ratio:g} \u00d7 roller radius = {r_lim:.3g} mm (convex)",
+            color=C["limit"],
+            size=7,
+            va="bottom",
+        )
     else:
         ax.axhline(0.0, color=C["limit"], ls="--", lw=0.9)
         ax.text(2, 0.0, " limit: no cusp (\u03c1 > 0)", color=C["limit"], size=7, va="bottom")
     ax.axhline(0, color="#888888", lw=0.6)
-    ax.plot(geo.min_radius_of_curvature_at_deg, geo.min_radius_of_curvature_mm, "o", color=check_colour(check, "curvature", C["advice"]), ms=4.5)
+    ax.plot(
+        geo.min_radius_of_curvature_at_deg,
+        geo.min_radius_of_curvature_mm,
+        "o",
+        color=check_colour(check, "curvature", C["advice"]),
+        ms=4.5,
+    )
     ax.set_ylim(min(floor * 1.1, -0.05 * cap), cap)
     mark_breaks(ax, breaks_deg)
     ax.set_ylabel("radius of curvature (mm)")

@@ -19,7 +19,9 @@ def flights_by_gap(response: Response) -> list:
     return sorted(response.separations, key=lambda s: -s.max_gap)
 
 
-def plot_contact_force(ax, response: Response, *, colour: str = C["dyn"], title: str | None = None, breaks_deg=(), legend: bool = True) -> None:
+def plot_contact_force(
+    ax, response: Response, *, colour: str = C["dyn"], title: str | None = None, breaks_deg=(), legend: bool = True
+) -> None:
     """The interface force (N) over a revolution, dynamic against kinematic, shaded exactly where the force is
     zero; marked: where the follower leaves the cam (a triangle per flight) and each impact's peak force, or the
     least force. What the marks mean is in the legend (no label on the plot covers the curve). ``response``:
@@ -36,7 +38,14 @@ def plot_contact_force(ax, response: Response, *, colour: str = C["dyn"], title:
         _mark_flights(ax, response, colour)
     else:
         i = int(np.argmin(response.force))
-        ax.plot(th[i], response.force[i], "o", color=colour, ms=4, label=f"least {response.force[i]:.3g} N at {th[i]:.1f}\u00b0")
+        ax.plot(
+            th[i],
+            response.force[i],
+            "o",
+            color=colour,
+            ms=4,
+            label=f"least {response.force[i]:.3g} N at {th[i]:.1f}\u00b0",
+        )
     ax.set_ylabel("interface force (N)")
     ax.set_title(title if title is not None else f"interface force at {response.omega / RPM:.4g} rpm", fontsize=9)
     if legend:
@@ -62,16 +71,34 @@ def _mark_flights(ax, response: Response, colour: str) -> None:
     """A triangle on the zero line where each flight leaves the cam, a cross on each impact's peak force."""
     flights, impacts = response.flights, response.impacts
     n = len(flights)
-    ax.plot([f.leave_deg for f in flights], [0.0] * n, "v", color=colour, ms=5, zorder=6, clip_on=False,
-            label=f"leaves the cam ({n} flight{'s' if n > 1 else ''})")
+    ax.plot(
+        [f.leave_deg for f in flights],
+        [0.0] * n,
+        "v",
+        color=colour,
+        ms=5,
+        zorder=6,
+        clip_on=False,
+        label=f"leaves the cam ({n} flight{'s' if n > 1 else ''})",
+    )
     hits = [i for i in impacts if math.isfinite(i.peak_force)]
     if hits:
         top = max(hits, key=lambda i: i.peak_force)
-        ax.plot([i.peak_deg for i in hits], [i.peak_force for i in hits], "x", color=C["limit"], ms=5, mew=1.2, zorder=6,
-                label=f"impact ({len(hits)}), largest {top.peak_force:.4g} N at {top.peak_deg:.1f}\u00b0")
+        ax.plot(
+            [i.peak_deg for i in hits],
+            [i.peak_force for i in hits],
+            "x",
+            color=C["limit"],
+            ms=5,
+            mew=1.2,
+            zorder=6,
+            label=f"impact ({len(hits)}), largest {top.peak_force:.4g} N at {top.peak_deg:.1f}\u00b0",
+        )
 
 
-def plot_displacement(ax, response: Response, *, unit: str = "mm", speed_rpm: float | None = None, breaks_deg=()) -> None:
+def plot_displacement(
+    ax, response: Response, *, unit: str = "mm", speed_rpm: float | None = None, breaks_deg=()
+) -> None:
     """The follower's displacement x against the cam's s over a revolution (``unit``: the motion's, "mm" or
     "rad"; an arm's swing is drawn in degrees), the separations shaded."""
     k = display_scale(unit)
@@ -97,7 +124,16 @@ def plot_vibration(ax, curves, *, unit: str = "mm", breaks_deg=()) -> None:
     for r, col, lab in curves:
         ax.plot(r.theta_deg, (r.x - r.s) * scale, color=col, lw=1.1, label=lab)
     if peak == 0.0:
-        ax.text(0.5, 0.6, "rigid follower in contact all round: x = s, no vibratory response", transform=ax.transAxes, ha="center", va="center", size=8, color=C["grey"])
+        ax.text(
+            0.5,
+            0.6,
+            "rigid follower in contact all round: x = s, no vibratory response",
+            transform=ax.transAxes,
+            ha="center",
+            va="center",
+            size=8,
+            color=C["grey"],
+        )
     ax.axhline(0.0, color=C["ink"], lw=0.6)
     shade_separations(ax, curves[0][0], label=True)
     mark_breaks(ax, breaks_deg)
@@ -121,7 +157,15 @@ def plot_force_vs_speed(ax, review: Review) -> None:
         ok = v <= (jd if jd is not None else np.inf)
         ax.plot(v[ok], lin[ok], color=C["dyn"], lw=1.4, label="dynamic steady state (exact until separation)")
         if (~ok).any():
-            ax.plot(v[~ok], lin[~ok], color=C["dyn"], lw=0.9, ls=":", alpha=0.7, label="linear model past the jump (not valid)")
+            ax.plot(
+                v[~ok],
+                lin[~ok],
+                color=C["dyn"],
+                lw=0.9,
+                ls=":",
+                alpha=0.7,
+                label="linear model past the jump (not valid)",
+            )
     ax.axhline(0.0, color=C["ink"], lw=0.8)
     mf = chk.case.limits.min_contact_force
     if mf:
@@ -130,8 +174,22 @@ def plot_force_vs_speed(ax, review: Review) -> None:
     floor = min(float(np.min(sw.kinematic_N)), float(np.min(sw.dynamic_N)) if sw.dynamic_N is not None else 0.0)
     ymin, ymax = max(floor, -0.8 * top) - 0.05 * top, top
     _jump_speeds(ax, jd, jk, v[-1])
-    ax.axvline(review.margin_rpm, color=C["margin"], lw=0.9, ls="-.", label=f"speed_margin {review.case.limits.speed_margin:g} \u00d7 speed = {review.margin_rpm:g} rpm")
-    ax.plot(rpm, chk.dynamic["min_contact_force_N"], "o", color=C["dyn"] if chk.verdict == "pass" else C["fail"], ms=6, zorder=5, label=f"operating point ({rpm:g} rpm, time domain)")
+    ax.axvline(
+        review.margin_rpm,
+        color=C["margin"],
+        lw=0.9,
+        ls="-.",
+        label=f"speed_margin {review.case.limits.speed_margin:g} \u00d7 speed = {review.margin_rpm:g} rpm",
+    )
+    ax.plot(
+        rpm,
+        chk.dynamic["min_contact_force_N"],
+        "o",
+        color=C["dyn"] if chk.verdict == "pass" else C["fail"],
+        ms=6,
+        zorder=5,
+        label=f"operating point ({rpm:g} rpm, time domain)",
+    )
     ax.set_ylim(ymin, ymax)
     ax.set_xlim(0.0, v[-1])
     ax.set_xlabel("cam speed (rpm)")

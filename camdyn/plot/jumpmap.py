@@ -21,7 +21,16 @@ def plot_jump_map(ax, jm: JumpMap):
         cs = ax.contour(jm.speeds_rpm, jm.spring_rates, jm.contact_force.T, levels=[0.0], colors="red", linewidths=1.5)
         ax.plot([], [], color="red", label="jump boundary (Fi = 0)")
         del cs
-        ax.plot([jm.speed_rpm], [jm.spring_rate], marker="*", markersize=12, color="white", markeredgecolor="black", linestyle="none", label=op_label)
+        ax.plot(
+            [jm.speed_rpm],
+            [jm.spring_rate],
+            marker="*",
+            markersize=12,
+            color="white",
+            markeredgecolor="black",
+            linestyle="none",
+            label=op_label,
+        )
         ax.set_xlabel("cam speed (rpm)")
         ax.set_ylabel(f"spring rate ({ku})")
         ax.legend(loc="upper left", fontsize=8)

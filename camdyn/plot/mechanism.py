@@ -70,11 +70,15 @@ def plot_mechanism(ax, synthesis: Synthesis, theta_deg: float, *, bounds=None, l
         span = (hi - lo).max() * 1.5
         ax.plot(*np.c_[sp - e_dir * span, sp + e_dir * span], color=C["grey"], lw=0.7, ls="-.", zorder=1)
         e = pts["E"]
-        ax.plot([roller[0], e[0]], [roller[1], e[1]], color=C["ink"], lw=3.0, alpha=0.6, zorder=3, solid_capstyle="butt")
+        ax.plot(
+            [roller[0], e[0]], [roller[1], e[1]], color=C["ink"], lw=3.0, alpha=0.6, zorder=3, solid_capstyle="butt"
+        )
     ax.add_patch(Circle(roller, syn.mechanism.roller_radius, fc="white", ec=C["ink"], lw=1.0, zorder=4))
     for p, q in LINKS[kind]:
         if p in pts and q in pts and np.linalg.norm(pts[p] - pts[q]) > 1e-9:
-            ax.plot([pts[p][0], pts[q][0]], [pts[p][1], pts[q][1]], color=C["dyn"], lw=1.8, zorder=5, solid_capstyle="round")
+            ax.plot(
+                [pts[p][0], pts[q][0]], [pts[p][1], pts[q][1]], color=C["dyn"], lw=1.8, zorder=5, solid_capstyle="round"
+            )
     for xy in pts.values():
         ax.plot(*xy, "o", ms=3.2, mfc="white", mec=C["dyn"], mew=1.0, zorder=6)
     for g in GROUND[kind]:
@@ -100,7 +104,18 @@ def _label_joints(ax, pts: dict, size: float) -> None:
     for name, xy in labels:
         d = xy - centre
         d = d / np.linalg.norm(d) if np.linalg.norm(d) > 1e-9 else np.array([1.0, 0.0])
-        ax.annotate(name, xy, xytext=tuple(9 * d), textcoords="offset points", size=7, weight="bold", color=C["ink"], ha="center", va="center", zorder=8)
+        ax.annotate(
+            name,
+            xy,
+            xytext=tuple(9 * d),
+            textcoords="offset points",
+            size=7,
+            weight="bold",
+            color=C["ink"],
+            ha="center",
+            va="center",
+            zorder=8,
+        )
 
 
 def plot_path(ax, synthesis: Synthesis) -> None:
@@ -113,7 +128,15 @@ def plot_path(ax, synthesis: Synthesis) -> None:
     for a in range(0, 360, 45):
         ax.plot(*target[a], "o", ms=3, color=C["ink"])
         first = a < 180  # out and back along the same points (a line): first half above, second below
-        ax.annotate(f"{a}\u00b0", target[a], xytext=(3, 3) if first else (3, -3), textcoords="offset points", size=6.5, color=C["grey"], va="bottom" if first else "top")
+        ax.annotate(
+            f"{a}\u00b0",
+            target[a],
+            xytext=(3, 3) if first else (3, -3),
+            textcoords="offset points",
+            size=6.5,
+            color=C["grey"],
+            va="bottom" if first else "top",
+        )
     ax.set_xlabel("x (mm)")
     ax.set_ylabel("y (mm)")
     ax.set_title("path: target and traced (cam angles marked)", fontsize=9)

@@ -37,7 +37,12 @@ def _time_units(unit: str, speed_rpm: float) -> list:
     """Per-radian (left axes) -> time units at the cam speed (right axes): (label, factor), None for s."""
     w = speed_rpm * RPM
     if unit == "rad":
-        return [None, ("rad/s", math.pi / 180 * w), ("rad/s\u00b2", math.pi / 180 * w**2), ("rad/s\u00b3", math.pi / 180 * w**3)]
+        return [
+            None,
+            ("rad/s", math.pi / 180 * w),
+            ("rad/s\u00b2", math.pi / 180 * w**2),
+            ("rad/s\u00b3", math.pi / 180 * w**3),
+        ]
     return [None, ("mm/s", w), ("m/s\u00b2", w**2 / 1000.0), ("m/s\u00b3", w**3 / 1000.0)]
 
 
@@ -67,7 +72,9 @@ def plot_svaj(axes, samples: MotionSamples, *, speed_rpm: float | None = None, h
     axes[-1].set_xlabel("cam angle \u03b8 (deg)")
     if speed_rpm is not None:
         period_ms = 60000.0 / speed_rpm
-        top = axes[0].secondary_xaxis("top", functions=(lambda d: d / 360.0 * period_ms, lambda t: t / period_ms * 360.0))
+        top = axes[0].secondary_xaxis(
+            "top", functions=(lambda d: d / 360.0 * period_ms, lambda t: t / period_ms * 360.0)
+        )
         top.set_xlabel(f"time at {speed_rpm:g} rpm (ms)", color=C["grey"])
         top.tick_params(colors=C["grey"])
 
@@ -80,7 +87,11 @@ def plot_fit(ax_lift, ax_residual, fit, contour=None) -> None:
     exact contact with the fitted outline (derived, not measured)."""
     th = np.asarray(fit.theta_deg)
     every = max(1, th.size // 400)  # a few hundred markers: a 3600-point table would paint the curve over
-    label = f"{fit.source} data ({th.size} points)" if contour is None else f"lift at contact with the fitted outline ({th.size} angles)"
+    label = (
+        f"{fit.source} data ({th.size} points)"
+        if contour is None
+        else f"lift at contact with the fitted outline ({th.size} angles)"
+    )
     ax_lift.plot(th[::every], fit.data[::every], ".", ms=2.2, color=C["limit"], alpha=0.7, label=label, zorder=4)
     ax_lift.legend(fontsize=7, loc="upper right")
     if contour is not None:
@@ -98,5 +109,8 @@ def plot_fit(ax_lift, ax_residual, fit, contour=None) -> None:
         for sign in (-1, 1):
             ax_residual.axhline(sign * fit.tolerance * scale, color=C["grey"], lw=0.8, ls="--")
     ax_residual.set_ylabel(f"{'data' if contour is None else 'radial'} - fit\n({shown})")
-    ax_residual.set_title(f"{what}: largest {j['max_residual'] * scale:.3g} {shown} at {where} {at:.1f}\u00b0, rms {j['rms_residual'] * scale:.3g} {shown}", fontsize=8)
+    ax_residual.set_title(
+        f"{what}: largest {j['max_residual'] * scale:.3g} {shown} at {where} {at:.1f}\u00b0, rms {j['rms_residual'] * scale:.3g} {shown}",
+        fontsize=8,
+    )
     deg_ticks(ax_residual, 45.0)

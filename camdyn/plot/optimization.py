@@ -17,7 +17,14 @@ def plot_motion_before_after(axes, review: Review) -> None:
     ends = tuple(seg.end % 360.0 for seg in getattr(review.case.motion, "segments", ()))  # segments, not knots
     k = display_scale(after.unit)
     for i, ax in enumerate(axes):
-        ax.plot(before.theta_deg, before.values[i] * k, color=C["kin"], lw=1.0, ls="--", label=f"before ({review.original.case.name})")
+        ax.plot(
+            before.theta_deg,
+            before.values[i] * k,
+            color=C["kin"],
+            lw=1.0,
+            ls="--",
+            label=f"before ({review.original.case.name})",
+        )
         ax.plot(after.theta_deg, after.values[i] * k, color=C["dyn"], lw=1.3, label=f"after ({review.case.name})")
         ax.axhline(0.0, color="#888888", lw=0.6, zorder=0.6)
         mark_breaks(ax, ends)
@@ -30,17 +37,29 @@ def plot_motion_before_after(axes, review: Review) -> None:
 def plot_speed_before_after(ax, review: Review) -> None:
     """The least contact force against cam speed before (dashed) and after (solid), each up to its jump speed,
     with the jump speeds, the case speed and ``min_contact_force``."""
-    curves = ((review.original.force_vs_speed, review.original.check, "before", "--", C["kin"]), (review.force_vs_speed, review.check, "after", "-", C["dyn"]))
+    curves = (
+        (review.original.force_vs_speed, review.original.check, "before", "--", C["kin"]),
+        (review.force_vs_speed, review.check, "after", "-", C["dyn"]),
+    )
     for sw, chk, label, ls, colour in curves:
         force = sw.dynamic_N if sw.dynamic_N is not None else sw.kinematic_N
         jump = chk.dynamic["jump_speed_rpm"]
         held = sw.speeds_rpm <= (jump if jump is not None and np.isfinite(jump) else np.inf)
-        ax.plot(sw.speeds_rpm[held], force[held], color=colour, ls=ls, lw=1.3, label=f"{label}: jump speed {jump:.0f} rpm")
+        ax.plot(
+            sw.speeds_rpm[held], force[held], color=colour, ls=ls, lw=1.3, label=f"{label}: jump speed {jump:.0f} rpm"
+        )
         if jump is not None and np.isfinite(jump):
             ax.axvline(jump, color=colour, lw=0.8, ls=ls)
     ax.axhline(review.case.limits.min_contact_force, color=C["limit"], lw=0.8, ls="--")
     ax.axvline(review.check.speed_rpm, color=C["margin"], lw=0.8, ls="-.")
-    ax.text(review.check.speed_rpm, ax.get_ylim()[1], f" case speed {review.check.speed_rpm:g} rpm", color=C["margin"], size=7, va="top")
+    ax.text(
+        review.check.speed_rpm,
+        ax.get_ylim()[1],
+        f" case speed {review.check.speed_rpm:g} rpm",
+        color=C["margin"],
+        size=7,
+        va="top",
+    )
     ax.set_xlim(0.0, float(review.force_vs_speed.speeds_rpm[-1]))
     ax.set_xlabel("cam speed (rpm)")
     ax.set_ylabel("least interface force (N)")

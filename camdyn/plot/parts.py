@@ -26,8 +26,16 @@ def _dimension(ax, a, b, y, text, vertical=False):
     """A dimension line with arrows both ends and its text beside its middle."""
     (x0, y0), (x1, y1) = ((y, a), (y, b)) if vertical else ((a, y), (b, y))
     ax.annotate("", (x0, y0), (x1, y1), arrowprops=dict(arrowstyle="<->", lw=0.8, color="0.2"))
-    ax.annotate(text, ((x0 + x1) / 2, (y0 + y1) / 2), xytext=(-3, 0) if vertical else (0, 2), textcoords="offset points", fontsize=7,
-                ha="right" if vertical else "center", va="center" if vertical else "bottom", rotation=90 if vertical else 0)
+    ax.annotate(
+        text,
+        ((x0 + x1) / 2, (y0 + y1) / 2),
+        xytext=(-3, 0) if vertical else (0, 2),
+        textcoords="offset points",
+        fontsize=7,
+        ha="right" if vertical else "center",
+        va="center" if vertical else "bottom",
+        rotation=90 if vertical else 0,
+    )
 
 
 def plot_spring(ax, design: SpringDesign) -> None:
@@ -43,14 +51,31 @@ def plot_spring(ax, design: SpringDesign) -> None:
     L0, top, gap = s.free_length, r + d / 2, 0.28 * s.outside_diameter  # gap: between dimension lines
     ax.plot([0, 0], [-top - 0.2 * gap, top + 0.2 * gap], color="k", lw=1.5)  # the fixed seat
     _dimension(ax, 0, L0, top + 0.8 * gap, f"free length {L0:.1f}")
-    lengths = ((design.installed_length, "installed (preload)"), (design.full_lift_length, "full lift"), (s.solid_length, "solid"))
+    lengths = (
+        (design.installed_length, "installed (preload)"),
+        (design.full_lift_length, "full lift"),
+        (s.solid_length, "solid"),
+    )
     for n, (length, name) in enumerate(lengths):
         _dimension(ax, 0, length, -top - (0.8 + n) * gap, f"{name} {length:.1f}")
-    _dimension(ax, -s.outside_diameter / 2, s.outside_diameter / 2, L0 + 0.8 * gap, f"OD {s.outside_diameter:.2f}", vertical=True)
+    _dimension(
+        ax,
+        -s.outside_diameter / 2,
+        s.outside_diameter / 2,
+        L0 + 0.8 * gap,
+        f"OD {s.outside_diameter:.2f}",
+        vertical=True,
+    )
     bottom = -top - (len(lengths) + 0.5) * gap
-    ax.text(0, bottom, f"{s.material} (ASTM {s.wire.astm}), wire d {d:g}, mean D {s.mean_diameter:.2f}, {s.active_coils:g} active / {s.total_coils:g} total coils, "
-            f"{s.end_type} ends\nrate {s.rate:.4g} N/mm, preload {design.preload:.4g} N, mass {1e3 * s.mass:.3g} g, surge {s.surge_frequency:.4g} Hz",
-            fontsize=7, ha="left", va="top")
+    ax.text(
+        0,
+        bottom,
+        f"{s.material} (ASTM {s.wire.astm}), wire d {d:g}, mean D {s.mean_diameter:.2f}, {s.active_coils:g} active / {s.total_coils:g} total coils, "
+        f"{s.end_type} ends\nrate {s.rate:.4g} N/mm, preload {design.preload:.4g} N, mass {1e3 * s.mass:.3g} g, surge {s.surge_frequency:.4g} Hz",
+        fontsize=7,
+        ha="left",
+        va="top",
+    )
     ax.set_aspect("equal")
     ax.set_xlim(-0.05 * L0 - gap, L0 + 1.6 * gap)
     ax.set_ylim(bottom - 1.4 * gap, top + 1.4 * gap)
@@ -61,21 +86,43 @@ def plot_spring(ax, design: SpringDesign) -> None:
 def plot_drive(ax, drive: DriveTorque) -> None:
     """Camshaft torque over a revolution, its mean and its peak."""
     ax.plot(drive.theta_deg, drive.torque, color=C["dyn"], lw=1.2, label="camshaft torque")
-    ax.axhline(drive.mean_torque, color=C["margin"], lw=0.8, ls="--", label=f"mean {drive.mean_torque:.3g} N\u00b7m ({drive.mean_power:.3g} W)")
+    ax.axhline(
+        drive.mean_torque,
+        color=C["margin"],
+        lw=0.8,
+        ls="--",
+        label=f"mean {drive.mean_torque:.3g} N\u00b7m ({drive.mean_power:.3g} W)",
+    )
     i = int(np.argmax(np.abs(drive.torque)))
-    ax.plot([drive.theta_deg[i]], [drive.torque[i]], "o", color=C["limit"], ms=5, label=f"peak {drive.peak_torque:.3g} N\u00b7m at {drive.peak_torque_at_deg:.1f}\u00b0")
+    ax.plot(
+        [drive.theta_deg[i]],
+        [drive.torque[i]],
+        "o",
+        color=C["limit"],
+        ms=5,
+        label=f"peak {drive.peak_torque:.3g} N\u00b7m at {drive.peak_torque_at_deg:.1f}\u00b0",
+    )
     ax.axhline(0.0, color="0.6", lw=0.5)
     deg_ticks(ax, 45.0)
     ax.set_xlabel("cam angle \u03b8 (deg)")
     ax.set_ylabel("camshaft torque (N\u00b7m)")
-    ax.set_title(f"drive: flywheel {drive.flywheel_inertia:.3g} kg\u00b7m\u00b2 for a speed fluctuation of {drive.speed_fluctuation:g}")
+    ax.set_title(
+        f"drive: flywheel {drive.flywheel_inertia:.3g} kg\u00b7m\u00b2 for a speed fluctuation of {drive.speed_fluctuation:g}"
+    )
     ax.legend(fontsize=7, loc="best")
 
 
 def plot_contact(ax, contact: ContactStress, limit_MPa: float | None = None) -> None:
     """Hertz contact pressure over a revolution, its peak and the limit."""
     ax.plot(contact.theta_deg, contact.pressure_MPa, color=C["dyn"], lw=1.2, label="peak contact pressure")
-    ax.plot([contact.peak_at_deg], [contact.peak_pressure_MPa], "o", color=C["limit"], ms=5, label=f"max {contact.peak_pressure_MPa:.4g} MPa at {contact.peak_at_deg:.1f}\u00b0")
+    ax.plot(
+        [contact.peak_at_deg],
+        [contact.peak_pressure_MPa],
+        "o",
+        color=C["limit"],
+        ms=5,
+        label=f"max {contact.peak_pressure_MPa:.4g} MPa at {contact.peak_at_deg:.1f}\u00b0",
+    )
     if limit_MPa is not None:
         ax.axhline(limit_MPa, color="k", lw=0.8, ls="--", label=f"limit {limit_MPa:g} MPa")
     deg_ticks(ax, 45.0)

@@ -6,7 +6,6 @@ import numpy as np
 
 from ..design.sizing import SpringSizing
 
-
 # colours of plot_feasible_region by role
 PLOT_COLORS = {
     "kinematic": "tab:green",  # feasible region (kinematic) and the kinematic LP answer
@@ -37,15 +36,26 @@ def plot_feasible_region(ax, sizing: SpringSizing, colors: dict | None = None) -
     ax.fill_between(k, f_kin, y1, color=col["kinematic"], alpha=0.15, label=kin_label, linewidth=0)
     ax.plot(k, f_kin, color=col["kinematic"], lw=1.5)
     if f_dyn is not None:
-        ax.fill_between(k, f_dyn, y1, color=col["dynamic"], alpha=0.15, label="feasible (dynamic, compliant train)", linewidth=0)
+        ax.fill_between(
+            k, f_dyn, y1, color=col["dynamic"], alpha=0.15, label="feasible (dynamic, compliant train)", linewidth=0
+        )
         ax.plot(k, f_dyn, color=col["dynamic"], lw=1.5)
     for n, (theta_deg, s, r) in enumerate(sizing.lines):
-        ax.plot(k, r - k * s, color=col["lines"], lw=0.6, ls="-", label="constraint lines (envelope, binding)" if n == 0 else None)
+        ax.plot(
+            k,
+            r - k * s,
+            color=col["lines"],
+            lw=0.6,
+            ls="-",
+            label="constraint lines (envelope, binding)" if n == 0 else None,
+        )
     s_max = sizing.s_max
     peaks = sorted({round(d.peak_spring, 9) for d in pts})
     labelled: list[float] = []
     for n, peak in enumerate(peaks):
-        ax.plot(k, peak - k * s_max, color=col["iso"], lw=0.8, ls=":", label="iso peak spring force" if n == 0 else None)
+        ax.plot(
+            k, peak - k * s_max, color=col["iso"], lw=0.8, ls=":", label="iso peak spring force" if n == 0 else None
+        )
         if any(abs(peak - q) <= 0.03 * max(abs(peak), abs(q), 1e-300) for q in labelled):
             continue  # one label for iso-lines that nearly coincide
         # the label on the part of the line inside the plot, staggered along it from one line to the next
@@ -53,17 +63,42 @@ def plot_feasible_region(ax, sizing: SpringSizing, colors: dict | None = None) -
         if seen.size == 0:
             continue
         kx = k[seen[min(len(seen) - 1, (len(seen) * (1 + len(labelled))) // 4)]]
-        ax.annotate(f"P = {peak:.4g} {u['spring']}", (kx, peak - kx * s_max), xytext=(3, 2), textcoords="offset points", fontsize=7,
-                    color=col["iso"], bbox=dict(fc="white", ec="none", alpha=0.75, pad=0.6))
+        ax.annotate(
+            f"P = {peak:.4g} {u['spring']}",
+            (kx, peak - kx * s_max),
+            xytext=(3, 2),
+            textcoords="offset points",
+            fontsize=7,
+            color=col["iso"],
+            bbox=dict(fc="white", ec="none", alpha=0.75, pad=0.6),
+        )
         labelled.append(peak)
     if sizing.model == "compliant":
-        ax.plot([sizing.kinematic.rate], [sizing.kinematic.preload], "o", mfc="none", mec=col["kinematic"], ms=8, label="kinematic LP answer")
+        ax.plot(
+            [sizing.kinematic.rate],
+            [sizing.kinematic.preload],
+            "o",
+            mfc="none",
+            mec=col["kinematic"],
+            ms=8,
+            label="kinematic LP answer",
+        )
     if sizing.part is not None:  # a part that can be built: the answer
-        ax.plot([sizing.chosen.rate], [sizing.chosen.preload], "*", color=col["chosen"], ms=12, label="chosen (buildable)")
+        ax.plot(
+            [sizing.chosen.rate], [sizing.chosen.preload], "*", color=col["chosen"], ms=12, label="chosen (buildable)"
+        )
     else:  # the least peak force any spring needs: a bound, maybe no spring at all
         label = "bound: least peak force (not a part; size --buildable)"
         ax.plot([sizing.chosen.rate], [sizing.chosen.preload], "D", mfc="none", mec=col["chosen"], ms=8, label=label)
-    ax.plot([sizing.current.rate], [sizing.current.preload], "s", mfc="none", mec=col["current"], ms=7, label="current design")
+    ax.plot(
+        [sizing.current.rate],
+        [sizing.current.preload],
+        "s",
+        mfc="none",
+        mec=col["current"],
+        ms=7,
+        label="current design",
+    )
     ax.set_xlim(k[0], k[-1])
     ax.set_ylim(y0, y1)
     if sizing.oscillating:

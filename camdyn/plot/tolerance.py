@@ -20,9 +20,14 @@ def plot_jump_speed_histogram(ax, result: ToleranceResult):
     q = result.percentiles(result.jump_speed_rpm)
     for name, style in (("p1", ":"), ("p50", "--")):
         if math.isfinite(q[name]):
-            ax.axvline(q[name], color=PALETTE["ink"], linestyle=style, linewidth=1, label=f"{name.upper()} {q[name]:.1f} rpm")
+            ax.axvline(
+                q[name], color=PALETTE["ink"], linestyle=style, linewidth=1, label=f"{name.upper()} {q[name]:.1f} rpm"
+            )
     lo, hi = result.confidence_interval
-    ax.set_title(f"{result.case}: dynamic jump speed of {result.samples} built cams; P(separation) = {result.probability:.3g} [{lo:.3g}, {hi:.3g}]", fontsize=9)
+    ax.set_title(
+        f"{result.case}: dynamic jump speed of {result.samples} built cams; P(separation) = {result.probability:.3g} [{lo:.3g}, {hi:.3g}]",
+        fontsize=9,
+    )
     ax.set_xlabel("dynamic jump speed (rpm)")
     ax.set_ylabel("samples")
     ax.legend(fontsize=8)
@@ -41,8 +46,15 @@ def plot_tolerance_tornado(ax, result: ToleranceResult):
     for yi, (_, v), x in zip(y, items, vals, strict=True):
         share = v["share_monte_carlo"]
         # on the other side of zero from the bar: never over it, never past the axes
-        ax.annotate(f"MC share {share:.0%}" if math.isfinite(share) else "", (0.0, yi), xytext=(-4 if x >= 0 else 4, 0), textcoords="offset points",
-                    ha="right" if x >= 0 else "left", va="center", fontsize=7)
+        ax.annotate(
+            f"MC share {share:.0%}" if math.isfinite(share) else "",
+            (0.0, yi),
+            xytext=(-4 if x >= 0 else 4, 0),
+            textcoords="offset points",
+            ha="right" if x >= 0 else "left",
+            va="center",
+            fontsize=7,
+        )
     ax.set_xlabel("change of the jump-speed margin per sigma (x); profile error: RMS over its harmonics")
     ax.set_title("sensitivities at the nominal design (JAX gradients) and Monte Carlo variance shares", fontsize=9)
 

@@ -21,4 +21,16 @@ from ._render import Written, output_names, render, report_cases, write_report
 from ._style import A4, DPI, STYLE
 from .pages import PAGES, Page
 
-__all__ = ["A4", "DPI", "PAGES", "STYLE", "Page", "ReportData", "Written", "output_names", "render", "report_cases", "write_report"]
+__all__ = [
+    "A4",
+    "DPI",
+    "PAGES",
+    "STYLE",
+    "Page",
+    "ReportData",
+    "Written",
+    "output_names",
+    "render",
+    "report_cases",
+    "write_report",
+]

@@ -21,7 +21,9 @@ def camdyn_version() -> str:
 
 def hline(fig, y: float, x0: float = 0.06, x1: float = 0.94, **kw) -> Line2D:
     """A horizontal rule across the page at height ``y`` (figure fraction)."""
-    return Line2D([x0, x1], [y, y], transform=fig.transFigure, color=kw.pop("color", "#bbbbbb"), linewidth=kw.pop("lw", 0.8), **kw)
+    return Line2D(
+        [x0, x1], [y, y], transform=fig.transFigure, color=kw.pop("color", "#bbbbbb"), linewidth=kw.pop("lw", 0.8), **kw
+    )
 
 
 def header(fig, data, title: str, number: int, total: int) -> None:
@@ -40,8 +42,16 @@ def page_frame(fig, name: str, title: str, number: int, total: int, foot: str, v
     if verdict is not None:  # the verdict on every page, just right of the name
         x = 0.06 + text.get_window_extent(fig._get_renderer()).width / (fig.dpi * fig.get_figwidth()) + 0.015
         passed = verdict == "pass"
-        fig.text(x, 0.9715, "PASS" if passed else "FAIL", size=10, weight="bold", va="top", color="white",
-                 bbox=dict(boxstyle="round,pad=0.25", fc=C["ok"] if passed else C["fail"], ec="none"))
+        fig.text(
+            x,
+            0.9715,
+            "PASS" if passed else "FAIL",
+            size=10,
+            weight="bold",
+            va="top",
+            color="white",
+            bbox=dict(boxstyle="round,pad=0.25", fc=C["ok"] if passed else C["fail"], ec="none"),
+        )
     fig.text(0.94, 0.973, f"{number}  {title}", size=12.5, ha="right", va="top", color=C["grey"])
     fig.add_artist(hline(fig, 0.948))
     fig.text(0.06, 0.014, f"camdyn {camdyn_version()} {foot}", size=7, color=C["grey"])
@@ -85,7 +95,9 @@ class Flow:
         self.y -= self.h(10.5) * 0.6
         self.fig.text(self.left, self.y, text, size=10.5, weight="bold", va="top", color=C["ink"])
         self.y -= self.h(10.5)
-        self.fig.add_artist(hline(self.fig, self.y + self.h(10.5) * 0.12, self.left, self.right, color="#dddddd", lw=0.6))
+        self.fig.add_artist(
+            hline(self.fig, self.y + self.h(10.5) * 0.12, self.left, self.right, color="#dddddd", lw=0.6)
+        )
         self.y -= self.h(10.5) * 0.15
 
     def row(self, cells: list[tuple[float, str, dict]], size: float = 8.0) -> None:

@@ -92,7 +92,9 @@ def _save_png(fig, path: Path, version: str) -> None:
     rgb.save(path, format="PNG", optimize=True, pnginfo=info)
 
 
-def write_report(case, out_dir, *, check=None, speed_rpm: float | None = None, progress: Progress | None = None) -> Written:
+def write_report(
+    case, out_dir, *, check=None, speed_rpm: float | None = None, progress: Progress | None = None
+) -> Written:
     """Check ``case`` (unless ``check``, a :class:`camdyn.design.checks.CheckReport`, is given), review it and
     write its report."""
     if check is None:
@@ -105,7 +107,9 @@ def _named(path, err: CamdynError) -> CamdynError:
     return type(err)(f"{path}: {err.where}" if err.where else str(path), err.message)
 
 
-def report_cases(paths: list[str | Path], out_dir, *, speed_rpm: float | None = None, specs=None, progress: Progress | None = None) -> list[Written]:
+def report_cases(
+    paths: list[str | Path], out_dir, *, speed_rpm: float | None = None, specs=None, progress: Progress | None = None
+) -> list[Written]:
     """Load, check and report every case file in ``paths`` (bad input stops before any work, naming the file).
     ``specs``: the files' validated :class:`camdyn.schema.CaseSpec`, where the caller has read them already."""
     output_dir(out_dir, "report")
@@ -119,7 +123,10 @@ def report_cases(paths: list[str | Path], out_dir, *, speed_rpm: float | None = 
     for p, c in zip(paths, cases):
         stem = safe_stem(c.name)
         if stem in stems:
-            raise InputError(str(p), f"case name {c.name!r} is also the name of {stems[stem]}: their reports would overwrite each other")
+            raise InputError(
+                str(p),
+                f"case name {c.name!r} is also the name of {stems[stem]}: their reports would overwrite each other",
+            )
         stems[stem] = str(p)
     out = []
     tick = counter(progress, "cases", len(cases))

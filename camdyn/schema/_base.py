@@ -4,14 +4,12 @@ from __future__ import annotations
 
 import re
 from difflib import get_close_matches
-
 from typing import Annotated, get_args, get_origin
 
 from pydantic import AfterValidator, BaseModel, ConfigDict, Field, Tag, ValidationError
 
-from .._core.units import MAX_LENGTH_MM
-
 from .._core.errors import InputError
+from .._core.units import MAX_LENGTH_MM
 
 
 class Table(BaseModel):
@@ -65,7 +63,12 @@ def keys_by_type(keys: TypeKeys):
         schema["allOf"] = [
             {
                 "if": {"properties": {"type": {"const": t}}},
-                "then": {"required": list(needs), "propertyNames": {"enum": [k for k in cls.model_fields if k not in specific or k in {*needs, *optional}]}},
+                "then": {
+                    "required": list(needs),
+                    "propertyNames": {
+                        "enum": [k for k in cls.model_fields if k not in specific or k in {*needs, *optional}]
+                    },
+                },
             }
             for t, (needs, optional) in keys.items()
         ]
@@ -112,6 +115,7 @@ def _where(loc: tuple) -> str:
         out += f"[{part}]" if isinstance(part, int) else (f".{part}" if out else str(part))
     return out
 
+
 def validation_error(err: ValidationError, cls: type[BaseModel], table: str = "") -> InputError:
     """The first problem of a pydantic validation as one :class:`InputError` naming the key (prefixed with
     ``table``, e.g. ``path.width``), with the nearest valid key for an unknown one."""
@@ -119,7 +123,9 @@ def validation_error(err: ValidationError, cls: type[BaseModel], table: str = ""
     e = errors[0]
     if e["type"] == "missing":  # beside an unknown key at the same level: that one is the missing key misspelt
         e = next((x for x in errors if x["type"] == "extra_forbidden" and x["loc"][:-1] == e["loc"][:-1]), e)
-    loc, owner = _resolve(cls, tuple(p for p in e["loc"] if not (isinstance(p, str) and ("[" in p or p.startswith("function-")))))
+    loc, owner = _resolve(
+        cls, tuple(p for p in e["loc"] if not (isinstance(p, str) and ("[" in p or p.startswith("function-"))))
+    )
     msg = e["msg"].removeprefix("Value error, ")
     keyed = _KEYED.match(msg) if e["type"] == "value_error" else None
     if keyed:  # a table-level validator names its key: "key: message"

@@ -26,22 +26,37 @@ class CaseSpec(Table):
     ``[limits]``; optionally ``[spring]``, ``[materials]`` and ``[drive]``."""
 
     version: Literal[1] = Field(default=SCHEMA_VERSION, description="case-file schema version (1)")
-    name: Name | None = Field(default=None, description="case name, used in reports and output file names (default: the file name)")
+    name: Name | None = Field(
+        default=None, description="case name, used in reports and output file names (default: the file name)"
+    )
     description: Text = Field(default="", description="one line on what the case is")
     optimized_from: Text | None = Field(
         default=None,
         description="the case file this one was reshaped from, relative to this file (camdyn optimize writes it; the report's optimization page compares the two)",
     )
-    motion: MotionSpec | None = Field(default=None, description="the follower motion as segments or a lift table (with [follower])")
-    follower: FollowerSpec | None = Field(default=None, description="the follower and cam dimensions (with [motion]), or the follower and the cam's contour (alone)")
-    path: PathSpec | None = Field(default=None, description="a closed path to trace (with [mechanism]): the motion and follower are synthesized")
+    motion: MotionSpec | None = Field(
+        default=None, description="the follower motion as segments or a lift table (with [follower])"
+    )
+    follower: FollowerSpec | None = Field(
+        default=None,
+        description="the follower and cam dimensions (with [motion]), or the follower and the cam's contour (alone)",
+    )
+    path: PathSpec | None = Field(
+        default=None, description="a closed path to trace (with [mechanism]): the motion and follower are synthesized"
+    )
     mechanism: MechanismSpec | None = Field(default=None, description="the cam-linkage that traces [path]")
     dynamics: DynamicsSpec = Field(description="speed, mass, spring, damping")
     limits: LimitsSpec = Field(default=LimitsSpec(), description="what a passing design must meet")
-    spring: SpringSpec | None = Field(default=None, description="the return spring as a part: wire material, bore, installed length, end type")
-    materials: MaterialsSpec = Field(default=MaterialsSpec(), description="elastic constants of the cam and the follower, for the contact stress")
+    spring: SpringSpec | None = Field(
+        default=None, description="the return spring as a part: wire material, bore, installed length, end type"
+    )
+    materials: MaterialsSpec = Field(
+        default=MaterialsSpec(), description="elastic constants of the cam and the follower, for the contact stress"
+    )
     drive: DriveSpec = Field(default=DriveSpec(), description="the camshaft drive: speed fluctuation for the flywheel")
-    tolerances: TolerancesSpec | None = Field(default=None, description="how far a built cam may differ from the case (camdyn tolerance)")
+    tolerances: TolerancesSpec | None = Field(
+        default=None, description="how far a built cam may differ from the case (camdyn tolerance)"
+    )
 
     @model_validator(mode="after")
     def _tables_fit_together(self) -> CaseSpec:
@@ -53,23 +68,31 @@ class CaseSpec(Table):
             if self.follower.contour is not None:
                 raise ValueError("motion: a contour case derives its motion from [follower] contour: remove [motion]")
             if self.motion.segments:
-                check_segments(self.motion.segments, "mm" if self.follower.translating else "deg", key="motion.segments")
+                check_segments(
+                    self.motion.segments, "mm" if self.follower.translating else "deg", key="motion.segments"
+                )
         elif self.follower is not None and self.follower.contour is not None:
             if self.path is not None or self.mechanism is not None:
                 raise ValueError("follower.contour: give either a contour or [path] and [mechanism], not both")
         elif self.path is not None or self.mechanism is not None:
             if self.path is None or self.mechanism is None:
-                raise ValueError(f"{'path' if self.path is None else 'mechanism'}: a path case needs both [path] and [mechanism]")
+                raise ValueError(
+                    f"{'path' if self.path is None else 'mechanism'}: a path case needs both [path] and [mechanism]"
+                )
             if self.follower is not None:
                 raise ValueError("follower: a path case gets its follower from the synthesis: remove [follower]")
         else:
-            raise ValueError("motion: the case needs [motion] segments or a table, a [follower] contour, or [path] and [mechanism]")
+            raise ValueError(
+                "motion: the case needs [motion] segments or a table, a [follower] contour, or [path] and [mechanism]"
+            )
         check_dynamics_keys(self.dynamics, oscillating=self.oscillating)
         check_spring_keys(self.spring, oscillating=self.oscillating)
         check_tolerance_keys(self.tolerances, oscillating=self.oscillating)
         if self.limits.max_contact_stress is not None and self.contact_width_mm is None:
             where = "follower" if self.follower is not None else "mechanism"
-            raise ValueError(f"limits.max_contact_stress: the contact stress needs the contact width: give [{where}] width, mm")
+            raise ValueError(
+                f"limits.max_contact_stress: the contact stress needs the contact width: give [{where}] width, mm"
+            )
         return self
 
     @property

@@ -12,6 +12,8 @@ class DriveSpec(Table):
     """The ``[drive]`` table."""
 
     speed_fluctuation: Real = Field(
-        default=DEFAULT_SPEED_FLUCTUATION, gt=0, lt=1,
+        default=DEFAULT_SPEED_FLUCTUATION,
+        gt=0,
+        lt=1,
         description="coefficient of speed fluctuation k_s = (w_max - w_min) / w_mean the flywheel is sized for",
     )

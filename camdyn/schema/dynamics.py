@@ -9,8 +9,16 @@ from __future__ import annotations
 from pydantic import Field, model_validator
 
 from .._core.units import (
-    DEFAULT_TRAIN_DAMPING_RATIO, INERTIA_RANGE_KG_M2, MASS_RANGE_KG, MAX_DAMPING, MAX_DAMPING_RATIO, MAX_FORCE_N,
-    MAX_RATE_N_PER_MM, MAX_SPEED_RPM, MAX_TORQUE_N_M, MAX_TORSION_RATE_N_M_PER_RAD,
+    DEFAULT_TRAIN_DAMPING_RATIO,
+    INERTIA_RANGE_KG_M2,
+    MASS_RANGE_KG,
+    MAX_DAMPING,
+    MAX_DAMPING_RATIO,
+    MAX_FORCE_N,
+    MAX_RATE_N_PER_MM,
+    MAX_SPEED_RPM,
+    MAX_TORQUE_N_M,
+    MAX_TORSION_RATE_N_M_PER_RAD,
 )
 from ._base import Real, Table
 
@@ -24,22 +32,80 @@ class DynamicsSpec(Table):
 
     speed: Real = Field(gt=0, le=MAX_SPEED_RPM, description="cam speed, rpm (at most 1e5)")
     # translating follower
-    mass: Real | None = Field(default=None, ge=MASS_RANGE_KG[0], le=MASS_RANGE_KG[1], description="translating: equivalent moving mass, kg (1e-6 to 1e4)")
-    spring_rate: Real | None = Field(default=None, gt=0, le=MAX_RATE_N_PER_MM, description="translating: return spring rate k, N/mm (at most 1e7)")
-    preload: Real | None = Field(default=None, ge=-MAX_FORCE_N, le=MAX_FORCE_N, description="translating: spring force at zero lift F0, N (|F0| at most 1e7)")
-    train_stiffness: Real | None = Field(default=None, gt=0, le=10 * MAX_RATE_N_PER_MM, description="translating: follower-train (contact) stiffness k_f, N/mm (at most 1e8); omit for a rigid follower")
-    external_force: Real = Field(default=0.0, ge=-MAX_FORCE_N, le=MAX_FORCE_N, description="translating: constant force pushing the follower onto the cam (weight, process load), N")
+    mass: Real | None = Field(
+        default=None,
+        ge=MASS_RANGE_KG[0],
+        le=MASS_RANGE_KG[1],
+        description="translating: equivalent moving mass, kg (1e-6 to 1e4)",
+    )
+    spring_rate: Real | None = Field(
+        default=None, gt=0, le=MAX_RATE_N_PER_MM, description="translating: return spring rate k, N/mm (at most 1e7)"
+    )
+    preload: Real | None = Field(
+        default=None,
+        ge=-MAX_FORCE_N,
+        le=MAX_FORCE_N,
+        description="translating: spring force at zero lift F0, N (|F0| at most 1e7)",
+    )
+    train_stiffness: Real | None = Field(
+        default=None,
+        gt=0,
+        le=10 * MAX_RATE_N_PER_MM,
+        description="translating: follower-train (contact) stiffness k_f, N/mm (at most 1e8); omit for a rigid follower",
+    )
+    external_force: Real = Field(
+        default=0.0,
+        ge=-MAX_FORCE_N,
+        le=MAX_FORCE_N,
+        description="translating: constant force pushing the follower onto the cam (weight, process load), N",
+    )
     # oscillating follower (rotational equivalent)
-    inertia: Real | None = Field(default=None, ge=INERTIA_RANGE_KG_M2[0], le=INERTIA_RANGE_KG_M2[1], description="oscillating: arm inertia about its pivot, kg*m^2 (1e-12 to 1e4)")
-    torsion_rate: Real | None = Field(default=None, gt=0, le=MAX_TORSION_RATE_N_M_PER_RAD, description="oscillating: return torsion spring rate, N*m/rad (at most 1e7)")
-    preload_torque: Real | None = Field(default=None, ge=-MAX_TORQUE_N_M, le=MAX_TORQUE_N_M, description="oscillating: spring torque at zero swing, N*m (|T0| at most 1e6)")
-    train_torsion_rate: Real | None = Field(default=None, gt=0, le=10 * MAX_TORSION_RATE_N_M_PER_RAD, description="oscillating: follower-train stiffness, N*m/rad (at most 1e8); omit for a rigid follower")
-    external_torque: Real = Field(default=0.0, ge=-MAX_TORQUE_N_M, le=MAX_TORQUE_N_M, description="oscillating: constant torque pushing the arm onto the cam, N*m")
+    inertia: Real | None = Field(
+        default=None,
+        ge=INERTIA_RANGE_KG_M2[0],
+        le=INERTIA_RANGE_KG_M2[1],
+        description="oscillating: arm inertia about its pivot, kg*m^2 (1e-12 to 1e4)",
+    )
+    torsion_rate: Real | None = Field(
+        default=None,
+        gt=0,
+        le=MAX_TORSION_RATE_N_M_PER_RAD,
+        description="oscillating: return torsion spring rate, N*m/rad (at most 1e7)",
+    )
+    preload_torque: Real | None = Field(
+        default=None,
+        ge=-MAX_TORQUE_N_M,
+        le=MAX_TORQUE_N_M,
+        description="oscillating: spring torque at zero swing, N*m (|T0| at most 1e6)",
+    )
+    train_torsion_rate: Real | None = Field(
+        default=None,
+        gt=0,
+        le=10 * MAX_TORSION_RATE_N_M_PER_RAD,
+        description="oscillating: follower-train stiffness, N*m/rad (at most 1e8); omit for a rigid follower",
+    )
+    external_torque: Real = Field(
+        default=0.0,
+        ge=-MAX_TORQUE_N_M,
+        le=MAX_TORQUE_N_M,
+        description="oscillating: constant torque pushing the arm onto the cam, N*m",
+    )
     # both
-    damping_ratio: Real | None = Field(default=None, ge=0, le=MAX_DAMPING_RATIO, description="zeta: c = 2 zeta sqrt(k m) (give this or damping)")
-    damping: Real | None = Field(default=None, ge=0, le=MAX_DAMPING, description="c, N*s/m (N*m*s/rad for an oscillating arm)")
-    train_damping_ratio: Real = Field(default=DEFAULT_TRAIN_DAMPING_RATIO, ge=0, le=MAX_DAMPING_RATIO, description="zeta_f: c_f = 2 zeta_f sqrt(k_f m)")
-    restitution: Real = Field(default=0.0, ge=0, le=1, description="coefficient of restitution at re-contact after a jump, 0..1")
+    damping_ratio: Real | None = Field(
+        default=None, ge=0, le=MAX_DAMPING_RATIO, description="zeta: c = 2 zeta sqrt(k m) (give this or damping)"
+    )
+    damping: Real | None = Field(
+        default=None, ge=0, le=MAX_DAMPING, description="c, N*s/m (N*m*s/rad for an oscillating arm)"
+    )
+    train_damping_ratio: Real = Field(
+        default=DEFAULT_TRAIN_DAMPING_RATIO,
+        ge=0,
+        le=MAX_DAMPING_RATIO,
+        description="zeta_f: c_f = 2 zeta_f sqrt(k_f m)",
+    )
+    restitution: Real = Field(
+        default=0.0, ge=0, le=1, description="coefficient of restitution at re-contact after a jump, 0..1"
+    )
 
     @model_validator(mode="after")
     def _one_damping(self) -> DynamicsSpec:

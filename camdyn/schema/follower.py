@@ -30,16 +30,24 @@ class FollowerSpec(Table):
     """The ``[follower]`` table of a case file (lengths mm, angles deg)."""
 
     type: Literal["translating-roller", "translating-flat", "oscillating-roller", "oscillating-flat"] = Field(
-        default="translating-roller", description="translating-roller | translating-flat | oscillating-roller | oscillating-flat"
+        default="translating-roller",
+        description="translating-roller | translating-flat | oscillating-roller | oscillating-flat",
     )
-    base_radius: Real | None = Field(default=None, gt=0, le=MAX_LENGTH_MM, description="least radius of the cam contour, mm (required unless contour is given)")
+    base_radius: Real | None = Field(
+        default=None,
+        gt=0,
+        le=MAX_LENGTH_MM,
+        description="least radius of the cam contour, mm (required unless contour is given)",
+    )
     contour: FileName | None = Field(
         default=None,
         description="the cam's outline instead of [motion] and base_radius: a CSV file (header x_mm,y_mm, as camdyn profile writes) "
         "or a DXF file (a closed LWPOLYLINE, POLYLINE or SPLINE), relative to the case file; points in the cam frame at cam angle 0, "
         "in sequence along the outline; the motion is derived by exact contact and the base radius is the least contour radius",
     )
-    roller_radius: Real | None = Field(default=None, gt=0, le=MAX_LENGTH_MM, description="roller radius, mm (roller followers)")
+    roller_radius: Real | None = Field(
+        default=None, gt=0, le=MAX_LENGTH_MM, description="roller radius, mm (roller followers)"
+    )
     offset: Real = Field(
         default=0.0,
         ge=-MAX_LENGTH_MM,
@@ -48,11 +56,24 @@ class FollowerSpec(Table):
         "oscillating-flat: distance of the face line from the pivot, mm, positive toward the cam centre",
     )
     rotation: Literal["cw", "ccw"] = Field(default="cw", description="sense in which the cam turns: cw | ccw")
-    pivot_distance: Real | None = Field(default=None, gt=0, le=MAX_LENGTH_MM, description="oscillating: cam centre to arm pivot, mm")
-    pivot_angle: Real = Field(default=0.0, ge=-360.0, le=360.0, description="oscillating: direction of the pivot from the cam centre, deg")
-    arm_length: Real | None = Field(default=None, gt=0, le=MAX_LENGTH_MM, description="oscillating roller: pivot to roller centre, mm")
-    face_width: Real | None = Field(default=None, gt=0, le=MAX_LENGTH_MM, description="flat followers: usable face width, mm")
-    width: Real | None = Field(default=None, gt=0, le=MAX_LENGTH_MM, description="contact width along the camshaft axis (the narrower of cam and roller or face), mm; gives the Hertz contact stress")
+    pivot_distance: Real | None = Field(
+        default=None, gt=0, le=MAX_LENGTH_MM, description="oscillating: cam centre to arm pivot, mm"
+    )
+    pivot_angle: Real = Field(
+        default=0.0, ge=-360.0, le=360.0, description="oscillating: direction of the pivot from the cam centre, deg"
+    )
+    arm_length: Real | None = Field(
+        default=None, gt=0, le=MAX_LENGTH_MM, description="oscillating roller: pivot to roller centre, mm"
+    )
+    face_width: Real | None = Field(
+        default=None, gt=0, le=MAX_LENGTH_MM, description="flat followers: usable face width, mm"
+    )
+    width: Real | None = Field(
+        default=None,
+        gt=0,
+        le=MAX_LENGTH_MM,
+        description="contact width along the camshaft axis (the narrower of cam and roller or face), mm; gives the Hertz contact stress",
+    )
 
     @model_validator(mode="after")
     def _keys_for_type(self) -> FollowerSpec:

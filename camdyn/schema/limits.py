@@ -5,7 +5,11 @@ from __future__ import annotations
 from pydantic import Field
 
 from .._core.units import (
-    DEFAULT_MAX_TRAIN_DEFLECTION, DEFAULT_MIN_CONTACT_FORCE_N, DEFAULT_MIN_CURVATURE_RATIO, DEFAULT_SPEED_MARGIN, MAX_FORCE_N,
+    DEFAULT_MAX_TRAIN_DEFLECTION,
+    DEFAULT_MIN_CONTACT_FORCE_N,
+    DEFAULT_MIN_CURVATURE_RATIO,
+    DEFAULT_SPEED_MARGIN,
+    MAX_FORCE_N,
 )
 from ._base import Real, Table
 
@@ -13,19 +17,43 @@ from ._base import Real, Table
 class LimitsSpec(Table):
     """The ``[limits]`` table."""
 
-    speed_margin: Real = Field(default=DEFAULT_SPEED_MARGIN, gt=0, le=100, description="the dynamic jump speed must be at least this times the speed")
-    min_contact_force: Real = Field(default=DEFAULT_MIN_CONTACT_FORCE_N, ge=-MAX_FORCE_N, le=MAX_FORCE_N, description="the least interface force over a revolution must exceed this, N")
-    max_pressure_angle: Real | None = Field(default=None, gt=0, lt=90, description="deg; default 30 for translating, 35 for oscillating followers")
-    min_curvature_ratio: Real = Field(default=DEFAULT_MIN_CURVATURE_RATIO, gt=0, description="least convex contour radius of curvature / roller radius")
+    speed_margin: Real = Field(
+        default=DEFAULT_SPEED_MARGIN,
+        gt=0,
+        le=100,
+        description="the dynamic jump speed must be at least this times the speed",
+    )
+    min_contact_force: Real = Field(
+        default=DEFAULT_MIN_CONTACT_FORCE_N,
+        ge=-MAX_FORCE_N,
+        le=MAX_FORCE_N,
+        description="the least interface force over a revolution must exceed this, N",
+    )
+    max_pressure_angle: Real | None = Field(
+        default=None, gt=0, lt=90, description="deg; default 30 for translating, 35 for oscillating followers"
+    )
+    min_curvature_ratio: Real = Field(
+        default=DEFAULT_MIN_CURVATURE_RATIO,
+        gt=0,
+        description="least convex contour radius of curvature / roller radius",
+    )
     max_train_deflection: Real = Field(
-        default=DEFAULT_MAX_TRAIN_DEFLECTION, gt=0, le=1,
+        default=DEFAULT_MAX_TRAIN_DEFLECTION,
+        gt=0,
+        le=1,
         description="compliant trains: the largest train deflection (cam lift minus follower motion) as a fraction of the lift; beyond it the cam no longer drives the follower",
     )
     min_preload: Real | None = Field(
-        default=None, ge=0, le=MAX_FORCE_N,
+        default=None,
+        ge=0,
+        le=MAX_FORCE_N,
         description=(
             "the least preload a proposed spring may give at zero lift (a seat load), N (N*m for an oscillating arm): "
             "honoured by size and optimize --objective spring-force"
         ),
     )
-    max_contact_stress: Real | None = Field(default=None, gt=0, description="largest Hertz contact pressure between cam and follower over a revolution, MPa (needs [follower] width)")
+    max_contact_stress: Real | None = Field(
+        default=None,
+        gt=0,
+        description="largest Hertz contact pressure between cam and follower over a revolution, MPa (needs [follower] width)",
+    )

@@ -21,8 +21,14 @@ class ElasticSpec(Table):
 class MaterialsSpec(Table):
     """The ``[materials]`` table: each body by name or by its constants."""
 
-    cam: ElasticSpec = Field(default=ElasticSpec(elastic_modulus=ELASTIC["steel"][0], poisson_ratio=ELASTIC["steel"][1]), description=f"the cam: {_EITHER} (default steel)")
-    follower: ElasticSpec = Field(default=ElasticSpec(elastic_modulus=ELASTIC["steel"][0], poisson_ratio=ELASTIC["steel"][1]), description=f"the roller or flat face: {_EITHER} (default steel)")
+    cam: ElasticSpec = Field(
+        default=ElasticSpec(elastic_modulus=ELASTIC["steel"][0], poisson_ratio=ELASTIC["steel"][1]),
+        description=f"the cam: {_EITHER} (default steel)",
+    )
+    follower: ElasticSpec = Field(
+        default=ElasticSpec(elastic_modulus=ELASTIC["steel"][0], poisson_ratio=ELASTIC["steel"][1]),
+        description=f"the roller or flat face: {_EITHER} (default steel)",
+    )
 
     @field_validator("cam", "follower", mode="before")
     @classmethod

@@ -4,7 +4,7 @@ boundary conditions, or B-splines), or a lift table read from a CSV file."""
 from __future__ import annotations
 
 from difflib import get_close_matches
-from typing import Annotated, Any, Literal, Union
+from typing import Annotated, Any, Literal
 
 from pydantic import Discriminator, Field, Tag, model_validator
 
@@ -32,7 +32,13 @@ SEGMENT_LAWS: tuple[str, ...] = LAW_NAMES + (POLYNOMIAL, BSPLINE)
 
 # the boundary conditions only a polynomial segment takes
 BOUNDARY_KEYS: tuple[str, ...] = (
-    "start_velocity", "start_acceleration", "start_jerk", "end_velocity", "end_acceleration", "end_jerk", "points",
+    "start_velocity",
+    "start_acceleration",
+    "start_jerk",
+    "end_velocity",
+    "end_acceleration",
+    "end_jerk",
+    "points",
 )
 
 
@@ -42,7 +48,12 @@ class SegmentSpec(Table):
 
     law: str = Field(description=f"motion law: {', '.join(SEGMENT_LAWS)}")
     end: Real = Field(description="cam angle where the segment ends, deg (the next starts there; the last ends at 360)")
-    lift: Real = Field(default=0.0, ge=-MAX_LENGTH_MM, le=MAX_LENGTH_MM, description="rise of the segment, mm (deg of arm swing for an oscillating follower); negative for a return, 0 for a dwell")
+    lift: Real = Field(
+        default=0.0,
+        ge=-MAX_LENGTH_MM,
+        le=MAX_LENGTH_MM,
+        description="rise of the segment, mm (deg of arm swing for an oscillating follower); negative for a return, 0 for a dwell",
+    )
 
     @model_validator(mode="before")
     @classmethod
@@ -51,10 +62,14 @@ class SegmentSpec(Table):
             if isinstance(raw.get("law"), str) and raw["law"] not in SEGMENT_LAWS:  # the law first: it decides the keys
                 raise _unknown_law("law", raw["law"])
             if "coefficients" in raw:
-                raise ValueError(f'coefficients: only a law = "bspline" segment takes control points (this one is {raw.get("law")!r})')
+                raise ValueError(
+                    f'coefficients: only a law = "bspline" segment takes control points (this one is {raw.get("law")!r})'
+                )
             for key in BOUNDARY_KEYS:
                 if key in raw:
-                    raise ValueError(f'{key}: only a law = "polynomial" segment takes boundary conditions (this one is {raw.get("law")!r})')
+                    raise ValueError(
+                        f'{key}: only a law = "polynomial" segment takes boundary conditions (this one is {raw.get("law")!r})'
+                    )
         return raw
 
 
@@ -69,10 +84,17 @@ class PolynomialSegmentSpec(Table):
 
     law: Literal["polynomial"] = Field(description='"polynomial"')
     end: Real = Field(description="cam angle where the segment ends, deg")
-    lift: Real = Field(default=0.0, ge=-MAX_LENGTH_MM, le=MAX_LENGTH_MM, description="rise of the segment, mm (deg of arm swing for an oscillating follower); negative for a return")
+    lift: Real = Field(
+        default=0.0,
+        ge=-MAX_LENGTH_MM,
+        le=MAX_LENGTH_MM,
+        description="rise of the segment, mm (deg of arm swing for an oscillating follower); negative for a return",
+    )
     start_velocity: Real = Field(default=0.0, description="velocity at the start, " + _PER.format(n=1))
     start_acceleration: Real = Field(default=0.0, description="acceleration at the start, " + _PER.format(n=2))
-    start_jerk: Real | None = Field(default=None, description="jerk at the start (free if not given), " + _PER.format(n=3))
+    start_jerk: Real | None = Field(
+        default=None, description="jerk at the start (free if not given), " + _PER.format(n=3)
+    )
     end_velocity: Real = Field(default=0.0, description="velocity at the end, " + _PER.format(n=1))
     end_acceleration: Real = Field(default=0.0, description="acceleration at the end, " + _PER.format(n=2))
     end_jerk: Real | None = Field(default=None, description="jerk at the end (free if not given), " + _PER.format(n=3))
@@ -95,7 +117,12 @@ class BSplineSegmentSpec(Table):
 
     law: Literal["bspline"] = Field(description='"bspline"')
     end: Real = Field(description="cam angle where the segment ends, deg")
-    lift: Real = Field(default=0.0, ge=-MAX_LENGTH_MM, le=MAX_LENGTH_MM, description="rise of the segment, mm (deg of arm swing for an oscillating follower); negative for a return")
+    lift: Real = Field(
+        default=0.0,
+        ge=-MAX_LENGTH_MM,
+        le=MAX_LENGTH_MM,
+        description="rise of the segment, mm (deg of arm swing for an oscillating follower); negative for a return",
+    )
     coefficients: list[Annotated[float, Field(strict=True, ge=-100.0, le=100.0)]] = Field(
         min_length=BSPLINE_DEGREE + 1,
         max_length=1000,
@@ -119,9 +146,7 @@ def _segment_kind(raw: Any) -> str:
 
 
 AnySegment = Annotated[
-    Union[
-        Annotated[SegmentSpec, Tag("law")], Annotated[PolynomialSegmentSpec, Tag(POLYNOMIAL)], Annotated[BSplineSegmentSpec, Tag(BSPLINE)]
-    ],
+    Annotated[SegmentSpec, Tag("law")] | Annotated[PolynomialSegmentSpec, Tag(POLYNOMIAL)] | Annotated[BSplineSegmentSpec, Tag(BSPLINE)],
     Discriminator(_segment_kind),
 ]
 
@@ -129,13 +154,20 @@ AnySegment = Annotated[
 class MotionSpec(Table):
     """The ``[motion]`` table: ``segments``, or a ``table`` of measured or tabulated lift."""
 
-    segments: list[AnySegment] = Field(default_factory=list, description="the segments in order, from 0 deg (or give table)")
+    segments: list[AnySegment] = Field(
+        default_factory=list, description="the segments in order, from 0 deg (or give table)"
+    )
     table: FileName | None = Field(
         default=None,
         description="CSV file of the lift, relative to the case file: header theta_deg,lift_mm (theta_deg,swing_deg for an "
         "oscillating follower), one revolution, angles increasing, any spacing; fitted by a periodic quintic smoothing spline",
     )
-    tolerance: Real | None = Field(default=None, gt=0, le=MAX_LENGTH_MM, description="table: the largest departure of the fit from the data, mm (deg oscillating; default: the smoothing the data's noise asks for)")
+    tolerance: Real | None = Field(
+        default=None,
+        gt=0,
+        le=MAX_LENGTH_MM,
+        description="table: the largest departure of the fit from the data, mm (deg oscillating; default: the smoothing the data's noise asks for)",
+    )
 
     @model_validator(mode="after")
     def _one_source(self) -> MotionSpec:
@@ -160,13 +192,27 @@ def _check_polynomial(seg: PolynomialSegmentSpec, where: str, start: float, lu: 
     prev = start
     for j, (theta, _) in enumerate(seg.points):
         if not start < theta < seg.end:
-            raise ValueError(f"{where}.points[{j}]: at {theta:g} deg, outside the segment ({start:g} to {seg.end:g} deg)")
+            raise ValueError(
+                f"{where}.points[{j}]: at {theta:g} deg, outside the segment ({start:g} to {seg.end:g} deg)"
+            )
         if not theta > prev:
-            raise ValueError(f"{where}.points[{j}]: at {theta:g} deg, not after the previous point ({prev:g} deg): give the points in increasing angle, each once")
+            raise ValueError(
+                f"{where}.points[{j}]: at {theta:g} deg, not after the previous point ({prev:g} deg): give the points in increasing angle, each once"
+            )
         prev = theta
-    given = [seg.lift, seg.start_velocity, seg.start_acceleration, seg.end_velocity, seg.end_acceleration, seg.start_jerk or 0.0, seg.end_jerk or 0.0]
+    given = [
+        seg.lift,
+        seg.start_velocity,
+        seg.start_acceleration,
+        seg.end_velocity,
+        seg.end_acceleration,
+        seg.start_jerk or 0.0,
+        seg.end_jerk or 0.0,
+    ]
     if not any(given) and not any(lift for _, lift in seg.points):
-        raise ValueError(f'{where}.lift: a polynomial segment with no lift and no non-zero condition is a dwell: use law = "dwell" (lift in {lu})')
+        raise ValueError(
+            f'{where}.lift: a polynomial segment with no lift and no non-zero condition is a dwell: use law = "dwell" (lift in {lu})'
+        )
 
 
 def check_segments(segments: list, lift_unit: str = "mm", key: str = "segments") -> None:
@@ -185,7 +231,9 @@ def check_segments(segments: list, lift_unit: str = "mm", key: str = "segments")
             what = "overlaps the previous segment" if end < start else "has zero length"
             raise ValueError(f"{where}.end: segment ends at {end:g} deg, {what} (starts at {start:g} deg)")
         if seg.law != "dwell" and end - start < MIN_SEGMENT_DEG:
-            raise ValueError(f"{where}.end: a {seg.law} segment over {end - start:.3g} deg is shorter than {MIN_SEGMENT_DEG:g} deg: no cam can be cut to it")
+            raise ValueError(
+                f"{where}.end: a {seg.law} segment over {end - start:.3g} deg is shorter than {MIN_SEGMENT_DEG:g} deg: no cam can be cut to it"
+            )
         if end > 360.0 + 1e-9:
             raise ValueError(f"{where}.end: segment ends at {end:g} deg, past 360 deg")
         if seg.law == POLYNOMIAL:
@@ -195,7 +243,9 @@ def check_segments(segments: list, lift_unit: str = "mm", key: str = "segments")
         elif seg.law != "dwell" and lift == 0.0:
             raise ValueError(f"{where}.lift: a {seg.law} segment needs a non-zero lift, {lu}")
         if base + lift < -1e-9:
-            raise ValueError(f"{where}.lift: the follower goes below zero lift at {end:g} deg (lift {base + lift:g} {lu})")
+            raise ValueError(
+                f"{where}.lift: the follower goes below zero lift at {end:g} deg (lift {base + lift:g} {lu})"
+            )
         start, base = end, base + lift
     if abs(start - 360.0) > 1e-9:
         raise ValueError(f"{key}[{len(segments) - 1}].end: the last segment ends at {start:g} deg, not 360")

@@ -43,17 +43,51 @@ class PathSpec(Table):
         description="ellipse | circle | rectangle | eight | line | racetrack | points"
     )
     center: Point | None = Field(default=None, description="centre of the curve (x, y), mm (all but line, points)")
-    semi_major: Real | None = Field(default=None, gt=0, le=MAX_LENGTH_MM, description="ellipse: semi-axis along `rotation`, mm; starts at its end, runs anticlockwise")
-    semi_minor: Real | None = Field(default=None, gt=0, le=MAX_LENGTH_MM, description="ellipse: the other semi-axis, mm")
-    radius: Real | None = Field(default=None, gt=0, le=MAX_LENGTH_MM, description="circle: radius (starts at angle `rotation`); racetrack: radius of the two semicircles, mm")
-    width: Real | None = Field(default=None, gt=0, le=MAX_LENGTH_MM, description="rectangle, eight: extent along `rotation`, mm")
-    height: Real | None = Field(default=None, gt=0, le=MAX_LENGTH_MM, description="rectangle, eight: extent across it, mm")
-    corner_radius: Real | None = Field(default=None, ge=0, le=MAX_LENGTH_MM, description="rectangle: corner fillet radius, mm (0: sharp corners; the follower acceleration is then unbounded); the rectangle starts at the middle of its right side")
-    straight: Real | None = Field(default=None, gt=0, le=MAX_LENGTH_MM, description="racetrack: length of each straight, mm (Ye & Smith eq. 9: starts at the lower end of the right semicircle)")
-    start: Point | None = Field(default=None, description="line: first end (x, y), mm; the point runs start -> end -> start")
+    semi_major: Real | None = Field(
+        default=None,
+        gt=0,
+        le=MAX_LENGTH_MM,
+        description="ellipse: semi-axis along `rotation`, mm; starts at its end, runs anticlockwise",
+    )
+    semi_minor: Real | None = Field(
+        default=None, gt=0, le=MAX_LENGTH_MM, description="ellipse: the other semi-axis, mm"
+    )
+    radius: Real | None = Field(
+        default=None,
+        gt=0,
+        le=MAX_LENGTH_MM,
+        description="circle: radius (starts at angle `rotation`); racetrack: radius of the two semicircles, mm",
+    )
+    width: Real | None = Field(
+        default=None, gt=0, le=MAX_LENGTH_MM, description="rectangle, eight: extent along `rotation`, mm"
+    )
+    height: Real | None = Field(
+        default=None, gt=0, le=MAX_LENGTH_MM, description="rectangle, eight: extent across it, mm"
+    )
+    corner_radius: Real | None = Field(
+        default=None,
+        ge=0,
+        le=MAX_LENGTH_MM,
+        description="rectangle: corner fillet radius, mm (0: sharp corners; the follower acceleration is then unbounded); the rectangle starts at the middle of its right side",
+    )
+    straight: Real | None = Field(
+        default=None,
+        gt=0,
+        le=MAX_LENGTH_MM,
+        description="racetrack: length of each straight, mm (Ye & Smith eq. 9: starts at the lower end of the right semicircle)",
+    )
+    start: Point | None = Field(
+        default=None, description="line: first end (x, y), mm; the point runs start -> end -> start"
+    )
     end: Point | None = Field(default=None, description="line: second end (x, y), mm")
-    x: list[Coordinate] | None = Field(default=None, max_length=MAX_PATH_POINTS, description="points: x of the precision points in order, mm (a last point equal to the first is dropped)")
-    y: list[Coordinate] | None = Field(default=None, max_length=MAX_PATH_POINTS, description="points: y of the precision points, mm")
+    x: list[Coordinate] | None = Field(
+        default=None,
+        max_length=MAX_PATH_POINTS,
+        description="points: x of the precision points in order, mm (a last point equal to the first is dropped)",
+    )
+    y: list[Coordinate] | None = Field(
+        default=None, max_length=MAX_PATH_POINTS, description="points: y of the precision points, mm"
+    )
     rotation: Real = Field(default=0.0, description="turn of the curve about its centre, deg anticlockwise")
     reverse: bool = Field(default=False, description="run the curve the other way round (clockwise)")
     phase: Real = Field(default=0.0, ge=0.0, lt=1.0, description="shift the start point by this fraction of a loop")
@@ -71,4 +105,3 @@ class PathSpec(Table):
         if self.type == "rectangle" and 2.0 * (self.corner_radius or 0.0) > min(self.width, self.height):
             raise ValueError(f"corner_radius: {self.corner_radius:g} mm is more than half the shorter side")
         return self
-

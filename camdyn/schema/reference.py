@@ -112,7 +112,9 @@ def _type_name(annotation) -> str:
         return "array of tables" if origin is list else "table"
     if origin is typing.Literal:
         kinds = {type(v) for v in typing.get_args(a)}
-        return {str: "string", int: "integer", bool: "boolean"}.get(kinds.pop(), "value") if len(kinds) == 1 else "value"
+        return (
+            {str: "string", int: "integer", bool: "boolean"}.get(kinds.pop(), "value") if len(kinds) == 1 else "value"
+        )
     if origin is list:
         return f"array of {_type_name(typing.get_args(a)[0])}s"
     if origin is tuple:
@@ -136,8 +138,14 @@ def _toml(value) -> str:
     return str(value)
 
 
-_BOUNDS = ((at.Gt, "gt", "> {}"), (at.Ge, "ge", ">= {}"), (at.Lt, "lt", "< {}"), (at.Le, "le", "<= {}"),
-           (at.MinLen, "min_length", "at least {} item"), (at.MaxLen, "max_length", "at most {} item"))
+_BOUNDS = (
+    (at.Gt, "gt", "> {}"),
+    (at.Ge, "ge", ">= {}"),
+    (at.Lt, "lt", "< {}"),
+    (at.Le, "le", "<= {}"),
+    (at.MinLen, "min_length", "at least {} item"),
+    (at.MaxLen, "max_length", "at most {} item"),
+)
 
 
 def _range(field: FieldInfo) -> str:
@@ -179,11 +187,18 @@ def type_keys(annotation) -> TypeKeys | None:
         named = {k for keys in (*rules.needs.values(), *rules.takes.values()) for k in keys}
         order = list(model.model_fields)
         common = tuple(k for k in order if k not in named and k != "type")
-        return TypeKeys(common, {
-            t: (tuple(rules.needs[t]), tuple(k for k in order if k in set(rules.takes.get(t, ())) - set(rules.needs[t])))
-            for t in typing.get_args(_strip(model.model_fields["type"].annotation))
-        })
+        return TypeKeys(
+            common,
+            {
+                t: (
+                    tuple(rules.needs[t]),
+                    tuple(k for k in order if k in set(rules.takes.get(t, ())) - set(rules.needs[t])),
+                )
+                for t in typing.get_args(_strip(model.model_fields["type"].annotation))
+            },
+        )
     if len(members) > 1 and all("type" in m.model_fields for m in members):
+
         def sig(m, k):
             f = m.model_fields[k]
             return (f.is_required(), _default(f), f.description)
@@ -194,8 +209,10 @@ def type_keys(annotation) -> TypeKeys | None:
         for m in members:
             for t in typing.get_args(_strip(m.model_fields["type"].annotation)):
                 rest = [k for k in m.model_fields if k != "type" and k not in common]
-                by_type[t] = (tuple(k for k in rest if m.model_fields[k].is_required()),
-                              tuple(k for k in rest if not m.model_fields[k].is_required()))
+                by_type[t] = (
+                    tuple(k for k in rest if m.model_fields[k].is_required()),
+                    tuple(k for k in rest if not m.model_fields[k].is_required()),
+                )
         return TypeKeys(common, by_type)
     return None
 
@@ -218,6 +235,7 @@ def _row(fields: list[FieldInfo], members: int = 1) -> tuple[str, str, str, str]
     """Type, range, default and description of a key held by ``len(fields)`` of a union's ``members``; where
     they differ: the values of all (a literal such as ``type``, the descriptions), else "by type" (see the table
     of each type), as is "required" by only some types."""
+
     def distinct(values):
         return list(dict.fromkeys(values))
 
@@ -278,13 +296,18 @@ class _Writer:
     def by_type(self, table: str, tk: TypeKeys, level: int) -> None:
         self.section(f"Keys of each `[{table}]` type", level, None)
         common = ", ".join(f"`{k}`" for k in tk.common)
-        self.lines += [f"Every type takes {common}. Besides, each type needs some keys and may take others; a key "
-                       "of another type is refused.", ""]
+        self.lines += [
+            f"Every type takes {common}. Besides, each type needs some keys and may take others; a key "
+            "of another type is refused.",
+            "",
+        ]
 
         def code(keys):
             return ", ".join(f"`{k}`" for k in keys) or "—"
 
-        self.table([("`type`", "needs", "may take"), *((f"`{t}`", code(n), code(o)) for t, (n, o) in tk.by_type.items())])
+        self.table(
+            [("`type`", "needs", "may take"), *((f"`{t}`", code(n), code(o)) for t, (n, o) in tk.by_type.items())]
+        )
 
     def document(self, heading: str, model: type[BaseModel]) -> None:
         """A whole file (case file, path file): its keys, then each of its tables not yet written."""
@@ -319,8 +342,15 @@ class _Writer:
             "A translating follower (and a `ccm` mechanism) takes the translating keys, an oscillating follower (and "
             "an `oscillating` mechanism) their rotational counterparts; a key of the other kind is refused (a zero "
             f"external force or torque excepted). A case file needs {need_lin}, or {need_rot}; the other keys of "
-            "`[dynamics]` are the same for both kinds.", ""]
-        self.table([("translating", "oscillating"), *((f"`{a}`", f"`{b}`") for a, b in zip(LINEAR_KEYS, ROTARY_KEYS, strict=True))])
+            "`[dynamics]` are the same for both kinds.",
+            "",
+        ]
+        self.table(
+            [
+                ("translating", "oscillating"),
+                *((f"`{a}`", f"`{b}`") for a, b in zip(LINEAR_KEYS, ROTARY_KEYS, strict=True)),
+            ]
+        )
 
 
 _HEAD = """\

@@ -30,7 +30,10 @@ class ToleranceValue(Table):
     """One tolerance with its own distribution: ``{value = "10%", distribution = "uniform"}``."""
 
     value: str | Real = Field(description='the tolerance: "10%", "2 N" or a number in the key\'s unit')
-    distribution: Literal["normal", "uniform"] | None = Field(default=None, description="normal (tolerance = 3 sigma) | uniform (tolerance = half-width); default: the table's")
+    distribution: Literal["normal", "uniform"] | None = Field(
+        default=None,
+        description="normal (tolerance = 3 sigma) | uniform (tolerance = half-width); default: the table's",
+    )
 
 
 def _kind(raw) -> str:
@@ -48,20 +51,37 @@ _HELP = ': "10%", "{u}" or a number ({u0}); or {{value = ..., distribution = "un
 class TolerancesSpec(Table):
     """The ``[tolerances]`` table (every key optional; a missing key is no tolerance)."""
 
-    spring_rate: Tol | None = Field(default=None, description="spring rate tolerance" + _HELP.format(u="0.2 N/mm", u0="N/mm; N*m/rad for an arm"))
-    preload: Tol | None = Field(default=None, description="preload tolerance" + _HELP.format(u="2 N", u0="N; N*m for an arm"))
-    mass: Tol | None = Field(default=None, description="moving mass tolerance" + _HELP.format(u="0.01 kg", u0="kg; kg*m^2 for an arm"))
-    train_stiffness: Tol | None = Field(default=None, description="follower-train stiffness tolerance" + _HELP.format(u="100 N/mm", u0="N/mm; N*m/rad for an arm"))
+    spring_rate: Tol | None = Field(
+        default=None, description="spring rate tolerance" + _HELP.format(u="0.2 N/mm", u0="N/mm; N*m/rad for an arm")
+    )
+    preload: Tol | None = Field(
+        default=None, description="preload tolerance" + _HELP.format(u="2 N", u0="N; N*m for an arm")
+    )
+    mass: Tol | None = Field(
+        default=None, description="moving mass tolerance" + _HELP.format(u="0.01 kg", u0="kg; kg*m^2 for an arm")
+    )
+    train_stiffness: Tol | None = Field(
+        default=None,
+        description="follower-train stiffness tolerance" + _HELP.format(u="100 N/mm", u0="N/mm; N*m/rad for an arm"),
+    )
     speed: Tol | None = Field(default=None, description="cam speed tolerance" + _HELP.format(u="6 rpm", u0="rpm"))
-    profile_error: Tol | None = Field(default=None, description="RMS of a random smooth lift error (harmonics 1-8), absolute only: mm (rad for an arm), e.g. 0.005 or \"5 um\"")
-    distribution: Literal["normal", "uniform"] = Field(default="normal", description="default distribution of every key: normal (tolerance = 3 sigma) | uniform (tolerance = half-width)")
+    profile_error: Tol | None = Field(
+        default=None,
+        description='RMS of a random smooth lift error (harmonics 1-8), absolute only: mm (rad for an arm), e.g. 0.005 or "5 um"',
+    )
+    distribution: Literal["normal", "uniform"] = Field(
+        default="normal",
+        description="default distribution of every key: normal (tolerance = 3 sigma) | uniform (tolerance = half-width)",
+    )
 
     @model_validator(mode="after")
     def _values_parse(self) -> TolerancesSpec:
         for key in TOLERANCE_KEYS:
             raw = getattr(self, key)
             if raw is not None:
-                _split(key, raw.value if isinstance(raw, ToleranceValue) else raw)  # units are checked with the follower kind
+                _split(
+                    key, raw.value if isinstance(raw, ToleranceValue) else raw
+                )  # units are checked with the follower kind
         return self
 
 
@@ -78,18 +98,20 @@ class Tolerance:
 def _split(key: str, raw) -> tuple[float, str | None]:
     """(number, unit or "%" or None) of a tolerance; ValueError("key: message") for one that cannot be."""
     if isinstance(raw, bool):
-        raise ValueError(f"{key}: expected a tolerance such as \"10%\" or a number, got {raw!r}")
+        raise ValueError(f'{key}: expected a tolerance such as "10%" or a number, got {raw!r}')
     if isinstance(raw, int | float):
         number, unit = float(raw), None
     else:
         m = _VALUE.match(raw)
         if not m:
-            raise ValueError(f"{key}: expected a tolerance such as \"10%\", \"2 N\" or a number, got {raw!r}")
+            raise ValueError(f'{key}: expected a tolerance such as "10%", "2 N" or a number, got {raw!r}')
         number, unit = float(m.group(1)), m.group(2)
     if not math.isfinite(number) or number < 0:
         raise ValueError(f"{key}: a tolerance must be zero or positive, got {raw!r}")
     if unit == "%" and key == "profile_error":
-        raise ValueError(f"{key}: a percentage needs a scale and a profile error has none: give an RMS in mm (e.g. 0.005)")
+        raise ValueError(
+            f"{key}: a percentage needs a scale and a profile error has none: give an RMS in mm (e.g. 0.005)"
+        )
     if unit == "%" and number >= 100:
         raise ValueError(f"{key}: a relative tolerance must be under 100%, got {raw!r}")
     return number, unit

@@ -17,8 +17,8 @@ from scipy.optimize import isotonic_regression
 from ..._core.errors import InputError
 from ..._core.units import FFT_GRID, TWO_PI
 from ...model.case import Case
-from ...model.motion import Program
 from ...model.motion import BSPLINE_CLAMPED as CLAMPED
+from ...model.motion import Program
 from ...model.motion import bspline_basis as basis
 
 MIN_CONTROL, MAX_CONTROL = 2 * CLAMPED + 1, 64  # at least one free point; past 64 the programs only slow down

@@ -6,8 +6,8 @@ translating follower only the geometry is linearized."""
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Callable
 
 import jax
 import jax.numpy as jnp
@@ -59,10 +59,14 @@ def _linear_step(v, Jv, g, Jg, bounds):
     kg = kg_all[np.argsort(-g[kg_all])[:_FIRST_ROWS]]
     for _ in range(50):
         A = np.vstack([np.c_[-Jv[kv], np.ones(kv.size)], np.c_[Jg[kg], np.zeros(kg.size)]])
-        lp = linprog(np.r_[np.zeros(n), -1.0], A_ub=A, b_ub=np.r_[v[kv], -g[kg]], bounds=bounds + [(None, None)], method="highs")
+        lp = linprog(
+            np.r_[np.zeros(n), -1.0], A_ub=A, b_ub=np.r_[v[kv], -g[kg]], bounds=bounds + [(None, None)], method="highs"
+        )
         if lp.status == 2:  # the linearized geometry cannot be met in this region: least violation instead
             A2 = np.c_[Jg[kg_all], -np.ones(kg_all.size)]
-            return linprog(np.r_[np.zeros(n), 1.0], A_ub=A2, b_ub=-g[kg_all], bounds=bounds + [(0, None)], method="highs")
+            return linprog(
+                np.r_[np.zeros(n), 1.0], A_ub=A2, b_ub=-g[kg_all], bounds=bounds + [(0, None)], method="highs"
+            )
         if lp.status != 0:
             return lp
         dx, t = lp.x[:n], lp.x[-1]
@@ -75,7 +79,9 @@ def _linear_step(v, Jv, g, Jg, bounds):
     return lp
 
 
-def maximize_least(values: Callable, geometry: Callable, x0: np.ndarray, *, radius, scale: float, lower=None, upper=None) -> Step:
+def maximize_least(
+    values: Callable, geometry: Callable, x0: np.ndarray, *, radius, scale: float, lower=None, upper=None
+) -> Step:
     """Maximize ``min(values(x))`` subject to ``geometry(x) <= 0``, from ``x0``; both callables return the value and
     its Jacobian (:func:`with_jacobian`). ``radius``: the first trust region (one, or one per variable); ``scale``: the
     objective's size (N), for the merit that trades it against the geometry; ``lower``/``upper``: bounds on the
@@ -95,7 +101,9 @@ def maximize_least(values: Callable, geometry: Callable, x0: np.ndarray, *, radi
     for steps in range(1, _MAX_STEPS + 1):
         bounds = [(max(-delta[i], lo[i] - x[i]), min(delta[i], hi[i] - x[i])) for i in range(n)]
         lp = _linear_step(v, Jv, g, Jg, bounds)
-        if lp.status != 0:  # HiGHS gave up on this region (numerical trouble): the point reached stands, judged as it is
+        if (
+            lp.status != 0
+        ):  # HiGHS gave up on this region (numerical trouble): the point reached stands, judged as it is
             break
         dx = lp.x[:n]
         if lp.x[-1] - np.min(v) <= 1e-9 * scale and np.max(g) <= 0.0:

@@ -49,7 +49,10 @@ def _rate_range(case, p: Problem) -> tuple[float, float]:
     if p.osc:
         r = case.spec.spring.lever_arm if case.spec.spring is not None and case.spec.spring.lever_arm else None
         if r is None:
-            raise InputError("spring.lever_arm", "an oscillating follower's spring needs [spring] lever_arm to be sized as a part: the distance from the arm pivot to the spring, mm")
+            raise InputError(
+                "spring.lever_arm",
+                "an oscillating follower's spring needs [spring] lever_arm to be sized as a part: the distance from the arm pivot to the spring, mm",
+            )
         lo, hi = lo * r * r / 1000.0, hi * r * r / 1000.0
     return max(lo, rate_from_si(p.k_lo, p.osc)), hi
 
@@ -67,13 +70,19 @@ def written(x: float, up: bool = False) -> float:
     return float(f"{(math.ceil(x / q - 1e-9) if up else round(x / q)) * q:.{WRITTEN_DIGITS + 2}g}")
 
 
-def buildable_answer(case, p: Problem, grid: Grid, dynamic: Dynamic | None, surge_top_rpm: float) -> tuple[float, float]:
+def buildable_answer(
+    case, p: Problem, grid: Grid, dynamic: Dynamic | None, surge_top_rpm: float
+) -> tuple[float, float]:
     """(k SI, F0) of the buildable spring with the least peak force, its surge clear of the cam's strong
     harmonics up to ``surge_top_rpm``; :class:`InputError` naming ``[spring]`` where no rate gives a spring that
     holds."""
 
     def least(k_si: float) -> float:
-        f0 = preload_kinematic(p, grid, k_si, polish=True) if dynamic is None else dynamic.raised(k_si, dynamic.preload(k_si)[0])
+        f0 = (
+            preload_kinematic(p, grid, k_si, polish=True)
+            if dynamic is None
+            else dynamic.raised(k_si, dynamic.preload(k_si)[0])
+        )
         return max(f0, 0.0)  # a compression spring at zero lift pushes, or touches
 
     def peak(rate: float) -> float:  # user units in, the peak spring force out; inf where it cannot be built
@@ -84,11 +93,17 @@ def buildable_answer(case, p: Problem, grid: Grid, dynamic: Dynamic | None, surg
 
     lo, hi = _rate_range(case, p)
     if not lo < hi:
-        raise InputError("--min-rate", f"no buildable spring is as stiff as {rate_from_si(p.k_lo, p.osc):g}: camdyn's springs reach {hi:g}")
+        raise InputError(
+            "--min-rate",
+            f"no buildable spring is as stiff as {rate_from_si(p.k_lo, p.osc):g}: camdyn's springs reach {hi:g}",
+        )
     rates = np.geomspace(lo, hi, _N_SCAN)
     peaks = np.array([peak(r) for r in rates])
     if not (peaks < _UNBUILDABLE).any():
-        raise InputError("spring", f"no buildable spring holds the follower: at every rate from {lo:.3g} to {hi:.3g} {'N*m/rad' if p.osc else 'N/mm'} the preload it needs exceeds what a spring of that rate within [spring], its surge at least {surge_floor(case, surge_top_rpm):.4g} Hz (clear of the cam's strong harmonics up to {surge_top_rpm:.4g} rpm), can give (a larger outside_diameter_max or installed_length, or another material, widens the choice)")
+        raise InputError(
+            "spring",
+            f"no buildable spring holds the follower: at every rate from {lo:.3g} to {hi:.3g} {'N*m/rad' if p.osc else 'N/mm'} the preload it needs exceeds what a spring of that rate within [spring], its surge at least {surge_floor(case, surge_top_rpm):.4g} Hz (clear of the cam's strong harmonics up to {surge_top_rpm:.4g} rpm), can give (a larger outside_diameter_max or installed_length, or another material, widens the choice)",
+        )
     i = int(np.nanargmin(peaks))
     a, b = math.log(rates[max(i - 1, 0)]), math.log(rates[min(i + 1, len(rates) - 1)])
     res = minimize_scalar(lambda u: peak(math.exp(u)), bounds=(a, b), method="bounded", options={"xatol": 1e-4})
@@ -140,4 +155,7 @@ def buildable_fixed_point(
             return replace(case, model=sd.follower(), spring=sd), rate, preload, part, check
         size_margin *= target / check.value
     last = f"last: {rate:g}, {preload:g}; check's speed margin {None if check is None else check.value}"
-    raise InputError("spring", f"size --buildable did not settle on a spring that holds with its own mass in {_ROUNDS} rounds ({last})")
+    raise InputError(
+        "spring",
+        f"size --buildable did not settle on a spring that holds with its own mass in {_ROUNDS} rounds ({last})",
+    )

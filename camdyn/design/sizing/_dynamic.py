@@ -48,9 +48,13 @@ class Dynamic:
     def contact_force(self, k, f0, speeds):
         """Frequency-domain steady-state interface force (N or N*m), shape (len(speeds), N_FFT)."""
         p = self.p
-        out = np.asarray(dyn.linear_contact_force(p.motion, p.with_spring(k, f0), jnp.asarray(speeds, dtype=float), _N_FFT))
+        out = np.asarray(
+            dyn.linear_contact_force(p.motion, p.with_spring(k, f0), jnp.asarray(speeds, dtype=float), _N_FFT)
+        )
         if not np.all(np.isfinite(out)):
-            raise NumericalError(f"sizing, rate {rate_from_si(k, p.osc):.4g}", "the steady-state contact force is not finite")
+            raise NumericalError(
+                f"sizing, rate {rate_from_si(k, p.osc):.4g}", "the steady-state contact force is not finite"
+            )
         return out
 
     def _worst(self, k, speeds):
@@ -118,7 +122,9 @@ def dynamic_answer(d: Dynamic, grid: Grid, k_kin: float) -> tuple[float, float, 
     peak_dyn = lambda u: u * u * p.s_max + d.preload(u * u)[0]  # noqa: E731
     p_ref = peak_dyn(math.sqrt(k_kin))
     k_hi = max(p.k_lo, (p_ref - grid.req[grid.i_min]) / (p.s_max - grid.s[grid.i_min]), 2.0 * k_kin, 1e-12)
-    u = minimize_in_sqrt_k(peak_dyn, math.sqrt(p.k_lo), math.sqrt(k_hi), TIE_DYN, scan=_N_SCAN, seeds=(math.sqrt(k_kin),))
+    u = minimize_in_sqrt_k(
+        peak_dyn, math.sqrt(p.k_lo), math.sqrt(k_hi), TIE_DYN, scan=_N_SCAN, seeds=(math.sqrt(k_kin),)
+    )
     k = u * u
     f0, th, w = d.preload(k)
     for _ in range(_FIX_ROUNDS):

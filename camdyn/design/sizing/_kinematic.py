@@ -81,7 +81,11 @@ def binding(p: Problem, grid: Grid, k, f0) -> tuple[tuple[float, float, float], 
     r, w = required(p, grid, c)
     theta = grid.theta
     span = lambda a, b: (theta[b] - theta[a]) % (2 * math.pi)  # noqa: E731
-    out = [(math.degrees(theta[a]), math.degrees(theta[b]), float(max(w[a], w[b])) / RPM) for a, b in _runs(k * grid.s + f0 - r <= tol) if span(a, b) >= 2.5 * STEP]
+    out = [
+        (math.degrees(theta[a]), math.degrees(theta[b]), float(max(w[a], w[b])) / RPM)
+        for a, b in _runs(k * grid.s + f0 - r <= tol)
+        if span(a, b) >= 2.5 * STEP
+    ]
     for v, t in worst_between(p, grid, k, f0, c):
         if v > tol:
             continue

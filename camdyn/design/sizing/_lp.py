@@ -35,7 +35,9 @@ def _solve(p: Problem, grid: Grid, c) -> tuple[float, float]:
     peak_req = float(np.max(r + p.k_lo * gap))
     peak = max(peak_req, p.k_lo * p.s_max + p.f0_lo)  # min_preload: the peak k s_max + F0 grows with k at F0 = f0_lo
     if abs(float(res.fun) - peak) > 1e-7 * max(1.0, abs(peak)):
-        raise NumericalError("sizing", f"the linear program's least peak force {res.fun:.10g} disagrees with the closed form {peak:.10g}")
+        raise NumericalError(
+            "sizing", f"the linear program's least peak force {res.fun:.10g} disagrees with the closed form {peak:.10g}"
+        )
     tie = gap > 1e-12 * p.s_max
     k = max(p.k_lo, float(np.min((peak - r[tie]) / gap[tie]))) if tie.any() else p.k_lo
     k = max(p.k_lo, min(k, (peak - p.f0_lo) / p.s_max))  # no tie beyond the rate where F0 would fall below f0_lo

@@ -118,13 +118,29 @@ def build_problem(case, max_speed_rpm, margin, min_rate) -> tuple[Problem, Grid]
     speed_rpm = float(case.speed_rpm if max_speed_rpm is None else max_speed_rpm)
     margin = float(case.limits.speed_margin if margin is None else margin)
     p = Problem(
-        motion=case.motion, follower=case.follower, model=model, osc=osc, rigid=model.rigid, scale=model.scale,
-        m=float(model.mass), ext=float(model.external), kf=float(model.train_stiffness), c_fixed=c_fixed, zeta=zeta,
-        speed_rpm=speed_rpm, margin=margin, W=margin * speed_rpm * RPM, fmin=float(case.limits.min_contact_force),
-        k_lo=rate_to_si(float(min_rate), osc), f0_lo=min_preload(case),
+        motion=case.motion,
+        follower=case.follower,
+        model=model,
+        osc=osc,
+        rigid=model.rigid,
+        scale=model.scale,
+        m=float(model.mass),
+        ext=float(model.external),
+        kf=float(model.train_stiffness),
+        c_fixed=c_fixed,
+        zeta=zeta,
+        speed_rpm=speed_rpm,
+        margin=margin,
+        W=margin * speed_rpm * RPM,
+        fmin=float(case.limits.min_contact_force),
+        k_lo=rate_to_si(float(min_rate), osc),
+        f0_lo=min_preload(case),
     )
     if p.fmin < 0.0:
-        raise InputError("limits.min_contact_force", f"sizing needs a least contact force >= 0 N (got {p.fmin:g}): below 0 the follower has left the cam")
+        raise InputError(
+            "limits.min_contact_force",
+            f"sizing needs a least contact force >= 0 N (got {p.fmin:g}): below 0 the follower has left the cam",
+        )
     theta = np.arange(THETA_GRID) * (TWO_PI / THETA_GRID)
     breaks = np.deg2rad(np.asarray(p.motion.breaks_deg, dtype=float))
     theta = np.unique(np.mod(np.concatenate([theta, breaks - _BREAK_EPS, breaks + _BREAK_EPS]), TWO_PI))

@@ -49,9 +49,17 @@ class SpringDesign:
 
     def json(self, oscillating: bool, fmin: float) -> dict:
         if oscillating:
-            keys = {"torsion_rate_N_m_per_rad": self.rate, "preload_torque_N_m": self.preload, "peak_spring_torque_N_m": self.peak_spring}
+            keys = {
+                "torsion_rate_N_m_per_rad": self.rate,
+                "preload_torque_N_m": self.preload,
+                "peak_spring_torque_N_m": self.peak_spring,
+            }
         else:
-            keys = {"spring_rate_N_per_mm": self.rate, "preload_N": self.preload, "peak_spring_force_N": self.peak_spring}
+            keys = {
+                "spring_rate_N_per_mm": self.rate,
+                "preload_N": self.preload,
+                "peak_spring_force_N": self.peak_spring,
+            }
         return keys | {
             "least_contact_force_N": self.least_force,
             "least_contact_force_deg": self.least_force_deg,
@@ -94,7 +102,9 @@ class SpringSizing:
     lines: tuple[tuple[float, float, float], ...] = field(repr=False, default=())  # (theta_deg, s, r): F0 >= r - k s
     warnings: tuple[str, ...] = ()
     part: object = None  # size --buildable: the spring as a part (camdyn.design.spring.SpringDesign)
-    check: object = None  # size --buildable: check's speed-margin verdict (Check) on the spring as written, with its mass
+    check: object = (
+        None  # size --buildable: check's speed-margin verdict (Check) on the spring as written, with its mass
+    )
     spring_model: str = "none"  # how the spring's own mass is in the dynamics: none | lumped | surge
     spring_mass_kg: float = 0.0  # the spring whose mass is in the dynamics (buildable: the proposed part's)
 
@@ -133,12 +143,18 @@ class SpringSizing:
             rate_key: chosen[rate_key] - kin[rate_key],
             pre_key: chosen[pre_key] - kin[pre_key],
             peak_key: chosen[peak_key] - kin[peak_key],
-            "dynamic_jump_speed_rpm": None if None in (chosen["dynamic_jump_speed_rpm"], kin["dynamic_jump_speed_rpm"]) else chosen["dynamic_jump_speed_rpm"] - kin["dynamic_jump_speed_rpm"],
+            "dynamic_jump_speed_rpm": None
+            if None in (chosen["dynamic_jump_speed_rpm"], kin["dynamic_jump_speed_rpm"])
+            else chosen["dynamic_jump_speed_rpm"] - kin["dynamic_jump_speed_rpm"],
         }
         out["current"] = self.current.json(osc, fmin)
         out["at_current_rate"] = self.at_current_rate.json(osc, fmin)
         out["binding"] = [{"start_deg": a, "end_deg": b, "speed_rpm": w} for a, b, w in self.binding]
-        out["dynamic_binding"] = None if self.dynamic_binding is None else {"theta_deg": self.dynamic_binding[0], "speed_rpm": self.dynamic_binding[1]}
+        out["dynamic_binding"] = (
+            None
+            if self.dynamic_binding is None
+            else {"theta_deg": self.dynamic_binding[0], "speed_rpm": self.dynamic_binding[1]}
+        )
         out["tie_break"] = TIE_BREAK
         out["damping"] = self.damping
         out["method"] = self.method
@@ -147,7 +163,9 @@ class SpringSizing:
             "description": f"feasible: preload >= least preload(rate); rate >= {self.min_rate:g} {self.units['rate']}",
             "rate": self.region_rate[::step].tolist(),
             "least_preload_kinematic": self.region_preload_kinematic[::step].tolist(),
-            "least_preload_dynamic": None if self.region_preload_dynamic is None else self.region_preload_dynamic[::step].tolist(),
+            "least_preload_dynamic": None
+            if self.region_preload_dynamic is None
+            else self.region_preload_dynamic[::step].tolist(),
         }
         out["warnings"] = list(self.warnings)
         out["buildable"] = self.part is not None

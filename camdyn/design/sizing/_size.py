@@ -28,7 +28,11 @@ def _kinematic_answer(p: Problem, grid: Grid) -> tuple[float, float, str, str, G
     """(k, F0) of the kinematic problem, how damping was treated, the method, and the refined grid."""
     if p.c_fixed is not None or p.zeta == 0.0:
         k, f0, grid = lp(p, grid, p.damping(0.0))
-        what = "no damping" if p.damping(0.0) == 0.0 else f"constant damping c = {p.c_fixed:g} {'N*m*s/rad' if p.osc else 'N*s/m'}"
+        what = (
+            "no damping"
+            if p.damping(0.0) == 0.0
+            else f"constant damping c = {p.c_fixed:g} {'N*m*s/rad' if p.osc else 'N*s/m'}"
+        )
         return k, f0, f"{what}: the linear program is exact", _LP_METHOD, grid
     k, f0, grid = ratio_answer(p, grid)
     note = (
@@ -97,7 +101,13 @@ def _lines(p: Problem, grid: Grid, k_kin: float, f0_kin: float, rates) -> tuple[
     return tuple((math.degrees(grid.theta[i]), float(grid.s[i] / p.scale), float(r[i])) for i in sorted(idx))
 
 
-def size_spring(case, max_speed_rpm: float | None = None, margin: float | None = None, min_rate: float = 0.0, buildable: bool = False) -> SpringSizing:
+def size_spring(
+    case,
+    max_speed_rpm: float | None = None,
+    margin: float | None = None,
+    min_rate: float = 0.0,
+    buildable: bool = False,
+) -> SpringSizing:
     """Size the return spring of ``case``: the (rate, preload) with the least peak spring force that keeps the
     interface force >= ``[limits] min_contact_force`` at every angle and every speed up to ``margin`` times
     ``max_speed_rpm`` (defaults: the case's speed and speed_margin); ``min_rate`` (N/mm, or N*m/rad for an

@@ -99,7 +99,9 @@ def ratio_answer(p: Problem, grid: Grid) -> tuple[float, float, Grid]:
             math.sqrt(k_lo),
             math.sqrt(k_hi),
             TIE_KIN,
-            flat_of=lambda u, g=grid: u * u * p.s_max + preload_kinematic(p, g, u * u, polish=True),  # between grid angles too
+            flat_of=lambda u, g=grid: (
+                u * u * p.s_max + preload_kinematic(p, g, u * u, polish=True)
+            ),  # between grid angles too
         )
         k = u * u
         f0 = preload_kinematic(p, grid, k)

@@ -30,11 +30,32 @@ with sqrt(k m) (:meth:`camdyn.model.follower.FollowerModel.damping_at`), damping
 The map and its CSV are :mod:`._result`; :mod:`._map` assembles them.
 """
 
-from ._grid import GAP_CHUNK, GAP_LAST, GAP_REVS, GAP_SAMPLES, GAP_STRIDE, GRID_N, LINEAR_CHUNK, MAX_GRID_POINTS, check_grid_size
+from ._grid import (
+    GAP_CHUNK,
+    GAP_LAST,
+    GAP_REVS,
+    GAP_SAMPLES,
+    GAP_STRIDE,
+    GRID_N,
+    LINEAR_CHUNK,
+    MAX_GRID_POINTS,
+    check_grid_size,
+)
 from ._map import jump_map
 from ._result import CSV_COLUMNS, STATUS_OK, JumpMap
 
 __all__ = [
-    "CSV_COLUMNS", "GAP_CHUNK", "GAP_LAST", "GAP_REVS", "GAP_SAMPLES", "GAP_STRIDE", "GRID_N", "JumpMap", "LINEAR_CHUNK", "MAX_GRID_POINTS",
-    "STATUS_OK", "check_grid_size", "jump_map",
+    "CSV_COLUMNS",
+    "GAP_CHUNK",
+    "GAP_LAST",
+    "GAP_REVS",
+    "GAP_SAMPLES",
+    "GAP_STRIDE",
+    "GRID_N",
+    "JumpMap",
+    "LINEAR_CHUNK",
+    "MAX_GRID_POINTS",
+    "STATUS_OK",
+    "check_grid_size",
+    "jump_map",
 ]

@@ -40,7 +40,9 @@ def diffrax_gap_kernel(const, omega, k, c, z0):
         y0=z0,
         args=(motion, md, omega, True),
         saveat=diffrax.SaveAt(ts=ts),
-        stepsize_controller=diffrax.ClipStepSizeController(diffrax.PIDController(rtol=GAP_RTOL, atol=GAP_ATOL), jump_ts=jumps),
+        stepsize_controller=diffrax.ClipStepSizeController(
+            diffrax.PIDController(rtol=GAP_RTOL, atol=GAP_ATOL), jump_ts=jumps
+        ),
         max_steps=GAP_MAX_STEPS,
         throw=False,
     )

@@ -88,7 +88,12 @@ def _switch_time(md: _Modes, h, ends, x, p, x1, p1, a0, a1, g0, g1):
 
     def g_at(t):
         u = t / h
-        return md.g(_hermite(s0, s10, s1_, s11, u, h), _hermite(s10, s20, s11, s21, u, h), _hermite(x, p, x1, p1, u, h), _hermite(p, a0, p1, a1, u, h))
+        return md.g(
+            _hermite(s0, s10, s1_, s11, u, h),
+            _hermite(s10, s20, s11, s21, u, h),
+            _hermite(x, p, x1, p1, u, h),
+            _hermite(p, a0, p1, a1, u, h),
+        )
 
     ta, tb, ga, gb = 0.0, h, g0, g1
     for _ in range(_ILLINOIS):
@@ -141,7 +146,9 @@ def _step(md: _Modes, tabs: _Tables, h, ec, ef, last, carry, j):
     x_next, p_next = jnp.where(event, x_ev, x1), jnp.where(event, p_ev, p1)
     # the gap at the step end and inside the step (Hermite of this step)
     inner = [(_hermite(x, p, x1, p1, v, h) - _hermite(s0, s10, s1_, s11, v, h)) * (w0 + v * (w1 - w0)) for v in _INNER]
-    cand = jnp.maximum(jnp.where(event, -jnp.inf, jnp.maximum(jnp.maximum(inner[0], inner[1]), inner[2])), (x_next - s1_) * w1)
+    cand = jnp.maximum(
+        jnp.where(event, -jnp.inf, jnp.maximum(jnp.maximum(inner[0], inner[1]), inner[2])), (x_next - s1_) * w1
+    )
     gap = jnp.where(j + 1 >= last, jnp.maximum(gap, cand), gap)
     return (x_next, p_next, gap), None
 
@@ -158,7 +165,13 @@ def exact_gap_kernel(const, omega, k, c):
     stride = n_fft // m_steps
     h = TWO_PI / m_steps
     mw2 = base.mass * omega**2
-    md = _Modes(k / mw2, c / (base.mass * omega), base.train_stiffness / mw2, base.train_damping / (base.mass * omega), (base.preload + base.external) / (mw2 * base.scale))
+    md = _Modes(
+        k / mw2,
+        c / (base.mass * omega),
+        base.train_stiffness / mw2,
+        base.train_damping / (base.mass * omega),
+        (base.preload + base.external) / (mw2 * base.scale),
+    )
     xl, pl = steady_state(spec, omega, base, k, c, n_fft, unit=base.scale)
     tabs = _Tables(s_tab, s1_tab, s2_tab, xl[::stride], pl[::stride], w_tab)
     ec = _expm2(md.a_k + md.a_f, md.b_c + md.b_f, h)

@@ -11,6 +11,7 @@ import numpy as np
 
 from ..._core.errors import InputError, NumericalError
 from ..._core.progress import Progress, counter
+from ..._core.sharding import run_batched
 from ..._core.units import RPM, TWO_PI, rate_from_si, rate_to_si
 from ...model import dynamics as dyn
 from ...model.geometry import newton_per_torque_at
@@ -21,7 +22,6 @@ from ._diffrax_gap import diffrax_gap_const, diffrax_gap_kernel
 from ._exact_gap import exact_gap_kernel
 from ._grid import GAP_CHUNK, GAP_STRIDE, GRID_N, LINEAR_CHUNK, check_grid_size
 from ._result import STATUS_OK, JumpMap, failed
-from ..._core.sharding import run_batched
 
 
 @dataclass(frozen=True)
@@ -45,7 +45,11 @@ def _points(case, speeds_rpm, spring_rates) -> _Points:
     speeds = np.atleast_1d(np.asarray(speeds_rpm, dtype=float))
     rates = np.atleast_1d(np.asarray(spring_rates if spring_rates is not None else [rate0], dtype=float))
     check_grid_size(speeds.size, rates.size)
-    if speeds.size == 0 or rates.size == 0 or not (np.all(speeds > 0) and np.all(rates > 0) and np.all(np.isfinite(speeds)) and np.all(np.isfinite(rates))):
+    if (
+        speeds.size == 0
+        or rates.size == 0
+        or not (np.all(speeds > 0) and np.all(rates > 0) and np.all(np.isfinite(speeds)) and np.all(np.isfinite(rates)))
+    ):
         raise InputError("sweep", "speeds and spring rates must be positive and finite")
     sp, kr = np.meshgrid(speeds, rates, indexing="ij")
     k_si = rate_to_si(kr.ravel(), case.oscillating)
@@ -80,7 +84,14 @@ def _rigid_gaps(case, pts: _Points, idx, progress) -> tuple[np.ndarray, dict[int
 def _rigid_map(case, pts: _Points, angles, gaps: bool, progress, devices):
     theta, vals, weight = angles
     const = (case.model, *(jnp.asarray(v) for v in vals[:3]), jnp.asarray(weight))
-    signed = run_batched(kinematic_kernel, const, [pts.omega, pts.k, pts.c], LINEAR_CHUNK, counter(progress, "kinematic force", pts.omega.size), devices)
+    signed = run_batched(
+        kinematic_kernel,
+        const,
+        [pts.omega, pts.k, pts.c],
+        LINEAR_CHUNK,
+        counter(progress, "kinematic force", pts.omega.size),
+        devices,
+    )
     why = {int(i): "the kinematic force is not finite" for i in np.nonzero(~np.isfinite(signed))[0]}
     separated = signed <= 0.0
     idx = np.nonzero(separated)[0] if gaps else np.zeros(0, dtype=int)
@@ -106,7 +117,12 @@ def _compliant_map(case, pts: _Points, angles, gaps: bool, gap_method: str, prog
     if gap_method == "exact":
         tab = np.asarray(evaluate(motion, jnp.asarray(theta[::GAP_STRIDE])))[:3]
         w_tab = _lever_arm_mm(case, theta[::GAP_STRIDE]) if case.oscillating else np.ones(tab.shape[1])
-        gconst = (base, *(jnp.asarray(t) for t in tab), jnp.asarray(w_tab), jnp.fft.rfft(jnp.asarray(vals[0] / base.scale)))
+        gconst = (
+            base,
+            *(jnp.asarray(t) for t in tab),
+            jnp.asarray(w_tab),
+            jnp.fft.rfft(jnp.asarray(vals[0] / base.scale)),
+        )
         g = run_batched(exact_gap_kernel, gconst, point, GAP_CHUNK, tick, devices)
     else:
         gconst = diffrax_gap_const(case, lambda t: _lever_arm_mm(case, t))

@@ -20,7 +20,13 @@ from dataclasses import dataclass, field
 import numpy as np
 
 CSV_COLUMNS = (
-    "speed_rpm", "spring_rate_N_per_mm", "min_contact_force_N", "separated", "max_gap_mm", "spring_rate_N_m_per_rad", "status",
+    "speed_rpm",
+    "spring_rate_N_per_mm",
+    "min_contact_force_N",
+    "separated",
+    "max_gap_mm",
+    "spring_rate_N_m_per_rad",
+    "status",
 )
 STATUS_OK = "ok"
 
@@ -49,7 +55,9 @@ class JumpMap:
     min_force: np.ndarray  # least interface force, N; 0 where the follower separates; NaN where the point failed
     separated: np.ndarray  # bool: the in-contact model's least force <= 0
     max_gap: np.ndarray  # largest gap, mm; 0 where it stays on the cam; NaN where the point failed (or gaps=False)
-    contact_force: np.ndarray  # signed least force of the in-contact model (linear steady state / kinematic), N: <= 0 beyond the jump boundary
+    contact_force: (
+        np.ndarray
+    )  # signed least force of the in-contact model (linear steady state / kinematic), N: <= 0 beyond the jump boundary
     speed_rpm: float  # the case's operating point
     spring_rate: float
     preload: float  # kept fixed over the map: N (N*m for an oscillating follower)
@@ -81,8 +89,15 @@ class JumpMap:
         sp, kr = np.meshgrid(self.speeds_rpm, self.spring_rates, indexing="ij")
         status = self.statuses.ravel()
         quoted = {s: _quoted(s) for s in set(status.tolist())}
-        rows = zip(sp.ravel().tolist(), kr.ravel().tolist(), self.min_force.ravel().tolist(), self.separated.ravel().tolist(),
-                   self.max_gap.ravel().tolist(), status.tolist(), strict=True)
+        rows = zip(
+            sp.ravel().tolist(),
+            kr.ravel().tolist(),
+            self.min_force.ravel().tolist(),
+            self.separated.ravel().tolist(),
+            self.max_gap.ravel().tolist(),
+            status.tolist(),
+            strict=True,
+        )
         buf = io.StringIO()
         buf.write(",".join(CSV_COLUMNS) + "\n")
         for speed, rate, force, sep, gap, st in rows:

@@ -9,12 +9,32 @@
 """
 
 from ._case import PRELOAD_STEP, SynthesizedCase, synthesize_case, validate_path_file
-from ._ccm import DIMENSION_OBJECTIVE, ccm_objective, ccm_score, ccm_table, pitch_convexity, prime_radius_for_curvature, prime_radius_for_pressure_angle
+from ._ccm import (
+    DIMENSION_OBJECTIVE,
+    ccm_objective,
+    ccm_score,
+    ccm_table,
+    pitch_convexity,
+    prime_radius_for_curvature,
+    prime_radius_for_pressure_angle,
+)
 from ._fourbar import curve_error, fourbar_curve, fourbar_objective
 from ._optimize import synthesize_dimensions
 
 __all__ = [
-    "DIMENSION_OBJECTIVE", "PRELOAD_STEP", "SynthesizedCase", "ccm_objective", "ccm_score", "ccm_table", "curve_error",
-    "fourbar_curve", "fourbar_objective", "pitch_convexity", "prime_radius_for_curvature", "prime_radius_for_pressure_angle",
-    "synthesize_case", "synthesize_dimensions", "validate_path_file",
+    "DIMENSION_OBJECTIVE",
+    "PRELOAD_STEP",
+    "SynthesizedCase",
+    "ccm_objective",
+    "ccm_score",
+    "ccm_table",
+    "curve_error",
+    "fourbar_curve",
+    "fourbar_objective",
+    "pitch_convexity",
+    "prime_radius_for_curvature",
+    "prime_radius_for_pressure_angle",
+    "synthesize_case",
+    "synthesize_dimensions",
+    "validate_path_file",
 ]

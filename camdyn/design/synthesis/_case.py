@@ -70,7 +70,11 @@ def _header(source: Path | None, summary: dict, sized: str | None) -> list[str]:
         f"base radius {summary['base_radius_mm']:g} mm, least transmission angles {summary['min_transmission_angle_deg']:.1f} deg "
         f"(coupler-link) and {summary['min_slider_angle_deg']:.1f} deg (link-slider).",
         f"Path error: CCM {_fmt(summary['max_path_error_mm'])} mm (forward check of the exact synthesis)"
-        + (f"; the best plain four-bar found (Grashof crank-rocker, transmission >= 30 deg) {_fmt(summary['fourbar_path_error_mm'])} mm." if "fourbar_path_error_mm" in summary else "."),
+        + (
+            f"; the best plain four-bar found (Grashof crank-rocker, transmission >= 30 deg) {_fmt(summary['fourbar_path_error_mm'])} mm."
+            if "fourbar_path_error_mm" in summary
+            else "."
+        ),
     ]
     if not summary["constraints_met"]:
         lines.append("NOT MET: " + "; ".join(summary["violations"]) + " (try a larger maxiter or another seed)")
@@ -123,14 +127,23 @@ def synthesize_case(
     max_pa = opts.max_pressure_angle or spec.limits.max_pressure_angle or 30.0
     tick = progress or (lambda phase, done, total: None)
     result = synthesize_dimensions(
-        spec.path, seed=seed, maxiter=maxiter, popsize=opts.popsize, max_pressure_angle=max_pa, min_curvature_ratio=spec.limits.min_curvature_ratio,
+        spec.path,
+        seed=seed,
+        maxiter=maxiter,
+        popsize=opts.popsize,
+        max_pressure_angle=max_pa,
+        min_curvature_ratio=spec.limits.min_curvature_ratio,
         roller_radius=opts.roller_radius,
-        fourbar=opts.fourbar, progress=tick,
+        fourbar=opts.fourbar,
+        progress=tick,
     )
     summary, mechanism = result["summary"], result["mechanism"]
     dynamics = dict(raw["dynamics"])
     doc: dict[str, Any] = {"name": spec.name or name or "case"}
-    doc["description"] = spec.description or f"CCM synthesized by camdyn synthesize for the {spec.path.type} path{f' of {source.name}' if source else ''}."
+    doc["description"] = (
+        spec.description
+        or f"CCM synthesized by camdyn synthesize for the {spec.path.type} path{f' of {source.name}' if source else ''}."
+    )
     doc |= {"path": dict(raw["path"]), "mechanism": mechanism, "dynamics": dynamics}
     if "limits" in raw:
         doc["limits"] = dict(raw["limits"])
@@ -144,4 +157,12 @@ def synthesize_case(
     text = dumps_case(doc, _header(source, summary, sized_note))
     case = case_from_dict(tomllib.loads(text), source=source)
     notes = [sized_note] if sized_note else []
-    return SynthesizedCase(text=text, case=case, mechanism=mechanism, summary=summary, dynamics=dynamics, preload_sized=sized_note is not None, notes=notes)
+    return SynthesizedCase(
+        text=text,
+        case=case,
+        mechanism=mechanism,
+        summary=summary,
+        dynamics=dynamics,
+        preload_sized=sized_note is not None,
+        notes=notes,
+    )

@@ -22,7 +22,9 @@ from ..._core.units import DEFAULT_MIN_CURVATURE_RATIO, TWO_PI
 from ...model.linkage import MIN_TRANSMISSION_DEG
 
 FIT_MARGIN_DEG = 1.0  # the optimizer asks for 31 deg: the exact synthesis samples finer and rounds the table
-DIMENSION_OBJECTIVE = "stroke + 0.5 x the cam's prime radius (the least that meets the pressure-angle and curvature limits)"
+DIMENSION_OBJECTIVE = (
+    "stroke + 0.5 x the cam's prime radius (the least that meets the pressure-angle and curvature limits)"
+)
 _BISECTIONS = 16  # halvings of log rp over [rp0, 1.05^100 rp0] in the curvature search (7e-5 relative)
 
 
@@ -95,7 +97,9 @@ def _crank(px: np.ndarray, py: np.ndarray) -> dict[str, np.ndarray]:
     use = runs[0][0] <= runs[1][0]
     pick = lambda a, b: np.where(use.reshape(-1, *([1] * (a.ndim - 1))), a, b)  # noqa: E731
     rev, th, un, sense = (pick(a, b) for a, b in zip(runs[0], runs[1], strict=True))
-    return dict(r=r, l=l, rs=rs, degenerate=degenerate, rev=rev, th=th, un=un, sense=sense, start=np.where(use, 1.0, -1.0))
+    return dict(
+        r=r, l=l, rs=rs, degenerate=degenerate, rev=rev, th=th, un=un, sense=sense, start=np.where(use, 1.0, -1.0)
+    )
 
 
 def _prime_radius(s, un, e, sense, rr: float, max_pa: float, sharp: bool, min_ratio: float) -> np.ndarray:
@@ -114,7 +118,12 @@ def _prime_radius(s, un, e, sense, rr: float, max_pa: float, sharp: bool, min_ra
 
 
 def ccm_objective(
-    x: np.ndarray, t: np.ndarray, max_pa: float, rr: float, sharp: bool = False, min_ratio: float = DEFAULT_MIN_CURVATURE_RATIO
+    x: np.ndarray,
+    t: np.ndarray,
+    max_pa: float,
+    rr: float,
+    sharp: bool = False,
+    min_ratio: float = DEFAULT_MIN_CURVATURE_RATIO,
 ) -> dict[str, np.ndarray]:
     """Objective terms of CCM designs x (5, S) on path samples t (n, 2), every array (S,).
 
@@ -153,12 +162,28 @@ def ccm_objective(
     penalty = 1e3 * miss + 1e3 * k["rev"] + 10.0 * (np.clip(need - tr, 0.0, None) + np.clip(need - sl, 0.0, None))
     cost = np.where(k["degenerate"], 1e6, stroke + 0.5 * rp + penalty)
     return dict(
-        cost=cost, crank=k["r"], coupler=k["l"], start=k["start"], stroke=stroke, prime_radius=rp, min_transmission=tr, min_slider=sl,
-        sense=k["sense"], reversal=k["rev"], miss=miss,
+        cost=cost,
+        crank=k["r"],
+        coupler=k["l"],
+        start=k["start"],
+        stroke=stroke,
+        prime_radius=rp,
+        min_transmission=tr,
+        min_slider=sl,
+        sense=k["sense"],
+        reversal=k["rev"],
+        miss=miss,
     )
 
 
-def ccm_score(x: np.ndarray, t: np.ndarray, max_pa: float, rr: float = 10.0, sharp: bool = False, min_ratio: float = DEFAULT_MIN_CURVATURE_RATIO) -> tuple[float, dict]:
+def ccm_score(
+    x: np.ndarray,
+    t: np.ndarray,
+    max_pa: float,
+    rr: float = 10.0,
+    sharp: bool = False,
+    min_ratio: float = DEFAULT_MIN_CURVATURE_RATIO,
+) -> tuple[float, dict]:
     """:func:`ccm_objective` of one design x (5,): its cost and its other terms as floats."""
     out = ccm_objective(np.asarray(x, dtype=float)[:, None], t, max_pa, rr, sharp, min_ratio)
     return float(out["cost"][0]), {k: float(v[0]) for k, v in out.items() if k != "cost"}

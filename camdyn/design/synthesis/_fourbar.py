@@ -101,9 +101,15 @@ def fourbar_bounds(mid: np.ndarray, size: float) -> list[tuple[float, float]]:
     """The optimizer's box for a path of extent ``size`` (mm) about ``mid``: pivots within 3 sizes, links
     from a tenth of a size (the crank from a twentieth) to a few sizes, and the assembly mode."""
     return [
-        (mid[0] - 3 * size, mid[0] + 3 * size), (mid[1] - 3 * size, mid[1] + 3 * size),
-        (mid[0] - 3 * size, mid[0] + 3 * size), (mid[1] - 3 * size, mid[1] + 3 * size),
-        (0.05 * size, 2 * size), (0.1 * size, 5 * size), (0.1 * size, 5 * size), (-3 * size, 3 * size), (-3 * size, 3 * size),
+        (mid[0] - 3 * size, mid[0] + 3 * size),
+        (mid[1] - 3 * size, mid[1] + 3 * size),
+        (mid[0] - 3 * size, mid[0] + 3 * size),
+        (mid[1] - 3 * size, mid[1] + 3 * size),
+        (0.05 * size, 2 * size),
+        (0.1 * size, 5 * size),
+        (0.1 * size, 5 * size),
+        (-3 * size, 3 * size),
+        (-3 * size, 3 * size),
         (-1.0, 1.0),
     ]
 
@@ -113,7 +119,9 @@ def fourbar_summary(x: np.ndarray, t: np.ndarray) -> tuple[float, dict]:
     dimensions and checks."""
     curve, miss, tmin = fourbar_curve(x)
     info = dict(zip(FOURBAR_NAMES, map(float, x[:9]), strict=True)) | {
-        "mode": 1 if x[9] >= 0 else -1, "min_transmission_angle_deg": float(tmin), "closes": bool(miss == 0.0),
+        "mode": 1 if x[9] >= 0 else -1,
+        "min_transmission_angle_deg": float(tmin),
+        "closes": bool(miss == 0.0),
         "grashof_crank_rocker": bool(grashof_excess(x[:, None])[0] <= 1e-9),
     }
     return float(curve_error(curve, t)), info

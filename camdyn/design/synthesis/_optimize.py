@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import inspect
 import time
-from typing import Callable
+from collections.abc import Callable
 
 import numpy as np
 from scipy.optimize import differential_evolution
@@ -20,8 +20,16 @@ from ._fourbar import fourbar_bounds, fourbar_objective, fourbar_summary
 _N_FIT = 256  # path samples used by the optimizer (the chosen design is then synthesized exactly)
 _N_CANDIDATES = 12  # designs of the final population tried in order when the best one fails the exact synthesis
 _SUMMARY_KEYS = (
-    "crank_mm", "coupler_mm", "start_angle_deg", "rotation", "stroke_mm", "max_path_error_mm", "min_transmission_angle_deg",
-    "min_slider_angle_deg", "base_radius_mm", "offset_mm",
+    "crank_mm",
+    "coupler_mm",
+    "start_angle_deg",
+    "rotation",
+    "stroke_mm",
+    "max_path_error_mm",
+    "min_transmission_angle_deg",
+    "min_slider_angle_deg",
+    "base_radius_mm",
+    "offset_mm",
 )
 
 
@@ -51,8 +59,16 @@ def _run_de(phase: str, fn, bounds, *, seed: int, maxiter: int, popsize: int, ti
         tick(phase, gen[0], maxiter)
 
     res = differential_evolution(
-        lambda x: _quantized(fn(x)), bounds, maxiter=maxiter, popsize=popsize, tol=1e-3, polish=False, vectorized=True, updating="deferred",
-        callback=callback, **_de_seed(seed),
+        lambda x: _quantized(fn(x)),
+        bounds,
+        maxiter=maxiter,
+        popsize=popsize,
+        tol=1e-3,
+        polish=False,
+        vectorized=True,
+        updating="deferred",
+        callback=callback,
+        **_de_seed(seed),
     )
     tick(phase, maxiter, maxiter)
     return res
@@ -62,8 +78,11 @@ def _ccm_bounds(mid: np.ndarray, size: float) -> list[tuple[float, float]]:
     """The box of CCM designs for a path of extent ``size`` (mm) about ``mid``: the cam centre within 4 sizes,
     any slider direction, its offset within 2 sizes, the link from half a size to 6."""
     return [
-        (mid[0] - 4 * size, mid[0] + 4 * size), (mid[1] - 4 * size, mid[1] + 4 * size),
-        (-180.0, 180.0), (-2 * size, 2 * size), (0.5 * size, 6 * size),
+        (mid[0] - 4 * size, mid[0] + 4 * size),
+        (mid[1] - 4 * size, mid[1] + 4 * size),
+        (-180.0, 180.0),
+        (-2 * size, 2 * size),
+        (0.5 * size, 6 * size),
     ]
 
 
@@ -87,7 +106,10 @@ def _exact_best(res, path, t, max_pa: float, rr: float, sharp: bool, min_ratio: 
         if not violations:
             break
     if best is None:
-        raise NumericalError("synthesis", f"none of the {min(len(cands), _N_CANDIDATES)} best designs could be synthesized exactly (first: {errors[0]}); try a larger maxiter or another seed")
+        raise NumericalError(
+            "synthesis",
+            f"none of the {min(len(cands), _N_CANDIDATES)} best designs could be synthesized exactly (first: {errors[0]}); try a larger maxiter or another seed",
+        )
     return best
 
 
@@ -162,9 +184,18 @@ def synthesize_dimensions(
     summary: dict = {k: syn.summary[k] for k in _SUMMARY_KEYS}
     summary["base_radius_mm"] = table["base_radius"]
     summary.update(
-        objective=DIMENSION_OBJECTIVE, objective_value=float(score), optimizer_converged=bool(res.success), generations=int(res.nit),
-        seed=seed, maxiter=maxiter, popsize=popsize, max_pressure_angle_deg=max_pressure_angle, min_curvature_ratio=min_curvature_ratio,
-        constraints_met=not violations, violations=violations, warnings=list(syn.warnings),
+        objective=DIMENSION_OBJECTIVE,
+        objective_value=float(score),
+        optimizer_converged=bool(res.success),
+        generations=int(res.nit),
+        seed=seed,
+        maxiter=maxiter,
+        popsize=popsize,
+        max_pressure_angle_deg=max_pressure_angle,
+        min_curvature_ratio=min_curvature_ratio,
+        constraints_met=not violations,
+        violations=violations,
+        warnings=list(syn.warnings),
     )
     if fourbar:  # the CCM paper's comparison: the best plain four-bar coupler curve
         fb = _run_de("four-bar comparison", lambda x: fourbar_objective(x, t), fourbar_bounds(mid, size), **de)

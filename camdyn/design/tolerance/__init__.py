@@ -14,4 +14,16 @@ from ._result import CSV_COLUMNS, PARAM_KEYS, ToleranceResult, csv_columns
 from ._study import CHUNK_SAMPLES, CONFIDENCE, MAX_SAMPLES, SCAN_GRID, WORST, tolerance_study
 from ._worst import worst_case_docs
 
-__all__ = ["CHUNK_SAMPLES", "CONFIDENCE", "CSV_COLUMNS", "MAX_SAMPLES", "PARAM_KEYS", "SCAN_GRID", "ToleranceResult", "WORST", "csv_columns", "tolerance_study", "worst_case_docs"]
+__all__ = [
+    "CHUNK_SAMPLES",
+    "CONFIDENCE",
+    "CSV_COLUMNS",
+    "MAX_SAMPLES",
+    "PARAM_KEYS",
+    "SCAN_GRID",
+    "ToleranceResult",
+    "WORST",
+    "csv_columns",
+    "tolerance_study",
+    "worst_case_docs",
+]

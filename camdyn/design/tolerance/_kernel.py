@@ -45,8 +45,17 @@ def make_grid(case, n: int, harmonics: int, weight) -> Grid:
     h = np.arange(1, harmonics + 1)[:, None]
     c, si = np.cos(h * theta), np.sin(h * theta)
     # a cos(h t) + b sin(h t) and its first two derivatives in theta, per unit a and b
-    basis = np.stack([np.concatenate([c, si]), np.concatenate([-h * si, h * c]), np.concatenate([-h * h * c, -h * h * si])]) * case.model.scale
-    return Grid(jnp.asarray(s), jnp.asarray(basis), jnp.asarray(weight(theta)), jnp.fft.rfft(jnp.asarray(s[0])), jnp.asarray(case.model.scale))
+    basis = (
+        np.stack([np.concatenate([c, si]), np.concatenate([-h * si, h * c]), np.concatenate([-h * h * c, -h * h * si])])
+        * case.model.scale
+    )
+    return Grid(
+        jnp.asarray(s),
+        jnp.asarray(basis),
+        jnp.asarray(weight(theta)),
+        jnp.fft.rfft(jnp.asarray(s[0])),
+        jnp.asarray(case.model.scale),
+    )
 
 
 class Sample(NamedTuple):
@@ -62,10 +71,16 @@ class Sample(NamedTuple):
 
 def sample_model(base: FollowerModel, p: Sample) -> FollowerModel:
     """``base`` with the sample's spring, preload, mass and train; damping ratios kept."""
-    c = jnp.where(jnp.isnan(base.damping_ratio), base.damping, damping_from_ratio(jnp.nan_to_num(base.damping_ratio), p.k, p.m))
+    c = jnp.where(
+        jnp.isnan(base.damping_ratio), base.damping, damping_from_ratio(jnp.nan_to_num(base.damping_ratio), p.k, p.m)
+    )
     zeta_f = base.train_damping / damping_from_ratio(1.0, base.train_stiffness, base.mass)
     cf = jnp.where(jnp.isinf(base.train_stiffness), 0.0, damping_from_ratio(jnp.nan_to_num(zeta_f), p.kf, p.m))
-    return eqx.tree_at(lambda m: (m.stiffness, m.preload, m.mass, m.damping, m.train_stiffness, m.train_damping), base, (p.k, p.f0, p.m, c, p.kf, cf))
+    return eqx.tree_at(
+        lambda m: (m.stiffness, m.preload, m.mass, m.damping, m.train_stiffness, m.train_damping),
+        base,
+        (p.k, p.f0, p.m, c, p.kf, cf),
+    )
 
 
 def _tables(grid: Grid, p: Sample):
@@ -115,8 +130,13 @@ def jump_speed(base: FollowerModel, grid: Grid, p: Sample, w_max, rigid: bool):
         # Illinois: halve the stale end's value when the same end moves twice
         f_lo2 = jnp.where(below & (side < 0), 0.5 * f_lo, f_lo)
         f_hi2 = jnp.where(~below & (side > 0), 0.5 * f_hi, f_hi)
-        return (jnp.where(below, lo, w), jnp.where(below, w, hi), jnp.where(below, f_lo2, fw), jnp.where(below, fw, f_hi2),
-                jnp.where(below, -1, 1))
+        return (
+            jnp.where(below, lo, w),
+            jnp.where(below, w, hi),
+            jnp.where(below, f_lo2, fw),
+            jnp.where(below, fw, f_hi2),
+            jnp.where(below, -1, 1),
+        )
 
     lo, hi, *_ = jax.lax.fori_loop(0, ROOT_STEPS, illinois, (lo, hi, f_lo, f_hi, 0))
     return jnp.where(jnp.any(hit), hi, jnp.inf)

@@ -25,7 +25,13 @@ _UNITS = {
 def csv_columns(oscillating: bool) -> tuple[str, ...]:
     """The CSV's columns for a translating follower or an oscillating arm."""
     names = [f"{k}_rms" if k == "profile_error" else k for k in PARAM_KEYS]
-    return ("sample", *(f"{n}_{u}" for n, u in zip(names, _UNITS[oscillating], strict=True)), "least_contact_force_N", "jump_speed_rpm", "separated")
+    return (
+        "sample",
+        *(f"{n}_{u}" for n, u in zip(names, _UNITS[oscillating], strict=True)),
+        "least_contact_force_N",
+        "jump_speed_rpm",
+        "separated",
+    )
 
 
 CSV_COLUMNS = csv_columns(False)
@@ -45,7 +51,9 @@ class ToleranceResult:
     tolerances: dict[str, dict]  # key -> {"tolerance", "unit", "relative", "distribution", "sigma"}
     probability: float
     confidence_interval: tuple[float, float]
-    sensitivities: dict[str, dict] = field(default_factory=dict)  # key -> {"gradient_sigma", "share_linear", "share_monte_carlo"}
+    sensitivities: dict[str, dict] = field(
+        default_factory=dict
+    )  # key -> {"gradient_sigma", "share_linear", "share_monte_carlo"}
     nominal_jump_speed_rpm: float = float("nan")
     worst: tuple[int, ...] = ()
     devices: int = 1

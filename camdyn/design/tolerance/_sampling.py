@@ -45,7 +45,10 @@ class Spread:
 
 def spreads(tolerances: tuple[Tolerance, ...], nominal: dict[str, float]) -> dict[str, Spread]:
     """The :class:`Spread` of each given tolerance; ``nominal`` per key in the case-file unit (0 for profile_error)."""
-    return {t.key: Spread(t.key, nominal[t.key], t.value * abs(nominal[t.key]) if t.relative else t.value, t.distribution) for t in tolerances}
+    return {
+        t.key: Spread(t.key, nominal[t.key], t.value * abs(nominal[t.key]) if t.relative else t.value, t.distribution)
+        for t in tolerances
+    }
 
 
 def draw_samples(spread: dict[str, Spread], nominal: dict[str, float], n: int, seed: int) -> dict[str, np.ndarray]:
@@ -58,5 +61,7 @@ def draw_samples(spread: dict[str, Spread], nominal: dict[str, float], n: int, s
     for key in SCALAR_KEYS:
         out[key] = nominal[key] + (spread[key].draw(rng, n) if key in spread else np.zeros(n))
     k2 = 2 * PROFILE_ERROR_HARMONICS
-    out["profile_coeffs"] = spread["profile_error"].draw(rng, (n, k2)) if "profile_error" in spread else np.zeros((n, k2))
+    out["profile_coeffs"] = (
+        spread["profile_error"].draw(rng, (n, k2)) if "profile_error" in spread else np.zeros((n, k2))
+    )
     return out

@@ -19,7 +19,9 @@ import numpy as np
 from ._kernel import Sample, min_force
 
 
-def gradient_sensitivities(base, scan, nominal: Sample, w_star: float, sigma_si: dict[str, float], rigid: bool) -> dict[str, float]:
+def gradient_sensitivities(
+    base, scan, nominal: Sample, w_star: float, sigma_si: dict[str, float], rigid: bool
+) -> dict[str, float]:
     """``d margin / d p x sigma`` per key of ``sigma_si`` (SI sigmas; the profile error's per coefficient);
     NaN for every key where the nominal design has no jump speed."""
     if not math.isfinite(w_star):

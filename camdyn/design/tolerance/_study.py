@@ -34,8 +34,12 @@ MAX_SAMPLES = 10_000_000
 def _nominal(case) -> dict[str, float]:
     m, osc = case.model, case.oscillating
     return {
-        "spring_rate": float(rate_from_si(m.stiffness, osc)), "preload": float(m.preload), "mass": float(m.mass),
-        "train_stiffness": float(rate_from_si(m.train_stiffness, osc)), "speed": float(case.speed_rpm), "profile_error": 0.0,
+        "spring_rate": float(rate_from_si(m.stiffness, osc)),
+        "preload": float(m.preload),
+        "mass": float(m.mass),
+        "train_stiffness": float(rate_from_si(m.train_stiffness, osc)),
+        "speed": float(case.speed_rpm),
+        "profile_error": 0.0,
     }
 
 
@@ -48,10 +52,19 @@ def _search_limit(case) -> float:
 
 def _to_si(case, vals: dict[str, np.ndarray]) -> list[np.ndarray]:
     osc = case.oscillating
-    return [rate_to_si(vals["spring_rate"], osc), vals["preload"], vals["mass"], rate_to_si(vals["train_stiffness"], osc), vals["speed"] * RPM, vals["profile_coeffs"]]
+    return [
+        rate_to_si(vals["spring_rate"], osc),
+        vals["preload"],
+        vals["mass"],
+        rate_to_si(vals["train_stiffness"], osc),
+        vals["speed"] * RPM,
+        vals["profile_coeffs"],
+    ]
 
 
-def tolerance_study(case, samples: int, seed: int = 0, *, progress: Progress | None = None, devices=None) -> ToleranceResult:
+def tolerance_study(
+    case, samples: int, seed: int = 0, *, progress: Progress | None = None, devices=None
+) -> ToleranceResult:
     """Monte Carlo study of ``case``'s ``[tolerances]`` over ``samples`` built cams drawn from ``seed``.
 
     ``devices``: the JAX devices to shard the samples over (default: every device of every process, the global
@@ -63,44 +76,82 @@ def tolerance_study(case, samples: int, seed: int = 0, *, progress: Progress | N
     osc, base = case.oscillating, case.model
     tols = resolve_tolerances(case.spec.tolerances, oscillating=osc) if case.spec.tolerances is not None else ()
     if base.rigid and any(t.key == "train_stiffness" for t in tols):
-        raise InputError("tolerances.train_stiffness", "a rigid follower has no train stiffness: remove the key or give [dynamics] train_stiffness")
+        raise InputError(
+            "tolerances.train_stiffness",
+            "a rigid follower has no train stiffness: remove the key or give [dynamics] train_stiffness",
+        )
     nominal = _nominal(case)
     spread = spreads(tols, nominal)
     vals = draw_samples(spread, nominal, samples, seed)
     for key in ("spring_rate", "mass", "train_stiffness", "speed"):
         if np.any(vals[key] <= 0.0):
-            raise InputError(f"tolerances.{key}", f"the tolerance reaches a value <= 0 {tolerance_unit(key, osc)} in some samples: give a smaller one")
+            raise InputError(
+                f"tolerances.{key}",
+                f"the tolerance reaches a value <= 0 {tolerance_unit(key, osc)} in some samples: give a smaller one",
+            )
     weight = (lambda t: newton_per_torque_at(case.motion, case.follower, t)) if osc else (lambda t: np.ones_like(t))
     fine = make_grid(case, THETA_GRID, PROFILE_ERROR_HARMONICS, weight)
     scan = make_grid(case, SCAN_GRID, PROFILE_ERROR_HARMONICS, lambda t: np.ones_like(t))
     w_max = _search_limit(case)
     kernel = rigid_tolerance_kernel if base.rigid else tolerance_kernel
     tick = counter(progress, "built cams (steady state, jump speed)", samples)
-    force, jump = run_batched(kernel, (base, fine, scan, jnp.asarray(w_max)), _to_si(case, vals), CHUNK_SAMPLES, tick, devices)
+    force, jump = run_batched(
+        kernel, (base, fine, scan, jnp.asarray(w_max)), _to_si(case, vals), CHUNK_SAMPLES, tick, devices
+    )
     sep = int(np.count_nonzero(force <= 0.0))
     ci = binomtest(sep, samples).proportion_ci(CONFIDENCE, method="exact")
     jump_rpm = np.asarray(jump) / RPM
-    params = {k: vals[k] for k in SCALAR_KEYS} | {"profile_error": np.sqrt(0.5 * np.sum(vals["profile_coeffs"] ** 2, axis=1))}
+    params = {k: vals[k] for k in SCALAR_KEYS} | {
+        "profile_error": np.sqrt(0.5 * np.sum(vals["profile_coeffs"] ** 2, axis=1))
+    }
     sens, w_star = _sensitivities(case, base, scan, w_max, nominal, spread, vals, jump_rpm)
     return ToleranceResult(
-        case=case.name, oscillating=osc, seed=seed, speed_rpm=float(case.speed_rpm), params=params, least_force=np.asarray(force),
-        jump_speed_rpm=jump_rpm, tolerances={t.key: _describe(t, spread[t.key], osc) for t in tols},
-        probability=sep / samples, confidence_interval=(float(ci.low), float(ci.high)), sensitivities=sens,
-        nominal_jump_speed_rpm=w_star / RPM, worst=tuple(int(i) for i in np.argsort(force, kind="stable")[:WORST]),
-        devices=len(devices), processes=jax.process_count(),
+        case=case.name,
+        oscillating=osc,
+        seed=seed,
+        speed_rpm=float(case.speed_rpm),
+        params=params,
+        least_force=np.asarray(force),
+        jump_speed_rpm=jump_rpm,
+        tolerances={t.key: _describe(t, spread[t.key], osc) for t in tols},
+        probability=sep / samples,
+        confidence_interval=(float(ci.low), float(ci.high)),
+        sensitivities=sens,
+        nominal_jump_speed_rpm=w_star / RPM,
+        worst=tuple(int(i) for i in np.argsort(force, kind="stable")[:WORST]),
+        devices=len(devices),
+        processes=jax.process_count(),
     )
 
 
 def _describe(t, sp, osc: bool) -> dict:
-    return {"tolerance": t.value * 100.0 if t.relative else t.value, "unit": "%" if t.relative else tolerance_unit(t.key, osc),
-            "distribution": t.distribution, "sigma": sp.sigma, "sigma_unit": tolerance_unit(t.key, osc)}
+    return {
+        "tolerance": t.value * 100.0 if t.relative else t.value,
+        "unit": "%" if t.relative else tolerance_unit(t.key, osc),
+        "distribution": t.distribution,
+        "sigma": sp.sigma,
+        "sigma_unit": tolerance_unit(t.key, osc),
+    }
 
 
 def _sensitivities(case, base, scan, w_max, nominal, spread, vals, jump_rpm):
     """Per key: the gradient sensitivity, its share of the linearised variance and the Monte Carlo share."""
     osc = case.oscillating
-    si = dict(zip(("spring_rate", "preload", "mass", "train_stiffness", "speed"), (rate_to_si(1.0, osc), 1.0, 1.0, rate_to_si(1.0, osc), RPM), strict=True))
-    nom = Sample(base.stiffness, base.preload, base.mass, base.train_stiffness, jnp.asarray(case.speed_rpm * RPM), jnp.zeros(2 * PROFILE_ERROR_HARMONICS))
+    si = dict(
+        zip(
+            ("spring_rate", "preload", "mass", "train_stiffness", "speed"),
+            (rate_to_si(1.0, osc), 1.0, 1.0, rate_to_si(1.0, osc), RPM),
+            strict=True,
+        )
+    )
+    nom = Sample(
+        base.stiffness,
+        base.preload,
+        base.mass,
+        base.train_stiffness,
+        jnp.asarray(case.speed_rpm * RPM),
+        jnp.zeros(2 * PROFILE_ERROR_HARMONICS),
+    )
     kernel = rigid_tolerance_kernel if base.rigid else tolerance_kernel
     _, w_star = kernel((base, scan, scan, jnp.asarray(w_max)), *nom)
     w_star = float(w_star)
@@ -110,5 +161,11 @@ def _sensitivities(case, base, scan, w_max, nominal, spread, vals, jump_rpm):
     devs = {k: (vals["profile_coeffs"] if k == "profile_error" else vals[k] - nominal[k]) for k in spread}
     shares = variance_shares(margin, devs)
     total = sum(g * g for g in grad.values() if math.isfinite(g))
-    return {k: {"gradient_sigma": grad[k], "share_linear": grad[k] ** 2 / total if total > 0 and math.isfinite(grad[k]) else math.nan,
-                "share_monte_carlo": shares[k]} for k in spread}, w_star
+    return {
+        k: {
+            "gradient_sigma": grad[k],
+            "share_linear": grad[k] ** 2 / total if total > 0 and math.isfinite(grad[k]) else math.nan,
+            "share_monte_carlo": shares[k],
+        }
+        for k in spread
+    }, w_star

@@ -9,7 +9,10 @@ from __future__ import annotations
 from ...schema import read_toml
 from ._result import ToleranceResult
 
-_KEYS = {False: ("spring_rate", "preload", "mass", "train_stiffness"), True: ("torsion_rate", "preload_torque", "inertia", "train_torsion_rate")}
+_KEYS = {
+    False: ("spring_rate", "preload", "mass", "train_stiffness"),
+    True: ("torsion_rate", "preload_torque", "inertia", "train_torsion_rate"),
+}
 
 
 def worst_case_docs(case, result: ToleranceResult) -> list[tuple[dict, list[str]]]:
@@ -19,7 +22,9 @@ def worst_case_docs(case, result: ToleranceResult) -> list[tuple[dict, list[str]
     out = []
     for rank, i in enumerate(result.worst, start=1):
         doc = {**raw, "name": f"{case.name}-worst-{rank}", "dynamics": dict(raw["dynamics"])}
-        for key, name in zip(("spring_rate", "preload", "mass", "train_stiffness"), _KEYS[case.oscillating], strict=True):
+        for key, name in zip(
+            ("spring_rate", "preload", "mass", "train_stiffness"), _KEYS[case.oscillating], strict=True
+        ):
             if key != "train_stiffness" or name in doc["dynamics"]:
                 doc["dynamics"][name] = float(result.params[key][i])
         doc["dynamics"]["speed"] = float(result.params["speed"][i])

@@ -21,9 +21,8 @@ from ..._core.units import RPM, THETA_GRID, TWO_PI
 from ..follower import FollowerModel
 from ..motion import Motion, evaluate
 from ._harmonic import steady_state
-from ._kinematic import kinematic_force_jit, kinematic_force
+from ._kinematic import kinematic_force, kinematic_force_jit
 from ._result import Response, _separations_from_mask, residual_vibration
-
 
 _RTOL, _ATOL = 1e-9, 1e-10
 
@@ -56,7 +55,9 @@ def _controller(motion: Motion, theta0, revs: float):
 def _contact_force(motion, model, omega, theta, x, p):
     s, s1, _, _ = motion(theta)
     sc = model.scale
-    return jnp.where(s > x, jnp.maximum(0.0, model.train_stiffness * sc * (s - x) + model.train_damping * omega * sc * (s1 - p)), 0.0)
+    return jnp.where(
+        s > x, jnp.maximum(0.0, model.train_stiffness * sc * (s - x) + model.train_damping * omega * sc * (s1 - p)), 0.0
+    )
 
 
 _contact_force_jit = cached_jit(_contact_force)
@@ -116,8 +117,10 @@ def _integration_failure(model: FollowerModel, omega: float) -> str:
     what = "the compliant-model integration failed (solver out of steps or NaN)"
     if ratio > 1e3:
         hz = math.sqrt(k / float(model.mass)) / TWO_PI
-        return (f"{what}: the follower train vibrates at {hz:.4g} Hz, {ratio / TWO_PI:.3g} times per cam revolution; "
-                "a slower time integration cannot resolve it: check dynamics.train_stiffness, dynamics.mass and the speed")
+        return (
+            f"{what}: the follower train vibrates at {hz:.4g} Hz, {ratio / TWO_PI:.3g} times per cam revolution; "
+            "a slower time integration cannot resolve it: check dynamics.train_stiffness, dynamics.mass and the speed"
+        )
     return f"{what}: check that dynamics.mass, the spring and the train stiffness are in the units the case file uses (kg, N/mm)"
 
 
@@ -209,7 +212,9 @@ def compliant_response(motion: Motion, model: FollowerModel, omega: float, n: in
         if float(np.min(_contact_force_jit(motion, model, jnp.asarray(omega, dtype=float), theta, x, p))) <= 0.0:
             raise err from None
         residual = 0.0
-        notes.append(f"at {omega / RPM:.4g} rpm the steady state comes from the frequency domain (exact in contact): the time integration cannot resolve the train's vibration")
+        notes.append(
+            f"at {omega / RPM:.4g} rpm the steady state comes from the frequency domain (exact in contact): the time integration cannot resolve the train's vibration"
+        )
     fi = np.asarray(_contact_force_jit(motion, model, jnp.asarray(omega, dtype=float), theta, x, p))
     x, p = np.asarray(x), np.asarray(p)
     theta_deg = np.degrees(np.asarray(theta))
@@ -228,5 +233,22 @@ def compliant_response(motion: Motion, model: FollowerModel, omega: float, n: in
     warnings = notes
     tol = 1e-6 * max(1.0, float(np.max(np.abs(vals[0]))))
     if float(residual) > tol:
-        warnings.append(f"no exactly periodic steady state at {omega / RPM:.1f} rpm (revolution-to-revolution mismatch {float(residual):.2g} {motion.unit}): the follower's bouncing is not periodic; results are for the best of {_NEWTON_ITERS} shooting iterations and {_PLAIN_REVS} revolutions")
-    return Response("compliant", float(omega), theta_deg, vals[0], x, p, fi, kin, tuple(seps), resid, float(residual), tuple(warnings), resid_deg, merge_deg)
+        warnings.append(
+            f"no exactly periodic steady state at {omega / RPM:.1f} rpm (revolution-to-revolution mismatch {float(residual):.2g} {motion.unit}): the follower's bouncing is not periodic; results are for the best of {_NEWTON_ITERS} shooting iterations and {_PLAIN_REVS} revolutions"
+        )
+    return Response(
+        "compliant",
+        float(omega),
+        theta_deg,
+        vals[0],
+        x,
+        p,
+        fi,
+        kin,
+        tuple(seps),
+        resid,
+        float(residual),
+        tuple(warnings),
+        resid_deg,
+        merge_deg,
+    )

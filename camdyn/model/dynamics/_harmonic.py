@@ -17,7 +17,6 @@ from ..._core.units import FFT_GRID, TWO_PI
 from ..follower import FollowerModel
 from ..motion import Motion
 
-
 _FFT_N = FFT_GRID
 
 

@@ -22,7 +22,9 @@ def response(motion: Motion, model: FollowerModel, omega: float, n: int = THETA_
     return rigid_response(motion, model, omega, n) if model.rigid else compliant_response(motion, model, omega, n)
 
 
-def dynamic_jump_speed(motion: Motion, model: FollowerModel, *, w_max: float, tol_rpm: float = 0.1, grid: int = 2000) -> float:
+def dynamic_jump_speed(
+    motion: Motion, model: FollowerModel, *, w_max: float, tol_rpm: float = 0.1, grid: int = 2000
+) -> float:
     """Least cam speed (rad/s) at which the steady-state least interface force reaches 0; inf if none up to w_max.
 
     Rigid followers: the kinematic jump speed (closed form). Compliant: below the jump speed the follower

@@ -22,7 +22,6 @@ from ._compliant import _ATOL, _MAX_STEPS, _RTOL, vector_field
 from ._kinematic import kinematic_force_jit
 from ._result import Response, Separation, residual_vibration
 
-
 _GAP_EPS = 1e-9  # motion units; a landing is detected this far below contact, so a flight starts above it
 _BREAK_EPS = 1e-10  # rad: just past a segment boundary, on its far side
 
@@ -76,7 +75,10 @@ def _lift_off(fk, t_a: float, h: float, breaks_rad: np.ndarray) -> float:
     for k in range(32):
         if fs[k] > 0.0 >= fs[k + 1]:
             return brentq(fk, ts[k], ts[k + 1], xtol=1e-13)
-    raise NumericalError(f"lift-off near {math.degrees(t_a) % 360:.2f} deg", "no sign change of the kinematic force found in the step the grid flagged")
+    raise NumericalError(
+        f"lift-off near {math.degrees(t_a) % 360:.2f} deg",
+        "no sign change of the kinematic force found in the step the grid flagged",
+    )
 
 
 @dataclass
@@ -146,7 +148,9 @@ def _march(motion, model, omega, fk, t_lo, out, vals, n, max_bounces) -> _Flight
     return fl
 
 
-def rigid_response(motion: Motion, model: FollowerModel, omega: float, n: int = THETA_GRID, max_bounces: int = 200) -> Response:
+def rigid_response(
+    motion: Motion, model: FollowerModel, omega: float, n: int = THETA_GRID, max_bounces: int = 200
+) -> Response:
     """Event-driven steady state of the rigid follower at cam speed omega (rad/s).
 
     In contact the follower has no state of its own, so the steady state is reached at the first touchdown:
@@ -161,9 +165,13 @@ def rigid_response(motion: Motion, model: FollowerModel, omega: float, n: int = 
     vals = np.asarray(evaluate(motion, jnp.asarray(theta)))
     kin = np.asarray(kinematic_force_jit(motion, model, jnp.asarray(omega, dtype=float), jnp.asarray(theta)))
     if kin.min() > 0.0:
-        return Response("rigid", float(omega), theta_deg, vals[0], vals[0].copy(), vals[1].copy(), kin, kin, (), 0.0, 0.0)
+        return Response(
+            "rigid", float(omega), theta_deg, vals[0], vals[0].copy(), vals[1].copy(), kin, kin, (), 0.0, 0.0
+        )
 
-    fk = lambda t: float(kinematic_force_jit(motion, model, jnp.asarray(omega, dtype=float), jnp.asarray(t, dtype=float)))  # noqa: E731
+    fk = lambda t: float(
+        kinematic_force_jit(motion, model, jnp.asarray(omega, dtype=float), jnp.asarray(t, dtype=float))
+    )  # noqa: E731
     x, p, force = vals[0].copy(), vals[1].copy(), kin.copy()
     i_start = int(np.argmax(kin))
     theta_start = theta[i_start]
@@ -180,7 +188,18 @@ def rigid_response(motion: Motion, model: FollowerModel, omega: float, n: int = 
         t_lo = _lift_off(fk, t_a, TWO_PI / n, breaks)
         fl = _march(motion, model, omega, fk, t_lo, (x, p, force), vals, n, max_bounces)
         deg = lambda t: math.degrees(t) % 360.0  # noqa: E731
-        seps.append(Separation(deg(t_lo), deg(fl.end), fl.max_gap, float(fl.impact or 0.0), fl.bounces, deg(fl.max_gap_at), deg(fl.impact_at), fl.settled))
+        seps.append(
+            Separation(
+                deg(t_lo),
+                deg(fl.end),
+                fl.max_gap,
+                float(fl.impact or 0.0),
+                fl.bounces,
+                deg(fl.max_gap_at),
+                deg(fl.impact_at),
+                fl.settled,
+            )
+        )
         t_end_prev = fl.end
         if not fl.settled:
             break

@@ -47,7 +47,21 @@ from ._kernel import check_assembly, check_dimensions, geometry_of
 from ._size import BASE_RADIUS_STEP_MM, curvature_limit, min_base_radius, passes, rounded_base_radius
 
 __all__ = [
-    "BASE_RADIUS_STEP_MM", "CamGeometry", "ContactMotion", "ContourFit", "GeometryExtremes", "analyze", "check_assembly",
-    "check_dimensions", "contact_motion", "curvature_limit", "extremes", "geometry_of", "lever_arm_mm", "min_base_radius",
-    "newton_per_torque_at", "passes", "rounded_base_radius",
+    "BASE_RADIUS_STEP_MM",
+    "CamGeometry",
+    "ContactMotion",
+    "ContourFit",
+    "GeometryExtremes",
+    "analyze",
+    "check_assembly",
+    "check_dimensions",
+    "contact_motion",
+    "curvature_limit",
+    "extremes",
+    "geometry_of",
+    "lever_arm_mm",
+    "min_base_radius",
+    "newton_per_torque_at",
+    "passes",
+    "rounded_base_radius",
 ]

@@ -3,8 +3,8 @@
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field, fields
-from typing import Callable
 
 import numpy as np
 
@@ -71,10 +71,14 @@ def _extremes(f: FollowerSpec, theta_rad: np.ndarray, ev: dict[str, np.ndarray])
         cusp = rho < CUSP_MM
         face = (float(np.min(ev["face_t"])), float(np.max(ev["face_t"])))
     rr = f.roller_radius if f.roller else None
-    return GeometryExtremes(float(phi[i]), float(deg[i]), float(rho), float(deg[j]), cusp, face, rr, float(np.ptp(ev["s"])))
+    return GeometryExtremes(
+        float(phi[i]), float(deg[i]), float(rho), float(deg[j]), cusp, face, rr, float(np.ptp(ev["s"]))
+    )
 
 
-def extremes(motion, follower: FollowerSpec, *, base_radius: float | None = None, n: int = THETA_GRID) -> GeometryExtremes:
+def extremes(
+    motion, follower: FollowerSpec, *, base_radius: float | None = None, n: int = THETA_GRID
+) -> GeometryExtremes:
     """The geometry's extremes on n equal steps plus both sides of every break, with the follower's own base
     radius or ``base_radius`` (mm; the base-circle search varies it without rebuilding the follower)."""
     th = with_breaks(motion, _grid(n))
@@ -213,5 +217,8 @@ def newton_per_torque_at(motion, follower: FollowerSpec, theta) -> np.ndarray:
     arm_mm = np.asarray(lever_arm_mm(motion, follower, theta))
     if np.any(arm_mm <= 1e-6):
         at = math.degrees(float(np.atleast_1d(theta)[int(np.argmin(arm_mm))])) % 360.0
-        raise NumericalError(f"follower at {at:.1f} deg", "the contact normal passes through the arm pivot: no lever arm to carry the load")
+        raise NumericalError(
+            f"follower at {at:.1f} deg",
+            "the contact normal passes through the arm pivot: no lever arm to carry the load",
+        )
     return newton_per_torque(arm_mm)

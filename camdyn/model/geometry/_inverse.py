@@ -62,7 +62,9 @@ class ContourFit:
         out = self.spline.summary(" of the radius over the polar angle")
         i = out.pop("worst")
         return out | {
-            "points": int(len(self.points)), "unit": "mm", "max_residual_at_polar_deg": float(self.angle_deg[i]),
+            "points": int(len(self.points)),
+            "unit": "mm",
+            "max_residual_at_polar_deg": float(self.angle_deg[i]),
             "repeats_dropped": self.repeats,
         }
 
@@ -85,13 +87,17 @@ def _first_crossing(xy: np.ndarray) -> tuple[int, int] | None:
     n = len(xy)
 
     def orient(p, q, r):
-        return np.sign((q[..., 0] - p[..., 0]) * (r[..., 1] - p[..., 1]) - (q[..., 1] - p[..., 1]) * (r[..., 0] - p[..., 0]))
+        return np.sign(
+            (q[..., 0] - p[..., 0]) * (r[..., 1] - p[..., 1]) - (q[..., 1] - p[..., 1]) * (r[..., 0] - p[..., 0])
+        )
 
     for i in range(n):
         j = np.arange(i + 2, n if i else n - 1)
         if not j.size:
             continue
-        cross = (orient(a[i], b[i], a[j]) * orient(a[i], b[i], b[j]) < 0) & (orient(a[j], b[j], a[i]) * orient(a[j], b[j], b[i]) < 0)
+        cross = (orient(a[i], b[i], a[j]) * orient(a[i], b[i], b[j]) < 0) & (
+            orient(a[j], b[j], a[i]) * orient(a[j], b[j], b[i]) < 0
+        )
         if cross.any():
             return i, int(j[np.argmax(cross)])
     return None
@@ -103,12 +109,17 @@ def _star_order(s: Samples) -> tuple[np.ndarray, np.ndarray]:
     xy, rows = s.values, s.rows
     r = np.hypot(xy[:, 0], xy[:, 1])
     if np.any(r <= 1e-9 * r.max()):
-        raise InputError(s.where(int(np.argmin(r))), "lies on the cam centre (0, 0): the outline must surround the centre")
+        raise InputError(
+            s.where(int(np.argmin(r))), "lies on the cam centre (0, 0): the outline must surround the centre"
+        )
     ang = np.arctan2(xy[:, 1], xy[:, 0])
     step = np.angle(np.exp(1j * (np.roll(ang, -1) - ang)))  # point i to i + 1, the closing edge last
     turns = int(round(step.sum() / (2 * math.pi)))
     if turns == 0:
-        raise InputError(s.shown, "does not go around the cam centre (0, 0): give the outline in the cam frame, centred on the camshaft, and closed")
+        raise InputError(
+            s.shown,
+            "does not go around the cam centre (0, 0): give the outline in the cam frame, centred on the camshaft, and closed",
+        )
     if abs(turns) > 1:
         raise InputError(s.shown, f"winds {abs(turns)} times around the cam centre: the outline is self-intersecting")
     if turns < 0:
@@ -120,7 +131,10 @@ def _star_order(s: Samples) -> tuple[np.ndarray, np.ndarray]:
         hit = _first_crossing(xy)
         if hit is not None:
             i, j = hit
-            raise InputError(shown.where(i), f"the outline is self-intersecting: its edge from here crosses the edge from {s.row_word} {int(rows[j])}")
+            raise InputError(
+                shown.where(i),
+                f"the outline is self-intersecting: its edge from here crosses the edge from {s.row_word} {int(rows[j])}",
+            )
         i = (int(back[0]) + 1) % len(xy)
         raise InputError(
             shown.where(i),
@@ -174,7 +188,10 @@ def _contacts(f: FollowerSpec, rb: float, P: np.ndarray, N: np.ndarray, shown: s
         cos_psi = (L**2 + a**2 - rc**2) / (2 * L * a)
         if np.any(np.abs(cos_psi) >= 1.0):
             i = int(np.argmax(np.abs(cos_psi)))
-            raise InputError(shown, f"the arm (arm_length {a:g} mm, pivot_distance {L:g} mm) cannot reach the outline at polar angle {math.degrees(ang(P[i])) % 360:.4g} deg")
+            raise InputError(
+                shown,
+                f"the arm (arm_length {a:g} mm, pivot_distance {L:g} mm) cannot reach the outline at polar angle {math.degrees(ang(P[i])) % 360:.4g} deg",
+            )
         psi = np.arccos(cos_psi)
         E = D + a * _rot(-psi, u)
         return sigma * (ang(E) - gamma), psi - math.acos((L**2 + a**2 - rp**2) / (2 * L * a))
@@ -185,7 +202,10 @@ def _contacts(f: FollowerSpec, rb: float, P: np.ndarray, N: np.ndarray, shown: s
     sin_psi = (support + h) / L
     if np.any(np.abs(sin_psi) >= 1.0):
         i = int(np.argmax(np.abs(sin_psi)))
-        raise InputError(shown, f"the face (pivot_distance {L:g} mm, offset {h:g} mm) cannot reach the outline at polar angle {math.degrees(ang(P[i])) % 360:.4g} deg")
+        raise InputError(
+            shown,
+            f"the face (pivot_distance {L:g} mm, offset {h:g} mm) cannot reach the outline at polar angle {math.degrees(ang(P[i])) % 360:.4g} deg",
+        )
     psi = np.arcsin(sin_psi)
     w = _rot(-psi, u)
     m = -np.stack([-w[:, 1], w[:, 0]], axis=-1)
@@ -272,7 +292,9 @@ def contact_motion(samples: Samples, f: FollowerSpec) -> ContactMotion:
     warnings += _noise_warning(contour)
     theta_deg = np.rad2deg(theta) % 360.0
     order = np.argsort(theta_deg)
-    pick = order[np.unique(np.searchsorted(theta_deg[order], np.linspace(0.0, 360.0, _TARGET, endpoint=False)) % len(order))]
+    pick = order[
+        np.unique(np.searchsorted(theta_deg[order], np.linspace(0.0, 360.0, _TARGET, endpoint=False)) % len(order))
+    ]
     scale = 1.0 if f.translating else 180.0 / math.pi
     return ContactMotion(f, theta_deg[pick], q[pick] * scale, contour, tuple(warnings))
 

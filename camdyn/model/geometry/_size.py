@@ -22,7 +22,9 @@ def curvature_limit(f: FollowerSpec, min_curvature_ratio: float) -> float:
     return min_curvature_ratio if f.roller else CUSP_MM
 
 
-def passes(f: FollowerSpec, ext: GeometryExtremes, max_pressure_angle: float, min_curvature_ratio: float | None) -> bool:
+def passes(
+    f: FollowerSpec, ext: GeometryExtremes, max_pressure_angle: float, min_curvature_ratio: float | None
+) -> bool:
     """Whether the pressure-angle and curvature checks pass on these extremes (``min_curvature_ratio`` None: the
     pressure angle alone, for a contour with sharp corners, which no base radius can smooth)."""
     if ext.max_pressure_angle_deg > max_pressure_angle:
@@ -36,9 +38,13 @@ def rounded_base_radius(rb: float) -> float:
     return max(math.ceil((rb + 1e-6) / step) * step, step)
 
 
-
 def min_base_radius(
-    motion, follower: FollowerSpec, *, max_pressure_angle: float | None = None, min_curvature_ratio: float | None = DEFAULT_MIN_CURVATURE_RATIO, n: int = THETA_GRID
+    motion,
+    follower: FollowerSpec,
+    *,
+    max_pressure_angle: float | None = None,
+    min_curvature_ratio: float | None = DEFAULT_MIN_CURVATURE_RATIO,
+    n: int = THETA_GRID,
 ) -> float:
     """The least base radius (mm) meeting the pressure-angle (deg) and curvature limits, to 1e-6 mm.
 
@@ -85,7 +91,10 @@ def min_base_radius(
     grid = np.linspace(lo, hi, 33)
     good = [i for i, rb in enumerate(grid) if ok(rb)]
     if not good:
-        raise NumericalError("follower.base_radius", f"no base radius in ({lo:.4g}, {hi:.4g}) mm meets the limits; move the pivot or change the arm")
+        raise NumericalError(
+            "follower.base_radius",
+            f"no base radius in ({lo:.4g}, {hi:.4g}) mm meets the limits; move the pivot or change the arm",
+        )
     if good[0] == 0:
         return float(grid[0])
     a, b = grid[good[0] - 1], grid[good[0]]

@@ -34,6 +34,21 @@ from ._motion import CamLinkMotion
 from ._synthesis import Synthesis, parse_mechanism, synthesize_motion
 
 __all__ = [
-    "CCMChain", "CamLinkMotion", "CrankDyad", "MIN_TRANSMISSION_DEG", "N_GRID", "OscillatingChain", "Synthesis", "cross2",
-    "parse_mechanism", "pitch_contour", "rrp", "rrp_kinematics", "rrr", "rrr_kinematics", "rrr_reach_miss", "synthesize_motion", "vmap_scalar",
+    "CCMChain",
+    "CamLinkMotion",
+    "CrankDyad",
+    "MIN_TRANSMISSION_DEG",
+    "N_GRID",
+    "OscillatingChain",
+    "Synthesis",
+    "cross2",
+    "parse_mechanism",
+    "pitch_contour",
+    "rrp",
+    "rrp_kinematics",
+    "rrr",
+    "rrr_kinematics",
+    "rrr_reach_miss",
+    "synthesize_motion",
+    "vmap_scalar",
 ]

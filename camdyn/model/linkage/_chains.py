@@ -93,17 +93,31 @@ def make_chain(path: Path, ms: MechanismSpec, r: float, l: float) -> CCMChain | 
     if ms.type == "ccm":
         jd = ms.joint_distance if ms.joint_distance is not None else l
         ja = math.radians(ms.joint_angle)
-        sp = np.asarray(ms.slider_point if ms.slider_point is not None else ms.cam_center, dtype=float) - np.asarray(ms.cam_center)
+        sp = np.asarray(ms.slider_point if ms.slider_point is not None else ms.cam_center, dtype=float) - np.asarray(
+            ms.cam_center
+        )
         a = math.radians(ms.slider_angle)
         return CCMChain(
-            path=path, center=c0, crank=jnp.asarray(r), coupler=jnp.asarray(l),
-            joint=jnp.asarray([jd * math.cos(ja), jd * math.sin(ja)]), link=jnp.asarray(ms.link),
-            origin=jnp.asarray(sp), direction=jnp.asarray([math.cos(a), math.sin(a)]), slider_mode=float(ms.slider_mode),
+            path=path,
+            center=c0,
+            crank=jnp.asarray(r),
+            coupler=jnp.asarray(l),
+            joint=jnp.asarray([jd * math.cos(ja), jd * math.sin(ja)]),
+            link=jnp.asarray(ms.link),
+            origin=jnp.asarray(sp),
+            direction=jnp.asarray([math.cos(a), math.sin(a)]),
+            slider_mode=float(ms.slider_mode),
         )
     return OscillatingChain(
-        path=path, center=c0, pivot=jnp.asarray(ms.pivot, dtype=float) - c0, path_link=jnp.asarray(ms.path_link),
-        follower_link=jnp.asarray(ms.follower_link), pin=jnp.asarray(float(ms.pin_distance)), arm=jnp.asarray(ms.arm),
-        arm_angle=jnp.asarray(math.radians(ms.arm_angle)), follower_mode=float(ms.follower_mode),
+        path=path,
+        center=c0,
+        pivot=jnp.asarray(ms.pivot, dtype=float) - c0,
+        path_link=jnp.asarray(ms.path_link),
+        follower_link=jnp.asarray(ms.follower_link),
+        pin=jnp.asarray(float(ms.pin_distance)),
+        arm=jnp.asarray(ms.arm),
+        arm_angle=jnp.asarray(math.radians(ms.arm_angle)),
+        follower_mode=float(ms.follower_mode),
     )
 
 
@@ -115,7 +129,10 @@ def check_follower_side(chain, ms: MechanismSpec, u_grid: np.ndarray) -> None:
     miss = np.asarray(rrr_reach_miss(f, np.asarray(chain.pivot), ms.path_link, ms.follower_link))
     i = int(np.argmax(miss))
     if miss[i] > 0.0:
-        raise NumericalError(where_point(i), f"dyad F-C-D cannot close: reach missed by {miss[i]:.4g} mm (|DF| = {np.linalg.norm(f[i] - np.asarray(chain.pivot)):.4g} mm, FC + DC = {ms.path_link + ms.follower_link:g} mm, |FC - DC| = {abs(ms.path_link - ms.follower_link):g} mm)")
+        raise NumericalError(
+            where_point(i),
+            f"dyad F-C-D cannot close: reach missed by {miss[i]:.4g} mm (|DF| = {np.linalg.norm(f[i] - np.asarray(chain.pivot)):.4g} mm, FC + DC = {ms.path_link + ms.follower_link:g} mm, |FC - DC| = {abs(ms.path_link - ms.follower_link):g} mm)",
+        )
 
 
 def check_ccm_slider(chain: CCMChain, motion_pts: dict, ms: MechanismSpec) -> None:
@@ -125,4 +142,7 @@ def check_ccm_slider(chain: CCMChain, motion_pts: dict, ms: MechanismSpec) -> No
     miss = off - ms.link
     i = int(np.argmax(miss))
     if miss[i] > 0.0:
-        raise NumericalError(where_point(i), f"dyad C-E-slider cannot close: the link C-E ({ms.link:g} mm) misses the slider line by {miss[i]:.4g} mm")
+        raise NumericalError(
+            where_point(i),
+            f"dyad C-E-slider cannot close: the link C-E ({ms.link:g} mm) misses the slider line by {miss[i]:.4g} mm",
+        )

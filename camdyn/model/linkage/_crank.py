@@ -11,7 +11,7 @@ every derivative stays finite and exact through the switch.
 
 from __future__ import annotations
 
-from typing import Callable
+from collections.abc import Callable
 
 import equinox as eqx
 import jax
@@ -180,10 +180,15 @@ def build_crank(chain, r: float, l: float, ext: Extremes, m_start: int, path: Pa
     k = len(sw)
     a = lambda x: jnp.asarray(np.array(x, dtype=float))  # noqa: E731
     if k % 2:
-        raise NumericalError("mechanism.crank", f"the crank dyad reaches {k} singular positions per loop; an odd count cannot close the assembly modes")
+        raise NumericalError(
+            "mechanism.crank",
+            f"the crank dyad reaches {k} singular positions per loop; an odd count cannot close the assembly modes",
+        )
     if k == 0:
         z = jnp.zeros(0)
-        return CrankDyad(a(r), a(l), z, z, z, z, z, z, jnp.zeros((0, 2, _Q_DEGREE + 1)), jnp.zeros((0, 2)), z, m_start=float(m_start)), notes
+        return CrankDyad(
+            a(r), a(l), z, z, z, z, z, z, jnp.zeros((0, 2, _Q_DEGREE + 1)), jnp.zeros((0, 2)), z, m_start=float(m_start)
+        ), notes
     u_sw = np.array([s_[0] for s_ in sw])
     sign0 = 1.0 if u_sw[0] == 0.0 else -1.0
     imodes = np.array([m_start * sign0 * (-1.0) ** j for j in range(k)])
@@ -193,10 +198,17 @@ def build_crank(chain, r: float, l: float, ext: Extremes, m_start: int, path: Pa
         if any(min(abs(us - b), 1 - abs(us - b)) < 1e-9 for b in path.sharp_u):
             # a sharp corner at the switch: |OP| has a kink, not a double zero; keep the closed form
             lo.append(0.0), hi.append(0.0), polys.append(np.zeros((2, _Q_DEGREE + 1))), spans.append([1.0, 1.0])
-            notes.append(f"the crank passes a singular position at a sharp corner (u = {us:.4f}): its speed is unbounded there")
+            notes.append(
+                f"the crank passes a singular position at a sharp corner (u = {us:.4f}): its speed is unbounded there"
+            )
             continue
         gap = min(((u_sw[(j + s_) % k] - us) * s_) % 1.0 or 1.0 for s_ in (1, -1))  # to the neighbouring switch
-        ext_ = [_extent(chain, us, dstar, sgn, to_pi, r, l, side, min(_break_distance(us, path.breaks_u, side), 0.45 * gap, 0.1)) for side in (-1, 1)]
+        ext_ = [
+            _extent(
+                chain, us, dstar, sgn, to_pi, r, l, side, min(_break_distance(us, path.breaks_u, side), 0.45 * gap, 0.1)
+            )
+            for side in (-1, 1)
+        ]
         if min(_break_distance(us, path.breaks_u, 1), _break_distance(us, path.breaks_u, -1)) < 1e-9:
             fl, fr = _fit_q(chain, us, dstar, sgn, -ext_[0][0], 0.0), _fit_q(chain, us, dstar, sgn, 0.0, ext_[1][0])
         else:
@@ -212,7 +224,17 @@ def build_crank(chain, r: float, l: float, ext: Extremes, m_start: int, path: Pa
                 "the follower jerk is less accurate there"
             )
     crank = CrankDyad(
-        a(r), a(l), a(u_sw), a([s_[2] for s_ in sw]), a([s_[3] for s_ in sw]), a(m_before), a(lo), a(hi),
-        a(np.array(polys)), a(np.array(spans)), a(imodes), m_start=float(m_start),
+        a(r),
+        a(l),
+        a(u_sw),
+        a([s_[2] for s_ in sw]),
+        a([s_[3] for s_ in sw]),
+        a(m_before),
+        a(lo),
+        a(hi),
+        a(np.array(polys)),
+        a(np.array(spans)),
+        a(imodes),
+        m_start=float(m_start),
     )
     return crank, notes

@@ -10,6 +10,7 @@ import jax.numpy as jnp
 
 from ..paths import taylor
 
+
 def cross2(a, b):
     """z component of a x b for 2-vectors (..., 2)."""
     return a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]
@@ -104,7 +105,6 @@ def rrp_kinematics(c, origin, direction, length: float, mode: int) -> dict:
 
     out = jnp.stack(_kinematics(fn, jnp.asarray(c, dtype=float)))
     return {"p": out[:, 0], "theta_ce": out[:, 1]}
-
 
 
 def norm(v):

@@ -20,7 +20,9 @@ from ...schema import FollowerSpec, MechanismSpec
 from ..geometry import min_base_radius, rounded_base_radius
 from ._dyads import cross2, rrr, turn
 
-MIN_TRANSMISSION_DEG = 30.0  # a driven dyad's transmission angle under this is warned about (and the dimensional synthesis avoids it)
+MIN_TRANSMISSION_DEG = (
+    30.0  # a driven dyad's transmission angle under this is warned about (and the dimensional synthesis avoids it)
+)
 
 
 def transmission_warning(name: str, ang: np.ndarray, warnings: list[str]) -> float:
@@ -28,7 +30,9 @@ def transmission_warning(name: str, ang: np.ndarray, warnings: list[str]) -> flo
     fold = np.degrees(np.minimum(ang, np.pi - ang))
     worst = float(fold.min())
     if worst < MIN_TRANSMISSION_DEG:
-        warnings.append(f"transmission angle of dyad {name} falls to {worst:.1f} deg (below {MIN_TRANSMISSION_DEG:g} deg)")
+        warnings.append(
+            f"transmission angle of dyad {name} falls to {worst:.1f} deg (below {MIN_TRANSMISSION_DEG:g} deg)"
+        )
     return worst
 
 
@@ -65,7 +69,13 @@ def _derived_follower(**fields) -> FollowerSpec:
 
 
 def _ccm_follower(ms: MechanismSpec, e: float, sense: float, base: float) -> FollowerSpec:
-    return _derived_follower(type="translating-roller", base_radius=base, roller_radius=ms.roller_radius, offset=e, rotation="ccw" if sense > 0 else "cw")
+    return _derived_follower(
+        type="translating-roller",
+        base_radius=base,
+        roller_radius=ms.roller_radius,
+        offset=e,
+        rotation="ccw" if sense > 0 else "cw",
+    )
 
 
 def _choose_base_radius(tabulated, ms: MechanismSpec, e: float, sense: float, sharp: bool) -> float:
@@ -74,10 +84,14 @@ def _choose_base_radius(tabulated, ms: MechanismSpec, e: float, sense: float, sh
     curvature to meet), rounded up to 0.5 mm: :func:`camdyn.model.geometry.min_base_radius`."""
     trial = _ccm_follower(ms, e, sense, abs(e) + ms.roller_radius)  # any base radius that assembles: a search start
     ratio = None if sharp else DEFAULT_MIN_CURVATURE_RATIO
-    return rounded_base_radius(min_base_radius(tabulated, trial, max_pressure_angle=ms.max_pressure_angle, min_curvature_ratio=ratio))
+    return rounded_base_radius(
+        min_base_radius(tabulated, trial, max_pressure_angle=ms.max_pressure_angle, min_curvature_ratio=ratio)
+    )
 
 
-def ccm_forward(motion, tabulated, ms: MechanismSpec, vals, pts: dict, a_pin, l: float, sense: float, warnings: list[str]):
+def ccm_forward(
+    motion, tabulated, ms: MechanismSpec, vals, pts: dict, a_pin, l: float, sense: float, warnings: list[str]
+):
     """The CCM's translating roller (base radius chosen on the ``tabulated`` motion unless given) and its forward
     check.
 
@@ -89,10 +103,17 @@ def ccm_forward(motion, tabulated, ms: MechanismSpec, vals, pts: dict, a_pin, l:
     xhat = np.array([e_dir[1], -e_dir[0]])
     e = float(origin @ xhat)  # offset of the slider line from the cam centre (follower frame x)
     s, s1 = vals[0], vals[1]
-    base = ms.base_radius if ms.base_radius is not None else _choose_base_radius(tabulated, ms, e, sense, bool(chain.path.sharp_u))
+    base = (
+        ms.base_radius
+        if ms.base_radius is not None
+        else _choose_base_radius(tabulated, ms, e, sense, bool(chain.path.sharp_u))
+    )
     rp = base + ms.roller_radius
     if rp <= abs(e):
-        raise InputError("mechanism.base_radius", f"base + roller radius ({rp:g} mm) must exceed the slider line's offset from the cam centre ({abs(e):.4g} mm)")
+        raise InputError(
+            "mechanism.base_radius",
+            f"base + roller radius ({rp:g} mm) must exceed the slider line's offset from the cam centre ({abs(e):.4g} mm)",
+        )
     d0 = math.sqrt(rp * rp - e * e)
     follower = _ccm_follower(ms, e, sense, base)
     pos = e * xhat + (d0 + s)[:, None] * e_dir
@@ -108,22 +129,38 @@ def ccm_forward(motion, tabulated, ms: MechanismSpec, vals, pts: dict, a_pin, l:
     traced = a_pin + l * ex + np.asarray(chain.center)
     modes = np.sign(cross2(pts["C"] - pts["B"], pts["E"] - pts["B"]))
     if np.any(modes != mode_c):
-        warnings.append("the forward dyad B-C-E changes assembly mode along the path: the linkage cannot run through it")
-    tmin = transmission_warning("B-C-E (angle at C)", _angle_between(pts["B"] - pts["C"], pts["E"] - pts["C"]), warnings)
+        warnings.append(
+            "the forward dyad B-C-E changes assembly mode along the path: the linkage cannot run through it"
+        )
+    tmin = transmission_warning(
+        "B-C-E (angle at C)", _angle_between(pts["B"] - pts["C"], pts["E"] - pts["C"]), warnings
+    )
     # RRP transmission angle: 90 deg minus the link's angle to the slider line (singular when perpendicular)
     phi = _angle_between(pts["C"] - pts["E"], np.broadcast_to(e_dir, pts["E"].shape))
-    slider_ang = transmission_warning("C-E-slider (link to the slider's normal)", np.pi / 2 - np.minimum(phi, np.pi - phi), warnings)
-    extra = {"offset_mm": e, "min_transmission_angle_deg": tmin, "min_slider_angle_deg": slider_ang, "slider_zero_mm": float(motion.out0)}
+    slider_ang = transmission_warning(
+        "C-E-slider (link to the slider's normal)", np.pi / 2 - np.minimum(phi, np.pi - phi), warnings
+    )
+    extra = {
+        "offset_mm": e,
+        "min_transmission_angle_deg": tmin,
+        "min_slider_angle_deg": slider_ang,
+        "slider_zero_mm": float(motion.out0),
+    }
     return follower, traced, pos, vel, extra
 
 
-def oscillating_forward(motion, tabulated, ms: MechanismSpec, vals, pts: dict, a_pin, l: float, sense: float, warnings: list[str]):
+def oscillating_forward(
+    motion, tabulated, ms: MechanismSpec, vals, pts: dict, a_pin, l: float, sense: float, warnings: list[str]
+):
     """Ye & Smith's oscillating roller (base radius from the arm's least reach) and its forward check; arguments
     as :func:`ccm_forward`."""
     chain = motion.chain
     d = np.asarray(chain.pivot)
     if np.linalg.norm(d) < 1e-9 * max(ms.arm, 1.0):
-        raise InputError("mechanism.pivot", "the follower pivot D lies on the cam centre: move it off cam_center (the arm must swing about a point away from the camshaft)")
+        raise InputError(
+            "mechanism.pivot",
+            "the follower pivot D lies on the cam centre: move it off cam_center (the arm must swing about a point away from the camshaft)",
+        )
     psi = np.asarray(pts["psi"])
     if np.any(psi <= 0.0) or np.any(psi >= np.pi):
         raise InputError(
@@ -137,10 +174,18 @@ def oscillating_forward(motion, tabulated, ms: MechanismSpec, vals, pts: dict, a
     rp = float(np.linalg.norm(e0))
     base = rp - ms.roller_radius
     if base <= 0.0:
-        raise InputError("mechanism.roller_radius", f"roller radius {ms.roller_radius:g} mm exceeds the least distance {rp:.4g} mm from the cam centre to the roller centre")
+        raise InputError(
+            "mechanism.roller_radius",
+            f"roller radius {ms.roller_radius:g} mm exceeds the least distance {rp:.4g} mm from the cam centre to the roller centre",
+        )
     follower = _derived_follower(
-        type="oscillating-roller", base_radius=base, roller_radius=ms.roller_radius, pivot_distance=float(np.linalg.norm(d)),
-        pivot_angle=math.degrees(math.atan2(d[1], d[0])), arm_length=ms.arm, rotation="ccw" if sense > 0 else "cw",
+        type="oscillating-roller",
+        base_radius=base,
+        roller_radius=ms.roller_radius,
+        pivot_distance=float(np.linalg.norm(d)),
+        pivot_angle=math.degrees(math.atan2(d[1], d[0])),
+        arm_length=ms.arm,
+        rotation="ccw" if sense > 0 else "cw",
     )
     psi_t = psi0 + vals[0]
     arm_dir = np.asarray(turn(jnp.asarray(np.broadcast_to(dn, (len(psi_t), 2))), -jnp.asarray(psi_t)))
@@ -155,7 +200,9 @@ def oscillating_forward(motion, tabulated, ms: MechanismSpec, vals, pts: dict, a
     traced = c_fwd - ms.path_link * e_fc + np.asarray(chain.center)
     modes = np.sign(cross2(pts["B"] - a_pin, pts["C"] - a_pin))
     if np.any(modes != mode_b):
-        warnings.append("the forward dyad A-B-C changes assembly mode along the path: the linkage cannot run through it")
+        warnings.append(
+            "the forward dyad A-B-C changes assembly mode along the path: the linkage cannot run through it"
+        )
     tmin = transmission_warning("A-B-C (angle at B)", _angle_between(a_pin - pts["B"], pts["C"] - pts["B"]), warnings)
     extra = {"min_transmission_angle_deg": tmin, "psi0_deg": math.degrees(psi0)}
     return follower, traced, pos, vel, extra

@@ -109,8 +109,15 @@ def tabulate(motion: CamLinkMotion, u):
 def with_breaks(m: CamLinkMotion, breaks: tuple[float, ...]) -> CamLinkMotion:
     """The same motion with other ``breaks_deg`` (internal jitted helpers use ``()`` so they compile once)."""
     return CamLinkMotion(
-        chain=m.chain, crank_dyad=m.crank_dyad, theta0=m.theta0, out0=m.out0, tab_u=m.tab_u, tab_theta=m.tab_theta,
-        sense=m.sense, unit=m.unit, breaks_deg=breaks,
+        chain=m.chain,
+        crank_dyad=m.crank_dyad,
+        theta0=m.theta0,
+        out0=m.out0,
+        tab_u=m.tab_u,
+        tab_theta=m.tab_theta,
+        sense=m.sense,
+        unit=m.unit,
+        breaks_deg=breaks,
     )
 
 

@@ -56,9 +56,13 @@ class Synthesis:
     def json(self) -> dict:
         out = dict(self.summary)
         out.update(
-            sharp_corners=self.sharp_corners, warnings=list(self.warnings),
-            theta_deg=self.theta_deg.tolist(), pitch=self.pitch.tolist(), contour=self.contour.tolist(),
-            path_xy=self.path_xy.tolist(), traced_xy=self.traced_xy.tolist(),
+            sharp_corners=self.sharp_corners,
+            warnings=list(self.warnings),
+            theta_deg=self.theta_deg.tolist(),
+            pitch=self.pitch.tolist(),
+            contour=self.contour.tolist(),
+            path_xy=self.path_xy.tolist(),
+            traced_xy=self.traced_xy.tolist(),
         )
         return out
 
@@ -90,13 +94,22 @@ def _crank_lengths(ext: Extremes, ms: MechanismSpec) -> tuple[float, float]:
     if ms.crank is None:  # Ye & Smith eq. 5
         r, l = (ext.d_max - ext.d_min) / 2.0, (ext.d_max + ext.d_min) / 2.0
         if r <= 0.0:
-            raise NumericalError("mechanism.crank", "the path-side point keeps a constant distance from the cam centre: eq. 5 gives no crank")
+            raise NumericalError(
+                "mechanism.crank",
+                "the path-side point keeps a constant distance from the cam centre: eq. 5 gives no crank",
+            )
         return r, l
     r, l = ms.crank, ms.coupler
     if ext.d_max > r + l + 1e-6:
-        raise NumericalError(where_point(ext.i_max), f"crank dyad cannot close: reach missed by {ext.d_max - r - l:.4g} mm (|cam centre to path-side point| = {ext.d_max:.6g} mm > crank + coupler = {r + l:g} mm)")
+        raise NumericalError(
+            where_point(ext.i_max),
+            f"crank dyad cannot close: reach missed by {ext.d_max - r - l:.4g} mm (|cam centre to path-side point| = {ext.d_max:.6g} mm > crank + coupler = {r + l:g} mm)",
+        )
     if ext.d_min < abs(r - l) - 1e-6:
-        raise NumericalError(where_point(ext.i_min), f"crank dyad cannot close: reach missed by {abs(r - l) - ext.d_min:.4g} mm (|cam centre to path-side point| = {ext.d_min:.6g} mm < |crank - coupler| = {abs(r - l):g} mm)")
+        raise NumericalError(
+            where_point(ext.i_min),
+            f"crank dyad cannot close: reach missed by {abs(r - l) - ext.d_min:.4g} mm (|cam centre to path-side point| = {ext.d_min:.6g} mm < |crank - coupler| = {abs(r - l):g} mm)",
+        )
     return r, l
 
 
@@ -115,13 +128,20 @@ def _cam_angle_table(proto: CamLinkMotion, u_grid: np.ndarray, ms: MechanismSpec
     bad = np.flatnonzero(sense * slope <= 0.0)
     if bad.size:
         i = int(bad[0])
-        hint = f"; try crank_mode = {-ms.crank_mode}" if dyad.n_switch else "; with crank and coupler from eq. 5 it passes its collinear positions instead"
+        hint = (
+            f"; try crank_mode = {-ms.crank_mode}"
+            if dyad.n_switch
+            else "; with crank and coupler from eq. 5 it passes its collinear positions instead"
+        )
         raise NumericalError(
             where_point(i),
             f"the crank would reverse here (dtheta/du changes sign: {math.degrees(slope[i]):.4g} deg per unit u against a net turn of {math.degrees(turn):.1f} deg){hint}",
         )
     if abs(abs(turn) - TWO_PI) > 1e-6:
-        raise NumericalError("mechanism.cam_center", f"the crank turns {math.degrees(turn):.1f} deg while the point runs once round the path; it must turn exactly once (360 deg)")
+        raise NumericalError(
+            "mechanism.cam_center",
+            f"the crank turns {math.degrees(turn):.1f} deg while the point runs once round the path; it must turn exactly once (360 deg)",
+        )
     tab_theta = np.append(sense * (raw[:-1] - raw[0]), TWO_PI)
     return np.append(u_grid, 1.0), tab_theta, sense, tab[:, 1]
 
@@ -145,7 +165,17 @@ def _build_motion(pth: Path, ms: MechanismSpec, u_grid: np.ndarray, warnings: li
     dyad, notes = build_crank(chain, r, l, ext, ms.crank_mode, pth)
     warnings += notes
     unit = "mm" if ms.type == "ccm" else "rad"
-    proto = CamLinkMotion(chain=chain, crank_dyad=dyad, theta0=jnp.asarray(0.0), out0=jnp.asarray(0.0), tab_u=jnp.zeros(N_GRID + 1), tab_theta=jnp.zeros(N_GRID + 1), sense=jnp.asarray(1.0), unit=unit, breaks_deg=())
+    proto = CamLinkMotion(
+        chain=chain,
+        crank_dyad=dyad,
+        theta0=jnp.asarray(0.0),
+        out0=jnp.asarray(0.0),
+        tab_u=jnp.zeros(N_GRID + 1),
+        tab_theta=jnp.zeros(N_GRID + 1),
+        sense=jnp.asarray(1.0),
+        unit=unit,
+        breaks_deg=(),
+    )
     th0 = float(padded(tabulate, proto, [0.0])[0, 0])
     proto = eqx.tree_at(lambda m: m.theta0, proto, jnp.asarray(th0))
     if ms.type == "ccm":
@@ -153,19 +183,30 @@ def _build_motion(pth: Path, ms: MechanismSpec, u_grid: np.ndarray, warnings: li
         check_ccm_slider(chain, pts0, ms)
     tab_u, tab_theta, sense, out = _cam_angle_table(proto, u_grid, ms, dyad)
     core = CamLinkMotion(
-        chain=chain, crank_dyad=dyad, theta0=jnp.asarray(th0), out0=jnp.asarray(float(out.min())), tab_u=jnp.asarray(tab_u),
-        tab_theta=jnp.asarray(tab_theta), sense=jnp.asarray(sense), unit=unit, breaks_deg=(),
+        chain=chain,
+        crank_dyad=dyad,
+        theta0=jnp.asarray(th0),
+        out0=jnp.asarray(float(out.min())),
+        tab_u=jnp.asarray(tab_u),
+        tab_theta=jnp.asarray(tab_theta),
+        sense=jnp.asarray(sense),
+        unit=unit,
+        breaks_deg=(),
     )
     return core, r, l, ext
 
 
-def _table_error(tabulated: HermiteMotion, motion: CamLinkMotion, s2_range: float, summary: dict, warnings: list[str]) -> None:
+def _table_error(
+    tabulated: HermiteMotion, motion: CamLinkMotion, s2_range: float, summary: dict, warnings: list[str]
+) -> None:
     """How far the quintic Hermite table the dynamics read is from the exact motion, in ``summary``; warns if it
     misses the exact s'' by more than 1e-4 of its range."""
     tab_err = tabulated.max_error(motion)
     summary["motion_table_error"] = dict(zip(("s", "s1", "s2", "s3"), map(float, tab_err)))
     if tab_err[2] > 1e-4 * max(s2_range, 1e-12):
-        warnings.append(f"the tabulated follower motion misses the exact s'' by up to {tab_err[2]:.3g} per rad^2; the dynamics use the table")
+        warnings.append(
+            f"the tabulated follower motion misses the exact s'' by up to {tab_err[2]:.3g} per rad^2; the dynamics use the table"
+        )
 
 
 def synthesize_motion(path: dict, mechanism: dict) -> Synthesis:
@@ -188,7 +229,9 @@ def synthesize_motion(path: dict, mechanism: dict) -> Synthesis:
     theta = np.deg2rad(np.arange(360.0))
     u_s, sv = padded(sample, core, theta)
     step = theta[1] - theta[0]
-    s2 = (np.roll(sv[:, 1], -1) - np.roll(sv[:, 1], 1)) / (2 * step)  # a scale for the table's error; exact: motion(theta)[2]
+    s2 = (np.roll(sv[:, 1], -1) - np.roll(sv[:, 1], 1)) / (
+        2 * step
+    )  # a scale for the table's error; exact: motion(theta)[2]
     vals = np.vstack([sv.T, s2])
     th0, sense = float(core.theta0), float(core.sense)
     crank_s = th0 + sense * theta
@@ -207,10 +250,28 @@ def synthesize_motion(path: dict, mechanism: dict) -> Synthesis:
             "the path has sharp corners (corner_radius = 0): the follower velocity jumps there, so its acceleration is unbounded; give the corners a radius"
         )
     summary = {
-        "mechanism": ms.type, "crank_mm": r, "coupler_mm": l, "start_angle_deg": (math.degrees(th0) + 180.0) % 360.0 - 180.0,
-        "rotation": "ccw" if sense > 0 else "cw", "lob_min_mm": ext.d_min, "lob_max_mm": ext.d_max, "u_lob_min": ext.u_min[0], "u_lob_max": ext.u_max[0],
-        "switches": [{"u": float(us), "cam_angle_deg": float(np.interp(us, np.asarray(core.tab_u), np.asarray(core.tab_theta))) * 180 / math.pi} for us in np.asarray(core.crank_dyad.u_sw)],
-        "max_path_error_mm": err, "base_radius_mm": follower.base_radius, "roller_radius_mm": rr, "synthesis_time_s": time.perf_counter() - t_start,
+        "mechanism": ms.type,
+        "crank_mm": r,
+        "coupler_mm": l,
+        "start_angle_deg": (math.degrees(th0) + 180.0) % 360.0 - 180.0,
+        "rotation": "ccw" if sense > 0 else "cw",
+        "lob_min_mm": ext.d_min,
+        "lob_max_mm": ext.d_max,
+        "u_lob_min": ext.u_min[0],
+        "u_lob_max": ext.u_max[0],
+        "switches": [
+            {
+                "u": float(us),
+                "cam_angle_deg": float(np.interp(us, np.asarray(core.tab_u), np.asarray(core.tab_theta)))
+                * 180
+                / math.pi,
+            }
+            for us in np.asarray(core.crank_dyad.u_sw)
+        ],
+        "max_path_error_mm": err,
+        "base_radius_mm": follower.base_radius,
+        "roller_radius_mm": rr,
+        "synthesis_time_s": time.perf_counter() - t_start,
         **extra,
     }
     _table_error(tabulated, motion, float(np.ptp(vals[2])), summary, warnings)
@@ -219,6 +280,17 @@ def synthesize_motion(path: dict, mechanism: dict) -> Synthesis:
     else:
         summary["swing_deg"] = math.degrees(float(vals[0].max() - vals[0].min()))
     return Synthesis(
-        motion=motion, tabulated=tabulated, follower=follower, path_spec=ps, mechanism=ms, summary=summary, theta_deg=np.arange(360.0),
-        pitch=pitch, contour=contour, path_xy=target, traced_xy=traced, sharp_corners=sharp, warnings=warnings,
+        motion=motion,
+        tabulated=tabulated,
+        follower=follower,
+        path_spec=ps,
+        mechanism=ms,
+        summary=summary,
+        theta_deg=np.arange(360.0),
+        pitch=pitch,
+        contour=contour,
+        path_xy=target,
+        traced_xy=traced,
+        sharp_corners=sharp,
+        warnings=warnings,
     )

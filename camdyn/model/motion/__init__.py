@@ -11,6 +11,20 @@ from ._program import Program, Segment
 from ._spline import SplineFit, fit_periodic
 
 __all__ = [
-    "ACCEL_NOISE_SHARE", "BSPLINE_CLAMPED", "FittedMotion", "HermiteMotion", "LAWS", "Motion", "MotionFit", "Program", "Segment", "SplineFit",
-    "bspline_basis", "evaluate", "fit_motion", "fit_periodic", "fit_warnings", "law",
+    "ACCEL_NOISE_SHARE",
+    "BSPLINE_CLAMPED",
+    "FittedMotion",
+    "HermiteMotion",
+    "LAWS",
+    "Motion",
+    "MotionFit",
+    "Program",
+    "Segment",
+    "SplineFit",
+    "bspline_basis",
+    "evaluate",
+    "fit_motion",
+    "fit_periodic",
+    "fit_warnings",
+    "law",
 ]

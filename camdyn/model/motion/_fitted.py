@@ -71,14 +71,25 @@ class MotionFit:
         out = sp.summary()
         i = out.pop("worst")
         return out | {
-            "points": int(len(self.data)), "unit": self.unit, "max_residual_at_deg": float(self.theta_deg[i] % 360.0),
-            "tolerance": self.tolerance, "smoothing": sp.lam, "acceleration_std": sp.accel_std,
+            "points": int(len(self.data)),
+            "unit": self.unit,
+            "max_residual_at_deg": float(self.theta_deg[i] % 360.0),
+            "tolerance": self.tolerance,
+            "smoothing": sp.lam,
+            "acceleration_std": sp.accel_std,
             "repeats_dropped": self.repeats,
         }
 
 
 def fit_motion(
-    theta_deg, data, *, unit: str, source: str, file: str, tolerance: float | None = None, rounding: float = 0.0,
+    theta_deg,
+    data,
+    *,
+    unit: str,
+    source: str,
+    file: str,
+    tolerance: float | None = None,
+    rounding: float = 0.0,
     repeats: int = 0,
 ):
     """Fit ``data`` (mm, or deg of swing when ``unit`` is "deg") at cam angles ``theta_deg``: the

@@ -57,10 +57,20 @@ class HermiteMotion(Motion):
         d = 1e-7 * h
         left = np.asarray(evaluate(source, jnp.asarray(knots[:-1] + d)))  # at the start of interval i, from the right
         right = np.asarray(evaluate(source, jnp.asarray(knots[1:] - d)))  # at its end, from the left
-        y0 = np.stack([left[0] - d * left[1] + d**2 / 2 * left[2] - d**3 / 6 * left[3],
-                       left[1] - d * left[2] + d**2 / 2 * left[3], left[2] - d * left[3]])
-        y1 = np.stack([right[0] + d * right[1] + d**2 / 2 * right[2] + d**3 / 6 * right[3],
-                       right[1] + d * right[2] + d**2 / 2 * right[3], right[2] + d * right[3]])
+        y0 = np.stack(
+            [
+                left[0] - d * left[1] + d**2 / 2 * left[2] - d**3 / 6 * left[3],
+                left[1] - d * left[2] + d**2 / 2 * left[3],
+                left[2] - d * left[3],
+            ]
+        )
+        y1 = np.stack(
+            [
+                right[0] + d * right[1] + d**2 / 2 * right[2] + d**3 / 6 * right[3],
+                right[1] + d * right[2] + d**2 / 2 * right[3],
+                right[2] + d * right[3],
+            ]
+        )
         # c3..c5 from the end conditions: s(h), s'(h), s''(h) less the part of c0..c2
         r0 = y1[0] - (y0[0] + y0[1] * h + y0[2] / 2 * h**2)
         r1 = y1[1] - (y0[1] + y0[2] * h)
@@ -69,7 +79,9 @@ class HermiteMotion(Motion):
         c4 = (-15 * r0 + 7 * h * r1 - h**2 * r2) / h**4
         c5 = (6 * r0 - 3 * h * r1 + h**2 / 2 * r2) / h**5
         coef = np.column_stack([y0[0], y0[1], y0[2] / 2, c3, c4, c5])
-        return cls(knots=jnp.asarray(knots), coef=jnp.asarray(coef), unit=source.unit, breaks_deg=tuple(source.breaks_deg))
+        return cls(
+            knots=jnp.asarray(knots), coef=jnp.asarray(coef), unit=source.unit, breaks_deg=tuple(source.breaks_deg)
+        )
 
     def __call__(self, theta):
         return quintic_eval(jnp, self.knots, self.coef, theta)

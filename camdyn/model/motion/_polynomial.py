@@ -70,7 +70,9 @@ def solve_polynomial(seg: PolynomialSegmentSpec, start_deg: float) -> BoundaryPo
     return BoundaryPolynomial(tuple(float(v) for v in b), min(targets), max(targets), float(np.linalg.cond(a)))
 
 
-def polynomial_warnings(poly: BoundaryPolynomial, where: str, start_deg: float, end_deg: float, lift_unit: str) -> list[str]:
+def polynomial_warnings(
+    poly: BoundaryPolynomial, where: str, start_deg: float, end_deg: float, lift_unit: str
+) -> list[str]:
     """An overshoot (the lift leaves the range its conditions span) and an ill-conditioned system, as warnings
     that say by how much and where (angles deg, lifts from the segment's start in ``lift_unit``)."""
     out = []

@@ -106,7 +106,9 @@ class Program(Motion):
 
     @classmethod
     def _from_checked(cls, segs: tuple[Segment, ...], unit: str) -> Program:
-        cols: dict[str, list] = {k: [] for k in ("start", "theta0", "beta", "base", "lift", "x0", "c", "w", "p1", "p2", "y0", "v0")}
+        cols: dict[str, list] = {
+            k: [] for k in ("start", "theta0", "beta", "base", "lift", "x0", "c", "w", "p1", "p2", "y0", "v0")
+        }
         for seg in segs:
             t, scale = seg.table(_to_unit(unit))
             th0, beta = math.radians(seg.start), math.radians(seg.end - seg.start)
@@ -138,7 +140,9 @@ class Program(Motion):
         g = lambda a: xp.asarray(a)[i]  # noqa: E731
         beta, lift = g(self._beta), g(self._lift)
         x = (theta - g(self._theta0)) / beta
-        y, v, a, j = _piece_eval(xp, x - g(self._x0), g(self._c), g(self._w), g(self._p1), g(self._p2), g(self._y0), g(self._v0))
+        y, v, a, j = _piece_eval(
+            xp, x - g(self._x0), g(self._c), g(self._w), g(self._p1), g(self._p2), g(self._y0), g(self._v0)
+        )
         return xp.stack([g(self._base) + lift * y, lift * v / beta, lift * a / beta**2, lift * j / beta**3])
 
     def continuity_warnings(self) -> list[str]:
@@ -179,7 +183,9 @@ class Program(Motion):
         u = np.array(1.0 - t.x0[-1])
         vals = _piece_eval(np, u, t.c[-1], t.w[-1], t.p1[-1], t.p2[-1], t.y0[-1], t.v0[-1])
         beta = math.radians(seg.end - seg.start)
-        return np.array([seg.base + lift * vals[0], lift * vals[1] / beta, lift * vals[2] / beta**2, lift * vals[3] / beta**3])
+        return np.array(
+            [seg.base + lift * vals[0], lift * vals[1] / beta, lift * vals[2] / beta**2, lift * vals[3] / beta**3]
+        )
 
 
 def _to_unit(unit: str) -> float:

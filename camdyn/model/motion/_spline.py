@@ -28,7 +28,7 @@ from functools import cache
 
 import numpy as np
 import scipy.sparse as sp
-from scipy.linalg import cho_solve_banded, cholesky_banded, LinAlgError
+from scipy.linalg import LinAlgError, cho_solve_banded, cholesky_banded
 from scipy.optimize import minimize_scalar
 
 from ._hermite import quintic_eval
@@ -147,7 +147,9 @@ class _Problem:
     def __init__(self, x: np.ndarray, y: np.ndarray, m: int):
         self.y, self.m, self.n = y, m, len(x)
         self.cols, self.vals = design(x, m)
-        self.B = sp.csr_matrix((self.vals.ravel(), (np.repeat(np.arange(self.n), 6), self.cols.ravel())), shape=(self.n, m))
+        self.B = sp.csr_matrix(
+            (self.vals.ravel(), (np.repeat(np.arange(self.n), 6), self.cols.ravel())), shape=(self.n, m)
+        )
         self.rhs = self.B.T @ y
         g = np.zeros((_BAND + 1, m))  # g[d, j] = G[j, j + d mod m]
         for d in range(_BAND + 1):
@@ -223,7 +225,9 @@ class _Problem:
         i = int(np.argmin(scores))
         step = grid[1] - grid[0]
         lo, hi = max(grid[0], grid[i] - step), min(grid[-1], grid[i] + step)
-        res = minimize_scalar(lambda g: self.score(g, sigma), bounds=(lo, hi), method="bounded", options={"xatol": 0.01})
+        res = minimize_scalar(
+            lambda g: self.score(g, sigma), bounds=(lo, hi), method="bounded", options={"xatol": 0.01}
+        )
         return float(res.x) if res.fun <= scores[i] else float(grid[i])
 
     def max_residual(self, log_lam: float) -> float:

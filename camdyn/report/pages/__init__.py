@@ -2,8 +2,8 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Callable
 
 from .._data import ReportData
 from .cam import draw_cam
@@ -34,7 +34,12 @@ PAGES: list[Page] = [
     Page("cam", "Cam profile", draw_cam, lambda data: data.check.geometry is not None),
     Page("dynamics", "Dynamics", draw_dynamics),
     Page("mechanism", "Mechanism and path", draw_mechanism, lambda data: data.case.synthesis is not None),
-    Page("optimization", "Optimization", draw_optimization, lambda data: data.review.original is not None and not isinstance(data.review.original, str)),
+    Page(
+        "optimization",
+        "Optimization",
+        draw_optimization,
+        lambda data: data.review.original is not None and not isinstance(data.review.original, str),
+    ),
     Page("parts", "Drive, contact and spring", draw_parts),
     Page("springs", "Spring sizing", draw_springs),
     Page("manufacturing", "Segments and manufacturing", draw_manufacturing),
@@ -42,6 +47,16 @@ PAGES: list[Page] = [
 ]
 
 __all__ = [
-    "PAGES", "Page", "draw_cam", "draw_dynamics", "draw_manufacturing", "draw_mechanism", "draw_optimization", "draw_parts", "draw_springs", "draw_summary", "draw_svaj",
+    "PAGES",
+    "Page",
+    "draw_cam",
+    "draw_dynamics",
+    "draw_manufacturing",
+    "draw_mechanism",
+    "draw_optimization",
+    "draw_parts",
+    "draw_springs",
+    "draw_summary",
+    "draw_svaj",
     "draw_tolerances",
 ]

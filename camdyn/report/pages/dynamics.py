@@ -32,16 +32,40 @@ def _force_panels(ax_f, ax_m, data: ReportData) -> None:
     """The contact force at the case speed and at speed_margin x speed, on one force scale."""
     rpm, rv = data.check.speed_rpm, data.review
     osc = " (contact force: torque / lever arm)" if data.oscillating else ""
-    plot_contact_force(ax_f, data.check.response, colour=C["dyn"], title=f"interface force at {rpm:g} rpm{osc}", breaks_deg=data.breaks_deg, legend=False)
+    plot_contact_force(
+        ax_f,
+        data.check.response,
+        colour=C["dyn"],
+        title=f"interface force at {rpm:g} rpm{osc}",
+        breaks_deg=data.breaks_deg,
+        legend=False,
+    )
     m = data.case.limits.speed_margin
     if isinstance(rv.margin_response, str):
-        ax_m.text(0.5, 0.5, f"no steady state at {rv.margin_rpm:g} rpm:\n{rv.margin_response}", transform=ax_m.transAxes, ha="center", va="center", color=C["fail"], size=8, wrap=True)
+        ax_m.text(
+            0.5,
+            0.5,
+            f"no steady state at {rv.margin_rpm:g} rpm:\n{rv.margin_response}",
+            transform=ax_m.transAxes,
+            ha="center",
+            va="center",
+            color=C["fail"],
+            size=8,
+            wrap=True,
+        )
         ax_m.set_title(f"interface force at {m:g} \u00d7 speed = {rv.margin_rpm:g} rpm", fontsize=9)
         ax_m.set_yticks([])
         ax_m.grid(False)
         legend_above_data(ax_f, fontsize=7, ncol=2)
         return
-    plot_contact_force(ax_m, rv.margin_response, colour=C["margin"], title=f"interface force at speed_margin {m:g} \u00d7 speed = {rv.margin_rpm:g} rpm", breaks_deg=data.breaks_deg, legend=False)
+    plot_contact_force(
+        ax_m,
+        rv.margin_response,
+        colour=C["margin"],
+        title=f"interface force at speed_margin {m:g} \u00d7 speed = {rv.margin_rpm:g} rpm",
+        breaks_deg=data.breaks_deg,
+        legend=False,
+    )
     for _ in range(2):  # one force scale, raised until neither legend covers its curve
         lo = min(ax_f.get_ylim()[0], ax_m.get_ylim()[0])
         hi = max(ax_f.get_ylim()[1], ax_m.get_ylim()[1])

@@ -67,15 +67,46 @@ def manufacturing_rows(data: ReportData) -> list[tuple[str, str]]:
         radius = np.hypot(*geo.contour)
         roller = float(f.roller_radius) if getattr(f, "roller_radius", None) else 0.0
         base = float(radius.min())
-        rows += [("base radius", f"{base:.4f} mm (least contour radius)"), ("prime radius", f"{base + roller:.4f} mm" + (" (base + roller)" if roller else " (flat face: the base radius)")),
-                 ("largest radius", f"{float(radius.max()):.4f} mm at cam angle {float(geo.theta_deg[int(np.argmax(radius))]):.1f}\u00b0")]
-        rows.append(("follower", f"{f.type}" + (f", roller radius {roller:g} mm" if roller else "") + (f", face width {f.face_width:g} mm" if getattr(f, "face_width", None) else "")))
+        rows += [
+            ("base radius", f"{base:.4f} mm (least contour radius)"),
+            (
+                "prime radius",
+                f"{base + roller:.4f} mm" + (" (base + roller)" if roller else " (flat face: the base radius)"),
+            ),
+            (
+                "largest radius",
+                f"{float(radius.max()):.4f} mm at cam angle {float(geo.theta_deg[int(np.argmax(radius))]):.1f}\u00b0",
+            ),
+        ]
+        rows.append(
+            (
+                "follower",
+                f"{f.type}"
+                + (f", roller radius {roller:g} mm" if roller else "")
+                + (f", face width {f.face_width:g} mm" if getattr(f, "face_width", None) else ""),
+            )
+        )
         if f.type.startswith("translating"):
             rows.append(("offset", f"{float(f.offset):g} mm"))
         else:
-            rows.append(("pivot", f"{fmt(f.pivot_distance)} mm from the cam centre at {float(f.pivot_angle):g}\u00b0" + (f", arm {fmt(f.arm_length)} mm" if f.arm_length else "")))
-        start = "the start of the first segment (lift 0)" if getattr(case.motion, "segments", ()) else f"the {case.motion_source}'s angle 0"
-        rows.append(("zero reference", f"cam angle 0 = {start}; the contour is given in the cam frame at cam angle 0, the cam turning {f.rotation}"))
+            rows.append(
+                (
+                    "pivot",
+                    f"{fmt(f.pivot_distance)} mm from the cam centre at {float(f.pivot_angle):g}\u00b0"
+                    + (f", arm {fmt(f.arm_length)} mm" if f.arm_length else ""),
+                )
+            )
+        start = (
+            "the start of the first segment (lift 0)"
+            if getattr(case.motion, "segments", ())
+            else f"the {case.motion_source}'s angle 0"
+        )
+        rows.append(
+            (
+                "zero reference",
+                f"cam angle 0 = {start}; the contour is given in the cam frame at cam angle 0, the cam turning {f.rotation}",
+            )
+        )
     else:
         rows.append(("cam", "no cam follower in this case: nothing to cut"))
     tol = f"camdyn profile writes the contour within a chord tolerance of {DEFAULT_PROFILE_TOLERANCE_MM:g} mm (--tolerance MM)"
@@ -83,7 +114,10 @@ def manufacturing_rows(data: ReportData) -> list[tuple[str, str]]:
     pe = getattr(spec_tol, "profile_error", None) if spec_tol is not None else None
     if pe is not None:
         tol += f"; the tolerance study takes a profile error of {pe} RMS"
-    rows += [("profile tolerance", tol), ("file formats", ", ".join(s.lstrip(".").upper() for s in FORMATS) + " (camdyn profile -o cam.<format>)")]
+    rows += [
+        ("profile tolerance", tol),
+        ("file formats", ", ".join(s.lstrip(".").upper() for s in FORMATS) + " (camdyn profile -o cam.<format>)"),
+    ]
     return rows
 
 
@@ -91,7 +125,13 @@ def draw_manufacturing(fig, data: ReportData) -> None:
     flow = Flow(fig, 0.93)
     flow.heading("Title block")
     for k, v in title_block(data):
-        flow.row([(0.0, k, {"color": C["grey"]}), (0.16, v, {"family": "DejaVu Sans Mono" if k == "SHA-256" else "DejaVu Sans"})], size=8.2)
+        flow.row(
+            [
+                (0.0, k, {"color": C["grey"]}),
+                (0.16, v, {"family": "DejaVu Sans Mono" if k == "SHA-256" else "DejaVu Sans"}),
+            ],
+            size=8.2,
+        )
     _segments(flow, data)
     flow.heading("Manufacturing")
     for k, v in manufacturing_rows(data):
@@ -104,20 +144,46 @@ def _segments(flow: Flow, data: ReportData) -> None:
     names = svaj_quantities(data.case.motion.unit)
     u = [names[k][1] for k in range(4)]
     flow.heading("Motion, segment by segment")
-    flow.para(f"Lift in {u[0]}; peak velocity, acceleration and jerk as |largest| with its sign, per radian of cam angle "
-              f"({u[1]}, {u[2]}, {u[3]}), and the cam angle where it is; at the segment's end, C2: velocity and acceleration "
-              "continuous, or which of them jumps (infinite acceleration or jerk).", size=7.5, color=C["grey"])
-    cols = [(0.0, "law", "left"), (0.15, "from\u2013to", "left"), (0.32, "lift", "right"), (0.5, "peak v (at)", "right"),
-            (0.68, "peak a (at)", "right"), (0.86, "peak j (at)", "right"), (0.88, "at the end", "left")]
+    flow.para(
+        f"Lift in {u[0]}; peak velocity, acceleration and jerk as |largest| with its sign, per radian of cam angle "
+        f"({u[1]}, {u[2]}, {u[3]}), and the cam angle where it is; at the segment's end, C2: velocity and acceleration "
+        "continuous, or which of them jumps (infinite acceleration or jerk).",
+        size=7.5,
+        color=C["grey"],
+    )
+    cols = [
+        (0.0, "law", "left"),
+        (0.15, "from\u2013to", "left"),
+        (0.32, "lift", "right"),
+        (0.5, "peak v (at)", "right"),
+        (0.68, "peak a (at)", "right"),
+        (0.86, "peak j (at)", "right"),
+        (0.88, "at the end", "left"),
+    ]
     flow.row([(x, t, {"weight": "bold", "color": C["grey"], "ha": ha}) for x, t, ha in cols], size=7.8)
     rows = segment_rows(data)
     for r in rows[:40]:
         ok = r["continuity"] == "C2"
         at = {k: "0" if r[k] == 0.0 else f"{r[k]:+.4g} ({r[k + '_deg']:.1f}\u00b0)" for k in ("v", "a", "j")}
-        flow.row([
-            (0.0, r["law"], {}), (0.15, f"{r['start_deg']:.4g}\u2013{r['end_deg'] - 360.0 if r['end_deg'] > 360.0 else r['end_deg']:.4g}\u00b0", {}), (0.32, f"{r['lift']:+.4g}", {"ha": "right"}),
-            (0.5, at["v"], {"ha": "right"}), (0.68, at["a"], {"ha": "right"}), (0.86, at["j"], {"ha": "right"}),
-            (0.88, r["continuity"].replace("acceleration", "a").replace("velocity", "v"), {"color": C["ok"] if ok else C["fail"]}),
-        ], size=7.6)
+        flow.row(
+            [
+                (0.0, r["law"], {}),
+                (
+                    0.15,
+                    f"{r['start_deg']:.4g}\u2013{r['end_deg'] - 360.0 if r['end_deg'] > 360.0 else r['end_deg']:.4g}\u00b0",
+                    {},
+                ),
+                (0.32, f"{r['lift']:+.4g}", {"ha": "right"}),
+                (0.5, at["v"], {"ha": "right"}),
+                (0.68, at["a"], {"ha": "right"}),
+                (0.86, at["j"], {"ha": "right"}),
+                (
+                    0.88,
+                    r["continuity"].replace("acceleration", "a").replace("velocity", "v"),
+                    {"color": C["ok"] if ok else C["fail"]},
+                ),
+            ],
+            size=7.6,
+        )
     if len(rows) > 40:
         flow.para(f"\u2026 {len(rows) - 40} more segments: camdyn table writes every angle", size=7.5, color=C["grey"])

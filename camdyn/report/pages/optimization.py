@@ -11,7 +11,9 @@ from .._style import LEFT, RIGHT, C
 
 def draw_optimization(fig, data: ReportData) -> None:
     review = data.review
-    gs = fig.add_gridspec(6, 1, left=LEFT, right=RIGHT, top=0.885, bottom=0.1, hspace=0.35, height_ratios=[2, 2, 2, 2, 0.3, 3.2])
+    gs = fig.add_gridspec(
+        6, 1, left=LEFT, right=RIGHT, top=0.885, bottom=0.1, hspace=0.35, height_ratios=[2, 2, 2, 2, 0.3, 3.2]
+    )
     axes = [fig.add_subplot(gs[0])]
     axes += [fig.add_subplot(gs[i], sharex=axes[0]) for i in (1, 2, 3)]
     plot_motion_before_after(axes, review)

@@ -66,7 +66,18 @@ def _caption(fig, sz: SpringSizing) -> None:
 
 def _feasible_region(fig, sz: SpringSizing) -> None:
     ax = fig.add_axes([LEFT, 0.615, 0.95 - LEFT, 0.26])
-    plot_feasible_region(ax, sz, colors={"kinematic": C["kin"], "dynamic": C["dyn"], "lines": C["constraint"], "iso": C["iso"], "chosen": C["ok"], "current": C["ink"]})
+    plot_feasible_region(
+        ax,
+        sz,
+        colors={
+            "kinematic": C["kin"],
+            "dynamic": C["dyn"],
+            "lines": C["constraint"],
+            "iso": C["iso"],
+            "chosen": C["ok"],
+            "current": C["ink"],
+        },
+    )
     ax.set_xlabel(pretty_unit(ax.get_xlabel()))
     ax.set_ylabel(pretty_unit(ax.get_ylabel()))
     ax.set_title(f"feasible springs: preload against rate (holding up to {sz.top_speed_rpm:.4g} rpm)", fontsize=9)
@@ -92,17 +103,39 @@ def _springs_compared(flow: Flow, sz: SpringSizing) -> None:
     designs = [(answer, sz.chosen)] + ([("kinematic LP\nanswer", sz.kinematic)] if sz.model == "compliant" else [])
     designs += [("current\ndesign", sz.current), ("current rate,\nleast preload", sz.at_current_rate)]
     xs = [0.52, 0.67, 0.82, 0.97] if len(designs) == 4 else [0.57, 0.77, 0.97]
-    head = [(0.0, f"forces over every angle and\nevery speed up to {sz.top_speed_rpm:.4g} rpm", {"color": C["grey"], "linespacing": 1.3})]
-    head += [(x, name, {"weight": "bold", "ha": "right", "linespacing": 1.3, "color": C["ok"] if name == answer else C["grey"]}) for x, (name, _) in zip(xs, designs)]
+    head = [
+        (
+            0.0,
+            f"forces over every angle and\nevery speed up to {sz.top_speed_rpm:.4g} rpm",
+            {"color": C["grey"], "linespacing": 1.3},
+        )
+    ]
+    head += [
+        (
+            x,
+            name,
+            {"weight": "bold", "ha": "right", "linespacing": 1.3, "color": C["ok"] if name == answer else C["grey"]},
+        )
+        for x, (name, _) in zip(xs, designs)
+    ]
     flow.row(head, size=8.2)
     flow.y -= flow.h(8.2) * 1.05
     holds = [_holds(sz, d) for _, d in designs]
     rows = [
-        (f"{'torsion' if sz.oscillating else 'spring'} rate {k_sym} ({u['rate']})", [_small(d.rate, d.peak_spring / max(sz.s_max, 1e-300)) for _, d in designs]),
+        (
+            f"{'torsion' if sz.oscillating else 'spring'} rate {k_sym} ({u['rate']})",
+            [_small(d.rate, d.peak_spring / max(sz.s_max, 1e-300)) for _, d in designs],
+        ),
         (f"preload {f_sym} ({u['preload']})", [_small(d.preload, d.peak_spring) for _, d in designs]),
         (f"peak spring {force} P ({u['spring']})", [fmt(d.peak_spring) for _, d in designs]),
         # a design that misses the limit by less than 4 digits shows the digits it misses by
-        ("least contact force (N)", [_small(d.least_force, d.peak_contact) if h else f"{d.least_force:.7g}" for (_, d), h in zip(designs, holds)]),
+        (
+            "least contact force (N)",
+            [
+                _small(d.least_force, d.peak_contact) if h else f"{d.least_force:.7g}"
+                for (_, d), h in zip(designs, holds)
+            ],
+        ),
         ("peak contact force (N)", [fmt(d.peak_contact) for _, d in designs]),
         ("jump speed, kinematic (rigid)", [_jump(d.kinematic_jump_rpm) for _, d in designs]),
         ("jump speed, dynamic", [_jump(d.dynamic_jump_rpm) for _, d in designs]),
@@ -111,7 +144,10 @@ def _springs_compared(flow: Flow, sz: SpringSizing) -> None:
         flow.row([(0.0, label, {"color": C["grey"]})] + [(x, v, {"ha": "right"}) for x, v in zip(xs, vals)], size=8.2)
     flow.row(
         [(0.0, f"holds up to {sz.top_speed_rpm:.4g} rpm", {"color": C["grey"]})]
-        + [(x, "yes" if h else "NO", {"ha": "right", "weight": "bold", "color": C["ok"] if h else C["fail"]}) for x, h in zip(xs, holds)],
+        + [
+            (x, "yes" if h else "NO", {"ha": "right", "weight": "bold", "color": C["ok"] if h else C["fail"]})
+            for x, h in zip(xs, holds)
+        ],
         size=8.2,
     )
     flow.y -= flow.h(8) * 0.4
@@ -120,7 +156,9 @@ def _springs_compared(flow: Flow, sz: SpringSizing) -> None:
 def _binding_line(sz: SpringSizing) -> str:
     where = ", ".join(f"{a:.1f}\u00b0" if a == b else f"{a:.1f}\u2013{b:.1f}\u00b0" for a, b, _ in sz.binding[:4])
     speeds = sorted({round(w) for _, _, w in sz.binding[:4]})
-    line = f"Binding (kinematic): {where or DASH}" + (f" at {', '.join(f'{w:g}' for w in speeds)} rpm" if speeds else "")
+    line = f"Binding (kinematic): {where or DASH}" + (
+        f" at {', '.join(f'{w:g}' for w in speeds)} rpm" if speeds else ""
+    )
     if sz.dynamic_binding is not None:
         line += f"; dynamic: {sz.dynamic_binding[0]:.1f}\u00b0 at {sz.dynamic_binding[1]:.4g} rpm"
     lift = f"{math.degrees(sz.s_max):.4g}\u00b0 of swing" if sz.oscillating else f"{sz.s_max:.4g} mm"
@@ -134,7 +172,13 @@ def _notes(flow: Flow, sz: SpringSizing) -> None:
     force = _symbols(sz)[0]
     damping = _nb(sz.damping.split(":")[0])  # how c was treated; the method's detail is in `camdyn size`
     notes = [(_binding_line(sz), C["ink"], 0)]
-    notes.append((f"Chosen: the least peak spring {force}; ties (a binding angle at full lift) go to the least preload. Damping: {damping}.", C["grey"], 3))
+    notes.append(
+        (
+            f"Chosen: the least peak spring {force}; ties (a binding angle at full lift) go to the least preload. Damping: {damping}.",
+            C["grey"],
+            3,
+        )
+    )
     if sz.model == "compliant":
         c, k = sz.chosen, sz.kinematic
         correction = (
@@ -165,7 +209,16 @@ def _spring_jump_map(fig, data: ReportData) -> None:
     pre = f"{float(data.case.model.preload):g} {pretty_unit('N*m') if osc else 'N'}"
     title = f"jump map: least contact force at the case's preload {'T0' if osc else 'F0'} = {pre}"
     if isinstance(jm, str):
-        ax.text(0.5, 0.5, "\n".join(textwrap.wrap(f"no jump map: {jm}", 90)), transform=ax.transAxes, ha="center", va="center", color=C["fail"], size=8)
+        ax.text(
+            0.5,
+            0.5,
+            "\n".join(textwrap.wrap(f"no jump map: {jm}", 90)),
+            transform=ax.transAxes,
+            ha="center",
+            va="center",
+            color=C["fail"],
+            size=8,
+        )
         ax.set_axis_off()
         ax.set_title(title, fontsize=9)
         return
@@ -176,9 +229,22 @@ def _spring_jump_map(fig, data: ReportData) -> None:
     ax.set_xlabel("cam speed (rpm)")
     ax.set_ylabel(f"{'torsion' if osc else 'spring'} rate ({pretty_unit(jm.spring_rate_unit)})")
     outline = [patheffects.withStroke(linewidth=2.2, foreground=C["ink"])]  # legible on light and dark colours
-    ax.axvline(data.review.margin_rpm, color=C["margin"], lw=1.0, ls="-.", path_effects=outline, label=f"{data.case.limits.speed_margin:g} \u00d7 speed")
+    ax.axvline(
+        data.review.margin_rpm,
+        color=C["margin"],
+        lw=1.0,
+        ls="-.",
+        path_effects=outline,
+        label=f"{data.case.limits.speed_margin:g} \u00d7 speed",
+    )
     ax.grid(False)
-    leg = ax.legend(loc="upper center", bbox_to_anchor=(0.5 * (LEFT + 0.79), bottom - 0.036), bbox_transform=fig.transFigure, ncol=3, fontsize=7)
+    leg = ax.legend(
+        loc="upper center",
+        bbox_to_anchor=(0.5 * (LEFT + 0.79), bottom - 0.036),
+        bbox_transform=fig.transFigure,
+        ncol=3,
+        fontsize=7,
+    )
     for t in leg.get_texts():
         t.set_text(pretty_unit(t.get_text()))
     if mesh is not None:

@@ -25,13 +25,33 @@ from .._layout import Flow, fmt
 from .._style import C
 
 UNITS = {
-    "base_radius": "mm", "roller_radius": "mm", "offset": "mm", "pivot_distance": "mm", "pivot_angle": "deg",
-    "arm_length": "mm", "face_width": "mm", "speed": "rpm", "mass": "kg", "spring_rate": "N/mm", "preload": "N",
-    "train_stiffness": "N/mm", "external_force": "N", "inertia": "kg\u00b7m\u00b2", "torsion_rate": "N\u00b7m/rad",
-    "preload_torque": "N\u00b7m", "train_torsion_rate": "N\u00b7m/rad", "external_torque": "N\u00b7m",
-    "speed_margin": "\u00d7", "min_contact_force": "N", "max_pressure_angle": "deg",
+    "base_radius": "mm",
+    "roller_radius": "mm",
+    "offset": "mm",
+    "pivot_distance": "mm",
+    "pivot_angle": "deg",
+    "arm_length": "mm",
+    "face_width": "mm",
+    "speed": "rpm",
+    "mass": "kg",
+    "spring_rate": "N/mm",
+    "preload": "N",
+    "train_stiffness": "N/mm",
+    "external_force": "N",
+    "inertia": "kg\u00b7m\u00b2",
+    "torsion_rate": "N\u00b7m/rad",
+    "preload_torque": "N\u00b7m",
+    "train_torsion_rate": "N\u00b7m/rad",
+    "external_torque": "N\u00b7m",
+    "speed_margin": "\u00d7",
+    "min_contact_force": "N",
+    "max_pressure_angle": "deg",
 }
-IN_FACTS = ("velocity jumps by", "acceleration jumps by", "the follower leaves the cam at")  # warnings page 1 lists as facts
+IN_FACTS = (
+    "velocity jumps by",
+    "acceleration jumps by",
+    "the follower leaves the cam at",
+)  # warnings page 1 lists as facts
 NOTE_LINES = 14  # lines of warnings and advice before the rest is referred to `camdyn check`
 INPUT_ROWS = 26  # rows per column of key inputs
 
@@ -56,13 +76,29 @@ def _verdict(fig, data: ReportData, flow: Flow) -> None:
     passed = chk.verdict == "pass"
     flow.y -= flow.h(10)
     fig.text(
-        flow.left + 0.012, flow.y, "PASS" if passed else "FAIL", size=26, weight="bold", va="top", color="white",
+        flow.left + 0.012,
+        flow.y,
+        "PASS" if passed else "FAIL",
+        size=26,
+        weight="bold",
+        va="top",
+        color="white",
         bbox=dict(boxstyle="round,pad=0.35", fc=C["ok"] if passed else C["fail"], ec="none"),
     )
     n_fail = sum(not c.ok for c in chk.checks)
     what = "every check passes" if passed else f"{n_fail} of {len(chk.checks)} checks fail"
-    model = f"{chk.dynamic['model']} follower" + (" (oscillating arm; torques as contact forces through the lever arm)" if data.oscillating else "")
-    fig.text(flow.left + 0.2, flow.y + 0.002, f"at {chk.speed_rpm:g} rpm: {what}", size=12, va="top", weight="bold", color=C["ink"])
+    model = f"{chk.dynamic['model']} follower" + (
+        " (oscillating arm; torques as contact forces through the lever arm)" if data.oscillating else ""
+    )
+    fig.text(
+        flow.left + 0.2,
+        flow.y + 0.002,
+        f"at {chk.speed_rpm:g} rpm: {what}",
+        size=12,
+        va="top",
+        weight="bold",
+        color=C["ink"],
+    )
     fig.text(flow.left + 0.2, flow.y - flow.h(12), model, size=8.5, va="top", color=C["grey"])
     flow.y -= flow.h(26) * 1.35
 
@@ -82,7 +118,9 @@ def _margin(c) -> str:
     if at_limit(c):
         return f"{d:+.3g}: at limit"
     pct = 100.0 * d / abs(c.limit) if abs(c.limit) > 1e-9 and abs(c.limit) < 1e9 else math.inf
-    rel = f" ({pct:+.0f}%)" if abs(pct) < 1000.0 else ""  # against a limit near 0 (no cusp: 1e-6 mm) a ratio says nothing
+    rel = (
+        f" ({pct:+.0f}%)" if abs(pct) < 1000.0 else ""
+    )  # against a limit near 0 (no cusp: 1e-6 mm) a ratio says nothing
     return f"{d:+.3g}{rel}"
 
 
@@ -94,8 +132,25 @@ def _what(check_name: str, data: ReportData) -> str:
 
 def _checks_table(data: ReportData, flow: Flow) -> None:
     flow.heading("Checks")
-    cols = [(0.0, "check"), (0.165, "what"), (0.6, "value"), (0.625, ""), (0.74, "limit"), (0.78, "margin"), (1.0, "result")]
-    flow.row([(x, t, {"weight": "bold", "ha": "right" if t in ("value", "limit", "result") else "left", "color": C["grey"]}) for x, t in cols])
+    cols = [
+        (0.0, "check"),
+        (0.165, "what"),
+        (0.6, "value"),
+        (0.625, ""),
+        (0.74, "limit"),
+        (0.78, "margin"),
+        (1.0, "result"),
+    ]
+    flow.row(
+        [
+            (
+                x,
+                t,
+                {"weight": "bold", "ha": "right" if t in ("value", "limit", "result") else "left", "color": C["grey"]},
+            )
+            for x, t in cols
+        ]
+    )
     for c in data.check.checks:
         value = "unbounded" if c.value is None else f"{c.value:.4g}"
         ok_kw = {"color": C["ok"] if c.ok else C["fail"], "weight": "bold", "ha": "right"}
@@ -118,7 +173,10 @@ def _checks_table(data: ReportData, flow: Flow) -> None:
         what = f"largest Hertz pressure {contact.peak_pressure_MPa:.4g} MPa: not judged, no [limits] max_contact_stress"
     else:
         return
-    flow.row([(0.0, "contact_stress", {"family": "DejaVu Sans Mono", "size": 7.8}), (0.165, what, {"color": C["grey"]})], size=8.5)
+    flow.row(
+        [(0.0, "contact_stress", {"family": "DejaVu Sans Mono", "size": 7.8}), (0.165, what, {"color": C["grey"]})],
+        size=8.5,
+    )
 
 
 def key_results(data: ReportData) -> list[tuple[str, str]]:
@@ -135,18 +193,29 @@ def key_results(data: ReportData) -> list[tuple[str, str]]:
         ("least force, dynamic", least),
         ("least force, kinematic", f"{kin['min_contact_force_N']:.4g} N at {kin['min_contact_force_deg']:.1f}\u00b0"),
         ("jump speed, dynamic", f"{fmt(dyn['jump_speed_rpm'])} rpm"),
-        ("jump speed, rigid", f"{fmt(kin['jump_speed_rpm'])} rpm" + (f" (at {kin['jump_speed_at_deg']:.1f}\u00b0)" if kin["jump_speed_at_deg"] is not None else "")),
+        (
+            "jump speed, rigid",
+            f"{fmt(kin['jump_speed_rpm'])} rpm"
+            + (f" (at {kin['jump_speed_at_deg']:.1f}\u00b0)" if kin["jump_speed_at_deg"] is not None else ""),
+        ),
     ]
     flights, impacts = resp.flights, resp.impacts
     if flights:  # what the shading on the force plots is: spans of zero force, and the landings between them
         gap = max(f.max_gap for f in flights) * data.to_display
-        rows.append(("flights (force 0)", f"{len(flights)}, first at {min(f.leave_deg for f in flights):.1f}\u00b0; gap up to {gap:.3g} {data.unit}"))
+        rows.append(
+            (
+                "flights (force 0)",
+                f"{len(flights)}, first at {min(f.leave_deg for f in flights):.1f}\u00b0; gap up to {gap:.3g} {data.unit}",
+            )
+        )
         top = [i for i in impacts if math.isfinite(i.peak_force)]
         if top:
             big = max(top, key=lambda i: i.peak_force)
             rows.append(("impacts", f"{len(impacts)}, largest {big.peak_force:.4g} N at {big.peak_deg:.1f}\u00b0"))
         else:
-            rows.append(("impacts", f"{len(impacts)}" + (" (rigid: impulsive)" if impacts else ", never back on the cam")))
+            rows.append(
+                ("impacts", f"{len(impacts)}" + (" (rigid: impulsive)" if impacts else ", never back on the cam"))
+            )
     else:
         rows.append(("flights", "none: in contact all round"))
     rv = chk.response.residual_vibration * data.to_display
@@ -156,11 +225,27 @@ def key_results(data: ReportData) -> list[tuple[str, str]]:
         if square_face(geo):
             rows.append(("pressure angle", "0 all round (face square to its motion)"))
         else:
-            rows.append(("max pressure angle", f"{geo.max_pressure_angle_deg:.2f}\u00b0 at {geo.max_pressure_angle_at_deg:.1f}\u00b0"))
+            rows.append(
+                (
+                    "max pressure angle",
+                    f"{geo.max_pressure_angle_deg:.2f}\u00b0 at {geo.max_pressure_angle_at_deg:.1f}\u00b0",
+                )
+            )
         if geo.extremes.face_range_mm is not None:
             t_lo, t_hi = geo.extremes.face_range_mm
-            rows.append(("contact on the face", f"t = {t_lo:+.2f} to {t_hi:+.2f} mm (face centred at {geo.extremes.face_centre_mm:+.2f})"))
-        rows.append(("least radius of curvature", f"{geo.min_radius_of_curvature_mm:.4g} mm at {geo.min_radius_of_curvature_at_deg:.1f}\u00b0" + ("  (undercut)" if geo.undercut else "")))
+            rows.append(
+                (
+                    "contact on the face",
+                    f"t = {t_lo:+.2f} to {t_hi:+.2f} mm (face centred at {geo.extremes.face_centre_mm:+.2f})",
+                )
+            )
+        rows.append(
+            (
+                "least radius of curvature",
+                f"{geo.min_radius_of_curvature_mm:.4g} mm at {geo.min_radius_of_curvature_at_deg:.1f}\u00b0"
+                + ("  (undercut)" if geo.undercut else ""),
+            )
+        )
     if case.synthesis is not None:
         rows.append(("path error", f"{case.synthesis.summary['max_path_error_mm']:.3g} mm"))
     return rows
@@ -187,8 +272,10 @@ def decision_facts(data: ReportData) -> list[str]:
     out = []
     for c in chk.checks:
         if at_limit(c):
-            out.append(f"{c.name} at limit: {c.value:.6g} against {c.limit:g} {c.unit} (within {100 * AT_LIMIT_RTOL:g} %: "
-                       f"{'passes' if c.ok else 'fails'} by a rounding)")
+            out.append(
+                f"{c.name} at limit: {c.value:.6g} against {c.limit:g} {c.unit} (within {100 * AT_LIMIT_RTOL:g} %: "
+                f"{'passes' if c.ok else 'fails'} by a rounding)"
+            )
     resp = chk.response
     if resp.flights:
         out.append(f"the follower leaves the cam: {flight_summary(resp)}")
@@ -205,22 +292,28 @@ def decision_facts(data: ReportData) -> list[str]:
     elif tol is not None:
         lo, hi = tol.confidence_interval
         p1 = tol.percentiles(tol.jump_speed_rpm)["p1"]
-        out.append(f"tolerances: P(separation) at {tol.speed_rpm:g} rpm = {tol.probability:.3g} (95 % interval {lo:.3g} to {hi:.3g}, "
-                   f"{tol.samples} built cams); 1 % of the cams jump below {p1:.1f} rpm")
+        out.append(
+            f"tolerances: P(separation) at {tol.speed_rpm:g} rpm = {tol.probability:.3g} (95 % interval {lo:.3g} to {hi:.3g}, "
+            f"{tol.samples} built cams); 1 % of the cams jump below {p1:.1f} rpm"
+        )
     names = svaj_quantities(data.case.motion.unit)
     for order, what, cause in ((1, "velocity", "acceleration"), (2, "acceleration", "jerk")):
         js = [(d, j) for d, o, j in data.jumps if o == order]
         if js:
             listed = ", ".join(f"{j:+.3g} at {d:.1f}\u00b0" for d, j in js[:4]) + (", \u2026" if len(js) > 4 else "")
-            out.append(f"{what} jumps at {len(js)} boundar{'ies' if len(js) > 1 else 'y'} ({names[order][1]}): {listed}: infinite {cause}")
+            out.append(
+                f"{what} jumps at {len(js)} boundar{'ies' if len(js) > 1 else 'y'} ({names[order][1]}): {listed}: infinite {cause}"
+            )
     geo = chk.geometry
     if geo is not None and not geo.undercut:
         spans = concave_spans(geo)
         if spans:
             where = ", ".join(f"{a:.0f}\u2013{b:.0f}\u00b0" for a, b, _ in spans[:3])
             least = min(r for _, _, r in spans)
-            out.append(f"concave flank{'s' if len(spans) > 1 else ''} at cam angles {where}: least concave radius {least:.4g} mm "
-                       "(the grinding wheel or cutter must be smaller)")
+            out.append(
+                f"concave flank{'s' if len(spans) > 1 else ''} at cam angles {where}: least concave radius {least:.4g} mm "
+                "(the grinding wheel or cutter must be smaller)"
+            )
     return out
 
 
@@ -236,7 +329,9 @@ def concave_spans(geo) -> list[tuple[float, float, float]]:
     c = concave[idx].astype(np.int8)
     starts = np.flatnonzero(np.diff(np.concatenate([[0], c])) == 1)
     ends = np.flatnonzero(np.diff(np.concatenate([c, [0]])) == -1)
-    return sorted((float(th[idx[a]]), float(th[idx[b]]), float(rho[idx[a : b + 1]].min())) for a, b in zip(starts, ends))
+    return sorted(
+        (float(th[idx[a]]), float(th[idx[b]]), float(rho[idx[a : b + 1]].min())) for a, b in zip(starts, ends)
+    )
 
 
 def _facts(fig, data: ReportData, flow: Flow) -> None:
@@ -263,7 +358,11 @@ def _notes(fig, data: ReportData, flow: Flow) -> None:
     for k, (text, kind, colour) in enumerate(notes):
         lines = textwrap.wrap(text, 112)
         if budget - len(lines) < 1 and k < len(notes) - 1:
-            flow.para(f"\u2026 and {len(notes) - k} more: run camdyn check {case.source.name if case.source else ''}".rstrip(), size=7.8, color=C["grey"])
+            flow.para(
+                f"\u2026 and {len(notes) - k} more: run camdyn check {case.source.name if case.source else ''}".rstrip(),
+                size=7.8,
+                color=C["grey"],
+            )
             break
         fig.text(flow.left, flow.y, kind, size=7.8, va="top", color=colour, weight="bold")
         flow.para(text, size=7.8, width=112, indent=0.075, color=C["ink"])
@@ -327,16 +426,26 @@ def _fit_rows(case) -> list[tuple[str, str]]:
     file = case.spec.motion.table if case.motion_source == "table" else case.spec.follower.contour
     unit = fit["unit"]
     return [
-        ("file", str(file)), ("points", f"{fit['points']}"), ("max residual", f"{fmt(fit['max_residual'])} {unit}"),
-        ("rms residual", f"{fmt(fit['rms_residual'])} {unit}"), ("noise", f"{fmt(fit['noise'])} {unit}"),
+        ("file", str(file)),
+        ("points", f"{fit['points']}"),
+        ("max residual", f"{fmt(fit['max_residual'])} {unit}"),
+        ("rms residual", f"{fmt(fit['rms_residual'])} {unit}"),
+        ("noise", f"{fmt(fit['noise'])} {unit}"),
     ] + ([("repeats dropped", f"{fit['repeats_dropped']}")] if fit["repeats_dropped"] else [])
 
 
 def _mechanism_rows(data: ReportData) -> list[tuple[str, str]]:
     case = data.case
-    mech = [(k, f"{fmt(v)} {_geom_unit(k, v)}".strip()) for k, v in case.spec.mechanism.model_dump(exclude_unset=True).items()]
+    mech = [
+        (k, f"{fmt(v)} {_geom_unit(k, v)}".strip())
+        for k, v in case.spec.mechanism.model_dump(exclude_unset=True).items()
+    ]
     sm = case.synthesis.summary
-    mech += [("\u2192 crank", f"{sm['crank_mm']:.4g} mm"), ("\u2192 coupler", f"{sm['coupler_mm']:.4g} mm"), ("\u2192 base radius", f"{sm['base_radius_mm']:.4g} mm")]
+    mech += [
+        ("\u2192 crank", f"{sm['crank_mm']:.4g} mm"),
+        ("\u2192 coupler", f"{sm['coupler_mm']:.4g} mm"),
+        ("\u2192 base radius", f"{sm['base_radius_mm']:.4g} mm"),
+    ]
     if "stroke_mm" in sm:
         mech.append(("\u2192 stroke", f"{sm['stroke_mm']:.4g} mm"))
     if "swing_deg" in sm:
@@ -404,4 +513,3 @@ def _force_thumbnail(ax, data: ReportData) -> None:
     ax.set_ylabel("force (N)", fontsize=7)
     ax.tick_params(labelsize=6.5)
     legend_above_data(ax, fontsize=6.5, ncol=4)
-

@@ -19,7 +19,9 @@ def draw_svaj(fig, data: ReportData) -> None:
         gs = fig.add_gridspec(4, 1, left=LEFT, right=RIGHT, top=0.885, bottom=0.12, hspace=0.12)
         rows = [0, 1, 2, 3]
     else:
-        gs = fig.add_gridspec(5, 1, left=LEFT, right=RIGHT, top=0.885, bottom=0.12, hspace=0.3, height_ratios=[3, 1.4, 3, 3, 3])
+        gs = fig.add_gridspec(
+            5, 1, left=LEFT, right=RIGHT, top=0.885, bottom=0.12, hspace=0.3, height_ratios=[3, 1.4, 3, 3, 3]
+        )
         rows = [0, 2, 3, 4]
     axes = [fig.add_subplot(gs[rows[0]])]
     axes += [fig.add_subplot(gs[i], sharex=axes[0]) for i in rows[1:]]
@@ -63,18 +65,44 @@ def _mark_jumps(axes, data: ReportData) -> bool:
         what = "velocity" if order == 1 else "acceleration"
         text = f"{jump:+.3g}" if compact else f"{what} jumps {jump:+.3g} {names[order][1]}"
         height = (0.9, 0.76, 0.62)[k % 3] if compact else 0.86
-        ax.text(x_txt, y_lo + height * (y_hi - y_lo), text, size=7 if not compact else 6.5, color=C["limit"], ha="left" if deg < 300 else "right", va="center")
-        for ax_k in axes[order:order + 2]:
+        ax.text(
+            x_txt,
+            y_lo + height * (y_hi - y_lo),
+            text,
+            size=7 if not compact else 6.5,
+            color=C["limit"],
+            ha="left" if deg < 300 else "right",
+            va="center",
+        )
+        for ax_k in axes[order : order + 2]:
             for a in at:
                 ax_k.axvline(a, color=C["limit"], lw=1.1, alpha=0.5, zorder=0.7)
         if order + 1 < 4 and not compact:
             nxt = axes[order + 1]
             ny_lo, ny_hi = nxt.get_ylim()
-            nxt.text(x_txt, ny_lo + 0.68 * (ny_hi - ny_lo), f"infinite {'acceleration' if order == 1 else 'jerk'}", size=7, color=C["limit"], ha="left" if deg < 300 else "right", va="center")
+            nxt.text(
+                x_txt,
+                ny_lo + 0.68 * (ny_hi - ny_lo),
+                f"infinite {'acceleration' if order == 1 else 'jerk'}",
+                size=7,
+                color=C["limit"],
+                ha="left" if deg < 300 else "right",
+                va="center",
+            )
     if compact:
         for order in sorted({o for _, o, _ in jumps}):
             if order + 1 < 4:
-                axes[order + 1].text(0.995, 0.96, f"red lines: infinite {'acceleration' if order == 1 else 'jerk'}", transform=axes[order + 1].transAxes, size=7, color=C["limit"], ha="right", va="top", bbox=dict(fc="white", ec="none", alpha=0.85, pad=0.8))
+                axes[order + 1].text(
+                    0.995,
+                    0.96,
+                    f"red lines: infinite {'acceleration' if order == 1 else 'jerk'}",
+                    transform=axes[order + 1].transAxes,
+                    size=7,
+                    color=C["limit"],
+                    ha="right",
+                    va="top",
+                    bbox=dict(fc="white", ec="none", alpha=0.85, pad=0.8),
+                )
     return compact
 
 
@@ -100,10 +128,14 @@ def _note(fig, data: ReportData, compact: bool) -> None:
         j = data.case.fit.json()
         if data.case.contour is not None:
             c = data.case.contour.json()
-            note += (f" Red dots: the lift at exact contact with the outline fitted to the {c['points']} points of "
-                     f"{data.case.contour.file}; the curves are its fit ({j['method']}). The residual panel is the outline's (radial, against polar angle).")
+            note += (
+                f" Red dots: the lift at exact contact with the outline fitted to the {c['points']} points of "
+                f"{data.case.contour.file}; the curves are its fit ({j['method']}). The residual panel is the outline's (radial, against polar angle)."
+            )
         else:
             note += f" Red dots: the {data.case.fit.source}'s points; the curves are its fit ({j['method']})."
     if data.oscillating:
         note += " The swing is in degrees per radian of cam angle."
-    fig.text(0.06, 0.068, "\n".join(textwrap.wrap(note, 128)[:4]), size=7.3, color=C["grey"], va="top", linespacing=1.25)
+    fig.text(
+        0.06, 0.068, "\n".join(textwrap.wrap(note, 128)[:4]), size=7.3, color=C["grey"], va="top", linespacing=1.25
+    )
