@@ -50,7 +50,7 @@ UNITS = {
 IN_FACTS = (
     "velocity jumps by",
     "acceleration jumps by",
-    "the follower leaves the cam at",
+    "the follower leaves the cam ",  # at ..., or N times a revolution: the flights fact says it
 )  # warnings page 1 lists as facts
 NOTE_LINES = 14  # lines of warnings and advice before the rest is referred to `camdyn check`
 INPUT_ROWS = 26  # rows per column of key inputs
