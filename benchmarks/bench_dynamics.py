@@ -8,8 +8,8 @@ Prints one aligned table:
   equations): compile + first run, then the run alone (best of 5);
 * a scipy loop: ``solve_ivp`` revolution after revolution from the quasi-static start until the state repeats,
   same equations in the cam angle, restarted at the segment boundaries: RK45 at rtol 1e-6 (its least interface
-  force agrees with camdyn's to 0.01 N) and DOP853 at camdyn's own rtol 1e-9; the motion is the lecture's closed form written out as scalar
-  ``math`` (the fastest right-hand side a scipy user would write, which favours scipy);
+  force agrees with camdyn's to 0.01 N) and DOP853 at camdyn's own rtol 1e-9; the motion is the lecture's closed form
+  written out as scalar ``math`` (the fastest right-hand side a scipy user would write, which favours scipy);
 * the dynamic jump speed (frequency-domain scan + bisection) after compilation;
 * ``camdyn check cases/lecture.toml`` as fresh processes: cold (CAMDYN_NO_CACHE=1) and warm (persistent XLA cache
   in a private temporary directory, filled by one earlier run), each as the plain command and as an instrumented
@@ -109,7 +109,8 @@ def scipy_point(p: dict, omega: float, rtol=1e-6, atol=1e-8, method="RK45", tol=
 
 
 def scipy_steady(model, omega, rtol, atol, method="DOP853", tol=1e-6, max_revs=200):
-    """Revolution-to-revolution solve_ivp loop until |z(2 pi) - z(0)| < tol (mm, mm/rad): (least force N, revolutions)."""
+    """Revolution-to-revolution solve_ivp loop until |z(2 pi) - z(0)| < tol (mm, mm/rad): (least force N,
+    revolutions)."""
     names = {
         "m": "mass",
         "k": "stiffness",
@@ -179,7 +180,8 @@ def check_latency_rows(repeat: int = 3) -> list[tuple[str, str, str]]:
                 (
                     f"camdyn check ({label}), fresh process",
                     f"{wall:.2f} s",
-                    f"import {br['import']:.2f} s + trace/compile {comp:.2f} s + run {br['second']:.2f} s (exit {br['rc']}); best of {repeat}",
+                    f"import {br['import']:.2f} s + trace/compile {comp:.2f} s + run {br['second']:.2f} s (exit "
+                    f"{br['rc']}); best of {repeat}",
                 )
             )
     finally:
@@ -222,13 +224,16 @@ def main() -> int:
     # (b) scipy loop: the loosest tolerance whose least force agrees to 0.01 N, and camdyn's own tolerance
     matched = None
     for method, rtol, atol in (("RK45", 1e-6, 1e-8), ("DOP853", 1e-9, 1e-10)):
-        t_sp, (f_sp, revs) = timed(lambda: scipy_steady(model, omega, rtol, atol, method), repeat=2)
+        t_sp, (f_sp, revs) = timed(
+            lambda method=method, rtol=rtol, atol=atol: scipy_steady(model, omega, rtol, atol, method), repeat=2
+        )
         ok = abs(f_sp - f_dx) < 0.01
         rows.append(
             (
                 f"solve_ivp loop {method} rtol {rtol:.0e}",
                 f"{t_sp:.2f} s",
-                f"least force {f_sp:.4f} N ({f_sp - f_dx:+.1e}), {revs} revs, ratio {t_sp / t_run:.1f}x{'' if ok else '  (not matched)'}",
+                f"least force {f_sp:.4f} N ({f_sp - f_dx:+.1e}), {revs} revs, ratio "
+                f"{t_sp / t_run:.1f}x{'' if ok else '  (not matched)'}",
             )
         )
         if ok and matched is None:
@@ -256,7 +261,8 @@ def main() -> int:
     rows += check_latency_rows()
 
     print_table(
-        f"camdyn dynamics benchmark: {CASE.name} at {case.speed_rpm:g} rpm, compliant model, {N}-point grid, {os.cpu_count()} cores",
+        f"camdyn dynamics benchmark: {CASE.name} at {case.speed_rpm:g} rpm, compliant model, {N}-point grid, "
+        f"{os.cpu_count()} cores",
         rows,
         t_all,
     )

@@ -55,7 +55,9 @@ def main() -> int:
     lift = np.asarray(lecture.motion._eval(np, np.deg2rad(theta)))[0]
     noisy = lift + 1e-3 * np.random.default_rng(0).standard_normal(theta.size)
     for name, values, fmt in (("table.csv", lift, ".4f"), ("noisy.csv", noisy, ".6f")):
-        (tmp / name).write_text("theta_deg,lift_mm\n" + "".join(f"{t:g},{v:{fmt}}\n" for t, v in zip(theta, values)))
+        (tmp / name).write_text(
+            "theta_deg,lift_mm\n" + "".join(f"{t:g},{v:{fmt}}\n" for t, v in zip(theta, values, strict=True))
+        )
 
     xy = analyze(lecture.motion, lecture.follower).contour_fn()(np.linspace(0.0, 1.0, 2000, endpoint=False))
     (tmp / "cam.csv").write_text("x_mm,y_mm\n" + "".join(f"{x:.6f},{y:.6f}\n" for x, y in xy.T))
@@ -84,7 +86,10 @@ def main() -> int:
         fn()  # warm-up: imports, caches
         best, out = timed(fn, opts.repeat)
         if hasattr(out, "spline"):
-            note = f"{out.spline.coef.shape[0]} knots, {out.spline.criterion}, max residual {out.spline.max_residual:.2g} mm"
+            note = (
+                f"{out.spline.coef.shape[0]} knots, {out.spline.criterion}, max residual "
+                f"{out.spline.max_residual:.2g} mm"
+            )
         else:
             note = f"base radius {out.follower.base_radius:.6f} mm, {len(out.theta_deg)} contact samples"
         rows.append((label, f"{best * 1000:.0f} ms", note))

@@ -98,7 +98,8 @@ def main() -> int:
             (
                 "camdyn jump map, diffrax for separated pts: run",
                 f"{t_dx:.2f} s",
-                f"compile ~{t_dx1 - t_dx:.2f} s; gap vs exact stepping: median |diff| {np.median(dg):.1e} mm (chaotic bounces differ)",
+                f"compile ~{t_dx1 - t_dx:.2f} s; gap vs exact stepping: median |diff| {np.median(dg):.1e} mm (chaotic "
+                "bounces differ)",
             )
         )
 
@@ -135,7 +136,8 @@ def main() -> int:
         (
             f"solve_ivp loop RK45 rtol 1e-6, {n_s} sampled points",
             f"{sum(map(sum, t_by_class.values())):.2f} s",
-            f"{mean[False] * 1e3:.0f} ms/point in contact ({len(t_by_class[False])}), {mean[True] * 1e3:.0f} ms/point separated ({len(t_by_class[True])})",
+            f"{mean[False] * 1e3:.0f} ms/point in contact ({len(t_by_class[False])}), {mean[True] * 1e3:.0f} ms/point "
+            f"separated ({len(t_by_class[True])})",
         )
     )
     rows.append(
@@ -180,7 +182,8 @@ def main() -> int:
 
     load = ", ".join(f"{x:.1f}" for x in os.getloadavg()) if hasattr(os, "getloadavg") else "n/a"
     print_table(
-        f"camdyn sweep benchmark: {CASE.name}, compliant model; devices {jax.devices()}; {os.cpu_count()} cores, load average {load}",
+        f"camdyn sweep benchmark: {CASE.name}, compliant model; devices {jax.devices()}; {os.cpu_count()} cores, load "
+        f"average {load}",
         rows,
         t_all,
     )

@@ -112,7 +112,8 @@ def main() -> int:
         ),
     }
     print(
-        f"camdyn tolerance benchmark: {opts.samples} samples of {Path(opts.case).name}; {os.cpu_count()} CPUs, load average {os.getloadavg()[0]:.2f}"
+        f"camdyn tolerance benchmark: {opts.samples} samples of {Path(opts.case).name}; {os.cpu_count()} CPUs, load "
+        f"average {os.getloadavg()[0]:.2f}"
     )
     print(
         f"{'configuration':<28} {'platform':>8} {'compile s':>10} {'run s':>8} {'samples/s':>10} {'P(separation)':>14}"
@@ -121,7 +122,8 @@ def main() -> int:
         name, env, procs = configs[key]
         r = _run(env, args, procs)
         print(
-            f"{name:<28} {r['platform']:>8} {r['compile_s']:>10.1f} {r['run_s']:>8.1f} {r['samples_per_s']:>10.0f} {r['probability']:>14.4g}"
+            f"{name:<28} {r['platform']:>8} {r['compile_s']:>10.1f} {r['run_s']:>8.1f} {r['samples_per_s']:>10.0f} "
+            f"{r['probability']:>14.4g}"
         )
     return 0
 

@@ -12,12 +12,14 @@ from pathlib import Path
 
 import numpy as np
 
-import camdyn  # noqa: E402
+import camdyn
 
 camdyn.enable_x64()
-from camdyn.model.geometry import analyze
-from camdyn.model.motion import Program
-from camdyn.schema import FollowerSpec
+from camdyn.model.geometry import analyze  # noqa: E402  (after enable_x64: float64 before camdyn's JAX code loads)
+from camdyn.model.motion import Program  # noqa: E402  (after enable_x64)
+from camdyn.schema import FollowerSpec  # noqa: E402  (after enable_x64)
+
+OUT = Path(__file__).with_name("measured-cam.csv")
 
 SEGMENTS = [
     {"law": "dwell", "end": 40},
@@ -30,7 +32,7 @@ FOLLOWER = FollowerSpec(type="translating-roller", base_radius=50, roller_radius
 POINTS, NOISE_MM, SEED = 1500, 0.002, 2024
 
 
-def main(path: Path = Path(__file__).with_name("measured-cam.csv")) -> None:
+def main(path: Path = OUT) -> None:
     geo = analyze(Program.from_segments(SEGMENTS), FOLLOWER)
     u = np.linspace(0.0, 1.0, 20001)
     xy = geo.contour_fn()(u)  # (2, m), closed: the last point is the first

@@ -17,10 +17,12 @@ from pathlib import Path
 
 import numpy as np
 
-import camdyn  # noqa: E402
+import camdyn
 
 camdyn.enable_x64()
-from camdyn.model.motion import Program
+from camdyn.model.motion import Program  # noqa: E402  (after enable_x64: float64 before camdyn's JAX code loads)
+
+OUT = Path(__file__).with_name("valve-lift.csv")
 
 RAMP, V_OPEN, V_CLOSE, NOSE_ACC = 0.25, 0.55, 0.55, -14.0
 SEGMENTS = [
@@ -33,14 +35,14 @@ SEGMENTS = [
 ]
 
 
-def main(path: Path = Path(__file__).with_name("valve-lift.csv")) -> None:
+def main(path: Path = OUT) -> None:
     program = Program.from_segments(SEGMENTS)
     problems = program.continuity_warnings() + program.polynomial_warnings()
     if problems:
         raise SystemExit("; ".join(problems))
     theta = np.arange(360.0)
     lift = np.asarray(program._eval(np, np.deg2rad(theta)))[0]
-    rows = "".join(f"{t:g},{s:.3f}\n" for t, s in zip(theta, np.round(lift, 3) + 0.0))
+    rows = "".join(f"{t:g},{s:.3f}\n" for t, s in zip(theta, np.round(lift, 3) + 0.0, strict=True))
     path.write_text("theta_deg,lift_mm\n" + rows)
     print(f"wrote {path}: peak {lift.max():.3f} mm at {theta[lift.argmax()]:g} deg")
 

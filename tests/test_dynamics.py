@@ -151,7 +151,7 @@ def scipy_revolutions(model, omega, z0, revs=1, n=N, rtol=1e-11, atol=1e-12):
     y = np.array([z0[0] * 1e-3, z0[1] * 1e-3 * omega])
     xs, ps = np.empty((revs, n)), np.empty((revs, n))
     for r in range(revs):
-        for a, b in zip(BREAKS[:-1], BREAKS[1:]):
+        for a, b in zip(BREAKS[:-1], BREAKS[1:], strict=True):
             sel = (theta >= a) & (theta < b)
             t_a, t_b = (a + 2 * math.pi * r) / omega, (b + 2 * math.pi * r) / omega
             sol = solve_ivp(rhs, (t_a, t_b), y, method="DOP853", rtol=rtol, atol=atol, dense_output=True)
@@ -522,11 +522,11 @@ def test_dynamic_jump_speed_vs_bisection(lecture):
 def test_residual_vibration(lecture, lecture_300, scipy_300):
     """Residual vibration in the dwells of the lecture case at 300 rpm.
 
-    camdyn reports max |x - x_static| over the dwells, x_static = (k_f s - F0 - F_ext)/(k + k_f). The harmonic return ends at 360 deg with
-    an acceleration step of 22.5 mm/rad^2 into the 0-90 deg dwell, a step of m w^2 da in the kinematic force: x_qs
-    jumps by that / k_f while x cannot, so the follower starts the dwell that far from equilibrium and rings down
-    from there. The largest deviation is that initial one, whatever the damping; more train damping makes the
-    ringing die out faster, which is what the deviation later in the dwell shows.
+    camdyn reports max |x - x_static| over the dwells, x_static = (k_f s - F0 - F_ext)/(k + k_f). The harmonic return
+    ends at 360 deg with an acceleration step of 22.5 mm/rad^2 into the 0-90 deg dwell, a step of m w^2 da in the
+    kinematic force: x_qs jumps by that / k_f while x cannot, so the follower starts the dwell that far from
+    equilibrium and rings down from there. The largest deviation is that initial one, whatever the damping; more
+    train damping makes the ringing die out faster, which is what the deviation later in the dwell shows.
     """
     motion, model = lecture
     omega = 300 * RPM

@@ -51,7 +51,7 @@ def test_banded_solve_and_log_determinant_match_dense_algebra():
     x = np.sort(np.random.default_rng(2).uniform(0, 2 * np.pi, 500))
     prob = _Problem(x, smooth(x)[0], 400)
     dense_p = np.zeros((400, 400))
-    for d, v in zip(range(-5, 6), penalty_stencil()):
+    for d, v in zip(range(-5, 6), penalty_stencil(), strict=True):
         dense_p[np.arange(400), (np.arange(400) + d) % 400] = v
     a = (prob.B.T @ prob.B).toarray() + prob.scale * 10.0 * dense_p
     c, _, _, logdet = prob.solve(1.0)
@@ -158,7 +158,7 @@ def test_noise_that_swamps_the_acceleration_is_warned(tmp_path):
     clean = 5 * (1 - np.cos(np.deg2rad(theta)))
     noisy = clean + 0.05 * np.random.default_rng(0).standard_normal(theta.size)
     for lift, warned in ((clean, False), (noisy + 0.2, True)):
-        rows = ["theta_deg,lift_mm"] + [f"{t:g},{v:.5f}" for t, v in zip(theta, lift)]
+        rows = ["theta_deg,lift_mm"] + [f"{t:g},{v:.5f}" for t, v in zip(theta, lift, strict=True)]
         case = load_case(_table_case(tmp_path, rows))
         text = " ".join(case.warnings)
         assert ("leaves the fitted acceleration uncertain" in text) is warned, text
@@ -181,7 +181,7 @@ def _sampled(tmp_path, step: float, noise: float) -> dict:
     theta = np.arange(0.0, 360.0, step)
     lift = np.asarray(case.motion.host(np.deg2rad(theta)))[0]
     lift = lift + noise * np.random.default_rng(7).standard_normal(theta.size)
-    rows = ["theta_deg,lift_mm"] + [f"{t:g},{v:.4f}" for t, v in zip(theta, lift)]
+    rows = ["theta_deg,lift_mm"] + [f"{t:g},{v:.4f}" for t, v in zip(theta, lift, strict=True)]
     return run_check(load_case(_table_case(tmp_path, rows))).json()
 
 

@@ -21,6 +21,7 @@ from camdyn import InputError, Motion, Program
 from camdyn._core.units import CUSP_MM
 from camdyn.design.geometry import judge_geometry, min_base_radius
 from camdyn.model.geometry import analyze, lever_arm_mm
+from camdyn.model.motion import evaluate
 from camdyn.schema import FollowerSpec, parse
 
 
@@ -30,8 +31,6 @@ def judged(motion, fol, **limits):
     checks, warnings, advice = judge_geometry(geo, motion, **limits)
     return geo, {c.name: c for c in checks}, warnings, advice
 
-
-from camdyn.model.motion import evaluate
 
 LECTURE_SEGMENTS = [
     {"law": "dwell", "end": 90},
@@ -151,9 +150,12 @@ def test_fourth_column_is_least_base_radius_for_a_flat_face(lecture, lecture_col
     # its largest tabulated value is 3.147 cm at 160 deg, which the lecture rounds up to r_b = 3.2 cm; between the
     # 10-degree rows it peaks higher, at 156.5 deg (closed-form cycloid, maximised independently):
     L, beta = 2.0, math.pi / 2
-    g = lambda x: (
-        -(L * (x - math.sin(2 * math.pi * x) / (2 * math.pi)) + 2 * math.pi * L / beta**2 * math.sin(2 * math.pi * x))
-    )  # noqa: E731
+
+    def g(x):
+        return -(
+            L * (x - math.sin(2 * math.pi * x) / (2 * math.pi)) + 2 * math.pi * L / beta**2 * math.sin(2 * math.pi * x)
+        )
+
     peak = minimize_scalar(lambda x: -g(x), bounds=(0.5, 1.0), method="bounded", options={"xatol": 1e-12})
     assert 90 + 90 * peak.x == pytest.approx(156.5, abs=0.1)
     assert g(peak.x) == pytest.approx(3.2852, abs=1e-4) and g(peak.x) > 3.2

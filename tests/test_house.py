@@ -114,7 +114,8 @@ def test_a_typo_is_reported_before_jax_loads(tmp_path):
     case = tmp_path / "typo.toml"
     case.write_text((ROOT / "cases" / "lecture.toml").read_text().replace("mass = 0.5", "mas = 0.5"))
     proc = _fresh(
-        f"import sys\nfrom camdyn.cli import main\ncode = main(['check', {str(case)!r}])\nprint(code, 'jax' in sys.modules)"
+        f"import sys\nfrom camdyn.cli import main\ncode = main(['check', {str(case)!r}])\n"
+        "print(code, 'jax' in sys.modules)"
     )
     assert proc.stdout.strip().splitlines()[-1] == "2 False"
     assert "dynamics.mas: unknown key (did you mean 'mass'?)" in proc.stderr

@@ -74,9 +74,10 @@ def test_rrr_velocity_matches_ye_smith_explicit_formulas_and_acceleration_fd():
     assert float(k["theta_pm"][1]) == pytest.approx(w_ab, rel=1e-12)
     assert float(k["theta_qm"][1]) == pytest.approx(w_cb, rel=1e-12)
     h = 1e-5
-    at = lambda tau: np.asarray(
-        rrr(p[0] + p[1] * tau + p[2] * tau**2 / 2, q[0] + q[1] * tau + q[2] * tau**2 / 2, lp, lq, 1)
-    )  # noqa: E731
+
+    def at(tau):
+        return np.asarray(rrr(p[0] + p[1] * tau + p[2] * tau**2 / 2, q[0] + q[1] * tau + q[2] * tau**2 / 2, lp, lq, 1))
+
     fd2 = (at(h) - 2 * at(0.0) + at(-h)) / h**2
     assert np.allclose(np.asarray(k["M"][2]), fd2, atol=1e-5)
 
@@ -87,9 +88,11 @@ def test_rrp_kinematics_against_finite_differences():
     k = rrp_kinematics(c, origin, direction, 6.0, 1)
     assert float(k["p"][0]) == pytest.approx(3.0 + math.sqrt(36 - 16))
     h = 1e-5
-    pos = lambda tau: float(
-        rrp_kinematics(np.array([c[0] + c[1] * tau + c[2] * tau**2 / 2, c[1], c[2]]), origin, direction, 6.0, 1)["p"][0]
-    )  # noqa: E731
+
+    def pos(tau):
+        moved = np.array([c[0] + c[1] * tau + c[2] * tau**2 / 2, c[1], c[2]])
+        return float(rrp_kinematics(moved, origin, direction, 6.0, 1)["p"][0])
+
     assert float(k["p"][1]) == pytest.approx((pos(h) - pos(-h)) / (2 * h), rel=1e-8)
     assert float(k["p"][2]) == pytest.approx((pos(h) - 2 * pos(0) + pos(-h)) / h**2, rel=1e-4)
 
@@ -128,9 +131,11 @@ def test_ye_smith_section_8(racetrack):
     xe, ye = (float(v) for v in p800["E"])
     xe1, ye1 = xe * c + ye * s, -xe * s + ye * c
     assert (xe1, ye1) == pytest.approx((-106.974, -29.745), abs=1e-3)
-    e1 = lambda u: (
-        lambda th, e: jnp.stack([e[0] * jnp.cos(th) + e[1] * jnp.sin(th), -e[0] * jnp.sin(th) + e[1] * jnp.cos(th)])
-    )(m.cam_angle(u), chain.points(u)["E"])  # noqa: E731
+
+    def e1(u):  # E in the cam frame
+        th, e = m.cam_angle(u), chain.points(u)["E"]
+        return jnp.stack([e[0] * jnp.cos(th) + e[1] * jnp.sin(th), -e[0] * jnp.sin(th) + e[1] * jnp.cos(th)])
+
     v = np.asarray(jax.jit(lambda u: jax.jvp(e1, (u,), (jnp.ones_like(u),))[1])(jnp.asarray(0.2)))
     v = v / np.linalg.norm(v)
     xt1, yt1 = xe1 + 20 * v[1], ye1 - 20 * v[0]
@@ -148,7 +153,7 @@ def test_ye_smith_section_8(racetrack):
 @pytest.mark.slow
 def test_follower_spec_reproduces_the_pitch_curve(racetrack):
     """The FollowerSpec and phi(theta) in the shared geometry convention give back the roller centre E."""
-    f, m = racetrack.follower, racetrack.motion
+    f = racetrack.follower
     th = np.deg2rad(np.arange(0.0, 360.0, 7.0))
     phi = evaluate(racetrack, th)[0]
     assert (

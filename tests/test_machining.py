@@ -235,7 +235,8 @@ def test_grinder_wheel_touches_the_turned_cam_and_cuts_nowhere(capsys, tmp_path,
     outline = _dense_outline(geo, 100_000)
     sigma = case.follower.sigma
     np.testing.assert_allclose(d, _wheel_reach(outline, theta, rw, sigma), atol=1e-5)
-    for th, di in zip(np.deg2rad(theta[::5]), d[::5]):  # the wheel centre, in the cam frame: Rw from the outline
+    # the wheel centre, in the cam frame: Rw from the outline
+    for th, di in zip(np.deg2rad(theta[::5]), d[::5], strict=True):
         centre = di * np.array([math.sin(sigma * th), math.cos(sigma * th)])
         gap = np.min(np.hypot(*(outline - centre).T))
         assert rw - 1e-6 <= gap <= rw + 1e-4  # touches, never enters (the dense sample's spacing is ~0.005 mm)
@@ -331,7 +332,10 @@ def test_ecam_equals_the_tables_columns_per_master_degree(capsys, tmp_path, name
     code, out, err = run(capsys, "table", CASES / name, "--step", 1)
     assert code == 0, err
     rows = list(csv.DictReader(out.splitlines()))
-    col = lambda k: np.array([float(r[k]) for r in rows])
+
+    def col(k):
+        return np.array([float(r[k]) for r in rows])
+
     np.testing.assert_allclose(col("theta_deg"), m)
     per_deg = math.pi / 180
     if "s_mm" in rows[0]:

@@ -178,7 +178,7 @@ def test_its_table_columns_are_derivatives_of_each_other(capsys):
     away = (
         np.min(np.abs(deg[:, None] - np.array([0.0, 90.0, 180.0, 240.0, 360.0])), axis=1) > 0.2
     )  # the jerk steps at the ends
-    for lo, hi in zip(cols, cols[1:]):
+    for lo, hi in zip(cols, cols[1:], strict=False):
         fd = np.gradient(lo, th)
         assert np.max(np.abs(fd - hi)[away]) < 2e-3 * np.max(np.abs(hi))
 

@@ -47,7 +47,10 @@ def test_spring_for_the_lecture_case(capsys):
 
 
 def test_spring_within_a_table(capsys, tmp_path):
-    extra = '[spring]\nmaterial = "chrome-silicon"\noutside_diameter_max = 25\ninstalled_length = 60\nend_type = "squared"\n'
+    extra = (
+        '[spring]\nmaterial = "chrome-silicon"\noutside_diameter_max = 25\ninstalled_length = 60\n'
+        'end_type = "squared"\n'
+    )
     code, out, _ = run(capsys, "spring", case_file(tmp_path, LECTURE, extra), "--json")
     s = json.loads(out)["spring"]
     assert code == 0 and s["material"] == "chrome-silicon" and s["end_type"] == "squared"

@@ -43,7 +43,8 @@ from camdyn.report.pages.summary import key_results
 
 ROOT = Path(__file__).resolve().parents[1]
 LECTURE = ROOT / "cases" / "lecture.toml"
-# slow: a test that takes a reviewed case (JAX compiles the dynamics, the sizing and the jump map) or runs the CLI to the end
+# slow: a test that takes a reviewed case (JAX compiles the dynamics, the sizing and the jump map) or runs the CLI to
+# the end
 
 
 # ------------------------------------------------------------------------------------------------ fixtures
@@ -307,8 +308,8 @@ def test_flat_face_shows_the_contact_travel_not_a_zero_pressure_angle(flat_revie
     assert t_lo == pytest.approx(-10.0 * 1.5 - 5.0, rel=1e-9) and th_lo == pytest.approx(300.0)
     text = drawn_pages(flat_review)
     assert (
-        "contact on the face from t = -20.0 mm (\u03b8 = 300.0\u00b0) to +20.5 mm (\u03b8 = 135.0\u00b0): travel 40.46 of face_width 60 mm"
-        in text["cam"]
+        "contact on the face from t = -20.0 mm (\u03b8 = 300.0\u00b0) to +20.5 mm (\u03b8 = 135.0\u00b0): travel "
+        "40.46 of face_width 60 mm" in text["cam"]
     )
     assert "pressure angle 0 all round" in text["cam"] and "t from the axis (mm)" in text["cam"]
     assert "max pressure angle" not in text["cam"] + text["summary"] and "follower motion" not in text["cam"]

@@ -131,7 +131,7 @@ def test_lecture_fast_page_one_counts_the_flights_and_impacts_of_the_plot(fast_r
     assert len(resp.separations) == 2 and len(doc["separations"]) == 2  # the contract's separations stay
     assert len(resp.flights) == len(doc["flights"]) == 8 and len(resp.impacts) == len(doc["impacts"]) == 8
     assert doc["max_impact_force_N"] == pytest.approx(resp.max_impact_force) == pytest.approx(544.0, rel=0.02)
-    for fl, js in zip(resp.flights, doc["flights"]):
+    for fl, js in zip(resp.flights, doc["flights"], strict=True):
         assert (js["leave_deg"], js["land_deg"]) == (fl.leave_deg, fl.land_deg)
         inside = np.isin(
             np.round(resp.theta_deg, 6),
@@ -145,8 +145,8 @@ def test_lecture_fast_page_one_counts_the_flights_and_impacts_of_the_plot(fast_r
     rows = dict(key_results(ReportData(fast_review)))
     assert rows["flights (force 0)"].startswith("8, first at 24.8\u00b0")
     assert (
-        rows["impacts"]
-        == f"8, largest {resp.max_impact_force:.4g} N at {max(resp.impacts, key=lambda i: i.peak_force).peak_deg:.1f}\u00b0"
+        rows["impacts"] == f"8, largest {resp.max_impact_force:.4g} N at "
+        f"{max(resp.impacts, key=lambda i: i.peak_force).peak_deg:.1f}\u00b0"
     )
     facts = decision_facts(ReportData(fast_review))
     assert any(

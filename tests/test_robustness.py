@@ -136,7 +136,7 @@ def test_table_speed_and_dynamic_columns(capsys):
     code, out, _ = run(capsys, "table", LECTURE, "--step", 30, "--speed", 200)
     header = out.splitlines()[0].split(",")
     assert code == 0 and {"dynamic_x_mm", "dynamic_contact_force_N", "contact_force_N"} <= set(header)
-    rows = [dict(zip(header, map(float, line.split(",")))) for line in out.splitlines()[1:]]
+    rows = [dict(zip(header, map(float, line.split(",")), strict=True)) for line in out.splitlines()[1:]]
     # every 30 deg lies on the dynamics' 0.1 deg grid: the columns are the steady state itself there
     case = load_case(LECTURE)
     resp = response(case.motion, case.model, 200 * RPM)

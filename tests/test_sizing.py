@@ -131,9 +131,9 @@ def test_lp_and_sqrt_k_minimization_vs_brute_force(damping):
     raw["limits"] = {"min_contact_force": 10.0, "speed_margin": 1.25}
     sz = size_spring(case_from_dict(raw))
     least_preload = brute_force(raw)
-    damping_at = lambda k: damping.get(
-        "damping", 2 * damping.get("damping_ratio", 0.0) * math.sqrt(k * raw["dynamics"]["mass"])
-    )  # noqa: E731
+
+    def damping_at(k):
+        return damping.get("damping", 2 * damping.get("damping_ratio", 0.0) * math.sqrt(k * raw["dynamics"]["mass"]))
 
     def peak(k):  # N/m -> the least peak spring force (N) at that rate
         f0, s_max = least_preload(k, damping_at(k))

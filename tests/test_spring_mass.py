@@ -63,7 +63,10 @@ def _continuum_jump_rpm(case, spring_mass_kg: float, lo_rpm: float, hi_rpm: floa
     m, n = case.model, 4096
     s = np.asarray(evaluate(case.motion, np.arange(n) * (2 * math.pi / n)))[0] * m.scale
     args = [float(v) for v in (m.mass, m.stiffness, m.damping, m.train_stiffness, m.train_damping, m.preload)]
-    f = lambda w: _continuum_min_force(s, *args, spring_mass_kg, 0.02, w)
+
+    def f(w):
+        return _continuum_min_force(s, *args, spring_mass_kg, 0.02, w)
+
     ws = np.linspace(lo_rpm, hi_rpm, 201) * RPM
     i = int(np.nonzero(np.array([f(w) for w in ws]) <= 0.0)[0][0])
     return brentq(f, ws[i - 1], ws[i], xtol=1e-9) / RPM

@@ -97,7 +97,7 @@ def _noisy_table_case(tmp_path: Path, seed: int) -> tuple:
     lift = np.asarray(Program.from_segments(raw["motion"]["segments"])._eval(np, np.deg2rad(theta)))[0]
     lift = lift + 1e-3 * np.random.default_rng(seed).standard_normal(theta.size)
     (tmp_path / "noisy.csv").write_text(
-        "theta_deg,lift_mm\n" + "".join(f"{t:g},{v:.4f}\n" for t, v in zip(theta, lift))
+        "theta_deg,lift_mm\n" + "".join(f"{t:g},{v:.4f}\n" for t, v in zip(theta, lift, strict=True))
     )
     raw["motion"] = {"table": "noisy.csv"}
     return exact, case_from_dict(raw, source=tmp_path / "case.toml")
@@ -124,7 +124,7 @@ def test_a_clean_table_gets_no_force_warning(tmp_path):
     theta = np.arange(0.0, 360.0, 0.5)
     lift = np.asarray(exact.motion._eval(np, np.deg2rad(theta)))[0]
     (tmp_path / "noisy.csv").write_text(
-        "theta_deg,lift_mm\n" + "".join(f"{t:g},{v:.9f}\n" for t, v in zip(theta, lift))
+        "theta_deg,lift_mm\n" + "".join(f"{t:g},{v:.9f}\n" for t, v in zip(theta, lift, strict=True))
     )
     table = load_case(_table_case(tmp_path, "noisy.csv"))
     bound = least_force_uncertainty(table, 300.0 * RPM)

@@ -71,7 +71,10 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument(
         "--arrays",
         action="store_true",
-        help="with --json: also the synthesis' coordinate arrays of a path case (pitch curve, contour, path, traced path)",
+        help=(
+            "with --json: also the synthesis' coordinate arrays of a path case "
+            "(pitch curve, contour, path, traced path)"
+        ),
     )
     p.add_argument(
         "--report", metavar="DIR", help="also write the design-review report (DIR/<case>.pdf and a PNG per page)"
@@ -100,12 +103,16 @@ def build_parser() -> argparse.ArgumentParser:
         "--ecam",
         type=int,
         metavar="N",
-        help="a servo e-cam table instead: N evenly spaced master angles, master_deg,position,velocity,acceleration (per master degree)",
+        help=(
+            "a servo e-cam table instead: N evenly spaced master angles, "
+            "master_deg,position,velocity,acceleration (per master degree)"
+        ),
     )
 
     p = command(
         "profile",
-        "the cam for manufacturing by the file suffix: outline (DXF, CSV, SVG), cutter path (.nc), grinder table (.csv), solid (STEP, STL)",
+        "the cam for manufacturing by the file suffix: outline (DXF, CSV, SVG), cutter path (.nc), grinder table "
+        "(.csv), solid (STEP, STL)",
     )
     p.add_argument("case", help="case file (TOML)")
     p.add_argument(
@@ -116,7 +123,10 @@ def build_parser() -> argparse.ArgumentParser:
         type=float,
         default=DEFAULT_PROFILE_TOLERANCE_MM,
         metavar="MM",
-        help=f"chord tolerance, mm (default {DEFAULT_PROFILE_TOLERANCE_MM:g}, at least 1e-6; a cutter path at least 0.001)",
+        help=(
+            f"chord tolerance, mm (default {DEFAULT_PROFILE_TOLERANCE_MM:g}, at least 1e-6; "
+            "a cutter path at least 0.001)"
+        ),
     )
     p.add_argument(
         "--units",
@@ -181,8 +191,8 @@ def build_parser() -> argparse.ArgumentParser:
         "--buildable",
         action="store_true",
         help=(
-            "the least peak force over springs that can be built within [spring] (surge clear of the cam's strong harmonics), "
-            "with the part's own mass; passes check as written"
+            "the least peak force over springs that can be built within [spring] (surge clear of the cam's strong "
+            "harmonics), with the part's own mass; passes check as written"
         ),
     )
     p.add_argument(
@@ -196,7 +206,10 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument(
         "--spring-rates",
         metavar="A:B:N",
-        help="spring rates, N/mm (N*m/rad oscillating): N values from A to B (default: the case's); the preload stays the case's",
+        help=(
+            "spring rates, N/mm (N*m/rad oscillating): N values from A to B (default: the case's); "
+            "the preload stays the case's"
+        ),
     )
     p.add_argument("-o", "--output", default=".", metavar="DIR", help="output folder (default: the current one)")
     p.add_argument("--force", action="store_true", help="overwrite the files if they exist")
@@ -204,7 +217,8 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = command(
         "tolerance",
-        "Monte Carlo tolerance study of [tolerances]: DIR/<case>-tolerance.csv, .png and the worst samples as case files",
+        "Monte Carlo tolerance study of [tolerances]: DIR/<case>-tolerance.csv, .png and the worst samples as case "
+        "files",
     )
     p.add_argument("case", help="case file (TOML) with a [tolerances] table")
     p.add_argument("--samples", type=int, default=10000, metavar="N", help="built cams to draw (default 10000)")
@@ -387,7 +401,8 @@ def main(argv: list[str] | None = None) -> int:
         if args.debug:
             traceback.print_exc()
         print(
-            f"camdyn: {source + ': ' if source else ''}internal error: {type(err).__name__}: {err} (run with --debug for the traceback)",
+            f"camdyn: {source + ': ' if source else ''}internal error: {type(err).__name__}: {err} (run with --debug "
+            "for the traceback)",
             file=sys.stderr,
         )
         return 2

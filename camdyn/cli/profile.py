@@ -185,7 +185,7 @@ def _grinder(args, case, geo, out: Path) -> str:
         col, val = f"wheel_center_{u}", centre * scale
         what = f"wheel centre, wheel radius {rw:g} mm"
     fmt = "%.6f" if u == "mm" or col == "lift_deg" else "%.7f"
-    rows = "\n".join(f"{t:.4f},{fmt % v}" for t, v in zip(theta, val))
+    rows = "\n".join(f"{t:.4f},{fmt % v}" for t, v in zip(theta, val, strict=True))
     write_new(out, f"theta_deg,{col}\n{rows}\n", args.force)
     return (
         f"wrote {args.output}: {len(theta)} angles every {step:g} deg, {what}, {col} {val.min():.4f}..{val.max():.4f}"

@@ -49,14 +49,16 @@ def print_size(sz: SpringSizing, verbose: bool = False) -> None:
     )
     console.print(table)
     console.print(
-        "[dim]contact forces: over every angle and every speed up to the top speed; current rate: the least preload that holds with the case's own rate[/dim]"
+        "[dim]contact forces: over every angle and every speed up to the top speed; current rate: the least preload "
+        "that holds with the case's own rate[/dim]"
     )
     if sz.model == "compliant":
         c, k = sz.chosen, sz.kinematic
         console.print(
-            f"dynamic correction (compliant train): rate {c.rate - k.rate:+.4g} {u['rate']}, preload {c.preload - k.preload:+.4g} {u['preload']}, "
-            f"peak spring {c.peak_spring - k.peak_spring:+.4g} {u['spring']}; dynamic jump speed {jump(k.dynamic_jump_rpm)} -> {jump(c.dynamic_jump_rpm)} rpm "
-            f"(the kinematic answer's least dynamic contact force is {k.least_force:.4g} N)"
+            f"dynamic correction (compliant train): rate {c.rate - k.rate:+.4g} {u['rate']}, preload "
+            f"{c.preload - k.preload:+.4g} {u['preload']}, peak spring {c.peak_spring - k.peak_spring:+.4g} "
+            f"{u['spring']}; dynamic jump speed {jump(k.dynamic_jump_rpm)} -> {jump(c.dynamic_jump_rpm)} rpm (the "
+            f"kinematic answer's least dynamic contact force is {k.least_force:.4g} N)"
         )
     where = ", ".join(f"{a:.1f} deg" if a == b else f"{a:.1f}-{b:.1f} deg" for a, b, _ in sz.binding[:4])
     line = f"binding (kinematic): {where}" if where else "binding (kinematic): -"
@@ -102,17 +104,17 @@ def print_size(sz: SpringSizing, verbose: bool = False) -> None:
     spring = f"rate {c.rate:.4g} {u['rate']}, preload {c.preload:.4g} {u['preload']}"
     if sz.part is None:
         console.print(
-            f"size: [bold]a lower bound, not a spring[/bold]: no spring holds to {sz.top_speed_rpm:.4g} rpm with a peak force "
-            f"below {c.peak_spring:.4g} {u['spring']} ({spring}{_preload_deflection(sz)}); such a spring may not exist as a "
-            "part: "
-            "[bold]camdyn size --buildable[/bold] proposes one that can be built and passes check with its own mass"
+            f"size: [bold]a lower bound, not a spring[/bold]: no spring holds to {sz.top_speed_rpm:.4g} rpm with a "
+            f"peak force below {c.peak_spring:.4g} {u['spring']} ({spring}{_preload_deflection(sz)}); such a spring "
+            "may not exist as a part: [bold]camdyn size --buildable[/bold] proposes one that can be built and passes "
+            "check with its own mass"
         )
         return
     chk = sz.check
     console.print(
-        f"size: [bold]{spring}[/bold] (peak spring {c.peak_spring:.4g} {u['spring']}), the part below; check with its own "
-        f"mass ({sz.spring_model}, {1e3 * sz.spring_mass_kg:.3g} g): speed_margin {chk.value:.5g} {chk.sense} {chk.limit:g} "
-        + ("[green]pass[/green]" if chk.ok else "[bold red]FAIL[/bold red]")
+        f"size: [bold]{spring}[/bold] (peak spring {c.peak_spring:.4g} {u['spring']}), the part below; check with its "
+        f"own mass ({sz.spring_model}, {1e3 * sz.spring_mass_kg:.3g} g): speed_margin {chk.value:.5g} {chk.sense} "
+        f"{chk.limit:g} " + ("[green]pass[/green]" if chk.ok else "[bold red]FAIL[/bold red]")
     )
 
 

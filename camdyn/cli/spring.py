@@ -51,7 +51,8 @@ def print_spring(case_name: str, d: SpringDesign, lever_arm: float | None) -> No
     con.print(w)
     sut, ssy = s.strengths
     con.print(
-        f"[dim]wire: Sut {sut:.4g} MPa, torsional yield {ssy:.4g} MPa (Shigley Tables 10-4, 10-6); stresses with the Bergstrasser factor[/dim]"
+        f"[dim]wire: Sut {sut:.4g} MPa, torsional yield {ssy:.4g} MPa (Shigley Tables 10-4, 10-6); stresses with the "
+        "Bergstrasser factor[/dim]"
     )
     c = table(
         ("check", "left"), ("value", "right"), ("", "center"), ("limit", "right"), ("unit", "left"), ("result", "left")
@@ -69,7 +70,8 @@ def print_spring(case_name: str, d: SpringDesign, lever_arm: float | None) -> No
     con.print(c)
     notes(con, "warning", "yellow", d.warnings)
     con.print(
-        f"spring: [bold]{s.material} d {s.wire_diameter:g} mm, D {s.mean_diameter:.2f} mm, {s.active_coils:g} active / {s.total_coils:g} total coils, free length {s.free_length:.1f} mm[/bold]"
+        f"spring: [bold]{s.material} d {s.wire_diameter:g} mm, D {s.mean_diameter:.2f} mm, {s.active_coils:g} active "
+        f"/ {s.total_coils:g} total coils, free length {s.free_length:.1f} mm[/bold]"
     )
 
 

@@ -65,9 +65,9 @@ def run(args) -> int:
     ku = jm.spring_rate_unit
     n_sep = int(np.count_nonzero(jm.separated))
     print(
-        f"{case.name}: jump map of {jm.separated.size} points ({speeds.size} speeds {speeds[0]:g}-{speeds[-1]:g} rpm x "
-        f"{jm.spring_rates.size} spring rates {jm.spring_rates[0]:g}-{jm.spring_rates[-1]:g} {ku}), {jm.model} follower, "
-        f"{elapsed:.1f} s on {jm.devices} device(s)"
+        f"{case.name}: jump map of {jm.separated.size} points ({speeds.size} speeds {speeds[0]:g}-{speeds[-1]:g} rpm "
+        f"x {jm.spring_rates.size} spring rates {jm.spring_rates[0]:g}-{jm.spring_rates[-1]:g} {ku}), {jm.model} "
+        f"follower, {elapsed:.1f} s on {jm.devices} device(s)"
     )
     print(
         f"preload kept at the case's {jm.preload:g} {jm.preload_unit} while the spring rate varies"

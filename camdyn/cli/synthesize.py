@@ -19,7 +19,8 @@ def print_synthesize(res, output: Path, elapsed: float) -> None:
     s, m = res.summary, res.mechanism
     fb = s.get("fourbar")
     console.print(
-        f"[bold]{res.case.name}[/bold]  CCM for the {res.case.spec.path.type} path, dimensions by differential evolution (seed {s['seed']})"
+        f"[bold]{res.case.name}[/bold]  CCM for the {res.case.spec.path.type} path, dimensions by differential "
+        f"evolution (seed {s['seed']})"
     )
     table = Table(show_edge=False, pad_edge=False, box=None, header_style="bold")
     table.add_column("")
@@ -46,7 +47,9 @@ def print_synthesize(res, output: Path, elapsed: float) -> None:
     )
     console.print(table)
     console.print(
-        f"[dim]cam centre ({m['cam_center'][0]:g}, {m['cam_center'][1]:g}) mm, slider line through ({m['slider_point'][0]:g}, {m['slider_point'][1]:g}) mm at {m['slider_angle']:g} deg, crank turns {s['rotation']}; objective {s['objective']}[/dim]"
+        f"[dim]cam centre ({m['cam_center'][0]:g}, {m['cam_center'][1]:g}) mm, slider line through "
+        f"({m['slider_point'][0]:g}, {m['slider_point'][1]:g}) mm at {m['slider_angle']:g} deg, crank turns "
+        f"{s['rotation']}; objective {s['objective']}[/dim]"
     )
     for note in res.notes:
         console.print(f"[cyan]note:[/cyan] {escape(note)}")
@@ -54,7 +57,8 @@ def print_synthesize(res, output: Path, elapsed: float) -> None:
         console.print(f"[yellow]warning:[/yellow] {escape(w)}")
     if not res.constraints_met:
         console.print(
-            f"[bold red]constraints not met:[/bold red] {escape('; '.join(s['violations']))} (try a larger --maxiter or another --seed)"
+            f"[bold red]constraints not met:[/bold red] {escape('; '.join(s['violations']))} (try a larger --maxiter "
+            "or another --seed)"
         )
     console.print(f"wrote {output} in {elapsed:.1f} s; next: camdyn check {output}")
 

@@ -90,11 +90,12 @@ def _print(case, result, elapsed, paths, worst_files) -> None:
     con = console()
     lo, hi = result.confidence_interval
     con.print(
-        f"{case.name}: {result.samples} built cams (seed {result.seed}) at {result.speed_rpm:g} rpm, {elapsed:.1f} s on "
-        f"{result.devices} device(s), {result.processes} process(es)"
+        f"{case.name}: {result.samples} built cams (seed {result.seed}) at {result.speed_rpm:g} rpm, {elapsed:.1f} s "
+        f"on {result.devices} device(s), {result.processes} process(es)"
     )
     con.print(
-        f"probability of separation {result.probability:.4g} (95% interval {lo:.4g} to {hi:.4g}); nominal jump speed {result.nominal_jump_speed_rpm:.1f} rpm"
+        f"probability of separation {result.probability:.4g} (95% interval {lo:.4g} to {hi:.4g}); nominal jump speed "
+        f"{result.nominal_jump_speed_rpm:.1f} rpm"
     )
     t = table(("quantity", "left"), ("P1", "right"), ("P5", "right"), ("P50", "right"), ("unit", "left"))
     for name, vals, unit in (

@@ -31,7 +31,7 @@ def mechanism_frames(synthesis: Synthesis, theta_deg) -> dict:
     sense = 1.0 if syn.summary["rotation"] == "ccw" else -1.0
     c0 = np.asarray(syn.mechanism.cam_center, dtype=float)
     idx = np.round(angles).astype(int) % 360
-    roller = np.stack([rotate(sense * math.radians(a), syn.pitch[i]) for a, i in zip(angles, idx)]) + c0
+    roller = np.stack([rotate(sense * math.radians(a), syn.pitch[i]) for a, i in zip(angles, idx, strict=True)]) + c0
     cams = [(rotate(sense * math.radians(a), syn.contour.T)).T + c0 for a in angles]
     return {"points": pts, "roller": roller, "cams": cams}
 

@@ -110,7 +110,8 @@ def plot_fit(ax_lift, ax_residual, fit, contour=None) -> None:
             ax_residual.axhline(sign * fit.tolerance * scale, color=C["grey"], lw=0.8, ls="--")
     ax_residual.set_ylabel(f"{'data' if contour is None else 'radial'} - fit\n({shown})")
     ax_residual.set_title(
-        f"{what}: largest {j['max_residual'] * scale:.3g} {shown} at {where} {at:.1f}\u00b0, rms {j['rms_residual'] * scale:.3g} {shown}",
+        f"{what}: largest {j['max_residual'] * scale:.3g} {shown} at {where} {at:.1f}\u00b0, rms "
+        f"{j['rms_residual'] * scale:.3g} {shown}",
         fontsize=8,
     )
     deg_ticks(ax_residual, 45.0)

@@ -46,7 +46,7 @@ def plot_spring(ax, design: SpringDesign) -> None:
     x = _coil_positions(design)
     y = np.where(np.arange(x.size) % 2 == 0, r, -r)
     ax.plot(x, y, color="0.55", lw=0.6)  # the wire's centre line, front half turns
-    for xi, yi in zip(x, y):
+    for xi, yi in zip(x, y, strict=True):
         ax.add_patch(Circle((xi, yi), d / 2, fc="0.35", ec="k", lw=0.4))
     L0, top, gap = s.free_length, r + d / 2, 0.28 * s.outside_diameter  # gap: between dimension lines
     ax.plot([0, 0], [-top - 0.2 * gap, top + 0.2 * gap], color="k", lw=1.5)  # the fixed seat
@@ -70,8 +70,9 @@ def plot_spring(ax, design: SpringDesign) -> None:
     ax.text(
         0,
         bottom,
-        f"{s.material} (ASTM {s.wire.astm}), wire d {d:g}, mean D {s.mean_diameter:.2f}, {s.active_coils:g} active / {s.total_coils:g} total coils, "
-        f"{s.end_type} ends\nrate {s.rate:.4g} N/mm, preload {design.preload:.4g} N, mass {1e3 * s.mass:.3g} g, surge {s.surge_frequency:.4g} Hz",
+        f"{s.material} (ASTM {s.wire.astm}), wire d {d:g}, mean D {s.mean_diameter:.2f}, {s.active_coils:g} active / "
+        f"{s.total_coils:g} total coils, {s.end_type} ends\nrate {s.rate:.4g} N/mm, preload {design.preload:.4g} N, "
+        f"mass {1e3 * s.mass:.3g} g, surge {s.surge_frequency:.4g} Hz",
         fontsize=7,
         ha="left",
         va="top",
@@ -107,7 +108,8 @@ def plot_drive(ax, drive: DriveTorque) -> None:
     ax.set_xlabel("cam angle \u03b8 (deg)")
     ax.set_ylabel("camshaft torque (N\u00b7m)")
     ax.set_title(
-        f"drive: flywheel {drive.flywheel_inertia:.3g} kg\u00b7m\u00b2 for a speed fluctuation of {drive.speed_fluctuation:g}"
+        f"drive: flywheel {drive.flywheel_inertia:.3g} kg\u00b7m\u00b2 for a speed fluctuation of "
+        f"{drive.speed_fluctuation:g}"
     )
     ax.legend(fontsize=7, loc="best")
 

@@ -40,7 +40,7 @@ def plot_feasible_region(ax, sizing: SpringSizing, colors: dict | None = None) -
             k, f_dyn, y1, color=col["dynamic"], alpha=0.15, label="feasible (dynamic, compliant train)", linewidth=0
         )
         ax.plot(k, f_dyn, color=col["dynamic"], lw=1.5)
-    for n, (theta_deg, s, r) in enumerate(sizing.lines):
+    for n, (_theta_deg, s, r) in enumerate(sizing.lines):
         ax.plot(
             k,
             r - k * s,

@@ -25,7 +25,8 @@ def plot_jump_speed_histogram(ax, result: ToleranceResult):
             )
     lo, hi = result.confidence_interval
     ax.set_title(
-        f"{result.case}: dynamic jump speed of {result.samples} built cams; P(separation) = {result.probability:.3g} [{lo:.3g}, {hi:.3g}]",
+        f"{result.case}: dynamic jump speed of {result.samples} built cams; P(separation) = {result.probability:.3g} "
+        f"[{lo:.3g}, {hi:.3g}]",
         fontsize=9,
     )
     ax.set_xlabel("dynamic jump speed (rpm)")

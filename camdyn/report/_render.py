@@ -120,7 +120,7 @@ def report_cases(
         except CamdynError as err:
             raise _named(p, err) from None
     stems: dict[str, str] = {}
-    for p, c in zip(paths, cases):
+    for p, c in zip(paths, cases, strict=True):
         stem = safe_stem(c.name)
         if stem in stems:
             raise InputError(
@@ -130,7 +130,7 @@ def report_cases(
         stems[stem] = str(p)
     out = []
     tick = counter(progress, "cases", len(cases))
-    for p, case in zip(paths, cases):
+    for p, case in zip(paths, cases, strict=True):
         try:
             out.append(write_report(case, out_dir, speed_rpm=speed_rpm, progress=progress))
         except CamdynError as err:

@@ -148,7 +148,7 @@ def _summary(fig, result: MachineResult) -> None:
     ]
     for k in range(0, len(rows), 2):
         cells = []
-        for off, (label, value) in zip((0.0, 0.5), rows[k : k + 2]):
+        for off, (label, value) in zip((0.0, 0.5), rows[k : k + 2], strict=False):
             cells += [(off, label, {"color": C["grey"]}), (off + 0.18, value, {})]
         flow.row(cells, size=8.2)
     top = flow.y - 0.04
@@ -186,7 +186,7 @@ def write_machine_report(result: MachineResult, out_dir, *, progress: Progress |
     tick = counter(progress, f"{result.name}: report pages", len(PAGES))
     pngs = []
     with style(), PdfPages(out_dir / pdf_name, metadata=meta) as pdf:
-        for i, ((slug, title), png) in enumerate(zip(PAGES, png_names), start=1):
+        for i, ((slug, title), png) in enumerate(zip(PAGES, png_names, strict=True), start=1):
             fig = Figure(figsize=A4)
             _header(fig, result, title, i)
             DRAW[slug](fig, result)

@@ -50,7 +50,8 @@ def _captions(fig, data: ReportData) -> None:
         fig.text(
             0.08,
             0.922,
-            f"\u25cf contact on the face from t = {t_lo:+.1f} mm (\u03b8 = {th_lo:.1f}\u00b0) to {t_hi:+.1f} mm (\u03b8 = {th_hi:.1f}\u00b0): "
+            f"\u25cf contact on the face from t = {t_lo:+.1f} mm (\u03b8 = {th_lo:.1f}\u00b0) to {t_hi:+.1f} mm "
+            f"(\u03b8 = {th_hi:.1f}\u00b0): "
             f"travel {t_hi - t_lo:.4g}" + (f" of face_width {w:g} mm" if w is not None else " mm"),
             size=7.8,
             color=check_colour(chk, "face_width", C["margin"]),
@@ -60,7 +61,8 @@ def _captions(fig, data: ReportData) -> None:
         fig.text(
             0.08,
             0.922,
-            f"\u25cf max pressure angle {geo.max_pressure_angle_deg:.1f}\u00b0 at \u03b8 = {geo.max_pressure_angle_at_deg:.1f}\u00b0: the follower there, "
+            f"\u25cf max pressure angle {geo.max_pressure_angle_deg:.1f}\u00b0 at \u03b8 = "
+            f"{geo.max_pressure_angle_at_deg:.1f}\u00b0: the follower there, "
             "its motion and the contact normal",
             size=7.8,
             color=check_colour(chk, "pressure_angle", C["margin"]),
@@ -71,7 +73,8 @@ def _captions(fig, data: ReportData) -> None:
         fig.text(
             0.08,
             0.906,
-            f"\u25cf least radius of curvature {rho:.3g} mm at \u03b8 = {th_r:.1f}\u00b0: the point on the contour and its osculating circle (dashed)",
+            f"\u25cf least radius of curvature {rho:.3g} mm at \u03b8 = {th_r:.1f}\u00b0: the point on the contour "
+            "and its osculating circle (dashed)",
             size=7.8,
             color=check_colour(chk, "curvature", C["advice"]),
             va="top",

@@ -39,7 +39,7 @@ def segment_rows(data: ReportData) -> list[dict]:
         b = list(data.breaks_deg) or [0.0]
         ends = b[1:] + [b[0] + 360.0]
         s_at = lambda deg: float(np.interp(deg % 360.0, th, vals[0]))  # noqa: E731
-        spans = [(law, a, e, s_at(e) - s_at(a)) for a, e in zip(b, ends)]
+        spans = [(law, a, e, s_at(e) - s_at(a)) for a, e in zip(b, ends, strict=True)]
     jumps = data.jumps
     rows = []
     for law, a, b, lift in spans:
@@ -104,12 +104,16 @@ def manufacturing_rows(data: ReportData) -> list[tuple[str, str]]:
         rows.append(
             (
                 "zero reference",
-                f"cam angle 0 = {start}; the contour is given in the cam frame at cam angle 0, the cam turning {f.rotation}",
+                f"cam angle 0 = {start}; the contour is given in the cam frame at cam angle 0, the cam turning "
+                f"{f.rotation}",
             )
         )
     else:
         rows.append(("cam", "no cam follower in this case: nothing to cut"))
-    tol = f"camdyn profile writes the contour within a chord tolerance of {DEFAULT_PROFILE_TOLERANCE_MM:g} mm (--tolerance MM)"
+    tol = (
+        f"camdyn profile writes the contour within a chord tolerance of {DEFAULT_PROFILE_TOLERANCE_MM:g} mm "
+        "(--tolerance MM)"
+    )
     spec_tol = case.spec.tolerances
     pe = getattr(spec_tol, "profile_error", None) if spec_tol is not None else None
     if pe is not None:
@@ -170,7 +174,8 @@ def _segments(flow: Flow, data: ReportData) -> None:
                 (0.0, r["law"], {}),
                 (
                     0.15,
-                    f"{r['start_deg']:.4g}\u2013{r['end_deg'] - 360.0 if r['end_deg'] > 360.0 else r['end_deg']:.4g}\u00b0",
+                    f"{r['start_deg']:.4g}\u2013"
+                    f"{r['end_deg'] - 360.0 if r['end_deg'] > 360.0 else r['end_deg']:.4g}\u00b0",
                     {},
                 ),
                 (0.32, f"{r['lift']:+.4g}", {"ha": "right"}),

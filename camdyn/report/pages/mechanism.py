@@ -29,8 +29,8 @@ def draw_mechanism(fig, data: ReportData) -> None:
         nrows, NCOLS, left=0.08, right=0.97, top=0.895, bottom=grid_bottom, hspace=0.45 / height_in, wspace=0.22
     )
     caption = (
-        f"The linkage at six cam angles. {JOINTS[kind]}; \u25b2 fixed pivots; red: the tracing point on the target path (light blue)"
-        + ("; grey bar: the slider, from its roller to E." if kind == "ccm" else ".")
+        f"The linkage at six cam angles. {JOINTS[kind]}; \u25b2 fixed pivots; red: the tracing point on the target "
+        "path (light blue)" + ("; grey bar: the slider, from its roller to E." if kind == "ccm" else ".")
     )
     fig.text(0.06, 0.94, "\n".join(textwrap.wrap(caption, 140)), size=7.5, color=C["grey"], va="top", linespacing=1.3)
     for k, a in enumerate(angles):

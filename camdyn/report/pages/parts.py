@@ -23,7 +23,8 @@ def draw_parts(fig, data: ReportData) -> None:
         )
         _say(
             fig.add_subplot(gs[1]),
-            "Contact stress: give [follower] width (or [mechanism] width for a path case), the contact's length along the camshaft in mm, and [materials] if not steel on steel.",
+            "Contact stress: give [follower] width (or [mechanism] width for a path case), the contact's length along "
+            "the camshaft in mm, and [materials] if not steel on steel.",
         )
     plot_drive(fig.add_subplot(gs[0]), chk.drive)
     ax_s = fig.add_subplot(gs[2])

@@ -56,10 +56,11 @@ def _caption(fig, sz: SpringSizing) -> None:
     force, k_sym, f_sym = _symbols(sz)
     constraint = _nb(f"{f_sym} \u2265 r \u2212 {k_sym} s")
     caption = (
-        f"The return spring with the least peak spring {force} {_nb(f'P = {k_sym} s_max + {f_sym}')} that keeps the contact force \u2265 "
-        f"min_contact_force = {sz.min_contact_force:g} N at every cam angle and every speed up to {sz.top_speed_rpm:.4g} rpm "
-        f"(speed_margin {sz.margin:g} \u00d7 {sz.speed_rpm:g} rpm), {sz.model} follower. Each grey line is one cam angle's "
-        f"constraint {constraint} (shown: the envelope and the binding angles); the springs above all of them hold."
+        f"The return spring with the least peak spring {force} {_nb(f'P = {k_sym} s_max + {f_sym}')} that keeps the "
+        f"contact force \u2265 min_contact_force = {sz.min_contact_force:g} N at every cam angle and every speed up "
+        f"to {sz.top_speed_rpm:.4g} rpm (speed_margin {sz.margin:g} \u00d7 {sz.speed_rpm:g} rpm), {sz.model} "
+        f"follower. Each grey line is one cam angle's constraint {constraint} (shown: the envelope and the binding "
+        "angles); the springs above all of them hold."
     )
     fig.text(0.06, 0.94, "\n".join(textwrap.wrap(caption, 140)), size=7.5, color=C["grey"], va="top", linespacing=1.3)
 
@@ -94,8 +95,8 @@ def _holds(sz: SpringSizing, d) -> bool:
 
 
 def _springs_compared(flow: Flow, sz: SpringSizing) -> None:
-    """A table: the chosen spring (or plain size's bound), the kinematic LP answer (compliant train), the current design and the current
-    rate with its least preload; their forces and jump speeds, and whether each holds."""
+    """A table: the chosen spring (or plain size's bound), the kinematic LP answer (compliant train), the current
+    design and the current rate with its least preload; their forces and jump speeds, and whether each holds."""
     u = {k: pretty_unit(v) for k, v in sz.units.items()}
     force, k_sym, f_sym = _symbols(sz)
     flow.heading("Springs compared")
@@ -116,7 +117,7 @@ def _springs_compared(flow: Flow, sz: SpringSizing) -> None:
             name,
             {"weight": "bold", "ha": "right", "linespacing": 1.3, "color": C["ok"] if name == answer else C["grey"]},
         )
-        for x, (name, _) in zip(xs, designs)
+        for x, (name, _) in zip(xs, designs, strict=True)
     ]
     flow.row(head, size=8.2)
     flow.y -= flow.h(8.2) * 1.05
@@ -133,7 +134,7 @@ def _springs_compared(flow: Flow, sz: SpringSizing) -> None:
             "least contact force (N)",
             [
                 _small(d.least_force, d.peak_contact) if h else f"{d.least_force:.7g}"
-                for (_, d), h in zip(designs, holds)
+                for (_, d), h in zip(designs, holds, strict=True)
             ],
         ),
         ("peak contact force (N)", [fmt(d.peak_contact) for _, d in designs]),
@@ -141,12 +142,15 @@ def _springs_compared(flow: Flow, sz: SpringSizing) -> None:
         ("jump speed, dynamic", [_jump(d.dynamic_jump_rpm) for _, d in designs]),
     ]
     for label, vals in rows:
-        flow.row([(0.0, label, {"color": C["grey"]})] + [(x, v, {"ha": "right"}) for x, v in zip(xs, vals)], size=8.2)
+        flow.row(
+            [(0.0, label, {"color": C["grey"]})] + [(x, v, {"ha": "right"}) for x, v in zip(xs, vals, strict=True)],
+            size=8.2,
+        )
     flow.row(
         [(0.0, f"holds up to {sz.top_speed_rpm:.4g} rpm", {"color": C["grey"]})]
         + [
             (x, "yes" if h else "NO", {"ha": "right", "weight": "bold", "color": C["ok"] if h else C["fail"]})
-            for x, h in zip(xs, holds)
+            for x, h in zip(xs, holds, strict=True)
         ],
         size=8.2,
     )
@@ -174,7 +178,8 @@ def _notes(flow: Flow, sz: SpringSizing) -> None:
     notes = [(_binding_line(sz), C["ink"], 0)]
     notes.append(
         (
-            f"Chosen: the least peak spring {force}; ties (a binding angle at full lift) go to the least preload. Damping: {damping}.",
+            f"Chosen: the least peak spring {force}; ties (a binding angle at full lift) go to the least preload. "
+            f"Damping: {damping}.",
             C["grey"],
             3,
         )
@@ -182,7 +187,8 @@ def _notes(flow: Flow, sz: SpringSizing) -> None:
     if sz.model == "compliant":
         c, k = sz.chosen, sz.kinematic
         correction = (
-            f"Dynamic correction for the compliant train, over the kinematic LP answer: preload {_nb(f'{c.preload - k.preload:+.4g} ' + u['preload'])}, "
+            "Dynamic correction for the compliant train, over the kinematic LP answer: preload "
+            f"{_nb(f'{c.preload - k.preload:+.4g} ' + u['preload'])}, "
             f"peak spring {force} {_nb(f'{c.peak_spring - k.peak_spring:+.4g} ' + u['spring'])}."
         )
         notes.append((correction, C["grey"], 2))

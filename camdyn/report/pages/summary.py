@@ -205,7 +205,8 @@ def key_results(data: ReportData) -> list[tuple[str, str]]:
         rows.append(
             (
                 "flights (force 0)",
-                f"{len(flights)}, first at {min(f.leave_deg for f in flights):.1f}\u00b0; gap up to {gap:.3g} {data.unit}",
+                f"{len(flights)}, first at {min(f.leave_deg for f in flights):.1f}\u00b0; gap up to {gap:.3g} "
+                f"{data.unit}",
             )
         )
         top = [i for i in impacts if math.isfinite(i.peak_force)]
@@ -293,8 +294,8 @@ def decision_facts(data: ReportData) -> list[str]:
         lo, hi = tol.confidence_interval
         p1 = tol.percentiles(tol.jump_speed_rpm)["p1"]
         out.append(
-            f"tolerances: P(separation) at {tol.speed_rpm:g} rpm = {tol.probability:.3g} (95 % interval {lo:.3g} to {hi:.3g}, "
-            f"{tol.samples} built cams); 1 % of the cams jump below {p1:.1f} rpm"
+            f"tolerances: P(separation) at {tol.speed_rpm:g} rpm = {tol.probability:.3g} (95 % interval {lo:.3g} to "
+            f"{hi:.3g}, {tol.samples} built cams); 1 % of the cams jump below {p1:.1f} rpm"
         )
     names = svaj_quantities(data.case.motion.unit)
     for order, what, cause in ((1, "velocity", "acceleration"), (2, "acceleration", "jerk")):
@@ -302,7 +303,8 @@ def decision_facts(data: ReportData) -> list[str]:
         if js:
             listed = ", ".join(f"{j:+.3g} at {d:.1f}\u00b0" for d, j in js[:4]) + (", \u2026" if len(js) > 4 else "")
             out.append(
-                f"{what} jumps at {len(js)} boundar{'ies' if len(js) > 1 else 'y'} ({names[order][1]}): {listed}: infinite {cause}"
+                f"{what} jumps at {len(js)} boundar{'ies' if len(js) > 1 else 'y'} ({names[order][1]}): {listed}: "
+                f"infinite {cause}"
             )
     geo = chk.geometry
     if geo is not None and not geo.undercut:
@@ -311,8 +313,8 @@ def decision_facts(data: ReportData) -> list[str]:
             where = ", ".join(f"{a:.0f}\u2013{b:.0f}\u00b0" for a, b, _ in spans[:3])
             least = min(r for _, _, r in spans)
             out.append(
-                f"concave flank{'s' if len(spans) > 1 else ''} at cam angles {where}: least concave radius {least:.4g} mm "
-                "(the grinding wheel or cutter must be smaller)"
+                f"concave flank{'s' if len(spans) > 1 else ''} at cam angles {where}: least concave radius "
+                f"{least:.4g} mm (the grinding wheel or cutter must be smaller)"
             )
     return out
 
@@ -330,7 +332,8 @@ def concave_spans(geo) -> list[tuple[float, float, float]]:
     starts = np.flatnonzero(np.diff(np.concatenate([[0], c])) == 1)
     ends = np.flatnonzero(np.diff(np.concatenate([c, [0]])) == -1)
     return sorted(
-        (float(th[idx[a]]), float(th[idx[b]]), float(rho[idx[a : b + 1]].min())) for a, b in zip(starts, ends)
+        (float(th[idx[a]]), float(th[idx[b]]), float(rho[idx[a : b + 1]].min()))
+        for a, b in zip(starts, ends, strict=True)
     )
 
 
@@ -359,7 +362,9 @@ def _notes(fig, data: ReportData, flow: Flow) -> None:
         lines = textwrap.wrap(text, 112)
         if budget - len(lines) < 1 and k < len(notes) - 1:
             flow.para(
-                f"\u2026 and {len(notes) - k} more: run camdyn check {case.source.name if case.source else ''}".rstrip(),
+                (
+                    f"\u2026 and {len(notes) - k} more: run camdyn check {case.source.name if case.source else ''}"
+                ).rstrip(),
                 size=7.8,
                 color=C["grey"],
             )

@@ -130,7 +130,8 @@ def _note(fig, data: ReportData, compact: bool) -> None:
             c = data.case.contour.json()
             note += (
                 f" Red dots: the lift at exact contact with the outline fitted to the {c['points']} points of "
-                f"{data.case.contour.file}; the curves are its fit ({j['method']}). The residual panel is the outline's (radial, against polar angle)."
+                f"{data.case.contour.file}; the curves are its fit ({j['method']}). The residual panel is the "
+                "outline's (radial, against polar angle)."
             )
         else:
             note += f" Red dots: the {data.case.fit.source}'s points; the curves are its fit ({j['method']})."

@@ -21,24 +21,25 @@ def draw_tolerances(fig, data: ReportData) -> None:
     lo, hi = res.confidence_interval
     colour = C["ok"] if hi < 0.01 else (C["warn"] if res.probability < 0.05 else C["fail"])
     flow.para(
-        f"Probability of separation at {res.speed_rpm:g} rpm: {res.probability:.3g} (95% interval {lo:.3g} to {hi:.3g}), "
-        f"{res.samples} built cams (seed {res.seed})",
+        f"Probability of separation at {res.speed_rpm:g} rpm: {res.probability:.3g} (95% interval {lo:.3g} to "
+        f"{hi:.3g}), {res.samples} built cams (seed {res.seed})",
         size=9,
         weight="bold",
         color=colour,
     )
     q, f = res.percentiles(res.jump_speed_rpm), res.percentiles(res.least_force)
     flow.para(
-        f"Dynamic jump speed P1 {q['p1']:.1f}, P5 {q['p5']:.1f}, P50 {q['p50']:.1f} rpm (nominal {res.nominal_jump_speed_rpm:.1f} rpm); "
-        f"least contact force P1 {f['p1']:.4g}, P5 {f['p5']:.4g}, P50 {f['p50']:.4g} N.",
+        f"Dynamic jump speed P1 {q['p1']:.1f}, P5 {q['p5']:.1f}, P50 {q['p50']:.1f} rpm (nominal "
+        f"{res.nominal_jump_speed_rpm:.1f} rpm); least contact force P1 {f['p1']:.4g}, P5 {f['p5']:.4g}, P50 "
+        f"{f['p50']:.4g} N.",
         size=8,
         width=130,
         color=C["ink"],
     )
     given = ", ".join(f"{k} {t['tolerance']:g} {t['unit']} ({t['distribution']})" for k, t in res.tolerances.items())
     flow.para(
-        f"Tolerances: {given or 'none'}. Normal: the tolerance is 3 sigma; uniform: the half-width; profile error: the RMS of "
-        "a random lift error of harmonics 1-8 (not in the worst samples' case files).",
+        f"Tolerances: {given or 'none'}. Normal: the tolerance is 3 sigma; uniform: the half-width; profile error: "
+        "the RMS of a random lift error of harmonics 1-8 (not in the worst samples' case files).",
         size=7.5,
         width=140,
         color=C["grey"],
