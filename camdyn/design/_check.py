@@ -6,7 +6,7 @@ from dataclasses import asdict, dataclass
 from enum import Enum
 
 
-class CheckKind(str, Enum):
+class CheckKind(str, Enum):  # noqa: UP042 (StrEnum would change str() and format() of a member)
     """What a check judges (its ``name`` in the JSON contract)."""
 
     CONTACT_FORCE = "contact_force"

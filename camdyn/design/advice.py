@@ -64,6 +64,6 @@ def corner_radius_advice(
     margin = find(rep.checks, CheckKind.SPEED_MARGIN)
     margin_txt = "no jump" if margin.value is None else f"speed margin {margin.value:.3g}"
     return (
-        f"sharp corners: [path] corner_radius = {hi:g} mm passes at {rpm:g} rpm (least contact force {force.value:.3g} N, "
-        f"{margin_txt}){f'; {lo:g} mm fails' if lo > 0 else ''}"
+        f"sharp corners: [path] corner_radius = {hi:g} mm passes at {rpm:g} rpm (least contact force "
+        f"{force.value:.3g} N, {margin_txt}){f'; {lo:g} mm fails' if lo > 0 else ''}"
     )

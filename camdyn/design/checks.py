@@ -123,8 +123,14 @@ def _separation_note(sep: dict, rpm: float, restitution: float) -> str:
         why = "it keeps bouncing" if sep["bounces"] else "it is not back on the cam within a revolution"
         if sep["start_deg"] == sep["end_deg"] == 0.0:
             return f"the follower does not stay on the cam anywhere at {rpm:g} rpm ({gap}): far beyond its jump speed"
-        return f"the follower leaves the cam at {sep['start_deg']:.1f} deg and does not settle back ({why}; restitution {restitution:g}; {gap})"
-    return f"the follower leaves the cam at {sep['start_deg']:.1f} deg and lands at {sep['end_deg']:.1f} deg ({gap}, impact at {sep['impact_speed_m_s']:.3g} m/s)"
+        return (
+            f"the follower leaves the cam at {sep['start_deg']:.1f} deg and does not settle back ({why}; "
+            f"restitution {restitution:g}; {gap})"
+        )
+    return (
+        f"the follower leaves the cam at {sep['start_deg']:.1f} deg and lands at {sep['end_deg']:.1f} deg ({gap}, "
+        f"impact at {sep['impact_speed_m_s']:.3g} m/s)"
+    )
 
 
 def _flights_note(dynamic: dict, rpm: float) -> str:
@@ -179,7 +185,8 @@ def run_check(case: Case, speed_rpm: float | None = None) -> CheckReport:
         f_lin = float(dyn.linear_min_force(motion, model, jnp.asarray([omega]))[0])
         if abs(f_lin - resp.min_force) > 5e-3 * max(1.0, float(abs(resp.force).max())):
             warnings.append(
-                f"time-domain and frequency-domain steady states disagree: least force {resp.min_force:.4g} vs {f_lin:.4g} {'N*m' if case.oscillating else 'N'}"
+                f"time-domain and frequency-domain steady states disagree: least force {resp.min_force:.4g} vs "
+                f"{f_lin:.4g} {'N*m' if case.oscillating else 'N'}"
             )
     warnings += list(resp.warnings)
     resp = forces_in_newton(case, resp)

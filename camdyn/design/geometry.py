@@ -51,11 +51,13 @@ def judge_geometry(
     if ext.cusp:
         what = "the roller radius reaches the pitch curve's convex radius" if f.roller else "rho = Rb + s + s'' <= 0"
         warnings.append(
-            f"undercut: the contour folds ({what}); least radius {ext.min_radius_of_curvature_mm:.4g} mm at {ext.min_radius_of_curvature_at_deg:.4g} deg"
+            f"undercut: the contour folds ({what}); least radius {ext.min_radius_of_curvature_mm:.4g} mm at "
+            f"{ext.min_radius_of_curvature_at_deg:.4g} deg"
         )
     if ext.max_pressure_angle_deg >= JAM_PRESSURE_ANGLE_DEG:
         warnings.append(
-            f"pressure angle {ext.max_pressure_angle_deg:.3g} deg at {ext.max_pressure_angle_at_deg:.4g} deg: the follower may jam"
+            f"pressure angle {ext.max_pressure_angle_deg:.3g} deg at {ext.max_pressure_angle_at_deg:.4g} deg: the "
+            "follower may jam"
         )
 
     advice: list[str] = []
@@ -65,7 +67,8 @@ def judge_geometry(
                 motion, f, max_pressure_angle=max_pa, min_curvature_ratio=min_curvature_ratio, n=len(geo.theta_deg)
             )
             advice.append(
-                f"base_radius >= {math.ceil(rb * 100) / 100:.2f} mm would meet the pressure-angle ({max_pa:g} deg) and curvature limits"
+                f"base_radius >= {math.ceil(rb * 100) / 100:.2f} mm would meet the pressure-angle ({max_pa:g} deg) "
+                "and curvature limits"
             )
         except NumericalError as err:
             advice.append(f"no base radius alone fixes this: {err.message}")

@@ -214,7 +214,7 @@ def run_machine(machine: MachineFile, *, progress: Progress | None = None) -> Ma
     rpm = float(spec.speed)
     tick = counter(progress, f"{machine.name}: cams checked at {rpm:g} rpm", len(machine.cams))
     cams = []
-    for i, (cam, cam_spec) in enumerate(zip(machine.cams, spec.cam)):
+    for i, (cam, cam_spec) in enumerate(zip(machine.cams, spec.cam, strict=True)):
         try:
             case = build_case(cam.spec, source=cam.path)
             report = run_check(case, rpm)

@@ -91,7 +91,10 @@ def spring_mass_notes(case: Case) -> tuple[str, ...]:
     sd = case.spring
     if sd is None or sd.model == "none":
         return () if sd is None or sd.note is None else (sd.note,)
-    out = f"the spring's own mass ({1e3 * sd.mass_kg:.3g} g, the case's spring) is on the follower as its lumped third at every "
+    out = (
+        f"the spring's own mass ({1e3 * sd.mass_kg:.3g} g, the case's spring) is on the follower as its lumped "
+        "third at every "
+    )
     out += "rate"
     if sd.model == "surge":
         out += '; [spring] model = "surge": the chain\'s surge is judged by check and size, not here'

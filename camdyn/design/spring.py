@@ -252,7 +252,8 @@ def _dead_end(
             least = float(c["od"][rest].min())
             return InputError(
                 "spring.outside_diameter_max",
-                f"{what} fits in {spec.outside_diameter_max:g} mm: the least outside diameter that meets the other checks is {least:.3g} mm",
+                f"{what} fits in {spec.outside_diameter_max:g} mm: the least outside diameter that meets the other "
+                f"checks is {least:.3g} mm",
             )
     if spec.installed_length is not None:
         cf, fits = _feasible(
@@ -263,11 +264,15 @@ def _dead_end(
             why = (
                 f"it needs at least {need:.4g} mm"
                 if spec.installed_length < need
-                else f"there every candidate fails the {_first_failure(cons)[0]} (the shortest that fits is installed at {need:.4g} mm)"
+                else (
+                    f"there every candidate fails the {_first_failure(cons)[0]} (the shortest that fits is "
+                    f"installed at {need:.4g} mm)"
+                )
             )
             return InputError(
                 "spring.installed_length",
-                f"{what} fits at {spec.installed_length:g} mm with {preload:.4g} N preload over a {lift:.4g} mm lift: {why}",
+                f"{what} fits at {spec.installed_length:g} mm with {preload:.4g} N preload over a {lift:.4g} mm "
+                f"lift: {why}",
             )
     if spec.outside_diameter_max is not None and spec.installed_length is not None:
         cf, fits = _feasible(
@@ -282,8 +287,9 @@ def _dead_end(
             i = np.flatnonzero(fits)[np.argmin(cf["mass"][fits])]
             return InputError(
                 "spring.outside_diameter_max",
-                f"{what} fits in {spec.outside_diameter_max:g} mm installed at {spec.installed_length:g} mm: without those two limits the "
-                f"lightest is {float(cf['od'][i]):.3g} mm across and installed at {float(cf['L0'][i]) - preload / rate:.4g} mm",
+                f"{what} fits in {spec.outside_diameter_max:g} mm installed at {spec.installed_length:g} mm: "
+                f"without those two limits the lightest is {float(cf['od'][i]):.3g} mm across and installed at "
+                f"{float(cf['L0'][i]) - preload / rate:.4g} mm",
             )
     name, best, lim = _first_failure(cons)
     na_max = rules.active_coils_max if spec.max_active_coils is None else spec.max_active_coils
@@ -407,7 +413,8 @@ def spring_loads(case, *, rate=None, preload=None) -> SpringLoads:
         if spec is None or spec.lever_arm is None:
             raise InputError(
                 "spring.lever_arm",
-                "an oscillating follower's spring needs [spring] lever_arm: the distance from the arm pivot to the spring, mm",
+                "an oscillating follower's spring needs [spring] lever_arm: the distance from the arm pivot to the "
+                "spring, mm",
             )
         r = spec.lever_arm
         k = torsion_rate_at_arm(d.torsion_rate if rate is None else rate, r)

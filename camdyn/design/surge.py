@@ -92,13 +92,15 @@ def judge_surge(surge_hz: float, harmonics: CamHarmonics) -> SurgeReport:
     warnings = []
     if r < SURGE_MIN_RATIO:
         warnings.append(
-            f"spring surge at {surge_hz:.4g} Hz is only {r:.3g} times the cam frequency ({fc:.4g} Hz at {harmonics.speed_rpm:g} rpm): Shigley asks for 15 to 20"
+            f"spring surge at {surge_hz:.4g} Hz is only {r:.3g} times the cam frequency ({fc:.4g} Hz at "
+            f"{harmonics.speed_rpm:g} rpm): Shigley asks for 15 to 20"
         )
     j = max(1, int(round(r)))
     rel = harmonics.relative(j)
     if abs(r - j) <= ON_HARMONIC and rel >= STRONG_HARMONIC:
         warnings.append(
-            f"spring surge at {surge_hz:.4g} Hz sits on cam harmonic {j} ({j * fc:.4g} Hz at {harmonics.speed_rpm:g} rpm), "
-            f"whose lift amplitude is {100 * rel:.3g} % of the largest: the coils will resonate (stiffen the spring or lighten its coils)"
+            f"spring surge at {surge_hz:.4g} Hz sits on cam harmonic {j} ({j * fc:.4g} Hz at "
+            f"{harmonics.speed_rpm:g} rpm), whose lift amplitude is {100 * rel:.3g} % of the largest: the coils "
+            "will resonate (stiffen the spring or lighten its coils)"
         )
     return SurgeReport(float(surge_hz), fc, near, tuple(warnings))

@@ -28,7 +28,8 @@ def table_angles(step_deg: float) -> np.ndarray:
     if rows > MAX_ROWS:
         raise InputError(
             "--step",
-            f"{step_deg:g} deg makes {rows:.3g} rows; a table has at most {MAX_ROWS:,} (a step of at least {360.0 / MAX_ROWS:g} deg)",
+            f"{step_deg:g} deg makes {rows:.3g} rows; a table has at most {MAX_ROWS:,} (a step of at least "
+            f"{360.0 / MAX_ROWS:g} deg)",
         )
     return np.arange(0.0, 360.0 - 1e-9, step_deg)
 

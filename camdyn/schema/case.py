@@ -32,7 +32,10 @@ class CaseSpec(Table):
     description: Text = Field(default="", description="one line on what the case is")
     optimized_from: Text | None = Field(
         default=None,
-        description="the case file this one was reshaped from, relative to this file (camdyn optimize writes it; the report's optimization page compares the two)",
+        description=(
+            "the case file this one was reshaped from, relative to this file (camdyn optimize writes it; the "
+            "report's optimization page compares the two)"
+        ),
     )
     motion: MotionSpec | None = Field(
         default=None, description="the follower motion as segments or a lift table (with [follower])"

@@ -51,7 +51,9 @@ class DynamicsSpec(Table):
         default=None,
         gt=0,
         le=10 * MAX_RATE_N_PER_MM,
-        description="translating: follower-train (contact) stiffness k_f, N/mm (at most 1e8); omit for a rigid follower",
+        description=(
+            "translating: follower-train (contact) stiffness k_f, N/mm (at most 1e8); omit for a rigid follower"
+        ),
     )
     external_force: Real = Field(
         default=0.0,

@@ -11,7 +11,8 @@ from ._base import FileName, Real, Table
 
 FOLLOWER_TYPES = ("translating-roller", "translating-flat", "oscillating-roller", "oscillating-flat")
 
-# keys each type needs, and those it may take besides ``type``, ``base_radius`` (or ``contour``), ``rotation`` and ``width``
+# keys each type needs, and those it may take besides ``type``, ``base_radius`` (or ``contour``), ``rotation``
+# and ``width``
 _NEEDS = {
     "translating-roller": ("roller_radius",),
     "translating-flat": (),
@@ -41,9 +42,12 @@ class FollowerSpec(Table):
     )
     contour: FileName | None = Field(
         default=None,
-        description="the cam's outline instead of [motion] and base_radius: a CSV file (header x_mm,y_mm, as camdyn profile writes) "
-        "or a DXF file (a closed LWPOLYLINE, POLYLINE or SPLINE), relative to the case file; points in the cam frame at cam angle 0, "
-        "in sequence along the outline; the motion is derived by exact contact and the base radius is the least contour radius",
+        description=(
+            "the cam's outline instead of [motion] and base_radius: a CSV file (header x_mm,y_mm, as camdyn "
+            "profile writes) or a DXF file (a closed LWPOLYLINE, POLYLINE or SPLINE), relative to the case file; "
+            "points in the cam frame at cam angle 0, in sequence along the outline; the motion is derived by exact "
+            "contact and the base radius is the least contour radius"
+        ),
     )
     roller_radius: Real | None = Field(
         default=None, gt=0, le=MAX_LENGTH_MM, description="roller radius, mm (roller followers)"
@@ -72,7 +76,10 @@ class FollowerSpec(Table):
         default=None,
         gt=0,
         le=MAX_LENGTH_MM,
-        description="contact width along the camshaft axis (the narrower of cam and roller or face), mm; gives the Hertz contact stress",
+        description=(
+            "contact width along the camshaft axis (the narrower of cam and roller or face), mm; gives the Hertz "
+            "contact stress"
+        ),
     )
 
     @model_validator(mode="after")

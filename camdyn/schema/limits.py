@@ -41,7 +41,10 @@ class LimitsSpec(Table):
         default=DEFAULT_MAX_TRAIN_DEFLECTION,
         gt=0,
         le=1,
-        description="compliant trains: the largest train deflection (cam lift minus follower motion) as a fraction of the lift; beyond it the cam no longer drives the follower",
+        description=(
+            "compliant trains: the largest train deflection (cam lift minus follower motion) as a fraction of the "
+            "lift; beyond it the cam no longer drives the follower"
+        ),
     )
     min_preload: Real | None = Field(
         default=None,
@@ -55,5 +58,7 @@ class LimitsSpec(Table):
     max_contact_stress: Real | None = Field(
         default=None,
         gt=0,
-        description="largest Hertz contact pressure between cam and follower over a revolution, MPa (needs [follower] width)",
+        description=(
+            "largest Hertz contact pressure between cam and follower over a revolution, MPa (needs [follower] width)"
+        ),
     )

@@ -38,17 +38,26 @@ class MechanismSpec(Table):
         default=None,
         gt=0,
         le=MAX_LENGTH_MM,
-        description="crank length (AB in the CCM, OA in Ye & Smith), mm; default: Ye & Smith eq. 5 from the extremes of |cam centre to path-side point|",
+        description=(
+            "crank length (AB in the CCM, OA in Ye & Smith), mm; default: Ye & Smith eq. 5 from the extremes of "
+            "|cam centre to path-side point|"
+        ),
     )
     coupler: Real | None = Field(
         default=None,
         gt=0,
         le=MAX_LENGTH_MM,
-        description="coupler length from the crank pin towards the path (BT in the CCM, BA in Ye & Smith), mm; default: eq. 5 (give both crank and coupler or neither)",
+        description=(
+            "coupler length from the crank pin towards the path (BT in the CCM, BA in Ye & Smith), mm; default: "
+            "eq. 5 (give both crank and coupler or neither)"
+        ),
     )
     crank_mode: Literal[-1, 1] = Field(
         default=1,
-        description="assembly mode of the crank dyad at the path start: +1 when (path-side point, crank pin, cam centre) run anticlockwise (Ye & Smith: B0, A0, O)",
+        description=(
+            "assembly mode of the crank dyad at the path start: +1 when (path-side point, crank pin, cam centre) "
+            "run anticlockwise (Ye & Smith: B0, A0, O)"
+        ),
     )
     roller_radius: Real = Field(default=10.0, gt=0, le=MAX_LENGTH_MM, description="follower roller radius, mm")
     width: Real | None = Field(
@@ -85,7 +94,10 @@ class MechanismSpec(Table):
         default=None,
         gt=0,
         le=MAX_LENGTH_MM,
-        description="ccm: cam base radius, mm (default: the least that keeps the pressure angle within max_pressure_angle and the contour free of undercut)",
+        description=(
+            "ccm: cam base radius, mm (default: the least that keeps the pressure angle within max_pressure_angle "
+            "and the contour free of undercut)"
+        ),
     )
     max_pressure_angle: Real = Field(
         default=DEFAULT_MAX_PRESSURE_ANGLE_DEG["translating"],

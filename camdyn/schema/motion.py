@@ -52,7 +52,10 @@ class SegmentSpec(Table):
         default=0.0,
         ge=-MAX_LENGTH_MM,
         le=MAX_LENGTH_MM,
-        description="rise of the segment, mm (deg of arm swing for an oscillating follower); negative for a return, 0 for a dwell",
+        description=(
+            "rise of the segment, mm (deg of arm swing for an oscillating follower); negative for a return, 0 for "
+            "a dwell"
+        ),
     )
 
     @model_validator(mode="before")
@@ -63,12 +66,14 @@ class SegmentSpec(Table):
                 raise _unknown_law("law", raw["law"])
             if "coefficients" in raw:
                 raise ValueError(
-                    f'coefficients: only a law = "bspline" segment takes control points (this one is {raw.get("law")!r})'
+                    'coefficients: only a law = "bspline" segment takes control points (this one is '
+                    f"{raw.get('law')!r})"
                 )
             for key in BOUNDARY_KEYS:
                 if key in raw:
                     raise ValueError(
-                        f'{key}: only a law = "polynomial" segment takes boundary conditions (this one is {raw.get("law")!r})'
+                        f'{key}: only a law = "polynomial" segment takes boundary conditions (this one is '
+                        f"{raw.get('law')!r})"
                     )
         return raw
 
@@ -100,7 +105,10 @@ class PolynomialSegmentSpec(Table):
     end_jerk: Real | None = Field(default=None, description="jerk at the end (free if not given), " + _PER.format(n=3))
     points: list[Pair] = Field(
         default_factory=list,
-        description="interior positions [[theta_deg, lift], ...]: cam angle (deg, inside the segment) and lift from the segment's start (mm; deg of swing)",
+        description=(
+            "interior positions [[theta_deg, lift], ...]: cam angle (deg, inside the segment) and lift from the "
+            "segment's start (mm; deg of swing)"
+        ),
     )
 
     @property
@@ -126,7 +134,10 @@ class BSplineSegmentSpec(Table):
     coefficients: list[Annotated[float, Field(strict=True, ge=-100.0, le=100.0)]] = Field(
         min_length=BSPLINE_DEGREE + 1,
         max_length=1000,
-        description=f"control points of y(u), dimensionless: at least {BSPLINE_DEGREE + 1}, the first three 0 and the last three 1 (degree {BSPLINE_DEGREE}, uniform knots)",
+        description=(
+            f"control points of y(u), dimensionless: at least {BSPLINE_DEGREE + 1}, the first three 0 and the last "
+            f"three 1 (degree {BSPLINE_DEGREE}, uniform knots)"
+        ),
     )
 
     @model_validator(mode="after")
@@ -146,7 +157,9 @@ def _segment_kind(raw: Any) -> str:
 
 
 AnySegment = Annotated[
-    Annotated[SegmentSpec, Tag("law")] | Annotated[PolynomialSegmentSpec, Tag(POLYNOMIAL)] | Annotated[BSplineSegmentSpec, Tag(BSPLINE)],
+    Annotated[SegmentSpec, Tag("law")]
+    | Annotated[PolynomialSegmentSpec, Tag(POLYNOMIAL)]
+    | Annotated[BSplineSegmentSpec, Tag(BSPLINE)],
     Discriminator(_segment_kind),
 ]
 
@@ -159,14 +172,20 @@ class MotionSpec(Table):
     )
     table: FileName | None = Field(
         default=None,
-        description="CSV file of the lift, relative to the case file: header theta_deg,lift_mm (theta_deg,swing_deg for an "
-        "oscillating follower), one revolution, angles increasing, any spacing; fitted by a periodic quintic smoothing spline",
+        description=(
+            "CSV file of the lift, relative to the case file: header theta_deg,lift_mm (theta_deg,swing_deg for an "
+            "oscillating follower), one revolution, angles increasing, any spacing; fitted by a periodic quintic "
+            "smoothing spline"
+        ),
     )
     tolerance: Real | None = Field(
         default=None,
         gt=0,
         le=MAX_LENGTH_MM,
-        description="table: the largest departure of the fit from the data, mm (deg oscillating; default: the smoothing the data's noise asks for)",
+        description=(
+            "table: the largest departure of the fit from the data, mm (deg oscillating; default: the smoothing "
+            "the data's noise asks for)"
+        ),
     )
 
     @model_validator(mode="after")
@@ -197,7 +216,8 @@ def _check_polynomial(seg: PolynomialSegmentSpec, where: str, start: float, lu: 
             )
         if not theta > prev:
             raise ValueError(
-                f"{where}.points[{j}]: at {theta:g} deg, not after the previous point ({prev:g} deg): give the points in increasing angle, each once"
+                f"{where}.points[{j}]: at {theta:g} deg, not after the previous point ({prev:g} deg): give the "
+                "points in increasing angle, each once"
             )
         prev = theta
     given = [
@@ -211,7 +231,8 @@ def _check_polynomial(seg: PolynomialSegmentSpec, where: str, start: float, lu: 
     ]
     if not any(given) and not any(lift for _, lift in seg.points):
         raise ValueError(
-            f'{where}.lift: a polynomial segment with no lift and no non-zero condition is a dwell: use law = "dwell" (lift in {lu})'
+            f"{where}.lift: a polynomial segment with no lift and no non-zero condition is a dwell: use law = "
+            f'"dwell" (lift in {lu})'
         )
 
 
@@ -232,7 +253,8 @@ def check_segments(segments: list, lift_unit: str = "mm", key: str = "segments")
             raise ValueError(f"{where}.end: segment ends at {end:g} deg, {what} (starts at {start:g} deg)")
         if seg.law != "dwell" and end - start < MIN_SEGMENT_DEG:
             raise ValueError(
-                f"{where}.end: a {seg.law} segment over {end - start:.3g} deg is shorter than {MIN_SEGMENT_DEG:g} deg: no cam can be cut to it"
+                f"{where}.end: a {seg.law} segment over {end - start:.3g} deg is shorter than {MIN_SEGMENT_DEG:g} "
+                "deg: no cam can be cut to it"
             )
         if end > 360.0 + 1e-9:
             raise ValueError(f"{where}.end: segment ends at {end:g} deg, past 360 deg")

@@ -68,13 +68,18 @@ class PathSpec(Table):
         default=None,
         ge=0,
         le=MAX_LENGTH_MM,
-        description="rectangle: corner fillet radius, mm (0: sharp corners; the follower acceleration is then unbounded); the rectangle starts at the middle of its right side",
+        description=(
+            "rectangle: corner fillet radius, mm (0: sharp corners; the follower acceleration is then unbounded); "
+            "the rectangle starts at the middle of its right side"
+        ),
     )
     straight: Real | None = Field(
         default=None,
         gt=0,
         le=MAX_LENGTH_MM,
-        description="racetrack: length of each straight, mm (Ye & Smith eq. 9: starts at the lower end of the right semicircle)",
+        description=(
+            "racetrack: length of each straight, mm (Ye & Smith eq. 9: starts at the lower end of the right semicircle)"
+        ),
     )
     start: Point | None = Field(
         default=None, description="line: first end (x, y), mm; the point runs start -> end -> start"

@@ -55,7 +55,8 @@ class PathFileSpec(Table):
     def _no_mechanism(cls, raw):
         if isinstance(raw, dict) and "mechanism" in raw:
             raise ValueError(
-                "mechanism: a path file has no [mechanism] table: camdyn synthesize chooses it (remove it, or run camdyn check on a case file)"
+                "mechanism: a path file has no [mechanism] table: camdyn synthesize chooses it (remove it, or run "
+                "camdyn check on a case file)"
             )
         return raw
 
@@ -63,17 +64,20 @@ class PathFileSpec(Table):
     def _complete(self) -> PathFileSpec:
         if self.path is None:
             raise ValueError(
-                "path: the [path] table is required: the closed curve the tracing point must follow (type = ellipse, circle, rectangle, eight, line, racetrack or points)"
+                "path: the [path] table is required: the closed curve the tracing point must follow (type = "
+                "ellipse, circle, rectangle, eight, line, racetrack or points)"
             )
         if self.dynamics is None:
             raise ValueError(
-                "dynamics: the [dynamics] table is required: give at least speed (rpm), mass (kg) and spring_rate (N/mm); preload (N) is sized when left out"
+                "dynamics: the [dynamics] table is required: give at least speed (rpm), mass (kg) and spring_rate "
+                "(N/mm); preload (N) is sized when left out"
             )
         d = self.dynamics
         for key in ROTARY_KEYS:
             if getattr(d, key) not in (None, 0.0):
                 raise ValueError(
-                    f"dynamics.{key}: the synthesized CCM has a translating follower: use mass, spring_rate, preload, train_stiffness"
+                    f"dynamics.{key}: the synthesized CCM has a translating follower: use mass, spring_rate, "
+                    "preload, train_stiffness"
                 )
         for key, what in (
             ("mass", "the slider's moving mass, kg"),
@@ -88,6 +92,7 @@ class PathFileSpec(Table):
             and s.max_pressure_angle > self.limits.max_pressure_angle
         ):
             raise ValueError(
-                f"synthesis.max_pressure_angle: {s.max_pressure_angle:g} deg exceeds [limits] max_pressure_angle = {self.limits.max_pressure_angle:g} deg: the case would fail its own check"
+                f"synthesis.max_pressure_angle: {s.max_pressure_angle:g} deg exceeds [limits] max_pressure_angle = "
+                f"{self.limits.max_pressure_angle:g} deg: the case would fail its own check"
             )
         return self

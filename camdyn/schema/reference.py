@@ -87,7 +87,7 @@ def _strip(annotation):
         return _strip(typing.get_args(annotation)[0])
     if typing.get_origin(annotation) in (typing.Union, types.UnionType):
         args = [a for a in typing.get_args(annotation) if a is not type(None)]
-        return _strip(args[0]) if len(args) == 1 else typing.Union[tuple(_strip(a) for a in args)]
+        return _strip(args[0]) if len(args) == 1 else typing.Union[tuple(_strip(a) for a in args)]  # noqa: UP007 (built at run time from a tuple)
     return annotation
 
 
@@ -289,7 +289,7 @@ class _Writer:
         widths = [max(len(r[i]) for r in rows) for i in range(len(rows[0]) - 1)]
 
         def line(cells):
-            return "| " + " | ".join([*(c.ljust(w) for c, w in zip(cells, widths)), cells[-1]]) + " |"
+            return "| " + " | ".join([*(c.ljust(w) for c, w in zip(cells, widths, strict=False)), cells[-1]]) + " |"
 
         self.lines += [line(rows[0]), line(["-" * w for w in widths] + ["---"]), *(line(r) for r in rows[1:])]
 

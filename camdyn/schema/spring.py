@@ -25,7 +25,10 @@ class SpringSpec(Table):
     installed_length: Real | None = Field(
         default=None,
         gt=0,
-        description="spring length at zero lift (where it gives the preload), mm; default: the shortest spring that meets the clash allowance",
+        description=(
+            "spring length at zero lift (where it gives the preload), mm; default: the shortest spring that meets "
+            "the clash allowance"
+        ),
     )
     end_type: Literal["plain", "plain-ground", "squared", "squared-ground"] = Field(
         default="squared-ground", description="coil ends: plain | plain-ground | squared | squared-ground"
@@ -33,7 +36,10 @@ class SpringSpec(Table):
     lever_arm: Real | None = Field(
         default=None,
         gt=0,
-        description="oscillating followers: distance from the arm pivot to the spring's line of action, mm (the spring's rate is torsion_rate / lever_arm^2)",
+        description=(
+            "oscillating followers: distance from the arm pivot to the spring's line of action, mm (the spring's "
+            "rate is torsion_rate / lever_arm^2)"
+        ),
     )
     max_active_coils: Real | None = Field(
         default=None,
@@ -43,7 +49,10 @@ class SpringSpec(Table):
     )
     model: Literal["lumped", "surge"] = Field(
         default="lumped",
-        description="the spring in the dynamics: lumped (a third of its mass moves with the follower) | surge (a chain of masses)",
+        description=(
+            "the spring in the dynamics: lumped (a third of its mass moves with the follower) | surge (a chain of "
+            "masses)"
+        ),
     )
 
     @field_validator("material")

@@ -67,11 +67,16 @@ class TolerancesSpec(Table):
     speed: Tol | None = Field(default=None, description="cam speed tolerance" + _HELP.format(u="6 rpm", u0="rpm"))
     profile_error: Tol | None = Field(
         default=None,
-        description='RMS of a random smooth lift error (harmonics 1-8), absolute only: mm (rad for an arm), e.g. 0.005 or "5 um"',
+        description=(
+            "RMS of a random smooth lift error (harmonics 1-8), absolute only: mm (rad for an arm), e.g. 0.005 or "
+            '"5 um"'
+        ),
     )
     distribution: Literal["normal", "uniform"] = Field(
         default="normal",
-        description="default distribution of every key: normal (tolerance = 3 sigma) | uniform (tolerance = half-width)",
+        description=(
+            "default distribution of every key: normal (tolerance = 3 sigma) | uniform (tolerance = half-width)"
+        ),
     )
 
     @model_validator(mode="after")

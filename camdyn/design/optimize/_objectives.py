@@ -51,7 +51,11 @@ def hold_to(rows: Rows, w: float, z0: np.ndarray) -> tuple[Step, float]:
     for _ in range(6):
         sp = jnp.asarray(speed_slots(speeds))
         step = maximize_least(
-            lambda z: rows.force_jacobian(z, sp, None), rows.geometry_jacobian, step.x, radius=radius, scale=scale
+            lambda z, sp=sp: rows.force_jacobian(z, sp, None),
+            rows.geometry_jacobian,
+            step.x,
+            radius=radius,
+            scale=scale,
         )
         full, at = least_slack(rows, step.x, w)
         if full >= min(0.0, step.value - 1e-3 * scale) or step.value < 0.0:
@@ -111,7 +115,12 @@ def _held(
     for _ in range(8):
         sp = jnp.asarray(speed_slots(speeds))
         step = maximize_least(
-            objective_jac, lambda x: limits_jac(x, sp, cushion), step.x, radius=radius, scale=scale, lower=lower
+            objective_jac,
+            lambda x, sp=sp, cushion=cushion: limits_jac(x, sp, cushion),
+            step.x,
+            radius=radius,
+            scale=scale,
+            lower=lower,
         )
         full, at = least_slack(rows, *split(step.x) if preload_free else (step.x,), w)
         if full >= 0.0:

@@ -67,7 +67,7 @@ class ShapeSpace:
 
     def segments(self, z) -> list[dict]:
         """The case file's ``[motion] segments`` with the reshaped ones as ``law = "bspline"``."""
-        out, cps = [], dict(zip(self.moving, self.control_points(z)))
+        out, cps = [], dict(zip(self.moving, self.control_points(z), strict=True))
         for i, spec in enumerate(self.specs):
             if i in cps:
                 c = [0.0 if abs(v) < 1e-15 else float(v) for v in cps[i]]

@@ -98,7 +98,8 @@ def maximize_least(
     g, Jg = _value_and_jacobian(geometry, x)
     radius = np.broadcast_to(np.asarray(radius, dtype=float), x.shape)
     best, delta, steps = merit(v, g), radius.copy(), 0  # a writable trust region (the broadcast is a read-only view)
-    for steps in range(1, _MAX_STEPS + 1):
+    for _ in range(_MAX_STEPS):
+        steps += 1  # the steps taken, read after the loop
         bounds = [(max(-delta[i], lo[i] - x[i]), min(delta[i], hi[i] - x[i])) for i in range(n)]
         lp = _linear_step(v, Jv, g, Jg, bounds)
         if (

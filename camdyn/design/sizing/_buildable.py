@@ -51,7 +51,8 @@ def _rate_range(case, p: Problem) -> tuple[float, float]:
         if r is None:
             raise InputError(
                 "spring.lever_arm",
-                "an oscillating follower's spring needs [spring] lever_arm to be sized as a part: the distance from the arm pivot to the spring, mm",
+                "an oscillating follower's spring needs [spring] lever_arm to be sized as a part: the distance "
+                "from the arm pivot to the spring, mm",
             )
         lo, hi = lo * r * r / 1000.0, hi * r * r / 1000.0
     return max(lo, rate_from_si(p.k_lo, p.osc)), hi
@@ -102,7 +103,11 @@ def buildable_answer(
     if not (peaks < _UNBUILDABLE).any():
         raise InputError(
             "spring",
-            f"no buildable spring holds the follower: at every rate from {lo:.3g} to {hi:.3g} {'N*m/rad' if p.osc else 'N/mm'} the preload it needs exceeds what a spring of that rate within [spring], its surge at least {surge_floor(case, surge_top_rpm):.4g} Hz (clear of the cam's strong harmonics up to {surge_top_rpm:.4g} rpm), can give (a larger outside_diameter_max or installed_length, or another material, widens the choice)",
+            f"no buildable spring holds the follower: at every rate from {lo:.3g} to {hi:.3g} "
+            f"{'N*m/rad' if p.osc else 'N/mm'} the preload it needs exceeds what a spring of that rate within "
+            f"[spring], its surge at least {surge_floor(case, surge_top_rpm):.4g} Hz (clear of the cam's strong "
+            f"harmonics up to {surge_top_rpm:.4g} rpm), can give (a larger outside_diameter_max or "
+            "installed_length, or another material, widens the choice)",
         )
     i = int(np.nanargmin(peaks))
     a, b = math.log(rates[max(i - 1, 0)]), math.log(rates[min(i + 1, len(rates) - 1)])

@@ -19,9 +19,15 @@ from ._problem import Grid, Problem, build_problem
 from ._results import SpringSizing
 from ._sqrt_k import ratio_answer
 
-_LP_METHOD = "linear program (scipy linprog, HiGHS) with cutting planes, checked against its closed form; tie-break in closed form"
+_LP_METHOD = (
+    "linear program (scipy linprog, HiGHS) with cutting planes, checked against its closed form; tie-break in "
+    "closed form"
+)
 _SQRT_K_METHOD = "exact minimization of the peak force in sqrt(k) (bounded Brent; ties to the largest k)"
-_DYNAMIC_METHOD = "; dynamic correction: exact least preload per rate (frequency-domain steady state, affine in F0) minimized over sqrt(k)"
+_DYNAMIC_METHOD = (
+    "; dynamic correction: exact least preload per rate (frequency-domain steady state, affine in F0) minimized "
+    "over sqrt(k)"
+)
 
 
 def _kinematic_answer(p: Problem, grid: Grid) -> tuple[float, float, str, str, Grid]:
@@ -36,8 +42,8 @@ def _kinematic_answer(p: Problem, grid: Grid) -> tuple[float, float, str, str, G
         return k, f0, f"{what}: the linear program is exact", _LP_METHOD, grid
     k, f0, grid = ratio_answer(p, grid)
     note = (
-        f"c = 2 zeta sqrt(k m) with zeta = {p.zeta:g} follows the rate: for each k the least preload is closed form and the "
-        "peak force, convex in sqrt(k), is minimized exactly in sqrt(k) (not a frozen-c LP)"
+        f"c = 2 zeta sqrt(k m) with zeta = {p.zeta:g} follows the rate: for each k the least preload is closed form "
+        "and the peak force, convex in sqrt(k), is minimized exactly in sqrt(k) (not a frozen-c LP)"
     )
     return k, f0, note, _SQRT_K_METHOD, grid
 
@@ -62,18 +68,19 @@ def _warnings(p: Problem, k: float, min_rate: float, bind) -> tuple[str, ...]:
         why = ""
         if p.c_fixed is None and p.zeta > 0.0 and _at_full_lift(p, bind):
             why = (
-                "; the binding angle is at full lift, but the damping (damping_ratio) grows with the rate and, where the follower "
-                "leaves full lift, moves the binding onto that flank: no tie"
+                "; the binding angle is at full lift, but the damping (damping_ratio) grows with the rate and, "
+                "where the follower leaves full lift, moves the binding onto that flank: no tie"
             )
         out.append(
-            f"the least peak force is reached at the least rate ({min_rate:g} {'N*m/rad' if p.osc else 'N/mm'}): any rate adds k times "
-            f"(full lift - lift at the binding angle) to the peak{why}; pass --min-rate for the least preload with the rate you have"
+            f"the least peak force is reached at the least rate ({min_rate:g} {'N*m/rad' if p.osc else 'N/mm'}): "
+            f"any rate adds k times (full lift - lift at the binding angle) to the peak{why}; pass --min-rate for "
+            "the least preload with the rate you have"
         )
     if p.fmin == 0.0 and any(w == 0.0 for _, _, w in bind):
         at = next(a for a, _, w in bind if w == 0.0)
         out.append(
-            f"with min_contact_force = 0 the sized spring leaves zero contact force at rest at {at:.1f} deg, and check requires a "
-            "force strictly above the limit: give [limits] min_contact_force > 0 for a margin"
+            f"with min_contact_force = 0 the sized spring leaves zero contact force at rest at {at:.1f} deg, and "
+            "check requires a force strictly above the limit: give [limits] min_contact_force > 0 for a margin"
         )
     return tuple(out)
 
@@ -132,9 +139,10 @@ def size_spring(
     if buildable:
         k, f0 = rate_to_si(rate_w, p.osc), f0_w
         method += (
-            "; buildable: the least peak force over the springs [spring] allows, their surge clear of the cam's strong harmonics (a scan "
-            f"of rates, the designer's largest preload per rate), with the proposed spring's own mass ({case.spring.model}), sized to "
-            f"{1 + HEADROOM:g} x the top speed and written to {WRITTEN_DIGITS} digits"
+            "; buildable: the least peak force over the springs [spring] allows, their surge clear of the cam's "
+            "strong harmonics (a scan of rates, the designer's largest preload per rate), with the proposed "
+            f"spring's own mass ({case.spring.model}), sized to {1 + HEADROOM:g} x the top speed and written to "
+            f"{WRITTEN_DIGITS} digits"
         )
     kin_design = design(p, grid, dynamic, k_kin, f0_kin)
     chosen = kin_design if dynamic is None and not buildable else design(p, grid, dynamic, k, f0)

@@ -28,6 +28,7 @@ def check_grid_size(n_speeds: int, n_rates: int, where: str = "sweep") -> None:
     if n > MAX_GRID_POINTS:
         raise InputError(
             where,
-            f"a grid of {n_speeds:,} speeds x {n_rates:,} spring rates = {n:,} points is beyond the sweep's budget of "
-            f"{MAX_GRID_POINTS:,} points (memory and time: a few hundred MB and up to hours of CPU at the budget); use fewer points",
+            f"a grid of {n_speeds:,} speeds x {n_rates:,} spring rates = {n:,} points is beyond the sweep's budget "
+            f"of {MAX_GRID_POINTS:,} points (memory and time: a few hundred MB and up to hours of CPU at the "
+            "budget); use fewer points",
         )

@@ -143,9 +143,9 @@ def _notes(gaps: bool, separated, gap, why: dict[int, str]) -> tuple[str, ...]:
     train_only = separated & (gap == 0.0)
     if gaps and train_only.any():
         notes.append(
-            f"at {int(train_only.sum())} separated point(s) max_gap_mm is 0: the interface force reaches 0 in the follower train alone "
-            "(its damper would have to pull) while the follower never passes the cam profile (as where the spring rate dwarfs "
-            "the train stiffness, or just past the jump boundary)"
+            f"at {int(train_only.sum())} separated point(s) max_gap_mm is 0: the interface force reaches 0 in the "
+            "follower train alone (its damper would have to pull) while the follower never passes the cam profile "
+            "(as where the spring rate dwarfs the train stiffness, or just past the jump boundary)"
         )
     return tuple(notes)
 

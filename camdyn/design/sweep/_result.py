@@ -102,7 +102,7 @@ class JumpMap:
         buf.write(",".join(CSV_COLUMNS) + "\n")
         for speed, rate, force, sep, gap, st in rows:
             ok = st == STATUS_OK
-            sep_text = "%d" % sep if ok else "nan"
-            torsion = "%.10g" % rate if self.oscillating else ""
-            buf.write("%.10g,%.10g,%.10g,%s,%.10g,%s,%s\n" % (speed, rate, force, sep_text, gap, torsion, quoted[st]))
+            sep_text = f"{sep:d}" if ok else "nan"
+            torsion = f"{rate:.10g}" if self.oscillating else ""
+            buf.write(f"{speed:.10g},{rate:.10g},{force:.10g},{sep_text},{gap:.10g},{torsion},{quoted[st]}\n")
         return buf.getvalue()

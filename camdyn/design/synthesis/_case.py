@@ -66,12 +66,14 @@ def _header(source: Path | None, summary: dict, sized: str | None) -> list[str]:
         f"Objective: {DIMENSION_OBJECTIVE}; pressure angle <= {summary['max_pressure_angle_deg']:g} deg, "
         f"contour curvature radius >= {summary['min_curvature_ratio']:g} roller radii.",
         "Constraints: every dyad closes, the crank turns monotonically once per loop, transmission angles >= 30 deg.",
-        f"CCM: crank {summary['crank_mm']:.3f} mm, coupler {summary['coupler_mm']:.3f} mm (eq. 5), stroke {summary['stroke_mm']:.3f} mm, "
-        f"base radius {summary['base_radius_mm']:g} mm, least transmission angles {summary['min_transmission_angle_deg']:.1f} deg "
-        f"(coupler-link) and {summary['min_slider_angle_deg']:.1f} deg (link-slider).",
+        f"CCM: crank {summary['crank_mm']:.3f} mm, coupler {summary['coupler_mm']:.3f} mm (eq. 5), stroke "
+        f"{summary['stroke_mm']:.3f} mm, base radius {summary['base_radius_mm']:g} mm, least transmission angles "
+        f"{summary['min_transmission_angle_deg']:.1f} deg (coupler-link) and {summary['min_slider_angle_deg']:.1f} "
+        "deg (link-slider).",
         f"Path error: CCM {_fmt(summary['max_path_error_mm'])} mm (forward check of the exact synthesis)"
         + (
-            f"; the best plain four-bar found (Grashof crank-rocker, transmission >= 30 deg) {_fmt(summary['fourbar_path_error_mm'])} mm."
+            "; the best plain four-bar found (Grashof crank-rocker, transmission >= 30 deg) "
+            f"{_fmt(summary['fourbar_path_error_mm'])} mm."
             if "fourbar_path_error_mm" in summary
             else "."
         ),
@@ -95,8 +97,9 @@ def _size_preload(doc: dict, source: Path | None, progress) -> tuple[float, str]
     preload = (math.floor(least / PRELOAD_STEP) + 1) * PRELOAD_STEP
     preload = round(max(preload, PRELOAD_STEP), 3)
     note = (
-        f"preload sized by camdyn's spring sizing: the least that keeps the contact force >= {sz.min_contact_force:g} N up to "
-        f"{sz.top_speed_rpm:.4g} rpm at spring_rate {doc['dynamics']['spring_rate']:g} N/mm is {least:.4g} N, rounded up to {preload:g} N."
+        "preload sized by camdyn's spring sizing: the least that keeps the contact force >= "
+        f"{sz.min_contact_force:g} N up to {sz.top_speed_rpm:.4g} rpm at spring_rate "
+        f"{doc['dynamics']['spring_rate']:g} N/mm is {least:.4g} N, rounded up to {preload:g} N."
     )
     return preload, note
 
@@ -140,9 +143,8 @@ def synthesize_case(
     summary, mechanism = result["summary"], result["mechanism"]
     dynamics = dict(raw["dynamics"])
     doc: dict[str, Any] = {"name": spec.name or name or "case"}
-    doc["description"] = (
-        spec.description
-        or f"CCM synthesized by camdyn synthesize for the {spec.path.type} path{f' of {source.name}' if source else ''}."
+    doc["description"] = spec.description or (
+        f"CCM synthesized by camdyn synthesize for the {spec.path.type} path{f' of {source.name}' if source else ''}."
     )
     doc |= {"path": dict(raw["path"]), "mechanism": mechanism, "dynamics": dynamics}
     if "limits" in raw:

@@ -79,9 +79,9 @@ def _crank(px: np.ndarray, py: np.ndarray) -> dict[str, np.ndarray]:
     d = np.hypot(px, py)
     n = d.shape[1]
     dmax, dmin = d.max(1), d.min(1)
-    r, l = (dmax - dmin) / 2.0, (dmax + dmin) / 2.0
-    degenerate = r <= 1e-9 * np.maximum(l, 1.0)
-    rs, ls = np.where(degenerate, 1.0, r)[:, None], l[:, None]
+    r, coupler = (dmax - dmin) / 2.0, (dmax + dmin) / 2.0
+    degenerate = r <= 1e-9 * np.maximum(coupler, 1.0)
+    rs, ls = np.where(degenerate, 1.0, r)[:, None], coupler[:, None]
     gam = np.arccos(np.clip((rs * rs + d * d - ls * ls) / (2.0 * rs * d), -1.0, 1.0))
     imax, imin = d.argmax(1)[:, None], d.argmin(1)[:, None]
     idx = np.arange(n)[None]
@@ -98,7 +98,7 @@ def _crank(px: np.ndarray, py: np.ndarray) -> dict[str, np.ndarray]:
     pick = lambda a, b: np.where(use.reshape(-1, *([1] * (a.ndim - 1))), a, b)  # noqa: E731
     rev, th, un, sense = (pick(a, b) for a, b in zip(runs[0], runs[1], strict=True))
     return dict(
-        r=r, l=l, rs=rs, degenerate=degenerate, rev=rev, th=th, un=un, sense=sense, start=np.where(use, 1.0, -1.0)
+        r=r, l=coupler, rs=rs, degenerate=degenerate, rev=rev, th=th, un=un, sense=sense, start=np.where(use, 1.0, -1.0)
     )
 
 
@@ -133,8 +133,8 @@ def ccm_objective(
     slider's normal, deg). The prime radius is the least that keeps the translating-roller pressure angle
     tan phi = (s' - sense e) / (d0 + s) within ``max_pa`` (deg) and, unless the path has ``sharp`` corners, the
     contour's convex radius of curvature at least ``min_ratio`` roller radii ``rr`` (mm), from differences of
-    the samples (:func:`prime_radius_for_pressure_angle`, :func:`prime_radius_for_curvature`). Also ``crank``, ``coupler`` (eq. 5), ``start``
-    (the crank mode at the start), ``stroke``, ``prime_radius``, ``sense``.
+    the samples (:func:`prime_radius_for_pressure_angle`, :func:`prime_radius_for_curvature`). Also ``crank``,
+    ``coupler`` (eq. 5), ``start`` (the crank mode at the start), ``stroke``, ``prime_radius``, ``sense``.
     """
     x = np.asarray(x, dtype=float).reshape(5, -1)
     ax, ay, ang, off, link = (v[:, None] for v in x)

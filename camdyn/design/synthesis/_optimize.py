@@ -108,7 +108,8 @@ def _exact_best(res, path, t, max_pa: float, rr: float, sharp: bool, min_ratio: 
     if best is None:
         raise NumericalError(
             "synthesis",
-            f"none of the {min(len(cands), _N_CANDIDATES)} best designs could be synthesized exactly (first: {errors[0]}); try a larger maxiter or another seed",
+            f"none of the {min(len(cands), _N_CANDIDATES)} best designs could be synthesized exactly (first: "
+            f"{errors[0]}); try a larger maxiter or another seed",
         )
     return best
 

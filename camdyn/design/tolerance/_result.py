@@ -79,5 +79,5 @@ class ToleranceResult:
         buf.write(",".join(csv_columns(self.oscillating)) + "\n")
         cols = [self.params[k].tolist() for k in PARAM_KEYS]
         for i, row in enumerate(zip(*cols, self.least_force.tolist(), self.jump_speed_rpm.tolist(), strict=True)):
-            buf.write("%d," % i + ",".join("%.10g" % v for v in row) + ",%d\n" % (row[-2] <= 0.0))
+            buf.write(f"{i:d}," + ",".join(f"{v:.10g}" for v in row) + f",{row[-2] <= 0.0:d}\n")
         return buf.getvalue()

@@ -29,9 +29,11 @@ def worst_case_docs(case, result: ToleranceResult) -> list[tuple[dict, list[str]
                 doc["dynamics"][name] = float(result.params[key][i])
         doc["dynamics"]["speed"] = float(result.params["speed"][i])
         header = [
-            f"camdyn tolerance: sample {i} of {result.samples} (seed {result.seed}) of case {case.name!r}, worst {rank} by least contact force",
-            f"with its profile error (RMS {result.params['profile_error'][i]:.4g} {'rad' if case.oscillating else 'mm'}, not in this file): "
-            f"least contact force {result.least_force[i]:.6g} N, dynamic jump speed {result.jump_speed_rpm[i]:.6g} rpm",
+            f"camdyn tolerance: sample {i} of {result.samples} (seed {result.seed}) of case {case.name!r}, worst "
+            f"{rank} by least contact force",
+            f"with its profile error (RMS {result.params['profile_error'][i]:.4g} "
+            f"{'rad' if case.oscillating else 'mm'}, not in this file): least contact force "
+            f"{result.least_force[i]:.6g} N, dynamic jump speed {result.jump_speed_rpm[i]:.6g} rpm",
         ]
         out.append((doc, header))
     return out
