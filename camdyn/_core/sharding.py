@@ -76,7 +76,7 @@ def run_batched(
             res = multihost_utils.process_allgather(fn(c, *pts), tiled=True)
         else:
             res = fn(const, *(jnp.asarray(p) for p in part))
-        res = jax.tree_util.tree_map(lambda r: np.asarray(r)[:m], res)
+        res = jax.tree_util.tree_map(lambda r, m=m: np.asarray(r)[:m], res)  # m bound now: called within this iteration
         outs.append(res)
         if progress is not None:
             progress(m)

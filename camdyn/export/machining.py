@@ -250,7 +250,10 @@ def gcode_text(path: CutterPath, *, header: list[str], feed_mm_per_min: float, u
     G41/G42, a radial lead-in and lead-out in the air outside the cam, ``header`` as comment lines."""
     scale = 1.0 if units == "mm" else 1.0 / MM_PER_INCH
     nd = _DECIMALS[units]
-    f = lambda v: f"{v * scale:.{nd}f}"
+
+    def f(v):
+        return f"{v * scale:.{nd}f}"
+
     start = path.start
     r = float(np.hypot(*start))
     lead = start * (1.0 + max(0.5 * r, 5.0) / r)  # outward along the radius: nothing of the cam lies beyond the start

@@ -119,5 +119,6 @@ def _check_holds_at_rest(motion: Motion, model: FollowerModel, oscillating: bool
         key, unit = ("dynamics.preload_torque", "N*m") if oscillating else ("dynamics.preload", "N")
         raise InputError(
             key,
-            f"the spring cannot hold the follower on the cam even at rest: spring + external load is {at_rest[i]:.4g} {unit} at {theta_deg[i]:g} deg",
+            f"the spring cannot hold the follower on the cam even at rest: spring + external load is {at_rest[i]:.4g} "
+            f"{unit} at {theta_deg[i]:g} deg",
         )

@@ -47,7 +47,8 @@ def line_contact(force, curvature, width, e_star):
     if np.any(touching & ~(curvature > 0.0)):
         raise NumericalError(
             "contact",
-            "the curvature sum 1/R1 + 1/R2 is not positive where the bodies touch (a roller larger than the hollow it runs in)",
+            "the curvature sum 1/R1 + 1/R2 is not positive where the bodies touch (a roller larger than the hollow "
+            "it runs in)",
         )
     f = np.where(touching, force, 0.0)
     k = np.where(touching, curvature, 1.0)

@@ -84,7 +84,7 @@ def read_csv(path: Path, shown: str, columns: tuple[str, ...], hints: dict[str, 
     for n, line in body[1:]:
         cells = [c.strip() for c in line.split(",")]
         row = []
-        for col, i in zip(columns, index):
+        for col, i in zip(columns, index, strict=True):
             cell = cells[i] if i < len(cells) else ""
             if not cell:
                 raise InputError(f"{shown} line {n}", f"{col} is missing")
@@ -138,8 +138,8 @@ def read_lift_table(path: Path, shown: str, oscillating: bool) -> Samples:
         a = theta[j]
         raise InputError(
             shown,
-            f"does not span one revolution: no data from {a:g} to {a + gaps[j]:g} deg (a {gaps[j]:g} deg gap; at most {MAX_GAP_DEG:g}); "
-            "give the whole revolution, the dwells included",
+            f"does not span one revolution: no data from {a:g} to {a + gaps[j]:g} deg (a {gaps[j]:g} deg gap; at most "
+            f"{MAX_GAP_DEG:g}); give the whole revolution, the dwells included",
         )
     return table
 
@@ -239,7 +239,8 @@ def _read_dxf(path: Path, shown: str) -> Samples:
         gap = float(np.hypot(*(pts[-1] - pts[0])))
         raise InputError(
             shown,
-            f"the {e.dxftype()} (handle {e.dxf.handle}) is open: its ends are {gap:.4g} mm apart; the outline must be closed",
+            f"the {e.dxftype()} (handle {e.dxf.handle}) is open: its ends are {gap:.4g} mm apart; the outline must be "
+            "closed",
         )
     _bounded(shown, len(pts), "points (arcs and splines sampled)")
     return Samples(shown, pts, np.arange(1, len(pts) + 1), "point", 0.0)

@@ -33,12 +33,13 @@ def _lift_level(table: Samples, lift: np.ndarray, unit: str, column: str) -> lis
     if lift[i] < -ZERO_SHARE * span:
         raise InputError(
             table.where(i),
-            f"{column} = {lift[i]:g} is below zero by more than {100 * ZERO_SHARE:g} % of the table's {span:g} {unit} range: "
-            "lift is measured from the base circle (a slight dip in a dwell is taken as noise)",
+            f"{column} = {lift[i]:g} is below zero by more than {100 * ZERO_SHARE:g} % of the table's {span:g} {unit} "
+            "range: lift is measured from the base circle (a slight dip in a dwell is taken as noise)",
         )
     if lift[i] > ZERO_SHARE * span:
         return [
-            f"{table.shown}: the least {column} is {lift[i]:g} {unit}, not 0: camdyn measures lift from the base circle (base_radius is the least contour radius)"
+            f"{table.shown}: the least {column} is {lift[i]:g} {unit}, not 0: camdyn measures lift from the base "
+            "circle (base_radius is the least contour radius)"
         ]
     return []
 
@@ -61,8 +62,9 @@ def _within_tolerance(fit: MotionFit, table: Samples, tolerance: float | None) -
     i = int(np.argmax(np.abs(fit.residual)))
     raise InputError(
         "motion.tolerance",
-        f"no smooth fit comes within {tolerance:g} {fit.unit} of {table.shown}: the closest departs by {fit.spline.max_residual:.3g} {fit.unit} "
-        f"at {table.row_word} {int(table.rows[i])} ({fit.theta_deg[i]:g} deg): is the data periodic, without a step?",
+        f"no smooth fit comes within {tolerance:g} {fit.unit} of {table.shown}: the closest departs by "
+        f"{fit.spline.max_residual:.3g} {fit.unit} at {table.row_word} {int(table.rows[i])} ({fit.theta_deg[i]:g} "
+        "deg): is the data periodic, without a step?",
     )
 
 

@@ -121,7 +121,10 @@ def _integration_failure(model: FollowerModel, omega: float) -> str:
             f"{what}: the follower train vibrates at {hz:.4g} Hz, {ratio / TWO_PI:.3g} times per cam revolution; "
             "a slower time integration cannot resolve it: check dynamics.train_stiffness, dynamics.mass and the speed"
         )
-    return f"{what}: check that dynamics.mass, the spring and the train stiffness are in the units the case file uses (kg, N/mm)"
+    return (
+        f"{what}: check that dynamics.mass, the spring and the train stiffness are in the units the case file uses "
+        "(kg, N/mm)"
+    )
 
 
 def periodic_orbit(motion: Motion, model: FollowerModel, omega: float, theta):
@@ -213,7 +216,8 @@ def compliant_response(motion: Motion, model: FollowerModel, omega: float, n: in
             raise err from None
         residual = 0.0
         notes.append(
-            f"at {omega / RPM:.4g} rpm the steady state comes from the frequency domain (exact in contact): the time integration cannot resolve the train's vibration"
+            f"at {omega / RPM:.4g} rpm the steady state comes from the frequency domain (exact in contact): the time "
+            "integration cannot resolve the train's vibration"
         )
     fi = np.asarray(_contact_force_jit(motion, model, jnp.asarray(omega, dtype=float), theta, x, p))
     x, p = np.asarray(x), np.asarray(p)
@@ -234,7 +238,9 @@ def compliant_response(motion: Motion, model: FollowerModel, omega: float, n: in
     tol = 1e-6 * max(1.0, float(np.max(np.abs(vals[0]))))
     if float(residual) > tol:
         warnings.append(
-            f"no exactly periodic steady state at {omega / RPM:.1f} rpm (revolution-to-revolution mismatch {float(residual):.2g} {motion.unit}): the follower's bouncing is not periodic; results are for the best of {_NEWTON_ITERS} shooting iterations and {_PLAIN_REVS} revolutions"
+            f"no exactly periodic steady state at {omega / RPM:.1f} rpm (revolution-to-revolution mismatch "
+            f"{float(residual):.2g} {motion.unit}): the follower's bouncing is not periodic; results are for the best "
+            f"of {_NEWTON_ITERS} shooting iterations and {_PLAIN_REVS} revolutions"
         )
     return Response(
         "compliant",

@@ -64,8 +64,8 @@ def linear_min_force(motion: Motion, model: FollowerModel, omegas, n: int = _FFT
     """Least interface force (N) of the compliant model's periodic orbit if it never separates, per speed.
 
     While the follower stays on the cam the model is linear and time-invariant with a periodic input, so its
-    steady state is exact in the frequency domain (harmonic balance by FFT, :func:`steady_state`). The result is the true
-    steady state for every speed whose least force is positive, which is all the jump speed needs. Vectorized
+    steady state is exact in the frequency domain (harmonic balance by FFT, :func:`steady_state`). The result is the
+    true steady state for every speed whose least force is positive, which is all the jump speed needs. Vectorized
     over ``omegas`` (any shape). ``weight``: optional (n,) factor per angle theta_k = 2 pi k / n applied before
     the minimum (``1000 / lever_arm_mm`` turns an oscillating follower's torque into its contact force in N).
     """

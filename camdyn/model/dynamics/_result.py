@@ -164,7 +164,7 @@ def _zero_runs(theta_deg, force, gap) -> list[tuple[float, float, float, float]]
     starts = np.flatnonzero(np.diff(np.concatenate([[0], f])) == 1)
     ends = np.flatnonzero(np.diff(np.concatenate([f, [0]])) == -1)
     out = []
-    for a, b in zip(starts, ends):
+    for a, b in zip(starts, ends, strict=True):
         sel = idx[a : b + 1]
         top = sel[int(np.argmax(gap[sel]))]
         out.append((float(theta_deg[sel[0]]), float(theta_deg[sel[-1]]), float(gap[top]), float(theta_deg[top])))

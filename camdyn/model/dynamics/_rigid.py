@@ -169,9 +169,9 @@ def rigid_response(
             "rigid", float(omega), theta_deg, vals[0], vals[0].copy(), vals[1].copy(), kin, kin, (), 0.0, 0.0
         )
 
-    fk = lambda t: float(
-        kinematic_force_jit(motion, model, jnp.asarray(omega, dtype=float), jnp.asarray(t, dtype=float))
-    )  # noqa: E731
+    def fk(t):
+        return float(kinematic_force_jit(motion, model, jnp.asarray(omega, dtype=float), jnp.asarray(t, dtype=float)))
+
     x, p, force = vals[0].copy(), vals[1].copy(), kin.copy()
     i_start = int(np.argmax(kin))
     theta_start = theta[i_start]

@@ -118,7 +118,8 @@ def _star_order(s: Samples) -> tuple[np.ndarray, np.ndarray]:
     if turns == 0:
         raise InputError(
             s.shown,
-            "does not go around the cam centre (0, 0): give the outline in the cam frame, centred on the camshaft, and closed",
+            "does not go around the cam centre (0, 0): give the outline in the cam frame, centred on the camshaft, "
+            "and closed",
         )
     if abs(turns) > 1:
         raise InputError(s.shown, f"winds {abs(turns)} times around the cam centre: the outline is self-intersecting")
@@ -133,20 +134,23 @@ def _star_order(s: Samples) -> tuple[np.ndarray, np.ndarray]:
             i, j = hit
             raise InputError(
                 shown.where(i),
-                f"the outline is self-intersecting: its edge from here crosses the edge from {s.row_word} {int(rows[j])}",
+                f"the outline is self-intersecting: its edge from here crosses the edge from {s.row_word} "
+                f"{int(rows[j])}",
             )
         i = (int(back[0]) + 1) % len(xy)
         raise InputError(
             shown.where(i),
-            f"the outline is not star-shaped about the cam centre: it turns back here (polar angle {math.degrees(ang[i]):.4g} deg "
-            f"after {math.degrees(ang[i - 1]):.4g} deg); every ray from the centre must cross it once",
+            "the outline is not star-shaped about the cam centre: it turns back here (polar angle "
+            f"{math.degrees(ang[i]):.4g} deg after {math.degrees(ang[i - 1]):.4g} deg); every ray from the centre "
+            "must cross it once",
         )
     k = int(np.argmax(step))
     if math.degrees(step[k]) > MAX_GAP_DEG:
         a0 = math.degrees(ang[k]) % 360.0
         raise InputError(
             shown.where(k),
-            f"the outline is open: no point from polar angle {a0:.4g} to {a0 + math.degrees(step[k]):.4g} deg (at most {MAX_GAP_DEG:g} deg between points)",
+            f"the outline is open: no point from polar angle {a0:.4g} to {a0 + math.degrees(step[k]):.4g} deg (at "
+            f"most {MAX_GAP_DEG:g} deg between points)",
         )
     return xy, rows
 
@@ -190,7 +194,8 @@ def _contacts(f: FollowerSpec, rb: float, P: np.ndarray, N: np.ndarray, shown: s
             i = int(np.argmax(np.abs(cos_psi)))
             raise InputError(
                 shown,
-                f"the arm (arm_length {a:g} mm, pivot_distance {L:g} mm) cannot reach the outline at polar angle {math.degrees(ang(P[i])) % 360:.4g} deg",
+                f"the arm (arm_length {a:g} mm, pivot_distance {L:g} mm) cannot reach the outline at polar angle "
+                f"{math.degrees(ang(P[i])) % 360:.4g} deg",
             )
         psi = np.arccos(cos_psi)
         E = D + a * _rot(-psi, u)
@@ -204,7 +209,8 @@ def _contacts(f: FollowerSpec, rb: float, P: np.ndarray, N: np.ndarray, shown: s
         i = int(np.argmax(np.abs(sin_psi)))
         raise InputError(
             shown,
-            f"the face (pivot_distance {L:g} mm, offset {h:g} mm) cannot reach the outline at polar angle {math.degrees(ang(P[i])) % 360:.4g} deg",
+            f"the face (pivot_distance {L:g} mm, offset {h:g} mm) cannot reach the outline at polar angle "
+            f"{math.degrees(ang(P[i])) % 360:.4g} deg",
         )
     psi = np.arcsin(sin_psi)
     w = _rot(-psi, u)
@@ -219,7 +225,7 @@ def _stretch(alpha: np.ndarray, mask: np.ndarray) -> list[tuple[int, int]]:
     start = int(np.argmin(mask))  # begin the scan where the mask is False
     m = np.roll(mask, -start)
     edges = np.flatnonzero(np.diff(np.concatenate([[0], m.astype(int), [0]])))
-    return [(int(a + start), int(b - 1 + start)) for a, b in zip(edges[0::2], edges[1::2])]
+    return [(int(a + start), int(b - 1 + start)) for a, b in zip(edges[0::2], edges[1::2], strict=True)]
 
 
 def _bridges(f: FollowerSpec, alpha, geo, on_hull, theta, min_depth: float) -> list[str]:
@@ -266,8 +272,9 @@ def contact_motion(samples: Samples, f: FollowerSpec) -> ContactMotion:
             i = int(np.argmin(geo["kappa"]))
             raise InputError(
                 samples.shown,
-                f"the roller (radius {f.roller_radius:g} mm) cannot follow the concave stretch around polar angle {math.degrees(alpha[i]):.4g} deg: "
-                f"its radius of curvature (down to {-1.0 / geo['kappa'][i]:.4g} mm) is smaller than the roller's",
+                f"the roller (radius {f.roller_radius:g} mm) cannot follow the concave stretch around polar angle "
+                f"{math.degrees(alpha[i]):.4g} deg: its radius of curvature (down to {-1.0 / geo['kappa'][i]:.4g} mm) "
+                "is smaller than the roller's",
             )
     else:
         keep[:] = False
@@ -282,8 +289,8 @@ def contact_motion(samples: Samples, f: FollowerSpec) -> ContactMotion:
         i = int(index[int(np.argmin(ahead))])
         raise InputError(
             samples.shown,
-            f"the follower cannot follow the outline near polar angle {math.degrees(alpha[i]):.4g} deg: the contact would run backwards "
-            "(a pressure angle of 90 deg); change the follower or its offset, pivot or arm",
+            f"the follower cannot follow the outline near polar angle {math.degrees(alpha[i]):.4g} deg: the contact "
+            "would run backwards (a pressure angle of 90 deg); change the follower or its offset, pivot or arm",
         )
     if not f.roller:
         th_all = np.full(_DENSE, np.nan)
@@ -308,7 +315,7 @@ def _noise_warning(contour: ContourFit) -> list[str]:
     if band <= ACCEL_NOISE_SHARE * peak:
         return []
     return [
-        f"{contour.file}: the outline's noise (about {sp.sigma:.2g} mm) leaves its radius's second derivative uncertain by +-{band:.3g} mm/rad^2 "
-        f"(95 %), {100 * band / max(peak, 1e-300):.0f} % of its peak: the follower's acceleration, jump speeds and forces rest on the "
-        "smoothing, not on the measurement"
+        f"{contour.file}: the outline's noise (about {sp.sigma:.2g} mm) leaves its radius's second derivative "
+        f"uncertain by +-{band:.3g} mm/rad^2 (95 %), {100 * band / max(peak, 1e-300):.0f} % of its peak: the "
+        "follower's acceleration, jump speeds and forces rest on the smoothing, not on the measurement"
     ]

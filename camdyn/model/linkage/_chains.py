@@ -87,11 +87,11 @@ class OscillatingChain(eqx.Module):
         return self.points(u)["psi"]
 
 
-def make_chain(path: Path, ms: MechanismSpec, r: float, l: float) -> CCMChain | OscillatingChain:
-    """The chain of a ``[mechanism]`` table tracing ``path``, with crank ``r`` and coupler ``l`` (mm)."""
+def make_chain(path: Path, ms: MechanismSpec, r: float, coupler: float) -> CCMChain | OscillatingChain:
+    """The chain of a ``[mechanism]`` table tracing ``path``, with crank ``r`` and ``coupler`` (mm)."""
     c0 = jnp.asarray(ms.cam_center, dtype=float)
     if ms.type == "ccm":
-        jd = ms.joint_distance if ms.joint_distance is not None else l
+        jd = ms.joint_distance if ms.joint_distance is not None else coupler
         ja = math.radians(ms.joint_angle)
         sp = np.asarray(ms.slider_point if ms.slider_point is not None else ms.cam_center, dtype=float) - np.asarray(
             ms.cam_center
@@ -101,7 +101,7 @@ def make_chain(path: Path, ms: MechanismSpec, r: float, l: float) -> CCMChain | 
             path=path,
             center=c0,
             crank=jnp.asarray(r),
-            coupler=jnp.asarray(l),
+            coupler=jnp.asarray(coupler),
             joint=jnp.asarray([jd * math.cos(ja), jd * math.sin(ja)]),
             link=jnp.asarray(ms.link),
             origin=jnp.asarray(sp),
@@ -131,7 +131,9 @@ def check_follower_side(chain, ms: MechanismSpec, u_grid: np.ndarray) -> None:
     if miss[i] > 0.0:
         raise NumericalError(
             where_point(i),
-            f"dyad F-C-D cannot close: reach missed by {miss[i]:.4g} mm (|DF| = {np.linalg.norm(f[i] - np.asarray(chain.pivot)):.4g} mm, FC + DC = {ms.path_link + ms.follower_link:g} mm, |FC - DC| = {abs(ms.path_link - ms.follower_link):g} mm)",
+            f"dyad F-C-D cannot close: reach missed by {miss[i]:.4g} mm (|DF| = "
+            f"{np.linalg.norm(f[i] - np.asarray(chain.pivot)):.4g} mm, FC + DC = {ms.path_link + ms.follower_link:g} "
+            f"mm, |FC - DC| = {abs(ms.path_link - ms.follower_link):g} mm)",
         )
 
 

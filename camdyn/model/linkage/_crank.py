@@ -49,7 +49,7 @@ class CrankDyad(eqx.Module):
     """
 
     r: jax.Array  # crank, mm
-    l: jax.Array  # coupler, mm
+    coupler: jax.Array  # mm
     u_sw: jax.Array
     sgn: jax.Array  # +1 at a minimum of |OP| (f = d - d*), -1 at a maximum (f = d* - d)
     to_pi: jax.Array  # 1: the crank is folded at the switch (Phi -> pi), 0: extended (Phi -> 0)
@@ -70,8 +70,8 @@ class CrankDyad(eqx.Module):
         p = pfun(u)
         d = norm(p)
         alpha = jnp.arctan2(p[1], p[0])
-        r, l = self.r, self.l
-        c = (r * r + d * d - l * l) / (2.0 * r * d)
+        r, coupler = self.r, self.coupler
+        c = (r * r + d * d - coupler * coupler) / (2.0 * r * d)
         if self.n_switch == 0:
             return alpha, self.m_start * _acos(jnp.clip(c, -1.0, 1.0))
         j = jnp.sum(jnp.mod(u, 1.0) >= self.u_sw) - 1
@@ -82,7 +82,7 @@ class CrankDyad(eqx.Module):
         k = jnp.sum(jnp.where(inside, jnp.arange(self.n_switch), 0))  # (no argmin: jet has no rule for it)
         t = ts[k]
         inw = jnp.sum(inside) > 0
-        phi_w = self._window(k, jnp.where(inw, t, 0.0), jnp.where(inw, d, r + l))
+        phi_w = self._window(k, jnp.where(inw, t, 0.0), jnp.where(inw, d, r + coupler))
         phi_c = m * _acos(jnp.clip(jnp.where(inw, 0.0, c), -1.0, 1.0))  # keep acos' finite when unused
         return alpha, jnp.where(inw, phi_w, phi_c)
 
@@ -94,10 +94,10 @@ class CrankDyad(eqx.Module):
         for i in range(coef.shape[0] - 1, -1, -1):  # Horner
             q_t = q_t * x + coef[i]
         g = t * jnp.sqrt(jnp.maximum(q_t, 0.0))
-        r, l, sgn = self.r, self.l, self.sgn[k]
+        r, coupler, sgn = self.r, self.coupler, self.sgn[k]
         fold = self.to_pi[k] > 0.5
-        q_fold = (d + r + l) / (2.0 * r * d)  # (1 + cos gamma) / f at a folded position
-        q_ext = jnp.where(sgn < 0, l - r + d, l + r - d) / (2.0 * r * d)  # (1 - cos gamma) / f, extended
+        q_fold = (d + r + coupler) / (2.0 * r * d)  # (1 + cos gamma) / f at a folded position
+        q_ext = jnp.where(sgn < 0, coupler - r + d, coupler + r - d) / (2.0 * r * d)  # (1 - cos gamma) / f, extended
         q = jnp.where(fold, q_fold, q_ext)
         half = 2.0 * _asin(jnp.clip(g * jnp.sqrt(q / 2.0), -1.0, 1.0))
         mb = self.m_before[k]
@@ -119,11 +119,11 @@ def _break_distance(us: float, breaks: tuple[float, ...], side: int) -> float:
     return best
 
 
-def _q_factor(d: np.ndarray, r: float, l: float, sgn: float, to_pi: float) -> np.ndarray:
+def _q_factor(d: np.ndarray, r: float, coupler: float, sgn: float, to_pi: float) -> np.ndarray:
     """(1 -+ cos gamma) / f as in :meth:`CrankDyad._window`, numpy."""
     if to_pi:
-        return (d + r + l) / (2 * r * d)
-    return ((l - r + d) if sgn < 0 else (l + r - d)) / (2 * r * d)
+        return (d + r + coupler) / (2 * r * d)
+    return ((coupler - r + d) if sgn < 0 else (coupler + r - d)) / (2 * r * d)
 
 
 @eqx.filter_jit
@@ -131,18 +131,18 @@ def _dvals(chain, u):
     return jax.vmap(lambda v: norm(chain.p_side(v)))(jnp.atleast_1d(u))
 
 
-def _off_collinear(chain, u, dstar, sgn, to_pi, r, l) -> np.ndarray:
+def _off_collinear(chain, u, dstar, sgn, to_pi, r, coupler) -> np.ndarray:
     """How far (rad) the crank is from its collinear position at the switch, at parameters u."""
     dv = padded(_dvals, chain, u)
     f = np.clip(sgn * (dv - dstar), 0, None)
-    return 2.0 * np.arcsin(np.sqrt(f * _q_factor(dv, r, l, sgn, to_pi) / 2.0).clip(0, 1))
+    return 2.0 * np.arcsin(np.sqrt(f * _q_factor(dv, r, coupler, sgn, to_pi) / 2.0).clip(0, 1))
 
 
-def _extent(chain, us, dstar, sgn, to_pi, r, l, side, reach) -> tuple[float, float]:
+def _extent(chain, us, dstar, sgn, to_pi, r, coupler, side, reach) -> tuple[float, float]:
     """(fit span, window) on one side of a switch: the fit reaches to where the crank is _FIT_RAD off collinear,
     the window (where the expansion replaces acos) to WINDOW_RAD; both within ``reach``."""
     tt = np.linspace(reach / 200, reach, 200)
-    dev = _off_collinear(chain, us + side * tt, dstar, sgn, to_pi, r, l)
+    dev = _off_collinear(chain, us + side * tt, dstar, sgn, to_pi, r, coupler)
     past = np.flatnonzero(dev > _FIT_RAD)
     span = float(tt[past[0]]) if past.size else float(reach)
     inside = np.flatnonzero(dev > WINDOW_RAD)
@@ -168,14 +168,16 @@ def _fit_q(chain, us, dstar, sgn, t_lo: float, t_hi: float) -> tuple[np.ndarray,
     return coef, scale, float(np.max(np.abs(basis @ coef - f)) / np.max(np.abs(f)))
 
 
-def build_crank(chain, r: float, l: float, ext: Extremes, m_start: int, path: Path) -> tuple[CrankDyad, list[str]]:
-    """Crank dyad with switches where |OP| touches r + l (extended) or |r - l| (folded or extended)."""
+def build_crank(
+    chain, r: float, coupler: float, ext: Extremes, m_start: int, path: Path
+) -> tuple[CrankDyad, list[str]]:
+    """Crank dyad with switches where |OP| touches r + coupler (extended) or |r - coupler| (folded or extended)."""
     notes: list[str] = []
     sw = []  # (u, d*, sgn, to_pi)
-    if abs(ext.d_max - (r + l)) <= 1e-6:
+    if abs(ext.d_max - (r + coupler)) <= 1e-6:
         sw += [(u, ext.d_max, -1.0, 0.0) for u in ext.u_max]
-    if abs(ext.d_min - abs(r - l)) <= 1e-6:
-        sw += [(u, ext.d_min, 1.0, 1.0 if l > r else 0.0) for u in ext.u_min]
+    if abs(ext.d_min - abs(r - coupler)) <= 1e-6:
+        sw += [(u, ext.d_min, 1.0, 1.0 if coupler > r else 0.0) for u in ext.u_min]
     sw = sorted((0.0 if min(u, 1.0 - u) < 1e-12 else u, *rest) for u, *rest in sw)
     k = len(sw)
     a = lambda x: jnp.asarray(np.array(x, dtype=float))  # noqa: E731
@@ -187,7 +189,18 @@ def build_crank(chain, r: float, l: float, ext: Extremes, m_start: int, path: Pa
     if k == 0:
         z = jnp.zeros(0)
         return CrankDyad(
-            a(r), a(l), z, z, z, z, z, z, jnp.zeros((0, 2, _Q_DEGREE + 1)), jnp.zeros((0, 2)), z, m_start=float(m_start)
+            a(r),
+            a(coupler),
+            z,
+            z,
+            z,
+            z,
+            z,
+            z,
+            jnp.zeros((0, 2, _Q_DEGREE + 1)),
+            jnp.zeros((0, 2)),
+            z,
+            m_start=float(m_start),
         ), notes
     u_sw = np.array([s_[0] for s_ in sw])
     sign0 = 1.0 if u_sw[0] == 0.0 else -1.0
@@ -205,7 +218,15 @@ def build_crank(chain, r: float, l: float, ext: Extremes, m_start: int, path: Pa
         gap = min(((u_sw[(j + s_) % k] - us) * s_) % 1.0 or 1.0 for s_ in (1, -1))  # to the neighbouring switch
         ext_ = [
             _extent(
-                chain, us, dstar, sgn, to_pi, r, l, side, min(_break_distance(us, path.breaks_u, side), 0.45 * gap, 0.1)
+                chain,
+                us,
+                dstar,
+                sgn,
+                to_pi,
+                r,
+                coupler,
+                side,
+                min(_break_distance(us, path.breaks_u, side), 0.45 * gap, 0.1),
             )
             for side in (-1, 1)
         ]
@@ -216,16 +237,16 @@ def build_crank(chain, r: float, l: float, ext: Extremes, m_start: int, path: Pa
         fits = [(fl[0], fl[1], ext_[0][1], fl[2]), (fr[0], fr[1], ext_[1][1], fr[2])]
         lo.append(-fits[0][2]), hi.append(fits[1][2])
         polys.append([fits[0][0], fits[1][0]]), spans.append([fits[0][1], fits[1][1]])
-        edge = _off_collinear(chain, np.array([us - fits[0][2], us + fits[1][2]]), dstar, sgn, to_pi, r, l)
+        edge = _off_collinear(chain, np.array([us - fits[0][2], us + fits[1][2]]), dstar, sgn, to_pi, r, coupler)
         if edge.min() < 0.5 * WINDOW_RAD or max(f[3] for f in fits) > 1e-9:
             notes.append(
                 f"the local expansion at the singular position u = {us:.4f} is cramped by a path break (crank "
-                f"{np.degrees(edge.min()):.2g} deg off collinear at its edge, fit error {max(f[3] for f in fits):.1e}): "
-                "the follower jerk is less accurate there"
+                f"{np.degrees(edge.min()):.2g} deg off collinear at its edge, fit error "
+                f"{max(f[3] for f in fits):.1e}): the follower jerk is less accurate there"
             )
     crank = CrankDyad(
         a(r),
-        a(l),
+        a(coupler),
         a(u_sw),
         a([s_[2] for s_ in sw]),
         a([s_[3] for s_ in sw]),

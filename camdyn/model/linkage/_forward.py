@@ -90,13 +90,13 @@ def _choose_base_radius(tabulated, ms: MechanismSpec, e: float, sense: float, sh
 
 
 def ccm_forward(
-    motion, tabulated, ms: MechanismSpec, vals, pts: dict, a_pin, l: float, sense: float, warnings: list[str]
+    motion, tabulated, ms: MechanismSpec, vals, pts: dict, a_pin, coupler: float, sense: float, warnings: list[str]
 ):
     """The CCM's translating roller (base radius chosen on the ``tabulated`` motion unless given) and its forward
     check.
 
     ``vals``: s, s' per radian at the sample angles (2, n); ``pts``: the joints solved from the path there;
-    ``a_pin``: the crank pin at those angles (n, 2), relative to the cam centre; ``l``: the coupler, mm.
+    ``a_pin``: the crank pin at those angles (n, 2), relative to the cam centre; ``coupler``: the coupler, mm.
     """
     chain = motion.chain
     e_dir, origin = np.asarray(chain.direction), np.asarray(chain.origin)
@@ -112,7 +112,8 @@ def ccm_forward(
     if rp <= abs(e):
         raise InputError(
             "mechanism.base_radius",
-            f"base + roller radius ({rp:g} mm) must exceed the slider line's offset from the cam centre ({abs(e):.4g} mm)",
+            f"base + roller radius ({rp:g} mm) must exceed the slider line's offset from the cam centre ({abs(e):.4g} "
+            "mm)",
         )
     d0 = math.sqrt(rp * rp - e * e)
     follower = _ccm_follower(ms, e, sense, base)
@@ -126,7 +127,7 @@ def ccm_forward(
     bc = c_fwd - a_pin
     jn2 = jx * jx + jy * jy
     ex = (jx * bc + jy * np.column_stack([bc[:, 1], -bc[:, 0]])) / jn2  # rotate B->C back into B->T
-    traced = a_pin + l * ex + np.asarray(chain.center)
+    traced = a_pin + coupler * ex + np.asarray(chain.center)
     modes = np.sign(cross2(pts["C"] - pts["B"], pts["E"] - pts["B"]))
     if np.any(modes != mode_c):
         warnings.append(
@@ -150,7 +151,7 @@ def ccm_forward(
 
 
 def oscillating_forward(
-    motion, tabulated, ms: MechanismSpec, vals, pts: dict, a_pin, l: float, sense: float, warnings: list[str]
+    motion, tabulated, ms: MechanismSpec, vals, pts: dict, a_pin, coupler: float, sense: float, warnings: list[str]
 ):
     """Ye & Smith's oscillating roller (base radius from the arm's least reach) and its forward check; arguments
     as :func:`ccm_forward`."""
@@ -159,7 +160,8 @@ def oscillating_forward(
     if np.linalg.norm(d) < 1e-9 * max(ms.arm, 1.0):
         raise InputError(
             "mechanism.pivot",
-            "the follower pivot D lies on the cam centre: move it off cam_center (the arm must swing about a point away from the camshaft)",
+            "the follower pivot D lies on the cam centre: move it off cam_center (the arm must swing about a point "
+            "away from the camshaft)",
         )
     psi = np.asarray(pts["psi"])
     if np.any(psi <= 0.0) or np.any(psi >= np.pi):
@@ -176,7 +178,8 @@ def oscillating_forward(
     if base <= 0.0:
         raise InputError(
             "mechanism.roller_radius",
-            f"roller radius {ms.roller_radius:g} mm exceeds the least distance {rp:.4g} mm from the cam centre to the roller centre",
+            f"roller radius {ms.roller_radius:g} mm exceeds the least distance {rp:.4g} mm from the cam centre to the "
+            "roller centre",
         )
     follower = _derived_follower(
         type="oscillating-roller",
@@ -195,7 +198,7 @@ def oscillating_forward(
     c_fwd = d + ms.follower_link * np.asarray(turn(jnp.asarray(arm_dir), -math.radians(ms.arm_angle)))
     lbc = abs(ms.path_link - ms.pin_distance)
     mode_b = float(np.sign(cross2(pts["B"][0] - a_pin[0], pts["C"][0] - a_pin[0])))
-    b_fwd = np.asarray(rrr(a_pin, c_fwd, l, lbc, mode_b))
+    b_fwd = np.asarray(rrr(a_pin, c_fwd, coupler, lbc, mode_b))
     e_fc = (b_fwd - c_fwd) / (ms.pin_distance - ms.path_link)
     traced = c_fwd - ms.path_link * e_fc + np.asarray(chain.center)
     modes = np.sign(cross2(pts["B"] - a_pin, pts["C"] - a_pin))

@@ -92,25 +92,27 @@ class Synthesis:
 def _crank_lengths(ext: Extremes, ms: MechanismSpec) -> tuple[float, float]:
     """Crank and coupler (mm): Ye & Smith eq. 5 from the extremes of |OP|, or the table's, which must close."""
     if ms.crank is None:  # Ye & Smith eq. 5
-        r, l = (ext.d_max - ext.d_min) / 2.0, (ext.d_max + ext.d_min) / 2.0
+        r, coupler = (ext.d_max - ext.d_min) / 2.0, (ext.d_max + ext.d_min) / 2.0
         if r <= 0.0:
             raise NumericalError(
                 "mechanism.crank",
                 "the path-side point keeps a constant distance from the cam centre: eq. 5 gives no crank",
             )
-        return r, l
-    r, l = ms.crank, ms.coupler
-    if ext.d_max > r + l + 1e-6:
+        return r, coupler
+    r, coupler = ms.crank, ms.coupler
+    if ext.d_max > r + coupler + 1e-6:
         raise NumericalError(
             where_point(ext.i_max),
-            f"crank dyad cannot close: reach missed by {ext.d_max - r - l:.4g} mm (|cam centre to path-side point| = {ext.d_max:.6g} mm > crank + coupler = {r + l:g} mm)",
+            f"crank dyad cannot close: reach missed by {ext.d_max - r - coupler:.4g} mm (|cam centre to path-side "
+            f"point| = {ext.d_max:.6g} mm > crank + coupler = {r + coupler:g} mm)",
         )
-    if ext.d_min < abs(r - l) - 1e-6:
+    if ext.d_min < abs(r - coupler) - 1e-6:
         raise NumericalError(
             where_point(ext.i_min),
-            f"crank dyad cannot close: reach missed by {abs(r - l) - ext.d_min:.4g} mm (|cam centre to path-side point| = {ext.d_min:.6g} mm < |crank - coupler| = {abs(r - l):g} mm)",
+            f"crank dyad cannot close: reach missed by {abs(r - coupler) - ext.d_min:.4g} mm (|cam centre to "
+            f"path-side point| = {ext.d_min:.6g} mm < |crank - coupler| = {abs(r - coupler):g} mm)",
         )
-    return r, l
+    return r, coupler
 
 
 def _cam_angle_table(proto: CamLinkMotion, u_grid: np.ndarray, ms: MechanismSpec, dyad: CrankDyad):
@@ -135,12 +137,14 @@ def _cam_angle_table(proto: CamLinkMotion, u_grid: np.ndarray, ms: MechanismSpec
         )
         raise NumericalError(
             where_point(i),
-            f"the crank would reverse here (dtheta/du changes sign: {math.degrees(slope[i]):.4g} deg per unit u against a net turn of {math.degrees(turn):.1f} deg){hint}",
+            f"the crank would reverse here (dtheta/du changes sign: {math.degrees(slope[i]):.4g} deg per unit u "
+            f"against a net turn of {math.degrees(turn):.1f} deg){hint}",
         )
     if abs(abs(turn) - TWO_PI) > 1e-6:
         raise NumericalError(
             "mechanism.cam_center",
-            f"the crank turns {math.degrees(turn):.1f} deg while the point runs once round the path; it must turn exactly once (360 deg)",
+            f"the crank turns {math.degrees(turn):.1f} deg while the point runs once round the path; it must turn "
+            "exactly once (360 deg)",
         )
     tab_theta = np.append(sense * (raw[:-1] - raw[0]), TWO_PI)
     return np.append(u_grid, 1.0), tab_theta, sense, tab[:, 1]
@@ -160,9 +164,9 @@ def _build_motion(pth: Path, ms: MechanismSpec, u_grid: np.ndarray, warnings: li
     chain = make_chain(pth, ms, 1.0, 1.0)
     check_follower_side(chain, ms, u_grid)
     ext = find_extremes(chain, u_grid)
-    r, l = _crank_lengths(ext, ms)
-    chain = make_chain(pth, ms, r, l)
-    dyad, notes = build_crank(chain, r, l, ext, ms.crank_mode, pth)
+    r, coupler = _crank_lengths(ext, ms)
+    chain = make_chain(pth, ms, r, coupler)
+    dyad, notes = build_crank(chain, r, coupler, ext, ms.crank_mode, pth)
     warnings += notes
     unit = "mm" if ms.type == "ccm" else "rad"
     proto = CamLinkMotion(
@@ -193,7 +197,7 @@ def _build_motion(pth: Path, ms: MechanismSpec, u_grid: np.ndarray, warnings: li
         unit=unit,
         breaks_deg=(),
     )
-    return core, r, l, ext
+    return core, r, coupler, ext
 
 
 def _table_error(
@@ -202,10 +206,11 @@ def _table_error(
     """How far the quintic Hermite table the dynamics read is from the exact motion, in ``summary``; warns if it
     misses the exact s'' by more than 1e-4 of its range."""
     tab_err = tabulated.max_error(motion)
-    summary["motion_table_error"] = dict(zip(("s", "s1", "s2", "s3"), map(float, tab_err)))
+    summary["motion_table_error"] = dict(zip(("s", "s1", "s2", "s3"), map(float, tab_err), strict=True))
     if tab_err[2] > 1e-4 * max(s2_range, 1e-12):
         warnings.append(
-            f"the tabulated follower motion misses the exact s'' by up to {tab_err[2]:.3g} per rad^2; the dynamics use the table"
+            f"the tabulated follower motion misses the exact s'' by up to {tab_err[2]:.3g} per rad^2; the dynamics "
+            "use the table"
         )
 
 
@@ -221,7 +226,7 @@ def synthesize_motion(path: dict, mechanism: dict) -> Synthesis:
     pth = build_path(ps)
     warnings: list[str] = []
     sharp = bool(pth.sharp_u)
-    core, r, l, ext = _build_motion(pth, ms, np.arange(N_GRID) / N_GRID, warnings)
+    core, r, coupler, ext = _build_motion(pth, ms, np.arange(N_GRID) / N_GRID, warnings)
     motion = with_breaks(core, _break_angles(core, pth))
     # the consumers that evaluate the motion millions of times (ODE right-hand side, sweeps) read a table
     tabulated = HermiteMotion.from_motion(motion)
@@ -239,7 +244,7 @@ def synthesize_motion(path: dict, mechanism: dict) -> Synthesis:
     pts = padded(joint_points, core.chain, u_s, crank_s)
     a_pin = r * np.column_stack([np.cos(crank_s), np.sin(crank_s)])
     forward = ccm_forward if ms.type == "ccm" else oscillating_forward
-    follower, traced, pos, vel, extra = forward(motion, tabulated, ms, vals, pts, a_pin, l, sense, warnings)
+    follower, traced, pos, vel, extra = forward(motion, tabulated, ms, vals, pts, a_pin, coupler, sense, warnings)
     err = float(np.max(np.linalg.norm(traced - target, axis=1)))
     if not err < 1e-3:
         warnings.append(f"forward check: the linkage driven by the cam misses the path by {err:.3g} mm")
@@ -247,12 +252,13 @@ def synthesize_motion(path: dict, mechanism: dict) -> Synthesis:
     pitch, contour, _ = pitch_contour(pos, vel, theta, sense, rr)
     if sharp:
         warnings.append(
-            "the path has sharp corners (corner_radius = 0): the follower velocity jumps there, so its acceleration is unbounded; give the corners a radius"
+            "the path has sharp corners (corner_radius = 0): the follower velocity jumps there, so its acceleration "
+            "is unbounded; give the corners a radius"
         )
     summary = {
         "mechanism": ms.type,
         "crank_mm": r,
-        "coupler_mm": l,
+        "coupler_mm": coupler,
         "start_angle_deg": (math.degrees(th0) + 180.0) % 360.0 - 180.0,
         "rotation": "ccw" if sense > 0 else "cw",
         "lob_min_mm": ext.d_min,

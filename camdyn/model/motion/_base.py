@@ -31,8 +31,8 @@ class Motion(eqx.Module):
         raise NotImplementedError
 
     def host(self, theta) -> np.ndarray:
-        """s and its first three derivatives at ``theta`` (rad) as a numpy array of shape (4, *theta.shape): the compiled
-        evaluation here; motions with a numpy form override it (no dispatch or compile cost)."""
+        """s and its first three derivatives at ``theta`` (rad) as a numpy array of shape (4, *theta.shape): the
+        compiled evaluation here; motions with a numpy form override it (no dispatch or compile cost)."""
         return np.asarray(evaluate(self, jnp.asarray(theta, dtype=float)))
 
     def sample(self, n: int = THETA_GRID) -> tuple[np.ndarray, np.ndarray]:

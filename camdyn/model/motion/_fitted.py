@@ -125,7 +125,7 @@ def fit_warnings(fit: MotionFit) -> list[str]:
         )
     if sp.criterion == "tolerance":
         out.append(
-            f"{fit.file}: tolerance = {fit.tolerance:g} {u} asks for less smoothing than the data's noise (about {sp.sigma:.2g} {u}) "
-            "does: the fit follows that noise and its acceleration is wavier than the motion"
+            f"{fit.file}: tolerance = {fit.tolerance:g} {u} asks for less smoothing than the data's noise (about "
+            f"{sp.sigma:.2g} {u}) does: the fit follows that noise and its acceleration is wavier than the motion"
         )
     return out

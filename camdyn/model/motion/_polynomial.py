@@ -87,12 +87,14 @@ def polynomial_warnings(
         at = start_deg + x[i] * (end_deg - start_deg)
         by, side = (over, "above") if over >= under else (under, "below")
         out.append(
-            f"{where}: the polynomial (degree {len(poly.coef) - 1}) overshoots its range {poly.low:g} to {poly.high:g} {lift_unit}: "
-            f"{by:.4g} {lift_unit} {side} it at {at:.4g} deg (lift {y[i]:.4g} {lift_unit} from the segment's start)"
+            f"{where}: the polynomial (degree {len(poly.coef) - 1}) overshoots its range {poly.low:g} to "
+            f"{poly.high:g} {lift_unit}: {by:.4g} {lift_unit} {side} it at {at:.4g} deg (lift {y[i]:.4g} {lift_unit} "
+            "from the segment's start)"
         )
     if poly.condition > ILL_CONDITIONED:
         out.append(
-            f"{where}: the polynomial (degree {len(poly.coef) - 1}) is ill-conditioned (condition number {poly.condition:.2g}): "
-            "its coefficients keep fewer than 6 digits; use fewer points or conditions, or split the segment"
+            f"{where}: the polynomial (degree {len(poly.coef) - 1}) is ill-conditioned (condition number "
+            f"{poly.condition:.2g}): its coefficients keep fewer than 6 digits; use fewer points or conditions, or "
+            "split the segment"
         )
     return out

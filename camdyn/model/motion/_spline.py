@@ -129,7 +129,9 @@ class SplineFit:
         """The fit as JSON (``check --json`` ``motion.fit``): method, residuals, noise; ``of`` says what was fitted
         against what (" of the radius over the polar angle"). ``worst`` indexes the largest residual."""
         return {
-            "method": f"periodic quintic smoothing spline{of}, {self.coef.shape[0]} knots, smoothing by {self.criterion}",
+            "method": (
+                f"periodic quintic smoothing spline{of}, {self.coef.shape[0]} knots, smoothing by {self.criterion}"
+            ),
             "points": int(len(self.y)),
             "max_residual": self.max_residual,
             "rms_residual": self.rms_residual,
