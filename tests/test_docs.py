@@ -240,7 +240,9 @@ def test_readme_quick_start_is_the_two_commands():
     test_command = "pip install -e '.[test]' -c constraints.txt && python -m pytest"
     assert "pip install . && camdyn check cases/lecture.toml" in lines
     assert test_command in lines
-    assert test_command in (ROOT / ".ci" / "run").read_text(encoding="utf-8").splitlines()
+    ci = (ROOT / ".ci" / "run").read_text(encoding="utf-8").splitlines()
+    install, tests = test_command.split(" && ")
+    assert ci.index(install) < ci.index("ruff check . && ruff format --check .") < ci.index(tests)  # style first
 
 
 def _anchors(md: Path) -> set[str]:
