@@ -140,3 +140,24 @@ def legend_clear(ax, places=LEGEND_PLACES, **kw):
         if best_n is None or n < best_n:
             best, best_n = loc, n
     return ax.legend(**({"loc": best} | kw))
+
+
+def mark_mean_and_peak_torque(ax, theta_deg, drive, mean_colour: str) -> None:
+    """A drive torque's mean (dashed, with the mean power) and its peak (a dot), both named in the legend."""
+    ax.axhline(
+        drive.mean_torque,
+        color=mean_colour,
+        lw=0.8,
+        ls="--",
+        label=f"mean {drive.mean_torque:.3g} N\u00b7m ({drive.mean_power:.3g} W)",
+    )
+    i = int(np.argmax(np.abs(drive.torque)))
+    ax.plot(
+        [theta_deg[i]],
+        [drive.torque[i]],
+        "o",
+        color=C["limit"],
+        ms=5,
+        label=f"peak {drive.peak_torque:.3g} N\u00b7m at {drive.peak_torque_at_deg:.1f}\u00b0",
+    )
+    ax.axhline(0.0, color="0.6", lw=0.5)

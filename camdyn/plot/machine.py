@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..design.machine import MachineResult
-from ._common import C, deg_ticks
+from ._common import C, deg_ticks, mark_mean_and_peak_torque
 
 LANE = 1.5  # height of a follower's lane in the timing diagram (its stroke is 1)
 CAM_COLOURS = ("#1f5fa8", "#e07b00", "#2e8540", "#7b4fa0", "#b5651d", "#1b6e75", "#c0392b", "#555555")
@@ -65,23 +65,7 @@ def plot_machine_torque(ax, result: MachineResult) -> None:
     for i, cam in enumerate(result.cams):
         ax.plot(theta, cam.torque, color=cam_colour(i), lw=0.8, alpha=0.9, label=cam.name)
     ax.plot(theta, drive.torque, color=C["ink"], lw=1.6, label="shaft (sum)")
-    ax.axhline(
-        drive.mean_torque,
-        color=C["grey"],
-        lw=0.8,
-        ls="--",
-        label=f"mean {drive.mean_torque:.3g} N\u00b7m ({drive.mean_power:.3g} W)",
-    )
-    i = int(np.argmax(np.abs(drive.torque)))
-    ax.plot(
-        [theta[i]],
-        [drive.torque[i]],
-        "o",
-        color=C["limit"],
-        ms=5,
-        label=f"peak {drive.peak_torque:.3g} N\u00b7m at {drive.peak_torque_at_deg:.1f}\u00b0",
-    )
-    ax.axhline(0.0, color="0.6", lw=0.5)
+    mark_mean_and_peak_torque(ax, theta, drive, C["grey"])
     deg_ticks(ax, 30.0)
     ax.set_xlabel("machine angle (deg)")
     ax.set_ylabel("shaft torque (N\u00b7m)")

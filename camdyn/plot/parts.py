@@ -8,7 +8,7 @@ from matplotlib.patches import Circle
 from ..design.spring import SpringDesign
 from ..model.contact import ContactStress
 from ..model.drive import DriveTorque
-from ._common import C, deg_ticks
+from ._common import C, deg_ticks, mark_mean_and_peak_torque
 
 
 def _coil_positions(design: SpringDesign) -> np.ndarray:
@@ -87,23 +87,7 @@ def plot_spring(ax, design: SpringDesign) -> None:
 def plot_drive(ax, drive: DriveTorque) -> None:
     """Camshaft torque over a revolution, its mean and its peak."""
     ax.plot(drive.theta_deg, drive.torque, color=C["dyn"], lw=1.2, label="camshaft torque")
-    ax.axhline(
-        drive.mean_torque,
-        color=C["margin"],
-        lw=0.8,
-        ls="--",
-        label=f"mean {drive.mean_torque:.3g} N\u00b7m ({drive.mean_power:.3g} W)",
-    )
-    i = int(np.argmax(np.abs(drive.torque)))
-    ax.plot(
-        [drive.theta_deg[i]],
-        [drive.torque[i]],
-        "o",
-        color=C["limit"],
-        ms=5,
-        label=f"peak {drive.peak_torque:.3g} N\u00b7m at {drive.peak_torque_at_deg:.1f}\u00b0",
-    )
-    ax.axhline(0.0, color="0.6", lw=0.5)
+    mark_mean_and_peak_torque(ax, drive.theta_deg, drive, C["margin"])
     deg_ticks(ax, 45.0)
     ax.set_xlabel("cam angle \u03b8 (deg)")
     ax.set_ylabel("camshaft torque (N\u00b7m)")

@@ -110,3 +110,18 @@ class Flow:
         lines = textwrap.wrap(text, width) or [""]
         self.fig.text(self.left + indent, self.y, "\n".join(lines), size=size, va="top", linespacing=1.3, **kw)
         self.y -= self.h(size, len(lines)) * 0.93
+
+
+def verdict_badge(fig, flow: Flow, passed: bool) -> None:
+    """Page 1's large PASS or FAIL, at the flow's left margin (the flow moves down past it)."""
+    flow.y -= flow.h(10)
+    fig.text(
+        flow.left + 0.012,
+        flow.y,
+        "PASS" if passed else "FAIL",
+        size=26,
+        weight="bold",
+        va="top",
+        color="white",
+        bbox={"boxstyle": "round,pad=0.35", "fc": C["ok"] if passed else C["fail"], "ec": "none"},
+    )

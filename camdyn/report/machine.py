@@ -21,7 +21,7 @@ from ..plot.machine import (
     plot_timing_diagram,
 )
 from ..schema.machine import machine_stem
-from ._layout import Flow, camdyn_version, fmt, page_frame
+from ._layout import Flow, camdyn_version, fmt, page_frame, verdict_badge
 from ._render import Written, _save_png
 from ._style import A4, LEFT, C, style
 
@@ -61,17 +61,7 @@ def _summary(fig, result: MachineResult) -> None:
     if result.description:
         flow.para(result.description, size=8.5, width=105, color=C["grey"])
     passed = result.verdict == "pass"
-    flow.y -= flow.h(10)
-    fig.text(
-        flow.left + 0.012,
-        flow.y,
-        "PASS" if passed else "FAIL",
-        size=26,
-        weight="bold",
-        va="top",
-        color="white",
-        bbox={"boxstyle": "round,pad=0.35", "fc": C["ok"] if passed else C["fail"], "ec": "none"},
-    )
+    verdict_badge(fig, flow, passed)
     n_fail = sum(c.verdict != "pass" for c in result.cams)
     what = f"all {len(result.cams)} cams pass" if n_fail == 0 else f"{n_fail} of {len(result.cams)} cams fail"
     gaps_fail = sum(not g.check.ok for g in result.clearances)

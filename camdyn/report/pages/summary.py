@@ -21,7 +21,7 @@ from ...plot import (
     svaj_quantities,
 )
 from .._data import ReportData
-from .._layout import Flow, fmt
+from .._layout import Flow, fmt, verdict_badge
 from .._style import C
 
 UNITS = {
@@ -74,17 +74,7 @@ def _verdict(fig, data: ReportData, flow: Flow) -> None:
     """PASS or FAIL, large, and how many checks fail at which speed."""
     chk = data.check
     passed = chk.verdict == "pass"
-    flow.y -= flow.h(10)
-    fig.text(
-        flow.left + 0.012,
-        flow.y,
-        "PASS" if passed else "FAIL",
-        size=26,
-        weight="bold",
-        va="top",
-        color="white",
-        bbox=dict(boxstyle="round,pad=0.35", fc=C["ok"] if passed else C["fail"], ec="none"),
-    )
+    verdict_badge(fig, flow, passed)
     n_fail = sum(not c.ok for c in chk.checks)
     what = "every check passes" if passed else f"{n_fail} of {len(chk.checks)} checks fail"
     model = f"{chk.dynamic['model']} follower" + (
