@@ -9,7 +9,7 @@ from dataclasses import dataclass
 import jax.numpy as jnp
 import numpy as np
 
-from .._core.units import RPM
+from .._core.units import JUMP_SEARCH_FACTOR, RPM
 from ..model import dynamics as dyn
 from ..model.case import Case
 from ..model.contact import ContactStress
@@ -178,7 +178,8 @@ def run_check(case: Case, speed_rpm: float | None = None) -> CheckReport:
     resp = dyn.response(motion, model, omega)
     w_kin, at_kin, w_dyn, w_max = jump_speeds(case, omega, limits.speed_margin)
     if not math.isfinite(w_dyn) and not model.rigid:
-        warnings.append(f"no jump found up to {w_max / RPM:.0f} rpm (searched 4x beyond the margin)")
+        searched = f"searched {JUMP_SEARCH_FACTOR:g}x beyond the margin"
+        warnings.append(f"no jump found up to {w_max / RPM:.0f} rpm ({searched})")
     warnings += unit_slip_warnings(case, rpm, _finite_or_none((w_dyn if math.isfinite(w_dyn) else w_kin) / RPM))
     if not model.rigid and not resp.separations:
         # the frequency-domain steady state is exact without separation: an independent check of the solve
