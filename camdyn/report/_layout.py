@@ -112,8 +112,9 @@ class Flow:
         self.y -= self.h(size, len(lines)) * 0.93
 
 
-def verdict_badge(fig, flow: Flow, passed: bool) -> None:
-    """Page 1's large PASS or FAIL, at the flow's left margin (the flow moves down past it)."""
+def verdict_block(fig, flow: Flow, passed: bool, headline: str, subline: str) -> None:
+    """Page 1's large PASS or FAIL at the flow's left margin, a bold ``headline`` beside it and a grey ``subline``
+    under that; the flow moves down past the block."""
     flow.y -= flow.h(10)
     fig.text(
         flow.left + 0.012,
@@ -125,3 +126,6 @@ def verdict_badge(fig, flow: Flow, passed: bool) -> None:
         color="white",
         bbox={"boxstyle": "round,pad=0.35", "fc": C["ok"] if passed else C["fail"], "ec": "none"},
     )
+    fig.text(flow.left + 0.2, flow.y + 0.002, headline, size=12, va="top", weight="bold", color=C["ink"])
+    fig.text(flow.left + 0.2, flow.y - flow.h(12), subline, size=8.5, va="top", color=C["grey"])
+    flow.y -= flow.h(26) * 1.35

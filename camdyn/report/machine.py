@@ -21,7 +21,7 @@ from ..plot.machine import (
     plot_timing_diagram,
 )
 from ..schema.machine import machine_stem
-from ._layout import Flow, camdyn_version, fmt, page_frame, verdict_badge
+from ._layout import Flow, camdyn_version, fmt, page_frame, verdict_block
 from ._render import Written, _save_png
 from ._style import A4, LEFT, C, style
 
@@ -60,8 +60,6 @@ def _summary(fig, result: MachineResult) -> None:
     flow = Flow(fig, 0.93)
     if result.description:
         flow.para(result.description, size=8.5, width=105, color=C["grey"])
-    passed = result.verdict == "pass"
-    verdict_badge(fig, flow, passed)
     n_fail = sum(c.verdict != "pass" for c in result.cams)
     what = f"all {len(result.cams)} cams pass" if n_fail == 0 else f"{n_fail} of {len(result.cams)} cams fail"
     gaps_fail = sum(not g.check.ok for g in result.clearances)
@@ -71,24 +69,8 @@ def _summary(fig, result: MachineResult) -> None:
             if gaps_fail == 0
             else f"; {gaps_fail} clearance{'s' if gaps_fail > 1 else ''} too small"
         )
-    fig.text(
-        flow.left + 0.2,
-        flow.y + 0.002,
-        f"at {result.speed_rpm:g} rpm: {what}",
-        size=12,
-        va="top",
-        weight="bold",
-        color=C["ink"],
-    )
-    fig.text(
-        flow.left + 0.2,
-        flow.y - flow.h(12),
-        "each cam checked at the machine speed, as camdyn check --speed checks it",
-        size=8.5,
-        va="top",
-        color=C["grey"],
-    )
-    flow.y -= flow.h(26) * 1.35
+    subline = "each cam checked at the machine speed, as camdyn check --speed checks it"
+    verdict_block(fig, flow, result.verdict == "pass", f"at {result.speed_rpm:g} rpm: {what}", subline)
     flow.heading("Cams")
     for i, cam in enumerate(result.cams):
         ok = cam.verdict == "pass"

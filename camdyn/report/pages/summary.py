@@ -21,7 +21,7 @@ from ...plot import (
     svaj_quantities,
 )
 from .._data import ReportData
-from .._layout import Flow, fmt, verdict_badge
+from .._layout import Flow, fmt, verdict_block
 from .._style import C
 
 UNITS = {
@@ -74,23 +74,12 @@ def _verdict(fig, data: ReportData, flow: Flow) -> None:
     """PASS or FAIL, large, and how many checks fail at which speed."""
     chk = data.check
     passed = chk.verdict == "pass"
-    verdict_badge(fig, flow, passed)
     n_fail = sum(not c.ok for c in chk.checks)
     what = "every check passes" if passed else f"{n_fail} of {len(chk.checks)} checks fail"
     model = f"{chk.dynamic['model']} follower" + (
         " (oscillating arm; torques as contact forces through the lever arm)" if data.oscillating else ""
     )
-    fig.text(
-        flow.left + 0.2,
-        flow.y + 0.002,
-        f"at {chk.speed_rpm:g} rpm: {what}",
-        size=12,
-        va="top",
-        weight="bold",
-        color=C["ink"],
-    )
-    fig.text(flow.left + 0.2, flow.y - flow.h(12), model, size=8.5, va="top", color=C["grey"])
-    flow.y -= flow.h(26) * 1.35
+    verdict_block(fig, flow, passed, f"at {chk.speed_rpm:g} rpm: {what}", model)
 
 
 def at_limit(c) -> bool:
