@@ -97,10 +97,13 @@ def separation_json(case: Case, sep: dyn.Separation) -> dict:
 def flight_json(case: Case, fl: dyn.Flight) -> dict:
     """One flight (a span of zero interface force) as the JSON contract has it: gap at the contact (mm), and the
     arm's angular gap (rad) beside it for an oscillating follower."""
-    out = {"leave_deg": fl.leave_deg, "land_deg": fl.land_deg}
-    if case.oscillating:
-        return out | {"max_gap_mm": _at_contact(case, fl.max_gap, fl.max_gap_deg), "max_gap_rad": fl.max_gap}
-    return out | {"max_gap_mm": fl.max_gap}
+    out = {"leave_deg": fl.leave_deg, "land_deg": fl.land_deg, "max_gap_mm": _flight_gap_mm(case, fl)}
+    return out | ({"max_gap_rad": fl.max_gap} if case.oscillating else {})
+
+
+def _flight_gap_mm(case: Case, fl: dyn.Flight) -> float:
+    """A flight's largest gap at the contact, mm (an arm's angular gap carried out to the contact point)."""
+    return _at_contact(case, fl.max_gap, fl.max_gap_deg) if case.oscillating else fl.max_gap
 
 
 def impact_json(imp: dyn.Impact) -> dict:
@@ -133,22 +136,23 @@ def _separation_note(sep: dict, rpm: float, restitution: float) -> str:
     )
 
 
-def _flights_note(dynamic: dict, rpm: float) -> str:
-    """Every flight (where the interface force is zero) and the largest impact: what the report's page 1 says."""
-    flights, impacts = dynamic["flights"], dynamic["impacts"]
-    spans = ", ".join(f"{f['leave_deg']:.1f}-{f['land_deg']:.1f}" for f in flights[:4]) + (
+def _flights_note(case: Case, resp: dyn.Response, rpm: float) -> str:
+    """Every flight (where the interface force is zero) and the largest impact: what the report's page 1 says.
+    ``resp``'s forces in N (:func:`forces_in_newton`)."""
+    flights, impacts = resp.flights, resp.impacts
+    spans = ", ".join(f"{f.leave_deg:.1f}-{f.land_deg:.1f}" for f in flights[:4]) + (
         ", ..." if len(flights) > 4 else ""
     )
-    gap = max(f["max_gap_mm"] for f in flights)
+    gap = max(_flight_gap_mm(case, f) for f in flights)
     times = {1: "once", 2: "twice"}.get(len(flights), f"{len(flights)} times")
     note = (
         f"the follower leaves the cam {times} a revolution at {rpm:g} rpm (flights {spans} deg; gap up to {gap:.3g} mm)"
     )
-    forces = [i for i in impacts if i["peak_force_N"] is not None]
+    forces = [i for i in impacts if math.isfinite(i.peak_force)]  # a rigid landing's impulse has no force
     if forces:
-        top = max(forces, key=lambda i: i["peak_force_N"])
+        top = max(forces, key=lambda i: i.peak_force)
         many = f"{len(impacts)} impacts, the largest" if len(impacts) > 1 else "an impact of"
-        note += f"; {many} {top['peak_force_N']:.4g} N at {top['peak_deg']:.1f} deg"
+        note += f"; {many} {top.peak_force:.4g} N at {top.peak_deg:.1f} deg"
     return note
 
 
@@ -250,10 +254,10 @@ def run_check(case: Case, speed_rpm: float | None = None) -> CheckReport:
             contact = case_contact(case, geo, resp)
             if limits.max_contact_stress is not None:
                 checks += (contact_check(contact, limits.max_contact_stress),)
-    by_flights = bool(dynamic["flights"]) and not case.model.rigid  # a compliant train's flights and impacts
+    by_flights = bool(resp.flights) and not model.rigid  # a compliant train's flights and impacts
     for sep in dynamic["separations"]:
         if not (by_flights and sep["settled"]):  # one flight-and-impacts note says it, as the report does
             warnings.append(_separation_note(sep, rpm, float(case.model.restitution)))
     if by_flights:
-        warnings.append(_flights_note(dynamic, rpm))
+        warnings.append(_flights_note(case, resp, rpm))
     return CheckReport(case, rpm, checks, kinematic, dynamic, resp, tuple(warnings), tuple(advice), geo, drive, contact)
