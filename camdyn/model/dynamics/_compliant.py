@@ -23,7 +23,7 @@ from ._harmonic import steady_state
 from ._kinematic import kinematic_force, kinematic_force_jit
 from ._result import Response, residual_vibration, separations_from_mask
 from ._solver import ATOL, MAX_STEPS, RTOL
-from ._train import contact_force
+from ._train import contact_force, static_position
 
 
 def vector_field(theta, y, args):
@@ -200,9 +200,8 @@ def compliant_response(motion: Motion, model: FollowerModel, omega: float, n: in
     merge_deg = math.degrees(omega * TWO_PI / _contact_mode(model))
     rel = omega * model.scale * (p - vals[1])
     seps = separations_from_mask(theta_deg, flying, x - vals[0], rel, merge_deg)
-    # static equilibrium in a dwell: k_f (s - x) = k x + F0 + F_ext
-    kf, kk = float(model.train_stiffness) * model.scale, float(model.stiffness) * model.scale
-    x_static = (kf * vals[0] - float(model.preload) - float(model.external)) / (kk + kf)
+    # in numpy on the host, like the rest of the response (XLA's division differs from numpy's in the last bit)
+    x_static = static_position(jax.device_get(model), vals[0], model.scale)
     resid, resid_deg = residual_vibration(motion, theta_deg, x - x_static)
     warnings = notes
     tol = 1e-6 * max(1.0, float(np.max(np.abs(vals[0]))))

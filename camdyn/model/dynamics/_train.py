@@ -1,4 +1,4 @@
-"""The follower train's force on the cam: the one place the interface law is written.
+"""The follower train's force on the cam and the follower's rest on it: the one place each is written.
 
 Every model with a compliant train (the lumped follower in the time and frequency domains, the spring's surge
 chain, the sweeps, the tolerance study, the optimizer) reads it from here.
@@ -26,3 +26,11 @@ def contact_force(model: FollowerModel, omega, s, s1, x, x1, unit=1.0):
     """The interface force with unilateral contact: :func:`train_force` while the cam is ahead of the follower
     (s > x) and pushes it, else 0 (the follower flies); same units and arguments. JAX (returns a JAX array)."""
     return jnp.where(s > x, jnp.maximum(0.0, train_force(model, omega, s, s1, x, x1, unit)), 0.0)
+
+
+def static_position(model: FollowerModel, s, unit=1.0):
+    """Where the compliant follower rests on a cam standing at lift ``s``: ``k_f (s - x) = k x + F0 + F_ext``, so
+    ``x = (k_f s - F0 - F_ext) / (k + k_f)``, in the unit of ``s`` whose SI value is ``unit`` (as
+    :func:`train_force`). The reference the residual vibration in a dwell is measured from."""
+    kf, k = model.train_stiffness * unit, model.stiffness * unit
+    return (kf * s - model.preload - model.external) / (k + kf)
