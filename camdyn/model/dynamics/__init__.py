@@ -24,7 +24,7 @@ from ._kinematic import kinematic_force, kinematic_force_jit, kinematic_force_of
 from ._response import dynamic_jump_speed, first_zero_speed, jump_search_limit, response
 from ._result import Flight, Impact, Response, Separation
 from ._rigid import rigid_response
-from ._train import contact_force, static_position, train_force
+from ._train import contact_force, preload_share, static_position, train_force
 
 __all__ = [
     "Flight",
@@ -44,6 +44,7 @@ __all__ = [
     "linear_min_force",
     "min_contact_force",
     "periodic_orbit",
+    "preload_share",
     "response",
     "rigid_response",
     "steady_force_at",

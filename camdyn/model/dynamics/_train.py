@@ -34,3 +34,10 @@ def static_position(model: FollowerModel, s, unit=1.0):
     :func:`train_force`). The reference the residual vibration in a dwell is measured from."""
     kf, k = model.train_stiffness * unit, model.stiffness * unit
     return (kf * s - model.preload - model.external) / (k + kf)
+
+
+def preload_share(stiffness, train_stiffness):
+    """How much of a preload change reaches the cam in contact, ``dF_i / dF0 = k_f / (k + k_f)`` (1): the
+    in-contact steady state is affine in the preload, which moves the follower by ``-dF0 / (k + k_f)`` at every
+    angle and speed (:func:`static_position`). Spring rate and train stiffness in one unit (SI); compliant trains."""
+    return train_stiffness / (stiffness + train_stiffness)
