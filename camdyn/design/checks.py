@@ -272,11 +272,11 @@ def _flights_note(flights: tuple[ContactFlight, ...], impacts: tuple[ContactImpa
     note = (
         f"the follower leaves the cam {times} a revolution at {rpm:g} rpm (flights {spans} deg; gap up to {gap:.3g} mm)"
     )
-    forces = [i for i in impacts if i.peak_force_N is not None]  # a rigid landing's impulse has no force
-    if forces:
-        top = max(forces, key=lambda i: i.peak_force_N)
+    peaks = [(i.peak_force_N, i.peak_deg) for i in impacts if i.peak_force_N is not None]  # a rigid impulse has none
+    if peaks:
+        force, deg = max(peaks, key=lambda p: p[0])
         many = f"{len(impacts)} impacts, the largest" if len(impacts) > 1 else "an impact of"
-        note += f"; {many} {top.peak_force_N:.4g} N at {top.peak_deg:.1f} deg"
+        note += f"; {many} {force:.4g} N at {deg:.1f} deg"
     return note
 
 
