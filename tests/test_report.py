@@ -14,6 +14,7 @@ from matplotlib.figure import Figure
 from matplotlib.image import imread
 from PIL import Image
 
+from camdyn._core.results import Unavailable
 from camdyn.cli import main
 from camdyn.design.checks import run_check
 from camdyn.design.review import design_review
@@ -269,7 +270,8 @@ def test_path_case_gets_the_mechanism_page(path_case):
 
 @pytest.mark.slow
 def test_spring_page_says_why_sizing_does_not_apply(lecture_review):
-    bad = dataclasses.replace(lecture_review, sizing="motion: the follower does not move: there is no spring to size")
+    reason = "motion: the follower does not move: there is no spring to size"
+    bad = dataclasses.replace(lecture_review, sizing=Unavailable(reason))
     fig = Figure(figsize=A4)
     draw_springs(fig, ReportData(bad))
     texts = " ".join(t.get_text() for t in fig.texts)
