@@ -215,7 +215,7 @@ def _table_error(
         )
 
 
-def synthesize_motion(path: dict, mechanism: dict) -> Synthesis:
+def synthesize_motion(path: dict | PathSpec, mechanism: dict | MechanismSpec) -> Synthesis:
     """Synthesize the cam of a combined cam-linkage so that the tracing point follows ``path`` exactly.
 
     ``path``, ``mechanism``: the ``[path]`` and ``[mechanism]`` tables (see :class:`PathSpec`,
