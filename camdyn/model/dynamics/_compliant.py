@@ -10,13 +10,12 @@ from __future__ import annotations
 import math
 
 import diffrax
-import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
 
 from ..._core.errors import NumericalError
-from ..._core.jit import cached_jit
+from ..._core.jit import cached_jit, filter_jit
 from ..._core.units import RPM, THETA_GRID, TWO_PI
 from ..follower import FollowerModel
 from ..motion import Motion, evaluate
@@ -43,12 +42,12 @@ def vector_field(theta, y, args):
 
 
 def _controller(motion: Motion, theta0, revs: float):
-    breaks = np.deg2rad(np.asarray(motion.breaks_deg, dtype=float))
-    jumps = (breaks[None, :] + TWO_PI * np.arange(-1, math.ceil(revs) + 2)[:, None]).ravel()
-    jumps = jnp.asarray(np.sort(jumps)) + 0.0 * theta0
+    breaks = motion.jump_angles()  # data padded with +inf for a program: the controller skips those
     pid = diffrax.PIDController(rtol=_RTOL, atol=_ATOL)
-    if jumps.size == 0:
+    if np.size(breaks) == 0:
         return pid
+    jumps = jnp.sort((jnp.asarray(breaks)[None, :] + TWO_PI * np.arange(-1, math.ceil(revs) + 2)[:, None]).ravel())
+    jumps = jumps + 0.0 * theta0
     return diffrax.ClipStepSizeController(pid, jump_ts=jumps)
 
 
@@ -183,7 +182,7 @@ def _steady_jax(motion, model, omega, theta):
     return traj, residual
 
 
-@eqx.filter_jit
+@filter_jit
 def min_contact_force(motion, model, omega, n: int = THETA_GRID):
     """Least steady-state interface force of the compliant model by time-domain shooting (N; NaN on failure).
 

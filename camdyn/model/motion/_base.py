@@ -30,6 +30,17 @@ class Motion(eqx.Module):
     def __call__(self, theta):  # pragma: no cover - abstract
         raise NotImplementedError
 
+    def jit_form(self) -> Motion:
+        """What compiled programs take in place of this motion (:func:`camdyn._core.jit.cached_jit`): a form
+        whose static structure does not depend on the case (a program's segments become padded arrays), so one
+        compiled program serves every case. The motion itself where it has no other."""
+        return self
+
+    def jump_angles(self):
+        """The breaks (rad) as the ODE step-size controller takes them: numpy, or a padded array (+inf beyond
+        the breaks) where they are data."""
+        return np.deg2rad(np.asarray(self.breaks_deg, dtype=float))
+
     def host(self, theta) -> np.ndarray:
         """s and its first three derivatives at ``theta`` (rad) as a numpy array of shape (4, *theta.shape): the
         compiled evaluation here; motions with a numpy form override it (no dispatch or compile cost)."""

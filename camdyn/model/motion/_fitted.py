@@ -16,7 +16,7 @@ import numpy as np
 
 from ..._core.units import TWO_PI
 from ._base import Motion
-from ._hermite import quintic_eval
+from ._hermite import QuinticTable, quintic_eval
 from ._spline import SplineFit, fit_periodic
 
 # The fitted s'' is called meaningless when the noise alone moves it by more than a tenth of its peak (two
@@ -33,6 +33,10 @@ class FittedMotion(Motion):
     coef: jax.Array  # (m, 6): s = sum coef[i, k] t^k, t = theta - knots[i] (rad), the motion's unit
     unit: str = eqx.field(static=True)
     breaks_deg: tuple[float, ...] = eqx.field(static=True)  # none: a quintic spline is C4
+    table: QuinticTable  # the same, padded: what compiled programs take
+
+    def jit_form(self) -> QuinticTable:
+        return self.table
 
     def __call__(self, theta):
         return quintic_eval(jnp, self.knots, self.coef, theta)
@@ -101,11 +105,13 @@ def fit_motion(
     spline = fit_periodic(np.deg2rad(theta_deg), data, tolerance=tolerance, sigma_floor=rounding)
     to_unit = 1.0 if unit == "mm" else math.pi / 180.0
     m = spline.coef.shape[0]
+    knots, coef, motion_unit = np.linspace(0.0, TWO_PI, m + 1), spline.coef * to_unit, "mm" if unit == "mm" else "rad"
     motion = FittedMotion(
-        knots=jnp.asarray(np.linspace(0.0, TWO_PI, m + 1)),
-        coef=jnp.asarray(spline.coef * to_unit),
-        unit="mm" if unit == "mm" else "rad",
+        knots=jnp.asarray(knots),
+        coef=jnp.asarray(coef),
+        unit=motion_unit,
         breaks_deg=(),
+        table=QuinticTable.padded(knots, coef, (), motion_unit),
     )
     return motion, MotionFit(source, file, unit, theta_deg, data, spline, tolerance, repeats)
 

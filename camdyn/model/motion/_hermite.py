@@ -11,13 +11,14 @@ from ..._core.units import TWO_PI
 from ._base import Motion, evaluate
 
 
-def quintic_eval(xp, knots, coef, theta):
+def quintic_eval(xp, knots, coef, theta, last=None):
     """(s, s', s'', s''') of the piecewise quintic ``coef`` (m, 6) on ``knots`` (m + 1,) rad from 0 to 2 pi, at
     theta (rad, any shape, periodic): one search for the interval and one gather, whatever the number of
-    knots. ``xp`` is jax.numpy (traceable) or numpy (no dispatch or compile cost)."""
+    knots. ``xp`` is jax.numpy (traceable) or numpy (no dispatch or compile cost). ``last``: the last
+    interval's index where the tables are padded past it (knots +inf there)."""
     theta = xp.asarray(theta, dtype=float)
     th = xp.mod(theta, TWO_PI)
-    i = xp.clip(xp.searchsorted(knots, th, side="right") - 1, 0, coef.shape[0] - 1)
+    i = xp.clip(xp.searchsorted(knots, th, side="right") - 1, 0, coef.shape[0] - 1 if last is None else last)
     t = th - knots[i]
     c = coef[i]  # (..., 6)
     c0, c1, c2, c3, c4, c5 = (c[..., k] for k in range(6))
@@ -26,6 +27,53 @@ def quintic_eval(xp, knots, coef, theta):
     s2 = 2 * c2 + t * (6 * c3 + t * (12 * c4 + t * 20 * c5))
     s3 = 6 * c3 + t * (24 * c4 + t * 60 * c5)
     return xp.stack([s, s1, s2, s3])
+
+
+# Compiled programs take a quintic table padded to 256, 1024, 4096, ... intervals (a lift table of another length,
+# a linkage of other breaks reuse them) and its breaks padded to 16, 64, 256, ... (+inf past them).
+_INTERVAL_BUCKET, _BREAK_BUCKET = 256, 16
+
+
+def _bucket(n: int, least: int) -> int:
+    size = least
+    while size < n:
+        size *= 4
+    return size
+
+
+class QuinticTable(eqx.Module):
+    """A piecewise quintic motion as compiled programs take it (:meth:`Motion.jit_form`): knots, coefficients and
+    breaks as data padded to a bucketed length, so that one compiled program serves every table of a bucket."""
+
+    knots: jax.Array  # (P + 1,) rad; +inf past the last knot
+    coef: jax.Array  # (P, 6); the last interval repeated past it
+    last: jax.Array  # the last interval's index
+    jumps: jax.Array  # breaks (rad), +inf past the last; empty where there are none
+    unit: str = eqx.field(static=True)
+
+    @classmethod
+    def padded(cls, knots, coef, breaks_deg, unit: str) -> QuinticTable:
+        knots, coef = np.asarray(knots), np.asarray(coef)
+        more = _bucket(coef.shape[0], _INTERVAL_BUCKET) - coef.shape[0]
+        breaks = np.deg2rad(np.asarray(breaks_deg, dtype=float))
+        if breaks.size:
+            breaks = np.pad(breaks, (0, _bucket(breaks.size, _BREAK_BUCKET) - breaks.size), constant_values=np.inf)
+        return cls(
+            knots=jnp.asarray(np.pad(knots, (0, more), constant_values=np.inf)),
+            coef=jnp.asarray(np.pad(coef, [(0, more), (0, 0)], mode="edge")),
+            last=jnp.asarray(coef.shape[0] - 1),
+            jumps=jnp.asarray(breaks),
+            unit=unit,
+        )
+
+    def jump_angles(self):
+        return self.jumps
+
+    def __call__(self, theta):
+        return quintic_eval(jnp, self.knots, self.coef, theta, self.last)
+
+    def host(self, theta) -> np.ndarray:
+        return quintic_eval(np, np.asarray(self.knots), np.asarray(self.coef), theta, int(self.last))
 
 
 class HermiteMotion(Motion):
@@ -41,6 +89,7 @@ class HermiteMotion(Motion):
     coef: jax.Array  # (m, 6) s = sum coef[i, k] t^k, t = theta - knots[i] (rad)
     unit: str = eqx.field(static=True)
     breaks_deg: tuple[float, ...] = eqx.field(static=True)
+    table: QuinticTable  # the same, padded: what compiled programs take
 
     @classmethod
     def from_motion(cls, source: Motion, n: int = 2048) -> HermiteMotion:
@@ -79,9 +128,12 @@ class HermiteMotion(Motion):
         c4 = (-15 * r0 + 7 * h * r1 - h**2 * r2) / h**4
         c5 = (6 * r0 - 3 * h * r1 + h**2 / 2 * r2) / h**5
         coef = np.column_stack([y0[0], y0[1], y0[2] / 2, c3, c4, c5])
-        return cls(
-            knots=jnp.asarray(knots), coef=jnp.asarray(coef), unit=source.unit, breaks_deg=tuple(source.breaks_deg)
-        )
+        breaks = tuple(source.breaks_deg)
+        table = QuinticTable.padded(knots, coef, breaks, source.unit)
+        return cls(knots=jnp.asarray(knots), coef=jnp.asarray(coef), unit=source.unit, breaks_deg=breaks, table=table)
+
+    def jit_form(self) -> QuinticTable:
+        return self.table
 
     def __call__(self, theta):
         return quintic_eval(jnp, self.knots, self.coef, theta)
