@@ -67,8 +67,10 @@ def random_segments(rng: random.Random) -> str:
 
 def thousand_segments(rng: random.Random) -> str:
     base = round(rng.uniform(0.5, 1.5), 6)
-    lines = [f'  {{ law = "cycloidal", end = {0.36 * (i + 1):.2f}, lift = {base if i % 2 == 0 else -base} }},\n'
-             for i in range(1000)]
+    lines = [
+        f'  {{ law = "cycloidal", end = {0.36 * (i + 1):.2f}, lift = {base if i % 2 == 0 else -base} }},\n'
+        for i in range(1000)
+    ]
     return "".join(lines)
 
 
