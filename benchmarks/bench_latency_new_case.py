@@ -45,22 +45,19 @@ def lecture_with(segments: str, name: str) -> str:
 
 
 def random_segments(rng: random.Random) -> str:
-    """A closed rise-dwell-return program with random laws and angles (lift 5-25 mm)."""
+    """A closed program with random laws and angles: 1-3 rises, then as many returns (each undoing a rise, so the
+    lift never goes below zero), 1-3 dwells among them; segments at least 10 deg long."""
     n_rise = rng.randint(1, 3)
     lifts = [round(rng.uniform(3.0, 9.0), 3) for _ in range(n_rise)]
-    n = 2 * n_rise + rng.randint(1, 3)
-    ends = sorted(rng.sample(range(20, 350), n - 1)) + [360]
-    kinds = ["rise"] * n_rise + ["return"] * n_rise + ["dwell"] * (n - 2 * n_rise)
-    rng.shuffle(kinds)
-    while kinds.index("return") < kinds.index("rise"):  # a return only after a rise keeps the lift >= 0
-        rng.shuffle(kinds)
-    rises, returns = list(lifts), list(lifts)
+    kinds = [("rise", x) for x in lifts] + [("return", -x) for x in reversed(lifts)]
+    for _ in range(rng.randint(1, 3)):
+        kinds.insert(rng.randint(0, len(kinds)), ("dwell", 0.0))
+    ends = sorted(rng.sample(range(20, 350, 10), len(kinds) - 1)) + [360]
     lines = []
-    for end, kind in zip(ends, kinds, strict=True):
+    for end, (kind, lift) in zip(ends, kinds, strict=True):
         if kind == "dwell":
             lines.append(f'  {{ law = "dwell", end = {end} }},\n')
         else:
-            lift = rises.pop() if kind == "rise" else -returns.pop()
             lines.append(f'  {{ law = "{rng.choice(LAWS)}", end = {end}, lift = {lift} }},\n')
     return "".join(lines)
 

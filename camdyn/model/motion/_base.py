@@ -52,6 +52,14 @@ class Motion(eqx.Module):
         return theta_deg, np.asarray(evaluate(self, jnp.deg2rad(theta_deg)))
 
 
+def padded_length(n: int, least: int, factor: int = 4) -> int:
+    """The bucket ``n`` rows are padded to: ``least``, or ``least * factor**k``, the first that holds them."""
+    size = least
+    while size < n:
+        size *= factor
+    return size
+
+
 @cached_jit
 def evaluate(motion: Motion, theta):
     """``motion(theta)`` compiled once per motion structure (eager evaluation dispatches op by op)."""

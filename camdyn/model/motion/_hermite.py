@@ -8,7 +8,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from ..._core.units import TWO_PI
-from ._base import Motion, evaluate
+from ._base import Motion, evaluate, padded_length
 
 
 def quintic_eval(xp, knots, coef, theta, last=None):
@@ -29,16 +29,9 @@ def quintic_eval(xp, knots, coef, theta, last=None):
     return xp.stack([s, s1, s2, s3])
 
 
-# Compiled programs take a quintic table padded to 256, 1024, 4096, ... intervals (a lift table of another length,
-# a linkage of other breaks reuse them) and its breaks padded to 16, 64, 256, ... (+inf past them).
-_INTERVAL_BUCKET, _BREAK_BUCKET = 256, 16
-
-
-def _bucket(n: int, least: int) -> int:
-    size = least
-    while size < n:
-        size *= 4
-    return size
+# Compiled programs take a quintic table padded to 4096 intervals (16384, ... beyond) and its breaks padded to 1024
+# (+inf past them): lift tables of any length up to that, linkages of any breaks, share one compiled program.
+_INTERVAL_ROWS, _BREAK_ROWS = 4096, 1024
 
 
 class QuinticTable(eqx.Module):
@@ -54,10 +47,10 @@ class QuinticTable(eqx.Module):
     @classmethod
     def padded(cls, knots, coef, breaks_deg, unit: str) -> QuinticTable:
         knots, coef = np.asarray(knots), np.asarray(coef)
-        more = _bucket(coef.shape[0], _INTERVAL_BUCKET) - coef.shape[0]
+        more = padded_length(coef.shape[0], _INTERVAL_ROWS) - coef.shape[0]
         breaks = np.deg2rad(np.asarray(breaks_deg, dtype=float))
         if breaks.size:
-            breaks = np.pad(breaks, (0, _bucket(breaks.size, _BREAK_BUCKET) - breaks.size), constant_values=np.inf)
+            breaks = np.pad(breaks, (0, padded_length(breaks.size, _BREAK_ROWS) - breaks.size), constant_values=np.inf)
         return cls(
             knots=jnp.asarray(np.pad(knots, (0, more), constant_values=np.inf)),
             coef=jnp.asarray(np.pad(coef, [(0, more), (0, 0)], mode="edge")),

@@ -15,7 +15,7 @@ from ..._core.errors import InputError
 from ..._core.units import JUMP_RTOL, TWO_PI
 from ...schema import SegmentSpec, check_segments, parse
 from ...schema.motion import BSPLINE, POLYNOMIAL, BSplineSegmentSpec, PolynomialSegmentSpec
-from ._base import Motion
+from ._base import Motion, padded_length
 from ._bspline import bspline_table
 from ._laws import _LAW_TABLES, _NC, _LawTable, _piece_eval
 from ._polynomial import BoundaryPolynomial, polynomial_warnings, solve_polynomial
@@ -49,17 +49,11 @@ class Segment:
         return _LawTable(x0=np.zeros(1), c=acc[None, :], w=one, p1=0 * one, p2=0 * one, y0=b[:1], v0=b[1:2]), to_unit
 
 
-# Compiled programs take a program's pieces as arrays padded to one of these lengths (16, 64, 256, ...) and its
-# acceleration polynomials padded to 8, 16, 32, ... coefficients: one compiled program serves every program of a
-# bucket, whatever its segments, laws and angles (a new case traces nothing new).
-_PIECE_BUCKET, _COEF_BUCKET = 16, 8
-
-
-def _bucket(n: int, least: int, factor: int) -> int:
-    size = least
-    while size < n:
-        size *= factor
-    return size
+# Compiled programs take a program's pieces as arrays padded to 1024 rows (4096, ... beyond) and its acceleration
+# polynomials padded to 8 coefficients (16, 32, ... for a polynomial of high degree): one compiled program serves
+# every program of a follower kind, whatever its segments, laws and angles. A longer search costs nothing measurable
+# against a trace and compile (about 10 s), which a new bucket would cost a new case.
+_PIECE_ROWS, _COEF_WIDTH = 1024, 8
 
 
 class PieceTable(eqx.Module):
@@ -173,8 +167,8 @@ class Program(Motion):
                 for k in ("x0", "c", "w", "p1", "p2", "y0", "v0"):
                     cols[k].append(getattr(t, k)[i])
         breaks = tuple(sorted({round(math.degrees(a), 12) % 360.0 for a in cols["start"]}))
-        rows = _bucket(len(cols["start"]), _PIECE_BUCKET, 4)
-        width = _bucket(max(len(c) for c in cols["c"]), _COEF_BUCKET, 2)  # the named laws' _NC, or a polynomial's
+        rows = padded_length(len(cols["start"]), _PIECE_ROWS)
+        width = padded_length(max(len(c) for c in cols["c"]), _COEF_WIDTH, 2)  # the named laws' _NC, or a polynomial's
         cols["c"] = [np.pad(c, (0, width - len(c))) for c in cols["c"]]  # zero terms leave Horner's sums exact
         arrays = {k: np.array(v, dtype=float) for k, v in cols.items()}
         arrays = {k: _pad_rows(v, rows, np.inf if k == "start" else None) for k, v in arrays.items()}
