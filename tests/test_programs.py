@@ -1,5 +1,6 @@
 """The traced-program cache: persisted programs give the same answers, and anything static changes the key."""
 
+import dataclasses
 import json
 import os
 import subprocess
@@ -114,7 +115,7 @@ def test_a_thousand_segments_fill_one_bucket():
 
 
 def test_fitted_tables_of_other_lengths_share_one_compiled_kernel():
-    from camdyn.model.motion import fit_motion
+    from camdyn.model.motion import evaluate, fit_motion
 
     def fitted(n):
         theta = np.arange(n) * (360.0 / n)
@@ -125,3 +126,6 @@ def test_fitted_tables_of_other_lengths_share_one_compiled_kernel():
     theta = np.array([0.0, 1.0, 3.0, 2 * np.pi, np.nextafter(2 * np.pi, 0), -1e-300])
     for m in (short, long):
         assert np.allclose(m.jit_form().host(theta), m.host(theta), rtol=1e-12, atol=1e-12)
+    # the form follows the coefficients (a table's noise study replaces them, under vmap)
+    doubled = jax.vmap(lambda c: evaluate(dataclasses.replace(short, coef=c), jnp.asarray(theta)))(2 * short.coef[None])
+    assert np.allclose(doubled[0], 2 * short.host(theta), rtol=1e-12, atol=1e-12)

@@ -33,10 +33,9 @@ class FittedMotion(Motion):
     coef: jax.Array  # (m, 6): s = sum coef[i, k] t^k, t = theta - knots[i] (rad), the motion's unit
     unit: str = eqx.field(static=True)
     breaks_deg: tuple[float, ...] = eqx.field(static=True)  # none: a quintic spline is C4
-    table: QuinticTable  # the same, padded: what compiled programs take
 
     def jit_form(self) -> QuinticTable:
-        return self.table
+        return QuinticTable.padded(self.knots, self.coef, self.breaks_deg, self.unit)
 
     def __call__(self, theta):
         return quintic_eval(jnp, self.knots, self.coef, theta)
@@ -105,13 +104,11 @@ def fit_motion(
     spline = fit_periodic(np.deg2rad(theta_deg), data, tolerance=tolerance, sigma_floor=rounding)
     to_unit = 1.0 if unit == "mm" else math.pi / 180.0
     m = spline.coef.shape[0]
-    knots, coef, motion_unit = np.linspace(0.0, TWO_PI, m + 1), spline.coef * to_unit, "mm" if unit == "mm" else "rad"
     motion = FittedMotion(
-        knots=jnp.asarray(knots),
-        coef=jnp.asarray(coef),
-        unit=motion_unit,
+        knots=jnp.asarray(np.linspace(0.0, TWO_PI, m + 1)),
+        coef=jnp.asarray(spline.coef * to_unit),
+        unit="mm" if unit == "mm" else "rad",
         breaks_deg=(),
-        table=QuinticTable.padded(knots, coef, (), motion_unit),
     )
     return motion, MotionFit(source, file, unit, theta_deg, data, spline, tolerance, repeats)
 

@@ -46,14 +46,16 @@ class QuinticTable(eqx.Module):
 
     @classmethod
     def padded(cls, knots, coef, breaks_deg, unit: str) -> QuinticTable:
-        knots, coef = np.asarray(knots), np.asarray(coef)
+        """The table of ``knots`` (m + 1,) and ``coef`` (m, 6), padded; traceable (a vmap over noisy coefficients)."""
+        xp = jnp if isinstance(coef, jax.core.Tracer) else np  # numpy where it can: no eager dispatch
+        knots, coef = xp.asarray(knots), xp.asarray(coef)
         more = padded_length(coef.shape[0], _INTERVAL_ROWS) - coef.shape[0]
         breaks = np.deg2rad(np.asarray(breaks_deg, dtype=float))
         if breaks.size:
             breaks = np.pad(breaks, (0, padded_length(breaks.size, _BREAK_ROWS) - breaks.size), constant_values=np.inf)
         return cls(
-            knots=jnp.asarray(np.pad(knots, (0, more), constant_values=np.inf)),
-            coef=jnp.asarray(np.pad(coef, [(0, more), (0, 0)], mode="edge")),
+            knots=jnp.asarray(xp.pad(knots, (0, more), constant_values=np.inf)),
+            coef=jnp.asarray(xp.pad(coef, [(0, more), (0, 0)], mode="edge")),
             last=jnp.asarray(coef.shape[0] - 1),
             jumps=jnp.asarray(breaks),
             unit=unit,
@@ -82,7 +84,6 @@ class HermiteMotion(Motion):
     coef: jax.Array  # (m, 6) s = sum coef[i, k] t^k, t = theta - knots[i] (rad)
     unit: str = eqx.field(static=True)
     breaks_deg: tuple[float, ...] = eqx.field(static=True)
-    table: QuinticTable  # the same, padded: what compiled programs take
 
     @classmethod
     def from_motion(cls, source: Motion, n: int = 2048) -> HermiteMotion:
@@ -121,12 +122,12 @@ class HermiteMotion(Motion):
         c4 = (-15 * r0 + 7 * h * r1 - h**2 * r2) / h**4
         c5 = (6 * r0 - 3 * h * r1 + h**2 / 2 * r2) / h**5
         coef = np.column_stack([y0[0], y0[1], y0[2] / 2, c3, c4, c5])
-        breaks = tuple(source.breaks_deg)
-        table = QuinticTable.padded(knots, coef, breaks, source.unit)
-        return cls(knots=jnp.asarray(knots), coef=jnp.asarray(coef), unit=source.unit, breaks_deg=breaks, table=table)
+        return cls(
+            knots=jnp.asarray(knots), coef=jnp.asarray(coef), unit=source.unit, breaks_deg=tuple(source.breaks_deg)
+        )
 
     def jit_form(self) -> QuinticTable:
-        return self.table
+        return QuinticTable.padded(self.knots, self.coef, self.breaks_deg, self.unit)
 
     def __call__(self, theta):
         return quintic_eval(jnp, self.knots, self.coef, theta)
