@@ -6,9 +6,9 @@ All in one run, as fresh ``python -m camdyn check`` processes sharing the instal
 or ``$XDG_CACHE_HOME/camdyn``), which are NOT cleared: the point is a cache warm from other cases.
 (a) ``cases/lecture.toml``, warm (run once to fill the caches, then best of ``--repeat``);
 (b) a never-seen case: the lecture's follower and dynamics with a random segment list (a seed taken from the clock,
-    so the structure is new to the caches: 5-9 segments of random named laws and angles), its first ``check``;
-(c) the 1000-segment program: alternating +-1 mm cycloids of 0.36 deg each (random base offsets make its numbers
-    new to the caches too), its first ``check``.
+    so the structure is new to the caches: 3-9 segments of random named laws, lifts and angles), its first ``check``;
+(c) the 1000-segment program: alternating cycloids of 0.36 deg each, +-1 mm give or take a random half millimetre
+    (so its numbers are new to the caches too), its first ``check``.
 Prints each wall time and its ratio to (a). The machine may be shared: the load average is printed.
 """
 
