@@ -6,6 +6,7 @@ import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
+from jax.core import Tracer
 
 from ..._core.units import TWO_PI
 from ._base import Motion, evaluate, padded_length
@@ -47,7 +48,7 @@ class QuinticTable(eqx.Module):
     @classmethod
     def padded(cls, knots, coef, breaks_deg, unit: str) -> QuinticTable:
         """The table of ``knots`` (m + 1,) and ``coef`` (m, 6), padded; traceable (a vmap over noisy coefficients)."""
-        xp = jnp if isinstance(coef, jax.core.Tracer) else np  # numpy where it can: no eager dispatch
+        xp = jnp if isinstance(coef, Tracer) else np  # numpy where it can: no eager dispatch
         knots, coef = xp.asarray(knots), xp.asarray(coef)
         more = padded_length(coef.shape[0], _INTERVAL_ROWS) - coef.shape[0]
         breaks = np.deg2rad(np.asarray(breaks_deg, dtype=float))
