@@ -13,6 +13,7 @@ import gzip
 import io
 import json
 import sys
+import tomllib
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -21,9 +22,15 @@ GOLDEN = Path(__file__).resolve().parent / "data" / "golden"
 
 
 def shipped_cases() -> list[Path]:
-    """Every shipped case file: ``cases/*.toml`` (``cases/machines`` holds machines, ``cases/paths`` the inputs of
-    ``synthesize``, whose cases ship as ``cases/<name>.toml``)."""
-    return sorted(CASES.glob("*.toml"))
+    """Every shipped case file: ``cases/*.toml`` and the cams of ``cases/machines`` (not the machine files, which
+    list ``[[cam]]``); ``cases/paths`` holds the inputs of ``synthesize``, whose cases ship as ``cases/<name>.toml``."""
+    cams = [p for p in sorted((CASES / "machines").glob("*.toml")) if "cam" not in tomllib.loads(p.read_text())]
+    return sorted(CASES.glob("*.toml")) + cams
+
+
+def golden_name(case: Path) -> str:
+    """The snapshot's name: the case file's path under ``cases/``, ``/`` as ``-``."""
+    return case.relative_to(CASES).with_suffix("").as_posix().replace("/", "-")
 
 
 def _cli(*argv: str) -> tuple[int, str]:
@@ -72,16 +79,19 @@ def snapshot(case: Path) -> dict:
 
 
 def golden_file(case: Path) -> Path:
-    return GOLDEN / f"{case.stem}.json.gz"
+    return GOLDEN / f"{golden_name(case)}.json.gz"
 
 
-def main() -> None:
+def main(names: list[str]) -> None:
+    """Rewrite the snapshots of every shipped case, or of those named (``golden_name``)."""
     GOLDEN.mkdir(parents=True, exist_ok=True)
     for case in shipped_cases():
+        if names and golden_name(case) not in names:
+            continue
         snap = snapshot(case)
         golden_file(case).write_bytes(gzip.compress(json.dumps(snap, sort_keys=False).encode(), mtime=0))
         print(case.name, {k: v["exit"] for k, v in snap.items()}, file=sys.stderr)
 
 
 if __name__ == "__main__":
-    main()
+    main(sys.argv[1:])

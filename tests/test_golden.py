@@ -6,7 +6,7 @@ import json
 import math
 
 import pytest
-from golden_regen import golden_file, shipped_cases, snapshot
+from golden_regen import golden_file, golden_name, shipped_cases, snapshot
 
 RTOL = 1e-9
 
@@ -33,10 +33,10 @@ def assert_same(got, want, where: str = "") -> None:
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("case", shipped_cases(), ids=lambda p: p.stem)
+@pytest.mark.parametrize("case", shipped_cases(), ids=golden_name)
 def test_golden(case):
     want = json.loads(gzip.decompress(golden_file(case).read_bytes()))
-    assert_same(snapshot(case), want, case.stem)
+    assert_same(snapshot(case), want, golden_name(case))
 
 
 def test_assert_same_fails_on_a_change():
