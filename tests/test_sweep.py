@@ -111,36 +111,6 @@ def test_steady_state_vs_diffrax(lecture, small_map):
     assert 0.0 < resp.min_force < 2.0 and jm.min_force[0, 0] == pytest.approx(resp.min_force, abs=0.01)
 
 
-def test_numpy_steady_state_vs_model(lecture, small_map):
-    """The map's batched numpy harmonic balance against the model's own JAX one (``linear_contact_force`` on the
-    same 0.1 deg grid) at every point, separated ones included (their signed in-contact force), and its state at
-    theta = 0 (the diffrax gap's start) against the inverse FFT of ``steady_state``."""
-    from camdyn.design.sweep._contact import linear_least_force
-    from camdyn.design.sweep._grid import GRID_N
-
-    theta = np.arange(GRID_N) * (2.0 * np.pi / GRID_N)
-    s, s1 = np.asarray(evaluate(lecture.motion, jnp.asarray(theta)))[:2] * lecture.model.scale
-    spec = jnp.fft.rfft(jnp.asarray(s))
-    for i, rpm in enumerate(small_map.speeds_rpm):
-        for j, rate in enumerate(small_map.spring_rates):
-            md = _model_with_rate(lecture, rate)
-            force = np.asarray(dyn.linear_contact_force(lecture.motion, md, np.array([rpm * RPM]), GRID_N))[0]
-            assert small_map.contact_force[i, j] == pytest.approx(force.min(), abs=1e-9 * np.abs(force).max())
-            least, z0 = linear_least_force(
-                md,
-                s,
-                s1,
-                np.ones(GRID_N),
-                np.array([rpm * RPM]),
-                np.array([float(md.stiffness)]),
-                np.array([float(md.damping)]),
-            )
-            x, x1 = dyn.steady_state(spec, rpm * RPM, md, md.stiffness, md.damping, GRID_N)
-            np.testing.assert_allclose(z0[0], np.array([x[0], x1[0]]) / md.scale, rtol=1e-10, atol=1e-13)
-            assert least[0] == pytest.approx(small_map.contact_force[i, j], rel=1e-12)
-    assert small_map.separated.any() and not small_map.separated.all()
-
-
 def test_gap_vs_diffrax_shooting(lecture, small_map):
     """A periodic bounce (520 rpm, 2 N/mm): the map's largest gap against the diffrax periodic orbit."""
     resp = dyn.compliant_response(lecture.motion, lecture.model, 520.0 * RPM)

@@ -17,10 +17,10 @@ from ...model import dynamics as dyn
 from ...model.geometry import newton_per_torque_at
 from ...model.motion import evaluate
 from ..parts import resolve_spring, spring_mass_notes
-from ._contact import kinematic_kernel, linear_least_force, with_spring_damping
+from ._contact import kinematic_kernel, linear_kernel, with_spring_damping
 from ._diffrax_gap import diffrax_gap_const, diffrax_gap_kernel
 from ._exact_gap import exact_gap_kernel
-from ._grid import GAP_CHUNK, GAP_STRIDE, GRID_N, HARMONIC_CHUNK, LINEAR_CHUNK, check_grid_size
+from ._grid import GAP_CHUNK, GAP_STRIDE, GRID_N, LINEAR_CHUNK, check_grid_size
 from ._result import STATUS_OK, JumpMap, failed
 
 
@@ -100,10 +100,12 @@ def _rigid_map(case, pts: _Points, angles, gaps: bool, progress, devices):
 
 
 def _compliant_map(case, pts: _Points, angles, gaps: bool, gap_method: str, progress, devices):
-    motion, base = case.motion, case.model
+    base = case.model
     theta, vals, weight = angles
+    spec = jnp.fft.rfft(jnp.asarray(vals[0]))
+    const = (base, jnp.asarray(vals[0]), jnp.asarray(vals[1]), spec, jnp.asarray(weight))
     tick = counter(progress, "steady state (frequency domain)", pts.omega.size)
-    signed, z0 = linear_least_force(base, vals[0], vals[1], weight, pts.omega, pts.k, pts.c, HARMONIC_CHUNK, tick)
+    signed, z0 = run_batched(linear_kernel, const, [pts.omega, pts.k, pts.c], LINEAR_CHUNK, tick, devices)
     why = {int(i): "the frequency-domain steady state is not finite" for i in np.nonzero(~np.isfinite(signed))[0]}
     separated = signed <= 0.0
     gap = np.zeros(pts.omega.size)
@@ -113,7 +115,7 @@ def _compliant_map(case, pts: _Points, angles, gaps: bool, gap_method: str, prog
     tick = counter(progress, "separated points (nonlinear model)", idx.size)
     point = [pts.omega[idx], pts.k[idx], pts.c[idx]]
     if gap_method == "exact":
-        tab = np.asarray(evaluate(motion, jnp.asarray(theta[::GAP_STRIDE])))[:3]
+        tab = vals[:3, ::GAP_STRIDE] / base.scale  # the same angles: no second evaluation of the motion (its compile)
         w_tab = _lever_arm_mm(case, theta[::GAP_STRIDE]) if case.oscillating else np.ones(tab.shape[1])
         gconst = (
             base,

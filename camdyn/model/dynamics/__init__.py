@@ -17,21 +17,13 @@ hold for the rotational equivalent of an oscillating follower (inertia, torsion 
 """
 
 from ._compliant import compliant_response, min_contact_force, periodic_orbit, vector_field
-from ._harmonic import (
-    contact_transfer,
-    linear_contact_force,
-    linear_min_force,
-    steady_force_at,
-    steady_state,
-    train_force,
-)
+from ._harmonic import linear_contact_force, linear_min_force, steady_force_at, steady_state, train_force
 from ._kinematic import kinematic_force, kinematic_force_jit, kinematic_force_of, kinematic_jump_speed
 from ._response import dynamic_jump_speed, first_zero_speed, jump_search_limit, response
 from ._result import Flight, Impact, Response, Separation
 from ._rigid import rigid_response
 
 __all__ = [
-    "contact_transfer",
     "Flight",
     "Impact",
     "Response",

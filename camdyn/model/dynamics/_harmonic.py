@@ -20,15 +20,6 @@ from ..motion import Motion
 _FFT_N = FFT_GRID
 
 
-def contact_transfer(wk, mass, stiffness, damping, train_stiffness, train_damping):
-    """``X_k / S_k``: the follower's steady-state response in contact to the cam's harmonic of frequency ``wk``
-    (rad/s), ``(k_f + i wk c_f) / (k + k_f - m wk^2 + i wk (c + c_f))``; plain arithmetic (SI), so numpy arrays
-    give numpy (the jump map's batched harmonic balance) and JAX arrays JAX (:func:`steady_state`)."""
-    return (train_stiffness + 1j * wk * train_damping) / (
-        stiffness + train_stiffness - mass * wk**2 + 1j * wk * (damping + train_damping)
-    )
-
-
 def steady_state(spec, omega, model: FollowerModel, stiffness, damping, n: int, unit=None):
     """The compliant model's periodic steady state in contact on ``theta_j = 2 pi j / n``: (x, dx/dtheta).
 
@@ -41,7 +32,7 @@ def steady_state(spec, omega, model: FollowerModel, stiffness, damping, n: int, 
     k = jnp.arange(spec.shape[0])
     m, kf, cf = model.mass, model.train_stiffness, model.train_damping
     wk = k * omega
-    x_spec = spec * contact_transfer(wk, m, stiffness, damping, kf, cf)
+    x_spec = spec * (kf + 1j * wk * cf) / (stiffness + kf - m * wk**2 + 1j * wk * (damping + cf))
     static = n * (model.preload + model.external)
     if unit is not None:
         static = static / unit
