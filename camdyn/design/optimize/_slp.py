@@ -17,7 +17,6 @@ from scipy.optimize import linprog
 _MAX_STEPS = 30
 _FIRST_ROWS = 200  # rows of a linear program's first round
 _ADDED_ROWS = 100  # rows joining it per round at most, the most broken first
-_HIGHS = {"presolve": False}  # a few dozen columns: HiGHS's presolve costs more than it saves
 _PENALTY = 1e3  # merit per unit of scaled geometry violation, relative to the objective's own scale
 
 
@@ -79,7 +78,6 @@ def _linear_step(v, Jv, g, Jg, bounds, seed=None):
             b_ub=np.r_[v_all[kv], -g_all[kg]],
             bounds=bounds + [(None, None)],
             method="highs",
-            options=_HIGHS,
         )
         if lp.status == 2:  # the linearized geometry cannot be met in this region: least violation instead
             A2 = np.c_[Jg_all, -np.ones(kg_all.size)]
