@@ -8,14 +8,14 @@ written (:func:`steady_state`); the jump speed, spring sizing, jump maps and the
 
 from __future__ import annotations
 
-import equinox as eqx
 import jax
 import jax.numpy as jnp
 
-from ..._core.jit import cached_jit
+from ..._core.jit import cached_jit, filter_jit
 from ..._core.units import FFT_GRID, TWO_PI
 from ..follower import FollowerModel
 from ..motion import Motion
+from ._train import train_force
 
 _FFT_N = FFT_GRID
 
@@ -38,11 +38,6 @@ def steady_state(spec, omega, model: FollowerModel, stiffness, damping, n: int, 
         static = static / unit
     x_spec = x_spec.at[0].set((kf * spec[0] - static) / (stiffness + kf))
     return jnp.fft.irfft(x_spec, n), jnp.fft.irfft(1j * k * x_spec, n)
-
-
-def train_force(model: FollowerModel, omega, s, s1, x, x1):
-    """The follower train's force on the cam in contact, ``k_f (s - x) + c_f w (s' - x')`` (N or N*m; SI inputs)."""
-    return model.train_stiffness * (s - x) + model.train_damping * omega * (s1 - x1)
 
 
 def steady_force_at(motion: Motion, model: FollowerModel, n: int):
@@ -79,7 +74,7 @@ def linear_min_force(motion: Motion, model: FollowerModel, omegas, n: int = _FFT
     return jax.lax.map(one, omegas.ravel(), batch_size=64).reshape(omegas.shape)
 
 
-@eqx.filter_jit
+@filter_jit
 def linear_contact_force(motion: Motion, model: FollowerModel, omegas, n: int = _FFT_N):
     """The whole interface force (N or N*m) of :func:`linear_min_force`'s steady state: shape (*omegas.shape, n).
 
