@@ -18,6 +18,7 @@ from .linkage import synthesize_motion
 from .motion import Motion, MotionFit, Program
 from .sources import contour_motion, table_motion
 from .surge import SpringInDynamics
+from .valvetrain import ValvetrainModel, equivalent_follower, valvetrain_model
 
 
 @dataclass(frozen=True)
@@ -37,6 +38,7 @@ class Case:
     spring: SpringInDynamics | None = (
         None  # the spring's mass in ``model``, once resolved (design.parts.resolve_spring)
     )
+    valvetrain: ValvetrainModel | None = None  # [valvetrain]: the two-mass model; ``model`` is its equivalent follower
 
     @property
     def speed_rpm(self) -> float:
@@ -105,9 +107,15 @@ def build_case(spec: CaseSpec, source: Path | None = None) -> Case:
         synthesis = synthesize_motion(spec.path, spec.mechanism)
         motion, follower = synthesis.tabulated, synthesis.follower
         warnings += list(synthesis.warnings)
-    model = follower_model(spec.dynamics, oscillating=spec.oscillating)
+    valvetrain = None if spec.valvetrain is None else valvetrain_model(spec.valvetrain, spec.dynamics)
+    if valvetrain is None:
+        model = follower_model(spec.dynamics, oscillating=spec.oscillating)
+    else:
+        model = equivalent_follower(valvetrain)
     _check_holds_at_rest(motion, model, spec.oscillating)
-    return Case(name, source, spec, motion, follower, model, synthesis, tuple(warnings), fit, contour)
+    return Case(
+        name, source, spec, motion, follower, model, synthesis, tuple(warnings), fit, contour, valvetrain=valvetrain
+    )
 
 
 def _check_holds_at_rest(motion: Motion, model: FollowerModel, oscillating: bool) -> None:

@@ -22,6 +22,7 @@ from ._kinematic import kinematic_force, kinematic_force_jit, kinematic_force_of
 from ._response import dynamic_jump_speed, first_zero_speed, jump_search_limit, response
 from ._result import Flight, Impact, Response, Separation
 from ._rigid import rigid_response
+from ._valvetrain import ValveEvent, ValvetrainResponse, bounce_speed, float_speed, valvetrain_response
 
 __all__ = [
     "Flight",
@@ -46,4 +47,9 @@ __all__ = [
     "vector_field",
     "steady_state",
     "train_force",
+    "ValveEvent",
+    "ValvetrainResponse",
+    "bounce_speed",
+    "float_speed",
+    "valvetrain_response",
 ]
