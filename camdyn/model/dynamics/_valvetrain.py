@@ -247,21 +247,24 @@ class ValvetrainResponse:
 
 
 def _start_angle(s: np.ndarray) -> int:
-    """The grid index in the middle of the longest stretch of base circle (the least lift, periodic)."""
+    """The grid index in the middle of the longest stretch of base circle (the least lift, periodic): where the
+    follower rests furthest from the event on either side (a start closer to the rise would begin with the
+    compliant contact's vibration that the rise's first acceleration sets off, not at rest)."""
+    n = len(s)
     low = s <= s.min() + 1e-6 * max(1e-12, float(s.max() - s.min()))
     if low.all():
         return 0
-    shift = int(np.argmin(low))
-    f = low[(np.arange(len(s)) + shift) % len(s)]
-    best, start = (0, 0), None
-    for j, v in enumerate(np.append(f, False)):
+    shift = int(np.argmin(low))  # a lifted angle: no run of base circle wraps the scan
+    f = np.append(low[(np.arange(n) + shift) % n], False)
+    best_end, best_len, start = 0, 0, None
+    for j, v in enumerate(f):
         if v and start is None:
             start = j
         if not v and start is not None:
-            if j - start > best[1]:
-                best = (start, j - start)
+            if j - start > best_len:
+                best_end, best_len = j - 1 - (j - start) // 2, j - start
             start = None
-    return (shift + best[0] + best[1] // 2) % len(s)
+    return (shift + best_end) % n
 
 
 def valvetrain_response(motion: Motion, vt: ValvetrainModel, omega: float, n: int = THETA_GRID) -> ValvetrainResponse:
@@ -305,7 +308,7 @@ def valvetrain_response(motion: Motion, vt: ValvetrainModel, omega: float, n: in
         while True:
             m = jnp.asarray(modes)
 
-            def run(ts, m=m, t0=t0, t_end=t_end, y=y):  # this stretch, saved at ts: (x_c, p_c, x_v, p_v, F_cam, F_t) x ts
+            def run(ts, m=m, t0=t0, t_end=t_end, y=y):  # this stretch again, saved at ts: (6, len(ts))
                 t1, _, _, out = _stretch(
                     motion, vt, w, m, force_tol, jnp.asarray(t0), jnp.asarray(t_end), jnp.asarray(y), jumps, ts
                 )
