@@ -195,3 +195,56 @@ def test_shipped_case_valve_event():
     assert resp.seating_velocity == pytest.approx(0.015 * 18000e-3, rel=0.05)
     assert resp.settled and not resp.floated and resp.least_event_force > 0.0
     assert not resp.bounced
+
+
+@pytest.fixture(scope="module")
+def shipped_check():
+    from camdyn.design.checks import run_check
+
+    return run_check(case_from_dict(copy.deepcopy(SHIPPED)))
+
+
+VALVETRAIN_KEYS = {
+    "ratio",
+    "lash_mm",
+    "max_valve_lift_mm",
+    "opening_deg",
+    "closing_deg",
+    "seating_velocity_m_per_s",
+    "float_speed_rpm",
+    "bounce_speed_rpm",
+    "bounce_height_mm",
+}
+
+
+@pytest.mark.slow
+def test_check_json_reports_the_valvetrain(shipped_check):
+    out = shipped_check.json()
+    vt = out["valvetrain"]
+    assert set(vt) == VALVETRAIN_KEYS
+    assert vt["ratio"] == 1.6 and vt["lash_mm"] == pytest.approx(0.2)
+    assert out["dynamic"]["jump_speed_rpm"] == vt["float_speed_rpm"]
+    # float comes before the equivalent rigid follower's jump (the train's compliance) and after the case speed
+    assert 3000 * 1.25 < vt["float_speed_rpm"] < out["kinematic"]["jump_speed_rpm"]
+    checks = {c["name"]: c for c in out["checks"]}
+    assert checks["seating_velocity"]["limit"] == 0.5 and checks["seating_velocity"]["ok"]
+    assert checks["seating_velocity"]["value"] == vt["seating_velocity_m_per_s"]
+    assert checks["valve_bounce"]["value"] == vt["bounce_height_mm"] and checks["valve_bounce"]["ok"]
+    assert checks["speed_margin"]["value"] == pytest.approx(vt["float_speed_rpm"] / 3000)
+    # the contact force is judged over the valve event, not on the base circle where only the tappet force acts
+    assert checks["contact_force"]["value"] == out["dynamic"]["min_contact_force_N"] > 0.0
+    assert out["verdict"] == "pass"
+
+
+@pytest.mark.slow
+def test_table_has_the_valve_columns(shipped_check):
+    from camdyn.design.table import motion_table
+
+    cols = motion_table(shipped_check.case, step_deg=1.0)
+    lift, v = cols["valve_lift_mm"], cols["valve_velocity_m_per_s"]
+    assert lift.max() == pytest.approx(shipped_check.valvetrain.response.max_valve_lift_mm, abs=0.01)
+    assert np.all(lift >= 0.0) and lift[0] == 0.0  # seated on the base circle
+    # the velocity is the lift's derivative: w d(lift)/d(theta), by central differences over the event's flanks
+    w = 3000 * RPM
+    i = np.arange(80, 280)
+    assert v[i] == pytest.approx((lift[i + 1] - lift[i - 1]) / (2 * math.radians(1.0)) * w * 1e-3, abs=0.02)

@@ -19,6 +19,7 @@ from ._check import Check, CheckKind
 from .geometry import judge_geometry
 from .parts import case_contact, case_drive, contact_check, resolve_spring
 from .userdata import least_force_uncertainty, least_force_warning, unit_slip_warnings
+from .valvetrain import ValvetrainResult, analyze_valvetrain
 
 SYNTHESIS_ARRAYS = ("theta_deg", "pitch", "contour", "path_xy", "traced_xy")  # check --json --arrays only
 
@@ -38,6 +39,7 @@ class CheckReport:
     geometry: CamGeometry | None = None
     drive: DriveTorque | None = None  # the camshaft torque of the dynamic forces
     contact: ContactStress | None = None  # Hertz stress, where the case gives a contact width
+    valvetrain: ValvetrainResult | None = None  # a [valvetrain] case's two-mass model
 
     @property
     def verdict(self) -> str:
@@ -62,6 +64,8 @@ class CheckReport:
             out["drive"] = self.drive.json()
         if self.contact is not None:
             out["contact"] = self.contact.json()
+        if self.valvetrain is not None:
+            out["valvetrain"] = self.valvetrain.json()
         if self.case.synthesis is not None:
             syn = self.case.synthesis.json()
             out["synthesis"] = syn if arrays else {k: v for k, v in syn.items() if k not in SYNTHESIS_ARRAYS}
@@ -209,10 +213,17 @@ def run_check(case: Case, speed_rpm: float | None = None) -> CheckReport:
         checks_train = ()
     kin_force = resp.kinematic_force
     i_kin = int(kin_force.argmin())
+    valve = None if case.valvetrain is None else analyze_valvetrain(case, omega, limits.speed_margin)
+    least = resp.min_force if valve is None else valve.response.least_event_force  # a valve: over its event
+    if valve is not None:
+        w_dyn = valve.float_speed_rpm * RPM  # a valvetrain jumps where it floats
+        warnings += [valve.note(), *valve.response.warnings]
     checks = (
-        Check(CheckKind.CONTACT_FORCE.value, float(resp.min_force), float(limits.min_contact_force), "N", ">"),
+        Check(CheckKind.CONTACT_FORCE.value, float(least), float(limits.min_contact_force), "N", ">"),
         speed_margin_check(w_dyn, omega, limits.speed_margin),
     ) + checks_train
+    if valve is not None:
+        checks += valve.checks(limits.max_seating_velocity)
     kinematic = {
         "min_contact_force_N": float(kin_force[i_kin]),
         "min_contact_force_deg": float(resp.theta_deg[i_kin]),
@@ -232,6 +243,9 @@ def run_check(case: Case, speed_rpm: float | None = None) -> CheckReport:
         "residual_vibration_mm": resp.residual_vibration,
         "periodicity_error": resp.periodicity_error,
     } | case.spring.json()
+    if valve is not None:  # the cam contact over the valve event, where it is judged
+        dynamic["min_contact_force_N"] = float(least)
+        dynamic["min_contact_force_deg"] = _finite_or_none(valve.response.least_event_force_deg)
     if case.oscillating:  # the contract's keys at the contact, the arm's angle beside them
         dynamic["residual_vibration_mm"] = _at_contact(case, resp.residual_vibration, resp.residual_vibration_deg)
         dynamic["residual_vibration_rad"] = resp.residual_vibration
@@ -260,4 +274,6 @@ def run_check(case: Case, speed_rpm: float | None = None) -> CheckReport:
             warnings.append(_separation_note(sep, rpm, float(case.model.restitution)))
     if by_flights:
         warnings.append(_flights_note(case, resp, rpm))
-    return CheckReport(case, rpm, checks, kinematic, dynamic, resp, tuple(warnings), tuple(advice), geo, drive, contact)
+    return CheckReport(
+        case, rpm, checks, kinematic, dynamic, resp, tuple(warnings), tuple(advice), geo, drive, contact, valve
+    )

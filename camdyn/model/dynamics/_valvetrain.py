@@ -210,6 +210,13 @@ class ValvetrainResponse:
         return 0.0 if self.floated else float(np.min(self.cam_force[self.in_event]))
 
     @property
+    def least_event_force_deg(self) -> float:
+        """Where the cam-contact force is least over the valve event, deg (NaN for a valve that never lifts)."""
+        if not self.in_event.any():
+            return math.nan
+        return float(self.theta_deg[self.in_event][int(np.argmin(self.cam_force[self.in_event]))])
+
+    @property
     def seating_velocity(self) -> float:
         """The valve's speed as it first lands on its seat after the event, m/s (NaN: it never lifts)."""
         landings = [e for e in self.events if e.what == "seating"]
@@ -454,26 +461,28 @@ def _apex(run, t0: float, t1: float, n: int) -> float:
     return float(xv[j])
 
 
-def float_speed(motion: Motion, vt: ValvetrainModel, w_max: float, *, grid: int = 40, width_rpm: float = 1.0) -> float:
+def float_speed(
+    motion: Motion, vt: ValvetrainModel, w_max: float, *, grid: int = 40, width_rpm: float = 1.0, respond=None
+) -> float:
     """The first cam speed (rad/s) at which the cam contact opens while the valve is off its seat (inf: none up
-    to ``w_max``): the shared jump search on the least cam-contact force over the valve event."""
+    to ``w_max``): the shared jump search on the least cam-contact force over the valve event. ``respond``: the
+    response at a speed, where a caller shares them between searches (default :func:`valvetrain_response`)."""
+    respond = respond or (lambda w: valvetrain_response(motion, vt, w))
 
     def least(ws):
-        return np.array([valvetrain_response(motion, vt, float(w)).least_event_force for w in np.atleast_1d(ws)])
+        return np.array([respond(float(w)).least_event_force for w in np.atleast_1d(ws)])
 
     return first_zero_speed(least, w_max, grid=grid, width_rpm=width_rpm, points=1, where="valvetrain float search")
 
 
-def bounce_speed(motion: Motion, vt: ValvetrainModel, w_max: float, *, grid: int = 40, width_rpm: float = 1.0) -> float:
+def bounce_speed(
+    motion: Motion, vt: ValvetrainModel, w_max: float, *, grid: int = 40, width_rpm: float = 1.0, respond=None
+) -> float:
     """The first cam speed (rad/s) at which the valve leaves its seat after closing by more than the seat's
-    micro-bounce tolerance (inf: none up to ``w_max``)."""
+    micro-bounce tolerance :data:`VALVE_BOUNCE_TOLERANCE_MM` (inf: none up to ``w_max``)."""
+    respond = respond or (lambda w: valvetrain_response(motion, vt, w))
 
     def margin(ws):
-        return np.array(
-            [
-                VALVE_BOUNCE_TOLERANCE_MM - valvetrain_response(motion, vt, float(w)).bounce_height_mm
-                for w in np.atleast_1d(ws)
-            ]
-        )
+        return np.array([VALVE_BOUNCE_TOLERANCE_MM - respond(float(w)).bounce_height_mm for w in np.atleast_1d(ws)])
 
     return first_zero_speed(margin, w_max, grid=grid, width_rpm=width_rpm, points=1, where="valvetrain bounce search")
