@@ -248,3 +248,51 @@ def test_table_has_the_valve_columns(shipped_check):
     w = 3000 * RPM
     i = np.arange(80, 280)
     assert v[i] == pytest.approx((lift[i + 1] - lift[i - 1]) / (2 * math.radians(1.0)) * w * 1e-3, abs=0.02)
+
+
+def _valve_table_case(tmp_path, lash, stiffness=None):
+    """cases/valve-lift.csv read as the lift at the valve, through a 1.5 rocker, rigid cam contact."""
+    (tmp_path / "valve.csv").write_text((CASES / "valve-lift.csv").read_text())
+    raw = copy.deepcopy(SHIPPED)
+    raw["motion"] = {"valve_table": "valve.csv"}
+    raw["valvetrain"] |= {"ratio": 1.5, "lash": lash}
+    raw["valvetrain"].pop("stiffness")
+    if stiffness is not None:
+        raw["valvetrain"]["stiffness"] = stiffness
+    path = tmp_path / "vt.toml"
+    import tomli_w
+
+    path.write_text(tomli_w.dumps(raw))
+    from camdyn.model.case import load_case
+
+    return load_case(path)
+
+
+@pytest.mark.parametrize("lash", [0.0, 0.2])
+def test_valve_table_reproduced_at_the_valve(tmp_path, lash):
+    """A valve-lift table, rigid train: the valve's lift reproduces the table within the fit's stated residual,
+    and the follower's lift is the table's (its ramps added) over the ratio."""
+    from camdyn.design.table import motion_table
+
+    case = _valve_table_case(tmp_path, lash)
+    assert case.motion_source == "valve_table" and case.fit.follower_per_data == pytest.approx(1 / 1.5)
+    data = np.loadtxt(CASES / "valve-lift.csv", delimiter=",", skiprows=1)
+    cols = motion_table(case, step_deg=1.0, speed_rpm=1000)
+    assert np.allclose(cols["theta_deg"], data[:, 0])
+    stated = case.fit.spline.max_residual
+    assert np.max(np.abs(cols["valve_lift_mm"] - data[:, 1])) <= stated + 1e-9
+    ramps = np.where(data[:, 1] > 0, data[:, 1] + lash, cols["s_mm"] * 1.5)
+    assert np.max(np.abs(cols["s_mm"] * 1.5 - ramps)) <= stated + 1e-9
+    if lash:  # the ramps: the lash taken up at 0.015 mm/deg, 13.3 deg each side of the valve's event
+        base = cols["s_mm"][(data[:, 1] == 0) & (cols["s_mm"] * 1.5 < 0.5 * lash)]
+        assert base.size and np.max(np.abs(base[:20])) < 0.01
+
+
+def test_valve_table_needs_a_valvetrain(tmp_path):
+    raw = copy.deepcopy(SHIPPED)
+    raw["motion"] = {"valve_table": "valve.csv"}
+    del raw["valvetrain"]
+    raw["dynamics"]["mass"] = 0.2
+    with pytest.raises(InputError) as err:
+        case_from_dict(raw)
+    assert err.value.where == "motion.valve_table"

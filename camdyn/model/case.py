@@ -54,11 +54,11 @@ class Case:
 
     @property
     def motion_source(self) -> str:
-        """Where the motion comes from: "segments", "table", "contour" or "path"."""
+        """Where the motion comes from: "segments", "table", "valve_table", "contour" or "path"."""
         if self.contour is not None:
             return "contour"
         if self.fit is not None:
-            return "table"
+            return self.fit.source
         return "segments" if self.spec.motion is not None else "path"
 
     def motion_json(self) -> dict:
@@ -94,7 +94,7 @@ def build_case(spec: CaseSpec, source: Path | None = None) -> Case:
     name = spec.name or (source.stem if source else "case")
     warnings: list[str] = []
     synthesis = fit = contour = None
-    if spec.motion is not None and spec.motion.table is not None:
+    if spec.motion is not None and (spec.motion.table is not None or spec.motion.valve_table is not None):
         motion, fit, warnings = table_motion(spec, source)
         follower = spec.follower
     elif spec.motion is not None:

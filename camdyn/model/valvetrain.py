@@ -13,6 +13,7 @@ import math
 import equinox as eqx
 import jax
 import jax.numpy as jnp
+import numpy as np
 
 from .._core.units import M_PER_MM, damping_from_ratio, rate_to_si
 from ..schema import DynamicsSpec, ValvetrainSpec
@@ -106,3 +107,27 @@ def equivalent_follower(vt: ValvetrainModel) -> FollowerModel:
         vt.cam_restitution,
         scale=M_PER_MM,
     )
+
+
+def lift_with_ramps(theta_deg: np.ndarray, lift: np.ndarray, lash: float, ramp_velocity: float) -> np.ndarray:
+    """The cam's lift at the valve (mm, ``r`` times the follower's) that gives the valve ``lift`` (mm) at
+    ``theta_deg`` (one revolution, increasing) with ``lash`` (mm) taken up by constant-velocity ramps of
+    ``ramp_velocity`` (mm per cam degree): ``lift + lash`` while the valve is open; before it opens and after it
+    closes a ramp from the base circle to ``lash`` over ``lash / ramp_velocity`` degrees; 0 elsewhere.
+    ValueError for a valve that never opens or opens more than once a revolution."""
+    open_ = lift > 0.0
+    n = len(lift)
+    if not open_.any():
+        raise ValueError("the valve never lifts: no lift_mm above 0")
+    if open_.all():
+        raise ValueError("the valve never closes: no lift_mm of 0")
+    rises = np.flatnonzero(open_ & ~np.roll(open_, 1))  # the first open row of each event
+    if len(rises) > 1:
+        raise ValueError(f"the valve opens {len(rises)} times a revolution: camdyn models one event")
+    falls = np.flatnonzero(open_ & ~np.roll(open_, -1))
+    seat_open = theta_deg[(rises[0] - 1) % n]  # the last row on the seat before the event, and the first after
+    seat_close = theta_deg[(falls[0] + 1) % n]
+    to_open = (seat_open - theta_deg) % 360.0
+    from_close = (theta_deg - seat_close) % 360.0
+    ramp = np.maximum(0.0, lash - ramp_velocity * np.minimum(to_open, from_close))
+    return np.where(open_, lift + lash, ramp)

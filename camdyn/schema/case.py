@@ -93,6 +93,8 @@ class CaseSpec(Table):
             raise ValueError(
                 "motion: the case needs [motion] segments or a table, a [follower] contour, or [path] and [mechanism]"
             )
+        if self.motion is not None and self.motion.valve_table is not None and self.valvetrain is None:
+            raise ValueError("motion.valve_table: a lift at the valve needs [valvetrain] (its ratio and lash)")
         if self.valvetrain is not None:
             check_valvetrain_keys(self.valvetrain, self.dynamics, translating=not self.oscillating)
         else:
