@@ -296,3 +296,26 @@ def test_valve_table_needs_a_valvetrain(tmp_path):
     with pytest.raises(InputError) as err:
         case_from_dict(raw)
     assert err.value.where == "motion.valve_table"
+
+
+@pytest.mark.slow
+def test_valvetrain_figures_and_search_curve(shipped_check):
+    """The report's valvetrain figures draw from check's result; the seating velocity the searches marched grows
+    with speed below float as the closing ramp's does (0.015 mm/deg x the cam's deg/s, within the dynamics)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from camdyn.plot import plot_seating_velocity, plot_valve_lift, plot_valve_velocity
+
+    vt = shipped_check.valvetrain
+    fig, axes = plt.subplots(3)
+    plot_valve_lift(axes[0], vt)
+    plot_valve_velocity(axes[1], vt)
+    plot_seating_velocity(axes[2], vt, 0.5)
+    plt.close(fig)
+    rpm, v = np.asarray(vt.speeds_rpm), np.asarray(vt.seating_velocities)
+    below = rpm < 0.9 * vt.float_speed_rpm
+    assert below.sum() >= 5
+    assert v[below] == pytest.approx(0.015e-3 * rpm[below] * 6.0, rel=0.1)

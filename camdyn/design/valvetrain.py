@@ -26,6 +26,9 @@ class ValvetrainResult:
     float_speed_rpm: float  # inf: no float up to the search's top
     bounce_speed_rpm: float  # inf: no bounce up to the search's top
     search_top_rpm: float
+    speeds_rpm: tuple[float, ...] = ()  # the speeds the searches marched, increasing
+    seating_velocities: tuple[float, ...] = ()  # m/s at each (NaN: the valve never lifts)
+    bounce_heights_mm: tuple[float, ...] = ()  # at each
 
     @property
     def timing_deg(self) -> tuple[float, float]:
@@ -84,11 +87,16 @@ def analyze_valvetrain(case: Case, omega: float, margin: float) -> ValvetrainRes
 
     w_float = dyn.float_speed(case.motion, vt, w_max, respond=at)
     w_bounce = dyn.bounce_speed(case.motion, vt, w_max, respond=at)
+    here = at(float(omega))
+    speeds = sorted(marched)
     return ValvetrainResult(
         float(vt.ratio),
         float(vt.lash) / M_PER_MM,
-        at(float(omega)),
+        here,
         w_float / RPM,
         w_bounce / RPM,
         w_max / RPM,
+        tuple(w / RPM for w in speeds),
+        tuple(marched[w].seating_velocity for w in speeds),
+        tuple(marched[w].bounce_height_mm for w in speeds),
     )
