@@ -21,7 +21,7 @@ from .follower import FollowerModel
 
 
 class Link(eqx.Module):
-    """A spring and damper in compression only (a contact): what ``dynamics.train_force`` reads."""
+    """A spring and damper in compression only (a contact): what ``dynamics.contact_force`` reads."""
 
     train_stiffness: jax.Array  # N/m; inf: rigid
     train_damping: jax.Array  # N*s/m

@@ -39,8 +39,8 @@ from ..._core.errors import NumericalError
 from ..._core.units import M_PER_MM, RPM, THETA_GRID, TWO_PI, VALVE_BOUNCE_TOLERANCE_MM, VALVE_TIMING_LIFT_MM
 from ..motion import Motion
 from ..valvetrain import ValvetrainModel
-from ._harmonic import train_force
 from ._response import first_zero_speed
+from ._train import contact_force
 
 _RTOL, _ATOL = 1e-10, 1e-14  # the state is in m and m/rad: lifts of 1e-2 m
 _GAP_EPS = 1e-12  # m: a landing is detected this far below contact
@@ -70,14 +70,11 @@ def _dynamics(theta, y, args):
     w2 = omega**2
     r, m_c, m_v = vt.ratio, vt.cam_side_mass, vt.valve_mass
     spring = vt.spring_rate * xv + vt.preload + vt.spring_damping * omega * pv
-    f_cam_c = jnp.where(
-        jnp.isinf(vt.cam.train_stiffness) | (s <= xc), 0.0, jnp.maximum(0.0, train_force(vt.cam, omega, s, s1, xc, pc))
-    )
-    deflection = r * xc - vt.lash - xv
+    # the compliant contacts (0 for a rigid one, whose force is its constraint's): the cam's, and the train's on
+    # its deflection r x_c - lash - x_v
+    f_cam_c = jnp.where(jnp.isinf(vt.cam.train_stiffness), 0.0, contact_force(vt.cam, omega, s, s1, xc, pc))
     f_t_c = jnp.where(
-        jnp.isinf(vt.train.train_stiffness) | (deflection <= 0.0),
-        0.0,
-        jnp.maximum(0.0, train_force(vt.train, omega, r * xc - vt.lash, r * pc, xv, pv)),
+        jnp.isinf(vt.train.train_stiffness), 0.0, contact_force(vt.train, omega, r * xc - vt.lash, r * pc, xv, pv)
     )
     # the train locked: one body at the follower (mass m_c + m_v r^2), driven by the cam or flying on its contact
     a_body = (f_cam_c - r * spring - vt.tappet_force) / (vt.equivalent_mass * w2)
