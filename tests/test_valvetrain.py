@@ -319,3 +319,22 @@ def test_valvetrain_figures_and_search_curve(shipped_check):
     below = rpm < 0.9 * vt.float_speed_rpm
     assert below.sum() >= 5
     assert v[below] == pytest.approx(0.015e-3 * rpm[below] * 6.0, rel=0.1)
+
+
+def test_lash_the_cam_cannot_take_up_is_refused():
+    raw = copy.deepcopy(SHIPPED)
+    raw["valvetrain"]["lash"] = 4.0  # more than 0.5 x 6.375 mm
+    raw["valvetrain"]["ratio"] = 0.5
+    with pytest.raises(InputError) as err:
+        case_from_dict(raw)
+    assert err.value.where == "valvetrain.lash" and "never lifts" in str(err.value)
+
+
+def test_train_too_soft_to_lift_the_valve_is_refused():
+    """The issue's sketch gives stiffness = 25 N/mm: a train that soft, compressed by the whole 10 mm, carries less
+    than the spring's 300 N preload; camdyn says so (a unit slip: 25 kN/mm was likely meant)."""
+    raw = copy.deepcopy(SHIPPED)
+    raw["valvetrain"]["stiffness"] = 25
+    with pytest.raises(InputError) as err:
+        case_from_dict(raw)
+    assert err.value.where == "valvetrain.stiffness" and "N/mm" in str(err.value)

@@ -113,9 +113,31 @@ def build_case(spec: CaseSpec, source: Path | None = None) -> Case:
     else:
         model = equivalent_follower(valvetrain)
     _check_holds_at_rest(motion, model, spec.oscillating)
+    if valvetrain is not None:
+        _check_valve_lifts(motion, spec)
     return Case(
         name, source, spec, motion, follower, model, synthesis, tuple(warnings), fit, contour, valvetrain=valvetrain
     )
+
+
+def _check_valve_lifts(motion: Motion, spec: CaseSpec) -> None:
+    """The cam's lift at the valve (ratio x lift) must take up the lash, and a compliant train compressed by the
+    rest must carry more than the spring's preload, or the valve never moves (statically)."""
+    vt = spec.valvetrain
+    reach = vt.ratio * float(np.ptp(motion.host(np.arange(THETA_GRID) * (2 * np.pi / THETA_GRID))[0]))
+    if reach <= vt.lash:
+        raise InputError(
+            "valvetrain.lash",
+            f"the valve never lifts: the cam's lift at the valve (ratio x lift = {reach:.4g} mm) does not take up "
+            f"the lash ({vt.lash:g} mm)",
+        )
+    if vt.stiffness is not None and vt.stiffness * (reach - vt.lash) <= spec.dynamics.preload:
+        raise InputError(
+            "valvetrain.stiffness",
+            f"the valve never lifts: the train ({vt.stiffness:g} N/mm) compressed by the cam's whole lift at the "
+            f"valve less the lash ({reach - vt.lash:.4g} mm) carries {vt.stiffness * (reach - vt.lash):.4g} N, not "
+            f"the spring's preload ({spec.dynamics.preload:g} N): is the stiffness in N/mm, at the valve?",
+        )
 
 
 def _check_holds_at_rest(motion: Motion, model: FollowerModel, oscillating: bool) -> None:

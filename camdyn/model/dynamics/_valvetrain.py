@@ -47,6 +47,9 @@ _GAP_EPS = 1e-12  # m: a landing is detected this far below contact
 _MAX_STEPS = 1_000_000
 _MAX_EVENTS = 2000  # per revolution: bounces beyond it leave the valve or the follower not settled
 _REVS = 3  # revolutions at most to reach the periodic steady state
+_NO_EVENT = (
+    1e300  # N: the float search's least force at a speed where the valve does not lift (the search wants finite)
+)
 CAM, TRAIN, SEAT = 0, 1, 2  # the contacts, in the mode vector and the event list
 
 
@@ -466,8 +469,8 @@ def float_speed(
     response at a speed, where a caller shares them between searches (default :func:`valvetrain_response`)."""
     respond = respond or (lambda w: valvetrain_response(motion, vt, w))
 
-    def least(ws):
-        return np.array([respond(float(w)).least_event_force for w in np.atleast_1d(ws)])
+    def least(ws):  # a speed at which the valve does not lift has no event to float in
+        return np.nan_to_num([respond(float(w)).least_event_force for w in np.atleast_1d(ws)], nan=_NO_EVENT)
 
     return first_zero_speed(least, w_max, grid=grid, width_rpm=width_rpm, points=1, where="valvetrain float search")
 
