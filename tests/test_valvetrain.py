@@ -338,3 +338,11 @@ def test_train_too_soft_to_lift_the_valve_is_refused():
     with pytest.raises(InputError) as err:
         case_from_dict(raw)
     assert err.value.where == "valvetrain.stiffness" and "N/mm" in str(err.value)
+
+
+def test_a_spring_part_with_a_valvetrain_is_refused_for_now():
+    raw = copy.deepcopy(SHIPPED)
+    raw["spring"] = {"material": "music-wire"}
+    with pytest.raises(InputError) as err:
+        case_from_dict(raw)
+    assert err.value.where == "spring" and "valve_mass" in str(err.value)

@@ -96,7 +96,9 @@ class CaseSpec(Table):
         if self.motion is not None and self.motion.valve_table is not None and self.valvetrain is None:
             raise ValueError("motion.valve_table: a lift at the valve needs [valvetrain] (its ratio and lash)")
         if self.valvetrain is not None:
-            check_valvetrain_keys(self.valvetrain, self.dynamics, translating=not self.oscillating)
+            check_valvetrain_keys(
+                self.valvetrain, self.dynamics, translating=not self.oscillating, spring=self.spring is not None
+            )
         else:
             check_dynamics_keys(self.dynamics, oscillating=self.oscillating)
         check_spring_keys(self.spring, oscillating=self.oscillating)

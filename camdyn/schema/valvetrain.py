@@ -91,10 +91,16 @@ class ValvetrainSpec(Table):
     )
 
 
-def check_valvetrain_keys(v: ValvetrainSpec, d: DynamicsSpec, *, translating: bool) -> None:
+def check_valvetrain_keys(v: ValvetrainSpec, d: DynamicsSpec, *, translating: bool, spring: bool = False) -> None:
     """Raise ``ValueError("<key>: message")`` unless ``[dynamics]`` fits a valvetrain: a translating follower,
     the valve spring's rate and preload given, no ``mass`` (the two masses replace it), no rotational keys and no
-    external force (``tappet_force`` holds the follower on the cam)."""
+    external force (``tappet_force`` holds the follower on the cam); and no ``[spring]`` part (``spring``: one is
+    given), whose mass and surge on the valve's side are not modelled yet."""
+    if spring:
+        raise ValueError(
+            "spring: a [spring] part with [valvetrain] is not modelled yet (its mass and surge act on the valve): "
+            "put a third of the spring's mass in valvetrain.valve_mass"
+        )
     if not translating:
         raise ValueError("valvetrain: the follower must be translating (a tappet or a lifter); the rocker is the ratio")
     if d.mass is not None:
