@@ -303,12 +303,17 @@ def valvetrain_response(motion: Motion, vt: ValvetrainModel, omega: float, n: in
     a_seat = float(vt.preload) / float(vt.valve_mass) / float(omega) ** 2
     v_floor = 10.0 * math.sqrt(2.0 * a_seat * _GAP_EPS)
     e_seat, e_cam = float(vt.seat_restitution), float(vt.cam_restitution)
+    # the valve's event ends where it lands after rising past half its static lift at the nose (the train and the
+    # spring in balance): a landing before (the valve kicked off its seat as the lash closes) belongs to the opening
+    reach = r * float(np.ptp(s_si)) - float(vt.lash)
+    kt, k = float(vt.train.train_stiffness), float(vt.spring_rate)
+    half_lift = 0.5 * (reach if rigid_train else (kt * reach - float(vt.preload)) / (kt + k))
     warnings: list[str] = []
     settled = False
     for rev in range(_REVS):
         t0, t_end = t_start + rev * TWO_PI, t_start + (rev + 1) * TWO_PI
         events: list[ValveEvent] = []
-        first_seating, bounce = None, 0.0
+        first_seating, bounce, peak = None, 0.0, 0.0
         k_next = rev * n  # the next grid angle to fill, counted from t_start
         in_event = np.zeros(n, bool)  # the valve off its seat between its lift and its first seating
         count = 0
@@ -338,6 +343,7 @@ def valvetrain_response(motion: Motion, vt: ValvetrainModel, omega: float, n: in
                 out[:, ii] = samples[:, : k1 - k_next + 1]
                 seated[ii] = bool(modes[SEAT])
                 in_event[ii] = first_seating is None and not modes[SEAT]
+                peak = max(peak, float(samples[2, : k1 - k_next + 1].max()))
                 k_next = k1 + 1
             if first_seating is not None and not modes[SEAT]:
                 bounce = max(bounce, _apex(run, t0, t1, n))
@@ -386,7 +392,7 @@ def valvetrain_response(motion: Motion, vt: ValvetrainModel, omega: float, n: in
                 events.append(ValveEvent("valve-lift", deg))
             else:  # the valve lands on its seat
                 events.append(ValveEvent("seating", deg, abs(pv) * float(omega)))
-                if first_seating is None:
+                if first_seating is None and peak > half_lift:  # the landing that ends the event, not a rattle
                     first_seating = t1
                 modes[TRAIN] = False
                 y[2], y[3] = 0.0, -e_seat * pv
