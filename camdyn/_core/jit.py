@@ -21,6 +21,7 @@ import equinox as eqx
 import jax
 import numpy as np
 from jax import export
+from jax.core import Tracer
 
 _DIR: Path | None = None
 
@@ -46,7 +47,8 @@ def _fingerprint() -> str:
             h.update(f"{dist}={metadata.version(dist)};".encode())
         except metadata.PackageNotFoundError:
             pass
-    h.update(f"{jax.default_backend()};x64={jax.config.jax_enable_x64}".encode())
+    x64 = jax.config.jax_enable_x64  # pyright: ignore[reportAttributeAccessIssue] - a flag jax adds at run time
+    h.update(f"{jax.default_backend()};x64={x64}".encode())
     return h.hexdigest()
 
 
@@ -77,7 +79,7 @@ def cached_jit(fn):
             return jitted(*args, **kwargs)
         dynamic, static = eqx.partition((args, kwargs), eqx.is_array)
         leaves, treedef = jax.tree.flatten(dynamic)
-        if any(isinstance(x, jax.core.Tracer) for x in leaves):  # inside jit/vmap/grad: an exported program has
+        if any(isinstance(x, Tracer) for x in leaves):  # inside jit/vmap/grad: an exported program has
             return jitted(*args, **kwargs)  # no batching or differentiation rules; the outer trace is cached anyway
         avals = tuple((np.shape(x), np.dtype(x.dtype).str) for x in leaves)
         try:  # hashing the static part is cheap; its repr (the disk key) is not, for a motion of 1000 segments

@@ -76,6 +76,7 @@ def analyze_valvetrain(case: Case, omega: float, margin: float) -> ValvetrainRes
     """The valvetrain of ``case`` at cam speed ``omega`` (rad/s), with its float and bounce speeds searched up to
     the dynamic jump search's top for ``margin`` x the speed (both searches share the revolutions they march)."""
     vt = case.valvetrain
+    assert vt is not None  # the caller's: a [valvetrain] case
     w_kin = dyn.kinematic_jump_speed(case.motion, case.model)[0]  # the equivalent follower's: where float begins
     w_max = dyn.jump_search_limit(margin * omega, w_kin)
     marched: dict[float, dyn.ValvetrainResponse] = {}

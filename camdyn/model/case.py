@@ -29,7 +29,7 @@ class Case:
     source: Path | None
     spec: CaseSpec
     motion: Motion
-    follower: FollowerSpec | None
+    follower: FollowerSpec  # the case's, or the one a contour or a cam-linkage gives
     model: FollowerModel
     synthesis: Any = None  # linkage.Synthesis for path cases
     warnings: tuple[str, ...] = field(default=())
@@ -66,6 +66,7 @@ class Case:
         (a contour's ``fit`` is the outline's, radial in mm; ``motion_fit`` the contact motion's)."""
         out: dict = {"source": self.motion_source, "fit": None}
         if self.contour is not None:
+            assert self.fit is not None  # a contour case's motion is fitted to its contact motion
             out |= {
                 "fit": self.contour.json(),
                 "motion_fit": self.fit.json(),
@@ -94,16 +95,18 @@ def build_case(spec: CaseSpec, source: Path | None = None) -> Case:
     name = spec.name or (source.stem if source else "case")
     warnings: list[str] = []
     synthesis = fit = contour = None
+    if spec.motion is not None:
+        assert spec.follower is not None  # CaseSpec: [motion] comes with [follower]
+        follower = spec.follower
     if spec.motion is not None and (spec.motion.table is not None or spec.motion.valve_table is not None):
         motion, fit, warnings = table_motion(spec, source)
-        follower = spec.follower
     elif spec.motion is not None:
         motion = Program.from_specs(spec.motion.segments, unit="rad" if spec.oscillating else "mm")
-        follower = spec.follower
         warnings += motion.continuity_warnings() + motion.polynomial_warnings()
     elif spec.follower is not None:
         motion, follower, fit, contour, warnings = contour_motion(spec, source)
     else:
+        assert spec.path is not None and spec.mechanism is not None  # CaseSpec: a case without [motion] has both
         synthesis = synthesize_motion(spec.path, spec.mechanism)
         motion, follower = synthesis.tabulated, synthesis.follower
         warnings += list(synthesis.warnings)
@@ -123,7 +126,8 @@ def build_case(spec: CaseSpec, source: Path | None = None) -> Case:
 def _check_valve_lifts(motion: Motion, spec: CaseSpec) -> None:
     """The cam's lift at the valve (ratio x lift) must take up the lash, and a compliant train compressed by the
     rest must carry more than the spring's preload, or the valve never moves (statically)."""
-    vt = spec.valvetrain
+    vt, preload = spec.valvetrain, spec.dynamics.preload
+    assert vt is not None and preload is not None  # the caller's; CaseSpec: a valvetrain's spring has a preload
     reach = vt.ratio * float(np.ptp(motion.host(np.arange(THETA_GRID) * (2 * np.pi / THETA_GRID))[0]))
     if reach <= vt.lash:
         raise InputError(
@@ -131,12 +135,12 @@ def _check_valve_lifts(motion: Motion, spec: CaseSpec) -> None:
             f"the valve never lifts: the cam's lift at the valve (ratio x lift = {reach:.4g} mm) does not take up "
             f"the lash ({vt.lash:g} mm)",
         )
-    if vt.stiffness is not None and vt.stiffness * (reach - vt.lash) <= spec.dynamics.preload:
+    if vt.stiffness is not None and vt.stiffness * (reach - vt.lash) <= preload:
         raise InputError(
             "valvetrain.stiffness",
             f"the valve never lifts: the train ({vt.stiffness:g} N/mm) compressed by the cam's whole lift at the "
             f"valve less the lash ({reach - vt.lash:.4g} mm) carries {vt.stiffness * (reach - vt.lash):.4g} N, not "
-            f"the spring's preload ({spec.dynamics.preload:g} N): is the stiffness in N/mm, at the valve?",
+            f"the spring's preload ({preload:g} N): is the stiffness in N/mm, at the valve?",
         )
 
 

@@ -74,14 +74,18 @@ def _within_tolerance(fit: MotionFit, table: Samples, tolerance: float | None) -
 def table_motion(spec: CaseSpec, source: Path | None) -> tuple[FittedMotion, MotionFit, list[str]]:
     """The motion fitted to the case's lift table; a valve's lift table (``valve_table``) is fitted at the valve,
     its lash ramps added (:func:`~camdyn.model.valvetrain.lift_with_ramps`), and divided by the rocker ratio."""
-    at_valve = spec.motion.valve_table is not None
-    name, tolerance = spec.motion.valve_table if at_valve else spec.motion.table, spec.motion.tolerance
+    if spec.motion is None or (spec.motion.table is None and spec.motion.valve_table is None):
+        raise ValueError("table_motion: the case's [motion] has no table")
+    vt = spec.valvetrain if spec.motion.valve_table is not None else None
+    if spec.motion.valve_table is not None and vt is None:
+        raise ValueError("table_motion: a valve_table needs [valvetrain]")
+    name = spec.motion.valve_table or spec.motion.table or ""
+    tolerance = spec.motion.tolerance
     table = read_lift_table(_path(name, source), name, spec.oscillating)
     theta, lift = table.values.T
     unit, column = ("deg", "swing_deg") if spec.oscillating else ("mm", "lift_mm")
     warnings = _unit_slip(table, lift, unit, column) + _lift_level(table, lift, unit, column)
-    if at_valve:
-        vt = spec.valvetrain
+    if vt is not None:
         try:
             lift = lift_with_ramps(theta, lift, vt.lash, vt.ramp_velocity)
         except ValueError as err:
@@ -90,16 +94,16 @@ def table_motion(spec: CaseSpec, source: Path | None) -> tuple[FittedMotion, Mot
         theta,
         lift,
         unit=unit,
-        source="valve_table" if at_valve else "table",
+        source="table" if vt is None else "valve_table",
         file=name,
         tolerance=tolerance,
         rounding=table.rounding,
         repeats=table.repeats,
     )
     _within_tolerance(fit, table, tolerance)
-    if at_valve:  # the follower's lift: the cam's lift at the valve over the ratio
-        motion = eqx.tree_at(lambda m: m.coef, motion, motion.coef / spec.valvetrain.ratio)
-        fit = dataclasses.replace(fit, follower_per_data=1.0 / spec.valvetrain.ratio)
+    if vt is not None:  # the follower's lift: the cam's lift at the valve over the ratio
+        motion = eqx.tree_at(lambda m: m.coef, motion, motion.coef / vt.ratio)
+        fit = dataclasses.replace(fit, follower_per_data=1.0 / vt.ratio)
     return motion, fit, warnings + fit_warnings(fit)
 
 
@@ -107,6 +111,8 @@ def contour_motion(
     spec: CaseSpec, source: Path | None
 ) -> tuple[FittedMotion, FollowerSpec, MotionFit, ContourFit, list[str]]:
     """The motion of the case's cam outline by exact contact, the follower with the outline's base radius."""
+    if spec.follower is None or spec.follower.contour is None:
+        raise ValueError("contour_motion: the case's [follower] has no contour")
     name = spec.follower.contour
     derived = contact_motion(read_contour(_path(name, source), name), spec.follower)
     unit = "deg" if spec.oscillating else "mm"

@@ -46,6 +46,7 @@ def diffrax_gap_kernel(const, omega, k, c, z0):
         max_steps=GAP_MAX_STEPS,
         throw=False,
     )
+    assert sol.ys is not None  # SaveAt(ts=...) saves the states
     gap = jnp.max((sol.ys[:, 0] - s_ts) * weight_ts)
     ok = (sol.result == diffrax.RESULTS.successful) & jnp.isfinite(gap)
     return jnp.where(ok, gap, jnp.nan)

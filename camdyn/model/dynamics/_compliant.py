@@ -90,6 +90,7 @@ def _rev_with_sensitivity(motion, model, omega, z0, theta):
         throw=False,
     )
     ys = sol.ys
+    assert ys is not None  # SaveAt(ts=..., t1=True) saves the states
     return ys[:-1, :2], ys[-1, :2], ys[-1, 2:].reshape(2, 2), sol.result == diffrax.RESULTS.successful
 
 
@@ -149,6 +150,7 @@ def periodic_orbit(motion: Motion, model: FollowerModel, omega: float, theta):
         newton = i < _NEWTON_ITERS and r <= r_prev
         z = z - np.linalg.solve(mono - np.eye(2), phi - z) if newton else phi
         r_prev = r
+    assert best_traj is not None  # every revolution is finite (else NumericalError), so the first one is kept
     return best_traj, best_r
 
 

@@ -152,6 +152,7 @@ def _stretch(motion, vt, omega, modes, force_tol, t0, t1, y0, jumps, ts):
         _, _, f_cam, f_t, _, (xc, pc, xv, pv, _, _) = _dynamics(t, y, args)
         return jnp.stack([xc, pc, xv, pv, f_cam, f_t])
 
+    assert sol.ts is not None and sol.ys is not None  # saved at ts and at the end
     (t_saved, t_end), (y_saved, y_end) = sol.ts, sol.ys
     return t_end[0], y_end[0], sol.result, jax.vmap(one)(t_saved, y_saved)
 

@@ -197,5 +197,7 @@ def _segment_spec(raw, where: str):
     """A segment given as a dict (or already a spec), validated as the schema's member for its law."""
     if not isinstance(raw, dict):
         return raw
-    model = {POLYNOMIAL: PolynomialSegmentSpec, BSPLINE: BSplineSegmentSpec}.get(raw.get("law"), SegmentSpec)
+    members: dict[str | None, type[SegmentSpec | PolynomialSegmentSpec | BSplineSegmentSpec]]
+    members = {POLYNOMIAL: PolynomialSegmentSpec, BSPLINE: BSplineSegmentSpec}
+    model = members.get(raw.get("law"), SegmentSpec)
     return parse(model, raw, where)

@@ -12,6 +12,7 @@ from .._style import LEFT, C
 
 def draw_valvetrain(fig, data: ReportData) -> None:
     vt = data.check.valvetrain
+    assert vt is not None  # the page applies to [valvetrain] cases only
     j = vt.json()
     flow = Flow(fig, 0.94)
     flow.para(
