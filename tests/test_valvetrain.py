@@ -346,3 +346,13 @@ def test_a_spring_part_with_a_valvetrain_is_refused_for_now():
     with pytest.raises(InputError) as err:
         case_from_dict(raw)
     assert err.value.where == "spring" and "valve_mass" in str(err.value)
+
+
+@pytest.mark.slow
+def test_report_has_a_valvetrain_page(tmp_path, shipped_check):
+    from camdyn.design.review import design_review
+    from camdyn.report import render
+
+    written = render(design_review(shipped_check.case, shipped_check), tmp_path)
+    pages = sorted(p.name for p in tmp_path.glob("*.png"))
+    assert "valvetrain-5-valvetrain.png" in pages and written.pdf.exists()
