@@ -12,6 +12,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from _helpers import run
 from scipy.integrate import solve_ivp
 
 from camdyn import InputError
@@ -356,3 +357,11 @@ def test_report_has_a_valvetrain_page(tmp_path, shipped_check):
     written = render(design_review(shipped_check.case, shipped_check), tmp_path)
     pages = sorted(p.name for p in tmp_path.glob("*.png"))
     assert "valvetrain-5-valvetrain.png" in pages and written.pdf.exists()
+
+
+@pytest.mark.parametrize("command", ["size", "tolerance", "optimize"])
+def test_single_follower_studies_refuse_a_valvetrain(capsys, tmp_path, command):
+    """They would judge the equivalent single follower (no lash, seat or float): one line, exit 2."""
+    extra = ["-o", tmp_path / "o.toml"] if command == "optimize" else []
+    code, out, err = run(capsys, command, CASES / "valvetrain.toml", *extra)
+    assert code == 2 and len(err.strip().splitlines()) == 1 and "does not model a valvetrain yet" in err

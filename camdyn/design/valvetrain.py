@@ -6,6 +6,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from .._core.errors import InputError
 from .._core.units import M_PER_MM, RPM, VALVE_BOUNCE_TOLERANCE_MM, VALVE_TIMING_LIFT_MM
 from ..model import dynamics as dyn
 from ..model.case import Case
@@ -69,6 +70,18 @@ class ValvetrainResult:
         return (
             "valvetrain: the cam contact force is judged over the valve event (from the valve's lift to its seating); "
             "on the base circle the lash is open and only valvetrain.tappet_force holds the follower"
+        )
+
+
+def refuse_valvetrain(case: Case, what: str) -> None:
+    """:class:`InputError` where a study that knows one follower (``what``: sizing, a jump map, a tolerance study,
+    the optimizer) is asked about a valvetrain: it would judge the equivalent single follower, without the lash, the
+    seat or float, and propose what ``check`` may then fail."""
+    if case.valvetrain is not None:
+        raise InputError(
+            "valvetrain",
+            f"{what} does not model a valvetrain yet (it would judge the equivalent single follower, without the lash, "
+            "the seat or float): camdyn check gives its float and bounce speeds",
         )
 
 
