@@ -365,3 +365,19 @@ def test_single_follower_studies_refuse_a_valvetrain(capsys, tmp_path, command):
     extra = ["-o", tmp_path / "o.toml"] if command == "optimize" else []
     code, out, err = run(capsys, command, CASES / "valvetrain.toml", *extra)
     assert code == 2 and len(err.strip().splitlines()) == 1 and "does not model a valvetrain yet" in err
+
+
+def test_rigid_train_takes_up_the_lash_at_the_ramps_speed():
+    """A rigid train closes the lash on the opening ramp with a plastic impact: the cam holds the follower, so the
+    valve leaves its seat at once at the ramp's speed times the ratio (0.537148 mm/rad x 1.6 x w), and the lash is
+    taken up where the ramp reaches lash / ratio = 0.125 mm (42 + 0.06875 / 0.537148 rad, in deg)."""
+    raw = copy.deepcopy(SHIPPED)
+    raw["valvetrain"].pop("stiffness")
+    case = case_from_dict(raw)
+    omega = 300 * RPM
+    resp = valvetrain_response(case.motion, case.valvetrain, omega)
+    lash = [e for e in resp.events if e.what == "lash"]
+    assert len(lash) == 1
+    assert lash[0].deg == pytest.approx(42.0 + math.degrees((0.125 - 0.05625) / 0.537148), abs=1e-3)
+    after = (resp.theta_deg > lash[0].deg) & (resp.theta_deg < 59.0)  # still on the constant-velocity ramp
+    assert resp.valve_velocity[after] == pytest.approx(0.537148e-3 * 1.6 * omega, rel=1e-6)
