@@ -17,8 +17,8 @@ from ._grid import GAP_ATOL, GAP_LAST, GAP_MAX_STEPS, GAP_REVS, GAP_RTOL, GAP_SA
 def diffrax_gap_const(case, lever_arm_mm):
     """The kernel's constants: segment boundaries over the revolutions, the sampled angles of the last
     revolutions, the cam there and the gap weight (``lever_arm_mm(theta)`` for an oscillating follower)."""
-    motion = case.motion
-    breaks = np.deg2rad(np.asarray(motion.breaks_deg, dtype=float))
+    motion = case.motion.jit_form()  # compiled once per follower kind, not once per case
+    breaks = np.asarray(motion.jump_angles())  # +inf past a program's breaks: the controller skips those
     jumps = np.sort((breaks[None, :] + TWO_PI * np.arange(GAP_REVS + 1)[:, None]).ravel())
     ts = TWO_PI * (GAP_REVS - GAP_LAST) + np.arange(GAP_LAST * GAP_SAMPLES) * (TWO_PI / GAP_SAMPLES)
     s_ts = np.asarray(evaluate(motion, jnp.asarray(ts)))[0]

@@ -38,12 +38,12 @@ def vector_field(theta, y, args):
 
 
 def _controller(motion: Motion, theta0, revs: float):
-    breaks = np.deg2rad(np.asarray(motion.breaks_deg, dtype=float))
-    jumps = (breaks[None, :] + TWO_PI * np.arange(-1, math.ceil(revs) + 2)[:, None]).ravel()
-    jumps = jnp.asarray(np.sort(jumps)) + 0.0 * theta0
+    breaks = motion.jump_angles()  # data padded with +inf for a program: the controller skips those
     pid = diffrax.PIDController(rtol=RTOL, atol=ATOL)
-    if jumps.size == 0:
+    if np.size(breaks) == 0:
         return pid
+    jumps = jnp.sort((jnp.asarray(breaks)[None, :] + TWO_PI * np.arange(-1, math.ceil(revs) + 2)[:, None]).ravel())
+    jumps = jumps + 0.0 * theta0
     return diffrax.ClipStepSizeController(pid, jump_ts=jumps)
 
 

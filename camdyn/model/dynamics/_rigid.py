@@ -16,6 +16,7 @@ import optimistix as optx
 from scipy.optimize import brentq
 
 from ..._core.errors import NumericalError
+from ..._core.jit import filter_jit
 from ..._core.units import THETA_GRID, TWO_PI
 from ..follower import FollowerModel
 from ..motion import Motion, evaluate
@@ -33,7 +34,7 @@ def _flight_event(t, y, args, **kwargs):
     return y[0] - motion(t)[0] + _GAP_EPS
 
 
-@eqx.filter_jit
+@filter_jit
 def _flight(motion, model, omega, theta0, y0):
     """Free flight from theta0 until the follower lands on the cam (event) or 4 pi later."""
     return diffrax.diffeqsolve(
