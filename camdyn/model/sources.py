@@ -11,6 +11,7 @@ from pathlib import Path
 import numpy as np
 
 from .._core.errors import InputError
+from .._core.files import data_file_path
 from ..schema import CaseSpec, FollowerSpec
 from .datafiles import Samples, read_contour, read_lift_table
 from .geometry import ContourFit, contact_motion
@@ -19,10 +20,6 @@ from .motion import FittedMotion, MotionFit, fit_motion, fit_warnings
 ZERO_SHARE = 0.01  # a table may dip below zero lift by this share of its range (noise in a dwell), no more
 # a table whose lift spans less than this (mm; deg of swing) is likely in metres (radians): no cam lifts less
 SLIP_RANGE = {"mm": (0.1, "metres", 1000.0), "deg": (1.0, "radians", 180.0 / np.pi)}
-
-
-def _path(name: str, source: Path | None) -> Path:
-    return (source.parent if source is not None else Path.cwd()) / name
 
 
 def _lift_level(table: Samples, lift: np.ndarray, unit: str, column: str) -> list[str]:
@@ -71,7 +68,7 @@ def _within_tolerance(fit: MotionFit, table: Samples, tolerance: float | None) -
 def table_motion(spec: CaseSpec, source: Path | None) -> tuple[FittedMotion, MotionFit, list[str]]:
     """The motion fitted to the case's lift table."""
     name, tolerance = spec.motion.table, spec.motion.tolerance
-    table = read_lift_table(_path(name, source), name, spec.oscillating)
+    table = read_lift_table(data_file_path(name, source), name, spec.oscillating)
     theta, lift = table.values.T
     unit, column = ("deg", "swing_deg") if spec.oscillating else ("mm", "lift_mm")
     warnings = _unit_slip(table, lift, unit, column) + _lift_level(table, lift, unit, column)
@@ -94,7 +91,7 @@ def contour_motion(
 ) -> tuple[FittedMotion, FollowerSpec, MotionFit, ContourFit, list[str]]:
     """The motion of the case's cam outline by exact contact, the follower with the outline's base radius."""
     name = spec.follower.contour
-    derived = contact_motion(read_contour(_path(name, source), name), spec.follower)
+    derived = contact_motion(read_contour(data_file_path(name, source), name), spec.follower)
     unit = "deg" if spec.oscillating else "mm"
     motion, fit = fit_motion(derived.theta_deg, derived.lift, unit=unit, source="contour", file=name)
     return motion, derived.follower, fit, derived.contour, list(derived.warnings) + fit_warnings(fit)

@@ -106,6 +106,15 @@ class CaseSpec(Table):
         return self.mechanism is not None and self.mechanism.type == "oscillating"
 
     @property
+    def data_files(self) -> tuple[str, ...]:
+        """The data files the case names (``[motion] table``, ``[follower] contour``), relative to the case file."""
+        names = (
+            self.motion.table if self.motion is not None else None,
+            self.follower.contour if self.follower is not None else None,
+        )
+        return tuple(name for name in names if name is not None)
+
+    @property
     def contact_width_mm(self) -> float | None:
         """The contact width along the camshaft axis, mm (``[follower] width`` or ``[mechanism] width``); None
         where the case gives none (no contact stress then)."""
