@@ -69,7 +69,7 @@ def main() -> int:
     tmp = Path(tempfile.mkdtemp(prefix="camdyn-bench-latency-"))
     try:
         missing = tmp / "missing-table.toml"
-        missing.write_text((ROOT / "cases" / "measured-cam.toml").read_text().replace("measured-cam.csv", "nope.csv"))
+        missing.write_text((ROOT / "cases" / "valve-lift.toml").read_text().replace("valve-lift.csv", "nope.csv"))
         py = [sys.executable]
         trees = [("", ROOT)] + ([(f" [{opts.against}]", opts.against.resolve())] if opts.against else [])
         jobs: dict[str, tuple[list[str], dict]] = {"bare": ([*py, "-c", BARE], _env(ROOT, tmp / "cache"))}
