@@ -21,7 +21,7 @@ from ..._core.units import RPM, THETA_GRID, TWO_PI
 from ..follower import FollowerModel
 from ..motion import Motion
 from ._harmonic import steady_state
-from ._kinematic import kinematic_force
+from ._kinematic import kinematic_force, kinematic_force_of
 from ._result import Response, _separations_from_mask, residual_vibration
 
 _RTOL, _ATOL = 1e-9, 1e-10
@@ -74,16 +74,18 @@ def _response_arrays(motion, model, omega, theta, x, p):
 _MAX_STEPS = 200_000
 
 
+def _quasi_static(model, omega, sv):
+    """The shooting's start (x, dx/dtheta) from the motion's values ``sv`` = (s, s', s'', ...) at theta = 0: the
+    follower where the train's compression carries the kinematic force. jax.numpy or numpy alike."""
+    fi = kinematic_force_of(model, omega, *(sv[:3] * model.scale))
+    return sv[0] - fi / (model.train_stiffness * model.scale), sv[1]
+
+
 def _quasi_static_start(motion, model, omega):
-    s, s1, _, _ = motion(jnp.asarray(0.0))
-    fi = kinematic_force(motion, model, omega, jnp.asarray(0.0))
-    return jnp.stack([s - fi / (model.train_stiffness * model.scale), s1])
+    return jnp.stack(_quasi_static(model, omega, motion(jnp.asarray(0.0))))
 
 
 _NEWTON_ITERS = 8
-
-
-_quasi_static_jit = cached_jit(_quasi_static_start)
 
 
 def _variational_field(theta, y, args):
@@ -145,9 +147,9 @@ def periodic_orbit(motion: Motion, model: FollowerModel, omega: float, theta):
     iteration falls back to plain revolutions (the transient dies out revolution by revolution).
     Returns the trajectory on ``theta`` (n, 2) of the best iterate and its residual |Phi(z0) - z0|.
     """
-    # the Newton bookkeeping is 2x2 numpy: eager jax ops would each compile a tiny program on first use
+    # the start and the Newton bookkeeping are numpy: eager jax ops would each compile a tiny program on first use
     w = np.asarray(omega, dtype=float)
-    z = np.asarray(_quasi_static_jit(motion, model, w))
+    z = np.array(_quasi_static(jax.tree.map(np.asarray, model), omega, motion.host(np.zeros(()))))
     tol = 1e-10 * (1.0 + float(np.max(np.abs(z))))
     best_traj, best_r, r_prev = None, math.inf, math.inf
     for i in range(_NEWTON_ITERS + _PLAIN_REVS):
