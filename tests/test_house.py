@@ -121,6 +121,19 @@ def test_a_typo_is_reported_before_jax_loads(tmp_path):
     assert "dynamics.mas: unknown key (did you mean 'mass'?)" in proc.stderr
 
 
+def test_a_missing_data_file_and_a_bad_option_are_reported_before_jax_loads(tmp_path):
+    case = tmp_path / "valve.toml"
+    case.write_text((ROOT / "cases" / "valve-lift.toml").read_text().replace("valve-lift.csv", "nope.csv"))
+    proc = _fresh(
+        f"import sys\nfrom camdyn.cli import main\ncodes = [main(['check', {str(case)!r}]), "
+        "main(['check', 'cases/lecture.toml', '--bogus'])]\nprint(*codes, 'jax' in sys.modules)"
+    )
+    assert proc.stdout.strip().splitlines()[-1] == "2 2 False", proc.stderr
+    first, second = proc.stderr.strip().splitlines()
+    assert first == f"camdyn: {case}: nope.csv: no such file ({tmp_path / 'nope.csv'})"
+    assert "unrecognized arguments: --bogus" in second
+
+
 def private_crossings() -> list[str]:
     """Imports of a private name, or of a name from a private module (``_x``), from outside the importer's own
     package and its ancestors (``camdyn._core`` is the shared infrastructure, public to camdyn)."""
@@ -156,10 +169,12 @@ def test_no_private_name_crosses_packages():
 
 @pytest.mark.slow
 def test_check_imports_only_what_it_uses():
-    """`camdyn check` without --report draws nothing and samples nothing: no matplotlib, no report, no scipy.stats."""
+    """`camdyn check` without --report draws nothing and samples nothing: no matplotlib, no report, no scipy.stats;
+    a case given by segments fits no spline and searches with numpy: no scipy.optimize, scipy.interpolate."""
     proc = _fresh(
         "import sys\nfrom camdyn.cli import main\ncode = main(['check', 'cases/lecture.toml', '--json'])\n"
-        "heavy = ('matplotlib', 'scipy.stats', 'camdyn.report', 'camdyn.plot', 'camdyn.design.tolerance')\n"
+        "heavy = ('matplotlib', 'scipy.stats', 'camdyn.report', 'camdyn.plot', 'camdyn.design.tolerance', "
+        "'scipy.optimize', 'scipy.interpolate', 'scipy.spatial')\n"
         "print(code, sorted(m for m in heavy if m in sys.modules))"
     )
     assert proc.stdout.strip().splitlines()[-1] == "0 []", proc.stderr[-2000:]
