@@ -106,6 +106,13 @@ class CaseSpec(Table):
         return self.mechanism is not None and self.mechanism.type == "oscillating"
 
     @property
+    def contact_width_mm(self) -> float | None:
+        """The contact width along the camshaft axis, mm (``[follower] width`` or ``[mechanism] width``); None
+        where the case gives none (no contact stress then)."""
+        table = self.follower if self.follower is not None else self.mechanism
+        return None if table is None else table.width
+
+    @property
     def data_files(self) -> tuple[str, ...]:
         """The data files the case names (``[motion] table``, ``[follower] contour``), relative to the case file."""
         names = (
@@ -113,10 +120,3 @@ class CaseSpec(Table):
             self.follower.contour if self.follower is not None else None,
         )
         return tuple(name for name in names if name is not None)
-
-    @property
-    def contact_width_mm(self) -> float | None:
-        """The contact width along the camshaft axis, mm (``[follower] width`` or ``[mechanism] width``); None
-        where the case gives none (no contact stress then)."""
-        table = self.follower if self.follower is not None else self.mechanism
-        return None if table is None else table.width
