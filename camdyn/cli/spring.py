@@ -79,7 +79,8 @@ def run(args) -> int:
     case = build_case(args.spec, source=Path(args.case))
     loads = spring_loads(case)
     design = design_case_spring(case)
-    lever_arm = case.spec.spring.lever_arm if case.oscillating else None
+    spring_spec = case.spec.spring
+    lever_arm = spring_spec.lever_arm if case.oscillating and spring_spec is not None else None
     if args.json:
         doc = {
             "case": case.name,

@@ -60,8 +60,10 @@ class FollowerModel(eqx.Module):
 def follower_model(d: DynamicsSpec, *, oscillating: bool) -> FollowerModel:
     """SI follower parameters from a validated ``[dynamics]`` table (translating: mm -> m, N/mm -> N/m)."""
     m = d.inertia if oscillating else d.mass
-    k = rate_to_si(d.torsion_rate if oscillating else d.spring_rate, oscillating)
+    rate = d.torsion_rate if oscillating else d.spring_rate
     f0 = d.preload_torque if oscillating else d.preload
+    assert m is not None and rate is not None and f0 is not None  # check_dynamics_keys: the kind's mass, rate, preload
+    k = rate_to_si(rate, oscillating)
     kf_in = d.train_torsion_rate if oscillating else d.train_stiffness
     kf = math.inf if kf_in is None else rate_to_si(kf_in, oscillating)
     c = d.damping if d.damping is not None else damping_from_ratio(d.damping_ratio or 0.0, k, m)

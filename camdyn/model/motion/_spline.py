@@ -25,6 +25,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 from functools import cache
+from typing import cast
 
 import numpy as np
 
@@ -229,15 +230,16 @@ class _Problem:
         return float(grid[-1])
 
     def choose(self, sigma: float | None, lowest: float) -> float:
-        from scipy.optimize import minimize_scalar
+        from scipy.optimize import OptimizeResult, minimize_scalar  # unannotated: cast its result
 
         grid = np.linspace(lowest, _LOG_LAM[1], _GRID)
         scores = np.array([self.score(g, sigma) for g in grid])
         i = int(np.argmin(scores))
         step = grid[1] - grid[0]
         lo, hi = max(grid[0], grid[i] - step), min(grid[-1], grid[i] + step)
-        res = minimize_scalar(
-            lambda g: self.score(g, sigma), bounds=(lo, hi), method="bounded", options={"xatol": 0.01}
+        res = cast(
+            OptimizeResult,
+            minimize_scalar(lambda g: self.score(g, sigma), bounds=(lo, hi), method="bounded", options={"xatol": 0.01}),
         )
         return float(res.x) if res.fun <= scores[i] else float(grid[i])
 
