@@ -100,7 +100,7 @@ def _rigid_map(case, pts: _Points, angles, gaps: bool, progress, devices):
 
 
 def _compliant_map(case, pts: _Points, angles, gaps: bool, gap_method: str, progress, devices):
-    motion, base = case.motion, case.model
+    base = case.model
     theta, vals, weight = angles
     spec = jnp.fft.rfft(jnp.asarray(vals[0]))
     const = (base, jnp.asarray(vals[0]), jnp.asarray(vals[1]), spec, jnp.asarray(weight))
@@ -115,7 +115,7 @@ def _compliant_map(case, pts: _Points, angles, gaps: bool, gap_method: str, prog
     tick = counter(progress, "separated points (nonlinear model)", idx.size)
     point = [pts.omega[idx], pts.k[idx], pts.c[idx]]
     if gap_method == "exact":
-        tab = np.asarray(evaluate(motion, jnp.asarray(theta[::GAP_STRIDE])))[:3]
+        tab = vals[:3, ::GAP_STRIDE] / base.scale  # the same angles: no second evaluation of the motion (its compile)
         w_tab = _lever_arm_mm(case, theta[::GAP_STRIDE]) if case.oscillating else np.ones(tab.shape[1])
         gconst = (
             base,
