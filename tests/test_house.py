@@ -167,11 +167,11 @@ def test_no_private_name_crosses_packages():
 @pytest.mark.slow
 def test_check_imports_only_what_it_uses():
     """`camdyn check` without --report draws nothing and samples nothing: no matplotlib, no report, no scipy.stats;
-    a case given by segments fits no spline and searches with numpy: no scipy.optimize, scipy.interpolate."""
+    a case given by segments fits no spline and builds no B-spline segment: no scipy.interpolate."""
     proc = _fresh(
         "import sys\nfrom camdyn.cli import main\ncode = main(['check', 'cases/lecture.toml', '--json'])\n"
         "heavy = ('matplotlib', 'scipy.stats', 'camdyn.report', 'camdyn.plot', 'camdyn.design.tolerance', "
-        "'scipy.optimize', 'scipy.interpolate', 'scipy.spatial')\n"
+        "'scipy.interpolate')\n"
         "print(code, sorted(m for m in heavy if m in sys.modules))"
     )
     assert proc.stdout.strip().splitlines()[-1] == "0 []", proc.stderr[-2000:]

@@ -3,13 +3,16 @@
 from __future__ import annotations
 
 import math
+from typing import cast
 
+import jax.numpy as jnp
 import numpy as np
+from scipy.optimize import OptimizeResult, minimize_scalar  # unannotated: cast its result
 
 from ..._core.jit import cached_jit
 from ..._core.units import TWO_PI
 from ..follower import FollowerModel
-from ..motion import Motion
+from ..motion import Motion, evaluate
 
 
 def kinematic_force(motion: Motion, model: FollowerModel, omega, theta):
@@ -50,23 +53,18 @@ def _quadratic_jump_speed(a, b, c):
     return w
 
 
-_POLISH_POINTS = 65
-_POLISH_XTOL = 1e-10  # rad
-
-
 def kinematic_jump_speed(motion: Motion, model: FollowerModel, n: int = 7200) -> tuple[float, float]:
     """Least cam speed (rad/s) at which the kinematic interface force reaches zero, and the angle (deg).
 
     At each angle Fi is the quadratic ``(m s'') w^2 + (c s') w + (k s + F0 + F_ext)`` in w, whose least
-    positive root is closed form; the minimum over angles is taken on an n-point grid and polished by grids
-    zooming in on it to :data:`_POLISH_XTOL` (numpy: every ``check`` runs this, and loading scipy.optimize for a
-    one-dimensional search would cost a quarter of JAX's import). ``(inf, nan)`` when no speed makes it jump.
+    positive root is closed form; the minimum over angles is taken on an n-point grid and polished with a
+    bounded scalar minimization of the same closed form. ``(inf, nan)`` when no speed makes it jump.
     """
     m, c, k = (float(model.mass), float(model.damping), float(model.stiffness))
     f0 = float(model.preload) + float(model.external)
 
     def w_at(theta):
-        s, s1, s2, _ = motion.host(theta) * model.scale  # numpy: the polish evaluates one angle at a time
+        s, s1, s2, _ = np.asarray(evaluate(motion, jnp.asarray(theta, dtype=float))) * model.scale
         return _quadratic_jump_speed(m * s2, c * s1, k * s + f0)
 
     theta = np.arange(n) * (TWO_PI / n)
@@ -74,13 +72,16 @@ def kinematic_jump_speed(motion: Motion, model: FollowerModel, n: int = 7200) ->
     i = int(np.argmin(w))
     if not np.isfinite(w[i]):
         return math.inf, math.nan
-    best_t, best_w = theta[i], w[i]
-    lo, hi = theta[i] - TWO_PI / n, theta[i] + TWO_PI / n
-    while hi - lo > _POLISH_XTOL:  # each grid spans two steps of the last around its least: 32 x finer a round
-        ts = np.linspace(lo, hi, _POLISH_POINTS)
-        ws = w_at(ts)
-        j = int(np.argmin(ws))
-        if ws[j] < best_w:
-            best_t, best_w = ts[j], ws[j]
-        lo, hi = ts[max(j - 1, 0)], ts[min(j + 1, _POLISH_POINTS - 1)]
-    return float(best_w), math.degrees(best_t) % 360.0
+    h = TWO_PI / n
+    cap = 1e6 * w[i]  # a finite stand-in for "no jump here": Brent's parabola steps turn inf into NaN
+
+    def objective(t):
+        return min(float(w_at(np.array([t]))[0]), cap)
+
+    res = cast(
+        OptimizeResult,
+        minimize_scalar(objective, bounds=(theta[i] - h, theta[i] + h), method="bounded", options={"xatol": 1e-10}),
+    )
+    if res.fun < w[i]:
+        return float(res.fun), math.degrees(res.x) % 360.0
+    return float(w[i]), math.degrees(theta[i])
