@@ -17,6 +17,7 @@ from ...model import dynamics as dyn
 from ...model.geometry import newton_per_torque_at
 from ...model.motion import evaluate
 from ..parts import resolve_spring, spring_mass_notes
+from ..valvetrain import refuse_valvetrain
 from ._contact import kinematic_kernel, linear_kernel, with_spring_damping
 from ._diffrax_gap import diffrax_gap_const, diffrax_gap_kernel
 from ._exact_gap import exact_gap_kernel
@@ -170,6 +171,7 @@ def jump_map(
     gap of the separated points (the nonlinear integration, most of the cost of a rigid follower's map): their
     ``max_gap`` is NaN; the least force, the separation and the jump boundary are the same.
     """
+    refuse_valvetrain(case, "sweep")
     devices = tuple(jax.devices() if devices is None else devices)
     if gap_method not in ("exact", "diffrax"):
         raise ValueError(f"gap_method must be 'exact' or 'diffrax', not {gap_method!r}")
