@@ -18,9 +18,9 @@ from ..._core.errors import NumericalError
 from ..._core.jit import cached_jit
 from ..._core.units import RPM, THETA_GRID, TWO_PI
 from ..follower import FollowerModel
-from ..motion import Motion, evaluate
+from ..motion import Motion
 from ._harmonic import steady_state
-from ._kinematic import kinematic_force, kinematic_force_jit
+from ._kinematic import kinematic_force, kinematic_force_of
 from ._result import Response, residual_vibration, separations_from_mask
 from ._solver import ATOL, MAX_STEPS, RTOL
 from ._train import contact_force, static_position
@@ -56,15 +56,22 @@ def _contact_force(motion, model, omega, theta, x, p):
 _contact_force_jit = cached_jit(_contact_force)
 
 
-def _quasi_static_start(motion, model, omega):
-    s, s1, _, _ = motion(jnp.asarray(0.0))
-    fi = kinematic_force(motion, model, omega, jnp.asarray(0.0))
-    return jnp.stack([s - fi / (model.train_stiffness * model.scale), s1])
+@cached_jit
+def _response_arrays(motion, model, omega, theta, x, p):
+    """The steady state's interface force, the motion's values (4, n) and the kinematic force on ``theta``: one
+    compiled program (each program a fresh process loads costs a cache look-up)."""
+    fi = _contact_force(motion, model, omega, theta, x, p)
+    return fi, motion(theta), kinematic_force(motion, model, omega, theta)
+
+
+def _quasi_static(model, omega, sv):
+    """The shooting's start (x, dx/dtheta) from the motion's values ``sv`` = (s, s', s'', ...) at theta = 0: the
+    follower where the train's compression carries the kinematic force. jax.numpy or numpy alike."""
+    fi = kinematic_force_of(model, omega, *(sv[:3] * model.scale))
+    return sv[0] - fi / (model.train_stiffness * model.scale), sv[1]
 
 
 _NEWTON_ITERS = 8
-
-_quasi_static_jit = cached_jit(_quasi_static_start)
 
 
 def _variational_field(theta, y, args):
@@ -132,13 +139,13 @@ def periodic_orbit(motion: Motion, model: FollowerModel, omega: float, theta):
     Returns the trajectory (x, dx/dtheta; motion units) on ``theta`` (n, 2) of the best iterate and its residual
     |Phi(z0) - z0|; NumericalError if a revolution does not integrate.
     """
-    # the Newton bookkeeping is 2x2 numpy: eager jax ops would each compile a tiny program on first use
-    z = np.asarray(_quasi_static_jit(motion, model, jnp.asarray(omega, dtype=float)))
+    # the start and the Newton bookkeeping are numpy: eager jax ops would each compile a tiny program on first use
+    w = np.asarray(omega, dtype=float)
+    z = np.array(_quasi_static(jax.device_get(model), omega, motion.host(np.zeros(()))))
     tol = 1e-10 * (1.0 + float(np.max(np.abs(z))))
-    w = jnp.asarray(omega, dtype=float)
     best_traj, best_r, r_prev = None, math.inf, math.inf
     for i in range(_NEWTON_ITERS + _PLAIN_REVS):
-        traj, phi, mono, ok = _rev_jit(motion, model, w, jnp.asarray(z), theta)
+        traj, phi, mono, ok = _rev_jit(motion, model, w, z, theta)
         phi, mono = np.asarray(phi), np.asarray(mono)
         if not bool(ok) or not np.all(np.isfinite(phi)):
             raise NumericalError(f"dynamics at {omega / RPM:.4g} rpm", _integration_failure(model, omega))
@@ -176,27 +183,26 @@ def _in_contact(motion: Motion, model: FollowerModel, omega, n: int):
 
 def compliant_response(motion: Motion, model: FollowerModel, omega: float, n: int = THETA_GRID) -> Response:
     """Periodic steady state of the compliant follower at cam speed omega (rad/s)."""
-    theta = jnp.arange(n) * (TWO_PI / n)
+    # numpy between the compiled programs: an eager jax op compiles a program of its own
+    theta = np.arange(n) * (TWO_PI / n)
+    w = np.asarray(omega, dtype=float)
     notes = []
     try:
         traj, residual = periodic_orbit(motion, model, float(omega), theta)
-        x, p = traj[:, 0], traj[:, 1]
+        x, p = np.asarray(traj).T
     except NumericalError as err:
         # Far below resonance (a very slow cam) the time integration must resolve millions of train vibrations;
         # the steady state in contact is exact in the frequency domain, and it is the answer if it stays in contact.
-        x, p = _in_contact(motion, model, jnp.asarray(omega, dtype=float), n)
-        if float(np.min(_contact_force_jit(motion, model, jnp.asarray(omega, dtype=float), theta, x, p))) <= 0.0:
+        x, p = (np.asarray(a) for a in _in_contact(motion, model, w, n))
+        if float(np.min(_contact_force_jit(motion, model, w, theta, x, p))) <= 0.0:
             raise err from None
         residual = 0.0
         notes.append(
             f"at {omega / RPM:.4g} rpm the steady state comes from the frequency domain (exact in contact): the time "
             "integration cannot resolve the train's vibration"
         )
-    fi = np.asarray(_contact_force_jit(motion, model, jnp.asarray(omega, dtype=float), theta, x, p))
-    x, p = np.asarray(x), np.asarray(p)
-    theta_deg = np.degrees(np.asarray(theta))
-    vals = np.asarray(evaluate(motion, theta))
-    kin = np.asarray(kinematic_force_jit(motion, model, jnp.asarray(omega, dtype=float), theta))
+    fi, vals, kin = (np.asarray(a) for a in _response_arrays(motion, model, w, theta, x, p))
+    theta_deg = np.degrees(theta)
     flying = fi <= 0.0
     # contact-mode period, in cam degrees: bounces closer than this belong to one separation
     merge_deg = math.degrees(omega * TWO_PI / _contact_mode(model))
