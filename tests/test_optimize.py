@@ -145,7 +145,7 @@ def optimized():
 def test_the_shipped_optimized_lecture_holds_faster_and_passes(optimized):
     case, chk = optimized
     assert chk.verdict == "pass" and all(c.ok for c in chk.checks)
-    w = chk.dynamic["jump_speed_rpm"]
+    w = chk.dynamic.jump_speed_rpm
     assert w >= 1.30 * LECTURE_JUMP_RPM
     speeds = np.linspace(1.0, 0.999 * w, 600) * RPM  # it holds at every speed below its jump speed
     assert np.all(np.asarray(linear_min_force(case.motion, case.model, speeds)) > 0.0)
@@ -221,8 +221,8 @@ def within_lifts(case) -> list[str]:
 
 def residual(check) -> float:
     """The check's residual vibration in the motion's unit (mm; deg of swing for an arm)."""
-    d = check.dynamic
-    return math.degrees(d["residual_vibration_rad"]) if check.case.oscillating else d["residual_vibration_mm"]
+    d = check.dynamic  # independent of Dynamics.residual_vibration_as_lift: the arm's rad to deg here
+    return math.degrees(d.residual_vibration_rad) if check.case.oscillating else d.residual_vibration_mm
 
 
 def peak_spring(case) -> float:
@@ -308,7 +308,7 @@ def test_an_answer_is_never_worse_nor_invalid(capsys, tmp_path, path, objective)
     assert least_new.min() >= margin * (1.0 - 1e-6)  # the margin at every speed up to the claim
     if objective == "jump-speed":  # the input breaks that margin below the claim
         assert np.asarray(linear_min_force(original.motion, original.model, speeds)).min() < margin
-        assert after.dynamic["jump_speed_rpm"] > before.dynamic["jump_speed_rpm"]
+        assert after.dynamic.jump_speed_rpm > before.dynamic.jump_speed_rpm
     elif objective == "vibration":
         assert residual(after) < residual(before)
     else:

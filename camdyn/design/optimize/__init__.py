@@ -183,15 +183,13 @@ def metrics(case: Case, check: CheckReport | None = None, margin: float = 0.0) -
     to_user = 1.0 if case.motion.unit == "mm" else 180.0 / math.pi
     m = case.model
     geo = chk.geometry
-    jump = chk.dynamic["jump_speed_rpm"]
+    jump = chk.dynamic.jump_speed_rpm
     w_max = 4.0 * max(case.limits.speed_margin * chk.speed_rpm, jump if jump is not None else 0.0) * RPM
-    residual = (
-        chk.dynamic["residual_vibration_rad"] * to_user if case.oscillating else chk.dynamic["residual_vibration_mm"]
-    )
+    residual = chk.dynamic.residual_vibration_as_lift  # mm, or deg of arm swing, as the motion's unit
     return Metrics(
         jump_speed_rpm=float(jump if jump is not None else math.inf),
         margin_speed_rpm=float(margin_speed(case, margin, w_max) / RPM),
-        least_force_N=float(chk.dynamic["min_contact_force_N"]),
+        least_force_N=float(chk.dynamic.min_contact_force_N),
         peak_acceleration=float(np.abs(sv[2]).max() * to_user),
         max_pressure_angle_deg=float(geo.max_pressure_angle_deg) if geo else math.nan,
         min_radius_of_curvature_mm=float(geo.min_radius_of_curvature_mm) if geo else math.nan,

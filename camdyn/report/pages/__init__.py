@@ -5,6 +5,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
+from ..._core.results import Unavailable
 from .._data import ReportData
 from .cam import draw_cam
 from .dynamics import draw_dynamics
@@ -38,7 +39,7 @@ PAGES: list[Page] = [
         "optimization",
         "Optimization",
         draw_optimization,
-        lambda data: data.review.original is not None and not isinstance(data.review.original, str),
+        lambda data: data.review.original is not None and not isinstance(data.review.original, Unavailable),
     ),
     Page("parts", "Drive, contact and spring", draw_parts),
     Page("springs", "Spring sizing", draw_springs),
