@@ -25,6 +25,7 @@ from ...schema.dynamics import LINEAR_KEYS, ROTARY_KEYS
 from ..checks import CheckReport, run_check
 from ..parts import resolve_spring
 from ..tolerance import tolerance_study
+from ..valvetrain import refuse_valvetrain
 from ._objectives import CLEAR, jump_speed, least_slack, spring_force, vibration
 from ._rows import Rows
 from ._shape import N_CONTROL, ShapeSpace, shape_space
@@ -359,6 +360,7 @@ def optimize_case(
     The answer's ``refusals`` say why it is not to be written (no better, or a check it would break)."""
     if objective not in OBJECTIVES:
         raise InputError("--objective", f"unknown objective {objective!r}; choose one of {', '.join(OBJECTIVES)}")
+    refuse_valvetrain(case, "optimize")
     if robust and case.spec.tolerances is None:
         raise InputError(
             "--robust", "the case has no [tolerances]: give them to claim a speed at P(separation) <= 1e-3"

@@ -373,7 +373,7 @@ def _input_columns(data: ReportData) -> list[tuple[str, list[tuple[str, str]]]]:
     case = data.case
     spec = case.spec
     columns: list[tuple[str, list[tuple[str, str]]]] = []
-    if case.motion_source in ("table", "contour"):
+    if case.motion_source in ("table", "valve_table", "contour"):
         columns.append((case.motion_source, _fit_rows(case)))
         columns.append(("follower", _kv_lines(case.follower.model_dump(exclude_unset=True))))
     elif spec.motion is not None:
