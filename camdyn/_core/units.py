@@ -105,14 +105,14 @@ NORMAL_TOLERANCE_SIGMAS = 3.0  # a normal tolerance is this many standard deviat
 PROFILE_ERROR_HARMONICS = 8  # a profile error is a random sum of harmonics 1..this of the revolution
 
 
-def tolerance_unit(key: str, oscillating: bool) -> str:
+def tolerance_unit(key: str, rotary: bool) -> str:
     """The case-file unit of tolerance ``key`` (a bare number is in it)."""
-    return next(iter(TOLERANCE_UNITS[key][int(oscillating)]))
+    return next(iter(TOLERANCE_UNITS[key][int(rotary)]))
 
 
-def tolerance_to_case_unit(key: str, value: float, unit: str, oscillating: bool) -> float:
+def tolerance_to_case_unit(key: str, value: float, unit: str, rotary: bool) -> float:
     """An absolute tolerance ``value unit`` in the key's case-file unit; ValueError naming the units it takes."""
-    units = TOLERANCE_UNITS[key][int(oscillating)]
+    units = TOLERANCE_UNITS[key][int(rotary)]
     if unit not in units:
         raise ValueError(f"unit {unit!r} not known here: use a percentage or one of {', '.join(units)}")
     return value * units[unit]

@@ -9,9 +9,10 @@ from typing import Any
 import numpy as np
 
 from .._core.errors import InputError
+from .._core.kinds import FollowerKind
 from .._core.precision import require_x64
 from .._core.units import THETA_GRID
-from ..schema import CaseSpec, FollowerSpec, LimitsSpec, load_case_spec, parse
+from ..schema import CaseSpec, FollowerSpec, LimitsSpec, dynamics_keys, load_case_spec, parse
 from .follower import FollowerModel, follower_model
 from .geometry import ContourFit
 from .linkage import synthesize_motion
@@ -47,8 +48,13 @@ class Case:
         return self.spec.limits
 
     @property
+    def kind(self) -> FollowerKind:
+        """Translating or oscillating: the units, conversions and force semantics of this case's follower."""
+        return self.motion.kind
+
+    @property
     def oscillating(self) -> bool:
-        return self.motion.unit == "rad"
+        return self.kind.rotary
 
     @property
     def motion_source(self) -> str:
@@ -96,7 +102,7 @@ def build_case(spec: CaseSpec, source: Path | None = None) -> Case:
         motion, fit, warnings = table_motion(spec, source)
         follower = spec.follower
     elif spec.motion is not None:
-        motion = Program.from_specs(spec.motion.segments, unit="rad" if spec.oscillating else "mm")
+        motion = Program.from_specs(spec.motion.segments, unit=spec.kind.motion_unit)
         follower = spec.follower
         warnings += motion.continuity_warnings() + motion.polynomial_warnings()
     elif spec.follower is not None:
@@ -105,20 +111,19 @@ def build_case(spec: CaseSpec, source: Path | None = None) -> Case:
         synthesis = synthesize_motion(spec.path, spec.mechanism)
         motion, follower = synthesis.tabulated, synthesis.follower
         warnings += list(synthesis.warnings)
-    model = follower_model(spec.dynamics, oscillating=spec.oscillating)
-    _check_holds_at_rest(motion, model, spec.oscillating)
+    model = follower_model(spec.dynamics, kind=spec.kind)
+    _check_holds_at_rest(motion, model, dynamics_keys(spec.kind)[2], spec.kind.force_unit)
     return Case(name, source, spec, motion, follower, model, synthesis, tuple(warnings), fit, contour)
 
 
-def _check_holds_at_rest(motion: Motion, model: FollowerModel, oscillating: bool) -> None:
+def _check_holds_at_rest(motion: Motion, model: FollowerModel, preload_key: str, unit: str) -> None:
     theta_deg = np.arange(THETA_GRID) * (360.0 / THETA_GRID)
     vals = motion.host(np.deg2rad(theta_deg))
     at_rest = float(model.stiffness) * vals[0] * model.scale + float(model.preload) + float(model.external)
     i = int(at_rest.argmin())
     if at_rest[i] <= 0.0:
-        key, unit = ("dynamics.preload_torque", "N*m") if oscillating else ("dynamics.preload", "N")
         raise InputError(
-            key,
+            f"dynamics.{preload_key}",
             f"the spring cannot hold the follower on the cam even at rest: spring + external load is {at_rest[i]:.4g} "
             f"{unit} at {theta_deg[i]:g} deg",
         )

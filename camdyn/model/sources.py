@@ -71,9 +71,9 @@ def _within_tolerance(fit: MotionFit, table: Samples, tolerance: float | None) -
 def table_motion(spec: CaseSpec, source: Path | None) -> tuple[FittedMotion, MotionFit, list[str]]:
     """The motion fitted to the case's lift table."""
     name, tolerance = spec.motion.table, spec.motion.tolerance
-    table = read_lift_table(_path(name, source), name, spec.oscillating)
+    table = read_lift_table(_path(name, source), name, spec.kind)
     theta, lift = table.values.T
-    unit, column = ("deg", "swing_deg") if spec.oscillating else ("mm", "lift_mm")
+    unit, column = spec.kind.lift_unit, spec.kind.lift_column
     warnings = _unit_slip(table, lift, unit, column) + _lift_level(table, lift, unit, column)
     motion, fit = fit_motion(
         theta,
@@ -95,6 +95,6 @@ def contour_motion(
     """The motion of the case's cam outline by exact contact, the follower with the outline's base radius."""
     name = spec.follower.contour
     derived = contact_motion(read_contour(_path(name, source), name), spec.follower)
-    unit = "deg" if spec.oscillating else "mm"
+    unit = spec.kind.lift_unit
     motion, fit = fit_motion(derived.theta_deg, derived.lift, unit=unit, source="contour", file=name)
     return motion, derived.follower, fit, derived.contour, list(derived.warnings) + fit_warnings(fit)

@@ -14,7 +14,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from ..._core.units import default_max_pressure_angle, newton_per_torque
+from ..._core.units import newton_per_torque
 from ...model.case import Case
 from ...model.dynamics import kinematic_force_of, steady_state, train_force
 from ...model.geometry import curvature_limit, geometry_of
@@ -77,7 +77,7 @@ class Rows:
         1 - rho / rho_min."""
         f, lim = self.case.follower, self.case.limits
         geo = geometry_of(f, jnp.asarray(self.space.theta), self.space.values(z))
-        phi_max = math.radians(lim.max_pressure_angle or default_max_pressure_angle(f.translating))
+        phi_max = math.radians(lim.max_pressure_angle or f.kind.default_max_pressure_angle_deg)
         rows = [jnp.abs(geo["phi"]) / phi_max - 1.0 + _SAFETY]
         if f.roller:
             kappa_max = 1.0 / (f.roller_radius * (1.0 + curvature_limit(f, lim.min_curvature_ratio)))
