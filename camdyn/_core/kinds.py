@@ -30,6 +30,8 @@ class FollowerKind:
     rotary: bool  # the coordinate is the arm angle: forces are torques about the pivot, rates torsion rates
     motion_unit: str  # the model's unit of the follower coordinate: "mm" | "rad"
     lift_unit: str  # the case file's and the outputs' unit of lift: "mm" | "deg"
+    lift_word: str  # what the lift is called in a figure: "lift" | "swing"
+    lift_symbol: str  # its symbol there: "s" | psi
     lift_column: str  # the lift column of a case's lift table: "lift_mm" | "swing_deg"
     lift_per_motion: float  # motion unit -> lift unit (1, or 180/pi)
     motion_per_lift: float  # lift unit -> motion unit (1, or pi/180)
@@ -79,6 +81,8 @@ TRANSLATING = FollowerKind(
     rotary=False,
     motion_unit="mm",
     lift_unit="mm",
+    lift_word="lift",
+    lift_symbol="s",
     lift_column="lift_mm",
     lift_per_motion=1.0,
     motion_per_lift=1.0,
@@ -103,6 +107,8 @@ OSCILLATING = FollowerKind(
     rotary=True,
     motion_unit="rad",
     lift_unit="deg",
+    lift_word="swing",
+    lift_symbol="\u03c8",
     lift_column="swing_deg",
     lift_per_motion=180.0 / math.pi,
     motion_per_lift=math.pi / 180.0,
