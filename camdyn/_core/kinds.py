@@ -40,6 +40,8 @@ class FollowerKind:
     si_per_rate: float  # that rate -> SI (N/mm -> N/m; N*m/rad stays)
     force_unit: str  # the generalized force: "N" | "N*m"
     force_word: str  # "force" | "torque"
+    rate_name: str  # "spring rate" | "torsion rate"
+    preload_symbol: str  # "F0" | "T0"
     mass_unit: str  # the generalized mass: "kg" | "kg*m^2"
     damping_unit: str  # a viscous damping coefficient: "N*s/m" | "N*m*s/rad"
     rate_slip_unit: str  # the unit a rate 1000 times too large was likely meant in: "N/m" | "N*mm/rad"
@@ -91,6 +93,8 @@ TRANSLATING = FollowerKind(
     si_per_rate=N_PER_M_PER_N_PER_MM,
     force_unit="N",
     force_word="force",
+    rate_name="spring rate",
+    preload_symbol="F0",
     mass_unit="kg",
     damping_unit="N*s/m",
     rate_slip_unit="N/m",
@@ -117,6 +121,8 @@ OSCILLATING = FollowerKind(
     si_per_rate=1.0,
     force_unit="N*m",
     force_word="torque",
+    rate_name="torsion rate",
+    preload_symbol="T0",
     mass_unit="kg*m^2",
     damping_unit="N*m*s/rad",
     rate_slip_unit="N*mm/rad",

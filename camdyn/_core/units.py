@@ -1,8 +1,9 @@
 """Units, grids, defaults and the few conversions every layer shares: each lives here and nowhere else.
 
 Case files speak the designer's units (mm, deg, rpm, N/mm); the models work in SI (m, rad, rad/s, N/m), or in
-the rotational equivalent for an oscillating arm (rad, N*m/rad, N*m). Plain Python and numpy only: the
-schema imports this module, and it must not pull in JAX.
+the rotational equivalent for an oscillating arm (rad, N*m/rad, N*m). What differs between the two follower kinds
+(their units, their conversions, their output names) is :mod:`camdyn._core.kinds`, built on the factors here.
+Plain Python and numpy only: the schema imports this module, and it must not pull in JAX.
 """
 
 from __future__ import annotations
@@ -54,24 +55,10 @@ DEFAULT_SPEED_FLUCTUATION = 0.05  # [drive]: coefficient of speed fluctuation th
 CUSP_MM = 1e-6  # a flat-faced contour radius of curvature under 1 nm is a cusp: that check's limit
 
 
-def default_max_pressure_angle(translating: bool) -> float:
-    """The pressure-angle limit (deg) where ``[limits] max_pressure_angle`` is not given."""
-    return DEFAULT_MAX_PRESSURE_ANGLE_DEG["translating" if translating else "oscillating"]
-
-
-def rate_to_si(rate, oscillating: bool):
-    """A spring or train rate as the case file gives it (N/mm; N*m/rad for an oscillating arm) in SI."""
-    return rate if oscillating else rate * N_PER_M_PER_N_PER_MM
-
-
 def rate_from_si(rate, oscillating: bool):
-    """The inverse of :func:`rate_to_si`: N/m -> N/mm (an arm's N*m/rad stays)."""
+    """An SI rate in the case file's unit: N/m -> N/mm (an arm's N*m/rad stays). Prefer the follower kind's
+    :meth:`camdyn._core.kinds.FollowerKind.rate_from_si`; this form remains for callers that hold a flag."""
     return rate if oscillating else rate / N_PER_M_PER_N_PER_MM
-
-
-def motion_scale(oscillating: bool) -> float:
-    """Motion unit -> SI: mm -> m for a translating follower, rad stays rad for an arm."""
-    return 1.0 if oscillating else M_PER_MM
 
 
 def damping_from_ratio(ratio, stiffness, mass):

@@ -79,7 +79,7 @@ def run(args) -> int:
     case = build_case(args.spec, source=Path(args.case))
     loads = spring_loads(case)
     design = design_case_spring(case)
-    lever_arm = case.spec.spring.lever_arm if case.oscillating else None
+    lever_arm = case.spec.spring.lever_arm if case.spec.spring is not None else None  # an arm's only
     if args.json:
         doc = {
             "case": case.name,

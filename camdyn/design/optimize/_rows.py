@@ -66,7 +66,7 @@ class Rows:
         ``min_contact_force`` (N at the contact; through the lever arm, which moves with s, for an arm) hold."""
         fmin = float(self.case.limits.min_contact_force)
         need = max(self.margin, fmin)
-        if self.case.oscillating:
+        if self.case.kind.rotary:  # the least contact force through the lever arm, which moves with s
             lever = geometry_of(self.case.follower, jnp.asarray(self.space.theta), self.space.values(z))["lever"]
             need = jnp.maximum(self.margin, fmin / newton_per_torque(lever))
         return self.forces(z, omegas, preload) - need
