@@ -4,6 +4,7 @@ No JAX: these tests read the schema and the Markdown only."""
 
 from __future__ import annotations
 
+import json
 import re
 import tomllib
 from pathlib import Path
@@ -283,3 +284,13 @@ def test_readme_example_is_what_check_prints(capsys):
     shown = re.search(r"```console\n\$ camdyn check cases/lecture.toml\n(.*?)```", readme, re.S).group(1)
     assert main(["check", str(ROOT / "cases" / "lecture.toml")]) == 0
     assert [line.rstrip() for line in capsys.readouterr().out.splitlines()] == shown.splitlines()
+
+
+def test_whiteboard_names_only_paths_that_exist():
+    """docs/whiteboard.json moves with the folders it names."""
+    board = json.loads((ROOT / "docs" / "whiteboard.json").read_text())
+    paths = [p for part in board["parts"].values() for p in part["is"]]
+    assert paths and all((ROOT / p).exists() for p in paths), [p for p in paths if not (ROOT / p).exists()]
+    covered = {p.rstrip("/") for p in paths}
+    packages = {str(d.relative_to(ROOT)) for d in (ROOT / "camdyn").iterdir() if (d / "__init__.py").exists()}
+    assert packages <= covered, packages - covered

@@ -274,6 +274,22 @@ def test_kinematic_force_by_hand(lecture):
     assert np.max(np.abs(55.0 * omega * s1 * 1e-3)) > 1e6 * 1e-9 * np.max(np.abs(ref))
 
 
+def test_train_force_by_hand():
+    """The one interface law: k_f (s - x) + c_f w (s' - x') in SI, the same from mm with unit=1e-3, 0 off the cam."""
+    model = model_of(0.5, 2000.0, 30.0, 10.0, kf=1e6, cf=40.0)
+    omega = 300 * RPM
+    s, s1, x, x1 = np.array([5.0, 5.0, 5.0]), np.array([2.0, 2.0, -1.0]), np.array([4.99, 5.01, 4.999]), 0.5
+    by_hand = 1e6 * (s - x) * 1e-3 + 40.0 * omega * (s1 - x1) * 1e-3  # N
+    got = np.asarray(dyn.train_force(model, omega, s * 1e-3, s1 * 1e-3, x * 1e-3, x1 * 1e-3))
+    assert got == pytest.approx(by_hand, rel=1e-12)
+    in_mm = np.asarray(dyn.train_force(model, omega, s, s1, x, x1, unit=1e-3))
+    assert in_mm == pytest.approx(by_hand, rel=1e-12)
+    # unilateral: pushes while the cam is ahead (10 N + damping), 0 behind it (s < x), 0 where the pull would be < 0
+    assert by_hand[2] < 0.0 < by_hand[0]
+    contact = np.asarray(dyn.contact_force(model, omega, s, s1, x, x1, unit=1e-3))
+    assert contact[0] == pytest.approx(by_hand[0], rel=1e-12) and contact[1] == contact[2] == 0.0
+
+
 # ============================================================================ 2. compliant model
 def test_stiff_train_tends_to_kinematic_force():
     """Eccentric cam (continuous acceleration) at 900 rpm: the compliant force converges to the kinematic one as

@@ -10,6 +10,7 @@ import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
+import pytest
 
 import camdyn.model  # noqa: F401  (float64)
 from camdyn._core import jit as programs
@@ -51,6 +52,7 @@ def test_programs_persist_and_static_fields_are_part_of_the_key(tmp_path, monkey
     assert np.allclose(programs.cached_jit(_value)(square, x, 1.0), 3 * x**2 + 1)
 
 
+@pytest.mark.slow  # three fresh processes, two of them compiling every program
 def test_fresh_check_processes_agree_with_and_without_the_caches(tmp_path):
     env = {k: v for k, v in os.environ.items() if k != "CAMDYN_NO_CACHE"} | {"XDG_CACHE_HOME": str(tmp_path)}
     cmd = [sys.executable, "-m", "camdyn", "check", str(ROOT / "cases" / "lecture.toml"), "--json"]

@@ -33,7 +33,7 @@ import numpy as np
 
 from .._core.errors import InputError, NumericalError
 from .._core.units import FFT_GRID, RPM, TWO_PI
-from .dynamics import dynamic_jump_speed, first_zero_speed
+from .dynamics import contact_force, dynamic_jump_speed, first_zero_speed, train_force
 from .follower import FollowerModel, with_spring_mass
 from .motion import Motion, evaluate
 
@@ -112,7 +112,7 @@ def chain_steady_force(
         c = float(model.damping)
         fi = mass[-1] * omega**2 * s2 + K[-1, -1] * (s - u) + (C[-1, -1] - c) * omega * (s1 - du) + c * omega * s1 + ext
     else:
-        fi = float(model.train_stiffness) * (s - q[:, -1]) + float(model.train_damping) * omega * (s1 - dq[:, -1])
+        fi = np.asarray(train_force(model, omega, s, s1, q[:, -1], dq[:, -1]))
     return fi, q, dq
 
 
@@ -144,11 +144,11 @@ def chain_jump_speed(
 
 
 def _field(t, y, args):
-    motion, mass, K, C, kf, cf, ext, omega, scale = args
+    motion, model, mass, K, C, ext, omega = args
     n = mass.shape[0]
     q, v = y[:n], y[n:]
-    s, s1, _, _ = motion(omega * t) * scale
-    fi = jnp.where(s > q[-1], jnp.maximum(0.0, kf * (s - q[-1]) + cf * (omega * s1 - v[-1])), 0.0)
+    s, s1, _, _ = motion(omega * t) * model.scale
+    fi = contact_force(model, omega, s, s1, q[-1], v[-1] / omega)
     force = -(K @ q) - (C @ v)
     force = force.at[-1].add(fi - ext)
     return jnp.concatenate([v, force / mass])
@@ -176,14 +176,12 @@ def chain_revolution(
     mass, K, C = _matrices(model, spring_mass, segments, surge_damping)
     args = (
         motion,
+        model,
         jnp.asarray(mass),
         jnp.asarray(K),
         jnp.asarray(C),
-        float(model.train_stiffness),
-        float(model.train_damping),
         float(model.preload) + float(model.external),
         float(omega),
-        model.scale,
     )
     breaks = np.deg2rad(np.asarray(motion.breaks_deg, dtype=float)) / omega
     period = TWO_PI / omega
@@ -211,10 +209,7 @@ def chain_revolution(
     nn = segments
     q, v = ys[:-1, :nn], ys[:-1, nn:]
     vals = np.asarray(motion(jnp.asarray(theta))) * model.scale
-    raw = float(model.train_stiffness) * (vals[0] - q[:, -1]) + float(model.train_damping) * (
-        omega * vals[1] - v[:, -1]
-    )
-    fi = np.where(vals[0] > q[:, -1], np.maximum(0.0, raw), 0.0)
+    fi = np.asarray(contact_force(model, omega, vals[0], vals[1], q[:, -1], v[:, -1] / omega))
     return q, fi, ys[-1]
 
 

@@ -18,7 +18,7 @@ from ..._core.progress import Progress
 from ..._core.units import RPM, rate_from_si
 from ...export import camdyn_version, dumps_case
 from ...model.case import Case, build_case
-from ...model.dynamics import dynamic_jump_speed, linear_min_force, response
+from ...model.dynamics import dynamic_jump_speed, linear_min_force, preload_share, response
 from ...model.follower import FollowerModel
 from ...schema import CaseSpec
 from ...schema.dynamics import LINEAR_KEYS, ROTARY_KEYS
@@ -166,7 +166,7 @@ def default_margin(case: Case) -> float:
 def _less_preload(model: FollowerModel, margin: float) -> FollowerModel:
     """The model whose interface force is ``model``'s less ``margin`` at every angle and speed in contact: the
     steady state is affine in the preload, a change dF0 moving the force by k_f / (k + k_f) dF0."""
-    share = 1.0 if model.rigid else float(model.train_stiffness / (model.stiffness + model.train_stiffness))
+    share = 1.0 if model.rigid else float(preload_share(model.stiffness, model.train_stiffness))
     return eqx.tree_at(lambda m: m.preload, model, model.preload - margin / share)
 
 

@@ -18,7 +18,7 @@ import numpy as np
 from ..._core.errors import InputError, NumericalError
 from ..._core.progress import Progress, counter
 from ..._core.units import RPM
-from ...model.dynamics import steady_state
+from ...model.dynamics import static_position, steady_state
 from ..spring import min_preload
 from ._rows import FINE, Rows, speed_slots
 from ._slp import Step, maximize_least, with_jacobian
@@ -149,7 +149,7 @@ def vibration(rows: Rows, omega: float, band: bool = True) -> np.ndarray:
     def deviation(z):
         s = space.values(z)[0] * m.scale
         spec = jnp.fft.rfft(s)
-        static = (m.train_stiffness * s - m.preload - m.external) / (m.stiffness + m.train_stiffness)
+        static = static_position(m, s)
         x = jnp.stack([steady_state(spec, w, m, m.stiffness, m.damping, s.shape[0])[0] for w in speeds])
         dev = (x - static)[:, idx].ravel() / m.scale
         return jnp.concatenate([-dev, dev])  # its least is -max |x - x_static|

@@ -43,7 +43,7 @@ class Dynamic:
 
     def alpha(self, k) -> float:
         """dFc / dF0 = k_f / (k + k_f)."""
-        return self.p.kf / (k + self.p.kf)
+        return dyn.preload_share(k, self.p.kf)
 
     def contact_force(self, k, f0, speeds):
         """Frequency-domain steady-state interface force (N or N*m), shape (len(speeds), N_FFT)."""

@@ -13,15 +13,18 @@ the cam) is driven by a cam turning at constant speed w, theta = w t. Two time-d
 Both are integrated in the cam angle (state: x and dx/dtheta, in the motion's unit: mm or rad), so segment
 boundaries are fixed angles that the step-size controller is told about (``jump_ts``). Everything is in SI
 inside; ``scale`` converts the motion's unit to m (1e-3) or keeps rad (1.0), and the same equations then
-hold for the rotational equivalent of an oscillating follower (inertia, torsion spring, torques).
+hold for the rotational equivalent of an oscillating follower (inertia, torsion spring, torques). The train's
+force on the cam and the follower's rest on it are written once (:mod:`._train`), for these models, the spring's
+surge chain (:mod:`camdyn.model.surge`) and the design studies.
 """
 
 from ._compliant import compliant_response, min_contact_force, periodic_orbit, vector_field
-from ._harmonic import linear_contact_force, linear_min_force, steady_force_at, steady_state, train_force
+from ._harmonic import linear_contact_force, linear_min_force, steady_force_at, steady_state
 from ._kinematic import kinematic_force, kinematic_force_jit, kinematic_force_of, kinematic_jump_speed
 from ._response import dynamic_jump_speed, first_zero_speed, jump_search_limit, response
 from ._result import Flight, Impact, Response, Separation
 from ._rigid import rigid_response
+from ._train import contact_force, preload_share, static_position, train_force
 
 __all__ = [
     "Flight",
@@ -29,6 +32,7 @@ __all__ = [
     "Response",
     "Separation",
     "compliant_response",
+    "contact_force",
     "dynamic_jump_speed",
     "first_zero_speed",
     "jump_search_limit",
@@ -40,10 +44,12 @@ __all__ = [
     "linear_min_force",
     "min_contact_force",
     "periodic_orbit",
+    "preload_share",
     "response",
     "rigid_response",
     "steady_force_at",
     "vector_field",
+    "static_position",
     "steady_state",
     "train_force",
 ]

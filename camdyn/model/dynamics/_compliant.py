@@ -10,7 +10,6 @@ from __future__ import annotations
 import math
 
 import diffrax
-import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
@@ -22,9 +21,9 @@ from ..follower import FollowerModel
 from ..motion import Motion, evaluate
 from ._harmonic import steady_state
 from ._kinematic import kinematic_force, kinematic_force_jit
-from ._result import Response, _separations_from_mask, residual_vibration
-
-_RTOL, _ATOL = 1e-9, 1e-10
+from ._result import Response, residual_vibration, separations_from_mask
+from ._solver import ATOL, MAX_STEPS, RTOL
+from ._train import contact_force, static_position
 
 
 def vector_field(theta, y, args):
@@ -33,11 +32,7 @@ def vector_field(theta, y, args):
     x, p = y
     s, s1, _, _ = motion(theta)
     sc = model.scale
-    fi = jnp.where(
-        contact & (s > x),
-        jnp.maximum(0.0, model.train_stiffness * sc * (s - x) + model.train_damping * omega * sc * (s1 - p)),
-        0.0,
-    )
+    fi = jnp.where(contact, contact_force(model, omega, s, s1, x, p, sc), 0.0)
     f_net = fi - (model.stiffness * sc * x + model.preload) - model.damping * omega * sc * p - model.external
     return jnp.stack([p, f_net / (model.mass * omega**2 * sc)])
 
@@ -46,24 +41,19 @@ def _controller(motion: Motion, theta0, revs: float):
     breaks = np.deg2rad(np.asarray(motion.breaks_deg, dtype=float))
     jumps = (breaks[None, :] + TWO_PI * np.arange(-1, math.ceil(revs) + 2)[:, None]).ravel()
     jumps = jnp.asarray(np.sort(jumps)) + 0.0 * theta0
-    pid = diffrax.PIDController(rtol=_RTOL, atol=_ATOL)
+    pid = diffrax.PIDController(rtol=RTOL, atol=ATOL)
     if jumps.size == 0:
         return pid
     return diffrax.ClipStepSizeController(pid, jump_ts=jumps)
 
 
 def _contact_force(motion, model, omega, theta, x, p):
+    """The interface force (N or N*m) on ``theta`` of the follower at (x, dx/dtheta), motion units."""
     s, s1, _, _ = motion(theta)
-    sc = model.scale
-    return jnp.where(
-        s > x, jnp.maximum(0.0, model.train_stiffness * sc * (s - x) + model.train_damping * omega * sc * (s1 - p)), 0.0
-    )
+    return contact_force(model, omega, s, s1, x, p, model.scale)
 
 
 _contact_force_jit = cached_jit(_contact_force)
-
-
-_MAX_STEPS = 200_000
 
 
 def _quasi_static_start(motion, model, omega):
@@ -73,7 +63,6 @@ def _quasi_static_start(motion, model, omega):
 
 
 _NEWTON_ITERS = 8
-
 
 _quasi_static_jit = cached_jit(_quasi_static_start)
 
@@ -97,7 +86,7 @@ def _rev_with_sensitivity(motion, model, omega, z0, theta):
         args=(motion, model, omega, True),
         saveat=diffrax.SaveAt(ts=theta, t1=True),
         stepsize_controller=_controller(motion, 0.0, 1),
-        max_steps=_MAX_STEPS,
+        max_steps=MAX_STEPS,
         throw=False,
     )
     ys = sol.ys
@@ -110,13 +99,17 @@ _rev_jit = cached_jit(_rev_with_sensitivity)
 _PLAIN_REVS = 60  # after Newton stalls (non-smooth bouncing): revolutions of plain iteration at most
 
 
+def _contact_mode(model: FollowerModel) -> float:
+    """The angular frequency (rad/s) of the follower's vibration on the cam: sqrt((k + k_f) / m)."""
+    return math.sqrt((float(model.stiffness) + float(model.train_stiffness)) / float(model.mass))
+
+
 def _integration_failure(model: FollowerModel, omega: float) -> str:
     """Why the time integration of the compliant model can fail, in the case file's terms."""
-    k = float(model.stiffness) + float(model.train_stiffness)
-    ratio = math.sqrt(k / float(model.mass)) / omega  # contact-mode vibration periods (x 2 pi) per revolution
+    ratio = _contact_mode(model) / omega  # contact-mode vibration periods (x 2 pi) per revolution
     what = "the compliant-model integration failed (solver out of steps or NaN)"
     if ratio > 1e3:
-        hz = math.sqrt(k / float(model.mass)) / TWO_PI
+        hz = _contact_mode(model) / TWO_PI
         return (
             f"{what}: the follower train vibrates at {hz:.4g} Hz, {ratio / TWO_PI:.3g} times per cam revolution; "
             "a slower time integration cannot resolve it: check dynamics.train_stiffness, dynamics.mass and the speed"
@@ -128,14 +121,15 @@ def _integration_failure(model: FollowerModel, omega: float) -> str:
 
 
 def periodic_orbit(motion: Motion, model: FollowerModel, omega: float, theta):
-    """Periodic steady state of the compliant model by shooting.
+    """Periodic steady state of the compliant model at cam speed ``omega`` (rad/s) by shooting.
 
     Newton on ``Phi(z0) - z0 = 0``, where the one-revolution flow Phi and its Jacobian (the monodromy matrix)
     come from one diffrax solve of the state with its variational equations (the vector field's Jacobian by
     JAX autodiff). While the follower stays in contact the flow is affine and Newton converges in one step.
     Where a separation makes the flow non-smooth and a Newton step does not reduce the residual, the
     iteration falls back to plain revolutions (the transient dies out revolution by revolution).
-    Returns the trajectory on ``theta`` (n, 2) of the best iterate and its residual |Phi(z0) - z0|.
+    Returns the trajectory (x, dx/dtheta; motion units) on ``theta`` (n, 2) of the best iterate and its residual
+    |Phi(z0) - z0|; NumericalError if a revolution does not integrate.
     """
     # the Newton bookkeeping is 2x2 numpy: eager jax ops would each compile a tiny program on first use
     z = np.asarray(_quasi_static_jit(motion, model, jnp.asarray(omega, dtype=float)))
@@ -158,40 +152,17 @@ def periodic_orbit(motion: Motion, model: FollowerModel, omega: float, theta):
     return best_traj, best_r
 
 
-def _steady_jax(motion, model, omega, theta):
-    """Jittable periodic orbit for batched use (vmap over speeds or models): Newton then plain revolutions."""
-
-    def body(carry):
-        i, z, r_prev, best_traj, best_r = carry
-        traj, phi, mono, _ = _rev_with_sensitivity(motion, model, omega, z, theta)
-        r = phi - z
-        rn = jnp.where(jnp.all(jnp.isfinite(traj)), jnp.linalg.norm(r), jnp.nan)
-        better = rn < best_r
-        best_traj = jnp.where(better, traj, best_traj)
-        best_r = jnp.where(better, rn, best_r)
-        z_newton = z - jnp.linalg.solve(mono - jnp.eye(2), r)
-        use_newton = (i < _NEWTON_ITERS) & (rn <= r_prev) & jnp.all(jnp.isfinite(z_newton))
-        return i + 1, jnp.where(use_newton, z_newton, phi), rn, best_traj, best_r
-
-    def cond(carry):
-        i, z, _, _, best_r = carry
-        return (i < _NEWTON_ITERS + _PLAIN_REVS) & (best_r > 1e-10 * (1.0 + jnp.max(jnp.abs(z))))
-
-    z0 = _quasi_static_start(motion, model, omega)
-    init = (0, z0, jnp.inf, jnp.full((theta.shape[0], 2), jnp.nan), jnp.asarray(jnp.inf))
-    _, _, _, traj, residual = jax.lax.while_loop(cond, body, init)
-    return traj, residual
-
-
-@eqx.filter_jit
-def min_contact_force(motion, model, omega, n: int = THETA_GRID):
-    """Least steady-state interface force of the compliant model by time-domain shooting (N; NaN on failure).
-
-    Jittable and vmappable over speeds and models; the reference for :func:`linear_min_force`.
-    """
+def min_contact_force(motion: Motion, model: FollowerModel, omega: float, n: int = THETA_GRID) -> float:
+    """Least steady-state interface force (N, or N*m for an arm) of the compliant model at ``omega`` (rad/s) by
+    time-domain shooting (:func:`periodic_orbit`) on ``n`` angles; NaN where the integration fails. The
+    reference for :func:`camdyn.model.dynamics.linear_min_force`."""
     theta = jnp.arange(n) * (TWO_PI / n)
-    traj, _ = _steady_jax(motion, model, omega, theta)
-    return jnp.min(_contact_force(motion, model, omega, theta, traj[:, 0], traj[:, 1]))
+    try:
+        traj, _ = periodic_orbit(motion, model, float(omega), theta)
+    except NumericalError:
+        return math.nan
+    w = jnp.asarray(omega, dtype=float)
+    return float(jnp.min(_contact_force_jit(motion, model, w, theta, traj[:, 0], traj[:, 1])))
 
 
 @cached_jit
@@ -226,13 +197,11 @@ def compliant_response(motion: Motion, model: FollowerModel, omega: float, n: in
     kin = np.asarray(kinematic_force_jit(motion, model, jnp.asarray(omega, dtype=float), theta))
     flying = fi <= 0.0
     # contact-mode period, in cam degrees: bounces closer than this belong to one separation
-    k_total = float(model.stiffness) + float(model.train_stiffness)
-    merge_deg = math.degrees(omega * TWO_PI / math.sqrt(k_total / float(model.mass)))
+    merge_deg = math.degrees(omega * TWO_PI / _contact_mode(model))
     rel = omega * model.scale * (p - vals[1])
-    seps = _separations_from_mask(theta_deg, flying, x - vals[0], rel, merge_deg)
-    # static equilibrium in a dwell: k_f (s - x) = k x + F0 + F_ext
-    kf, kk = float(model.train_stiffness) * model.scale, float(model.stiffness) * model.scale
-    x_static = (kf * vals[0] - float(model.preload) - float(model.external)) / (kk + kf)
+    seps = separations_from_mask(theta_deg, flying, x - vals[0], rel, merge_deg)
+    # in numpy on the host, like the rest of the response (XLA's division differs from numpy's in the last bit)
+    x_static = static_position(jax.device_get(model), vals[0], model.scale)
     resid, resid_deg = residual_vibration(motion, theta_deg, x - x_static)
     warnings = notes
     tol = 1e-6 * max(1.0, float(np.max(np.abs(vals[0]))))

@@ -16,6 +16,7 @@ from ..._core.jit import cached_jit
 from ..._core.units import FFT_GRID, TWO_PI
 from ..follower import FollowerModel
 from ..motion import Motion
+from ._train import train_force
 
 _FFT_N = FFT_GRID
 
@@ -38,11 +39,6 @@ def steady_state(spec, omega, model: FollowerModel, stiffness, damping, n: int, 
         static = static / unit
     x_spec = x_spec.at[0].set((kf * spec[0] - static) / (stiffness + kf))
     return jnp.fft.irfft(x_spec, n), jnp.fft.irfft(1j * k * x_spec, n)
-
-
-def train_force(model: FollowerModel, omega, s, s1, x, x1):
-    """The follower train's force on the cam in contact, ``k_f (s - x) + c_f w (s' - x')`` (N or N*m; SI inputs)."""
-    return model.train_stiffness * (s - x) + model.train_damping * omega * (s1 - x1)
 
 
 def steady_force_at(motion: Motion, model: FollowerModel, n: int):

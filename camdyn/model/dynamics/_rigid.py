@@ -18,9 +18,10 @@ from ..._core.errors import NumericalError
 from ..._core.units import THETA_GRID, TWO_PI
 from ..follower import FollowerModel
 from ..motion import Motion, evaluate
-from ._compliant import _ATOL, _MAX_STEPS, _RTOL, vector_field
+from ._compliant import vector_field
 from ._kinematic import kinematic_force_jit
 from ._result import Response, Separation, residual_vibration
+from ._solver import ATOL, MAX_STEPS, RTOL
 
 _GAP_EPS = 1e-9  # motion units; a landing is detected this far below contact, so a flight starts above it
 _BREAK_EPS = 1e-10  # rad: just past a segment boundary, on its far side
@@ -43,9 +44,9 @@ def _flight(motion, model, omega, theta0, y0):
         y0=y0,
         args=(motion, model, omega, False),
         saveat=diffrax.SaveAt(t1=True, dense=True),
-        stepsize_controller=diffrax.PIDController(rtol=_RTOL, atol=_ATOL),
+        stepsize_controller=diffrax.PIDController(rtol=RTOL, atol=ATOL),
         event=diffrax.Event(_flight_event, root_finder=optx.Newton(1e-12, 1e-12), direction=False),
-        max_steps=_MAX_STEPS,
+        max_steps=MAX_STEPS,
         throw=False,
     )
 

@@ -1,0 +1,43 @@
+"""The follower train's force on the cam and the follower's rest on it: the one place each is written.
+
+Every model with a compliant train (the lumped follower in the time and frequency domains, the spring's surge
+chain, the sweeps, the tolerance study, the optimizer) reads it from here.
+"""
+
+from __future__ import annotations
+
+import jax.numpy as jnp
+
+from ..follower import FollowerModel
+
+
+def train_force(model: FollowerModel, omega, s, s1, x, x1, unit=1.0):
+    """The train's force on the cam while they touch, ``k_f (s - x) + c_f w (s' - x')``: N, or N*m for an arm.
+
+    ``omega``: the cam speed (rad/s); ``s``, ``s1``: the cam's lift and its d/dtheta; ``x``, ``x1``: the
+    follower's; all four in the length unit whose SI value is ``unit`` (1.0: m or rad already; the model's
+    ``scale`` for the motion's unit, mm -> m). Linear (the in-contact models); pure arithmetic on numpy or
+    JAX arrays, so it traces under ``jit`` and ``vmap``.
+    """
+    return model.train_stiffness * unit * (s - x) + model.train_damping * omega * unit * (s1 - x1)
+
+
+def contact_force(model: FollowerModel, omega, s, s1, x, x1, unit=1.0):
+    """The interface force with unilateral contact: :func:`train_force` while the cam is ahead of the follower
+    (s > x) and pushes it, else 0 (the follower flies); same units and arguments. JAX (returns a JAX array)."""
+    return jnp.where(s > x, jnp.maximum(0.0, train_force(model, omega, s, s1, x, x1, unit)), 0.0)
+
+
+def static_position(model: FollowerModel, s, unit=1.0):
+    """Where the compliant follower rests on a cam standing at lift ``s``: ``k_f (s - x) = k x + F0 + F_ext``, so
+    ``x = (k_f s - F0 - F_ext) / (k + k_f)``, in the unit of ``s`` whose SI value is ``unit`` (as
+    :func:`train_force`). The reference the residual vibration in a dwell is measured from."""
+    kf, k = model.train_stiffness * unit, model.stiffness * unit
+    return (kf * s - model.preload - model.external) / (k + kf)
+
+
+def preload_share(stiffness, train_stiffness):
+    """How much of a preload change reaches the cam in contact, ``dF_i / dF0 = k_f / (k + k_f)`` (1): the
+    in-contact steady state is affine in the preload, which moves the follower by ``-dF0 / (k + k_f)`` at every
+    angle and speed (:func:`static_position`). Spring rate and train stiffness in one unit (SI); compliant trains."""
+    return train_stiffness / (stiffness + train_stiffness)
