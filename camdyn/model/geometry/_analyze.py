@@ -216,6 +216,8 @@ def contact_per_force(motion, follower: FollowerSpec | None, theta) -> np.ndarra
     1 for a translating follower (camdyn reports its axial force), :func:`newton_per_torque_at` for an arm."""
     if not motion.kind.rotary:
         return np.ones(np.shape(theta))
+    if follower is None:
+        raise InputError("follower", "an arm's contact force needs its geometry (the lever arm)")
     return newton_per_torque_at(motion, follower, theta)
 
 
