@@ -88,7 +88,7 @@ _API = {
     "write_machine_report": ".report.machine",
 }
 
-__all__ = sorted(_API)
+__all__ = sorted(_API)  # pyright: ignore[reportUnsupportedDunderAll]  (the stub __init__.pyi lists it for editors)
 
 
 def __getattr__(name: str):

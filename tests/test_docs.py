@@ -243,7 +243,9 @@ def test_readme_quick_start_is_the_two_commands():
     assert test_command in lines
     ci = (ROOT / ".ci" / "run").read_text(encoding="utf-8").splitlines()
     install, tests = test_command.split(" && ")
-    assert ci.index(install) < ci.index("ruff check . && ruff format --check .") < ci.index(tests)  # style first
+    style, types = "ruff check . && ruff format --check .", "pyright"
+    assert ci.index(install) < ci.index(style) < ci.index(types) < ci.index(tests)  # style and types first
+    assert f"`{style}` and `{types}` between them" in " ".join(lines)
 
 
 def _anchors(md: Path) -> set[str]:

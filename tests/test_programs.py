@@ -1,5 +1,6 @@
 """The traced-program cache: persisted programs give the same answers, and anything static changes the key."""
 
+import dataclasses
 import json
 import os
 import subprocess
@@ -61,3 +62,72 @@ def test_fresh_check_processes_agree_with_and_without_the_caches(tmp_path):
     assert list((tmp_path / "camdyn" / "programs").glob("_rev_with_sensitivity-*.jaxexport"))
     docs = [json.loads(r.stdout) for r in (*runs, plain)]
     assert docs[0] == docs[1] == docs[2]
+
+
+def _kernel_key(motion):
+    """What a compiled program is keyed by: the static part and the array shapes of the motion's jit form."""
+    dynamic, static = eqx.partition(motion.jit_form(), eqx.is_array)
+    return jax.tree.structure(static), jax.tree.leaves(static), [(x.shape, x.dtype) for x in jax.tree.leaves(dynamic)]
+
+
+def test_programs_of_other_segments_share_one_compiled_kernel_and_evaluate_alike(tmp_path, monkeypatch):
+    from camdyn.model.motion import Program, evaluate
+
+    lecture = Program.from_segments(
+        [
+            {"law": "dwell", "end": 90},
+            {"law": "cycloidal", "end": 180, "lift": 20},
+            {"law": "dwell", "end": 240},
+            {"law": "harmonic", "end": 360, "lift": -20},
+        ]
+    )
+    other = Program.from_segments(
+        [
+            {"law": "modified-sine", "end": 70, "lift": 12},
+            {"law": "polynomial", "end": 150, "lift": 6, "end_jerk": 0},
+            {"law": "dwell", "end": 200},
+            {"law": "modified-trapezoid", "end": 330, "lift": -18},
+            {"law": "dwell", "end": 360},
+        ]
+    )
+    assert _kernel_key(lecture) == _kernel_key(other)
+    monkeypatch.setattr(programs, "_DIR", None)
+    programs.enable(tmp_path)
+    theta = jnp.asarray(np.linspace(-1.0, 7.5, 997))
+    for prog in (lecture, other):  # the one program on disk; each agrees with the unpadded numpy evaluation
+        assert np.allclose(evaluate(prog, theta), prog._eval(np, np.asarray(theta)), rtol=1e-12, atol=1e-9)
+    assert len(list(tmp_path.glob("evaluate-*.jaxexport"))) == 1
+    # 2 pi is the start (the modified sine's jerk), just below it the closing dwell: padding rows are never read
+    ends = np.asarray(evaluate(other, jnp.asarray([2 * np.pi, np.nextafter(2 * np.pi, 0)])))
+    assert np.allclose(ends[:, 0], other.host(0.0)) and ends[3, 0] > 100.0 and np.all(ends[:, 1] == 0.0)
+
+
+def test_a_thousand_segments_fill_one_bucket():
+    from camdyn.model.motion import Program
+
+    prog = Program.from_segments(
+        [{"law": "cycloidal", "end": 0.36 * (i + 1), "lift": 1.0 if i % 2 == 0 else -1.0} for i in range(1000)]
+    )
+    table = prog.jit_form()
+    assert table.start.shape == (1024,) and np.isinf(table.start[1000:]).all() and np.isinf(table.jumps[1000:]).all()
+    # a cycloid of 1 mm over 0.36 deg peaks at its middle with s' = 2 / beta
+    beta = np.deg2rad(0.36)
+    s, s1, _, _ = prog.host(np.deg2rad([0.18, 360 - 0.18]))
+    assert np.allclose(s, [0.5, 0.5]) and np.allclose(s1, [2 / beta, -2 / beta])
+
+
+def test_fitted_tables_of_other_lengths_share_one_compiled_kernel():
+    from camdyn.model.motion import evaluate, fit_motion
+
+    def fitted(n):
+        theta = np.arange(n) * (360.0 / n)
+        return fit_motion(theta, 5 * (1 - np.cos(np.deg2rad(theta))), unit="mm", source="table", file="t.csv")[0]
+
+    short, long = fitted(300), fitted(720)
+    assert _kernel_key(short) == _kernel_key(long)
+    theta = np.array([0.0, 1.0, 3.0, 2 * np.pi, np.nextafter(2 * np.pi, 0), -1e-300])
+    for m in (short, long):
+        assert np.allclose(m.jit_form().host(theta), m.host(theta), rtol=1e-12, atol=1e-12)
+    # the form follows the coefficients (a table's noise study replaces them, under vmap)
+    doubled = jax.vmap(lambda c: evaluate(dataclasses.replace(short, coef=c), jnp.asarray(theta)))(2 * short.coef[None])
+    assert np.allclose(doubled[0], 2 * short.host(theta), rtol=1e-12, atol=1e-12)

@@ -23,16 +23,20 @@ _CLUSTER_ENV = ("SLURM_JOB_ID", "OMPI_COMM_WORLD_SIZE")  # what jax.distributed 
 _started = False
 
 
-def _option(value, name: str, flag: str):
-    """``value`` from the command line, else the environment variable of ``name``; ints checked."""
-    if value is None:
-        value = os.environ.get(_ENV[name]) or None
-    if value is None or name == "coordinator":
-        return value
+def _from_env(name: str) -> str | None:
+    """The environment variable of option ``name``; None where unset or empty."""
+    return os.environ.get(_ENV[name]) or None
+
+
+def _option(value: int | None, name: str, flag: str) -> int | None:
+    """``value`` from the command line, else the environment variable of ``name``; a whole number checked."""
+    raw = value if value is not None else _from_env(name)
+    if raw is None:
+        return None
     try:
-        number = int(value)
+        number = int(raw)
     except (TypeError, ValueError):
-        raise InputError(flag, f"expected a whole number, got {value!r}") from None
+        raise InputError(flag, f"expected a whole number, got {raw!r}") from None
     if number < (1 if name == "num_processes" else 0):
         raise InputError(flag, f"out of range: {number}")
     return number
@@ -48,7 +52,7 @@ def initialize(
     """Start JAX's distributed runtime if asked (options, environment, or ``auto`` on a cluster JAX detects);
     returns the number of processes. A no-op (1) for a single process."""
     global _started
-    coordinator = _option(coordinator, "coordinator", "--coordinator")
+    coordinator = coordinator if coordinator is not None else _from_env("coordinator")
     num_processes = _option(num_processes, "num_processes", "--num-processes")
     process_id = _option(process_id, "process_id", "--process-id")
     detected = auto and any(v in os.environ for v in _CLUSTER_ENV)

@@ -7,6 +7,10 @@ diffrax solve takes longer (about 1 s) than the solve itself. :func:`cached_jit`
 an equinox module's static fields, Python numbers), the shapes and dtypes of the arrays, camdyn's own source
 and the versions of the JAX stack. A later process deserializes the program instead of tracing it. Without
 :func:`enable` (the library, the tests) it is ``equinox.filter_jit`` and nothing is written.
+
+Either way an argument with a ``jit_form`` method (a motion) is replaced by what it returns (:func:`jit_forms`):
+a form whose static structure does not depend on the case, so a case never seen before reuses the programs of
+the others.
 """
 
 from __future__ import annotations
@@ -21,6 +25,7 @@ import equinox as eqx
 import jax
 import numpy as np
 from jax import export
+from jax.core import Tracer
 
 _DIR: Path | None = None
 
@@ -46,7 +51,8 @@ def _fingerprint() -> str:
             h.update(f"{dist}={metadata.version(dist)};".encode())
         except metadata.PackageNotFoundError:
             pass
-    h.update(f"{jax.default_backend()};x64={jax.config.jax_enable_x64}".encode())
+    x64 = jax.config.jax_enable_x64  # pyright: ignore[reportAttributeAccessIssue] - a flag jax adds at run time
+    h.update(f"{jax.default_backend()};x64={x64}".encode())
     return h.hexdigest()
 
 
@@ -66,18 +72,41 @@ def _save(file: Path, exported) -> None:
         tmp.unlink(missing_ok=True)
 
 
+def _has_form(x) -> bool:
+    return hasattr(type(x), "jit_form")
+
+
+def jit_forms(tree):
+    """``tree`` with every object that has a ``jit_form`` method (a motion) replaced by ``x.jit_form()``."""
+    return jax.tree.map(lambda x: x.jit_form() if _has_form(x) else x, tree, is_leaf=_has_form)
+
+
+def filter_jit(fn):
+    """``equinox.filter_jit(fn)`` on the arguments' :func:`jit_forms`: compiled once per follower kind and bucket,
+    not once per case (in-process only; :func:`cached_jit` also persists)."""
+    jitted = eqx.filter_jit(fn)
+
+    @functools.wraps(fn)
+    def call(*args, **kwargs):
+        args, kwargs = jit_forms((args, kwargs))
+        return jitted(*args, **kwargs)
+
+    return call
+
+
 def cached_jit(fn):
-    """``equinox.filter_jit(fn)`` whose traced programs persist across processes once :func:`enable` is called."""
+    """:func:`filter_jit` whose traced programs persist across processes once :func:`enable` is called."""
     jitted = eqx.filter_jit(fn)
     programs: dict = {}
 
     @functools.wraps(fn)
     def call(*args, **kwargs):
+        args, kwargs = jit_forms((args, kwargs))
         if _DIR is None:
             return jitted(*args, **kwargs)
         dynamic, static = eqx.partition((args, kwargs), eqx.is_array)
         leaves, treedef = jax.tree.flatten(dynamic)
-        if any(isinstance(x, jax.core.Tracer) for x in leaves):  # inside jit/vmap/grad: an exported program has
+        if any(isinstance(x, Tracer) for x in leaves):  # inside jit/vmap/grad: an exported program has
             return jitted(*args, **kwargs)  # no batching or differentiation rules; the outer trace is cached anyway
         avals = tuple((np.shape(x), np.dtype(x.dtype).str) for x in leaves)
         try:  # hashing the static part is cheap; its repr (the disk key) is not, for a motion of 1000 segments

@@ -17,5 +17,5 @@ def enable_x64() -> None:
 
 def require_x64() -> None:
     """Raise :class:`CamdynError` unless JAX computes in float64: a float32 cam would be silently wrong."""
-    if not jax.config.jax_enable_x64:
+    if not jax.config.jax_enable_x64:  # pyright: ignore[reportAttributeAccessIssue] - a flag jax adds at run time
         raise CamdynError("", X64_HINT)

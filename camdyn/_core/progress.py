@@ -6,7 +6,6 @@ draws it (a rich bar on a terminal). Nothing here draws.
 
 from __future__ import annotations
 
-from collections.abc import Callable
 from typing import Protocol
 
 
@@ -18,7 +17,11 @@ def silent(phase: str, done: int, total: int) -> None:
     """A progress callback that reports nothing."""
 
 
-def counter(progress: Progress | None, phase: str, total: int) -> Callable[[int], None]:
+class Tick(Protocol):
+    def __call__(self, n: int = 1) -> None: ...
+
+
+def counter(progress: Progress | None, phase: str, total: int) -> Tick:
     """``tick(n)``: advance ``phase`` by n of ``total`` on ``progress`` (nothing when it is None)."""
     done = [0]
 

@@ -8,7 +8,7 @@ import sys
 import time
 from contextlib import contextmanager
 
-from rich.console import Console
+from rich.console import Console, JustifyMethod
 from rich.markup import escape
 from rich.progress import BarColumn, MofNCompleteColumn, Progress, SpinnerColumn, TextColumn, TimeElapsedColumn
 from rich.table import Table
@@ -20,7 +20,7 @@ def console() -> Console:
     return Console(highlight=False, soft_wrap=True)
 
 
-def table(*columns: tuple[str, str]) -> Table:
+def table(*columns: tuple[str, JustifyMethod]) -> Table:
     """An aligned table without borders; columns as (header, justify)."""
     t = Table(show_edge=False, pad_edge=False, box=None, header_style="bold")
     for name, just in columns:

@@ -111,6 +111,7 @@ def print_size(sz: SpringSizing, verbose: bool = False) -> None:
         )
         return
     chk = sz.check
+    assert chk is not None  # size --buildable gives the part and its check together
     console.print(
         f"size: [bold]{spring}[/bold] (peak spring {c.peak_spring:.4g} {u['spring']}), the part below; check with its "
         f"own mass ({sz.spring_model}, {1e3 * sz.spring_mass_kg:.3g} g): speed_margin {chk.value:.5g} {chk.sense} "
@@ -134,5 +135,7 @@ def run(args) -> int:
     else:
         print_size(sz, args.verbose)
         if sz.part is not None:
-            print_spring(sz.case_name, sz.part, case.spec.spring.lever_arm if case.spec.spring is not None else None)
+            spring_spec = case.spec.spring
+            lever_arm = spring_spec.lever_arm if spring_spec is not None else None  # an arm's only
+            print_spring(sz.case_name, sz.part, lever_arm)
     return 0

@@ -79,7 +79,8 @@ def run(args) -> int:
     case = build_case(args.spec, source=Path(args.case))
     loads = spring_loads(case)
     design = design_case_spring(case)
-    lever_arm = case.spec.spring.lever_arm if case.spec.spring is not None else None  # an arm's only
+    spring_spec = case.spec.spring
+    lever_arm = spring_spec.lever_arm if spring_spec is not None else None  # an arm's only (the schema's rule)
     if args.json:
         doc = {
             "case": case.name,

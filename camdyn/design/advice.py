@@ -25,7 +25,8 @@ def corner_radius_advice(
     ``evaluations`` checks in all (each re-synthesizes the mechanism). None if the case has no sharp corners.
     """
     syn = case.synthesis
-    if syn is None or not syn.sharp_corners or case.spec.path.type != "rectangle":
+    path = case.spec.path
+    if syn is None or not syn.sharp_corners or path is None or path.type != "rectangle":
         return None
     raw = case.spec.model_dump(exclude_unset=True)
     r_max = 0.5 * min(float(raw["path"]["width"]), float(raw["path"]["height"]))
@@ -40,7 +41,7 @@ def corner_radius_advice(
         except CamdynError:  # a radius the mechanism cannot trace counts as failing
             seen[r] = None
         tick()
-        return seen[r] is not None and seen[r].verdict == "pass"
+        return (rep := seen[r]) is not None and rep.verdict == "pass"
 
     tidy = lambda r: max(round(r, 1), 0.1)  # noqa: E731 - a radius to 0.1 mm is what a drawing gives
     lo, hi = 0.0, None
@@ -60,8 +61,10 @@ def corner_radius_advice(
             break
         lo, hi = (lo, mid) if verdict(mid) else (mid, hi)
     rep = seen[hi]
+    assert rep is not None  # hi passed
     force = find(rep.checks, CheckKind.CONTACT_FORCE)
     margin = find(rep.checks, CheckKind.SPEED_MARGIN)
+    assert force is not None and margin is not None  # every check report has both
     margin_txt = "no jump" if margin.value is None else f"speed margin {margin.value:.3g}"
     return (
         f"sharp corners: [path] corner_radius = {hi:g} mm passes at {rpm:g} rpm (least contact force "

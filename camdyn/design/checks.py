@@ -161,6 +161,7 @@ def jump_speeds(case: Case, omega: float, margin: float) -> tuple[float, float, 
     whose spring is resolved (:func:`camdyn.design.parts.resolve_spring`): the dynamic one with its spring model."""
     w_kin, at_kin = dyn.kinematic_jump_speed(case.motion, case.model)
     w_max = dyn.jump_search_limit(margin * omega, w_kin)
+    assert case.spring is not None  # resolved, as the docstring asks
     return w_kin, at_kin, case.spring.jump_speed(case.motion, w_max=w_max), w_max
 
 
@@ -174,6 +175,7 @@ def run_check(case: Case, speed_rpm: float | None = None) -> CheckReport:
     """Kinematic and dynamic interface force, jump speeds, separations and the verdict at ``speed_rpm``, with the
     spring's own mass as ``[spring] model`` asks (:func:`camdyn.design.parts.resolve_spring`)."""
     case = resolve_spring(case)
+    assert case.spring is not None  # resolve_spring resolved it
     rpm = float(speed_rpm if speed_rpm is not None else case.speed_rpm)
     omega = rpm * RPM
     motion, model, limits = case.motion, case.model, case.limits
@@ -252,7 +254,7 @@ def run_check(case: Case, speed_rpm: float | None = None) -> CheckReport:
             warnings.append("contact stress not computed: the contour is undercut")
         else:
             contact = case_contact(case, geo, resp)
-            if limits.max_contact_stress is not None:
+            if contact is not None and limits.max_contact_stress is not None:
                 checks += (contact_check(contact, limits.max_contact_stress),)
     by_flights = bool(resp.flights) and not model.rigid  # a compliant train's flights and impacts
     for sep in dynamic["separations"]:

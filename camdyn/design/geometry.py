@@ -73,6 +73,7 @@ def judge_geometry(
         except NumericalError as err:
             advice.append(f"no base radius alone fixes this: {err.message}")
     if width is not None and f.face_width is not None and width > f.face_width:
+        assert ext.face_range_mm is not None  # a flat face's travel is the span of its range
         t_min, t_max = ext.face_range_mm
         advice.append(
             f"face_width >= {width:.3f} mm: the contact runs from t = {t_min:.3f} to {t_max:.3f} mm along the face "

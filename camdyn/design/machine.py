@@ -224,6 +224,7 @@ def run_machine(machine: MachineFile, *, progress: Progress | None = None) -> Ma
         to_file_unit = np.rad2deg(1.0) if case.oscillating else 1.0  # an arm's swing in deg, as the case file has it
         lift = at_machine_angles(theta_deg, values[0] * to_file_unit, cam.phase_deg)
         dwells = tuple(_shifted(span, cam.phase_deg) for span in dwell_spans(theta_deg, values[1]))
+        assert report.drive is not None  # check computes the camshaft drive of every case
         torque = at_machine_angles(report.drive.theta_deg, report.drive.torque, cam.phase_deg)
         cams.append(MachineCam(cam.name, cam_spec.case, cam.phase_deg, report, lift, torque, dwells))
         tick()

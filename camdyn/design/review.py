@@ -115,6 +115,7 @@ def design_review(case: Case, check: CheckReport, *, progress: Progress | None =
 
 def _original(case: Case, check: CheckReport, sweep: ForceVsSpeed) -> Original:
     """The case ``case`` was optimized from, checked at the same speed, its force against the same speeds."""
+    assert case.spec.optimized_from is not None  # design_review asks for an optimized case's original only
     where = (case.source.parent if case.source else Path.cwd()) / case.spec.optimized_from
     if not where.is_file():
         raise InputError("optimized_from", f"{where} is not a case file: the optimization page compares with it")

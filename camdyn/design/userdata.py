@@ -26,6 +26,7 @@ from .._core.units import FFT_GRID, RPM
 from ..model import dynamics as dyn
 from ..model.case import Case
 from ..model.geometry import contact_per_force
+from ..model.motion import FittedMotion
 from ..schema import dynamics_keys
 
 # A table's least force is called uncertain when its noise moves it by more than this share (95 %): a finer
@@ -51,6 +52,7 @@ def least_force_uncertainty(case: Case, omega: float) -> float | None:
     if case.fit is None or case.fit.source != "table" or case.fit.spline.sigma == 0.0:
         return None
     motion = case.motion
+    assert isinstance(motion, FittedMotion)  # a table's motion is fitted to it
     noise = jnp.asarray(case.kind.lift_to_motion(np.moveaxis(case.fit.spline.noise_coef, -1, 0)))  # (samples, m, 6)
     theta = np.arange(FFT_GRID) * (2 * math.pi / FFT_GRID)
     base = np.asarray(_force(case, motion, omega, theta))
@@ -69,9 +71,9 @@ def least_force_uncertainty(case: Case, omega: float) -> float | None:
 
 def least_force_warning(case: Case, least_force_N: float, uncertainty_N: float | None) -> list[str]:
     """A warning where the table's noise moves the least force by more than :data:`FORCE_NOISE_SHARE` of it."""
-    if uncertainty_N is None or uncertainty_N <= FORCE_NOISE_SHARE * abs(least_force_N):
-        return []
     fit = case.fit
+    if fit is None or uncertainty_N is None or uncertainty_N <= FORCE_NOISE_SHARE * abs(least_force_N):
+        return []
     share = 100 * uncertainty_N / abs(least_force_N)
     return [
         (

@@ -76,10 +76,11 @@ def check_tool_fits(
 def segment_distance(pts: np.ndarray, poly: np.ndarray) -> np.ndarray:
     """Distance of points (m, 2) from the closed polyline (k, 2), exact over the chords next to the nearest
     ``_NEAR`` vertices (a KD-tree finds them)."""
-    from scipy.spatial import cKDTree
+    from scipy.spatial import KDTree
 
     k = len(poly)
-    _, near = cKDTree(poly).query(pts, k=min(_NEAR, k))
+    _, near = KDTree(poly).query(pts, k=min(_NEAR, k))
+    near = np.asarray(near).reshape(len(pts), -1)  # (m, neighbours)
     best = np.full(len(pts), np.inf)
     for col in near.T:
         for j in (col - 1, col):
@@ -309,7 +310,7 @@ def grinder_table(
     for rows in np.array_split(np.arange(len(th)), max(1, len(th) * len(pts) // 4_000_000)):
         r = reach(np.broadcast_to(pts, (len(rows),) + pts.shape), rows)
         best_u[rows] = u[np.argmax(r, axis=1)]
-    du = np.max(np.diff(np.concatenate([u, [u[0] + 1.0]])))
+    du = float(np.diff(np.concatenate([u, [u[0] + 1.0]])).max())
     local = best_u[:, None] + du * np.linspace(-1.0, 1.0, 41)[None]
     for _ in range(3):  # zoom in on the exact contour: each pass shrinks the bracket twentyfold
         P = contour(local.ravel()).T.reshape(local.shape + (2,))

@@ -73,10 +73,10 @@ def resample(curve: Callable[[np.ndarray], np.ndarray], tolerance: float) -> np.
 
 
 def _write_dxf(xy: np.ndarray, path: Path, unit: str) -> None:
-    import ezdxf
     from ezdxf import units
+    from ezdxf.filemanagement import new
 
-    doc = ezdxf.new("R2010")
+    doc = new("R2010")
     doc.units = units.MM if unit == "mm" else units.IN
     doc.modelspace().add_lwpolyline(xy.T.tolist(), format="xy", close=True, dxfattribs={"layer": "CAM"})
     doc.saveas(path)
@@ -105,7 +105,14 @@ def _write_svg(xy: np.ndarray, path: Path, unit: str) -> None:
 _WRITERS = {".dxf": _write_dxf, ".csv": _write_csv, ".svg": _write_svg}
 
 
-def write_profile(contour_xy, path, *, tolerance: float = 0.01, force: bool = False, units: str = "mm") -> dict:
+def write_profile(
+    contour_xy: np.ndarray | Callable[[np.ndarray], np.ndarray],
+    path: str | Path,
+    *,
+    tolerance: float = 0.01,
+    force: bool = False,
+    units: str = "mm",
+) -> dict:
     """Write a closed cam contour (mm, cam frame) to ``path``; the format follows the suffix.
 
     ``contour_xy``: a dense closed sample (2, n) or a callable u -> (2, m) on u in [0, 1] (see the module

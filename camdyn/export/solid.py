@@ -106,8 +106,8 @@ def _spline_outline(contour: Callable[[np.ndarray], np.ndarray], tolerance_mm: f
 def _export_step(part, path: Path, units: str) -> None:
     """STEP in mm, or in inches (its coordinates in inches, its length unit INCH): OpenCascade's writer setting."""
     from build123d import Unit, export_step
-    from OCP.Interface import Interface_Static
-    from OCP.STEPControl import STEPControl_Controller
+    from OCP.Interface import Interface_Static  # pyright: ignore[reportAttributeAccessIssue] - OCP's stubs lack it
+    from OCP.STEPControl import STEPControl_Controller  # pyright: ignore[reportAttributeAccessIssue] - as above
 
     STEPControl_Controller.Init_s()
     Interface_Static.SetCVal_s("write.step.unit", "MM" if units == "mm" else "INCH")

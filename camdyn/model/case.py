@@ -29,7 +29,7 @@ class Case:
     source: Path | None
     spec: CaseSpec
     motion: Motion
-    follower: FollowerSpec | None
+    follower: FollowerSpec  # the case's, or the one a contour or a cam-linkage gives
     model: FollowerModel
     synthesis: Any = None  # linkage.Synthesis for path cases
     warnings: tuple[str, ...] = field(default=())
@@ -70,6 +70,7 @@ class Case:
         (a contour's ``fit`` is the outline's, radial in mm; ``motion_fit`` the contact motion's)."""
         out: dict = {"source": self.motion_source, "fit": None}
         if self.contour is not None:
+            assert self.fit is not None  # a contour case's motion is fitted to its contact motion
             out |= {
                 "fit": self.contour.json(),
                 "motion_fit": self.fit.json(),
@@ -98,9 +99,11 @@ def build_case(spec: CaseSpec, source: Path | None = None) -> Case:
     name = spec.name or (source.stem if source else "case")
     warnings: list[str] = []
     synthesis = fit = contour = None
+    if spec.motion is not None:
+        assert spec.follower is not None  # CaseSpec: [motion] comes with [follower]
+        follower = spec.follower
     if spec.motion is not None and spec.motion.table is not None:
         motion, fit, warnings = table_motion(spec, source)
-        follower = spec.follower
     elif spec.motion is not None:
         motion = Program.from_specs(spec.motion.segments, unit=spec.kind.motion_unit)
         follower = spec.follower
@@ -108,6 +111,7 @@ def build_case(spec: CaseSpec, source: Path | None = None) -> Case:
     elif spec.follower is not None:
         motion, follower, fit, contour, warnings = contour_motion(spec, source)
     else:
+        assert spec.path is not None and spec.mechanism is not None  # CaseSpec: a case without [motion] has both
         synthesis = synthesize_motion(spec.path, spec.mechanism)
         motion, follower = synthesis.tabulated, synthesis.follower
         warnings += list(synthesis.warnings)

@@ -108,7 +108,7 @@ def _undercut(theta_deg, bad) -> NumericalError:
 def equivalent_curvature_per_mm(geometry: CamGeometry) -> np.ndarray:
     """K = 1/R1 + 1/R2 of cam and follower per angle, 1/mm; :class:`NumericalError` where the contour is undercut."""
     f = geometry.follower
-    if f.roller:
+    if f.roller_radius is not None:  # a roller follower (the schema: roller_radius is a roller's only)
         rr = f.roller_radius
         kappa = 1.0 / geometry.rho_pitch_mm  # 0 where the pitch curve is straight (rho = inf)
         bad = rr * kappa >= 1.0

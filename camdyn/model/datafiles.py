@@ -215,16 +215,18 @@ def _entity_points(e, shown: str) -> tuple[np.ndarray, bool]:
 
 
 def _read_dxf(path: Path, shown: str) -> Samples:
-    import ezdxf
-    from ezdxf import units
+    from ezdxf.enums import InsertUnits
+    from ezdxf.filemanagement import readfile
+    from ezdxf.lldxf.const import DXFError
+    from ezdxf.units import conversion_factor
 
     read_text_file(path, shown, "data file")  # the file's own errors first: missing, a folder, unreadable
     try:
-        doc = ezdxf.readfile(path)
-    except (OSError, ezdxf.DXFError) as err:
+        doc = readfile(path)
+    except (OSError, DXFError) as err:
         raise InputError(shown, f"not a readable DXF file: {err}") from None
     # coordinates are mm unless the drawing declares another length unit ($INSUNITS)
-    scale = units.conversion_factor(doc.units, units.MM) if doc.units else 1.0
+    scale = conversion_factor(InsertUnits(doc.units), InsertUnits.Millimeters) if doc.units else 1.0
     found = [e for e in doc.modelspace() if e.dxftype() in ("LWPOLYLINE", "POLYLINE", "SPLINE")]
     if not found:
         raise InputError(shown, "has no LWPOLYLINE, POLYLINE or SPLINE: draw the cam's outline as one closed curve")

@@ -225,6 +225,7 @@ def build_path(spec: PathSpec | dict) -> Path:
             ax, by = (spec.semi_major, spec.semi_minor) if t == "ellipse" else (spec.radius, spec.radius)
             a[0], b[0] = rot @ [ax, 0.0], rot @ [0.0, by]
         elif t == "eight":  # x = W/2 sin w, y = H/2 sin 2w: starts at the crossing
+            assert spec.width is not None and spec.height is not None  # the schema: an eight needs them
             b[0], b[1] = rot @ [spec.width / 2, 0.0], rot @ [0.0, spec.height / 2]
         else:  # start + (end - start)(1 - cos w)/2: at rest at both ends, no tangent jump
             p0, p1 = np.asarray(spec.start, dtype=float), np.asarray(spec.end, dtype=float)
@@ -234,6 +235,7 @@ def build_path(spec: PathSpec | dict) -> Path:
         )
     if t == "rectangle":
         w, h, r = spec.width, spec.height, spec.corner_radius or 0.0
+        assert w is not None and h is not None  # the schema: a rectangle needs them
         quarter = ("arc", (r, math.pi / 2))
         pieces = [
             ("line", h / 2 - r),
@@ -251,12 +253,14 @@ def build_path(spec: PathSpec | dict) -> Path:
         return _chain(pieces, c + rot @ np.array([w / 2, 0.0]), head0, r == 0.0, False, **common)
     if t == "racetrack":
         r, length = spec.radius, spec.straight
+        assert r is not None and length is not None  # the schema: a racetrack needs them
         half = ("arc", (r, math.pi))
         g = c + rot @ np.array([length / 2, -r])  # lower end of the right semicircle: Ye & Smith's F0
         return _chain(
             [half, ("line", length), half, ("line", length)], g, math.radians(spec.rotation), False, True, **common
         )
     # points: periodic cubic spline, chord-length knots
+    assert spec.x is not None and spec.y is not None  # the schema: points need them
     pts = np.column_stack([spec.x, spec.y]).astype(float)
     if np.allclose(pts[0], pts[-1]):
         pts = pts[:-1]

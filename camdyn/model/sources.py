@@ -70,6 +70,8 @@ def _within_tolerance(fit: MotionFit, table: Samples, tolerance: float | None) -
 
 def table_motion(spec: CaseSpec, source: Path | None) -> tuple[FittedMotion, MotionFit, list[str]]:
     """The motion fitted to the case's lift table."""
+    if spec.motion is None or spec.motion.table is None:
+        raise ValueError("table_motion: the case's [motion] has no table")
     name, tolerance = spec.motion.table, spec.motion.tolerance
     table = read_lift_table(_path(name, source), name, spec.kind)
     theta, lift = table.values.T
@@ -93,6 +95,8 @@ def contour_motion(
     spec: CaseSpec, source: Path | None
 ) -> tuple[FittedMotion, FollowerSpec, MotionFit, ContourFit, list[str]]:
     """The motion of the case's cam outline by exact contact, the follower with the outline's base radius."""
+    if spec.follower is None or spec.follower.contour is None:
+        raise ValueError("contour_motion: the case's [follower] has no contour")
     name = spec.follower.contour
     derived = contact_motion(read_contour(_path(name, source), name), spec.follower)
     unit = spec.kind.lift_unit

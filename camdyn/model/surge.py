@@ -174,8 +174,9 @@ def chain_revolution(
     if model.rigid:
         raise InputError("dynamics.train_stiffness", "the time-domain chain needs a compliant follower train")
     mass, K, C = _matrices(model, spring_mass, segments, surge_damping)
+    kernel = motion.jit_form()  # the solve compiles once per follower kind, not once per segment list
     args = (
-        motion,
+        kernel,
         model,
         jnp.asarray(mass),
         jnp.asarray(K),
@@ -183,7 +184,7 @@ def chain_revolution(
         float(model.preload) + float(model.external),
         float(omega),
     )
-    breaks = np.deg2rad(np.asarray(motion.breaks_deg, dtype=float)) / omega
+    breaks = np.asarray(kernel.jump_angles()) / omega  # +inf past a program's breaks: the controller skips those
     period = TWO_PI / omega
     ts = jnp.asarray(np.asarray(theta) / omega)
     sol = diffrax.diffeqsolve(

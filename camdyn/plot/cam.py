@@ -71,10 +71,11 @@ def plot_follower(ax, geometry: CamGeometry, theta_deg: float, *, colour, lw=1.0
     """Draw the follower as the cam sees it at cam angle theta (cam frame); returns :func:`follower_pose`
     with the end of its stem, ``tip``."""
     f = geometry.follower
+    assert f.base_radius is not None  # a built geometry has its base radius (from the contour where one is given)
     at = follower_pose(geometry, theta_deg)
     centre, contact = at["centre"], at["contact"]
     stem_len = 1.6 * (f.roller_radius or 0.15 * f.base_radius)
-    if f.roller:
+    if f.roller_radius is not None:
         ax.add_patch(Circle(centre, f.roller_radius, fill=False, ec=colour, lw=lw, alpha=alpha, zorder=z))
         ax.plot(*centre, marker=".", ms=2.5, color=colour, alpha=alpha, zorder=z)
         base = centre
@@ -84,8 +85,9 @@ def plot_follower(ax, geometry: CamGeometry, theta_deg: float, *, colour, lw=1.0
         along = _face_sense(geometry) * np.array([-at["normal"][1], at["normal"][0]])  # the way t counts
         t_along = float((contact - centre) @ along)
         mid = contact - along * t_along  # t = 0 on the face
-        half = 0.5 * (f.face_width or geometry.face_travel_mm)
-        c = geometry.face_centre_mm
+        travel, c = geometry.face_travel_mm, geometry.face_centre_mm
+        assert travel is not None and c is not None  # a flat face has its contact's travel
+        half = 0.5 * (f.face_width or travel)
         a, b = mid + along * (c - half), mid + along * (c + half)
         ax.plot([a[0], b[0]], [a[1], b[1]], color=colour, lw=lw * 2.0, alpha=alpha, zorder=z, solid_capstyle="butt")
         base = mid
@@ -116,6 +118,7 @@ def plot_cam_profile(
     the largest pressure angle with its motion and the contact normal, the osculating circle at the least radius
     of curvature and the sense of rotation. The marks turn red where ``check`` fails that check."""
     geo, f = geometry, geometry.follower
+    assert f.base_radius is not None  # a built geometry has its base radius (from the contour where one is given)
     ax.set_aspect("equal")
     ax.grid(False)
     contour, pitch = geo.contour, geo.pitch
@@ -212,7 +215,9 @@ def face_extremes(geometry: CamGeometry) -> tuple[tuple[float, float], tuple[flo
     """((t_min mm, at deg), (t_max mm, at deg)): where the contact runs along a flat face, from the follower's
     axis (translating) or the foot of the perpendicular from the pivot (oscillating); the angles on the grid."""
     t, th = geometry.face_t_mm, geometry.theta_deg
-    lo, hi = geometry.extremes.face_range_mm  # on the grid and both sides of every break: what face_width judges
+    face_range = geometry.extremes.face_range_mm
+    assert face_range is not None  # drawn for flat faces only
+    lo, hi = face_range  # on the grid and both sides of every break: what face_width judges
     return (lo, float(th[int(np.argmin(t))])), (hi, float(th[int(np.argmax(t))]))
 
 
@@ -253,8 +258,8 @@ def plot_face_contact(ax, geometry: CamGeometry, check: CheckReport | None = Non
     if t_lo < 0.0 < t_hi:
         ax.axhline(0, color="#888888", lw=0.6)
     width = geo.follower.face_width
-    if width:  # the face's ends where the face_width check and the cam drawing put them
-        c = geo.face_centre_mm
+    c = geo.face_centre_mm
+    if width and c is not None:  # the face's ends where the face_width check and the cam drawing put them
         for end in (c - 0.5 * width, c + 0.5 * width):
             ax.axhline(
                 end,
@@ -337,13 +342,14 @@ def plot_curvature(
     geo, f = geometry, geometry.follower
     th = geo.theta_deg
     rho_c = geo.rho_contour_mm.copy()
+    assert f.base_radius is not None  # a built geometry has its base radius (from the contour where one is given)
     cap = max(3.0 * f.base_radius, 2.5 * ((f.roller_radius or 0.0) * min_curvature_ratio))
     finite = np.isfinite(rho_c)
     low = float(np.min(rho_c[finite])) if finite.any() else -cap
     floor = max(low, -cap)
     shown = np.where(finite & (np.abs(rho_c) <= cap * 1.05), rho_c, np.nan)
     ax.plot(th, shown, color=C["dyn"], lw=1.3, label="contour")
-    if f.roller:
+    if f.roller_radius is not None:
         rho_p = np.where(np.abs(geo.rho_pitch_mm) <= cap * 1.05, geo.rho_pitch_mm, np.nan)
         ax.plot(th, rho_p, color=C["dyn"], lw=0.8, ls="--", alpha=0.7, label="pitch curve")
         r_lim = min_curvature_ratio * f.roller_radius

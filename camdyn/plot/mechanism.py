@@ -65,6 +65,7 @@ def plot_mechanism(ax, synthesis: Synthesis, theta_deg: float, *, bounds=None, l
     ax.add_patch(Polygon(fr["cams"][0], closed=True, fc=C["cam"], ec=C["ink"], lw=0.8, zorder=2))
     if kind == "ccm":
         m = syn.mechanism
+        assert m.slider_angle is not None  # the schema: a ccm needs slider_angle
         e_dir = np.array([math.cos(math.radians(m.slider_angle)), math.sin(math.radians(m.slider_angle))])
         sp = np.asarray(m.slider_point if m.slider_point is not None else m.cam_center, dtype=float)
         span = (hi - lo).max() * 1.5

@@ -58,8 +58,8 @@ def plot_svaj(axes, samples: MotionSamples, *, speed_rpm: float | None = None, h
         ax.axhline(0.0, color="#888888", lw=0.6, zorder=0.6)
         mark_breaks(ax, samples.breaks_deg)
         ax.set_ylabel(f"{names[i][0]}\n({names[i][1]})")
-        if right[i] is not None:
-            label, k = right[i]
+        if (scale := right[i]) is not None:
+            label, k = scale
             sec = ax.secondary_yaxis("right", functions=(lambda y, k=k: y * k, lambda y, k=k: y / k))
             sec.set_ylabel(f"at {speed_rpm:g} rpm ({label})", color=C["grey"])
             sec.tick_params(colors=C["grey"])

@@ -5,14 +5,21 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..design.review import Review
+from ..design.review import Original, Review
 from ._common import C, deg_ticks, mark_breaks
 from .motion import display_scale, svaj_quantities
 
 
+def _original(review: Review) -> Original:
+    if not isinstance(review.original, Original):
+        raise ValueError(f"no original to compare {review.case.name} with: {review.original}")
+    return review.original
+
+
 def plot_motion_before_after(axes, review: Review) -> None:
     """s, s', s'', s''' of the original (dashed) and the optimized motion (solid) on four ``axes``."""
-    before, after = review.original.motion, review.motion
+    original = _original(review)
+    before, after = original.motion, review.motion
     names = svaj_quantities(after.unit)
     ends = tuple(seg.end % 360.0 for seg in getattr(review.case.motion, "segments", ()))  # segments, not knots
     k = display_scale(after.unit)
@@ -23,7 +30,7 @@ def plot_motion_before_after(axes, review: Review) -> None:
             color=C["kin"],
             lw=1.0,
             ls="--",
-            label=f"before ({review.original.case.name})",
+            label=f"before ({original.case.name})",
         )
         ax.plot(after.theta_deg, after.values[i] * k, color=C["dyn"], lw=1.3, label=f"after ({review.case.name})")
         ax.axhline(0.0, color="#888888", lw=0.6, zorder=0.6)
@@ -37,8 +44,9 @@ def plot_motion_before_after(axes, review: Review) -> None:
 def plot_speed_before_after(ax, review: Review) -> None:
     """The least contact force against cam speed before (dashed) and after (solid), each up to its jump speed,
     with the jump speeds, the case speed and ``min_contact_force``."""
+    original = _original(review)
     curves = (
-        (review.original.force_vs_speed, review.original.check, "before", "--", C["kin"]),
+        (original.force_vs_speed, original.check, "before", "--", C["kin"]),
         (review.force_vs_speed, review.check, "after", "-", C["dyn"]),
     )
     for sw, chk, label, ls, colour in curves:

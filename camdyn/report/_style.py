@@ -3,8 +3,10 @@
 from __future__ import annotations
 
 from contextlib import contextmanager
+from typing import Any
 
 import matplotlib
+from matplotlib.typing import RcKeyType
 
 from ..plot import PALETTE as C  # noqa: F401  (one meaning per colour, on every page)
 
@@ -15,7 +17,7 @@ LEFT = 0.11  # left edge of plot axes (figure fraction)
 RIGHT = 0.87  # right edge of plot axes with time units on their right
 
 # One style for every figure: legible on A4 when printed or shown full screen.
-STYLE = {
+STYLE: dict[RcKeyType, Any] = {
     "font.family": "DejaVu Sans",
     "font.size": 8.5,
     "axes.titlesize": 9.5,

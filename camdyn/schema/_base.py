@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import re
 from difflib import get_close_matches
-from typing import Annotated, get_args, get_origin
+from typing import Annotated, Any, TypeVar, get_args, get_origin
 
 from pydantic import AfterValidator, BaseModel, ConfigDict, Field, Tag, ValidationError
 
@@ -38,10 +38,10 @@ def _specific(keys: TypeKeys) -> set[str]:
     return {k for needs, optional in keys.values() for k in (*needs, *optional)}
 
 
-def check_type_keys(table: BaseModel, kind: str, keys: TypeKeys) -> None:
+def check_type_keys(table: BaseModel, t: str, kind: str, keys: TypeKeys) -> None:
     """Raise ``ValueError("key: message")`` for a key the table's ``type`` needs and lacks, or one given that
-    belongs to other types only; ``kind`` names the table in the message ("path", "mechanism")."""
-    t = table.type
+    belongs to other types only; ``t`` is the table's ``type``, ``kind`` names the table in the message ("path",
+    "mechanism")."""
     a = "an" if t[0] in "aeiou" else "a"
     needs, optional = keys[t]
     for key in needs:
@@ -153,7 +153,10 @@ def validation_error(err: ValidationError, cls: type[BaseModel], table: str = ""
     return InputError(where, msg)
 
 
-def parse(cls: type[BaseModel], raw, table: str = ""):
+_Model = TypeVar("_Model", bound=BaseModel)
+
+
+def parse(cls: type[_Model], raw: Any, table: str = "") -> _Model:
     """Validate ``raw`` as ``cls``; every problem is one :class:`InputError` naming ``table.key``."""
     try:
         return cls.model_validate(raw)

@@ -134,13 +134,15 @@ class MechanismSpec(Table):
 
     @model_validator(mode="after")
     def _keys_for_type(self) -> MechanismSpec:
-        check_type_keys(self, "mechanism", _KEYS)
+        check_type_keys(self, self.type, "mechanism", _KEYS)
         if (self.crank is None) != (self.coupler is None):
             raise ValueError(
                 f"{'coupler' if self.coupler is None else 'crank'}: give crank and coupler together, or neither (eq. 5)"
             )
-        if self.type == "oscillating" and abs(self.pin_distance - self.path_link) < 1e-9:
-            raise ValueError("pin_distance: the pin B cannot coincide with the joint C")
+        if self.type == "oscillating":
+            assert self.pin_distance is not None and self.path_link is not None  # check_type_keys: needed
+            if abs(self.pin_distance - self.path_link) < 1e-9:
+                raise ValueError("pin_distance: the pin B cannot coincide with the joint C")
         return self
 
     @property

@@ -99,14 +99,19 @@ class PathSpec(Table):
 
     @model_validator(mode="after")
     def _keys_for_type(self) -> PathSpec:
-        check_type_keys(self, "path", _KEYS)
-        if self.type == "line" and math.dist(self.start, self.end) == 0.0:
-            raise ValueError("end: the line has zero length")
+        check_type_keys(self, self.type, "path", _KEYS)
+        if self.type == "line":
+            assert self.start is not None and self.end is not None  # check_type_keys: a line needs both
+            if math.dist(self.start, self.end) == 0.0:
+                raise ValueError("end: the line has zero length")
         if self.type == "points":
+            assert self.x is not None and self.y is not None  # check_type_keys: points need both
             if len(self.x) != len(self.y):
                 raise ValueError(f"y: {len(self.y)} values for {len(self.x)} x values")
             if len(self.x) < 4:
                 raise ValueError("x: at least 4 precision points are needed")
-        if self.type == "rectangle" and 2.0 * (self.corner_radius or 0.0) > min(self.width, self.height):
-            raise ValueError(f"corner_radius: {self.corner_radius:g} mm is more than half the shorter side")
+        if self.type == "rectangle":
+            assert self.width is not None and self.height is not None  # check_type_keys: a rectangle needs both
+            if 2.0 * (self.corner_radius or 0.0) > min(self.width, self.height):
+                raise ValueError(f"corner_radius: {self.corner_radius:g} mm is more than half the shorter side")
         return self

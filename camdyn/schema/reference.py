@@ -55,7 +55,7 @@ class FlatRules:
     """The per-type keys of one flat model: type -> keys it needs, type -> keys it may take besides them."""
 
     needs: dict[str, tuple[str, ...]]
-    takes: dict[str, typing.Collection[str]]
+    takes: typing.Mapping[str, typing.Collection[str]]
 
 
 def _rules(keys) -> FlatRules:
@@ -372,7 +372,7 @@ DOCUMENTS = (("Case file", CaseSpec), ("Path file", PathFileSpec))
 def reference_markdown(documents=DOCUMENTS) -> str:
     """The Markdown key reference of ``documents`` ((heading, model) pairs: case files and path files)."""
     w = _Writer()
-    w.lines = _HEAD.splitlines()
+    w.lines = [*_HEAD.splitlines()]
     for heading, model in documents:
         w.document(heading, model)
     return "\n".join(w.lines) + "\n"
@@ -390,7 +390,9 @@ def generated() -> dict[str, str]:
 
 
 def main(argv: list[str] | None = None) -> int:
-    ap = argparse.ArgumentParser(prog="python -m camdyn.schema.reference", description=__doc__.splitlines()[0])
+    ap = argparse.ArgumentParser(
+        prog="python -m camdyn.schema.reference", description=(__doc__ or "").partition("\n")[0]
+    )
     ap.add_argument("dir", nargs="?", type=Path, default=OUT_DIR, help=f"output folder (default: {OUT_DIR})")
     ap.add_argument("--check", action="store_true", help="write nothing; exit 1 when a file differs from the schema's")
     args = ap.parse_args(argv)

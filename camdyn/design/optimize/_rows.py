@@ -79,10 +79,11 @@ class Rows:
         geo = geometry_of(f, jnp.asarray(self.space.theta), self.space.values(z))
         phi_max = math.radians(lim.max_pressure_angle or f.kind.default_max_pressure_angle_deg)
         rows = [jnp.abs(geo["phi"]) / phi_max - 1.0 + _SAFETY]
-        if f.roller:
+        if f.roller_radius is not None:  # a roller follower
             kappa_max = 1.0 / (f.roller_radius * (1.0 + curvature_limit(f, lim.min_curvature_ratio)))
             rows.append(geo["kappa_pitch"] / kappa_max - 1.0 + _SAFETY)
         else:
+            assert f.base_radius is not None  # a built case's follower has it
             rho_min = max(curvature_limit(f, lim.min_curvature_ratio), 1e-3 * f.base_radius)
             rows.append(1.0 - geo["rho_contour"] / rho_min + _SAFETY)
         rows.append(self.space.order(z))

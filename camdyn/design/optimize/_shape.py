@@ -94,6 +94,7 @@ def shape_space(case: Case, n: int = FFT_GRID, n_control: int = N_CONTROL) -> Sh
             "contour": "its motion is the measured contour's; give the motion as segments to let camdyn reshape it",
         }[case.motion_source]
         raise InputError("motion", f"a {case.motion_source} case cannot be optimized: {why}")
+    assert case.spec.motion is not None  # a segments case
     specs = tuple(case.spec.motion.segments)
     moving = tuple(i for i, s in enumerate(specs) if s.law != "dwell")
     if not moving:
@@ -115,9 +116,9 @@ def shape_space(case: Case, n: int = FFT_GRID, n_control: int = N_CONTROL) -> Sh
             for d in range(4):
                 B = basis(u, n_control, d) * lift / beta**d
                 offset[d, inside] = B[:, -CLAMPED:].sum(axis=1) + (base * to_unit if d == 0 else 0.0)
-                matrix[d][np.ix_(inside, range(k * free, (k + 1) * free))] = B[:, CLAMPED:-CLAMPED]
+                matrix[d][np.ix_(inside, np.arange(k * free, (k + 1) * free))] = B[:, CLAMPED:-CLAMPED]
             y = now[0, inside] - offset[0, inside]
-            z, *_ = np.linalg.lstsq(matrix[0][np.ix_(inside, range(k * free, (k + 1) * free))], y, rcond=None)
+            z, *_ = np.linalg.lstsq(matrix[0][np.ix_(inside, np.arange(k * free, (k + 1) * free))], y, rcond=None)
             z0.append(np.clip(isotonic_regression(z).x, 0.0, 1.0))  # the start within :meth:`ShapeSpace.order`
         else:
             offset[0, inside] = base * to_unit

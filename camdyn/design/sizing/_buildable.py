@@ -21,9 +21,10 @@ from __future__ import annotations
 
 import math
 from dataclasses import replace
+from typing import cast
 
 import numpy as np
-from scipy.optimize import minimize_scalar
+from scipy.optimize import OptimizeResult, minimize_scalar  # unannotated: cast its result
 
 from ..._core.errors import InputError
 from ..._core.units import RPM
@@ -111,7 +112,8 @@ def buildable_answer(
         )
     i = int(np.nanargmin(peaks))
     a, b = math.log(rates[max(i - 1, 0)]), math.log(rates[min(i + 1, len(rates) - 1)])
-    res = minimize_scalar(lambda u: peak(math.exp(u)), bounds=(a, b), method="bounded", options={"xatol": 1e-4})
+    bounded = minimize_scalar(lambda u: peak(math.exp(u)), bounds=(a, b), method="bounded", options={"xatol": 1e-4})
+    res = cast(OptimizeResult, bounded)
     rate = math.exp(res.x) if res.fun < peaks[i] else rates[i]
     k_si = p.kind.rate_to_si(rate)
     return k_si, least(k_si)
@@ -142,10 +144,12 @@ def buildable_fixed_point(
     spring's mass in its model; rate and preload as written, the case's units; the part; check's speed-margin
     verdict on the case with that spring). ``case`` is resolved (:func:`camdyn.design.parts.resolve_spring`)."""
     model = case.spec.spring.model if case.spec.spring is not None else "lumped"
+    spring = case.spring
+    assert spring is not None  # the case is resolved (resolve_spring)
     target = margin * (1.0 + HEADROOM)
     size_margin, mass, check, rate, preload = target, 0.0, None, math.nan, math.nan
     for _ in range(_ROUNDS):
-        sd = case.spring.with_mass(mass, model)
+        sd = spring.with_mass(mass, model)
         sized = replace(case, model=sd.follower(), spring=sd)
         p, grid = build_problem(sized, speed_rpm, size_margin, min_rate)
         k, f0 = buildable_answer(sized, p, grid, None if p.rigid else Dynamic.of(p), margin * speed_rpm)
@@ -156,7 +160,8 @@ def buildable_fixed_point(
             continue
         check, resolved = judged_as_written(case, rate, preload, speed_rpm, margin)
         if check.value is None or check.value >= margin * (1.0 + 0.5 * HEADROOM):
-            sd = case.spring.with_mass(resolved.spring.mass_kg, resolved.spring.model)  # the mass check weighs
+            assert resolved.spring is not None  # judged_as_written resolves it
+            sd = spring.with_mass(resolved.spring.mass_kg, resolved.spring.model)  # the mass check weighs
             return replace(case, model=sd.follower(), spring=sd), rate, preload, part, check
         size_margin *= target / check.value
     last = f"last: {rate:g}, {preload:g}; check's speed margin {None if check is None else check.value}"

@@ -14,6 +14,8 @@ from ..._core.kinds import FollowerKind
 from ..._core.units import RPM, THETA_GRID, TWO_PI, damping_from_ratio
 from ...model.follower import FollowerModel
 from ...model.geometry import contact_per_force
+from ...model.motion import Motion
+from ...schema import FollowerSpec
 from ..spring import min_preload
 from ._quadratic import refine
 
@@ -26,8 +28,8 @@ class Problem:
     """The case to size, in SI: the motion, the follower and its spring's damping law, the top speed W, the least
     contact force and the least rate, the full lift."""
 
-    motion: object
-    follower: object  # FollowerSpec: the lever arm of an oscillating follower
+    motion: Motion
+    follower: FollowerSpec  # the lever arm of an oscillating follower
     model: FollowerModel
     kind: FollowerKind
     rigid: bool
@@ -91,9 +93,9 @@ class Grid:
         s, s1, s2 = p.values(ts)
         theta = np.concatenate([self.theta, ts])
         order = np.argsort(theta, kind="stable")
-        merged = (np.concatenate([a, b])[order] for a, b in ((self.s, s), (self.s1, s1), (self.s2, s2)))
+        s, s1, s2 = (np.concatenate([a, b])[order] for a, b in ((self.s, s), (self.s1, s1), (self.s2, s2)))
         arm = np.concatenate([self.arm, p.arm(ts)])[order]
-        return Grid(theta[order], *merged, arm, p.fmin * arm - p.ext)
+        return Grid(theta[order], s, s1, s2, arm, p.fmin * arm - p.ext)
 
 
 def _polish_extreme(p: Problem, t0: float, v0: float, sign: int) -> float:

@@ -11,6 +11,8 @@ import numpy as np
 
 from ..._core.kinds import FOLLOWER_KINDS, FollowerKind
 from ...schema import dynamics_keys
+from .._check import Check
+from ..spring import SpringDesign as SpringPart  # the part (wire, coils), not this module's (rate, preload)
 
 TIE_BREAK = (
     "the least peak spring force is reached by more than one spring only where the peak force stays flat as the "
@@ -100,10 +102,8 @@ class SpringSizing:
     region_preload_dynamic: np.ndarray | None = field(repr=False)  # least preload per rate (dynamic), compliant
     lines: tuple[tuple[float, float, float], ...] = field(repr=False, default=())  # (theta_deg, s, r): F0 >= r - k s
     warnings: tuple[str, ...] = ()
-    part: object = None  # size --buildable: the spring as a part (camdyn.design.spring.SpringDesign)
-    check: object = (
-        None  # size --buildable: check's speed-margin verdict (Check) on the spring as written, with its mass
-    )
+    part: SpringPart | None = None  # size --buildable: the spring as a part
+    check: Check | None = None  # size --buildable: check's speed-margin verdict on the spring as written, with its mass
     spring_model: str = "none"  # how the spring's own mass is in the dynamics: none | lumped | surge
     spring_mass_kg: float = 0.0  # the spring whose mass is in the dynamics (buildable: the proposed part's)
 
@@ -169,6 +169,7 @@ class SpringSizing:
         out["spring_mass_kg"] = self.spring_mass_kg if self.spring_model != "none" else None
         out["bound"] = self.part is None  # plain size: the least peak force any spring needs, not a part
         if self.part is not None:
+            assert self.check is not None  # size --buildable gives both
             out["part"] = self.part.json()
             out["check"] = self.check.json()
         return out

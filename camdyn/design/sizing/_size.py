@@ -125,6 +125,8 @@ def size_spring(
         speed = float(case.speed_rpm if max_speed_rpm is None else max_speed_rpm)
         top_margin = float(case.limits.speed_margin if margin is None else margin)
         case, rate_w, f0_w, part, check = buildable_fixed_point(case, speed, top_margin, min_rate)
+    spring = case.spring
+    assert spring is not None  # resolve_spring resolved it; buildable_fixed_point keeps it resolved
     p, grid = build_problem(case, max_speed_rpm, margin, min_rate)
     k_kin, f0_kin, damping_note, method, grid = _kinematic_answer(p, grid)
     dynamic = None if p.rigid else Dynamic.of(p)
@@ -137,7 +139,7 @@ def size_spring(
         method += (
             "; buildable: the least peak force over the springs [spring] allows, their surge clear of the cam's "
             "strong harmonics (a scan of rates, the designer's largest preload per rate), with the proposed "
-            f"spring's own mass ({case.spring.model}), sized to {1 + HEADROOM:g} x the top speed and written to "
+            f"spring's own mass ({spring.model}), sized to {1 + HEADROOM:g} x the top speed and written to "
             f"{WRITTEN_DIGITS} digits"
         )
     kin_design = design(p, grid, dynamic, k_kin, f0_kin)
@@ -176,6 +178,6 @@ def size_spring(
         warnings=() if buildable else _warnings(p, k, min_rate, bind),
         part=part,
         check=check,
-        spring_model=case.spring.model,
-        spring_mass_kg=case.spring.mass_kg,
+        spring_model=spring.model,
+        spring_mass_kg=spring.mass_kg,
     )

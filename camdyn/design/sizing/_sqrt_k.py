@@ -6,9 +6,10 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
+from typing import cast
 
 import numpy as np
-from scipy.optimize import minimize_scalar
+from scipy.optimize import OptimizeResult, minimize_scalar  # unannotated: cast its result
 
 from ._kinematic import preload_kinematic
 from ._lp import cut
@@ -72,7 +73,10 @@ def minimize_in_sqrt_k(peak_of: Callable[[float], float], u_lo, u_hi, rtol, scan
 
     a, b = _bracket(f, u_lo, u_hi, scan, seeds)
     if b > a:
-        res = minimize_scalar(f, bounds=(a, b), method="bounded", options={"xatol": 1e-10 * max(1.0, u_hi)})
+        res = cast(
+            OptimizeResult,
+            minimize_scalar(f, bounds=(a, b), method="bounded", options={"xatol": 1e-10 * max(1.0, u_hi)}),
+        )
         f(res.x)
     for u in (u_lo, u_hi, *seeds):
         f(u)

@@ -17,8 +17,8 @@ from ._grid import GAP_ATOL, GAP_LAST, GAP_MAX_STEPS, GAP_REVS, GAP_RTOL, GAP_SA
 def diffrax_gap_const(case, gap_weight_mm):
     """The kernel's constants: segment boundaries over the revolutions, the sampled angles of the last
     revolutions, the cam there and the gap weight ``gap_weight_mm(theta)`` (1, or an arm's lever arm)."""
-    motion = case.motion
-    breaks = np.deg2rad(np.asarray(motion.breaks_deg, dtype=float))
+    motion = case.motion.jit_form()  # compiled once per follower kind, not once per case
+    breaks = np.asarray(motion.jump_angles())  # +inf past a program's breaks: the controller skips those
     jumps = np.sort((breaks[None, :] + TWO_PI * np.arange(GAP_REVS + 1)[:, None]).ravel())
     ts = TWO_PI * (GAP_REVS - GAP_LAST) + np.arange(GAP_LAST * GAP_SAMPLES) * (TWO_PI / GAP_SAMPLES)
     s_ts = np.asarray(evaluate(motion, jnp.asarray(ts)))[0]
@@ -46,6 +46,7 @@ def diffrax_gap_kernel(const, omega, k, c, z0):
         max_steps=GAP_MAX_STEPS,
         throw=False,
     )
+    assert sol.ys is not None  # SaveAt(ts=...) saves the states
     gap = jnp.max((sol.ys[:, 0] - s_ts) * weight_ts)
     ok = (sol.result == diffrax.RESULTS.successful) & jnp.isfinite(gap)
     return jnp.where(ok, gap, jnp.nan)

@@ -121,6 +121,7 @@ def synthesize_case(
     """
     spec = raw if isinstance(raw, PathFileSpec) else validate_path_file(raw)
     raw = spec.model_dump(mode="json", exclude_unset=True)
+    assert spec.path is not None and spec.dynamics is not None  # PathFileSpec requires both
     opts = spec.synthesis
     for flag, v in (("--seed", seed), ("--maxiter", maxiter)):
         if v is not None and v < (0 if flag == "--seed" else 1):

@@ -6,6 +6,7 @@ from __future__ import annotations
 import inspect
 import time
 from collections.abc import Callable
+from typing import Any
 
 import numpy as np
 from scipy.optimize import differential_evolution
@@ -14,6 +15,7 @@ from ..._core.errors import InputError, NumericalError
 from ...model.geometry import min_base_radius, rounded_base_radius
 from ...model.linkage import synthesize_motion, vmap_scalar
 from ...model.paths import build_path, parse_path
+from ...schema import PathSpec
 from ._ccm import DIMENSION_OBJECTIVE, ccm_objective, ccm_score, ccm_table, meets_constraints
 from ._fourbar import fourbar_bounds, fourbar_objective, fourbar_summary
 
@@ -127,7 +129,7 @@ def _size_cam(table: dict, syn, max_pa: float, min_ratio: float) -> None:
 
 
 def synthesize_dimensions(
-    path: dict,
+    path: dict | PathSpec,
     *,
     seed: int = 0,
     maxiter: int = 200,
@@ -172,7 +174,7 @@ def synthesize_dimensions(
     size = float(np.max(hi_xy - lo_xy))
     mid = (lo_xy + hi_xy) / 2
     tick = progress or (lambda phase, done, total: None)
-    de = dict(seed=seed, maxiter=maxiter, popsize=popsize, tick=tick)
+    de: dict[str, Any] = dict(seed=seed, maxiter=maxiter, popsize=popsize, tick=tick)
     sharp = bool(pth.sharp_u)
     fit = (max_pressure_angle, roller_radius, sharp, min_curvature_ratio)
     res = _run_de("CCM dimensions", lambda x: ccm_objective(x, t, *fit)["cost"], _ccm_bounds(mid, size), **de)

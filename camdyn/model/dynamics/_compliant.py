@@ -38,12 +38,12 @@ def vector_field(theta, y, args):
 
 
 def _controller(motion: Motion, theta0, revs: float):
-    breaks = np.deg2rad(np.asarray(motion.breaks_deg, dtype=float))
-    jumps = (breaks[None, :] + TWO_PI * np.arange(-1, math.ceil(revs) + 2)[:, None]).ravel()
-    jumps = jnp.asarray(np.sort(jumps)) + 0.0 * theta0
+    breaks = motion.jump_angles()  # data padded with +inf for a program: the controller skips those
     pid = diffrax.PIDController(rtol=RTOL, atol=ATOL)
-    if jumps.size == 0:
+    if np.size(breaks) == 0:
         return pid
+    jumps = jnp.sort((jnp.asarray(breaks)[None, :] + TWO_PI * np.arange(-1, math.ceil(revs) + 2)[:, None]).ravel())
+    jumps = jumps + 0.0 * theta0
     return diffrax.ClipStepSizeController(pid, jump_ts=jumps)
 
 
@@ -90,6 +90,7 @@ def _rev_with_sensitivity(motion, model, omega, z0, theta):
         throw=False,
     )
     ys = sol.ys
+    assert ys is not None  # SaveAt(ts=..., t1=True) saves the states
     return ys[:-1, :2], ys[-1, :2], ys[-1, 2:].reshape(2, 2), sol.result == diffrax.RESULTS.successful
 
 
@@ -149,6 +150,7 @@ def periodic_orbit(motion: Motion, model: FollowerModel, omega: float, theta):
         newton = i < _NEWTON_ITERS and r <= r_prev
         z = z - np.linalg.solve(mono - np.eye(2), phi - z) if newton else phi
         r_prev = r
+    assert best_traj is not None  # every revolution is finite (else NumericalError), so the first one is kept
     return best_traj, best_r
 
 

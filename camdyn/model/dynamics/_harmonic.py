@@ -8,11 +8,10 @@ written (:func:`steady_state`); the jump speed, spring sizing, jump maps and the
 
 from __future__ import annotations
 
-import equinox as eqx
 import jax
 import jax.numpy as jnp
 
-from ..._core.jit import cached_jit
+from ..._core.jit import cached_jit, filter_jit
 from ..._core.units import FFT_GRID, TWO_PI
 from ..follower import FollowerModel
 from ..motion import Motion
@@ -75,7 +74,7 @@ def linear_min_force(motion: Motion, model: FollowerModel, omegas, n: int = _FFT
     return jax.lax.map(one, omegas.ravel(), batch_size=64).reshape(omegas.shape)
 
 
-@eqx.filter_jit
+@filter_jit
 def linear_contact_force(motion: Motion, model: FollowerModel, omegas, n: int = _FFT_N):
     """The whole interface force (N or N*m) of :func:`linear_min_force`'s steady state: shape (*omegas.shape, n).
 

@@ -3,10 +3,11 @@
 from __future__ import annotations
 
 import math
+from typing import cast
 
 import jax.numpy as jnp
 import numpy as np
-from scipy.optimize import minimize_scalar
+from scipy.optimize import OptimizeResult, minimize_scalar  # unannotated: cast its result
 
 from ..._core.jit import cached_jit
 from ..._core.units import TWO_PI
@@ -77,7 +78,10 @@ def kinematic_jump_speed(motion: Motion, model: FollowerModel, n: int = 7200) ->
     def objective(t):
         return min(float(w_at(np.array([t]))[0]), cap)
 
-    res = minimize_scalar(objective, bounds=(theta[i] - h, theta[i] + h), method="bounded", options={"xatol": 1e-10})
+    res = cast(
+        OptimizeResult,
+        minimize_scalar(objective, bounds=(theta[i] - h, theta[i] + h), method="bounded", options={"xatol": 1e-10}),
+    )
     if res.fun < w[i]:
         return float(res.fun), math.degrees(res.x) % 360.0
     return float(w[i]), math.degrees(theta[i])

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import cast
 
 import diffrax
 import equinox as eqx
@@ -15,6 +16,7 @@ import optimistix as optx
 from scipy.optimize import brentq
 
 from ..._core.errors import NumericalError
+from ..._core.jit import filter_jit
 from ..._core.units import THETA_GRID, TWO_PI
 from ..follower import FollowerModel
 from ..motion import Motion, evaluate
@@ -32,7 +34,7 @@ def _flight_event(t, y, args, **kwargs):
     return y[0] - motion(t)[0] + _GAP_EPS
 
 
-@eqx.filter_jit
+@filter_jit
 def _flight(motion, model, omega, theta0, y0):
     """Free flight from theta0 until the follower lands on the cam (event) or 4 pi later."""
     return diffrax.diffeqsolve(
@@ -66,7 +68,7 @@ def _lift_off(fk, t_a: float, h: float, breaks_rad: np.ndarray) -> float:
     """
     a, b = t_a, t_a + h
     if fk(a) > 0.0 >= fk(b):
-        return brentq(fk, a, b, xtol=1e-13)
+        return cast(float, brentq(fk, a, b, xtol=1e-13))  # unannotated: a float without full_output
     for brk in breaks_rad:  # a jump at a segment boundary in or next to this step
         t_b = brk + TWO_PI * math.floor((t_a - brk) / TWO_PI + 0.5)
         if a - h - 1e-12 <= t_b <= b + h + 1e-12 and fk(t_b - _BREAK_EPS) > 0.0 >= fk(t_b + _BREAK_EPS):
@@ -75,7 +77,7 @@ def _lift_off(fk, t_a: float, h: float, breaks_rad: np.ndarray) -> float:
     fs = [fk(t) for t in ts]
     for k in range(32):
         if fs[k] > 0.0 >= fs[k + 1]:
-            return brentq(fk, ts[k], ts[k + 1], xtol=1e-13)
+            return cast(float, brentq(fk, ts[k], ts[k + 1], xtol=1e-13))
     raise NumericalError(
         f"lift-off near {math.degrees(t_a) % 360:.2f} deg",
         "no sign change of the kinematic force found in the step the grid flagged",
@@ -110,6 +112,7 @@ def _march(motion, model, omega, fk, t_lo, out, vals, n, max_bounces) -> _Flight
     for _ in range(max_bounces + 2):
         sol = _flight(motion, model, jnp.asarray(omega, dtype=float), jnp.asarray(t0, dtype=float), y)
         landed = sol.result == diffrax.RESULTS.event_occurred
+        assert sol.ts is not None and sol.ys is not None  # _flight saves the states
         t1 = float(sol.ts[-1]) if landed else min(float(sol.ts[-1]), t_lo + TWO_PI - h)
         k0, k1 = math.ceil(t0 / h), math.floor(t1 / h)
         if k1 >= k0:  # sample the flight on the grid: the output arrays and the largest gap

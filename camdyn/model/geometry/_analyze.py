@@ -126,7 +126,7 @@ class CamGeometry(GeometryExtremes):
             "undercut": self.undercut,
             "cusp": self.cusp,
         }
-        if self.min_face_width_mm is not None:
+        if self.face_range_mm is not None:
             out["min_face_width_mm"] = self.min_face_width_mm
             out["face_range_mm"] = list(self.face_range_mm)
             out["face_centre_mm"] = self.face_centre_mm

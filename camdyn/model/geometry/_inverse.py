@@ -179,9 +179,10 @@ def _contacts(f: FollowerSpec, rb: float, P: np.ndarray, N: np.ndarray, shown: s
     ang = lambda v: np.arctan2(v[..., 1], v[..., 0])  # noqa: E731
     if not f.translating:
         L, pa = f.pivot_distance, math.radians(f.pivot_angle)
+        assert L is not None  # the schema: an oscillating follower needs it
         D = L * np.array([math.cos(pa), math.sin(pa)])
         u = -D / L
-    if f.roller:
+    if f.roller_radius is not None:
         rr = f.roller_radius
         C = P + rr * N
         rc, gamma = np.hypot(C[:, 0], C[:, 1]), ang(C)
@@ -189,6 +190,7 @@ def _contacts(f: FollowerSpec, rb: float, P: np.ndarray, N: np.ndarray, shown: s
         if f.translating:
             return sigma * (np.arccos(sigma * e / rc) - gamma), np.sqrt(rc**2 - e**2) - math.sqrt(rp**2 - e**2)
         a = f.arm_length
+        assert a is not None  # the schema: an oscillating roller needs it
         cos_psi = (L**2 + a**2 - rc**2) / (2 * L * a)
         if np.any(np.abs(cos_psi) >= 1.0):
             i = int(np.argmax(np.abs(cos_psi)))

@@ -29,13 +29,16 @@ def check_assembly(motion, f: FollowerSpec) -> None:
 
 def check_dimensions(f: FollowerSpec) -> None:
     """Raise :class:`InputError` for a follower whose dimensions cannot be assembled on its base circle."""
+    assert f.base_radius is not None  # a built follower has it (from the contour where one is given)
     rp = f.base_radius + (f.roller_radius or 0.0)
     if f.translating and f.roller and abs(f.offset) >= rp:
         raise InputError("follower.offset", f"|offset| = {abs(f.offset):g} mm must be below the prime radius {rp:g} mm")
     if not f.translating:
         L = f.pivot_distance
+        assert L is not None  # the schema: an oscillating follower needs it
         if f.roller:
             a = f.arm_length
+            assert a is not None  # the schema: an oscillating roller needs it
             if not abs(L - a) < rp < L + a:
                 raise InputError(
                     "follower.arm_length",

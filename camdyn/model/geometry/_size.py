@@ -57,6 +57,7 @@ def min_base_radius(
     f = follower
     max_pa = f.kind.default_max_pressure_angle_deg if max_pressure_angle is None else max_pressure_angle
     check_assembly(motion, f)
+    assert f.base_radius is not None  # a built follower has it (from the contour where one is given)
     rr = f.roller_radius or 0.0
 
     def ok(rb: float) -> bool:
@@ -81,7 +82,9 @@ def min_base_radius(
                 raise NumericalError("follower.base_radius", "no base radius meets the limits")
     else:  # bounded by the assembly conditions of check_assembly
         L = f.pivot_distance
+        assert L is not None  # the schema: an oscillating follower needs it
         if f.roller:
+            assert f.arm_length is not None  # the schema: an oscillating roller needs it
             lo, hi = max(abs(L - f.arm_length) - rr, 0.0), L + f.arm_length - rr
         else:
             lo, hi = max(-L - f.offset, 0.0), L - f.offset

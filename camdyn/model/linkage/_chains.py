@@ -96,6 +96,7 @@ def make_chain(path: Path, ms: MechanismSpec, r: float, coupler: float) -> CCMCh
         sp = np.asarray(ms.slider_point if ms.slider_point is not None else ms.cam_center, dtype=float) - np.asarray(
             ms.cam_center
         )
+        assert ms.slider_angle is not None  # the schema: a ccm needs it
         a = math.radians(ms.slider_angle)
         return CCMChain(
             path=path,
@@ -108,6 +109,7 @@ def make_chain(path: Path, ms: MechanismSpec, r: float, coupler: float) -> CCMCh
             direction=jnp.asarray([math.cos(a), math.sin(a)]),
             slider_mode=float(ms.slider_mode),
         )
+    assert ms.pin_distance is not None  # the schema: an oscillating mechanism needs it
     return OscillatingChain(
         path=path,
         center=c0,
@@ -125,6 +127,7 @@ def check_follower_side(chain, ms: MechanismSpec, u_grid: np.ndarray) -> None:
     """The path-driven follower dyad must close at every path point (else: where and by how much)."""
     if ms.type != "oscillating":
         return
+    assert ms.path_link is not None and ms.follower_link is not None  # the schema: an oscillating mechanism needs them
     f = vmap_scalar(chain.path.point, u_grid) - np.asarray(chain.center)
     miss = np.asarray(rrr_reach_miss(f, np.asarray(chain.pivot), ms.path_link, ms.follower_link))
     i = int(np.argmax(miss))

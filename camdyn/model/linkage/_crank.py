@@ -210,7 +210,10 @@ def build_crank(
     for j, (us, dstar, sgn, to_pi) in enumerate(sw):
         if any(min(abs(us - b), 1 - abs(us - b)) < 1e-9 for b in path.sharp_u):
             # a sharp corner at the switch: |OP| has a kink, not a double zero; keep the closed form
-            lo.append(0.0), hi.append(0.0), polys.append(np.zeros((2, _Q_DEGREE + 1))), spans.append([1.0, 1.0])
+            lo.append(0.0)
+            hi.append(0.0)
+            polys.append(np.zeros((2, _Q_DEGREE + 1)))
+            spans.append([1.0, 1.0])
             notes.append(
                 f"the crank passes a singular position at a sharp corner (u = {us:.4f}): its speed is unbounded there"
             )
@@ -235,8 +238,10 @@ def build_crank(
         else:
             fl = fr = _fit_q(chain, us, dstar, sgn, -ext_[0][0], ext_[1][0])
         fits = [(fl[0], fl[1], ext_[0][1], fl[2]), (fr[0], fr[1], ext_[1][1], fr[2])]
-        lo.append(-fits[0][2]), hi.append(fits[1][2])
-        polys.append([fits[0][0], fits[1][0]]), spans.append([fits[0][1], fits[1][1]])
+        lo.append(-fits[0][2])
+        hi.append(fits[1][2])
+        polys.append([fits[0][0], fits[1][0]])
+        spans.append([fits[0][1], fits[1][1]])
         edge = _off_collinear(chain, np.array([us - fits[0][2], us + fits[1][2]]), dstar, sgn, to_pi, r, coupler)
         if edge.min() < 0.5 * WINDOW_RAD or max(f[3] for f in fits) > 1e-9:
             notes.append(

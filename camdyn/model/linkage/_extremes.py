@@ -71,7 +71,7 @@ def find_extremes(chain, u_grid: np.ndarray) -> Extremes:
     for kind in ("max", "min"):
         refined = []
         for i in cands[kind]:
-            u = _refine_extremum(chain, u_grid[i], h) % 1.0
+            u = _refine_extremum(chain, float(u_grid[i]), h) % 1.0
             refined.append((float(padded(_d_and_slope, chain, [u])[0, 0]), u, i))
         best = max(refined)[0] if kind == "max" else min(refined)[0]
         keep = [(dv, u, i) for dv, u, i in refined if abs(dv - best) <= 1e-9 * max(best, 1.0)]

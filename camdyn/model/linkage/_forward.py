@@ -156,6 +156,9 @@ def oscillating_forward(
     """Ye & Smith's oscillating roller (base radius from the arm's least reach) and its forward check; arguments
     as :func:`ccm_forward`."""
     chain = motion.chain
+    # the schema: an oscillating mechanism needs these; the roller radius is the one the synthesis chose
+    assert ms.arm is not None and ms.path_link is not None and ms.follower_link is not None
+    assert ms.pin_distance is not None and ms.roller_radius is not None
     d = np.asarray(chain.pivot)
     if np.linalg.norm(d) < 1e-9 * max(ms.arm, 1.0):
         raise InputError(

@@ -10,6 +10,7 @@ import jax.numpy as jnp
 from ..._core.units import TWO_PI
 from ..motion import Motion
 from ..paths import taylor
+from ._chains import CCMChain, OscillatingChain
 from ._crank import CrankDyad
 
 
@@ -26,7 +27,7 @@ class CamLinkMotion(Motion):
     s''' = (s_uuu Theta_u^2 - 3 s_uu Theta_u Theta_uu + s_u (3 Theta_uu^2 - Theta_u Theta_uuu)) / Theta_u^5.
     """
 
-    chain: eqx.Module
+    chain: CCMChain | OscillatingChain
     crank_dyad: CrankDyad
     theta0: jax.Array  # crank angle at u = 0, rad
     out0: jax.Array  # follower coordinate at zero lift

@@ -100,6 +100,7 @@ def _crank_lengths(ext: Extremes, ms: MechanismSpec) -> tuple[float, float]:
             )
         return r, coupler
     r, coupler = ms.crank, ms.coupler
+    assert coupler is not None  # the schema: crank and coupler come together
     if ext.d_max > r + coupler + 1e-6:
         raise NumericalError(
             where_point(ext.i_max),
@@ -182,7 +183,7 @@ def _build_motion(pth: Path, ms: MechanismSpec, u_grid: np.ndarray, warnings: li
     )
     th0 = float(padded(tabulate, proto, [0.0])[0, 0])
     proto = eqx.tree_at(lambda m: m.theta0, proto, jnp.asarray(th0))
-    if ms.type == "ccm":
+    if isinstance(chain, CCMChain):
         pts0 = padded(joint_points, chain, u_grid, padded(tabulate, proto, u_grid)[:, 0] + th0)
         check_ccm_slider(chain, pts0, ms)
     tab_u, tab_theta, sense, out = _cam_angle_table(proto, u_grid, ms, dyad)
@@ -214,7 +215,7 @@ def _table_error(
         )
 
 
-def synthesize_motion(path: dict, mechanism: dict) -> Synthesis:
+def synthesize_motion(path: dict | PathSpec, mechanism: dict | MechanismSpec) -> Synthesis:
     """Synthesize the cam of a combined cam-linkage so that the tracing point follows ``path`` exactly.
 
     ``path``, ``mechanism``: the ``[path]`` and ``[mechanism]`` tables (see :class:`PathSpec`,

@@ -36,6 +36,17 @@ class Motion(eqx.Module):
         """The kind of follower this motion drives (its ``unit``: mm translating, rad oscillating)."""
         return kind_of_motion(self.unit)
 
+    def jit_form(self) -> Motion:
+        """What compiled programs take in place of this motion (:func:`camdyn._core.jit.cached_jit`): a form
+        whose static structure does not depend on the case (a program's segments become padded arrays), so one
+        compiled program serves every case. The motion itself where it has no other."""
+        return self
+
+    def jump_angles(self):
+        """The breaks (rad) as the ODE step-size controller takes them: numpy, or a padded array (+inf beyond
+        the breaks) where they are data."""
+        return np.deg2rad(np.asarray(self.breaks_deg, dtype=float))
+
     def host(self, theta) -> np.ndarray:
         """s and its first three derivatives at ``theta`` (rad) as a numpy array of shape (4, *theta.shape): the
         compiled evaluation here; motions with a numpy form override it (no dispatch or compile cost)."""
@@ -45,6 +56,14 @@ class Motion(eqx.Module):
         """(theta_deg, values) on ``n`` equal steps of [0, 360); values has shape (4, n)."""
         theta_deg = np.arange(n) * (360.0 / n)
         return theta_deg, np.asarray(evaluate(self, jnp.deg2rad(theta_deg)))
+
+
+def padded_length(n: int, least: int, factor: int = 4) -> int:
+    """The bucket ``n`` rows are padded to: ``least``, or ``least * factor**k``, the first that holds them."""
+    size = least
+    while size < n:
+        size *= factor
+    return size
 
 
 @cached_jit

@@ -16,7 +16,7 @@ import numpy as np
 from ..._core.kinds import kind_of_lift
 from ..._core.units import TWO_PI
 from ._base import Motion
-from ._hermite import quintic_eval
+from ._hermite import QuinticTable, quintic_eval
 from ._spline import SplineFit, fit_periodic
 
 # The fitted s'' is called meaningless when the noise alone moves it by more than a tenth of its peak (two
@@ -33,6 +33,9 @@ class FittedMotion(Motion):
     coef: jax.Array  # (m, 6): s = sum coef[i, k] t^k, t = theta - knots[i] (rad), the motion's unit
     unit: str = eqx.field(static=True)
     breaks_deg: tuple[float, ...] = eqx.field(static=True)  # none: a quintic spline is C4
+
+    def jit_form(self) -> QuinticTable:
+        return QuinticTable.padded(self.knots, self.coef, self.breaks_deg, self.unit)
 
     def __call__(self, theta):
         return quintic_eval(jnp, self.knots, self.coef, theta)

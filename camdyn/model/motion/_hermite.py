@@ -6,18 +6,20 @@ import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
+from jax.core import Tracer
 
 from ..._core.units import TWO_PI
-from ._base import Motion, evaluate
+from ._base import Motion, evaluate, padded_length
 
 
-def quintic_eval(xp, knots, coef, theta):
+def quintic_eval(xp, knots, coef, theta, last=None):
     """(s, s', s'', s''') of the piecewise quintic ``coef`` (m, 6) on ``knots`` (m + 1,) rad from 0 to 2 pi, at
     theta (rad, any shape, periodic): one search for the interval and one gather, whatever the number of
-    knots. ``xp`` is jax.numpy (traceable) or numpy (no dispatch or compile cost)."""
+    knots. ``xp`` is jax.numpy (traceable) or numpy (no dispatch or compile cost). ``last``: the last
+    interval's index where the tables are padded past it (knots +inf there)."""
     theta = xp.asarray(theta, dtype=float)
     th = xp.mod(theta, TWO_PI)
-    i = xp.clip(xp.searchsorted(knots, th, side="right") - 1, 0, coef.shape[0] - 1)
+    i = xp.clip(xp.searchsorted(knots, th, side="right") - 1, 0, coef.shape[0] - 1 if last is None else last)
     t = th - knots[i]
     c = coef[i]  # (..., 6)
     c0, c1, c2, c3, c4, c5 = (c[..., k] for k in range(6))
@@ -26,6 +28,48 @@ def quintic_eval(xp, knots, coef, theta):
     s2 = 2 * c2 + t * (6 * c3 + t * (12 * c4 + t * 20 * c5))
     s3 = 6 * c3 + t * (24 * c4 + t * 60 * c5)
     return xp.stack([s, s1, s2, s3])
+
+
+# Compiled programs take a quintic table padded to 4096 intervals (16384, ... beyond) and its breaks padded to 1024
+# (+inf past them): lift tables of any length up to that, linkages of any breaks, share one compiled program.
+_INTERVAL_ROWS, _BREAK_ROWS = 4096, 1024
+
+
+class QuinticTable(eqx.Module):
+    """A piecewise quintic motion as compiled programs take it (:meth:`Motion.jit_form`): knots, coefficients and
+    breaks as data padded to a bucketed length, so that one compiled program serves every table of a bucket."""
+
+    knots: jax.Array  # (P + 1,) rad; +inf past the last knot
+    coef: jax.Array  # (P, 6); the last interval repeated past it
+    last: jax.Array  # the last interval's index
+    jumps: jax.Array  # breaks (rad), +inf past the last; empty where there are none
+    unit: str = eqx.field(static=True)
+
+    @classmethod
+    def padded(cls, knots, coef, breaks_deg, unit: str) -> QuinticTable:
+        """The table of ``knots`` (m + 1,) and ``coef`` (m, 6), padded; traceable (a vmap over noisy coefficients)."""
+        xp = jnp if isinstance(coef, Tracer) else np  # numpy where it can: no eager dispatch
+        knots, coef = xp.asarray(knots), xp.asarray(coef)
+        more = padded_length(coef.shape[0], _INTERVAL_ROWS) - coef.shape[0]
+        breaks = np.deg2rad(np.asarray(breaks_deg, dtype=float))
+        if breaks.size:
+            breaks = np.pad(breaks, (0, padded_length(breaks.size, _BREAK_ROWS) - breaks.size), constant_values=np.inf)
+        return cls(
+            knots=jnp.asarray(xp.pad(knots, (0, more), constant_values=np.inf)),
+            coef=jnp.asarray(xp.pad(coef, [(0, more), (0, 0)], mode="edge")),
+            last=jnp.asarray(coef.shape[0] - 1),
+            jumps=jnp.asarray(breaks),
+            unit=unit,
+        )
+
+    def jump_angles(self):
+        return self.jumps
+
+    def __call__(self, theta):
+        return quintic_eval(jnp, self.knots, self.coef, theta, self.last)
+
+    def host(self, theta) -> np.ndarray:
+        return quintic_eval(np, np.asarray(self.knots), np.asarray(self.coef), theta, int(self.last))
 
 
 class HermiteMotion(Motion):
@@ -82,6 +126,9 @@ class HermiteMotion(Motion):
         return cls(
             knots=jnp.asarray(knots), coef=jnp.asarray(coef), unit=source.unit, breaks_deg=tuple(source.breaks_deg)
         )
+
+    def jit_form(self) -> QuinticTable:
+        return QuinticTable.padded(self.knots, self.coef, self.breaks_deg, self.unit)
 
     def __call__(self, theta):
         return quintic_eval(jnp, self.knots, self.coef, theta)

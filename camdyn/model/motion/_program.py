@@ -16,7 +16,7 @@ from ..._core.kinds import kind_of_motion
 from ..._core.units import JUMP_RTOL, TWO_PI
 from ...schema import SegmentSpec, check_segments, parse
 from ...schema.motion import BSPLINE, POLYNOMIAL, BSplineSegmentSpec, PolynomialSegmentSpec
-from ._base import Motion
+from ._base import Motion, padded_length
 from ._bspline import bspline_table
 from ._laws import _LAW_TABLES, _NC, _LawTable, _piece_eval
 from ._polynomial import BoundaryPolynomial, polynomial_warnings, solve_polynomial
@@ -50,28 +50,74 @@ class Segment:
         return _LawTable(x0=np.zeros(1), c=acc[None, :], w=one, p1=0 * one, p2=0 * one, y0=b[:1], v0=b[1:2]), to_unit
 
 
+# Compiled programs take a program's pieces as arrays padded to 1024 rows (4096, ... beyond) and its acceleration
+# polynomials padded to 8 coefficients (16, 32, ... for a polynomial of high degree): one compiled program serves
+# every program of a follower kind, whatever its segments, laws and angles. A longer search costs nothing measurable
+# against a trace and compile (about 10 s), which a new bucket would cost a new case.
+_PIECE_ROWS, _COEF_WIDTH = 1024, 8
+
+
+class PieceTable(eqx.Module):
+    """A motion program as compiled programs take it: its pieces as data, padded to a bucketed length.
+
+    Row i is piece i (start angle, its segment's start, span, base lift and lift scale, and the normalized law's
+    acceleration coefficients, trigonometric term and initial values); rows past the last piece repeat it, with
+    start angles of +inf so that the segment search never lands on them. ``jumps`` holds the breaks (rad), padded
+    with +inf, for the ODE step-size controller. Nothing about the segment list is static, so every program of a
+    bucket shares one compiled program; it has no ``breaks_deg`` (the :class:`Program` has). Evaluation: one
+    search for the piece and one closed-form law (named laws, polynomials and B-spline pieces alike), so it jits,
+    vmaps and differentiates.
+    """
+
+    unit: str = eqx.field(static=True)
+    start: jax.Array  # (P,) piece start, rad; +inf past the last piece
+    theta0: jax.Array  # (P,) segment start, rad
+    beta: jax.Array  # (P,) segment span, rad
+    base: jax.Array  # (P,) lift at the segment start, the motion's unit
+    lift: jax.Array  # (P,) the factor of the normalized law
+    x0: jax.Array  # (P,) piece start on the normalized segment
+    c: jax.Array  # (P, W) acceleration polynomial, ascending powers
+    w: jax.Array  # (P,)
+    p1: jax.Array  # (P,)
+    p2: jax.Array  # (P,)
+    y0: jax.Array  # (P,)
+    v0: jax.Array  # (P,)
+    jumps: jax.Array  # (P,) breaks, rad, ascending; +inf past the last
+
+    def jump_angles(self):
+        return self.jumps
+
+    def __call__(self, theta):
+        return self._eval(jnp, theta)
+
+    def host(self, theta) -> np.ndarray:
+        return self._eval(np, theta)
+
+    def _eval(self, xp, theta):
+        """Evaluate with jax.numpy (traceable) or numpy (no dispatch or compile cost, for validation)."""
+        start = xp.asarray(self.start)
+        theta = xp.mod(xp.asarray(theta, dtype=float), TWO_PI)
+        i = xp.clip(xp.searchsorted(start, theta, side="right") - 1, 0, start.shape[0] - 1)
+        g = lambda a: xp.asarray(a)[i]  # noqa: E731
+        beta, lift = g(self.beta), g(self.lift)
+        x = (theta - g(self.theta0)) / beta
+        y, v, a, j = _piece_eval(
+            xp, x - g(self.x0), g(self.c), g(self.w), g(self.p1), g(self.p2), g(self.y0), g(self.v0)
+        )
+        return xp.stack([g(self.base) + lift * y, lift * v / beta, lift * a / beta**2, lift * j / beta**3])
+
+
 class Program(Motion):
     """A motion program: contiguous segments covering 0-360 degrees of cam angle.
 
-    Build it with :meth:`Program.from_segments`; evaluation is a table look-up of the segment piece and the
-    closed-form law, so it jits, vmaps and differentiates.
+    Build it with :meth:`Program.from_segments`. Its segments are what the warnings and reports read; compiled
+    programs take its :class:`PieceTable` (:meth:`jit_form`), so a new segment list compiles nothing new.
     """
 
     segments: tuple[Segment, ...] = eqx.field(static=True)
     unit: str = eqx.field(static=True)
     breaks_deg: tuple[float, ...] = eqx.field(static=True)
-    _start: jax.Array  # piece start, rad
-    _theta0: jax.Array  # segment start, rad
-    _beta: jax.Array  # segment span, rad
-    _base: jax.Array
-    _lift: jax.Array
-    _x0: jax.Array
-    _c: jax.Array
-    _w: jax.Array
-    _p1: jax.Array
-    _p2: jax.Array
-    _y0: jax.Array
-    _v0: jax.Array
+    table: PieceTable
 
     @classmethod
     def from_segments(cls, segments: list, key: str = "motion.segments", unit: str = "mm") -> Program:
@@ -121,30 +167,27 @@ class Program(Motion):
                 cols["lift"].append(scale)
                 for k in ("x0", "c", "w", "p1", "p2", "y0", "v0"):
                     cols[k].append(getattr(t, k)[i])
-        width = max(len(c) for c in cols["c"])  # the named laws' _NC, or a high-degree polynomial's
-        cols["c"] = [np.pad(c, (0, width - len(c))) for c in cols["c"]]
         breaks = tuple(sorted({round(math.degrees(a), 12) % 360.0 for a in cols["start"]}))
-        arrays = {f"_{k}": jnp.asarray(np.array(v, dtype=float)) for k, v in cols.items()}
-        return cls(segments=segs, unit=unit, breaks_deg=breaks, **arrays)
+        rows = padded_length(len(cols["start"]), _PIECE_ROWS)
+        width = padded_length(max(len(c) for c in cols["c"]), _COEF_WIDTH, 2)  # the named laws' _NC, or a polynomial's
+        cols["c"] = [np.pad(c, (0, width - len(c))) for c in cols["c"]]  # zero terms leave Horner's sums exact
+        arrays = {k: np.array(v, dtype=float) for k, v in cols.items()}
+        arrays = {k: _pad_rows(v, rows, np.inf if k == "start" else None) for k, v in arrays.items()}
+        arrays["jumps"] = _pad_rows(np.deg2rad(np.asarray(breaks, dtype=float)), rows, np.inf)
+        table = PieceTable(unit=unit, **{k: jnp.asarray(v) for k, v in arrays.items()})
+        return cls(segments=segs, unit=unit, breaks_deg=breaks, table=table)
+
+    def jit_form(self) -> PieceTable:
+        return self.table
 
     def __call__(self, theta):
-        return self._eval(jnp, theta)
+        return self.table(theta)
 
     def host(self, theta) -> np.ndarray:
-        return self._eval(np, theta)
+        return self.table.host(theta)
 
     def _eval(self, xp, theta):
-        """Evaluate with jax.numpy (traceable) or numpy (no dispatch or compile cost, for validation)."""
-        start = xp.asarray(self._start)
-        theta = xp.mod(xp.asarray(theta, dtype=float), TWO_PI)
-        i = xp.clip(xp.searchsorted(start, theta, side="right") - 1, 0, start.shape[0] - 1)
-        g = lambda a: xp.asarray(a)[i]  # noqa: E731
-        beta, lift = g(self._beta), g(self._lift)
-        x = (theta - g(self._theta0)) / beta
-        y, v, a, j = _piece_eval(
-            xp, x - g(self._x0), g(self._c), g(self._w), g(self._p1), g(self._p2), g(self._y0), g(self._v0)
-        )
-        return xp.stack([g(self._base) + lift * y, lift * v / beta, lift * a / beta**2, lift * j / beta**3])
+        return self.table._eval(xp, theta)
 
     def continuity_warnings(self) -> list[str]:
         """Velocity and acceleration jumps at segment boundaries (the fundamental law of cam design)."""
@@ -189,9 +232,17 @@ class Program(Motion):
         )
 
 
+def _pad_rows(a: np.ndarray, rows: int, fill: float | None = None) -> np.ndarray:
+    """``a`` with ``rows`` rows: the last row repeated, or ``fill``."""
+    widths = [(0, rows - len(a))] + [(0, 0)] * (a.ndim - 1)
+    return np.pad(a, widths, mode="edge") if fill is None else np.pad(a, widths, constant_values=fill)
+
+
 def _segment_spec(raw, where: str):
     """A segment given as a dict (or already a spec), validated as the schema's member for its law."""
     if not isinstance(raw, dict):
         return raw
-    model = {POLYNOMIAL: PolynomialSegmentSpec, BSPLINE: BSplineSegmentSpec}.get(raw.get("law"), SegmentSpec)
+    members: dict[str | None, type[SegmentSpec | PolynomialSegmentSpec | BSplineSegmentSpec]]
+    members = {POLYNOMIAL: PolynomialSegmentSpec, BSPLINE: BSplineSegmentSpec}
+    model = members.get(raw.get("law"), SegmentSpec)
     return parse(model, raw, where)

@@ -25,11 +25,12 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 from functools import cache
+from typing import cast
 
 import numpy as np
 import scipy.sparse as sp
 from scipy.linalg import LinAlgError, cho_solve_banded, cholesky_banded
-from scipy.optimize import minimize_scalar
+from scipy.optimize import OptimizeResult, minimize_scalar  # unannotated: cast its result
 
 from ._hermite import quintic_eval
 
@@ -227,8 +228,9 @@ class _Problem:
         i = int(np.argmin(scores))
         step = grid[1] - grid[0]
         lo, hi = max(grid[0], grid[i] - step), min(grid[-1], grid[i] + step)
-        res = minimize_scalar(
-            lambda g: self.score(g, sigma), bounds=(lo, hi), method="bounded", options={"xatol": 0.01}
+        res = cast(
+            OptimizeResult,
+            minimize_scalar(lambda g: self.score(g, sigma), bounds=(lo, hi), method="bounded", options={"xatol": 0.01}),
         )
         return float(res.x) if res.fun <= scores[i] else float(grid[i])
 

@@ -19,6 +19,7 @@ from .._style import LEFT, C
 
 def draw_cam(fig, data: ReportData) -> None:
     geo, f, chk = data.check.geometry, data.case.follower, data.check
+    assert geo is not None  # the page is drawn for a case with a cam geometry only (pages.PAGES)
     plot_cam_profile(fig.add_axes([0.08, 0.43, 0.84, 0.455]), geo, chk)
     _captions(fig, data)
     fig.text(
@@ -44,6 +45,7 @@ def _captions(fig, data: ReportData) -> None:
     """What the coloured marks on the profile are: the largest pressure angle (on a face square to its motion:
     the ends of the contact's travel along it) and the least radius of curvature."""
     geo, chk = data.check.geometry, data.check
+    assert geo is not None  # the page is drawn for a case with a cam geometry only (pages.PAGES)
     if square_face(geo):
         (t_lo, th_lo), (t_hi, th_hi) = face_extremes(geo)
         w = geo.follower.face_width

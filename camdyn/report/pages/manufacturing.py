@@ -65,7 +65,7 @@ def manufacturing_rows(data: ReportData) -> list[tuple[str, str]]:
     rows = []
     if geo is not None:
         radius = np.hypot(*geo.contour)
-        roller = float(f.roller_radius) if getattr(f, "roller_radius", None) else 0.0
+        roller = float(f.roller_radius or 0.0)
         base = float(radius.min())
         rows += [
             ("base radius", f"{base:.4f} mm (least contour radius)"),

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import textwrap
 
+from ...design.review import Original
 from ...plot import plot_motion_before_after, plot_speed_before_after
 from .._data import ReportData
 from .._style import LEFT, RIGHT, C
@@ -18,6 +19,7 @@ def draw_optimization(fig, data: ReportData) -> None:
     axes += [fig.add_subplot(gs[i], sharex=axes[0]) for i in (1, 2, 3)]
     plot_motion_before_after(axes, review)
     plot_speed_before_after(fig.add_subplot(gs[5]), review)
+    assert isinstance(review.original, Original)  # the page is drawn for a loaded original only (pages.PAGES)
     b, a = review.original.check, review.check
     note = (
         f"Reshaped from {data.case.spec.optimized_from} by camdyn optimize: dynamic jump speed "

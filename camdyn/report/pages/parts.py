@@ -26,6 +26,7 @@ def draw_parts(fig, data: ReportData) -> None:
             "Contact stress: give [follower] width (or [mechanism] width for a path case), the contact's length along "
             "the camshaft in mm, and [materials] if not steel on steel.",
         )
+    assert chk.drive is not None  # check computes the camshaft drive of every case (design.checks.check)
     plot_drive(fig.add_subplot(gs[0]), chk.drive)
     ax_s = fig.add_subplot(gs[2])
     if isinstance(part, str):

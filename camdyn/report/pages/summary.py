@@ -391,6 +391,7 @@ def _input_columns(data: ReportData) -> list[tuple[str, list[tuple[str, str]]]]:
         columns.append(("motion", rows))
         columns.append(("follower", _kv_lines(case.follower.model_dump(exclude_unset=True))))
     else:
+        assert spec.path is not None  # CaseSpec: a case without [motion] or a contour has [path]
         path = spec.path.model_dump(exclude_unset=True)
         columns.append(("path", [(k, f"{fmt(v)} {_geom_unit(k, v)}".strip()) for k, v in path.items()]))
         columns.append(("mechanism (\u2192 synthesized)", _mechanism_rows(data)))
@@ -420,6 +421,7 @@ def _fit_rows(case) -> list[tuple[str, str]]:
 
 def _mechanism_rows(data: ReportData) -> list[tuple[str, str]]:
     case = data.case
+    assert case.spec.mechanism is not None  # a synthesized case's [mechanism]
     mech = [
         (k, f"{fmt(v)} {_geom_unit(k, v)}".strip())
         for k, v in case.spec.mechanism.model_dump(exclude_unset=True).items()

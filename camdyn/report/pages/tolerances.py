@@ -18,6 +18,7 @@ def draw_tolerances(fig, data: ReportData) -> None:
         flow.para("The tolerance study failed:", size=9, weight="bold", color=C["fail"])
         flow.para(res, size=8.5, width=110, color=C["ink"])
         return
+    assert res is not None  # the page is drawn for a case with [tolerances] only (pages.PAGES)
     lo, hi = res.confidence_interval
     colour = C["ok"] if hi < 0.01 else (C["warn"] if res.probability < 0.05 else C["fail"])
     flow.para(

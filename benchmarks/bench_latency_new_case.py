@@ -1,0 +1,97 @@
+"""Benchmark: the first ``check`` of a case never seen before, against the warm ``check`` of a shipped case.
+
+    python benchmarks/bench_latency_new_case.py [--repeat 2]
+
+All in one run, as fresh ``python -m camdyn check`` processes sharing the install's caches (``~/.cache/camdyn``,
+or ``$XDG_CACHE_HOME/camdyn``), which are NOT cleared: the point is a cache warm from other cases.
+(a) ``cases/lecture.toml``, warm (run once to fill the caches, then best of ``--repeat``);
+(b) a never-seen case: the lecture's follower and dynamics with a random segment list (a seed taken from the clock,
+    so the structure is new to the caches: 3-9 segments of random named laws, lifts and angles), its first ``check``;
+(c) the 1000-segment program: alternating cycloids of 0.36 deg each, +-1 mm give or take a random half millimetre
+    (so its numbers are new to the caches too), its first ``check``.
+Prints each wall time and its ratio to (a). The machine may be shared: the load average is printed.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import random
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+LAWS = ("cycloidal", "harmonic", "polynomial-345", "polynomial-4567", "modified-trapezoid", "modified-sine")
+
+
+def check_time(case: Path) -> tuple[float, int]:
+    """Wall time (s) and exit code of one ``python -m camdyn check`` process."""
+    t = time.perf_counter()
+    rc = subprocess.run(
+        [sys.executable, "-m", "camdyn", "check", str(case)], cwd=ROOT, capture_output=True, text=True
+    ).returncode
+    return time.perf_counter() - t, rc
+
+
+def lecture_with(segments: str, name: str) -> str:
+    """cases/lecture.toml with its segment list replaced."""
+    text = (ROOT / "cases" / "lecture.toml").read_text()
+    head, rest = text.split("segments = [", 1)
+    tail = rest.split("]\n", 1)[1]
+    return head.replace('name = "lecture"', f'name = "{name}"') + "segments = [\n" + segments + "]\n" + tail
+
+
+def random_segments(rng: random.Random) -> str:
+    """A closed program with random laws and angles: 1-3 rises, then as many returns (each undoing a rise, so the
+    lift never goes below zero), 1-3 dwells among them; segments at least 10 deg long."""
+    n_rise = rng.randint(1, 3)
+    lifts = [round(rng.uniform(3.0, 9.0), 3) for _ in range(n_rise)]
+    kinds = [("rise", x) for x in lifts] + [("return", -x) for x in reversed(lifts)]
+    for _ in range(rng.randint(1, 3)):
+        kinds.insert(rng.randint(0, len(kinds)), ("dwell", 0.0))
+    ends = sorted(rng.sample(range(20, 350, 10), len(kinds) - 1)) + [360]
+    lines = []
+    for end, (kind, lift) in zip(ends, kinds, strict=True):
+        if kind == "dwell":
+            lines.append(f'  {{ law = "dwell", end = {end} }},\n')
+        else:
+            lines.append(f'  {{ law = "{rng.choice(LAWS)}", end = {end}, lift = {lift} }},\n')
+    return "".join(lines)
+
+
+def thousand_segments(rng: random.Random) -> str:
+    base = round(rng.uniform(0.5, 1.5), 6)
+    lines = [
+        f'  {{ law = "cycloidal", end = {0.36 * (i + 1):.2f}, lift = {base if i % 2 == 0 else -base} }},\n'
+        for i in range(1000)
+    ]
+    return "".join(lines)
+
+
+def main() -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--repeat", type=int, default=2, help="warm runs of the shipped case, the best is shown")
+    opts = ap.parse_args()
+    rng = random.Random(time.time_ns())
+    tmp = Path(tempfile.mkdtemp(prefix="camdyn-newcase-"))
+    new, thousand = tmp / "new.toml", tmp / "thousand.toml"
+    new.write_text(lecture_with(random_segments(rng), "never-seen"))
+    thousand.write_text(lecture_with(thousand_segments(rng), "thousand"))
+
+    check_time(ROOT / "cases" / "lecture.toml")  # fills the caches if they are empty
+    warm = min(check_time(ROOT / "cases" / "lecture.toml")[0] for _ in range(opts.repeat))
+    t_new, rc_new = check_time(new)
+    t_1000, rc_1000 = check_time(thousand)
+    print(f"load average {os.getloadavg()[0]:.1f} on {os.cpu_count()} CPUs; cases in {tmp}")
+    print(f"{'what':<52} {'wall':>8} {'/ warm':>8}")
+    print(f"{'check cases/lecture.toml, warm caches':<52} {warm:7.2f}s {1.0:8.2f}")
+    print(f"{'first check of a never-seen case (exit ' + str(rc_new) + ')':<52} {t_new:7.2f}s {t_new / warm:8.2f}")
+    print(f"{'first check of 1000 cycloids (exit ' + str(rc_1000) + ')':<52} {t_1000:7.2f}s {t_1000 / warm:8.2f}")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
