@@ -15,7 +15,7 @@ import numpy as np
 
 from ..._core.errors import InputError, NumericalError
 from ..._core.progress import Progress
-from ..._core.units import RPM, rate_from_si
+from ..._core.units import RPM
 from ...export import camdyn_version, dumps_case
 from ...model.case import Case, build_case
 from ...model.dynamics import dynamic_jump_speed, linear_min_force, preload_share, response
@@ -393,7 +393,7 @@ def optimize_case(
             z, k, f0 = spring_force(rows, w, rates)
             keys = ROTARY_KEYS if case.oscillating else LINEAR_KEYS
             dynamics = {
-                keys[1]: float(np.round(rate_from_si(k, case.oscillating), 6)),
+                keys[1]: float(np.round(case.kind.rate_from_si(k), 6)),
                 keys[2]: float(math.ceil(f0 * 100.0) / 100.0),
             }
     except NumericalError as err:  # the programs found nothing to write: the input stands
