@@ -18,8 +18,10 @@ from __future__ import annotations
 import functools
 import hashlib
 import os
+from collections.abc import Callable
 from importlib import metadata
 from pathlib import Path
+from typing import Any, TypeVar
 
 import equinox as eqx
 import jax
@@ -27,6 +29,7 @@ import numpy as np
 from jax import export
 from jax.core import Tracer
 
+T = TypeVar("T")
 _DIR: Path | None = None
 
 
@@ -76,31 +79,31 @@ def _has_form(x) -> bool:
     return hasattr(type(x), "jit_form")
 
 
-def jit_forms(tree):
+def jit_forms(tree: T) -> T:
     """``tree`` with every object that has a ``jit_form`` method (a motion) replaced by ``x.jit_form()``."""
     return jax.tree.map(lambda x: x.jit_form() if _has_form(x) else x, tree, is_leaf=_has_form)
 
 
-def filter_jit(fn):
+def filter_jit(fn: Callable[..., T]) -> Callable[..., T]:
     """``equinox.filter_jit(fn)`` on the arguments' :func:`jit_forms`: compiled once per follower kind and bucket,
     not once per case (in-process only; :func:`cached_jit` also persists)."""
     jitted = eqx.filter_jit(fn)
 
     @functools.wraps(fn)
-    def call(*args, **kwargs):
+    def call(*args: Any, **kwargs: Any) -> T:
         args, kwargs = jit_forms((args, kwargs))
         return jitted(*args, **kwargs)
 
     return call
 
 
-def cached_jit(fn):
+def cached_jit(fn: Callable[..., T]) -> Callable[..., T]:
     """:func:`filter_jit` whose traced programs persist across processes once :func:`enable` is called."""
     jitted = eqx.filter_jit(fn)
     programs: dict = {}
 
     @functools.wraps(fn)
-    def call(*args, **kwargs):
+    def call(*args: Any, **kwargs: Any) -> Any:
         args, kwargs = jit_forms((args, kwargs))
         if _DIR is None:
             return jitted(*args, **kwargs)
@@ -123,7 +126,7 @@ def cached_jit(fn):
             exported = _load(file)
             if exported is None:
 
-                def flat(*xs):
+                def flat(*xs: Any) -> Any:
                     a, kw = eqx.combine(jax.tree.unflatten(treedef, xs), static)
                     return fn(*a, **kw)
 

@@ -13,7 +13,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from .units import DEFAULT_MAX_PRESSURE_ANGLE_DEG, M_PER_MM, N_PER_M_PER_N_PER_MM
+from .units import DEFAULT_MAX_PRESSURE_ANGLE_DEG, M_PER_MM, N_PER_M_PER_N_PER_MM, Num
 
 
 @dataclass(frozen=True)
@@ -60,19 +60,19 @@ class FollowerKind:
         """``"a translating"`` / ``"an oscillating"``: for messages."""
         return f"{self.article} {self.name}"
 
-    def lift_to_motion(self, x):
+    def lift_to_motion(self, x: Num) -> Num:
         """Lift (or a derivative per rad of cam angle) in the lift unit -> the motion unit (floats or arrays)."""
         return x * self.motion_per_lift
 
-    def motion_to_lift(self, x):
+    def motion_to_lift(self, x: Num) -> Num:
         """The inverse of :meth:`lift_to_motion`: motion unit -> lift unit (mm stays mm; rad -> deg)."""
         return x * self.lift_per_motion
 
-    def rate_to_si(self, rate):
+    def rate_to_si(self, rate: Num) -> Num:
         """A spring or train rate as the case file gives it (``rate_unit``) in SI (N/m, or N*m/rad)."""
         return rate * self.si_per_rate
 
-    def rate_from_si(self, rate):
+    def rate_from_si(self, rate: Num) -> Num:
         """The inverse of :meth:`rate_to_si`."""
         return rate / self.si_per_rate
 

@@ -5,6 +5,7 @@ the numbers. Every number cites its table.
 
 from __future__ import annotations
 
+from collections.abc import Iterable
 from dataclasses import dataclass
 from difflib import get_close_matches
 
@@ -131,7 +132,7 @@ PREFERRED_WIRE_MM: tuple[float, ...] = tuple(
 )
 
 
-def unknown_name(kind: str, name: str, names) -> str:
+def unknown_name(kind: str, name: str, names: Iterable[str]) -> str:
     """The message for a name not in ``names``, with the nearest one as a hint (the validation error appends the
     name given)."""
     hint = get_close_matches(name, list(names), n=1, cutoff=0.5)

@@ -39,12 +39,12 @@ def _writable_dir(path: Path, what: str) -> Path:
     return path
 
 
-def output_dir(path, what: str = "output") -> Path:
+def output_dir(path: str | Path, what: str = "output") -> Path:
     """``path`` as a folder to write into, created if missing; :class:`InputError` if it cannot be one."""
     return _writable_dir(Path(path), what)
 
 
-def output_file(path, force: bool, what: str = "output") -> Path:
+def output_file(path: str | Path, force: bool, what: str = "output") -> Path:
     """``path`` as a file to write: not a folder, not an existing file unless ``force``, its folder created and
     writable. Call it before the work that makes the file."""
     path = Path(path)

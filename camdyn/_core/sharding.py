@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import functools
 from collections.abc import Callable
+from typing import Any
 
 import equinox as eqx
 import jax
@@ -31,7 +32,7 @@ def _sharded(kernel: Callable, devices: tuple):
     """``kernel(const, *point)`` vmapped over grid points and sharded over ``devices``, compiled."""
     mesh = Mesh(np.asarray(devices), ("grid",))
 
-    def run(const, *batched):
+    def run(const: Any, *batched: Any) -> Any:
         body = lambda c, *b: jax.vmap(lambda *p: kernel(c, *p))(*b)  # noqa: E731
         spec = PartitionSpec("grid")
         return _shard_map(body, mesh, (PartitionSpec(), *([spec] * len(batched))), spec)(const, *batched)
@@ -53,12 +54,12 @@ def _to_mesh(const, part, mesh):
 
 def run_batched(
     kernel: Callable,
-    const,
+    const: Any,
     batched: list[np.ndarray],
     chunk: int,
     progress: Callable[[int], None] | None,
     devices: tuple,
-):
+) -> Any:
     """Run ``kernel`` over the rows of ``batched`` in chunks of ``chunk`` points per device (padded)."""
     n_dev = len(devices)
     size = chunk * n_dev * (1 if devices[0].platform == "cpu" else 16)  # accelerators want wide batches

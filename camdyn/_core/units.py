@@ -9,6 +9,14 @@ Plain Python and numpy only: the schema imports this module, and it must not pul
 from __future__ import annotations
 
 import math
+from typing import TypeVar, overload
+
+import jax
+import numpy as np
+from jax.typing import ArrayLike
+
+# a float, a numpy or a JAX array in: the same kind out (unit conversions work elementwise on any of them)
+Num = TypeVar("Num", float, np.ndarray, jax.Array)
 
 TWO_PI = 2.0 * math.pi
 RPM = TWO_PI / 60.0  # rad/s per rpm
@@ -69,17 +77,21 @@ DEFAULT_SPEED_FLUCTUATION = 0.05  # [drive]: coefficient of speed fluctuation th
 CUSP_MM = 1e-6  # a flat-faced contour radius of curvature under 1 nm is a cusp: that check's limit
 
 
-def damping_from_ratio(ratio, stiffness, mass):
+@overload
+def damping_from_ratio(ratio: float, stiffness: float, mass: float) -> float: ...
+@overload
+def damping_from_ratio(ratio: ArrayLike, stiffness: ArrayLike, mass: ArrayLike) -> ArrayLike: ...
+def damping_from_ratio(ratio: ArrayLike, stiffness: ArrayLike, mass: ArrayLike) -> ArrayLike:
     """Viscous damping c = 2 zeta sqrt(k m) (N*s/m, or N*m*s/rad): floats, numpy or JAX arrays."""
     return 2.0 * ratio * (stiffness * mass) ** 0.5
 
 
-def newton_per_torque(lever_arm_mm):
+def newton_per_torque(lever_arm_mm: Num) -> Num:
     """The factor that turns an arm's torque (N*m) into its contact force (N) through the lever arm (mm)."""
     return 1000.0 / lever_arm_mm
 
 
-def torsion_rate_at_arm(torsion_rate, lever_arm_mm):
+def torsion_rate_at_arm(torsion_rate: Num, lever_arm_mm: Num) -> Num:
     """The rate (N/mm) of a linear spring acting at ``lever_arm_mm`` from the pivot that gives an arm the
     torsion rate (N*m/rad): k = k_t / r^2, small swings."""
     return torsion_rate * newton_per_torque(lever_arm_mm) ** 2 * M_PER_MM

@@ -18,6 +18,7 @@ import traceback
 from importlib import import_module
 from importlib.metadata import PackageNotFoundError, version
 from pathlib import Path
+from typing import NoReturn
 
 from .._core.units import DEFAULT_PROFILE_TOLERANCE_MM, MAX_SPEED_RPM
 
@@ -44,7 +45,7 @@ def _positive_rpm(text: str) -> float:
 class _Parser(argparse.ArgumentParser):
     """argparse with camdyn's error format: one line on stderr, exit code 2."""
 
-    def error(self, message: str):
+    def error(self, message: str) -> NoReturn:
         self.exit(2, f"camdyn: {message}\n")
 
 

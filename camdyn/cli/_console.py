@@ -6,6 +6,7 @@ import json
 import math
 import sys
 import time
+from collections.abc import Iterable, Iterator
 from contextlib import contextmanager
 
 from rich.console import Console, JustifyMethod
@@ -14,6 +15,7 @@ from rich.progress import BarColumn, MofNCompleteColumn, Progress, SpinnerColumn
 from rich.table import Table
 
 from .._core.errors import NumericalError
+from .._core.progress import Progress as ProgressFn
 
 
 def console() -> Console:
@@ -28,14 +30,14 @@ def table(*columns: tuple[str, JustifyMethod]) -> Table:
     return t
 
 
-def notes(con: Console, kind: str, colour: str, texts) -> None:
+def notes(con: Console, kind: str, colour: str, texts: Iterable[str]) -> None:
     """One line per note: ``kind: text`` (the text escaped, never read as markup)."""
     for text in texts:
         con.print(f"[{colour}]{kind}:[/{colour}] {escape(text)}")
 
 
 @contextmanager
-def progress_bar(quiet: bool = False):
+def progress_bar(quiet: bool = False) -> Iterator[ProgressFn]:
     """Yields the ``progress(phase, done, total)`` callback that camdyn's long computations take: a rich bar per
     phase on a terminal; where stderr is a pipe or a log, one line as each phase starts and one as it ends, so a
     long run is never silent; nothing with ``quiet`` (``--quiet``)."""

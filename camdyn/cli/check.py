@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import argparse
 import dataclasses
 import sys
 from pathlib import Path
@@ -42,7 +43,7 @@ def print_check(report: CheckReport) -> None:
     con.print(f"verdict: [bold {colour}]{report.verdict.upper()}[/bold {colour}]")
 
 
-def run(args) -> int:
+def run(args: argparse.Namespace) -> int:
     case = build_case(args.spec, source=Path(args.case))
     if args.report:
         output_dir(args.report, "report")

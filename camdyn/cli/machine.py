@@ -3,6 +3,7 @@ shaft torque and the flywheel, the clearances; ``DIR/<machine>-machine.csv`` (ex
 
 from __future__ import annotations
 
+import argparse
 import sys
 from pathlib import Path
 
@@ -67,7 +68,7 @@ def print_machine(result: MachineResult) -> None:
     con.print(f"verdict: [bold {colour}]{result.verdict.upper()}[/bold {colour}]")
 
 
-def run(args) -> int:
+def run(args: argparse.Namespace) -> int:
     machine = args.spec
     out = Path(args.output)
     csv_path = output_file(out / f"{machine_stem(machine.name)}.csv", args.force, "machine CSV")

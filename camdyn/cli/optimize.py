@@ -3,9 +3,11 @@ only where it is better than the input on the objective and breaks nothing the i
 
 from __future__ import annotations
 
+import argparse
 import os
 from dataclasses import fields
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from .._core.errors import InputError
 from .._core.outputs import output_file, write_new
@@ -13,8 +15,11 @@ from ..design.optimize import floor_rpm, optimize_case
 from ..model.case import build_case
 from . import _console
 
+if TYPE_CHECKING:
+    from ..design.optimize import Optimization
 
-def print_optimization(res, output: Path) -> None:
+
+def print_optimization(res: Optimization, output: Path) -> None:
     con = _console.console()
     u, f = res.unit, res.force_unit
     con.print(
@@ -61,7 +66,7 @@ def print_optimization(res, output: Path) -> None:
             con.print(f"  - {why}")
 
 
-def run(args) -> int:
+def run(args: argparse.Namespace) -> int:
     out = output_file(args.output, args.force, "case file")  # before the work, not after
     if out.resolve() == Path(args.case).resolve():
         raise InputError(str(out), "is the input case; write the optimized case to another file")

@@ -7,6 +7,7 @@ plate as a solid (``--thickness``; the optional extra ``camdyn[cad]``).
 
 from __future__ import annotations
 
+import argparse
 import sys
 from pathlib import Path
 
@@ -77,7 +78,7 @@ def _option_errors(args, suffix: str) -> None:
             raise InputError(flag, f"must be a positive number (got {value:g})")
 
 
-def run(args) -> int:
+def run(args: argparse.Namespace) -> int:
     out = Path(args.output)
     suffix = out.suffix.lower()
     if out.is_dir():

@@ -2,11 +2,13 @@
 
 from __future__ import annotations
 
+import argparse
+
 from ..report import report_cases
 from ._console import progress_bar
 
 
-def run(args) -> int:
+def run(args: argparse.Namespace) -> int:
     with progress_bar(args.quiet) as progress:
         written = report_cases(args.cases, args.output, speed_rpm=args.speed, specs=args.specs, progress=progress)
     for w in written:

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import argparse
 from pathlib import Path
 
 import numpy as np
@@ -127,7 +128,7 @@ def _preload_deflection(sz: SpringSizing) -> str:
     return f"; {c.preload / c.rate:.4g} mm of preload deflection"
 
 
-def run(args) -> int:
+def run(args: argparse.Namespace) -> int:
     case = build_case(args.spec, source=Path(args.case))
     sz = size_spring(case, args.max_speed, args.margin, args.min_rate, buildable=args.buildable)
     if args.json:

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import argparse
 from pathlib import Path
 
 from ..design.spring import SpringDesign, design_case_spring, spring_loads
@@ -75,7 +76,7 @@ def print_spring(case_name: str, d: SpringDesign, lever_arm: float | None) -> No
     )
 
 
-def run(args) -> int:
+def run(args: argparse.Namespace) -> int:
     case = build_case(args.spec, source=Path(args.case))
     loads = spring_loads(case)
     design = design_case_spring(case)

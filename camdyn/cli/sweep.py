@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import argparse
 import math
 import sys
 import time
@@ -37,7 +38,7 @@ def _parse_grid(flag: str, text: str) -> tuple[float, float, int]:
     return a, b, n
 
 
-def run(args) -> int:
+def run(args: argparse.Namespace) -> int:
     speed_grid = _parse_grid("--speeds", args.speeds)
     rate_grid = _parse_grid("--spring-rates", args.spring_rates) if args.spring_rates is not None else None
     check_grid_size(

@@ -2,8 +2,10 @@
 
 from __future__ import annotations
 
+import argparse
 import time
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from rich.markup import escape
 from rich.table import Table
@@ -13,13 +15,18 @@ from .._core.outputs import output_file, write_new
 from ..design.synthesis import synthesize_case
 from . import _console
 
+if TYPE_CHECKING:
+    from ..design.synthesis import SynthesizedCase
 
-def print_synthesize(res, output: Path, elapsed: float) -> None:
+
+def print_synthesize(res: SynthesizedCase, output: Path, elapsed: float) -> None:
     console = _console.console()
     s, m = res.summary, res.mechanism
     fb = s.get("fourbar")
+    path = res.case.spec.path
+    assert path is not None  # synthesize_case refuses a case without [path]
     console.print(
-        f"[bold]{res.case.name}[/bold]  CCM for the {res.case.spec.path.type} path, dimensions by differential "
+        f"[bold]{res.case.name}[/bold]  CCM for the {path.type} path, dimensions by differential "
         f"evolution (seed {s['seed']})"
     )
     table = Table(show_edge=False, pad_edge=False, box=None, header_style="bold")
@@ -63,7 +70,7 @@ def print_synthesize(res, output: Path, elapsed: float) -> None:
     console.print(f"wrote {output} in {elapsed:.1f} s; next: camdyn check {output}")
 
 
-def run(args) -> int:
+def run(args: argparse.Namespace) -> int:
     out = output_file(args.output, args.force, "case file")  # before minutes of work, not after
     if out.resolve() == Path(args.case).resolve():
         raise InputError(str(out), "is the input path file; write the case to another file")

@@ -3,6 +3,7 @@
 
 from __future__ import annotations
 
+import argparse
 import sys
 from pathlib import Path
 
@@ -12,7 +13,7 @@ from ..design.table import csv_text, ecam_table, motion_table, table_angles
 from ..model.case import build_case
 
 
-def run(args) -> int:
+def run(args: argparse.Namespace) -> int:
     table_angles(args.step)  # a bad step is refused before any model is built
     if args.output:
         output_file(args.output, args.force, "table")

@@ -3,9 +3,11 @@ PNG, the worst samples as case files, and a summary (``--json``: the contract of
 
 from __future__ import annotations
 
+import argparse
 import math
 import time
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from .._core.distributed import initialize, is_writer
 from .._core.errors import InputError
@@ -16,6 +18,9 @@ from ..model.case import build_case
 from ..plot import save_tolerance_png
 from ._console import console, json_text, progress_bar, table
 
+if TYPE_CHECKING:
+    from ..design.tolerance import ToleranceResult
+
 
 def _paths(out: Path, stem: str, worst: int) -> dict:
     return {
@@ -25,7 +30,7 @@ def _paths(out: Path, stem: str, worst: int) -> dict:
     }
 
 
-def json_doc(result, worst_files, elapsed: float) -> dict:
+def json_doc(result: ToleranceResult, worst_files: list[Path], elapsed: float) -> dict:
     """The ``--json`` document (keys only ever added)."""
     return {
         "case": result.case,
@@ -56,7 +61,7 @@ def json_doc(result, worst_files, elapsed: float) -> dict:
     }
 
 
-def run(args) -> int:
+def run(args: argparse.Namespace) -> int:
     if not 1 <= args.samples <= MAX_SAMPLES:  # before any work or any folder is made
         raise InputError("--samples", f"must be from 1 to {MAX_SAMPLES}, got {args.samples}")
     initialize(args.coordinator, args.num_processes, args.process_id, auto=args.distributed)

@@ -472,7 +472,10 @@ def case_max_preload(case, rate, top_speed_rpm: float | None = None) -> float | 
     if top is None:
         return None
     linear = top - loads.rate * loads.installed_shift  # the spring force at zero lift
-    return linear / newton_per_torque(spec.lever_arm) if case.kind.rotary else linear
+    if not case.kind.rotary:
+        return linear
+    assert spec.lever_arm is not None  # the schema: an arm's spring needs its lever arm
+    return linear / newton_per_torque(spec.lever_arm)
 
 
 def min_preload(case) -> float:

@@ -68,6 +68,7 @@ def valvetrain_model(v: ValvetrainSpec, d: DynamicsSpec) -> ValvetrainModel:
     """
     r = float(v.ratio)
     m_c, m_v = float(v.cam_side_mass), float(v.valve_mass)
+    assert d.spring_rate is not None  # the valvetrain's check: [dynamics] gives the valve spring's rate
     k = TRANSLATING.rate_to_si(d.spring_rate)
     m_at_valve = m_v + m_c / r**2
     c = d.damping if d.damping is not None else damping_from_ratio(d.damping_ratio or 0.0, k, m_at_valve)

@@ -3,9 +3,17 @@
 from __future__ import annotations
 
 import math
+from collections.abc import Iterable, Sequence
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
+from matplotlib.axes import Axes
+from matplotlib.legend import Legend
 from matplotlib.ticker import MultipleLocator
+
+if TYPE_CHECKING:
+    from ..model.drive import DriveTorque
+    from ..model.dynamics import Response
 
 # Colours with one meaning each, on every figure.
 PALETTE = {
@@ -29,19 +37,19 @@ PALETTE = {
 C = PALETTE
 
 
-def deg_ticks(ax, every: float = 45.0) -> None:
+def deg_ticks(ax: Axes, every: float = 45.0) -> None:
     """A cam-angle x axis: one revolution, a tick every ``every`` degrees."""
     ax.set_xlim(0.0, 360.0)
     ax.xaxis.set_major_locator(MultipleLocator(every))
 
 
-def mark_breaks(ax, breaks_deg) -> None:
+def mark_breaks(ax: Axes, breaks_deg: Iterable[float]) -> None:
     """Dotted lines at the motion's breaks (segment boundaries), behind the curves."""
     for b in breaks_deg:
         ax.axvline(b, color=C["break"], lw=0.7, ls=":", zorder=0.5)
 
 
-def flight_spans(response) -> list[tuple[float, float]]:
+def flight_spans(response: Response) -> list[tuple[float, float]]:
     """The cam-angle spans (deg, within [0, 360]) where the interface force is zero: one per flight, two where a
     flight wraps through 0 deg."""
     out = []
@@ -50,7 +58,7 @@ def flight_spans(response) -> list[tuple[float, float]]:
     return out
 
 
-def shade_separations(ax, response, label: bool = False) -> None:
+def shade_separations(ax: Axes, response: Response, label: bool = False) -> None:
     """Shade the cam angles where the follower is off the cam: exactly where the interface force is zero (a
     separation that bounces is several flights, the impacts between them left unshaded)."""
     for k, (a, b) in enumerate(flight_spans(response)):
@@ -65,13 +73,13 @@ def shade_separations(ax, response, label: bool = False) -> None:
         )
 
 
-def legend_above_data(ax, margin: float = 0.04, also=(), **kw):
+def legend_above_data(ax: Axes, margin: float = 0.04, also: Iterable[float] = (), **kw: Any) -> Legend:
     """A legend in the upper right, with the y axis raised so that no line's data (within the x limits) reaches
     up into it: a legend never covers a curve. ``also``: more heights (data units) to keep clear, e.g. of
     horizontal reference lines. ``kw``: the legend's keywords (ncol, fontsize, ...)."""
     leg = ax.legend(**({"loc": "upper right"} | kw))
     fig = ax.figure
-    renderer = fig._get_renderer()
+    renderer = fig._get_renderer()  # pyright: ignore[reportAttributeAccessIssue]
     box, frame = leg.get_window_extent(renderer), ax.get_window_extent(renderer)
     below = (box.y0 - frame.y0) / max(frame.height, 1.0)  # the legend's lower edge, a fraction of the axes' height
     lo, hi = ax.get_ylim()
@@ -121,10 +129,10 @@ LEGEND_PLACES = (
 )
 
 
-def legend_clear(ax, places=LEGEND_PLACES, **kw):
+def legend_clear(ax: Axes, places: Sequence[str] = LEGEND_PLACES, **kw: Any) -> Legend:
     """A legend in the first of ``places`` where it covers no point of a data curve (the one covering the fewest
     where none is clear). ``kw``: the legend's keywords."""
-    renderer = ax.figure._get_renderer()
+    renderer = ax.figure._get_renderer()  # pyright: ignore[reportAttributeAccessIssue]
     pts = _data_points(ax)
     best, best_n = places[0], None
     for loc in places:
@@ -142,7 +150,7 @@ def legend_clear(ax, places=LEGEND_PLACES, **kw):
     return ax.legend(**({"loc": best} | kw))
 
 
-def mark_mean_and_peak_torque(ax, theta_deg, drive, mean_colour: str) -> None:
+def mark_mean_and_peak_torque(ax: Axes, theta_deg: np.ndarray, drive: DriveTorque, mean_colour: str) -> None:
     """A drive torque's mean (dashed, with the mean power) and its peak (a dot), both named in the legend."""
     ax.axhline(
         drive.mean_torque,

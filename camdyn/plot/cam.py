@@ -3,8 +3,10 @@
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 
 import numpy as np
+from matplotlib.axes import Axes
 from matplotlib.patches import Circle, FancyArrowPatch, Polygon
 
 from .._core.units import DEFAULT_MIN_CURVATURE_RATIO
@@ -67,7 +69,17 @@ def _face_sense(geometry: CamGeometry) -> float:
     return 1.0 if float((at["contact"] - at["centre"]) @ along) * float(geometry.face_t_mm[i]) >= 0.0 else -1.0
 
 
-def plot_follower(ax, geometry: CamGeometry, theta_deg: float, *, colour, lw=1.0, alpha=1.0, stem=True, z=3) -> dict:
+def plot_follower(
+    ax: Axes,
+    geometry: CamGeometry,
+    theta_deg: float,
+    *,
+    colour: str,
+    lw: float = 1.0,
+    alpha: float = 1.0,
+    stem: bool = True,
+    z: float = 3,
+) -> dict:
     """Draw the follower as the cam sees it at cam angle theta (cam frame); returns :func:`follower_pose`
     with the end of its stem, ``tip``."""
     f = geometry.follower
@@ -112,7 +124,11 @@ def plot_follower(ax, geometry: CamGeometry, theta_deg: float, *, colour, lw=1.0
 
 
 def plot_cam_profile(
-    ax, geometry: CamGeometry, check: CheckReport | None = None, *, angles=(0.0, 90.0, 180.0, 270.0)
+    ax: Axes,
+    geometry: CamGeometry,
+    check: CheckReport | None = None,
+    *,
+    angles: Sequence[float] = (0.0, 90.0, 180.0, 270.0),
 ) -> None:
     """The cam in its frame: contour, pitch curve, base circle, the follower at ``angles`` (grey), the follower at
     the largest pressure angle with its motion and the contact normal, the osculating circle at the least radius
@@ -246,7 +262,9 @@ def _face_travel_mark(ax, geo: CamGeometry, colour: str) -> float:
     return reach
 
 
-def plot_face_contact(ax, geometry: CamGeometry, check: CheckReport | None = None, *, breaks_deg=()) -> None:
+def plot_face_contact(
+    ax: Axes, geometry: CamGeometry, check: CheckReport | None = None, *, breaks_deg: Sequence[float] = ()
+) -> None:
     """Where the contact runs along a flat face against the cam angle: t (mm), its travel shaded and its ends
     marked (red where ``check``'s face_width fails). For a face square to its motion, what the pressure angle
     says of a roller."""
@@ -307,7 +325,9 @@ def _rotation_arrow(ax, f) -> None:
     ax.text(0, -arc_r * 1.9, f"turns {f.rotation}", size=7.5, ha="center", va="center", color=C["ink"])
 
 
-def plot_pressure_angle(ax, geometry: CamGeometry, check: CheckReport | None = None, *, breaks_deg=()) -> None:
+def plot_pressure_angle(
+    ax: Axes, geometry: CamGeometry, check: CheckReport | None = None, *, breaks_deg: Sequence[float] = ()
+) -> None:
     """The pressure angle against the cam angle, the check's limit (both signs) and its largest value marked."""
     geo = geometry
     th = geo.theta_deg
@@ -331,12 +351,12 @@ def plot_pressure_angle(ax, geometry: CamGeometry, check: CheckReport | None = N
 
 
 def plot_curvature(
-    ax,
+    ax: Axes,
     geometry: CamGeometry,
     check: CheckReport | None = None,
     *,
     min_curvature_ratio: float = DEFAULT_MIN_CURVATURE_RATIO,
-    breaks_deg=(),
+    breaks_deg: Sequence[float] = (),
 ) -> None:
     """The contour's (and a roller's pitch curve's) radius of curvature against the cam angle, convex > 0, with
     the limit (``min_curvature_ratio`` x roller radius; no cusp for a flat face) and the least value marked."""

@@ -4,8 +4,10 @@ contact force against cam speed."""
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 
 import numpy as np
+from matplotlib.axes import Axes
 
 from .._core.kinds import kind_of_motion
 from .._core.units import RPM
@@ -21,7 +23,13 @@ def flights_by_gap(response: Response) -> list:
 
 
 def plot_contact_force(
-    ax, response: Response, *, colour: str = C["dyn"], title: str | None = None, breaks_deg=(), legend: bool = True
+    ax: Axes,
+    response: Response,
+    *,
+    colour: str = C["dyn"],
+    title: str | None = None,
+    breaks_deg: Sequence[float] = (),
+    legend: bool = True,
 ) -> None:
     """The interface force (N) over a revolution, dynamic against kinematic, shaded exactly where the force is
     zero; marked: where the follower leaves the cam (a triangle per flight) and each impact's peak force, or the
@@ -98,7 +106,7 @@ def _mark_flights(ax, response: Response, colour: str) -> None:
 
 
 def plot_displacement(
-    ax, response: Response, *, unit: str = "mm", speed_rpm: float | None = None, breaks_deg=()
+    ax: Axes, response: Response, *, unit: str = "mm", speed_rpm: float | None = None, breaks_deg: Sequence[float] = ()
 ) -> None:
     """The follower's displacement x against the cam's s over a revolution (``unit``: the motion's, "mm" or
     "rad"; an arm's swing is drawn in degrees), the separations shaded."""
@@ -113,7 +121,13 @@ def plot_displacement(
     legend_above_data(ax, fontsize=7, ncol=2)
 
 
-def plot_vibration(ax, curves, *, unit: str = "mm", breaks_deg=()) -> None:
+def plot_vibration(
+    ax: Axes,
+    curves: Sequence[tuple[Response, str, str]],
+    *,
+    unit: str = "mm",
+    breaks_deg: Sequence[float] = (),
+) -> None:
     """The vibratory response x - s over a revolution; ``curves``: (response, colour, label) each, the first
     one's separations shaded. Translating: in um where it stays under half a millimetre."""
     k = display_scale(unit)
@@ -145,7 +159,7 @@ def plot_vibration(ax, curves, *, unit: str = "mm", breaks_deg=()) -> None:
     ax.set_xlabel("cam angle \u03b8 (deg)")
 
 
-def plot_force_vs_speed(ax, review: Review) -> None:
+def plot_force_vs_speed(ax: Axes, review: Review) -> None:
     """The least contact force against cam speed (kinematic; the frequency-domain steady state of a compliant
     train), the jump speeds, speed_margin x speed, min_contact_force and the check's operating point."""
     sw, chk = review.force_vs_speed, review.check

@@ -2,13 +2,17 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
+from matplotlib.axes import Axes
+from matplotlib.collections import QuadMesh
 from matplotlib.figure import Figure
 
 from ..design.sweep import JumpMap
 
 
-def plot_jump_map(ax, jm: JumpMap):
+def plot_jump_map(ax: Axes, jm: JumpMap) -> QuadMesh | None:
     """Draw the map on a matplotlib ``ax``: least force over speed x spring rate, the jump boundary (least force
     of the in-contact model = 0) and the operating point. A single spring rate (or speed) gives a line plot.
     Returns the artist a colorbar can use (None for a line plot)."""
@@ -54,7 +58,7 @@ def plot_jump_map(ax, jm: JumpMap):
     return None
 
 
-def save_png(jm: JumpMap, path) -> None:
+def save_png(jm: JumpMap, path: str | Path) -> None:
     """Write the heat map (or line plot) of ``jm`` as a PNG (matplotlib, no pyplot state)."""
     fig = Figure(figsize=(8, 5.5), layout="constrained")
     ax = fig.add_subplot()

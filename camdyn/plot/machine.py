@@ -4,6 +4,7 @@ Each draws on an ``ax`` from a :class:`camdyn.design.machine.MachineResult`."""
 from __future__ import annotations
 
 import numpy as np
+from matplotlib.axes import Axes
 
 from ..design.machine import MachineResult
 from ._common import C, deg_ticks, mark_mean_and_peak_torque
@@ -22,7 +23,7 @@ def _spans(a: float, b: float) -> list[tuple[float, float]]:
     return [(a, b)] if b > a else [(a, 360.0), (0.0, b)]
 
 
-def plot_timing_diagram(ax, result: MachineResult) -> None:
+def plot_timing_diagram(ax: Axes, result: MachineResult) -> None:
     """Every follower's lift over its stroke against the machine angle, one lane per cam (the first on top), its
     dwells shaded and a dashed line where its cam angle is 0 (its phase)."""
     n = len(result.cams)
@@ -59,7 +60,7 @@ def plot_timing_diagram(ax, result: MachineResult) -> None:
     )
 
 
-def plot_machine_torque(ax, result: MachineResult) -> None:
+def plot_machine_torque(ax: Axes, result: MachineResult) -> None:
     """Each cam's shaft torque (thin) and their sum (thick), the sum's mean and its peak."""
     theta, drive = result.theta_deg, result.drive
     for i, cam in enumerate(result.cams):
@@ -75,7 +76,7 @@ def plot_machine_torque(ax, result: MachineResult) -> None:
     ax.legend(fontsize=6.5, loc="best", ncol=2)
 
 
-def plot_machine_energy(ax, result: MachineResult) -> None:
+def plot_machine_energy(ax: Axes, result: MachineResult) -> None:
     """The energy the shaft stores and gives back over a revolution, its swing, and the flywheel that holds it."""
     drive = result.drive
     energy = drive.energy
@@ -106,7 +107,7 @@ def plot_machine_energy(ax, result: MachineResult) -> None:
     )
 
 
-def plot_clearances(ax, result: MachineResult) -> None:
+def plot_clearances(ax: Axes, result: MachineResult) -> None:
     """The gap of every ``[[clearance]]`` pair against the machine angle, its least and the gap it needs."""
     for k, gap in enumerate(result.clearances):
         colour = C["ok"] if gap.check.ok else C["fail"]

@@ -5,7 +5,9 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from matplotlib.axes import Axes
 from matplotlib.patches import Circle, Polygon
+from numpy.typing import ArrayLike
 
 from ..model.linkage import Synthesis
 from ._common import C, rotate
@@ -22,7 +24,7 @@ JOINTS = {
 }
 
 
-def mechanism_frames(synthesis: Synthesis, theta_deg) -> dict:
+def mechanism_frames(synthesis: Synthesis, theta_deg: ArrayLike) -> dict:
     """The mechanism at cam angles ``theta_deg`` (case frame, mm): ``points`` (joint name -> (n, 2)), the
     ``roller`` centres (n, 2) and the turned ``cams`` (a list of (m, 2) outlines)."""
     syn = synthesis
@@ -36,7 +38,7 @@ def mechanism_frames(synthesis: Synthesis, theta_deg) -> dict:
     return {"points": pts, "roller": roller, "cams": cams}
 
 
-def mechanism_bounds(synthesis: Synthesis, theta_deg) -> tuple[np.ndarray, np.ndarray]:
+def mechanism_bounds(synthesis: Synthesis, theta_deg: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
     """(lower, upper) x-y corners (mm) that hold every joint over a revolution, the target path, and the cams and
     rollers at ``theta_deg``, with a margin: common limits for drawings of the mechanism at those angles."""
     syn = synthesis
@@ -49,7 +51,14 @@ def mechanism_bounds(synthesis: Synthesis, theta_deg) -> tuple[np.ndarray, np.nd
     return lo - pad, hi + pad
 
 
-def plot_mechanism(ax, synthesis: Synthesis, theta_deg: float, *, bounds=None, label_joints: bool = False) -> None:
+def plot_mechanism(
+    ax: Axes,
+    synthesis: Synthesis,
+    theta_deg: float,
+    *,
+    bounds: tuple[np.ndarray, np.ndarray] | None = None,
+    label_joints: bool = False,
+) -> None:
     """The cam-linkage at cam angle ``theta_deg``: the target path, the turned cam and its roller, the links, the
     fixed pivots and the tracing point. ``bounds``: :func:`mechanism_bounds` (default: this angle's);
     ``label_joints``: name the joints."""
@@ -119,7 +128,7 @@ def _label_joints(ax, pts: dict, size: float) -> None:
         )
 
 
-def plot_path(ax, synthesis: Synthesis) -> None:
+def plot_path(ax: Axes, synthesis: Synthesis) -> None:
     """The target path and the path the linkage traces, with cam angles marked every 45 deg."""
     target, traced = synthesis.path_xy, synthesis.traced_xy
     ax.set_aspect("equal", adjustable="datalim")
@@ -144,7 +153,7 @@ def plot_path(ax, synthesis: Synthesis) -> None:
     ax.legend(loc="best", fontsize=7)
 
 
-def plot_path_error(ax, synthesis: Synthesis) -> None:
+def plot_path_error(ax: Axes, synthesis: Synthesis) -> None:
     """|traced - target| (mm, log scale) along the target path, with 1 um marked."""
     target, traced = synthesis.path_xy, synthesis.traced_xy
     seg = np.linalg.norm(np.diff(np.vstack([target, target[:1]]), axis=0), axis=1)

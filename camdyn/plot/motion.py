@@ -3,13 +3,20 @@
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
+from typing import TYPE_CHECKING
 
 import numpy as np
+from matplotlib.axes import Axes
 
 from .._core.kinds import kind_of_motion
 from .._core.units import RPM
 from ..design.review import MotionSamples
 from ._common import C, deg_ticks, mark_breaks
+
+if TYPE_CHECKING:
+    from ..model.geometry import ContourFit
+    from ..model.motion import MotionFit
 
 
 def display_scale(unit: str) -> float:
@@ -46,7 +53,9 @@ def _time_units(unit: str, speed_rpm: float) -> list:
     return [None, ("mm/s", w), ("m/s\u00b2", w**2 / 1000.0), ("m/s\u00b3", w**3 / 1000.0)]
 
 
-def plot_svaj(axes, samples: MotionSamples, *, speed_rpm: float | None = None, headroom: float = 1.0) -> None:
+def plot_svaj(
+    axes: Sequence[Axes], samples: MotionSamples, *, speed_rpm: float | None = None, headroom: float = 1.0
+) -> None:
     """Draw s, s', s'', s''' (per radian of cam angle) on four ``axes`` sharing x, with the breaks dotted. With
     ``speed_rpm``: the same curves in time units on the right axes and the time along the top. ``headroom``:
     the space above the lift curve, in units of its margin (room for labels)."""
@@ -73,13 +82,13 @@ def plot_svaj(axes, samples: MotionSamples, *, speed_rpm: float | None = None, h
     if speed_rpm is not None:
         period_ms = 60000.0 / speed_rpm
         top = axes[0].secondary_xaxis(
-            "top", functions=(lambda d: d / 360.0 * period_ms, lambda t: t / period_ms * 360.0)
+            "top", functions=(lambda d: np.asarray(d) / 360.0 * period_ms, lambda t: np.asarray(t) / period_ms * 360.0)
         )
         top.set_xlabel(f"time at {speed_rpm:g} rpm (ms)", color=C["grey"])
         top.tick_params(colors=C["grey"])
 
 
-def plot_fit(ax_lift, ax_residual, fit, contour=None) -> None:
+def plot_fit(ax_lift: Axes, ax_residual: Axes, fit: MotionFit, contour: ContourFit | None = None) -> None:
     """A lift table's data points on the lift panel and the fit's residuals (data - fit) against cam angle, with
     the tolerance where one was asked for (``fit``: :class:`camdyn.model.motion.MotionFit`). With ``contour`` (a
     :class:`camdyn.model.geometry.ContourFit`, a contour case), the residual is the user's data's: the radial

@@ -3,7 +3,10 @@ force against cam speed of both with their jump speeds."""
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+
 import numpy as np
+from matplotlib.axes import Axes
 
 from ..design.review import Original, Review
 from ._common import C, deg_ticks, mark_breaks
@@ -16,7 +19,7 @@ def _original(review: Review) -> Original:
     return review.original
 
 
-def plot_motion_before_after(axes, review: Review) -> None:
+def plot_motion_before_after(axes: Sequence[Axes], review: Review) -> None:
     """s, s', s'', s''' of the original (dashed) and the optimized motion (solid) on four ``axes``."""
     original = _original(review)
     before, after = original.motion, review.motion
@@ -41,7 +44,7 @@ def plot_motion_before_after(axes, review: Review) -> None:
     axes[0].legend(loc="upper right", fontsize=7)
 
 
-def plot_speed_before_after(ax, review: Review) -> None:
+def plot_speed_before_after(ax: Axes, review: Review) -> None:
     """The least contact force against cam speed before (dashed) and after (solid), each up to its jump speed,
     with the jump speeds, the case speed and ``min_contact_force``."""
     original = _original(review)

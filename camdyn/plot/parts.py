@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import numpy as np
+from matplotlib.axes import Axes
 from matplotlib.patches import Circle
 
 from ..design.spring import SpringDesign
@@ -38,7 +39,7 @@ def _dimension(ax, a, b, y, text, vertical=False):
     )
 
 
-def plot_spring(ax, design: SpringDesign) -> None:
+def plot_spring(ax: Axes, design: SpringDesign) -> None:
     """The spring at its free length, in section (the wire cut on both sides of the coil), with its free,
     installed, full-lift and solid lengths, its outside diameter and what it is made of."""
     s = design.spring
@@ -84,7 +85,7 @@ def plot_spring(ax, design: SpringDesign) -> None:
     ax.set_title("return spring (lengths in mm)")
 
 
-def plot_drive(ax, drive: DriveTorque) -> None:
+def plot_drive(ax: Axes, drive: DriveTorque) -> None:
     """Camshaft torque over a revolution, its mean and its peak."""
     ax.plot(drive.theta_deg, drive.torque, color=C["dyn"], lw=1.2, label="camshaft torque")
     mark_mean_and_peak_torque(ax, drive.theta_deg, drive, C["margin"])
@@ -98,7 +99,7 @@ def plot_drive(ax, drive: DriveTorque) -> None:
     ax.legend(fontsize=7, loc="best")
 
 
-def plot_contact(ax, contact: ContactStress, limit_MPa: float | None = None) -> None:
+def plot_contact(ax: Axes, contact: ContactStress, limit_MPa: float | None = None) -> None:
     """Hertz contact pressure over a revolution, its peak and the limit."""
     ax.plot(contact.theta_deg, contact.pressure_MPa, color=C["dyn"], lw=1.2, label="peak contact pressure")
     ax.plot(

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import numpy as np
+from matplotlib.axes import Axes
 
 from ..design.sizing import SpringSizing
 
@@ -17,7 +18,7 @@ PLOT_COLORS = {
 }
 
 
-def plot_feasible_region(ax, sizing: SpringSizing, colors: dict | None = None) -> None:
+def plot_feasible_region(ax: Axes, sizing: SpringSizing, colors: dict | None = None) -> None:
     """The rate-preload plane: constraint lines (the binding ones and those forming the envelope), the feasible
     region shaded (kinematic; dynamic too for a compliant follower), iso-lines of the peak spring force, the
     chosen spring, the kinematic LP answer and the case's current spring. ``colors`` overrides any of the

@@ -3,15 +3,17 @@
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy as np
+from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 
 from ..design.tolerance import ToleranceResult
 from ._common import PALETTE
 
 
-def plot_jump_speed_histogram(ax, result: ToleranceResult):
+def plot_jump_speed_histogram(ax: Axes, result: ToleranceResult) -> None:
     """Histogram of the samples' dynamic jump speed (rpm), the case speed and the P1/P50 marked."""
     js = result.jump_speed_rpm[np.isfinite(result.jump_speed_rpm)]
     if js.size:
@@ -34,7 +36,7 @@ def plot_jump_speed_histogram(ax, result: ToleranceResult):
     ax.legend(fontsize=8)
 
 
-def plot_tolerance_tornado(ax, result: ToleranceResult):
+def plot_tolerance_tornado(ax: Axes, result: ToleranceResult) -> None:
     """Tornado chart: each tolerance's effect on the jump-speed margin (d margin / d p x sigma, from gradients),
     largest on top, its Monte Carlo variance share written beside it."""
     items = sorted(result.sensitivities.items(), key=lambda kv: abs(np.nan_to_num(kv[1]["gradient_sigma"])))
@@ -60,7 +62,7 @@ def plot_tolerance_tornado(ax, result: ToleranceResult):
     ax.set_title("sensitivities at the nominal design (JAX gradients) and Monte Carlo variance shares", fontsize=9)
 
 
-def save_tolerance_png(result: ToleranceResult, path) -> None:
+def save_tolerance_png(result: ToleranceResult, path: str | Path) -> None:
     """The histogram and the tornado chart side by side, as a PNG."""
     fig = Figure(figsize=(12, 4.8), layout="constrained")
     a, b = fig.subplots(1, 2)

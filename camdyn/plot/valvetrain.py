@@ -4,11 +4,16 @@ at the valve over the event, the valve's velocity, and its seating velocity agai
 from __future__ import annotations
 
 import math
+from typing import TYPE_CHECKING
 
 import numpy as np
+from matplotlib.axes import Axes
 
 from .._core.units import TWO_PI
 from ._common import C, deg_ticks, legend_above_data
+
+if TYPE_CHECKING:
+    from ..design.valvetrain import ValvetrainResult
 
 
 def _event_window(resp, pad_deg: float = 30.0) -> tuple[float, float]:
@@ -21,7 +26,7 @@ def _event_window(resp, pad_deg: float = 30.0) -> tuple[float, float]:
     return max(0.0, float(th.min()) - pad_deg), min(360.0, float(th.max()) + pad_deg)
 
 
-def plot_valve_lift(ax, result) -> None:
+def plot_valve_lift(ax: Axes, result: ValvetrainResult) -> None:
     """The valve's lift against the cam's lift at the valve (ratio x follower lift - lash: where the valve would be
     on a rigid train), the lash and the ramps that take it up, around the valve event; opening and closing marked."""
     resp = result.response
@@ -48,7 +53,7 @@ def plot_valve_lift(ax, result) -> None:
     legend_above_data(ax, fontsize=7, ncol=2)
 
 
-def plot_valve_velocity(ax, result) -> None:
+def plot_valve_velocity(ax: Axes, result: ValvetrainResult) -> None:
     """The valve's velocity (m/s) and the cam contact's force (N, right axis) around the valve event, the
     seating marked."""
     resp = result.response
@@ -79,7 +84,7 @@ def plot_valve_velocity(ax, result) -> None:
     legend_above_data(ax, fontsize=7, handles=h1 + h2, labels=l1 + l2)
 
 
-def plot_seating_velocity(ax, result, max_seating_velocity: float | None = None) -> None:
+def plot_seating_velocity(ax: Axes, result: ValvetrainResult, max_seating_velocity: float | None = None) -> None:
     """The valve's seating velocity against cam speed (the speeds the float and bounce searches marched), the
     limit, the case speed and the float and bounce speeds marked."""
     rpm = np.asarray(result.speeds_rpm)

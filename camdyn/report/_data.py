@@ -7,12 +7,17 @@ import hashlib
 from dataclasses import dataclass
 from functools import cached_property
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from .._core.units import JUMP_RTOL, RPM
 from ..design.review import Review
 from ..plot.motion import display_scale, display_unit
+
+if TYPE_CHECKING:
+    from ..design.checks import CheckReport
+    from ..model.case import Case
 
 
 @dataclass(frozen=True)
@@ -22,11 +27,11 @@ class ReportData:
     review: Review
 
     @property
-    def case(self):
+    def case(self) -> Case:
         return self.review.case
 
     @property
-    def check(self):
+    def check(self) -> CheckReport:
         return self.review.check
 
     @cached_property

@@ -5,11 +5,16 @@ from __future__ import annotations
 import math
 import textwrap
 from importlib.metadata import PackageNotFoundError, version
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
+from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 
 from ._style import C
+
+if TYPE_CHECKING:
+    from ._data import ReportData
 
 
 def camdyn_version() -> str:
@@ -19,14 +24,14 @@ def camdyn_version() -> str:
         return "0"
 
 
-def hline(fig, y: float, x0: float = 0.06, x1: float = 0.94, **kw) -> Line2D:
+def hline(fig: Figure, y: float, x0: float = 0.06, x1: float = 0.94, **kw: Any) -> Line2D:
     """A horizontal rule across the page at height ``y`` (figure fraction)."""
     return Line2D(
         [x0, x1], [y, y], transform=fig.transFigure, color=kw.pop("color", "#bbbbbb"), linewidth=kw.pop("lw", 0.8), **kw
     )
 
 
-def header(fig, data, title: str, number: int, total: int) -> None:
+def header(fig: Figure, data: ReportData, title: str, number: int, total: int) -> None:
     """The case name and page title on top, the source, speed and page number at the foot."""
     case = data.case
     src = case.source.name if case.source is not None else case.name
@@ -35,12 +40,14 @@ def header(fig, data, title: str, number: int, total: int) -> None:
     page_frame(fig, case.name, title, number, total, foot, verdict=data.check.verdict)
 
 
-def page_frame(fig, name: str, title: str, number: int, total: int, foot: str, verdict: str | None = None) -> None:
+def page_frame(
+    fig: Figure, name: str, title: str, number: int, total: int, foot: str, verdict: str | None = None
+) -> None:
     """A page's name and title on top (``verdict``, "pass" or "fail", in a badge beside the name), camdyn's
     version, ``foot`` and the page number at the foot."""
     text = fig.text(0.06, 0.975, name, size=15, weight="bold", va="top", color=C["ink"])
     if verdict is not None:  # the verdict on every page, just right of the name
-        x = 0.06 + text.get_window_extent(fig._get_renderer()).width / (fig.dpi * fig.get_figwidth()) + 0.015
+        x = 0.06 + text.get_window_extent(fig._get_renderer()).width / (fig.dpi * fig.get_figwidth()) + 0.015  # pyright: ignore[reportAttributeAccessIssue]
         passed = verdict == "pass"
         fig.text(
             x,
@@ -58,7 +65,7 @@ def page_frame(fig, name: str, title: str, number: int, total: int, foot: str, v
     fig.text(0.94, 0.014, f"page {number} of {total}", size=7, color=C["grey"], ha="right")
 
 
-def fmt(v, digits: int = 4) -> str:
+def fmt(v: float | None, digits: int = 4) -> str:
     """A value for a table: numbers to ``digits`` significant digits, inf and None as "unbounded"."""
     if v is None:
         return "unbounded"
@@ -106,13 +113,13 @@ class Flow:
             self.fig.text(self.left + x * (self.right - self.left), self.y, text, **({"size": size, "va": "top"} | kw))
         self.y -= self.h(size)
 
-    def para(self, text: str, size: float = 8.0, width: int = 118, indent: float = 0.0, **kw) -> None:
+    def para(self, text: str, size: float = 8.0, width: int = 118, indent: float = 0.0, **kw: Any) -> None:
         lines = textwrap.wrap(text, width) or [""]
         self.fig.text(self.left + indent, self.y, "\n".join(lines), size=size, va="top", linespacing=1.3, **kw)
         self.y -= self.h(size, len(lines)) * 0.93
 
 
-def verdict_block(fig, flow: Flow, passed: bool, headline: str, subline: str) -> None:
+def verdict_block(fig: Figure, flow: Flow, passed: bool, headline: str, subline: str) -> None:
     """Page 1's large PASS or FAIL at the flow's left margin, a bold ``headline`` beside it and a grey ``subline``
     under that; the flow moves down past the block."""
     flow.y -= flow.h(10)

@@ -6,6 +6,7 @@ import io
 import re
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import matplotlib
 from matplotlib.backends.backend_pdf import PdfPages
@@ -22,6 +23,11 @@ from ._data import ReportData
 from ._layout import camdyn_version, header
 from ._style import A4, DPI, style
 from .pages import PAGES, Page
+
+if TYPE_CHECKING:
+    from ..design.checks import CheckReport
+    from ..model.case import Case
+    from ..schema import CaseSpec
 
 
 @dataclass(frozen=True)
@@ -93,7 +99,12 @@ def _save_png(fig, path: Path, version: str) -> None:
 
 
 def write_report(
-    case, out_dir, *, check=None, speed_rpm: float | None = None, progress: Progress | None = None
+    case: Case,
+    out_dir: str | Path,
+    *,
+    check: CheckReport | None = None,
+    speed_rpm: float | None = None,
+    progress: Progress | None = None,
 ) -> Written:
     """Check ``case`` (unless ``check``, a :class:`camdyn.design.checks.CheckReport`, is given), review it and
     write its report."""
@@ -108,7 +119,12 @@ def _named(path, err: CamdynError) -> CamdynError:
 
 
 def report_cases(
-    paths: list[str | Path], out_dir, *, speed_rpm: float | None = None, specs=None, progress: Progress | None = None
+    paths: list[str | Path],
+    out_dir: str | Path,
+    *,
+    speed_rpm: float | None = None,
+    specs: list[CaseSpec] | None = None,
+    progress: Progress | None = None,
 ) -> list[Written]:
     """Load, check and report every case file in ``paths`` (bad input stops before any work, naming the file).
     ``specs``: the files' validated :class:`camdyn.schema.CaseSpec`, where the caller has read them already."""

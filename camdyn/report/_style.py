@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from collections.abc import Iterator
 from contextlib import contextmanager
 from typing import Any
 
@@ -50,7 +51,7 @@ STYLE: dict[RcKeyType, Any] = {
 
 
 @contextmanager
-def style():
+def style() -> Iterator[None]:
     """Draw in the report's style (matplotlib rc settings, restored on exit)."""
     with matplotlib.rc_context(STYLE):
         yield

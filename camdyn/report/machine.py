@@ -141,7 +141,7 @@ def _drive(fig, result: MachineResult) -> None:
 DRAW = {"summary": _summary, "drive": _drive}
 
 
-def write_machine_report(result: MachineResult, out_dir, *, progress: Progress | None = None) -> Written:
+def write_machine_report(result: MachineResult, out_dir: str | Path, *, progress: Progress | None = None) -> Written:
     """The machine report into ``out_dir``: the PDF and one PNG per page (only under :func:`machine_output_names`)."""
     out_dir = output_dir(Path(out_dir), "report")
     pdf_name, png_names = machine_output_names(result.name)

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import re
+from collections.abc import Callable
 from difflib import get_close_matches
 from typing import Annotated, Any, TypeVar, get_args, get_origin
 
@@ -54,7 +55,7 @@ def check_type_keys(table: BaseModel, t: str, kind: str, keys: TypeKeys) -> None
             raise ValueError(f"{key}: not used by {a} {t} {kind} (keys: {', '.join(allowed)})")
 
 
-def keys_by_type(keys: TypeKeys):
+def keys_by_type(keys: TypeKeys) -> Callable[[dict, type[BaseModel]], None]:
     """A ``json_schema_extra`` that declares, per ``type``, the keys it needs and the only keys it takes (JSON
     Schema ``if``/``then``), from the same table :func:`check_type_keys` validates with."""
 

@@ -116,7 +116,7 @@ class DynamicsSpec(Table):
             raise ValueError("give damping_ratio or damping, not both")
         return self
 
-    def generalized(self, kind: FollowerKind) -> tuple:
+    def generalized(self, kind: FollowerKind) -> tuple[float | None, float | None, float | None, float | None, float]:
         """(mass, rate, preload, train rate, external load) in the case file's units of ``kind`` (None: not given)."""
         return tuple(getattr(self, k) for k in dynamics_keys(kind))
 

@@ -31,8 +31,10 @@ import re
 import sys
 import types
 import typing
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import annotated_types as at
 from pydantic import BaseModel
@@ -91,7 +93,7 @@ def _strip(annotation):
     return annotation
 
 
-def models_in(annotation) -> list[type[BaseModel]]:
+def models_in(annotation: Any) -> list[type[BaseModel]]:
     """The pydantic models a field holds (one table, a union of tables, or a list of tables), in order."""
     annotation = _strip(annotation)
     if isinstance(annotation, type) and issubclass(annotation, BaseModel):
@@ -178,7 +180,7 @@ def _cell(text: str) -> str:
     return "".join(p if p.startswith("`") else p.replace("|", "\\|").replace("*", "\\*") for p in parts)
 
 
-def type_keys(annotation) -> TypeKeys | None:
+def type_keys(annotation: Any) -> TypeKeys | None:
     """The per-type keys of a table field (a flat model in :data:`FLAT_RULES` or a discriminated union of one
     model per ``type``); ``None`` for a table whose keys do not depend on ``type``."""
     members = models_in(annotation)
@@ -199,7 +201,7 @@ def type_keys(annotation) -> TypeKeys | None:
         )
     if len(members) > 1 and all("type" in m.model_fields for m in members):
 
-        def sig(m, k):
+        def sig(m: type[BaseModel], k: str) -> tuple[bool, str, str | None]:
             f = m.model_fields[k]
             return (f.is_required(), _default(f), f.description)
 
@@ -236,7 +238,7 @@ def _row(fields: list[FieldInfo], members: int = 1) -> tuple[str, str, str, str]
     they differ: the values of all (a literal such as ``type``, the descriptions), else "by type" (see the table
     of each type), as is "required" by only some types."""
 
-    def distinct(values):
+    def distinct(values: Iterable[str]) -> list[str]:
         return list(dict.fromkeys(values))
 
     literal = all(typing.get_origin(_strip(f.annotation)) is typing.Literal for f in fields)
@@ -288,7 +290,7 @@ class _Writer:
         """An aligned Markdown table (the last column is left ragged)."""
         widths = [max(len(r[i]) for r in rows) for i in range(len(rows[0]) - 1)]
 
-        def line(cells):
+        def line(cells: Sequence[str]) -> str:
             return "| " + " | ".join([*(c.ljust(w) for c, w in zip(cells, widths, strict=False)), cells[-1]]) + " |"
 
         self.lines += [line(rows[0]), line(["-" * w for w in widths] + ["---"]), *(line(r) for r in rows[1:])]
@@ -302,7 +304,7 @@ class _Writer:
             "",
         ]
 
-        def code(keys):
+        def code(keys: Iterable[str]) -> str:
             return ", ".join(f"`{k}`" for k in keys) or "—"
 
         self.table(
@@ -369,7 +371,7 @@ file (key types and ranges; the rules between keys, such as the keys of each typ
 DOCUMENTS = (("Case file", CaseSpec), ("Path file", PathFileSpec))
 
 
-def reference_markdown(documents=DOCUMENTS) -> str:
+def reference_markdown(documents: Sequence[tuple[str, type[BaseModel]]] = DOCUMENTS) -> str:
     """The Markdown key reference of ``documents`` ((heading, model) pairs: case files and path files)."""
     w = _Writer()
     w.lines = [*_HEAD.splitlines()]

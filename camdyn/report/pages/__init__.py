@@ -5,6 +5,8 @@ from __future__ import annotations
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
+from matplotlib.figure import Figure
+
 from ..._core.results import Unavailable
 from .._data import ReportData
 from .cam import draw_cam
@@ -26,7 +28,7 @@ class Page:
 
     slug: str  # file name part: <case>-<n>-<slug>.png
     title: str
-    draw: Callable[[object, ReportData], None]
+    draw: Callable[[Figure, ReportData], None]
     applies: Callable[[ReportData], bool] = field(default=lambda data: True)
 
 

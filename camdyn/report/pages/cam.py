@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import math
 
+from matplotlib.figure import Figure
+
 from ...design.checks import CheckKind
 from ...plot import (
     check_colour,
@@ -18,10 +20,10 @@ from .._data import ReportData
 from .._style import LEFT, C
 
 
-def draw_cam(fig, data: ReportData) -> None:
+def draw_cam(fig: Figure, data: ReportData) -> None:
     geo, f, chk = data.check.geometry, data.case.follower, data.check
     assert geo is not None  # the page is drawn for a case with a cam geometry only (pages.PAGES)
-    plot_cam_profile(fig.add_axes([0.08, 0.43, 0.84, 0.455]), geo, chk)
+    plot_cam_profile(fig.add_axes((0.08, 0.43, 0.84, 0.455)), geo, chk)
     _captions(fig, data)
     fig.text(
         0.08,

@@ -3,13 +3,15 @@ displacement and vibration, and the least contact force against cam speed."""
 
 from __future__ import annotations
 
+from matplotlib.figure import Figure
+
 from ..._core.results import Unavailable
 from ...plot import legend_above_data, plot_contact_force, plot_displacement, plot_force_vs_speed, plot_vibration
 from .._data import ReportData
 from .._style import LEFT, C
 
 
-def draw_dynamics(fig, data: ReportData) -> None:
+def draw_dynamics(fig: Figure, data: ReportData) -> None:
     gs = fig.add_gridspec(5, 1, left=LEFT, right=0.95, top=0.925, bottom=0.06, hspace=0.38)
     ax_f = fig.add_subplot(gs[0])
     ax_m = fig.add_subplot(gs[1], sharex=ax_f)

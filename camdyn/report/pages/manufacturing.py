@@ -5,6 +5,7 @@ what a shop needs to make the cam (radii, roller, offset, zero reference, profil
 from __future__ import annotations
 
 import numpy as np
+from matplotlib.figure import Figure
 
 from ..._core.units import DEFAULT_PROFILE_TOLERANCE_MM
 from ...export import FORMATS
@@ -125,7 +126,7 @@ def manufacturing_rows(data: ReportData) -> list[tuple[str, str]]:
     return rows
 
 
-def draw_manufacturing(fig, data: ReportData) -> None:
+def draw_manufacturing(fig: Figure, data: ReportData) -> None:
     flow = Flow(fig, 0.93)
     flow.heading("Title block")
     for k, v in title_block(data):

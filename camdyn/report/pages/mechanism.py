@@ -6,6 +6,7 @@ from __future__ import annotations
 import textwrap
 
 import numpy as np
+from matplotlib.figure import Figure
 
 from ...plot import mechanism_bounds, plot_mechanism, plot_path, plot_path_error
 from ...plot.mechanism import JOINTS
@@ -15,7 +16,7 @@ from .._style import A4, C
 NCOLS = 3
 
 
-def draw_mechanism(fig, data: ReportData) -> None:
+def draw_mechanism(fig: Figure, data: ReportData) -> None:
     syn = data.case.synthesis
     kind = syn.mechanism.type
     angles = np.arange(0.0, 360.0, 60.0)
@@ -46,7 +47,10 @@ def draw_mechanism(fig, data: ReportData) -> None:
     plot_path_error(fig.add_axes(error_box), syn)
 
 
-def _path_boxes(path_xy: np.ndarray, top: float, bottom: float = 0.065) -> tuple[list[float], list[float]]:
+_Box = tuple[float, float, float, float]  # an axes' rectangle: left, bottom, width, height (figure fractions)
+
+
+def _path_boxes(path_xy: np.ndarray, top: float, bottom: float = 0.065) -> tuple[_Box, _Box]:
     """Axes (figure fractions) for the path and its error below the linkage drawings, filling the page down to
     ``bottom``: side by side, or for a path much wider than tall the path across the page (as tall as it needs)
     and the error under it, whichever draws the path larger."""
@@ -57,6 +61,6 @@ def _path_boxes(path_xy: np.ndarray, top: float, bottom: float = 0.065) -> tuple
     gap_in, error_in = 0.75, 1.5  # the path's x label and the error's title; the least error plot
     stacked_in = min(height_in - gap_in - error_in, width_in * dy / dx)  # the path box, at the path's aspect
     if min(width_in / dx, stacked_in / dy) <= 1.2 * min(side_in / dx, height_in / dy):
-        return [0.08, bottom, 0.38, top - bottom], [0.58, bottom, 0.38, top - bottom]
+        return (0.08, bottom, 0.38, top - bottom), (0.58, bottom, 0.38, top - bottom)
     path_h = stacked_in / A4[1]
-    return [0.08, top - path_h, 0.88, path_h], [0.08, bottom, 0.88, top - path_h - gap_in / A4[1] - bottom]
+    return (0.08, top - path_h, 0.88, path_h), (0.08, bottom, 0.88, top - path_h - gap_in / A4[1] - bottom)

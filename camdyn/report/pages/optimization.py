@@ -4,13 +4,15 @@ from __future__ import annotations
 
 import textwrap
 
+from matplotlib.figure import Figure
+
 from ...design.review import Original
 from ...plot import plot_motion_before_after, plot_speed_before_after
 from .._data import ReportData
 from .._style import LEFT, RIGHT, C
 
 
-def draw_optimization(fig, data: ReportData) -> None:
+def draw_optimization(fig: Figure, data: ReportData) -> None:
     review = data.review
     gs = fig.add_gridspec(
         6, 1, left=LEFT, right=RIGHT, top=0.885, bottom=0.1, hspace=0.35, height_ratios=[2, 2, 2, 2, 0.3, 3.2]

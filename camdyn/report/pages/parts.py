@@ -5,13 +5,15 @@ from __future__ import annotations
 
 import textwrap
 
+from matplotlib.figure import Figure
+
 from ..._core.results import Unavailable
 from ...plot import plot_contact, plot_drive, plot_spring
 from .._data import ReportData
 from .._style import LEFT, C
 
 
-def draw_parts(fig, data: ReportData) -> None:
+def draw_parts(fig: Figure, data: ReportData) -> None:
     chk, part = data.check, data.review.spring_part
     if chk.contact is not None:
         gs = fig.add_gridspec(

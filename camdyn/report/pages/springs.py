@@ -6,6 +6,7 @@ import math
 import textwrap
 
 from matplotlib import patheffects
+from matplotlib.figure import Figure
 
 from ..._core.results import Unavailable
 from ...design.sizing import SpringSizing
@@ -32,7 +33,7 @@ def _nb(text: str) -> str:
     return text.replace(" ", "\u00a0")
 
 
-def draw_springs(fig, data: ReportData) -> None:
+def draw_springs(fig: Figure, data: ReportData) -> None:
     sz = data.review.sizing
     if isinstance(sz, Unavailable):
         flow = Flow(fig, 0.94)
@@ -67,7 +68,7 @@ def _caption(fig, sz: SpringSizing) -> None:
 
 
 def _feasible_region(fig, sz: SpringSizing) -> None:
-    ax = fig.add_axes([LEFT, 0.615, 0.95 - LEFT, 0.26])
+    ax = fig.add_axes((LEFT, 0.615, 0.95 - LEFT, 0.26))
     plot_feasible_region(
         ax,
         sz,
@@ -211,7 +212,7 @@ def _spring_jump_map(fig, data: ReportData) -> None:
     """The jump map at the case's preload: least contact force over cam speed and spring rate."""
     top, bottom = MAP_TOP, 0.095  # room for the legend under the axes
     jm = data.review.jump_map
-    ax = fig.add_axes([LEFT, bottom, 0.79 - LEFT, top - bottom])
+    ax = fig.add_axes((LEFT, bottom, 0.79 - LEFT, top - bottom))
     kind = data.case.kind
     pre = f"{float(data.case.model.preload):g} {pretty_unit(kind.force_unit)}"
     title = f"jump map: least contact force at the case's preload {kind.preload_symbol} = {pre}"
@@ -255,7 +256,7 @@ def _spring_jump_map(fig, data: ReportData) -> None:
     for t in leg.get_texts():
         t.set_text(pretty_unit(t.get_text()))
     if mesh is not None:
-        cax = fig.add_axes([0.81, bottom, 0.015, top - bottom])
+        cax = fig.add_axes((0.81, bottom, 0.015, top - bottom))
         cb = fig.colorbar(mesh, cax=cax)
         cb.set_label("least contact force (N)", fontsize=7.5)
         cb.ax.tick_params(labelsize=7)

@@ -4,8 +4,10 @@ from __future__ import annotations
 
 import math
 import textwrap
+from typing import TYPE_CHECKING
 
 import numpy as np
+from matplotlib.figure import Figure
 from matplotlib.patches import Polygon
 
 from ..._core.results import Unavailable
@@ -24,6 +26,10 @@ from ...plot import (
 from .._data import ReportData
 from .._layout import Flow, fmt, verdict_block
 from .._style import C
+
+if TYPE_CHECKING:
+    from ...design.checks import Check
+    from ...model.geometry import CamGeometry
 
 UNITS = {
     "base_radius": "mm",
@@ -57,7 +63,7 @@ NOTE_LINES = 14  # lines of warnings and advice before the rest is referred to `
 INPUT_ROWS = 26  # rows per column of key inputs
 
 
-def draw_summary(fig, data: ReportData) -> None:
+def draw_summary(fig: Figure, data: ReportData) -> None:
     flow = Flow(fig, 0.93)
     if data.case.spec.description:
         flow.para(data.case.spec.description, size=8.5, width=105, color=C["grey"])
@@ -83,7 +89,7 @@ def _verdict(fig, data: ReportData, flow: Flow) -> None:
     verdict_block(fig, flow, passed, f"at {chk.speed_rpm:g} rpm: {what}", model)
 
 
-def at_limit(c) -> bool:
+def at_limit(c: Check) -> bool:
     """Whether a check's value is within :data:`~camdyn._core.units.AT_LIMIT_RTOL` of its (nonzero) limit."""
     return c.value is not None and c.limit != 0.0 and abs(c.value - c.limit) <= AT_LIMIT_RTOL * abs(c.limit)
 
@@ -293,7 +299,7 @@ def decision_facts(data: ReportData) -> list[str]:
     return out
 
 
-def concave_spans(geo) -> list[tuple[float, float, float]]:
+def concave_spans(geo: CamGeometry) -> list[tuple[float, float, float]]:
     """(first deg, last deg, least |radius| mm) of each run of cam angles where the contour is concave."""
     concave = np.asarray(geo.rho_contour_mm) < 0.0
     if not concave.any() or concave.all():
@@ -466,7 +472,7 @@ def _glance(fig, data: ReportData, top: float) -> None:
     y0 = top - 0.03 - h
     geo = data.check.geometry
     if geo is not None:
-        ax = fig.add_axes([0.1, y0, 0.24, h])
+        ax = fig.add_axes((0.1, y0, 0.24, h))
         ax.set_aspect("equal", adjustable="datalim")
         ax.add_patch(Polygon(geo.contour.T, closed=True, fc=C["cam"], ec=C["ink"], lw=1.0))
         ax.plot(0, 0, "+", color=C["ink"], ms=7)
@@ -477,7 +483,7 @@ def _glance(fig, data: ReportData, top: float) -> None:
         ax.set_ylabel("y (mm)", fontsize=7)
         ax.tick_params(labelsize=6.5)
         ax.grid(False)
-    _force_thumbnail(fig.add_axes([0.42, y0, 0.52, h]), data)
+    _force_thumbnail(fig.add_axes((0.42, y0, 0.52, h)), data)
 
 
 def _force_thumbnail(ax, data: ReportData) -> None:

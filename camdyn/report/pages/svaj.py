@@ -6,13 +6,14 @@ import dataclasses
 import textwrap
 
 import numpy as np
+from matplotlib.figure import Figure
 
 from ...plot import plot_fit, plot_svaj, svaj_quantities
 from .._data import ReportData
 from .._style import LEFT, RIGHT, C
 
 
-def draw_svaj(fig, data: ReportData) -> None:
+def draw_svaj(fig: Figure, data: ReportData) -> None:
     segs = getattr(data.case.motion, "segments", ())
     fit = data.case.fit  # a lift table or a contour: its data and the fit's residuals are shown too
     if fit is None:

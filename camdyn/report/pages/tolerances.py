@@ -5,6 +5,8 @@ from __future__ import annotations
 
 import math
 
+from matplotlib.figure import Figure
+
 from ..._core.results import Unavailable
 from ...plot import plot_jump_speed_histogram, plot_tolerance_tornado
 from .._data import ReportData
@@ -12,7 +14,7 @@ from .._layout import Flow
 from .._style import LEFT, C
 
 
-def draw_tolerances(fig, data: ReportData) -> None:
+def draw_tolerances(fig: Figure, data: ReportData) -> None:
     res = data.review.tolerance
     flow = Flow(fig, 0.94)
     if isinstance(res, Unavailable):
@@ -46,9 +48,9 @@ def draw_tolerances(fig, data: ReportData) -> None:
         width=140,
         color=C["grey"],
     )
-    ax = fig.add_axes([LEFT, 0.5, 0.95 - LEFT, 0.3])
+    ax = fig.add_axes((LEFT, 0.5, 0.95 - LEFT, 0.3))
     plot_jump_speed_histogram(ax, res)
-    ax = fig.add_axes([0.25, 0.1, 0.7, 0.3])
+    ax = fig.add_axes((0.25, 0.1, 0.7, 0.3))
     plot_tolerance_tornado(ax, res)
     if not all(math.isfinite(s["gradient_sigma"]) for s in res.sensitivities.values()):
         ax.text(

@@ -4,13 +4,15 @@ bounce speeds, from ``check``'s two-mass model."""
 
 from __future__ import annotations
 
+from matplotlib.figure import Figure
+
 from ...plot import plot_seating_velocity, plot_valve_lift, plot_valve_velocity
 from .._data import ReportData
 from .._layout import Flow, fmt
 from .._style import LEFT, C
 
 
-def draw_valvetrain(fig, data: ReportData) -> None:
+def draw_valvetrain(fig: Figure, data: ReportData) -> None:
     vt = data.check.valvetrain
     assert vt is not None  # the page applies to [valvetrain] cases only
     j = vt.json()
@@ -32,9 +34,9 @@ def draw_valvetrain(fig, data: ReportData) -> None:
         width=140,
         color=C["grey"],
     )
-    ax = fig.add_axes([LEFT, 0.6, 0.95 - LEFT, 0.24])
+    ax = fig.add_axes((LEFT, 0.6, 0.95 - LEFT, 0.24))
     plot_valve_lift(ax, vt)
-    ax = fig.add_axes([LEFT, 0.32, 0.86 - LEFT, 0.2])
+    ax = fig.add_axes((LEFT, 0.32, 0.86 - LEFT, 0.2))
     plot_valve_velocity(ax, vt)
-    ax = fig.add_axes([LEFT, 0.06, 0.95 - LEFT, 0.19])
+    ax = fig.add_axes((LEFT, 0.06, 0.95 - LEFT, 0.19))
     plot_seating_velocity(ax, vt, data.case.limits.max_seating_velocity)
