@@ -24,6 +24,7 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+from jax.typing import ArrayLike
 
 from .._core.errors import InputError, NumericalError
 from .._core.materials import GPA, MPA
@@ -36,7 +37,7 @@ def effective_modulus(e1: float, nu1: float, e2: float, nu2: float) -> float:
     return 1.0 / ((1.0 - nu1**2) / e1 + (1.0 - nu2**2) / e2)
 
 
-def line_contact(force, curvature, width, e_star):
+def line_contact(force: ArrayLike, curvature: ArrayLike, width: float, e_star: float) -> tuple[np.ndarray, np.ndarray]:
     """Half-width b (m) and peak pressure p_max (Pa) of a Hertz line contact (SI in, SI out; arrays broadcast).
 
     ``force`` N (no contact where <= 0: b = p = 0), ``curvature`` K = 1/R1 + 1/R2 in 1/m (must be > 0 where
@@ -57,7 +58,9 @@ def line_contact(force, curvature, width, e_star):
     return b, p
 
 
-def cylinders(force, radius1, radius2, width, e_star):
+def cylinders(
+    force: ArrayLike, radius1: ArrayLike, radius2: ArrayLike, width: float, e_star: float
+) -> tuple[np.ndarray, np.ndarray]:
     """:func:`line_contact` of two cylinders of signed radii (m; negative: concave; ``math.inf``: a plane)."""
     return line_contact(
         force, 1.0 / np.asarray(radius1, dtype=float) + 1.0 / np.asarray(radius2, dtype=float), width, e_star
@@ -122,7 +125,7 @@ def equivalent_curvature_per_mm(geometry: CamGeometry) -> np.ndarray:
     return 1.0 / rho
 
 
-def normal_force(geometry: CamGeometry, force) -> np.ndarray:
+def normal_force(geometry: CamGeometry, force: ArrayLike) -> np.ndarray:
     """The normal contact force (N) from the force camdyn check reports per angle of ``geometry``: a translating
     follower's axial force over cos(pressure angle); an oscillating arm's contact force as it is."""
     force = np.asarray(force, dtype=float)
@@ -132,7 +135,7 @@ def normal_force(geometry: CamGeometry, force) -> np.ndarray:
 
 
 def cam_contact(
-    geometry: CamGeometry, force, *, width_mm: float, cam: tuple[float, float], follower: tuple[float, float]
+    geometry: CamGeometry, force: ArrayLike, *, width_mm: float, cam: tuple[float, float], follower: tuple[float, float]
 ) -> ContactStress:
     """Hertz contact stress over a revolution.
 

@@ -17,6 +17,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from jax.typing import ArrayLike
 
 from .._core.errors import InputError
 from .._core.units import DEFAULT_SPEED_FLUCTUATION, THETA_GRID, TWO_PI
@@ -25,7 +26,7 @@ from .follower import FollowerModel
 from .motion import Motion
 
 
-def camshaft_torque(force, velocity):
+def camshaft_torque(force: ArrayLike, velocity: ArrayLike) -> np.ndarray:
     """Camshaft torque (N*m) from the interface force and the follower's velocity per radian of cam angle:
     ``T = F * ds/dtheta`` (N and m/rad, or an arm's N*m and rad/rad). Arrays broadcast."""
     return np.asarray(force) * np.asarray(velocity)
@@ -97,7 +98,12 @@ class DriveTorque:
 
 
 def drive_torque(
-    theta_deg, force, velocity, omega: float, *, speed_fluctuation: float = DEFAULT_SPEED_FLUCTUATION
+    theta_deg: np.ndarray,
+    force: np.ndarray,
+    velocity: np.ndarray,
+    omega: float,
+    *,
+    speed_fluctuation: float = DEFAULT_SPEED_FLUCTUATION,
 ) -> DriveTorque:
     """The drive of a force F (N, or an arm's N*m) and velocity s' (m/rad, or rad/rad) given on equal steps
     ``theta_deg`` of one revolution, at cam speed ``omega`` (rad/s)."""
@@ -117,7 +123,7 @@ def drive_torque(
     return DriveTorque(float(omega), theta_deg, np.asarray(torque, dtype=float), float(speed_fluctuation))
 
 
-def follower_velocity(motion: Motion, theta_deg, scale: float) -> np.ndarray:
+def follower_velocity(motion: Motion, theta_deg: ArrayLike, scale: float) -> np.ndarray:
     """ds/dtheta in SI (m/rad, or rad/rad for an arm) at cam angles ``theta_deg``."""
     return motion.host(np.deg2rad(np.asarray(theta_deg, dtype=float)))[1] * scale
 

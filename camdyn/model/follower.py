@@ -9,6 +9,7 @@ import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
+from jax.typing import ArrayLike
 
 from .._core.kinds import FollowerKind
 from .._core.units import M_PER_MM, damping_from_ratio
@@ -40,14 +41,14 @@ class FollowerModel(eqx.Module):
     def rigid(self) -> bool:
         return bool(np.all(np.isinf(np.asarray(self.train_stiffness))))
 
-    def damping_at(self, stiffness):
+    def damping_at(self, stiffness: ArrayLike) -> jax.Array:
         """The spring damping at another rate: it follows sqrt(k m) when given as a ratio, else it stays."""
         ratio = self.damping_ratio
         return jnp.where(
             jnp.isnan(ratio), self.damping, damping_from_ratio(jnp.nan_to_num(ratio), stiffness, self.mass)
         )
 
-    def with_spring(self, stiffness, preload=None) -> FollowerModel:
+    def with_spring(self, stiffness: ArrayLike, preload: ArrayLike | None = None) -> FollowerModel:
         """The same follower with another spring rate (SI; and preload, if given), its damping re-derived."""
         stiffness = jnp.asarray(stiffness, dtype=float)
         new = (
@@ -73,7 +74,7 @@ def follower_model(d: DynamicsSpec, *, kind: FollowerKind) -> FollowerModel:
     )
 
 
-def with_spring_mass(model: FollowerModel, spring_mass, *, lever_arm_mm=None) -> FollowerModel:
+def with_spring_mass(model: FollowerModel, spring_mass: float, *, lever_arm_mm: float | None = None) -> FollowerModel:
     """The follower with a third of its spring's mass (kg) added to the moving mass, the classic correction for
     a spring whose far end is fixed (the coils' kinetic energy with a linear velocity profile). For an
     oscillating arm the spring acts at ``lever_arm_mm`` from the pivot and adds m_s r^2 / 3 to the inertia.

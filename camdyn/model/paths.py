@@ -14,12 +14,14 @@ comes to rest at the two ends, so the tangent never jumps), the precision points
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 
 import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
 from jax.experimental import jet
+from jax.typing import ArrayLike
 
 from .._core.errors import InputError
 from .._core.units import TWO_PI
@@ -61,7 +63,7 @@ class Path(eqx.Module):
     def _local(self, v):  # pragma: no cover - abstract
         raise NotImplementedError
 
-    def point(self, u):
+    def point(self, u: ArrayLike) -> jax.Array:
         """P(u) for a scalar u, mm (differentiable)."""
         return self._local(jnp.mod(self.phase + self.sign * u, 1.0))
 
@@ -83,12 +85,12 @@ class Path(eqx.Module):
         """Parameters where the tangent direction jumps (sharp corners)."""
         return self._to_u(self.local_sharp)
 
-    def derivatives(self, u, order: int = 3):
+    def derivatives(self, u: ArrayLike, order: int = 3) -> jax.Array:
         """(P, P', ..., P^(order)) at scalar u by nested forward-mode autodiff: shape (order + 1, 2)."""
         return jnp.stack(taylor(self.point, u, order))
 
 
-def taylor(f, x, order: int):
+def taylor(f: Callable[[jax.Array], jax.Array], x: ArrayLike, order: int) -> list[jax.Array]:
     """[f(x), f'(x), ..., f^(order)(x)] of a scalar-argument function (Taylor-mode autodiff, ``jax.experimental.jet``).
 
     One propagation of the truncated series instead of ``order`` nested ``jvp`` passes: the traced program

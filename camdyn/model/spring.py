@@ -53,7 +53,7 @@ def _banded(bands, d):
     return out
 
 
-def tensile_strength(material: WireMaterial, d):
+def tensile_strength(material: WireMaterial, d: float | np.ndarray) -> np.ndarray:
     """Minimum tensile strength Sut = A / d^m, MPa (d mm); NaN outside the wire sizes of Table 10-4."""
     d = np.asarray(d, dtype=float)
     out = np.full(d.shape, np.nan)
@@ -62,41 +62,45 @@ def tensile_strength(material: WireMaterial, d):
     return out
 
 
-def shear_modulus(material: WireMaterial, d):
+def shear_modulus(material: WireMaterial, d: float | np.ndarray) -> np.ndarray:
     """G, MPa (Table 10-5; music wire's depends on the size)."""
     return _banded(material.G_bands, d) * 1e3
 
 
-def elastic_modulus(material: WireMaterial, d):
+def elastic_modulus(material: WireMaterial, d: float | np.ndarray) -> np.ndarray:
     """E, MPa (Table 10-5)."""
     return _banded(material.E_bands, d) * 1e3
 
 
-def torsional_yield(material: WireMaterial, d):
+def torsional_yield(material: WireMaterial, d: float | np.ndarray) -> np.ndarray:
     """Static torsional yield strength Ssy, MPa (Table 10-6, before set removal)."""
     return material.yield_fraction * tensile_strength(material, d)
 
 
-def bergstrasser(C):
+def bergstrasser(C: float | np.ndarray) -> np.ndarray:
     """K_B = (4C + 2) / (4C - 3): direct shear and curvature together (eq. 10-5)."""
     C = np.asarray(C, dtype=float)
     return (4 * C + 2) / (4 * C - 3)
 
 
-def wahl(C):
+def wahl(C: float | np.ndarray) -> np.ndarray:
     """K_W = (4C - 1) / (4C - 4) + 0.615 / C (eq. 10-4)."""
     C = np.asarray(C, dtype=float)
     return (4 * C - 1) / (4 * C - 4) + 0.615 / C
 
 
-def shear_stress(force, D, d, factor=None):
+def shear_stress(
+    force: float | np.ndarray, D: float | np.ndarray, d: float | np.ndarray, factor: float | np.ndarray | None = None
+) -> np.ndarray:
     """tau = K 8 F D / (pi d^3), MPa (N, mm); K the Bergstrasser factor unless given."""
     D, d = np.asarray(D, dtype=float), np.asarray(d, dtype=float)
     K = bergstrasser(D / d) if factor is None else factor
     return K * 8 * np.asarray(force, dtype=float) * D / (math.pi * d**3)
 
 
-def rate(d, D, active_coils, G):
+def rate(
+    d: float | np.ndarray, D: float | np.ndarray, active_coils: float | np.ndarray, G: float | np.ndarray
+) -> np.ndarray:
     """k = d^4 G / (8 D^3 N_a), N/mm (mm, MPa)."""
     return np.asarray(d, dtype=float) ** 4 * G / (8 * np.asarray(D, dtype=float) ** 3 * active_coils)
 
@@ -107,17 +111,19 @@ def _ends(end_type: str):
     return _ENDS[end_type]
 
 
-def total_coils(active_coils, end_type: str):
+def total_coils(active_coils: float | np.ndarray, end_type: str) -> np.ndarray:
     """N_t = N_a + N_e (Table 10-1)."""
     return np.asarray(active_coils, dtype=float) + _ends(end_type)[0]
 
 
-def solid_length(d, active_coils, end_type: str):
+def solid_length(d: float | np.ndarray, active_coils: float | np.ndarray, end_type: str) -> np.ndarray:
     """L_s: d (N_t + 1) with plain or squared ends, d N_t when ground (Table 10-1), mm."""
     return np.asarray(d, dtype=float) * (total_coils(active_coils, end_type) + _ends(end_type)[1])
 
 
-def free_length(pitch, d, active_coils, end_type: str):
+def free_length(
+    pitch: float | np.ndarray, d: float | np.ndarray, active_coils: float | np.ndarray, end_type: str
+) -> np.ndarray:
     """L_0 from the pitch p (Table 10-1), mm."""
     p, d, na = (np.asarray(v, dtype=float) for v in (pitch, d, active_coils))
     if end_type == "plain-ground":
@@ -125,7 +131,9 @@ def free_length(pitch, d, active_coils, end_type: str):
     return p * na + _ends(end_type)[2] * d
 
 
-def pitch(free_len, d, active_coils, end_type: str):
+def pitch(
+    free_len: float | np.ndarray, d: float | np.ndarray, active_coils: float | np.ndarray, end_type: str
+) -> np.ndarray:
     """The pitch p from the free length (the inverse of :func:`free_length`), mm."""
     L0, d, na = (np.asarray(v, dtype=float) for v in (free_len, d, active_coils))
     if end_type == "plain-ground":
@@ -133,23 +141,32 @@ def pitch(free_len, d, active_coils, end_type: str):
     return (L0 - _ends(end_type)[2] * d) / na
 
 
-def critical_free_length(D, E, G, alpha=ALPHA_FLAT_PLATES):
+def critical_free_length(
+    D: float | np.ndarray, E: float | np.ndarray, G: float | np.ndarray, alpha: float = ALPHA_FLAT_PLATES
+) -> np.ndarray:
     """Longest free length that is absolutely stable against buckling, mm (eq. 10-13; 2.63 D / alpha for steel)."""
     return math.pi * np.asarray(D, dtype=float) / alpha * np.sqrt(2 * (E - G) / (2 * G + E))
 
 
-def coil_mass(d, D, coils, density_kg_m3):
+def coil_mass(
+    d: float | np.ndarray, D: float | np.ndarray, coils: float | np.ndarray, density_kg_m3: float
+) -> np.ndarray:
     """Mass of ``coils`` turns of wire, kg: pi^2 d^2 D N rho / 4 (eq. 10-26; mm in)."""
     d, D = np.asarray(d, dtype=float) * M_PER_MM, np.asarray(D, dtype=float) * M_PER_MM
     return math.pi**2 * d**2 * D * np.asarray(coils, dtype=float) * density_kg_m3 / 4
 
 
-def surge_frequency(rate_N_per_mm, active_mass_kg):
+def surge_frequency(rate_N_per_mm: float | np.ndarray, active_mass_kg: float | np.ndarray) -> np.ndarray:
     """Fundamental surge frequency of a spring between two flat plates, Hz: (1/2) sqrt(k / m_a) (eq. 10-25)."""
     return 0.5 * np.sqrt(np.asarray(rate_N_per_mm, dtype=float) * N_PER_M_PER_N_PER_MM / active_mass_kg)
 
 
-def shear_endurance(Ssu, criterion: str = "gerber", peened: bool = False, zimmerli=None):
+def shear_endurance(
+    Ssu: float | np.ndarray,
+    criterion: str = "gerber",
+    peened: bool = False,
+    zimmerli: tuple[float, float] | None = None,
+) -> np.ndarray:
     """Sse: the shear endurance through Zimmerli's (Ssa, Ssm) on the Gerber or Goodman line to Ssu, MPa
     (``zimmerli``: other (Ssa, Ssm), MPa)."""
     Ssa, Ssm = zimmerli or ZIMMERLI_MPA["peened" if peened else "unpeened"]
@@ -161,7 +178,14 @@ def shear_endurance(Ssu, criterion: str = "gerber", peened: bool = False, zimmer
     raise InputError("criterion", f"unknown fatigue criterion {criterion!r}; known: gerber, goodman, sines")
 
 
-def fatigue_safety(tau_a, tau_m, Sut, criterion: str = "gerber", peened: bool = False, zimmerli=None):
+def fatigue_safety(
+    tau_a: float | np.ndarray,
+    tau_m: float | np.ndarray,
+    Sut: float | np.ndarray,
+    criterion: str = "gerber",
+    peened: bool = False,
+    zimmerli: tuple[float, float] | None = None,
+) -> np.ndarray:
     """Fatigue factor of safety for infinite life on the load line through the origin (Zimmerli's data, Shigley
     Table 6-7 in shear): Gerber, Goodman, or Sines (Ssa / tau_a, the mean stress ignored). NaN where the wire
     is over 10 mm (Zimmerli's data stop there); inf where nothing alternates."""
@@ -234,11 +258,11 @@ class HelicalSpring:
         w, d = self.wire, self.wire_diameter
         return float(tensile_strength(w, d)), float(torsional_yield(w, d))
 
-    def stress(self, force) -> np.ndarray:
+    def stress(self, force: float | np.ndarray) -> np.ndarray:
         """Shear stress at a force (N), MPa, with the Bergstrasser factor."""
         return shear_stress(force, self.mean_diameter, self.wire_diameter)
 
-    def force_at(self, length) -> np.ndarray:
+    def force_at(self, length: float | np.ndarray) -> np.ndarray:
         """Spring force at a length (mm), N."""
         return self.rate * (self.free_length - np.asarray(length, dtype=float))
 

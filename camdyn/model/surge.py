@@ -26,10 +26,13 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, replace
+from typing import Any
 
 import diffrax
+import jax
 import jax.numpy as jnp
 import numpy as np
+from jax.typing import ArrayLike
 
 from .._core.errors import InputError, NumericalError
 from .._core.units import FFT_GRID, RPM, TWO_PI
@@ -74,8 +77,8 @@ def chain_steady_force(
     segments: int = DEFAULT_SEGMENTS,
     surge_damping: float = DEFAULT_SURGE_DAMPING,
     n: int = FFT_GRID,
-    _spec=None,
-):
+    _spec: tuple[np.ndarray, np.ndarray] | None = None,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Interface force (N, or N*m) on ``theta_j = 2 pi j / n`` of the chain's periodic orbit while the follower
     stays on the cam, and the nodes' orbit q (n, N) with its dq/dtheta (SI). Exact wherever the force stays
     positive."""
@@ -116,7 +119,9 @@ def chain_steady_force(
     return fi, q, dq
 
 
-def chain_min_force(motion, model, spring_mass, omegas, *, n: int = FFT_GRID, **kw) -> np.ndarray:
+def chain_min_force(
+    motion: Motion, model: FollowerModel, spring_mass: float, omegas: ArrayLike, *, n: int = FFT_GRID, **kw: Any
+) -> np.ndarray:
     """Least steady-state interface force per speed (contact assumed, as for the jump speed)."""
     spec = _spectrum(motion, model, n)
     return np.array(
@@ -135,7 +140,7 @@ def chain_jump_speed(
     w_max: float,
     grid: int = 400,
     tol_rpm: float = 0.1,
-    **kw,
+    **kw: Any,
 ) -> float:
     """Least cam speed (rad/s) at which the chain's steady-state least interface force reaches 0 (inf if none
     up to ``w_max``): a scan over ``grid`` speeds, then bisection of the first sign change."""
@@ -159,15 +164,15 @@ def chain_revolution(
     model: FollowerModel,
     spring_mass: float,
     omega: float,
-    q0,
-    v0,
-    theta,
+    q0: jax.Array,
+    v0: jax.Array,
+    theta: jax.Array,
     *,
     segments: int = DEFAULT_SEGMENTS,
     surge_damping: float = DEFAULT_SURGE_DAMPING,
     rtol: float = 1e-10,
     atol: float = 1e-13,
-):
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """diffrax: one revolution of a compliant follower with the chain, from nodes q0 and velocities v0 (SI, per
     second) at theta = 0; returns the nodes (len(theta), N), the interface force on ``theta`` (rad) and the
     state at 2 pi. Contact is unilateral: the follower may leave the cam."""

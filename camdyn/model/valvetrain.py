@@ -53,7 +53,7 @@ class ValvetrainModel(eqx.Module):
         return bool(math.isinf(float(self.train.train_stiffness)))
 
     @property
-    def equivalent_mass(self):
+    def equivalent_mass(self) -> jax.Array:
         """The whole train's mass at the follower, kg: ``m_cam + m_valve r^2``."""
         return self.cam_side_mass + self.valve_mass * self.ratio**2
 

@@ -8,11 +8,14 @@ angles that the step-size controller is told about (``jump_ts``).
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import diffrax
 import jax
 import jax.numpy as jnp
 import numpy as np
+from jax.typing import ArrayLike
+from jaxtyping import PyTree
 
 from ..._core.errors import NumericalError
 from ..._core.jit import cached_jit
@@ -26,7 +29,7 @@ from ._solver import ATOL, MAX_STEPS, RTOL
 from ._train import contact_force, static_position
 
 
-def vector_field(theta, y, args):
+def vector_field(theta: ArrayLike, y: jax.Array, args: Any) -> jax.Array:
     """d/dtheta of (x, p = dx/dtheta) for the compliant model (``contact`` True) or free flight."""
     motion, model, omega, contact = args
     x, p = y
@@ -136,7 +139,7 @@ def _integration_failure(model: FollowerModel, omega: float) -> str:
     )
 
 
-def periodic_orbit(motion: Motion, model: FollowerModel, omega: float, theta):
+def periodic_orbit(motion: Motion, model: FollowerModel, omega: float, theta: ArrayLike) -> tuple[PyTree, float]:
     """Periodic steady state of the compliant model at cam speed ``omega`` (rad/s) by shooting.
 
     Newton on ``Phi(z0) - z0 = 0``, where the one-revolution flow Phi and its Jacobian (the monodromy matrix)
@@ -179,7 +182,7 @@ def _shoot(motion: Motion, model: FollowerModel, omega: float, theta):
     return best_traj, best_r, best_i + 1, i + 1
 
 
-def periodic_tol(lift) -> float:
+def periodic_tol(lift: float) -> float:
     """The revolution-to-revolution mismatch (motion units) up to which a steady state counts as periodic:
     ``PERIODIC_TOL`` times the largest ``lift`` (the cam's, motion units), at least 1 unit."""
     return PERIODIC_TOL * max(1.0, float(np.max(np.abs(lift))))

@@ -8,8 +8,11 @@ written (:func:`steady_state`); the jump speed, spring sizing, jump maps and the
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 import jax
 import jax.numpy as jnp
+from jax.typing import ArrayLike
 
 from ..._core.jit import cached_jit, filter_jit
 from ..._core.units import FFT_GRID, TWO_PI
@@ -20,7 +23,15 @@ from ._train import train_force
 _FFT_N = FFT_GRID
 
 
-def steady_state(spec, omega, model: FollowerModel, stiffness, damping, n: int, unit=None):
+def steady_state(
+    spec: jax.Array,
+    omega: ArrayLike,
+    model: FollowerModel,
+    stiffness: ArrayLike,
+    damping: ArrayLike,
+    n: int,
+    unit: ArrayLike | None = None,
+) -> tuple[jax.Array, jax.Array]:
     """The compliant model's periodic steady state in contact on ``theta_j = 2 pi j / n``: (x, dx/dtheta).
 
     ``spec = rfft(s)`` of the cam motion on that grid; ``omega`` (rad/s), ``stiffness`` and ``damping`` (the
@@ -40,14 +51,14 @@ def steady_state(spec, omega, model: FollowerModel, stiffness, damping, n: int, 
     return jnp.fft.irfft(x_spec, n), jnp.fft.irfft(1j * k * x_spec, n)
 
 
-def steady_force_at(motion: Motion, model: FollowerModel, n: int):
+def steady_force_at(motion: Motion, model: FollowerModel, n: int) -> Callable[[float | jax.Array], jax.Array]:
     """``omega -> interface force`` on the grid ``theta_k = 2 pi k / n`` of the compliant model's periodic orbit
     while it stays on the cam (harmonic balance by FFT, :func:`steady_state`)."""
     theta = jnp.arange(n) * (TWO_PI / n)
     s, s1, _, _ = motion(theta) * model.scale
     spec = jnp.fft.rfft(s)
 
-    def force(omega):
+    def force(omega: float | jax.Array) -> jax.Array:
         x, x1 = steady_state(spec, omega, model, model.stiffness, model.damping, n)
         return train_force(model, omega, s, s1, x, x1)
 
@@ -55,7 +66,9 @@ def steady_force_at(motion: Motion, model: FollowerModel, n: int):
 
 
 @cached_jit
-def linear_min_force(motion: Motion, model: FollowerModel, omegas, n: int = _FFT_N, weight=None):
+def linear_min_force(
+    motion: Motion, model: FollowerModel, omegas: jax.Array, n: int = _FFT_N, weight: ArrayLike | None = None
+) -> jax.Array:
     """Least interface force (N) of the compliant model's periodic orbit if it never separates, per speed.
 
     While the follower stays on the cam the model is linear and time-invariant with a periodic input, so its
@@ -66,7 +79,7 @@ def linear_min_force(motion: Motion, model: FollowerModel, omegas, n: int = _FFT
     """
     force = steady_force_at(motion, model, n)
 
-    def one(omega):
+    def one(omega: float | jax.Array) -> jax.Array:
         f = force(omega)
         return jnp.min(f if weight is None else f * weight)
 
@@ -75,7 +88,7 @@ def linear_min_force(motion: Motion, model: FollowerModel, omegas, n: int = _FFT
 
 
 @filter_jit
-def linear_contact_force(motion: Motion, model: FollowerModel, omegas, n: int = _FFT_N):
+def linear_contact_force(motion: Motion, model: FollowerModel, omegas: jax.Array, n: int = _FFT_N) -> jax.Array:
     """The whole interface force (N or N*m) of :func:`linear_min_force`'s steady state: shape (*omegas.shape, n).
 
     Angles ``theta_j = 2 pi j / n``. Exact wherever it stays positive; affine in the preload (raising F0 adds

@@ -5,8 +5,10 @@ from __future__ import annotations
 import math
 from typing import cast
 
+import jax
 import jax.numpy as jnp
 import numpy as np
+from jax.typing import ArrayLike
 from scipy.optimize import OptimizeResult, minimize_scalar  # unannotated: cast its result
 
 from ..._core.jit import cached_jit
@@ -15,7 +17,7 @@ from ..follower import FollowerModel
 from ..motion import Motion, evaluate
 
 
-def kinematic_force(motion: Motion, model: FollowerModel, omega, theta):
+def kinematic_force(motion: Motion, model: FollowerModel, omega: ArrayLike, theta: ArrayLike) -> jax.Array:
     """Interface force of a follower that never leaves the cam (CCM paper eq. 7), N.
 
     ``Fi = m w^2 s'' + c w s' + k s + F0 + F_ext`` with s in SI (scale applied), w in rad/s.
@@ -24,7 +26,15 @@ def kinematic_force(motion: Motion, model: FollowerModel, omega, theta):
     return kinematic_force_of(model, omega, s, s1, s2)
 
 
-def kinematic_force_of(model: FollowerModel, omega, s, s1, s2, stiffness=None, damping=None):
+def kinematic_force_of(
+    model: FollowerModel,
+    omega: ArrayLike,
+    s: ArrayLike,
+    s1: ArrayLike,
+    s2: ArrayLike,
+    stiffness: ArrayLike | None = None,
+    damping: ArrayLike | None = None,
+) -> jax.Array:
     """:func:`kinematic_force` from the motion's values in SI (s, ds/dtheta, d2s/dtheta2); ``stiffness`` and
     ``damping`` (SI) replace the model's spring where given (arrays: a grid of spring rates is one ``vmap``)."""
     k = model.stiffness if stiffness is None else stiffness
@@ -63,7 +73,7 @@ def kinematic_jump_speed(motion: Motion, model: FollowerModel, n: int = 7200) ->
     m, c, k = (float(model.mass), float(model.damping), float(model.stiffness))
     f0 = float(model.preload) + float(model.external)
 
-    def w_at(theta):
+    def w_at(theta: ArrayLike) -> np.ndarray:
         s, s1, s2, _ = np.asarray(evaluate(motion, jnp.asarray(theta, dtype=float))) * model.scale
         return _quadratic_jump_speed(m * s2, c * s1, k * s + f0)
 
@@ -75,7 +85,7 @@ def kinematic_jump_speed(motion: Motion, model: FollowerModel, n: int = 7200) ->
     h = TWO_PI / n
     cap = 1e6 * w[i]  # a finite stand-in for "no jump here": Brent's parabola steps turn inf into NaN
 
-    def objective(t):
+    def objective(t: float) -> float:
         return min(float(w_at(np.array([t]))[0]), cap)
 
     res = cast(

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 
 import numpy as np
 
@@ -38,7 +39,15 @@ def dynamic_jump_speed(
     return first_zero_speed(least, w_max, grid=grid, width_rpm=tol_rpm / 10, points=16, where="jump-speed search")
 
 
-def first_zero_speed(least_force, w_max: float, *, grid: int, width_rpm: float, points: int, where: str) -> float:
+def first_zero_speed(
+    least_force: Callable[[np.ndarray], np.ndarray],
+    w_max: float,
+    *,
+    grid: int,
+    width_rpm: float,
+    points: int,
+    where: str,
+) -> float:
     """The jump-speed search, for every steady-state model: the least speed (rad/s) in (0, ``w_max``] at which
     ``least_force(omegas)`` (the least interface force at each speed, an array) reaches 0, inf if none. A scan
     of ``grid`` speeds, then ``points`` speeds at a time (1: bisection) into the first sign change until it is

@@ -171,7 +171,9 @@ def _zero_runs(theta_deg, force, gap) -> list[tuple[float, float, float, float]]
     return sorted(out)
 
 
-def separations_from_mask(theta_deg, flying, gap, rel_speed, merge_deg) -> list[Separation]:
+def separations_from_mask(
+    theta_deg: np.ndarray, flying: np.ndarray, gap: np.ndarray, rel_speed: np.ndarray, merge_deg: float
+) -> list[Separation]:
     """Flights from a boolean mask on a periodic grid; flights split by contact shorter than merge_deg merge."""
     n = len(theta_deg)
     if not flying.any():

@@ -174,7 +174,7 @@ def rigid_response(
             "rigid", float(omega), theta_deg, vals[0], vals[0].copy(), vals[1].copy(), kin, kin, (), 0.0, 0.0
         )
 
-    def fk(t):
+    def fk(t: float) -> float:
         return float(kinematic_force_jit(motion, model, jnp.asarray(omega, dtype=float), jnp.asarray(t, dtype=float)))
 
     x, p, force = vals[0].copy(), vals[1].copy(), kin.copy()

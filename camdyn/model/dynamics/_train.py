@@ -6,12 +6,27 @@ chain, the sweeps, the tolerance study, the optimizer) reads it from here.
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
+import jax
 import jax.numpy as jnp
+import numpy as np
 
 from ..follower import FollowerModel
 
+if TYPE_CHECKING:
+    from ..._core.units import Num
 
-def train_force(model: FollowerModel, omega, s, s1, x, x1, unit=1.0):
+
+def train_force(
+    model: FollowerModel,
+    omega: float | np.ndarray | jax.Array,
+    s: float | np.ndarray | jax.Array,
+    s1: float | np.ndarray | jax.Array,
+    x: float | np.ndarray | jax.Array,
+    x1: float | np.ndarray | jax.Array,
+    unit: float | np.ndarray | jax.Array = 1.0,
+) -> jax.Array:
     """The train's force on the cam while they touch, ``k_f (s - x) + c_f w (s' - x')``: N, or N*m for an arm.
 
     ``omega``: the cam speed (rad/s); ``s``, ``s1``: the cam's lift and its d/dtheta; ``x``, ``x1``: the
@@ -22,13 +37,23 @@ def train_force(model: FollowerModel, omega, s, s1, x, x1, unit=1.0):
     return model.train_stiffness * unit * (s - x) + model.train_damping * omega * unit * (s1 - x1)
 
 
-def contact_force(model: FollowerModel, omega, s, s1, x, x1, unit=1.0):
+def contact_force(
+    model: FollowerModel,
+    omega: float | np.ndarray | jax.Array,
+    s: float | np.ndarray | jax.Array,
+    s1: float | np.ndarray | jax.Array,
+    x: float | np.ndarray | jax.Array,
+    x1: float | np.ndarray | jax.Array,
+    unit: float | np.ndarray | jax.Array = 1.0,
+) -> jax.Array:
     """The interface force with unilateral contact: :func:`train_force` while the cam is ahead of the follower
     (s > x) and pushes it, else 0 (the follower flies); same units and arguments. JAX (returns a JAX array)."""
     return jnp.where(s > x, jnp.maximum(0.0, train_force(model, omega, s, s1, x, x1, unit)), 0.0)
 
 
-def static_position(model: FollowerModel, s, unit=1.0):
+def static_position(
+    model: FollowerModel, s: float | np.ndarray | jax.Array, unit: float | np.ndarray | jax.Array = 1.0
+) -> jax.Array:
     """Where the compliant follower rests on a cam standing at lift ``s``: ``k_f (s - x) = k x + F0 + F_ext``, so
     ``x = (k_f s - F0 - F_ext) / (k + k_f)``, in the unit of ``s`` whose SI value is ``unit`` (as
     :func:`train_force`). The reference the residual vibration in a dwell is measured from."""
@@ -36,7 +61,7 @@ def static_position(model: FollowerModel, s, unit=1.0):
     return (kf * s - model.preload - model.external) / (k + kf)
 
 
-def preload_share(stiffness, train_stiffness):
+def preload_share(stiffness: Num, train_stiffness: Num) -> Num:
     """How much of a preload change reaches the cam in contact, ``dF_i / dF0 = k_f / (k + k_f)`` (1): the
     in-contact steady state is affine in the preload, which moves the follower by ``-dF0 / (k + k_f)`` at every
     angle and speed (:func:`static_position`). Spring rate and train stiffness in one unit (SI); compliant trains."""

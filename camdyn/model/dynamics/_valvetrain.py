@@ -26,7 +26,9 @@ the follower is back on the cam before the revolution ends, that revolution is t
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
+from typing import Any
 
 import diffrax
 import equinox as eqx
@@ -34,6 +36,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 import optimistix as optx
+from jax.typing import ArrayLike
 
 from ..._core.errors import NumericalError
 from ..._core.units import M_PER_MM, RPM, THETA_GRID, TWO_PI, VALVE_BOUNCE_TOLERANCE_MM, VALVE_TIMING_LIFT_MM
@@ -120,7 +123,9 @@ class _Bracket(optx.Bisection):
     """Bisection that stops on the bracket's width alone: the event functions mix forces (N) and gaps (m), and
     a force through a kink or a segment boundary need not come near zero at its crossing."""
 
-    def terminate(self, fn, y, args, options, state, tags):
+    def terminate(
+        self, fn: Any, y: Any, args: Any, options: Any, state: Any, tags: Any
+    ) -> tuple[jax.Array, optx.RESULTS]:
         return jnp.abs(state.lower - state.upper) < self.atol + self.rtol * jnp.abs(y), optx.RESULTS.successful
 
 
@@ -148,7 +153,7 @@ def _stretch(motion, vt, omega, modes, force_tol, t0, t1, y0, jumps, ts):
         throw=False,
     )
 
-    def one(t, y):
+    def one(t: ArrayLike, y: jax.Array) -> jax.Array:
         _, _, f_cam, f_t, _, (xc, pc, xv, pv, _, _) = _dynamics(t, y, args)
         return jnp.stack([xc, pc, xv, pv, f_cam, f_t])
 
@@ -247,7 +252,7 @@ class ValvetrainResponse:
         down = n - 1 - int(np.argmax(a[::-1] > 0.0))  # the last open grid point
         step = 360.0 / n
 
-        def cross(j0):  # a[j0] <= 0 < a[j0 + 1] or the reverse
+        def cross(j0: int) -> float:  # a[j0] <= 0 < a[j0 + 1] or the reverse
             f = a[j0] / (a[j0] - a[(j0 + 1) % n])
             return (self.theta_deg[idx[j0]] + f * step) % 360.0
 
@@ -321,7 +326,9 @@ def valvetrain_response(motion: Motion, vt: ValvetrainModel, omega: float, n: in
         while True:
             m = jnp.asarray(modes)
 
-            def run(ts, m=m, t0=t0, t_end=t_end, y=y):  # this stretch again, saved at ts: (6, len(ts))
+            def run(
+                ts: np.ndarray, m: Any = m, t0: float = t0, t_end: float = t_end, y: Any = y
+            ) -> np.ndarray:  # this stretch again, saved at ts: (6, len(ts))
                 t1, _, _, out = _stretch(
                     motion, vt, w, m, force_tol, jnp.asarray(t0), jnp.asarray(t_end), jnp.asarray(y), jumps, ts
                 )
@@ -469,27 +476,39 @@ def _apex(run, t0: float, t1: float, n: int) -> float:
 
 
 def float_speed(
-    motion: Motion, vt: ValvetrainModel, w_max: float, *, grid: int = 40, width_rpm: float = 1.0, respond=None
+    motion: Motion,
+    vt: ValvetrainModel,
+    w_max: float,
+    *,
+    grid: int = 40,
+    width_rpm: float = 1.0,
+    respond: Callable[[float], ValvetrainResponse] | None = None,
 ) -> float:
     """The first cam speed (rad/s) at which the cam contact opens while the valve is off its seat (inf: none up
     to ``w_max``): the shared jump search on the least cam-contact force over the valve event. ``respond``: the
     response at a speed, where a caller shares them between searches (default :func:`valvetrain_response`)."""
     respond = respond or (lambda w: valvetrain_response(motion, vt, w))
 
-    def least(ws):  # a speed at which the valve does not lift has no event to float in
+    def least(ws: np.ndarray) -> np.ndarray:  # a speed at which the valve does not lift has no event to float in
         return np.nan_to_num([respond(float(w)).least_event_force for w in np.atleast_1d(ws)], nan=_NO_EVENT)
 
     return first_zero_speed(least, w_max, grid=grid, width_rpm=width_rpm, points=1, where="valvetrain float search")
 
 
 def bounce_speed(
-    motion: Motion, vt: ValvetrainModel, w_max: float, *, grid: int = 40, width_rpm: float = 1.0, respond=None
+    motion: Motion,
+    vt: ValvetrainModel,
+    w_max: float,
+    *,
+    grid: int = 40,
+    width_rpm: float = 1.0,
+    respond: Callable[[float], ValvetrainResponse] | None = None,
 ) -> float:
     """The first cam speed (rad/s) at which the valve leaves its seat after closing by more than the seat's
     micro-bounce tolerance :data:`VALVE_BOUNCE_TOLERANCE_MM` (inf: none up to ``w_max``)."""
     respond = respond or (lambda w: valvetrain_response(motion, vt, w))
 
-    def margin(ws):
+    def margin(ws: np.ndarray) -> np.ndarray:
         return np.array([VALVE_BOUNCE_TOLERANCE_MM - respond(float(w)).bounce_height_mm for w in np.atleast_1d(ws)])
 
     return first_zero_speed(margin, w_max, grid=grid, width_rpm=width_rpm, points=1, where="valvetrain bounce search")

@@ -5,13 +5,18 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, field, fields
+from typing import TYPE_CHECKING
 
 import numpy as np
+from jax.typing import ArrayLike
 
 from ..._core.errors import InputError, NumericalError
 from ..._core.units import CUSP_MM, THETA_GRID, newton_per_torque
 from ...schema import FollowerSpec
 from ._kernel import check_assembly, evaluate_geometry, with_breaks
+
+if TYPE_CHECKING:
+    from ..motion import Motion
 
 
 @dataclass(frozen=True)
@@ -77,7 +82,7 @@ def _extremes(f: FollowerSpec, theta_rad: np.ndarray, ev: dict[str, np.ndarray])
 
 
 def extremes(
-    motion, follower: FollowerSpec, *, base_radius: float | None = None, n: int = THETA_GRID
+    motion: Motion, follower: FollowerSpec, *, base_radius: float | None = None, n: int = THETA_GRID
 ) -> GeometryExtremes:
     """The geometry's extremes on n equal steps plus both sides of every break, with the follower's own base
     radius or ``base_radius`` (mm; the base-circle search varies it without rebuilding the follower)."""
@@ -132,7 +137,7 @@ class CamGeometry(GeometryExtremes):
             out["face_centre_mm"] = self.face_centre_mm
         return out
 
-    def table(self, theta_deg) -> dict[str, np.ndarray]:
+    def table(self, theta_deg: ArrayLike) -> dict[str, np.ndarray]:
         """Geometry columns at arbitrary cam angles (deg); see :mod:`camdyn.model.geometry` for signs.
 
         Flat followers add ``face_t_mm``, the contact's position along the face.
@@ -162,14 +167,14 @@ class CamGeometry(GeometryExtremes):
         centre), as u in [0, 1] -> (2, m) mm like :meth:`contour_fn`; a true offset only where the contour's
         concave radii exceed the distance."""
 
-        def curve(u):
+        def curve(u: ArrayLike) -> np.ndarray:
             ev = self._evaluate(2 * np.pi * np.asarray(u, dtype=float))
             return (ev["contour"] + distance_mm * ev["normal"]).T
 
         return curve
 
 
-def analyze(motion, follower: FollowerSpec, *, n: int = THETA_GRID) -> CamGeometry:
+def analyze(motion: Motion, follower: FollowerSpec, *, n: int = THETA_GRID) -> CamGeometry:
     """Pitch curve, contour, pressure angle and curvature of a cam on n equal steps, and their extremes.
 
     Raises :class:`InputError` for a follower that cannot be assembled, :class:`NumericalError` for a
@@ -198,7 +203,7 @@ def analyze(motion, follower: FollowerSpec, *, n: int = THETA_GRID) -> CamGeomet
     )
 
 
-def lever_arm_mm(motion, follower: FollowerSpec, theta) -> np.ndarray:
+def lever_arm_mm(motion: Motion, follower: FollowerSpec, theta: ArrayLike) -> np.ndarray:
     """Moment arm (mm) about the pivot of a unit contact force, in the sense of increasing swing.
 
     theta: cam angle(s), rad. By virtual work the arm is N . dX/dpsi (N the contact normal, X the follower
@@ -211,7 +216,7 @@ def lever_arm_mm(motion, follower: FollowerSpec, theta) -> np.ndarray:
     return evaluate_geometry(motion, follower, theta)["lever"]
 
 
-def contact_per_force(motion, follower: FollowerSpec | None, theta) -> np.ndarray:
+def contact_per_force(motion: Motion, follower: FollowerSpec | None, theta: ArrayLike) -> np.ndarray:
     """The contact force (N) per unit of the force the follower's dynamics carry, at cam angles ``theta`` (rad):
     1 for a translating follower (camdyn reports its axial force), :func:`newton_per_torque_at` for an arm."""
     if not motion.kind.rotary:
@@ -221,7 +226,7 @@ def contact_per_force(motion, follower: FollowerSpec | None, theta) -> np.ndarra
     return newton_per_torque_at(motion, follower, theta)
 
 
-def newton_per_torque_at(motion, follower: FollowerSpec, theta) -> np.ndarray:
+def newton_per_torque_at(motion: Motion, follower: FollowerSpec, theta: ArrayLike) -> np.ndarray:
     """The factor (1/m) turning an arm's torque (N*m) into its contact force (N) at cam angles ``theta`` (rad):
     1 / lever arm. :class:`NumericalError` where the contact normal passes through the pivot (no lever arm)."""
     arm_mm = np.asarray(lever_arm_mm(motion, follower, theta))

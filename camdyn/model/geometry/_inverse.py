@@ -85,7 +85,7 @@ def _first_crossing(xy: np.ndarray) -> tuple[int, int] | None:
     a, b = xy, np.roll(xy, -1, axis=0)
     n = len(xy)
 
-    def orient(p, q, r):
+    def orient(p: np.ndarray, q: np.ndarray, r: np.ndarray) -> np.ndarray:
         return np.sign(
             (q[..., 0] - p[..., 0]) * (r[..., 1] - p[..., 1]) - (q[..., 1] - p[..., 1]) * (r[..., 0] - p[..., 0])
         )

@@ -4,10 +4,12 @@ once per follower type; and the assembly conditions a follower must meet."""
 from __future__ import annotations
 
 import math
+from typing import TYPE_CHECKING
 
 import jax
 import jax.numpy as jnp
 import numpy as np
+from jax.typing import ArrayLike
 
 from ..._core.errors import InputError
 from ..._core.jit import cached_jit
@@ -15,10 +17,13 @@ from ..._core.kinds import FollowerType
 from ...schema import FollowerSpec
 from ..motion import evaluate
 
+if TYPE_CHECKING:
+    from ..motion import Motion
+
 _BREAK_EPS = 1e-9  # rad: one-sided limits at the motion's breaks, where s'' may jump
 
 
-def check_assembly(motion, f: FollowerSpec) -> None:
+def check_assembly(motion: Motion, f: FollowerSpec) -> None:
     """Raise :class:`InputError` for a follower that cannot carry this motion or cannot be assembled (the keys
     each follower type needs are the schema's: :class:`camdyn.schema.FollowerSpec`)."""
     want = f.kind.motion_unit
@@ -152,7 +157,9 @@ def _point(ftype: FollowerType, p, th0, sv):
             face_t=nan,
         )
 
-    def face(t):  # the face line in the cam frame: unit normal m and distance h from O
+    def face(
+        t: ArrayLike,
+    ) -> tuple[jax.Array, jax.Array]:  # the face line in the cam frame: unit normal m and distance h from O
         m_fixed, h, _, _ = _flat_face(ftype, p, q_of(t))
         return cam(t, m_fixed), h
 
@@ -185,7 +192,7 @@ def _geometry(p, theta, sv, ftype: FollowerType):
     return jax.vmap(lambda th, s: _point(ftype, p, th, s), in_axes=(0, 1))(theta, sv)
 
 
-def geometry_of(f: FollowerSpec, theta, sv) -> dict:
+def geometry_of(f: FollowerSpec, theta: ArrayLike, sv: jax.Array) -> dict:
     """The geometry at cam angles ``theta`` (rad) from motion values ``sv`` = (s, s', s'', s''') of shape (4, n),
     as a traceable JAX function of ``sv``: what the optimizer differentiates (pressure angle ``phi`` rad,
     ``kappa_pitch`` 1/mm, ``rho_contour`` mm, ``lever`` mm)."""
@@ -195,7 +202,9 @@ def geometry_of(f: FollowerSpec, theta, sv) -> dict:
 _CHUNK = 4096  # angles per compiled call: a 3600-step revolution plus its breaks fits one
 
 
-def evaluate_geometry(motion, f: FollowerSpec, theta_rad, base_radius: float | None = None) -> dict[str, np.ndarray]:
+def evaluate_geometry(
+    motion: Motion, f: FollowerSpec, theta_rad, base_radius: float | None = None
+) -> dict[str, np.ndarray]:
     """Evaluate at any number of angles (rad) in fixed-size chunks, so nothing recompiles per query size."""
     theta_rad = np.asarray(theta_rad, dtype=float)
     flat = np.atleast_1d(theta_rad).ravel()
@@ -211,7 +220,7 @@ def evaluate_geometry(motion, f: FollowerSpec, theta_rad, base_radius: float | N
     return {k: v.reshape(theta_rad.shape + v.shape[1:]) for k, v in out.items()}
 
 
-def with_breaks(motion, theta_rad: np.ndarray) -> np.ndarray:
+def with_breaks(motion: Motion, theta_rad: np.ndarray) -> np.ndarray:
     """theta plus the one-sided limits at every break: extremes of s'' terms may sit exactly there."""
     b = np.deg2rad(np.asarray(motion.breaks_deg, dtype=float))
     return np.concatenate([theta_rad, np.mod(b - _BREAK_EPS, 2 * np.pi), b + _BREAK_EPS])

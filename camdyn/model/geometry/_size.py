@@ -4,6 +4,7 @@ size ``camdyn synthesize`` writes, and the base radius of a path case that state
 from __future__ import annotations
 
 import math
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -12,6 +13,9 @@ from ..._core.units import CUSP_MM, DEFAULT_MIN_CURVATURE_RATIO, THETA_GRID
 from ...schema import FollowerSpec
 from ._analyze import GeometryExtremes, extremes
 from ._kernel import check_assembly
+
+if TYPE_CHECKING:
+    from ..motion import Motion
 
 BASE_RADIUS_STEP_MM = 0.5  # a base radius chosen for a cam that is to be made is rounded up to this
 
@@ -39,7 +43,7 @@ def rounded_base_radius(rb: float) -> float:
 
 
 def min_base_radius(
-    motion,
+    motion: Motion,
     follower: FollowerSpec,
     *,
     max_pressure_angle: float | None = None,

@@ -2,15 +2,21 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable, Sequence
+from typing import Any
+
 import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
+from jax.typing import ArrayLike
 
 N_GRID = 2048  # path points of the synthesis table ("path point i" in messages; Ye & Smith's index I)
 
 
-def padded(fn, obj, u, *more):
+def padded(
+    fn: Callable[..., Any], obj: Any, u: Sequence[float] | np.ndarray, *more: Sequence[float] | np.ndarray
+) -> Any:
     """``fn(obj, u, *more)`` for u of any length, padded to a multiple of N_GRID so each jitted helper compiles
     once per mechanism structure instead of once per array length."""
     u = np.atleast_1d(np.asarray(u, dtype=float))
@@ -31,6 +37,6 @@ def _vmap_jit(fn, u):
     return jax.vmap(fn)(u)
 
 
-def vmap_scalar(fn, u):
+def vmap_scalar(fn: Callable[[jax.Array], jax.Array], u: ArrayLike) -> np.ndarray:
     """numpy values of a scalar-u function (an equinox bound method) over the array u."""
     return np.asarray(_vmap_jit(fn, jnp.asarray(u)))

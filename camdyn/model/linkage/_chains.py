@@ -11,6 +11,7 @@ import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
+from jax.typing import ArrayLike
 
 from ..._core.errors import NumericalError
 from ...schema import MechanismSpec
@@ -35,10 +36,10 @@ class CCMChain(eqx.Module):
     direction: jax.Array  # unit lift direction
     slider_mode: float = eqx.field(static=True)
 
-    def p_side(self, u):
+    def p_side(self, u: ArrayLike) -> jax.Array:
         return self.path.point(u) - self.center
 
-    def points(self, u, theta):
+    def points(self, u: ArrayLike, theta: ArrayLike) -> dict[str, jax.Array]:
         """Joint positions relative to A at path parameter u and crank angle theta (rad)."""
         t = self.p_side(u)
         b = self.crank * unit(theta)
@@ -47,7 +48,7 @@ class CCMChain(eqx.Module):
         p = rrp(c, self.origin, self.direction, self.link, self.slider_mode)
         return {"B": b, "T": t, "C": c, "E": self.origin + p * self.direction, "p": p}
 
-    def output(self, u, theta):
+    def output(self, u: ArrayLike, theta: ArrayLike) -> jax.Array:
         return self.points(u, theta)["p"]
 
 
@@ -71,11 +72,11 @@ class OscillatingChain(eqx.Module):
         f = self.path.point(u) - self.center
         return f, rrr(f, self.pivot, self.path_link, self.follower_link, self.follower_mode)
 
-    def p_side(self, u):
+    def p_side(self, u: ArrayLike) -> jax.Array:
         f, c = self._fc(u)
         return f + self.pin * (c - f) / self.path_link
 
-    def points(self, u, theta=None):
+    def points(self, u: ArrayLike, theta: ArrayLike | None = None) -> dict[str, jax.Array]:
         f, c = self._fc(u)
         b = f + self.pin * (c - f) / self.path_link
         e = self.pivot + self.arm * turn((c - self.pivot) / self.follower_link, self.arm_angle)
@@ -83,8 +84,11 @@ class OscillatingChain(eqx.Module):
         psi = jnp.arctan2(cross2(a, dn), jnp.sum(a * dn))
         return {"F": f, "C": c, "B": b, "E": e, "psi": psi}
 
-    def output(self, u, theta):
+    def output(self, u: ArrayLike, theta: ArrayLike) -> jax.Array:
         return self.points(u)["psi"]
+
+
+LinkChain = CCMChain | OscillatingChain  # the chain a cam-linkage mechanism solves
 
 
 def make_chain(path: Path, ms: MechanismSpec, r: float, coupler: float) -> CCMChain | OscillatingChain:
@@ -123,10 +127,11 @@ def make_chain(path: Path, ms: MechanismSpec, r: float, coupler: float) -> CCMCh
     )
 
 
-def check_follower_side(chain, ms: MechanismSpec, u_grid: np.ndarray) -> None:
+def check_follower_side(chain: LinkChain, ms: MechanismSpec, u_grid: np.ndarray) -> None:
     """The path-driven follower dyad must close at every path point (else: where and by how much)."""
     if ms.type != "oscillating":
         return
+    assert isinstance(chain, OscillatingChain)  # an oscillating mechanism's chain
     assert ms.path_link is not None and ms.follower_link is not None  # the schema: an oscillating mechanism needs them
     f = vmap_scalar(chain.path.point, u_grid) - np.asarray(chain.center)
     miss = np.asarray(rrr_reach_miss(f, np.asarray(chain.pivot), ms.path_link, ms.follower_link))

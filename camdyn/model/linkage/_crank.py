@@ -12,17 +12,22 @@ every derivative stays finite and exact through the switch.
 from __future__ import annotations
 
 from collections.abc import Callable
+from typing import TYPE_CHECKING
 
 import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
+from jax.typing import ArrayLike
 
 from ..._core.errors import NumericalError
 from ..paths import Path
 from ._batch import padded
 from ._dyads import norm
 from ._extremes import Extremes
+
+if TYPE_CHECKING:
+    from ._chains import LinkChain
 
 WINDOW_RAD = 0.15  # replace acos by the signed-root form within this angle (rad) of a singular position
 
@@ -65,7 +70,7 @@ class CrankDyad(eqx.Module):
     def n_switch(self) -> int:
         return int(self.u_sw.shape[0])
 
-    def angles(self, pfun: Callable, u):
+    def angles(self, pfun: Callable, u: ArrayLike) -> tuple[jax.Array, jax.Array]:
         """(alpha, Phi) at scalar u, rad; Phi is smooth through the switches."""
         p = pfun(u)
         d = norm(p)
@@ -169,7 +174,7 @@ def _fit_q(chain, us, dstar, sgn, t_lo: float, t_hi: float) -> tuple[np.ndarray,
 
 
 def build_crank(
-    chain, r: float, coupler: float, ext: Extremes, m_start: int, path: Path
+    chain: LinkChain, r: float, coupler: float, ext: Extremes, m_start: int, path: Path
 ) -> tuple[CrankDyad, list[str]]:
     """Crank dyad with switches where |OP| touches r + coupler (extended) or |r - coupler| (folded or extended)."""
     notes: list[str] = []

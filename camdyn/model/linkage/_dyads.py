@@ -6,39 +6,41 @@ An RRR dyad with outer joints P, Q and middle joint M has assembly mode +1 when 
 
 from __future__ import annotations
 
+import jax
 import jax.numpy as jnp
+from jax.typing import ArrayLike
 
 from ..paths import taylor
 
 
-def cross2(a, b):
+def cross2(a: jax.Array, b: jax.Array) -> jax.Array:
     """z component of a x b for 2-vectors (..., 2)."""
     return a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]
 
 
-def cw(v):
+def cw(v: jax.Array) -> jax.Array:
     """v turned clockwise by 90 degrees."""
     return jnp.stack([v[..., 1], -v[..., 0]], axis=-1)
 
 
-def unit(angle):
+def unit(angle: ArrayLike) -> jax.Array:
     """Unit vector at ``angle`` (rad)."""
     return jnp.stack([jnp.cos(angle), jnp.sin(angle)], axis=-1)
 
 
-def turn(v, angle):
+def turn(v: jax.Array, angle: ArrayLike) -> jax.Array:
     """v turned anticlockwise by ``angle`` (rad)."""
     c, s = jnp.cos(angle), jnp.sin(angle)
     return jnp.stack([c * v[..., 0] - s * v[..., 1], s * v[..., 0] + c * v[..., 1]], axis=-1)
 
 
-def rrr_reach_miss(p, q, lp, lq):
+def rrr_reach_miss(p: ArrayLike, q: ArrayLike, lp: float | jax.Array, lq: float | jax.Array) -> jax.Array:
     """How far (mm) the RRR dyad P-M-Q is from closing: 0 when |lp - lq| <= |PQ| <= lp + lq."""
     d = jnp.linalg.norm(jnp.asarray(q) - jnp.asarray(p), axis=-1)
     return jnp.maximum(jnp.maximum(d - (lp + lq), abs(lp - lq) - d), 0.0)
 
 
-def rrr(p, q, lp, lq, mode):
+def rrr(p: ArrayLike, q: ArrayLike, lp: float | jax.Array, lq: float | jax.Array, mode: ArrayLike) -> jax.Array:
     """Middle joint M of an RRR dyad with |M - P| = lp, |M - Q| = lq (mm).
 
     ``mode`` +1: P, M, Q anticlockwise (Ye & Smith's solid lines), -1: clockwise. Works on (..., 2) arrays;
@@ -52,7 +54,7 @@ def rrr(p, q, lp, lq, mode):
     return p + x[..., None] * v + (mode * h)[..., None] * cw(v)
 
 
-def rrp(c, origin, direction, length, mode):
+def rrp(c: jax.Array, origin: jax.Array, direction: jax.Array, length: ArrayLike, mode: ArrayLike) -> jax.Array:
     """Slider point E on the line ``origin + p * direction`` with |E - C| = ``length``: returns p (mm).
 
     ``mode`` +1 takes E ahead of the foot of C on the line (along ``direction``, a unit vector), -1 behind.
@@ -66,14 +68,14 @@ def rrp(c, origin, direction, length, mode):
 def _kinematics(fn, *xs):
     """Position, velocity and acceleration of ``fn`` of points moving as x(tau) = x0 + v tau + a tau^2 / 2."""
 
-    def at(tau):
+    def at(tau: ArrayLike) -> jax.Array:
         return fn(*[x[0] + x[1] * tau + 0.5 * x[2] * tau * tau for x in xs])
 
     vals = taylor(lambda tau: jnp.concatenate([jnp.atleast_1d(y) for y in at(tau)]), jnp.zeros(()), 2)
     return vals
 
 
-def rrr_kinematics(p, q, lp: float, lq: float, mode: int) -> dict:
+def rrr_kinematics(p: jax.Array, q: jax.Array, lp: float, lq: float, mode: int) -> dict:
     """RRR dyad kinematics (Ye & Smith Appendix 2) by forward-mode autodiff.
 
     ``p``, ``q``: (3, 2) arrays of position (mm), velocity (mm/s) and acceleration (mm/s^2) of the outer joints.
@@ -81,7 +83,7 @@ def rrr_kinematics(p, q, lp: float, lq: float, mode: int) -> dict:
     angular velocities (rad/s) and accelerations (rad/s^2) of P->M and Q->M.
     """
 
-    def fn(p_, q_):
+    def fn(p_: jax.Array, q_: jax.Array) -> tuple[jax.Array, jax.Array, jax.Array]:
         m = rrr(p_, q_, lp, lq, mode)
         dp, dq = m - p_, m - q_
         return m, jnp.arctan2(dp[1], dp[0]), jnp.arctan2(dq[1], dq[0])
@@ -91,14 +93,14 @@ def rrr_kinematics(p, q, lp: float, lq: float, mode: int) -> dict:
     return {"M": out[:, :2], "theta_pm": out[:, 2], "theta_qm": out[:, 3]}
 
 
-def rrp_kinematics(c, origin, direction, length: float, mode: int) -> dict:
+def rrp_kinematics(c: jax.Array, origin: jax.Array, direction: jax.Array, length: float, mode: int) -> dict:
     """RRP dyad kinematics: ``c`` (3, 2) position, velocity, acceleration of the pin C; the line is fixed.
 
     Returns ``p`` (3,): slider coordinate (mm), velocity and acceleration, and ``theta_ce`` (3,) for link C->E.
     """
     origin, direction = jnp.asarray(origin, dtype=float), jnp.asarray(direction, dtype=float)
 
-    def fn(c_):
+    def fn(c_: jax.Array) -> tuple[jax.Array, jax.Array]:
         p = rrp(c_, origin, direction, length, mode)
         e = origin + p * direction - c_
         return p, jnp.arctan2(e[1], e[0])
@@ -107,6 +109,6 @@ def rrp_kinematics(c, origin, direction, length: float, mode: int) -> dict:
     return {"p": out[:, 0], "theta_ce": out[:, 1]}
 
 
-def norm(v):
+def norm(v: jax.Array) -> jax.Array:
     """Length of 2-vectors (..., 2)."""
     return jnp.sqrt(jnp.sum(v * v, axis=-1))

@@ -4,19 +4,24 @@ singular positions (its extended and folded positions) both come from these extr
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
+from jax.typing import ArrayLike
 
 from ._batch import padded
 from ._dyads import norm
 
+if TYPE_CHECKING:
+    from ._chains import LinkChain
+
 
 @eqx.filter_jit
 def _d_and_slope(chain, u):
-    def one(v):
+    def one(v: ArrayLike) -> jax.Array:
         d, dd = jax.jvp(lambda w: norm(chain.p_side(w)), (v,), (jnp.ones_like(v),))
         return jnp.stack([d, dd])
 
@@ -55,7 +60,7 @@ class Extremes:
     i_min: int
 
 
-def find_extremes(chain, u_grid: np.ndarray) -> Extremes:
+def find_extremes(chain: LinkChain, u_grid: np.ndarray) -> Extremes:
     """Global extremes of |cam centre - path-side point| (all local extremes within 1e-9 relative)."""
     dd = padded(_d_and_slope, chain, u_grid)
     d = dd[:, 0]

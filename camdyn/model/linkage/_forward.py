@@ -9,6 +9,8 @@ entries it adds; warnings are appended to ``warnings``.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
+from typing import TYPE_CHECKING
 
 import jax.numpy as jnp
 import numpy as np
@@ -18,7 +20,11 @@ from ..._core.errors import InputError
 from ..._core.units import DEFAULT_MIN_CURVATURE_RATIO
 from ...schema import FollowerSpec, MechanismSpec
 from ..geometry import min_base_radius, rounded_base_radius
+from ._chains import CCMChain, OscillatingChain
 from ._dyads import cross2, rrr, turn
+
+if TYPE_CHECKING:
+    from ._motion import CamLinkMotion
 
 MIN_TRANSMISSION_DEG = (
     30.0  # a driven dyad's transmission angle under this is warned about (and the dimensional synthesis avoids it)
@@ -36,7 +42,9 @@ def transmission_warning(name: str, ang: np.ndarray, warnings: list[str]) -> flo
     return worst
 
 
-def pitch_contour(pos: np.ndarray, vel: np.ndarray, theta: np.ndarray, sense: float, rr: float):
+def pitch_contour(
+    pos: np.ndarray, vel: np.ndarray, theta: np.ndarray, sense: float, rr: float
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Pitch curve and contour in the cam frame (Ye & Smith eqs. 6-8) from the roller centre in the fixed frame.
 
     ``pos``, ``vel``: roller centre and its derivative per radian of cam angle (n, 2), relative to the cam centre.
@@ -90,8 +98,16 @@ def _choose_base_radius(tabulated, ms: MechanismSpec, e: float, sense: float, sh
 
 
 def ccm_forward(
-    motion, tabulated, ms: MechanismSpec, vals, pts: dict, a_pin, coupler: float, sense: float, warnings: list[str]
-):
+    motion: CamLinkMotion,
+    tabulated: Callable[[np.ndarray], np.ndarray],
+    ms: MechanismSpec,
+    vals: np.ndarray,
+    pts: dict,
+    a_pin: np.ndarray,
+    coupler: float,
+    sense: float,
+    warnings: list[str],
+) -> tuple[FollowerSpec, np.ndarray, np.ndarray, np.ndarray, dict]:
     """The CCM's translating roller (base radius chosen on the ``tabulated`` motion unless given) and its forward
     check.
 
@@ -99,6 +115,7 @@ def ccm_forward(
     ``a_pin``: the crank pin at those angles (n, 2), relative to the cam centre; ``coupler``: the coupler, mm.
     """
     chain = motion.chain
+    assert isinstance(chain, CCMChain)  # a ccm mechanism's chain
     e_dir, origin = np.asarray(chain.direction), np.asarray(chain.origin)
     xhat = np.array([e_dir[1], -e_dir[0]])
     e = float(origin @ xhat)  # offset of the slider line from the cam centre (follower frame x)
@@ -122,6 +139,7 @@ def ccm_forward(
     # forward: crank at the cam angle, slider where the cam puts it, then the RRR dyad B-C-E closes the coupler
     e_pin = origin + (float(motion.out0) + s)[:, None] * e_dir
     mode_c = float(np.sign(cross2(pts["C"][0] - pts["B"][0], e_pin[0] - pts["B"][0])))
+    assert ms.link is not None  # the schema: a ccm mechanism needs its link
     c_fwd = np.asarray(rrr(a_pin, e_pin, float(np.linalg.norm(chain.joint)), ms.link, mode_c))
     jx, jy = np.asarray(chain.joint)
     bc = c_fwd - a_pin
@@ -151,11 +169,20 @@ def ccm_forward(
 
 
 def oscillating_forward(
-    motion, tabulated, ms: MechanismSpec, vals, pts: dict, a_pin, coupler: float, sense: float, warnings: list[str]
-):
+    motion: CamLinkMotion,
+    tabulated: Callable[[np.ndarray], np.ndarray],
+    ms: MechanismSpec,
+    vals: np.ndarray,
+    pts: dict,
+    a_pin: np.ndarray,
+    coupler: float,
+    sense: float,
+    warnings: list[str],
+) -> tuple[FollowerSpec, np.ndarray, np.ndarray, np.ndarray, dict]:
     """Ye & Smith's oscillating roller (base radius from the arm's least reach) and its forward check; arguments
     as :func:`ccm_forward`."""
     chain = motion.chain
+    assert isinstance(chain, OscillatingChain)  # an oscillating mechanism's chain
     # the schema: an oscillating mechanism needs these; the roller radius is the one the synthesis chose
     assert ms.arm is not None and ms.path_link is not None and ms.follower_link is not None
     assert ms.pin_distance is not None and ms.roller_radius is not None

@@ -3,15 +3,21 @@ angle Theta(u) of the path parameter u."""
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import equinox as eqx
 import jax
 import jax.numpy as jnp
+from jax.typing import ArrayLike
 
 from ..._core.units import TWO_PI
 from ..motion import Motion
 from ..paths import taylor
 from ._chains import CCMChain, OscillatingChain
 from ._crank import CrankDyad
+
+if TYPE_CHECKING:
+    from ._chains import LinkChain
 
 
 def _wrap(x):
@@ -37,12 +43,12 @@ class CamLinkMotion(Motion):
     unit: str = eqx.field(static=True)
     breaks_deg: tuple[float, ...] = eqx.field(static=True)
 
-    def crank_angle(self, u):
+    def crank_angle(self, u: ArrayLike) -> jax.Array:
         """Crank angle at u (rad, not unwrapped)."""
         alpha, phi = self.crank_dyad.angles(self.chain.p_side, u)
         return alpha + phi
 
-    def cam_angle(self, u):
+    def cam_angle(self, u: ArrayLike) -> jax.Array:
         """Cam angle Theta(u) at scalar u (rad, not unwrapped): the crank angle from its start, in the sense
         the cam turns."""
         return self.sense * (self.crank_angle(u) - self.theta0)
@@ -51,7 +57,7 @@ class CamLinkMotion(Motion):
         th = self.crank_angle(u)
         return jnp.stack([self.sense * (th - self.theta0), self.chain.output(u, th) - self.out0])
 
-    def u_of(self, theta):
+    def u_of(self, theta: ArrayLike) -> jax.Array:
         """Path parameter u (scalar) at cam angle theta (rad): Newton with a bisection safeguard in the table cell.
 
         Theta(u) is increasing; the bracket [a, b] shrinks with every residual sign, and a Newton step that
@@ -63,7 +69,9 @@ class CamLinkMotion(Motion):
         ta, tb = self.tab_theta[i], self.tab_theta[i + 1]
         u = a + (b - a) * (theta - ta) / (tb - ta)
 
-        def step(state, _):
+        def step(
+            state: tuple[jax.Array, jax.Array, jax.Array], _: None
+        ) -> tuple[tuple[jax.Array, jax.Array, jax.Array], None]:
             u, a, b = state
             val, der = jax.jvp(self.cam_angle, (u,), (jnp.ones_like(u),))
             res = _wrap(val - theta)
@@ -77,7 +85,7 @@ class CamLinkMotion(Motion):
         (u, _, _), _ = jax.lax.scan(step, (u, a, b), None, length=8)
         return jax.lax.stop_gradient(u)
 
-    def at_u(self, u):
+    def at_u(self, u: ArrayLike) -> jax.Array:
         """(Theta, s) and their first three u-derivatives at scalar u: (4, 2)."""
         return jnp.stack(taylor(self._pair, u, 3))
 
@@ -97,10 +105,10 @@ class CamLinkMotion(Motion):
 
 
 @eqx.filter_jit
-def tabulate(motion: CamLinkMotion, u):
+def tabulate(motion: CamLinkMotion, u: ArrayLike) -> jax.Array:
     """Theta_raw, follower coordinate and their u-derivative on a grid."""
 
-    def one(v):
+    def one(v: ArrayLike) -> jax.Array:
         val, der = jax.jvp(motion._pair, (v,), (jnp.ones_like(v),))
         return jnp.concatenate([val, der])
 
@@ -123,14 +131,14 @@ def with_breaks(m: CamLinkMotion, breaks: tuple[float, ...]) -> CamLinkMotion:
 
 
 @eqx.filter_jit
-def sample(motion: CamLinkMotion, theta):
+def sample(motion: CamLinkMotion, theta: ArrayLike) -> tuple[jax.Array, jax.Array]:
     """Path parameters u (n,) and follower value and first derivative per radian of cam angle (n, 2) at theta.
 
     First order only (one jvp): the synthesis does not need the third-order Taylor program that the full
     ``motion(theta)`` compiles, so it stays fast; s'' for sizing the cam comes from differences of s'.
     """
 
-    def one(th):
+    def one(th: ArrayLike) -> tuple[jax.Array, jax.Array]:
         u = motion.u_of(th)
         val, der = jax.jvp(motion._pair, (u,), (jnp.ones_like(u),))
         return u, jnp.stack([val[1], der[1] / der[0]])
@@ -139,5 +147,5 @@ def sample(motion: CamLinkMotion, theta):
 
 
 @eqx.filter_jit
-def joint_points(chain, u, theta):
+def joint_points(chain: LinkChain, u: ArrayLike, theta: ArrayLike) -> dict[str, jax.Array]:
     return jax.vmap(chain.points)(u, theta)

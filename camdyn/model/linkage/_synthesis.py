@@ -9,6 +9,7 @@ from dataclasses import dataclass, field
 import equinox as eqx
 import jax.numpy as jnp
 import numpy as np
+from jax.typing import ArrayLike
 
 from ..._core.errors import NumericalError
 from ..._core.units import TWO_PI
@@ -66,7 +67,7 @@ class Synthesis:
         )
         return out
 
-    def linkage_at(self, theta_deg) -> dict[str, np.ndarray]:
+    def linkage_at(self, theta_deg: ArrayLike) -> dict[str, np.ndarray]:
         """Joint positions (case frame, mm) at cam angles ``theta_deg``: name -> (n, 2).
 
         CCM: A (cam centre), B (crank pin), T (tracing point), C (coupler joint), E (slider pin).

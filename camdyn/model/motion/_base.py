@@ -9,8 +9,10 @@ JAX pytree (an equinox module), so dynamics, geometry and sweeps can ``jit`` and
 from __future__ import annotations
 
 import equinox as eqx
+import jax
 import jax.numpy as jnp
 import numpy as np
+from jax.typing import ArrayLike
 
 from ..._core.jit import cached_jit
 from ..._core.kinds import FollowerKind, kind_of_motion
@@ -42,12 +44,12 @@ class Motion(eqx.Module):
         compiled program serves every case. The motion itself where it has no other."""
         return self
 
-    def jump_angles(self):
+    def jump_angles(self) -> np.ndarray | jax.Array:
         """The breaks (rad) as the ODE step-size controller takes them: numpy, or a padded array (+inf beyond
         the breaks) where they are data."""
         return np.deg2rad(np.asarray(self.breaks_deg, dtype=float))
 
-    def host(self, theta) -> np.ndarray:
+    def host(self, theta: ArrayLike) -> np.ndarray:
         """s and its first three derivatives at ``theta`` (rad) as a numpy array of shape (4, *theta.shape): the
         compiled evaluation here; motions with a numpy form override it (no dispatch or compile cost)."""
         return np.asarray(evaluate(self, jnp.asarray(theta, dtype=float)))
@@ -67,6 +69,6 @@ def padded_length(n: int, least: int, factor: int = 4) -> int:
 
 
 @cached_jit
-def evaluate(motion: Motion, theta):
+def evaluate(motion: Motion, theta: ArrayLike) -> jax.Array:
     """``motion(theta)`` compiled once per motion structure (eager evaluation dispatches op by op)."""
     return motion(theta)

@@ -5,7 +5,10 @@ tables as the named laws (:func:`bspline_table`), so a bspline program jits, vma
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+
 import numpy as np
+from jax.typing import ArrayLike
 
 from ...schema.motion import BSPLINE_DEGREE
 from ._laws import _LawTable, law
@@ -20,7 +23,7 @@ def knots(n: int) -> np.ndarray:
     return np.r_[np.zeros(p), inner, np.ones(p)]
 
 
-def basis(u, n: int, order: int = 0) -> np.ndarray:
+def basis(u: ArrayLike, n: int, order: int = 0) -> np.ndarray:
     """The ``order``-th derivative (per unit u) of each of the ``n`` basis functions at ``u``: (len(u), n)."""
     from scipy.interpolate import BSpline  # only a bspline segment needs it: a check without one saves 0.3 s
 
@@ -31,7 +34,7 @@ def basis(u, n: int, order: int = 0) -> np.ndarray:
     return np.nan_to_num(out)
 
 
-def bspline_table(coefficients) -> _LawTable:
+def bspline_table(coefficients: Sequence[float] | np.ndarray) -> _LawTable:
     """The acceleration-piece table of y(u) (``_piece_eval``'s form): one cubic acceleration per knot span, with
     y and y' at the span's start."""
     from scipy.interpolate import BSpline, PPoly

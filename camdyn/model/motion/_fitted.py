@@ -12,6 +12,7 @@ import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
+from jax.typing import ArrayLike
 
 from ..._core.kinds import kind_of_lift
 from ..._core.units import TWO_PI
@@ -40,7 +41,7 @@ class FittedMotion(Motion):
     def __call__(self, theta):
         return quintic_eval(jnp, self.knots, self.coef, theta)
 
-    def host(self, theta) -> np.ndarray:
+    def host(self, theta: ArrayLike) -> np.ndarray:
         return quintic_eval(np, np.asarray(self.knots), np.asarray(self.coef), theta)
 
 
@@ -86,8 +87,8 @@ class MotionFit:
 
 
 def fit_motion(
-    theta_deg,
-    data,
+    theta_deg: ArrayLike,
+    data: ArrayLike,
     *,
     unit: str,
     source: str,
@@ -95,7 +96,7 @@ def fit_motion(
     tolerance: float | None = None,
     rounding: float = 0.0,
     repeats: int = 0,
-):
+) -> tuple[FittedMotion, MotionFit]:
     """Fit ``data`` (mm, or deg of swing when ``unit`` is "deg") at cam angles ``theta_deg``: the
     :class:`FittedMotion` (mm, or rad) and its :class:`MotionFit`. ``rounding`` is the data's least noise
     (their written digits); ``tolerance`` bounds the largest residual where the caller checks the result;

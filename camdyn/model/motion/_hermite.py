@@ -2,17 +2,28 @@
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+from types import ModuleType
+from typing import Any
+
 import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
 from jax.core import Tracer
+from jax.typing import ArrayLike
 
 from ..._core.units import TWO_PI
 from ._base import Motion, evaluate, padded_length
 
 
-def quintic_eval(xp, knots, coef, theta, last=None):
+def quintic_eval(
+    xp: ModuleType,
+    knots: np.ndarray | jax.Array,
+    coef: np.ndarray | jax.Array,
+    theta: ArrayLike,
+    last: ArrayLike | None = None,
+) -> Any:
     """(s, s', s'', s''') of the piecewise quintic ``coef`` (m, 6) on ``knots`` (m + 1,) rad from 0 to 2 pi, at
     theta (rad, any shape, periodic): one search for the interval and one gather, whatever the number of
     knots. ``xp`` is jax.numpy (traceable) or numpy (no dispatch or compile cost). ``last``: the last
@@ -46,7 +57,9 @@ class QuinticTable(eqx.Module):
     unit: str = eqx.field(static=True)
 
     @classmethod
-    def padded(cls, knots, coef, breaks_deg, unit: str) -> QuinticTable:
+    def padded(
+        cls, knots: np.ndarray | jax.Array, coef: np.ndarray | jax.Array, breaks_deg: Sequence[float], unit: str
+    ) -> QuinticTable:
         """The table of ``knots`` (m + 1,) and ``coef`` (m, 6), padded; traceable (a vmap over noisy coefficients)."""
         xp = jnp if isinstance(coef, Tracer) else np  # numpy where it can: no eager dispatch
         knots, coef = xp.asarray(knots), xp.asarray(coef)
@@ -62,13 +75,13 @@ class QuinticTable(eqx.Module):
             unit=unit,
         )
 
-    def jump_angles(self):
+    def jump_angles(self) -> jax.Array:
         return self.jumps
 
     def __call__(self, theta):
         return quintic_eval(jnp, self.knots, self.coef, theta, self.last)
 
-    def host(self, theta) -> np.ndarray:
+    def host(self, theta: ArrayLike) -> np.ndarray:
         return quintic_eval(np, np.asarray(self.knots), np.asarray(self.coef), theta, int(self.last))
 
 

@@ -10,8 +10,10 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+import jax
 import jax.numpy as jnp
 import numpy as np
+from jax.typing import ArrayLike
 
 
 @dataclass(frozen=True)
@@ -69,7 +71,9 @@ def _piece_eval(xp, u, c, w, p1, p2, y0, v0):
     the acceleration's polynomial coefficients (_NC for the named laws, more for a polynomial of high degree)."""
     k = np.arange(c.shape[-1])
 
-    def horner(coef):  # sum_i coef[..., i] u^i, without powers (autodiff-safe at u = 0)
+    def horner(
+        coef: np.ndarray | jax.Array,
+    ) -> np.ndarray | jax.Array:  # sum_i coef[..., i] u^i, without powers (autodiff-safe at u = 0)
         acc = coef[..., -1]
         for i in range(coef.shape[-1] - 2, -1, -1):
             acc = acc * u + coef[..., i]
@@ -126,7 +130,7 @@ def _build_law(name: str) -> _LawTable:
 _LAW_TABLES = {name: _build_law(name) for name in LAWS}
 
 
-def law(name: str, x):
+def law(name: str, x: ArrayLike) -> jax.Array:
     """Normalized law ``name`` at x in [0, 1]: (y, y', y'', y''') with y(0) = 0, y(1) = 1."""
     t = _LAW_TABLES[name]
     x = jnp.asarray(x, dtype=float)

@@ -10,6 +10,7 @@ import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
+from jax.typing import ArrayLike
 
 from ..._core.errors import InputError
 from ..._core.kinds import kind_of_motion
@@ -84,13 +85,13 @@ class PieceTable(eqx.Module):
     v0: jax.Array  # (P,)
     jumps: jax.Array  # (P,) breaks, rad, ascending; +inf past the last
 
-    def jump_angles(self):
+    def jump_angles(self) -> jax.Array:
         return self.jumps
 
     def __call__(self, theta):
         return self._eval(jnp, theta)
 
-    def host(self, theta) -> np.ndarray:
+    def host(self, theta: ArrayLike) -> np.ndarray:
         return self._eval(np, theta)
 
     def _eval(self, xp, theta):
@@ -183,7 +184,7 @@ class Program(Motion):
     def __call__(self, theta):
         return self.table(theta)
 
-    def host(self, theta) -> np.ndarray:
+    def host(self, theta: ArrayLike) -> np.ndarray:
         return self.table.host(theta)
 
     def _eval(self, xp, theta):

@@ -179,19 +179,19 @@ class _Problem:
             out = out + self.p[d] * (np.roll(c, -d, axis=0) + np.roll(c, d, axis=0))
         return out
 
-    def factor(self, lam: float):
+    def factor(self, lam: float) -> np.ndarray:
         from scipy.linalg import cholesky_banded
 
         return cholesky_banded(self.ab_g + lam * self.ab_p, lower=False, check_finite=False)
 
-    def solve_with(self, cb, rhs: np.ndarray) -> np.ndarray:
+    def solve_with(self, cb: np.ndarray, rhs: np.ndarray) -> np.ndarray:
         from scipy.linalg import cho_solve_banded
 
         out = np.empty_like(rhs)
         out[self.order] = cho_solve_banded((cb, False), rhs[self.order], check_finite=False)
         return out
 
-    def solve(self, log_lam: float):
+    def solve(self, log_lam: float) -> tuple[np.ndarray, np.ndarray, float, float]:
         """(c, factor, D, log det) at lam = scale * 10^log_lam (units of h^-5); D = RSS + lam c'Pc."""
         lam = self.scale * 10.0**log_lam
         cb = self.factor(lam)
@@ -255,7 +255,9 @@ def knot_count(n: int) -> int:
     return int(np.clip(n, 360, 3600))
 
 
-def fit_periodic(x, y, *, tolerance: float | None = None, sigma_floor: float = 0.0, m: int | None = None) -> SplineFit:
+def fit_periodic(
+    x: np.ndarray, y: np.ndarray, *, tolerance: float | None = None, sigma_floor: float = 0.0, m: int | None = None
+) -> SplineFit:
     """The periodic quintic smoothing spline through (x rad, y), its smoothing chosen by REML.
 
     ``sigma_floor``: the least noise the data can have (their rounding); ``tolerance`` (the data's unit):
