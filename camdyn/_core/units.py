@@ -9,14 +9,15 @@ Plain Python and numpy only: the schema imports this module, and it must not pul
 from __future__ import annotations
 
 import math
-from typing import TypeVar, overload
+from typing import TYPE_CHECKING, TypeVar, overload
 
-import jax
-import numpy as np
-from jax.typing import ArrayLike
+if TYPE_CHECKING:  # annotations only: importing units (the CLI's --help does) must not load JAX
+    import jax
+    import numpy as np
+    from jax.typing import ArrayLike
 
 # a float, a numpy or a JAX array in: the same kind out (unit conversions work elementwise on any of them)
-Num = TypeVar("Num", float, np.ndarray, jax.Array)
+Num = TypeVar("Num", "float", "np.ndarray", "jax.Array")
 
 TWO_PI = 2.0 * math.pi
 RPM = TWO_PI / 60.0  # rad/s per rpm

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from collections.abc import Iterable
 from dataclasses import asdict, dataclass
 from enum import Enum
 
@@ -114,6 +115,6 @@ class Check:
         return d
 
 
-def find(checks, kind: CheckKind) -> Check | None:
+def find(checks: Iterable[Check], kind: CheckKind) -> Check | None:
     """The check of ``kind`` among ``checks``, or None."""
     return next((c for c in checks if c.name == kind.value), None)

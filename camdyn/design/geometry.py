@@ -4,12 +4,16 @@ least base radius that would meet them (:func:`camdyn.model.geometry.min_base_ra
 from __future__ import annotations
 
 import math
+from typing import TYPE_CHECKING
 
 from .._core.errors import NumericalError
 from .._core.units import DEFAULT_MIN_CURVATURE_RATIO
 from ..model.geometry import CamGeometry, curvature_limit, min_base_radius
 from ..schema import FollowerSpec
 from ._check import Check, CheckKind
+
+if TYPE_CHECKING:
+    from ..model.motion import Motion
 
 JAM_PRESSURE_ANGLE_DEG = 60.0  # beyond this a translating follower may jam in its guide: a warning
 
@@ -20,7 +24,7 @@ def _limits(f: FollowerSpec, max_pressure_angle: float | None) -> float:
 
 def judge_geometry(
     geo: CamGeometry,
-    motion,
+    motion: Motion,
     *,
     max_pressure_angle: float | None = None,
     min_curvature_ratio: float = DEFAULT_MIN_CURVATURE_RATIO,

@@ -34,7 +34,7 @@ def machine_angles() -> np.ndarray:
     return np.arange(THETA_GRID) * (360.0 / THETA_GRID)
 
 
-def at_machine_angles(theta_deg, values, phase_deg: float) -> np.ndarray:
+def at_machine_angles(theta_deg: np.ndarray, values: np.ndarray, phase_deg: float) -> np.ndarray:
     """``values`` given at cam angles ``theta_deg`` (one revolution), at the machine angles: the cam angle is the
     machine angle less the phase (periodic linear interpolation; exact where the phase is a multiple of the step)."""
     cam_deg = np.round((machine_angles() - phase_deg) % 360.0, 9)

@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, replace
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -25,6 +26,9 @@ from ..model import spring as sp
 from ..schema import SpringSpec
 from ._check import Check, CheckKind
 from .surge import CamHarmonics, SurgeReport, cam_harmonics, judge_surge, surge_floor_hz
+
+if TYPE_CHECKING:
+    from ..model.case import Case
 
 
 @dataclass(frozen=True)
@@ -386,7 +390,7 @@ class SpringLoads:
     rate_key: str
 
 
-def spring_loads(case, *, rate=None, preload=None) -> SpringLoads:
+def spring_loads(case: Case, *, rate: float | None = None, preload: float | None = None) -> SpringLoads:
     """The loads of a case's spring (its own ``[dynamics]`` rate and preload, or ``rate`` and ``preload`` in the
     case's units: N/mm and N, or N*m/rad and N*m for an oscillating arm, whose spring acts at ``[spring]
     lever_arm``)."""
@@ -401,10 +405,14 @@ def spring_loads(case, *, rate=None, preload=None) -> SpringLoads:
                 "spring, mm",
             )
         r = spec.lever_arm
+        assert (
+            d.torsion_rate is not None and d.preload_torque is not None
+        )  # check_dynamics_keys: an arm's rate, preload
         k = torsion_rate_at_arm(d.torsion_rate if rate is None else rate, r)
         f0 = (d.preload_torque if preload is None else preload) * newton_per_torque(r)
         s_mm, key = s * r, "dynamics.torsion_rate"  # small swings: the arc at the spring
     else:
+        assert d.spring_rate is not None and d.preload is not None  # check_dynamics_keys: the spring's rate, preload
         k = d.spring_rate if rate is None else rate
         f0 = d.preload if preload is None else preload
         s_mm, key = s, "dynamics.spring_rate"
@@ -420,7 +428,7 @@ def _case_spec(case, loads: SpringLoads) -> SpringSpec:
     return spec
 
 
-def surge_floor(case, top_speed_rpm: float | None) -> float:
+def surge_floor(case: Case, top_speed_rpm: float | None) -> float:
     """The least surge frequency (Hz) clear of the cam's strong harmonics up to ``top_speed_rpm`` (default: the
     case's speed_margin times its speed)."""
     top = case.limits.speed_margin * case.speed_rpm if top_speed_rpm is None else top_speed_rpm
@@ -428,10 +436,10 @@ def surge_floor(case, top_speed_rpm: float | None) -> float:
 
 
 def design_case_spring(
-    case,
+    case: Case,
     *,
-    rate=None,
-    preload=None,
+    rate: float | None = None,
+    preload: float | None = None,
     rules: SpringRules = SpringRules(),
     surge: str = "prefer",
     top_speed_rpm: float | None = None,
@@ -460,7 +468,7 @@ def design_case_spring(
     return design_spring(*args, rules=rules, rate_key=loads.rate_key, harmonics=harmonics)
 
 
-def case_max_preload(case, rate, top_speed_rpm: float | None = None) -> float | None:
+def case_max_preload(case: Case, rate: float, top_speed_rpm: float | None = None) -> float | None:
     """The largest preload (the case's units: N, or N*m for an arm) a buildable spring of ``rate`` (N/mm, or
     N*m/rad) can give this case within its ``[spring]`` table, its surge frequency clear of the cam's strong
     harmonics up to ``top_speed_rpm``; None where no spring of that rate can be built. Every lower preload down
@@ -478,7 +486,7 @@ def case_max_preload(case, rate, top_speed_rpm: float | None = None) -> float | 
     return linear / newton_per_torque(spec.lever_arm)
 
 
-def min_preload(case) -> float:
+def min_preload(case: Case) -> float:
     """``[limits] min_preload``: the least preload (seat load) a spring proposed for the case may have, in the
     case's units (N, or N*m for an arm, as ``[dynamics] preload`` / ``preload_torque``: SI); -inf where none is
     given. ``size`` honours it; an optimizer that frees the preload bounds it below by this."""

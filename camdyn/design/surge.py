@@ -16,10 +16,14 @@ every harmonic moves down, so no strong one comes within a quarter spacing of f_
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from .._core.units import FFT_GRID
+
+if TYPE_CHECKING:
+    from ..model.motion import Motion
 
 SURGE_MIN_RATIO = 15.0  # f_s / f_cam below this draws a warning (Shigley: 15 to 20)
 STRONG_HARMONIC = 0.01  # a harmonic whose lift amplitude is at least this fraction of the largest one is strong
@@ -44,7 +48,7 @@ class CamHarmonics:
         return float(a[j] / np.max(a[1:])) if 0 < j < a.size else 0.0
 
 
-def cam_harmonics(motion, speed_rpm: float, n: int = FFT_GRID) -> CamHarmonics:
+def cam_harmonics(motion: Motion, speed_rpm: float, n: int = FFT_GRID) -> CamHarmonics:
     """The lift's harmonic amplitudes: |c_j| of s(theta) = sum c_j e^(i j theta), doubled for j >= 1."""
     s = motion.sample(n)[1][0]
     a = np.abs(np.fft.rfft(s)) * (2.0 / n)

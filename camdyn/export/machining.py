@@ -43,7 +43,7 @@ def reference_tolerance(tolerance_mm: float) -> float:
     return max(tolerance_mm / 100, 1e-5)
 
 
-def sha256_of(path) -> str:
+def sha256_of(path: str | Path) -> str:
     """The file's SHA-256 (hex): a G-code header names the case it was made from."""
     return hashlib.sha256(Path(path).read_bytes()).hexdigest()
 
@@ -252,7 +252,7 @@ def gcode_text(path: CutterPath, *, header: list[str], feed_mm_per_min: float, u
     scale = 1.0 if units == "mm" else 1.0 / MM_PER_INCH
     nd = _DECIMALS[units]
 
-    def f(v):
+    def f(v: float) -> str:
         return f"{v * scale:.{nd}f}"
 
     start = path.start
@@ -301,7 +301,9 @@ def grinder_table(
     u, pts = resample_u(contour, reference_tolerance(tolerance_mm))
     pts = pts.T  # (k, 2)
 
-    def reach(P, rows):  # P (..., 2) against rows of e: the wheel centre distance that touches each point
+    def reach(
+        P: np.ndarray, rows: np.ndarray
+    ) -> np.ndarray:  # P (..., 2) against rows of e: the wheel centre distance that touches each point
         a = np.einsum("r...i,ri->r...", P, e[rows])
         b = np.einsum("r...i,ri->r...", P, ep[rows])
         return np.where(np.abs(b) <= wheel_radius_mm, a + np.sqrt(np.maximum(wheel_radius_mm**2 - b * b, 0.0)), -np.inf)

@@ -119,7 +119,7 @@ def _export_step(part, path: Path, units: str) -> None:
 
 def write_solid(
     contour: Callable[[np.ndarray], np.ndarray],
-    path,
+    path: str | Path,
     *,
     thickness_mm: float,
     bore_mm: float | None = None,

@@ -12,8 +12,10 @@ from __future__ import annotations
 import dataclasses
 import math
 
+import jax
 import jax.numpy as jnp
 import numpy as np
+from jax.typing import ArrayLike
 
 from ..._core.errors import InputError, NumericalError
 from ..._core.progress import Progress, counter
@@ -32,7 +34,7 @@ def _speed_set(w: float) -> np.ndarray:
     return w * np.r_[np.linspace(0.05, 0.9, 18), np.linspace(0.92, 1.0, 5)]
 
 
-def least_slack(rows: Rows, z, w_max: float, preload=None) -> tuple[float, float]:
+def least_slack(rows: Rows, z: ArrayLike, w_max: float, preload: float | None = None) -> tuple[float, float]:
     """Least contact force over its margin (N; N*m for an arm, :meth:`Rows.slack`) over a fine scan of speeds up
     to ``w_max`` (rad/s) and every grid angle, and the speed where it occurs (rad/s); ``preload`` (SI) overrides
     the case's."""
@@ -102,7 +104,7 @@ def _held(
     scale = rows.scale
     split = (lambda x: (x[:-1], x[-1])) if preload_free else (lambda x: (x, None))
 
-    def limits(x, speeds, cushion):
+    def limits(x: jax.Array, speeds: jax.Array, cushion: float) -> jax.Array:
         z, f0 = split(x)
         hold = (cushion - rows.slack(z, speeds, f0)[:, rows.sampled].ravel()) / scale
         return jnp.concatenate([rows.geometry(z), hold])
@@ -145,7 +147,7 @@ def vibration(rows: Rows, omega: float, band: bool = True) -> np.ndarray:
     speeds = _band(omega) if band else np.array([omega])
     m = case.model
 
-    def deviation(z):
+    def deviation(z: jax.Array) -> jax.Array:
         s = space.values(z)[0] * m.scale
         spec = jnp.fft.rfft(s)
         static = static_position(m, s)

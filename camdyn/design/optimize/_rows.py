@@ -6,6 +6,7 @@ control points' order (monotone within [0, 1]: the segment within its lift, neve
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 from functools import cached_property
 
@@ -13,6 +14,7 @@ import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
+from jax.typing import ArrayLike
 
 from ..._core.units import newton_per_torque
 from ...model.case import Case
@@ -40,7 +42,7 @@ class Rows:
         """The size of the forces (N; N*m for an arm): the static preload."""
         return max(abs(float(self.case.model.preload)), abs(self.margin), 1e-3)
 
-    def forces(self, z, omegas, preload=None):
+    def forces(self, z: np.ndarray | jax.Array, omegas: jax.Array, preload: ArrayLike | None = None) -> jax.Array:
         """Interface force (N; N*m for an arm) at each speed (rad/s) and grid angle: (len(omegas), n). ``preload``
         (SI) overrides the case's, traceably (the spring-force objective frees it)."""
         case, space = self.case, self.space
@@ -54,14 +56,14 @@ class Rows:
             spec = jnp.fft.rfft(s)
             n = s.shape[0]
 
-            def one(w):
+            def one(w: float | jax.Array) -> jax.Array:
                 x, x1 = steady_state(spec, w, model, model.stiffness, model.damping, n)
                 return train_force(model, w, s, s1, x, x1)
 
             force = jax.vmap(one)(omegas)
         return force
 
-    def slack(self, z, omegas, preload=None):
+    def slack(self, z: np.ndarray | jax.Array, omegas: jax.Array, preload: ArrayLike | None = None) -> jax.Array:
         """:meth:`forces` over the least to keep (N; N*m for an arm): >= 0 where both the margin and the check's
         ``min_contact_force`` (N at the contact; through the lever arm, which moves with s, for an arm) hold."""
         fmin = float(self.case.limits.min_contact_force)
@@ -71,7 +73,7 @@ class Rows:
             need = jnp.maximum(self.margin, fmin / newton_per_torque(lever))
         return self.forces(z, omegas, preload) - need
 
-    def geometry(self, z):
+    def geometry(self, z: np.ndarray | jax.Array) -> jax.Array:
         """The geometry constraints as ``g <= 0``, each scaled to its limit: |phi| / phi_max - 1 and, for a roller,
         kappa / kappa_max - 1 (the check's least contour radius over the roller radius), for a flat face
         1 - rho / rho_min."""
@@ -95,11 +97,13 @@ class Rows:
         return np.arange(0, self.space.theta.size, EVERY)
 
     @cached_property
-    def force_jacobian(self):
+    def force_jacobian(self) -> Callable[..., tuple[jax.Array, jax.Array]]:
         """``(z, speeds[SPEED_SLOTS], preload) -> (slack at the sampled angles, d/dz)``, compiled once."""
         return with_jacobian(lambda z, speeds, preload: self.slack(z, speeds, preload)[:, self.sampled].ravel())
 
-    def force_values(self, speeds):
+    def force_values(
+        self, speeds: jax.Array
+    ) -> Callable[[np.ndarray], tuple[np.ndarray | jax.Array, np.ndarray | jax.Array]]:
         """``z -> (slack at the sampled angles, d/dz)`` at the fixed ``speeds`` (:data:`SPEED_SLOTS`) for the linear
         programs. Where the follower translates the slack is exactly affine in ``z`` (the steady state in contact is
         linear in the motion, the motion in the control points), so the Jacobian is computed once and every later
@@ -111,18 +115,18 @@ class Rows:
         return lambda z: (v_ref + np.einsum("ij,j->i", jac, np.asarray(z, dtype=float) - z_ref), jac)
 
     @cached_property
-    def least_on_scan(self):
+    def least_on_scan(self) -> Callable[..., jax.Array]:
         """``(z, w_max, preload) -> the least slack at each of FINE speeds up to w_max``, compiled once."""
         return jax.jit(
             lambda z, w, preload=None: self.slack(z, w * jnp.arange(1, FINE + 1) / FINE, preload).min(axis=1)
         )
 
     @cached_property
-    def geometry_jacobian(self):
+    def geometry_jacobian(self) -> Callable[..., tuple[jax.Array, jax.Array]]:
         return with_jacobian(self.geometry)
 
 
-def speed_slots(speeds) -> np.ndarray:
+def speed_slots(speeds: ArrayLike) -> np.ndarray:
     """``speeds`` padded to :data:`SPEED_SLOTS` by repeating the last (a repeated row changes no linear program)."""
     speeds = np.asarray(speeds, dtype=float)[-SPEED_SLOTS:]
     return np.r_[speeds, np.full(SPEED_SLOTS - speeds.size, speeds[-1])]

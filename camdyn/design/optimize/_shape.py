@@ -10,6 +10,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+import jax
 import jax.numpy as jnp
 import numpy as np
 from scipy.optimize import isotonic_regression
@@ -43,11 +44,11 @@ class ShapeSpace:
     def n_free(self) -> int:
         return self.matrix.shape[-1]
 
-    def values(self, z):
+    def values(self, z: np.ndarray | jax.Array) -> jax.Array:
         """(s, s', s'', s''') on the grid for control points ``z``: (4, n), JAX-traceable."""
         return jnp.asarray(self.offset) + jnp.einsum("dnk,k->dn", jnp.asarray(self.matrix), z)
 
-    def order(self, z):
+    def order(self, z: np.ndarray | jax.Array) -> jax.Array:
         """``<= 0`` where each segment's control points (clamped 0s, free, clamped 1s) are monotone in [0, 1]:
         exactly linear in ``z`` (JAX-traceable)."""
         free = self.n_control - 2 * CLAMPED
@@ -57,7 +58,7 @@ class ShapeSpace:
             rows.append(c[:-1] - c[1:])
         return jnp.concatenate(rows)
 
-    def control_points(self, z) -> list[np.ndarray]:
+    def control_points(self, z: np.ndarray | jax.Array) -> list[np.ndarray]:
         """The full control points of each reshaped segment (clamped ends included)."""
         free = self.n_control - 2 * CLAMPED
         z = np.asarray(z, dtype=float)
@@ -65,7 +66,7 @@ class ShapeSpace:
             np.r_[np.zeros(CLAMPED), z[i * free : (i + 1) * free], np.ones(CLAMPED)] for i in range(len(self.moving))
         ]
 
-    def segments(self, z) -> list[dict]:
+    def segments(self, z: np.ndarray | jax.Array) -> list[dict]:
         """The case file's ``[motion] segments`` with the reshaped ones as ``law = "bspline"``."""
         out, cps = [], dict(zip(self.moving, self.control_points(z), strict=True))
         for i, spec in enumerate(self.specs):
@@ -76,7 +77,7 @@ class ShapeSpace:
                 out.append(spec.model_dump(exclude_defaults=True) | {"law": spec.law, "end": spec.end})
         return out
 
-    def program(self, z, unit: str) -> Program:
+    def program(self, z: np.ndarray | jax.Array, unit: str) -> Program:
         return Program.from_segments(self.segments(z), unit=unit)
 
 

@@ -8,10 +8,12 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass
+from typing import Any
 
 import jax
 import jax.numpy as jnp
 import numpy as np
+import numpy.typing as npt
 from scipy.optimize import linprog
 
 _MAX_STEPS = 30
@@ -31,7 +33,7 @@ class Step:
 def with_jacobian(fn: Callable) -> Callable:
     """``x -> (fn(x), dfn/dx)`` compiled once: forward-mode autodiff, one tangent per variable."""
 
-    def both(x, *args):
+    def both(x: jax.Array, *args: Any) -> tuple[jax.Array, jax.Array]:
         v, jvp_fn = jax.linearize(lambda y: fn(y, *args), x)
         return v, jax.vmap(jvp_fn, out_axes=-1)(jnp.eye(x.size))
 
@@ -103,7 +105,14 @@ def _linear_step(v, Jv, g, Jg, bounds, seed=None):
 
 
 def maximize_least(
-    values: Callable, geometry: Callable, x0: np.ndarray, *, radius, scale: float, lower=None, upper=None
+    values: Callable,
+    geometry: Callable,
+    x0: np.ndarray,
+    *,
+    radius: npt.ArrayLike,
+    scale: float,
+    lower: np.ndarray | None = None,
+    upper: np.ndarray | None = None,
 ) -> Step:
     """Maximize ``min(values(x))`` subject to ``geometry(x) <= 0``, from ``x0``; both callables return the value and
     its Jacobian (:func:`with_jacobian`). ``radius``: the first trust region (one, or one per variable); ``scale``: the
@@ -114,7 +123,7 @@ def maximize_least(
     lo = np.full(n, -np.inf) if lower is None else np.asarray(lower, dtype=float)
     hi = np.full(n, np.inf) if upper is None else np.asarray(upper, dtype=float)
 
-    def merit(v, g):
+    def merit(v: np.ndarray, g: np.ndarray) -> float:
         return float(np.min(v)) - _PENALTY * scale * max(0.0, float(np.max(g)))
 
     v, Jv = _value_and_jacobian(values, x)

@@ -73,7 +73,7 @@ def written(x: float, up: bool = False) -> float:
 
 
 def buildable_answer(
-    case, p: Problem, grid: Grid, dynamic: Dynamic | None, surge_top_rpm: float
+    case: Case, p: Problem, grid: Grid, dynamic: Dynamic | None, surge_top_rpm: float
 ) -> tuple[float, float]:
     """(k SI, F0) of the buildable spring with the least peak force, its surge clear of the cam's strong
     harmonics up to ``surge_top_rpm``; :class:`InputError` naming ``[spring]`` where no rate gives a spring that

@@ -30,7 +30,7 @@ def _kinematic_extremes(p: Problem, grid: Grid, k, f0):
     return lo, hi, bool(np.min(base) >= 0.0)
 
 
-def design(p: Problem, grid: Grid, dynamic: Dynamic | None, k, f0) -> SpringDesign:
+def design(p: Problem, grid: Grid, dynamic: Dynamic | None, k: float, f0: float) -> SpringDesign:
     """The spring (k, F0) (SI) evaluated; ``dynamic`` None for a rigid follower (dynamic = kinematic)."""
     kin_lo, kin_hi, holds_at_rest = _kinematic_extremes(p, grid, k, f0)
     model = p.with_spring(k, f0)

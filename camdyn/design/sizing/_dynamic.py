@@ -41,11 +41,11 @@ class Dynamic:
         arm = p.arm(np.arange(_N_FFT) * (TWO_PI / _N_FFT))
         return cls(p, arm, p.fmin * arm, np.linspace(0.0, p.W, _N_SPEEDS + 1))
 
-    def alpha(self, k) -> float:
+    def alpha(self, k: float) -> float:
         """dFc / dF0 = k_f / (k + k_f)."""
         return dyn.preload_share(k, self.p.kf)
 
-    def contact_force(self, k, f0, speeds):
+    def contact_force(self, k: float, f0: float, speeds: np.ndarray) -> np.ndarray:
         """Frequency-domain steady-state interface force (N or N*m), shape (len(speeds), N_FFT)."""
         p = self.p
         out = np.asarray(
@@ -65,7 +65,7 @@ class Dynamic:
         i = int(np.argmax(dm))
         return float(dm[i]), float(speeds[i]), int(j[i])
 
-    def preload(self, k, refine=True):
+    def preload(self, k: float, refine: bool = True) -> tuple[float, float, float]:
         """The least preload for rate k: (F0, theta_deg, speed_rpm) of the binding point; ``refine``: the worst
         speed refined twice on 17 speeds around it."""
         best, w, j = self._worst(k, self.speeds)
@@ -79,7 +79,7 @@ class Dynamic:
                 h = ws[1] - ws[0]
         return max(best / self.alpha(k), self.p.f0_lo), 360.0 * j / _N_FFT, w / RPM
 
-    def verify(self, k, f0):
+    def verify(self, k: float, f0: float) -> tuple:
         """Least and largest dynamic interface force (N) on 1127 speeds in [0, W], each (value, theta_deg,
         speed_rpm), and the least slack of the requirement (N or N*m)."""
         key = (float(k), float(f0))
@@ -104,7 +104,7 @@ class Dynamic:
                 hi = (float(fn[i, j]), 360.0 * j / _N_FFT, float(chunk[i]) / RPM)
         return lo, hi, slack_min
 
-    def raised(self, k, f0, rtol=0.0) -> float:
+    def raised(self, k: float, f0: float, rtol: float = 0.0) -> float:
         """F0 raised by the verification's deficit / alpha where the deficit exceeds ``rtol`` of the preload (the
         force is affine in F0, so the fix is exact)."""
         _, _, slack = self.verify(k, f0)

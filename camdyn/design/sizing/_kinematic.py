@@ -13,25 +13,25 @@ from ._problem import STEP, Grid, Problem
 from ._quadratic import least_quadratic, refine
 
 
-def requirement(p: Problem, s1, s2, req, c):
+def requirement(p: Problem, s1: np.ndarray, s2: np.ndarray, req: np.ndarray, c: float) -> tuple[np.ndarray, np.ndarray]:
     """r at angles with s', s'' (SI) and ``req = F_min arm - F_ext``, damping c; and the speed of the minimum."""
     g, w = least_quadratic(p.m * s2, c * s1, p.W)
     return req - g, w
 
 
-def required(p: Problem, grid: Grid, c):
+def required(p: Problem, grid: Grid, c: float) -> tuple[np.ndarray, np.ndarray]:
     """:func:`requirement` on the grid's angles."""
     return requirement(p, grid.s1, grid.s2, grid.req, c)
 
 
-def slack_at(p: Problem, theta, k, f0, c):
+def slack_at(p: Problem, theta: np.ndarray, k: float, f0: float, c: float) -> np.ndarray:
     """``k s + F0 - r`` at angles ``theta`` (rad), off the grid."""
     s, s1, s2 = p.values(theta)
     r, _ = requirement(p, s1, s2, p.fmin * p.arm(theta) - p.ext, c)
     return k * s + f0 - r
 
 
-def worst_between(p: Problem, grid: Grid, k, f0, c, count=8):
+def worst_between(p: Problem, grid: Grid, k: float, f0: float, c: float, count: int = 8) -> list[tuple[float, float]]:
     """Angles off the grid where the slack is least, refined from the grid's ``count`` least local minima:
     [(slack, theta)] sorted by slack."""
     r, _ = required(p, grid, c)
@@ -42,7 +42,7 @@ def worst_between(p: Problem, grid: Grid, k, f0, c, count=8):
     return sorted(zip(vals.tolist(), (np.mod(ts, 2 * math.pi)).tolist(), strict=True))
 
 
-def preload_kinematic(p: Problem, grid: Grid, k, polish=False) -> float:
+def preload_kinematic(p: Problem, grid: Grid, k: float, polish: bool = False) -> float:
     """The least preload that holds with rate k (on the grid; ``polish``: also between grid points), and at
     least ``[limits] min_preload``."""
     c = p.damping(k)
@@ -73,7 +73,7 @@ def _runs(on: np.ndarray) -> list[list[int]]:
     return runs
 
 
-def binding(p: Problem, grid: Grid, k, f0) -> tuple[tuple[float, float, float], ...]:
+def binding(p: Problem, grid: Grid, k: float, f0: float) -> tuple[tuple[float, float, float], ...]:
     """Where the kinematic constraint is active (slack within 1e-6 of the force scale), as
     (start_deg, end_deg, speed_rpm): runs of grid angles (a dwell) and single angles refined off the grid."""
     c = p.damping(k)

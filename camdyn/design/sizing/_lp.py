@@ -14,7 +14,7 @@ _LP_OPTIONS = {"primal_feasibility_tolerance": 1e-10, "dual_feasibility_toleranc
 _CUT_ROUNDS = 8
 
 
-def cut(p: Problem, grid: Grid, k, f0, c) -> Grid | None:
+def cut(p: Problem, grid: Grid, k: float, f0: float, c: float) -> Grid | None:
     """The grid with the off-grid angles where (k, f0) violates the kinematic constraint by more than 1e-9 of
     the peak added (cutting planes); None where there is none."""
     tol = 1e-9 * max(1.0, abs(k * p.s_max + f0))
@@ -44,7 +44,7 @@ def _solve(p: Problem, grid: Grid, c) -> tuple[float, float]:
     return k, peak - k * p.s_max
 
 
-def lp(p: Problem, grid: Grid, c) -> tuple[float, float, Grid]:
+def lp(p: Problem, grid: Grid, c: float) -> tuple[float, float, Grid]:
     """The kinematic LP at constant damping c, with cutting planes and the tie-break: (k, F0, the refined grid).
 
     HiGHS solves ``min k s_max + F0 s.t. s_i k + F0 >= r_i, k >= k_lo``. Its value is also closed form: the

@@ -5,9 +5,12 @@ planes give a new grid."""
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass, replace
+from typing import TYPE_CHECKING
 
 import numpy as np
+from jax.typing import ArrayLike
 
 from ..._core.errors import InputError
 from ..._core.kinds import FollowerKind
@@ -18,6 +21,9 @@ from ...model.motion import Motion
 from ...schema import FollowerSpec
 from ..spring import min_preload
 from ._quadratic import refine
+
+if TYPE_CHECKING:
+    from ...model.case import Case
 
 STEP = TWO_PI / THETA_GRID  # rad: the kinematic grid's spacing
 _BREAK_EPS = 1e-9  # rad: both sides of a segment boundary
@@ -48,24 +54,24 @@ class Problem:
     s_max: float = math.nan  # SI: full lift, polished between grid angles
     s_min: float = math.nan
 
-    def damping(self, k) -> float:
+    def damping(self, k: float) -> float:
         """The spring's damping at rate k (SI): constant, or 2 zeta sqrt(k m)."""
         if self.c_fixed is not None:
             return self.c_fixed
         return damping_from_ratio(self.zeta, max(k, 0.0), self.m)
 
-    def values(self, theta):
+    def values(self, theta: ArrayLike) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """s, s', s'' (SI, per rad) at angles ``theta`` (rad)."""
         theta = np.atleast_1d(np.asarray(theta, dtype=float))
         v = self.motion.host(theta)
         return v[0] * self.scale, v[1] * self.scale, v[2] * self.scale
 
-    def arm(self, theta):
+    def arm(self, theta: ArrayLike) -> np.ndarray:
         """Lever arm (m) turning a contact force (N) into the generalized force; 1 for translating followers."""
         theta = np.atleast_1d(np.asarray(theta, dtype=float))
         return 1.0 / contact_per_force(self.motion, self.follower, theta)
 
-    def with_spring(self, k, f0) -> FollowerModel:
+    def with_spring(self, k: float, f0: float) -> FollowerModel:
         """The follower model with rate k and preload f0 (SI), its damping following the rate where it does."""
         return self.model.with_spring(float(k), float(f0))
 
@@ -87,7 +93,7 @@ class Grid:
         """Index of the least lift."""
         return int(np.argmin(self.s))
 
-    def with_angles(self, p: Problem, ts) -> Grid:
+    def with_angles(self, p: Problem, ts: Sequence[float] | np.ndarray) -> Grid:
         """The grid with angles ``ts`` added (cutting planes), kept sorted."""
         ts = np.mod(np.asarray(ts, dtype=float), 2 * math.pi)
         s, s1, s2 = p.values(ts)
@@ -110,7 +116,9 @@ def _damping_law(model: FollowerModel) -> tuple[float | None, float]:
     return (float(model.damping), 0.0) if math.isnan(ratio) else (None, ratio)
 
 
-def build_problem(case, max_speed_rpm, margin, min_rate) -> tuple[Problem, Grid]:
+def build_problem(
+    case: Case, max_speed_rpm: float | None, margin: float | None, min_rate: float
+) -> tuple[Problem, Grid]:
     """The problem and its first grid: 3600 angles and both sides of every segment boundary."""
     kind, model = case.kind, case.model
     if kind.rotary and case.follower is None:

@@ -3,10 +3,13 @@ vectorized local minimization in the angle."""
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 import numpy as np
+from jax.typing import ArrayLike
 
 
-def least_quadratic(a, b, w_top):
+def least_quadratic(a: np.ndarray, b: np.ndarray, w_top: float) -> tuple[np.ndarray, np.ndarray]:
     """min over w in [0, w_top] of a w^2 + b w, and the speed where it is reached (vectorized)."""
     a, b = np.broadcast_arrays(np.asarray(a, float), np.asarray(b, float))
     g_top = a * w_top * w_top + b * w_top
@@ -19,13 +22,15 @@ def least_quadratic(a, b, w_top):
     return np.min(cand, axis=0), w
 
 
-def most_quadratic(a, b, w_top):
+def most_quadratic(a: np.ndarray, b: np.ndarray, w_top: float) -> tuple[np.ndarray, np.ndarray]:
     """max over w in [0, w_top] of a w^2 + b w, and the speed where it is reached."""
     g, w = least_quadratic(-np.asarray(a, float), -np.asarray(b, float), w_top)
     return -g, w
 
 
-def refine(fn, t0, h, rounds=3, points=41):
+def refine(
+    fn: Callable[[np.ndarray], np.ndarray], t0: ArrayLike, h: float, rounds: int = 3, points: int = 41
+) -> tuple[np.ndarray, np.ndarray]:
     """Vectorized local minimization of fn (array -> array) in [t0 - h, t0 + h] for each start in t0: a grid
     of ``points`` angles, then again around the best, ``rounds`` times (resolution 2 h / 20^rounds)."""
     ts = np.asarray(t0, dtype=float)

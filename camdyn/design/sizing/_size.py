@@ -4,6 +4,7 @@ the chosen, kinematic and current springs evaluated, the warnings and the feasib
 from __future__ import annotations
 
 import math
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -19,6 +20,9 @@ from ._lp import lp
 from ._problem import Grid, Problem, build_problem
 from ._results import SpringSizing
 from ._sqrt_k import ratio_answer
+
+if TYPE_CHECKING:
+    from ...model.case import Case
 
 _LP_METHOD = (
     "linear program (scipy linprog, HiGHS) with cutting planes, checked against its closed form; tie-break in "
@@ -106,7 +110,7 @@ def _lines(p: Problem, grid: Grid, k_kin: float, f0_kin: float, rates) -> tuple[
 
 
 def size_spring(
-    case,
+    case: Case,
     max_speed_rpm: float | None = None,
     margin: float | None = None,
     min_rate: float = 0.0,

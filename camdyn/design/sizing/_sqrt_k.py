@@ -5,7 +5,7 @@ dynamic correction."""
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from typing import cast
 
 import numpy as np
@@ -56,7 +56,15 @@ def _rises(f: Callable[[float], float], u_a: float, u_b: float, tol: float) -> b
     return f(u_mid) - f(u_a) > 0.125 * tol
 
 
-def minimize_in_sqrt_k(peak_of: Callable[[float], float], u_lo, u_hi, rtol, scan=0, seeds=(), flat_of=None) -> float:
+def minimize_in_sqrt_k(
+    peak_of: Callable[[float], float],
+    u_lo: float,
+    u_hi: float,
+    rtol: float,
+    scan: int = 0,
+    seeds: Sequence[float] = (),
+    flat_of: Callable[[float], float] | None = None,
+) -> float:
     """argmin of ``peak_of(u)`` on [u_lo, u_hi] (bounded Brent, after a scan of ``scan`` points where given), ties
     broken towards the largest u whose value is within ``rtol`` of the least.
 
@@ -65,7 +73,7 @@ def minimize_in_sqrt_k(peak_of: Callable[[float], float], u_lo, u_hi, rtol, scan
     rtol walk alone would stop wherever the rise reaches rtol, a rate made by the tolerance."""
     cache: dict[float, float] = {}
 
-    def f(u):
+    def f(u: float) -> float:
         u = float(min(max(u, u_lo), u_hi))
         if u not in cache:
             cache[u] = float(peak_of(u))

@@ -17,6 +17,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+import numpy.typing as npt
 
 from ..._core.units import DEFAULT_MIN_CURVATURE_RATIO, TWO_PI
 from ...model.linkage import MIN_TRANSMISSION_DEG
@@ -28,7 +29,9 @@ DIMENSION_OBJECTIVE = (
 _BISECTIONS = 16  # halvings of log rp over [rp0, 1.05^100 rp0] in the curvature search (7e-5 relative)
 
 
-def pitch_convexity(rp, s, s1, s2, e, sense):
+def pitch_convexity(
+    rp: npt.ArrayLike, s: np.ndarray, s1: np.ndarray, s2: np.ndarray, e: npt.ArrayLike, sense: npt.ArrayLike
+) -> np.ndarray:
     """Largest convex curvature (1/mm) of the pitch curve over the samples (last axis of s, s1, s2), for prime
     radii ``rp``, offsets ``e`` (mm) and senses that are scalars or arrays of the designs' shape (...); <= 0
     where the pitch curve is nowhere convex."""
@@ -40,7 +43,9 @@ def pitch_convexity(rp, s, s1, s2, e, sense):
     return (-sense * kappa).max(-1)  # traversal opposite to the cam's turn: convex where this is > 0
 
 
-def prime_radius_for_pressure_angle(s, s1, e, sense, rr: float, max_pa_deg: float):
+def prime_radius_for_pressure_angle(
+    s: np.ndarray, s1: np.ndarray, e: npt.ArrayLike, sense: npt.ArrayLike, rr: float, max_pa_deg: float
+) -> np.ndarray:
     """Least prime radius (mm) keeping the pressure angle tan phi = (s' - sense e) / (d0 + s) within
     ``max_pa_deg`` at every sample (last axis of s, s1), and at least |e| + rr and 1.5 rr (the roller clears the
     cam centre); e, sense scalars or of the designs' shape (...)."""
@@ -50,12 +55,20 @@ def prime_radius_for_pressure_angle(s, s1, e, sense, rr: float, max_pa_deg: floa
     return np.maximum(np.hypot(d0, e), np.maximum(np.abs(e) + rr, 1.5 * rr))
 
 
-def prime_radius_for_curvature(s, s1, s2, e, sense, rp0, rho_min: float):
+def prime_radius_for_curvature(
+    s: np.ndarray,
+    s1: np.ndarray,
+    s2: np.ndarray,
+    e: npt.ArrayLike,
+    sense: npt.ArrayLike,
+    rp0: npt.ArrayLike,
+    rho_min: float,
+) -> np.ndarray:
     """Least prime radius >= ``rp0`` (S,) whose pitch curve keeps a convex radius of curvature >= ``rho_min``
     (mm), by bisection in log rp up to 1.05^100 rp0 (a continuous function of the design, as an optimizer
     wants; at most 16 halvings); s, s1, s2 (S, n), e, sense (S,)."""
 
-    def ok(rp):
+    def ok(rp: npt.ArrayLike) -> np.ndarray:
         return pitch_convexity(rp, s, s1, s2, e, sense) <= 1.0 / rho_min
 
     lo, hi = np.log(rp0), np.log(rp0) + 100 * math.log(1.05)

@@ -13,7 +13,7 @@ from ..._core.units import TWO_PI
 from ._ccm import FIT_MARGIN_DEG, MIN_TRANSMISSION_DEG
 
 
-def fourbar_curve(x, n: int = 360):
+def fourbar_curve(x: np.ndarray, n: int = 360) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Coupler curves of four-bars x = (ax, ay, dx, dy, crank, coupler, rocker, px, py, mode), (10,) or (10, S).
 
     Crank A-B, coupler B-C (coupler point B + px along BC + py across), rocker D-C, assembly mode sign(mode).
@@ -48,7 +48,7 @@ def _polyline_distance(pts, poly):
     return np.sqrt(np.min(np.sum((ap - tt[..., None] * ab[..., None, :, :]) ** 2, -1), axis=-1))
 
 
-def curve_error(curve, t):
+def curve_error(curve: np.ndarray, t: np.ndarray) -> np.ndarray:
     """Largest distance (mm) between the target samples t (n, 2) and a closed curve (m, 2) or curves (S, m, 2),
     either way (the Hausdorff distance of the two closed polylines)."""
     tt = np.broadcast_to(t, curve.shape[:-2] + t.shape)

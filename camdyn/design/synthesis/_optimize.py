@@ -56,7 +56,7 @@ def _run_de(phase: str, fn, bounds, *, seed: int, maxiter: int, popsize: int, ti
     gen = [0]
     tick(phase, 0, maxiter)
 
-    def callback(xk, convergence=None):
+    def callback(xk: np.ndarray, convergence: float | None = None) -> None:
         gen[0] += 1
         tick(phase, gen[0], maxiter)
 

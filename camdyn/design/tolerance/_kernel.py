@@ -11,17 +11,22 @@ exact derivatives added to the motion. Damping given as a ratio follows the samp
 
 from __future__ import annotations
 
-from typing import NamedTuple
+from collections.abc import Callable
+from typing import TYPE_CHECKING, Any, NamedTuple
 
 import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
+from jax.typing import ArrayLike
 
 from ..._core.units import TWO_PI, damping_from_ratio
 from ...model.dynamics import kinematic_force_of, steady_state, train_force
 from ...model.follower import FollowerModel
 from ...model.motion import evaluate
+
+if TYPE_CHECKING:
+    from ...model.case import Case
 
 SCAN_SPEEDS = 16  # speeds scanned in (0, w_max] for the first one that separates
 ROOT_STEPS = 7  # then Illinois steps on that bracket (superlinear: well under 0.01 rpm)
@@ -38,7 +43,7 @@ class Grid(NamedTuple):
     unit: jax.Array  # the motion's unit in SI (m per mm, or 1 for rad): the profile coefficients' scale
 
 
-def make_grid(case, n: int, harmonics: int, weight) -> Grid:
+def make_grid(case: Case, n: int, harmonics: int, weight: Callable[[np.ndarray], np.ndarray]) -> Grid:
     """The :class:`Grid` of ``n`` angles for ``case``; ``weight(theta)`` is the force weight."""
     theta = np.arange(n) * (TWO_PI / n)
     s = np.asarray(evaluate(case.motion, jnp.asarray(theta)))[:3] * case.model.scale
@@ -102,12 +107,12 @@ def _min_force(md: FollowerModel, tabs, weight, omega, rigid: bool):
     return jnp.min(force * weight)
 
 
-def min_force(base: FollowerModel, grid: Grid, p: Sample, omega, rigid: bool):
+def min_force(base: FollowerModel, grid: Grid, p: Sample, omega: ArrayLike, rigid: bool) -> jax.Array:
     """Least interface force (N, weighted) of the in-contact model of sample ``p`` at ``omega`` (rad/s)."""
     return _min_force(sample_model(base, p), _tables(grid, p), grid.weight, omega, rigid)
 
 
-def jump_speed(base: FollowerModel, grid: Grid, p: Sample, w_max, rigid: bool):
+def jump_speed(base: FollowerModel, grid: Grid, p: Sample, w_max: ArrayLike, rigid: bool) -> jax.Array:
     """Least speed (rad/s) whose least force is <= 0: the first of ``SCAN_SPEEDS`` in (0, w_max], then the
     Illinois method (regula falsi) on that bracket; inf where none is."""
     md, tabs = sample_model(base, p), _tables(grid, p)
@@ -121,7 +126,9 @@ def jump_speed(base: FollowerModel, grid: Grid, p: Sample, w_max, rigid: bool):
     f_lo = jnp.where(i > 0, f[prev], _min_force(md, tabs, grid.weight, 0.0, rigid))
     f_hi = f[i]
 
-    def illinois(_, b):
+    def illinois(
+        _: Any, b: tuple[jax.Array, jax.Array, jax.Array, jax.Array, jax.Array]
+    ) -> tuple[jax.Array, jax.Array, jax.Array, jax.Array, jax.Array]:
         lo, hi, f_lo, f_hi, side = b
         w = jnp.clip(hi - f_hi * (hi - lo) / jnp.where(f_hi != f_lo, f_hi - f_lo, 1.0), lo, hi)
         w = jnp.where((w <= lo) | (w >= hi), 0.5 * (lo + hi), w)
@@ -147,12 +154,28 @@ def _both(const, p: Sample, rigid: bool):
     return min_force(base, fine, p, p.omega, rigid), jump_speed(base, scan, p, w_max, rigid)
 
 
-def tolerance_kernel(const, k, f0, m, kf, omega, coeffs):
+def tolerance_kernel(
+    const: tuple[FollowerModel, Grid, Grid, jax.Array],
+    k: jax.Array,
+    f0: jax.Array,
+    m: jax.Array,
+    kf: jax.Array,
+    omega: jax.Array,
+    coeffs: jax.Array,
+) -> tuple[jax.Array, jax.Array]:
     """Per sample of a compliant follower: (least force at its speed on the fine grid, N; jump speed on the scan
     grid, rad/s). ``const = (nominal model, fine Grid, scan Grid, w_max)``."""
     return _both(const, Sample(k, f0, m, kf, omega, coeffs), False)
 
 
-def rigid_tolerance_kernel(const, k, f0, m, kf, omega, coeffs):
+def rigid_tolerance_kernel(
+    const: tuple[FollowerModel, Grid, Grid, jax.Array],
+    k: jax.Array,
+    f0: jax.Array,
+    m: jax.Array,
+    kf: jax.Array,
+    omega: jax.Array,
+    coeffs: jax.Array,
+) -> tuple[jax.Array, jax.Array]:
     """:func:`tolerance_kernel` of a rigid follower (the kinematic force)."""
     return _both(const, Sample(k, f0, m, kf, omega, coeffs), True)

@@ -36,7 +36,7 @@ class Spread:
             return self.half_width / math.sqrt(PROFILE_ERROR_HARMONICS)
         return self.half_width / (NORMAL_TOLERANCE_SIGMAS if self.distribution == "normal" else math.sqrt(3.0))
 
-    def draw(self, rng: np.random.Generator, shape) -> np.ndarray:
+    def draw(self, rng: np.random.Generator, shape: int | tuple[int, ...]) -> np.ndarray:
         """Deviations from the nominal value."""
         if self.distribution == "normal":
             return self.sigma * rng.standard_normal(shape)

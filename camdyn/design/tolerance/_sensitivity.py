@@ -11,16 +11,20 @@ the samples' margin on their deviations: the variance of each key's linear part 
 from __future__ import annotations
 
 import math
+from typing import TYPE_CHECKING
 
 import jax
 import jax.numpy as jnp
 import numpy as np
 
-from ._kernel import Sample, min_force
+from ._kernel import Grid, Sample, min_force
+
+if TYPE_CHECKING:
+    from ...model.follower import FollowerModel
 
 
 def gradient_sensitivities(
-    base, scan, nominal: Sample, w_star: float, sigma_si: dict[str, float], rigid: bool
+    base: FollowerModel, scan: Grid, nominal: Sample, w_star: float, sigma_si: dict[str, float], rigid: bool
 ) -> dict[str, float]:
     """``d margin / d p x sigma`` per key of ``sigma_si`` (SI sigmas; the profile error's per coefficient);
     NaN for every key where the nominal design has no jump speed."""

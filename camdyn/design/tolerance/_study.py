@@ -5,6 +5,7 @@ percentiles, the worst samples and the sensitivities."""
 from __future__ import annotations
 
 import math
+from typing import TYPE_CHECKING
 
 import jax
 import jax.numpy as jnp
@@ -24,6 +25,9 @@ from ._kernel import Sample, make_grid, rigid_tolerance_kernel, tolerance_kernel
 from ._result import ToleranceResult
 from ._sampling import SCALAR_KEYS, draw_samples, spreads
 from ._sensitivity import gradient_sensitivities, variance_shares
+
+if TYPE_CHECKING:
+    from ...model.case import Case
 
 SCAN_GRID = 512  # angles of the jump-speed search (the least force at the case speed uses THETA_GRID)
 CHUNK_SAMPLES = 256  # samples per device per compiled call
@@ -64,7 +68,12 @@ def _to_si(case, vals: dict[str, np.ndarray]) -> list[np.ndarray]:
 
 
 def tolerance_study(
-    case, samples: int, seed: int = 0, *, progress: Progress | None = None, devices=None
+    case: Case,
+    samples: int,
+    seed: int = 0,
+    *,
+    progress: Progress | None = None,
+    devices: tuple | None = None,
 ) -> ToleranceResult:
     """Monte Carlo study of ``case``'s ``[tolerances]`` over ``samples`` built cams drawn from ``seed``.
 

@@ -6,11 +6,16 @@ error's RMS (the least force and jump speed in the header are the sample's, with
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 from ...schema import LINEAR_KEYS, dynamics_keys, read_toml
 from ._result import ToleranceResult
 
+if TYPE_CHECKING:
+    from ...model.case import Case
 
-def worst_case_docs(case, result: ToleranceResult) -> list[tuple[dict, list[str]]]:
+
+def worst_case_docs(case: Case, result: ToleranceResult) -> list[tuple[dict, list[str]]]:
     """Per worst sample (least contact force first): the case as a TOML document and its header lines."""
     raw = read_toml(case.source) if case.source is not None else case.spec.model_dump(mode="json", exclude_none=True)
     raw.pop("tolerances", None)

@@ -203,7 +203,7 @@ _CHUNK = 4096  # angles per compiled call: a 3600-step revolution plus its break
 
 
 def evaluate_geometry(
-    motion: Motion, f: FollowerSpec, theta_rad, base_radius: float | None = None
+    motion: Motion, f: FollowerSpec, theta_rad: ArrayLike, base_radius: float | None = None
 ) -> dict[str, np.ndarray]:
     """Evaluate at any number of angles (rad) in fixed-size chunks, so nothing recompiles per query size."""
     theta_rad = np.asarray(theta_rad, dtype=float)
