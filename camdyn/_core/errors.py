@@ -9,7 +9,7 @@ class CamdynError(Exception):
     ``where`` names the key (``dynamics.mass``), the segment, the angle or the path point.
     """
 
-    def __init__(self, where: str, message: str):
+    def __init__(self, where: str, message: str) -> None:
         super().__init__(f"{where}: {message}" if where else message)
         self.where = where
         self.message = message

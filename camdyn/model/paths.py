@@ -67,7 +67,7 @@ class Path(eqx.Module):
         """P(u) for a scalar u, mm (differentiable)."""
         return self._local(jnp.mod(self.phase + self.sign * u, 1.0))
 
-    def __call__(self, u):
+    def __call__(self, u: ArrayLike) -> jax.Array:
         u = jnp.asarray(u, dtype=float)
         return jax.vmap(self.point)(u.ravel()).reshape(*u.shape, 2)
 

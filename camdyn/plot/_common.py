@@ -79,7 +79,7 @@ def legend_above_data(ax: Axes, margin: float = 0.04, also: Iterable[float] = ()
     horizontal reference lines. ``kw``: the legend's keywords (ncol, fontsize, ...)."""
     leg = ax.legend(**({"loc": "upper right"} | kw))
     fig = ax.figure
-    renderer = fig._get_renderer()  # pyright: ignore[reportAttributeAccessIssue]
+    renderer = fig._get_renderer()  # pyright: ignore[reportAttributeAccessIssue] - matplotlib's, not in its stubs
     box, frame = leg.get_window_extent(renderer), ax.get_window_extent(renderer)
     below = (box.y0 - frame.y0) / max(frame.height, 1.0)  # the legend's lower edge, a fraction of the axes' height
     lo, hi = ax.get_ylim()
@@ -132,7 +132,7 @@ LEGEND_PLACES = (
 def legend_clear(ax: Axes, places: Sequence[str] = LEGEND_PLACES, **kw: Any) -> Legend:
     """A legend in the first of ``places`` where it covers no point of a data curve (the one covering the fewest
     where none is clear). ``kw``: the legend's keywords."""
-    renderer = ax.figure._get_renderer()  # pyright: ignore[reportAttributeAccessIssue]
+    renderer = ax.figure._get_renderer()  # pyright: ignore[reportAttributeAccessIssue] - matplotlib's, not in its stubs
     pts = _data_points(ax)
     best, best_n = places[0], None
     for loc in places:

@@ -47,7 +47,8 @@ def page_frame(
     version, ``foot`` and the page number at the foot."""
     text = fig.text(0.06, 0.975, name, size=15, weight="bold", va="top", color=C["ink"])
     if verdict is not None:  # the verdict on every page, just right of the name
-        x = 0.06 + text.get_window_extent(fig._get_renderer()).width / (fig.dpi * fig.get_figwidth()) + 0.015  # pyright: ignore[reportAttributeAccessIssue]
+        renderer = fig._get_renderer()  # pyright: ignore[reportAttributeAccessIssue] - matplotlib's, not in its stubs
+        x = 0.06 + text.get_window_extent(renderer).width / (fig.dpi * fig.get_figwidth()) + 0.015
         passed = verdict == "pass"
         fig.text(
             x,
@@ -91,7 +92,7 @@ def pretty_unit(unit: str) -> str:
 class Flow:
     """Top-down text layout on a figure (figure coordinates); ``y`` is the top of the next line."""
 
-    def __init__(self, fig, y: float, left: float = 0.06, right: float = 0.94):
+    def __init__(self, fig, y: float, left: float = 0.06, right: float = 0.94) -> None:
         self.fig, self.y, self.left, self.right = fig, y, left, right
 
     def h(self, size: float, lines: float = 1.0) -> float:

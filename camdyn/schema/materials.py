@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from typing import Any
+
 from pydantic import Field, field_validator
 
 from .._core.materials import ELASTIC, unknown_name
@@ -32,7 +34,7 @@ class MaterialsSpec(Table):
 
     @field_validator("cam", "follower", mode="before")
     @classmethod
-    def _by_name(cls, value):
+    def _by_name(cls, value: Any) -> Any:
         if isinstance(value, str):
             if value not in ELASTIC:
                 raise ValueError(unknown_name("material", value, MATERIAL_NAMES))

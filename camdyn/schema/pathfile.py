@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from typing import Literal
+from typing import Any, Literal
 
 from pydantic import Field, model_validator
 
@@ -52,7 +52,7 @@ class PathFileSpec(Table):
 
     @model_validator(mode="before")
     @classmethod
-    def _no_mechanism(cls, raw):
+    def _no_mechanism(cls, raw: Any) -> Any:
         if isinstance(raw, dict) and "mechanism" in raw:
             raise ValueError(
                 "mechanism: a path file has no [mechanism] table: camdyn synthesize chooses it (remove it, or run "

@@ -261,7 +261,7 @@ def _slug(heading: str) -> str:
 
 
 class _Writer:
-    def __init__(self):
+    def __init__(self) -> None:
         self.lines: list[str] = []
         self.anchor: dict[type[BaseModel], str] = {}
 

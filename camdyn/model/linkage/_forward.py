@@ -9,7 +9,6 @@ entries it adds; warnings are appended to ``warnings``.
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
 from typing import TYPE_CHECKING
 
 import jax.numpy as jnp
@@ -24,6 +23,7 @@ from ._chains import CCMChain, OscillatingChain
 from ._dyads import cross2, rrr, turn
 
 if TYPE_CHECKING:
+    from ..motion import Motion
     from ._motion import CamLinkMotion
 
 MIN_TRANSMISSION_DEG = (
@@ -99,7 +99,7 @@ def _choose_base_radius(tabulated, ms: MechanismSpec, e: float, sense: float, sh
 
 def ccm_forward(
     motion: CamLinkMotion,
-    tabulated: Callable[[np.ndarray], np.ndarray],
+    tabulated: Motion,
     ms: MechanismSpec,
     vals: np.ndarray,
     pts: dict,
@@ -170,7 +170,7 @@ def ccm_forward(
 
 def oscillating_forward(
     motion: CamLinkMotion,
-    tabulated: Callable[[np.ndarray], np.ndarray],
+    tabulated: Motion,
     ms: MechanismSpec,
     vals: np.ndarray,
     pts: dict,

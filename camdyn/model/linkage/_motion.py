@@ -98,7 +98,7 @@ class CamLinkMotion(Motion):
         d3 = (s3 * t1**2 - 3.0 * s2 * t1 * t2 + s1 * (3.0 * t2**2 - t1 * t3)) / t1**5
         return jnp.stack([s0, d1, d2, d3])
 
-    def __call__(self, theta):
+    def __call__(self, theta: ArrayLike) -> jax.Array:
         theta = jnp.asarray(theta, dtype=float)
         out = jax.vmap(self._one)(theta.ravel())  # (n, 4)
         return out.T.reshape(4, *theta.shape)

@@ -30,7 +30,7 @@ class Motion(eqx.Module):
     unit: eqx.AbstractVar[str]
     breaks_deg: eqx.AbstractVar[tuple[float, ...]]
 
-    def __call__(self, theta):  # pragma: no cover - abstract
+    def __call__(self, theta: ArrayLike) -> jax.Array:  # pragma: no cover - abstract
         raise NotImplementedError
 
     @property

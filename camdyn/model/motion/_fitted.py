@@ -38,7 +38,7 @@ class FittedMotion(Motion):
     def jit_form(self) -> QuinticTable:
         return QuinticTable.padded(self.knots, self.coef, self.breaks_deg, self.unit)
 
-    def __call__(self, theta):
+    def __call__(self, theta: ArrayLike) -> jax.Array:
         return quintic_eval(jnp, self.knots, self.coef, theta)
 
     def host(self, theta: ArrayLike) -> np.ndarray:

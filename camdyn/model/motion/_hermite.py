@@ -78,7 +78,7 @@ class QuinticTable(eqx.Module):
     def jump_angles(self) -> jax.Array:
         return self.jumps
 
-    def __call__(self, theta):
+    def __call__(self, theta: ArrayLike) -> jax.Array:
         return quintic_eval(jnp, self.knots, self.coef, theta, self.last)
 
     def host(self, theta: ArrayLike) -> np.ndarray:
@@ -143,7 +143,7 @@ class HermiteMotion(Motion):
     def jit_form(self) -> QuinticTable:
         return QuinticTable.padded(self.knots, self.coef, self.breaks_deg, self.unit)
 
-    def __call__(self, theta):
+    def __call__(self, theta: ArrayLike) -> jax.Array:
         return quintic_eval(jnp, self.knots, self.coef, theta)
 
     def max_error(self, source: Motion) -> np.ndarray:

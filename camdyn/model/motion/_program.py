@@ -88,7 +88,7 @@ class PieceTable(eqx.Module):
     def jump_angles(self) -> jax.Array:
         return self.jumps
 
-    def __call__(self, theta):
+    def __call__(self, theta: ArrayLike) -> jax.Array:
         return self._eval(jnp, theta)
 
     def host(self, theta: ArrayLike) -> np.ndarray:
@@ -181,7 +181,7 @@ class Program(Motion):
     def jit_form(self) -> PieceTable:
         return self.table
 
-    def __call__(self, theta):
+    def __call__(self, theta: ArrayLike) -> jax.Array:
         return self.table(theta)
 
     def host(self, theta: ArrayLike) -> np.ndarray:

@@ -144,7 +144,7 @@ class _Problem:
     G and P are cyclic banded (offsets -5..5 mod m). Interleaving the unknowns from both ends (0, m-1, 1, m-2,
     ...) makes them banded of half-width 11 without fill, so LAPACK's banded Cholesky factors them in O(m)."""
 
-    def __init__(self, x: np.ndarray, y: np.ndarray, m: int):
+    def __init__(self, x: np.ndarray, y: np.ndarray, m: int) -> None:
         import scipy.sparse as sp  # scipy loads only to fit: a case given by segments never does (0.2 s saved)
 
         self.y, self.m, self.n = y, m, len(x)
