@@ -62,8 +62,9 @@ def follower_model(d: DynamicsSpec, *, oscillating: bool) -> FollowerModel:
     m = d.inertia if oscillating else d.mass
     rate = d.torsion_rate if oscillating else d.spring_rate
     f0 = d.preload_torque if oscillating else d.preload
-    assert m is not None and rate is not None and f0 is not None  # check_dynamics_keys: the kind's mass, rate, preload
-    k = rate_to_si(rate, oscillating)
+    assert m is not None  # check_dynamics_keys: the kind's mass (and rate and preload, unless form-closed)
+    k = rate_to_si(rate or 0.0, oscillating)  # a groove cam needs no return spring
+    f0 = f0 or 0.0
     kf_in = d.train_torsion_rate if oscillating else d.train_stiffness
     kf = math.inf if kf_in is None else rate_to_si(kf_in, oscillating)
     c = d.damping if d.damping is not None else damping_from_ratio(d.damping_ratio or 0.0, k, m)

@@ -88,7 +88,8 @@ class CaseSpec(Table):
             raise ValueError(
                 "motion: the case needs [motion] segments or a table, a [follower] contour, or [path] and [mechanism]"
             )
-        check_dynamics_keys(self.dynamics, oscillating=self.oscillating)
+        form_closed = self.follower is not None and self.follower.form_closed
+        check_dynamics_keys(self.dynamics, oscillating=self.oscillating, form_closed=form_closed)
         check_spring_keys(self.spring, oscillating=self.oscillating)
         check_tolerance_keys(self.tolerances, oscillating=self.oscillating)
         if self.limits.max_contact_stress is not None and self.contact_width_mm is None:
