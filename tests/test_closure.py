@@ -3,10 +3,13 @@ and the flight across the backlash."""
 
 import copy
 
+import numpy as np
 import pytest
+from _helpers import distance_to_outline
 
 from camdyn import InputError
 from camdyn.model.case import case_from_dict
+from camdyn.model.geometry import analyze, groove
 
 GROOVE = {
     "name": "groove",
@@ -27,6 +30,11 @@ GROOVE = {
     },
     "dynamics": {"speed": 300, "mass": 1.0, "train_stiffness": 5000},
 }
+
+
+def case_geometry_pitch(case, n: int) -> np.ndarray:
+    """The pitch curve (2, n), mm, on n equal steps."""
+    return analyze(case.motion, case.follower, n=n).pitch
 
 
 def _with(table: str, **keys) -> dict:
@@ -66,3 +74,38 @@ def test_spring_closure_still_needs_the_spring():
     with pytest.raises(InputError, match="required key is missing") as err:
         case_from_dict(raw)
     assert err.value.where == "dynamics.spring_rate"
+
+
+def test_groove_walls_lie_at_roller_radius_plus_half_backlash():
+    """Each wall lies Rr + b/2 from the pitch curve (its distance from a dense pitch polyline), and on a dwell at
+    the closed-form radii Rb + s - b/2 and Rb + 2 Rr + s + b/2 with radii of curvature -+(Rp + s) - d."""
+    case = case_from_dict(GROOVE)
+    g = groove(case.motion, case.follower, n=3600)
+    rb, rr, b = 50.0, 12.0, 0.05
+    d = rr + b / 2
+    assert g.wall_offset_mm == pytest.approx(d)
+    pitch = np.asarray(case_geometry_pitch(case, 40_000))
+    for wall in (g.inner, g.outer):
+        dist = distance_to_outline(wall[:, ::7].T, pitch.T)
+        assert np.max(np.abs(dist - d)) < 2e-4  # the polyline's chord error at 40 000 points is ~1e-5 mm
+    i = int(np.argmin(np.abs(g.theta_deg - 150.0)))  # on the top dwell: lift 20
+    assert np.hypot(*g.inner[:, i]) == pytest.approx(rb + 20 - b / 2, abs=1e-9)
+    assert np.hypot(*g.outer[:, i]) == pytest.approx(rb + 2 * rr + 20 + b / 2, abs=1e-9)
+    assert g.rho_inner_mm[i] == pytest.approx(rb + rr + 20 - d, rel=1e-9)
+    assert g.rho_outer_mm[i] == pytest.approx(-(rb + rr + 20 + d), rel=1e-9)
+    # one wall concave where the other is convex
+    assert np.all(np.sign(g.rho_inner_mm + d) == -np.sign(g.rho_outer_mm + d))
+    assert not g.undercut and g.outer_wall.min_convex_radius_mm > 0
+
+
+def test_groove_wall_undercut_where_the_pitch_curve_turns_tighter_than_the_wall():
+    """A concave stretch of the pitch curve tighter than Rr + b/2 folds the outer wall, not the inner."""
+    raw = _with("follower", base_radius=25, roller_radius=10)
+    raw["motion"]["segments"][0] = {"law": "cycloidal", "end": 40, "lift": 20}
+    raw["motion"]["segments"][1] = {"law": "dwell", "end": 180}
+    case = case_from_dict(raw)
+    g = groove(case.motion, case.follower, n=3600)
+    assert g.outer_wall.undercut and not g.inner_wall.undercut
+    assert g.outer_wall.min_convex_radius_mm < 0 < g.inner_wall.min_convex_radius_mm
+    rho_p = analyze(case.motion, case.follower, n=3600).rho_pitch_mm  # the spring cam's pitch curve
+    assert g.outer_wall.min_convex_radius_mm == pytest.approx(np.max(rho_p[rho_p < 0]) * -1 - 10.025, abs=1e-3)

@@ -42,6 +42,7 @@ ccw flat-face formulas take theta as the polar angle of the contact in the cam f
 """
 
 from ._analyze import CamGeometry, GeometryExtremes, analyze, extremes, lever_arm_mm, newton_per_torque_at
+from ._groove import WALLS, GrooveGeometry, Wall, groove
 from ._inverse import ContactMotion, ContourFit, contact_motion
 from ._kernel import check_assembly, check_dimensions, geometry_of
 from ._size import BASE_RADIUS_STEP_MM, curvature_limit, min_base_radius, passes, rounded_base_radius
@@ -52,6 +53,9 @@ __all__ = [
     "ContactMotion",
     "ContourFit",
     "GeometryExtremes",
+    "GrooveGeometry",
+    "WALLS",
+    "Wall",
     "analyze",
     "check_assembly",
     "check_dimensions",
@@ -59,6 +63,7 @@ __all__ = [
     "curvature_limit",
     "extremes",
     "geometry_of",
+    "groove",
     "lever_arm_mm",
     "min_base_radius",
     "newton_per_torque_at",
