@@ -6,9 +6,12 @@ import copy
 import numpy as np
 import pytest
 from _helpers import distance_to_outline
+from scipy.integrate import solve_ivp
+from scipy.optimize import brentq
 
 from camdyn import InputError
 from camdyn.model.case import case_from_dict
+from camdyn.model.dynamics import closure_response
 from camdyn.model.geometry import analyze, groove
 
 GROOVE = {
@@ -109,3 +112,93 @@ def test_groove_wall_undercut_where_the_pitch_curve_turns_tighter_than_the_wall(
     assert g.outer_wall.min_convex_radius_mm < 0 < g.inner_wall.min_convex_radius_mm
     rho_p = analyze(case.motion, case.follower, n=3600).rho_pitch_mm  # the spring cam's pitch curve
     assert g.outer_wall.min_convex_radius_mm == pytest.approx(np.max(rho_p[rho_p < 0]) * -1 - 10.025, abs=1e-3)
+
+
+def _groove_case(backlash: float, fall: str = "polynomial-345", **dynamics):
+    raw = _with("follower", backlash=backlash)
+    raw["motion"]["segments"][2]["law"] = fall
+    raw["dynamics"].update(dynamics)
+    if backlash == 0.0:
+        del raw["follower"]["backlash"]
+    return case_from_dict(raw)
+
+
+def _omega(case) -> float:
+    return case.speed_rpm * 2 * np.pi / 60
+
+
+def test_crossovers_fall_where_the_acceleration_changes_sign():
+    """No spring, no external force: Fi = m w^2 s'', so the force changes flank at mid-rise of the cycloidal rise
+    (60 deg) and mid-fall of the 3-4-5 fall (240 deg), and nowhere on the dwells (where it is zero)."""
+    case = _groove_case(0.0)
+    r = closure_response(case.motion, case.follower, case.model, _omega(case))
+    assert [(c.from_flank, c.to_flank) for c in r.crossovers] == [("inner", "outer"), ("outer", "inner")]
+    assert [c.deg for c in r.crossovers] == pytest.approx([60.0, 240.0], abs=1e-8)
+    assert all(c.impact_velocity_m_per_s == 0.0 and c.land_deg == c.deg for c in r.crossovers)
+    # signed: positive (inner flank) in the first half of the rise, negative (outer) in the second
+    i, j = int(np.argmin(np.abs(r.theta_deg - 30))), int(np.argmin(np.abs(r.theta_deg - 90)))
+    assert r.contact_force[i] > 0 > r.contact_force[j]
+    vals = np.asarray(case.motion.host(np.deg2rad(r.theta_deg)))
+    np.testing.assert_allclose(r.contact_force, 1.0 * _omega(case) ** 2 * vals[2] * 1e-3, rtol=1e-12, atol=1e-12)
+
+
+def test_flight_across_the_backlash_lands_where_the_closed_form_says():
+    """No spring: the roller leaves the inner flank at mid-rise with the cam's velocity and keeps it; the outer
+    flank meets it where s'(tc) d - (s(tc + d) - s(tc)) = G, G = b / cos(phi) the gap along the follower's axis
+    (tan phi = s' / (Rp + s), zero offset), at the relative speed (s'(tc) - s'(tc + d)) w."""
+    b = 0.05
+    case = _groove_case(b, train_stiffness=5000)
+    w = _omega(case)
+    r = closure_response(case.motion, case.follower, case.model, w)
+    c = r.crossovers[0]
+    tc = np.deg2rad(60.0)
+    s = lambda t: np.asarray(case.motion.host(np.atleast_1d(t)))[:, 0]  # noqa: E731
+    s0 = s(tc)
+    gap = b * np.hypot(1.0, s0[1] / (62.0 + s0[0]))
+    d = brentq(lambda d: s0[1] * d - (s(tc + d)[0] - s0[0]) - gap, 1e-6, 1.0, xtol=1e-15)
+    v = (s0[1] - s(tc + d)[1]) * w * 1e-3
+    assert np.deg2rad(c.land_deg) - tc == pytest.approx(d, rel=1e-6)
+    assert c.impact_velocity_m_per_s == pytest.approx(v, rel=1e-6)
+    assert c.impact_force_N == pytest.approx(abs(w**2 * s(tc + d)[2] * 1e-3) + v * np.sqrt(5e6 * 1.0), rel=1e-6)
+    assert r.max_impact_velocity_m_per_s == max(x.impact_velocity_m_per_s for x in r.crossovers)
+    k0 = int(np.ceil(np.rad2deg(tc) * 10 + 1e-9))
+    assert r.contact_force[k0] == 0.0  # in flight: on neither flank
+
+
+def test_flight_under_a_spring_matches_a_second_integrator():
+    """With a spring and damper in the groove the flight is no longer at constant velocity: scipy's DOP853 at
+    tight tolerance, from each crossover, meets the same flank at the same angle and speed."""
+    case = _groove_case(0.2, spring_rate=1.0, preload=5.0, damping_ratio=0.1)
+    w = _omega(case)
+    r = closure_response(case.motion, case.follower, case.model, w)
+    assert len(r.crossovers) >= 2
+    m, k, c, f0 = (float(x) for x in (case.model.mass, case.model.stiffness, case.model.damping, case.model.preload))
+    motion = lambda t: np.asarray(case.motion.host(np.atleast_1d(t)))[:, 0]  # noqa: E731
+
+    def field(t, y):  # x in mm, p = dx/dtheta: m w^2 x'' = -(k x + F0 + c w x'), SI inside
+        return [y[1], -(k * y[0] * 1e-3 + f0 + c * w * y[1] * 1e-3) / (m * w**2 * 1e-3)]
+
+    for x in r.crossovers:
+        side = 1.0 if x.from_flank == "inner" else -1.0
+        tc = np.deg2rad(x.deg)
+        s0 = motion(tc)
+        gap = 0.2 * np.hypot(1.0, s0[1] / (62.0 + s0[0]))
+        other = lambda t, y, side=side, gap=gap: side * (y[0] - motion(t)[0]) - gap / 2  # noqa: E731
+        same = lambda t, y, side=side, gap=gap: -side * (y[0] - motion(t)[0]) - gap / 2 - 1e-9  # noqa: E731
+        for ev in (other, same):
+            ev.terminal, ev.direction = True, 1.0
+        sol = solve_ivp(
+            field,
+            (tc, tc + 1.0),
+            [s0[0] - side * gap / 2, s0[1]],
+            "DOP853",
+            events=(other, same),
+            rtol=1e-12,
+            atol=1e-13,
+        )
+        hit = 0 if sol.t_events[0].size else 1
+        assert (x.to_flank != x.from_flank) == (hit == 0)
+        t1, y1 = sol.t_events[hit][0], sol.y_events[hit][0]
+        assert np.deg2rad(x.land_deg) == pytest.approx(t1 % (2 * np.pi), abs=1e-7)
+        v = abs(y1[1] - motion(t1)[1]) * w * 1e-3
+        assert x.impact_velocity_m_per_s == pytest.approx(v, rel=1e-5, abs=1e-9)
