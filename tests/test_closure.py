@@ -5,7 +5,7 @@ import copy
 
 import numpy as np
 import pytest
-from _helpers import distance_to_outline
+from _helpers import distance_to_outline, run
 from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
 
@@ -202,3 +202,46 @@ def test_flight_under_a_spring_matches_a_second_integrator():
         assert np.deg2rad(x.land_deg) == pytest.approx(t1 % (2 * np.pi), abs=1e-7)
         v = abs(y1[1] - motion(t1)[1]) * w * 1e-3
         assert x.impact_velocity_m_per_s == pytest.approx(v, rel=1e-5, abs=1e-9)
+
+
+GROOVE_TOML = """
+name = "groove"
+[motion]
+segments = [
+  { law = "cycloidal", end = 120, lift = 20 },
+  { law = "dwell", end = 180 },
+  { law = "cycloidal", end = 300, lift = -20 },
+  { law = "dwell", end = 360 },
+]
+[follower]
+type = "translating-roller"
+base_radius = 50
+roller_radius = 12
+closure = "groove"
+backlash = 0.05
+[dynamics]
+speed = 300
+mass = 1.0
+train_stiffness = 5000
+"""
+
+
+def test_profile_writes_both_walls(tmp_path, capsys):
+    """DXF: one layer per wall; CSV: an ``outline`` column; each wall within the tolerance of Rr + b/2 from the
+    pitch curve. A cutter path of a groove is refused (not built)."""
+    import ezdxf
+
+    case_file = tmp_path / "groove.toml"
+    case_file.write_text(GROOVE_TOML)
+    assert run(capsys, "profile", case_file, "-o", tmp_path / "g.dxf")[0] == 0
+    doc = ezdxf.readfile(tmp_path / "g.dxf")
+    layers = {e.dxf.layer: np.array([p[:2] for p in e.get_points()]) for e in doc.modelspace()}
+    assert set(layers) == {"GROOVE_INNER", "GROOVE_OUTER"}
+    pitch = case_geometry_pitch(case_from_dict(GROOVE), 40_000)
+    for xy in layers.values():
+        assert np.max(np.abs(distance_to_outline(xy, pitch.T) - 12.025)) < 0.011
+    assert run(capsys, "profile", case_file, "-o", tmp_path / "g.csv")[0] == 0
+    rows = np.genfromtxt(tmp_path / "g.csv", delimiter=",", names=True, dtype=None, encoding="utf-8")
+    assert set(rows["outline"]) == {"groove_inner", "groove_outer"}
+    code, _, err = run(capsys, "profile", case_file, "-o", tmp_path / "g.nc", "--cutter-radius", 5)
+    assert code == 2 and "follower.closure" in err
