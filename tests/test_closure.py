@@ -245,3 +245,43 @@ def test_profile_writes_both_walls(tmp_path, capsys):
     assert set(rows["outline"]) == {"groove_inner", "groove_outer"}
     code, _, err = run(capsys, "profile", case_file, "-o", tmp_path / "g.nc", "--cutter-radius", 5)
     assert code == 2 and "follower.closure" in err
+
+
+def test_check_json_of_a_groove_cam(tmp_path, capsys):
+    """``check --json``: the closure block (the contract's keys), crossover_impact judged against
+    max_impact_velocity, no speed_margin and no least contact force (said, not an infinite margin); a tighter limit
+    than the impact fails (exit 1)."""
+    import json
+
+    case_file = tmp_path / "groove.toml"
+    case_file.write_text(GROOVE_TOML)
+    code, out, _ = run(capsys, "check", case_file, "--json")
+    doc = json.loads(out)
+    assert code == 0 and doc["verdict"] == "pass"
+    cl = doc["closure"]
+    assert cl["type"] == "groove" and cl["backlash_mm"] == 0.05
+    assert [round(c["deg"], 6) for c in cl["crossovers"]] == [60.0, 240.0]
+    assert {"deg", "impact_velocity_m_per_s", "impact_force_N"} <= set(cl["crossovers"][0])
+    top = max(c["impact_force_N"] for c in cl["crossovers"])
+    assert cl["max_impact_force_N"] == top and doc["dynamic"]["max_impact_force_N"] == top
+    names = [c["name"] for c in doc["checks"]]
+    assert "crossover_impact" in names and "speed_margin" not in names and "contact_force" not in names
+    impact = doc["checks"][names.index("crossover_impact")]
+    assert impact["value"] == pytest.approx(0.031439, rel=1e-4) and impact["limit"] == 0.1
+    assert doc["kinematic"]["jump_speed_rpm"] is None
+    assert any("speed_margin" in w and "do not apply" in w for w in doc["warnings"])
+    case_file.write_text(GROOVE_TOML + "[limits]\nmax_impact_velocity = 0.02\n")
+    assert run(capsys, "check", case_file)[0] == 1
+
+
+def test_table_contact_force_is_signed(tmp_path, capsys):
+    """``table``: contact_force_N positive on the inner flank, negative on the outer; the dynamic column is zero
+    while the follower crosses the backlash (60 to 68.8 deg)."""
+    case_file = tmp_path / "groove.toml"
+    case_file.write_text(GROOVE_TOML)
+    code, out, _ = run(capsys, "table", case_file, "--step", 1)
+    assert code == 0
+    rows = np.genfromtxt(out.splitlines(), delimiter=",", names=True)
+    by = {int(t): r for t, r in zip(rows["theta_deg"], rows, strict=True)}
+    assert by[30]["contact_force_N"] > 0 > by[90]["contact_force_N"]
+    assert by[65]["dynamic_contact_force_N"] == 0.0 and by[75]["dynamic_contact_force_N"] < 0

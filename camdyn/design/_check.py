@@ -17,6 +17,7 @@ class CheckKind(str, Enum):  # noqa: UP042 (StrEnum would change str() and forma
     TRAIN_DEFLECTION = "train_deflection"
     CONTACT_STRESS = "contact_stress"  # Hertz pressure between cam and follower, MPa
     CLEARANCE = "clearance"  # camdyn machine: the least gap between two followers that share space, mm
+    CROSSOVER_IMPACT = "crossover_impact"  # a groove cam: the speed at which a flank meets the follower, m/s
     # the return spring as a part (camdyn spring)
     SPRING_INDEX_MIN = "spring_index_min"
     SPRING_INDEX_MAX = "spring_index_max"
@@ -42,6 +43,7 @@ _LABELS = {
     CheckKind.TRAIN_DEFLECTION: "largest train compression / lift",
     CheckKind.CONTACT_STRESS: "largest Hertz contact pressure",
     CheckKind.CLEARANCE: "least gap between two followers",
+    CheckKind.CROSSOVER_IMPACT: "largest impact speed across the backlash",
     CheckKind.SPRING_INDEX_MIN: "spring index D/d, at least",
     CheckKind.SPRING_INDEX_MAX: "spring index D/d, at most",
     CheckKind.SPRING_LIFT_SAFETY: "shear yield strength / stress at full lift",

@@ -16,6 +16,7 @@ from ..model.contact import ContactStress
 from ..model.drive import DriveTorque
 from ..model.geometry import CamGeometry, analyze, lever_arm_mm, newton_per_torque_at
 from ._check import Check, CheckKind
+from .closure import NOT_APPLICABLE, ClosureStudy, closure_study
 from .geometry import judge_geometry
 from .parts import case_contact, case_drive, contact_check, resolve_spring
 from .userdata import least_force_uncertainty, least_force_warning, unit_slip_warnings
@@ -38,6 +39,7 @@ class CheckReport:
     geometry: CamGeometry | None = None
     drive: DriveTorque | None = None  # the camshaft torque of the dynamic forces
     contact: ContactStress | None = None  # Hertz stress, where the case gives a contact width
+    closure: ClosureStudy | None = None  # a form-closed cam's crossovers and walls
 
     @property
     def verdict(self) -> str:
@@ -62,6 +64,8 @@ class CheckReport:
             out["drive"] = self.drive.json()
         if self.contact is not None:
             out["contact"] = self.contact.json()
+        if self.closure is not None:
+            out["closure"] = self.closure.json()
         if self.case.synthesis is not None:
             syn = self.case.synthesis.json()
             out["synthesis"] = syn if arrays else {k: v for k, v in syn.items() if k not in SYNTHESIS_ARRAYS}
@@ -177,6 +181,8 @@ def run_check(case: Case, speed_rpm: float | None = None) -> CheckReport:
     case = resolve_spring(case)
     assert case.spring is not None  # resolve_spring resolved it
     rpm = float(speed_rpm if speed_rpm is not None else case.speed_rpm)
+    if case.follower is not None and case.follower.form_closed:
+        return _closure_check(case, rpm)
     omega = rpm * RPM
     motion, model, limits = case.motion, case.model, case.limits
     warnings = list(case.warnings) + ([case.spring.note] if case.spring.note else [])
@@ -263,3 +269,67 @@ def run_check(case: Case, speed_rpm: float | None = None) -> CheckReport:
     if by_flights:
         warnings.append(_flights_note(case, resp, rpm))
     return CheckReport(case, rpm, checks, kinematic, dynamic, resp, tuple(warnings), tuple(advice), geo, drive, contact)
+
+
+def _closure_check(case: Case, rpm: float) -> CheckReport:
+    """:func:`run_check` of a form-closed cam: the crossovers and their impacts judged, the geometry as any cam's;
+    no jump speed (it cannot jump) and no least contact force (signed by design)."""
+    assert case.follower is not None and case.spring is not None  # run_check: a groove cam, its spring resolved
+    study = closure_study(case, rpm)
+    resp = forces_in_newton(case, study.as_response(case))
+    warnings = list(case.warnings) + [NOT_APPLICABLE]
+    kin = resp.kinematic_force
+    i = int(kin.argmin())
+    kinematic = {
+        "min_contact_force_N": float(kin[i]),
+        "min_contact_force_deg": float(resp.theta_deg[i]),
+        "jump_speed_rpm": None,
+        "jump_speed_at_deg": None,
+    }
+    dynamic = {
+        "model": resp.model,
+        "min_contact_force_N": resp.min_force,
+        "min_contact_force_deg": resp.min_force_deg,
+        "min_contact_force_uncertainty_N": None,
+        "jump_speed_rpm": None,
+        "separations": [],
+        "flights": [],
+        "impacts": [],
+        "max_impact_force_N": study.response.max_impact_force_N,
+        "residual_vibration_mm": 0.0,
+        "periodicity_error": 0.0,
+    } | case.spring.json()
+    geo = analyze(case.motion, case.follower)
+    lim = case.limits
+    geo_checks, geo_warnings, advice = judge_geometry(
+        geo, case.motion, max_pressure_angle=lim.max_pressure_angle, min_curvature_ratio=lim.min_curvature_ratio
+    )
+    checks = (study.check(lim.max_impact_velocity), *geo_checks)
+    warnings += geo_warnings
+    warnings += [
+        f"the groove's {w} wall folds (undercut)"
+        for w in ("inner", "outer")
+        if getattr(study.walls, f"{w}_wall").undercut
+    ]
+    if case.spec.contact_width_mm is not None:
+        warnings.append("contact stress not computed for a groove cam yet (its two walls curve opposite ways)")
+    if study.response.crossovers:
+        warnings.append(_crossovers_note(study, case.follower.backlash))
+    drive = case_drive(case, resp)
+    return CheckReport(
+        case, rpm, checks, kinematic, dynamic, resp, tuple(warnings), tuple(advice), geo, drive, None, study
+    )
+
+
+def _crossovers_note(study: ClosureStudy, backlash_mm: float) -> str:
+    """Where the contact force changes flank, and with backlash where and how fast the other flank meets it."""
+    xs = study.response.crossovers
+    where = ", ".join(f"{c.deg:.1f}" for c in xs[:6]) + (", ..." if len(xs) > 6 else "")
+    note = f"the contact force changes flank {len(xs)} times a revolution (at {where} deg)"
+    if backlash_mm > 0.0:
+        top = max(xs, key=lambda c: c.impact_velocity_m_per_s)
+        note += (
+            f"; across the {backlash_mm:g} mm backlash the {top.to_flank} flank meets the follower hardest at "
+            f"{top.land_deg:.1f} deg, {top.impact_velocity_m_per_s:.3g} m/s"
+        )
+    return note

@@ -16,9 +16,8 @@ from ..model import dynamics as dyn
 from ..model.case import Case
 from ..model.geometry import GrooveGeometry, groove
 from ..model.motion import evaluate
-from ._check import Check
+from ._check import Check, CheckKind
 
-CROSSOVER_IMPACT = "crossover_impact"  # the check's name in the JSON contract
 NOT_APPLICABLE = (
     "speed_margin and contact_force do not apply to a form-closed cam: the groove holds the follower both ways, so "
     "it cannot jump; the contact force is signed (positive on the inner flank) and changes flank at the crossovers"
@@ -61,7 +60,11 @@ class ClosureStudy:
         """``[limits] max_impact_velocity``: the largest speed at which a flank meets the follower crossing the
         backlash, m/s (0 without backlash)."""
         return Check(
-            CROSSOVER_IMPACT, self.response.max_impact_velocity_m_per_s, float(max_impact_velocity), "m/s", "<="
+            CheckKind.CROSSOVER_IMPACT.value,
+            self.response.max_impact_velocity_m_per_s,
+            float(max_impact_velocity),
+            "m/s",
+            "<=",
         )
 
 

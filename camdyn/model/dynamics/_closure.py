@@ -29,7 +29,7 @@ from ..._core.jit import filter_jit
 from ..._core.units import THETA_GRID, TWO_PI, newton_per_torque
 from ...schema import FollowerSpec
 from ..follower import FollowerModel
-from ..geometry._kernel import evaluate_geometry
+from ..geometry import evaluate_geometry
 from ..motion import Motion, evaluate
 from ._compliant import vector_field
 from ._kinematic import kinematic_force_jit

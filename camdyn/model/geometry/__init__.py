@@ -44,7 +44,7 @@ ccw flat-face formulas take theta as the polar angle of the contact in the cam f
 from ._analyze import CamGeometry, GeometryExtremes, analyze, extremes, lever_arm_mm, newton_per_torque_at
 from ._groove import WALLS, GrooveGeometry, Wall, groove
 from ._inverse import ContactMotion, ContourFit, contact_motion
-from ._kernel import check_assembly, check_dimensions, geometry_of
+from ._kernel import check_assembly, check_dimensions, evaluate_geometry, geometry_of
 from ._size import BASE_RADIUS_STEP_MM, curvature_limit, min_base_radius, passes, rounded_base_radius
 
 __all__ = [
@@ -61,6 +61,7 @@ __all__ = [
     "check_dimensions",
     "contact_motion",
     "curvature_limit",
+    "evaluate_geometry",
     "extremes",
     "geometry_of",
     "groove",
