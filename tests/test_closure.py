@@ -285,3 +285,16 @@ def test_table_contact_force_is_signed(tmp_path, capsys):
     by = {int(t): r for t, r in zip(rows["theta_deg"], rows, strict=True)}
     assert by[30]["contact_force_N"] > 0 > by[90]["contact_force_N"]
     assert by[65]["dynamic_contact_force_N"] == 0.0 and by[75]["dynamic_contact_force_N"] < 0
+
+
+@pytest.mark.parametrize(
+    "argv", [["size"], ["spring"], ["sweep", "--speeds", "100:200:3"], ["tolerance"], ["report", "-o", "r"]]
+)
+def test_spring_held_studies_refuse_a_groove_cam(tmp_path, capsys, argv):
+    """They study a spring-held follower that may jump: one line naming follower.closure, exit 2, nothing written."""
+    case_file = tmp_path / "groove.toml"
+    case_file.write_text(GROOVE_TOML)
+    argv = [a if a != "r" else tmp_path / "r" for a in argv]
+    code, out, err = run(capsys, argv[0], case_file, *argv[1:])
+    assert code == 2 and "follower.closure" in err and "form-closed" in err and len(err.strip().splitlines()) == 1
+    assert not (tmp_path / "r").exists()

@@ -349,7 +349,7 @@ def _enable_caches() -> None:
 
 def _validate(args) -> None:
     """Read and validate the input files before any model is built: a typo is reported before JAX loads."""
-    from .._core.errors import CamdynError
+    from .._core.errors import CamdynError, InputError
     from ..schema import load_case_spec, load_path_file
     from ..schema.machine import load_machine
 
@@ -366,6 +366,20 @@ def _validate(args) -> None:
                 raise type(err)(f"{p}: {err.where}" if err.where else str(p), err.message) from None
     else:
         args.spec = load_case_spec(args.case)
+    if args.command in _SPRING_HELD or (args.command == "check" and args.report):
+        several = args.command == "report"
+        for spec, path in zip(args.specs if several else [args.spec], args.cases if several else [""], strict=True):
+            if spec.follower is not None and spec.follower.form_closed:
+                what = "the report" if args.command in ("report", "check") else args.command
+                raise InputError(
+                    f"{path}: follower.closure" if path else "follower.closure",
+                    f"{what} does not model a form-closed cam yet (it studies a spring-held follower that may jump): "
+                    "camdyn check, table and profile give a groove cam's crossovers, impacts and walls",
+                )
+
+
+# commands that study a spring-held follower: its spring, its jump speed, its design review
+_SPRING_HELD = ("size", "spring", "sweep", "tolerance", "optimize", "report")
 
 
 def main(argv: list[str] | None = None) -> int:
