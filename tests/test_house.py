@@ -4,6 +4,7 @@ command line that answers without loading JAX until it must."""
 from __future__ import annotations
 
 import ast
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -163,3 +164,28 @@ def test_check_imports_only_what_it_uses():
         "print(code, sorted(m for m in heavy if m in sys.modules))"
     )
     assert proc.stdout.strip().splitlines()[-1] == "0 []", proc.stderr[-2000:]
+
+
+# a check's results read as a JSON-shaped dict: by an output key, where a typed attribute says the unit
+OUTPUT_KEY_READ = re.compile(
+    r"""\b(?:kinematic|dynamic)\s*\[|\b(?:kinematic|dynamic)\.get\(|\[\s*["'](?:kinematic|dynamic)["']\s*\]\s*[\[.]"""
+)
+
+
+def output_key_reads(root: Path = PACKAGE) -> list[str]:
+    """Every line under ``root`` that reads a check's ``kinematic`` or ``dynamic`` results by key (issue 22)."""
+    return [
+        f"{path.relative_to(root.parent)}:{n}: {line.strip()}"
+        for path in sorted(root.rglob("*.py"))
+        for n, line in enumerate(path.read_text(encoding="utf-8").splitlines(), start=1)
+        if OUTPUT_KEY_READ.search(line)
+    ]
+
+
+def test_no_output_key_is_read_downstream(tmp_path):
+    """Results are typed: nothing reads ``chk.dynamic["..."]``, ``kinematic.get(...)``, ``doc["dynamic"]["model"]``."""
+    assert output_key_reads() == []
+    bad = tmp_path / "bad.py"
+    reads = ('a = chk.dynamic["jump_speed_rpm"]', 'b = rep.kinematic.get("x")', 'c = doc["dynamic"]["model"]')
+    bad.write_text("\n".join((*reads, "d = dyn.model", 'e = col["dynamic"]')))
+    assert len(output_key_reads(tmp_path)) == 3

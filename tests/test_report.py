@@ -14,6 +14,7 @@ from matplotlib.figure import Figure
 from matplotlib.image import imread
 from PIL import Image
 
+from camdyn._core.results import Unavailable
 from camdyn.cli import main
 from camdyn.design.checks import run_check
 from camdyn.design.review import design_review
@@ -73,6 +74,7 @@ def expected_slugs(case) -> list[str]:
         "svaj",
         *(["cam"] if case.follower is not None else []),
         "dynamics",
+        *(["valvetrain"] if case.valvetrain is not None else []),
         *(["mechanism"] if case.synthesis is not None else []),
         *(["optimization"] if case.spec.optimized_from else []),
         "parts",
@@ -147,10 +149,10 @@ def test_review_force_against_speed_meets_the_check(lecture_review):
     crosses zero at the check's jump speed; the kinematic curve is the check's kinematic least force there."""
     sweep, chk = lecture_review.force_vs_speed, lecture_review.check
     dyn, kin = chk.dynamic, chk.kinematic
-    assert np.interp(300.0, sweep.speeds_rpm, sweep.dynamic_N) == pytest.approx(dyn["min_contact_force_N"], rel=1e-3)
-    assert sweep.speeds_rpm[np.argmax(sweep.dynamic_N <= 0.0)] == pytest.approx(dyn["jump_speed_rpm"], rel=2e-3)
-    assert np.interp(300.0, sweep.speeds_rpm, sweep.kinematic_N) == pytest.approx(kin["min_contact_force_N"], rel=1e-3)
-    assert sweep.speeds_rpm[np.argmax(sweep.kinematic_N <= 0.0)] == pytest.approx(kin["jump_speed_rpm"], rel=2e-3)
+    assert np.interp(300.0, sweep.speeds_rpm, sweep.dynamic_N) == pytest.approx(dyn.min_contact_force_N, rel=1e-3)
+    assert sweep.speeds_rpm[np.argmax(sweep.dynamic_N <= 0.0)] == pytest.approx(dyn.jump_speed_rpm, rel=2e-3)
+    assert np.interp(300.0, sweep.speeds_rpm, sweep.kinematic_N) == pytest.approx(kin.min_contact_force_N, rel=1e-3)
+    assert sweep.speeds_rpm[np.argmax(sweep.kinematic_N <= 0.0)] == pytest.approx(kin.jump_speed_rpm, rel=2e-3)
     assert lecture_review.margin_rpm == pytest.approx(375.0)
     assert lecture_review.margin_response.omega == pytest.approx(375.0 * 2 * np.pi / 60)
 
@@ -163,8 +165,8 @@ def test_spring_page_agrees_with_the_check(lecture_review):
     assert isinstance(sz, SpringSizing) and sz.model == "compliant" and not sz.oscillating
     assert sz.top_speed_rpm == pytest.approx(1.25 * 300.0)
     assert (sz.current.rate, sz.current.preload) == (2.0, 30.0)
-    assert sz.current.kinematic_jump_rpm == pytest.approx(chk.kinematic["jump_speed_rpm"], rel=1e-3)
-    assert sz.current.dynamic_jump_rpm == pytest.approx(chk.dynamic["jump_speed_rpm"], rel=1e-3)
+    assert sz.current.kinematic_jump_rpm == pytest.approx(chk.kinematic.jump_speed_rpm, rel=1e-3)
+    assert sz.current.dynamic_jump_rpm == pytest.approx(chk.dynamic.jump_speed_rpm, rel=1e-3)
     assert sz.chosen.least_force >= sz.min_contact_force - 1e-6 and sz.chosen.dynamic_jump_rpm >= sz.top_speed_rpm * (
         1 - 1e-3
     )
@@ -173,7 +175,7 @@ def test_spring_page_agrees_with_the_check(lecture_review):
     assert (
         jm.preload == 30.0
         and jm.spring_rates[-1] == pytest.approx(sz.region_rate[-1])
-        and jm.speeds_rpm[-1] > chk.dynamic["jump_speed_rpm"]
+        and jm.speeds_rpm[-1] > chk.dynamic.jump_speed_rpm
     )
     assert jm.separated.any() and not jm.separated[:, -1][jm.speeds_rpm < 300.0].any()
 
@@ -204,8 +206,7 @@ def test_each_page_shows_its_content(lecture_review):
     assert list(text) == expected_slugs(lecture_review.case)
     assert "PASS" in text["summary"] and all(c.name in text["summary"] for c in chk.checks)
     assert (
-        f"{chk.dynamic['min_contact_force_N']:.4g} N at {chk.dynamic['min_contact_force_deg']:.1f}\u00b0"
-        in text["summary"]
+        f"{chk.dynamic.min_contact_force_N:.4g} N at {chk.dynamic.min_contact_force_deg:.1f}\u00b0" in text["summary"]
     )
     for quantity in (
         "lift s",
@@ -225,7 +226,7 @@ def test_each_page_shows_its_content(lecture_review):
         "interface force at 300 rpm" in text["dynamics"]
         and "speed_margin 1.25 \u00d7 speed = 375 rpm" in text["dynamics"]
     )
-    assert f"dynamic jump speed {chk.dynamic['jump_speed_rpm']:.0f} rpm" in text["dynamics"]
+    assert f"dynamic jump speed {chk.dynamic.jump_speed_rpm:.0f} rpm" in text["dynamics"]
     assert "Springs compared" in text["springs"] and "jump map" in text["springs"]
 
 
@@ -270,7 +271,8 @@ def test_path_case_gets_the_mechanism_page(path_case):
 
 @pytest.mark.slow
 def test_spring_page_says_why_sizing_does_not_apply(lecture_review):
-    bad = dataclasses.replace(lecture_review, sizing="motion: the follower does not move: there is no spring to size")
+    reason = "motion: the follower does not move: there is no spring to size"
+    bad = dataclasses.replace(lecture_review, sizing=Unavailable(reason))
     fig = Figure(figsize=A4)
     draw_springs(fig, ReportData(bad))
     texts = " ".join(t.get_text() for t in fig.texts)
@@ -354,7 +356,7 @@ def test_plot_functions_draw_public_results(lecture_review):
     plot_feasible_region(axes[11], rv.sizing)
     assert plot_jump_map(axes[12], rv.jump_map) is not None
     assert all(ax.lines or ax.collections or ax.patches for ax in axes)
-    least = f"least {chk.dynamic['min_contact_force_N']:.3g} N at {chk.dynamic['min_contact_force_deg']:.1f}\u00b0"
+    least = f"least {chk.dynamic.min_contact_force_N:.3g} N at {chk.dynamic.min_contact_force_deg:.1f}\u00b0"
     assert not axes[7].texts and least in [
         t.get_text() for t in axes[7].get_legend().get_texts()
     ]  # named in the legend
@@ -388,7 +390,7 @@ def test_force_panel_says_where_the_follower_leaves(lecture_review):
     assert any(t.startswith(f"impact ({len(resp.impacts)}), largest {resp.max_impact_force:.4g} N") for t in labels)
     data = ReportData(dataclasses.replace(lecture_review, check=dataclasses.replace(chk, response=resp)))
     least = dict(key_results(data))["least force, dynamic"]
-    assert least == f"{chk.dynamic['min_contact_force_N']:.4g} N: leaves the cam at 145.3\u00b0"
+    assert least == f"{chk.dynamic.min_contact_force_N:.4g} N: leaves the cam at 145.3\u00b0"
 
 
 @pytest.mark.slow
@@ -469,12 +471,12 @@ def test_an_optimized_case_is_compared_with_its_original():
     the motion and the force against speed of both, with both jump speeds."""
     case = load_case(ROOT / "cases" / "lecture-optimized.toml")
     review = design_review(case, run_check(case))
-    assert review.original.case.name == "lecture" and review.original.check.dynamic["jump_speed_rpm"] == pytest.approx(
+    assert review.original.case.name == "lecture" and review.original.check.dynamic.jump_speed_rpm == pytest.approx(
         484.818, abs=0.01
     )
     text = drawn_pages(review)
     assert list(text) == expected_slugs(case)
     assert (
         "before: jump speed 485 rpm" in text["optimization"]
-        and f"after: jump speed {review.check.dynamic['jump_speed_rpm']:.0f} rpm" in text["optimization"]
+        and f"after: jump speed {review.check.dynamic.jump_speed_rpm:.0f} rpm" in text["optimization"]
     )

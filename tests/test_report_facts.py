@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 from matplotlib.figure import Figure
 
+from camdyn._core.results import Unavailable
 from camdyn.design.checks import run_check
 from camdyn.design.review import Review, _margin_response, _or_reason, sample_motion
 from camdyn.design.spring import design_case_spring
@@ -97,7 +98,7 @@ def assert_shading_is_the_zero_force(resp) -> None:
 def light_review(case, check, *, margin=False, tolerance_samples=0) -> Review:
     """A review with what the tested facts need (the sizing and jump map left out: they are not facts here)."""
     margin_rpm = case.limits.speed_margin * check.speed_rpm
-    resp = _margin_response(case, margin_rpm) if margin else "not computed"
+    resp = _margin_response(case, margin_rpm) if margin else Unavailable("not computed")
     tol = None
     if case.spec.tolerances is not None:
         tol = _or_reason(tolerance_study, case, tolerance_samples, 0)
@@ -108,8 +109,8 @@ def light_review(case, check, *, margin=False, tolerance_samples=0) -> Review:
         margin_rpm,
         resp,
         None,
-        "not sized",
-        "no map",
+        Unavailable("not sized"),
+        Unavailable("no map"),
         _or_reason(design_case_spring, case),
         None,
         tol,
@@ -189,9 +190,9 @@ def test_square_page_one_says_its_spring_cannot_be_built(path_synthesis):
     """square passes its checks, but its own spring cannot be built (page 6): page 1 says so."""
     case = load_case(CASES / "square.toml")
     review = light_review(case, run_check(case))
-    assert isinstance(review.spring_part, str)
+    assert isinstance(review.spring_part, Unavailable)
     facts = decision_facts(ReportData(review))
-    assert any(f.startswith("the return spring cannot be built") and review.spring_part in f for f in facts)
+    assert any(f.startswith("the return spring cannot be built") and review.spring_part.reason in f for f in facts)
     data = ReportData(review)
     rows = segment_rows(data)  # a path: a row per stretch between breaks, its jumps the facts' jumps
     assert len(rows) == len(data.breaks_deg) and {

@@ -38,6 +38,20 @@ DEFAULT_TRAIN_DAMPING_RATIO = 0.05
 # form-closed cams: the largest speed at which a follower crossing its backlash may meet the other flank, m/s (a
 # soft landing; the noise and the flank wear of a groove cam grow with it)
 DEFAULT_MAX_IMPACT_VELOCITY_M_PER_S = 0.1
+# [valvetrain] defaults
+# A steel valve on a hardened seat keeps some rebound; 0.3 is the middle of the 0.2-0.4 usually assumed.
+DEFAULT_SEAT_RESTITUTION = 0.3
+# Lash take-up ramps run at 0.01-0.02 mm per cam degree at the valve: at 3000 cam rpm 0.015 mm/deg seats the valve
+# at 0.27 m/s, inside the seating-velocity limit below.
+DEFAULT_RAMP_VELOCITY_MM_PER_DEG = 0.015
+MAX_ROCKER_RATIO = 5.0
+# [limits] max_seating_velocity default, m/s: the valve's speed on landing; 0.5 m/s is the usual ceiling at rated
+# speed for a steel valve on a hardened seat (0.3 m/s where seat wear matters most).
+DEFAULT_MAX_SEATING_VELOCITY = 0.5
+# A re-lift of the valve after it seats below this (mm) is the rigid seat's restitution micro-bounce, not a bounce.
+VALVE_BOUNCE_TOLERANCE_MM = 0.01
+# The valve is open where its lift exceeds this (mm): the opening and closing angles of a cam card.
+VALVE_TIMING_LIFT_MM = 0.05
 # Physical bounds: a number beyond them is a typo or a unit slip, not a cam camdyn can judge (a 10 m cam, a
 # follower lighter than a milligram), and it would only send the solvers into the weeds.
 MAX_LENGTH_MM = 1e4  # 10 m

@@ -19,15 +19,15 @@ def print_check(report: CheckReport) -> None:
     con.print(f"[bold]{case.name}[/bold]  {case.spec.description}".rstrip())
     dyn, kin = report.dynamic, report.kinematic
     least = (
-        f"the follower leaves the cam at {dyn['min_contact_force_deg']:.1f} deg"
-        if dyn["separations"]
-        else f"least contact force {dyn['min_contact_force_N']:.4g} N at {dyn['min_contact_force_deg']:.1f} deg"
+        f"the follower leaves the cam at {dyn.min_contact_force_deg:.1f} deg"
+        if dyn.separations
+        else f"least contact force {dyn.min_contact_force_N:.4g} N at {dyn.min_contact_force_deg:.1f} deg"
     )
     if report.closure is not None:  # form-closed: the force is signed, negative on the outer flank
         least = f"form-closed, signed contact force: {least}"
     con.print(
-        f"speed {report.speed_rpm:g} rpm, {dyn['model']} follower; {least} "
-        f"(kinematic {kin['min_contact_force_N']:.4g} N at {kin['min_contact_force_deg']:.1f} deg)"
+        f"speed {report.speed_rpm:g} rpm, {dyn.model} follower; {least} "
+        f"(kinematic {kin.min_contact_force_N:.4g} N at {kin.min_contact_force_deg:.1f} deg)"
     )
     t = table(
         ("check", "left"), ("value", "right"), ("", "center"), ("limit", "right"), ("unit", "left"), ("result", "left")
@@ -35,7 +35,7 @@ def print_check(report: CheckReport) -> None:
     for c in report.checks:
         value = "unbounded" if c.value is None else f"{c.value:.4g}"
         result = "[green]pass[/green]" if c.ok else "[bold red]FAIL[/bold red]"
-        limit = f"{c.limit:g}" + (" (no cusp)" if c.name == CheckKind.CURVATURE.value and c.unit == "mm" else "")
+        limit = f"{c.limit:g}" + (" (no cusp)" if c.kind is CheckKind.CURVATURE and c.unit == "mm" else "")
         t.add_row(c.name, value, c.sense, limit, c.unit, result)
     con.print(t)
     notes(con, "warning", "yellow", report.warnings)

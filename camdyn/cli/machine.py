@@ -26,13 +26,16 @@ def print_machine(result: MachineResult) -> None:
         ("result", "left"),
     )
     for cam in result.cams:
-        margin = next((c.value for c in cam.check.checks if c.name == "speed_margin"), None)
         result_text = "[green]pass[/green]" if cam.verdict == "pass" else "[bold red]FAIL[/bold red]"
         t.add_row(
             cam.name,
             f"{cam.phase_deg:g} deg",
-            f"{cam.check.dynamic['min_contact_force_N']:.4g} N",
-            "n/a: groove" if cam.check.closure is not None else "unbounded" if margin is None else f"{margin:.3g} x",
+            f"{cam.check.dynamic.min_contact_force_N:.4g} N",
+            "n/a: groove"
+            if cam.check.closure is not None
+            else "unbounded"
+            if cam.speed_margin is None
+            else f"{cam.speed_margin:.3g} x",
             f"{cam.peak_torque:.4g} N*m",
             f"{cam.peak_torque_at_deg:.1f} deg",
             result_text,

@@ -17,6 +17,8 @@ class CheckKind(str, Enum):  # noqa: UP042 (StrEnum would change str() and forma
     TRAIN_DEFLECTION = "train_deflection"
     CONTACT_STRESS = "contact_stress"  # Hertz pressure between cam and follower, MPa
     CLEARANCE = "clearance"  # camdyn machine: the least gap between two followers that share space, mm
+    SEATING_VELOCITY = "seating_velocity"  # [valvetrain]: the valve's speed landing on its seat, m/s
+    VALVE_BOUNCE = "valve_bounce"  # [valvetrain]: the valve's re-lift after it seats, mm
     CROSSOVER_IMPACT = "crossover_impact"  # a groove cam: the speed at which a flank meets the follower, m/s
     # the return spring as a part (camdyn spring)
     SPRING_INDEX_MIN = "spring_index_min"
@@ -31,28 +33,46 @@ class CheckKind(str, Enum):  # noqa: UP042 (StrEnum would change str() and forma
     @property
     def label(self) -> str:
         """What the check's value is, in words (the report's and the terminal's "what" column)."""
-        return _LABELS[self]
+        return _WORDS[self][0]
+
+    @property
+    def unit(self) -> str:
+        """The unit of the check's value and limit (``curvature``: "ratio" for a roller; a flat face's is "mm")."""
+        return _WORDS[self][1]
+
+    @property
+    def sense(self) -> str:
+        """How the value must compare with the limit: ">=", ">" or "<="."""
+        return _WORDS[self][2]
+
+    def check(self, value: float | None, limit: float, unit: str | None = None) -> Check:
+        """The judgment of ``value`` against ``limit``, in this kind's unit unless ``unit`` is given."""
+        return Check(self.value, value, limit, self.unit if unit is None else unit, self.sense)
 
 
-_LABELS = {
-    CheckKind.CONTACT_FORCE: "least interface force, dynamic",
-    CheckKind.SPEED_MARGIN: "dynamic jump speed / cam speed",
-    CheckKind.PRESSURE_ANGLE: "largest pressure angle",
-    CheckKind.CURVATURE: "least contour radius / roller radius",
-    CheckKind.FACE_WIDTH: "contact travel along the face",
-    CheckKind.TRAIN_DEFLECTION: "largest train compression / lift",
-    CheckKind.CONTACT_STRESS: "largest Hertz contact pressure",
-    CheckKind.CLEARANCE: "least gap between two followers",
-    CheckKind.CROSSOVER_IMPACT: "largest impact speed across the backlash",
-    CheckKind.SPRING_INDEX_MIN: "spring index D/d, at least",
-    CheckKind.SPRING_INDEX_MAX: "spring index D/d, at most",
-    CheckKind.SPRING_LIFT_SAFETY: "shear yield strength / stress at full lift",
-    CheckKind.SPRING_SOLID_SAFETY: "shear yield strength / stress at solid",
-    CheckKind.SPRING_FATIGUE_SAFETY: "fatigue safety factor",
-    CheckKind.SPRING_BUCKLING: "free length, against the buckling limit",
-    CheckKind.SPRING_CLASH_ALLOWANCE: "solid deflection / full-lift deflection - 1",
-    CheckKind.SPRING_OUTSIDE_DIAMETER: "outside diameter",
+# label, unit, sense
+_WORDS = {
+    CheckKind.CONTACT_FORCE: ("least interface force, dynamic", "N", ">"),
+    CheckKind.SPEED_MARGIN: ("dynamic jump speed / cam speed", "x", ">="),
+    CheckKind.PRESSURE_ANGLE: ("largest pressure angle", "deg", "<="),
+    CheckKind.CURVATURE: ("least contour radius / roller radius", "ratio", ">="),
+    CheckKind.FACE_WIDTH: ("contact travel along the face", "mm", "<="),
+    CheckKind.TRAIN_DEFLECTION: ("largest train compression / lift", "ratio", "<="),
+    CheckKind.CONTACT_STRESS: ("largest Hertz contact pressure", "MPa", "<="),
+    CheckKind.CLEARANCE: ("least gap between two followers", "mm", ">="),
+    CheckKind.SEATING_VELOCITY: ("valve speed landing on its seat", "m/s", "<="),
+    CheckKind.VALVE_BOUNCE: ("valve re-lift after seating", "mm", "<="),
+    CheckKind.CROSSOVER_IMPACT: ("largest impact speed across the backlash", "m/s", "<="),
+    CheckKind.SPRING_INDEX_MIN: ("spring index D/d, at least", "", ">="),
+    CheckKind.SPRING_INDEX_MAX: ("spring index D/d, at most", "", "<="),
+    CheckKind.SPRING_LIFT_SAFETY: ("shear yield strength / stress at full lift", "x", ">="),
+    CheckKind.SPRING_SOLID_SAFETY: ("shear yield strength / stress at solid", "x", ">="),
+    CheckKind.SPRING_FATIGUE_SAFETY: ("fatigue safety factor", "x", ">="),
+    CheckKind.SPRING_BUCKLING: ("free length, against the buckling limit", "mm", "<="),
+    CheckKind.SPRING_CLASH_ALLOWANCE: ("solid deflection / full-lift deflection - 1", "x", ">="),
+    CheckKind.SPRING_OUTSIDE_DIAMETER: ("outside diameter", "mm", "<="),
 }
+FLAT_CURVATURE_LABEL = "least contour radius (above 0: no cusp)"  # a flat face's curvature check, in mm
 
 
 @dataclass(frozen=True)
@@ -76,6 +96,18 @@ class Check:
     @property
     def kind(self) -> CheckKind:
         return CheckKind(self.name)
+
+    @property
+    def label(self) -> str:
+        """What the value is, in words: its kind's label (a flat face's curvature is a radius, mm)."""
+        return FLAT_CURVATURE_LABEL if self.kind is CheckKind.CURVATURE and self.unit == "mm" else self.kind.label
+
+    @property
+    def margin(self) -> float | None:
+        """How far the value is from the limit, in the check's unit, positive where it passes; None: unbounded."""
+        if self.value is None:
+            return None
+        return self.value - self.limit if self.sense in (">=", ">") else self.limit - self.value
 
     def json(self) -> dict:
         d = asdict(self)

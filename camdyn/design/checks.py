@@ -15,13 +15,139 @@ from ..model.case import Case
 from ..model.contact import ContactStress
 from ..model.drive import DriveTorque
 from ..model.geometry import CamGeometry, analyze, lever_arm_mm, newton_per_torque_at
-from ._check import Check, CheckKind
+from ..model.surge import SpringInDynamics
+from ._check import Check, CheckKind, find
 from .closure import NOT_APPLICABLE, ClosureStudy, closure_study
 from .geometry import judge_geometry
 from .parts import case_contact, case_drive, contact_check, resolve_spring
 from .userdata import least_force_uncertainty, least_force_warning, unit_slip_warnings
+from .valvetrain import ValvetrainResult, analyze_valvetrain
 
 SYNTHESIS_ARRAYS = ("theta_deg", "pitch", "contour", "path_xy", "traced_xy")  # check --json --arrays only
+
+
+@dataclass(frozen=True)
+class Kinematics:
+    """The rigid follower that never leaves the cam (``check --json`` ``kinematic``): its least contact force (N)
+    and where (cam deg), and its jump speed (rpm; None: none) and where (deg)."""
+
+    min_contact_force_N: float
+    min_contact_force_deg: float
+    jump_speed_rpm: float | None
+    jump_speed_at_deg: float | None
+
+    def json(self) -> dict:
+        return {
+            "min_contact_force_N": self.min_contact_force_N,
+            "min_contact_force_deg": self.min_contact_force_deg,
+            "jump_speed_rpm": self.jump_speed_rpm,
+            "jump_speed_at_deg": self.jump_speed_at_deg,
+        }
+
+
+@dataclass(frozen=True)
+class ContactSeparation:
+    """One separation at the contact: gap (mm) and impact speed (m/s) along the contact normal; an oscillating
+    follower's arm gap (rad) and speed (rad/s) beside them (None for a translating one)."""
+
+    start_deg: float
+    end_deg: float
+    max_gap_mm: float
+    impact_speed_m_s: float
+    bounces: int
+    settled: bool
+    max_gap_rad: float | None = None
+    impact_speed_rad_s: float | None = None
+
+    def json(self) -> dict:
+        out = {
+            "start_deg": self.start_deg,
+            "end_deg": self.end_deg,
+            "max_gap_mm": self.max_gap_mm,
+            "impact_speed_m_s": self.impact_speed_m_s,
+        }
+        if self.max_gap_rad is not None:
+            out |= {"max_gap_rad": self.max_gap_rad, "impact_speed_rad_s": self.impact_speed_rad_s}
+        return out | {"bounces": self.bounces, "settled": self.settled}
+
+
+@dataclass(frozen=True)
+class ContactFlight:
+    """One flight (a span of zero interface force): its largest gap at the contact (mm), and an oscillating
+    follower's arm gap (rad; None for a translating one)."""
+
+    leave_deg: float
+    land_deg: float
+    max_gap_mm: float
+    max_gap_rad: float | None = None
+
+    def json(self) -> dict:
+        out = {"leave_deg": self.leave_deg, "land_deg": self.land_deg, "max_gap_mm": self.max_gap_mm}
+        return out | ({"max_gap_rad": self.max_gap_rad} if self.max_gap_rad is not None else {})
+
+
+@dataclass(frozen=True)
+class ContactImpact:
+    """One landing: where (deg), and its peak contact force (N) and where (deg); None for a rigid impulse."""
+
+    deg: float
+    peak_force_N: float | None
+    peak_deg: float | None
+
+    def json(self) -> dict:
+        return {"deg": self.deg, "peak_force_N": self.peak_force_N, "peak_deg": self.peak_deg}
+
+
+@dataclass(frozen=True)
+class Dynamics:
+    """The follower as its model moves it (``check --json`` ``dynamic``), forces in N at the contact.
+
+    ``residual_vibration_mm`` is at the contact; an oscillating follower's arm swing (rad) is beside it in
+    ``residual_vibration_rad`` (None for a translating one). ``spring`` is the return spring's own mass as the
+    model weighs it."""
+
+    model: str
+    min_contact_force_N: float
+    min_contact_force_deg: float
+    min_contact_force_uncertainty_N: float | None
+    jump_speed_rpm: float | None
+    separations: tuple[ContactSeparation, ...]
+    flights: tuple[ContactFlight, ...]
+    impacts: tuple[ContactImpact, ...]
+    max_impact_force_N: float | None
+    residual_vibration_mm: float
+    periodicity_error: float
+    spring: SpringInDynamics
+    residual_vibration_rad: float | None = None
+
+    @property
+    def residual_vibration_deg(self) -> float | None:
+        """An oscillating follower's residual arm swing, deg (None for a translating one)."""
+        return None if self.residual_vibration_rad is None else math.degrees(self.residual_vibration_rad)
+
+    @property
+    def residual_vibration_as_lift(self) -> float:
+        """The residual vibration in the unit the lift is given in: an arm's swing in deg, else mm at the contact."""
+        deg = self.residual_vibration_deg
+        return self.residual_vibration_mm if deg is None else deg
+
+    def json(self) -> dict:
+        out = {
+            "model": self.model,
+            "min_contact_force_N": self.min_contact_force_N,
+            "min_contact_force_deg": _finite_or_none(self.min_contact_force_deg),  # NaN: a valve that never opens
+            "min_contact_force_uncertainty_N": self.min_contact_force_uncertainty_N,
+            "jump_speed_rpm": self.jump_speed_rpm,
+            "separations": [s.json() for s in self.separations],
+            "flights": [f.json() for f in self.flights],
+            "impacts": [i.json() for i in self.impacts],
+            "max_impact_force_N": self.max_impact_force_N,
+            "residual_vibration_mm": self.residual_vibration_mm,
+            "periodicity_error": self.periodicity_error,
+        } | self.spring.json()
+        if self.residual_vibration_rad is not None:
+            out["residual_vibration_rad"] = self.residual_vibration_rad
+        return out
 
 
 @dataclass(frozen=True)
@@ -31,19 +157,24 @@ class CheckReport:
     case: Case
     speed_rpm: float
     checks: tuple[Check, ...]
-    kinematic: dict
-    dynamic: dict
+    kinematic: Kinematics
+    dynamic: Dynamics
     response: dyn.Response  # forces in N (an oscillating arm's torques through its lever arm)
     warnings: tuple[str, ...]
     advice: tuple[str, ...] = ()
     geometry: CamGeometry | None = None
     drive: DriveTorque | None = None  # the camshaft torque of the dynamic forces
     contact: ContactStress | None = None  # Hertz stress, where the case gives a contact width
+    valvetrain: ValvetrainResult | None = None  # a [valvetrain] case's two-mass model
     closure: ClosureStudy | None = None  # a form-closed cam's crossovers and walls
 
     @property
     def verdict(self) -> str:
         return "pass" if all(c.ok for c in self.checks) else "fail"
+
+    def find(self, kind: CheckKind) -> Check | None:
+        """The check of ``kind``, or None where this case has none."""
+        return find(self.checks, kind)
 
     def json(self, arrays: bool = False) -> dict:
         """The ``check --json`` document; a path case's synthesis carries its coordinate arrays only with ``arrays``."""
@@ -52,8 +183,8 @@ class CheckReport:
             "verdict": self.verdict,
             "speed_rpm": self.speed_rpm,
             "checks": [c.json() for c in self.checks],
-            "kinematic": self.kinematic,
-            "dynamic": self.dynamic,
+            "kinematic": self.kinematic.json(),
+            "dynamic": self.dynamic.json(),
             "warnings": list(self.warnings),
             "advice": list(self.advice),
         }
@@ -66,6 +197,8 @@ class CheckReport:
             out["contact"] = self.contact.json()
         if self.closure is not None:
             out["closure"] = self.closure.json()
+        if self.valvetrain is not None:
+            out["valvetrain"] = self.valvetrain.json()
         if self.case.synthesis is not None:
             syn = self.case.synthesis.json()
             out["synthesis"] = syn if arrays else {k: v for k, v in syn.items() if k not in SYNTHESIS_ARRAYS}
@@ -83,36 +216,33 @@ def _at_contact(case: Case, value_rad: float, deg: float) -> float:
     return value_rad * float(lever_arm_mm(case.motion, case.follower, np.deg2rad([deg]))[0])
 
 
-def separation_json(case: Case, sep: dyn.Separation) -> dict:
-    """One separation as the JSON contract has it: gap (mm) and impact speed (m/s) at the contact, the arm's angular
-    gap (rad) and speed (rad/s) beside them for an oscillating follower, and ``settled``."""
-    out = {"start_deg": sep.start_deg, "end_deg": sep.end_deg}
+def contact_separation(case: Case, sep: dyn.Separation) -> ContactSeparation:
+    """One separation at the contact: an oscillating follower's arm gap (rad) and speed (rad/s) carried out to the
+    contact (mm, m/s), the arm's own beside them."""
     if case.oscillating:
-        out |= {
-            "max_gap_mm": _at_contact(case, sep.max_gap, sep.max_gap_deg),
-            "impact_speed_m_s": _at_contact(case, sep.impact_speed, sep.impact_deg) / 1000.0,
-        }
-        out |= {"max_gap_rad": sep.max_gap, "impact_speed_rad_s": sep.impact_speed}
-    else:
-        out |= {"max_gap_mm": sep.max_gap, "impact_speed_m_s": sep.impact_speed}
-    return out | {"bounces": sep.bounces, "settled": sep.settled}
+        return ContactSeparation(
+            sep.start_deg,
+            sep.end_deg,
+            _at_contact(case, sep.max_gap, sep.max_gap_deg),
+            _at_contact(case, sep.impact_speed, sep.impact_deg) / 1000.0,
+            sep.bounces,
+            sep.settled,
+            sep.max_gap,
+            sep.impact_speed,
+        )
+    return ContactSeparation(sep.start_deg, sep.end_deg, sep.max_gap, sep.impact_speed, sep.bounces, sep.settled)
 
 
-def flight_json(case: Case, fl: dyn.Flight) -> dict:
-    """One flight (a span of zero interface force) as the JSON contract has it: gap at the contact (mm), and the
-    arm's angular gap (rad) beside it for an oscillating follower."""
-    out = {"leave_deg": fl.leave_deg, "land_deg": fl.land_deg, "max_gap_mm": _flight_gap_mm(case, fl)}
-    return out | ({"max_gap_rad": fl.max_gap} if case.oscillating else {})
+def contact_flight(case: Case, fl: dyn.Flight) -> ContactFlight:
+    """One flight at the contact: an arm's angular gap carried out to the contact point (mm), the arm's beside it."""
+    if case.oscillating:
+        return ContactFlight(fl.leave_deg, fl.land_deg, _at_contact(case, fl.max_gap, fl.max_gap_deg), fl.max_gap)
+    return ContactFlight(fl.leave_deg, fl.land_deg, fl.max_gap)
 
 
-def _flight_gap_mm(case: Case, fl: dyn.Flight) -> float:
-    """A flight's largest gap at the contact, mm (an arm's angular gap carried out to the contact point)."""
-    return _at_contact(case, fl.max_gap, fl.max_gap_deg) if case.oscillating else fl.max_gap
-
-
-def impact_json(imp: dyn.Impact) -> dict:
-    """One landing: where, and its peak contact force (N; null for a rigid follower's impulse)."""
-    return {"deg": imp.deg, "peak_force_N": _finite_or_none(imp.peak_force), "peak_deg": _finite_or_none(imp.peak_deg)}
+def contact_impact(imp: dyn.Impact) -> ContactImpact:
+    """One landing: where, and its peak contact force (N; None for a rigid follower's impulse)."""
+    return ContactImpact(imp.deg, _finite_or_none(imp.peak_force), _finite_or_none(imp.peak_deg))
 
 
 def forces_in_newton(case: Case, resp: dyn.Response) -> dyn.Response:
@@ -124,39 +254,37 @@ def forces_in_newton(case: Case, resp: dyn.Response) -> dyn.Response:
     return dataclasses.replace(resp, force=resp.force * per_torque, kinematic_force=resp.kinematic_force * per_torque)
 
 
-def _separation_note(sep: dict, rpm: float, restitution: float) -> str:
-    gap = f"gap up to {sep['max_gap_mm']:.3g} mm"
-    if not sep["settled"]:
-        why = "it keeps bouncing" if sep["bounces"] else "it is not back on the cam within a revolution"
-        if sep["start_deg"] == sep["end_deg"] == 0.0:
+def _separation_note(sep: ContactSeparation, rpm: float, restitution: float) -> str:
+    gap = f"gap up to {sep.max_gap_mm:.3g} mm"
+    if not sep.settled:
+        why = "it keeps bouncing" if sep.bounces else "it is not back on the cam within a revolution"
+        if sep.start_deg == sep.end_deg == 0.0:
             return f"the follower does not stay on the cam anywhere at {rpm:g} rpm ({gap}): far beyond its jump speed"
         return (
-            f"the follower leaves the cam at {sep['start_deg']:.1f} deg and does not settle back ({why}; "
+            f"the follower leaves the cam at {sep.start_deg:.1f} deg and does not settle back ({why}; "
             f"restitution {restitution:g}; {gap})"
         )
     return (
-        f"the follower leaves the cam at {sep['start_deg']:.1f} deg and lands at {sep['end_deg']:.1f} deg ({gap}, "
-        f"impact at {sep['impact_speed_m_s']:.3g} m/s)"
+        f"the follower leaves the cam at {sep.start_deg:.1f} deg and lands at {sep.end_deg:.1f} deg ({gap}, "
+        f"impact at {sep.impact_speed_m_s:.3g} m/s)"
     )
 
 
-def _flights_note(case: Case, resp: dyn.Response, rpm: float) -> str:
-    """Every flight (where the interface force is zero) and the largest impact: what the report's page 1 says.
-    ``resp``'s forces in N (:func:`forces_in_newton`)."""
-    flights, impacts = resp.flights, resp.impacts
+def _flights_note(flights: tuple[ContactFlight, ...], impacts: tuple[ContactImpact, ...], rpm: float) -> str:
+    """Every flight (where the interface force is zero) and the largest impact: what the report's page 1 says."""
     spans = ", ".join(f"{f.leave_deg:.1f}-{f.land_deg:.1f}" for f in flights[:4]) + (
         ", ..." if len(flights) > 4 else ""
     )
-    gap = max(_flight_gap_mm(case, f) for f in flights)
+    gap = max(f.max_gap_mm for f in flights)
     times = {1: "once", 2: "twice"}.get(len(flights), f"{len(flights)} times")
     note = (
         f"the follower leaves the cam {times} a revolution at {rpm:g} rpm (flights {spans} deg; gap up to {gap:.3g} mm)"
     )
-    forces = [i for i in impacts if math.isfinite(i.peak_force)]  # a rigid landing's impulse has no force
-    if forces:
-        top = max(forces, key=lambda i: i.peak_force)
+    peaks = [(i.peak_force_N, i.peak_deg) for i in impacts if i.peak_force_N is not None]  # a rigid impulse has none
+    if peaks:
+        force, deg = max(peaks, key=lambda p: p[0])
         many = f"{len(impacts)} impacts, the largest" if len(impacts) > 1 else "an impact of"
-        note += f"; {many} {top.peak_force:.4g} N at {top.peak_deg:.1f} deg"
+        note += f"; {many} {force:.4g} N at {deg:.1f} deg"
     return note
 
 
@@ -172,7 +300,7 @@ def jump_speeds(case: Case, omega: float, margin: float) -> tuple[float, float, 
 def speed_margin_check(w_dyn: float, omega: float, margin: float) -> Check:
     """``[limits] speed_margin``: the dynamic jump speed over the speed, at least ``margin``. The one comparison
     ``check`` judges and ``size`` proposes a spring by."""
-    return Check(CheckKind.SPEED_MARGIN.value, _finite_or_none(w_dyn / omega), float(margin), "x", ">=")
+    return CheckKind.SPEED_MARGIN.check(_finite_or_none(w_dyn / omega), float(margin))
 
 
 def run_check(case: Case, speed_rpm: float | None = None) -> CheckReport:
@@ -210,39 +338,43 @@ def run_check(case: Case, speed_rpm: float | None = None) -> CheckReport:
         lift = float(np.ptp(resp.s))
         # compression only: where the follower flies above the cam (x > s) the train is unloaded, not stretched
         deflection = float(np.max(np.clip(resp.s - resp.x, 0.0, None))) / lift if lift > 0.0 else 0.0
-        checks_train = (
-            Check(CheckKind.TRAIN_DEFLECTION.value, deflection, float(limits.max_train_deflection), "ratio", "<="),
-        )
+        checks_train = (CheckKind.TRAIN_DEFLECTION.check(deflection, float(limits.max_train_deflection)),)
     else:
         checks_train = ()
     kin_force = resp.kinematic_force
     i_kin = int(kin_force.argmin())
+    valve = None if case.valvetrain is None else analyze_valvetrain(case, omega, limits.speed_margin)
+    least = resp.min_force if valve is None else valve.response.least_event_force  # a valve: over its event
+    if valve is not None:
+        w_dyn = valve.float_speed_rpm * RPM  # a valvetrain jumps where it floats
+        warnings += [valve.note(), *valve.response.warnings]
     checks = (
-        Check(CheckKind.CONTACT_FORCE.value, float(resp.min_force), float(limits.min_contact_force), "N", ">"),
+        CheckKind.CONTACT_FORCE.check(float(least), float(limits.min_contact_force)),
         speed_margin_check(w_dyn, omega, limits.speed_margin),
     ) + checks_train
-    kinematic = {
-        "min_contact_force_N": float(kin_force[i_kin]),
-        "min_contact_force_deg": float(resp.theta_deg[i_kin]),
-        "jump_speed_rpm": _finite_or_none(w_kin / RPM),
-        "jump_speed_at_deg": _finite_or_none(at_kin),
-    }
-    dynamic = {
-        "model": resp.model,
-        "min_contact_force_N": resp.min_force,
-        "min_contact_force_deg": resp.min_force_deg,
-        "min_contact_force_uncertainty_N": noise_N,
-        "jump_speed_rpm": _finite_or_none(w_dyn / RPM),
-        "separations": [separation_json(case, s) for s in resp.separations],
-        "flights": [flight_json(case, f) for f in resp.flights],
-        "impacts": [impact_json(i) for i in resp.impacts],
-        "max_impact_force_N": _finite_or_none(resp.max_impact_force),
-        "residual_vibration_mm": resp.residual_vibration,
-        "periodicity_error": resp.periodicity_error,
-    } | case.spring.json()
-    if case.oscillating:  # the contract's keys at the contact, the arm's angle beside them
-        dynamic["residual_vibration_mm"] = _at_contact(case, resp.residual_vibration, resp.residual_vibration_deg)
-        dynamic["residual_vibration_rad"] = resp.residual_vibration
+    if valve is not None:
+        checks += valve.checks(limits.max_seating_velocity)
+    kinematic = Kinematics(
+        float(kin_force[i_kin]), float(resp.theta_deg[i_kin]), _finite_or_none(w_kin / RPM), _finite_or_none(at_kin)
+    )
+    osc = case.oscillating  # the contract's values at the contact, the arm's angle beside them
+    dynamic = Dynamics(
+        model=resp.model,
+        min_contact_force_N=float(least),  # a valve: the cam contact over the valve event, where it is judged
+        min_contact_force_deg=resp.min_force_deg if valve is None else float(valve.response.least_event_force_deg),
+        min_contact_force_uncertainty_N=noise_N,
+        jump_speed_rpm=_finite_or_none(w_dyn / RPM),
+        separations=tuple(contact_separation(case, s) for s in resp.separations),
+        flights=tuple(contact_flight(case, f) for f in resp.flights),
+        impacts=tuple(contact_impact(i) for i in resp.impacts),
+        max_impact_force_N=_finite_or_none(resp.max_impact_force),
+        residual_vibration_mm=(
+            _at_contact(case, resp.residual_vibration, resp.residual_vibration_deg) if osc else resp.residual_vibration
+        ),
+        periodicity_error=resp.periodicity_error,
+        spring=case.spring,
+        residual_vibration_rad=resp.residual_vibration if osc else None,
+    )
     advice: list[str] = []
     geo = None
     if case.follower is not None:
@@ -263,12 +395,14 @@ def run_check(case: Case, speed_rpm: float | None = None) -> CheckReport:
             if contact is not None and limits.max_contact_stress is not None:
                 checks += (contact_check(contact, limits.max_contact_stress),)
     by_flights = bool(resp.flights) and not model.rigid  # a compliant train's flights and impacts
-    for sep in dynamic["separations"]:
-        if not (by_flights and sep["settled"]):  # one flight-and-impacts note says it, as the report does
+    for sep in dynamic.separations:
+        if not (by_flights and sep.settled):  # one flight-and-impacts note says it, as the report does
             warnings.append(_separation_note(sep, rpm, float(case.model.restitution)))
     if by_flights:
-        warnings.append(_flights_note(case, resp, rpm))
-    return CheckReport(case, rpm, checks, kinematic, dynamic, resp, tuple(warnings), tuple(advice), geo, drive, contact)
+        warnings.append(_flights_note(dynamic.flights, dynamic.impacts, rpm))
+    return CheckReport(
+        case, rpm, checks, kinematic, dynamic, resp, tuple(warnings), tuple(advice), geo, drive, contact, valve
+    )
 
 
 def _closure_check(case: Case, rpm: float) -> CheckReport:
@@ -280,25 +414,21 @@ def _closure_check(case: Case, rpm: float) -> CheckReport:
     warnings = list(case.warnings) + [NOT_APPLICABLE]
     kin = resp.kinematic_force
     i = int(kin.argmin())
-    kinematic = {
-        "min_contact_force_N": float(kin[i]),
-        "min_contact_force_deg": float(resp.theta_deg[i]),
-        "jump_speed_rpm": None,
-        "jump_speed_at_deg": None,
-    }
-    dynamic = {
-        "model": resp.model,
-        "min_contact_force_N": resp.min_force,
-        "min_contact_force_deg": resp.min_force_deg,
-        "min_contact_force_uncertainty_N": None,
-        "jump_speed_rpm": None,
-        "separations": [],
-        "flights": [],
-        "impacts": [],
-        "max_impact_force_N": study.response.max_impact_force_N,
-        "residual_vibration_mm": 0.0,
-        "periodicity_error": 0.0,
-    } | case.spring.json()
+    kinematic = Kinematics(float(kin[i]), float(resp.theta_deg[i]), None, None)
+    dynamic = Dynamics(
+        resp.model,
+        resp.min_force,
+        resp.min_force_deg,
+        None,
+        None,
+        (),
+        (),
+        (),
+        study.response.max_impact_force_N,
+        0.0,
+        0.0,
+        case.spring,
+    )
     geo = analyze(case.motion, case.follower)
     lim = case.limits
     geo_checks, geo_warnings, advice = judge_geometry(
@@ -317,7 +447,7 @@ def _closure_check(case: Case, rpm: float) -> CheckReport:
         warnings.append(_crossovers_note(study, case.follower.backlash))
     drive = case_drive(case, resp)
     return CheckReport(
-        case, rpm, checks, kinematic, dynamic, resp, tuple(warnings), tuple(advice), geo, drive, None, study
+        case, rpm, checks, kinematic, dynamic, resp, tuple(warnings), tuple(advice), geo, drive, closure=study
     )
 
 

@@ -33,19 +33,13 @@ def judge_geometry(
     """
     f, ext = geo.follower, geo.extremes
     max_pa = _limits(f, max_pressure_angle)
-    checks = [Check(CheckKind.PRESSURE_ANGLE.value, ext.max_pressure_angle_deg, max_pa, "deg", "<=")]
+    checks = [CheckKind.PRESSURE_ANGLE.check(ext.max_pressure_angle_deg, max_pa)]
     checks.append(
-        Check(
-            CheckKind.CURVATURE.value,
-            ext.curvature,
-            curvature_limit(f, min_curvature_ratio),
-            "ratio" if f.roller else "mm",
-            ">=",
-        )
+        CheckKind.CURVATURE.check(ext.curvature, curvature_limit(f, min_curvature_ratio), None if f.roller else "mm")
     )
     width = ext.face_travel_mm
     if width is not None and f.face_width is not None:
-        checks.append(Check(CheckKind.FACE_WIDTH.value, width, f.face_width, "mm", "<="))
+        checks.append(CheckKind.FACE_WIDTH.check(width, f.face_width))
 
     warnings: list[str] = []
     if ext.cusp:

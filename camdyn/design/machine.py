@@ -89,6 +89,12 @@ class MachineCam:
         return (self.lift - self.lift.min()) / stroke if stroke > 0.0 else np.zeros_like(self.lift)
 
     @property
+    def speed_margin(self) -> float | None:
+        """Its dynamic jump speed over the machine speed (x); None: no jump at any speed."""
+        margin = self.check.find(CheckKind.SPEED_MARGIN)
+        return None if margin is None else margin.value
+
+    @property
     def failed(self) -> tuple[str, ...]:
         return tuple(c.name for c in self.check.checks if not c.ok)
 
@@ -134,7 +140,7 @@ class Clearance:
 
     @property
     def check(self) -> Check:
-        return Check(CheckKind.CLEARANCE.value, self.least_gap_mm, self.min_gap_mm, "mm", ">=")
+        return CheckKind.CLEARANCE.check(self.least_gap_mm, self.min_gap_mm)
 
     def json(self) -> dict:
         return {

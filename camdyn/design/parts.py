@@ -45,7 +45,7 @@ def case_contact(case: Case, geometry: CamGeometry, resp: Response) -> ContactSt
 
 def contact_check(contact: ContactStress, max_contact_stress_MPa: float) -> Check:
     """``[limits] max_contact_stress``: the largest Hertz pressure over the revolution must not exceed it."""
-    return Check(CheckKind.CONTACT_STRESS.value, contact.peak_pressure_MPa, float(max_contact_stress_MPa), "MPa", "<=")
+    return CheckKind.CONTACT_STRESS.check(contact.peak_pressure_MPa, float(max_contact_stress_MPa))
 
 
 def with_spring(case: Case, spring_mass_kg: float) -> FollowerModel:

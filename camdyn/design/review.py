@@ -16,6 +16,7 @@ import numpy as np
 
 from .._core.errors import CamdynError, InputError
 from .._core.progress import Progress, counter
+from .._core.results import Unavailable
 from .._core.units import FFT_GRID, RPM, THETA_GRID, TWO_PI, rate_from_si
 from ..model import dynamics as dyn
 from ..model.case import Case, load_case
@@ -76,19 +77,19 @@ class Original:
 
 @dataclass(frozen=True)
 class Review:
-    """A design review's data. Where a part cannot be had for this case, it is the reason why (a str)."""
+    """A design review's data. Where a part cannot be had for this case, it is :class:`Unavailable` with the reason."""
 
     case: Case
     check: CheckReport
     motion: MotionSamples
     margin_rpm: float  # speed_margin x the check's speed
-    margin_response: dyn.Response | str  # the steady state at margin_rpm, forces in N
+    margin_response: dyn.Response | Unavailable  # the steady state at margin_rpm, forces in N
     force_vs_speed: ForceVsSpeed
-    sizing: SpringSizing | str  # size_spring at the case's speed and speed_margin
-    jump_map: JumpMap | str  # at the case's preload, gaps not integrated (least force and the jump boundary)
-    spring_part: SpringDesign | str = "not designed"  # the case's own spring as a part (camdyn spring)
-    original: Original | str | None = None  # the case this one was optimized from (None: not an optimized case)
-    tolerance: ToleranceResult | str | None = None  # the tolerance study of [tolerances] (None: the case has none)
+    sizing: SpringSizing | Unavailable  # size_spring at the case's speed and speed_margin
+    jump_map: JumpMap | Unavailable  # at the case's preload, gaps not integrated (least force and the jump boundary)
+    spring_part: SpringDesign | Unavailable = Unavailable("not designed")  # the case's own spring (camdyn spring)
+    original: Original | Unavailable | None = None  # the case this one was optimized from (None: not optimized)
+    tolerance: ToleranceResult | Unavailable | None = None  # the study of [tolerances] (None: the case has none)
 
 
 def design_review(case: Case, check: CheckReport, *, progress: Progress | None = None) -> Review:
@@ -126,10 +127,11 @@ def _original(case: Case, check: CheckReport, sweep: ForceVsSpeed) -> Original:
 
 
 def _or_reason(fn, *args, **kwargs):
+    """``fn(*args, **kwargs)``, or :class:`Unavailable` with the reason it gave up."""
     try:
         return fn(*args, **kwargs)
     except CamdynError as err:
-        return str(err)
+        return Unavailable(str(err))
 
 
 def sample_motion(case: Case) -> MotionSamples:
@@ -155,19 +157,19 @@ def _motion_values(case: Case, theta_deg: np.ndarray) -> np.ndarray:
     return np.concatenate(parts, axis=1)
 
 
-def _margin_response(case: Case, margin_rpm: float) -> dyn.Response | str:
+def _margin_response(case: Case, margin_rpm: float) -> dyn.Response | Unavailable:
     try:
         resp = dyn.response(case.motion, case.model, margin_rpm * RPM)
         return forces_in_newton(case, resp)
     except CamdynError as err:
-        return str(err)
+        return Unavailable(str(err))
 
 
 def _top_speed(check: CheckReport, margin_rpm: float, jump_within: float = np.inf) -> float:
     """The top of a speed axis: 1.6 x the faster of speed and margin, and past the jump speeds below
     ``jump_within`` (rpm)."""
     top = 1.6 * max(margin_rpm, check.speed_rpm)
-    for j in (check.dynamic["jump_speed_rpm"], check.kinematic["jump_speed_rpm"]):
+    for j in (check.dynamic.jump_speed_rpm, check.kinematic.jump_speed_rpm):
         if j is not None and j < jump_within:
             top = max(top, 1.15 * j)
     return top
@@ -202,13 +204,15 @@ def force_vs_speed(case: Case, check: CheckReport, margin_rpm: float, *, top: fl
     return ForceVsSpeed(speeds, kin.min(axis=1), linear)
 
 
-def _review_jump_map(case: Case, check: CheckReport, margin_rpm: float, sizing: SpringSizing | str) -> JumpMap | str:
+def _review_jump_map(
+    case: Case, check: CheckReport, margin_rpm: float, sizing: SpringSizing | Unavailable
+) -> JumpMap | Unavailable:
     """A small jump map at the case's preload: the sizing's rates (twice the case's where sizing does not apply)
     and speeds past the case's jump speeds, however fast; gaps not integrated."""
     top = _top_speed(check, margin_rpm)
     k_top = (
         float(sizing.region_rate[-1])
-        if not isinstance(sizing, str)
+        if not isinstance(sizing, Unavailable)
         else 2.0 * float(rate_from_si(case.model.stiffness, case.oscillating))
     )
     speeds = np.linspace(top / MAP_SPEEDS, top, MAP_SPEEDS)

@@ -85,35 +85,19 @@ class SpringDesign:
         ssy = s.strengths[1]
         fatigue = self.fatigue_safety
         out = [
-            Check(CheckKind.SPRING_INDEX_MIN.value, s.index, r.index_min, "", ">="),
-            Check(CheckKind.SPRING_INDEX_MAX.value, s.index, r.index_max, "", "<="),
-            Check(
-                CheckKind.SPRING_LIFT_SAFETY.value,
-                ssy / float(s.stress(self.full_lift_force)),
-                r.static_safety,
-                "x",
-                ">=",
-            ),
-            Check(
-                CheckKind.SPRING_SOLID_SAFETY.value, ssy / float(s.stress(s.solid_force)), r.static_safety, "x", ">="
-            ),
+            CheckKind.SPRING_INDEX_MIN.check(s.index, r.index_min),
+            CheckKind.SPRING_INDEX_MAX.check(s.index, r.index_max),
+            CheckKind.SPRING_LIFT_SAFETY.check(ssy / float(s.stress(self.full_lift_force)), r.static_safety),
+            CheckKind.SPRING_SOLID_SAFETY.check(ssy / float(s.stress(s.solid_force)), r.static_safety),
             # inf: nothing alternates (unbounded); NaN: a wire over Zimmerli's 10 mm has no fatigue data (fails)
-            Check(
-                CheckKind.SPRING_FATIGUE_SAFETY.value,
-                None if fatigue == math.inf else (0.0 if math.isnan(fatigue) else fatigue),
-                r.fatigue_safety,
-                "x",
-                ">=",
+            CheckKind.SPRING_FATIGUE_SAFETY.check(
+                None if fatigue == math.inf else (0.0 if math.isnan(fatigue) else fatigue), r.fatigue_safety
             ),
-            Check(CheckKind.SPRING_BUCKLING.value, s.free_length, s.critical_free_length, "mm", "<="),
-            Check(CheckKind.SPRING_CLASH_ALLOWANCE.value, self.clash_allowance, r.clash_allowance, "x", ">="),
+            CheckKind.SPRING_BUCKLING.check(s.free_length, s.critical_free_length),
+            CheckKind.SPRING_CLASH_ALLOWANCE.check(self.clash_allowance, r.clash_allowance),
         ]
         if self.outside_diameter_max is not None:
-            out.append(
-                Check(
-                    CheckKind.SPRING_OUTSIDE_DIAMETER.value, s.outside_diameter, self.outside_diameter_max, "mm", "<="
-                )
-            )
+            out.append(CheckKind.SPRING_OUTSIDE_DIAMETER.check(s.outside_diameter, self.outside_diameter_max))
         return tuple(out)
 
     def with_surge(self, harmonics: CamHarmonics) -> SpringDesign:

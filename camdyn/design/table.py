@@ -38,7 +38,7 @@ def table_angles(step_deg: float) -> np.ndarray:
 def motion_table(case: Case, step_deg: float = 1.0, speed_rpm: float | None = None) -> dict[str, np.ndarray]:
     """Columns of ``camdyn table`` (one row per angle) at ``speed_rpm`` (default: the case's): the motion, the
     kinematic contact force, the follower's steady-state displacement and contact force from the dynamic model
-    (interpolated from its 0.1 deg grid), and the cam geometry."""
+    (interpolated from its 0.1 deg grid), and the cam geometry; a valvetrain's valve lift and velocity."""
     theta_deg = table_angles(step_deg)
     rpm = float(case.speed_rpm if speed_rpm is None else speed_rpm)
     theta = jnp.deg2rad(theta_deg)
@@ -72,6 +72,10 @@ def motion_table(case: Case, step_deg: float = 1.0, speed_rpm: float | None = No
     else:
         cols["dynamic_x_mm"] = at(resp.x)
     cols["dynamic_contact_force_N"] = at(resp.force)
+    if case.valvetrain is not None:  # the valve at the valve, from the two-mass model's steady revolution
+        valve = dyn.valvetrain_response(case.motion, case.valvetrain, rpm * RPM)
+        cols["valve_lift_mm"] = np.interp(theta_deg, valve.theta_deg, valve.valve_lift, period=360.0)
+        cols["valve_velocity_m_per_s"] = np.interp(theta_deg, valve.theta_deg, valve.valve_velocity, period=360.0)
     cols["drive_torque_N_m"] = torque  # the camshaft torque of the kinematic force, from the power balance
     return cols
 

@@ -18,6 +18,7 @@ from .linkage import synthesize_motion
 from .motion import Motion, MotionFit, Program
 from .sources import contour_motion, table_motion
 from .surge import SpringInDynamics
+from .valvetrain import ValvetrainModel, equivalent_follower, valvetrain_model
 
 
 @dataclass(frozen=True)
@@ -37,6 +38,7 @@ class Case:
     spring: SpringInDynamics | None = (
         None  # the spring's mass in ``model``, once resolved (design.parts.resolve_spring)
     )
+    valvetrain: ValvetrainModel | None = None  # [valvetrain]: the two-mass model; ``model`` is its equivalent follower
 
     @property
     def speed_rpm(self) -> float:
@@ -52,11 +54,11 @@ class Case:
 
     @property
     def motion_source(self) -> str:
-        """Where the motion comes from: "segments", "table", "contour" or "path"."""
+        """Where the motion comes from: "segments", "table", "valve_table", "contour" or "path"."""
         if self.contour is not None:
             return "contour"
         if self.fit is not None:
-            return "table"
+            return self.fit.source
         return "segments" if self.spec.motion is not None else "path"
 
     def motion_json(self) -> dict:
@@ -96,7 +98,7 @@ def build_case(spec: CaseSpec, source: Path | None = None) -> Case:
     if spec.motion is not None:
         assert spec.follower is not None  # CaseSpec: [motion] comes with [follower]
         follower = spec.follower
-    if spec.motion is not None and spec.motion.table is not None:
+    if spec.motion is not None and (spec.motion.table is not None or spec.motion.valve_table is not None):
         motion, fit, warnings = table_motion(spec, source)
     elif spec.motion is not None:
         motion = Program.from_specs(spec.motion.segments, unit="rad" if spec.oscillating else "mm")
@@ -108,10 +110,39 @@ def build_case(spec: CaseSpec, source: Path | None = None) -> Case:
         synthesis = synthesize_motion(spec.path, spec.mechanism)
         motion, follower = synthesis.tabulated, synthesis.follower
         warnings += list(synthesis.warnings)
-    model = follower_model(spec.dynamics, oscillating=spec.oscillating)
+    valvetrain = None if spec.valvetrain is None else valvetrain_model(spec.valvetrain, spec.dynamics)
+    if valvetrain is None:
+        model = follower_model(spec.dynamics, oscillating=spec.oscillating)
+    else:
+        model = equivalent_follower(valvetrain)
     if not follower.form_closed:  # a groove holds the follower both ways: it needs no spring to stay on
         _check_holds_at_rest(motion, model, spec.oscillating)
-    return Case(name, source, spec, motion, follower, model, synthesis, tuple(warnings), fit, contour)
+    if valvetrain is not None:
+        _check_valve_lifts(motion, spec)
+    return Case(
+        name, source, spec, motion, follower, model, synthesis, tuple(warnings), fit, contour, valvetrain=valvetrain
+    )
+
+
+def _check_valve_lifts(motion: Motion, spec: CaseSpec) -> None:
+    """The cam's lift at the valve (ratio x lift) must take up the lash, and a compliant train compressed by the
+    rest must carry more than the spring's preload, or the valve never moves (statically)."""
+    vt, preload = spec.valvetrain, spec.dynamics.preload
+    assert vt is not None and preload is not None  # the caller's; CaseSpec: a valvetrain's spring has a preload
+    reach = vt.ratio * float(np.ptp(motion.host(np.arange(THETA_GRID) * (2 * np.pi / THETA_GRID))[0]))
+    if reach <= vt.lash:
+        raise InputError(
+            "valvetrain.lash",
+            f"the valve never lifts: the cam's lift at the valve (ratio x lift = {reach:.4g} mm) does not take up "
+            f"the lash ({vt.lash:g} mm)",
+        )
+    if vt.stiffness is not None and vt.stiffness * (reach - vt.lash) <= preload:
+        raise InputError(
+            "valvetrain.stiffness",
+            f"the valve never lifts: the train ({vt.stiffness:g} N/mm) compressed by the cam's whole lift at the "
+            f"valve less the lash ({reach - vt.lash:.4g} mm) carries {vt.stiffness * (reach - vt.lash):.4g} N, not "
+            f"the spring's preload ({preload:g} N): is the stiffness in N/mm, at the valve?",
+        )
 
 
 def _check_holds_at_rest(motion: Motion, model: FollowerModel, oscillating: bool) -> None:

@@ -8,19 +8,19 @@ import numpy as np
 from matplotlib.patches import Circle, FancyArrowPatch, Polygon
 
 from .._core.units import DEFAULT_MIN_CURVATURE_RATIO
-from ..design.checks import CheckReport
+from ..design.checks import CheckKind, CheckReport
 from ..model.geometry import CamGeometry
 from ._common import C, deg_ticks, legend_above_data, mark_breaks, rotate
 
 
-def check_colour(check: CheckReport | None, name: str, ok_colour: str) -> str:
-    """``ok_colour`` where the check ``name`` passes (or is absent), the failure colour where it fails."""
-    c = None if check is None else next((c for c in check.checks if c.name == name), None)
+def check_colour(check: CheckReport | None, kind: CheckKind, ok_colour: str) -> str:
+    """``ok_colour`` where the check of ``kind`` passes (or is absent), the failure colour where it fails."""
+    c = None if check is None else check.find(kind)
     return ok_colour if (c is None or c.ok) else C["fail"]
 
 
-def check_limit(check: CheckReport | None, name: str) -> float | None:
-    c = None if check is None else next((c for c in check.checks if c.name == name), None)
+def check_limit(check: CheckReport | None, kind: CheckKind) -> float | None:
+    c = None if check is None else check.find(kind)
     return None if c is None else c.limit
 
 
@@ -163,10 +163,11 @@ def plot_cam_profile(
             zorder=5,
         )
     if square_face(geo):
-        reach = max(reach, _face_travel_mark(ax, geo, check_colour(check, "face_width", C["margin"])))
+        reach = max(reach, _face_travel_mark(ax, geo, check_colour(check, CheckKind.FACE_WIDTH, C["margin"])))
     else:
-        reach = max(reach, _pressure_angle_mark(ax, geo, check_colour(check, "pressure_angle", C["margin"]), r_all))
-    _curvature_mark(ax, geo, check_colour(check, "curvature", C["advice"]), r_all)
+        pa_colour = check_colour(check, CheckKind.PRESSURE_ANGLE, C["margin"])
+        reach = max(reach, _pressure_angle_mark(ax, geo, pa_colour, r_all))
+    _curvature_mark(ax, geo, check_colour(check, CheckKind.CURVATURE, C["advice"]), r_all)
     _rotation_arrow(ax, f)
     lim_r = reach * 1.06
     ax.set_xlim(-lim_r, lim_r)
@@ -250,7 +251,7 @@ def plot_face_contact(ax, geometry: CamGeometry, check: CheckReport | None = Non
     marked (red where ``check``'s face_width fails). For a face square to its motion, what the pressure angle
     says of a roller."""
     geo = geometry
-    colour = check_colour(check, "face_width", C["margin"])
+    colour = check_colour(check, CheckKind.FACE_WIDTH, C["margin"])
     (t_lo, th_lo), (t_hi, th_hi) = face_extremes(geo)
     ax.plot(geo.theta_deg, geo.face_t_mm, color=C["dyn"], lw=1.3)
     ax.axhspan(t_lo, t_hi, color=colour, alpha=0.1, lw=0)
@@ -311,7 +312,7 @@ def plot_pressure_angle(ax, geometry: CamGeometry, check: CheckReport | None = N
     geo = geometry
     th = geo.theta_deg
     pa = geo.pressure_angle_deg
-    pa_lim = check_limit(check, "pressure_angle")
+    pa_lim = check_limit(check, CheckKind.PRESSURE_ANGLE)
     ax.plot(th, pa, color=C["dyn"], lw=1.3, label="pressure angle")
     if pa_lim is not None:
         for sgn in (1, -1):
@@ -322,7 +323,7 @@ def plot_pressure_angle(ax, geometry: CamGeometry, check: CheckReport | None = N
         ax.set_ylim(-top, top)
         ax.text(2, pa_lim, f" limit \u00b1{pa_lim:g}\u00b0", color=C["limit"], size=7, va="bottom")
     i = int(np.argmax(np.abs(pa)))
-    ax.plot(th[i], pa[i], "o", color=check_colour(check, "pressure_angle", C["margin"]), ms=4.5)
+    ax.plot(th[i], pa[i], "o", color=check_colour(check, CheckKind.PRESSURE_ANGLE, C["margin"]), ms=4.5)
     ax.axhline(0, color="#888888", lw=0.6)
     mark_breaks(ax, breaks_deg)
     ax.set_ylabel("pressure angle (deg)")
@@ -370,7 +371,7 @@ def plot_curvature(
         geo.min_radius_of_curvature_at_deg,
         geo.min_radius_of_curvature_mm,
         "o",
-        color=check_colour(check, "curvature", C["advice"]),
+        color=check_colour(check, CheckKind.CURVATURE, C["advice"]),
         ms=4.5,
     )
     ax.set_ylim(min(floor * 1.1, -0.05 * cap), cap)

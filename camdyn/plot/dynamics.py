@@ -151,7 +151,7 @@ def plot_force_vs_speed(ax, review: Review) -> None:
     rpm = chk.speed_rpm
     v = sw.speeds_rpm
     ax.plot(v, sw.kinematic_N, color=C["kin"], ls="--", lw=1.0, label="kinematic (rigid)")
-    jd, jk = chk.dynamic["jump_speed_rpm"], chk.kinematic["jump_speed_rpm"]
+    jd, jk = chk.dynamic.jump_speed_rpm, chk.kinematic.jump_speed_rpm
     if sw.dynamic_N is not None:
         lin = sw.dynamic_N
         ok = v <= (jd if jd is not None else np.inf)
@@ -183,7 +183,7 @@ def plot_force_vs_speed(ax, review: Review) -> None:
     )
     ax.plot(
         rpm,
-        chk.dynamic["min_contact_force_N"],
+        chk.dynamic.min_contact_force_N,
         "o",
         color=C["dyn"] if chk.verdict == "pass" else C["fail"],
         ms=6,

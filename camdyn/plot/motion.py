@@ -92,7 +92,18 @@ def plot_fit(ax_lift, ax_residual, fit, contour=None) -> None:
         if contour is None
         else f"lift at contact with the fitted outline ({th.size} angles)"
     )
-    ax_lift.plot(th[::every], fit.data[::every], ".", ms=2.2, color=C["limit"], alpha=0.7, label=label, zorder=4)
+    if fit.follower_per_data != 1.0:  # a valve's table, ramps added: at the follower
+        label = f"{fit.source} data with its ramps / ratio ({th.size} points)"
+    ax_lift.plot(
+        th[::every],
+        fit.data[::every] * fit.follower_per_data,
+        ".",
+        ms=2.2,
+        color=C["limit"],
+        alpha=0.7,
+        label=label,
+        zorder=4,
+    )
     ax_lift.legend(fontsize=7, loc="upper right")
     if contour is not None:
         res, unit, x = contour.residual, "mm", contour.angle_deg

@@ -51,7 +51,7 @@ def plot_speed_before_after(ax, review: Review) -> None:
     )
     for sw, chk, label, ls, colour in curves:
         force = sw.dynamic_N if sw.dynamic_N is not None else sw.kinematic_N
-        jump = chk.dynamic["jump_speed_rpm"]
+        jump = chk.dynamic.jump_speed_rpm
         held = sw.speeds_rpm <= (jump if jump is not None and np.isfinite(jump) else np.inf)
         ax.plot(
             sw.speeds_rpm[held], force[held], color=colour, ls=ls, lw=1.3, label=f"{label}: jump speed {jump:.0f} rpm"

@@ -45,14 +45,17 @@ def cam_line(cam: MachineCam) -> str:
     """One cam's summary: its least contact force, speed margin, peak torque and what fails."""
     chk = cam.check
     dyn = chk.dynamic
-    margin = next((c.value for c in chk.checks if c.name == "speed_margin"), None)
     text = (
-        f"least contact force {dyn['min_contact_force_N']:.3g} N at cam {dyn['min_contact_force_deg']:.1f}\u00b0, "
-        + ("form-closed (cannot jump), " if chk.closure is not None else f"speed margin {fmt(margin, 3)}\u00d7, ")
+        f"least contact force {dyn.min_contact_force_N:.3g} N at cam {dyn.min_contact_force_deg:.1f}\u00b0, "
+        + (
+            "form-closed (cannot jump), "
+            if chk.closure is not None
+            else f"speed margin {fmt(cam.speed_margin, 3)}\u00d7, "
+        )
         + f"peak torque {cam.peak_torque:.3g} N\u00b7m at {cam.peak_torque_at_deg:.1f}\u00b0"
     )
-    if dyn["separations"]:
-        text += f", leaves the cam ({len(dyn['separations'])} flights)"
+    if dyn.separations:
+        text += f", leaves the cam ({len(dyn.separations)} flights)"
     return text + (f"; fails {', '.join(cam.failed)}" if cam.failed else "")
 
 

@@ -28,6 +28,7 @@ from .path import PATH_TYPES, PathSpec
 from .pathfile import PathFileSpec, SynthesisSpec
 from .spring import END_TYPES, SPRING_MODELS, SpringSpec
 from .tolerances import DISTRIBUTIONS, TOLERANCE_KEYS, Tolerance, TolerancesSpec, ToleranceValue, resolve_tolerances
+from .valvetrain import ValvetrainSpec
 
 __all__ = [
     "CaseSpec",
@@ -66,6 +67,7 @@ __all__ = [
     "TolerancesSpec",
     "ToleranceValue",
     "resolve_tolerances",
+    "ValvetrainSpec",
 ]
 
 

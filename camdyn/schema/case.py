@@ -17,6 +17,7 @@ from .motion import MotionSpec, check_segments
 from .path import PathSpec
 from .spring import SpringSpec, check_spring_keys
 from .tolerances import TolerancesSpec, check_tolerance_keys
+from .valvetrain import ValvetrainSpec, check_valvetrain_keys
 
 SCHEMA_VERSION = 1
 
@@ -60,6 +61,10 @@ class CaseSpec(Table):
     tolerances: TolerancesSpec | None = Field(
         default=None, description="how far a built cam may differ from the case (camdyn tolerance)"
     )
+    valvetrain: ValvetrainSpec | None = Field(
+        default=None,
+        description="the follower drives a valve: rocker ratio, lash, the cam-side and valve masses, the seat",
+    )
 
     @model_validator(mode="after")
     def _tables_fit_together(self) -> CaseSpec:
@@ -88,8 +93,15 @@ class CaseSpec(Table):
             raise ValueError(
                 "motion: the case needs [motion] segments or a table, a [follower] contour, or [path] and [mechanism]"
             )
-        form_closed = self.follower is not None and self.follower.form_closed
-        check_dynamics_keys(self.dynamics, oscillating=self.oscillating, form_closed=form_closed)
+        if self.motion is not None and self.motion.valve_table is not None and self.valvetrain is None:
+            raise ValueError("motion.valve_table: a lift at the valve needs [valvetrain] (its ratio and lash)")
+        if self.valvetrain is not None:
+            check_valvetrain_keys(
+                self.valvetrain, self.dynamics, translating=not self.oscillating, spring=self.spring is not None
+            )
+        else:
+            form_closed = self.follower is not None and self.follower.form_closed
+            check_dynamics_keys(self.dynamics, oscillating=self.oscillating, form_closed=form_closed)
         check_spring_keys(self.spring, oscillating=self.oscillating)
         check_tolerance_keys(self.tolerances, oscillating=self.oscillating)
         if self.limits.max_contact_stress is not None and self.contact_width_mm is None:

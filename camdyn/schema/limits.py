@@ -6,6 +6,7 @@ from pydantic import Field
 
 from .._core.units import (
     DEFAULT_MAX_IMPACT_VELOCITY_M_PER_S,
+    DEFAULT_MAX_SEATING_VELOCITY,
     DEFAULT_MAX_TRAIN_DEFLECTION,
     DEFAULT_MIN_CONTACT_FORCE_N,
     DEFAULT_MIN_CURVATURE_RATIO,
@@ -72,4 +73,10 @@ class LimitsSpec(Table):
             "crossing its backlash, may meet the other flank, m/s (at the roller centre for an oscillating arm); "
             f"default {DEFAULT_MAX_IMPACT_VELOCITY_M_PER_S:g}"
         ),
+    )
+    max_seating_velocity: Real = Field(
+        default=DEFAULT_MAX_SEATING_VELOCITY,
+        gt=0,
+        le=100,
+        description="[valvetrain] cases: the valve's speed on landing on its seat at the case speed, m/s (default 0.5)",
     )

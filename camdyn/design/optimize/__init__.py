@@ -25,6 +25,7 @@ from ...schema.dynamics import LINEAR_KEYS, ROTARY_KEYS
 from ..checks import CheckReport, run_check
 from ..parts import resolve_spring
 from ..tolerance import tolerance_study
+from ..valvetrain import refuse_valvetrain
 from ._objectives import CLEAR, jump_speed, least_slack, spring_force, vibration
 from ._rows import Rows
 from ._shape import N_CONTROL, ShapeSpace, shape_space
@@ -183,15 +184,13 @@ def metrics(case: Case, check: CheckReport | None = None, margin: float = 0.0) -
     to_user = 1.0 if case.motion.unit == "mm" else 180.0 / math.pi
     m = case.model
     geo = chk.geometry
-    jump = chk.dynamic["jump_speed_rpm"]
+    jump = chk.dynamic.jump_speed_rpm
     w_max = 4.0 * max(case.limits.speed_margin * chk.speed_rpm, jump if jump is not None else 0.0) * RPM
-    residual = (
-        chk.dynamic["residual_vibration_rad"] * to_user if case.oscillating else chk.dynamic["residual_vibration_mm"]
-    )
+    residual = chk.dynamic.residual_vibration_as_lift  # mm, or deg of arm swing, as the motion's unit
     return Metrics(
         jump_speed_rpm=float(jump if jump is not None else math.inf),
         margin_speed_rpm=float(margin_speed(case, margin, w_max) / RPM),
-        least_force_N=float(chk.dynamic["min_contact_force_N"]),
+        least_force_N=float(chk.dynamic.min_contact_force_N),
         peak_acceleration=float(np.abs(sv[2]).max() * to_user),
         max_pressure_angle_deg=float(geo.max_pressure_angle_deg) if geo else math.nan,
         min_radius_of_curvature_mm=float(geo.min_radius_of_curvature_mm) if geo else math.nan,
@@ -361,6 +360,7 @@ def optimize_case(
     The answer's ``refusals`` say why it is not to be written (no better, or a check it would break)."""
     if objective not in OBJECTIVES:
         raise InputError("--objective", f"unknown objective {objective!r}; choose one of {', '.join(OBJECTIVES)}")
+    refuse_valvetrain(case, "optimize")
     if robust and case.spec.tolerances is None:
         raise InputError(
             "--robust", "the case has no [tolerances]: give them to claim a speed at P(separation) <= 1e-3"

@@ -49,9 +49,8 @@ def hold_to(rows: Rows, w: float, z0: np.ndarray) -> tuple[Step, float]:
     scale = rows.scale
     step, radius = Step(z0, -math.inf, math.inf, 0), RADIUS
     for _ in range(6):
-        sp = jnp.asarray(speed_slots(speeds))
         step = maximize_least(
-            lambda z, sp=sp: rows.force_jacobian(z, sp, None),
+            rows.force_values(jnp.asarray(speed_slots(speeds))),
             rows.geometry_jacobian,
             step.x,
             radius=radius,

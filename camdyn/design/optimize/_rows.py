@@ -99,6 +99,17 @@ class Rows:
         """``(z, speeds[SPEED_SLOTS], preload) -> (slack at the sampled angles, d/dz)``, compiled once."""
         return with_jacobian(lambda z, speeds, preload: self.slack(z, speeds, preload)[:, self.sampled].ravel())
 
+    def force_values(self, speeds):
+        """``z -> (slack at the sampled angles, d/dz)`` at the fixed ``speeds`` (:data:`SPEED_SLOTS`) for the linear
+        programs. Where the follower translates the slack is exactly affine in ``z`` (the steady state in contact is
+        linear in the motion, the motion in the control points), so the Jacobian is computed once and every later
+        value is one product; an arm's lever arm moves with ``z``, so there each call differentiates again."""
+        if self.case.oscillating:
+            return lambda z: self.force_jacobian(z, speeds, None)
+        z_ref = np.asarray(self.space.z0, dtype=float)
+        v_ref, jac = (np.asarray(a) for a in self.force_jacobian(jnp.asarray(z_ref), speeds, None))
+        return lambda z: (v_ref + np.einsum("ij,j->i", jac, np.asarray(z, dtype=float) - z_ref), jac)
+
     @cached_property
     def least_on_scan(self):
         """``(z, w_max, preload) -> the least slack at each of FINE speeds up to w_max``, compiled once."""

@@ -91,6 +91,7 @@ def shape_space(case: Case, n: int = FFT_GRID, n_control: int = N_CONTROL) -> Sh
         why = {
             "path": "its motion is fixed by the path the linkage must trace (reshape the path, or synthesize again)",
             "table": "its motion is the lift table's; give the motion as segments to let camdyn reshape it",
+            "valve_table": "its motion is the valve-lift table's; give the motion as segments to let camdyn reshape it",
             "contour": "its motion is the measured contour's; give the motion as segments to let camdyn reshape it",
         }[case.motion_source]
         raise InputError("motion", f"a {case.motion_source} case cannot be optimized: {why}")

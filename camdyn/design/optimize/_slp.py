@@ -15,7 +15,8 @@ import numpy as np
 from scipy.optimize import linprog
 
 _MAX_STEPS = 30
-_FIRST_ROWS = 400  # rows of a linear program's first round
+_FIRST_ROWS = 200  # rows of a linear program's first round
+_ADDED_ROWS = 100  # rows joining it per round at most, the most broken first
 _PENALTY = 1e3  # merit per unit of scaled geometry violation, relative to the objective's own scale
 
 
@@ -42,41 +43,63 @@ def _value_and_jacobian(fn: Callable, x: np.ndarray):
     return np.asarray(v), np.asarray(J)
 
 
-def _linear_step(v, Jv, g, Jg, bounds):
+def _matvec(a: np.ndarray, x: np.ndarray) -> np.ndarray:
+    """``a @ x`` without BLAS: thousands of rows by a few dozen columns, where a threaded BLAS spends more time
+    waking its threads than multiplying (10x on a loaded 2-core machine)."""
+    return np.einsum("ij,j->i", a, x)
+
+
+def _linear_step(v, Jv, g, Jg, bounds, seed=None):
     """The linear program of one step, variables (dx, t): maximize t with v + Jv dx >= t, g + Jg dx <= 0 within
     ``bounds``; where the linearized limits cannot be met there, the least violation instead. Rows are
-    generated: HiGHS sees the lowest rows first, and any row the answer breaks joins until none does (the
-    answer is that of the whole program)."""
+    generated: HiGHS sees the lowest rows (and ``seed``'s, the rows that bound the previous step) first, and the
+    rows the answer breaks most join until none is broken (the answer is that of the whole program). Returns
+    the program's answer and the rows that bound it (the next step's ``seed``)."""
     n = Jv.shape[1]
     lo_dx = np.array([b[0] for b in bounds])
     hi_dx = np.array([b[1] for b in bounds])
     # a row that stays above the best bound (or a limit that stays met) whatever dx in the box cannot bind
     half = np.maximum(-lo_dx, hi_dx)
-    reach_v, reach_g = np.abs(Jv) @ half, np.abs(Jg) @ half
+    reach_v, reach_g = _matvec(np.abs(Jv), half), _matvec(np.abs(Jg), half)
     kv_all = np.nonzero(v - reach_v <= np.min(v + reach_v))[0]
     kg_all = np.nonzero(g + reach_g >= 0.0)[0]
-    kv = kv_all[np.argsort(v[kv_all])[:_FIRST_ROWS]]
-    kg = kg_all[np.argsort(-g[kg_all])[:_FIRST_ROWS]]
+    v_all, Jv_all, g_all, Jg_all = v[kv_all], Jv[kv_all], g[kg_all], Jg[kg_all]  # the candidate rows, copied once
+    # positions within the candidates: the lowest, and the seed's that are still candidates
+    kv = np.argsort(v_all)[:_FIRST_ROWS]
+    kg = np.argsort(-g_all)[:_FIRST_ROWS]
+    if seed is not None:
+        kv = np.union1d(kv, np.nonzero(np.isin(kv_all, seed[0]))[0])
+        kg = np.union1d(kg, np.nonzero(np.isin(kg_all, seed[1]))[0])
     for _ in range(50):
-        A = np.vstack([np.c_[-Jv[kv], np.ones(kv.size)], np.c_[Jg[kg], np.zeros(kg.size)]])
+        A = np.vstack([np.c_[-Jv_all[kv], np.ones(kv.size)], np.c_[Jg_all[kg], np.zeros(kg.size)]])
         lp = linprog(
-            np.r_[np.zeros(n), -1.0], A_ub=A, b_ub=np.r_[v[kv], -g[kg]], bounds=bounds + [(None, None)], method="highs"
+            np.r_[np.zeros(n), -1.0],
+            A_ub=A,
+            b_ub=np.r_[v_all[kv], -g_all[kg]],
+            bounds=bounds + [(None, None)],
+            method="highs",
         )
         if lp.status == 2:  # the linearized geometry cannot be met in this region: least violation instead
-            A2 = np.c_[Jg[kg_all], -np.ones(kg_all.size)]
-            return linprog(
-                np.r_[np.zeros(n), 1.0], A_ub=A2, b_ub=-g[kg_all], bounds=bounds + [(0, None)], method="highs"
-            )
+            A2 = np.c_[Jg_all, -np.ones(kg_all.size)]
+            lp = linprog(np.r_[np.zeros(n), 1.0], A_ub=A2, b_ub=-g_all, bounds=bounds + [(0, None)], method="highs")
+            return lp, None
         if lp.status != 0:
-            return lp
+            return lp, None
         dx, t = lp.x[:n], lp.x[-1]
-        broken_v = kv_all[(v[kv_all] + Jv[kv_all] @ dx) < t - 1e-9 * max(1.0, abs(t))]
-        broken_g = kg_all[(g[kg_all] + Jg[kg_all] @ dx) > 1e-12]
-        new_v, new_g = np.setdiff1d(broken_v, kv), np.setdiff1d(broken_g, kg)
+        over_v = (v_all + _matvec(Jv_all, dx)) - t  # < 0: broken
+        over_g = g_all + _matvec(Jg_all, dx)  # > 0: broken
+        broken_v = np.nonzero(over_v < -1e-9 * max(1.0, abs(t)))[0]
+        broken_g = np.nonzero(over_g > 1e-12)[0]
+        new_v = broken_v[~np.isin(broken_v, kv)]
+        new_g = broken_g[~np.isin(broken_g, kg)]
         if new_v.size == 0 and new_g.size == 0:
-            return lp
-        kv, kg = np.union1d(kv, new_v[:_FIRST_ROWS]), np.union1d(kg, new_g[:_FIRST_ROWS])
-    return lp
+            bind_v = kv[over_v[kv] <= 1e-9 * max(1.0, abs(t))]
+            bind_g = kg[over_g[kg] >= -1e-12]
+            return lp, (kv_all[bind_v], kg_all[bind_g])
+        # the most broken first: fewer rounds of smaller programs
+        kv = np.union1d(kv, new_v[np.argsort(over_v[new_v])][:_ADDED_ROWS])
+        kg = np.union1d(kg, new_g[np.argsort(-over_g[new_g])][:_ADDED_ROWS])
+    return lp, None
 
 
 def maximize_least(
@@ -97,11 +120,12 @@ def maximize_least(
     v, Jv = _value_and_jacobian(values, x)
     g, Jg = _value_and_jacobian(geometry, x)
     radius = np.broadcast_to(np.asarray(radius, dtype=float), x.shape)
+    seed = None  # the rows that bound the last program: the next one starts with them
     best, delta, steps = merit(v, g), radius.copy(), 0  # a writable trust region (the broadcast is a read-only view)
     for _ in range(_MAX_STEPS):
         steps += 1  # the steps taken, read after the loop
         bounds = [(max(-delta[i], lo[i] - x[i]), min(delta[i], hi[i] - x[i])) for i in range(n)]
-        lp = _linear_step(v, Jv, g, Jg, bounds)
+        lp, seed = _linear_step(v, Jv, g, Jg, bounds, seed)
         if (
             lp.status != 0
         ):  # HiGHS gave up on this region (numerical trouble): the point reached stands, judged as it is

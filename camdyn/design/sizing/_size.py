@@ -10,6 +10,7 @@ import numpy as np
 from ..._core.errors import InputError
 from ..._core.units import RPM, rate_from_si, rate_to_si
 from ..parts import resolve_spring
+from ..valvetrain import refuse_valvetrain
 from ._buildable import HEADROOM, WRITTEN_DIGITS, buildable_fixed_point
 from ._design import design
 from ._dynamic import Dynamic, dynamic_answer
@@ -123,6 +124,7 @@ def size_spring(
     :mod:`camdyn.design.sizing` for the method, the tie-break rule and the dynamic correction. Raises
     :class:`InputError` on bad input."""
     _check_options(max_speed_rpm, margin, min_rate)
+    refuse_valvetrain(case, "size")
     case = resolve_spring(case)
     part = check = None
     if buildable:

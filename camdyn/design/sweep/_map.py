@@ -17,6 +17,7 @@ from ...model import dynamics as dyn
 from ...model.geometry import newton_per_torque_at
 from ...model.motion import evaluate
 from ..parts import resolve_spring, spring_mass_notes
+from ..valvetrain import refuse_valvetrain
 from ._contact import kinematic_kernel, linear_kernel, with_spring_damping
 from ._diffrax_gap import diffrax_gap_const, diffrax_gap_kernel
 from ._exact_gap import exact_gap_kernel
@@ -100,7 +101,7 @@ def _rigid_map(case, pts: _Points, angles, gaps: bool, progress, devices):
 
 
 def _compliant_map(case, pts: _Points, angles, gaps: bool, gap_method: str, progress, devices):
-    motion, base = case.motion, case.model
+    base = case.model
     theta, vals, weight = angles
     spec = jnp.fft.rfft(jnp.asarray(vals[0]))
     const = (base, jnp.asarray(vals[0]), jnp.asarray(vals[1]), spec, jnp.asarray(weight))
@@ -115,7 +116,7 @@ def _compliant_map(case, pts: _Points, angles, gaps: bool, gap_method: str, prog
     tick = counter(progress, "separated points (nonlinear model)", idx.size)
     point = [pts.omega[idx], pts.k[idx], pts.c[idx]]
     if gap_method == "exact":
-        tab = np.asarray(evaluate(motion, jnp.asarray(theta[::GAP_STRIDE])))[:3]
+        tab = vals[:3, ::GAP_STRIDE] / base.scale  # the same angles: no second evaluation of the motion (its compile)
         w_tab = _lever_arm_mm(case, theta[::GAP_STRIDE]) if case.oscillating else np.ones(tab.shape[1])
         gconst = (
             base,
@@ -170,6 +171,7 @@ def jump_map(
     gap of the separated points (the nonlinear integration, most of the cost of a rigid follower's map): their
     ``max_gap`` is NaN; the least force, the separation and the jump boundary are the same.
     """
+    refuse_valvetrain(case, "sweep")
     devices = tuple(jax.devices() if devices is None else devices)
     if gap_method not in ("exact", "diffrax"):
         raise ValueError(f"gap_method must be 'exact' or 'diffrax', not {gap_method!r}")

@@ -19,6 +19,7 @@ from ...model import dynamics as dyn
 from ...model.geometry import newton_per_torque_at
 from ...schema import resolve_tolerances
 from ..parts import resolve_spring
+from ..valvetrain import refuse_valvetrain
 from ._kernel import Sample, make_grid, rigid_tolerance_kernel, tolerance_kernel
 from ._result import ToleranceResult
 from ._sampling import SCALAR_KEYS, draw_samples, spreads
@@ -71,6 +72,7 @@ def tolerance_study(
     mesh after :func:`camdyn._core.distributed.initialize`); the result does not depend on them."""
     if not 1 <= samples <= MAX_SAMPLES:
         raise InputError("--samples", f"must be from 1 to {MAX_SAMPLES}, got {samples}")
+    refuse_valvetrain(case, "tolerance")
     devices = tuple(jax.devices() if devices is None else devices)
     case = resolve_spring(case)  # [spring] model: the spring's own mass (its lumped third) in the nominal mass
     osc, base = case.oscillating, case.model

@@ -59,6 +59,7 @@ class MotionFit:
     spline: SplineFit
     tolerance: float | None = None
     repeats: int = 0  # rows dropped from the file for exactly repeating the one before them
+    follower_per_data: float = 1.0  # the data times this is the follower's lift (1 / ratio for a valve's table)
 
     @property
     def fitted(self) -> np.ndarray:

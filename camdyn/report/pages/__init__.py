@@ -5,6 +5,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
+from ..._core.results import Unavailable
 from .._data import ReportData
 from .cam import draw_cam
 from .dynamics import draw_dynamics
@@ -16,6 +17,7 @@ from .springs import draw_springs
 from .summary import draw_summary
 from .svaj import draw_svaj
 from .tolerances import draw_tolerances
+from .valvetrain import draw_valvetrain
 
 
 @dataclass(frozen=True)
@@ -33,12 +35,18 @@ PAGES: list[Page] = [
     Page("svaj", "Follower motion (SVAJ)", draw_svaj),
     Page("cam", "Cam profile", draw_cam, lambda data: data.check.geometry is not None),
     Page("dynamics", "Dynamics", draw_dynamics),
+    Page(
+        "valvetrain",
+        "Valvetrain: valve lift, seating, float and bounce",
+        draw_valvetrain,
+        lambda data: data.check.valvetrain is not None,
+    ),
     Page("mechanism", "Mechanism and path", draw_mechanism, lambda data: data.case.synthesis is not None),
     Page(
         "optimization",
         "Optimization",
         draw_optimization,
-        lambda data: data.review.original is not None and not isinstance(data.review.original, str),
+        lambda data: data.review.original is not None and not isinstance(data.review.original, Unavailable),
     ),
     Page("parts", "Drive, contact and spring", draw_parts),
     Page("springs", "Spring sizing", draw_springs),
@@ -59,4 +67,5 @@ __all__ = [
     "draw_summary",
     "draw_svaj",
     "draw_tolerances",
+    "draw_valvetrain",
 ]

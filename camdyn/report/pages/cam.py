@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 
+from ...design.checks import CheckKind
 from ...plot import (
     check_colour,
     face_extremes,
@@ -56,7 +57,7 @@ def _captions(fig, data: ReportData) -> None:
             f"(\u03b8 = {th_hi:.1f}\u00b0): "
             f"travel {t_hi - t_lo:.4g}" + (f" of face_width {w:g} mm" if w is not None else " mm"),
             size=7.8,
-            color=check_colour(chk, "face_width", C["margin"]),
+            color=check_colour(chk, CheckKind.FACE_WIDTH, C["margin"]),
             va="top",
         )
     else:
@@ -67,7 +68,7 @@ def _captions(fig, data: ReportData) -> None:
             f"{geo.max_pressure_angle_at_deg:.1f}\u00b0: the follower there, "
             "its motion and the contact normal",
             size=7.8,
-            color=check_colour(chk, "pressure_angle", C["margin"]),
+            color=check_colour(chk, CheckKind.PRESSURE_ANGLE, C["margin"]),
             va="top",
         )
     rho, th_r = geo.min_radius_of_curvature_mm, geo.min_radius_of_curvature_at_deg
@@ -78,6 +79,6 @@ def _captions(fig, data: ReportData) -> None:
             f"\u25cf least radius of curvature {rho:.3g} mm at \u03b8 = {th_r:.1f}\u00b0: the point on the contour "
             "and its osculating circle (dashed)",
             size=7.8,
-            color=check_colour(chk, "curvature", C["advice"]),
+            color=check_colour(chk, CheckKind.CURVATURE, C["advice"]),
             va="top",
         )

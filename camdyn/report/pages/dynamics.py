@@ -3,6 +3,7 @@ displacement and vibration, and the least contact force against cam speed."""
 
 from __future__ import annotations
 
+from ..._core.results import Unavailable
 from ...plot import legend_above_data, plot_contact_force, plot_displacement, plot_force_vs_speed, plot_vibration
 from .._data import ReportData
 from .._style import LEFT, C
@@ -22,7 +23,7 @@ def draw_dynamics(fig, data: ReportData) -> None:
     rpm = chk.speed_rpm
     plot_displacement(ax_x, chk.response, unit=unit, speed_rpm=rpm, breaks_deg=data.breaks_deg)
     curves = [(chk.response, C["dyn"], f"{rpm:g} rpm")]
-    if not isinstance(rv.margin_response, str):
+    if not isinstance(rv.margin_response, Unavailable):
         curves.append((rv.margin_response, C["margin"], f"{rv.margin_rpm:g} rpm"))
     plot_vibration(ax_v, curves, unit=unit, breaks_deg=data.breaks_deg)
     plot_force_vs_speed(ax_w, rv)
@@ -41,7 +42,7 @@ def _force_panels(ax_f, ax_m, data: ReportData) -> None:
         legend=False,
     )
     m = data.case.limits.speed_margin
-    if isinstance(rv.margin_response, str):
+    if isinstance(rv.margin_response, Unavailable):
         ax_m.text(
             0.5,
             0.5,

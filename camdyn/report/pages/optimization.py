@@ -23,8 +23,8 @@ def draw_optimization(fig, data: ReportData) -> None:
     b, a = review.original.check, review.check
     note = (
         f"Reshaped from {data.case.spec.optimized_from} by camdyn optimize: dynamic jump speed "
-        f"{b.dynamic['jump_speed_rpm']:.1f} -> {a.dynamic['jump_speed_rpm']:.1f} rpm, least force at {a.speed_rpm:g} "
-        f"rpm {b.dynamic['min_contact_force_N']:.3g} -> {a.dynamic['min_contact_force_N']:.3g} N, verdict {b.verdict} "
+        f"{b.dynamic.jump_speed_rpm:.1f} -> {a.dynamic.jump_speed_rpm:.1f} rpm, least force at {a.speed_rpm:g} "
+        f"rpm {b.dynamic.min_contact_force_N:.3g} -> {a.dynamic.min_contact_force_N:.3g} N, verdict {b.verdict} "
         f"-> {a.verdict}. The segment boundaries, lifts and dwells are the original's."
     )
     fig.text(LEFT, 0.05, "\n".join(textwrap.wrap(note, 125)), size=7.5, color=C["grey"], va="top")

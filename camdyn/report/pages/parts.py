@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import textwrap
 
+from ..._core.results import Unavailable
 from ...plot import plot_contact, plot_drive, plot_spring
 from .._data import ReportData
 from .._style import LEFT, C
@@ -29,7 +30,7 @@ def draw_parts(fig, data: ReportData) -> None:
     assert chk.drive is not None  # check computes the camshaft drive of every case (design.checks.check)
     plot_drive(fig.add_subplot(gs[0]), chk.drive)
     ax_s = fig.add_subplot(gs[2])
-    if isinstance(part, str):
+    if isinstance(part, Unavailable):
         _say(ax_s, f"return spring: no spring of the case's rate and preload can be built within [spring]: {part}")
     else:
         plot_spring(ax_s, part)

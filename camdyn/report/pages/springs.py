@@ -7,6 +7,7 @@ import textwrap
 
 from matplotlib import patheffects
 
+from ..._core.results import Unavailable
 from ...design.sizing import SpringSizing
 from ...plot import plot_feasible_region, plot_jump_map
 from .._data import ReportData
@@ -33,10 +34,10 @@ def _nb(text: str) -> str:
 
 def draw_springs(fig, data: ReportData) -> None:
     sz = data.review.sizing
-    if isinstance(sz, str):
+    if isinstance(sz, Unavailable):
         flow = Flow(fig, 0.94)
         flow.para("Spring sizing does not apply to this case:", size=9, weight="bold", color=C["fail"])
-        flow.para(sz, size=8.5, width=110, color=C["ink"])
+        flow.para(sz.reason, size=8.5, width=110, color=C["ink"])
         _spring_jump_map(fig, data)
         return
     _caption(fig, sz)
@@ -214,7 +215,7 @@ def _spring_jump_map(fig, data: ReportData) -> None:
     osc = data.oscillating
     pre = f"{float(data.case.model.preload):g} {pretty_unit('N*m') if osc else 'N'}"
     title = f"jump map: least contact force at the case's preload {'T0' if osc else 'F0'} = {pre}"
-    if isinstance(jm, str):
+    if isinstance(jm, Unavailable):
         ax.text(
             0.5,
             0.5,

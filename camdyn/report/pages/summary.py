@@ -8,6 +8,7 @@ import textwrap
 import numpy as np
 from matplotlib.patches import Polygon
 
+from ..._core.results import Unavailable
 from ..._core.units import AT_LIMIT_RTOL
 from ...design.checks import CheckKind
 from ...plot import (
@@ -76,7 +77,7 @@ def _verdict(fig, data: ReportData, flow: Flow) -> None:
     passed = chk.verdict == "pass"
     n_fail = sum(not c.ok for c in chk.checks)
     what = "every check passes" if passed else f"{n_fail} of {len(chk.checks)} checks fail"
-    model = f"{chk.dynamic['model']} follower" + (
+    model = f"{chk.dynamic.model} follower" + (
         " (oscillating arm; torques as contact forces through the lever arm)" if data.oscillating else ""
     )
     verdict_block(fig, flow, passed, f"at {chk.speed_rpm:g} rpm: {what}", model)
@@ -91,7 +92,7 @@ def _margin(c) -> str:
     """The distance from the check's value to its limit, positive where it passes; "at limit" within 2 %."""
     if c.value is None:
         return "\u221e" if c.ok else "-\u221e"
-    d = c.value - c.limit if c.sense in (">=", ">") else c.limit - c.value
+    d = c.margin
     if d == 0.0:
         return "0 (at the limit)"
     if at_limit(c):
@@ -101,12 +102,6 @@ def _margin(c) -> str:
         f" ({pct:+.0f}%)" if abs(pct) < 1000.0 else ""
     )  # against a limit near 0 (no cusp: 1e-6 mm) a ratio says nothing
     return f"{d:+.3g}{rel}"
-
-
-def _what(check_name: str, data: ReportData) -> str:
-    if check_name == "curvature" and data.case.follower is not None and not data.case.follower.roller:
-        return "least contour radius (above 0: no cusp)"
-    return CheckKind(check_name).label
 
 
 def _checks_table(data: ReportData, flow: Flow) -> None:
@@ -136,7 +131,7 @@ def _checks_table(data: ReportData, flow: Flow) -> None:
         flow.row(
             [
                 (0.0, c.name, {"family": "DejaVu Sans Mono", "size": 7.8}),
-                (0.165, _what(c.name, data), {"color": C["grey"]}),
+                (0.165, c.label, {"color": C["grey"]}),
                 (0.6, value, {"ha": "right"}),
                 (0.625, {">=": "\u2265", "<=": "\u2264", ">": ">"}.get(c.sense, c.sense), {"ha": "center"}),
                 (0.74, f"{c.limit:g} {c.unit}", {"ha": "right"}),
@@ -148,7 +143,7 @@ def _checks_table(data: ReportData, flow: Flow) -> None:
     contact = data.check.contact
     if contact is None:
         what = "not evaluated: the case gives no contact width ([follower] width)"
-    elif not any(c.name == "contact_stress" for c in data.check.checks):
+    elif data.check.find(CheckKind.CONTACT_STRESS) is None:
         what = f"largest Hertz pressure {contact.peak_pressure_MPa:.4g} MPa: not judged, no [limits] max_contact_stress"
     else:
         return
@@ -165,17 +160,17 @@ def key_results(data: ReportData) -> list[tuple[str, str]]:
     resp = chk.response
     seps = resp.separations
     if seps:  # the least force is 0 over the flights: where the follower leaves (the largest flight) says more
-        least = f"{dyn['min_contact_force_N']:.4g} N: leaves the cam at {flights_by_gap(resp)[0].start_deg:.1f}\u00b0"
+        least = f"{dyn.min_contact_force_N:.4g} N: leaves the cam at {flights_by_gap(resp)[0].start_deg:.1f}\u00b0"
     else:
-        least = f"{dyn['min_contact_force_N']:.4g} N at {dyn['min_contact_force_deg']:.1f}\u00b0"
+        least = f"{dyn.min_contact_force_N:.4g} N at {dyn.min_contact_force_deg:.1f}\u00b0"
     rows = [
         ("least force, dynamic", least),
-        ("least force, kinematic", f"{kin['min_contact_force_N']:.4g} N at {kin['min_contact_force_deg']:.1f}\u00b0"),
-        ("jump speed, dynamic", f"{fmt(dyn['jump_speed_rpm'])} rpm"),
+        ("least force, kinematic", f"{kin.min_contact_force_N:.4g} N at {kin.min_contact_force_deg:.1f}\u00b0"),
+        ("jump speed, dynamic", f"{fmt(dyn.jump_speed_rpm)} rpm"),
         (
             "jump speed, rigid",
-            f"{fmt(kin['jump_speed_rpm'])} rpm"
-            + (f" (at {kin['jump_speed_at_deg']:.1f}\u00b0)" if kin["jump_speed_at_deg"] is not None else ""),
+            f"{fmt(kin.jump_speed_rpm)} rpm"
+            + (f" (at {kin.jump_speed_at_deg:.1f}\u00b0)" if kin.jump_speed_at_deg is not None else ""),
         ),
     ]
     flights, impacts = resp.flights, resp.impacts
@@ -260,14 +255,14 @@ def decision_facts(data: ReportData) -> list[str]:
     if resp.flights:
         out.append(f"the follower leaves the cam: {flight_summary(resp)}")
     part = rv.spring_part
-    if isinstance(part, str):
+    if isinstance(part, Unavailable):
         out.append(f"the return spring cannot be built within [spring]: {part}")
     else:
         bad = [c.name for c in part.checks if not c.ok]
         if bad:
             out.append(f"the return spring fails its own checks: {', '.join(bad)}")
     tol = rv.tolerance
-    if isinstance(tol, str):
+    if isinstance(tol, Unavailable):
         out.append(f"tolerance study failed: {tol}")
     elif tol is not None:
         lo, hi = tol.confidence_interval
@@ -378,7 +373,7 @@ def _input_columns(data: ReportData) -> list[tuple[str, list[tuple[str, str]]]]:
     case = data.case
     spec = case.spec
     columns: list[tuple[str, list[tuple[str, str]]]] = []
-    if case.motion_source in ("table", "contour"):
+    if case.motion_source in ("table", "valve_table", "contour"):
         columns.append((case.motion_source, _fit_rows(case)))
         columns.append(("follower", _kv_lines(case.follower.model_dump(exclude_unset=True))))
     elif spec.motion is not None:
@@ -397,7 +392,8 @@ def _input_columns(data: ReportData) -> list[tuple[str, list[tuple[str, str]]]]:
         columns.append(("mechanism (\u2192 synthesized)", _mechanism_rows(data)))
     dyn_rows = _kv_lines(spec.dynamics.model_dump(exclude_unset=True), data.oscillating)
     lim = spec.limits.model_dump()
-    pa = next((c.limit for c in data.check.checks if c.name == "pressure_angle"), None)
+    pa_check = data.check.find(CheckKind.PRESSURE_ANGLE)
+    pa = None if pa_check is None else pa_check.limit
     if lim.get("max_pressure_angle") is None and pa is not None:
         lim["max_pressure_angle"] = pa
     dyn_rows += [("", ""), ("\x00limits", "")] + _kv_lines(lim)

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import math
 
+from ..._core.results import Unavailable
 from ...plot import plot_jump_speed_histogram, plot_tolerance_tornado
 from .._data import ReportData
 from .._layout import Flow
@@ -14,9 +15,9 @@ from .._style import LEFT, C
 def draw_tolerances(fig, data: ReportData) -> None:
     res = data.review.tolerance
     flow = Flow(fig, 0.94)
-    if isinstance(res, str):
+    if isinstance(res, Unavailable):
         flow.para("The tolerance study failed:", size=9, weight="bold", color=C["fail"])
-        flow.para(res, size=8.5, width=110, color=C["ink"])
+        flow.para(res.reason, size=8.5, width=110, color=C["ink"])
         return
     assert res is not None  # the page is drawn for a case with [tolerances] only (pages.PAGES)
     lo, hi = res.confidence_interval
