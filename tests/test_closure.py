@@ -298,3 +298,37 @@ def test_spring_held_studies_refuse_a_groove_cam(tmp_path, capsys, argv):
     code, out, err = run(capsys, argv[0], case_file, *argv[1:])
     assert code == 2 and "follower.closure" in err and "form-closed" in err and len(err.strip().splitlines()) == 1
     assert not (tmp_path / "r").exists()
+
+
+def test_oscillating_groove_cam_crosses_at_mid_rise_and_lands_as_the_closed_form_says():
+    """The cartoner's infeed arm in its groove (no spring): the force changes flank at mid-rise and mid-return of its
+    modified-sine swings (90 and 260 deg); the arm keeps its angular velocity across the gap b / (a cos phi) (rad) and
+    the flank meets the roller at a (phi'(tc) - phi'(tc + d)) w; the impact force at the roller is the arm's torque
+    plus w_rel sqrt(k_f I), over the lever arm a cos phi at the landing."""
+    from pathlib import Path
+
+    from camdyn.model.case import load_case
+
+    case = load_case(Path(__file__).resolve().parents[1] / "cases" / "machines" / "infeed.toml")
+    w = _omega(case)
+    r = closure_response(case.motion, case.follower, case.model, w)
+    assert [c.deg for c in r.crossovers] == pytest.approx([90.0, 260.0], abs=1e-8)
+    geo = analyze(case.motion, case.follower)
+    a_m, b = 0.150, 0.05
+    phi = lambda t: np.asarray(case.motion.host(np.atleast_1d(t)))[:, 0]  # noqa: E731
+    for c in r.crossovers:
+        tc = np.deg2rad(c.deg)
+        p0 = phi(tc)
+        side = 1.0 if c.from_flank == "inner" else -1.0
+        gap = b / (150.0 * np.cos(np.deg2rad(geo.table([c.deg])["pressure_angle_deg"][0])))
+
+        def rel(d, tc=tc, p0=p0, side=side, gap=gap):  # the gap closed at constant arm velocity, less the gap
+            return side * (p0[1] * d - (phi(tc + d)[0] - p0[0])) - gap
+
+        d = brentq(rel, 1e-6, 1.0, xtol=1e-15)
+        assert np.deg2rad(c.land_deg) - tc == pytest.approx(d, rel=1e-6)
+        w_rel = abs(p0[1] - phi(tc + d)[1]) * w
+        assert c.impact_velocity_m_per_s == pytest.approx(w_rel * a_m, rel=1e-6)
+        lever_m = a_m * np.cos(np.deg2rad(geo.table([c.land_deg])["pressure_angle_deg"][0]))
+        torque = abs(0.06 * w**2 * phi(tc + d)[2])
+        assert c.impact_force_N == pytest.approx((torque + w_rel * np.sqrt(20000 * 0.06)) / lever_m, rel=1e-6)

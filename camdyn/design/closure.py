@@ -59,13 +59,7 @@ class ClosureStudy:
     def check(self, max_impact_velocity: float) -> Check:
         """``[limits] max_impact_velocity``: the largest speed at which a flank meets the follower crossing the
         backlash, m/s (0 without backlash)."""
-        return Check(
-            CheckKind.CROSSOVER_IMPACT.value,
-            self.response.max_impact_velocity_m_per_s,
-            float(max_impact_velocity),
-            "m/s",
-            "<=",
-        )
+        return CheckKind.CROSSOVER_IMPACT.check(self.response.max_impact_velocity_m_per_s, float(max_impact_velocity))
 
 
 def closure_study(case: Case, speed_rpm: float | None = None) -> ClosureStudy:

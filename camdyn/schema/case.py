@@ -95,6 +95,8 @@ class CaseSpec(Table):
             )
         if self.motion is not None and self.motion.valve_table is not None and self.valvetrain is None:
             raise ValueError("motion.valve_table: a lift at the valve needs [valvetrain] (its ratio and lash)")
+        if self.valvetrain is not None and self.follower is not None and self.follower.form_closed:
+            raise ValueError("follower.closure: a valvetrain is spring-closed: remove closure (or [valvetrain])")
         if self.valvetrain is not None:
             check_valvetrain_keys(
                 self.valvetrain, self.dynamics, translating=not self.oscillating, spring=self.spring is not None
