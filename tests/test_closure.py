@@ -2,6 +2,7 @@
 and the flight across the backlash."""
 
 import copy
+import tomllib
 
 import numpy as np
 import pytest
@@ -14,25 +15,27 @@ from camdyn.model.case import case_from_dict
 from camdyn.model.dynamics import closure_response
 from camdyn.model.geometry import analyze, groove
 
-GROOVE = {
-    "name": "groove",
-    "motion": {
-        "segments": [
-            {"law": "cycloidal", "end": 120, "lift": 20},
-            {"law": "dwell", "end": 180},
-            {"law": "cycloidal", "end": 300, "lift": -20},
-            {"law": "dwell", "end": 360},
-        ]
-    },
-    "follower": {
-        "type": "translating-roller",
-        "base_radius": 50,
-        "roller_radius": 12,
-        "closure": "groove",
-        "backlash": 0.05,
-    },
-    "dynamics": {"speed": 300, "mass": 1.0, "train_stiffness": 5000},
-}
+GROOVE_TOML = """
+name = "groove"
+[motion]
+segments = [
+  { law = "cycloidal", end = 120, lift = 20 },
+  { law = "dwell", end = 180 },
+  { law = "cycloidal", end = 300, lift = -20 },
+  { law = "dwell", end = 360 },
+]
+[follower]
+type = "translating-roller"
+base_radius = 50
+roller_radius = 12
+closure = "groove"
+backlash = 0.05
+[dynamics]
+speed = 300
+mass = 1.0
+train_stiffness = 5000
+"""
+GROOVE = tomllib.loads(GROOVE_TOML)
 
 
 def case_geometry_pitch(case, n: int) -> np.ndarray:
@@ -202,28 +205,6 @@ def test_flight_under_a_spring_matches_a_second_integrator():
         assert np.deg2rad(x.land_deg) == pytest.approx(t1 % (2 * np.pi), abs=1e-7)
         v = abs(y1[1] - motion(t1)[1]) * w * 1e-3
         assert x.impact_velocity_m_per_s == pytest.approx(v, rel=1e-5, abs=1e-9)
-
-
-GROOVE_TOML = """
-name = "groove"
-[motion]
-segments = [
-  { law = "cycloidal", end = 120, lift = 20 },
-  { law = "dwell", end = 180 },
-  { law = "cycloidal", end = 300, lift = -20 },
-  { law = "dwell", end = 360 },
-]
-[follower]
-type = "translating-roller"
-base_radius = 50
-roller_radius = 12
-closure = "groove"
-backlash = 0.05
-[dynamics]
-speed = 300
-mass = 1.0
-train_stiffness = 5000
-"""
 
 
 def test_profile_writes_both_walls(tmp_path, capsys):
