@@ -12,6 +12,9 @@ crossover and held for the flight (cos of the pressure angle for a translating r
 oscillating one; a flight across a fraction of a mm lasts a few degrees). The flank meets the roller at the
 relative speed ``v``; a follower train of stiffness k_f turns it into the impact force ``|Fi| + v sqrt(k_f m)``
 (the peak of the half-sine contact on the flank's steady force); a rigid train has no finite impact force.
+The crossovers are the zeros of the force with the roller on the pitch curve: a spring's share of the b/2 it
+actually sits off it (k b / 2) moves them by that over the force's slope. The landing is plastic; the follower's
+own motion across the gap (at most b / lever) is not carried into the response's displacement.
 """
 
 from __future__ import annotations
