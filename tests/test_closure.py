@@ -313,3 +313,23 @@ def test_oscillating_groove_cam_crosses_at_mid_rise_and_lands_as_the_closed_form
         lever_m = a_m * np.cos(np.deg2rad(geo.table([c.land_deg])["pressure_angle_deg"][0]))
         torque = abs(0.06 * w**2 * phi(tc + d)[2])
         assert c.impact_force_N == pytest.approx((torque + w_rel * np.sqrt(20000 * 0.06)) / lever_m, rel=1e-6)
+
+
+def test_groove_contact_stress_on_the_wall_the_force_presses():
+    """Without backlash the inner wall is the spring cam's contour: where the force is positive the Hertz strip is
+    the spring cam's (1/K = 1/(1/Rr + 1/(rho_p - Rr))); where negative the roller presses the concave-for-convex outer
+    wall, 1/K = 1/(1/Rr - 1/(rho_p + Rr)), with the force's magnitude."""
+    from camdyn.model.contact import cam_contact, groove_contact
+
+    case = _groove_case(0.0)
+    r = closure_response(case.motion, case.follower, case.model, _omega(case))
+    geo = analyze(case.motion, case.follower)
+    walls = groove(case.motion, case.follower)
+    mats = {"width_mm": 10.0, "cam": (206.0, 0.3), "follower": (206.0, 0.3)}
+    got = groove_contact(geo, walls, r.contact_force, **mats)
+    spring = cam_contact(geo, np.abs(r.contact_force), **mats)
+    inner, outer = r.contact_force > 0, r.contact_force < 0
+    np.testing.assert_allclose(got.pressure_MPa[inner], spring.pressure_MPa[inner], rtol=1e-12)
+    rho_p, rr = geo.rho_pitch_mm[outer], 12.0
+    np.testing.assert_allclose(got.equivalent_radius_mm[outer], 1 / (1 / rr - 1 / (rho_p + rr)), rtol=1e-12)
+    assert np.all(got.pressure_MPa[outer] < spring.pressure_MPa[outer])  # conformal: gentler than convex

@@ -441,13 +441,19 @@ def _closure_check(case: Case, rpm: float) -> CheckReport:
         for w in ("inner", "outer")
         if getattr(study.walls, f"{w}_wall").undercut
     ]
+    contact = None
     if case.spec.contact_width_mm is not None:
-        warnings.append("contact stress not computed for a groove cam yet (its two walls curve opposite ways)")
+        if study.walls.undercut:  # a folded wall: no radius of curvature to press on
+            warnings.append("contact stress not computed: a groove wall is undercut")
+        else:
+            contact = case_contact(case, geo, resp, study.walls)
+            if contact is not None and lim.max_contact_stress is not None:
+                checks += (contact_check(contact, lim.max_contact_stress),)
     if study.response.crossovers:
         warnings.append(_crossovers_note(study, case.follower.backlash))
     drive = case_drive(case, resp)
     return CheckReport(
-        case, rpm, checks, kinematic, dynamic, resp, tuple(warnings), tuple(advice), geo, drive, closure=study
+        case, rpm, checks, kinematic, dynamic, resp, tuple(warnings), tuple(advice), geo, drive, contact, closure=study
     )
 
 
