@@ -111,15 +111,24 @@ def test_help_and_version_do_not_load_jax():
     assert proc.stdout.strip().splitlines()[-1] == "False False"
 
 
-def test_a_typo_is_reported_before_jax_loads(tmp_path):
-    case = tmp_path / "typo.toml"
-    case.write_text((ROOT / "cases" / "lecture.toml").read_text().replace("mass = 0.5", "mas = 0.5"))
+@pytest.mark.parametrize(
+    "name, old, new, options, message",
+    [
+        ("lecture.toml", "mass = 0.5", "mas = 0.5", [], "dynamics.mas: unknown key (did you mean 'mass'?)"),
+        ("valve-lift.toml", "valve-lift.csv", "nope.csv", [], "nope.csv: no such file ("),
+        ("lecture.toml", "", "", ["--bogus"], "unrecognized arguments: --bogus"),
+    ],
+)
+def test_bad_input_is_reported_before_jax_loads(tmp_path, name, old, new, options, message):
+    """A typo, a missing data file, an unknown option: one line, exit 2, and JAX never loads."""
+    case = tmp_path / name
+    case.write_text((ROOT / "cases" / name).read_text().replace(old, new))
     proc = _fresh(
-        f"import sys\nfrom camdyn.cli import main\ncode = main(['check', {str(case)!r}])\n"
+        f"import sys\nfrom camdyn.cli import main\ncode = main(['check', {str(case)!r}, *{options!r}])\n"
         "print(code, 'jax' in sys.modules)"
     )
-    assert proc.stdout.strip().splitlines()[-1] == "2 False"
-    assert "dynamics.mas: unknown key (did you mean 'mass'?)" in proc.stderr
+    assert proc.stdout.strip().splitlines()[-1] == "2 False", proc.stderr
+    assert len(proc.stderr.strip().splitlines()) == 1 and message in proc.stderr, proc.stderr
 
 
 def private_crossings() -> list[str]:
@@ -157,10 +166,12 @@ def test_no_private_name_crosses_packages():
 
 @pytest.mark.slow
 def test_check_imports_only_what_it_uses():
-    """`camdyn check` without --report draws nothing and samples nothing: no matplotlib, no report, no scipy.stats."""
+    """`camdyn check` without --report draws nothing and samples nothing: no matplotlib, no report, no scipy.stats;
+    a case given by segments fits no spline and builds no B-spline segment: no scipy.interpolate."""
     proc = _fresh(
         "import sys\nfrom camdyn.cli import main\ncode = main(['check', 'cases/lecture.toml', '--json'])\n"
-        "heavy = ('matplotlib', 'scipy.stats', 'camdyn.report', 'camdyn.plot', 'camdyn.design.tolerance')\n"
+        "heavy = ('matplotlib', 'scipy.stats', 'camdyn.report', 'camdyn.plot', 'camdyn.design.tolerance', "
+        "'scipy.interpolate')\n"
         "print(code, sorted(m for m in heavy if m in sys.modules))"
     )
     assert proc.stdout.strip().splitlines()[-1] == "0 []", proc.stderr[-2000:]

@@ -96,7 +96,7 @@ def unit_slip_warnings(case: Case, rpm: float, jump_rpm: float | None) -> list[s
             f"was it given in rev/s (Hz)? {rpm:g} rev/s is {60.0 * rpm:g} rpm"
         )
     model = case.model
-    s = np.asarray(case.motion(jnp.linspace(0.0, 2 * math.pi, 3600, endpoint=False)))[:3] * model.scale
+    s = case.motion.host(np.linspace(0.0, 2 * math.pi, 3600, endpoint=False))[:3] * model.scale
     spring = float(model.stiffness) * float(np.ptp(s[0]))
     other = max(
         abs(float(model.preload)),

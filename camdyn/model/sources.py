@@ -13,6 +13,7 @@ import equinox as eqx
 import numpy as np
 
 from .._core.errors import InputError
+from .._core.files import data_file_path
 from ..schema import CaseSpec, FollowerSpec
 from .datafiles import Samples, read_contour, read_lift_table
 from .geometry import ContourFit, contact_motion
@@ -22,10 +23,6 @@ from .valvetrain import lift_with_ramps
 ZERO_SHARE = 0.01  # a table may dip below zero lift by this share of its range (noise in a dwell), no more
 # a table whose lift spans less than this (mm; deg of swing) is likely in metres (radians): no cam lifts less
 SLIP_RANGE = {"mm": (0.1, "metres", 1000.0), "deg": (1.0, "radians", 180.0 / np.pi)}
-
-
-def _path(name: str, source: Path | None) -> Path:
-    return (source.parent if source is not None else Path.cwd()) / name
 
 
 def _lift_level(table: Samples, lift: np.ndarray, unit: str, column: str) -> list[str]:
@@ -81,7 +78,7 @@ def table_motion(spec: CaseSpec, source: Path | None) -> tuple[FittedMotion, Mot
         raise ValueError("table_motion: a valve_table needs [valvetrain]")
     name = spec.motion.valve_table or spec.motion.table or ""
     tolerance = spec.motion.tolerance
-    table = read_lift_table(_path(name, source), name, spec.oscillating)
+    table = read_lift_table(data_file_path(name, source), name, spec.oscillating)
     theta, lift = table.values.T
     unit, column = ("deg", "swing_deg") if spec.oscillating else ("mm", "lift_mm")
     warnings = _unit_slip(table, lift, unit, column) + _lift_level(table, lift, unit, column)
@@ -114,7 +111,7 @@ def contour_motion(
     if spec.follower is None or spec.follower.contour is None:
         raise ValueError("contour_motion: the case's [follower] has no contour")
     name = spec.follower.contour
-    derived = contact_motion(read_contour(_path(name, source), name), spec.follower)
+    derived = contact_motion(read_contour(data_file_path(name, source), name), spec.follower)
     unit = "deg" if spec.oscillating else "mm"
     motion, fit = fit_motion(derived.theta_deg, derived.lift, unit=unit, source="contour", file=name)
     return motion, derived.follower, fit, derived.contour, list(derived.warnings) + fit_warnings(fit)

@@ -14,7 +14,7 @@ import tomllib
 from pathlib import Path
 
 from .._core.errors import InputError
-from .._core.files import read_text_file
+from .._core.files import check_file, data_file_path, read_text_file
 from ._base import Table, parse, validation_error
 from .case import SCHEMA_VERSION, CaseSpec
 from .drive import DriveSpec
@@ -83,8 +83,12 @@ def read_toml(path: str | Path) -> dict:
 
 
 def load_case_spec(path: str | Path) -> CaseSpec:
-    """Read and validate a case file; every problem is one :class:`InputError` naming the key."""
-    return parse(CaseSpec, read_toml(path))
+    """Read and validate a case file; every problem is one :class:`InputError` naming the key, and a data file it
+    names that is missing (or cannot be one) is refused here too, before any model is built."""
+    spec = parse(CaseSpec, read_toml(path))
+    for name in spec.data_files:
+        check_file(data_file_path(name, Path(path)), name, "data file")
+    return spec
 
 
 def load_path_file(path: str | Path) -> PathFileSpec:

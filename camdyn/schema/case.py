@@ -126,3 +126,14 @@ class CaseSpec(Table):
         where the case gives none (no contact stress then)."""
         table = self.follower if self.follower is not None else self.mechanism
         return None if table is None else table.width
+
+    @property
+    def data_files(self) -> tuple[str, ...]:
+        """The data files the case names (``[motion] table`` or ``valve_table``, ``[follower] contour``), relative to
+        the case file."""
+        names = (
+            self.motion.table if self.motion is not None else None,
+            self.motion.valve_table if self.motion is not None else None,
+            self.follower.contour if self.follower is not None else None,
+        )
+        return tuple(name for name in names if name is not None)

@@ -52,10 +52,10 @@ def check_dimensions(f: FollowerSpec) -> None:
             )
 
 
-def _params(f: FollowerSpec, base_radius: float | None = None) -> jnp.ndarray:
+def _params(f: FollowerSpec, base_radius: float | None = None) -> np.ndarray:
     """Numeric follower parameters (dynamic under jit, so base-circle bisection does not recompile)."""
     rb = f.base_radius if base_radius is None else base_radius
-    return jnp.array(
+    return np.array(
         [
             rb,
             f.roller_radius or 0.0,
@@ -188,7 +188,7 @@ def geometry_of(f: FollowerSpec, theta, sv) -> dict:
     """The geometry at cam angles ``theta`` (rad) from motion values ``sv`` = (s, s', s'', s''') of shape (4, n),
     as a traceable JAX function of ``sv``: what the optimizer differentiates (pressure angle ``phi`` rad,
     ``kappa_pitch`` 1/mm, ``rho_contour`` mm, ``lever`` mm)."""
-    return jax.vmap(lambda th, s: _point(f.type, _params(f), th, s), in_axes=(0, 1))(theta, sv)
+    return jax.vmap(lambda th, s: _point(f.type, jnp.asarray(_params(f)), th, s), in_axes=(0, 1))(theta, sv)
 
 
 _CHUNK = 4096  # angles per compiled call: a 3600-step revolution plus its breaks fits one
@@ -203,10 +203,9 @@ def evaluate_geometry(motion, f: FollowerSpec, theta_rad, base_radius: float | N
     padded[:n] = flat
     p = _params(f, base_radius)
     parts = []
-    for chunk in padded.reshape(-1, _CHUNK):
-        theta = jnp.asarray(chunk)
+    for theta in padded.reshape(-1, _CHUNK):  # numpy between the programs: an eager jax op compiles one of its own
         sv = evaluate(motion, theta)
-        parts.append(_geometry(p, theta, sv, f.type) | {"s": sv[0]})
+        parts.append(_geometry(p, theta, sv, f.type) | {"s": np.asarray(sv)[0]})
     out = {k: np.concatenate([np.asarray(part[k]) for part in parts])[:n] for k in parts[0]}
     return {k: v.reshape(theta_rad.shape + v.shape[1:]) for k, v in out.items()}
 
