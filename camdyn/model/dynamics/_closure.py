@@ -115,6 +115,12 @@ def _same_flank(t, y, args, **kwargs):
     return -side * (y[0] - motion(t)[0]) - 0.5 * gap - _GAP_EPS
 
 
+def _flank_met(t, y, args, **kwargs):
+    """Zero where either flank meets the roller (each condition rises to 0): one continuous condition, so that a
+    bracketing root finder takes it (the same flank's condition barely moves while the roller drifts)."""
+    return jnp.maximum(_other_flank(t, y, args), _same_flank(t, y, args))
+
+
 def _flight_field(t, y, args):
     motion, model, omega, contact, _, _ = args
     return vector_field(t, y, (motion, model, omega, contact))
@@ -134,7 +140,7 @@ def _cross(motion, model, omega, theta0, y0, side, gap):
         args=(motion, model, omega, False, side, gap),
         saveat=diffrax.SaveAt(t1=True),
         stepsize_controller=diffrax.PIDController(rtol=RTOL, atol=ATOL),
-        event=diffrax.Event((_other_flank, _same_flank), root_finder=optx.Newton(1e-12, 1e-12), direction=True),
+        event=diffrax.Event(_flank_met, root_finder=optx.Bisection(1e-12, 1e-12), direction=True),
         max_steps=MAX_STEPS,
         throw=False,
     )
@@ -166,10 +172,9 @@ def cross_gap(motion: Motion, model: FollowerModel, omega: float, theta0: float,
             f"crossover at {math.degrees(theta0) % 360:.2f} deg", "the follower never met the other flank"
         )
     assert sol.ts is not None and sol.ys is not None
-    assert sol.event_mask is not None
-    across = bool(sol.event_mask[0])
     t1 = float(sol.ts[-1])
     s1 = np.asarray(evaluate(motion, jnp.asarray(t1)))
+    across = side * float(sol.ys[-1][0] - s1[0]) > 0.0  # on the far side of the pitch curve: the other flank
     return t1, abs(float(sol.ys[-1][1] - s1[1])), across
 
 
