@@ -200,3 +200,34 @@ def test_no_output_key_is_read_downstream(tmp_path):
     reads = ('a = chk.dynamic["jump_speed_rpm"]', 'b = rep.kinematic.get("x")', 'c = doc["dynamic"]["model"]')
     bad.write_text("\n".join((*reads, "d = dyn.model", 'e = col["dynamic"]')))
     assert len(output_key_reads(tmp_path)) == 3
+
+
+def follower_type_tests() -> list[str]:
+    """Code that tells follower kinds apart by their type-name strings (``type.startswith("translating")``,
+    ``kind == "translating-flat"``) instead of reading :mod:`camdyn._core.kinds`' attributes (``f.kind.rotary``,
+    ``f.roller``), outside that module."""
+    from camdyn._core.kinds import FOLLOWER_KINDS, FOLLOWER_TYPES
+
+    names = set(FOLLOWER_TYPES)
+    parts = {k.name for k in FOLLOWER_KINDS} | {p for n in names for p in n.split("-")}
+    found = []
+    for path in sorted(PACKAGE.rglob("*.py")):
+        if path == PACKAGE / "_core" / "kinds.py":
+            continue
+        for node in ast.walk(ast.parse(path.read_text())):
+            where = f"{path.relative_to(ROOT)}:{getattr(node, 'lineno', 0)}"
+            if isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute):
+                if node.func.attr in ("startswith", "endswith") and any(
+                    isinstance(a, ast.Constant) and isinstance(a.value, str) and (a.value in parts or a.value in names)
+                    for a in node.args
+                ):
+                    found.append(f"{where}: {node.func.attr}({ast.unparse(node.args[0])})")
+            elif isinstance(node, ast.Compare):
+                consts = [c for c in (node.left, *node.comparators) if isinstance(c, ast.Constant)]
+                if any(isinstance(c.value, str) and c.value in names for c in consts):
+                    found.append(f"{where}: {ast.unparse(node)}")
+    return found
+
+
+def test_no_follower_type_told_by_its_name():
+    assert follower_type_tests() == []

@@ -1,8 +1,9 @@
 """Units, grids, defaults and the few conversions every layer shares: each lives here and nowhere else.
 
 Case files speak the designer's units (mm, deg, rpm, N/mm); the models work in SI (m, rad, rad/s, N/m), or in
-the rotational equivalent for an oscillating arm (rad, N*m/rad, N*m). Plain Python and numpy only: the
-schema imports this module, and it must not pull in JAX.
+the rotational equivalent for an oscillating arm (rad, N*m/rad, N*m). What differs between the two follower kinds
+(their units, their conversions, their output names) is :mod:`camdyn._core.kinds`, built on the factors here.
+Plain Python and numpy only: the schema imports this module, and it must not pull in JAX.
 """
 
 from __future__ import annotations
@@ -71,26 +72,6 @@ DEFAULT_SPEED_FLUCTUATION = 0.05  # [drive]: coefficient of speed fluctuation th
 CUSP_MM = 1e-6  # a flat-faced contour radius of curvature under 1 nm is a cusp: that check's limit
 
 
-def default_max_pressure_angle(translating: bool) -> float:
-    """The pressure-angle limit (deg) where ``[limits] max_pressure_angle`` is not given."""
-    return DEFAULT_MAX_PRESSURE_ANGLE_DEG["translating" if translating else "oscillating"]
-
-
-def rate_to_si(rate, oscillating: bool):
-    """A spring or train rate as the case file gives it (N/mm; N*m/rad for an oscillating arm) in SI."""
-    return rate if oscillating else rate * N_PER_M_PER_N_PER_MM
-
-
-def rate_from_si(rate, oscillating: bool):
-    """The inverse of :func:`rate_to_si`: N/m -> N/mm (an arm's N*m/rad stays)."""
-    return rate if oscillating else rate / N_PER_M_PER_N_PER_MM
-
-
-def motion_scale(oscillating: bool) -> float:
-    """Motion unit -> SI: mm -> m for a translating follower, rad stays rad for an arm."""
-    return 1.0 if oscillating else M_PER_MM
-
-
 def damping_from_ratio(ratio, stiffness, mass):
     """Viscous damping c = 2 zeta sqrt(k m) (N*s/m, or N*m*s/rad): floats, numpy or JAX arrays."""
     return 2.0 * ratio * (stiffness * mass) ** 0.5
@@ -122,14 +103,14 @@ NORMAL_TOLERANCE_SIGMAS = 3.0  # a normal tolerance is this many standard deviat
 PROFILE_ERROR_HARMONICS = 8  # a profile error is a random sum of harmonics 1..this of the revolution
 
 
-def tolerance_unit(key: str, oscillating: bool) -> str:
+def tolerance_unit(key: str, rotary: bool) -> str:
     """The case-file unit of tolerance ``key`` (a bare number is in it)."""
-    return next(iter(TOLERANCE_UNITS[key][int(oscillating)]))
+    return next(iter(TOLERANCE_UNITS[key][int(rotary)]))
 
 
-def tolerance_to_case_unit(key: str, value: float, unit: str, oscillating: bool) -> float:
+def tolerance_to_case_unit(key: str, value: float, unit: str, rotary: bool) -> float:
     """An absolute tolerance ``value unit`` in the key's case-file unit; ValueError naming the units it takes."""
-    units = TOLERANCE_UNITS[key][int(oscillating)]
+    units = TOLERANCE_UNITS[key][int(rotary)]
     if unit not in units:
         raise ValueError(f"unit {unit!r} not known here: use a percentage or one of {', '.join(units)}")
     return value * units[unit]

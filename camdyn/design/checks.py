@@ -326,7 +326,7 @@ def run_check(case: Case, speed_rpm: float | None = None) -> CheckReport:
         if abs(f_lin - resp.min_force) > 5e-3 * max(1.0, float(abs(resp.force).max())):
             warnings.append(
                 f"time-domain and frequency-domain steady states disagree: least force {resp.min_force:.4g} vs "
-                f"{f_lin:.4g} {'N*m' if case.oscillating else 'N'}"
+                f"{f_lin:.4g} {case.kind.force_unit}"
             )
     warnings += list(resp.warnings)
     resp = forces_in_newton(case, resp)

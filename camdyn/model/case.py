@@ -9,9 +9,10 @@ from typing import Any
 import numpy as np
 
 from .._core.errors import InputError
+from .._core.kinds import FollowerKind
 from .._core.precision import require_x64
 from .._core.units import THETA_GRID
-from ..schema import CaseSpec, FollowerSpec, LimitsSpec, load_case_spec, parse
+from ..schema import CaseSpec, FollowerSpec, LimitsSpec, dynamics_keys, load_case_spec, parse
 from .follower import FollowerModel, follower_model
 from .geometry import ContourFit
 from .linkage import synthesize_motion
@@ -49,8 +50,13 @@ class Case:
         return self.spec.limits
 
     @property
+    def kind(self) -> FollowerKind:
+        """Translating or oscillating: the units, conversions and force semantics of this case's follower."""
+        return self.motion.kind
+
+    @property
     def oscillating(self) -> bool:
-        return self.motion.unit == "rad"
+        return self.kind.rotary
 
     @property
     def motion_source(self) -> str:
@@ -98,11 +104,11 @@ def build_case(spec: CaseSpec, source: Path | None = None) -> Case:
     if spec.motion is not None:
         assert spec.follower is not None  # CaseSpec: [motion] comes with [follower]
         follower = spec.follower
-    if spec.motion is not None and (spec.motion.table is not None or spec.motion.valve_table is not None):
-        motion, fit, warnings = table_motion(spec, source)
-    elif spec.motion is not None:
-        motion = Program.from_specs(spec.motion.segments, unit="rad" if spec.oscillating else "mm")
-        warnings += motion.continuity_warnings() + motion.polynomial_warnings()
+        if spec.motion.table is not None or spec.motion.valve_table is not None:
+            motion, fit, warnings = table_motion(spec, source)
+        else:
+            motion = Program.from_specs(spec.motion.segments, unit=spec.kind.motion_unit)
+            warnings += motion.continuity_warnings() + motion.polynomial_warnings()
     elif spec.follower is not None:
         motion, follower, fit, contour, warnings = contour_motion(spec, source)
     else:
@@ -112,11 +118,11 @@ def build_case(spec: CaseSpec, source: Path | None = None) -> Case:
         warnings += list(synthesis.warnings)
     valvetrain = None if spec.valvetrain is None else valvetrain_model(spec.valvetrain, spec.dynamics)
     if valvetrain is None:
-        model = follower_model(spec.dynamics, oscillating=spec.oscillating)
+        model = follower_model(spec.dynamics, kind=spec.kind)
     else:
         model = equivalent_follower(valvetrain)
     if not follower.form_closed:  # a groove holds the follower both ways: it needs no spring to stay on
-        _check_holds_at_rest(motion, model, spec.oscillating)
+        _check_holds_at_rest(motion, model, dynamics_keys(spec.kind)[2], spec.kind.force_unit)
     if valvetrain is not None:
         _check_valve_lifts(motion, spec)
     return Case(
@@ -145,15 +151,14 @@ def _check_valve_lifts(motion: Motion, spec: CaseSpec) -> None:
         )
 
 
-def _check_holds_at_rest(motion: Motion, model: FollowerModel, oscillating: bool) -> None:
+def _check_holds_at_rest(motion: Motion, model: FollowerModel, preload_key: str, unit: str) -> None:
     theta_deg = np.arange(THETA_GRID) * (360.0 / THETA_GRID)
     vals = motion.host(np.deg2rad(theta_deg))
     at_rest = float(model.stiffness) * vals[0] * model.scale + float(model.preload) + float(model.external)
     i = int(at_rest.argmin())
     if at_rest[i] <= 0.0:
-        key, unit = ("dynamics.preload_torque", "N*m") if oscillating else ("dynamics.preload", "N")
         raise InputError(
-            key,
+            f"dynamics.{preload_key}",
             f"the spring cannot hold the follower on the cam even at rest: spring + external load is {at_rest[i]:.4g} "
             f"{unit} at {theta_deg[i]:g} deg",
         )

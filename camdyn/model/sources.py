@@ -78,9 +78,9 @@ def table_motion(spec: CaseSpec, source: Path | None) -> tuple[FittedMotion, Mot
         raise ValueError("table_motion: a valve_table needs [valvetrain]")
     name = spec.motion.valve_table or spec.motion.table or ""
     tolerance = spec.motion.tolerance
-    table = read_lift_table(data_file_path(name, source), name, spec.oscillating)
+    table = read_lift_table(data_file_path(name, source), name, spec.kind)
     theta, lift = table.values.T
-    unit, column = ("deg", "swing_deg") if spec.oscillating else ("mm", "lift_mm")
+    unit, column = spec.kind.lift_unit, spec.kind.lift_column
     warnings = _unit_slip(table, lift, unit, column) + _lift_level(table, lift, unit, column)
     if vt is not None:
         try:
@@ -112,6 +112,6 @@ def contour_motion(
         raise ValueError("contour_motion: the case's [follower] has no contour")
     name = spec.follower.contour
     derived = contact_motion(read_contour(data_file_path(name, source), name), spec.follower)
-    unit = "deg" if spec.oscillating else "mm"
+    unit = spec.kind.lift_unit
     motion, fit = fit_motion(derived.theta_deg, derived.lift, unit=unit, source="contour", file=name)
     return motion, derived.follower, fit, derived.contour, list(derived.warnings) + fit_warnings(fit)

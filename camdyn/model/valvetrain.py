@@ -15,7 +15,8 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from .._core.units import M_PER_MM, damping_from_ratio, rate_to_si
+from .._core.kinds import TRANSLATING
+from .._core.units import M_PER_MM, damping_from_ratio
 from ..schema import DynamicsSpec, ValvetrainSpec
 from .follower import FollowerModel
 
@@ -67,12 +68,12 @@ def valvetrain_model(v: ValvetrainSpec, d: DynamicsSpec) -> ValvetrainModel:
     """
     r = float(v.ratio)
     m_c, m_v = float(v.cam_side_mass), float(v.valve_mass)
-    k = rate_to_si(d.spring_rate, False)
+    k = TRANSLATING.rate_to_si(d.spring_rate)
     m_at_valve = m_v + m_c / r**2
     c = d.damping if d.damping is not None else damping_from_ratio(d.damping_ratio or 0.0, k, m_at_valve)
-    kt = math.inf if v.stiffness is None else rate_to_si(v.stiffness, False)
+    kt = math.inf if v.stiffness is None else TRANSLATING.rate_to_si(v.stiffness)
     ct = 0.0 if math.isinf(kt) else damping_from_ratio(v.damping_ratio, kt, m_v)
-    kf = math.inf if d.train_stiffness is None else rate_to_si(d.train_stiffness, False)
+    kf = math.inf if d.train_stiffness is None else TRANSLATING.rate_to_si(d.train_stiffness)
     cf = 0.0 if math.isinf(kf) else damping_from_ratio(d.train_damping_ratio, kf, m_c + m_v * r**2)
     a = lambda x: jnp.asarray(float(x))  # noqa: E731
     return ValvetrainModel(

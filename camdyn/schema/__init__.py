@@ -18,7 +18,7 @@ from .._core.files import check_file, data_file_path, read_text_file
 from ._base import Table, parse, validation_error
 from .case import SCHEMA_VERSION, CaseSpec
 from .drive import DriveSpec
-from .dynamics import LINEAR_KEYS, ROTARY_KEYS, DynamicsSpec
+from .dynamics import LINEAR_KEYS, ROTARY_KEYS, DynamicsSpec, dynamics_keys
 from .follower import FOLLOWER_TYPES, FollowerSpec
 from .limits import LimitsSpec
 from .materials import MATERIAL_NAMES, ElasticSpec, MaterialsSpec
@@ -56,6 +56,7 @@ __all__ = [
     "SynthesisSpec",
     "Table",
     "check_segments",
+    "dynamics_keys",
     "load_case_spec",
     "load_path_file",
     "parse",

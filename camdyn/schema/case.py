@@ -6,6 +6,7 @@ from typing import Literal
 
 from pydantic import Field, model_validator
 
+from .._core.kinds import TRANSLATING, FollowerKind
 from ._base import Name, Table, Text
 from .drive import DriveSpec
 from .dynamics import DynamicsSpec, check_dynamics_keys
@@ -76,9 +77,7 @@ class CaseSpec(Table):
             if self.follower.contour is not None:
                 raise ValueError("motion: a contour case derives its motion from [follower] contour: remove [motion]")
             if self.motion.segments:
-                check_segments(
-                    self.motion.segments, "mm" if self.follower.translating else "deg", key="motion.segments"
-                )
+                check_segments(self.motion.segments, self.follower.kind.lift_unit, key="motion.segments")
         elif self.follower is not None and self.follower.contour is not None:
             if self.path is not None or self.mechanism is not None:
                 raise ValueError("follower.contour: give either a contour or [path] and [mechanism], not both")
@@ -103,9 +102,9 @@ class CaseSpec(Table):
             )
         else:
             form_closed = self.follower is not None and self.follower.form_closed
-            check_dynamics_keys(self.dynamics, oscillating=self.oscillating, form_closed=form_closed)
-        check_spring_keys(self.spring, oscillating=self.oscillating)
-        check_tolerance_keys(self.tolerances, oscillating=self.oscillating)
+            check_dynamics_keys(self.dynamics, kind=self.kind, form_closed=form_closed)
+        check_spring_keys(self.spring, kind=self.kind)
+        check_tolerance_keys(self.tolerances, kind=self.kind)
         if self.limits.max_contact_stress is not None and self.contact_width_mm is None:
             where = "follower" if self.follower is not None else "mechanism"
             raise ValueError(
@@ -114,11 +113,16 @@ class CaseSpec(Table):
         return self
 
     @property
+    def kind(self) -> FollowerKind:
+        """The follower's kind: the ``[follower]``'s, or that of the follower the ``[mechanism]`` drives."""
+        if self.follower is not None:
+            return self.follower.kind
+        return self.mechanism.kind if self.mechanism is not None else TRANSLATING
+
+    @property
     def oscillating(self) -> bool:
         """Whether the follower is an oscillating arm (its motion in rad, its dynamics rotational)."""
-        if self.follower is not None:
-            return not self.follower.translating
-        return self.mechanism is not None and self.mechanism.type == "oscillating"
+        return self.kind.rotary
 
     @property
     def contact_width_mm(self) -> float | None:

@@ -41,7 +41,15 @@ theta = 0 (camdyn's is that rotated by +90 deg); its cw offset delta > 0 is camd
 ccw flat-face formulas take theta as the polar angle of the contact in the cam frame, i.e. minus the cam angle.
 """
 
-from ._analyze import CamGeometry, GeometryExtremes, analyze, extremes, lever_arm_mm, newton_per_torque_at
+from ._analyze import (
+    CamGeometry,
+    GeometryExtremes,
+    analyze,
+    contact_per_force,
+    extremes,
+    lever_arm_mm,
+    newton_per_torque_at,
+)
 from ._groove import WALLS, GrooveGeometry, Wall, groove
 from ._inverse import ContactMotion, ContourFit, contact_motion
 from ._kernel import check_assembly, check_dimensions, evaluate_geometry, geometry_of
@@ -64,6 +72,7 @@ __all__ = [
     "evaluate_geometry",
     "extremes",
     "geometry_of",
+    "contact_per_force",
     "groove",
     "lever_arm_mm",
     "min_base_radius",

@@ -305,8 +305,7 @@ def contact_motion(samples: Samples, f: FollowerSpec) -> ContactMotion:
     pick = order[
         np.unique(np.searchsorted(theta_deg[order], np.linspace(0.0, 360.0, _TARGET, endpoint=False)) % len(order))
     ]
-    scale = 1.0 if f.translating else 180.0 / math.pi
-    return ContactMotion(f, theta_deg[pick], q[pick] * scale, contour, tuple(warnings))
+    return ContactMotion(f, theta_deg[pick], f.kind.motion_to_lift(q[pick]), contour, tuple(warnings))
 
 
 def _noise_warning(contour: ContourFit) -> list[str]:

@@ -378,7 +378,7 @@ def _input_columns(data: ReportData) -> list[tuple[str, list[tuple[str, str]]]]:
         columns.append(("follower", _kv_lines(case.follower.model_dump(exclude_unset=True))))
     elif spec.motion is not None:
         rows, start = [], 0.0
-        lu = "deg" if data.oscillating else "mm"
+        lu = data.case.kind.lift_unit
         for seg in spec.motion.segments:
             lift = "" if seg.law == "dwell" else f"  {seg.lift:+g} {lu}"
             rows.append((f"{start:g}\u2013{seg.end:g}\u00b0", f"{seg.law}{lift}"))
