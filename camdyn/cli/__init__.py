@@ -350,7 +350,7 @@ def _enable_caches() -> None:
 
 def _validate(args) -> None:
     """Read and validate the input files before any model is built: a typo is reported before JAX loads."""
-    from .._core.errors import CamdynError, InputError
+    from .._core.errors import CamdynError
     from ..schema import load_case_spec, load_path_file
     from ..schema.machine import load_machine
 
@@ -369,14 +369,21 @@ def _validate(args) -> None:
         args.spec = load_case_spec(args.case)
     if args.command in _SPRING_HELD or (args.command == "check" and args.report):
         several = args.command == "report"
-        for spec, path in zip(args.specs if several else [args.spec], args.cases if several else [""], strict=True):
-            if spec.follower is not None and spec.follower.form_closed:
-                what = "the report" if args.command in ("report", "check") else args.command
-                raise InputError(
-                    f"{path}: follower.closure" if path else "follower.closure",
-                    f"{what} does not model a form-closed cam yet (it studies a spring-held follower that may jump): "
-                    "camdyn check, table and profile give a groove cam's crossovers, impacts and walls",
-                )
+        _refuse_form_closed(args.specs if several else [args.spec], args.cases if several else [""], args.command)
+
+
+def _refuse_form_closed(specs, paths, command: str) -> None:
+    """A command that studies a spring-held follower refuses a groove cam (one line naming the file among several)."""
+    from .._core.errors import InputError
+
+    for spec, path in zip(specs, paths, strict=True):
+        if spec.follower is not None and spec.follower.form_closed:
+            what = "the report" if command in ("report", "check") else command
+            raise InputError(
+                f"{path}: follower.closure" if path else "follower.closure",
+                f"{what} does not model a form-closed cam yet (it studies a spring-held follower that may jump): "
+                "camdyn check, table and profile give a groove cam's crossovers, impacts and walls",
+            )
 
 
 # commands that study a spring-held follower: its spring, its jump speed, its design review
