@@ -271,7 +271,15 @@ def test_table_contact_force_is_signed(tmp_path, capsys):
 
 
 @pytest.mark.parametrize(
-    "argv", [["size"], ["spring"], ["sweep", "--speeds", "100:200:3"], ["tolerance"], ["report", "-o", "r"]]
+    "argv",
+    [
+        ["size"],
+        ["spring"],
+        ["sweep", "--speeds", "100:200:3"],
+        ["tolerance"],
+        ["report", "-o", "r"],
+        ["check", "--report", "r"],
+    ],
 )
 def test_spring_held_studies_refuse_a_groove_cam(tmp_path, capsys, argv):
     """They study a spring-held follower that may jump: one line naming follower.closure, exit 2, nothing written."""
