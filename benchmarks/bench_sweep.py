@@ -110,9 +110,8 @@ def _map_process(case_file: str, cache: str, grid: int) -> int:
     jm = sweep.jump_map(case, speeds, rates)
     t_map = time.perf_counter() - t
     traced = len(set(programs.glob("*.jaxexport")) - before)
-    print(
-        json.dumps({"t_map": t_map, "traced": traced, "compiled": compiles.count, "separated": int(jm.separated.sum())})
-    )
+    counts = {"traced": traced, "loaded": compiles.hits, "compiled": compiles.started - compiles.hits}
+    print(json.dumps({"t_map": t_map, "separated": int(jm.separated.sum())} | counts))
     return 0
 
 
