@@ -123,10 +123,11 @@ def _rest_of_step(md: _Modes, h, tb, contact, row0, row1, xs, ps):
     return x_ev, p_ev
 
 
-def _step(md: _Modes, h, ec, ef, carry, row0, row1, take_gap):
-    """One step of the angle grid from the table rows at its ends; ``take_gap``: False skips the gap (nothing
-    computed for it), True takes it, a traced bool takes it where true."""
+def _step(md: _Modes, tabs: _Tables, h, ec, ef, last, carry, j):
+    """One step of the angle grid; the gap is taken from step ``last`` on."""
     x, p, gap = carry
+    m_steps = tabs.s.shape[0]
+    row0, row1 = tabs.at(j % m_steps), tabs.at((j + 1) % m_steps)
     s0, s10, s20, xl0, pl0, w0 = row0
     s1_, s11, s21, xl1, pl1, w1 = row1
     g0 = md.g(s0, s10, x, p)
@@ -143,23 +144,13 @@ def _step(md: _Modes, h, ec, ef, carry, row0, row1, take_gap):
     xs, ps = _hermite(x, p, x1, p1, u, h), _hermite(p, a0, p1, a1, u, h)
     x_ev, p_ev = _rest_of_step(md, h, tb, contact, row0, row1, xs, ps)
     x_next, p_next = jnp.where(event, x_ev, x1), jnp.where(event, p_ev, p1)
-    if take_gap is False:
-        return x_next, p_next, gap
     # the gap at the step end and inside the step (Hermite of this step)
     inner = [(_hermite(x, p, x1, p1, v, h) - _hermite(s0, s10, s1_, s11, v, h)) * (w0 + v * (w1 - w0)) for v in _INNER]
     cand = jnp.maximum(
         jnp.where(event, -jnp.inf, jnp.maximum(jnp.maximum(inner[0], inner[1]), inner[2])), (x_next - s1_) * w1
     )
-    return x_next, p_next, jnp.where(take_gap, jnp.maximum(gap, cand), gap)
-
-
-def _steps(md: _Modes, h, ec, ef, carry, rows0: _Tables, rows1: _Tables, take_gap: bool):
-    """The steps whose end rows are ``rows0[i]``, ``rows1[i]``, in order (a scan over the rows: no gather)."""
-
-    def body(c, rows):
-        return _step(md, h, ec, ef, c, rows[0], rows[1], take_gap), None
-
-    return jax.lax.scan(body, carry, (rows0, rows1))[0]
+    gap = jnp.where(j + 1 >= last, jnp.maximum(gap, cand), gap)
+    return (x_next, p_next, gap), None
 
 
 def exact_gap_kernel(const, omega, k, c):
@@ -185,21 +176,10 @@ def exact_gap_kernel(const, omega, k, c):
     tabs = _Tables(s_tab, s1_tab, s2_tab, xl[::stride], pl[::stride], w_tab)
     ec = _expm2(md.a_k + md.a_f, md.b_c + md.b_f, h)
     ef = _expm2(md.a_k, md.b_c, h)
-    nxt = _Tables(*(jnp.roll(t, -1) for t in tabs))
-    head0, head1 = _Tables(*(t[:-1] for t in tabs)), _Tables(*(t[:-1] for t in nxt))
-    tail0, tail1 = tabs.at(m_steps - 1), nxt.at(m_steps - 1)
-    lead = GAP_REVS - GAP_LAST
+    last = (GAP_REVS - GAP_LAST) * m_steps
 
-    def lead_rev(carry, rev):
-        """A revolution before the last GAP_LAST: the gap is skipped, but for the step that ends the lead (the
-        largest gap counts from its end on)."""
-        carry = _steps(md, h, ec, ef, carry, head0, head1, False)
-        return _step(md, h, ec, ef, carry, tail0, tail1, rev == lead - 1), None
+    def step(carry, j):
+        return _step(md, tabs, h, ec, ef, last, carry, j)
 
-    def last_rev(carry, _):
-        return _steps(md, h, ec, ef, carry, tabs, nxt, True), None
-
-    carry = (tabs.xl[0], tabs.pl[0], jnp.asarray(-jnp.inf))
-    carry, _ = jax.lax.scan(lead_rev, carry, jnp.arange(lead))
-    (_, _, gap), _ = jax.lax.scan(last_rev, carry, None, length=GAP_LAST)
+    (_, _, gap), _ = jax.lax.scan(step, (tabs.xl[0], tabs.pl[0], jnp.asarray(-jnp.inf)), jnp.arange(GAP_REVS * m_steps))
     return jnp.where(jnp.isfinite(gap), gap, jnp.nan)
