@@ -21,6 +21,7 @@ from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
 
 import camdyn.model  # noqa: F401  (float64)
+from camdyn.design.checks import run_check
 from camdyn.model import dynamics as dyn
 from camdyn.model.case import case_from_dict
 from camdyn.model.dynamics import _compliant, _rigid
@@ -570,3 +571,45 @@ def test_residual_vibration(lecture, lecture_300, scipy_300):
         ring.append(late_ringing(rz))
     assert resid[0] > 0 and np.all(np.diff(resid) <= 0.0)  # positive, never grows with damping
     assert ring[0] > 1e-3 and ring[1] < 0.1 * ring[0] and ring[2] < 0.1 * ring[1], ring  # dies out much faster
+
+
+def _counting_revolutions(monkeypatch) -> list[int]:
+    """Counts the shooting's one-revolution solves (``_compliant._rev_jit`` calls) into the returned list."""
+    calls: list[int] = []
+    solve = _compliant._rev_jit
+
+    def counted(*args):
+        calls.append(1)
+        return solve(*args)
+
+    monkeypatch.setattr(_compliant, "_rev_jit", counted)
+    return calls
+
+
+@pytest.mark.slow
+def test_shooting_that_does_not_converge_reports_its_best_revolution(lecture_fast_case, monkeypatch):
+    """The lecture cam at 600 rpm settles into a bouncing of period two revolutions: revolution 4 (from the
+    quasi-static start) has the least mismatch (0.66 mm), and ten revolutions more without a lower one end the run."""
+    revs = _counting_revolutions(monkeypatch)
+    case = lecture_fast_case
+    r = dyn.compliant_response(case.motion, case.model, case.speed_rpm * RPM)
+    assert len(revs) == 4 + _compliant._STALL_REVS
+    assert r.separations and r.periodicity_error == pytest.approx(0.6641865947111191, rel=1e-9)
+    assert any(f"results are for revolution 4 of the {len(revs)} integrated" in w for w in r.warnings)
+
+
+@pytest.mark.slow
+def test_thousand_segment_program_gets_a_verdict(monkeypatch):
+    """500 pairs of +-1 mm cycloids of 0.36 deg each on the lecture's follower: the follower is hit by every tooth
+    and flies between them. The shooting reaches the solver's noise floor (a mismatch of about 3e-8 mm, far above
+    the Newton tolerance of 2e-10 mm) within a dozen revolutions and stops there instead of running all
+    8 + 60 (where it spent minutes): a FAIL verdict with one flight and one impact per tooth."""
+    segments = [{"law": "cycloidal", "end": 0.36 * (i + 1), "lift": 1.0 - 2.0 * (i % 2)} for i in range(1000)]
+    case = case_from_dict(LECTURE | {"motion": {"segments": segments}})
+    revs = _counting_revolutions(monkeypatch)
+    report = run_check(case)
+    assert report.verdict == "fail" and report.response.min_force == 0.0
+    assert len(revs) <= 16  # 12 to the floor, 2 more to see it; 68 before the floor rule
+    assert report.response.periodicity_error <= _compliant.periodic_tol(report.response.s)
+    assert len(report.response.flights) == 500 and len(report.response.impacts) == 500
+    assert any("leaves the cam 500 times a revolution" in w for w in report.warnings)

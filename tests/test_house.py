@@ -111,15 +111,24 @@ def test_help_and_version_do_not_load_jax():
     assert proc.stdout.strip().splitlines()[-1] == "False False"
 
 
-def test_a_typo_is_reported_before_jax_loads(tmp_path):
-    case = tmp_path / "typo.toml"
-    case.write_text((ROOT / "cases" / "lecture.toml").read_text().replace("mass = 0.5", "mas = 0.5"))
+@pytest.mark.parametrize(
+    "name, old, new, options, message",
+    [
+        ("lecture.toml", "mass = 0.5", "mas = 0.5", [], "dynamics.mas: unknown key (did you mean 'mass'?)"),
+        ("valve-lift.toml", "valve-lift.csv", "nope.csv", [], "nope.csv: no such file ("),
+        ("lecture.toml", "", "", ["--bogus"], "unrecognized arguments: --bogus"),
+    ],
+)
+def test_bad_input_is_reported_before_jax_loads(tmp_path, name, old, new, options, message):
+    """A typo, a missing data file, an unknown option: one line, exit 2, and JAX never loads."""
+    case = tmp_path / name
+    case.write_text((ROOT / "cases" / name).read_text().replace(old, new))
     proc = _fresh(
-        f"import sys\nfrom camdyn.cli import main\ncode = main(['check', {str(case)!r}])\n"
+        f"import sys\nfrom camdyn.cli import main\ncode = main(['check', {str(case)!r}, *{options!r}])\n"
         "print(code, 'jax' in sys.modules)"
     )
-    assert proc.stdout.strip().splitlines()[-1] == "2 False"
-    assert "dynamics.mas: unknown key (did you mean 'mass'?)" in proc.stderr
+    assert proc.stdout.strip().splitlines()[-1] == "2 False", proc.stderr
+    assert len(proc.stderr.strip().splitlines()) == 1 and message in proc.stderr, proc.stderr
 
 
 def private_crossings() -> list[str]:
@@ -157,10 +166,12 @@ def test_no_private_name_crosses_packages():
 
 @pytest.mark.slow
 def test_check_imports_only_what_it_uses():
-    """`camdyn check` without --report draws nothing and samples nothing: no matplotlib, no report, no scipy.stats."""
+    """`camdyn check` without --report draws nothing and samples nothing: no matplotlib, no report, no scipy.stats;
+    a case given by segments fits no spline and builds no B-spline segment: no scipy.interpolate."""
     proc = _fresh(
         "import sys\nfrom camdyn.cli import main\ncode = main(['check', 'cases/lecture.toml', '--json'])\n"
-        "heavy = ('matplotlib', 'scipy.stats', 'camdyn.report', 'camdyn.plot', 'camdyn.design.tolerance')\n"
+        "heavy = ('matplotlib', 'scipy.stats', 'camdyn.report', 'camdyn.plot', 'camdyn.design.tolerance', "
+        "'scipy.interpolate')\n"
         "print(code, sorted(m for m in heavy if m in sys.modules))"
     )
     assert proc.stdout.strip().splitlines()[-1] == "0 []", proc.stderr[-2000:]
@@ -189,3 +200,34 @@ def test_no_output_key_is_read_downstream(tmp_path):
     reads = ('a = chk.dynamic["jump_speed_rpm"]', 'b = rep.kinematic.get("x")', 'c = doc["dynamic"]["model"]')
     bad.write_text("\n".join((*reads, "d = dyn.model", 'e = col["dynamic"]')))
     assert len(output_key_reads(tmp_path)) == 3
+
+
+def follower_type_tests() -> list[str]:
+    """Code that tells follower kinds apart by their type-name strings (``type.startswith("translating")``,
+    ``kind == "translating-flat"``) instead of reading :mod:`camdyn._core.kinds`' attributes (``f.kind.rotary``,
+    ``f.roller``), outside that module."""
+    from camdyn._core.kinds import FOLLOWER_KINDS, FOLLOWER_TYPES
+
+    names = set(FOLLOWER_TYPES)
+    parts = {k.name for k in FOLLOWER_KINDS} | {p for n in names for p in n.split("-")}
+    found = []
+    for path in sorted(PACKAGE.rglob("*.py")):
+        if path == PACKAGE / "_core" / "kinds.py":
+            continue
+        for node in ast.walk(ast.parse(path.read_text())):
+            where = f"{path.relative_to(ROOT)}:{getattr(node, 'lineno', 0)}"
+            if isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute):
+                if node.func.attr in ("startswith", "endswith") and any(
+                    isinstance(a, ast.Constant) and isinstance(a.value, str) and (a.value in parts or a.value in names)
+                    for a in node.args
+                ):
+                    found.append(f"{where}: {node.func.attr}({ast.unparse(node.args[0])})")
+            elif isinstance(node, ast.Compare):
+                consts = [c for c in (node.left, *node.comparators) if isinstance(c, ast.Constant)]
+                if any(isinstance(c.value, str) and c.value in names for c in consts):
+                    found.append(f"{where}: {ast.unparse(node)}")
+    return found
+
+
+def test_no_follower_type_told_by_its_name():
+    assert follower_type_tests() == []

@@ -74,6 +74,7 @@ def expected_slugs(case) -> list[str]:
         "svaj",
         *(["cam"] if case.follower is not None else []),
         "dynamics",
+        *(["valvetrain"] if case.valvetrain is not None else []),
         *(["mechanism"] if case.synthesis is not None else []),
         *(["optimization"] if case.spec.optimized_from else []),
         "parts",

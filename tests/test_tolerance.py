@@ -62,6 +62,7 @@ def test_bad_input_one_line_exit_2(tmp_path, capsys, tolerances, argv, message):
 
 
 def test_units_and_distributions_resolve():
+    from camdyn._core.kinds import TRANSLATING
     from camdyn.schema import CaseSpec, parse, resolve_tolerances
 
     spec = parse(
@@ -75,7 +76,7 @@ def test_units_and_distributions_resolve():
             }
         ),
     )
-    tol = {t.key: t for t in resolve_tolerances(spec.tolerances, oscillating=False)}
+    tol = {t.key: t for t in resolve_tolerances(spec.tolerances, kind=TRANSLATING)}
     assert tol["preload"].value == pytest.approx(2.0) and not tol["preload"].relative
     assert (
         tol["train_stiffness"].distribution == "uniform"

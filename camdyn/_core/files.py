@@ -28,10 +28,16 @@ def _kind(mode: int) -> str:
     return "not a regular file"
 
 
-def read_text_file(path: Path, where: str, what: str) -> str:
-    """The UTF-8 text (a byte-order mark dropped) of ``path``; one :class:`InputError` at ``where`` for a file
-    that is missing, a folder, a device or FIFO, larger than :data:`MAX_FILE_BYTES`, unreadable, not UTF-8 or
-    holding a NUL byte. ``what`` names the file's role in the messages ("case file", "data file")."""
+def data_file_path(name: str, case_file: Path | None) -> Path:
+    """Where a data file a case names lies: relative to the case file's folder (to the working folder for a case
+    built from a dict)."""
+    return (case_file.parent if case_file is not None else Path.cwd()) / name
+
+
+def check_file(path: Path, where: str, what: str) -> None:
+    """One :class:`InputError` at ``where`` for a file that is missing, a folder, a device or FIFO, or larger than
+    :data:`MAX_FILE_BYTES`, by its ``stat`` alone: a data file is refused with its case, before any model loads.
+    ``what`` names the file's role in the messages ("case file", "data file")."""
     at = f" ({path})" if where else ""  # a data file is named as the case gives it: say where that led
     if "\x00" in str(path):
         raise InputError(where, "the file name contains a NUL byte: name a file without control characters")
@@ -49,6 +55,13 @@ def read_text_file(path: Path, where: str, what: str) -> str:
         raise InputError(
             where, f"is {info.st_size / 2**20:.1f} MiB, over the {MAX_FILE_BYTES // 2**20} MiB a {what} may have{at}"
         )
+
+
+def read_text_file(path: Path, where: str, what: str) -> str:
+    """The UTF-8 text (a byte-order mark dropped) of ``path``; one :class:`InputError` at ``where`` for a file
+    :func:`check_file` refuses, or one unreadable, not UTF-8 or holding a NUL byte."""
+    check_file(path, where, what)
+    at = f" ({path})" if where else ""
     try:
         with open(path, "rb") as f:
             data = f.read(MAX_FILE_BYTES + 1)

@@ -1,8 +1,9 @@
 """Units, grids, defaults and the few conversions every layer shares: each lives here and nowhere else.
 
 Case files speak the designer's units (mm, deg, rpm, N/mm); the models work in SI (m, rad, rad/s, N/m), or in
-the rotational equivalent for an oscillating arm (rad, N*m/rad, N*m). Plain Python and numpy only: the
-schema imports this module, and it must not pull in JAX.
+the rotational equivalent for an oscillating arm (rad, N*m/rad, N*m). What differs between the two follower kinds
+(their units, their conversions, their output names) is :mod:`camdyn._core.kinds`, built on the factors here.
+Plain Python and numpy only: the schema imports this module, and it must not pull in JAX.
 """
 
 from __future__ import annotations
@@ -35,6 +36,20 @@ DEFAULT_MAX_PRESSURE_ANGLE_DEG = {"translating": 30.0, "oscillating": 35.0}
 DEFAULT_MIN_CURVATURE_RATIO = 1.5
 DEFAULT_MAX_TRAIN_DEFLECTION = 0.1  # of the lift: a compliant train compressed by more no longer drives the follower
 DEFAULT_TRAIN_DAMPING_RATIO = 0.05
+# [valvetrain] defaults
+# A steel valve on a hardened seat keeps some rebound; 0.3 is the middle of the 0.2-0.4 usually assumed.
+DEFAULT_SEAT_RESTITUTION = 0.3
+# Lash take-up ramps run at 0.01-0.02 mm per cam degree at the valve: at 3000 cam rpm 0.015 mm/deg seats the valve
+# at 0.27 m/s, inside the seating-velocity limit below.
+DEFAULT_RAMP_VELOCITY_MM_PER_DEG = 0.015
+MAX_ROCKER_RATIO = 5.0
+# [limits] max_seating_velocity default, m/s: the valve's speed on landing; 0.5 m/s is the usual ceiling at rated
+# speed for a steel valve on a hardened seat (0.3 m/s where seat wear matters most).
+DEFAULT_MAX_SEATING_VELOCITY = 0.5
+# A re-lift of the valve after it seats below this (mm) is the rigid seat's restitution micro-bounce, not a bounce.
+VALVE_BOUNCE_TOLERANCE_MM = 0.01
+# The valve is open where its lift exceeds this (mm): the opening and closing angles of a cam card.
+VALVE_TIMING_LIFT_MM = 0.05
 # Physical bounds: a number beyond them is a typo or a unit slip, not a cam camdyn can judge (a 10 m cam, a
 # follower lighter than a milligram), and it would only send the solvers into the weeds.
 MAX_LENGTH_MM = 1e4  # 10 m
@@ -52,26 +67,6 @@ MAX_DAMPING_RATIO = 100.0
 DEFAULT_SPEED_FLUCTUATION = 0.05  # [drive]: coefficient of speed fluctuation the flywheel is sized for
 
 CUSP_MM = 1e-6  # a flat-faced contour radius of curvature under 1 nm is a cusp: that check's limit
-
-
-def default_max_pressure_angle(translating: bool) -> float:
-    """The pressure-angle limit (deg) where ``[limits] max_pressure_angle`` is not given."""
-    return DEFAULT_MAX_PRESSURE_ANGLE_DEG["translating" if translating else "oscillating"]
-
-
-def rate_to_si(rate, oscillating: bool):
-    """A spring or train rate as the case file gives it (N/mm; N*m/rad for an oscillating arm) in SI."""
-    return rate if oscillating else rate * N_PER_M_PER_N_PER_MM
-
-
-def rate_from_si(rate, oscillating: bool):
-    """The inverse of :func:`rate_to_si`: N/m -> N/mm (an arm's N*m/rad stays)."""
-    return rate if oscillating else rate / N_PER_M_PER_N_PER_MM
-
-
-def motion_scale(oscillating: bool) -> float:
-    """Motion unit -> SI: mm -> m for a translating follower, rad stays rad for an arm."""
-    return 1.0 if oscillating else M_PER_MM
 
 
 def damping_from_ratio(ratio, stiffness, mass):
@@ -105,14 +100,14 @@ NORMAL_TOLERANCE_SIGMAS = 3.0  # a normal tolerance is this many standard deviat
 PROFILE_ERROR_HARMONICS = 8  # a profile error is a random sum of harmonics 1..this of the revolution
 
 
-def tolerance_unit(key: str, oscillating: bool) -> str:
+def tolerance_unit(key: str, rotary: bool) -> str:
     """The case-file unit of tolerance ``key`` (a bare number is in it)."""
-    return next(iter(TOLERANCE_UNITS[key][int(oscillating)]))
+    return next(iter(TOLERANCE_UNITS[key][int(rotary)]))
 
 
-def tolerance_to_case_unit(key: str, value: float, unit: str, oscillating: bool) -> float:
+def tolerance_to_case_unit(key: str, value: float, unit: str, rotary: bool) -> float:
     """An absolute tolerance ``value unit`` in the key's case-file unit; ValueError naming the units it takes."""
-    units = TOLERANCE_UNITS[key][int(oscillating)]
+    units = TOLERANCE_UNITS[key][int(rotary)]
     if unit not in units:
         raise ValueError(f"unit {unit!r} not known here: use a percentage or one of {', '.join(units)}")
     return value * units[unit]

@@ -34,7 +34,7 @@ def print_size(sz: SpringSizing, verbose: bool = False) -> None:
     for name, _ in designs:
         table.add_column(name, justify="right", no_wrap=True)
     ds = [d for _, d in designs]
-    spring = "torque" if sz.oscillating else "force"
+    spring = sz.kind.force_word
     table.add_row(f"rate ({u['rate']})", *(f"{d.rate:.4g}" for d in ds))
     table.add_row(f"preload ({u['preload']})", *(fmt(d.preload, d.peak_spring) for d in ds))
     table.add_row(f"peak spring {spring} ({u['spring']})", *(f"{d.peak_spring:.4g}" for d in ds))
@@ -122,7 +122,7 @@ def print_size(sz: SpringSizing, verbose: bool = False) -> None:
 def _preload_deflection(sz: SpringSizing) -> str:
     """The spring's deflection at its preload (mm; translating followers), which says whether it can be a part."""
     c = sz.chosen
-    if sz.oscillating or not c.rate > 0.0 or c.preload <= 0.0:
+    if sz.kind.rotary or not c.rate > 0.0 or c.preload <= 0.0:
         return ""
     return f"; {c.preload / c.rate:.4g} mm of preload deflection"
 
@@ -136,6 +136,6 @@ def run(args) -> int:
         print_size(sz, args.verbose)
         if sz.part is not None:
             spring_spec = case.spec.spring
-            lever_arm = spring_spec.lever_arm if case.oscillating and spring_spec is not None else None
+            lever_arm = spring_spec.lever_arm if spring_spec is not None else None  # an arm's only
             print_spring(sz.case_name, sz.part, lever_arm)
     return 0

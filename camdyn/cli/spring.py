@@ -80,7 +80,7 @@ def run(args) -> int:
     loads = spring_loads(case)
     design = design_case_spring(case)
     spring_spec = case.spec.spring
-    lever_arm = spring_spec.lever_arm if case.oscillating and spring_spec is not None else None
+    lever_arm = spring_spec.lever_arm if spring_spec is not None else None  # an arm's only (the schema's rule)
     if args.json:
         doc = {
             "case": case.name,

@@ -71,7 +71,11 @@ def run(args) -> int:
     )
     print(
         f"preload kept at the case's {jm.preload:g} {jm.preload_unit} while the spring rate varies"
-        + ("; spring rates are torsion rates, N*m/rad (column spring_rate_N_m_per_rad)" if jm.oscillating else "")
+        + (
+            f"; spring rates are torsion rates, {jm.kind.rate_unit} (column spring_rate_{jm.kind.rate_suffix})"
+            if jm.kind.rotary
+            else ""
+        )
     )
     gap = np.nanmax(jm.max_gap) if n_sep and np.isfinite(jm.max_gap).any() else 0.0
     least = float(np.nanmin(jm.min_force)) if np.isfinite(jm.min_force).any() else math.nan

@@ -17,6 +17,8 @@ class CheckKind(str, Enum):  # noqa: UP042 (StrEnum would change str() and forma
     TRAIN_DEFLECTION = "train_deflection"
     CONTACT_STRESS = "contact_stress"  # Hertz pressure between cam and follower, MPa
     CLEARANCE = "clearance"  # camdyn machine: the least gap between two followers that share space, mm
+    SEATING_VELOCITY = "seating_velocity"  # [valvetrain]: the valve's speed landing on its seat, m/s
+    VALVE_BOUNCE = "valve_bounce"  # [valvetrain]: the valve's re-lift after it seats, mm
     # the return spring as a part (camdyn spring)
     SPRING_INDEX_MIN = "spring_index_min"
     SPRING_INDEX_MAX = "spring_index_max"
@@ -57,6 +59,8 @@ _WORDS = {
     CheckKind.TRAIN_DEFLECTION: ("largest train compression / lift", "ratio", "<="),
     CheckKind.CONTACT_STRESS: ("largest Hertz contact pressure", "MPa", "<="),
     CheckKind.CLEARANCE: ("least gap between two followers", "mm", ">="),
+    CheckKind.SEATING_VELOCITY: ("valve speed landing on its seat", "m/s", "<="),
+    CheckKind.VALVE_BOUNCE: ("valve re-lift after seating", "mm", "<="),
     CheckKind.SPRING_INDEX_MIN: ("spring index D/d, at least", "", ">="),
     CheckKind.SPRING_INDEX_MAX: ("spring index D/d, at most", "", "<="),
     CheckKind.SPRING_LIFT_SAFETY: ("shear yield strength / stress at full lift", "x", ">="),

@@ -6,7 +6,6 @@ import dataclasses
 import math
 from dataclasses import dataclass
 
-import jax.numpy as jnp
 import numpy as np
 
 from .._core.units import JUMP_SEARCH_FACTOR, RPM
@@ -20,6 +19,7 @@ from ._check import Check, CheckKind, find
 from .geometry import judge_geometry
 from .parts import case_contact, case_drive, contact_check, resolve_spring
 from .userdata import least_force_uncertainty, least_force_warning, unit_slip_warnings
+from .valvetrain import ValvetrainResult, analyze_valvetrain
 
 SYNTHESIS_ARRAYS = ("theta_deg", "pitch", "contour", "path_xy", "traced_xy")  # check --json --arrays only
 
@@ -133,7 +133,7 @@ class Dynamics:
         out = {
             "model": self.model,
             "min_contact_force_N": self.min_contact_force_N,
-            "min_contact_force_deg": self.min_contact_force_deg,
+            "min_contact_force_deg": _finite_or_none(self.min_contact_force_deg),  # NaN: a valve that never opens
             "min_contact_force_uncertainty_N": self.min_contact_force_uncertainty_N,
             "jump_speed_rpm": self.jump_speed_rpm,
             "separations": [s.json() for s in self.separations],
@@ -163,6 +163,7 @@ class CheckReport:
     geometry: CamGeometry | None = None
     drive: DriveTorque | None = None  # the camshaft torque of the dynamic forces
     contact: ContactStress | None = None  # Hertz stress, where the case gives a contact width
+    valvetrain: ValvetrainResult | None = None  # a [valvetrain] case's two-mass model
 
     @property
     def verdict(self) -> str:
@@ -191,6 +192,8 @@ class CheckReport:
             out["drive"] = self.drive.json()
         if self.contact is not None:
             out["contact"] = self.contact.json()
+        if self.valvetrain is not None:
+            out["valvetrain"] = self.valvetrain.json()
         if self.case.synthesis is not None:
             syn = self.case.synthesis.json()
             out["synthesis"] = syn if arrays else {k: v for k, v in syn.items() if k not in SYNTHESIS_ARRAYS}
@@ -313,11 +316,11 @@ def run_check(case: Case, speed_rpm: float | None = None) -> CheckReport:
     warnings += unit_slip_warnings(case, rpm, _finite_or_none((w_dyn if math.isfinite(w_dyn) else w_kin) / RPM))
     if not model.rigid and not resp.separations:
         # the frequency-domain steady state is exact without separation: an independent check of the solve
-        f_lin = float(dyn.linear_min_force(motion, model, jnp.asarray([omega]))[0])
+        f_lin = float(dyn.linear_min_force(motion, model, np.asarray([omega]))[0])
         if abs(f_lin - resp.min_force) > 5e-3 * max(1.0, float(abs(resp.force).max())):
             warnings.append(
                 f"time-domain and frequency-domain steady states disagree: least force {resp.min_force:.4g} vs "
-                f"{f_lin:.4g} {'N*m' if case.oscillating else 'N'}"
+                f"{f_lin:.4g} {case.kind.force_unit}"
             )
     warnings += list(resp.warnings)
     resp = forces_in_newton(case, resp)
@@ -333,18 +336,25 @@ def run_check(case: Case, speed_rpm: float | None = None) -> CheckReport:
         checks_train = ()
     kin_force = resp.kinematic_force
     i_kin = int(kin_force.argmin())
+    valve = None if case.valvetrain is None else analyze_valvetrain(case, omega, limits.speed_margin)
+    least = resp.min_force if valve is None else valve.response.least_event_force  # a valve: over its event
+    if valve is not None:
+        w_dyn = valve.float_speed_rpm * RPM  # a valvetrain jumps where it floats
+        warnings += [valve.note(), *valve.response.warnings]
     checks = (
-        CheckKind.CONTACT_FORCE.check(float(resp.min_force), float(limits.min_contact_force)),
+        CheckKind.CONTACT_FORCE.check(float(least), float(limits.min_contact_force)),
         speed_margin_check(w_dyn, omega, limits.speed_margin),
     ) + checks_train
+    if valve is not None:
+        checks += valve.checks(limits.max_seating_velocity)
     kinematic = Kinematics(
         float(kin_force[i_kin]), float(resp.theta_deg[i_kin]), _finite_or_none(w_kin / RPM), _finite_or_none(at_kin)
     )
     osc = case.oscillating  # the contract's values at the contact, the arm's angle beside them
     dynamic = Dynamics(
         model=resp.model,
-        min_contact_force_N=resp.min_force,
-        min_contact_force_deg=resp.min_force_deg,
+        min_contact_force_N=float(least),  # a valve: the cam contact over the valve event, where it is judged
+        min_contact_force_deg=resp.min_force_deg if valve is None else float(valve.response.least_event_force_deg),
         min_contact_force_uncertainty_N=noise_N,
         jump_speed_rpm=_finite_or_none(w_dyn / RPM),
         separations=tuple(contact_separation(case, s) for s in resp.separations),
@@ -383,4 +393,6 @@ def run_check(case: Case, speed_rpm: float | None = None) -> CheckReport:
             warnings.append(_separation_note(sep, rpm, float(case.model.restitution)))
     if by_flights:
         warnings.append(_flights_note(dynamic.flights, dynamic.impacts, rpm))
-    return CheckReport(case, rpm, checks, kinematic, dynamic, resp, tuple(warnings), tuple(advice), geo, drive, contact)
+    return CheckReport(
+        case, rpm, checks, kinematic, dynamic, resp, tuple(warnings), tuple(advice), geo, drive, contact, valve
+    )

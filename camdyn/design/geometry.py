@@ -6,7 +6,7 @@ from __future__ import annotations
 import math
 
 from .._core.errors import NumericalError
-from .._core.units import DEFAULT_MIN_CURVATURE_RATIO, default_max_pressure_angle
+from .._core.units import DEFAULT_MIN_CURVATURE_RATIO
 from ..model.geometry import CamGeometry, curvature_limit, min_base_radius
 from ..schema import FollowerSpec
 from ._check import Check, CheckKind
@@ -15,7 +15,7 @@ JAM_PRESSURE_ANGLE_DEG = 60.0  # beyond this a translating follower may jam in i
 
 
 def _limits(f: FollowerSpec, max_pressure_angle: float | None) -> float:
-    return default_max_pressure_angle(f.translating) if max_pressure_angle is None else max_pressure_angle
+    return f.kind.default_max_pressure_angle_deg if max_pressure_angle is None else max_pressure_angle
 
 
 def judge_geometry(

@@ -80,7 +80,7 @@ class MachineCam:
 
     @property
     def lift_unit(self) -> str:
-        return "deg" if self.check.case.oscillating else "mm"
+        return self.check.case.kind.lift_unit
 
     @property
     def normalized_lift(self) -> np.ndarray:

@@ -13,7 +13,7 @@ from ..model.contact import ContactStress, cam_contact
 from ..model.drive import DriveTorque, drive_torque, follower_velocity
 from ..model.dynamics import Response
 from ..model.follower import FollowerModel
-from ..model.geometry import CamGeometry, newton_per_torque_at
+from ..model.geometry import CamGeometry, contact_per_force
 from ..model.surge import SpringInDynamics
 from ._check import Check, CheckKind
 from .spring import design_case_spring
@@ -22,9 +22,8 @@ from .spring import design_case_spring
 def case_drive(case: Case, resp: Response) -> DriveTorque:
     """The camshaft drive of ``camdyn check``'s response (``CheckReport.response``: forces in N, an oscillating
     arm's as contact forces through its lever arm), with the case's ``[drive] speed_fluctuation``."""
-    force = resp.force
-    if case.oscillating:  # back to the arm torque (N*m): the generalized force that works on the swing
-        force = force / newton_per_torque_at(case.motion, case.follower, np.deg2rad(resp.theta_deg))
+    # an arm's back to its torque (N*m): the generalized force that works on the swing
+    force = resp.force / contact_per_force(case.motion, case.follower, np.deg2rad(resp.theta_deg))
     velocity = follower_velocity(case.motion, resp.theta_deg, case.model.scale)
     return drive_torque(
         resp.theta_deg, force, velocity, resp.omega, speed_fluctuation=case.spec.drive.speed_fluctuation
@@ -57,7 +56,7 @@ def with_spring(case: Case, spring_mass_kg: float) -> FollowerModel:
 def _bare(case: Case) -> SpringInDynamics:
     """The case's follower with a massless spring: what :func:`resolve_spring` adds the spring's mass to."""
     spec = case.spec.spring
-    arm = spec.lever_arm if spec is not None and case.oscillating else None
+    arm = spec.lever_arm if spec is not None and case.kind.rotary else None
     return SpringInDynamics("none", 0.0, arm, case.model if case.spring is None else case.spring.bare)
 
 

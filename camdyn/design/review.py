@@ -17,7 +17,7 @@ import numpy as np
 from .._core.errors import CamdynError, InputError
 from .._core.progress import Progress, counter
 from .._core.results import Unavailable
-from .._core.units import FFT_GRID, RPM, THETA_GRID, TWO_PI, rate_from_si
+from .._core.units import FFT_GRID, RPM, THETA_GRID, TWO_PI
 from ..model import dynamics as dyn
 from ..model.case import Case, load_case
 from ..model.geometry import newton_per_torque_at
@@ -213,7 +213,7 @@ def _review_jump_map(
     k_top = (
         float(sizing.region_rate[-1])
         if not isinstance(sizing, Unavailable)
-        else 2.0 * float(rate_from_si(case.model.stiffness, case.oscillating))
+        else 2.0 * float(case.kind.rate_from_si(case.model.stiffness))
     )
     speeds = np.linspace(top / MAP_SPEEDS, top, MAP_SPEEDS)
     rates = np.linspace(k_top / MAP_RATES, k_top, MAP_RATES)

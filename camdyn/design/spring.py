@@ -392,12 +392,12 @@ def spring_loads(case, *, rate=None, preload=None) -> SpringLoads:
     lever_arm``)."""
     d = case.spec.dynamics
     s = case.motion.sample(THETA_GRID)[1][0]
-    if case.oscillating:
+    if case.kind.rotary:  # the spring acts at [spring] lever_arm from the pivot
         spec = case.spec.spring
         if spec is None or spec.lever_arm is None:
             raise InputError(
                 "spring.lever_arm",
-                "an oscillating follower's spring needs [spring] lever_arm: the distance from the arm pivot to the "
+                f"{case.kind.a} follower's spring needs [spring] lever_arm: the distance from the arm pivot to the "
                 "spring, mm",
             )
         r = spec.lever_arm
@@ -472,7 +472,7 @@ def case_max_preload(case, rate, top_speed_rpm: float | None = None) -> float | 
     if top is None:
         return None
     linear = top - loads.rate * loads.installed_shift  # the spring force at zero lift
-    return linear / newton_per_torque(spec.lever_arm) if case.oscillating else linear
+    return linear / newton_per_torque(spec.lever_arm) if case.kind.rotary else linear
 
 
 def min_preload(case) -> float:

@@ -12,7 +12,7 @@ from .._core.units import RPM
 from ..model import dynamics as dyn
 from ..model.case import Case
 from ..model.drive import camshaft_torque
-from ..model.geometry import analyze, newton_per_torque_at
+from ..model.geometry import analyze, contact_per_force
 from ..model.motion import evaluate
 from .checks import forces_in_newton
 
@@ -37,7 +37,7 @@ def table_angles(step_deg: float) -> np.ndarray:
 def motion_table(case: Case, step_deg: float = 1.0, speed_rpm: float | None = None) -> dict[str, np.ndarray]:
     """Columns of ``camdyn table`` (one row per angle) at ``speed_rpm`` (default: the case's): the motion, the
     kinematic contact force, the follower's steady-state displacement and contact force from the dynamic model
-    (interpolated from its 0.1 deg grid), and the cam geometry."""
+    (interpolated from its 0.1 deg grid), and the cam geometry; a valvetrain's valve lift and velocity."""
     theta_deg = table_angles(step_deg)
     rpm = float(case.speed_rpm if speed_rpm is None else speed_rpm)
     theta = jnp.deg2rad(theta_deg)
@@ -45,29 +45,21 @@ def motion_table(case: Case, step_deg: float = 1.0, speed_rpm: float | None = No
     force = np.asarray(dyn.kinematic_force(case.motion, case.model, rpm * RPM, theta))
     resp = forces_in_newton(case, dyn.response(case.motion, case.model, rpm * RPM))
     at = lambda y: np.interp(theta_deg, resp.theta_deg, y, period=360.0)  # noqa: E731
+    kind = case.kind
     cols = {"theta_deg": theta_deg}
-    if case.oscillating:
-        cols |= {
-            "phi_deg": np.degrees(vals[0]),
-            "phi1_per_rad": vals[1],
-            "phi2_per_rad2": vals[2],
-            "phi3_per_rad3": vals[3],
-        }
-        force = force * newton_per_torque_at(case.motion, case.follower, np.asarray(theta))
-    else:
-        cols |= {"s_mm": vals[0], "v_mm_per_rad": vals[1], "a_mm_per_rad2": vals[2], "j_mm_per_rad3": vals[3]}
-    torque = camshaft_torque(
-        force if not case.oscillating else force / newton_per_torque_at(case.motion, case.follower, np.asarray(theta)),
-        vals[1] * case.model.scale,
-    )
+    cols |= dict(zip(kind.table_columns, (kind.motion_to_lift(vals[0]), *vals[1:]), strict=True))
+    per_force = contact_per_force(case.motion, case.follower, np.asarray(theta))  # an arm's torque -> N
+    force = force * per_force
+    torque = camshaft_torque(force / per_force, vals[1] * case.model.scale)
     cols["contact_force_N"] = force
     if case.follower is not None:
         cols |= analyze(case.motion, case.follower).table(theta_deg)
-    if case.oscillating:
-        cols["dynamic_phi_deg"] = np.degrees(at(resp.x))
-    else:
-        cols["dynamic_x_mm"] = at(resp.x)
+    cols[kind.dynamic_column] = kind.motion_to_lift(at(resp.x))
     cols["dynamic_contact_force_N"] = at(resp.force)
+    if case.valvetrain is not None:  # the valve at the valve, from the two-mass model's steady revolution
+        valve = dyn.valvetrain_response(case.motion, case.valvetrain, rpm * RPM)
+        cols["valve_lift_mm"] = np.interp(theta_deg, valve.theta_deg, valve.valve_lift, period=360.0)
+        cols["valve_velocity_m_per_s"] = np.interp(theta_deg, valve.theta_deg, valve.valve_velocity, period=360.0)
     cols["drive_torque_N_m"] = torque  # the camshaft torque of the kinematic force, from the power balance
     return cols
 
@@ -84,10 +76,13 @@ def ecam_table(case: Case, n: int) -> tuple[dict[str, np.ndarray], str]:
     master = np.arange(n) * (360.0 / n)
     s, v, a, _ = np.asarray(evaluate(case.motion, jnp.deg2rad(master)))
     rad = np.pi / 180.0  # per master degree: d/d(deg) = (pi / 180) d/d(rad)
-    if case.oscillating:
-        s, v, a, unit = np.degrees(s), np.degrees(v) * rad, np.degrees(a) * rad**2, "deg"
-    else:
-        v, a, unit = v * rad, a * rad**2, "mm"
+    kind = case.kind
+    s, v, a, unit = (
+        kind.motion_to_lift(s),
+        kind.motion_to_lift(v) * rad,
+        kind.motion_to_lift(a) * rad**2,
+        kind.lift_unit,
+    )
     cols = {"master_deg": master, "position": s, "velocity": v, "acceleration": a}
     units = (
         f"master: cam angle, deg; position {unit}; velocity {unit}/deg; acceleration {unit}/deg^2 (per master degree)"

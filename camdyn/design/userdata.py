@@ -25,8 +25,9 @@ import numpy as np
 from .._core.units import FFT_GRID, RPM
 from ..model import dynamics as dyn
 from ..model.case import Case
-from ..model.geometry import newton_per_torque_at
+from ..model.geometry import contact_per_force
 from ..model.motion import FittedMotion
+from ..schema import dynamics_keys
 
 # A table's least force is called uncertain when its noise moves it by more than this share (95 %): a finer
 # distinction than a design's force margin is then left to the noise, not to the data.
@@ -52,15 +53,14 @@ def least_force_uncertainty(case: Case, omega: float) -> float | None:
         return None
     motion = case.motion
     assert isinstance(motion, FittedMotion)  # a table's motion is fitted to it
-    to_unit = math.pi / 180.0 if motion.unit == "rad" else 1.0
-    noise = jnp.asarray(np.moveaxis(case.fit.spline.noise_coef, -1, 0) * to_unit)  # (samples, m, 6)
+    noise = jnp.asarray(case.kind.lift_to_motion(np.moveaxis(case.fit.spline.noise_coef, -1, 0)))  # (samples, m, 6)
     theta = np.arange(FFT_GRID) * (2 * math.pi / FFT_GRID)
     base = np.asarray(_force(case, motion, omega, theta))
     err = np.asarray(
         jax.vmap(lambda c: _force(case, dataclasses.replace(motion, coef=motion.coef + c), omega, theta) - base)(noise)
     )
-    if case.oscillating:  # torques to contact forces through the lever arm
-        per_torque = newton_per_torque_at(motion, case.follower, theta)
+    if case.kind.rotary:  # torques to contact forces through the lever arm
+        per_torque = contact_per_force(motion, case.follower, theta)
         base, err = base * per_torque, err * per_torque
     bound = float(np.percentile(np.max(np.abs(err), axis=1), 95.0))
     # the true least force lies where the fitted force is within twice that bound of its least: only there
@@ -96,7 +96,7 @@ def unit_slip_warnings(case: Case, rpm: float, jump_rpm: float | None) -> list[s
             f"was it given in rev/s (Hz)? {rpm:g} rev/s is {60.0 * rpm:g} rpm"
         )
     model = case.model
-    s = np.asarray(case.motion(jnp.linspace(0.0, 2 * math.pi, 3600, endpoint=False)))[:3] * model.scale
+    s = case.motion.host(np.linspace(0.0, 2 * math.pi, 3600, endpoint=False))[:3] * model.scale
     spring = float(model.stiffness) * float(np.ptp(s[0]))
     other = max(
         abs(float(model.preload)),
@@ -104,8 +104,12 @@ def unit_slip_warnings(case: Case, rpm: float, jump_rpm: float | None) -> list[s
         float(model.mass) * (rpm * RPM) ** 2 * float(np.abs(s[2]).max()),
     )
     if other > 0.0 and spring > RATE_SLIP_RATIO * other:
+        kind = case.kind
         key, unit, slip, force = (
-            ("torsion_rate", "N*m/rad", "N*mm/rad", "N*m") if case.oscillating else ("spring_rate", "N/mm", "N/m", "N")
+            dynamics_keys(kind)[1],
+            kind.rate_unit,
+            kind.rate_slip_unit,
+            kind.force_unit,
         )
         rate = getattr(case.spec.dynamics, key)
         out.append(

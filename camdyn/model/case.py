@@ -9,15 +9,17 @@ from typing import Any
 import numpy as np
 
 from .._core.errors import InputError
+from .._core.kinds import FollowerKind
 from .._core.precision import require_x64
 from .._core.units import THETA_GRID
-from ..schema import CaseSpec, FollowerSpec, LimitsSpec, load_case_spec, parse
+from ..schema import CaseSpec, FollowerSpec, LimitsSpec, dynamics_keys, load_case_spec, parse
 from .follower import FollowerModel, follower_model
 from .geometry import ContourFit
 from .linkage import synthesize_motion
 from .motion import Motion, MotionFit, Program
 from .sources import contour_motion, table_motion
 from .surge import SpringInDynamics
+from .valvetrain import ValvetrainModel, equivalent_follower, valvetrain_model
 
 
 @dataclass(frozen=True)
@@ -37,6 +39,7 @@ class Case:
     spring: SpringInDynamics | None = (
         None  # the spring's mass in ``model``, once resolved (design.parts.resolve_spring)
     )
+    valvetrain: ValvetrainModel | None = None  # [valvetrain]: the two-mass model; ``model`` is its equivalent follower
 
     @property
     def speed_rpm(self) -> float:
@@ -47,16 +50,21 @@ class Case:
         return self.spec.limits
 
     @property
+    def kind(self) -> FollowerKind:
+        """Translating or oscillating: the units, conversions and force semantics of this case's follower."""
+        return self.motion.kind
+
+    @property
     def oscillating(self) -> bool:
-        return self.motion.unit == "rad"
+        return self.kind.rotary
 
     @property
     def motion_source(self) -> str:
-        """Where the motion comes from: "segments", "table", "contour" or "path"."""
+        """Where the motion comes from: "segments", "table", "valve_table", "contour" or "path"."""
         if self.contour is not None:
             return "contour"
         if self.fit is not None:
-            return "table"
+            return self.fit.source
         return "segments" if self.spec.motion is not None else "path"
 
     def motion_json(self) -> dict:
@@ -96,11 +104,11 @@ def build_case(spec: CaseSpec, source: Path | None = None) -> Case:
     if spec.motion is not None:
         assert spec.follower is not None  # CaseSpec: [motion] comes with [follower]
         follower = spec.follower
-    if spec.motion is not None and spec.motion.table is not None:
-        motion, fit, warnings = table_motion(spec, source)
-    elif spec.motion is not None:
-        motion = Program.from_specs(spec.motion.segments, unit="rad" if spec.oscillating else "mm")
-        warnings += motion.continuity_warnings() + motion.polynomial_warnings()
+        if spec.motion.table is not None or spec.motion.valve_table is not None:
+            motion, fit, warnings = table_motion(spec, source)
+        else:
+            motion = Program.from_specs(spec.motion.segments, unit=spec.kind.motion_unit)
+            warnings += motion.continuity_warnings() + motion.polynomial_warnings()
     elif spec.follower is not None:
         motion, follower, fit, contour, warnings = contour_motion(spec, source)
     else:
@@ -108,20 +116,48 @@ def build_case(spec: CaseSpec, source: Path | None = None) -> Case:
         synthesis = synthesize_motion(spec.path, spec.mechanism)
         motion, follower = synthesis.tabulated, synthesis.follower
         warnings += list(synthesis.warnings)
-    model = follower_model(spec.dynamics, oscillating=spec.oscillating)
-    _check_holds_at_rest(motion, model, spec.oscillating)
-    return Case(name, source, spec, motion, follower, model, synthesis, tuple(warnings), fit, contour)
+    valvetrain = None if spec.valvetrain is None else valvetrain_model(spec.valvetrain, spec.dynamics)
+    if valvetrain is None:
+        model = follower_model(spec.dynamics, kind=spec.kind)
+    else:
+        model = equivalent_follower(valvetrain)
+    _check_holds_at_rest(motion, model, dynamics_keys(spec.kind)[2], spec.kind.force_unit)
+    if valvetrain is not None:
+        _check_valve_lifts(motion, spec)
+    return Case(
+        name, source, spec, motion, follower, model, synthesis, tuple(warnings), fit, contour, valvetrain=valvetrain
+    )
 
 
-def _check_holds_at_rest(motion: Motion, model: FollowerModel, oscillating: bool) -> None:
+def _check_valve_lifts(motion: Motion, spec: CaseSpec) -> None:
+    """The cam's lift at the valve (ratio x lift) must take up the lash, and a compliant train compressed by the
+    rest must carry more than the spring's preload, or the valve never moves (statically)."""
+    vt, preload = spec.valvetrain, spec.dynamics.preload
+    assert vt is not None and preload is not None  # the caller's; CaseSpec: a valvetrain's spring has a preload
+    reach = vt.ratio * float(np.ptp(motion.host(np.arange(THETA_GRID) * (2 * np.pi / THETA_GRID))[0]))
+    if reach <= vt.lash:
+        raise InputError(
+            "valvetrain.lash",
+            f"the valve never lifts: the cam's lift at the valve (ratio x lift = {reach:.4g} mm) does not take up "
+            f"the lash ({vt.lash:g} mm)",
+        )
+    if vt.stiffness is not None and vt.stiffness * (reach - vt.lash) <= preload:
+        raise InputError(
+            "valvetrain.stiffness",
+            f"the valve never lifts: the train ({vt.stiffness:g} N/mm) compressed by the cam's whole lift at the "
+            f"valve less the lash ({reach - vt.lash:.4g} mm) carries {vt.stiffness * (reach - vt.lash):.4g} N, not "
+            f"the spring's preload ({preload:g} N): is the stiffness in N/mm, at the valve?",
+        )
+
+
+def _check_holds_at_rest(motion: Motion, model: FollowerModel, preload_key: str, unit: str) -> None:
     theta_deg = np.arange(THETA_GRID) * (360.0 / THETA_GRID)
     vals = motion.host(np.deg2rad(theta_deg))
     at_rest = float(model.stiffness) * vals[0] * model.scale + float(model.preload) + float(model.external)
     i = int(at_rest.argmin())
     if at_rest[i] <= 0.0:
-        key, unit = ("dynamics.preload_torque", "N*m") if oscillating else ("dynamics.preload", "N")
         raise InputError(
-            key,
+            f"dynamics.{preload_key}",
             f"the spring cannot hold the follower on the cam even at rest: spring + external load is {at_rest[i]:.4g} "
             f"{unit} at {theta_deg[i]:g} deg",
         )

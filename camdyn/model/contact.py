@@ -126,7 +126,7 @@ def normal_force(geometry: CamGeometry, force) -> np.ndarray:
     """The normal contact force (N) from the force camdyn check reports per angle of ``geometry``: a translating
     follower's axial force over cos(pressure angle); an oscillating arm's contact force as it is."""
     force = np.asarray(force, dtype=float)
-    if not geometry.follower.translating:
+    if geometry.follower.kind.rotary:  # the response's force is already the contact force
         return force
     return force / np.cos(np.deg2rad(geometry.pressure_angle_deg))
 

@@ -17,6 +17,7 @@ import numpy as np
 
 from .._core.errors import InputError
 from .._core.files import read_text_file
+from .._core.kinds import FOLLOWER_KINDS, FollowerKind
 
 MIN_POINTS = 8  # fewer cannot describe a revolution, let alone its acceleration
 MAX_GAP_DEG = 45.0  # a revolution's table leaves no gap wider than an eighth of a turn
@@ -103,16 +104,18 @@ def read_csv(path: Path, shown: str, columns: tuple[str, ...], hints: dict[str, 
     return Samples(shown, np.array(values), np.array(rows), "line", 10.0**-decimals / math.sqrt(12.0))
 
 
-def read_lift_table(path: Path, shown: str, oscillating: bool) -> Samples:
-    """A lift table: theta_deg and lift_mm (oscillating: swing_deg), one revolution, angles increasing and
+def read_lift_table(path: Path, shown: str, kind: FollowerKind) -> Samples:
+    """A lift table: theta_deg and the kind's lift column (lift_mm, swing_deg), one revolution, angles increasing and
     distinct, any spacing, no gap over :data:`MAX_GAP_DEG`. A last row at the first angle plus 360 closes the
     revolution (it counts as a second sample of the first angle). A row exactly repeating the one before it
     (angle and lift) is dropped and counted in ``repeats``; the same angle with another lift is refused."""
-    column, other = ("swing_deg", "lift_mm") if oscillating else ("lift_mm", "swing_deg")
-    kind = "an oscillating" if oscillating else "a translating"
-    table = read_csv(
-        path, shown, ("theta_deg", column), {other: f"{kind} follower's table gives {column}, not {other}"}
-    )
+    column = kind.lift_column
+    refused = {
+        k.lift_column: f"{kind.a} follower's table gives {column}, not {k.lift_column}"
+        for k in FOLLOWER_KINDS
+        if k is not kind
+    }
+    table = read_csv(path, shown, ("theta_deg", column), refused)
     table = table.without_repeats(np.r_[False, np.all(np.diff(table.values, axis=0) == 0.0, axis=1)])
     theta = table.values[:, 0]
     step = np.diff(theta)

@@ -16,14 +16,13 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-import jax.numpy as jnp
 import numpy as np
 
 from .._core.errors import InputError
 from .._core.units import DEFAULT_SPEED_FLUCTUATION, THETA_GRID, TWO_PI
 from .dynamics import Response, kinematic_force_jit
 from .follower import FollowerModel
-from .motion import Motion, evaluate
+from .motion import Motion
 
 
 def camshaft_torque(force, velocity):
@@ -120,7 +119,7 @@ def drive_torque(
 
 def follower_velocity(motion: Motion, theta_deg, scale: float) -> np.ndarray:
     """ds/dtheta in SI (m/rad, or rad/rad for an arm) at cam angles ``theta_deg``."""
-    return np.asarray(evaluate(motion, jnp.deg2rad(jnp.asarray(theta_deg, dtype=float))))[1] * scale
+    return motion.host(np.deg2rad(np.asarray(theta_deg, dtype=float)))[1] * scale
 
 
 def response_drive(
@@ -146,6 +145,6 @@ def kinematic_drive(
 ) -> DriveTorque:
     """The drive of a follower that never leaves the cam (its kinematic interface force), n equal steps."""
     theta_deg = np.arange(n) * (360.0 / n)
-    force = np.asarray(kinematic_force_jit(motion, model, float(omega), jnp.deg2rad(jnp.asarray(theta_deg))))
+    force = np.asarray(kinematic_force_jit(motion, model, float(omega), np.deg2rad(theta_deg)))
     velocity = follower_velocity(motion, theta_deg, model.scale)
     return drive_torque(theta_deg, force, velocity, omega, speed_fluctuation=speed_fluctuation)

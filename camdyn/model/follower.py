@@ -10,7 +10,8 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from .._core.units import M_PER_MM, damping_from_ratio, motion_scale, rate_to_si
+from .._core.kinds import FollowerKind
+from .._core.units import M_PER_MM, damping_from_ratio
 from ..schema import DynamicsSpec
 
 
@@ -57,22 +58,18 @@ class FollowerModel(eqx.Module):
         return eqx.tree_at(lambda m: (m.stiffness, m.preload, m.damping), self, new)
 
 
-def follower_model(d: DynamicsSpec, *, oscillating: bool) -> FollowerModel:
+def follower_model(d: DynamicsSpec, *, kind: FollowerKind) -> FollowerModel:
     """SI follower parameters from a validated ``[dynamics]`` table (translating: mm -> m, N/mm -> N/m)."""
-    m = d.inertia if oscillating else d.mass
-    rate = d.torsion_rate if oscillating else d.spring_rate
-    f0 = d.preload_torque if oscillating else d.preload
-    assert m is not None and rate is not None and f0 is not None  # check_dynamics_keys: the kind's mass, rate, preload
-    k = rate_to_si(rate, oscillating)
-    kf_in = d.train_torsion_rate if oscillating else d.train_stiffness
-    kf = math.inf if kf_in is None else rate_to_si(kf_in, oscillating)
+    m, k_in, f0, kf_in, ext = d.generalized(kind)
+    assert m is not None and k_in is not None and f0 is not None  # check_dynamics_keys: the kind's mass, rate, preload
+    k = kind.rate_to_si(k_in)
+    kf = math.inf if kf_in is None else kind.rate_to_si(kf_in)
     c = d.damping if d.damping is not None else damping_from_ratio(d.damping_ratio or 0.0, k, m)
     cf = 0.0 if math.isinf(kf) else damping_from_ratio(d.train_damping_ratio, kf, m)
-    ext = d.external_torque if oscillating else d.external_force
     ratio = math.nan if d.damping is not None else (d.damping_ratio or 0.0)
     vals = (m, k, f0, c, ext, kf, cf, d.restitution)
     return FollowerModel(
-        *(jnp.asarray(float(v)) for v in vals), scale=motion_scale(oscillating), damping_ratio=jnp.asarray(ratio)
+        *(jnp.asarray(float(v)) for v in vals), scale=kind.si_per_motion, damping_ratio=jnp.asarray(ratio)
     )
 
 

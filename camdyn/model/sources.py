@@ -6,23 +6,23 @@ returns the fitted motion, its :class:`~camdyn.model.motion.MotionFit` and the w
 
 from __future__ import annotations
 
+import dataclasses
 from pathlib import Path
 
+import equinox as eqx
 import numpy as np
 
 from .._core.errors import InputError
+from .._core.files import data_file_path
 from ..schema import CaseSpec, FollowerSpec
 from .datafiles import Samples, read_contour, read_lift_table
 from .geometry import ContourFit, contact_motion
 from .motion import FittedMotion, MotionFit, fit_motion, fit_warnings
+from .valvetrain import lift_with_ramps
 
 ZERO_SHARE = 0.01  # a table may dip below zero lift by this share of its range (noise in a dwell), no more
 # a table whose lift spans less than this (mm; deg of swing) is likely in metres (radians): no cam lifts less
 SLIP_RANGE = {"mm": (0.1, "metres", 1000.0), "deg": (1.0, "radians", 180.0 / np.pi)}
-
-
-def _path(name: str, source: Path | None) -> Path:
-    return (source.parent if source is not None else Path.cwd()) / name
 
 
 def _lift_level(table: Samples, lift: np.ndarray, unit: str, column: str) -> list[str]:
@@ -69,25 +69,38 @@ def _within_tolerance(fit: MotionFit, table: Samples, tolerance: float | None) -
 
 
 def table_motion(spec: CaseSpec, source: Path | None) -> tuple[FittedMotion, MotionFit, list[str]]:
-    """The motion fitted to the case's lift table."""
-    if spec.motion is None or spec.motion.table is None:
+    """The motion fitted to the case's lift table; a valve's lift table (``valve_table``) is fitted at the valve,
+    its lash ramps added (:func:`~camdyn.model.valvetrain.lift_with_ramps`), and divided by the rocker ratio."""
+    if spec.motion is None or (spec.motion.table is None and spec.motion.valve_table is None):
         raise ValueError("table_motion: the case's [motion] has no table")
-    name, tolerance = spec.motion.table, spec.motion.tolerance
-    table = read_lift_table(_path(name, source), name, spec.oscillating)
+    vt = spec.valvetrain if spec.motion.valve_table is not None else None
+    if spec.motion.valve_table is not None and vt is None:
+        raise ValueError("table_motion: a valve_table needs [valvetrain]")
+    name = spec.motion.valve_table or spec.motion.table or ""
+    tolerance = spec.motion.tolerance
+    table = read_lift_table(data_file_path(name, source), name, spec.kind)
     theta, lift = table.values.T
-    unit, column = ("deg", "swing_deg") if spec.oscillating else ("mm", "lift_mm")
+    unit, column = spec.kind.lift_unit, spec.kind.lift_column
     warnings = _unit_slip(table, lift, unit, column) + _lift_level(table, lift, unit, column)
+    if vt is not None:
+        try:
+            lift = lift_with_ramps(theta, lift, vt.lash, vt.ramp_velocity)
+        except ValueError as err:
+            raise InputError(f"motion.valve_table ({name})", str(err)) from None
     motion, fit = fit_motion(
         theta,
         lift,
         unit=unit,
-        source="table",
+        source="table" if vt is None else "valve_table",
         file=name,
         tolerance=tolerance,
         rounding=table.rounding,
         repeats=table.repeats,
     )
     _within_tolerance(fit, table, tolerance)
+    if vt is not None:  # the follower's lift: the cam's lift at the valve over the ratio
+        motion = eqx.tree_at(lambda m: m.coef, motion, motion.coef / vt.ratio)
+        fit = dataclasses.replace(fit, follower_per_data=1.0 / vt.ratio)
     return motion, fit, warnings + fit_warnings(fit)
 
 
@@ -98,7 +111,7 @@ def contour_motion(
     if spec.follower is None or spec.follower.contour is None:
         raise ValueError("contour_motion: the case's [follower] has no contour")
     name = spec.follower.contour
-    derived = contact_motion(read_contour(_path(name, source), name), spec.follower)
-    unit = "deg" if spec.oscillating else "mm"
+    derived = contact_motion(read_contour(data_file_path(name, source), name), spec.follower)
+    unit = spec.kind.lift_unit
     motion, fit = fit_motion(derived.theta_deg, derived.lift, unit=unit, source="contour", file=name)
     return motion, derived.follower, fit, derived.contour, list(derived.warnings) + fit_warnings(fit)

@@ -7,6 +7,7 @@ import math
 
 import numpy as np
 
+from .._core.kinds import kind_of_motion
 from .._core.units import RPM
 from ..design.review import Review
 from ..model.dynamics import Response
@@ -107,7 +108,7 @@ def plot_displacement(
     ax.plot(response.theta_deg, response.x * k, color=C["dyn"], lw=1.2, label=f"follower x at {rpm:g} rpm")
     shade_separations(ax, response)
     mark_breaks(ax, breaks_deg)
-    ax.set_ylabel(f"{'swing' if unit == 'rad' else 'displacement'} ({display_unit(unit)})")
+    ax.set_ylabel(f"{'swing' if kind_of_motion(unit).rotary else 'displacement'} ({display_unit(unit)})")
     ax.set_title("follower displacement, dynamic and kinematic", fontsize=9)
     legend_above_data(ax, fontsize=7, ncol=2)
 
@@ -117,8 +118,8 @@ def plot_vibration(ax, curves, *, unit: str = "mm", breaks_deg=()) -> None:
     one's separations shaded. Translating: in um where it stays under half a millimetre."""
     k = display_scale(unit)
     peak = max(float(np.max(np.abs(r.x - r.s))) for r, _, _ in curves) * k
-    if unit == "rad":
-        scale, vu = k, "deg"
+    if kind_of_motion(unit).rotary:
+        scale, vu = k, display_unit(unit)
     else:
         scale, vu = (1000.0, "\u00b5m") if peak < 0.5 else (1.0, "mm")
     for r, col, lab in curves:

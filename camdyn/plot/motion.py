@@ -6,27 +6,27 @@ import math
 
 import numpy as np
 
+from .._core.kinds import kind_of_motion
 from .._core.units import RPM
 from ..design.review import MotionSamples
 from ._common import C, deg_ticks, mark_breaks
 
 
 def display_scale(unit: str) -> float:
-    """Motion unit -> the unit figures show it in: mm stays mm, an arm's swing in rad is shown in degrees."""
-    return 180.0 / math.pi if unit == "rad" else 1.0
+    """Motion unit -> the unit figures show it in (the lift unit): mm stays mm, an arm's swing in rad is in deg."""
+    return kind_of_motion(unit).lift_per_motion
 
 
 def display_unit(unit: str) -> str:
-    return "deg" if unit == "rad" else "mm"
+    return kind_of_motion(unit).lift_unit
 
 
 def svaj_quantities(unit: str) -> list[tuple[str, str]]:
     """(name, per-radian display unit) of s, s', s'', s''' for a motion in ``unit`` ("mm" or "rad")."""
-    u = display_unit(unit)
-    osc = unit == "rad"
-    sym = "\u03c8" if osc else "s"
+    kind = kind_of_motion(unit)
+    u, sym = kind.lift_unit, kind.lift_symbol
     return [
-        (f"{'swing' if osc else 'lift'} {sym}", f"{u}"),
+        (f"{kind.lift_word} {sym}", f"{u}"),
         (f"velocity d{sym}/d\u03b8", f"{u}/rad"),
         (f"acceleration d\u00b2{sym}/d\u03b8\u00b2", f"{u}/rad\u00b2"),
         (f"jerk d\u00b3{sym}/d\u03b8\u00b3", f"{u}/rad\u00b3"),
@@ -36,7 +36,7 @@ def svaj_quantities(unit: str) -> list[tuple[str, str]]:
 def _time_units(unit: str, speed_rpm: float) -> list:
     """Per-radian (left axes) -> time units at the cam speed (right axes): (label, factor), None for s."""
     w = speed_rpm * RPM
-    if unit == "rad":
+    if kind_of_motion(unit).rotary:
         return [
             None,
             ("rad/s", math.pi / 180 * w),
@@ -92,7 +92,18 @@ def plot_fit(ax_lift, ax_residual, fit, contour=None) -> None:
         if contour is None
         else f"lift at contact with the fitted outline ({th.size} angles)"
     )
-    ax_lift.plot(th[::every], fit.data[::every], ".", ms=2.2, color=C["limit"], alpha=0.7, label=label, zorder=4)
+    if fit.follower_per_data != 1.0:  # a valve's table, ramps added: at the follower
+        label = f"{fit.source} data with its ramps / ratio ({th.size} points)"
+    ax_lift.plot(
+        th[::every],
+        fit.data[::every] * fit.follower_per_data,
+        ".",
+        ms=2.2,
+        color=C["limit"],
+        alpha=0.7,
+        label=label,
+        zorder=4,
+    )
     ax_lift.legend(fontsize=7, loc="upper right")
     if contour is not None:
         res, unit, x = contour.residual, "mm", contour.angle_deg

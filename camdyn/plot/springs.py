@@ -101,7 +101,7 @@ def plot_feasible_region(ax, sizing: SpringSizing, colors: dict | None = None) -
     )
     ax.set_xlim(k[0], k[-1])
     ax.set_ylim(y0, y1)
-    if sizing.oscillating:
+    if sizing.kind.rotary:
         ax.set_xlabel(f"torsion rate k ({u['rate']})")
         ax.set_ylabel(f"preload torque T0 ({u['preload']})")
     else:

@@ -14,11 +14,11 @@ import tomllib
 from pathlib import Path
 
 from .._core.errors import InputError
-from .._core.files import read_text_file
+from .._core.files import check_file, data_file_path, read_text_file
 from ._base import Table, parse, validation_error
 from .case import SCHEMA_VERSION, CaseSpec
 from .drive import DriveSpec
-from .dynamics import LINEAR_KEYS, ROTARY_KEYS, DynamicsSpec
+from .dynamics import LINEAR_KEYS, ROTARY_KEYS, DynamicsSpec, dynamics_keys
 from .follower import FOLLOWER_TYPES, FollowerSpec
 from .limits import LimitsSpec
 from .materials import MATERIAL_NAMES, ElasticSpec, MaterialsSpec
@@ -28,6 +28,7 @@ from .path import PATH_TYPES, PathSpec
 from .pathfile import PathFileSpec, SynthesisSpec
 from .spring import END_TYPES, SPRING_MODELS, SpringSpec
 from .tolerances import DISTRIBUTIONS, TOLERANCE_KEYS, Tolerance, TolerancesSpec, ToleranceValue, resolve_tolerances
+from .valvetrain import ValvetrainSpec
 
 __all__ = [
     "CaseSpec",
@@ -55,6 +56,7 @@ __all__ = [
     "SynthesisSpec",
     "Table",
     "check_segments",
+    "dynamics_keys",
     "load_case_spec",
     "load_path_file",
     "parse",
@@ -66,6 +68,7 @@ __all__ = [
     "TolerancesSpec",
     "ToleranceValue",
     "resolve_tolerances",
+    "ValvetrainSpec",
 ]
 
 
@@ -81,8 +84,12 @@ def read_toml(path: str | Path) -> dict:
 
 
 def load_case_spec(path: str | Path) -> CaseSpec:
-    """Read and validate a case file; every problem is one :class:`InputError` naming the key."""
-    return parse(CaseSpec, read_toml(path))
+    """Read and validate a case file; every problem is one :class:`InputError` naming the key, and a data file it
+    names that is missing (or cannot be one) is refused here too, before any model is built."""
+    spec = parse(CaseSpec, read_toml(path))
+    for name in spec.data_files:
+        check_file(data_file_path(name, Path(path)), name, "data file")
+    return spec
 
 
 def load_path_file(path: str | Path) -> PathFileSpec:

@@ -6,6 +6,7 @@ from typing import Literal
 
 from pydantic import Field, model_validator
 
+from .._core.kinds import TRANSLATING, FollowerKind
 from ._base import Name, Table, Text
 from .drive import DriveSpec
 from .dynamics import DynamicsSpec, check_dynamics_keys
@@ -17,6 +18,7 @@ from .motion import MotionSpec, check_segments
 from .path import PathSpec
 from .spring import SpringSpec, check_spring_keys
 from .tolerances import TolerancesSpec, check_tolerance_keys
+from .valvetrain import ValvetrainSpec, check_valvetrain_keys
 
 SCHEMA_VERSION = 1
 
@@ -60,6 +62,10 @@ class CaseSpec(Table):
     tolerances: TolerancesSpec | None = Field(
         default=None, description="how far a built cam may differ from the case (camdyn tolerance)"
     )
+    valvetrain: ValvetrainSpec | None = Field(
+        default=None,
+        description="the follower drives a valve: rocker ratio, lash, the cam-side and valve masses, the seat",
+    )
 
     @model_validator(mode="after")
     def _tables_fit_together(self) -> CaseSpec:
@@ -71,9 +77,7 @@ class CaseSpec(Table):
             if self.follower.contour is not None:
                 raise ValueError("motion: a contour case derives its motion from [follower] contour: remove [motion]")
             if self.motion.segments:
-                check_segments(
-                    self.motion.segments, "mm" if self.follower.translating else "deg", key="motion.segments"
-                )
+                check_segments(self.motion.segments, self.follower.kind.lift_unit, key="motion.segments")
         elif self.follower is not None and self.follower.contour is not None:
             if self.path is not None or self.mechanism is not None:
                 raise ValueError("follower.contour: give either a contour or [path] and [mechanism], not both")
@@ -88,9 +92,16 @@ class CaseSpec(Table):
             raise ValueError(
                 "motion: the case needs [motion] segments or a table, a [follower] contour, or [path] and [mechanism]"
             )
-        check_dynamics_keys(self.dynamics, oscillating=self.oscillating)
-        check_spring_keys(self.spring, oscillating=self.oscillating)
-        check_tolerance_keys(self.tolerances, oscillating=self.oscillating)
+        if self.motion is not None and self.motion.valve_table is not None and self.valvetrain is None:
+            raise ValueError("motion.valve_table: a lift at the valve needs [valvetrain] (its ratio and lash)")
+        if self.valvetrain is not None:
+            check_valvetrain_keys(
+                self.valvetrain, self.dynamics, translating=not self.oscillating, spring=self.spring is not None
+            )
+        else:
+            check_dynamics_keys(self.dynamics, kind=self.kind)
+        check_spring_keys(self.spring, kind=self.kind)
+        check_tolerance_keys(self.tolerances, kind=self.kind)
         if self.limits.max_contact_stress is not None and self.contact_width_mm is None:
             where = "follower" if self.follower is not None else "mechanism"
             raise ValueError(
@@ -99,11 +110,16 @@ class CaseSpec(Table):
         return self
 
     @property
+    def kind(self) -> FollowerKind:
+        """The follower's kind: the ``[follower]``'s, or that of the follower the ``[mechanism]`` drives."""
+        if self.follower is not None:
+            return self.follower.kind
+        return self.mechanism.kind if self.mechanism is not None else TRANSLATING
+
+    @property
     def oscillating(self) -> bool:
         """Whether the follower is an oscillating arm (its motion in rad, its dynamics rotational)."""
-        if self.follower is not None:
-            return not self.follower.translating
-        return self.mechanism is not None and self.mechanism.type == "oscillating"
+        return self.kind.rotary
 
     @property
     def contact_width_mm(self) -> float | None:
@@ -111,3 +127,14 @@ class CaseSpec(Table):
         where the case gives none (no contact stress then)."""
         table = self.follower if self.follower is not None else self.mechanism
         return None if table is None else table.width
+
+    @property
+    def data_files(self) -> tuple[str, ...]:
+        """The data files the case names (``[motion] table`` or ``valve_table``, ``[follower] contour``), relative to
+        the case file."""
+        names = (
+            self.motion.table if self.motion is not None else None,
+            self.motion.valve_table if self.motion is not None else None,
+            self.follower.contour if self.follower is not None else None,
+        )
+        return tuple(name for name in names if name is not None)

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 from pydantic import Field, model_validator
 
+from .._core.kinds import FollowerKind
 from .._core.units import (
     DEFAULT_TRAIN_DAMPING_RATIO,
     INERTIA_RANGE_KG_M2,
@@ -115,16 +116,25 @@ class DynamicsSpec(Table):
             raise ValueError("give damping_ratio or damping, not both")
         return self
 
+    def generalized(self, kind: FollowerKind) -> tuple:
+        """(mass, rate, preload, train rate, external load) in the case file's units of ``kind`` (None: not given)."""
+        return tuple(getattr(self, k) for k in dynamics_keys(kind))
 
-def check_dynamics_keys(d: DynamicsSpec, *, oscillating: bool, key: str = "dynamics") -> None:
+
+def dynamics_keys(kind: FollowerKind) -> tuple[str, ...]:
+    """The keys ``kind`` uses, in :data:`LINEAR_KEYS` order: mass, rate, preload, train rate, external load."""
+    return ROTARY_KEYS if kind.rotary else LINEAR_KEYS
+
+
+def check_dynamics_keys(d: DynamicsSpec, *, kind: FollowerKind, key: str = "dynamics") -> None:
     """Raise ``ValueError("<key>.<name>: message")`` unless ``d`` uses the keys of its follower kind: the linear
     ones for a translating follower, the rotational ones for an oscillating arm (mass, rate and preload needed)."""
-    use, other = (ROTARY_KEYS, LINEAR_KEYS) if oscillating else (LINEAR_KEYS, ROTARY_KEYS)
-    kind = "an oscillating" if oscillating else "a translating"
+    use = dynamics_keys(kind)
+    other = LINEAR_KEYS if use is ROTARY_KEYS else ROTARY_KEYS
     for k_use, k_other in zip(use, other, strict=True):
         given = getattr(d, k_other)
         if given is not None and (k_other not in ("external_force", "external_torque") or given != 0.0):
-            raise ValueError(f"{key}.{k_other}: {kind} follower uses {k_use}, not {k_other}")
+            raise ValueError(f"{key}.{k_other}: {kind.a} follower uses {k_use}, not {k_other}")
     for k in use[:3]:
         if getattr(d, k) is None:
             raise ValueError(f"{key}.{k}: required key is missing")

@@ -6,10 +6,9 @@ from typing import Literal
 
 from pydantic import Field, model_validator
 
+from .._core.kinds import FOLLOWER_TYPES, FollowerKind, FollowerType
 from .._core.units import MAX_LENGTH_MM
 from ._base import FileName, Real, Table
-
-FOLLOWER_TYPES = ("translating-roller", "translating-flat", "oscillating-roller", "oscillating-flat")
 
 # keys each type needs, and those it may take besides ``type``, ``base_radius`` (or ``contour``), ``rotation``
 # and ``width``
@@ -84,7 +83,7 @@ class FollowerSpec(Table):
 
     @model_validator(mode="after")
     def _keys_for_type(self) -> FollowerSpec:
-        a = "an" if self.type.startswith("oscillating") else "a"
+        a = self.kind.article
         for key in _NEEDS[self.type]:
             if getattr(self, key) is None:
                 raise ValueError(f"{key}: required for {a} {self.type} follower")
@@ -100,12 +99,23 @@ class FollowerSpec(Table):
         return self
 
     @property
+    def follower_type(self) -> FollowerType:
+        """The type as an object: its kind and its contact."""
+        return FOLLOWER_TYPES[self.type]
+
+    @property
+    def kind(self) -> FollowerKind:
+        """Translating or oscillating (:data:`camdyn._core.kinds.TRANSLATING`, ``OSCILLATING``)."""
+        return FOLLOWER_TYPES[self.type].kind
+
+    @property
     def translating(self) -> bool:
-        return self.type.startswith("translating")
+        return not self.kind.rotary
 
     @property
     def roller(self) -> bool:
-        return self.type.endswith("roller")
+        """A roller follower (else a flat face)."""
+        return FOLLOWER_TYPES[self.type].roller
 
     @property
     def sigma(self) -> float:

@@ -5,6 +5,7 @@ from __future__ import annotations
 from pydantic import Field
 
 from .._core.units import (
+    DEFAULT_MAX_SEATING_VELOCITY,
     DEFAULT_MAX_TRAIN_DEFLECTION,
     DEFAULT_MIN_CONTACT_FORCE_N,
     DEFAULT_MIN_CURVATURE_RATIO,
@@ -61,4 +62,10 @@ class LimitsSpec(Table):
         description=(
             "largest Hertz contact pressure between cam and follower over a revolution, MPa (needs [follower] width)"
         ),
+    )
+    max_seating_velocity: Real = Field(
+        default=DEFAULT_MAX_SEATING_VELOCITY,
+        gt=0,
+        le=100,
+        description="[valvetrain] cases: the valve's speed on landing on its seat at the case speed, m/s (default 0.5)",
     )

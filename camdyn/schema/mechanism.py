@@ -6,9 +6,11 @@ from typing import Literal
 
 from pydantic import ConfigDict, Field, model_validator
 
-from .._core.units import DEFAULT_MAX_PRESSURE_ANGLE_DEG, MAX_LENGTH_MM
+from .._core.kinds import OSCILLATING, TRANSLATING, FollowerKind
+from .._core.units import MAX_LENGTH_MM
 from ._base import Point, Real, Table, TypeKeys, check_type_keys, keys_by_type
 
+_KINDS = {"ccm": TRANSLATING, "oscillating": OSCILLATING}
 # the keys each type needs, and those it may take besides (the keys named for neither, every type takes)
 _KEYS: TypeKeys = {
     "ccm": (
@@ -100,7 +102,7 @@ class MechanismSpec(Table):
         ),
     )
     max_pressure_angle: Real = Field(
-        default=DEFAULT_MAX_PRESSURE_ANGLE_DEG["translating"],
+        default=TRANSLATING.default_max_pressure_angle_deg,
         gt=0,
         lt=80,
         description="ccm: pressure angle used to choose the base radius, deg",
@@ -142,3 +144,8 @@ class MechanismSpec(Table):
             if abs(self.pin_distance - self.path_link) < 1e-9:
                 raise ValueError("pin_distance: the pin B cannot coincide with the joint C")
         return self
+
+    @property
+    def kind(self) -> FollowerKind:
+        """The kind of the follower the mechanism drives: the CCM's translating cutter, Ye & Smith's arm."""
+        return _KINDS[self.type]

@@ -178,26 +178,37 @@ class MotionSpec(Table):
             "smoothing spline"
         ),
     )
+    valve_table: FileName | None = Field(
+        default=None,
+        description=(
+            "with [valvetrain]: CSV file of the valve's lift at the valve, header theta_deg,lift_mm (cam degrees); "
+            "camdyn adds constant-velocity ramps (valvetrain.ramp_velocity) that take up the lash, divides by the "
+            "ratio and fits the follower's lift as a table's"
+        ),
+    )
     tolerance: Real | None = Field(
         default=None,
         gt=0,
         le=MAX_LENGTH_MM,
         description=(
             "table: the largest departure of the fit from the data, mm (deg oscillating; default: the smoothing "
-            "the data's noise asks for)"
+            "the data's noise asks for); valve_table: at the valve"
         ),
     )
 
     @model_validator(mode="after")
     def _one_source(self) -> MotionSpec:
-        if self.table is not None and self.segments:
-            raise ValueError("table: give either segments or a table, not both")
-        if self.table is None and not self.segments:
+        if self.table is not None and self.valve_table is not None:
+            raise ValueError("valve_table: give either a table at the follower or a valve_table, not both")
+        table, key = (self.table, "table") if self.valve_table is None else (self.valve_table, "valve_table")
+        if table is not None and self.segments:
+            raise ValueError(f"{key}: give either segments or a {key}, not both")
+        if table is None and not self.segments:
             raise ValueError('segments: give the motion as segments = [...] or as table = "lift.csv"')
-        if self.tolerance is not None and self.table is None:
-            raise ValueError("tolerance: bounds the fit of a table: only with table = ...")
-        if self.table is not None and not self.table.strip():
-            raise ValueError("table: empty file name")
+        if self.tolerance is not None and table is None:
+            raise ValueError("tolerance: bounds the fit of a table: only with table = ... or valve_table = ...")
+        if table is not None and not table.strip():
+            raise ValueError(f"{key}: empty file name")
         return self
 
 

@@ -6,6 +6,7 @@ from typing import Literal
 
 from pydantic import Field, field_validator
 
+from .._core.kinds import FollowerKind
 from .._core.materials import WIRE_NAMES, unknown_name
 from ._base import Real, Table
 
@@ -63,13 +64,13 @@ class SpringSpec(Table):
         return name
 
 
-def check_spring_keys(spring: SpringSpec | None, *, oscillating: bool, key: str = "spring") -> None:
-    """Raise ``ValueError("<key>.lever_arm: ...")`` unless ``lever_arm`` is given exactly for an oscillating arm."""
+def check_spring_keys(spring: SpringSpec | None, *, kind: FollowerKind, key: str = "spring") -> None:
+    """Raise ``ValueError("<key>.lever_arm: ...")`` unless ``lever_arm`` is given exactly for a rotary kind (an arm)."""
     if spring is None:
         return
-    if oscillating and spring.lever_arm is None:
+    if kind.rotary and spring.lever_arm is None:
         raise ValueError(
-            f"{key}.lever_arm: required for an oscillating follower: the distance from the arm pivot to the spring, mm"
+            f"{key}.lever_arm: required for {kind.a} follower: the distance from the arm pivot to the spring, mm"
         )
-    if not oscillating and spring.lever_arm is not None:
+    if not kind.rotary and spring.lever_arm is not None:
         raise ValueError(f"{key}.lever_arm: not used by a translating follower (the spring acts along its axis)")

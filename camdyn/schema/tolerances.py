@@ -18,6 +18,7 @@ from typing import Annotated, Literal
 
 from pydantic import Discriminator, Field, Tag, model_validator
 
+from .._core.kinds import FollowerKind
 from .._core.units import TOLERANCE_UNITS, tolerance_to_case_unit
 from ._base import Real, Table
 
@@ -122,7 +123,7 @@ def _split(key: str, raw) -> tuple[float, str | None]:
     return number, unit
 
 
-def resolve_tolerances(spec: TolerancesSpec, *, oscillating: bool) -> tuple[Tolerance, ...]:
+def resolve_tolerances(spec: TolerancesSpec, *, kind: FollowerKind) -> tuple[Tolerance, ...]:
     """The given tolerances resolved, in :data:`TOLERANCE_KEYS` order; ValueError("key: message") for a unit the
     key does not take."""
     out = []
@@ -136,17 +137,17 @@ def resolve_tolerances(spec: TolerancesSpec, *, oscillating: bool) -> tuple[Tole
             out.append(Tolerance(key, number / 100.0, True, dist))
         else:
             try:
-                value = number if unit is None else tolerance_to_case_unit(key, number, unit, oscillating)
+                value = number if unit is None else tolerance_to_case_unit(key, number, unit, kind.rotary)
             except ValueError as err:
                 raise ValueError(f"{key}: {err}") from None
             out.append(Tolerance(key, value, False, dist))
     return tuple(out)
 
 
-def check_tolerance_keys(spec: TolerancesSpec | None, *, oscillating: bool, key: str = "tolerances") -> None:
+def check_tolerance_keys(spec: TolerancesSpec | None, *, kind: FollowerKind, key: str = "tolerances") -> None:
     """Raise ``ValueError("<key>.<name>: message")`` for a tolerance whose unit its follower kind does not take."""
     if spec is not None:
         try:
-            resolve_tolerances(spec, oscillating=oscillating)
+            resolve_tolerances(spec, kind=kind)
         except ValueError as err:
             raise ValueError(f"{key}.{err}") from None

@@ -15,16 +15,17 @@ import numpy as np
 
 from ..._core.errors import InputError, NumericalError
 from ..._core.progress import Progress
-from ..._core.units import RPM, rate_from_si
+from ..._core.units import RPM
 from ...export import camdyn_version, dumps_case
 from ...model.case import Case, build_case
 from ...model.dynamics import dynamic_jump_speed, linear_min_force, preload_share, response
 from ...model.follower import FollowerModel
 from ...schema import CaseSpec
-from ...schema.dynamics import LINEAR_KEYS, ROTARY_KEYS
+from ...schema.dynamics import dynamics_keys
 from ..checks import CheckReport, run_check
 from ..parts import resolve_spring
 from ..tolerance import tolerance_study
+from ..valvetrain import refuse_valvetrain
 from ._objectives import CLEAR, jump_speed, least_slack, spring_force, vibration
 from ._rows import Rows
 from ._shape import N_CONTROL, ShapeSpace, shape_space
@@ -101,11 +102,11 @@ class Optimization:
 
     @property
     def unit(self) -> str:
-        return "deg" if self.case.oscillating else "mm"
+        return self.case.kind.lift_unit
 
     @property
     def force_unit(self) -> str:
-        return "N*m" if self.case.oscillating else "N"
+        return self.case.kind.force_unit
 
     @property
     def written(self) -> bool:
@@ -141,7 +142,7 @@ class Optimization:
         return dumps_case(self.document, header)
 
     def json(self) -> dict:
-        margin_key = "force_margin_N_m" if self.case.oscillating else "force_margin_N"
+        margin_key = f"force_margin_{self.case.kind.force_suffix}"
         return {
             "case": self.case.name,
             "objective": self.objective,
@@ -229,7 +230,7 @@ def _verify(case: Case, speeds_rpm: list[float], margin: float) -> dict:
     """The diffrax time-domain steady state against the frequency domain the optimizer used, at ``speeds_rpm``:
     least interface force of each (N; N*m for an arm), whether the follower separates and whether it keeps
     ``margin`` (to 0.1 % of the largest force: the two models agree to well within it)."""
-    unit = "N_m" if case.oscillating else "N"
+    unit = case.kind.force_suffix
     points = []
     for rpm in speeds_rpm:
         w = rpm * RPM
@@ -359,6 +360,7 @@ def optimize_case(
     The answer's ``refusals`` say why it is not to be written (no better, or a check it would break)."""
     if objective not in OBJECTIVES:
         raise InputError("--objective", f"unknown objective {objective!r}; choose one of {', '.join(OBJECTIVES)}")
+    refuse_valvetrain(case, "optimize")
     if robust and case.spec.tolerances is None:
         raise InputError(
             "--robust", "the case has no [tolerances]: give them to claim a speed at P(separation) <= 1e-3"
@@ -389,9 +391,9 @@ def optimize_case(
             w = case.limits.speed_margin * rpm * RPM * CLEAR
             rates = float(case.model.stiffness) * np.array([0.25, 0.5, 1.0, 2.0])
             z, k, f0 = spring_force(rows, w, rates)
-            keys = ROTARY_KEYS if case.oscillating else LINEAR_KEYS
+            keys = dynamics_keys(case.kind)
             dynamics = {
-                keys[1]: float(np.round(rate_from_si(k, case.oscillating), 6)),
+                keys[1]: float(np.round(case.kind.rate_from_si(k), 6)),
                 keys[2]: float(math.ceil(f0 * 100.0) / 100.0),
             }
     except NumericalError as err:  # the programs found nothing to write: the input stands
@@ -434,7 +436,7 @@ def _refused(
 ) -> Optimization:
     """The input itself, with why nothing better was found."""
     doc = case.spec.model_dump(exclude_unset=True, exclude_none=True)
-    empty = {"model": "compliant", "points": [], "least_force": None, "unit": "N*m" if case.oscillating else "N"}
+    empty = {"model": "compliant", "points": [], "least_force": None, "unit": case.kind.force_unit}
     return Optimization(
         objective, before, before, case, doc, math.nan, empty, control_points, time.perf_counter() - t0, margin, (why,)
     )

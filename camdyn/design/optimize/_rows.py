@@ -14,7 +14,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from ..._core.units import default_max_pressure_angle, newton_per_torque
+from ..._core.units import newton_per_torque
 from ...model.case import Case
 from ...model.dynamics import kinematic_force_of, steady_state, train_force
 from ...model.geometry import curvature_limit, geometry_of
@@ -66,7 +66,7 @@ class Rows:
         ``min_contact_force`` (N at the contact; through the lever arm, which moves with s, for an arm) hold."""
         fmin = float(self.case.limits.min_contact_force)
         need = max(self.margin, fmin)
-        if self.case.oscillating:
+        if self.case.kind.rotary:  # the least contact force through the lever arm, which moves with s
             lever = geometry_of(self.case.follower, jnp.asarray(self.space.theta), self.space.values(z))["lever"]
             need = jnp.maximum(self.margin, fmin / newton_per_torque(lever))
         return self.forces(z, omegas, preload) - need
@@ -77,7 +77,7 @@ class Rows:
         1 - rho / rho_min."""
         f, lim = self.case.follower, self.case.limits
         geo = geometry_of(f, jnp.asarray(self.space.theta), self.space.values(z))
-        phi_max = math.radians(lim.max_pressure_angle or default_max_pressure_angle(f.translating))
+        phi_max = math.radians(lim.max_pressure_angle or f.kind.default_max_pressure_angle_deg)
         rows = [jnp.abs(geo["phi"]) / phi_max - 1.0 + _SAFETY]
         if f.roller_radius is not None:  # a roller follower
             kappa_max = 1.0 / (f.roller_radius * (1.0 + curvature_limit(f, lim.min_curvature_ratio)))

@@ -91,6 +91,7 @@ def shape_space(case: Case, n: int = FFT_GRID, n_control: int = N_CONTROL) -> Sh
         why = {
             "path": "its motion is fixed by the path the linkage must trace (reshape the path, or synthesize again)",
             "table": "its motion is the lift table's; give the motion as segments to let camdyn reshape it",
+            "valve_table": "its motion is the valve-lift table's; give the motion as segments to let camdyn reshape it",
             "contour": "its motion is the measured contour's; give the motion as segments to let camdyn reshape it",
         }[case.motion_source]
         raise InputError("motion", f"a {case.motion_source} case cannot be optimized: {why}")
@@ -99,7 +100,7 @@ def shape_space(case: Case, n: int = FFT_GRID, n_control: int = N_CONTROL) -> Sh
     moving = tuple(i for i, s in enumerate(specs) if s.law != "dwell")
     if not moving:
         raise InputError("motion.segments", "no segment lifts: nothing to reshape")
-    to_unit = 1.0 if case.motion.unit == "mm" else math.pi / 180.0
+    to_unit = case.kind.motion_per_lift  # the segments' lift unit -> the motion's
     theta = np.arange(n) * (TWO_PI / n)
     now = np.asarray(case.motion(theta))  # the case's own motion: the start and what the dwells keep
     offset = np.zeros((4, n))

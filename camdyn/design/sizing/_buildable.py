@@ -27,10 +27,10 @@ import numpy as np
 from scipy.optimize import OptimizeResult, minimize_scalar  # unannotated: cast its result
 
 from ..._core.errors import InputError
-from ..._core.units import RPM, rate_from_si, rate_to_si
+from ..._core.units import RPM
 from ...model.case import Case
 from ...model.follower import follower_model
-from ...schema import SpringSpec
+from ...schema import SpringSpec, dynamics_keys
 from .._check import Check
 from ..checks import jump_speeds, speed_margin_check
 from ..parts import resolve_spring
@@ -47,16 +47,16 @@ _UNBUILDABLE = 1e300  # the peak force of a rate no spring has (finite: Brent's 
 def _rate_range(case, p: Problem) -> tuple[float, float]:
     """The scan's rates in the case's units (N/mm; N*m/rad for an arm: k_lin r^2, the spring at ``lever_arm``)."""
     lo, hi = LINEAR_RATES_N_PER_MM
-    if p.osc:
+    if p.kind.rotary:  # the spring acts at [spring] lever_arm from the pivot
         r = case.spec.spring.lever_arm if case.spec.spring is not None and case.spec.spring.lever_arm else None
         if r is None:
             raise InputError(
                 "spring.lever_arm",
-                "an oscillating follower's spring needs [spring] lever_arm to be sized as a part: the distance "
+                f"{p.kind.a} follower's spring needs [spring] lever_arm to be sized as a part: the distance "
                 "from the arm pivot to the spring, mm",
             )
         lo, hi = lo * r * r / 1000.0, hi * r * r / 1000.0
-    return max(lo, rate_from_si(p.k_lo, p.osc)), hi
+    return max(lo, p.kind.rate_from_si(p.k_lo)), hi
 
 
 HEADROOM = 2e-3  # the spring is sized to (1 + HEADROOM) x the top speed: it passes check as written, with margin
@@ -88,7 +88,7 @@ def buildable_answer(
         return max(f0, 0.0)  # a compression spring at zero lift pushes, or touches
 
     def peak(rate: float) -> float:  # user units in, the peak spring force out; inf where it cannot be built
-        k_si = rate_to_si(rate, p.osc)
+        k_si = p.kind.rate_to_si(rate)
         top = case_max_preload(case, rate, surge_top_rpm)
         f0 = least(k_si)
         return _UNBUILDABLE if top is None or f0 > top else k_si * p.s_max + f0
@@ -97,7 +97,7 @@ def buildable_answer(
     if not lo < hi:
         raise InputError(
             "--min-rate",
-            f"no buildable spring is as stiff as {rate_from_si(p.k_lo, p.osc):g}: camdyn's springs reach {hi:g}",
+            f"no buildable spring is as stiff as {p.kind.rate_from_si(p.k_lo):g}: camdyn's springs reach {hi:g}",
         )
     rates = np.geomspace(lo, hi, _N_SCAN)
     peaks = np.array([peak(r) for r in rates])
@@ -105,7 +105,7 @@ def buildable_answer(
         raise InputError(
             "spring",
             f"no buildable spring holds the follower: at every rate from {lo:.3g} to {hi:.3g} "
-            f"{'N*m/rad' if p.osc else 'N/mm'} the preload it needs exceeds what a spring of that rate within "
+            f"{p.kind.rate_unit} the preload it needs exceeds what a spring of that rate within "
             f"[spring], its surge at least {surge_floor(case, surge_top_rpm):.4g} Hz (clear of the cam's strong "
             f"harmonics up to {surge_top_rpm:.4g} rpm), can give (a larger outside_diameter_max or "
             "installed_length, or another material, widens the choice)",
@@ -115,18 +115,18 @@ def buildable_answer(
     bounded = minimize_scalar(lambda u: peak(math.exp(u)), bounds=(a, b), method="bounded", options={"xatol": 1e-4})
     res = cast(OptimizeResult, bounded)
     rate = math.exp(res.x) if res.fun < peaks[i] else rates[i]
-    k_si = rate_to_si(rate, p.osc)
+    k_si = p.kind.rate_to_si(rate)
     return k_si, least(k_si)
 
 
 def as_written(case: Case, rate: float, preload: float) -> Case:
     """The case with the proposed spring in ``[dynamics]`` (the case's units) and its ``[spring]`` table (the
     default one where it has none: the part ``size --buildable`` designs), its spring not yet resolved."""
-    osc = case.oscillating
-    keys = ("torsion_rate", "preload_torque") if osc else ("spring_rate", "preload")
+    _, rate_key, preload_key, _, _ = dynamics_keys(case.kind)
+    keys = (rate_key, preload_key)
     dyn_spec = case.spec.dynamics.model_copy(update=dict(zip(keys, (rate, preload), strict=True)))
     spec = case.spec.model_copy(update={"dynamics": dyn_spec, "spring": case.spec.spring or SpringSpec()})
-    return replace(case, spec=spec, model=follower_model(dyn_spec, oscillating=osc), spring=None)
+    return replace(case, spec=spec, model=follower_model(dyn_spec, kind=case.kind), spring=None)
 
 
 def judged_as_written(case: Case, rate: float, preload: float, speed_rpm: float, margin: float) -> tuple[Check, Case]:
@@ -153,7 +153,7 @@ def buildable_fixed_point(
         sized = replace(case, model=sd.follower(), spring=sd)
         p, grid = build_problem(sized, speed_rpm, size_margin, min_rate)
         k, f0 = buildable_answer(sized, p, grid, None if p.rigid else Dynamic.of(p), margin * speed_rpm)
-        rate, preload = written(rate_from_si(k, p.osc)), written(f0, up=True)
+        rate, preload = written(p.kind.rate_from_si(k)), written(f0, up=True)
         part = design_case_spring(sized, rate=rate, preload=preload, surge="require", top_speed_rpm=margin * speed_rpm)
         if part.spring.mass > mass * (1.0 + 1e-9):
             mass = part.spring.mass

@@ -8,7 +8,7 @@ import math
 
 import numpy as np
 
-from ..._core.units import RPM, rate_from_si
+from ..._core.units import RPM
 from ...model import dynamics as dyn
 from ._dynamic import Dynamic
 from ._problem import Grid, Problem
@@ -42,7 +42,7 @@ def design(p: Problem, grid: Grid, dynamic: Dynamic | None, k, f0) -> SpringDesi
         w_max = dyn.jump_search_limit(p.W, w_kin)
         w_dyn = dyn.dynamic_jump_speed(p.motion, model, w_max=w_max) if holds_at_rest else 0.0
     return SpringDesign(
-        rate=rate_from_si(k, p.osc),
+        rate=p.kind.rate_from_si(k),
         preload=f0,
         peak_spring=k * p.s_max + f0,
         least_force_kinematic=kin_lo[0],

@@ -12,7 +12,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from ..._core.errors import NumericalError
-from ..._core.units import FFT_GRID, RPM, TWO_PI, rate_from_si
+from ..._core.units import FFT_GRID, RPM, TWO_PI
 from ...model import dynamics as dyn
 from ._problem import Grid, Problem
 from ._sqrt_k import minimize_in_sqrt_k
@@ -53,7 +53,7 @@ class Dynamic:
         )
         if not np.all(np.isfinite(out)):
             raise NumericalError(
-                f"sizing, rate {rate_from_si(k, p.osc):.4g}", "the steady-state contact force is not finite"
+                f"sizing, rate {p.kind.rate_from_si(k):.4g}", "the steady-state contact force is not finite"
             )
         return out
 

@@ -10,9 +10,10 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from ..._core.errors import InputError
-from ..._core.units import RPM, THETA_GRID, TWO_PI, damping_from_ratio, rate_to_si
+from ..._core.kinds import FollowerKind
+from ..._core.units import RPM, THETA_GRID, TWO_PI, damping_from_ratio
 from ...model.follower import FollowerModel
-from ...model.geometry import newton_per_torque_at
+from ...model.geometry import contact_per_force
 from ...model.motion import Motion
 from ...schema import FollowerSpec
 from ..spring import min_preload
@@ -30,7 +31,7 @@ class Problem:
     motion: Motion
     follower: FollowerSpec  # the lever arm of an oscillating follower
     model: FollowerModel
-    osc: bool
+    kind: FollowerKind
     rigid: bool
     scale: float  # motion unit -> SI
     m: float  # kg (kg*m^2)
@@ -62,9 +63,7 @@ class Problem:
     def arm(self, theta):
         """Lever arm (m) turning a contact force (N) into the generalized force; 1 for translating followers."""
         theta = np.atleast_1d(np.asarray(theta, dtype=float))
-        if not self.osc:
-            return np.ones_like(theta)
-        return 1.0 / newton_per_torque_at(self.motion, self.follower, theta)
+        return 1.0 / contact_per_force(self.motion, self.follower, theta)
 
     def with_spring(self, k, f0) -> FollowerModel:
         """The follower model with rate k and preload f0 (SI), its damping following the rate where it does."""
@@ -113,9 +112,9 @@ def _damping_law(model: FollowerModel) -> tuple[float | None, float]:
 
 def build_problem(case, max_speed_rpm, margin, min_rate) -> tuple[Problem, Grid]:
     """The problem and its first grid: 3600 angles and both sides of every segment boundary."""
-    osc, model = case.oscillating, case.model
-    if osc and case.follower is None:
-        raise InputError("follower", "an oscillating follower needs its geometry (lever arm) for sizing")
+    kind, model = case.kind, case.model
+    if kind.rotary and case.follower is None:
+        raise InputError("follower", f"{kind.a} follower needs its geometry (lever arm) for sizing")
     c_fixed, zeta = _damping_law(model)
     speed_rpm = float(case.speed_rpm if max_speed_rpm is None else max_speed_rpm)
     margin = float(case.limits.speed_margin if margin is None else margin)
@@ -123,7 +122,7 @@ def build_problem(case, max_speed_rpm, margin, min_rate) -> tuple[Problem, Grid]
         motion=case.motion,
         follower=case.follower,
         model=model,
-        osc=osc,
+        kind=kind,
         rigid=model.rigid,
         scale=model.scale,
         m=float(model.mass),
@@ -135,7 +134,7 @@ def build_problem(case, max_speed_rpm, margin, min_rate) -> tuple[Problem, Grid]
         margin=margin,
         W=margin * speed_rpm * RPM,
         fmin=float(case.limits.min_contact_force),
-        k_lo=rate_to_si(float(min_rate), osc),
+        k_lo=kind.rate_to_si(float(min_rate)),
         f0_lo=min_preload(case),
     )
     if p.fmin < 0.0:

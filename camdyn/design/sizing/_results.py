@@ -9,6 +9,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..._core.kinds import FOLLOWER_KINDS, FollowerKind
+from ...schema import dynamics_keys
 from .._check import Check
 from ..spring import SpringDesign as SpringPart  # the part (wire, coils), not this module's (rate, preload)
 
@@ -50,19 +52,8 @@ class SpringDesign:
         """Whether the least contact force meets ``fmin`` (N), to 1e-6 of the peak contact force."""
         return bool(self.least_force >= fmin - 1e-6 * max(1.0, abs(self.peak_contact)))
 
-    def json(self, oscillating: bool, fmin: float) -> dict:
-        if oscillating:
-            keys = {
-                "torsion_rate_N_m_per_rad": self.rate,
-                "preload_torque_N_m": self.preload,
-                "peak_spring_torque_N_m": self.peak_spring,
-            }
-        else:
-            keys = {
-                "spring_rate_N_per_mm": self.rate,
-                "preload_N": self.preload,
-                "peak_spring_force_N": self.peak_spring,
-            }
+    def json(self, kind: FollowerKind, fmin: float) -> dict:
+        keys = dict(zip(spring_keys(kind), (self.rate, self.preload, self.peak_spring), strict=True))
         return keys | {
             "least_contact_force_N": self.least_force,
             "least_contact_force_deg": self.least_force_deg,
@@ -77,13 +68,20 @@ class SpringDesign:
         }
 
 
+def spring_keys(kind: FollowerKind) -> tuple[str, str, str]:
+    """The JSON keys of a spring's rate, preload and peak force for ``kind`` (``spring_rate_N_per_mm``, ...)."""
+    _, rate, preload, _, _ = dynamics_keys(kind)
+    force = f"{kind.force_word}_{kind.force_suffix}"
+    return f"{rate}_{kind.rate_suffix}", f"{preload}_{kind.force_suffix}", f"peak_spring_{force}"
+
+
 @dataclass(frozen=True)
 class SpringSizing:
     """The result of :func:`size_spring`: the chosen spring, the kinematic LP answer it was corrected from,
     the case's current spring, the least preload at the current rate, and the feasible region."""
 
     case_name: str
-    oscillating: bool
+    kind: FollowerKind
     model: str  # "rigid" | "compliant"
     speed_rpm: float  # the maximum operating speed
     margin: float
@@ -110,17 +108,20 @@ class SpringSizing:
     spring_mass_kg: float = 0.0  # the spring whose mass is in the dynamics (buildable: the proposed part's)
 
     @property
+    def oscillating(self) -> bool:
+        return self.kind.rotary
+
+    @property
     def units(self) -> dict:
-        if self.oscillating:
-            return {"rate": "N*m/rad", "preload": "N*m", "spring": "N*m", "lift": "rad"}
-        return {"rate": "N/mm", "preload": "N", "spring": "N", "lift": "mm"}
+        k = self.kind
+        return {"rate": k.rate_unit, "preload": k.force_unit, "spring": k.force_unit, "lift": k.motion_unit}
 
     def json(self) -> dict:
-        osc, fmin = self.oscillating, self.min_contact_force
-        chosen = self.chosen.json(osc, fmin)
+        kind, fmin = self.kind, self.min_contact_force
+        chosen = self.chosen.json(kind, fmin)
         out = {
             "case": self.case_name,
-            "follower": "oscillating" if osc else "translating",
+            "follower": kind.name,
             "model": self.model,
             "max_speed_rpm": self.speed_rpm,
             "margin": self.margin,
@@ -128,16 +129,10 @@ class SpringSizing:
             "min_contact_force_N": fmin,
             "min_rate": self.min_rate,
             "units": self.units,
-            "spring_rate_N_per_mm": None,
-            "preload_N": None,
-            "peak_spring_force_N": None,
-            "torsion_rate_N_m_per_rad": None,
-            "preload_torque_N_m": None,
-            "peak_spring_torque_N_m": None,
-        }
+        } | {key: None for each in FOLLOWER_KINDS for key in spring_keys(each)}
         out |= chosen
         out["jump_speed_rpm"] = chosen["dynamic_jump_speed_rpm"]  # what `check` judges the margin on
-        kin = self.kinematic.json(osc, fmin)
+        kin = self.kinematic.json(kind, fmin)
         out["kinematic_answer"] = kin
         rate_key, pre_key, peak_key = list(chosen)[:3]
         out["dynamic_correction"] = {
@@ -148,8 +143,8 @@ class SpringSizing:
             if None in (chosen["dynamic_jump_speed_rpm"], kin["dynamic_jump_speed_rpm"])
             else chosen["dynamic_jump_speed_rpm"] - kin["dynamic_jump_speed_rpm"],
         }
-        out["current"] = self.current.json(osc, fmin)
-        out["at_current_rate"] = self.at_current_rate.json(osc, fmin)
+        out["current"] = self.current.json(kind, fmin)
+        out["at_current_rate"] = self.at_current_rate.json(kind, fmin)
         out["binding"] = [{"start_deg": a, "end_deg": b, "speed_rpm": w} for a, b, w in self.binding]
         out["dynamic_binding"] = (
             None

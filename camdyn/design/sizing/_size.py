@@ -8,8 +8,9 @@ import math
 import numpy as np
 
 from ..._core.errors import InputError
-from ..._core.units import RPM, rate_from_si, rate_to_si
+from ..._core.units import RPM
 from ..parts import resolve_spring
+from ..valvetrain import refuse_valvetrain
 from ._buildable import HEADROOM, WRITTEN_DIGITS, buildable_fixed_point
 from ._design import design
 from ._dynamic import Dynamic, dynamic_answer
@@ -34,11 +35,7 @@ def _kinematic_answer(p: Problem, grid: Grid) -> tuple[float, float, str, str, G
     """(k, F0) of the kinematic problem, how damping was treated, the method, and the refined grid."""
     if p.c_fixed is not None or p.zeta == 0.0:
         k, f0, grid = lp(p, grid, p.damping(0.0))
-        what = (
-            "no damping"
-            if p.damping(0.0) == 0.0
-            else f"constant damping c = {p.c_fixed:g} {'N*m*s/rad' if p.osc else 'N*s/m'}"
-        )
+        what = "no damping" if p.damping(0.0) == 0.0 else f"constant damping c = {p.c_fixed:g} {p.kind.damping_unit}"
         return k, f0, f"{what}: the linear program is exact", _LP_METHOD, grid
     k, f0, grid = ratio_answer(p, grid)
     note = (
@@ -72,7 +69,7 @@ def _warnings(p: Problem, k: float, min_rate: float, bind) -> tuple[str, ...]:
                 "where the follower leaves full lift, moves the binding onto that flank: no tie"
             )
         out.append(
-            f"the least peak force is reached at the least rate ({min_rate:g} {'N*m/rad' if p.osc else 'N/mm'}): "
+            f"the least peak force is reached at the least rate ({min_rate:g} {p.kind.rate_unit}): "
             f"any rate adds k times (full lift - lift at the binding angle) to the peak{why}; pass --min-rate for "
             "the least preload with the rate you have"
         )
@@ -123,6 +120,7 @@ def size_spring(
     :mod:`camdyn.design.sizing` for the method, the tie-break rule and the dynamic correction. Raises
     :class:`InputError` on bad input."""
     _check_options(max_speed_rpm, margin, min_rate)
+    refuse_valvetrain(case, "size")
     case = resolve_spring(case)
     part = check = None
     if buildable:
@@ -139,7 +137,7 @@ def size_spring(
         k, f0, dyn_bind = dynamic_answer(dynamic, grid, k_kin)
         method += _DYNAMIC_METHOD
     if buildable:
-        k, f0 = rate_to_si(rate_w, p.osc), f0_w
+        k, f0 = p.kind.rate_to_si(rate_w), f0_w
         method += (
             "; buildable: the least peak force over the springs [spring] allows, their surge clear of the cam's "
             "strong harmonics (a scan of rates, the designer's largest preload per rate), with the proposed "
@@ -159,7 +157,7 @@ def size_spring(
     rates, pre_kin, pre_dyn = _region(p, grid, dynamic, 1.5 * max(k, k_kin, k_cur, p.k_lo, 1e-12))
     return SpringSizing(
         case_name=case.name,
-        oscillating=p.osc,
+        kind=p.kind,
         model="rigid" if p.rigid else "compliant",
         speed_rpm=p.speed_rpm,
         margin=p.margin,
@@ -175,7 +173,7 @@ def size_spring(
         dynamic_binding=dyn_bind,
         damping=damping_note,
         method=method,
-        region_rate=rate_from_si(rates, p.osc),
+        region_rate=p.kind.rate_from_si(rates),
         region_preload_kinematic=pre_kin,
         region_preload_dynamic=pre_dyn,
         lines=_lines(p, grid, k_kin, f0_kin, rates),

@@ -14,15 +14,15 @@ from ._contact import with_spring_damping
 from ._grid import GAP_ATOL, GAP_LAST, GAP_MAX_STEPS, GAP_REVS, GAP_RTOL, GAP_SAMPLES
 
 
-def diffrax_gap_const(case, lever_arm_mm):
+def diffrax_gap_const(case, gap_weight_mm):
     """The kernel's constants: segment boundaries over the revolutions, the sampled angles of the last
-    revolutions, the cam there and the gap weight (``lever_arm_mm(theta)`` for an oscillating follower)."""
+    revolutions, the cam there and the gap weight ``gap_weight_mm(theta)`` (1, or an arm's lever arm)."""
     motion = case.motion.jit_form()  # compiled once per follower kind, not once per case
     breaks = np.asarray(motion.jump_angles())  # +inf past a program's breaks: the controller skips those
     jumps = np.sort((breaks[None, :] + TWO_PI * np.arange(GAP_REVS + 1)[:, None]).ravel())
     ts = TWO_PI * (GAP_REVS - GAP_LAST) + np.arange(GAP_LAST * GAP_SAMPLES) * (TWO_PI / GAP_SAMPLES)
     s_ts = np.asarray(evaluate(motion, jnp.asarray(ts)))[0]
-    w_ts = lever_arm_mm(ts % TWO_PI) if case.oscillating else np.ones_like(ts)
+    w_ts = gap_weight_mm(ts % TWO_PI)
     return (motion, case.model, jnp.asarray(jumps), jnp.asarray(ts), jnp.asarray(s_ts), jnp.asarray(w_ts))
 
 

@@ -12,11 +12,12 @@ import numpy as np
 from ..._core.errors import InputError, NumericalError
 from ..._core.progress import Progress, counter
 from ..._core.sharding import run_batched
-from ..._core.units import RPM, TWO_PI, rate_from_si, rate_to_si
+from ..._core.units import RPM, TWO_PI
 from ...model import dynamics as dyn
-from ...model.geometry import newton_per_torque_at
+from ...model.geometry import contact_per_force, newton_per_torque_at
 from ...model.motion import evaluate
 from ..parts import resolve_spring, spring_mass_notes
+from ..valvetrain import refuse_valvetrain
 from ._contact import damping_kernel, kinematic_kernel, linear_kernel, with_spring_damping
 from ._diffrax_gap import diffrax_gap_const, diffrax_gap_kernel
 from ._exact_gap import exact_gap_kernel
@@ -41,7 +42,7 @@ class _Points:
 
 def _points(case, speeds_rpm, spring_rates, devices) -> _Points:
     base = case.model
-    rate0 = rate_from_si(float(base.stiffness), case.oscillating)
+    rate0 = case.kind.rate_from_si(float(base.stiffness))
     speeds = np.atleast_1d(np.asarray(speeds_rpm, dtype=float))
     rates = np.atleast_1d(np.asarray(spring_rates if spring_rates is not None else [rate0], dtype=float))
     check_grid_size(speeds.size, rates.size)
@@ -52,13 +53,16 @@ def _points(case, speeds_rpm, spring_rates, devices) -> _Points:
     ):
         raise InputError("sweep", "speeds and spring rates must be positive and finite")
     sp, kr = np.meshgrid(speeds, rates, indexing="ij")
-    k_si = rate_to_si(kr.ravel(), case.oscillating)
+    k_si = case.kind.rate_to_si(kr.ravel())
     return _Points(
         speeds, rates, sp.ravel() * RPM, k_si, run_batched(damping_kernel, base, [k_si], LINEAR_CHUNK, None, devices)
     )
 
 
-def _lever_arm_mm(case, theta) -> np.ndarray:
+def _gap_weight_mm(case, theta) -> np.ndarray:
+    """The contact's gap (mm) per unit of the follower's gap (mm, or rad of swing: the lever arm, mm)."""
+    if not case.kind.rotary:
+        return np.ones(np.shape(theta))
     return 1000.0 / newton_per_torque_at(case.motion, case.follower, np.asarray(theta))
 
 
@@ -77,7 +81,7 @@ def _rigid_gaps(case, pts: _Points, idx, progress) -> tuple[np.ndarray, dict[int
         except Exception as err:  # noqa: BLE001  (a bug at one point: flagged in its row, the map goes on)
             gap[i], why[int(i)] = np.nan, f"internal error in the flight model: {type(err).__name__}: {err}"
         else:
-            w = _lever_arm_mm(case, np.deg2rad(r.theta_deg)) if case.oscillating else 1.0
+            w = _gap_weight_mm(case, np.deg2rad(r.theta_deg))
             gap[i] = max(0.0, float(np.max((r.x - r.s) * w)))
         step(1)
     return gap, why
@@ -117,11 +121,11 @@ def _compliant_map(case, pts: _Points, angles, gaps: bool, gap_method: str, prog
     point = [pts.omega[idx], pts.k[idx], pts.c[idx]]
     if gap_method == "exact":
         tab = vals[:3, ::GAP_STRIDE] / base.scale  # the same angles: no second evaluation of the motion (its compile)
-        w_tab = _lever_arm_mm(case, theta[::GAP_STRIDE]) if case.oscillating else np.ones(tab.shape[1])
+        w_tab = _gap_weight_mm(case, theta[::GAP_STRIDE])
         gconst = (base, *tab, w_tab, np.fft.rfft(vals[0] / base.scale))
         g = run_batched(exact_gap_kernel, gconst, point, GAP_CHUNK, tick, devices)
     else:
-        gconst = diffrax_gap_const(case, lambda t: _lever_arm_mm(case, t))
+        gconst = diffrax_gap_const(case, lambda t: _gap_weight_mm(case, t))
         g = run_batched(diffrax_gap_kernel, gconst, [*point, z0[idx]], GAP_CHUNK, tick, devices)
     gap[idx] = np.maximum(g, 0.0)
     how = "exact piecewise-linear stepping" if gap_method == "exact" else "diffrax"
@@ -166,6 +170,7 @@ def jump_map(
     gap of the separated points (the nonlinear integration, most of the cost of a rigid follower's map): their
     ``max_gap`` is NaN; the least force, the separation and the jump boundary are the same.
     """
+    refuse_valvetrain(case, "sweep")
     devices = tuple(jax.devices() if devices is None else devices)
     if gap_method not in ("exact", "diffrax"):
         raise ValueError(f"gap_method must be 'exact' or 'diffrax', not {gap_method!r}")
@@ -174,7 +179,7 @@ def jump_map(
     base = case.model
     theta = np.arange(GRID_N) * (TWO_PI / GRID_N)
     vals = np.asarray(evaluate(case.motion, theta)) * base.scale
-    weight = newton_per_torque_at(case.motion, case.follower, theta) if case.oscillating else np.ones(GRID_N)
+    weight = contact_per_force(case.motion, case.follower, theta)
     angles = (theta, vals, weight)
     if base.rigid:
         signed, separated, gap, why = _rigid_map(case, pts, angles, gaps, progress, devices)
@@ -190,7 +195,7 @@ def jump_map(
     return JumpMap(
         case=case.name,
         model="rigid" if base.rigid else "compliant",
-        oscillating=case.oscillating,
+        kind=case.kind,
         speeds_rpm=pts.speeds_rpm,
         spring_rates=pts.rates,
         min_force=np.where(bad, np.nan, np.where(separated, 0.0, signed)).reshape(pts.shape),
@@ -198,7 +203,7 @@ def jump_map(
         max_gap=np.where(bad, np.nan, gap).reshape(pts.shape),
         contact_force=np.asarray(signed).reshape(pts.shape),
         speed_rpm=float(case.speed_rpm),
-        spring_rate=rate_from_si(float(base.stiffness), case.oscillating),
+        spring_rate=case.kind.rate_from_si(float(base.stiffness)),
         preload=float(base.preload),
         devices=len(devices),
         notes=notes,

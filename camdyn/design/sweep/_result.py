@@ -19,6 +19,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..._core.kinds import FollowerKind
+
 CSV_COLUMNS = (
     "speed_rpm",
     "spring_rate_N_per_mm",
@@ -49,7 +51,7 @@ class JumpMap:
 
     case: str
     model: str  # "compliant" | "rigid"
-    oscillating: bool
+    kind: FollowerKind
     speeds_rpm: np.ndarray  # (ns,)
     spring_rates: np.ndarray  # (nk,) N/mm; N*m/rad for an oscillating follower
     min_force: np.ndarray  # least interface force, N; 0 where the follower separates; NaN where the point failed
@@ -66,12 +68,16 @@ class JumpMap:
     status: np.ndarray | None = None  # str per point: "ok" or "failed: <reason>"; None: every point ok
 
     @property
+    def oscillating(self) -> bool:
+        return self.kind.rotary
+
+    @property
     def spring_rate_unit(self) -> str:
-        return "N*m/rad" if self.oscillating else "N/mm"
+        return self.kind.rate_unit
 
     @property
     def preload_unit(self) -> str:
-        return "N*m" if self.oscillating else "N"
+        return self.kind.force_unit
 
     @property
     def statuses(self) -> np.ndarray:
@@ -103,6 +109,6 @@ class JumpMap:
         for speed, rate, force, sep, gap, st in rows:
             ok = st == STATUS_OK
             sep_text = f"{sep:d}" if ok else "nan"
-            torsion = f"{rate:.10g}" if self.oscillating else ""
+            torsion = f"{rate:.10g}" if self.kind.rotary else ""
             buf.write(f"{speed:.10g},{rate:.10g},{force:.10g},{sep_text},{gap:.10g},{torsion},{quoted[st]}\n")
         return buf.getvalue()

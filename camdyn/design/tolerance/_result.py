@@ -15,26 +15,25 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..._core.kinds import TRANSLATING, FollowerKind
+
 PARAM_KEYS = ("spring_rate", "preload", "mass", "train_stiffness", "speed", "profile_error")
-_UNITS = {
-    False: ("N_per_mm", "N", "kg", "N_per_mm", "rpm", "mm"),
-    True: ("N_m_per_rad", "N_m", "kg_m2", "N_m_per_rad", "rpm", "rad"),
-}
 
 
-def csv_columns(oscillating: bool) -> tuple[str, ...]:
+def csv_columns(kind: FollowerKind) -> tuple[str, ...]:
     """The CSV's columns for a translating follower or an oscillating arm."""
     names = [f"{k}_rms" if k == "profile_error" else k for k in PARAM_KEYS]
+    units = (kind.rate_suffix, kind.force_suffix, kind.mass_suffix, kind.rate_suffix, "rpm", kind.motion_unit)
     return (
         "sample",
-        *(f"{n}_{u}" for n, u in zip(names, _UNITS[oscillating], strict=True)),
+        *(f"{n}_{u}" for n, u in zip(names, units, strict=True)),
         "least_contact_force_N",
         "jump_speed_rpm",
         "separated",
     )
 
 
-CSV_COLUMNS = csv_columns(False)
+CSV_COLUMNS = csv_columns(TRANSLATING)
 
 
 @dataclass(frozen=True)
@@ -42,7 +41,7 @@ class ToleranceResult:
     """A Monte Carlo tolerance study: per sample its parameters (case-file units), least force and jump speed."""
 
     case: str
-    oscillating: bool
+    kind: FollowerKind
     seed: int
     speed_rpm: float  # the case's
     params: dict[str, np.ndarray]  # PARAM_KEYS -> (n,) (profile_error: the RMS of each sample's lift error)
@@ -76,7 +75,7 @@ class ToleranceResult:
     def csv(self) -> str:
         """CSV text, one row per sample, columns :func:`csv_columns`."""
         buf = io.StringIO()
-        buf.write(",".join(csv_columns(self.oscillating)) + "\n")
+        buf.write(",".join(csv_columns(self.kind)) + "\n")
         cols = [self.params[k].tolist() for k in PARAM_KEYS]
         for i, row in enumerate(zip(*cols, self.least_force.tolist(), self.jump_speed_rpm.tolist(), strict=True)):
             buf.write(f"{i:d}," + ",".join(f"{v:.10g}" for v in row) + f",{row[-2] <= 0.0:d}\n")

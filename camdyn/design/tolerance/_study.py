@@ -14,11 +14,12 @@ from scipy.stats import binomtest
 from ..._core.errors import InputError
 from ..._core.progress import Progress, counter
 from ..._core.sharding import run_batched
-from ..._core.units import PROFILE_ERROR_HARMONICS, RPM, THETA_GRID, rate_from_si, rate_to_si, tolerance_unit
+from ..._core.units import PROFILE_ERROR_HARMONICS, RPM, THETA_GRID, tolerance_unit
 from ...model import dynamics as dyn
-from ...model.geometry import newton_per_torque_at
+from ...model.geometry import contact_per_force
 from ...schema import resolve_tolerances
 from ..parts import resolve_spring
+from ..valvetrain import refuse_valvetrain
 from ._kernel import Sample, make_grid, rigid_tolerance_kernel, tolerance_kernel
 from ._result import ToleranceResult
 from ._sampling import SCALAR_KEYS, draw_samples, spreads
@@ -32,12 +33,12 @@ MAX_SAMPLES = 10_000_000
 
 
 def _nominal(case) -> dict[str, float]:
-    m, osc = case.model, case.oscillating
+    m, kind = case.model, case.kind
     return {
-        "spring_rate": float(rate_from_si(m.stiffness, osc)),
+        "spring_rate": float(kind.rate_from_si(m.stiffness)),
         "preload": float(m.preload),
         "mass": float(m.mass),
-        "train_stiffness": float(rate_from_si(m.train_stiffness, osc)),
+        "train_stiffness": float(kind.rate_from_si(m.train_stiffness)),
         "speed": float(case.speed_rpm),
         "profile_error": 0.0,
     }
@@ -51,12 +52,12 @@ def _search_limit(case) -> float:
 
 
 def _to_si(case, vals: dict[str, np.ndarray]) -> list[np.ndarray]:
-    osc = case.oscillating
+    kind = case.kind
     return [
-        rate_to_si(vals["spring_rate"], osc),
+        kind.rate_to_si(vals["spring_rate"]),
         vals["preload"],
         vals["mass"],
-        rate_to_si(vals["train_stiffness"], osc),
+        kind.rate_to_si(vals["train_stiffness"]),
         vals["speed"] * RPM,
         vals["profile_coeffs"],
     ]
@@ -71,10 +72,11 @@ def tolerance_study(
     mesh after :func:`camdyn._core.distributed.initialize`); the result does not depend on them."""
     if not 1 <= samples <= MAX_SAMPLES:
         raise InputError("--samples", f"must be from 1 to {MAX_SAMPLES}, got {samples}")
+    refuse_valvetrain(case, "tolerance")
     devices = tuple(jax.devices() if devices is None else devices)
     case = resolve_spring(case)  # [spring] model: the spring's own mass (its lumped third) in the nominal mass
-    osc, base = case.oscillating, case.model
-    tols = resolve_tolerances(case.spec.tolerances, oscillating=osc) if case.spec.tolerances is not None else ()
+    kind, base = case.kind, case.model
+    tols = resolve_tolerances(case.spec.tolerances, kind=kind) if case.spec.tolerances is not None else ()
     if base.rigid and any(t.key == "train_stiffness" for t in tols):
         raise InputError(
             "tolerances.train_stiffness",
@@ -87,9 +89,10 @@ def tolerance_study(
         if np.any(vals[key] <= 0.0):
             raise InputError(
                 f"tolerances.{key}",
-                f"the tolerance reaches a value <= 0 {tolerance_unit(key, osc)} in some samples: give a smaller one",
+                f"the tolerance reaches a value <= 0 {tolerance_unit(key, kind.rotary)} in some samples: give a "
+                "smaller one",
             )
-    weight = (lambda t: newton_per_torque_at(case.motion, case.follower, t)) if osc else (lambda t: np.ones_like(t))
+    weight = lambda t: contact_per_force(case.motion, case.follower, t)  # noqa: E731
     fine = make_grid(case, THETA_GRID, PROFILE_ERROR_HARMONICS, weight)
     scan = make_grid(case, SCAN_GRID, PROFILE_ERROR_HARMONICS, lambda t: np.ones_like(t))
     w_max = _search_limit(case)
@@ -107,13 +110,13 @@ def tolerance_study(
     sens, w_star = _sensitivities(case, base, scan, w_max, nominal, spread, vals, jump_rpm)
     return ToleranceResult(
         case=case.name,
-        oscillating=osc,
+        kind=kind,
         seed=seed,
         speed_rpm=float(case.speed_rpm),
         params=params,
         least_force=np.asarray(force),
         jump_speed_rpm=jump_rpm,
-        tolerances={t.key: _describe(t, spread[t.key], osc) for t in tols},
+        tolerances={t.key: _describe(t, spread[t.key], kind.rotary) for t in tols},
         probability=sep / samples,
         confidence_interval=(float(ci.low), float(ci.high)),
         sensitivities=sens,
@@ -124,23 +127,23 @@ def tolerance_study(
     )
 
 
-def _describe(t, sp, osc: bool) -> dict:
+def _describe(t, sp, rotary: bool) -> dict:
     return {
         "tolerance": t.value * 100.0 if t.relative else t.value,
-        "unit": "%" if t.relative else tolerance_unit(t.key, osc),
+        "unit": "%" if t.relative else tolerance_unit(t.key, rotary),
         "distribution": t.distribution,
         "sigma": sp.sigma,
-        "sigma_unit": tolerance_unit(t.key, osc),
+        "sigma_unit": tolerance_unit(t.key, rotary),
     }
 
 
 def _sensitivities(case, base, scan, w_max, nominal, spread, vals, jump_rpm):
     """Per key: the gradient sensitivity, its share of the linearised variance and the Monte Carlo share."""
-    osc = case.oscillating
+    kind = case.kind
     si = dict(
         zip(
             ("spring_rate", "preload", "mass", "train_stiffness", "speed"),
-            (rate_to_si(1.0, osc), 1.0, 1.0, rate_to_si(1.0, osc), RPM),
+            (kind.rate_to_si(1.0), 1.0, 1.0, kind.rate_to_si(1.0), RPM),
             strict=True,
         )
     )

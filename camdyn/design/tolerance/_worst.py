@@ -6,25 +6,20 @@ error's RMS (the least force and jump speed in the header are the sample's, with
 
 from __future__ import annotations
 
-from ...schema import read_toml
+from ...schema import LINEAR_KEYS, dynamics_keys, read_toml
 from ._result import ToleranceResult
-
-_KEYS = {
-    False: ("spring_rate", "preload", "mass", "train_stiffness"),
-    True: ("torsion_rate", "preload_torque", "inertia", "train_torsion_rate"),
-}
 
 
 def worst_case_docs(case, result: ToleranceResult) -> list[tuple[dict, list[str]]]:
     """Per worst sample (least contact force first): the case as a TOML document and its header lines."""
     raw = read_toml(case.source) if case.source is not None else case.spec.model_dump(mode="json", exclude_none=True)
     raw.pop("tolerances", None)
+    names = dict(zip(LINEAR_KEYS, dynamics_keys(case.kind), strict=True))  # a translating key -> the kind's
     out = []
     for rank, i in enumerate(result.worst, start=1):
         doc = {**raw, "name": f"{case.name}-worst-{rank}", "dynamics": dict(raw["dynamics"])}
-        for key, name in zip(
-            ("spring_rate", "preload", "mass", "train_stiffness"), _KEYS[case.oscillating], strict=True
-        ):
+        for key in ("spring_rate", "preload", "mass", "train_stiffness"):
+            name = names[key]
             if key != "train_stiffness" or name in doc["dynamics"]:
                 doc["dynamics"][name] = float(result.params[key][i])
         doc["dynamics"]["speed"] = float(result.params["speed"][i])
@@ -32,7 +27,7 @@ def worst_case_docs(case, result: ToleranceResult) -> list[tuple[dict, list[str]
             f"camdyn tolerance: sample {i} of {result.samples} (seed {result.seed}) of case {case.name!r}, worst "
             f"{rank} by least contact force",
             f"with its profile error (RMS {result.params['profile_error'][i]:.4g} "
-            f"{'rad' if case.oscillating else 'mm'}, not in this file): least contact force "
+            f"{case.kind.motion_unit}, not in this file): least contact force "
             f"{result.least_force[i]:.6g} N, dynamic jump speed {result.jump_speed_rpm[i]:.6g} rpm",
         ]
         out.append((doc, header))

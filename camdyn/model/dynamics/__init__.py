@@ -25,6 +25,7 @@ from ._response import dynamic_jump_speed, first_zero_speed, jump_search_limit, 
 from ._result import Flight, Impact, Response, Separation
 from ._rigid import rigid_response
 from ._train import contact_force, preload_share, static_position, train_force
+from ._valvetrain import ValveEvent, ValvetrainResponse, bounce_speed, float_speed, valvetrain_response
 
 __all__ = [
     "Flight",
@@ -52,4 +53,9 @@ __all__ = [
     "static_position",
     "steady_state",
     "train_force",
+    "ValveEvent",
+    "ValvetrainResponse",
+    "bounce_speed",
+    "float_speed",
+    "valvetrain_response",
 ]

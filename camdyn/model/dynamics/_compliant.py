@@ -18,9 +18,9 @@ from ..._core.errors import NumericalError
 from ..._core.jit import cached_jit
 from ..._core.units import RPM, THETA_GRID, TWO_PI
 from ..follower import FollowerModel
-from ..motion import Motion, evaluate
+from ..motion import Motion
 from ._harmonic import steady_state
-from ._kinematic import kinematic_force, kinematic_force_jit
+from ._kinematic import kinematic_force, kinematic_force_of
 from ._result import Response, residual_vibration, separations_from_mask
 from ._solver import ATOL, MAX_STEPS, RTOL
 from ._train import contact_force, static_position
@@ -56,15 +56,22 @@ def _contact_force(motion, model, omega, theta, x, p):
 _contact_force_jit = cached_jit(_contact_force)
 
 
-def _quasi_static_start(motion, model, omega):
-    s, s1, _, _ = motion(jnp.asarray(0.0))
-    fi = kinematic_force(motion, model, omega, jnp.asarray(0.0))
-    return jnp.stack([s - fi / (model.train_stiffness * model.scale), s1])
+@cached_jit
+def _response_arrays(motion, model, omega, theta, x, p):
+    """The steady state's interface force, the motion's values (4, n) and the kinematic force on ``theta``: one
+    compiled program (each program a fresh process loads costs a cache look-up)."""
+    fi = _contact_force(motion, model, omega, theta, x, p)
+    return fi, motion(theta), kinematic_force(motion, model, omega, theta)
+
+
+def _quasi_static(model, omega, sv):
+    """The shooting's start (x, dx/dtheta) from the motion's values ``sv`` = (s, s', s'', ...) at theta = 0: the
+    follower where the train's compression carries the kinematic force. jax.numpy or numpy alike."""
+    fi = kinematic_force_of(model, omega, *(sv[:3] * model.scale))
+    return sv[0] - fi / (model.train_stiffness * model.scale), sv[1]
 
 
 _NEWTON_ITERS = 8
-
-_quasi_static_jit = cached_jit(_quasi_static_start)
 
 
 def _variational_field(theta, y, args):
@@ -98,6 +105,14 @@ _rev_jit = cached_jit(_rev_with_sensitivity)
 
 
 _PLAIN_REVS = 60  # after Newton stalls (non-smooth bouncing): revolutions of plain iteration at most
+# Revolutions without a better residual after which an orbit already periodic to within PERIODIC_TOL stops: a
+# follower that taps the cam many times a revolution has a mismatch floor set by the solver's tolerances (1e-8 to
+# 1e-7 mm for a thousand 0.36 deg cycloids), far above the Newton tolerance, and revolutions more only add noise.
+_FLOOR_REVS = 2
+# Revolutions without a better residual after which a bouncing that is not periodic (a period-2 orbit, chatter)
+# stops: its best revolution is then the answer, and each revolution of a dense program costs seconds.
+_STALL_REVS = 10
+PERIODIC_TOL = 1e-6  # mismatch, times the largest lift (or 1, motion units), above which the orbit is not periodic
 
 
 def _contact_mode(model: FollowerModel) -> float:
@@ -129,29 +144,45 @@ def periodic_orbit(motion: Motion, model: FollowerModel, omega: float, theta):
     JAX autodiff). While the follower stays in contact the flow is affine and Newton converges in one step.
     Where a separation makes the flow non-smooth and a Newton step does not reduce the residual, the
     iteration falls back to plain revolutions (the transient dies out revolution by revolution).
+    The iteration stops at a residual of 1e-10 (relative), or once the best residual is within
+    :func:`periodic_tol` and ``_FLOOR_REVS`` revolutions more have not lowered it (the solver's noise floor).
+    Either way, ``_STALL_REVS`` revolutions without a lower residual end it (a bouncing that is not periodic).
     Returns the trajectory (x, dx/dtheta; motion units) on ``theta`` (n, 2) of the best iterate and its residual
     |Phi(z0) - z0|; NumericalError if a revolution does not integrate.
     """
-    # the Newton bookkeeping is 2x2 numpy: eager jax ops would each compile a tiny program on first use
-    z = np.asarray(_quasi_static_jit(motion, model, jnp.asarray(omega, dtype=float)))
+    traj, residual, _, _ = _shoot(motion, model, omega, theta)
+    return traj, residual
+
+
+def _shoot(motion: Motion, model: FollowerModel, omega: float, theta):
+    """:func:`periodic_orbit`, and which revolution (1-based) it returns of how many it integrated."""
+    # the start and the Newton bookkeeping are numpy: eager jax ops would each compile a tiny program on first use
+    w = np.asarray(omega, dtype=float)
+    z = np.array(_quasi_static(jax.device_get(model), omega, motion.host(np.zeros(()))))
     tol = 1e-10 * (1.0 + float(np.max(np.abs(z))))
-    w = jnp.asarray(omega, dtype=float)
-    best_traj, best_r, r_prev = None, math.inf, math.inf
+    floor = periodic_tol(motion.host(theta)[0])
+    best_traj, best_r, best_i, r_prev = None, math.inf, 0, math.inf
     for i in range(_NEWTON_ITERS + _PLAIN_REVS):
-        traj, phi, mono, ok = _rev_jit(motion, model, w, jnp.asarray(z), theta)
+        traj, phi, mono, ok = _rev_jit(motion, model, w, z, theta)
         phi, mono = np.asarray(phi), np.asarray(mono)
         if not bool(ok) or not np.all(np.isfinite(phi)):
             raise NumericalError(f"dynamics at {omega / RPM:.4g} rpm", _integration_failure(model, omega))
         r = float(np.linalg.norm(phi - z))
         if r < best_r:
-            best_traj, best_r = traj, r
-        if best_r <= tol:
+            best_traj, best_r, best_i = traj, r, i
+        if best_r <= tol or (best_r <= floor and i - best_i >= _FLOOR_REVS) or i - best_i >= _STALL_REVS:
             break
         newton = i < _NEWTON_ITERS and r <= r_prev
         z = z - np.linalg.solve(mono - np.eye(2), phi - z) if newton else phi
         r_prev = r
     assert best_traj is not None  # every revolution is finite (else NumericalError), so the first one is kept
-    return best_traj, best_r
+    return best_traj, best_r, best_i + 1, i + 1
+
+
+def periodic_tol(lift) -> float:
+    """The revolution-to-revolution mismatch (motion units) up to which a steady state counts as periodic:
+    ``PERIODIC_TOL`` times the largest ``lift`` (the cam's, motion units), at least 1 unit."""
+    return PERIODIC_TOL * max(1.0, float(np.max(np.abs(lift))))
 
 
 def min_contact_force(motion: Motion, model: FollowerModel, omega: float, n: int = THETA_GRID) -> float:
@@ -176,27 +207,26 @@ def _in_contact(motion: Motion, model: FollowerModel, omega, n: int):
 
 def compliant_response(motion: Motion, model: FollowerModel, omega: float, n: int = THETA_GRID) -> Response:
     """Periodic steady state of the compliant follower at cam speed omega (rad/s)."""
-    theta = jnp.arange(n) * (TWO_PI / n)
+    # numpy between the compiled programs: an eager jax op compiles a program of its own
+    theta = np.arange(n) * (TWO_PI / n)
+    w = np.asarray(omega, dtype=float)
     notes = []
     try:
-        traj, residual = periodic_orbit(motion, model, float(omega), theta)
-        x, p = traj[:, 0], traj[:, 1]
+        traj, residual, best_rev, revs = _shoot(motion, model, float(omega), theta)
+        x, p = np.asarray(traj).T
     except NumericalError as err:
         # Far below resonance (a very slow cam) the time integration must resolve millions of train vibrations;
         # the steady state in contact is exact in the frequency domain, and it is the answer if it stays in contact.
-        x, p = _in_contact(motion, model, jnp.asarray(omega, dtype=float), n)
-        if float(np.min(_contact_force_jit(motion, model, jnp.asarray(omega, dtype=float), theta, x, p))) <= 0.0:
+        x, p = (np.asarray(a) for a in _in_contact(motion, model, w, n))
+        if float(np.min(_contact_force_jit(motion, model, w, theta, x, p))) <= 0.0:
             raise err from None
-        residual = 0.0
+        residual, best_rev, revs = 0.0, 0, 0
         notes.append(
             f"at {omega / RPM:.4g} rpm the steady state comes from the frequency domain (exact in contact): the time "
             "integration cannot resolve the train's vibration"
         )
-    fi = np.asarray(_contact_force_jit(motion, model, jnp.asarray(omega, dtype=float), theta, x, p))
-    x, p = np.asarray(x), np.asarray(p)
-    theta_deg = np.degrees(np.asarray(theta))
-    vals = np.asarray(evaluate(motion, theta))
-    kin = np.asarray(kinematic_force_jit(motion, model, jnp.asarray(omega, dtype=float), theta))
+    fi, vals, kin = (np.asarray(a) for a in _response_arrays(motion, model, w, theta, x, p))
+    theta_deg = np.degrees(theta)
     flying = fi <= 0.0
     # contact-mode period, in cam degrees: bounces closer than this belong to one separation
     merge_deg = math.degrees(omega * TWO_PI / _contact_mode(model))
@@ -206,12 +236,11 @@ def compliant_response(motion: Motion, model: FollowerModel, omega: float, n: in
     x_static = static_position(jax.device_get(model), vals[0], model.scale)
     resid, resid_deg = residual_vibration(motion, theta_deg, x - x_static)
     warnings = notes
-    tol = 1e-6 * max(1.0, float(np.max(np.abs(vals[0]))))
-    if float(residual) > tol:
+    if float(residual) > periodic_tol(vals[0]):
         warnings.append(
             f"no exactly periodic steady state at {omega / RPM:.1f} rpm (revolution-to-revolution mismatch "
-            f"{float(residual):.2g} {motion.unit}): the follower's bouncing is not periodic; results are for the best "
-            f"of {_NEWTON_ITERS} shooting iterations and {_PLAIN_REVS} revolutions"
+            f"{float(residual):.2g} {motion.unit}): the follower's bouncing is not periodic; results are for "
+            f"revolution {best_rev} of the {revs} integrated from the quasi-static start (the least mismatch)"
         )
     return Response(
         "compliant",

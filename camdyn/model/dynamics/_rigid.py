@@ -13,7 +13,6 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 import optimistix as optx
-from scipy.optimize import brentq
 
 from ..._core.errors import NumericalError
 from ..._core.jit import filter_jit
@@ -66,6 +65,8 @@ def _lift_off(fk, t_a: float, h: float, breaks_rad: np.ndarray) -> float:
     past it. The grid's own sign change may sit on either side of a boundary on the grid, so the step is widened
     by a step each way before giving up.
     """
+    from scipy.optimize import brentq  # only a follower that leaves the cam gets here: scipy.optimize takes 0.2 s
+
     a, b = t_a, t_a + h
     if fk(a) > 0.0 >= fk(b):
         return cast(float, brentq(fk, a, b, xtol=1e-13))  # unannotated: a float without full_output

@@ -41,7 +41,15 @@ theta = 0 (camdyn's is that rotated by +90 deg); its cw offset delta > 0 is camd
 ccw flat-face formulas take theta as the polar angle of the contact in the cam frame, i.e. minus the cam angle.
 """
 
-from ._analyze import CamGeometry, GeometryExtremes, analyze, extremes, lever_arm_mm, newton_per_torque_at
+from ._analyze import (
+    CamGeometry,
+    GeometryExtremes,
+    analyze,
+    contact_per_force,
+    extremes,
+    lever_arm_mm,
+    newton_per_torque_at,
+)
 from ._inverse import ContactMotion, ContourFit, contact_motion
 from ._kernel import check_assembly, check_dimensions, geometry_of
 from ._size import BASE_RADIUS_STEP_MM, curvature_limit, min_base_radius, passes, rounded_base_radius
@@ -59,6 +67,7 @@ __all__ = [
     "curvature_limit",
     "extremes",
     "geometry_of",
+    "contact_per_force",
     "lever_arm_mm",
     "min_base_radius",
     "newton_per_torque_at",

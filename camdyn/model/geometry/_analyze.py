@@ -211,6 +211,16 @@ def lever_arm_mm(motion, follower: FollowerSpec, theta) -> np.ndarray:
     return evaluate_geometry(motion, follower, theta)["lever"]
 
 
+def contact_per_force(motion, follower: FollowerSpec | None, theta) -> np.ndarray:
+    """The contact force (N) per unit of the force the follower's dynamics carry, at cam angles ``theta`` (rad):
+    1 for a translating follower (camdyn reports its axial force), :func:`newton_per_torque_at` for an arm."""
+    if not motion.kind.rotary:
+        return np.ones(np.shape(theta))
+    if follower is None:
+        raise InputError("follower", "an arm's contact force needs its geometry (the lever arm)")
+    return newton_per_torque_at(motion, follower, theta)
+
+
 def newton_per_torque_at(motion, follower: FollowerSpec, theta) -> np.ndarray:
     """The factor (1/m) turning an arm's torque (N*m) into its contact force (N) at cam angles ``theta`` (rad):
     1 / lever arm. :class:`NumericalError` where the contact normal passes through the pivot (no lever arm)."""

@@ -26,7 +26,6 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.spatial import ConvexHull
 
 from ..._core.errors import InputError
 from ...schema import FollowerSpec
@@ -279,6 +278,8 @@ def contact_motion(samples: Samples, f: FollowerSpec) -> ContactMotion:
                 "is smaller than the roller's",
             )
     else:
+        from scipy.spatial import ConvexHull  # a flat face's contour only: scipy.spatial takes 0.2 s to load
+
         keep[:] = False
         keep[ConvexHull(geo["P"]).vertices] = True
     theta, q = _contacts(f, rb, geo["P"][keep], geo["N"][keep], samples.shown)
@@ -304,8 +305,7 @@ def contact_motion(samples: Samples, f: FollowerSpec) -> ContactMotion:
     pick = order[
         np.unique(np.searchsorted(theta_deg[order], np.linspace(0.0, 360.0, _TARGET, endpoint=False)) % len(order))
     ]
-    scale = 1.0 if f.translating else 180.0 / math.pi
-    return ContactMotion(f, theta_deg[pick], q[pick] * scale, contour, tuple(warnings))
+    return ContactMotion(f, theta_deg[pick], f.kind.motion_to_lift(q[pick]), contour, tuple(warnings))
 
 
 def _noise_warning(contour: ContourFit) -> list[str]:

@@ -11,6 +11,7 @@ import numpy as np
 
 from ..._core.errors import InputError
 from ..._core.jit import cached_jit
+from ..._core.kinds import FollowerType
 from ...schema import FollowerSpec
 from ..motion import evaluate
 
@@ -20,7 +21,7 @@ _BREAK_EPS = 1e-9  # rad: one-sided limits at the motion's breaks, where s'' may
 def check_assembly(motion, f: FollowerSpec) -> None:
     """Raise :class:`InputError` for a follower that cannot carry this motion or cannot be assembled (the keys
     each follower type needs are the schema's: :class:`camdyn.schema.FollowerSpec`)."""
-    want = "mm" if f.translating else "rad"
+    want = f.kind.motion_unit
     if motion.unit != want:
         raise InputError("follower.type", f"a {f.type} follower needs a motion in {want}, got {motion.unit}")
     check_dimensions(f)
@@ -30,7 +31,7 @@ def check_dimensions(f: FollowerSpec) -> None:
     """Raise :class:`InputError` for a follower whose dimensions cannot be assembled on its base circle."""
     assert f.base_radius is not None  # a built follower has it (from the contour where one is given)
     rp = f.base_radius + (f.roller_radius or 0.0)
-    if f.type == "translating-roller" and abs(f.offset) >= rp:
+    if f.translating and f.roller and abs(f.offset) >= rp:
         raise InputError("follower.offset", f"|offset| = {abs(f.offset):g} mm must be below the prime radius {rp:g} mm")
     if not f.translating:
         L = f.pivot_distance
@@ -52,10 +53,10 @@ def check_dimensions(f: FollowerSpec) -> None:
             )
 
 
-def _params(f: FollowerSpec, base_radius: float | None = None) -> jnp.ndarray:
+def _params(f: FollowerSpec, base_radius: float | None = None) -> np.ndarray:
     """Numeric follower parameters (dynamic under jit, so base-circle bisection does not recompile)."""
     rb = f.base_radius if base_radius is None else base_radius
-    return jnp.array(
+    return np.array(
         [
             rb,
             f.roller_radius or 0.0,
@@ -88,18 +89,18 @@ def _pivot(p):
     return p[3] * d, -d
 
 
-def _roller_centre(kind: str, p, q):
+def _roller_centre(ftype: FollowerType, p, q):
     """Roller centre in the fixed frame at follower coordinate q (mm or rad)."""
     rb, rr, e, L, _, a, sigma = p
     rp = rb + rr
-    if kind == "translating-roller":
+    if not ftype.kind.rotary:
         return jnp.stack([sigma * e, jnp.sqrt(rp**2 - e**2) + q])
     D, u = _pivot(p)
     psi0 = jnp.arccos((L**2 + a**2 - rp**2) / (2 * L * a))
     return D + a * _rot(-(psi0 + q), u)
 
 
-def _flat_face(kind: str, p, q):
+def _flat_face(ftype: FollowerType, p, q):
     """Face of a flat follower in the fixed frame at coordinate q.
 
     Returns (m, h, foot, along): the cam's outward normal at the contact (unit), the face's distance from O,
@@ -107,7 +108,7 @@ def _flat_face(kind: str, p, q):
     face in which the face coordinate t is counted.
     """
     rb, _, e, L, _, _, sigma = p
-    if kind == "translating-flat":
+    if not ftype.kind.rotary:
         m = jnp.array([0.0, 1.0])
         return m, rb + q, jnp.stack([sigma * e, rb + q]), jnp.stack([sigma, 0.0 * sigma])
     D, u = _pivot(p)
@@ -123,7 +124,7 @@ def _jet2(F):
     return F(0.0), d1(0.0), jax.jacfwd(d1)(0.0)
 
 
-def _point(kind: str, p, th0, sv):
+def _point(ftype: FollowerType, p, th0, sv):
     """Everything camdyn judges at one cam angle th0 (rad), given the motion values sv = (s, s', s'', s''').
 
     The follower coordinate is expanded as the cubic Taylor polynomial of the motion about th0, so autodiff of
@@ -133,12 +134,12 @@ def _point(kind: str, p, th0, sv):
     q_of = lambda t: sv[0] + t * (sv[1] + t * (sv[2] / 2 + t * sv[3] / 6))  # noqa: E731
     cam = lambda t, v: _rot(-sigma * (th0 + t), v)  # noqa: E731
     nan = jnp.nan
-    if kind.endswith("roller"):
-        P, P1, P2 = _jet2(lambda t: cam(t, _roller_centre(kind, p, q_of(t))))
+    if ftype.roller:
+        P, P1, P2 = _jet2(lambda t: cam(t, _roller_centre(ftype, p, q_of(t))))
         speed = jnp.hypot(P1[0], P1[1])
         N = sigma * _J(P1) / speed  # outward: the pitch curve runs cw for a ccw cam and vice versa
         kappa = -sigma * _cross(P1, P2) / speed**3  # convex positive
-        v = cam(0.0, jax.jacfwd(lambda q: _roller_centre(kind, p, q))(sv[0]))
+        v = cam(0.0, jax.jacfwd(lambda q: _roller_centre(ftype, p, q))(sv[0]))
         rr = p[1]
         return dict(
             pitch=P,
@@ -152,15 +153,15 @@ def _point(kind: str, p, th0, sv):
         )
 
     def face(t):  # the face line in the cam frame: unit normal m and distance h from O
-        m_fixed, h, _, _ = _flat_face(kind, p, q_of(t))
+        m_fixed, h, _, _ = _flat_face(ftype, p, q_of(t))
         return cam(t, m_fixed), h
 
     (m, h), (m1, h1), (m2, h2) = _jet2(face)
-    _, _, foot, along = _flat_face(kind, p, sv[0])
+    _, _, foot, along = _flat_face(ftype, p, sv[0])
     foot, along = cam(0.0, foot), cam(0.0, along)
     a1, a2 = _cross(m, m1), _cross(m, m2)  # d alpha / d theta and its derivative (|m| = 1)
     C = h * m + (h1 / a1) * _J(m)  # envelope of the lines x . m = h
-    if kind == "translating-flat":
+    if not ftype.kind.rotary:
         v = m
     else:  # velocity of the follower point at C for d psi = 1: the arm turns clockwise about D
         D = cam(0.0, _pivot(p)[0])
@@ -178,17 +179,17 @@ def _point(kind: str, p, th0, sv):
 
 
 @cached_jit
-def _geometry(p, theta, sv, kind: str):
+def _geometry(p, theta, sv, ftype: FollowerType):
     """Vectorised :func:`_point`, compiled once per follower type and array bucket whatever the motion (it is
     evaluated apart), the rotation and the lengths: sweeps and base-circle bisection reuse it."""
-    return jax.vmap(lambda th, s: _point(kind, p, th, s), in_axes=(0, 1))(theta, sv)
+    return jax.vmap(lambda th, s: _point(ftype, p, th, s), in_axes=(0, 1))(theta, sv)
 
 
 def geometry_of(f: FollowerSpec, theta, sv) -> dict:
     """The geometry at cam angles ``theta`` (rad) from motion values ``sv`` = (s, s', s'', s''') of shape (4, n),
     as a traceable JAX function of ``sv``: what the optimizer differentiates (pressure angle ``phi`` rad,
     ``kappa_pitch`` 1/mm, ``rho_contour`` mm, ``lever`` mm)."""
-    return jax.vmap(lambda th, s: _point(f.type, _params(f), th, s), in_axes=(0, 1))(theta, sv)
+    return jax.vmap(lambda th, s: _point(f.follower_type, jnp.asarray(_params(f)), th, s), in_axes=(0, 1))(theta, sv)
 
 
 _CHUNK = 4096  # angles per compiled call: a 3600-step revolution plus its breaks fits one
@@ -203,10 +204,9 @@ def evaluate_geometry(motion, f: FollowerSpec, theta_rad, base_radius: float | N
     padded[:n] = flat
     p = _params(f, base_radius)
     parts = []
-    for chunk in padded.reshape(-1, _CHUNK):
-        theta = jnp.asarray(chunk)
+    for theta in padded.reshape(-1, _CHUNK):  # numpy between the programs: an eager jax op compiles one of its own
         sv = evaluate(motion, theta)
-        parts.append(_geometry(p, theta, sv, f.type) | {"s": sv[0]})
+        parts.append(_geometry(p, theta, sv, f.follower_type) | {"s": np.asarray(sv)[0]})
     out = {k: np.concatenate([np.asarray(part[k]) for part in parts])[:n] for k in parts[0]}
     return {k: v.reshape(theta_rad.shape + v.shape[1:]) for k, v in out.items()}
 

@@ -8,7 +8,7 @@ import math
 import numpy as np
 
 from ..._core.errors import NumericalError
-from ..._core.units import CUSP_MM, DEFAULT_MIN_CURVATURE_RATIO, THETA_GRID, default_max_pressure_angle
+from ..._core.units import CUSP_MM, DEFAULT_MIN_CURVATURE_RATIO, THETA_GRID
 from ...schema import FollowerSpec
 from ._analyze import GeometryExtremes, extremes
 from ._kernel import check_assembly
@@ -55,7 +55,7 @@ def min_base_radius(
     radius passes.
     """
     f = follower
-    max_pa = default_max_pressure_angle(f.translating) if max_pressure_angle is None else max_pressure_angle
+    max_pa = f.kind.default_max_pressure_angle_deg if max_pressure_angle is None else max_pressure_angle
     check_assembly(motion, f)
     assert f.base_radius is not None  # a built follower has it (from the contour where one is given)
     rr = f.roller_radius or 0.0
@@ -67,14 +67,14 @@ def min_base_radius(
             return False
 
     span = max(extremes(motion, f, n=n).lift_range, 1e-3)  # lift (mm): a scale for the search
-    if f.type == "translating-roller":
+    if f.translating and f.roller:
         lo = max(abs(f.offset) - rr, 0.0) * (1 + 1e-9) + 1e-9
         hi = max(f.base_radius, lo, span)
         while not ok(hi):  # the pressure angle -> 0 and the pitch curve flattens as Rb -> infinity
             hi *= 2.0
             if hi > 1e6 * max(span, rr, 1.0):
                 raise NumericalError("follower.base_radius", "no base radius meets the limits")
-    elif f.type == "translating-flat":
+    elif f.translating:
         lo, hi = 1e-9, max(f.base_radius, span)
         while not ok(hi):
             hi *= 2.0

@@ -169,7 +169,7 @@ def _build_motion(pth: Path, ms: MechanismSpec, u_grid: np.ndarray, warnings: li
     chain = make_chain(pth, ms, r, coupler)
     dyad, notes = build_crank(chain, r, coupler, ext, ms.crank_mode, pth)
     warnings += notes
-    unit = "mm" if ms.type == "ccm" else "rad"
+    unit = ms.kind.motion_unit
     proto = CamLinkMotion(
         chain=chain,
         crank_dyad=dyad,
@@ -282,10 +282,8 @@ def synthesize_motion(path: dict | PathSpec, mechanism: dict | MechanismSpec) ->
         **extra,
     }
     _table_error(tabulated, motion, float(np.ptp(vals[2])), summary, warnings)
-    if motion.unit == "mm":
-        summary["stroke_mm"] = float(vals[0].max() - vals[0].min())
-    else:
-        summary["swing_deg"] = math.degrees(float(vals[0].max() - vals[0].min()))
+    stroke = float(motion.kind.motion_to_lift(vals[0].max() - vals[0].min()))  # mm, or deg of swing
+    summary["swing_deg" if motion.kind.rotary else "stroke_mm"] = stroke
     return Synthesis(
         motion=motion,
         tabulated=tabulated,

@@ -13,6 +13,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from ..._core.jit import cached_jit
+from ..._core.kinds import FollowerKind, kind_of_motion
 from ..._core.units import THETA_GRID
 
 
@@ -29,6 +30,11 @@ class Motion(eqx.Module):
 
     def __call__(self, theta):  # pragma: no cover - abstract
         raise NotImplementedError
+
+    @property
+    def kind(self) -> FollowerKind:
+        """The kind of follower this motion drives (its ``unit``: mm translating, rad oscillating)."""
+        return kind_of_motion(self.unit)
 
     def jit_form(self) -> Motion:
         """What compiled programs take in place of this motion (:func:`camdyn._core.jit.cached_jit`): a form
@@ -49,7 +55,7 @@ class Motion(eqx.Module):
     def sample(self, n: int = THETA_GRID) -> tuple[np.ndarray, np.ndarray]:
         """(theta_deg, values) on ``n`` equal steps of [0, 360); values has shape (4, n)."""
         theta_deg = np.arange(n) * (360.0 / n)
-        return theta_deg, np.asarray(evaluate(self, jnp.deg2rad(theta_deg)))
+        return theta_deg, np.asarray(evaluate(self, np.deg2rad(theta_deg)))
 
 
 def padded_length(n: int, least: int, factor: int = 4) -> int:

@@ -6,7 +6,6 @@ coefficients in HermiteMotion's layout and evaluated by one search and one gathe
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import equinox as eqx
@@ -14,6 +13,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
+from ..._core.kinds import kind_of_lift
 from ..._core.units import TWO_PI
 from ._base import Motion
 from ._hermite import QuinticTable, quintic_eval
@@ -59,6 +59,7 @@ class MotionFit:
     spline: SplineFit
     tolerance: float | None = None
     repeats: int = 0  # rows dropped from the file for exactly repeating the one before them
+    follower_per_data: float = 1.0  # the data times this is the follower's lift (1 / ratio for a valve's table)
 
     @property
     def fitted(self) -> np.ndarray:
@@ -102,12 +103,12 @@ def fit_motion(
     theta_deg = np.asarray(theta_deg, dtype=float)
     data = np.asarray(data, dtype=float)
     spline = fit_periodic(np.deg2rad(theta_deg), data, tolerance=tolerance, sigma_floor=rounding)
-    to_unit = 1.0 if unit == "mm" else math.pi / 180.0
+    kind = kind_of_lift(unit)
     m = spline.coef.shape[0]
     motion = FittedMotion(
         knots=jnp.asarray(np.linspace(0.0, TWO_PI, m + 1)),
-        coef=jnp.asarray(spline.coef * to_unit),
-        unit="mm" if unit == "mm" else "rad",
+        coef=jnp.asarray(kind.lift_to_motion(spline.coef)),
+        unit=kind.motion_unit,
         breaks_deg=(),
     )
     return motion, MotionFit(source, file, unit, theta_deg, data, spline, tolerance, repeats)

@@ -12,6 +12,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from ..._core.errors import InputError
+from ..._core.kinds import kind_of_motion
 from ..._core.units import JUMP_RTOL, TWO_PI
 from ...schema import SegmentSpec, check_segments, parse
 from ...schema.motion import BSPLINE, POLYNOMIAL, BSplineSegmentSpec, PolynomialSegmentSpec
@@ -131,7 +132,7 @@ class Program(Motion):
             raise InputError(key, "at least one segment is required")
         specs = [_segment_spec(s, f"{key}[{i}]") for i, s in enumerate(segments)]
         try:
-            check_segments(specs, "mm" if unit == "mm" else "deg", key=key)
+            check_segments(specs, kind_of_motion(unit).lift_unit, key=key)
         except ValueError as err:
             where, message = str(err).split(": ", 1)
             raise InputError(where, message) from None
@@ -140,7 +141,7 @@ class Program(Motion):
     @classmethod
     def from_specs(cls, specs: list, unit: str = "mm") -> Program:
         """A program from segments the schema has checked (:func:`camdyn.schema.check_segments`)."""
-        to_unit = _to_unit(unit)
+        to_unit = kind_of_motion(unit).motion_per_lift
         segs: list[Segment] = []
         start, base = 0.0, 0.0
         for s in specs:
@@ -156,7 +157,7 @@ class Program(Motion):
             k: [] for k in ("start", "theta0", "beta", "base", "lift", "x0", "c", "w", "p1", "p2", "y0", "v0")
         }
         for seg in segs:
-            t, scale = seg.table(_to_unit(unit))
+            t, scale = seg.table(kind_of_motion(unit).motion_per_lift)
             th0, beta = math.radians(seg.start), math.radians(seg.end - seg.start)
             for i in range(len(t.x0)):
                 cols["start"].append(th0 + beta * t.x0[i])
@@ -194,7 +195,7 @@ class Program(Motion):
         n = len(self.segments)
         # the jump in the units the segments' lift was given in: mm, or deg of arm swing (an oscillating
         # follower's motion is in rad); per radian of cam angle, as the SVAJ page plots it
-        lu, to_user = ("mm", 1.0) if self.unit == "mm" else ("deg", 180.0 / math.pi)
+        lu, to_user = self.kind.lift_unit, self.kind.lift_per_motion
         # a jump is measured against the derivative's largest magnitude over the revolution (JUMP_RTOL)
         peak = np.max(np.abs(self._eval(np, np.linspace(0.0, TWO_PI, 3601))), axis=1)
         for i, seg in enumerate(self.segments):
@@ -213,7 +214,7 @@ class Program(Motion):
     def polynomial_warnings(self) -> list[str]:
         """Polynomial segments that overshoot the range their conditions span, or whose system is
         ill-conditioned (:func:`camdyn.model.motion._polynomial.polynomial_warnings`)."""
-        lu = "mm" if self.unit == "mm" else "deg"
+        lu = self.kind.lift_unit
         return [
             w
             for i, seg in enumerate(self.segments)
@@ -222,7 +223,7 @@ class Program(Motion):
         ]
 
     def _segment_end(self, seg: Segment):
-        t, lift = seg.table(_to_unit(self.unit))
+        t, lift = seg.table(self.kind.motion_per_lift)
         u = np.array(1.0 - t.x0[-1])
         vals = _piece_eval(np, u, t.c[-1], t.w[-1], t.p1[-1], t.p2[-1], t.y0[-1], t.v0[-1])
         beta = math.radians(seg.end - seg.start)
@@ -235,11 +236,6 @@ def _pad_rows(a: np.ndarray, rows: int, fill: float | None = None) -> np.ndarray
     """``a`` with ``rows`` rows: the last row repeated, or ``fill``."""
     widths = [(0, rows - len(a))] + [(0, 0)] * (a.ndim - 1)
     return np.pad(a, widths, mode="edge") if fill is None else np.pad(a, widths, constant_values=fill)
-
-
-def _to_unit(unit: str) -> float:
-    """The case file's lift unit in the motion's: mm stays mm, deg of swing becomes rad."""
-    return 1.0 if unit == "mm" else math.pi / 180.0
 
 
 def _segment_spec(raw, where: str):

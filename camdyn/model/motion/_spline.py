@@ -28,9 +28,6 @@ from functools import cache
 from typing import cast
 
 import numpy as np
-import scipy.sparse as sp
-from scipy.linalg import LinAlgError, cho_solve_banded, cholesky_banded
-from scipy.optimize import OptimizeResult, minimize_scalar  # unannotated: cast its result
 
 from ._hermite import quintic_eval
 
@@ -148,6 +145,8 @@ class _Problem:
     ...) makes them banded of half-width 11 without fill, so LAPACK's banded Cholesky factors them in O(m)."""
 
     def __init__(self, x: np.ndarray, y: np.ndarray, m: int):
+        import scipy.sparse as sp  # scipy loads only to fit: a case given by segments never does (0.2 s saved)
+
         self.y, self.m, self.n = y, m, len(x)
         self.cols, self.vals = design(x, m)
         self.B = sp.csr_matrix(
@@ -181,9 +180,13 @@ class _Problem:
         return out
 
     def factor(self, lam: float):
+        from scipy.linalg import cholesky_banded
+
         return cholesky_banded(self.ab_g + lam * self.ab_p, lower=False, check_finite=False)
 
     def solve_with(self, cb, rhs: np.ndarray) -> np.ndarray:
+        from scipy.linalg import cho_solve_banded
+
         out = np.empty_like(rhs)
         out[self.order] = cho_solve_banded((cb, False), rhs[self.order], check_finite=False)
         return out
@@ -200,6 +203,8 @@ class _Problem:
     def score(self, log_lam: float, sigma: float | None) -> float:
         """-2 log restricted likelihood (up to a constant): sigma^2 profiled out, or fixed at sigma. The
         penalty's null space is the constants (M_p = 1); its pseudo-determinant is a constant."""
+        from scipy.linalg import LinAlgError
+
         try:
             _, _, d, logdet = self.solve(log_lam)
         except LinAlgError:  # not positive definite in floating point: no fit at this smoothing
@@ -212,6 +217,8 @@ class _Problem:
     def lowest(self) -> float:
         """The least smoothing (log10, relative) whose pivots stay within :data:`_MIN_PIVOT`: exact data ask for
         none, but where they are sparse the curve would then rest on round-off."""
+        from scipy.linalg import LinAlgError
+
         grid = np.linspace(*_LOG_LAM, _GRID)
         for g in grid:
             try:
@@ -223,6 +230,8 @@ class _Problem:
         return float(grid[-1])
 
     def choose(self, sigma: float | None, lowest: float) -> float:
+        from scipy.optimize import OptimizeResult, minimize_scalar  # unannotated: cast its result
+
         grid = np.linspace(lowest, _LOG_LAM[1], _GRID)
         scores = np.array([self.score(g, sigma) for g in grid])
         i = int(np.argmin(scores))

@@ -17,6 +17,7 @@ from .springs import draw_springs
 from .summary import draw_summary
 from .svaj import draw_svaj
 from .tolerances import draw_tolerances
+from .valvetrain import draw_valvetrain
 
 
 @dataclass(frozen=True)
@@ -34,6 +35,12 @@ PAGES: list[Page] = [
     Page("svaj", "Follower motion (SVAJ)", draw_svaj),
     Page("cam", "Cam profile", draw_cam, lambda data: data.check.geometry is not None),
     Page("dynamics", "Dynamics", draw_dynamics),
+    Page(
+        "valvetrain",
+        "Valvetrain: valve lift, seating, float and bounce",
+        draw_valvetrain,
+        lambda data: data.check.valvetrain is not None,
+    ),
     Page("mechanism", "Mechanism and path", draw_mechanism, lambda data: data.case.synthesis is not None),
     Page(
         "optimization",
@@ -60,4 +67,5 @@ __all__ = [
     "draw_summary",
     "draw_svaj",
     "draw_tolerances",
+    "draw_valvetrain",
 ]

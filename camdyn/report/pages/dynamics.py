@@ -32,7 +32,7 @@ def draw_dynamics(fig, data: ReportData) -> None:
 def _force_panels(ax_f, ax_m, data: ReportData) -> None:
     """The contact force at the case speed and at speed_margin x speed, on one force scale."""
     rpm, rv = data.check.speed_rpm, data.review
-    osc = " (contact force: torque / lever arm)" if data.oscillating else ""
+    osc = " (contact force: torque / lever arm)" if data.case.kind.rotary else ""
     plot_contact_force(
         ax_f,
         data.check.response,

@@ -86,7 +86,7 @@ def manufacturing_rows(data: ReportData) -> list[tuple[str, str]]:
                 + (f", face width {f.face_width:g} mm" if getattr(f, "face_width", None) else ""),
             )
         )
-        if f.type.startswith("translating"):
+        if f.translating:
             rows.append(("offset", f"{float(f.offset):g} mm"))
         else:
             rows.append(

@@ -50,7 +50,7 @@ def draw_springs(fig, data: ReportData) -> None:
 
 def _symbols(sz: SpringSizing) -> tuple[str, str, str]:
     """(force, rate symbol, preload symbol): torque and T0 for an oscillating arm."""
-    return ("torque", "k", "T0") if sz.oscillating else ("force", "k", "F0")
+    return sz.kind.force_word, "k", sz.kind.preload_symbol
 
 
 def _caption(fig, sz: SpringSizing) -> None:
@@ -125,7 +125,7 @@ def _springs_compared(flow: Flow, sz: SpringSizing) -> None:
     holds = [_holds(sz, d) for _, d in designs]
     rows = [
         (
-            f"{'torsion' if sz.oscillating else 'spring'} rate {k_sym} ({u['rate']})",
+            f"{sz.kind.rate_name} {k_sym} ({u['rate']})",
             [_small(d.rate, d.peak_spring / max(sz.s_max, 1e-300)) for _, d in designs],
         ),
         (f"preload {f_sym} ({u['preload']})", [_small(d.preload, d.peak_spring) for _, d in designs]),
@@ -166,7 +166,7 @@ def _binding_line(sz: SpringSizing) -> str:
     )
     if sz.dynamic_binding is not None:
         line += f"; dynamic: {sz.dynamic_binding[0]:.1f}\u00b0 at {sz.dynamic_binding[1]:.4g} rpm"
-    lift = f"{math.degrees(sz.s_max):.4g}\u00b0 of swing" if sz.oscillating else f"{sz.s_max:.4g} mm"
+    lift = f"{math.degrees(sz.s_max):.4g}\u00b0 of swing" if sz.kind.rotary else f"{sz.s_max:.4g} mm"
     return line + f". Full lift s_max = {lift}: the spring's deflection beyond its preload."
 
 
@@ -212,9 +212,9 @@ def _spring_jump_map(fig, data: ReportData) -> None:
     top, bottom = MAP_TOP, 0.095  # room for the legend under the axes
     jm = data.review.jump_map
     ax = fig.add_axes([LEFT, bottom, 0.79 - LEFT, top - bottom])
-    osc = data.oscillating
-    pre = f"{float(data.case.model.preload):g} {pretty_unit('N*m') if osc else 'N'}"
-    title = f"jump map: least contact force at the case's preload {'T0' if osc else 'F0'} = {pre}"
+    kind = data.case.kind
+    pre = f"{float(data.case.model.preload):g} {pretty_unit(kind.force_unit)}"
+    title = f"jump map: least contact force at the case's preload {kind.preload_symbol} = {pre}"
     if isinstance(jm, Unavailable):
         ax.text(
             0.5,
@@ -234,7 +234,7 @@ def _spring_jump_map(fig, data: ReportData) -> None:
         mesh.set_rasterized(True)  # 1152 cells: an image in the PDF is a tenth of the bytes of as many paths
     ax.set_title(title, fontsize=9)
     ax.set_xlabel("cam speed (rpm)")
-    ax.set_ylabel(f"{'torsion' if osc else 'spring'} rate ({pretty_unit(jm.spring_rate_unit)})")
+    ax.set_ylabel(f"{kind.rate_name} ({pretty_unit(jm.spring_rate_unit)})")
     outline = [patheffects.withStroke(linewidth=2.2, foreground=C["ink"])]  # legible on light and dark colours
     ax.axvline(
         data.review.margin_rpm,

@@ -373,12 +373,12 @@ def _input_columns(data: ReportData) -> list[tuple[str, list[tuple[str, str]]]]:
     case = data.case
     spec = case.spec
     columns: list[tuple[str, list[tuple[str, str]]]] = []
-    if case.motion_source in ("table", "contour"):
+    if case.motion_source in ("table", "valve_table", "contour"):
         columns.append((case.motion_source, _fit_rows(case)))
         columns.append(("follower", _kv_lines(case.follower.model_dump(exclude_unset=True))))
     elif spec.motion is not None:
         rows, start = [], 0.0
-        lu = "deg" if data.oscillating else "mm"
+        lu = data.case.kind.lift_unit
         for seg in spec.motion.segments:
             lift = "" if seg.law == "dwell" else f"  {seg.lift:+g} {lu}"
             rows.append((f"{start:g}\u2013{seg.end:g}\u00b0", f"{seg.law}{lift}"))

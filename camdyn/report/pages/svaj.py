@@ -135,7 +135,7 @@ def _note(fig, data: ReportData, compact: bool) -> None:
             )
         else:
             note += f" Red dots: the {data.case.fit.source}'s points; the curves are its fit ({j['method']})."
-    if data.oscillating:
+    if data.case.kind.rotary:
         note += " The swing is in degrees per radian of cam angle."
     fig.text(
         0.06, 0.068, "\n".join(textwrap.wrap(note, 128)[:4]), size=7.3, color=C["grey"], va="top", linespacing=1.25

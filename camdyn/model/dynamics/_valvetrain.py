@@ -1,0 +1,495 @@
+"""The valvetrain in the time domain: two masses, the train and its lash, the cam contact and the valve's seat,
+event-driven on diffrax (float64), over one revolution at a constant cam speed.
+
+Equations (SI, time derivatives; x_c the follower's lift at the cam, x_v the valve's lift, r the rocker ratio)::
+
+    m_c x_c'' = F_cam - r F_t - F_hold
+    m_v x_v'' = F_t - (k x_v + F0 + c x_v') + F_seat
+
+* F_t, the train: ``train_force`` (the compliant contact's formula) on the deflection ``r x_c - lash - x_v``, in
+  compression only; a rigid train locks the two masses together once the lash closes (a plastic impact) and lets
+  go where its force would pull.
+* F_cam, the cam contact: compliant (``train_force`` on ``s - x_c``) or rigid (x_c = s while F_cam > 0, a flight
+  when it falls to zero, a landing with the cam's restitution).
+* F_seat, the seat at zero valve lift: rigid, with ``seat_restitution``. A seat is one to two orders stiffer than
+  the train (a few 1e8 N/m against 1e7), so a compliant seat would set the integrator's step for no more
+  information than the restitution gives: the rebound speed. The valve rests on it while the spring's force
+  exceeds the train's.
+
+Between events every active contact's state is smooth, so each stretch is one diffrax solve (Tsit5, tight
+tolerances) with a terminating event for each contact that can open or close; the transitions (impacts, locks,
+releases) are applied on the host. The state is integrated in the cam angle (x and dx/dtheta, m and m/rad).
+The revolution starts on the base circle with the valve seated and at rest, so once the valve has seated and
+the follower is back on the cam before the revolution ends, that revolution is the periodic steady state.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import diffrax
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+import numpy as np
+import optimistix as optx
+
+from ..._core.errors import NumericalError
+from ..._core.units import M_PER_MM, RPM, THETA_GRID, TWO_PI, VALVE_BOUNCE_TOLERANCE_MM, VALVE_TIMING_LIFT_MM
+from ..motion import Motion
+from ..valvetrain import ValvetrainModel
+from ._response import first_zero_speed
+from ._train import contact_force
+
+_RTOL, _ATOL = 1e-10, 1e-14  # the state is in m and m/rad: lifts of 1e-2 m
+_GAP_EPS = 1e-12  # m: a landing is detected this far below contact
+_MAX_STEPS = 1_000_000
+_MAX_EVENTS = 2000  # per revolution: bounces beyond it leave the valve or the follower not settled
+_REVS = 3  # revolutions at most to reach the periodic steady state
+_NO_EVENT = (
+    1e300  # N: the float search's least force at a speed where the valve does not lift (the search wants finite)
+)
+CAM, TRAIN, SEAT = 0, 1, 2  # the contacts, in the mode vector and the event list
+
+
+def _state(theta, y, args):
+    """The positions and speeds the contacts see, with the locked ones taken from what locks them."""
+    motion, vt, omega, modes, _ = args
+    cam_locked, train_locked, seat_locked = modes[CAM], modes[TRAIN], modes[SEAT]
+    s, s1, s2, _ = motion(theta) * M_PER_MM
+    xc = jnp.where(cam_locked, s, y[0])
+    pc = jnp.where(cam_locked, s1, y[1])
+    xv = jnp.where(train_locked, vt.ratio * xc - vt.lash, jnp.where(seat_locked, 0.0, y[2]))
+    pv = jnp.where(train_locked, vt.ratio * pc, jnp.where(seat_locked, 0.0, y[3]))
+    return s, s1, s2, xc, pc, xv, pv
+
+
+def _dynamics(theta, y, args):
+    """(accelerations per rad^2 of the follower and the valve, F_cam, F_t, the seat's reaction) in this mode."""
+    motion, vt, omega, modes, _ = args
+    cam_locked, train_locked, seat_locked = modes[CAM], modes[TRAIN], modes[SEAT]
+    s, s1, s2, xc, pc, xv, pv = _state(theta, y, args)
+    w2 = omega**2
+    r, m_c, m_v = vt.ratio, vt.cam_side_mass, vt.valve_mass
+    spring = vt.spring_rate * xv + vt.preload + vt.spring_damping * omega * pv
+    # the compliant contacts (0 for a rigid one, whose force is its constraint's): the cam's, and the train's on
+    # its deflection r x_c - lash - x_v
+    f_cam_c = jnp.where(jnp.isinf(vt.cam.train_stiffness), 0.0, contact_force(vt.cam, omega, s, s1, xc, pc))
+    f_t_c = jnp.where(
+        jnp.isinf(vt.train.train_stiffness), 0.0, contact_force(vt.train, omega, r * xc - vt.lash, r * pc, xv, pv)
+    )
+    # the train locked: one body at the follower (mass m_c + m_v r^2), driven by the cam or flying on its contact
+    a_body = (f_cam_c - r * spring - vt.tappet_force) / (vt.equivalent_mass * w2)
+    a_c_locked_train = jnp.where(cam_locked, s2, a_body)
+    f_t_locked = m_v * r * a_c_locked_train * w2 + spring
+    f_t = jnp.where(train_locked, f_t_locked, f_t_c)
+    a_c_free = (f_cam_c - r * f_t - vt.tappet_force) / (m_c * w2)
+    a_c = jnp.where(cam_locked, s2, jnp.where(train_locked, a_body, a_c_free))
+    f_cam = jnp.where(cam_locked, m_c * s2 * w2 + r * f_t + vt.tappet_force, f_cam_c)
+    a_v = jnp.where(train_locked, r * a_c, jnp.where(seat_locked, 0.0, (f_t - spring) / (m_v * w2)))
+    f_seat = jnp.where(seat_locked, spring - f_t, 0.0)
+    return a_c, a_v, f_cam, f_t, f_seat, (xc, pc, xv, pv, s, s1)
+
+
+def _vector_field(theta, y, args):
+    a_c, a_v, *_, (xc, pc, xv, pv, s, s1) = _dynamics(theta, y, args)
+    return jnp.stack([pc, a_c, pv, a_v])
+
+
+def _conditions(theta, y, args):
+    """Each contact's event function, positive while its mode holds: a locked contact's force, a free one's gap."""
+    _, vt, _, modes, force_tol = args
+    _, _, f_cam, f_t, f_seat, (xc, pc, xv, pv, s, s1) = _dynamics(theta, y, args)
+    cam = jnp.where(modes[CAM], f_cam + force_tol, jnp.where(jnp.isinf(vt.cam.train_stiffness), xc - s + _GAP_EPS, 1.0))
+    lash_gap = vt.lash + xv - vt.ratio * xc
+    train = jnp.where(
+        jnp.isinf(vt.train.train_stiffness), jnp.where(modes[TRAIN], f_t + force_tol, lash_gap + _GAP_EPS), 1.0
+    )
+    seat = jnp.where(modes[SEAT], f_seat + force_tol, xv + _GAP_EPS)
+    return cam, train, seat
+
+
+def _first_change(t, y, args, **kwargs):
+    """Positive while every contact keeps its mode: the least of the contacts' event functions (continuous, so a
+    bracketing root finder pins where the first one changes)."""
+    return jnp.min(jnp.stack(_conditions(t, y, args)))
+
+
+class _Bracket(optx.Bisection):
+    """Bisection that stops on the bracket's width alone: the event functions mix forces (N) and gaps (m), and
+    a force through a kink or a segment boundary need not come near zero at its crossing."""
+
+    def terminate(self, fn, y, args, options, state, tags):
+        return jnp.abs(state.lower - state.upper) < self.atol + self.rtol * jnp.abs(y), optx.RESULTS.successful
+
+
+_EVENT = diffrax.Event(_first_change, root_finder=_Bracket(rtol=1e-14, atol=1e-12), direction=False)
+
+
+@eqx.filter_jit
+def _stretch(motion, vt, omega, modes, force_tol, t0, t1, y0, jumps, ts):
+    """One stretch in a fixed mode from t0 until a contact opens or closes (an event) or t1, saved at ``ts``
+    (clipped into [t0, t1]; those past an event come back as inf) and at its end, with (F_cam, F_t) at each."""
+    pid = diffrax.PIDController(rtol=_RTOL, atol=_ATOL)
+    args = (motion, vt, omega, modes, force_tol)
+    sol = diffrax.diffeqsolve(
+        diffrax.ODETerm(_vector_field),
+        diffrax.Tsit5(),
+        t0=t0,
+        t1=t1,
+        dt0=None,
+        y0=y0,
+        args=args,
+        saveat=diffrax.SaveAt(subs=(diffrax.SubSaveAt(ts=ts), diffrax.SubSaveAt(t1=True))),
+        stepsize_controller=diffrax.ClipStepSizeController(pid, jump_ts=jumps),
+        event=_EVENT,
+        max_steps=_MAX_STEPS,
+        throw=False,
+    )
+
+    def one(t, y):
+        _, _, f_cam, f_t, _, (xc, pc, xv, pv, _, _) = _dynamics(t, y, args)
+        return jnp.stack([xc, pc, xv, pv, f_cam, f_t])
+
+    assert sol.ts is not None and sol.ys is not None  # saved at ts and at the end
+    (t_saved, t_end), (y_saved, y_end) = sol.ts, sol.ys
+    return t_end[0], y_end[0], sol.result, jax.vmap(one)(t_saved, y_saved)
+
+
+_conditions_jit = eqx.filter_jit(_conditions)
+_state_jit = eqx.filter_jit(_state)
+
+
+@dataclass(frozen=True)
+class ValveEvent:
+    """A contact's change: ``what`` ("float", "cam-landing", "valve-lift", "seating", "lash") at ``deg``, with
+    the relative speed at an impact (m/s; NaN otherwise)."""
+
+    what: str
+    deg: float
+    speed: float = math.nan
+
+
+@dataclass(frozen=True)
+class ValvetrainResponse:
+    """The valvetrain over one revolution at cam speed ``omega`` (rad/s), on ``theta_deg`` (n,).
+
+    Lifts in mm, the valve's velocity in m/s, forces in N. ``seated``: the valve on its seat at each angle.
+    """
+
+    omega: float
+    theta_deg: np.ndarray
+    cam_lift: np.ndarray  # the cam's lift at the follower, mm
+    follower_lift: np.ndarray  # mm
+    valve_lift: np.ndarray  # mm
+    valve_velocity: np.ndarray  # m/s
+    cam_force: np.ndarray  # N, the cam contact
+    train_force: np.ndarray  # N, at the valve
+    seated: np.ndarray  # bool
+    in_event: np.ndarray  # bool: the valve off its seat between its lift and its first seating (the valve event)
+    events: tuple[ValveEvent, ...]
+    bounce_height_mm: float  # the valve's highest lift off its seat after it first seats, mm (0: never lifts again)
+    settled: bool  # back at rest on the base circle within the revolutions simulated
+    warnings: tuple[str, ...] = field(default=())
+
+    @property
+    def max_valve_lift_mm(self) -> float:
+        return float(np.max(self.valve_lift))
+
+    @property
+    def floated(self) -> bool:
+        """Whether the cam contact opened while the valve was off its seat (valve float)."""
+        return any(e.what == "float" for e in self.events) or bool(np.any((self.cam_force <= 0.0) & self.in_event))
+
+    @property
+    def least_event_force(self) -> float:
+        """The least cam-contact force over the valve event (from the valve's lift to its first seating), N (0 where
+        the contact opens there); NaN for a valve that never lifts."""
+        if not self.in_event.any():
+            return math.nan
+        return 0.0 if self.floated else float(np.min(self.cam_force[self.in_event]))
+
+    @property
+    def least_event_force_deg(self) -> float:
+        """Where the cam-contact force is least over the valve event, deg (NaN for a valve that never lifts)."""
+        if not self.in_event.any():
+            return math.nan
+        return float(self.theta_deg[self.in_event][int(np.argmin(self.cam_force[self.in_event]))])
+
+    @property
+    def seating_velocity(self) -> float:
+        """The valve's speed as it first lands on its seat after the event, m/s (NaN: it never lifts)."""
+        landings = [e for e in self.events if e.what == "seating"]
+        return landings[0].speed if landings else math.nan
+
+    @property
+    def seating_deg(self) -> float:
+        landings = [e for e in self.events if e.what == "seating"]
+        return landings[0].deg if landings else math.nan
+
+    @property
+    def bounced(self) -> bool:
+        """Whether the valve leaves its seat after closing by more than the seat's micro-bounce tolerance."""
+        return self.bounce_height_mm > VALVE_BOUNCE_TOLERANCE_MM
+
+    def timing_deg(self, lift_mm: float = VALVE_TIMING_LIFT_MM) -> tuple[float, float]:
+        """The opening and closing angles (deg in [0, 360)): where the valve's lift first rises above ``lift_mm``
+        and where it last falls below it, on the grid, interpolated linearly; (NaN, NaN) if it never does."""
+        n = len(self.theta_deg)
+        above = self.valve_lift > lift_mm
+        if not above.any() or above.all():
+            return math.nan, math.nan
+        shift = int(np.argmin(above))  # start below: the open span does not wrap the scan
+        idx = (np.arange(n) + shift) % n
+        a = self.valve_lift[idx] - lift_mm
+        up = int(np.argmax(a > 0.0))
+        down = n - 1 - int(np.argmax(a[::-1] > 0.0))  # the last open grid point
+        step = 360.0 / n
+
+        def cross(j0):  # a[j0] <= 0 < a[j0 + 1] or the reverse
+            f = a[j0] / (a[j0] - a[(j0 + 1) % n])
+            return (self.theta_deg[idx[j0]] + f * step) % 360.0
+
+        return float(cross(up - 1)), float(cross(down))
+
+
+def _start_angle(s: np.ndarray) -> int:
+    """The grid index in the middle of the longest stretch of base circle (the least lift, periodic): where the
+    follower rests furthest from the event on either side (a start closer to the rise would begin with the
+    compliant contact's vibration that the rise's first acceleration sets off, not at rest)."""
+    n = len(s)
+    low = s <= s.min() + 1e-6 * max(1e-12, float(s.max() - s.min()))
+    if low.all():
+        return 0
+    shift = int(np.argmin(low))  # a lifted angle: no run of base circle wraps the scan
+    f = np.append(low[(np.arange(n) + shift) % n], False)
+    best_end, best_len, start = 0, 0, None
+    for j, v in enumerate(f):
+        if v and start is None:
+            start = j
+        if not v and start is not None:
+            if j - start > best_len:
+                best_end, best_len = j - 1 - (j - start) // 2, j - start
+            start = None
+    return (shift + best_end) % n
+
+
+def valvetrain_response(motion: Motion, vt: ValvetrainModel, omega: float, n: int = THETA_GRID) -> ValvetrainResponse:
+    """The periodic steady state of the valvetrain at cam speed ``omega`` (rad/s), on ``n`` angles.
+
+    From rest on the base circle (the valve seated, the follower on the cam) the revolution is marched stretch by
+    stretch; where the valve or the follower is still moving when it ends, up to :data:`_REVS` revolutions are
+    marched and the last one is the answer (``settled`` says whether it came back to rest).
+    """
+    theta = np.arange(n) * (TWO_PI / n)
+    vals = motion.host(theta)
+    s_si = vals[0] * M_PER_MM
+    i0 = _start_angle(vals[0])
+    t_start = float(theta[i0])
+    w = jnp.asarray(float(omega))
+    r = float(vt.ratio)
+    rigid_cam, rigid_train = vt.rigid_cam, vt.rigid_train
+    force_tol = jnp.asarray(1e-6 * max(1.0, r * float(vt.preload)))
+    breaks = np.deg2rad(np.asarray(motion.breaks_deg, dtype=float))
+    jumps = jnp.asarray(np.sort((breaks[None, :] + TWO_PI * np.arange(-1, _REVS + 2)[:, None]).ravel()))
+    jumps = jumps if jumps.size else jnp.asarray([-1.0])
+    # the rest state: the valve seated, the follower on the cam, pressed into a compliant contact by the tappet force
+    deflect = 0.0 if rigid_cam else float(vt.tappet_force) / float(vt.cam.train_stiffness)
+    y = np.array([s_si[i0] - deflect, vals[1][i0] * M_PER_MM, 0.0, 0.0])
+    modes = np.array([rigid_cam, False, True])
+    out = np.zeros((6, n))
+    seated = np.ones(n, bool)
+    # the valve's rebound speed below which its bounces are the landing tolerance's own (the Zeno tail)
+    a_seat = float(vt.preload) / float(vt.valve_mass) / float(omega) ** 2
+    v_floor = 10.0 * math.sqrt(2.0 * a_seat * _GAP_EPS)
+    e_seat, e_cam = float(vt.seat_restitution), float(vt.cam_restitution)
+    # the valve's event ends where it lands after rising past half its static lift at the nose (the train and the
+    # spring in balance): a landing before (the valve kicked off its seat as the lash closes) belongs to the opening
+    reach = r * float(np.ptp(s_si)) - float(vt.lash)
+    kt, k = float(vt.train.train_stiffness), float(vt.spring_rate)
+    half_lift = 0.5 * (reach if rigid_train else (kt * reach - float(vt.preload)) / (kt + k))
+    warnings: list[str] = []
+    settled = False
+    for rev in range(_REVS):
+        t0, t_end = t_start + rev * TWO_PI, t_start + (rev + 1) * TWO_PI
+        events: list[ValveEvent] = []
+        first_seating, bounce, peak = None, 0.0, 0.0
+        k_next = rev * n  # the next grid angle to fill, counted from t_start
+        in_event = np.zeros(n, bool)  # the valve off its seat between its lift and its first seating
+        count = 0
+        while True:
+            m = jnp.asarray(modes)
+
+            def run(ts, m=m, t0=t0, t_end=t_end, y=y):  # this stretch again, saved at ts: (6, len(ts))
+                t1, _, _, out = _stretch(
+                    motion, vt, w, m, force_tol, jnp.asarray(t0), jnp.asarray(t_end), jnp.asarray(y), jumps, ts
+                )
+                return np.asarray(out).T
+
+            tt = np.clip(t_start + np.arange(k_next, k_next + n) * (TWO_PI / n), t0, t_end)  # fixed shape
+            t1, y1, result, samples = _stretch(
+                motion, vt, w, m, force_tol, jnp.asarray(t0), jnp.asarray(t_end), jnp.asarray(y), jumps, jnp.asarray(tt)
+            )
+            t1, samples = float(t1), np.asarray(samples).T
+            hit = bool(result == diffrax.RESULTS.event_occurred)
+            if not (hit or bool(result == diffrax.RESULTS.successful)):
+                raise NumericalError(
+                    f"valvetrain at {omega / RPM:.4g} rpm",
+                    "the two-mass integration failed (solver out of steps or NaN): check the masses and stiffnesses",
+                )
+            k1 = min(math.floor((t1 - t_start) / (TWO_PI / n) + 1e-9), (rev + 1) * n - 1)
+            if k1 >= k_next:
+                ii = (i0 + np.arange(k_next, k1 + 1)) % n
+                out[:, ii] = samples[:, : k1 - k_next + 1]
+                seated[ii] = bool(modes[SEAT])
+                in_event[ii] = first_seating is None and not modes[SEAT]
+                peak = max(peak, float(samples[2, : k1 - k_next + 1].max()))
+                k_next = k1 + 1
+            if first_seating is not None and not modes[SEAT]:
+                bounce = max(bounce, _apex(run, t0, t1, n))
+            if not hit:
+                break
+            count += 1
+            if count > _MAX_EVENTS:
+                warnings.append(f"more than {_MAX_EVENTS} contact changes in a revolution at {omega / RPM:.1f} rpm")
+                break
+            y1 = np.asarray(y1)
+            args = (motion, vt, w, jnp.asarray(modes), force_tol)
+            st = np.asarray(_state_jit(jnp.asarray(t1), jnp.asarray(y1), args))
+            s, s1, _, xc, pc, xv, pv = (float(v) for v in st)
+            conds = np.asarray(_conditions_jit(jnp.asarray(t1), jnp.asarray(y1), args))
+            which = int(np.argmin(conds))  # the contact whose event function reached zero
+            deg = math.degrees(t1) % 360.0
+            y = np.array([xc, pc, xv, pv])
+            if which == CAM and modes[CAM]:  # the cam lets go of the follower
+                modes[CAM] = False
+                if not modes[SEAT] and first_seating is None:
+                    events.append(ValveEvent("float", deg))
+            elif which == CAM:  # the follower lands on the cam
+                rel = pc - s1
+                events.append(ValveEvent("cam-landing", deg, abs(rel) * float(omega)))
+                y[1] = s1 - e_cam * rel
+                y[0] = s
+                if modes[TRAIN]:
+                    y[3] = r * y[1]
+                if not (e_cam > 0.0 and abs(rel) > v_floor):
+                    y[1] = s1
+                    modes[CAM] = True
+            elif which == TRAIN and modes[TRAIN]:  # the rigid train lets go: the lash opens
+                modes[TRAIN] = False
+            elif which == TRAIN:  # the lash closes: the two masses meet (plastic)
+                if modes[CAM]:
+                    y[3] = r * pc
+                else:
+                    y[1] = (float(vt.cam_side_mass) * pc + r * float(vt.valve_mass) * pv) / float(vt.equivalent_mass)
+                    y[3] = r * y[1]
+                y[2] = r * y[0] - float(vt.lash)
+                modes[TRAIN], modes[SEAT] = True, False
+                events.append(ValveEvent("lash", deg))
+            elif which == SEAT and modes[SEAT]:  # the train lifts the valve
+                modes[SEAT] = False
+                y[2], y[3] = 0.0, 0.0
+                events.append(ValveEvent("valve-lift", deg))
+            else:  # the valve lands on its seat
+                events.append(ValveEvent("seating", deg, abs(pv) * float(omega)))
+                if first_seating is None and peak > half_lift:  # the landing that ends the event, not a rattle
+                    first_seating = t1
+                modes[TRAIN] = False
+                y[2], y[3] = 0.0, -e_seat * pv
+                if y[3] <= v_floor:
+                    modes[SEAT], y[3] = True, 0.0
+            modes = _consistent(modes, t1, y, motion, vt, w, force_tol, rigid_cam, rigid_train)
+            t0 = t1
+        settled = (
+            modes[SEAT]
+            and (modes[CAM] or not rigid_cam)
+            and not modes[TRAIN]
+            and abs(y[3]) == 0.0
+            and count <= _MAX_EVENTS
+        )
+        if settled:
+            break
+    if not settled:
+        warnings.append(
+            f"the valvetrain is not back at rest on the base circle after {_REVS} revolutions at "
+            f"{omega / RPM:.1f} rpm: the last one is reported"
+        )
+    xc, pc, xv, pv, f_cam, f_t = out
+    return ValvetrainResponse(
+        float(omega),
+        np.degrees(theta),
+        vals[0],
+        xc / M_PER_MM,
+        np.where(seated, 0.0, xv) / M_PER_MM,
+        np.where(seated, 0.0, pv) * float(omega),
+        f_cam,
+        f_t,
+        seated,
+        in_event,
+        tuple(events),
+        bounce / M_PER_MM,
+        bool(settled),
+        tuple(warnings),
+    )
+
+
+def _consistent(modes, t, y, motion, vt, w, force_tol, rigid_cam, rigid_train) -> np.ndarray:
+    """The modes after a transition, with every locked contact whose force already pulls released (its event
+    would not see a crossing that starts below zero)."""
+    modes = modes.copy()
+    for _ in range(4):
+        conds = np.asarray(
+            _conditions_jit(jnp.asarray(t), jnp.asarray(y), (motion, vt, w, jnp.asarray(modes), force_tol))
+        )
+        changed = False
+        if modes[CAM] and rigid_cam and conds[CAM] <= 0.0:
+            modes[CAM], changed = False, True
+        if modes[TRAIN] and rigid_train and conds[TRAIN] <= 0.0:
+            modes[TRAIN], changed = False, True
+        if modes[SEAT] and conds[SEAT] <= 0.0:
+            modes[SEAT], changed = False, True
+        if not changed:
+            break
+    return modes
+
+
+def _apex(run, t0: float, t1: float, n: int) -> float:
+    """The valve's highest lift within a stretch of free flight (m): the stretch again on ``n`` angles, the top
+    refined by the parabola through the highest sample and its neighbours."""
+    ts = np.linspace(t0, t1, n)
+    xv = run(ts)[2]
+    j = int(np.argmax(xv))
+    if 0 < j < n - 1:
+        a, b, c = xv[j - 1], xv[j], xv[j + 1]
+        den = a - 2.0 * b + c
+        if den < 0.0:
+            return float(b - 0.125 * (a - c) ** 2 / den)
+    return float(xv[j])
+
+
+def float_speed(
+    motion: Motion, vt: ValvetrainModel, w_max: float, *, grid: int = 40, width_rpm: float = 1.0, respond=None
+) -> float:
+    """The first cam speed (rad/s) at which the cam contact opens while the valve is off its seat (inf: none up
+    to ``w_max``): the shared jump search on the least cam-contact force over the valve event. ``respond``: the
+    response at a speed, where a caller shares them between searches (default :func:`valvetrain_response`)."""
+    respond = respond or (lambda w: valvetrain_response(motion, vt, w))
+
+    def least(ws):  # a speed at which the valve does not lift has no event to float in
+        return np.nan_to_num([respond(float(w)).least_event_force for w in np.atleast_1d(ws)], nan=_NO_EVENT)
+
+    return first_zero_speed(least, w_max, grid=grid, width_rpm=width_rpm, points=1, where="valvetrain float search")
+
+
+def bounce_speed(
+    motion: Motion, vt: ValvetrainModel, w_max: float, *, grid: int = 40, width_rpm: float = 1.0, respond=None
+) -> float:
+    """The first cam speed (rad/s) at which the valve leaves its seat after closing by more than the seat's
+    micro-bounce tolerance :data:`VALVE_BOUNCE_TOLERANCE_MM` (inf: none up to ``w_max``)."""
+    respond = respond or (lambda w: valvetrain_response(motion, vt, w))
+
+    def margin(ws):
+        return np.array([VALVE_BOUNCE_TOLERANCE_MM - respond(float(w)).bounce_height_mm for w in np.atleast_1d(ws)])
+
+    return first_zero_speed(margin, w_max, grid=grid, width_rpm=width_rpm, points=1, where="valvetrain bounce search")

@@ -1,0 +1,108 @@
+"""A valvetrain's figures (``result``: :class:`camdyn.design.valvetrain.ValvetrainResult`): the valve and the cam
+at the valve over the event, the valve's velocity, and its seating velocity against cam speed."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .._core.units import TWO_PI
+from ._common import C, deg_ticks, legend_above_data
+
+
+def _event_window(resp, pad_deg: float = 30.0) -> tuple[float, float]:
+    """The cam angles (deg) from ``pad_deg`` before the valve lifts to ``pad_deg`` after it last is off its seat,
+    within [0, 360] (the whole turn for an event through 0 deg)."""
+    lifted = resp.valve_lift > 0.0
+    if not lifted.any() or lifted[0] or lifted[-1]:
+        return 0.0, 360.0
+    th = resp.theta_deg[lifted]
+    return max(0.0, float(th.min()) - pad_deg), min(360.0, float(th.max()) + pad_deg)
+
+
+def plot_valve_lift(ax, result) -> None:
+    """The valve's lift against the cam's lift at the valve (ratio x follower lift - lash: where the valve would be
+    on a rigid train), the lash and the ramps that take it up, around the valve event; opening and closing marked."""
+    resp = result.response
+    th = resp.theta_deg
+    cam_at_valve = result.ratio * resp.cam_lift - result.lash_mm
+    ax.plot(th, cam_at_valve, color=C["kin"], ls="--", lw=1.0, label="cam at the valve: ratio x lift - lash")
+    ax.plot(
+        th, result.ratio * resp.follower_lift - result.lash_mm, color=C["margin"], lw=0.9, label="follower at the valve"
+    )
+    ax.plot(th, resp.valve_lift, color=C["dyn"], lw=1.3, label=f"valve at {resp.omega * 60 / TWO_PI:g} rpm")
+    ax.axhline(0.0, color=C["ink"], lw=0.8)
+    ax.axhline(-result.lash_mm, color=C["grey"], lw=0.6, ls=":", label=f"lash {result.lash_mm:g} mm")
+    for deg in result.timing_deg:
+        if math.isfinite(deg):
+            ax.axvline(deg, color=C["grey"], lw=0.6)
+    ax.set_ylabel("lift at the valve (mm)")
+    ax.set_xlabel("cam angle (deg)")
+    deg_ticks(ax, 30.0)
+    ax.set_xlim(*_event_window(resp))
+    opening, closing = result.timing_deg
+    ax.set_title(
+        f"valve lift: {resp.max_valve_lift_mm:.3g} mm, open {opening:.1f} to {closing:.1f} deg at 0.05 mm", fontsize=9
+    )
+    legend_above_data(ax, fontsize=7, ncol=2)
+
+
+def plot_valve_velocity(ax, result) -> None:
+    """The valve's velocity (m/s) and the cam contact's force (N, right axis) around the valve event, the
+    seating marked."""
+    resp = result.response
+    th = resp.theta_deg
+    ax.plot(th, resp.valve_velocity, color=C["dyn"], lw=1.2, label="valve velocity")
+    ax.axhline(0.0, color=C["ink"], lw=0.8)
+    if math.isfinite(resp.seating_velocity):
+        ax.plot(
+            resp.seating_deg,
+            -resp.seating_velocity,
+            "v",
+            color=C["limit"],
+            ms=5,
+            label=f"seats at {resp.seating_velocity:.3g} m/s, {resp.seating_deg:.1f} deg",
+        )
+    ax.set_ylabel("valve velocity (m/s)")
+    ax.set_xlabel("cam angle (deg)")
+    twin = ax.twinx()
+    force = np.where(resp.in_event, resp.cam_force, np.nan)
+    twin.plot(th, force, color=C["margin"], lw=0.9, label="cam contact force over the event")
+    twin.set_ylabel("cam contact force (N)", color=C["margin"])
+    twin.set_ylim(bottom=min(0.0, float(np.nanmin(force)) if np.isfinite(force).any() else 0.0))
+    deg_ticks(ax, 30.0)
+    ax.set_xlim(*_event_window(resp))
+    ax.set_title("valve velocity and cam contact force", fontsize=9)
+    h1, l1 = ax.get_legend_handles_labels()
+    h2, l2 = twin.get_legend_handles_labels()
+    legend_above_data(ax, fontsize=7, handles=h1 + h2, labels=l1 + l2)
+
+
+def plot_seating_velocity(ax, result, max_seating_velocity: float | None = None) -> None:
+    """The valve's seating velocity against cam speed (the speeds the float and bounce searches marched), the
+    limit, the case speed and the float and bounce speeds marked."""
+    rpm = np.asarray(result.speeds_rpm)
+    v = np.asarray(result.seating_velocities)
+    ax.plot(rpm, v, ".-", color=C["dyn"], lw=1.0, ms=3, label="seating velocity")
+    if max_seating_velocity is not None:
+        ax.axhline(max_seating_velocity, color=C["limit"], lw=0.8, ls="--", label=f"limit {max_seating_velocity:g} m/s")
+    speed = result.response.omega * 60 / TWO_PI
+    ax.axvline(speed, color=C["ink"], lw=0.8, label=f"case speed {speed:g} rpm")
+    for what, at, colour in (
+        ("float", result.float_speed_rpm, C["limit"]),
+        ("bounce", result.bounce_speed_rpm, C["warn"]),
+    ):
+        if math.isfinite(at):
+            ax.axvline(at, color=colour, lw=1.0, ls=":", label=f"{what} at {at:.0f} rpm")
+    ax.set_xlabel("cam speed (rpm)")
+    ax.set_ylabel("seating velocity (m/s)")
+    # up to half again the float speed (or the case speed): beyond float the train flies and its landings scatter
+    top = 1.5 * max(speed, result.float_speed_rpm if math.isfinite(result.float_speed_rpm) else 0.0)
+    top = min(top, float(rpm.max()) if rpm.size else top)
+    ax.set_xlim(0.0, top)
+    shown = v[(rpm <= top) & np.isfinite(v)]
+    if shown.size:
+        ax.set_ylim(0.0, 1.15 * max(float(shown.max()), max_seating_velocity or 0.0))
+    ax.set_title("the valve landing on its seat, against cam speed", fontsize=9)
+    legend_above_data(ax, fontsize=7, ncol=2)

@@ -1,0 +1,40 @@
+"""The valvetrain page (cases with ``[valvetrain]``): the valve and the cam at the valve with the lash and its ramps,
+the valve's velocity and the cam contact over the event, the seating velocity against cam speed with the float and
+bounce speeds, from ``check``'s two-mass model."""
+
+from __future__ import annotations
+
+from ...plot import plot_seating_velocity, plot_valve_lift, plot_valve_velocity
+from .._data import ReportData
+from .._layout import Flow, fmt
+from .._style import LEFT, C
+
+
+def draw_valvetrain(fig, data: ReportData) -> None:
+    vt = data.check.valvetrain
+    assert vt is not None  # the page applies to [valvetrain] cases only
+    j = vt.json()
+    flow = Flow(fig, 0.94)
+    flow.para(
+        f"Rocker ratio {vt.ratio:g}, lash {vt.lash_mm:g} mm; valve lift {fmt(j['max_valve_lift_mm'])} mm, seats at "
+        f"{fmt(j['seating_velocity_m_per_s'])} m/s; float at {fmt(j['float_speed_rpm'])} rpm, bounce at "
+        f"{fmt(j['bounce_speed_rpm'])} rpm (searched to {vt.search_top_rpm:.0f} rpm); bounce height "
+        f"{fmt(j['bounce_height_mm'])} mm at {data.check.speed_rpm:g} rpm.",
+        size=8.5,
+        width=115,
+        color=C["ink"],
+    )
+    flow.para(
+        "Two masses (the follower at the cam, the valve) on the train between them; the lash closes with the "
+        "train's first compression, the valve lifts once the train's force passes the spring's preload, and lands "
+        "on a rigid seat with its restitution. Float: the cam contact opens while the valve is off its seat.",
+        size=7.5,
+        width=140,
+        color=C["grey"],
+    )
+    ax = fig.add_axes([LEFT, 0.6, 0.95 - LEFT, 0.24])
+    plot_valve_lift(ax, vt)
+    ax = fig.add_axes([LEFT, 0.32, 0.86 - LEFT, 0.2])
+    plot_valve_velocity(ax, vt)
+    ax = fig.add_axes([LEFT, 0.06, 0.95 - LEFT, 0.19])
+    plot_seating_velocity(ax, vt, data.case.limits.max_seating_velocity)

@@ -1,0 +1,383 @@
+"""Valvetrains (issue 24): the [valvetrain] table, the two-mass model with lash and a seat, float and bounce.
+
+Checked against independent routes: a stiff, lash-free train is one equivalent follower (its jump speed, rigid and
+compliant cam contact); the valve lands at the closing ramp's speed at low cam speed (closed form); scipy's
+solve_ivp at tight tolerance integrates the two-mass flight with the seat on its own equations.
+"""
+
+import copy
+import math
+import tomllib
+from pathlib import Path
+
+import numpy as np
+import pytest
+from _helpers import run
+from scipy.integrate import solve_ivp
+
+from camdyn import InputError
+from camdyn._core.units import RPM
+from camdyn.model.case import case_from_dict
+from camdyn.model.dynamics import (
+    dynamic_jump_speed,
+    float_speed,
+    kinematic_jump_speed,
+    valvetrain_response,
+)
+
+CASES = Path(__file__).resolve().parents[1] / "cases"
+SHIPPED = tomllib.loads((CASES / "valvetrain.toml").read_text())
+
+# a valve event with continuous jerk (4-5-6-7 rise and return): a stiff train rings only at jerk's jumps
+R, M_CAM, M_VALVE, K, F0, C = 1.5, 0.10, 0.05, 30.0, 200.0, 15.0  # -, kg, kg, N/mm, N, N*s/m (at the valve)
+EVENT = {
+    "motion": {
+        "segments": [
+            {"law": "dwell", "end": 60},
+            {"law": "polynomial-4567", "end": 180, "lift": 8.0},
+            {"law": "polynomial-4567", "end": 300, "lift": -8.0},
+            {"law": "dwell", "end": 360},
+        ]
+    },
+    "follower": {"type": "translating-flat", "base_radius": 20, "face_width": 30, "rotation": "cw"},
+}
+
+
+def _valvetrain(train_stiffness=None, **valvetrain):
+    dyn = {"speed": 3000, "spring_rate": K, "preload": F0, "damping": C, "restitution": 0.0}
+    if train_stiffness is not None:
+        dyn |= {"train_stiffness": train_stiffness, "train_damping_ratio": 0.05}
+    vt = {"ratio": R, "lash": 0.0, "cam_side_mass": M_CAM, "valve_mass": M_VALVE, "stiffness": 1e6} | valvetrain
+    return case_from_dict(copy.deepcopy(EVENT) | {"dynamics": dyn, "valvetrain": vt})
+
+
+def _single(train_stiffness=None):
+    """The equivalent follower written out by hand: mass m_cam + m_valve r^2, rate k r^2, preload F0 r, c r^2."""
+    dyn = {"speed": 3000, "mass": M_CAM + M_VALVE * R**2, "spring_rate": K * R**2, "preload": F0 * R}
+    dyn |= {"damping": C * R**2, "restitution": 0.0}
+    if train_stiffness is not None:
+        dyn |= {"train_stiffness": train_stiffness, "train_damping_ratio": 0.05}
+    return case_from_dict(copy.deepcopy(EVENT) | {"dynamics": dyn})
+
+
+def test_dynamics_refuses_mass_with_a_valvetrain():
+    raw = copy.deepcopy(SHIPPED)
+    raw["dynamics"]["mass"] = 0.2
+    with pytest.raises(InputError) as err:
+        case_from_dict(raw)
+    assert err.value.where == "dynamics.mass" and "cam_side_mass" in str(err.value) and "\n" not in str(err.value)
+    raw = copy.deepcopy(SHIPPED)
+    del raw["valvetrain"]["valve_mass"]
+    with pytest.raises(InputError, match="required key is missing"):
+        case_from_dict(raw)
+    raw = copy.deepcopy(SHIPPED)
+    raw["valvetrain"]["ratio"] = 0.0
+    with pytest.raises(InputError) as err:
+        case_from_dict(raw)
+    assert err.value.where == "valvetrain.ratio"
+
+
+def test_case_model_is_the_equivalent_follower():
+    case, single = _valvetrain(), _single()
+    for key in ("mass", "stiffness", "preload", "damping", "external"):
+        assert float(getattr(case.model, key)) == pytest.approx(float(getattr(single.model, key)), rel=1e-12)
+
+
+@pytest.mark.slow
+def test_stiff_train_floats_at_the_equivalent_followers_jump_speed_rigid_cam():
+    case, single = _valvetrain(), _single()
+    w_jump = kinematic_jump_speed(single.motion, single.model)[0]
+    w_float = float_speed(case.motion, case.valvetrain, 1.5 * w_jump, width_rpm=0.5)
+    assert w_float / RPM == pytest.approx(w_jump / RPM, rel=2e-3)
+
+
+@pytest.mark.slow
+def test_stiff_train_floats_at_the_equivalent_followers_jump_speed_compliant_cam():
+    """The single follower's compliant contact carries the preload from the base circle on; the valvetrain's takes
+    it up as the valve lifts (r F0 / k_f: 3 um here, 0.15 mm at 2000 N/mm, where the float speed is 0.4 % lower
+    for that): the compliant jump speed (4662.5 rpm) is 0.26 % below the rigid one (4674.9), and the float speed
+    must find the compliant one."""
+    case, single = _valvetrain(train_stiffness=1e5), _single(train_stiffness=1e5)
+    w_jump = dynamic_jump_speed(single.motion, single.model, w_max=6000 * RPM)
+    w_rigid = kinematic_jump_speed(single.motion, single.model)[0]
+    assert w_rigid / w_jump - 1.0 > 2e-3
+    w_float = float_speed(case.motion, case.valvetrain, 1.5 * w_jump, width_rpm=0.5)
+    assert w_float / RPM == pytest.approx(w_jump / RPM, rel=5e-4)
+
+
+@pytest.mark.parametrize("stiffness", [pytest.param(1e6, marks=pytest.mark.slow), None])
+def test_seating_velocity_at_low_speed_is_the_closing_ramps(stiffness):
+    """The shipped case's closing ramp runs at 0.537148 mm/rad at the tappet: the valve lands at that times the
+    ratio and the cam's angular speed (a stiff train, and a rigid one)."""
+    raw = copy.deepcopy(SHIPPED)
+    raw["valvetrain"].pop("stiffness")
+    if stiffness is not None:
+        raw["valvetrain"]["stiffness"] = stiffness
+    case = case_from_dict(raw)
+    omega = 300 * RPM
+    resp = valvetrain_response(case.motion, case.valvetrain, omega)
+    expected = 0.537148e-3 * raw["valvetrain"]["ratio"] * omega  # m/s
+    assert resp.seating_velocity == pytest.approx(expected, rel=1e-3)
+    # and where: the ramp reaches the lash (0.125 mm at the tappet) 7.33 deg into it (295 deg)
+    assert resp.seating_deg == pytest.approx(295.0 + (0.225 - 0.125) / (0.537148 * math.pi / 180), abs=0.05)
+
+
+def _solve_ivp_event(case, omega):
+    """The two-mass valvetrain with a compliant cam contact and train, on scipy's DOP853 from its own equations:
+    the first seating (angle, speed) after the valve event and the bounce's height."""
+    motion, vt = case.motion, case.valvetrain
+    r, lash, m_c, m_v = (float(v) for v in (vt.ratio, vt.lash, vt.cam_side_mass, vt.valve_mass))
+    kt, ct, kf, cf = (
+        float(v)
+        for v in (vt.train.train_stiffness, vt.train.train_damping, vt.cam.train_stiffness, vt.cam.train_damping)
+    )
+    k, f0, c, e = float(vt.spring_rate), float(vt.preload), float(vt.spring_damping), float(vt.seat_restitution)
+    hold = float(vt.tappet_force)
+
+    def cam(theta):
+        s, s1 = motion.host(np.asarray([theta]))[:2, 0] * 1e-3
+        return s, s1 * omega
+
+    def rhs(t, y, seated):
+        xc, vc, xv, vv = y
+        s, sd = cam(omega * t)
+        f_cam = max(0.0, kf * (s - xc) + cf * (sd - vc)) if s > xc else 0.0
+        d = r * xc - lash - xv
+        f_t = max(0.0, kt * d + ct * (r * vc - vv)) if d > 0 else 0.0
+        a_v = 0.0 if seated else (f_t - (k * xv + f0 + c * vv)) / m_v
+        return [vc, (f_cam - r * f_t - hold) / m_c, 0.0 if seated else vv, a_v]
+
+    def lifts(t, y, seated):
+        d = r * y[0] - lash
+        return (kt * d + ct * r * y[1] if d > 0 else d) - f0
+
+    def lands(t, y, seated):
+        return y[2]
+
+    lifts.terminal, lifts.direction = True, 1
+    lands.terminal, lands.direction = True, -1
+    apex = lambda t, y, seated: y[3]  # noqa: E731
+    apex.terminal, apex.direction = True, -1
+    opts = {"method": "DOP853", "rtol": 1e-12, "atol": 1e-15}
+    t0 = math.radians(0.0) / omega
+    y0 = [float(motion.host(np.asarray([0.0]))[0, 0]) * 1e-3 - hold / kf, 0.0, 0.0, 0.0]  # at rest on the base circle
+    up = solve_ivp(rhs, (t0, 2 * math.pi / omega), y0, events=lifts, args=(True,), **opts)
+    down = solve_ivp(rhs, (up.t[-1], 2 * math.pi / omega), up.y[:, -1], events=lands, args=(False,), **opts)
+    t_land, y_land = down.t[-1], down.y[:, -1].copy()
+    y_land[2], y_land[3] = 0.0, -e * y_land[3]
+    bounce = solve_ivp(rhs, (t_land, 2 * math.pi / omega), y_land, events=[apex, lands], args=(False,), **opts)
+    return math.degrees(omega * t_land), -down.y[3, -1], float(bounce.y[2, -1])
+
+
+@pytest.mark.slow
+def test_two_mass_flight_and_seat_against_solve_ivp():
+    """Past float (the cam contact opens over the nose) the two masses fly on the train and the valve lands and
+    bounces: diffrax's event-driven march and scipy's DOP853 on the same physics written apart agree."""
+    # a tappet spring keeps the follower on the cam while the lash is open: unloaded, it would flutter on its
+    # compliant contact, a motion too sensitive to where it starts to compare two integrators on
+    case = _valvetrain(train_stiffness=3000.0, stiffness=3000.0, lash=0.15, seat_restitution=0.4, tappet_force=20.0)
+    omega = 4200 * RPM
+    resp = valvetrain_response(case.motion, case.valvetrain, omega)
+    assert resp.floated  # the case flies: a two-mass flight, not a driven motion
+    land_deg, speed, height = _solve_ivp_event(case, omega)
+    assert resp.seating_deg == pytest.approx(land_deg, abs=1e-5)  # 273.88088 deg
+    assert resp.seating_velocity == pytest.approx(speed, rel=1e-6)  # 1.08377 m/s
+    assert resp.bounce_height_mm == pytest.approx(height * 1e3, rel=1e-6)  # 0.033833 mm
+
+
+def test_shipped_case_valve_event():
+    """cases/valvetrain.toml at its speed: about 10 mm of valve lift, about 250 cam deg at 0.05 mm, seated at the
+    ramp's speed within the dynamics (0.015 mm/deg x 18000 deg/s = 0.27 m/s), settled, no float."""
+    case = case_from_dict(copy.deepcopy(SHIPPED))
+    resp = valvetrain_response(case.motion, case.valvetrain, 3000 * RPM)
+    opening, closing = resp.timing_deg()
+    assert 240.0 < closing - opening < 255.0
+    assert 9.8 < resp.max_valve_lift_mm < 10.1  # 1.6 x 6.375 - 0.2 = 10 mm less the train's deflection
+    assert resp.seating_velocity == pytest.approx(0.015 * 18000e-3, rel=0.05)
+    assert resp.settled and not resp.floated and resp.least_event_force > 0.0
+    assert not resp.bounced
+
+
+@pytest.fixture(scope="module")
+def shipped_check():
+    from camdyn.design.checks import run_check
+
+    return run_check(case_from_dict(copy.deepcopy(SHIPPED)))
+
+
+VALVETRAIN_KEYS = {
+    "ratio",
+    "lash_mm",
+    "max_valve_lift_mm",
+    "opening_deg",
+    "closing_deg",
+    "seating_velocity_m_per_s",
+    "float_speed_rpm",
+    "bounce_speed_rpm",
+    "bounce_height_mm",
+}
+
+
+@pytest.mark.slow
+def test_check_json_reports_the_valvetrain(shipped_check):
+    out = shipped_check.json()
+    vt = out["valvetrain"]
+    assert set(vt) == VALVETRAIN_KEYS
+    assert vt["ratio"] == 1.6 and vt["lash_mm"] == pytest.approx(0.2)
+    assert out["dynamic"]["jump_speed_rpm"] == vt["float_speed_rpm"]
+    # float comes before the equivalent rigid follower's jump (the train's compliance) and after the case speed
+    assert 3000 * 1.25 < vt["float_speed_rpm"] < out["kinematic"]["jump_speed_rpm"]
+    checks = {c["name"]: c for c in out["checks"]}
+    assert checks["seating_velocity"]["limit"] == 0.5 and checks["seating_velocity"]["ok"]
+    assert checks["seating_velocity"]["value"] == vt["seating_velocity_m_per_s"]
+    assert checks["valve_bounce"]["value"] == vt["bounce_height_mm"] and checks["valve_bounce"]["ok"]
+    assert checks["speed_margin"]["value"] == pytest.approx(vt["float_speed_rpm"] / 3000)
+    # the contact force is judged over the valve event, not on the base circle where only the tappet force acts
+    assert checks["contact_force"]["value"] == out["dynamic"]["min_contact_force_N"] > 0.0
+    assert out["verdict"] == "pass"
+
+
+@pytest.mark.slow
+def test_table_has_the_valve_columns(shipped_check):
+    from camdyn.design.table import motion_table
+
+    cols = motion_table(shipped_check.case, step_deg=1.0)
+    lift, v = cols["valve_lift_mm"], cols["valve_velocity_m_per_s"]
+    assert lift.max() == pytest.approx(shipped_check.valvetrain.response.max_valve_lift_mm, abs=0.01)
+    assert np.all(lift >= 0.0) and lift[0] == 0.0  # seated on the base circle
+    # the velocity is the lift's derivative: w d(lift)/d(theta), by central differences over the event's flanks
+    w = 3000 * RPM
+    i = np.arange(80, 280)
+    assert v[i] == pytest.approx((lift[i + 1] - lift[i - 1]) / (2 * math.radians(1.0)) * w * 1e-3, abs=0.02)
+
+
+def _valve_table_case(tmp_path, lash, stiffness=None):
+    """cases/valve-lift.csv read as the lift at the valve, through a 1.5 rocker, rigid cam contact."""
+    (tmp_path / "valve.csv").write_text((CASES / "valve-lift.csv").read_text())
+    raw = copy.deepcopy(SHIPPED)
+    raw["motion"] = {"valve_table": "valve.csv"}
+    raw["valvetrain"] |= {"ratio": 1.5, "lash": lash}
+    raw["valvetrain"].pop("stiffness")
+    if stiffness is not None:
+        raw["valvetrain"]["stiffness"] = stiffness
+    path = tmp_path / "vt.toml"
+    import tomli_w
+
+    path.write_text(tomli_w.dumps(raw))
+    from camdyn.model.case import load_case
+
+    return load_case(path)
+
+
+@pytest.mark.parametrize("lash", [0.0, 0.2])
+def test_valve_table_reproduced_at_the_valve(tmp_path, lash):
+    """A valve-lift table, rigid train: the valve's lift reproduces the table within the fit's stated residual,
+    and the follower's lift is the table's (its ramps added) over the ratio."""
+    from camdyn.design.table import motion_table
+
+    case = _valve_table_case(tmp_path, lash)
+    assert case.motion_source == "valve_table" and case.fit.follower_per_data == pytest.approx(1 / 1.5)
+    data = np.loadtxt(CASES / "valve-lift.csv", delimiter=",", skiprows=1)
+    cols = motion_table(case, step_deg=1.0, speed_rpm=1000)
+    assert np.allclose(cols["theta_deg"], data[:, 0])
+    stated = case.fit.spline.max_residual
+    assert np.max(np.abs(cols["valve_lift_mm"] - data[:, 1])) <= stated + 1e-9
+    ramps = np.where(data[:, 1] > 0, data[:, 1] + lash, cols["s_mm"] * 1.5)
+    assert np.max(np.abs(cols["s_mm"] * 1.5 - ramps)) <= stated + 1e-9
+    if lash:  # the ramps: the lash taken up at 0.015 mm/deg, 13.3 deg each side of the valve's event
+        base = cols["s_mm"][(data[:, 1] == 0) & (cols["s_mm"] * 1.5 < 0.5 * lash)]
+        assert base.size and np.max(np.abs(base[:20])) < 0.01
+
+
+def test_valve_table_needs_a_valvetrain(tmp_path):
+    raw = copy.deepcopy(SHIPPED)
+    raw["motion"] = {"valve_table": "valve.csv"}
+    del raw["valvetrain"]
+    raw["dynamics"]["mass"] = 0.2
+    with pytest.raises(InputError) as err:
+        case_from_dict(raw)
+    assert err.value.where == "motion.valve_table"
+
+
+@pytest.mark.slow
+def test_valvetrain_figures_and_search_curve(shipped_check):
+    """The report's valvetrain figures draw from check's result; the seating velocity the searches marched grows
+    with speed below float as the closing ramp's does (0.015 mm/deg x the cam's deg/s, within the dynamics)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from camdyn.plot import plot_seating_velocity, plot_valve_lift, plot_valve_velocity
+
+    vt = shipped_check.valvetrain
+    fig, axes = plt.subplots(3)
+    plot_valve_lift(axes[0], vt)
+    plot_valve_velocity(axes[1], vt)
+    plot_seating_velocity(axes[2], vt, 0.5)
+    plt.close(fig)
+    rpm, v = np.asarray(vt.speeds_rpm), np.asarray(vt.seating_velocities)
+    below = rpm < 0.9 * vt.float_speed_rpm
+    assert below.sum() >= 5
+    assert v[below] == pytest.approx(0.015e-3 * rpm[below] * 6.0, rel=0.1)
+
+
+def test_lash_the_cam_cannot_take_up_is_refused():
+    raw = copy.deepcopy(SHIPPED)
+    raw["valvetrain"]["lash"] = 4.0  # more than 0.5 x 6.375 mm
+    raw["valvetrain"]["ratio"] = 0.5
+    with pytest.raises(InputError) as err:
+        case_from_dict(raw)
+    assert err.value.where == "valvetrain.lash" and "never lifts" in str(err.value)
+
+
+def test_train_too_soft_to_lift_the_valve_is_refused():
+    """The issue's sketch gives stiffness = 25 N/mm: a train that soft, compressed by the whole 10 mm, carries less
+    than the spring's 300 N preload; camdyn says so (a unit slip: 25 kN/mm was likely meant)."""
+    raw = copy.deepcopy(SHIPPED)
+    raw["valvetrain"]["stiffness"] = 25
+    with pytest.raises(InputError) as err:
+        case_from_dict(raw)
+    assert err.value.where == "valvetrain.stiffness" and "N/mm" in str(err.value)
+
+
+def test_a_spring_part_with_a_valvetrain_is_refused_for_now():
+    raw = copy.deepcopy(SHIPPED)
+    raw["spring"] = {"material": "music-wire"}
+    with pytest.raises(InputError) as err:
+        case_from_dict(raw)
+    assert err.value.where == "spring" and "valve_mass" in str(err.value)
+
+
+@pytest.mark.slow
+def test_report_has_a_valvetrain_page(tmp_path, shipped_check):
+    from camdyn.design.review import design_review
+    from camdyn.report import render
+
+    written = render(design_review(shipped_check.case, shipped_check), tmp_path)
+    pages = sorted(p.name for p in tmp_path.glob("*.png"))
+    assert "valvetrain-5-valvetrain.png" in pages and written.pdf.exists()
+
+
+@pytest.mark.parametrize("command", ["size", "tolerance", "optimize"])
+def test_single_follower_studies_refuse_a_valvetrain(capsys, tmp_path, command):
+    """They would judge the equivalent single follower (no lash, seat or float): one line, exit 2."""
+    extra = ["-o", tmp_path / "o.toml"] if command == "optimize" else []
+    code, out, err = run(capsys, command, CASES / "valvetrain.toml", *extra)
+    assert code == 2 and len(err.strip().splitlines()) == 1 and "does not model a valvetrain yet" in err
+
+
+def test_rigid_train_takes_up_the_lash_at_the_ramps_speed():
+    """A rigid train closes the lash on the opening ramp with a plastic impact: the cam holds the follower, so the
+    valve leaves its seat at once at the ramp's speed times the ratio (0.537148 mm/rad x 1.6 x w), and the lash is
+    taken up where the ramp reaches lash / ratio = 0.125 mm (42 + 0.06875 / 0.537148 rad, in deg)."""
+    raw = copy.deepcopy(SHIPPED)
+    raw["valvetrain"].pop("stiffness")
+    case = case_from_dict(raw)
+    omega = 300 * RPM
+    resp = valvetrain_response(case.motion, case.valvetrain, omega)
+    lash = [e for e in resp.events if e.what == "lash"]
+    assert len(lash) == 1
+    assert lash[0].deg == pytest.approx(42.0 + math.degrees((0.125 - 0.05625) / 0.537148), abs=1e-3)
+    after = (resp.theta_deg > lash[0].deg) & (resp.theta_deg < 59.0)  # still on the constant-velocity ramp
+    assert resp.valve_velocity[after] == pytest.approx(0.537148e-3 * 1.6 * omega, rel=1e-6)
