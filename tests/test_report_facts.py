@@ -186,10 +186,9 @@ def assert_legend_clear(ax) -> None:
 
 
 @pytest.mark.slow
-def test_square_page_one_says_its_spring_cannot_be_built(path_synthesis):
+def test_square_page_one_says_its_spring_cannot_be_built(shipped_check):
     """square passes its checks, but its own spring cannot be built (page 6): page 1 says so."""
-    case = load_case(CASES / "square.toml")
-    review = light_review(case, run_check(case))
+    review = light_review(*shipped_check("square"))
     assert isinstance(review.spring_part, Unavailable)
     facts = decision_facts(ReportData(review))
     assert any(f.startswith("the return spring cannot be built") and review.spring_part.reason in f for f in facts)
@@ -218,14 +217,14 @@ def test_lecture_tolerances_page_one_carries_p_separation():
 
 
 @pytest.mark.slow
-def test_rounding_is_not_a_jump_and_knots_are_not_boundaries():
+def test_rounding_is_not_a_jump_and_knots_are_not_boundaries(shipped_check):
     """lecture-optimized's B-splines end with accelerations of about 1e-6 mm/rad^2: not a jump, on page 1 or 2
     or in the check's warnings; its dotted boundaries are the segments' (not the knots'). The lecture's real
     jumps (22.5 mm/rad^2) stay flagged."""
-    opt = load_case(CASES / "lecture-optimized.toml")
+    opt, opt_check = shipped_check("lecture-optimized")
     assert len(opt.motion.breaks_deg) > 4  # the knots are breaks for the integrators
     assert not [w for w in opt.motion.continuity_warnings() if "jumps" in w]
-    data = ReportData(light_review(opt, run_check(opt)))
+    data = ReportData(light_review(opt, opt_check))
     assert data.breaks_deg == (0.0, 90.0, 180.0, 240.0) and data.jumps == []
     assert not [f for f in decision_facts(data) if "jumps" in f]
     lecture = load_case(CASES / "lecture.toml")

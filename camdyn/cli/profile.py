@@ -89,9 +89,9 @@ def run(args) -> int:
         # the optional extra: say how to get it before any work
         from ..export import solid
 
-        solid.require_cad()
         if args.keyway:
-            solid.parse_keyway(args.keyway)  # a typo is refused before the model is built
+            solid.parse_keyway(args.keyway)  # a typo is refused before the model is built or build123d loads
+        solid.require_cad()
     grind = args.grinder_wheel_radius is not None or args.follower_lift
     if suffix in (".nc", ".step", ".stl") or grind:  # checked before the work (write_profile checks its own)
         output_file(out, args.force, "profile")
