@@ -57,6 +57,21 @@ def racetrack_check(racetrack_case):
 
 
 @pytest.fixture(scope="session")
+def shipped_check():
+    """``shipped_check(name)``: (case, check) of ``cases/<name>.toml``, made once per test session (several test
+    files read the same shipped case's verdict)."""
+    made: dict = {}
+
+    def get(name: str):
+        if name not in made:
+            case = load_case(CASES / f"{name}.toml")
+            made[name] = case, run_check(case)
+        return made[name]
+
+    return get
+
+
+@pytest.fixture(scope="session")
 def lecture_check_json(lecture_check):
     """``check --json`` of the shipped lecture case."""
     return lecture_check.json()

@@ -184,6 +184,7 @@ def test_oscillating_case_forces_in_newton(capsys):
     assert code == 0 and doc["dynamic"]["min_contact_force_N"] > 10.0 and "residual_vibration_rad" in doc["dynamic"]
 
 
+@pytest.mark.slow  # four checks of a path case, each radius a new synthesis (11 s CPU of the not-slow set's 96)
 def test_sharp_square_gets_the_corner_radius_that_passes(capsys, tmp_path, monkeypatch):
     import functools
 

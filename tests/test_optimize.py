@@ -151,9 +151,8 @@ def test_reshaped_lecture_holds_at_every_speed_to_130_percent(lecture_rows):
 
 # ---------------------------------------------------------------------------------- the shipped case
 @pytest.fixture(scope="module")
-def optimized():
-    case = load_case(OPTIMIZED)
-    return case, run_check(case)
+def optimized(shipped_check):
+    return shipped_check(OPTIMIZED.stem)
 
 
 @pytest.mark.slow

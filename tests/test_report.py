@@ -19,7 +19,7 @@ from camdyn.cli import main
 from camdyn.design.checks import run_check
 from camdyn.design.review import design_review
 from camdyn.design.sizing import SpringSizing
-from camdyn.model.case import case_from_dict, load_case
+from camdyn.model.case import case_from_dict
 from camdyn.model.dynamics import Separation
 from camdyn.plot import (
     face_extremes,
@@ -456,21 +456,21 @@ def test_parts_page_draws_the_drive_and_the_spring(lecture):
 
 
 @pytest.mark.slow
-def test_a_contour_case_shows_its_data_file_and_fit():
+def test_a_contour_case_shows_its_data_file_and_fit(shipped_check):
     """A measured contour has no segments and no path: the summary lists the file and how the fit follows it."""
-    case = load_case(ROOT / "cases" / "measured-cam.toml")
-    text = drawn_pages(design_review(case, run_check(case)))
+    case, check = shipped_check("measured-cam")
+    text = drawn_pages(design_review(case, check))
     fit = case.contour.json()
     assert "measured-cam.csv" in text["summary"] and f"{fit['points']}" in text["summary"]
     assert "max residual" in text["summary"] and "rms residual" in text["summary"]
 
 
 @pytest.mark.slow
-def test_an_optimized_case_is_compared_with_its_original():
+def test_an_optimized_case_is_compared_with_its_original(shipped_check):
     """cases/lecture-optimized.toml names lecture.toml in optimized_from: its report gets the optimization page,
     the motion and the force against speed of both, with both jump speeds."""
-    case = load_case(ROOT / "cases" / "lecture-optimized.toml")
-    review = design_review(case, run_check(case))
+    case, check = shipped_check("lecture-optimized")
+    review = design_review(case, check)
     assert review.original.case.name == "lecture" and review.original.check.dynamic.jump_speed_rpm == pytest.approx(
         484.818, abs=0.01
     )

@@ -126,7 +126,7 @@ def fast_review(lecture_fast_case):
 def test_lecture_fast_page_one_counts_the_flights_and_impacts_of_the_plot(fast_review):
     """lecture-fast at 600 rpm leaves the cam 8 times (the 2 bouncing separations hold 6 impacts between flights)
     and lands 8 times, hardest at about 544 N; page 1, the JSON and the plots all say so; the shading is exactly
-    where the force is zero, at 600 and at 750 rpm (3 flights, 3 impacts up to about 1530 N)."""
+    where the force is zero, at 600 and at 750 rpm (2 flights, 2 impacts up to about 2680 N)."""
     chk = fast_review.check
     resp, doc = chk.response, chk.json()["dynamic"]
     assert len(resp.separations) == 2 and len(doc["separations"]) == 2  # the contract's separations stay
@@ -142,7 +142,8 @@ def test_lecture_fast_page_one_counts_the_flights_and_impacts_of_the_plot(fast_r
     assert_shading_is_the_zero_force(resp)
     assert_shading_is_the_zero_force(fast_review.margin_response)
     m = fast_review.margin_response
-    assert len(m.flights) == 3 and len(m.impacts) == 3 and m.max_impact_force == pytest.approx(1530.0, rel=0.03)
+    # 750 rpm bounces without a periodic orbit: the revolution shown is the least mismatch of those integrated
+    assert len(m.flights) == 2 and len(m.impacts) == 2 and m.max_impact_force == pytest.approx(2677.0, rel=0.03)
     rows = dict(key_results(ReportData(fast_review)))
     assert rows["flights (force 0)"].startswith("8, first at 24.8\u00b0")
     assert (
@@ -186,10 +187,9 @@ def assert_legend_clear(ax) -> None:
 
 
 @pytest.mark.slow
-def test_square_page_one_says_its_spring_cannot_be_built(path_synthesis):
+def test_square_page_one_says_its_spring_cannot_be_built(shipped_check):
     """square passes its checks, but its own spring cannot be built (page 6): page 1 says so."""
-    case = load_case(CASES / "square.toml")
-    review = light_review(case, run_check(case))
+    review = light_review(*shipped_check("square"))
     assert isinstance(review.spring_part, Unavailable)
     facts = decision_facts(ReportData(review))
     assert any(f.startswith("the return spring cannot be built") and review.spring_part.reason in f for f in facts)
@@ -218,14 +218,14 @@ def test_lecture_tolerances_page_one_carries_p_separation():
 
 
 @pytest.mark.slow
-def test_rounding_is_not_a_jump_and_knots_are_not_boundaries():
+def test_rounding_is_not_a_jump_and_knots_are_not_boundaries(shipped_check):
     """lecture-optimized's B-splines end with accelerations of about 1e-6 mm/rad^2: not a jump, on page 1 or 2
     or in the check's warnings; its dotted boundaries are the segments' (not the knots'). The lecture's real
     jumps (22.5 mm/rad^2) stay flagged."""
-    opt = load_case(CASES / "lecture-optimized.toml")
+    opt, opt_check = shipped_check("lecture-optimized")
     assert len(opt.motion.breaks_deg) > 4  # the knots are breaks for the integrators
     assert not [w for w in opt.motion.continuity_warnings() if "jumps" in w]
-    data = ReportData(light_review(opt, run_check(opt)))
+    data = ReportData(light_review(opt, opt_check))
     assert data.breaks_deg == (0.0, 90.0, 180.0, 240.0) and data.jumps == []
     assert not [f for f in decision_facts(data) if "jumps" in f]
     lecture = load_case(CASES / "lecture.toml")

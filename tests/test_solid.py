@@ -70,7 +70,8 @@ def test_without_the_extra_one_line_says_how_to_get_it(capsys, tmp_path, monkeyp
     assert not (tmp_path / "c.step").exists()
 
 
-@pytest.mark.parametrize("name", ["lecture.toml", "valve-lift.toml"])
+# OpenCascade builds each solid for seconds: the quick set keeps one STEP (valve-lift, no keyway)
+@pytest.mark.parametrize("name", [pytest.param("lecture.toml", marks=pytest.mark.slow), "valve-lift.toml"])
 def test_step_volume_and_outline(capsys, tmp_path, name):
     bd = pytest.importorskip("build123d")
     src, tol, t = CASES / name, 0.01, 12.0
@@ -94,6 +95,7 @@ def test_step_volume_and_outline(capsys, tmp_path, name):
     assert cKDTree(bottom).query(outline)[0].max() <= tol
 
 
+@pytest.mark.slow  # three solids
 def test_stl_volume_and_inch_step(capsys, tmp_path):
     bd = pytest.importorskip("build123d")
     src, t = CASES / "lecture.toml", 8.0

@@ -83,17 +83,20 @@ def test_spring_model_changes_checks_jump_speed_as_an_independent_model_does():
         m: run_check(_case("lecture-fast", sized, None if m == "none" else {"model": m}))
         for m in ("none", "lumped", "surge")
     }
-    jump = {m: r.dynamic["jump_speed_rpm"] for m, r in out.items()}
+    jump = {m: r.json()["dynamic"]["jump_speed_rpm"] for m, r in out.items()}
     assert {m: r.json()["dynamic"]["spring_model"] for m, r in out.items()} == {
         "none": "none",
         "lumped": "lumped",
         "surge": "surge",
     }
-    ms = out["lumped"].dynamic["spring_mass_kg"]
-    assert out["none"].dynamic["spring_mass_kg"] is None and out["surge"].dynamic["spring_mass_kg"] == ms > 0.0
+    ms = out["lumped"].json()["dynamic"]["spring_mass_kg"]
+    assert (
+        out["none"].json()["dynamic"]["spring_mass_kg"] is None
+        and out["surge"].json()["dynamic"]["spring_mass_kg"] == ms > 0.0
+    )
     # lumped: the follower 0.5 kg plus a third of the spring, no [spring] table
     third = run_check(_case("lecture-fast", sized | {"mass": 0.5 + ms / 3}))
-    assert jump["lumped"] == pytest.approx(third.dynamic["jump_speed_rpm"], abs=0.02)
+    assert jump["lumped"] == pytest.approx(third.json()["dynamic"]["jump_speed_rpm"], abs=0.02)
     # surge: the wave equation's jump speed, and the shift from the massless spring it gives
     bare = _case("lecture-fast", sized)
     continuum = _continuum_jump_rpm(bare, ms, 600, 900)
@@ -129,7 +132,9 @@ def test_lecture_fast_buildable_passes_check_with_its_own_mass():
         rep = run_check(_case("lecture-fast", written, spring))
         margin = next(c for c in rep.checks if c.name == "speed_margin")
         assert rep.verdict == "pass" and margin.value >= 1.25 * 1.001
-        assert rep.dynamic["spring_mass_kg"] == pytest.approx(part["mass_kg"], rel=1e-12)  # check weighs the same part
+        assert rep.json()["dynamic"]["spring_mass_kg"] == pytest.approx(
+            part["mass_kg"], rel=1e-12
+        )  # check weighs the same part
     by_hand = run_check(_case("lecture-fast", written | {"mass": 0.5 + part["mass_kg"] / 3}))
     assert next(c for c in by_hand.checks if c.name == "speed_margin").value >= 1.25 * 1.001
     # surge is a constraint: clear of every strong harmonic up to 750 rpm

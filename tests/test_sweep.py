@@ -2,6 +2,7 @@
 
 import csv
 import io
+import json
 import os
 import subprocess
 import sys
@@ -293,3 +294,42 @@ def test_absurd_spring_rates_separate_in_the_train(lecture):
         locked = np.min(kf * s + cf * rpm * RPM * s1)
         assert locked < 0.0 and np.allclose(jm.contact_force[i], locked, rtol=0, atol=1e-3)
     assert any("follower train alone" in n for n in jm.notes)
+
+
+_TWO_MAPS = """
+import json, sys
+from pathlib import Path
+from camdyn import enable_x64
+from camdyn._core import jit
+from camdyn.design.sweep import jump_map
+from camdyn.model.case import load_case
+enable_x64()
+jit.enable(sys.argv[1])
+files = lambda: sorted(p.name for p in Path(sys.argv[1]).glob("*.jaxexport"))
+out = {}
+for name in ("polynomial", "lecture"):
+    jm = jump_map(load_case(Path(sys.argv[2]) / "cases" / f"{name}.toml"), [300.0, 700.0], [0.5, 3.0])
+    out[name] = {"files": files(), "separated": jm.separated.tolist(), "gap": jm.max_gap.tolist(),
+                 "force": jm.min_force.tolist()}
+print(json.dumps(out))
+"""
+
+
+@pytest.mark.slow
+def test_a_new_case_reuses_the_traced_map_programs(lecture, tmp_path):
+    """Issue 23: every program of a compliant map is in the traced-program cache, keyed by the follower kind and not
+    the case: in a fresh process whose cache another case's map filled, the lecture's (another segment list) traces
+    nothing new, and the loaded programs give what the programs traced here give."""
+    env = os.environ | {"PYTHONPATH": str(ROOT), "EQX_ON_ERROR": "nan"}
+    run = subprocess.run(
+        [sys.executable, "-c", _TWO_MAPS, str(tmp_path), str(ROOT)], env=env, capture_output=True, text=True
+    )
+    assert run.returncode == 0, run.stderr[-2000:]
+    out = json.loads(run.stdout.splitlines()[-1])
+    first = out["polynomial"]["files"]
+    assert {p.split("-")[0] for p in first} >= {"evaluate", "damping_kernel", "linear_kernel", "exact_gap_kernel"}
+    assert out["lecture"]["files"] == first
+    assert any(map(any, out["polynomial"]["separated"])) and any(map(any, out["lecture"]["separated"]))
+    plain = jump_map(lecture, [300.0, 700.0], [0.5, 3.0])
+    np.testing.assert_allclose(out["lecture"]["force"], plain.min_force, rtol=1e-12)
+    np.testing.assert_allclose(out["lecture"]["gap"], plain.max_gap, rtol=1e-12)

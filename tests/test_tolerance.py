@@ -116,12 +116,12 @@ def test_zero_tolerances_agree_with_check(speed):
     case = case_from_dict(_lecture(zeros, speed))
     result = tolerance_study(case, 16, seed=3)
     report = run_check(case)
-    fails = bool(report.dynamic["separations"])
+    fails = bool(report.json()["dynamic"]["separations"])
     assert result.probability in (0.0, 1.0)
     assert result.probability == (1.0 if fails else 0.0)
     assert (speed > 500) == fails
     # the nominal jump speed agrees with check's (a 512-angle scan grid against check's 4096)
-    assert result.nominal_jump_speed_rpm == pytest.approx(report.dynamic["jump_speed_rpm"], rel=2e-4)
+    assert result.nominal_jump_speed_rpm == pytest.approx(report.json()["dynamic"]["jump_speed_rpm"], rel=2e-4)
 
 
 @pytest.mark.slow

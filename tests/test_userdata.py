@@ -135,8 +135,8 @@ def test_a_clean_table_gets_no_force_warning(tmp_path):
 def test_check_shows_the_noisy_tables_uncertainty(tmp_path, capsys):
     _, table = _noisy_table_case(tmp_path, 1)
     report = run_check(table)
-    u = report.dynamic["min_contact_force_uncertainty_N"]
-    assert u is not None and abs(report.dynamic["min_contact_force_N"] - 29.077) <= u
+    u = report.json()["dynamic"]["min_contact_force_uncertainty_N"]
+    assert u is not None and abs(report.json()["dynamic"]["min_contact_force_N"] - 29.077) <= u
     assert any("uncertain by up to" in w for w in report.warnings)
 
 

@@ -13,10 +13,11 @@ from typing import Any
 
 import equinox as eqx
 import jax
-import jax.numpy as jnp
 import numpy as np
 from jax.experimental import multihost_utils
 from jax.sharding import Mesh, NamedSharding, PartitionSpec
+
+from .jit import cached_jit
 
 
 def _shard_map(f, mesh, in_specs, out_specs):
@@ -29,7 +30,8 @@ def _shard_map(f, mesh, in_specs, out_specs):
 
 @functools.cache
 def _sharded(kernel: Callable, devices: tuple):
-    """``kernel(const, *point)`` vmapped over grid points and sharded over ``devices``, compiled."""
+    """``kernel(const, *point)`` vmapped over grid points and sharded over ``devices``, compiled; in one process
+    through :func:`camdyn._core.jit.cached_jit`, so a later process loads the traced program instead of tracing it."""
     mesh = Mesh(np.asarray(devices), ("grid",))
 
     def run(const: Any, *batched: Any) -> Any:
@@ -37,7 +39,12 @@ def _sharded(kernel: Callable, devices: tuple):
         spec = PartitionSpec("grid")
         return _shard_map(body, mesh, (PartitionSpec(), *([spec] * len(batched))), spec)(const, *batched)
 
-    return eqx.filter_jit(run), mesh
+    if jax.process_count() > 1:  # global arrays over several processes: traced in each
+        return eqx.filter_jit(run), mesh
+    # the disk key names the kernel and the devices (cached_jit keys by the wrapped function's name)
+    run.__module__ = kernel.__module__
+    run.__qualname__ = run.__name__ = f"{kernel.__qualname__}-on-{len(devices)}-{devices[0].platform}"
+    return cached_jit(run), mesh
 
 
 def _global(x, mesh, spec):
@@ -76,7 +83,7 @@ def run_batched(
             c, pts = _to_mesh(const, part, mesh)
             res = multihost_utils.process_allgather(fn(c, *pts), tiled=True)
         else:
-            res = fn(const, *(jnp.asarray(p) for p in part))
+            res = fn(const, *part)  # numpy: no transfer program to compile
         res = jax.tree_util.tree_map(lambda r, m=m: np.asarray(r)[:m], res)  # m bound now: called within this iteration
         outs.append(res)
         if progress is not None:

@@ -45,6 +45,9 @@ DEFAULT_MAX_PRESSURE_ANGLE_DEG = {"translating": 30.0, "oscillating": 35.0}
 DEFAULT_MIN_CURVATURE_RATIO = 1.5
 DEFAULT_MAX_TRAIN_DEFLECTION = 0.1  # of the lift: a compliant train compressed by more no longer drives the follower
 DEFAULT_TRAIN_DAMPING_RATIO = 0.05
+# form-closed cams: the largest speed at which a follower crossing its backlash may meet the other flank, m/s (a
+# soft landing; the noise and the flank wear of a groove cam grow with it)
+DEFAULT_MAX_IMPACT_VELOCITY_M_PER_S = 0.1
 # [valvetrain] defaults
 # A steel valve on a hardened seat keeps some rebound; 0.3 is the middle of the 0.2-0.4 usually assumed.
 DEFAULT_SEAT_RESTITUTION = 0.3

@@ -24,6 +24,8 @@ def print_check(report: CheckReport) -> None:
         if dyn.separations
         else f"least contact force {dyn.min_contact_force_N:.4g} N at {dyn.min_contact_force_deg:.1f} deg"
     )
+    if report.closure is not None:  # form-closed: the force is signed, negative on the outer flank
+        least = f"form-closed, signed contact force: {least}"
     con.print(
         f"speed {report.speed_rpm:g} rpm, {dyn.model} follower; {least} "
         f"(kinematic {kin.min_contact_force_N:.4g} N at {kin.min_contact_force_deg:.1f} deg)"

@@ -32,7 +32,11 @@ def print_machine(result: MachineResult) -> None:
             cam.name,
             f"{cam.phase_deg:g} deg",
             f"{cam.check.dynamic.min_contact_force_N:.4g} N",
-            "unbounded" if cam.speed_margin is None else f"{cam.speed_margin:.3g} x",
+            "n/a: groove"
+            if cam.check.closure is not None
+            else "unbounded"
+            if cam.speed_margin is None
+            else f"{cam.speed_margin:.3g} x",
             f"{cam.peak_torque:.4g} N*m",
             f"{cam.peak_torque_at_deg:.1f} deg",
             result_text,

@@ -21,7 +21,7 @@ from ..design.table import table_angles
 from ..export import FORMATS, write_profile
 from ..export.profile import MAX_TOLERANCE_MM, MIN_TOLERANCE_MM
 from ..model.case import build_case
-from ..model.geometry import analyze
+from ..model.geometry import WALLS, analyze, groove
 from . import _version
 
 _DENSE_CURVATURE = 20_000  # angles on which a tool's fit in every concave stretch is judged (0.018 deg)
@@ -90,15 +90,21 @@ def run(args: argparse.Namespace) -> int:
         # the optional extra: say how to get it before any work
         from ..export import solid
 
-        solid.require_cad()
         if args.keyway:
-            solid.parse_keyway(args.keyway)  # a typo is refused before the model is built
+            solid.parse_keyway(args.keyway)  # a typo is refused before the model is built or build123d loads
+        solid.require_cad()
     grind = args.grinder_wheel_radius is not None or args.follower_lift
     if suffix in (".nc", ".step", ".stl") or grind:  # checked before the work (write_profile checks its own)
         output_file(out, args.force, "profile")
     case = build_case(args.spec, source=Path(args.case))
     if case.follower is None:
         raise InputError("follower", "the case has no cam follower geometry")
+    if case.follower.form_closed and (suffix not in (".dxf", ".csv", ".svg") or grind):
+        raise InputError(
+            "follower.closure",
+            "a groove cam's walls are written as an outline (.dxf, .csv or .svg); its cutter path, grinder table "
+            "and solid are not built yet",
+        )
     geo = analyze(case.motion, case.follower)
     lim = case.limits
     _, warnings, _ = judge_geometry(
@@ -111,7 +117,14 @@ def run(args: argparse.Namespace) -> int:
     elif suffix in (".step", ".stl"):
         line = _solid(args, geo, out)
     else:
-        info = write_profile(geo.contour_fn(), out, tolerance=args.tolerance, force=args.force, units=args.units)
+        curves = geo.contour_fn()
+        if case.follower.form_closed:  # a groove cam: both walls, the inner one where a spring cam's contour is
+            walls = groove(case.motion, case.follower)
+            curves = {f"GROOVE_{w.upper()}": walls.wall_fn(w) for w in WALLS}
+            warnings += [
+                f"the groove's {w} wall folds (undercut)" for w in WALLS if getattr(walls, f"{w}_wall").undercut
+            ]
+        info = write_profile(curves, out, tolerance=args.tolerance, force=args.force, units=args.units)
         line = (
             f"wrote {args.output}: {info['points']} points within {info['tolerance_mm']:g} mm, "
             f"x {info['x_min_mm']:.3f}..{info['x_max_mm']:.3f} mm, y {info['y_min_mm']:.3f}..{info['y_max_mm']:.3f} mm"

@@ -16,6 +16,7 @@ from ..model.drive import DriveTorque
 from ..model.geometry import CamGeometry, analyze, lever_arm_mm, newton_per_torque_at
 from ..model.surge import SpringInDynamics
 from ._check import Check, CheckKind, find
+from .closure import NOT_APPLICABLE, ClosureStudy, closure_study
 from .geometry import judge_geometry
 from .parts import case_contact, case_drive, contact_check, resolve_spring
 from .userdata import least_force_uncertainty, least_force_warning, unit_slip_warnings
@@ -164,6 +165,7 @@ class CheckReport:
     drive: DriveTorque | None = None  # the camshaft torque of the dynamic forces
     contact: ContactStress | None = None  # Hertz stress, where the case gives a contact width
     valvetrain: ValvetrainResult | None = None  # a [valvetrain] case's two-mass model
+    closure: ClosureStudy | None = None  # a form-closed cam's crossovers and walls
 
     @property
     def verdict(self) -> str:
@@ -192,6 +194,8 @@ class CheckReport:
             out["drive"] = self.drive.json()
         if self.contact is not None:
             out["contact"] = self.contact.json()
+        if self.closure is not None:
+            out["closure"] = self.closure.json()
         if self.valvetrain is not None:
             out["valvetrain"] = self.valvetrain.json()
         if self.case.synthesis is not None:
@@ -304,6 +308,8 @@ def run_check(case: Case, speed_rpm: float | None = None) -> CheckReport:
     case = resolve_spring(case)
     assert case.spring is not None  # resolve_spring resolved it
     rpm = float(speed_rpm if speed_rpm is not None else case.speed_rpm)
+    if case.follower is not None and case.follower.form_closed:
+        return _closure_check(case, rpm)
     omega = rpm * RPM
     motion, model, limits = case.motion, case.model, case.limits
     warnings = list(case.warnings) + ([case.spring.note] if case.spring.note else [])
@@ -396,3 +402,69 @@ def run_check(case: Case, speed_rpm: float | None = None) -> CheckReport:
     return CheckReport(
         case, rpm, checks, kinematic, dynamic, resp, tuple(warnings), tuple(advice), geo, drive, contact, valve
     )
+
+
+def _closure_check(case: Case, rpm: float) -> CheckReport:
+    """:func:`run_check` of a form-closed cam: the crossovers and their impacts judged, the geometry as any cam's;
+    no jump speed (it cannot jump) and no least contact force (signed by design)."""
+    assert case.follower is not None and case.spring is not None  # run_check: a groove cam, its spring resolved
+    study = closure_study(case, rpm)
+    resp = forces_in_newton(case, study.as_response(case))
+    warnings = list(case.warnings) + [NOT_APPLICABLE]
+    kin = resp.kinematic_force
+    i = int(kin.argmin())
+    kinematic = Kinematics(float(kin[i]), float(resp.theta_deg[i]), None, None)
+    dynamic = Dynamics(
+        resp.model,
+        resp.min_force,
+        resp.min_force_deg,
+        None,
+        None,
+        (),
+        (),
+        (),
+        study.response.max_impact_force_N,
+        0.0,
+        0.0,
+        case.spring,
+    )
+    geo = analyze(case.motion, case.follower)
+    lim = case.limits
+    geo_checks, geo_warnings, advice = judge_geometry(
+        geo, case.motion, max_pressure_angle=lim.max_pressure_angle, min_curvature_ratio=lim.min_curvature_ratio
+    )
+    checks = (study.check(lim.max_impact_velocity), *geo_checks)
+    warnings += geo_warnings
+    warnings += [
+        f"the groove's {w} wall folds (undercut)"
+        for w in ("inner", "outer")
+        if getattr(study.walls, f"{w}_wall").undercut
+    ]
+    contact = None
+    if case.spec.contact_width_mm is not None:
+        if study.walls.undercut:  # a folded wall: no radius of curvature to press on
+            warnings.append("contact stress not computed: a groove wall is undercut")
+        else:
+            contact = case_contact(case, geo, resp, study.walls)
+            if contact is not None and lim.max_contact_stress is not None:
+                checks += (contact_check(contact, lim.max_contact_stress),)
+    if study.response.crossovers:
+        warnings.append(_crossovers_note(study, case.follower.backlash))
+    drive = case_drive(case, resp)
+    return CheckReport(
+        case, rpm, checks, kinematic, dynamic, resp, tuple(warnings), tuple(advice), geo, drive, contact, closure=study
+    )
+
+
+def _crossovers_note(study: ClosureStudy, backlash_mm: float) -> str:
+    """Where the contact force changes flank, and with backlash where and how fast the other flank meets it."""
+    xs = study.response.crossovers
+    where = ", ".join(f"{c.deg:.1f}" for c in xs[:6]) + (", ..." if len(xs) > 6 else "")
+    note = f"the contact force changes flank {len(xs)} times a revolution (at {where} deg)"
+    if backlash_mm > 0.0:
+        top = max(xs, key=lambda c: c.impact_velocity_m_per_s)
+        note += (
+            f"; across the {backlash_mm:g} mm backlash the {top.to_flank} flank meets the follower hardest at "
+            f"{top.land_deg:.1f} deg, {top.impact_velocity_m_per_s:.3g} m/s"
+        )
+    return note

@@ -15,6 +15,7 @@ from ..model.drive import camshaft_torque
 from ..model.geometry import analyze, contact_per_force
 from ..model.motion import evaluate
 from .checks import forces_in_newton
+from .closure import closure_study
 
 MAX_ROWS = 1_000_000  # a table is read by people and spreadsheets: a million rows is already more than either wants
 
@@ -43,7 +44,10 @@ def motion_table(case: Case, step_deg: float = 1.0, speed_rpm: float | None = No
     theta = jnp.deg2rad(theta_deg)
     vals = np.asarray(evaluate(case.motion, theta))
     force = np.asarray(dyn.kinematic_force(case.motion, case.model, rpm * RPM, theta))
-    resp = forces_in_newton(case, dyn.response(case.motion, case.model, rpm * RPM))
+    if case.follower is not None and case.follower.form_closed:  # signed: positive on the inner flank, 0 in flight
+        resp = forces_in_newton(case, closure_study(case, rpm).as_response(case))
+    else:
+        resp = forces_in_newton(case, dyn.response(case.motion, case.model, rpm * RPM))
     at = lambda y: np.interp(theta_deg, resp.theta_deg, y, period=360.0)  # noqa: E731
     kind = case.kind
     cols = {"theta_deg": theta_deg}

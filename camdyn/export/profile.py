@@ -72,33 +72,48 @@ def resample(curve: Callable[[np.ndarray], np.ndarray], tolerance: float) -> np.
     return resample_u(curve, tolerance)[1]
 
 
-def _write_dxf(xy: np.ndarray, path: Path, unit: str) -> None:
+def _write_dxf(outlines: dict[str, np.ndarray], path: Path, unit: str) -> None:
     from ezdxf import units
     from ezdxf.filemanagement import new
 
     doc = new("R2010")
     doc.units = units.MM if unit == "mm" else units.IN
-    doc.modelspace().add_lwpolyline(xy.T.tolist(), format="xy", close=True, dxfattribs={"layer": "CAM"})
+    for layer, xy in outlines.items():
+        doc.modelspace().add_lwpolyline(xy.T.tolist(), format="xy", close=True, dxfattribs={"layer": layer})
     doc.saveas(path)
 
 
-def _write_csv(xy: np.ndarray, path: Path, unit: str) -> None:
+def _write_csv(outlines: dict[str, np.ndarray], path: Path, unit: str) -> None:
     fmt = "%.6f" if unit == "mm" else "%.7f"
-    np.savetxt(path, xy.T, delimiter=",", header=f"x_{unit},y_{unit}", comments="", fmt=fmt)
+    if len(outlines) == 1:
+        np.savetxt(
+            path, next(iter(outlines.values())).T, delimiter=",", header=f"x_{unit},y_{unit}", comments="", fmt=fmt
+        )
+        return
+    with path.open("w") as fh:  # several outlines: a third column names each row's outline, one after the other
+        fh.write(f"x_{unit},y_{unit},outline\n")
+        for name, xy in outlines.items():
+            for x, y in xy.T:
+                fh.write(f"{fmt % x},{fmt % y},{name.lower()}\n")
 
 
-def _write_svg(xy: np.ndarray, path: Path, unit: str) -> None:
-    lo, hi = xy.min(axis=1), xy.max(axis=1)
+def _write_svg(outlines: dict[str, np.ndarray], path: Path, unit: str) -> None:
+    allxy = np.concatenate(list(outlines.values()), axis=1)
+    lo, hi = allxy.min(axis=1), allxy.max(axis=1)
     pad = 0.05 * float(np.max(hi - lo))
     x0, y0, w, h = lo[0] - pad, -hi[1] - pad, hi[0] - lo[0] + 2 * pad, hi[1] - lo[1] + 2 * pad
     nd = 4 if unit == "mm" else 6  # 0.1 um either way
-    pts = " ".join(f"{x:.{nd}f},{-y:.{nd}f}" for x, y in xy.T)  # SVG's y axis points down
     stroke = 0.004 * max(w, h)
+    polygons = ""
+    for name, xy in outlines.items():
+        pts = " ".join(f"{x:.{nd}f},{-y:.{nd}f}" for x, y in xy.T)  # SVG's y axis points down
+        ident = "" if len(outlines) == 1 else f'id="{name.lower()}" '
+        polygons += f'  <polygon {ident}points="{pts}" fill="none" stroke="black" stroke-width="{stroke:.{nd}f}"/>\n'
     path.write_text(
         f'<svg xmlns="http://www.w3.org/2000/svg" width="{w:.4f}{unit}" height="{h:.4f}{unit}" '
         f'viewBox="{x0:.{nd}f} {y0:.{nd}f} {w:.{nd}f} {h:.{nd}f}">\n'
-        f'  <polygon points="{pts}" fill="none" stroke="black" stroke-width="{stroke:.{nd}f}"/>\n'
-        f'  <circle cx="0" cy="0" r="{2 * stroke:.{nd}f}" fill="black"/>\n</svg>\n'
+        + polygons
+        + f'  <circle cx="0" cy="0" r="{2 * stroke:.{nd}f}" fill="black"/>\n</svg>\n'
     )
 
 
@@ -106,7 +121,7 @@ _WRITERS = {".dxf": _write_dxf, ".csv": _write_csv, ".svg": _write_svg}
 
 
 def write_profile(
-    contour_xy: np.ndarray | Callable[[np.ndarray], np.ndarray],
+    contour_xy: np.ndarray | Callable[[np.ndarray], np.ndarray] | dict[str, Callable[[np.ndarray], np.ndarray]],
     path: str | Path,
     *,
     tolerance: float = 0.01,
@@ -119,6 +134,10 @@ def write_profile(
     docstring). ``tolerance``: the largest chord deviation, mm. ``units``: the file's, ``"mm"`` or ``"in"`` (the
     DXF's $INSUNITS, the CSV's ``x_in,y_in`` columns, the SVG's size). Refuses to overwrite an existing file unless
     ``force``. Returns ``{path, format, points, tolerance_mm, units, x_min_mm, x_max_mm, y_min_mm, y_max_mm}``.
+
+    Several outlines (a groove cam's walls) come as a dict of callables by name: the DXF puts each on a layer of
+    that name, the CSV adds a column ``outline`` (the name in lower case) and lists them one after the other, the
+    SVG draws a polygon per outline with the name as its ``id``; ``points`` counts them all.
     """
     path = Path(path)
     suffix = path.suffix.lower()
@@ -134,18 +153,21 @@ def write_profile(
             "--tolerance", f"must be between {MIN_TOLERANCE_MM:g} and {MAX_TOLERANCE_MM:g} mm, got {tolerance:g} mm"
         )
     path = output_file(path, force, "contour")
-    if callable(contour_xy):
-        curve = contour_xy
+    if isinstance(contour_xy, dict):
+        curves = contour_xy
+    elif callable(contour_xy):
+        curves = {"CAM": contour_xy}
     else:
         xy = np.asarray(contour_xy, dtype=float)
         if xy.ndim != 2 or xy.shape[0] != 2 or xy.shape[1] < 4:
             raise InputError("contour", f"expected a (2, n >= 4) array of x, y in mm, got shape {xy.shape}")
         if not np.all(np.isfinite(xy)):
             raise InputError("contour", "the contour has non-finite points")
-        curve = _spline(xy)
-    pts = resample(curve, tolerance)
+        curves = {"CAM": _spline(xy)}
+    outlines = {name: resample(curve, tolerance) for name, curve in curves.items()}
+    pts = np.concatenate(list(outlines.values()), axis=1)
     try:
-        _WRITERS[suffix](pts if units == "mm" else pts / MM_PER_INCH, path, units)
+        _WRITERS[suffix]({k: v if units == "mm" else v / MM_PER_INCH for k, v in outlines.items()}, path, units)
     except OSError as err:
         raise InputError(str(path), f"cannot write the file: {err.strerror or err}") from None
     lo, hi = pts.min(axis=1), pts.max(axis=1)

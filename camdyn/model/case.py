@@ -121,7 +121,8 @@ def build_case(spec: CaseSpec, source: Path | None = None) -> Case:
         model = follower_model(spec.dynamics, kind=spec.kind)
     else:
         model = equivalent_follower(valvetrain)
-    _check_holds_at_rest(motion, model, dynamics_keys(spec.kind)[2], spec.kind.force_unit)
+    if not follower.form_closed:  # a groove holds the follower both ways: it needs no spring to stay on
+        _check_holds_at_rest(motion, model, dynamics_keys(spec.kind)[2], spec.kind.force_unit)
     if valvetrain is not None:
         _check_valve_lifts(motion, spec)
     return Case(

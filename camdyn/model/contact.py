@@ -29,7 +29,7 @@ from jax.typing import ArrayLike
 from .._core.errors import InputError, NumericalError
 from .._core.materials import GPA, MPA
 from .._core.units import CUSP_MM, M_PER_MM
-from .geometry import CamGeometry
+from .geometry import CamGeometry, GrooveGeometry
 
 
 def effective_modulus(e1: float, nu1: float, e2: float, nu2: float) -> float:
@@ -143,13 +143,52 @@ def cam_contact(
     response's force: axial for a translating follower, the contact force for an oscillating arm);
     ``width_mm`` the contact width along the camshaft; ``cam`` and ``follower`` their (E GPa, nu).
     """
+    force = _forces(geometry, force, width_mm)
+    return _strip(
+        geometry.theta_deg,
+        normal_force(geometry, force),
+        equivalent_curvature_per_mm(geometry),
+        width_mm,
+        cam,
+        follower,
+    )
+
+
+def groove_contact(
+    geometry: CamGeometry,
+    walls: GrooveGeometry,
+    force,
+    *,
+    width_mm: float,
+    cam: tuple[float, float],
+    follower: tuple[float, float],
+) -> ContactStress:
+    """:func:`cam_contact` of a groove cam: the roller on the inner wall where the signed ``force`` is positive, on
+    the outer where negative, K = 1/Rr + 1/rho_wall with the wall's radius seen from the roller (the outer wall is
+    concave where the inner one is convex: a conformal, gentler contact). ``geometry`` and ``walls`` on one grid."""
+    force = _forces(geometry, force, width_mm)
+    rr = geometry.follower.roller_radius
+    assert rr is not None  # the schema: a groove holds a roller
+    inner = force >= 0.0
+    with np.errstate(divide="ignore"):
+        k_mm = 1.0 / rr + 1.0 / np.where(inner, walls.rho_inner_mm, walls.rho_outer_mm)
+    folded = (walls.inner_wall.undercut and np.any(inner)) or (walls.outer_wall.undercut and not np.all(inner))
+    if folded or np.any(k_mm <= 0.0):
+        raise _undercut(geometry.theta_deg, k_mm <= 0.0)
+    return _strip(geometry.theta_deg, np.abs(normal_force(geometry, force)), k_mm, width_mm, cam, follower)
+
+
+def _forces(geometry: CamGeometry, force, width_mm: float) -> np.ndarray:
     if not (width_mm > 0 and math.isfinite(width_mm)):
         raise InputError("follower.width", f"the contact width must be positive, mm (got {width_mm})")
     force = np.asarray(force, dtype=float)
     if force.shape != geometry.theta_deg.shape:
         raise InputError("force", f"{force.size} forces for {geometry.theta_deg.size} cam angles")
+    return force
+
+
+def _strip(theta_deg, fn, k_mm, width_mm: float, cam, follower) -> ContactStress:
+    """The Hertz strip of normal force ``fn`` (N) at equivalent curvature ``k_mm`` (1/mm) per angle."""
     e_star = effective_modulus(cam[0] * GPA, cam[1], follower[0] * GPA, follower[1])
-    k_mm = equivalent_curvature_per_mm(geometry)
-    fn = normal_force(geometry, force)
     b, p = line_contact(fn, k_mm / M_PER_MM, width_mm * M_PER_MM, e_star)
-    return ContactStress(geometry.theta_deg, fn, 1.0 / k_mm, b / M_PER_MM, p / MPA, float(width_mm), e_star / GPA)
+    return ContactStress(theta_deg, fn, 1.0 / k_mm, b / M_PER_MM, p / MPA, float(width_mm), e_star / GPA)

@@ -62,8 +62,9 @@ class FollowerModel(eqx.Module):
 def follower_model(d: DynamicsSpec, *, kind: FollowerKind) -> FollowerModel:
     """SI follower parameters from a validated ``[dynamics]`` table (translating: mm -> m, N/mm -> N/m)."""
     m, k_in, f0, kf_in, ext = d.generalized(kind)
-    assert m is not None and k_in is not None and f0 is not None  # check_dynamics_keys: the kind's mass, rate, preload
-    k = kind.rate_to_si(k_in)
+    assert m is not None  # check_dynamics_keys: the kind's mass (and rate and preload, unless form-closed)
+    k = kind.rate_to_si(k_in or 0.0)  # a groove cam needs no return spring
+    f0 = f0 or 0.0
     kf = math.inf if kf_in is None else kind.rate_to_si(kf_in)
     c = d.damping if d.damping is not None else damping_from_ratio(d.damping_ratio or 0.0, k, m)
     cf = 0.0 if math.isinf(kf) else damping_from_ratio(d.train_damping_ratio, kf, m)

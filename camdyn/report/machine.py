@@ -47,8 +47,12 @@ def cam_line(cam: MachineCam) -> str:
     dyn = chk.dynamic
     text = (
         f"least contact force {dyn.min_contact_force_N:.3g} N at cam {dyn.min_contact_force_deg:.1f}\u00b0, "
-        f"speed margin {fmt(cam.speed_margin, 3)}\u00d7, "
-        f"peak torque {cam.peak_torque:.3g} N\u00b7m at {cam.peak_torque_at_deg:.1f}\u00b0"
+        + (
+            "form-closed (cannot jump), "
+            if chk.closure is not None
+            else f"speed margin {fmt(cam.speed_margin, 3)}\u00d7, "
+        )
+        + f"peak torque {cam.peak_torque:.3g} N\u00b7m at {cam.peak_torque_at_deg:.1f}\u00b0"
     )
     if dyn.separations:
         text += f", leaves the cam ({len(dyn.separations)} flights)"

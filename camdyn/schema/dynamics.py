@@ -126,15 +126,18 @@ def dynamics_keys(kind: FollowerKind) -> tuple[str, ...]:
     return ROTARY_KEYS if kind.rotary else LINEAR_KEYS
 
 
-def check_dynamics_keys(d: DynamicsSpec, *, kind: FollowerKind, key: str = "dynamics") -> None:
+def check_dynamics_keys(
+    d: DynamicsSpec, *, kind: FollowerKind, key: str = "dynamics", form_closed: bool = False
+) -> None:
     """Raise ``ValueError("<key>.<name>: message")`` unless ``d`` uses the keys of its follower kind: the linear
-    ones for a translating follower, the rotational ones for an oscillating arm (mass, rate and preload needed)."""
+    ones for a translating follower, the rotational ones for an oscillating arm (mass, rate and preload needed;
+    a form-closed follower needs only the mass: its spring rate and preload default to 0)."""
     use = dynamics_keys(kind)
     other = LINEAR_KEYS if use is ROTARY_KEYS else ROTARY_KEYS
     for k_use, k_other in zip(use, other, strict=True):
         given = getattr(d, k_other)
         if given is not None and (k_other not in ("external_force", "external_torque") or given != 0.0):
             raise ValueError(f"{key}.{k_other}: {kind.a} follower uses {k_use}, not {k_other}")
-    for k in use[:3]:
+    for k in use[:1] if form_closed else use[:3]:
         if getattr(d, k) is None:
             raise ValueError(f"{key}.{k}: required key is missing")

@@ -71,6 +71,24 @@ class FollowerSpec(Table):
     face_width: Real | None = Field(
         default=None, gt=0, le=MAX_LENGTH_MM, description="flat followers: usable face width, mm"
     )
+    closure: Literal["spring", "groove", "conjugate"] = Field(
+        default="spring",
+        description=(
+            "what holds the follower on the cam: spring (a return spring, the follower may jump) | groove (a roller "
+            "in a slot: form-closed, no spring needed; the contact force is signed, positive on the inner flank) | "
+            "conjugate (two cams and two rollers: not built yet, refused)"
+        ),
+    )
+    backlash: Real = Field(
+        default=0.0,
+        ge=0,
+        le=MAX_LENGTH_MM,
+        description=(
+            "closure = groove: the slot width less the roller diameter, mm; the groove walls lie roller_radius + "
+            "backlash/2 either side of the pitch curve, and the follower flies across the backlash where the "
+            "contact force changes flank"
+        ),
+    )
     width: Real | None = Field(
         default=None,
         gt=0,
@@ -93,10 +111,27 @@ class FollowerSpec(Table):
             raise ValueError("base_radius: a contour gives the base radius (its least radius): remove base_radius")
         if self.contour is not None and not self.contour.strip():
             raise ValueError("contour: empty file name")
-        takes = set(_NEEDS[self.type]) | _TAKES[self.type] | {"type", "base_radius", "contour", "rotation", "width"}
+        takes = (
+            set(_NEEDS[self.type])
+            | _TAKES[self.type]
+            | {"type", "base_radius", "contour", "rotation", "width", "closure"}
+        )
+        if self.closure == "conjugate":
+            raise ValueError('closure: "conjugate" cams are not built yet: use "groove" (a roller in a slot)')
+        if self.closure == "groove":
+            if not self.roller:
+                raise ValueError(f"closure: a groove holds a roller, not {a} {self.type} follower")
+            if self.contour is not None:
+                raise ValueError("closure: a groove cam is drawn from [motion], not from a contour")
+            takes = takes | {"backlash"}
         for key in sorted(self.model_fields_set - takes):
             raise ValueError(f"{key}: not used by {a} {self.type} follower (its keys: {', '.join(sorted(takes))})")
         return self
+
+    @property
+    def form_closed(self) -> bool:
+        """Whether a groove (or conjugate cams) holds the follower both ways: it cannot jump."""
+        return self.closure != "spring"
 
     @property
     def follower_type(self) -> FollowerType:

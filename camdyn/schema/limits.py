@@ -5,6 +5,7 @@ from __future__ import annotations
 from pydantic import Field
 
 from .._core.units import (
+    DEFAULT_MAX_IMPACT_VELOCITY_M_PER_S,
     DEFAULT_MAX_SEATING_VELOCITY,
     DEFAULT_MAX_TRAIN_DEFLECTION,
     DEFAULT_MIN_CONTACT_FORCE_N,
@@ -61,6 +62,16 @@ class LimitsSpec(Table):
         gt=0,
         description=(
             "largest Hertz contact pressure between cam and follower over a revolution, MPa (needs [follower] width)"
+        ),
+    )
+    max_impact_velocity: Real = Field(
+        default=DEFAULT_MAX_IMPACT_VELOCITY_M_PER_S,
+        gt=0,
+        le=100,
+        description=(
+            "form-closed cams ([follower] closure = groove): the largest relative speed at which the follower, "
+            "crossing its backlash, may meet the other flank, m/s (at the roller centre for an oscillating arm); "
+            f"default {DEFAULT_MAX_IMPACT_VELOCITY_M_PER_S:g}"
         ),
     )
     max_seating_velocity: Real = Field(

@@ -21,6 +21,12 @@ def with_spring_damping(base: FollowerModel, k, c) -> FollowerModel:
     return eqx.tree_at(lambda m: (m.stiffness, m.damping), base, (k, c))
 
 
+def damping_kernel(base: FollowerModel, k):
+    """:meth:`FollowerModel.damping_at` a grid point's spring rate ``k`` (SI): batched in chunks, one cached program
+    for any grid (eagerly, each of its operations would be a program compiled in every process)."""
+    return base.damping_at(k)
+
+
 def linear_kernel(const, omega, k, c):
     """Least force (N, weighted) of the frequency-domain steady state, and its state (x, dx/dtheta) at 0 in the
     motion's unit (the start of the diffrax gap integration)."""

@@ -18,7 +18,7 @@ from ...model.geometry import contact_per_force, newton_per_torque_at
 from ...model.motion import evaluate
 from ..parts import resolve_spring, spring_mass_notes
 from ..valvetrain import refuse_valvetrain
-from ._contact import kinematic_kernel, linear_kernel, with_spring_damping
+from ._contact import damping_kernel, kinematic_kernel, linear_kernel, with_spring_damping
 from ._diffrax_gap import diffrax_gap_const, diffrax_gap_kernel
 from ._exact_gap import exact_gap_kernel
 from ._grid import GAP_CHUNK, GAP_STRIDE, GRID_N, LINEAR_CHUNK, check_grid_size
@@ -40,9 +40,9 @@ class _Points:
         return self.speeds_rpm.size, self.rates.size
 
 
-def _points(case, speeds_rpm, spring_rates) -> _Points:
+def _points(case, speeds_rpm, spring_rates, devices) -> _Points:
     base = case.model
-    rate0 = float(case.kind.rate_from_si(base.stiffness))
+    rate0 = case.kind.rate_from_si(float(base.stiffness))
     speeds = np.atleast_1d(np.asarray(speeds_rpm, dtype=float))
     rates = np.atleast_1d(np.asarray(spring_rates if spring_rates is not None else [rate0], dtype=float))
     check_grid_size(speeds.size, rates.size)
@@ -54,7 +54,9 @@ def _points(case, speeds_rpm, spring_rates) -> _Points:
         raise InputError("sweep", "speeds and spring rates must be positive and finite")
     sp, kr = np.meshgrid(speeds, rates, indexing="ij")
     k_si = case.kind.rate_to_si(kr.ravel())
-    return _Points(speeds, rates, sp.ravel() * RPM, k_si, np.asarray(base.damping_at(jnp.asarray(k_si))))
+    return _Points(
+        speeds, rates, sp.ravel() * RPM, k_si, run_batched(damping_kernel, base, [k_si], LINEAR_CHUNK, None, devices)
+    )
 
 
 def _gap_weight_mm(case, theta) -> np.ndarray:
@@ -87,7 +89,7 @@ def _rigid_gaps(case, pts: _Points, idx, progress) -> tuple[np.ndarray, dict[int
 
 def _rigid_map(case, pts: _Points, angles, gaps: bool, progress, devices):
     theta, vals, weight = angles
-    const = (case.model, *(jnp.asarray(v) for v in vals[:3]), jnp.asarray(weight))
+    const = (case.model, *vals[:3], weight)  # numpy: no transfer programs to compile
     signed = run_batched(
         kinematic_kernel,
         const,
@@ -106,8 +108,7 @@ def _rigid_map(case, pts: _Points, angles, gaps: bool, progress, devices):
 def _compliant_map(case, pts: _Points, angles, gaps: bool, gap_method: str, progress, devices):
     base = case.model
     theta, vals, weight = angles
-    spec = jnp.fft.rfft(jnp.asarray(vals[0]))
-    const = (base, jnp.asarray(vals[0]), jnp.asarray(vals[1]), spec, jnp.asarray(weight))
+    const = (base, vals[0], vals[1], np.fft.rfft(vals[0]), weight)  # numpy: no transfer or FFT program to compile
     tick = counter(progress, "steady state (frequency domain)", pts.omega.size)
     signed, z0 = run_batched(linear_kernel, const, [pts.omega, pts.k, pts.c], LINEAR_CHUNK, tick, devices)
     why = {int(i): "the frequency-domain steady state is not finite" for i in np.nonzero(~np.isfinite(signed))[0]}
@@ -121,12 +122,7 @@ def _compliant_map(case, pts: _Points, angles, gaps: bool, gap_method: str, prog
     if gap_method == "exact":
         tab = vals[:3, ::GAP_STRIDE] / base.scale  # the same angles: no second evaluation of the motion (its compile)
         w_tab = _gap_weight_mm(case, theta[::GAP_STRIDE])
-        gconst = (
-            base,
-            *(jnp.asarray(t) for t in tab),
-            jnp.asarray(w_tab),
-            jnp.fft.rfft(jnp.asarray(vals[0] / base.scale)),
-        )
+        gconst = (base, *tab, w_tab, np.fft.rfft(vals[0] / base.scale))
         g = run_batched(exact_gap_kernel, gconst, point, GAP_CHUNK, tick, devices)
     else:
         gconst = diffrax_gap_const(case, lambda t: _gap_weight_mm(case, t))
@@ -179,10 +175,10 @@ def jump_map(
     if gap_method not in ("exact", "diffrax"):
         raise ValueError(f"gap_method must be 'exact' or 'diffrax', not {gap_method!r}")
     case = resolve_spring(case)  # [spring] model: the spring's own mass (its lumped third) on the follower
-    pts = _points(case, speeds_rpm, spring_rates)
+    pts = _points(case, speeds_rpm, spring_rates, devices)
     base = case.model
     theta = np.arange(GRID_N) * (TWO_PI / GRID_N)
-    vals = np.asarray(evaluate(case.motion, jnp.asarray(theta))) * base.scale
+    vals = np.asarray(evaluate(case.motion, theta)) * base.scale
     weight = contact_per_force(case.motion, case.follower, theta)
     angles = (theta, vals, weight)
     if base.rigid:
@@ -207,7 +203,7 @@ def jump_map(
         max_gap=np.where(bad, np.nan, gap).reshape(pts.shape),
         contact_force=np.asarray(signed).reshape(pts.shape),
         speed_rpm=float(case.speed_rpm),
-        spring_rate=float(case.kind.rate_from_si(base.stiffness)),
+        spring_rate=case.kind.rate_from_si(float(base.stiffness)),
         preload=float(base.preload),
         devices=len(devices),
         notes=notes,

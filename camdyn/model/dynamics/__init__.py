@@ -18,6 +18,7 @@ force on the cam and the follower's rest on it are written once (:mod:`._train`)
 surge chain (:mod:`camdyn.model.surge`) and the design studies.
 """
 
+from ._closure import ClosureResponse, Crossover, closure_response
 from ._compliant import compliant_response, min_contact_force, periodic_orbit, vector_field
 from ._harmonic import linear_contact_force, linear_min_force, steady_force_at, steady_state
 from ._kinematic import kinematic_force, kinematic_force_jit, kinematic_force_of, kinematic_jump_speed
@@ -28,10 +29,13 @@ from ._train import contact_force, preload_share, static_position, train_force
 from ._valvetrain import ValveEvent, ValvetrainResponse, bounce_speed, float_speed, valvetrain_response
 
 __all__ = [
+    "ClosureResponse",
+    "Crossover",
     "Flight",
     "Impact",
     "Response",
     "Separation",
+    "closure_response",
     "compliant_response",
     "contact_force",
     "dynamic_jump_speed",

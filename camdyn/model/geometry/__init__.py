@@ -50,8 +50,9 @@ from ._analyze import (
     lever_arm_mm,
     newton_per_torque_at,
 )
+from ._groove import WALLS, GrooveGeometry, Wall, groove
 from ._inverse import ContactMotion, ContourFit, contact_motion
-from ._kernel import check_assembly, check_dimensions, geometry_of
+from ._kernel import check_assembly, check_dimensions, evaluate_geometry, geometry_of
 from ._size import BASE_RADIUS_STEP_MM, curvature_limit, min_base_radius, passes, rounded_base_radius
 
 __all__ = [
@@ -60,14 +61,19 @@ __all__ = [
     "ContactMotion",
     "ContourFit",
     "GeometryExtremes",
+    "GrooveGeometry",
+    "WALLS",
+    "Wall",
     "analyze",
     "check_assembly",
     "check_dimensions",
     "contact_motion",
     "curvature_limit",
+    "evaluate_geometry",
     "extremes",
     "geometry_of",
     "contact_per_force",
+    "groove",
     "lever_arm_mm",
     "min_base_radius",
     "newton_per_torque_at",

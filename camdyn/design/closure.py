@@ -1,0 +1,71 @@
+"""Form-closed cams judged (``[follower] closure = "groove"``): the signed contact force, its crossovers, the flights
+across the backlash and their impacts (``check --json`` ``closure``, the ``crossover_impact`` check).
+
+A groove holds the follower both ways: it cannot jump, so ``speed_margin`` (and the least contact force, which is
+negative on the outer flank by design) do not apply; ``check`` says so instead of printing an infinite margin.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .._core.units import RPM
+from ..model import dynamics as dyn
+from ..model.case import Case
+from ..model.geometry import GrooveGeometry, groove
+from ..model.motion import evaluate
+from ._check import Check, CheckKind
+
+NOT_APPLICABLE = (
+    "speed_margin and contact_force do not apply to a form-closed cam: the groove holds the follower both ways, so "
+    "it cannot jump; the contact force is signed (positive on the inner flank) and changes flank at the crossovers"
+)
+
+
+@dataclass(frozen=True)
+class ClosureStudy:
+    """A groove cam at one speed: its follower's signed contact force and crossovers (:class:`dyn.ClosureResponse`)
+    and both walls (:class:`GrooveGeometry`)."""
+
+    response: dyn.ClosureResponse
+    walls: GrooveGeometry
+
+    def json(self) -> dict:
+        r = self.response
+        return r.json() | {"speed_margin": "not applicable: form-closed", "walls": self.walls.json()}
+
+    def as_response(self, case: Case) -> dyn.Response:
+        """The follower as the other models give it (forces in N, or N*m for an arm; the follower on the cam's
+        motion, which the backlash leaves within b/2), for the drive torque, the tables and the plots."""
+        r = self.response
+        vals = np.asarray(evaluate(case.motion, np.deg2rad(r.theta_deg)))
+        kin = np.asarray(dyn.kinematic_force(case.motion, case.model, r.omega, np.deg2rad(r.theta_deg)))
+        return dyn.Response(
+            case.follower.closure,
+            r.omega,
+            r.theta_deg,
+            vals[0],
+            vals[0].copy(),
+            vals[1].copy(),
+            r.contact_force,
+            kin,
+            (),
+            0.0,
+            0.0,
+        )
+
+    def check(self, max_impact_velocity: float) -> Check:
+        """``[limits] max_impact_velocity``: the largest speed at which a flank meets the follower crossing the
+        backlash, m/s (0 without backlash)."""
+        return CheckKind.CROSSOVER_IMPACT.check(self.response.max_impact_velocity_m_per_s, float(max_impact_velocity))
+
+
+def closure_study(case: Case, speed_rpm: float | None = None) -> ClosureStudy:
+    """The groove cam of ``case`` at ``speed_rpm`` (default: the case's)."""
+    assert case.follower is not None and case.follower.form_closed  # the caller asks only of a groove cam
+    omega = float(case.speed_rpm if speed_rpm is None else speed_rpm) * RPM
+    return ClosureStudy(
+        dyn.closure_response(case.motion, case.follower, case.model, omega), groove(case.motion, case.follower)
+    )

@@ -1,0 +1,280 @@
+"""A form-closed follower (a roller in a groove): it cannot jump, the contact force changes flank instead.
+
+The follower, held on the cam by both walls, follows the motion, so the force the cam exerts on it is the
+kinematic force ``Fi = m w^2 s'' + c w s' + k s + F0 + F_ext`` (:mod:`._kinematic`), signed: positive on the
+inner flank (the one a spring would hold it on), negative on the outer. A crossover is where Fi changes sign.
+
+With backlash b the roller, where the force leaves its flank, flies free (under its spring and damper, if any:
+:func:`._compliant.vector_field`; at constant velocity without them) across the gap until the other flank meets
+it: diffrax with a landing event, as the rigid follower's flights (:mod:`._rigid`). The gap along the follower's
+coordinate is b / lever, the lever (mm per motion unit, :func:`camdyn.model.geometry.geometry_of`) taken at the
+crossover and held for the flight (cos of the pressure angle for a translating roller, arm length times it for an
+oscillating one; a flight across a fraction of a mm lasts a few degrees). The flank meets the roller at the
+relative speed ``v``; a follower train of stiffness k_f turns it into the impact force ``|Fi| + v sqrt(k_f m)``
+(the peak of the half-sine contact on the flank's steady force); a rigid train has no finite impact force.
+The crossovers are the zeros of the force with the roller on the pitch curve: a spring's share of the b/2 it
+actually sits off it (k b / 2) moves them by that over the force's slope. The landing is plastic; the follower's
+own motion across the gap (at most b / lever) is not carried into the response's displacement.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import diffrax
+import jax.numpy as jnp
+import numpy as np
+import optimistix as optx
+
+from ..._core.errors import NumericalError
+from ..._core.jit import filter_jit
+from ..._core.units import THETA_GRID, TWO_PI, newton_per_torque
+from ...schema import FollowerSpec
+from ..follower import FollowerModel
+from ..geometry import evaluate_geometry
+from ..motion import Motion, evaluate
+from ._compliant import vector_field
+from ._kinematic import kinematic_force_jit
+from ._rigid import _lift_off
+from ._solver import ATOL, MAX_STEPS, RTOL
+
+_FLANKS = {True: ("inner", "outer"), False: ("outer", "inner")}  # leaving the inner flank: from, to
+_GAP_EPS = 1e-9  # motion units: a return onto the flank left is detected this far into it
+_ZERO_FORCE = 1e-9  # of the largest |Fi|: below it the force is zero (a dwell without spring), on neither flank
+
+
+@dataclass(frozen=True)
+class Crossover:
+    """Where the contact force leaves a flank (deg in [0, 360)), the flank it leaves and the one the roller lands
+    on (the other, or with backlash the same one where the force turns back during the flight), and with backlash
+    the landing: angle (deg), relative speed (m/s, at the roller centre) and impact force (N; None for a rigid
+    train)."""
+
+    deg: float
+    from_flank: str  # "inner" | "outer"
+    to_flank: str
+    land_deg: float
+    impact_velocity_m_per_s: float
+    impact_force_N: float | None
+
+    def json(self) -> dict:
+        return {
+            "deg": self.deg,
+            "from_flank": self.from_flank,
+            "to_flank": self.to_flank,
+            "land_deg": self.land_deg,
+            "impact_velocity_m_per_s": self.impact_velocity_m_per_s,
+            "impact_force_N": self.impact_force_N,
+        }
+
+
+@dataclass(frozen=True)
+class ClosureResponse:
+    """A form-closed follower over a revolution at ``omega`` (rad/s): the signed contact force (N, positive on the
+    inner flank, 0 in flight; N*m for an oscillating arm as the other models' forces) on ``theta_deg``, and its
+    crossovers."""
+
+    type: str
+    backlash_mm: float
+    omega: float
+    theta_deg: np.ndarray
+    contact_force: np.ndarray
+    crossovers: tuple[Crossover, ...]
+
+    @property
+    def max_impact_velocity_m_per_s(self) -> float:
+        return max((c.impact_velocity_m_per_s for c in self.crossovers), default=0.0)
+
+    @property
+    def max_impact_force_N(self) -> float | None:
+        forces = [c.impact_force_N for c in self.crossovers]
+        if any(f is None for f in forces):
+            return None
+        return max((f for f in forces if f is not None), default=0.0)
+
+    def json(self) -> dict:
+        return {
+            "type": self.type,
+            "backlash_mm": self.backlash_mm,
+            "crossovers": [c.json() for c in self.crossovers],
+            "max_impact_velocity_m_per_s": self.max_impact_velocity_m_per_s,
+            "max_impact_force_N": self.max_impact_force_N,
+        }
+
+
+def _other_flank(t, y, args, **kwargs):
+    """Zero where the roller, flying towards the flank on ``side`` (+1 outer, -1 inner), meets it."""
+    motion, _, _, _, side, gap = args
+    return side * (y[0] - motion(t)[0]) - 0.5 * gap
+
+
+def _same_flank(t, y, args, **kwargs):
+    """Zero where the roller comes back onto the flank it left (``_GAP_EPS`` into it, so not at the start)."""
+    motion, _, _, _, side, gap = args
+    return -side * (y[0] - motion(t)[0]) - 0.5 * gap - _GAP_EPS
+
+
+def _flank_met(t, y, args, **kwargs):
+    """Zero where either flank meets the roller (each condition rises to 0): one continuous condition, so that a
+    bracketing root finder takes it (the same flank's condition barely moves while the roller drifts)."""
+    return jnp.maximum(_other_flank(t, y, args), _same_flank(t, y, args))
+
+
+def _flight_field(t, y, args):
+    motion, model, omega, contact, _, _ = args
+    return vector_field(t, y, (motion, model, omega, contact))
+
+
+@filter_jit
+def _cross(motion, model, omega, theta0, y0, side, gap):
+    """Free flight from theta0 until a flank meets the roller: the other one across the gap (motion units) on
+    ``side``, or the one it left."""
+    return diffrax.diffeqsolve(
+        diffrax.ODETerm(_flight_field),
+        diffrax.Tsit5(),
+        t0=theta0,
+        t1=theta0 + TWO_PI,
+        dt0=None,
+        y0=y0,
+        args=(motion, model, omega, False, side, gap),
+        saveat=diffrax.SaveAt(t1=True),
+        stepsize_controller=diffrax.PIDController(rtol=RTOL, atol=ATOL),
+        event=diffrax.Event(_flank_met, root_finder=optx.Bisection(1e-12, 1e-12), direction=True),
+        max_steps=MAX_STEPS,
+        throw=False,
+    )
+
+
+def flight_gap(motion: Motion, follower: FollowerSpec, theta: float) -> float:
+    """The backlash along the follower's coordinate at cam angle ``theta`` (rad): b / lever, mm or rad."""
+    lever = float(evaluate_geometry(motion, follower, np.array([theta]))["lever"][0])
+    return follower.backlash / lever
+
+
+def cross_gap(motion: Motion, model: FollowerModel, omega: float, theta0: float, gap: float, side: float):
+    """The flight from the flank opposite ``side`` at ``theta0`` (rad) towards the one across ``gap`` (motion
+    units): the landing angle (rad, unwrapped), the relative speed there (motion units per rad, positive closing)
+    and whether the roller met the other flank (False: it came back onto the one it left)."""
+    s0 = np.asarray(evaluate(motion, jnp.asarray(theta0)))
+    y0 = jnp.asarray([s0[0] - side * 0.5 * gap, s0[1]])
+    sol = _cross(
+        motion,
+        model,
+        jnp.asarray(omega, dtype=float),
+        jnp.asarray(theta0, dtype=float),
+        y0,
+        jnp.asarray(side, dtype=float),
+        jnp.asarray(gap, dtype=float),
+    )
+    if sol.result != diffrax.RESULTS.event_occurred:
+        raise NumericalError(
+            f"crossover at {math.degrees(theta0) % 360:.2f} deg", "the follower never met the other flank"
+        )
+    assert sol.ts is not None and sol.ys is not None
+    t1 = float(sol.ts[-1])
+    s1 = np.asarray(evaluate(motion, jnp.asarray(t1)))
+    across = side * float(sol.ys[-1][0] - s1[0]) > 0.0  # on the far side of the pitch curve: the other flank
+    return t1, abs(float(sol.ys[-1][1] - s1[1])), across
+
+
+def _sign_changes(signs: np.ndarray) -> list[tuple[int, int]]:
+    """(i, j) for each change of sign between the non-zero entries i and j (j the next non-zero after i,
+    cyclically; j may wrap past the end), starting at the first non-zero entry."""
+    nz = np.flatnonzero(signs)
+    n = signs.size
+    return [
+        (int(i), int(j) if j > i else int(j) + n)
+        for i, j in zip(nz, np.roll(nz, -1), strict=True)
+        if signs[i] != signs[j]
+    ]
+
+
+def _crossing_angles(fk, signs: np.ndarray, h: float, breaks: np.ndarray) -> list[tuple[float, bool]]:
+    """(angle in rad, leaving the inner flank) of every sign change of the force on the grid, in order: Brent's
+    root in a step, or a jump through zero at a break; where the force was zero between (a dwell without spring),
+    the last break there, else the step before it leaves zero."""
+    out = []
+    for i, j in _sign_changes(signs):
+        down = bool(signs[i] > 0)
+        if j == i + 1:
+            t_c = _lift_off(fk if down else (lambda t: -fk(t)), i * h, h, breaks)
+        else:
+            t_a, t_b = (i + 1) * h, (j - 1) * h
+            inside = [b + TWO_PI * k for b in breaks for k in (0, 1) if t_a - 1e-12 <= b + TWO_PI * k <= t_b + h]
+            t_c = max(inside) if inside else t_b
+        out.append((t_c, down))
+    return sorted(out)
+
+
+def closure_response(
+    motion: Motion,
+    follower: FollowerSpec,
+    model: FollowerModel,
+    omega: float,
+    n: int = THETA_GRID,
+    max_flights: int = 64,
+) -> ClosureResponse:
+    """The signed contact force of a groove cam's follower at cam speed ``omega`` (rad/s), its crossovers, and with
+    ``follower.backlash`` the flights across the gap and the impacts on the other flank.
+
+    With backlash the revolution is marched from the first crossover: a flight from each angle where the force
+    leaves the flank the roller is on, landing (plastic) on the other flank or back on the same one; where the
+    force at a landing already pulls the roller off that flank, the next flight starts there.
+    """
+    h = TWO_PI / n
+    theta = np.arange(n) * h
+    w = jnp.asarray(omega, dtype=float)
+    force = np.asarray(kinematic_force_jit(motion, model, w, jnp.asarray(theta)))
+    signs = np.where(np.abs(force) <= _ZERO_FORCE * float(np.max(np.abs(force))), 0, np.sign(force)).astype(int)
+
+    def fk(t):
+        return float(kinematic_force_jit(motion, model, w, jnp.asarray(t, dtype=float)))
+
+    breaks = np.deg2rad(np.asarray(motion.breaks_deg, dtype=float))
+    cands = _crossing_angles(fk, signs, h, breaks)
+    deg = lambda t: math.degrees(t) % 360.0  # noqa: E731
+    out = force.copy()
+    if follower.backlash == 0.0 or not cands:
+        crossovers = [Crossover(deg(t), *_FLANKS[down], deg(t), 0.0, 0.0) for t, down in cands]
+        return ClosureResponse(
+            follower.closure, follower.backlash, float(omega), np.degrees(theta), out, tuple(crossovers)
+        )
+    cands += [(t + TWO_PI, down) for t, down in cands]  # a flight may carry past the revolution's end
+    to_m = 1.0 if follower.translating else 1e-3 * (follower.arm_length or 0.0)  # rad at the roller centre -> m
+    kf, m = float(model.train_stiffness), float(model.mass)
+    t_end = cands[0][0] + TWO_PI
+    inner = cands[0][1]  # the flank the roller is on before the first crossover (leaving inner: it was on it)
+    t_c = cands[0][0]
+    crossovers = []
+    for _ in range(max_flights):
+        left = "inner" if inner else "outer"
+        side = 1.0 if inner else -1.0  # towards the outer flank from the inner one
+        t_land, v_rel, across = cross_gap(motion, model, omega, t_c, flight_gap(motion, follower, t_c), side)
+        inner = inner != across
+        v_rel_si = v_rel * omega * model.scale  # m/s, or rad/s of the arm
+        f_land = fk(t_land)
+        f_imp = None
+        if not math.isinf(kf):
+            peak = abs(f_land) + v_rel_si * math.sqrt(kf * m)  # N, or N*m at the arm
+            if not follower.translating:  # the arm's torque as the force at the roller
+                peak *= float(newton_per_torque(evaluate_geometry(motion, follower, np.array([t_land]))["lever"][0]))
+            f_imp = float(peak)
+        landed = "inner" if inner else "outer"
+        crossovers.append(Crossover(deg(t_c), left, landed, deg(t_land), v_rel_si * to_m, f_imp))
+        out[np.arange(math.ceil(t_c / h), math.floor(t_land / h) + 1) % n] = 0.0  # in flight: on neither flank
+        if (f_land <= 0.0) == inner:  # the force pulls the roller off the flank it landed on: off again
+            t_c = t_land
+        else:
+            nxt = [t for t, down in cands if t > t_land and down == inner]
+            if not nxt:
+                break
+            t_c = nxt[0]
+        if t_c >= t_end - 1e-12:
+            break
+    else:
+        raise NumericalError(
+            f"crossover at {deg(t_c):.2f} deg", f"still crossing the backlash after {max_flights} flights"
+        )
+    crossovers.sort(key=lambda c: c.deg)
+    return ClosureResponse(follower.closure, follower.backlash, float(omega), np.degrees(theta), out, tuple(crossovers))

@@ -1,0 +1,345 @@
+"""Form-closed cams (issue 25): the groove's schema, its two walls, the signed contact force and its crossovers,
+and the flight across the backlash."""
+
+import copy
+import tomllib
+
+import numpy as np
+import pytest
+from _helpers import distance_to_outline, run
+from scipy.integrate import solve_ivp
+from scipy.optimize import brentq
+
+from camdyn import InputError
+from camdyn.model.case import case_from_dict
+from camdyn.model.dynamics import closure_response
+from camdyn.model.geometry import analyze, groove
+
+GROOVE_TOML = """
+name = "groove"
+[motion]
+segments = [
+  { law = "cycloidal", end = 120, lift = 20 },
+  { law = "dwell", end = 180 },
+  { law = "cycloidal", end = 300, lift = -20 },
+  { law = "dwell", end = 360 },
+]
+[follower]
+type = "translating-roller"
+base_radius = 50
+roller_radius = 12
+closure = "groove"
+backlash = 0.05
+[dynamics]
+speed = 300
+mass = 1.0
+train_stiffness = 5000
+"""
+GROOVE = tomllib.loads(GROOVE_TOML)
+
+
+def case_geometry_pitch(case, n: int) -> np.ndarray:
+    """The pitch curve (2, n), mm, on n equal steps."""
+    return analyze(case.motion, case.follower, n=n).pitch
+
+
+def _with(table: str, **keys) -> dict:
+    raw = copy.deepcopy(GROOVE)
+    raw[table].update(keys)
+    return raw
+
+
+def test_groove_needs_no_spring():
+    case = case_from_dict(GROOVE)
+    assert case.follower.form_closed and case.follower.backlash == 0.05
+    assert float(case.model.stiffness) == 0.0 and float(case.model.preload) == 0.0
+    assert case.limits.max_impact_velocity == 0.1
+
+
+@pytest.mark.parametrize(
+    ("table", "keys", "where", "match"),
+    [
+        ("follower", {"closure": "spring"}, "follower.backlash", "not used"),
+        ("follower", {"closure": "conjugate"}, "follower.closure", "not built yet"),
+        ("follower", {"type": "translating-flat", "roller_radius": None}, "follower.closure", "holds a roller"),
+        ("follower", {"backlash": -1}, "follower.backlash", "greater than or equal"),
+        ("limits", {"max_impact_velocity": 0}, "limits.max_impact_velocity", "greater than"),
+    ],
+)
+def test_groove_keys_refused(table, keys, where, match):
+    raw = _with(table, **keys) if table in GROOVE else dict(copy.deepcopy(GROOVE), **{table: keys})
+    raw[table] = {k: v for k, v in raw[table].items() if v is not None}
+    with pytest.raises(InputError, match=match) as err:
+        case_from_dict(raw)
+    assert err.value.where == where
+
+
+def test_spring_closure_still_needs_the_spring():
+    raw = _with("follower", closure="spring")
+    del raw["follower"]["backlash"]
+    with pytest.raises(InputError, match="required key is missing") as err:
+        case_from_dict(raw)
+    assert err.value.where == "dynamics.spring_rate"
+
+
+def test_groove_walls_lie_at_roller_radius_plus_half_backlash():
+    """Each wall lies Rr + b/2 from the pitch curve (its distance from a dense pitch polyline), and on a dwell at
+    the closed-form radii Rb + s - b/2 and Rb + 2 Rr + s + b/2 with radii of curvature -+(Rp + s) - d."""
+    case = case_from_dict(GROOVE)
+    g = groove(case.motion, case.follower, n=3600)
+    rb, rr, b = 50.0, 12.0, 0.05
+    d = rr + b / 2
+    assert g.wall_offset_mm == pytest.approx(d)
+    pitch = np.asarray(case_geometry_pitch(case, 40_000))
+    for wall in (g.inner, g.outer):
+        dist = distance_to_outline(wall[:, ::7].T, pitch.T)
+        assert np.max(np.abs(dist - d)) < 2e-4  # the polyline's chord error at 40 000 points is ~1e-5 mm
+    i = int(np.argmin(np.abs(g.theta_deg - 150.0)))  # on the top dwell: lift 20
+    assert np.hypot(*g.inner[:, i]) == pytest.approx(rb + 20 - b / 2, abs=1e-9)
+    assert np.hypot(*g.outer[:, i]) == pytest.approx(rb + 2 * rr + 20 + b / 2, abs=1e-9)
+    assert g.rho_inner_mm[i] == pytest.approx(rb + rr + 20 - d, rel=1e-9)
+    assert g.rho_outer_mm[i] == pytest.approx(-(rb + rr + 20 + d), rel=1e-9)
+    # one wall concave where the other is convex
+    assert np.all(np.sign(g.rho_inner_mm + d) == -np.sign(g.rho_outer_mm + d))
+    assert not g.undercut and g.outer_wall.min_convex_radius_mm > 0
+
+
+def test_groove_wall_undercut_where_the_pitch_curve_turns_tighter_than_the_wall():
+    """A concave stretch of the pitch curve tighter than Rr + b/2 folds the outer wall, not the inner."""
+    raw = _with("follower", base_radius=25, roller_radius=10)
+    raw["motion"]["segments"][0] = {"law": "cycloidal", "end": 40, "lift": 20}
+    raw["motion"]["segments"][1] = {"law": "dwell", "end": 180}
+    case = case_from_dict(raw)
+    g = groove(case.motion, case.follower, n=3600)
+    assert g.outer_wall.undercut and not g.inner_wall.undercut
+    assert g.outer_wall.min_convex_radius_mm < 0 < g.inner_wall.min_convex_radius_mm
+    rho_p = analyze(case.motion, case.follower, n=3600).rho_pitch_mm  # the spring cam's pitch curve
+    assert g.outer_wall.min_convex_radius_mm == pytest.approx(np.max(rho_p[rho_p < 0]) * -1 - 10.025, abs=1e-3)
+
+
+def _groove_case(backlash: float, fall: str = "polynomial-345", **dynamics):
+    raw = _with("follower", backlash=backlash)
+    raw["motion"]["segments"][2]["law"] = fall
+    raw["dynamics"].update(dynamics)
+    if backlash == 0.0:
+        del raw["follower"]["backlash"]
+    return case_from_dict(raw)
+
+
+def _omega(case) -> float:
+    return case.speed_rpm * 2 * np.pi / 60
+
+
+def test_crossovers_fall_where_the_acceleration_changes_sign():
+    """No spring, no external force: Fi = m w^2 s'', so the force changes flank at mid-rise of the cycloidal rise
+    (60 deg) and mid-fall of the 3-4-5 fall (240 deg), and nowhere on the dwells (where it is zero)."""
+    case = _groove_case(0.0)
+    r = closure_response(case.motion, case.follower, case.model, _omega(case))
+    assert [(c.from_flank, c.to_flank) for c in r.crossovers] == [("inner", "outer"), ("outer", "inner")]
+    assert [c.deg for c in r.crossovers] == pytest.approx([60.0, 240.0], abs=1e-8)
+    assert all(c.impact_velocity_m_per_s == 0.0 and c.land_deg == c.deg for c in r.crossovers)
+    # signed: positive (inner flank) in the first half of the rise, negative (outer) in the second
+    i, j = int(np.argmin(np.abs(r.theta_deg - 30))), int(np.argmin(np.abs(r.theta_deg - 90)))
+    assert r.contact_force[i] > 0 > r.contact_force[j]
+    vals = np.asarray(case.motion.host(np.deg2rad(r.theta_deg)))
+    np.testing.assert_allclose(r.contact_force, 1.0 * _omega(case) ** 2 * vals[2] * 1e-3, rtol=1e-12, atol=1e-12)
+
+
+def test_flight_across_the_backlash_lands_where_the_closed_form_says():
+    """No spring: the roller leaves the inner flank at mid-rise with the cam's velocity and keeps it; the outer
+    flank meets it where s'(tc) d - (s(tc + d) - s(tc)) = G, G = b / cos(phi) the gap along the follower's axis
+    (tan phi = s' / (Rp + s), zero offset), at the relative speed (s'(tc) - s'(tc + d)) w."""
+    b = 0.05
+    case = _groove_case(b, train_stiffness=5000)
+    w = _omega(case)
+    r = closure_response(case.motion, case.follower, case.model, w)
+    c = r.crossovers[0]
+    tc = np.deg2rad(60.0)
+    s = lambda t: np.asarray(case.motion.host(np.atleast_1d(t)))[:, 0]  # noqa: E731
+    s0 = s(tc)
+    gap = b * np.hypot(1.0, s0[1] / (62.0 + s0[0]))
+    d = brentq(lambda d: s0[1] * d - (s(tc + d)[0] - s0[0]) - gap, 1e-6, 1.0, xtol=1e-15)
+    v = (s0[1] - s(tc + d)[1]) * w * 1e-3
+    assert np.deg2rad(c.land_deg) - tc == pytest.approx(d, rel=1e-6)
+    assert c.impact_velocity_m_per_s == pytest.approx(v, rel=1e-6)
+    assert c.impact_force_N == pytest.approx(abs(w**2 * s(tc + d)[2] * 1e-3) + v * np.sqrt(5e6 * 1.0), rel=1e-6)
+    assert r.max_impact_velocity_m_per_s == max(x.impact_velocity_m_per_s for x in r.crossovers)
+    k0 = int(np.ceil(np.rad2deg(tc) * 10 + 1e-9))
+    assert r.contact_force[k0] == 0.0  # in flight: on neither flank
+
+
+@pytest.mark.parametrize("rpm", [300, 3000])
+def test_flight_under_a_spring_matches_a_second_integrator(rpm):
+    """With a spring and damper in the groove the flight is no longer at constant velocity: scipy's DOP853 at
+    tight tolerance, from each crossover, meets the same flank at the same angle and speed (at 3000 rpm the roller
+    drifts across the top dwell and the falling outer flank catches it: a flight back onto the flank it left)."""
+    case = _groove_case(0.2, spring_rate=1.0, preload=5.0, damping_ratio=0.1, speed=rpm)
+    w = _omega(case)
+    r = closure_response(case.motion, case.follower, case.model, w)
+    assert len(r.crossovers) >= 2
+    m, k, c, f0 = (float(x) for x in (case.model.mass, case.model.stiffness, case.model.damping, case.model.preload))
+    motion = lambda t: np.asarray(case.motion.host(np.atleast_1d(t)))[:, 0]  # noqa: E731
+
+    def field(t, y):  # x in mm, p = dx/dtheta: m w^2 x'' = -(k x + F0 + c w x'), SI inside
+        return [y[1], -(k * y[0] * 1e-3 + f0 + c * w * y[1] * 1e-3) / (m * w**2 * 1e-3)]
+
+    for x in r.crossovers:
+        side = 1.0 if x.from_flank == "inner" else -1.0
+        tc = np.deg2rad(x.deg)
+        s0 = motion(tc)
+        gap = 0.2 * np.hypot(1.0, s0[1] / (62.0 + s0[0]))
+        other = lambda t, y, side=side, gap=gap: side * (y[0] - motion(t)[0]) - gap / 2  # noqa: E731
+        same = lambda t, y, side=side, gap=gap: -side * (y[0] - motion(t)[0]) - gap / 2 - 1e-9  # noqa: E731
+        for ev in (other, same):
+            ev.terminal, ev.direction = True, 1.0
+        sol = solve_ivp(
+            field,
+            (tc, tc + 2 * np.pi),
+            [s0[0] - side * gap / 2, s0[1]],
+            "DOP853",
+            events=(other, same),
+            rtol=1e-12,
+            atol=1e-13,
+        )
+        hit = 0 if sol.t_events[0].size else 1
+        assert (x.to_flank != x.from_flank) == (hit == 0)
+        t1, y1 = sol.t_events[hit][0], sol.y_events[hit][0]
+        assert np.deg2rad(x.land_deg) == pytest.approx(t1 % (2 * np.pi), abs=1e-7)
+        v = abs(y1[1] - motion(t1)[1]) * w * 1e-3
+        assert x.impact_velocity_m_per_s == pytest.approx(v, rel=1e-5, abs=1e-9)
+
+
+def test_profile_writes_both_walls(tmp_path, capsys):
+    """DXF: one layer per wall; CSV: an ``outline`` column; each wall within the tolerance of Rr + b/2 from the
+    pitch curve. A cutter path of a groove is refused (not built)."""
+    import ezdxf
+
+    case_file = tmp_path / "groove.toml"
+    case_file.write_text(GROOVE_TOML)
+    assert run(capsys, "profile", case_file, "-o", tmp_path / "g.dxf")[0] == 0
+    doc = ezdxf.readfile(tmp_path / "g.dxf")
+    layers = {e.dxf.layer: np.array([p[:2] for p in e.get_points()]) for e in doc.modelspace()}
+    assert set(layers) == {"GROOVE_INNER", "GROOVE_OUTER"}
+    pitch = case_geometry_pitch(case_from_dict(GROOVE), 40_000)
+    for xy in layers.values():
+        assert np.max(np.abs(distance_to_outline(xy, pitch.T) - 12.025)) < 0.011
+    assert run(capsys, "profile", case_file, "-o", tmp_path / "g.csv")[0] == 0
+    rows = np.genfromtxt(tmp_path / "g.csv", delimiter=",", names=True, dtype=None, encoding="utf-8")
+    assert set(rows["outline"]) == {"groove_inner", "groove_outer"}
+    code, _, err = run(capsys, "profile", case_file, "-o", tmp_path / "g.nc", "--cutter-radius", 5)
+    assert code == 2 and "follower.closure" in err
+
+
+def test_check_json_of_a_groove_cam(tmp_path, capsys):
+    """``check --json``: the closure block (the contract's keys), crossover_impact judged against
+    max_impact_velocity, no speed_margin and no least contact force (said, not an infinite margin); a tighter limit
+    than the impact fails (exit 1)."""
+    import json
+
+    case_file = tmp_path / "groove.toml"
+    case_file.write_text(GROOVE_TOML)
+    code, out, _ = run(capsys, "check", case_file, "--json")
+    doc = json.loads(out)
+    assert code == 0 and doc["verdict"] == "pass"
+    cl = doc["closure"]
+    assert cl["type"] == "groove" and cl["backlash_mm"] == 0.05
+    assert [round(c["deg"], 6) for c in cl["crossovers"]] == [60.0, 240.0]
+    assert {"deg", "impact_velocity_m_per_s", "impact_force_N"} <= set(cl["crossovers"][0])
+    top = max(c["impact_force_N"] for c in cl["crossovers"])
+    assert cl["max_impact_force_N"] == top and doc["dynamic"]["max_impact_force_N"] == top
+    names = [c["name"] for c in doc["checks"]]
+    assert "crossover_impact" in names and "speed_margin" not in names and "contact_force" not in names
+    impact = doc["checks"][names.index("crossover_impact")]
+    assert impact["value"] == pytest.approx(0.031439, rel=1e-4) and impact["limit"] == 0.1
+    assert doc["kinematic"]["jump_speed_rpm"] is None
+    assert any("speed_margin" in w and "do not apply" in w for w in doc["warnings"])
+    case_file.write_text(GROOVE_TOML + "[limits]\nmax_impact_velocity = 0.02\n")
+    assert run(capsys, "check", case_file)[0] == 1
+
+
+def test_table_contact_force_is_signed(tmp_path, capsys):
+    """``table``: contact_force_N positive on the inner flank, negative on the outer; the dynamic column is zero
+    while the follower crosses the backlash (60 to 68.8 deg)."""
+    case_file = tmp_path / "groove.toml"
+    case_file.write_text(GROOVE_TOML)
+    code, out, _ = run(capsys, "table", case_file, "--step", 1)
+    assert code == 0
+    rows = np.genfromtxt(out.splitlines(), delimiter=",", names=True)
+    by = {int(t): r for t, r in zip(rows["theta_deg"], rows, strict=True)}
+    assert by[30]["contact_force_N"] > 0 > by[90]["contact_force_N"]
+    assert by[65]["dynamic_contact_force_N"] == 0.0 and by[75]["dynamic_contact_force_N"] < 0
+
+
+@pytest.mark.parametrize(
+    "argv",
+    [
+        ["size"],
+        ["spring"],
+        ["sweep", "--speeds", "100:200:3"],
+        ["tolerance"],
+        ["report", "-o", "r"],
+        ["check", "--report", "r"],
+    ],
+)
+def test_spring_held_studies_refuse_a_groove_cam(tmp_path, capsys, argv):
+    """They study a spring-held follower that may jump: one line naming follower.closure, exit 2, nothing written."""
+    case_file = tmp_path / "groove.toml"
+    case_file.write_text(GROOVE_TOML)
+    argv = [a if a != "r" else tmp_path / "r" for a in argv]
+    code, out, err = run(capsys, argv[0], case_file, *argv[1:])
+    assert code == 2 and "follower.closure" in err and "form-closed" in err and len(err.strip().splitlines()) == 1
+    assert not (tmp_path / "r").exists()
+
+
+def test_oscillating_groove_cam_crosses_at_mid_rise_and_lands_as_the_closed_form_says():
+    """The cartoner's infeed arm in its groove (no spring): the force changes flank at mid-rise and mid-return of its
+    modified-sine swings (90 and 260 deg); the arm keeps its angular velocity across the gap b / (a cos phi) (rad) and
+    the flank meets the roller at a (phi'(tc) - phi'(tc + d)) w; the impact force at the roller is the arm's torque
+    plus w_rel sqrt(k_f I), over the lever arm a cos phi at the landing."""
+    from pathlib import Path
+
+    from camdyn.model.case import load_case
+
+    case = load_case(Path(__file__).resolve().parents[1] / "cases" / "machines" / "infeed.toml")
+    w = _omega(case)
+    r = closure_response(case.motion, case.follower, case.model, w)
+    assert [c.deg for c in r.crossovers] == pytest.approx([90.0, 260.0], abs=1e-8)
+    geo = analyze(case.motion, case.follower)
+    a_m, b = 0.150, 0.05
+    phi = lambda t: np.asarray(case.motion.host(np.atleast_1d(t)))[:, 0]  # noqa: E731
+    for c in r.crossovers:
+        tc = np.deg2rad(c.deg)
+        p0 = phi(tc)
+        side = 1.0 if c.from_flank == "inner" else -1.0
+        gap = b / (150.0 * np.cos(np.deg2rad(geo.table([c.deg])["pressure_angle_deg"][0])))
+
+        def rel(d, tc=tc, p0=p0, side=side, gap=gap):  # the gap closed at constant arm velocity, less the gap
+            return side * (p0[1] * d - (phi(tc + d)[0] - p0[0])) - gap
+
+        d = brentq(rel, 1e-6, 1.0, xtol=1e-15)
+        assert np.deg2rad(c.land_deg) - tc == pytest.approx(d, rel=1e-6)
+        w_rel = abs(p0[1] - phi(tc + d)[1]) * w
+        assert c.impact_velocity_m_per_s == pytest.approx(w_rel * a_m, rel=1e-6)
+        lever_m = a_m * np.cos(np.deg2rad(geo.table([c.land_deg])["pressure_angle_deg"][0]))
+        torque = abs(0.06 * w**2 * phi(tc + d)[2])
+        assert c.impact_force_N == pytest.approx((torque + w_rel * np.sqrt(20000 * 0.06)) / lever_m, rel=1e-6)
+
+
+def test_groove_contact_stress_on_the_wall_the_force_presses():
+    """Without backlash the inner wall is the spring cam's contour: where the force is positive the Hertz strip is
+    the spring cam's (1/K = 1/(1/Rr + 1/(rho_p - Rr))); where negative the roller presses the concave-for-convex outer
+    wall, 1/K = 1/(1/Rr - 1/(rho_p + Rr)), with the force's magnitude."""
+    from camdyn.model.contact import cam_contact, groove_contact
+
+    case = _groove_case(0.0)
+    r = closure_response(case.motion, case.follower, case.model, _omega(case))
+    geo = analyze(case.motion, case.follower)
+    walls = groove(case.motion, case.follower)
+    mats = {"width_mm": 10.0, "cam": (206.0, 0.3), "follower": (206.0, 0.3)}
+    got = groove_contact(geo, walls, r.contact_force, **mats)
+    spring = cam_contact(geo, np.abs(r.contact_force), **mats)
+    inner, outer = r.contact_force > 0, r.contact_force < 0
+    np.testing.assert_allclose(got.pressure_MPa[inner], spring.pressure_MPa[inner], rtol=1e-12)
+    rho_p, rr = geo.rho_pitch_mm[outer], 12.0
+    np.testing.assert_allclose(got.equivalent_radius_mm[outer], 1 / (1 / rr - 1 / (rho_p + rr)), rtol=1e-12)
+    assert np.all(got.pressure_MPa[outer] < spring.pressure_MPa[outer])  # conformal: gentler than convex
