@@ -233,8 +233,9 @@ def test_no_follower_type_told_by_its_name():
     assert follower_type_tests() == []
 
 
-# being rewritten on another branch (issue 22): annotate it there, then drop it from this list
-UNANNOTATED_FOR_NOW = ("design/sweep/",)
+# being written on other branches (issue 22's sweep work; the form-closed follower): annotate them there, then drop
+# them from this list
+UNANNOTATED_FOR_NOW = ("design/sweep/", "model/dynamics/_closure.py", "model/geometry/_groove.py")
 
 
 def unannotated_public_functions(root: Path = PACKAGE) -> list[str]:

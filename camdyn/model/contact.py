@@ -157,7 +157,7 @@ def cam_contact(
 def groove_contact(
     geometry: CamGeometry,
     walls: GrooveGeometry,
-    force,
+    force: ArrayLike,
     *,
     width_mm: float,
     cam: tuple[float, float],
