@@ -405,16 +405,16 @@ def spring_loads(case: Case, *, rate: float | None = None, preload: float | None
                 "spring, mm",
             )
         r = spec.lever_arm
-        assert (
-            d.torsion_rate is not None and d.preload_torque is not None
-        )  # check_dynamics_keys: an arm's rate, preload
-        k = torsion_rate_at_arm(d.torsion_rate if rate is None else rate, r)
-        f0 = (d.preload_torque if preload is None else preload) * newton_per_torque(r)
+        rate_t = d.torsion_rate if rate is None else rate
+        torque = d.preload_torque if preload is None else preload
+        assert rate_t is not None and torque is not None  # check_dynamics_keys: an arm's rate and preload
+        k = torsion_rate_at_arm(rate_t, r)
+        f0 = torque * newton_per_torque(r)
         s_mm, key = s * r, "dynamics.torsion_rate"  # small swings: the arc at the spring
     else:
-        assert d.spring_rate is not None and d.preload is not None  # check_dynamics_keys: the spring's rate, preload
         k = d.spring_rate if rate is None else rate
         f0 = d.preload if preload is None else preload
+        assert k is not None and f0 is not None  # check_dynamics_keys: the spring's rate and preload
         s_mm, key = s, "dynamics.spring_rate"
     lo, hi = float(np.min(s_mm)), float(np.max(s_mm))
     return SpringLoads(float(k), float(f0 + k * lo), hi - lo, lo, key)
