@@ -10,22 +10,19 @@ from typing import TYPE_CHECKING
 
 import jax
 import jax.numpy as jnp
-import numpy as np
 
 from ..follower import FollowerModel
 
 if TYPE_CHECKING:
+    import numpy as np
+
     from ..._core.units import Num
+
+    Values = float | np.ndarray | jax.Array  # floats, numpy or JAX arrays alike: the same arithmetic
 
 
 def train_force(
-    model: FollowerModel,
-    omega: float | np.ndarray | jax.Array,
-    s: float | np.ndarray | jax.Array,
-    s1: float | np.ndarray | jax.Array,
-    x: float | np.ndarray | jax.Array,
-    x1: float | np.ndarray | jax.Array,
-    unit: float | np.ndarray | jax.Array = 1.0,
+    model: FollowerModel, omega: Values, s: Values, s1: Values, x: Values, x1: Values, unit: Values = 1.0
 ) -> jax.Array:
     """The train's force on the cam while they touch, ``k_f (s - x) + c_f w (s' - x')``: N, or N*m for an arm.
 
@@ -38,22 +35,14 @@ def train_force(
 
 
 def contact_force(
-    model: FollowerModel,
-    omega: float | np.ndarray | jax.Array,
-    s: float | np.ndarray | jax.Array,
-    s1: float | np.ndarray | jax.Array,
-    x: float | np.ndarray | jax.Array,
-    x1: float | np.ndarray | jax.Array,
-    unit: float | np.ndarray | jax.Array = 1.0,
+    model: FollowerModel, omega: Values, s: Values, s1: Values, x: Values, x1: Values, unit: Values = 1.0
 ) -> jax.Array:
     """The interface force with unilateral contact: :func:`train_force` while the cam is ahead of the follower
     (s > x) and pushes it, else 0 (the follower flies); same units and arguments. JAX (returns a JAX array)."""
     return jnp.where(s > x, jnp.maximum(0.0, train_force(model, omega, s, s1, x, x1, unit)), 0.0)
 
 
-def static_position(
-    model: FollowerModel, s: float | np.ndarray | jax.Array, unit: float | np.ndarray | jax.Array = 1.0
-) -> jax.Array:
+def static_position(model: FollowerModel, s: Values, unit: Values = 1.0) -> jax.Array:
     """Where the compliant follower rests on a cam standing at lift ``s``: ``k_f (s - x) = k x + F0 + F_ext``, so
     ``x = (k_f s - F0 - F_ext) / (k + k_f)``, in the unit of ``s`` whose SI value is ``unit`` (as
     :func:`train_force`). The reference the residual vibration in a dwell is measured from."""
