@@ -489,7 +489,13 @@ def _glance(fig, data: ReportData, top: float) -> None:
 def _force_thumbnail(ax, data: ReportData) -> None:
     resp = data.check.response
     ax.plot(resp.theta_deg, resp.kinematic_force, color=C["kin"], ls="--", lw=0.9, label="kinematic")
-    ax.plot(resp.theta_deg, resp.force, color=C["dyn"], lw=1.2, label="dynamic")
+    valve = data.check.valvetrain
+    dyn_label = "dynamic" if valve is None else "dynamic, one equivalent mass"
+    ax.plot(resp.theta_deg, resp.force, color=C["dyn"], lw=1.2, label=dyn_label)
+    if valve is not None:  # what contact_force judges: the two-mass model's cam force over the valve event
+        v = valve.response
+        event = np.where(v.in_event, v.cam_force, np.nan)
+        ax.plot(v.theta_deg, event, color=C["margin"], lw=1.2, label="two masses, valve event")
     ax.axhline(0.0, color=C["ink"], lw=0.7)
     mf = data.case.limits.min_contact_force
     if mf:
