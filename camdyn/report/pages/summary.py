@@ -53,6 +53,14 @@ UNITS = {
     "speed_margin": "\u00d7",
     "min_contact_force": "N",
     "max_pressure_angle": "deg",
+    "max_contact_stress": "MPa",
+    "max_seating_velocity": "m/s",
+    "max_impact_velocity": "m/s",
+}
+# limits of checks only some cases have: listed where the case has the check or the user set the limit
+_LIMIT_OF_CHECK = {
+    "max_seating_velocity": CheckKind.SEATING_VELOCITY,
+    "max_impact_velocity": CheckKind.CROSSOVER_IMPACT,
 }
 IN_FACTS = (
     "velocity jumps by",
@@ -357,7 +365,7 @@ def _notes(fig, data: ReportData, flow: Flow) -> None:
 def _kv_lines(d: dict, oscillating: bool = False) -> list[tuple[str, str]]:
     out = []
     for k, v in d.items():
-        unit = UNITS.get(k, "")
+        unit = UNITS.get(k, "") if v is not None else ""  # "unbounded" takes no unit
         if k == "damping":
             unit = "N\u00b7m\u00b7s/rad" if oscillating else "N\u00b7s/m"
         out.append((k, f"{fmt(v)} {unit}".strip()))
@@ -402,6 +410,9 @@ def _input_columns(data: ReportData) -> list[tuple[str, list[tuple[str, str]]]]:
     pa = None if pa_check is None else pa_check.limit
     if lim.get("max_pressure_angle") is None and pa is not None:
         lim["max_pressure_angle"] = pa
+    for key, kind in _LIMIT_OF_CHECK.items():
+        if data.check.find(kind) is None and key not in spec.limits.model_fields_set:
+            lim.pop(key, None)
     dyn_rows += [("", ""), ("\x00limits", "")] + _kv_lines(lim)
     columns.append(("dynamics", dyn_rows))
     return columns
