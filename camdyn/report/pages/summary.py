@@ -56,6 +56,13 @@ UNITS = {
     "max_contact_stress": "MPa",
     "max_seating_velocity": "m/s",
     "max_impact_velocity": "m/s",
+    "backlash": "mm",
+    "lash": "mm",  # [valvetrain]
+    "cam_side_mass": "kg",
+    "valve_mass": "kg",
+    "stiffness": "N/mm",
+    "ramp_velocity": "mm/deg",
+    "tappet_force": "N",
 }
 # limits of checks only some cases have: listed where the case has the check or the user set the limit
 _LIMIT_OF_CHECK = {
@@ -404,6 +411,10 @@ def _input_columns(data: ReportData) -> list[tuple[str, list[tuple[str, str]]]]:
         path = spec.path.model_dump(exclude_unset=True)
         columns.append(("path", [(k, f"{fmt(v)} {_geom_unit(k, v)}".strip()) for k, v in path.items()]))
         columns.append(("mechanism (\u2192 synthesized)", _mechanism_rows(data)))
+    if spec.valvetrain is not None:  # the train between the cam and the valve: under the follower
+        title, rows = columns[-1]
+        vt = _kv_lines(spec.valvetrain.model_dump(exclude_unset=True))
+        columns[-1] = (title, [*rows, ("", ""), ("\x00valvetrain", ""), *vt])
     dyn_rows = _kv_lines(spec.dynamics.model_dump(exclude_unset=True), data.oscillating)
     lim = spec.limits.model_dump()
     pa_check = data.check.find(CheckKind.PRESSURE_ANGLE)
