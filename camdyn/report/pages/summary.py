@@ -432,7 +432,10 @@ def _input_columns(data: ReportData) -> list[tuple[str, list[tuple[str, str]]]]:
 def _fit_rows(case) -> list[tuple[str, str]]:
     """The data file a table or contour case was fitted to, and how closely the fit follows it."""
     fit = (case.contour or case.fit).json()
-    file = case.spec.motion.table if case.motion_source == "table" else case.spec.follower.contour
+    motion = case.spec.motion
+    file = {"table": motion and motion.table, "valve_table": motion and motion.valve_table}.get(
+        case.motion_source, case.spec.follower.contour
+    )
     unit = fit["unit"]
     return [
         ("file", str(file)),
