@@ -1,0 +1,145 @@
+"""The key inputs of a case for page 1 of its report: the motion and follower (or the path and mechanism), the
+dynamics and the limits, as (title, rows) columns of label and value with units."""
+
+from __future__ import annotations
+
+from ...design.checks import CheckKind
+from .._data import ReportData
+from .._layout import fmt
+
+UNITS = {
+    "base_radius": "mm",
+    "roller_radius": "mm",
+    "offset": "mm",
+    "pivot_distance": "mm",
+    "pivot_angle": "deg",
+    "arm_length": "mm",
+    "face_width": "mm",
+    "speed": "rpm",
+    "mass": "kg",
+    "spring_rate": "N/mm",
+    "preload": "N",
+    "train_stiffness": "N/mm",
+    "external_force": "N",
+    "inertia": "kg\u00b7m\u00b2",
+    "torsion_rate": "N\u00b7m/rad",
+    "preload_torque": "N\u00b7m",
+    "train_torsion_rate": "N\u00b7m/rad",
+    "external_torque": "N\u00b7m",
+    "speed_margin": "\u00d7",
+    "min_contact_force": "N",
+    "max_pressure_angle": "deg",
+    "max_contact_stress": "MPa",
+    "max_seating_velocity": "m/s",
+    "max_impact_velocity": "m/s",
+    "backlash": "mm",
+    "lash": "mm",  # [valvetrain]
+    "cam_side_mass": "kg",
+    "valve_mass": "kg",
+    "stiffness": "N/mm",
+    "ramp_velocity": "mm/deg",
+    "tappet_force": "N",
+}
+# limits of checks only some cases have: listed where the case has the check or the user set the limit
+_LIMIT_OF_CHECK = {
+    "max_seating_velocity": CheckKind.SEATING_VELOCITY,
+    "max_impact_velocity": CheckKind.CROSSOVER_IMPACT,
+}
+
+
+def _kv_lines(d: dict, oscillating: bool = False) -> list[tuple[str, str]]:
+    out = []
+    for k, v in d.items():
+        unit = UNITS.get(k, "") if v is not None else ""  # "unbounded" takes no unit
+        if k == "damping":
+            unit = "N\u00b7m\u00b7s/rad" if oscillating else "N\u00b7s/m"
+        out.append((k, f"{fmt(v)} {unit}".strip()))
+    return out
+
+
+def _geom_unit(key: str, value) -> str:
+    """Unit of a [path] or [mechanism] value (lengths mm, angles deg)."""
+    if isinstance(value, bool | str) or "mode" in key or key in ("phase", "reverse"):
+        return ""
+    if isinstance(value, list | tuple) and len(value) > 4:
+        return ""
+    return "deg" if ("angle" in key or key == "rotation") else "mm"
+
+
+def input_columns(data: ReportData) -> list[tuple[str, list[tuple[str, str]]]]:
+    """(title, rows) per column of the key inputs: the motion and follower, or the path and mechanism (with
+    what the synthesis chose); the dynamics and the limits."""
+    case = data.case
+    spec = case.spec
+    columns: list[tuple[str, list[tuple[str, str]]]] = []
+    if case.motion_source in ("table", "valve_table", "contour"):
+        columns.append((case.motion_source, _fit_rows(case)))
+        columns.append(("follower", _kv_lines(case.follower.model_dump(exclude_unset=True))))
+    elif spec.motion is not None:
+        rows, start = [], 0.0
+        lu = data.case.kind.lift_unit
+        for seg in spec.motion.segments:
+            lift = "" if seg.law == "dwell" else f"  {seg.lift:+g} {lu}"
+            rows.append((f"{start:g}\u2013{seg.end:g}\u00b0", f"{seg.law}{lift}"))
+            start = seg.end
+        columns.append(("motion", rows))
+        columns.append(("follower", _kv_lines(case.follower.model_dump(exclude_unset=True))))
+    else:
+        assert spec.path is not None  # CaseSpec: a case without [motion] or a contour has [path]
+        path = spec.path.model_dump(exclude_unset=True)
+        columns.append(("path", [(k, f"{fmt(v)} {_geom_unit(k, v)}".strip()) for k, v in path.items()]))
+        columns.append(("mechanism (\u2192 synthesized)", _mechanism_rows(data)))
+    if spec.valvetrain is not None:  # the train between the cam and the valve: under the follower
+        title, rows = columns[-1]
+        vt = _kv_lines(spec.valvetrain.model_dump(exclude_unset=True))
+        columns[-1] = (title, [*rows, ("", ""), ("\x00valvetrain", ""), *vt])
+    dyn_rows = _kv_lines(spec.dynamics.model_dump(exclude_unset=True), data.oscillating)
+    lim = spec.limits.model_dump()
+    pa_check = data.check.find(CheckKind.PRESSURE_ANGLE)
+    pa = None if pa_check is None else pa_check.limit
+    if lim.get("max_pressure_angle") is None and pa is not None:
+        lim["max_pressure_angle"] = pa
+    for key, kind in _LIMIT_OF_CHECK.items():
+        if data.check.find(kind) is None and key not in spec.limits.model_fields_set:
+            lim.pop(key, None)
+    dyn_rows += [("", ""), ("\x00limits", "")] + _kv_lines(lim)
+    columns.append(("dynamics", dyn_rows))
+    return columns
+
+
+def _fit_rows(case) -> list[tuple[str, str]]:
+    """The data file a table or contour case was fitted to, and how closely the fit follows it."""
+    fit = (case.contour or case.fit).json()
+    motion = case.spec.motion
+    file = {"table": motion and motion.table, "valve_table": motion and motion.valve_table}.get(
+        case.motion_source, case.spec.follower.contour
+    )
+    unit = fit["unit"]
+    return [
+        ("file", str(file)),
+        ("points", f"{fit['points']}"),
+        ("max residual", f"{fmt(fit['max_residual'])} {unit}"),
+        ("rms residual", f"{fmt(fit['rms_residual'])} {unit}"),
+        ("noise", f"{fmt(fit['noise'])} {unit}"),
+    ] + ([("repeats dropped", f"{fit['repeats_dropped']}")] if fit["repeats_dropped"] else [])
+
+
+def _mechanism_rows(data: ReportData) -> list[tuple[str, str]]:
+    case = data.case
+    assert case.spec.mechanism is not None  # a synthesized case's [mechanism]
+    mech = [
+        (k, f"{fmt(v)} {_geom_unit(k, v)}".strip())
+        for k, v in case.spec.mechanism.model_dump(exclude_unset=True).items()
+    ]
+    sm = case.synthesis.summary
+    mech += [
+        ("\u2192 crank", f"{sm['crank_mm']:.4g} mm"),
+        ("\u2192 coupler", f"{sm['coupler_mm']:.4g} mm"),
+        ("\u2192 base radius", f"{sm['base_radius_mm']:.4g} mm"),
+    ]
+    if "stroke_mm" in sm:
+        mech.append(("\u2192 stroke", f"{sm['stroke_mm']:.4g} mm"))
+    if "swing_deg" in sm:
+        mech.append(("\u2192 swing", f"{sm['swing_deg']:.4g} deg"))
+    mech.append(("\u2192 rotation", sm["rotation"]))
+    return mech
