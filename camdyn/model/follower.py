@@ -70,8 +70,9 @@ def follower_model(d: DynamicsSpec, *, kind: FollowerKind) -> FollowerModel:
     cf = 0.0 if math.isinf(kf) else damping_from_ratio(d.train_damping_ratio, kf, m)
     ratio = math.nan if d.damping is not None else (d.damping_ratio or 0.0)
     vals = (m, k, f0, c, ext, kf, cf, d.restitution)
+    # device_put, not jnp.asarray: the latter compiles a program per shape on first use (JAX 0.10), 10 ms each
     return FollowerModel(
-        *(jnp.asarray(float(v)) for v in vals), scale=kind.si_per_motion, damping_ratio=jnp.asarray(ratio)
+        *(jax.device_put(float(v)) for v in vals), scale=kind.si_per_motion, damping_ratio=jax.device_put(ratio)
     )
 
 
