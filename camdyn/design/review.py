@@ -31,7 +31,7 @@ from .tolerance import ToleranceResult, tolerance_study
 
 SIDE_DEG = 1e-7  # how far either side of a break the one-sided values are taken (deg)
 REVIEW_TOLERANCE_SAMPLES = 2000  # built cams of the report's tolerance page (seed 0; `camdyn tolerance` for more)
-SPEED_SCAN = 2000  # speeds of the force-against-speed curve: dynamic_jump_speed's scan, so compiled already
+SPEED_SCAN = 2000  # speeds of the force-against-speed curve: the grid of dynamic_jump_speed's scan
 MAP_SPEEDS, MAP_RATES = 48, 24  # the review's jump map: speeds x spring rates
 
 
@@ -179,7 +179,7 @@ def force_vs_speed(case: Case, check: CheckReport, margin_rpm: float, *, top: fl
     """Least contact force against cam speed, up to past the jump speeds (those below 8 x the check's speed), or
     up to ``top`` rpm: kinematic (rigid) and, for a compliant train, the frequency-domain steady state."""
     top = top if top is not None else _top_speed(check, margin_rpm, jump_within=8.0 * check.speed_rpm)
-    speeds = np.linspace(top / SPEED_SCAN, top, SPEED_SCAN)  # the jump-speed scan's array shape: compiled already
+    speeds = np.linspace(top / SPEED_SCAN, top, SPEED_SCAN)
     w = speeds * RPM
     # the kinematic force is a quadratic in the speed at every angle: three evaluations give it all;
     # the very theta array (shape and JAX weak type) of dynamics.response, so its compiled force is reused
