@@ -28,6 +28,7 @@ import math
 import os
 import pickle
 import platform
+import sys
 from collections.abc import Callable
 from importlib import metadata
 from pathlib import Path
@@ -63,8 +64,9 @@ def _fingerprint() -> str:
     for path in sorted(Path(__file__).parents[1].rglob("*.py")):
         h.update(path.read_bytes())
     for dist in ("jax", "jaxlib", "equinox", "diffrax", "optimistix", "lineax"):
-        try:
-            h.update(f"{dist}={metadata.version(dist)};".encode())
+        try:  # a loaded package's own __version__ is at hand; its metadata takes milliseconds to find
+            known = getattr(sys.modules.get(dist), "__version__", None)
+            h.update(f"{dist}={known or metadata.version(dist)};".encode())
         except metadata.PackageNotFoundError:
             pass
     x64 = jax.config.jax_enable_x64  # pyright: ignore[reportAttributeAccessIssue] - a flag jax adds at run time
@@ -169,9 +171,10 @@ def cached_jit(fn: Callable[..., T]) -> Callable[..., T]:
             key = repr((treedef, static, avals))
             program = programs.get(key)
         if program is None:
-            name = hashlib.sha256(
-                repr((fn.__module__, fn.__qualname__, _fingerprint(), treedef, static, avals)).encode()
-            ).hexdigest()[:32]
+            # the static part as the treedef (structure, static fields) and its leaves say it: an equinox module's
+            # own repr pretty-prints, a millisecond or more a program
+            text = repr((fn.__module__, fn.__qualname__, _fingerprint(), treedef, jax.tree.leaves(static), avals))
+            name = hashlib.sha256(text.encode()).hexdigest()[:32]
             file = _DIR / f"{fn.__name__}-{name}.{SUFFIX}"
             program = _load(file)
             if program is None:

@@ -30,6 +30,18 @@ def _version() -> str:
         return "0+unknown"
 
 
+class _VersionAction(argparse.Action):
+    """``--version``: the installed version, looked up only when asked (finding it takes milliseconds)."""
+
+    def __init__(self, option_strings: list[str], dest: str = argparse.SUPPRESS, **kwargs) -> None:
+        kwargs.setdefault("help", "show program's version number and exit")
+        super().__init__(option_strings, dest=dest, default=argparse.SUPPRESS, nargs=0, **kwargs)
+
+    def __call__(self, parser: argparse.ArgumentParser, *_: object) -> NoReturn:
+        print(f"camdyn {_version()}")
+        parser.exit()
+
+
 def _positive_rpm(text: str) -> float:
     try:
         value = float(text)
@@ -59,7 +71,7 @@ def build_parser() -> argparse.ArgumentParser:
         prog="camdyn",
         description="Cam mechanism design and follower dynamics: prove the follower never leaves the cam.",
     )
-    parser.add_argument("--version", action="version", version=f"camdyn {_version()}")
+    parser.add_argument("--version", action=_VersionAction)
     parser.add_argument("--debug", action="store_true", default=False, help="show the traceback of an error")
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
 
