@@ -322,7 +322,7 @@ def run_check(case: Case, speed_rpm: float | None = None) -> CheckReport:
     warnings += unit_slip_warnings(case, rpm, _finite_or_none((w_dyn if math.isfinite(w_dyn) else w_kin) / RPM))
     if not model.rigid and not resp.separations:
         # the frequency-domain steady state is exact without separation: an independent check of the solve
-        f_lin = float(np.asarray(dyn.linear_min_force(motion, model, np.asarray([omega])))[0])  # [0]: numpy's
+        f_lin = dyn.linear_least_force(motion, model, omega)
         if abs(f_lin - resp.min_force) > 5e-3 * max(1.0, float(abs(resp.force).max())):
             warnings.append(
                 f"time-domain and frequency-domain steady states disagree: least force {resp.min_force:.4g} vs "

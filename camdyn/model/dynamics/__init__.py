@@ -22,7 +22,7 @@ from ._closure import ClosureResponse, Crossover, closure_response
 from ._compliant import compliant_response, min_contact_force, periodic_orbit, vector_field
 from ._harmonic import linear_contact_force, linear_min_force, steady_force_at, steady_state
 from ._kinematic import kinematic_force, kinematic_force_jit, kinematic_force_of, kinematic_jump_speed
-from ._response import dynamic_jump_speed, first_zero_speed, jump_search_limit, response
+from ._response import dynamic_jump_speed, first_zero_speed, jump_search_limit, linear_least_force, response
 from ._result import Flight, Impact, Response, Separation
 from ._rigid import rigid_response
 from ._train import contact_force, preload_share, static_position, train_force
@@ -46,6 +46,7 @@ __all__ = [
     "kinematic_force_of",
     "kinematic_jump_speed",
     "linear_contact_force",
+    "linear_least_force",
     "linear_min_force",
     "min_contact_force",
     "periodic_orbit",

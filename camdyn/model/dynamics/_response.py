@@ -19,6 +19,7 @@ from ._rigid import rigid_response
 
 # speeds of the linear model's jump-speed scan per call: four of linear_min_force's batches of 64
 SCAN_CHUNK = 256
+BISECT_POINTS = 16  # speeds per step of its bisection
 
 
 def response(motion: Motion, model: FollowerModel, omega: float, n: int = THETA_GRID) -> Response:
@@ -40,8 +41,20 @@ def dynamic_jump_speed(
         return kinematic_jump_speed(motion, model)[0]
     least = lambda ws: np.asarray(linear_min_force(motion, model, ws))  # noqa: E731
     return first_zero_speed(
-        least, w_max, grid=grid, width_rpm=tol_rpm / 10, points=16, where="jump-speed search", chunk=SCAN_CHUNK
+        least,
+        w_max,
+        grid=grid,
+        width_rpm=tol_rpm / 10,
+        points=BISECT_POINTS,
+        where="jump-speed search",
+        chunk=SCAN_CHUNK,
     )
+
+
+def linear_least_force(motion: Motion, model: FollowerModel, omega: float) -> float:
+    """:func:`linear_min_force` at one speed (rad/s), N: computed as one of the jump-speed bisection's speeds, a
+    program a ``check`` has loaded already (each program a fresh process loads costs milliseconds)."""
+    return float(np.asarray(linear_min_force(motion, model, np.full(BISECT_POINTS, float(omega))))[0])
 
 
 def first_zero_speed(
