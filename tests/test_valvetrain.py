@@ -122,11 +122,13 @@ def test_seating_velocity_at_low_speed_is_the_closing_ramps(stiffness):
     assert resp.seating_deg == pytest.approx(295.0 + (0.225 - 0.125) / (0.537148 * math.pi / 180), abs=0.05)
 
 
-def _solve_ivp_event(case, omega):
+def _solve_ivp_event(case, omega, lever=None):
     """The two-mass valvetrain with a compliant cam contact and train, on scipy's DOP853 from its own equations:
-    the first seating (angle, speed) after the valve event and the bounce's height."""
+    the first seating (angle, speed) after the valve event and the bounce's height. ``lever``: x_c (m) -> (the
+    lift through the rocker at the valve m, the ratio); default the case's constant ratio."""
     motion, vt = case.motion, case.valvetrain
-    r, lash, m_c, m_v = (float(v) for v in (vt.ratio, vt.lash, vt.cam_side_mass, vt.valve_mass))
+    lash, m_c, m_v = (float(v) for v in (vt.lash, vt.cam_side_mass, vt.valve_mass))
+    lever = lever or (lambda x, r=float(vt.ratio): (r * x, r))
     kt, ct, kf, cf = (
         float(v)
         for v in (vt.train.train_stiffness, vt.train.train_damping, vt.cam.train_stiffness, vt.cam.train_damping)
@@ -142,13 +144,15 @@ def _solve_ivp_event(case, omega):
         xc, vc, xv, vv = y
         s, sd = cam(omega * t)
         f_cam = max(0.0, kf * (s - xc) + cf * (sd - vc)) if s > xc else 0.0
-        d = r * xc - lash - xv
+        g, r = lever(xc)
+        d = g - lash - xv
         f_t = max(0.0, kt * d + ct * (r * vc - vv)) if d > 0 else 0.0
         a_v = 0.0 if seated else (f_t - (k * xv + f0 + c * vv)) / m_v
         return [vc, (f_cam - r * f_t - hold) / m_c, 0.0 if seated else vv, a_v]
 
     def lifts(t, y, seated):
-        d = r * y[0] - lash
+        g, r = lever(y[0])
+        d = g - lash
         return (kt * d + ct * r * y[1] if d > 0 else d) - f0
 
     def lands(t, y, seated):
@@ -207,6 +211,8 @@ def shipped_check():
 
 VALVETRAIN_KEYS = {
     "ratio",
+    "ratio_min",
+    "ratio_max",
     "lash_mm",
     "max_valve_lift_mm",
     "opening_deg",
@@ -224,6 +230,7 @@ def test_check_json_reports_the_valvetrain(shipped_check):
     vt = out["valvetrain"]
     assert set(vt) == VALVETRAIN_KEYS
     assert vt["ratio"] == 1.6 and vt["lash_mm"] == pytest.approx(0.2)
+    assert vt["ratio_min"] == vt["ratio_max"] == 1.6  # a constant ratio
     assert out["dynamic"]["jump_speed_rpm"] == vt["float_speed_rpm"]
     # float comes before the equivalent rigid follower's jump (the train's compliance) and after the case speed
     assert 3000 * 1.25 < vt["float_speed_rpm"] < out["kinematic"]["jump_speed_rpm"]

@@ -6,6 +6,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+import numpy as np
+
 from .._core.errors import InputError
 from .._core.units import M_PER_MM, RPM, VALVE_BOUNCE_TOLERANCE_MM, VALVE_TIMING_LIFT_MM
 from ..model import dynamics as dyn
@@ -21,7 +23,7 @@ def _finite_or_none(x: float) -> float | None:
 class ValvetrainResult:
     """The valvetrain at one cam speed: its steady revolution and the speeds where it floats and bounces."""
 
-    ratio: float
+    ratio: float  # constant, or a rocker's at the cam's peak lift
     lash_mm: float
     response: dyn.ValvetrainResponse
     float_speed_rpm: float  # inf: no float up to the search's top
@@ -30,6 +32,27 @@ class ValvetrainResult:
     speeds_rpm: tuple[float, ...] = ()  # the speeds the searches marched, increasing
     seating_velocities: tuple[float, ...] = ()  # m/s at each (NaN: the valve never lifts)
     bounce_heights_mm: tuple[float, ...] = ()  # at each
+    # a rocker's: the cam's and the follower's lifts through it (mm, the lash not taken off) and its instantaneous
+    # ratio at the cam's lift, on response.theta_deg; None: the constant ratio's
+    rocker_curves: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None
+
+    @property
+    def ratios(self) -> np.ndarray:
+        """The instantaneous ratio (valve lift per follower lift) at the cam's lift, on ``response.theta_deg``."""
+        curves = self.rocker_curves
+        return np.full_like(self.response.theta_deg, self.ratio) if curves is None else curves[2]
+
+    @property
+    def cam_at_valve(self) -> np.ndarray:
+        """Where a rigid train would hold the valve: the cam's lift through the rocker less the lash, mm."""
+        curves = self.rocker_curves
+        return (self.ratio * self.response.cam_lift if curves is None else curves[0]) - self.lash_mm
+
+    @property
+    def follower_at_valve(self) -> np.ndarray:
+        """The follower's lift through the rocker less the lash, mm."""
+        curves = self.rocker_curves
+        return (self.ratio * self.response.follower_lift if curves is None else curves[1]) - self.lash_mm
 
     @property
     def timing_deg(self) -> tuple[float, float]:
@@ -46,6 +69,8 @@ class ValvetrainResult:
         opening, closing = self.timing_deg
         return {
             "ratio": self.ratio,
+            "ratio_min": float(self.ratios.min()),
+            "ratio_max": float(self.ratios.max()),
             "lash_mm": self.lash_mm,
             "max_valve_lift_mm": self.response.max_valve_lift_mm,
             "opening_deg": _finite_or_none(opening),
@@ -103,6 +128,10 @@ def analyze_valvetrain(case: Case, omega: float, margin: float) -> ValvetrainRes
     w_bounce = dyn.bounce_speed(case.motion, vt, w_max, respond=at)
     here = at(float(omega))
     speeds = sorted(marched)
+    curves = None
+    if vt.rocker is not None:
+        cam_at_valve, ratios = vt.at_valve_mm(here.cam_lift)
+        curves = (cam_at_valve, vt.at_valve_mm(here.follower_lift)[0], ratios)
     return ValvetrainResult(
         float(vt.ratio),
         float(vt.lash) / M_PER_MM,
@@ -113,4 +142,5 @@ def analyze_valvetrain(case: Case, omega: float, margin: float) -> ValvetrainRes
         tuple(w / RPM for w in speeds),
         tuple(marched[w].seating_velocity for w in speeds),
         tuple(marched[w].bounce_height_mm for w in speeds),
+        curves,
     )

@@ -29,10 +29,11 @@ from .optimization import plot_motion_before_after, plot_speed_before_after
 from .parts import plot_contact, plot_drive, plot_spring
 from .springs import PLOT_COLORS, plot_feasible_region
 from .tolerance import plot_jump_speed_histogram, plot_tolerance_tornado, save_tolerance_png
-from .valvetrain import plot_seating_velocity, plot_valve_lift, plot_valve_velocity
+from .valvetrain import plot_rocker_ratio, plot_seating_velocity, plot_valve_lift, plot_valve_velocity
 
 __all__ = [
     "plot_seating_velocity",
+    "plot_rocker_ratio",
     "plot_valve_lift",
     "plot_valve_velocity",
     "plot_motion_before_after",

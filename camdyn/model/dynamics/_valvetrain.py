@@ -1,14 +1,15 @@
 """The valvetrain in the time domain: two masses, the train and its lash, the cam contact and the valve's seat,
 event-driven on diffrax (float64), over one revolution at a constant cam speed.
 
-Equations (SI, time derivatives; x_c the follower's lift at the cam, x_v the valve's lift, r the rocker ratio)::
+Equations (SI, time derivatives; x_c the follower's lift at the cam, x_v the valve's lift, g(x_c) the cam's lift
+at the valve through the rocker and r = dg/dx_c its ratio, constant or varying with lift)::
 
     m_c x_c'' = F_cam - r F_t - F_hold
     m_v x_v'' = F_t - (k x_v + F0 + c x_v') + F_seat
 
-* F_t, the train: ``train_force`` (the compliant contact's formula) on the deflection ``r x_c - lash - x_v``, in
+* F_t, the train: ``train_force`` (the compliant contact's formula) on the deflection ``g(x_c) - lash - x_v``, in
   compression only; a rigid train locks the two masses together once the lash closes (a plastic impact) and lets
-  go where its force would pull.
+  go where its force would pull. Locked, x_v'' = r x_c'' + r' x_c'^2 (r' = dr/dx_c: 0 for a constant ratio).
 * F_cam, the cam contact: compliant (``train_force`` on ``s - x_c``) or rigid (x_c = s while F_cam > 0, a flight
   when it falls to zero, a landing with the cam's restitution).
 * F_seat, the seat at zero valve lift: rigid, with ``seat_restitution``. A seat is one to two orders stiffer than
@@ -63,8 +64,9 @@ def _state(theta, y, args):
     s, s1, s2, _ = motion(theta) * M_PER_MM
     xc = jnp.where(cam_locked, s, y[0])
     pc = jnp.where(cam_locked, s1, y[1])
-    xv = jnp.where(train_locked, vt.ratio * xc - vt.lash, jnp.where(seat_locked, 0.0, y[2]))
-    pv = jnp.where(train_locked, vt.ratio * pc, jnp.where(seat_locked, 0.0, y[3]))
+    g, r, _ = vt.lever(xc)
+    xv = jnp.where(train_locked, g - vt.lash, jnp.where(seat_locked, 0.0, y[2]))
+    pv = jnp.where(train_locked, r * pc, jnp.where(seat_locked, 0.0, y[3]))
     return s, s1, s2, xc, pc, xv, pv
 
 
@@ -74,23 +76,26 @@ def _dynamics(theta, y, args):
     cam_locked, train_locked, seat_locked = modes[CAM], modes[TRAIN], modes[SEAT]
     s, s1, s2, xc, pc, xv, pv = _state(theta, y, args)
     w2 = omega**2
-    r, m_c, m_v = vt.ratio, vt.cam_side_mass, vt.valve_mass
+    m_c, m_v = vt.cam_side_mass, vt.valve_mass
+    g, r, r1 = vt.lever(xc)
     spring = vt.spring_rate * xv + vt.preload + vt.spring_damping * omega * pv
     # the compliant contacts (0 for a rigid one, whose force is its constraint's): the cam's, and the train's on
-    # its deflection r x_c - lash - x_v
+    # its deflection g(x_c) - lash - x_v
     f_cam_c = jnp.where(jnp.isinf(vt.cam.train_stiffness), 0.0, contact_force(vt.cam, omega, s, s1, xc, pc))
     f_t_c = jnp.where(
-        jnp.isinf(vt.train.train_stiffness), 0.0, contact_force(vt.train, omega, r * xc - vt.lash, r * pc, xv, pv)
+        jnp.isinf(vt.train.train_stiffness), 0.0, contact_force(vt.train, omega, g - vt.lash, r * pc, xv, pv)
     )
-    # the train locked: one body at the follower (mass m_c + m_v r^2), driven by the cam or flying on its contact
-    a_body = (f_cam_c - r * spring - vt.tappet_force) / (vt.equivalent_mass * w2)
+    # the train locked: one body at the follower (mass m_c + m_v r^2), driven by the cam or flying on its contact;
+    # a varying ratio adds the valve's r' x_c'^2
+    turn = m_v * r * r1 * pc**2
+    a_body = (f_cam_c - r * spring - vt.tappet_force - turn * w2) / ((m_c + m_v * r**2) * w2)
     a_c_locked_train = jnp.where(cam_locked, s2, a_body)
-    f_t_locked = m_v * r * a_c_locked_train * w2 + spring
+    f_t_locked = m_v * r * a_c_locked_train * w2 + m_v * r1 * pc**2 * w2 + spring
     f_t = jnp.where(train_locked, f_t_locked, f_t_c)
     a_c_free = (f_cam_c - r * f_t - vt.tappet_force) / (m_c * w2)
     a_c = jnp.where(cam_locked, s2, jnp.where(train_locked, a_body, a_c_free))
     f_cam = jnp.where(cam_locked, m_c * s2 * w2 + r * f_t + vt.tappet_force, f_cam_c)
-    a_v = jnp.where(train_locked, r * a_c, jnp.where(seat_locked, 0.0, (f_t - spring) / (m_v * w2)))
+    a_v = jnp.where(train_locked, r * a_c + r1 * pc**2, jnp.where(seat_locked, 0.0, (f_t - spring) / (m_v * w2)))
     f_seat = jnp.where(seat_locked, spring - f_t, 0.0)
     return a_c, a_v, f_cam, f_t, f_seat, (xc, pc, xv, pv, s, s1)
 
@@ -105,7 +110,7 @@ def _conditions(theta, y, args):
     _, vt, _, modes, force_tol = args
     _, _, f_cam, f_t, f_seat, (xc, pc, xv, pv, s, s1) = _dynamics(theta, y, args)
     cam = jnp.where(modes[CAM], f_cam + force_tol, jnp.where(jnp.isinf(vt.cam.train_stiffness), xc - s + _GAP_EPS, 1.0))
-    lash_gap = vt.lash + xv - vt.ratio * xc
+    lash_gap = vt.lash + xv - vt.lever(xc)[0]
     train = jnp.where(
         jnp.isinf(vt.train.train_stiffness), jnp.where(modes[TRAIN], f_t + force_tol, lash_gap + _GAP_EPS), 1.0
     )
@@ -311,7 +316,12 @@ def valvetrain_response(motion: Motion, vt: ValvetrainModel, omega: float, n: in
     e_seat, e_cam = float(vt.seat_restitution), float(vt.cam_restitution)
     # the valve's event ends where it lands after rising past half its static lift at the nose (the train and the
     # spring in balance): a landing before (the valve kicked off its seat as the lash closes) belongs to the opening
-    reach = r * float(np.ptp(s_si)) - float(vt.lash)
+
+    def lever(x_c: float) -> tuple[float, float]:  # the cam's lift at the valve (m) and the ratio at x_c (m)
+        g, ratio, _ = vt.lever(jnp.asarray(x_c))
+        return float(g), float(ratio)
+
+    reach = lever(float(s_si.max()))[0] - lever(float(s_si.min()))[0] - float(vt.lash)
     kt, k = float(vt.train.train_stiffness), float(vt.spring_rate)
     half_lift = 0.5 * (reach if rigid_train else (kt * reach - float(vt.preload)) / (kt + k))
     warnings: list[str] = []
@@ -379,19 +389,21 @@ def valvetrain_response(motion: Motion, vt: ValvetrainModel, omega: float, n: in
                 y[1] = s1 - e_cam * rel
                 y[0] = s
                 if modes[TRAIN]:
-                    y[3] = r * y[1]
+                    y[3] = lever(y[0])[1] * y[1]
                 if not (e_cam > 0.0 and abs(rel) > v_floor):
                     y[1] = s1
                     modes[CAM] = True
             elif which == TRAIN and modes[TRAIN]:  # the rigid train lets go: the lash opens
                 modes[TRAIN] = False
-            elif which == TRAIN:  # the lash closes: the two masses meet (plastic)
+            elif which == TRAIN:  # the lash closes: the two masses meet (plastic), at the rocker's ratio there
+                g, r_here = lever(xc)
                 if modes[CAM]:
-                    y[3] = r * pc
+                    y[3] = r_here * pc
                 else:
-                    y[1] = (float(vt.cam_side_mass) * pc + r * float(vt.valve_mass) * pv) / float(vt.equivalent_mass)
-                    y[3] = r * y[1]
-                y[2] = r * y[0] - float(vt.lash)
+                    m_c, m_v = float(vt.cam_side_mass), float(vt.valve_mass)
+                    y[1] = (m_c * pc + r_here * m_v * pv) / (m_c + m_v * r_here**2)
+                    y[3] = r_here * y[1]
+                y[2] = g - float(vt.lash)
                 modes[TRAIN], modes[SEAT] = True, False
                 events.append(ValveEvent("lash", deg))
             elif which == SEAT and modes[SEAT]:  # the train lifts the valve

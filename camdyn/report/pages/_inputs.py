@@ -39,6 +39,10 @@ UNITS = {
     "stiffness": "N/mm",
     "ramp_velocity": "mm/deg",
     "tappet_force": "N",
+    "cam_arm": "mm",  # [valvetrain.rocker]
+    "valve_arm": "mm",
+    "cam_arm_angle": "deg",
+    "valve_arm_angle": "deg",
 }
 # limits of checks only some cases have: listed where the case has the check or the user set the limit
 _LIMIT_OF_CHECK = {
@@ -91,7 +95,9 @@ def input_columns(data: ReportData) -> list[tuple[str, list[tuple[str, str]]]]:
         columns.append(("mechanism (\u2192 synthesized)", _mechanism_rows(data)))
     if spec.valvetrain is not None:  # the train between the cam and the valve: under the follower
         title, rows = columns[-1]
-        vt = _kv_lines(spec.valvetrain.model_dump(exclude_unset=True))
+        given = spec.valvetrain.model_dump(exclude_unset=True)
+        rocker = given.pop("rocker", None)
+        vt = _kv_lines(given) + ([] if rocker is None else [("\x00rocker", ""), *_kv_lines(rocker)])
         columns[-1] = (title, [*rows, ("", ""), ("\x00valvetrain", ""), *vt])
     dyn_rows = _kv_lines(spec.dynamics.model_dump(exclude_unset=True), data.oscillating)
     lim = spec.limits.model_dump()
