@@ -211,8 +211,6 @@ def shipped_check():
 
 VALVETRAIN_KEYS = {
     "ratio",
-    "ratio_min",
-    "ratio_max",
     "lash_mm",
     "max_valve_lift_mm",
     "opening_deg",
@@ -221,6 +219,10 @@ VALVETRAIN_KEYS = {
     "float_speed_rpm",
     "bounce_speed_rpm",
     "bounce_height_mm",
+    "ratio_min",
+    "ratio_max",
+    "coil_bind_lift_mm",
+    "coil_bind_clearance_mm",
 }
 
 
@@ -231,6 +233,7 @@ def test_check_json_reports_the_valvetrain(shipped_check):
     assert set(vt) == VALVETRAIN_KEYS
     assert vt["ratio"] == 1.6 and vt["lash_mm"] == pytest.approx(0.2)
     assert vt["ratio_min"] == vt["ratio_max"] == 1.6  # a constant ratio
+    assert vt["coil_bind_lift_mm"] is None and vt["coil_bind_clearance_mm"] is None  # no [spring]: no solid height
     assert out["dynamic"]["jump_speed_rpm"] == vt["float_speed_rpm"]
     # float comes before the equivalent rigid follower's jump (the train's compliance) and after the case speed
     assert 3000 * 1.25 < vt["float_speed_rpm"] < out["kinematic"]["jump_speed_rpm"]
@@ -346,14 +349,6 @@ def test_train_too_soft_to_lift_the_valve_is_refused():
     with pytest.raises(InputError) as err:
         case_from_dict(raw)
     assert err.value.where == "valvetrain.stiffness" and "N/mm" in str(err.value)
-
-
-def test_a_spring_part_with_a_valvetrain_is_refused_for_now():
-    raw = copy.deepcopy(SHIPPED)
-    raw["spring"] = {"material": "music-wire"}
-    with pytest.raises(InputError) as err:
-        case_from_dict(raw)
-    assert err.value.where == "spring" and "valve_mass" in str(err.value)
 
 
 @pytest.mark.slow

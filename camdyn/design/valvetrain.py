@@ -35,6 +35,15 @@ class ValvetrainResult:
     # a rocker's: the cam's and the follower's lifts through it (mm, the lash not taken off) and its instantaneous
     # ratio at the cam's lift, on response.theta_deg; None: the constant ratio's
     rocker_curves: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None
+    coil_bind_lift_mm: float | None = None  # the valve's lift at which its designed spring ([spring]) is solid
+
+    @property
+    def coil_bind_clearance_mm(self) -> float | None:
+        """The valve's lift to spare before its spring goes solid, at its largest lift at the case speed (a flight's
+        overshoot included), mm; None without a designed spring."""
+        if self.coil_bind_lift_mm is None:
+            return None
+        return self.coil_bind_lift_mm - self.response.max_valve_lift_mm
 
     @property
     def ratios(self) -> np.ndarray:
@@ -69,8 +78,6 @@ class ValvetrainResult:
         opening, closing = self.timing_deg
         return {
             "ratio": self.ratio,
-            "ratio_min": float(self.ratios.min()),
-            "ratio_max": float(self.ratios.max()),
             "lash_mm": self.lash_mm,
             "max_valve_lift_mm": self.response.max_valve_lift_mm,
             "opening_deg": _finite_or_none(opening),
@@ -79,16 +86,23 @@ class ValvetrainResult:
             "float_speed_rpm": _finite_or_none(self.float_speed_rpm),
             "bounce_speed_rpm": _finite_or_none(self.bounce_speed_rpm),
             "bounce_height_mm": self.response.bounce_height_mm,
+            "ratio_min": float(self.ratios.min()),
+            "ratio_max": float(self.ratios.max()),
+            "coil_bind_lift_mm": self.coil_bind_lift_mm,
+            "coil_bind_clearance_mm": self.coil_bind_clearance_mm,
         }
 
     def checks(self, max_seating_velocity: float) -> tuple[Check, ...]:
         """``seating_velocity`` against ``[limits] max_seating_velocity`` and ``valve_bounce`` (none beyond the seat's
-        micro-bounce tolerance) at the case speed."""
+        micro-bounce tolerance) at the case speed; with a designed spring, ``coil_bind``: the valve's largest lift
+        (a flight's overshoot included) short of where the spring goes solid."""
         v = self.seating_velocity
-        return (
+        checks = (
             CheckKind.SEATING_VELOCITY.check(_finite_or_none(v), float(max_seating_velocity)),
             CheckKind.VALVE_BOUNCE.check(self.response.bounce_height_mm, VALVE_BOUNCE_TOLERANCE_MM),
         )
+        clearance = self.coil_bind_clearance_mm
+        return checks if clearance is None else (*checks, CheckKind.COIL_BIND.check(clearance, 0.0))
 
     def note(self) -> str:
         """What the contact-force check means on a valvetrain, for ``check``'s warnings."""
@@ -112,7 +126,8 @@ def refuse_valvetrain(case: Case, what: str) -> None:
 
 def analyze_valvetrain(case: Case, omega: float, margin: float) -> ValvetrainResult:
     """The valvetrain of ``case`` at cam speed ``omega`` (rad/s), with its float and bounce speeds searched up to
-    the dynamic jump search's top for ``margin`` x the speed (both searches share the revolutions they march)."""
+    the dynamic jump search's top for ``margin`` x the speed (both searches share the revolutions they march). A
+    case resolved with its designed spring (:func:`camdyn.design.parts.resolve_spring`) carries its coil bind."""
     vt = case.valvetrain
     assert vt is not None  # the caller's: a [valvetrain] case
     w_kin = dyn.kinematic_jump_speed(case.motion, case.model)[0]  # the equivalent follower's: where float begins
@@ -143,4 +158,5 @@ def analyze_valvetrain(case: Case, omega: float, margin: float) -> ValvetrainRes
         tuple(marched[w].seating_velocity for w in speeds),
         tuple(marched[w].bounce_height_mm for w in speeds),
         curves,
+        None if case.spring is None else case.spring.travel_to_solid_mm,
     )

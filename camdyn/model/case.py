@@ -118,7 +118,7 @@ def build_case(spec: CaseSpec, source: Path | None = None) -> Case:
         warnings += list(synthesis.warnings)
     valvetrain = None
     if spec.valvetrain is not None:
-        lifts = motion.host(np.arange(THETA_GRID) * (2 * np.pi / THETA_GRID))[0]
+        lifts = _lifts(motion)
         _check_rocker(spec.valvetrain, lifts)
         valvetrain = valvetrain_model(spec.valvetrain, spec.dynamics, float(lifts.max()))
     if valvetrain is None:
@@ -132,6 +132,20 @@ def build_case(spec: CaseSpec, source: Path | None = None) -> Case:
     return Case(
         name, source, spec, motion, follower, model, synthesis, tuple(warnings), fit, contour, valvetrain=valvetrain
     )
+
+
+def _lifts(motion: Motion) -> np.ndarray:
+    """The follower's lift on the revolution's grid (mm)."""
+    return motion.host(np.arange(THETA_GRID) * (2 * np.pi / THETA_GRID))[0]
+
+
+def valvetrain_with_spring_mass(case: Case, spring_mass_kg: float) -> ValvetrainModel:
+    """The case's two-mass valvetrain with a third of its valve spring's mass (kg) moving with the valve (the
+    lumped correction: the coils' kinetic energy with a linear velocity profile), its dampers kept at their ratios."""
+    vt = case.spec.valvetrain
+    assert vt is not None  # the caller's: a [valvetrain] case
+    heavier = vt.model_copy(update={"valve_mass": vt.valve_mass + spring_mass_kg / 3.0})
+    return valvetrain_model(heavier, case.spec.dynamics, float(_lifts(case.motion).max()))
 
 
 def _check_rocker(vt: ValvetrainSpec, lifts: np.ndarray) -> None:
@@ -158,7 +172,7 @@ def _check_valve_lifts(motion: Motion, spec: CaseSpec, vt_model: ValvetrainModel
     compressed by the rest must carry more than the spring's preload, or the valve never moves (statically)."""
     vt, preload = spec.valvetrain, spec.dynamics.preload
     assert vt is not None and preload is not None  # the caller's; CaseSpec: a valvetrain's spring has a preload
-    lifts = motion.host(np.arange(THETA_GRID) * (2 * np.pi / THETA_GRID))[0]
+    lifts = _lifts(motion)
     at_valve = vt_model.at_valve_mm(np.array([lifts.min(), lifts.max()]))[0]
     reach = float(at_valve[1] - at_valve[0])
     if reach <= vt.lash:

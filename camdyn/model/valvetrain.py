@@ -95,6 +95,7 @@ class ValvetrainModel(eqx.Module):
     tappet_force: jax.Array  # N, holding the follower on the cam
     rocker: Rocker | None = None  # a rocker's geometry; None: the constant ``ratio``. With it ``ratio`` is the ratio
     # at the cam's peak lift (the nominal: where float begins), which the equivalent follower uses
+    spring_damping_ratio: jax.Array = eqx.field(default_factory=lambda: jnp.asarray(math.nan))  # NaN: c was given
 
     def lever(self, x_c: ArrayLike) -> tuple[jax.Array, jax.Array, jax.Array | float]:
         """At follower lift ``x_c`` (m): the cam's lift at the valve g (m), the ratio dg/dx_c and d2g/dx_c2 (1/m)."""
@@ -158,12 +159,14 @@ def valvetrain_model(v: ValvetrainSpec, d: DynamicsSpec, peak_lift_mm: float = 0
         a(c),
         a(v.tappet_force),
         rocker,
+        a(math.nan if d.damping is not None else (d.damping_ratio or 0.0)),
     )
 
 
 def equivalent_follower(vt: ValvetrainModel) -> FollowerModel:
     """The single follower a rigid, lash-free valvetrain is, at the cam: mass ``m_cam + m_valve r^2``, spring rate
-    ``k r^2``, preload ``F0 r``, damping ``c r^2``, the tappet force as the external load, the same cam contact.
+    ``k r^2``, preload ``F0 r``, damping ``c r^2`` (the same damping ratio), the tappet force as the external load,
+    the same cam contact.
     The checks that know one follower read this; the valvetrain's own results come from the two-mass model."""
     r = vt.ratio
     return FollowerModel(
@@ -176,6 +179,7 @@ def equivalent_follower(vt: ValvetrainModel) -> FollowerModel:
         vt.cam.train_damping,
         vt.cam_restitution,
         scale=M_PER_MM,
+        damping_ratio=vt.spring_damping_ratio,
     )
 
 

@@ -28,8 +28,9 @@ def _event_window(resp, pad_deg: float = 30.0) -> tuple[float, float]:
 
 
 def plot_valve_lift(ax: Axes, result: ValvetrainResult) -> None:
-    """The valve's lift against the cam's lift at the valve (ratio x follower lift - lash: where the valve would be
-    on a rigid train), the lash and the ramps that take it up, around the valve event; opening and closing marked."""
+    """The valve's lift against the cam's lift at the valve (through the rocker, less the lash: where the valve would
+    be on a rigid train), the lash and the ramps that take it up, around the valve event; opening and closing marked,
+    and the lift at which a designed spring goes solid."""
     resp = result.response
     th = resp.theta_deg
     cam_label = "cam at the valve (through the rocker) - lash"
@@ -38,6 +39,9 @@ def plot_valve_lift(ax: Axes, result: ValvetrainResult) -> None:
     ax.plot(th, resp.valve_lift, color=C["dyn"], lw=1.3, label=f"valve at {resp.omega * 60 / TWO_PI:g} rpm")
     ax.axhline(0.0, color=C["ink"], lw=0.8)
     ax.axhline(-result.lash_mm, color=C["grey"], lw=0.6, ls=":", label=f"lash {result.lash_mm:g} mm")
+    if result.coil_bind_lift_mm is not None:  # a designed spring's solid height: a stop the valve must not reach
+        solid = result.coil_bind_lift_mm
+        ax.axhline(solid, color=C["limit"], lw=0.8, ls="--", label=f"spring solid at {solid:.3g} mm valve lift")
     for deg in result.timing_deg:
         if math.isfinite(deg):
             ax.axvline(deg, color=C["grey"], lw=0.6)

@@ -104,7 +104,10 @@ class CaseSpec(Table):
             raise ValueError("follower.closure: a valvetrain is spring-closed: remove closure (or [valvetrain])")
         if self.valvetrain is not None:
             check_valvetrain_keys(
-                self.valvetrain, self.dynamics, translating=not self.oscillating, spring=self.spring is not None
+                self.valvetrain,
+                self.dynamics,
+                translating=not self.oscillating,
+                spring_model=None if self.spring is None else self.spring.model,
             )
         else:
             form_closed = self.follower is not None and self.follower.form_closed

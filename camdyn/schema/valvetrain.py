@@ -95,7 +95,10 @@ class ValvetrainSpec(Table):
     valve_mass: Real = Field(
         ge=MASS_RANGE_KG[0],
         le=MASS_RANGE_KG[1],
-        description="mass moving with the valve: valve, retainer, keepers, the spring's share, kg",
+        description=(
+            "mass moving with the valve: valve, retainer, keepers, and a third of the valve spring's mass unless a "
+            "[spring] part is given (camdyn then adds its designed spring's third), kg"
+        ),
     )
     stiffness: Real | None = Field(
         default=None,
@@ -138,17 +141,19 @@ class ValvetrainSpec(Table):
     )
 
 
-def check_valvetrain_keys(v: ValvetrainSpec, d: DynamicsSpec, *, translating: bool, spring: bool = False) -> None:
+def check_valvetrain_keys(
+    v: ValvetrainSpec, d: DynamicsSpec, *, translating: bool, spring_model: str | None = None
+) -> None:
     """Raise ``ValueError("<key>: message")`` unless ``[dynamics]`` fits a valvetrain: a translating follower,
     the valve spring's rate and preload given, no ``mass`` (the two masses replace it), no rotational keys and no
-    external force (``tappet_force`` holds the follower on the cam); and no ``[spring]`` part (``spring``: one is
-    given), whose mass and surge on the valve's side are not modelled yet."""
+    external force (``tappet_force`` holds the follower on the cam); a ``[spring]`` part (``spring_model``: its
+    ``model``; None: none given) only as "lumped": its surge on the valve's side is not modelled yet."""
     if v.rocker is not None and "ratio" in v.model_fields_set:
         raise ValueError("valvetrain.ratio: give either ratio or [valvetrain.rocker] (its geometry gives it), not both")
-    if spring:
+    if spring_model == "surge":
         raise ValueError(
-            "spring: a [spring] part with [valvetrain] is not modelled yet (its mass and surge act on the valve): "
-            "put a third of the spring's mass in valvetrain.valve_mass"
+            'spring.model: "surge" with [valvetrain] is not modelled yet (the coils\' chain on the valve side): use '
+            '"lumped", a third of the spring\'s mass moving with the valve'
         )
     if not translating:
         raise ValueError("valvetrain: the follower must be translating (a tappet or a lifter); the rocker is the ratio")

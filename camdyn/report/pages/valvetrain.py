@@ -21,7 +21,7 @@ def draw_valvetrain(fig: Figure, data: ReportData) -> None:
         f"Rocker ratio {_ratio(vt, j)}, lash {vt.lash_mm:g} mm; valve lift {fmt(j['max_valve_lift_mm'])} mm, seats at "
         f"{fmt(j['seating_velocity_m_per_s'])} m/s; float at {fmt(j['float_speed_rpm'])} rpm, bounce at "
         f"{fmt(j['bounce_speed_rpm'])} rpm (searched to {vt.search_top_rpm:.0f} rpm); bounce height "
-        f"{fmt(j['bounce_height_mm'])} mm at {data.check.speed_rpm:g} rpm.",
+        f"{fmt(j['bounce_height_mm'])} mm at {data.check.speed_rpm:g} rpm{_coil_bind(j)}.",
         size=8.5,
         width=115,
         color=C["ink"],
@@ -43,6 +43,16 @@ def draw_valvetrain(fig: Figure, data: ReportData) -> None:
     plot_seating_velocity(ax, vt, data.case.limits.max_seating_velocity)
     if rocker:
         plot_rocker_ratio(fig.add_axes((0.66, 0.06, 0.29, 0.19)), vt)
+
+
+def _coil_bind(j: dict) -> str:
+    """The spring's coil bind, where a designed spring gives it."""
+    if j["coil_bind_lift_mm"] is None:
+        return ""
+    return (
+        f"; the spring goes solid at {fmt(j['coil_bind_lift_mm'])} mm of valve lift, "
+        f"{fmt(j['coil_bind_clearance_mm'])} mm beyond the valve's largest"
+    )
 
 
 def _ratio(vt, j: dict) -> str:
