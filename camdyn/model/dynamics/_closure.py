@@ -32,14 +32,15 @@ from ..._core.jit import filter_jit
 from ..._core.units import THETA_GRID, TWO_PI, newton_per_torque
 from ...schema import FollowerSpec
 from ..follower import FollowerModel
-from ..geometry import evaluate_geometry
+from ..geometry import conjugate_lever_mm, evaluate_geometry
 from ..motion import Motion, evaluate
 from ._compliant import vector_field
 from ._kinematic import kinematic_force_jit
 from ._rigid import _lift_off
 from ._solver import ATOL, MAX_STEPS, RTOL
 
-_FLANKS = {True: ("inner", "outer"), False: ("outer", "inner")}  # leaving the inner flank: from, to
+# the flank that pushes the follower up (a spring's) and the one that pulls it back, by closure
+_FLANK_NAMES = {"groove": ("inner", "outer"), "conjugate": ("primary", "conjugate")}
 _GAP_EPS = 1e-9  # motion units: a return onto the flank left is detected this far into it
 _ZERO_FORCE = 1e-9  # of the largest |Fi|: below it the force is zero (a dwell without spring), on neither flank
 
@@ -146,10 +147,18 @@ def _cross(motion, model, omega, theta0, y0, side, gap):
     )
 
 
+def flank_lever(motion: Motion, follower: FollowerSpec, theta: float, inner: bool = True) -> float:
+    """The lever (mm per motion unit) of the flank at cam angle ``theta`` (rad): the inner (primary) one, or the
+    outer; a groove's walls share the pitch curve's normal, conjugate cams have each their own."""
+    if not inner and follower.closure == "conjugate":
+        return float(conjugate_lever_mm(motion, follower, np.array([theta]))[0])
+    return float(evaluate_geometry(motion, follower, np.array([theta]))["lever"][0])
+
+
 def flight_gap(motion: Motion, follower: FollowerSpec, theta: float) -> float:
-    """The backlash along the follower's coordinate at cam angle ``theta`` (rad): b / lever, mm or rad."""
-    lever = float(evaluate_geometry(motion, follower, np.array([theta]))["lever"][0])
-    return follower.backlash / lever
+    """The backlash along the follower's coordinate at cam angle ``theta`` (rad): b / lever, mm or rad (the
+    conjugate cam's lever: the backlash is its clearance)."""
+    return follower.backlash / flank_lever(motion, follower, theta, inner=follower.closure != "conjugate")
 
 
 def cross_gap(motion: Motion, model: FollowerModel, omega: float, theta0: float, gap: float, side: float):
@@ -234,9 +243,10 @@ def closure_response(
     breaks = np.deg2rad(np.asarray(motion.breaks_deg, dtype=float))
     cands = _crossing_angles(fk, signs, h, breaks)
     deg = lambda t: math.degrees(t) % 360.0  # noqa: E731
+    names = _FLANK_NAMES[follower.closure]
     out = force.copy()
     if follower.backlash == 0.0 or not cands:
-        crossovers = [Crossover(deg(t), *_FLANKS[down], deg(t), 0.0, 0.0) for t, down in cands]
+        crossovers = [Crossover(deg(t), *names[:: 1 if down else -1], deg(t), 0.0, 0.0) for t, down in cands]
         return ClosureResponse(
             follower.closure, follower.backlash, float(omega), np.degrees(theta), out, tuple(crossovers)
         )
@@ -248,7 +258,7 @@ def closure_response(
     t_c = cands[0][0]
     crossovers = []
     for _ in range(max_flights):
-        left = "inner" if inner else "outer"
+        left = names[0] if inner else names[1]
         side = 1.0 if inner else -1.0  # towards the outer flank from the inner one
         t_land, v_rel, across = cross_gap(motion, model, omega, t_c, flight_gap(motion, follower, t_c), side)
         inner = inner != across
@@ -258,9 +268,9 @@ def closure_response(
         if not math.isinf(kf):
             peak = abs(f_land) + v_rel_si * math.sqrt(kf * m)  # N, or N*m at the arm
             if not follower.translating:  # the arm's torque as the force at the roller
-                peak *= float(newton_per_torque(evaluate_geometry(motion, follower, np.array([t_land]))["lever"][0]))
+                peak *= float(newton_per_torque(flank_lever(motion, follower, t_land, inner)))
             f_imp = float(peak)
-        landed = "inner" if inner else "outer"
+        landed = names[0] if inner else names[1]
         crossovers.append(Crossover(deg(t_c), left, landed, deg(t_land), v_rel_si * to_m, f_imp))
         out[np.arange(math.ceil(t_c / h), math.floor(t_land / h) + 1) % n] = 0.0  # in flight: on neither flank
         if (f_land <= 0.0) == inner:  # the force pulls the roller off the flank it landed on: off again
