@@ -288,3 +288,12 @@ def closure_response(
         )
     crossovers.sort(key=lambda c: c.deg)
     return ClosureResponse(follower.closure, follower.backlash, float(omega), np.degrees(theta), out, tuple(crossovers))
+
+
+def preload_shares(force: np.ndarray, preload: float) -> tuple[np.ndarray, np.ndarray]:
+    """Each conjugate cam's share of the follower's signed force ``force`` (N, or N*m) with the rollers pressed on
+    their cams by ``preload`` (same unit) at rest: equally stiff contacts share a change of force half each, so the
+    primary cam carries P + F/2 and the conjugate P - F/2, until one unloads and the other carries it all
+    (F1 = max(F, P + F/2, 0), F2 = F1 - F; with no preload the force on the cam it presses)."""
+    primary = np.maximum(np.maximum(force, preload + 0.5 * force), 0.0)
+    return primary, primary - force
