@@ -18,12 +18,11 @@ from .._core.units import RPM, newton_per_torque
 from ..model import dynamics as dyn
 from ..model.case import Case
 from ..model.geometry import (
-    ConjugateGeometry,
     WALLS,
+    ConjugateGeometry,
     GrooveGeometry,
     conjugate,
     conjugate_lever_mm,
-    curvature_limit,
     groove,
     newton_per_torque_at,
 )

@@ -192,8 +192,9 @@ def conjugate_contact(
     reports them: axial for a yoke, at the contact for a rocker; both loaded under a preload), and at each angle
     the more stressed contact. The conjugate contact: K = 1/Rr2 + 1/rho (rho its contour's signed radius), the
     force over cos of its pressure angle on a yoke. ``geometry`` and ``second`` on one grid."""
-    primary = cam_contact(geometry, np.abs(_forces(geometry, primary_N, width_mm)), width_mm=width_mm, cam=cam,
-                          follower=follower)
+    primary = cam_contact(
+        geometry, np.abs(_forces(geometry, primary_N, width_mm)), width_mm=width_mm, cam=cam, follower=follower
+    )
     f2 = np.abs(_forces(geometry, conjugate_N, width_mm))
     if not geometry.follower.kind.rotary:
         f2 = f2 / np.cos(np.deg2rad(second.pressure_angle_deg))
