@@ -21,6 +21,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import jax
 import jax.numpy as jnp
@@ -34,7 +35,11 @@ from ..._core.units import THETA_GRID
 from ...schema import FollowerSpec
 from ._analyze import _grid
 from ._groove import Wall, _wall
+
 from ._kernel import _params, _pivot, _roller_centre, _rot, check_assembly, chunked, roller_point, with_breaks
+
+if TYPE_CHECKING:
+    from ..motion import Motion
 
 
 def _second_centre(ftype: FollowerType, p, q):
@@ -66,7 +71,7 @@ def _conjugate_params(f: FollowerSpec) -> np.ndarray:
     return np.concatenate([_params(f), second])
 
 
-def evaluate_conjugate(motion, f: FollowerSpec, theta_rad: ArrayLike) -> dict[str, np.ndarray]:
+def evaluate_conjugate(motion: Motion, f: FollowerSpec, theta_rad: ArrayLike) -> dict[str, np.ndarray]:
     """The conjugate cam at cam angles ``theta_rad`` (rad): as :func:`evaluate_geometry` (``pitch``, ``contour``,
     ``normal``, ``kappa_pitch`` 1/mm, ``rho_contour`` mm, ``phi`` rad, ``lever`` mm per motion unit, ``s``)."""
     p = _conjugate_params(f)
@@ -122,7 +127,7 @@ def _position_key(f: FollowerSpec) -> str:
     return "follower.conjugate_spacing" if f.translating else "follower.conjugate_arm_angle"
 
 
-def conjugate(motion, follower: FollowerSpec, *, n: int = THETA_GRID) -> ConjugateGeometry:
+def conjugate(motion: Motion, follower: FollowerSpec, *, n: int = THETA_GRID) -> ConjugateGeometry:
     """The conjugate cam that keeps ``follower``'s second roller in contact while the first follows the primary.
 
     Raises :class:`camdyn.InputError` for a follower that cannot be assembled, a second roller the conjugate cam
@@ -172,6 +177,6 @@ def conjugate(motion, follower: FollowerSpec, *, n: int = THETA_GRID) -> Conjuga
     )
 
 
-def conjugate_lever_mm(motion, follower: FollowerSpec, theta_rad: ArrayLike) -> np.ndarray:
+def conjugate_lever_mm(motion: Motion, follower: FollowerSpec, theta_rad: ArrayLike) -> np.ndarray:
     """The conjugate cam's lever at cam angles ``theta_rad`` (rad): mm of its normal per motion unit (positive)."""
     return evaluate_conjugate(motion, follower, theta_rad)["lever"]

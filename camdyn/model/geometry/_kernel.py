@@ -4,6 +4,7 @@ once per follower type; and the assembly conditions a follower must meet."""
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from typing import TYPE_CHECKING
 
 import jax
@@ -134,7 +135,14 @@ def _taylor(sv):
     return lambda t: sv[0] + t * (sv[1] + t * (sv[2] / 2 + t * sv[3] / 6))
 
 
-def roller_point(centre, sigma, rr, th0, sv, drive=1.0):
+def roller_point(
+    centre: Callable[[jax.Array], jax.Array],
+    sigma: ArrayLike,
+    rr: ArrayLike,
+    th0: ArrayLike,
+    sv: ArrayLike,
+    drive: float = 1.0,
+) -> dict[str, jax.Array]:
     """A roller's contact at cam angle th0 (rad): ``centre`` maps the follower coordinate to the roller centre in
     the fixed frame; ``drive`` +1 where the cam pushes the follower towards increasing coordinate, -1 where it
     pushes it back (a conjugate cam: its pressure angle and lever taken along the direction it drives)."""
@@ -223,7 +231,9 @@ def evaluate_geometry(
     return chunked(motion, theta_rad, lambda theta, sv: _geometry(p, theta, sv, f.follower_type))
 
 
-def chunked(motion: Motion, theta_rad: ArrayLike, program) -> dict[str, np.ndarray]:
+def chunked(
+    motion: Motion, theta_rad: ArrayLike, program: Callable[[np.ndarray, jax.Array], dict]
+) -> dict[str, np.ndarray]:
     """``program(theta, sv)`` (a compiled geometry of :data:`_CHUNK` angles) over any number of angles (rad), in
     fixed-size chunks, plus the motion ``s``."""
     theta_rad = np.asarray(theta_rad, dtype=float)
