@@ -35,7 +35,6 @@ from ..._core.units import THETA_GRID
 from ...schema import FollowerSpec
 from ._analyze import _grid
 from ._groove import Wall, _wall
-
 from ._kernel import _params, _pivot, _roller_centre, _rot, check_assembly, chunked, roller_point, with_breaks
 
 if TYPE_CHECKING:
