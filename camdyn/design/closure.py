@@ -117,12 +117,19 @@ class ClosureStudy:
         conjugate rocker's negative forces through the conjugate cam's lever instead: each force on its cam."""
         if self.loads is None or not case.oscillating:
             return resp
-        th = np.deg2rad(resp.theta_deg)
+        on = lambda f: self.force_on_its_cam(case, resp.theta_deg, f)  # noqa: E731
+        return replace(resp, force=on(resp.force), kinematic_force=on(resp.kinematic_force))
+
+    def force_on_its_cam(self, case: Case, theta_deg: np.ndarray, force_N: np.ndarray) -> np.ndarray:
+        """Signed forces (N) taken through the primary's lever at ``theta_deg``, the negative ones of a conjugate
+        rocker through the conjugate cam's lever instead (a groove's, or a yoke's, as they are)."""
+        if self.loads is None or not case.oscillating:
+            return force_N
+        th = np.deg2rad(theta_deg)
         ratio = np.asarray(newton_per_torque(conjugate_lever_mm(case.motion, case.follower, th))) / np.asarray(
             newton_per_torque_at(case.motion, case.follower, th)
         )
-        scale = lambda f: np.where(f < 0.0, f * ratio, f)  # noqa: E731
-        return replace(resp, force=scale(resp.force), kinematic_force=scale(resp.kinematic_force))
+        return np.where(force_N < 0.0, force_N * ratio, force_N)
 
     def as_response(self, case: Case) -> dyn.Response:
         """The follower as the other models give it (forces in N, or N*m for an arm; the follower on the cam's

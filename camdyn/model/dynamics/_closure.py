@@ -15,6 +15,12 @@ relative speed ``v``; a follower train of stiffness k_f turns it into the impact
 The crossovers are the zeros of the force with the roller on the pitch curve: a spring's share of the b/2 it
 actually sits off it (k b / 2) moves them by that over the force's slope. The landing is plastic; the follower's
 own motion across the gap (at most b / lever) is not carried into the response's displacement.
+
+Conjugate cams (two cams, two rollers on one follower) are the same with the primary cam for the inner flank and the
+conjugate cam for the outer (the flanks named "primary" and "conjugate"); their backlash is the clearance at the
+conjugate cam, so the gap along the follower's coordinate is b over the conjugate cam's own lever
+(:func:`camdyn.model.geometry.conjugate_lever_mm`), and an arm's impact torque becomes a force through the lever of
+the cam it lands on. A preload between the rollers is shared between the cams (:func:`preload_shares`).
 """
 
 from __future__ import annotations
@@ -53,7 +59,7 @@ class Crossover:
     train)."""
 
     deg: float
-    from_flank: str  # "inner" | "outer"
+    from_flank: str  # "inner" | "outer" (a groove), "primary" | "conjugate" (conjugate cams)
     to_flank: str
     land_deg: float
     impact_velocity_m_per_s: float
