@@ -287,3 +287,40 @@ def test_check_json_of_the_shipped_conjugate_cam(capsys):
     assert "speed_margin" not in names
     pa = doc["checks"][names.index("conjugate_pressure_angle")]
     assert pa["value"] == pytest.approx(cl["conjugate_cam"]["max_pressure_angle_deg"]) and pa["limit"] == 35.0
+
+
+def test_rocker_flight_across_the_backlash_lands_and_hits_through_the_conjugate_arm():
+    """The shipped rocker without preload, 0.05 mm backlash and a longer second arm (165 mm): the arm keeps its
+    angular velocity across the gap b / (a2 cos phi2) (rad, the conjugate cam's lever at the crossover), the landing
+    where the closed form puts it; the impact speed at the landing roller's centre (a2 or a times the relative angular
+    speed) and the impact force the arm's torque plus w_rel sqrt(k_f I) over that cam's lever arm."""
+    raw = tomllib.loads(EXAMPLE.read_text())
+    f = raw["follower"]
+    del f["conjugate_preload_torque"]
+    f.update(backlash=0.05, conjugate_arm_length=165.0)
+    case = case_from_dict(raw)
+    w = _omega(case)
+    r = closure_response(case.motion, case.follower, case.model, w)
+    assert [c.deg for c in r.crossovers] == pytest.approx([90.0, 270.0], abs=1e-8)
+    g = conjugate(case.motion, case.follower, n=3600)
+    pa1 = lambda deg: analyze(case.motion, case.follower).table([deg])["pressure_angle_deg"][0]  # noqa: E731
+    pa2 = lambda deg: g._evaluate(np.deg2rad(np.array([deg])))["phi"][0]  # noqa: E731
+    lever = {"primary": lambda d: 150.0 * np.cos(np.deg2rad(pa1(d))), "conjugate": lambda d: 165.0 * np.cos(pa2(d))}
+    arm_m = {"primary": 0.150, "conjugate": 0.165}
+    for c in r.crossovers:
+        tc = np.deg2rad(c.deg)
+        p0 = _host(case, tc)[:, 0]
+        side = 1.0 if c.from_flank == "primary" else -1.0
+        gap = 0.05 / lever["conjugate"](c.deg)
+
+        def rel(d, tc=tc, p0=p0, side=side, gap=gap):
+            return side * (p0[1] * d - (_host(case, tc + d)[0, 0] - p0[0])) - gap
+
+        d = brentq(rel, 1e-6, 1.0, xtol=1e-15)
+        assert c.to_flank != c.from_flank
+        assert np.deg2rad(c.land_deg) - tc == pytest.approx(d, rel=1e-6)
+        w_rel = abs(p0[1] - _host(case, tc + d)[1, 0]) * w
+        assert c.impact_velocity_m_per_s == pytest.approx(w_rel * arm_m[c.to_flank], rel=1e-6)
+        torque = abs(0.05 * w**2 * _host(case, tc + d)[2, 0])
+        want = (torque + w_rel * np.sqrt(20000 * 0.05)) / (lever[c.to_flank](c.land_deg) * 1e-3)
+        assert c.impact_force_N == pytest.approx(want, rel=1e-6)

@@ -161,6 +161,15 @@ def flank_lever(motion: Motion, follower: FollowerSpec, theta: float, inner: boo
     return float(evaluate_geometry(motion, follower, np.array([theta]))["lever"][0])
 
 
+def _roller_arm_m(follower: FollowerSpec, inner: bool) -> float:
+    """m at the centre of the roller on the inner (primary) or the outer flank per unit of the follower's velocity:
+    1 for a translating follower, the arm's length for an oscillating one (a conjugate rocker's second arm)."""
+    if follower.translating:
+        return 1.0
+    second = not inner and follower.closure == "conjugate"
+    return 1e-3 * ((follower.conjugate_arm_length if second else None) or follower.arm_length or 0.0)
+
+
 def flight_gap(motion: Motion, follower: FollowerSpec, theta: float) -> float:
     """The backlash along the follower's coordinate at cam angle ``theta`` (rad): b / lever, mm or rad (the
     conjugate cam's lever: the backlash is its clearance)."""
@@ -257,7 +266,6 @@ def closure_response(
             follower.closure, follower.backlash, float(omega), np.degrees(theta), out, tuple(crossovers)
         )
     cands += [(t + TWO_PI, down) for t, down in cands]  # a flight may carry past the revolution's end
-    to_m = 1.0 if follower.translating else 1e-3 * (follower.arm_length or 0.0)  # rad at the roller centre -> m
     kf, m = float(model.train_stiffness), float(model.mass)
     t_end = cands[0][0] + TWO_PI
     inner = cands[0][1]  # the flank the roller is on before the first crossover (leaving inner: it was on it)
@@ -277,7 +285,9 @@ def closure_response(
                 peak *= float(newton_per_torque(flank_lever(motion, follower, t_land, inner)))
             f_imp = float(peak)
         landed = names[0] if inner else names[1]
-        crossovers.append(Crossover(deg(t_c), left, landed, deg(t_land), v_rel_si * to_m, f_imp))
+        crossovers.append(
+            Crossover(deg(t_c), left, landed, deg(t_land), v_rel_si * _roller_arm_m(follower, inner), f_imp)
+        )
         out[np.arange(math.ceil(t_c / h), math.floor(t_land / h) + 1) % n] = 0.0  # in flight: on neither flank
         if (f_land <= 0.0) == inner:  # the force pulls the roller off the flank it landed on: off again
             t_c = t_land
