@@ -324,3 +324,30 @@ def test_rocker_flight_across_the_backlash_lands_and_hits_through_the_conjugate_
         torque = abs(0.05 * w**2 * _host(case, tc + d)[2, 0])
         want = (torque + w_rel * np.sqrt(20000 * 0.05)) / (lever[c.to_flank](c.land_deg) * 1e-3)
         assert c.impact_force_N == pytest.approx(want, rel=1e-6)
+
+
+def test_conjugate_contact_stress_on_each_cam():
+    """Each cam's Hertz strip with its own force: where the primary presses, the spring cam's (K = 1/Rr + 1/rho1,
+    force over cos phi1); where the conjugate does, its own (K = 1/Rr2 + 1/rho2 of its contour, force over cos phi2);
+    under a preload both press and the larger pressure is reported."""
+    from camdyn.model.contact import cam_contact, conjugate_contact
+
+    case = _yoke(conjugate_roller_radius=10.0)
+    r = closure_response(case.motion, case.follower, case.model, _omega(case))
+    geo = analyze(case.motion, case.follower)
+    second = conjugate(case.motion, case.follower)
+    mats = {"width_mm": 10.0, "cam": (206.0, 0.3), "follower": (206.0, 0.3)}
+    f1, f2 = preload_shares(r.contact_force, 0.0)
+    got = conjugate_contact(geo, second, f1, f2, **mats)
+    on1, on2 = r.contact_force > 0, r.contact_force < 0
+    spring = cam_contact(geo, f1, **mats)
+    np.testing.assert_allclose(got.pressure_MPa[on1], spring.pressure_MPa[on1], rtol=1e-12)
+    k2 = 1 / 10.0 + 1 / second.rho_contour_mm[on2]
+    np.testing.assert_allclose(got.equivalent_radius_mm[on2], 1 / k2, rtol=1e-12)
+    np.testing.assert_allclose(
+        got.normal_force_N[on2], f2[on2] / np.cos(np.deg2rad(second.pressure_angle_deg[on2])), rtol=1e-12
+    )
+    p1, p2 = preload_shares(r.contact_force, 100.0)
+    both = conjugate_contact(geo, second, p1, p2, **mats)
+    alone = [conjugate_contact(geo, second, p1, 0 * p2, **mats), conjugate_contact(geo, second, 0 * p1, p2, **mats)]
+    np.testing.assert_allclose(both.pressure_MPa, np.maximum(*(a.pressure_MPa for a in alone)), rtol=1e-12)
