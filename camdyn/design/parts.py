@@ -80,10 +80,10 @@ def resolve_spring(case: Case) -> Case:
     """The case with its spring's own mass in the dynamics, as ``[spring] model`` asks: the spring is the part
     ``camdyn spring`` designs for the case's rate and preload (:func:`camdyn.design.spring.design_case_spring`),
     and its mass enters ``case.model`` as a third on the follower ("lumped", and "surge", whose jump speed is the
-    chain's: :class:`camdyn.model.surge.SpringInDynamics`); a valvetrain's valve spring as a third on the valve, in
-    the two-mass model and so through the ratio squared in its equivalent follower. Without a ``[spring]`` table the
-    spring is massless (its part is not known); where no spring can be built the mass stays out and
-    ``case.spring.note`` says why.
+    chain's: :class:`camdyn.model.surge.SpringInDynamics`); a valvetrain's valve spring as a third on the valve
+    (and so through the ratio squared in its equivalent follower), in the two-mass model a chain of masses for
+    "surge". Without a ``[spring]`` table the spring is massless (its part is not known); where no spring can be
+    built the mass stays out and ``case.spring.note`` says why.
     Idempotent: a resolved case comes back as it is."""
     if case.spring is not None:
         return case
@@ -103,8 +103,9 @@ def resolve_spring(case: Case) -> Case:
         travel_to_solid_mm=part.installed_length - part.spring.solid_length,
     )
     if case.valvetrain is not None:  # the valve spring's third moves with the valve, in the two-mass model too
-        valvetrain = valvetrain_with_spring_mass(case, part.spring.mass)
-        return replace(case, model=equivalent_follower(valvetrain), spring=sd, valvetrain=valvetrain)
+        lumped = valvetrain_with_spring_mass(case, part.spring.mass)
+        valvetrain = valvetrain_with_spring_mass(case, part.spring.mass, surge=sd.model == "surge")
+        return replace(case, model=equivalent_follower(lumped), spring=sd, valvetrain=valvetrain)
     return replace(case, model=sd.follower(), spring=sd)
 
 

@@ -6,6 +6,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+import equinox as eqx
+import jax.numpy as jnp
 import numpy as np
 
 from .._core.errors import InputError
@@ -19,7 +21,14 @@ from .linkage import synthesize_motion
 from .motion import Motion, MotionFit, Program
 from .sources import contour_motion, table_motion
 from .surge import SpringInDynamics
-from .valvetrain import ValvetrainModel, equivalent_follower, rocker_model, rocker_reach, valvetrain_model
+from .valvetrain import (
+    ValvetrainModel,
+    coils_model,
+    equivalent_follower,
+    rocker_model,
+    rocker_reach,
+    valvetrain_model,
+)
 
 
 @dataclass(frozen=True)
@@ -139,13 +148,20 @@ def _lifts(motion: Motion) -> np.ndarray:
     return motion.host(np.arange(THETA_GRID) * (2 * np.pi / THETA_GRID))[0]
 
 
-def valvetrain_with_spring_mass(case: Case, spring_mass_kg: float) -> ValvetrainModel:
+def valvetrain_with_spring_mass(case: Case, spring_mass_kg: float, surge: bool = False) -> ValvetrainModel:
     """The case's two-mass valvetrain with a third of its valve spring's mass (kg) moving with the valve (the
-    lumped correction: the coils' kinetic energy with a linear velocity profile), its dampers kept at their ratios."""
+    lumped correction: the coils' kinetic energy with a linear velocity profile), its dampers kept at their ratios;
+    ``surge``: the spring a chain of masses instead (:class:`Coils`), half a lump on the valve, the dampers the
+    lumped model's (so a slow stroke sees it)."""
     vt = case.spec.valvetrain
     assert vt is not None  # the caller's: a [valvetrain] case
     heavier = vt.model_copy(update={"valve_mass": vt.valve_mass + spring_mass_kg / 3.0})
-    return valvetrain_model(heavier, case.spec.dynamics, float(_lifts(case.motion).max()))
+    lumped = valvetrain_model(heavier, case.spec.dynamics, float(_lifts(case.motion).max()))
+    if not surge:
+        return lumped
+    coils = coils_model(float(lumped.spring_rate), spring_mass_kg)
+    valve = jnp.asarray(float(vt.valve_mass)) + coils.lump_mass / 2
+    return eqx.tree_at(lambda v: (v.valve_mass, v.coils), lumped, (valve, coils), is_leaf=lambda x: x is None)
 
 
 def _check_rocker(vt: ValvetrainSpec, lifts: np.ndarray) -> None:

@@ -24,7 +24,6 @@ reference for the frequency-domain orbit.
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, replace
 from typing import Any
 
@@ -39,9 +38,7 @@ from .._core.units import FFT_GRID, RPM, TWO_PI
 from .dynamics import contact_force, dynamic_jump_speed, first_zero_speed, train_force
 from .follower import FollowerModel, with_spring_mass
 from .motion import Motion, evaluate
-
-DEFAULT_SEGMENTS = 16
-DEFAULT_SURGE_DAMPING = 0.02  # damping ratio of the spring's first surge mode (steel coils: light)
+from .spring import DEFAULT_SEGMENTS, DEFAULT_SURGE_DAMPING, chain_segments
 
 
 def _matrices(model: FollowerModel, spring_mass: float, segments: int, surge_damping: float):
@@ -50,14 +47,13 @@ def _matrices(model: FollowerModel, spring_mass: float, segments: int, surge_dam
         raise InputError(
             "spring", f"a chain needs at least one segment and a positive spring mass (got {segments}, {spring_mass})"
         )
-    n, k, m_s = segments, float(model.stiffness), float(spring_mass)
-    w_surge = math.pi * math.sqrt(k / m_s)
-    c_s = 2.0 * surge_damping * k / w_surge  # KV damper of the whole spring: zeta_1 = c_s w_1 / (2 k)
-    mass = np.full(n, m_s / n)
-    mass[-1] = float(model.mass) + m_s / (2 * n)
+    n = segments
+    lump, k_seg, c_seg = chain_segments(float(model.stiffness), spring_mass, n, surge_damping)
+    mass = np.full(n, lump)
+    mass[-1] = float(model.mass) + lump / 2
     band = np.diag(np.full(n, 2.0)) - np.diag(np.ones(n - 1), 1) - np.diag(np.ones(n - 1), -1)
     band[-1, -1] = 1.0
-    K, C = n * k * band, n * c_s * band
+    K, C = k_seg * band, c_seg * band
     C[-1, -1] += float(model.damping)
     return mass, K, C
 

@@ -22,6 +22,7 @@ from .._core.kinds import TRANSLATING
 from .._core.units import M_PER_MM, damping_from_ratio
 from ..schema import DynamicsSpec, RockerSpec, ValvetrainSpec
 from .follower import FollowerModel
+from .spring import DEFAULT_SEGMENTS, DEFAULT_SURGE_DAMPING, chain_segments
 
 
 class Link(eqx.Module):
@@ -78,6 +79,24 @@ def rocker_reach(rocker: Rocker, lift_mm: float) -> str | None:
     return None
 
 
+class Coils(eqx.Module):
+    """The valve spring as a chain of masses on the valve's side (``[spring] model = "surge"``): ``count`` segments
+    fixed at the head, their inner lumps (``count - 1`` of them) free, the last half lump on the valve
+    (:func:`camdyn.model.spring.chain_segments`)."""
+
+    count: int = eqx.field(static=True)
+    lump_mass: jax.Array  # kg, each inner lump
+    segment_rate: jax.Array  # N/m, each segment: count x the spring's rate
+    segment_damping: jax.Array  # N*s/m, each segment's damper
+
+
+def coils_model(rate: float, spring_mass_kg: float) -> Coils:
+    """The chain of a valve spring of ``rate`` (N/m) and mass ``spring_mass_kg`` (kg), at the default segments and
+    surge damping."""
+    lump, k_seg, c_seg = chain_segments(rate, spring_mass_kg, DEFAULT_SEGMENTS, DEFAULT_SURGE_DAMPING)
+    return Coils(DEFAULT_SEGMENTS, jnp.asarray(lump), jnp.asarray(k_seg), jnp.asarray(c_seg))
+
+
 class ValvetrainModel(eqx.Module):
     """Valvetrain parameters in SI; every field an array leaf (``vmap``-able). ``inf`` stiffness: rigid."""
 
@@ -96,6 +115,7 @@ class ValvetrainModel(eqx.Module):
     rocker: Rocker | None = None  # a rocker's geometry; None: the constant ``ratio``. With it ``ratio`` is the ratio
     # at the cam's peak lift (the nominal: where float begins), which the equivalent follower uses
     spring_damping_ratio: jax.Array = eqx.field(default_factory=lambda: jnp.asarray(math.nan))  # NaN: c was given
+    coils: Coils | None = None  # the valve spring's surge ([spring] model = "surge"); None: its mass lumped, or none
 
     def lever(self, x_c: ArrayLike) -> tuple[jax.Array, jax.Array, jax.Array | float]:
         """At follower lift ``x_c`` (m): the cam's lift at the valve g (m), the ratio dg/dx_c and d2g/dx_c2 (1/m)."""

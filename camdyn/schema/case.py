@@ -103,12 +103,7 @@ class CaseSpec(Table):
         if self.valvetrain is not None and self.follower is not None and self.follower.form_closed:
             raise ValueError("follower.closure: a valvetrain is spring-closed: remove closure (or [valvetrain])")
         if self.valvetrain is not None:
-            check_valvetrain_keys(
-                self.valvetrain,
-                self.dynamics,
-                translating=not self.oscillating,
-                spring_model=None if self.spring is None else self.spring.model,
-            )
+            check_valvetrain_keys(self.valvetrain, self.dynamics, translating=not self.oscillating)
         else:
             form_closed = self.follower is not None and self.follower.form_closed
             check_dynamics_keys(self.dynamics, kind=self.kind, form_closed=form_closed)

@@ -141,20 +141,12 @@ class ValvetrainSpec(Table):
     )
 
 
-def check_valvetrain_keys(
-    v: ValvetrainSpec, d: DynamicsSpec, *, translating: bool, spring_model: str | None = None
-) -> None:
+def check_valvetrain_keys(v: ValvetrainSpec, d: DynamicsSpec, *, translating: bool) -> None:
     """Raise ``ValueError("<key>: message")`` unless ``[dynamics]`` fits a valvetrain: a translating follower,
     the valve spring's rate and preload given, no ``mass`` (the two masses replace it), no rotational keys and no
-    external force (``tappet_force`` holds the follower on the cam); a ``[spring]`` part (``spring_model``: its
-    ``model``; None: none given) only as "lumped": its surge on the valve's side is not modelled yet."""
+    external force (``tappet_force`` holds the follower on the cam)."""
     if v.rocker is not None and "ratio" in v.model_fields_set:
         raise ValueError("valvetrain.ratio: give either ratio or [valvetrain.rocker] (its geometry gives it), not both")
-    if spring_model == "surge":
-        raise ValueError(
-            'spring.model: "surge" with [valvetrain] is not modelled yet (the coils\' chain on the valve side): use '
-            '"lumped", a third of the spring\'s mass moving with the valve'
-        )
     if not translating:
         raise ValueError("valvetrain: the follower must be translating (a tappet or a lifter); the rocker is the ratio")
     if d.mass is not None:

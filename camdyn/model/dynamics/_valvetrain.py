@@ -10,6 +10,9 @@ at the valve through the rocker and r = dg/dx_c its ratio, constant or varying w
 * F_t, the train: ``train_force`` (the compliant contact's formula) on the deflection ``g(x_c) - lash - x_v``, in
   compression only; a rigid train locks the two masses together once the lash closes (a plastic impact) and lets
   go where its force would pull. Locked, x_v'' = r x_c'' + r' x_c'^2 (r' = dr/dx_c: 0 for a constant ratio).
+* The valve spring: ``k x_v + F0 + c x_v'``; with its coils as a chain of masses (``[spring] model = "surge"``,
+  :class:`~camdyn.model.valvetrain.Coils`) the last segment's spring and damper on the valve, the inner lumps in
+  the state after the four above, each between its neighbours (the head fixed).
 * F_cam, the cam contact: compliant (``train_force`` on ``s - x_c``) or rigid (x_c = s while F_cam > 0, a flight
   when it falls to zero, a landing with the cam's restitution).
 * F_seat, the seat at zero valve lift: rigid, with ``seat_restitution``. A seat is one to two orders stiffer than
@@ -78,7 +81,7 @@ def _dynamics(theta, y, args):
     w2 = omega**2
     m_c, m_v = vt.cam_side_mass, vt.valve_mass
     g, r, r1 = vt.lever(xc)
-    spring = vt.spring_rate * xv + vt.preload + vt.spring_damping * omega * pv
+    spring = _spring_force(vt, omega, xv, pv, y)
     # the compliant contacts (0 for a rigid one, whose force is its constraint's): the cam's, and the train's on
     # its deflection g(x_c) - lash - x_v
     f_cam_c = jnp.where(jnp.isinf(vt.cam.train_stiffness), 0.0, contact_force(vt.cam, omega, s, s1, xc, pc))
@@ -100,9 +103,35 @@ def _dynamics(theta, y, args):
     return a_c, a_v, f_cam, f_t, f_seat, (xc, pc, xv, pv, s, s1)
 
 
+def _spring_force(vt, omega, xv, pv, y):
+    """The valve spring's force on the valve (N): ``k x_v + F0 + c x_v'``, or with its coils as a chain the last
+    segment's (spring and damper) with the preload and the valve's damper."""
+    if vt.coils is None:
+        return vt.spring_rate * xv + vt.preload + vt.spring_damping * omega * pv
+    m = vt.coils.count - 1
+    u, p = y[4 + m - 1], y[4 + 2 * m - 1]  # the lump next to the valve
+    end = vt.coils.segment_rate * (xv - u) + vt.coils.segment_damping * omega * (pv - p)
+    return end + vt.preload + vt.spring_damping * omega * pv
+
+
+def _coils_accel(vt, omega, xv, pv, y):
+    """The inner lumps' accelerations per rad^2, each between its neighbours (the fixed head at 0, the valve)."""
+    c, m = vt.coils, vt.coils.count - 1
+    u, p = y[4 : 4 + m], y[4 + m :]
+    zero = jnp.zeros(1)
+    u_l, u_r = jnp.concatenate([zero, u[:-1]]), jnp.concatenate([u[1:], jnp.atleast_1d(xv)])
+    p_l, p_r = jnp.concatenate([zero, p[:-1]]), jnp.concatenate([p[1:], jnp.atleast_1d(pv)])
+    force = c.segment_rate * (u_l - 2 * u + u_r) + c.segment_damping * omega * (p_l - 2 * p + p_r)
+    return force / (c.lump_mass * omega**2)
+
+
 def _vector_field(theta, y, args):
     a_c, a_v, *_, (xc, pc, xv, pv, s, s1) = _dynamics(theta, y, args)
-    return jnp.stack([pc, a_c, pv, a_v])
+    vt, omega = args[1], args[2]
+    if vt.coils is None:
+        return jnp.stack([pc, a_c, pv, a_v])
+    m = vt.coils.count - 1
+    return jnp.concatenate([jnp.stack([pc, a_c, pv, a_v]), y[4 + m :], _coils_accel(vt, omega, xv, pv, y)])
 
 
 def _conditions(theta, y, args):
@@ -290,7 +319,8 @@ def valvetrain_response(motion: Motion, vt: ValvetrainModel, omega: float, n: in
 
     From rest on the base circle (the valve seated, the follower on the cam) the revolution is marched stretch by
     stretch; where the valve or the follower is still moving when it ends, up to :data:`_REVS` revolutions are
-    marched and the last one is the answer (``settled`` says whether it came back to rest).
+    marched and the last one is the answer (``settled`` says whether it came back to rest); a spring's coils, which
+    ring on over the base circle, at least two.
     """
     theta = np.arange(n) * (TWO_PI / n)
     vals = motion.host(theta)
@@ -306,7 +336,8 @@ def valvetrain_response(motion: Motion, vt: ValvetrainModel, omega: float, n: in
     jumps = jumps if jumps.size else jnp.asarray([-1.0])
     # the rest state: the valve seated, the follower on the cam, pressed into a compliant contact by the tappet force
     deflect = 0.0 if rigid_cam else float(vt.tappet_force) / float(vt.cam.train_stiffness)
-    y = np.array([s_si[i0] - deflect, vals[1][i0] * M_PER_MM, 0.0, 0.0])
+    coils = 0 if vt.coils is None else 2 * (vt.coils.count - 1)  # the spring's inner lumps, at rest
+    y = np.concatenate([[s_si[i0] - deflect, vals[1][i0] * M_PER_MM, 0.0, 0.0], np.zeros(coils)])
     modes = np.array([rigid_cam, False, True])
     out = np.zeros((6, n))
     seated = np.ones(n, bool)
@@ -365,7 +396,8 @@ def valvetrain_response(motion: Motion, vt: ValvetrainModel, omega: float, n: in
                 k_next = k1 + 1
             if first_seating is not None and not modes[SEAT]:
                 bounce = max(bounce, _apex(run, t0, t1, n))
-            if not hit:
+            if not hit:  # the revolution's end: the next one, if any, goes on from here
+                y = np.asarray(y1)
                 break
             count += 1
             if count > _MAX_EVENTS:
@@ -378,7 +410,7 @@ def valvetrain_response(motion: Motion, vt: ValvetrainModel, omega: float, n: in
             conds = np.asarray(_conditions_jit(jnp.asarray(t1), jnp.asarray(y1), args))
             which = int(np.argmin(conds))  # the contact whose event function reached zero
             deg = math.degrees(t1) % 360.0
-            y = np.array([xc, pc, xv, pv])
+            y = np.concatenate([[xc, pc, xv, pv], y1[4:]])
             if which == CAM and modes[CAM]:  # the cam lets go of the follower
                 modes[CAM] = False
                 if not modes[SEAT] and first_seating is None:
@@ -427,7 +459,7 @@ def valvetrain_response(motion: Motion, vt: ValvetrainModel, omega: float, n: in
             and abs(y[3]) == 0.0
             and count <= _MAX_EVENTS
         )
-        if settled:
+        if settled and (vt.coils is None or rev > 0):  # a spring's coils ring on: a revolution that starts with it
             break
     if not settled:
         warnings.append(
