@@ -368,9 +368,8 @@ def _validate(args) -> None:
                 raise type(err)(f"{p}: {err.where}" if err.where else str(p), err.message) from None
     else:
         args.spec = load_case_spec(args.case)
-    if args.command in _SPRING_HELD or (args.command == "check" and args.report):
-        several = args.command == "report"
-        _refuse_form_closed(args.specs if several else [args.spec], args.cases if several else [""], args.command)
+    if args.command in _SPRING_HELD:
+        _refuse_form_closed([args.spec], [""], args.command)
 
 
 def _refuse_form_closed(specs, paths, command: str) -> None:
@@ -379,16 +378,15 @@ def _refuse_form_closed(specs, paths, command: str) -> None:
 
     for spec, path in zip(specs, paths, strict=True):
         if spec.follower is not None and spec.follower.form_closed:
-            what = "the report" if command in ("report", "check") else command
             raise InputError(
                 f"{path}: follower.closure" if path else "follower.closure",
-                f"{what} does not model a form-closed cam yet (it studies a spring-held follower that may jump): "
-                "camdyn check, table and profile give a groove cam's crossovers, impacts and walls",
+                f"{command} does not model a form-closed cam yet (it studies a spring-held follower that may jump): "
+                "camdyn check, table, profile and report give a groove cam's crossovers, impacts and walls",
             )
 
 
 # commands that study a spring-held follower: its spring, its jump speed, its design review
-_SPRING_HELD = ("size", "spring", "sweep", "tolerance", "optimize", "report")
+_SPRING_HELD = ("size", "spring", "sweep", "tolerance", "optimize")
 
 
 def _end_process(code: list[int]) -> None:

@@ -11,6 +11,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .._core.progress import Progress, counter
 from .._core.units import RPM
 from ..model import dynamics as dyn
 from ..model.case import Case
@@ -21,6 +22,11 @@ from ._check import Check, CheckKind
 NOT_APPLICABLE = (
     "speed_margin and contact_force do not apply to a form-closed cam: the groove holds the follower both ways, so "
     "it cannot jump; the contact force is signed (positive on the inner flank) and changes flank at the crossovers"
+)
+
+NO_RETURN_SPRING = (
+    "a form-closed cam has no return spring to size or build and no jump speed: the groove holds the follower both "
+    "ways, so what limits its speed is the impact where the follower crosses the backlash (crossover_impact)"
 )
 
 
@@ -69,3 +75,44 @@ def closure_study(case: Case, speed_rpm: float | None = None) -> ClosureStudy:
     return ClosureStudy(
         dyn.closure_response(case.motion, case.follower, case.model, omega), groove(case.motion, case.follower)
     )
+
+
+@dataclass(frozen=True)
+class ImpactMap:
+    """A groove cam's crossover impacts over cam speed x backlash: the largest impact speed (m/s at the roller)
+    and impact force (N; NaN for a rigid train, whose impact is an impulse) a revolution, (n_backlash, n_speed)."""
+
+    speeds_rpm: np.ndarray
+    backlash_mm: np.ndarray
+    impact_velocity_m_per_s: np.ndarray
+    max_impact_force_N: np.ndarray
+    max_impact_velocity: float  # [limits] max_impact_velocity, m/s
+
+    def json(self) -> dict:
+        return {
+            "speeds_rpm": self.speeds_rpm.tolist(),
+            "backlash_mm": self.backlash_mm.tolist(),
+            "impact_velocity_m_per_s": self.impact_velocity_m_per_s.tolist(),
+            "max_impact_force_N": [[None if np.isnan(f) else float(f) for f in row] for row in self.max_impact_force_N],
+            "max_impact_velocity": self.max_impact_velocity,
+        }
+
+
+def impact_map(
+    case: Case, speeds_rpm: np.ndarray, backlash_mm: np.ndarray, *, progress: Progress | None = None
+) -> ImpactMap:
+    """The largest crossover impact of the groove cam of ``case`` at every speed (rpm) and backlash (mm)."""
+    assert case.follower is not None and case.follower.form_closed  # the caller asks only of a groove cam
+    speeds, gaps = np.asarray(speeds_rpm, dtype=float), np.asarray(backlash_mm, dtype=float)
+    v = np.zeros((gaps.size, speeds.size))
+    f = np.full_like(v, np.nan)
+    tick = counter(progress, f"{case.name}: impact map", v.size)
+    for i, b in enumerate(gaps):
+        follower = case.follower.model_copy(update={"backlash": float(b)})
+        for j, rpm in enumerate(speeds):
+            r = dyn.closure_response(case.motion, follower, case.model, float(rpm) * RPM)
+            v[i, j] = r.max_impact_velocity_m_per_s
+            if r.max_impact_force_N is not None and r.crossovers and b > 0.0:
+                f[i, j] = r.max_impact_force_N
+            tick()
+    return ImpactMap(speeds, gaps, v, f, float(case.limits.max_impact_velocity))
