@@ -277,8 +277,6 @@ def test_table_contact_force_is_signed(tmp_path, capsys):
         ["spring"],
         ["sweep", "--speeds", "100:200:3"],
         ["tolerance"],
-        ["report", "-o", "r"],
-        ["check", "--report", "r"],
     ],
 )
 def test_spring_held_studies_refuse_a_groove_cam(tmp_path, capsys, argv):
@@ -343,3 +341,53 @@ def test_groove_contact_stress_on_the_wall_the_force_presses():
     rho_p, rr = geo.rho_pitch_mm[outer], 12.0
     np.testing.assert_allclose(got.equivalent_radius_mm[outer], 1 / (1 / rr - 1 / (rho_p + rr)), rtol=1e-12)
     assert np.all(got.pressure_MPa[outer] < spring.pressure_MPa[outer])  # conformal: gentler than convex
+
+
+def test_report_of_a_groove_cam(tmp_path, capsys):
+    """``camdyn report``: the walls and crossovers pages in place of the cam, dynamics and spring-sizing pages; page 1
+    says why there is no jump speed and gives each crossover's impact against the limit, as ``check`` does."""
+    import json
+    import re
+
+    from matplotlib.figure import Figure
+    from matplotlib.image import imread
+
+    from camdyn.report import A4, PAGES, ReportData
+    from camdyn.report.pages.summary import decision_facts, key_results
+
+    case_file = tmp_path / "groove.toml"
+    case_file.write_text(GROOVE_TOML)
+    doc = json.loads(run(capsys, "check", case_file, "--json")[1])
+    code, out, _ = run(capsys, "report", case_file, "-o", tmp_path / "r")
+    assert code == 0
+    pngs = sorted(p.name for p in (tmp_path / "r").glob("*.png"))
+    slugs = [re.match(r"groove-\d+-([a-z-]+)\.png", p).group(1) for p in pngs]
+    assert slugs == ["summary", "svaj", "groove", "crossovers", "parts", "manufacturing"]
+    for p in (tmp_path / "r").glob("*.png"):
+        ink = np.any(imread(p)[..., :3] < 0.9, axis=-1).mean()
+        assert 0.02 < ink < 0.6, p.name
+    from camdyn.design.checks import run_check
+    from camdyn.design.review import design_review
+
+    case = case_from_dict(GROOVE)
+    data = ReportData(design_review(case, run_check(case)))
+    rows = dict(key_results(data))
+    assert rows["jump speed"] == "none: form-closed" and "jump speed, dynamic" not in rows
+    top = doc["closure"]["max_impact_velocity_m_per_s"]
+    assert rows["largest impact"].startswith(f"{top:.3g} m/s")
+    facts = decision_facts(data)
+    assert "no jump speed and no speed_margin" in facts[0]
+    for c, fact in zip(doc["closure"]["crossovers"], facts[1:], strict=True):
+        assert f"{c['impact_velocity_m_per_s']:.3g} m/s (limit 0.1 m/s)" in fact and f"{c['deg']:.1f}" in fact
+    assert not any("return spring cannot be built" in f or "leaves the cam" in f for f in facts)
+    # the impact speed against cam speed meets the check at the case's speed
+    imp = data.review.impacts
+    assert np.interp(300.0, imp.speeds_rpm, imp.impact_velocity_m_per_s[0]) == pytest.approx(top, rel=2e-3)
+    text = {}
+    for page in PAGES:
+        if page.applies(data):
+            fig = Figure(figsize=A4)
+            page.draw(fig, data)
+            text[page.slug] = " ".join(t.get_text() for t in fig.findobj(lambda a: hasattr(a, "get_text")))
+    assert "does not apply: form-closed" in text["summary"] and "inner wall" in text["groove"]
+    assert "Crossovers at 300 rpm" in text["crossovers"] and "return spring: none" in text["parts"]
