@@ -162,7 +162,26 @@ def test_flight_across_the_backlash_lands_where_the_closed_form_says():
     v = (s0[1] - s(tc + d)[1]) * w * 1e-3
     assert np.deg2rad(c.land_deg) - tc == pytest.approx(d, rel=1e-6)
     assert c.impact_velocity_m_per_s == pytest.approx(v, rel=1e-6)
-    assert c.impact_force_N == pytest.approx(abs(w**2 * s(tc + d)[2] * 1e-3) + v * np.sqrt(5e6 * 1.0), rel=1e-6)
+    # the impact through the train: scipy's DOP853 at tight tolerance from the closed-form landing, the roller
+    # pressed on the outer flank (at s + G/2) by k_f (x - s - G/2) + c_f w (x' - s'), the peak over a contact period
+    kf, cf = float(case.model.train_stiffness), float(case.model.train_damping)
+    t1 = tc + d
+    x1 = s0[0] - gap / 2 + s0[1] * d  # mm: the roller at constant velocity since it left the inner flank
+
+    def flank(t, y):
+        sv = s(t)
+        f = max(0.0, kf * (y[0] - sv[0] - gap / 2) * 1e-3 + cf * w * (y[1] - sv[1]) * 1e-3)
+        return [y[1], -f / (1.0 * w**2 * 1e-3)]
+
+    span = w * 2 * np.pi / np.sqrt(kf / 1.0)
+    ts = np.linspace(t1, t1 + span, 20001)
+    sol = solve_ivp(flank, (t1, t1 + span), [x1, s0[1]], "DOP853", t_eval=ts, rtol=1e-12, atol=1e-14)
+    sv = np.asarray(case.motion.host(ts))
+    peak = np.max(kf * (sol.y[0] - sv[0] - gap / 2) * 1e-3 + cf * w * (sol.y[1] - sv[1]) * 1e-3)
+    assert c.impact_force_N == pytest.approx(peak, rel=1e-5)
+    # under the half-sine on the flank's steady force (the closed form of a stiff undamped train), and near it
+    half_sine = abs(w**2 * s(t1)[2] * 1e-3) + v * np.sqrt(kf * 1.0)
+    assert 0.9 * half_sine < c.impact_force_N < half_sine
     assert r.max_impact_velocity_m_per_s == max(x.impact_velocity_m_per_s for x in r.crossovers)
     k0 = int(np.ceil(np.rad2deg(tc) * 10 + 1e-9))
     assert r.contact_force[k0] == 0.0  # in flight: on neither flank
@@ -293,7 +312,7 @@ def test_oscillating_groove_cam_crosses_at_mid_rise_and_lands_as_the_closed_form
     """The cartoner's infeed arm in its groove (no spring): the force changes flank at mid-rise and mid-return of its
     modified-sine swings (90 and 260 deg); the arm keeps its angular velocity across the gap b / (a cos phi) (rad) and
     the flank meets the roller at a (phi'(tc) - phi'(tc + d)) w; the impact force at the roller is the arm's torque
-    plus w_rel sqrt(k_f I), over the lever arm a cos phi at the landing."""
+    plus w_rel sqrt(k_f I) (less a few percent of train damping), over the lever arm a cos phi at the landing."""
     from pathlib import Path
 
     from camdyn.model.case import load_case
@@ -320,7 +339,9 @@ def test_oscillating_groove_cam_crosses_at_mid_rise_and_lands_as_the_closed_form
         assert c.impact_velocity_m_per_s == pytest.approx(w_rel * a_m, rel=1e-6)
         lever_m = a_m * np.cos(np.deg2rad(geo.table([c.land_deg])["pressure_angle_deg"][0]))
         torque = abs(0.06 * w**2 * phi(tc + d)[2])
-        assert c.impact_force_N == pytest.approx((torque + w_rel * np.sqrt(20000 * 0.06)) / lever_m, rel=1e-6)
+        # the train's contact (damping ratio 0.05) peaks a few percent under the undamped half-sine's closed form
+        half_sine = (torque + w_rel * np.sqrt(20000 * 0.06)) / lever_m
+        assert 0.94 * half_sine < c.impact_force_N < half_sine
 
 
 def test_groove_contact_stress_on_the_wall_the_force_presses():
