@@ -294,7 +294,6 @@ def test_table_contact_force_is_signed(tmp_path, capsys):
     [
         ["size"],
         ["spring"],
-        ["sweep", "--speeds", "100:200:3"],
         ["tolerance"],
     ],
 )
@@ -412,3 +411,38 @@ def test_report_of_a_groove_cam(tmp_path, capsys):
             text[page.slug] = " ".join(t.get_text() for t in fig.findobj(lambda a: hasattr(a, "get_text")))
     assert "does not apply: form-closed" in text["summary"] and "inner wall" in text["groove"]
     assert "Crossovers at 300 rpm" in text["crossovers"] and "return spring: none" in text["parts"]
+
+
+def test_sweep_of_a_groove_cam_maps_the_impacts(tmp_path, capsys):
+    """``sweep`` of a groove cam: the largest impact speed over speed x backlash. No spring: the flight across the
+    gap takes the same cam angle at any speed, so the impact speed is proportional to the speed; at the case's
+    speed and backlash it is check's crossover_impact; the gap closes against the cubic lead the cam gains from a
+    crossover where s'' = 0 changes sign, so v grows as b^(2/3) for a small backlash."""
+    import json
+
+    case_file = tmp_path / "groove.toml"
+    case_file.write_text(GROOVE_TOML)
+    doc = json.loads(run(capsys, "check", case_file, "--json")[1])
+    code, out, _ = run(capsys, "sweep", case_file, "--speeds", "100:300:3", "--backlash", "0.01:0.05:5", "-o", tmp_path)
+    assert code == 0 and "cannot jump" in out
+    rows = np.genfromtxt(tmp_path / "groove-sweep.csv", delimiter=",", names=True)
+    assert rows.dtype.names == ("speed_rpm", "backlash_mm", "impact_velocity_m_per_s", "max_impact_force_N")
+    v = rows["impact_velocity_m_per_s"].reshape(5, 3)  # backlash x speed
+    np.testing.assert_allclose(v[:, 2] / v[:, 0], 3.0, rtol=1e-6)
+    impact = next(c for c in doc["checks"] if c["name"] == "crossover_impact")["value"]
+    assert v[4, 2] == pytest.approx(impact, rel=1e-9)
+    assert v[1, 0] / v[0, 0] == pytest.approx(2.0 ** (2 / 3), rel=0.02)
+    assert (tmp_path / "groove-sweep.png").stat().st_size > 10_000
+    code, _, err = run(capsys, "sweep", case_file, "--speeds", "100:300:3", "--spring-rates", "1:2:2", "-o", tmp_path)
+    assert code == 2 and "--spring-rates" in err and "no return spring" in err
+
+
+def test_sweep_backlash_of_a_spring_held_cam_is_refused(tmp_path, capsys):
+    case_file = tmp_path / "spring.toml"
+    case_file.write_text(
+        GROOVE_TOML.replace('closure = "groove"\nbacklash = 0.05\n', "").replace(
+            "train_stiffness = 5000", "train_stiffness = 5000\nspring_rate = 5\npreload = 100"
+        )
+    )
+    code, _, err = run(capsys, "sweep", case_file, "--speeds", "100:300:3", "--backlash", "0.01:0.05:2")
+    assert code == 2 and "--backlash" in err and "groove" in err

@@ -213,6 +213,11 @@ def build_parser() -> argparse.ArgumentParser:
             "the preload stays the case's"
         ),
     )
+    p.add_argument(
+        "--backlash",
+        metavar="A:B:N",
+        help="a groove cam: backlashes, mm: N values from A to B (default: the case's); the map is of the impacts",
+    )
     p.add_argument("-o", "--output", default=".", metavar="DIR", help="output folder (default: the current one)")
     p.add_argument("--force", action="store_true", help="overwrite the files if they exist")
     _distributed_options(p)
@@ -386,7 +391,7 @@ def _refuse_form_closed(specs, paths, command: str) -> None:
 
 
 # commands that study a spring-held follower: its spring, its jump speed, its design review
-_SPRING_HELD = ("size", "spring", "sweep", "tolerance", "optimize")
+_SPRING_HELD = ("size", "spring", "tolerance", "optimize")
 
 
 def _end_process(code: list[int]) -> None:

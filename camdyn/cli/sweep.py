@@ -39,6 +39,13 @@ def _parse_grid(flag: str, text: str) -> tuple[float, float, int]:
 
 
 def run(args: argparse.Namespace) -> int:
+    if args.spec.follower is not None and args.spec.follower.form_closed:  # a groove cam: its impacts, not jumps
+        from ._groove import sweep_groove
+
+        speeds = np.linspace(*_parse_grid("--speeds", args.speeds))
+        return sweep_groove(args, build_case(args.spec, source=Path(args.case)), speeds)
+    if args.backlash is not None:
+        raise InputError("--backlash", 'only a groove cam ([follower] closure = "groove") has a backlash')
     speed_grid = _parse_grid("--speeds", args.speeds)
     rate_grid = _parse_grid("--spring-rates", args.spring_rates) if args.spring_rates is not None else None
     check_grid_size(

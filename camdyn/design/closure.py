@@ -11,6 +11,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .._core.errors import InputError
 from .._core.progress import Progress, counter
 from .._core.units import RPM
 from ..model import dynamics as dyn
@@ -77,6 +78,10 @@ def closure_study(case: Case, speed_rpm: float | None = None) -> ClosureStudy:
     )
 
 
+MAX_IMPACT_POINTS = 10_000  # speeds x backlashes of a sweep: about 20 ms a point, a few minutes at the budget
+IMPACT_MAP_COLUMNS = ("speed_rpm", "backlash_mm", "impact_velocity_m_per_s", "max_impact_force_N")
+
+
 @dataclass(frozen=True)
 class ImpactMap:
     """A groove cam's crossover impacts over cam speed x backlash: the largest impact speed (m/s at the roller)
@@ -97,6 +102,18 @@ class ImpactMap:
             "max_impact_velocity": self.max_impact_velocity,
         }
 
+    @property
+    def csv(self) -> str:
+        """One row per speed and backlash (speed fastest): :data:`IMPACT_MAP_COLUMNS`; the force empty for a rigid
+        train."""
+        rows = [",".join(IMPACT_MAP_COLUMNS)]
+        for i, b in enumerate(self.backlash_mm):
+            for j, rpm in enumerate(self.speeds_rpm):
+                f = self.max_impact_force_N[i, j]
+                force = "" if np.isnan(f) else f"{f:.10g}"
+                rows.append(f"{rpm:.10g},{b:.10g},{self.impact_velocity_m_per_s[i, j]:.10g},{force}")
+        return "\n".join(rows) + "\n"
+
 
 def impact_map(
     case: Case, speeds_rpm: np.ndarray, backlash_mm: np.ndarray, *, progress: Progress | None = None
@@ -104,6 +121,12 @@ def impact_map(
     """The largest crossover impact of the groove cam of ``case`` at every speed (rpm) and backlash (mm)."""
     assert case.follower is not None and case.follower.form_closed  # the caller asks only of a groove cam
     speeds, gaps = np.asarray(speeds_rpm, dtype=float), np.asarray(backlash_mm, dtype=float)
+    if speeds.size * gaps.size > MAX_IMPACT_POINTS:
+        raise InputError(
+            "--speeds x --backlash",
+            f"a grid of {speeds.size:,} speeds x {gaps.size:,} backlashes = {speeds.size * gaps.size:,} points is "
+            f"beyond the groove sweep's budget of {MAX_IMPACT_POINTS:,} points (about 20 ms each): use fewer points",
+        )
     v = np.zeros((gaps.size, speeds.size))
     f = np.full_like(v, np.nan)
     tick = counter(progress, f"{case.name}: impact map", v.size)

@@ -1,0 +1,55 @@
+"""``sweep`` and ``tolerance`` of a groove cam (``[follower] closure = "groove"``): its crossover impacts over
+cam speed x backlash, and their distribution over the built cams, in place of the jump map and the probability of
+separation of a spring-held follower (a groove cam cannot jump)."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+import numpy as np
+
+from .._core.errors import InputError
+from .._core.outputs import output_dir, output_file, safe_stem, write_new
+from ..design.closure import impact_map
+from ..model.case import Case
+from ..plot import save_impact_png
+from ._console import progress_bar
+
+
+def sweep_groove(args: argparse.Namespace, case: Case, speeds: np.ndarray) -> int:
+    """``camdyn sweep`` of a groove cam: DIR/<case>-sweep.csv (the impact map) and DIR/<case>-sweep.png."""
+    from .sweep import _parse_grid  # the one parser of A:B:N grids
+
+    assert case.follower is not None and case.follower.form_closed
+    if args.spring_rates is not None:
+        raise InputError(
+            "--spring-rates", "a groove cam has no return spring to vary: sweep its --backlash (mm) instead"
+        )
+    gaps = (
+        np.linspace(*_parse_grid("--backlash", args.backlash)) if args.backlash else np.array([case.follower.backlash])
+    )
+    stem = safe_stem(case.name)
+    csv_path, png_path = Path(args.output) / f"{stem}-sweep.csv", Path(args.output) / f"{stem}-sweep.png"
+    output_dir(args.output, "impact map")
+    for path in (csv_path, png_path):
+        output_file(path, args.force, "impact map")
+    with progress_bar(args.quiet) as progress:
+        im = impact_map(case, speeds, gaps, progress=progress)
+    write_new(csv_path, im.csv, True)
+    save_impact_png(im, png_path, speed_rpm=case.speed_rpm, backlash_mm=case.follower.backlash)
+    lim = im.max_impact_velocity
+    over = im.impact_velocity_m_per_s > lim
+    print(
+        f"{case.name}: groove cam, impact map of {im.impact_velocity_m_per_s.size} points ({speeds.size} speeds "
+        f"{speeds[0]:g}-{speeds[-1]:g} rpm x {gaps.size} backlashes {gaps[0]:g}-{gaps[-1]:g} mm); a groove cam "
+        "cannot jump: the map is of the impacts where the follower crosses the backlash"
+    )
+    forces = im.max_impact_force_N
+    force = f"; largest impact force {np.nanmax(forces):.4g} N" if np.isfinite(forces).any() else ""
+    print(
+        f"impact speed above max_impact_velocity {lim:g} m/s at {int(np.count_nonzero(over))} of {over.size} points; "
+        f"largest {float(np.max(im.impact_velocity_m_per_s)):.4g} m/s{force}"
+    )
+    print(f"wrote {csv_path} and {png_path}")
+    return 0
