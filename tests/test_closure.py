@@ -294,7 +294,7 @@ def test_table_contact_force_is_signed(tmp_path, capsys):
     [
         ["size"],
         ["spring"],
-        ["tolerance"],
+        ["optimize", "-o", "r"],
     ],
 )
 def test_spring_held_studies_refuse_a_groove_cam(tmp_path, capsys, argv):
@@ -446,3 +446,44 @@ def test_sweep_backlash_of_a_spring_held_cam_is_refused(tmp_path, capsys):
     )
     code, _, err = run(capsys, "sweep", case_file, "--speeds", "100:300:3", "--backlash", "0.01:0.05:2")
     assert code == 2 and "--backlash" in err and "groove" in err
+
+
+def test_tolerance_of_a_groove_cam_gives_the_impact_spread(tmp_path, capsys):
+    """``tolerance`` of a groove cam over backlash, mass and speed: each built cam's impact is the one
+    closure_response gives a case of its backlash, mass and speed; the probability is the share over the limit."""
+    import json
+
+    case_file = tmp_path / "groove.toml"
+    tol = '\n[limits]\nmax_impact_velocity = 0.031\n[tolerances]\nbacklash = "20%"\nmass = "5%"\nspeed = "10 rpm"\n'
+    case_file.write_text(GROOVE_TOML + tol)
+    code, out, _ = run(capsys, "tolerance", case_file, "--samples", "12", "--json", "-o", tmp_path)
+    assert code == 0
+    doc = json.loads(out)
+    rows = np.genfromtxt(tmp_path / "groove-tolerance.csv", delimiter=",", names=True)
+    assert doc["samples"] == 12 and doc["closure"] == "groove" and doc["max_impact_velocity"] == 0.031
+    v = rows["impact_velocity_m_per_s"]
+    assert doc["probability_over_limit"] == pytest.approx(np.mean(v > 0.031)) and 0 < np.sum(rows["over_limit"]) < 12
+    assert doc["impact_velocity_m_per_s"]["max"] == pytest.approx(v.max()) and doc["worst"][0]["sample"] == v.argmax()
+    assert np.ptp(rows["backlash_mm"]) > 0 and np.ptp(rows["speed_rpm"]) > 0 and np.ptp(rows["mass_kg"]) > 0
+    for i in (int(v.argmax()), int(v.argmin())):
+        case = case_from_dict(
+            _with("follower", backlash=float(rows["backlash_mm"][i]))
+            | {"dynamics": GROOVE["dynamics"] | {"mass": float(rows["mass_kg"][i])}}
+        )
+        r = closure_response(case.motion, case.follower, case.model, rows["speed_rpm"][i] * np.pi / 30)
+        assert v[i] == pytest.approx(r.max_impact_velocity_m_per_s, rel=1e-9)
+        # the force is k_f times a penetration of microns on positions of mm: the CSV's 10 digits move the adaptive
+        # steps, and the solver's tolerance on the positions is 1e-6 of the penetration
+        assert rows["max_impact_force_N"][i] == pytest.approx(r.max_impact_force_N, rel=1e-5)
+    case_file.write_text(GROOVE_TOML + "[tolerances]\nprofile_error = 0.005\n")
+    code, _, err = run(capsys, "tolerance", case_file, "--samples", "4", "-o", tmp_path, "--force")
+    assert code == 2 and "tolerances.profile_error" in err
+
+
+def test_a_backlash_tolerance_needs_a_groove():
+    raw = _with("follower", closure="spring")
+    del raw["follower"]["backlash"]
+    raw["dynamics"] |= {"spring_rate": 5.0, "preload": 100.0}
+    raw["tolerances"] = {"backlash": "10%"}
+    with pytest.raises(InputError, match="tolerances.backlash.*only a groove cam"):
+        case_from_dict(raw)

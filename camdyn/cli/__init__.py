@@ -391,7 +391,7 @@ def _refuse_form_closed(specs, paths, command: str) -> None:
 
 
 # commands that study a spring-held follower: its spring, its jump speed, its design review
-_SPRING_HELD = ("size", "spring", "tolerance", "optimize")
+_SPRING_HELD = ("size", "spring", "optimize")
 
 
 def _end_process(code: list[int]) -> None:

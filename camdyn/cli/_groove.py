@@ -12,9 +12,10 @@ import numpy as np
 from .._core.errors import InputError
 from .._core.outputs import output_dir, output_file, safe_stem, write_new
 from ..design.closure import impact_map
+from ..design.tolerance import impact_tolerance_study
 from ..model.case import Case
-from ..plot import save_impact_png
-from ._console import progress_bar
+from ..plot import save_impact_histogram_png, save_impact_png
+from ._console import console, json_text, progress_bar, table
 
 
 def sweep_groove(args: argparse.Namespace, case: Case, speeds: np.ndarray) -> int:
@@ -52,4 +53,44 @@ def sweep_groove(args: argparse.Namespace, case: Case, speeds: np.ndarray) -> in
         f"largest {float(np.max(im.impact_velocity_m_per_s)):.4g} m/s{force}"
     )
     print(f"wrote {csv_path} and {png_path}")
+    return 0
+
+
+def tolerance_groove(args: argparse.Namespace, case: Case) -> int:
+    """``camdyn tolerance`` of a groove cam: DIR/<case>-tolerance.csv and .png of the built cams' crossover impacts
+    and a summary (``--json``: the document of docs/contracts.md); no worst samples as case files."""
+    stem = safe_stem(case.name)
+    csv_path, png_path = Path(args.output) / f"{stem}-tolerance.csv", Path(args.output) / f"{stem}-tolerance.png"
+    output_dir(args.output, "tolerance study")
+    for path in (csv_path, png_path):
+        output_file(path, args.force, "tolerance study")
+    with progress_bar(args.quiet) as progress:
+        result = impact_tolerance_study(case, args.samples, args.seed, progress=progress)
+    write_new(csv_path, result.csv, True)
+    save_impact_histogram_png(result, png_path)
+    if args.json:
+        print(json_text(result.json()))
+        return 0
+    con = console()
+    lo, hi = result.confidence_interval
+    con.print(
+        f"{case.name}: {result.samples} built groove cams (seed {result.seed}) at {result.speed_rpm:g} rpm; a groove "
+        "cam cannot jump: the study is of the impacts where the follower crosses the backlash"
+    )
+    con.print(
+        f"probability of an impact speed above max_impact_velocity {result.max_impact_velocity:g} m/s: "
+        f"{result.probability:.4g} (95% interval {lo:.4g} to {hi:.4g})"
+    )
+    t = table(
+        ("quantity", "left"), ("P50", "right"), ("P95", "right"), ("P99", "right"), ("max", "right"), ("unit", "left")
+    )
+    for name, vals, unit in (
+        ("impact speed", result.impact_velocity_m_per_s, "m/s"),
+        ("impact force", result.max_impact_force_N, "N"),
+    ):
+        q = result.percentiles(vals)
+        if q is not None:
+            t.add_row(name, *(f"{q[k]:.4g}" for k in ("p50", "p95", "p99", "max")), unit)
+    con.print(t)
+    con.print(f"wrote {csv_path} and {png_path}")
     return 0

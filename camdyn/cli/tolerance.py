@@ -66,6 +66,10 @@ def run(args: argparse.Namespace) -> int:
         raise InputError("--samples", f"must be from 1 to {MAX_SAMPLES}, got {args.samples}")
     initialize(args.coordinator, args.num_processes, args.process_id, auto=args.distributed)
     case = build_case(args.spec, source=Path(args.case))
+    if case.follower is not None and case.follower.form_closed:  # a groove cam: its impacts, not its jumps
+        from ._groove import tolerance_groove
+
+        return tolerance_groove(args, case)
     writer = is_writer()
     stem = safe_stem(case.name)  # the case's name is data, not a path
     paths = _paths(Path(args.output), stem, 3)

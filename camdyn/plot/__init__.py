@@ -25,9 +25,11 @@ from .dynamics import (
 from .groove import (
     plot_flank_force,
     plot_groove_cam,
+    plot_impact_histogram,
     plot_impact_map,
     plot_impact_speed,
     plot_wall_curvature,
+    save_impact_histogram_png,
     save_impact_png,
 )
 from .jumpmap import plot_jump_map, save_png
@@ -42,9 +44,11 @@ from .valvetrain import plot_seating_velocity, plot_valve_lift, plot_valve_veloc
 __all__ = [
     "plot_flank_force",
     "plot_groove_cam",
+    "plot_impact_histogram",
     "plot_impact_map",
     "plot_impact_speed",
     "plot_wall_curvature",
+    "save_impact_histogram_png",
     "save_impact_png",
     "plot_seating_velocity",
     "plot_valve_lift",

@@ -16,6 +16,7 @@ from matplotlib.patches import Circle, Polygon
 from .._core.units import DEFAULT_MIN_CURVATURE_RATIO
 from ..design.checks import CheckKind, CheckReport
 from ..design.closure import ClosureStudy, ImpactMap
+from ..design.tolerance import ImpactToleranceResult
 from ._common import C, deg_ticks, legend_above_data, mark_breaks
 from .cam import _curvature_mark, _pressure_angle_mark, _rotation_arrow, check_colour, plot_follower
 
@@ -296,4 +297,32 @@ def save_impact_png(impacts: ImpactMap, path: str | Path, **kw) -> None:
     art = plot_impact_map(fig.add_subplot(), impacts, **kw)
     if art is not None:
         fig.colorbar(art, ax=fig.axes[0], label="largest impact speed (m/s)")
+    fig.savefig(path, dpi=120)
+
+
+def plot_impact_histogram(ax: Axes, result: ImpactToleranceResult) -> None:
+    """Histogram of the built cams' largest impact speed (m/s), the limit and the P50/P99 marked."""
+    v = result.impact_velocity_m_per_s
+    ax.hist(v, bins=min(60, max(10, int(np.sqrt(v.size)))), color=C["dyn"], alpha=0.8)
+    lim = result.max_impact_velocity
+    ax.axvline(lim, color=C["limit"], lw=1.5, label=f"max_impact_velocity {lim:g} m/s")
+    q = result.percentiles(v)
+    assert q is not None  # impact speeds are finite
+    for name, style in (("p50", "--"), ("p99", ":")):
+        ax.axvline(q[name], color=C["ink"], ls=style, lw=1, label=f"{name.upper()} {q[name]:.3g} m/s")
+    lo, hi = result.confidence_interval
+    ax.set_title(
+        f"{result.case}: largest impact speed of {result.samples} built groove cams; P(over the limit) = "
+        f"{result.probability:.3g} [{lo:.3g}, {hi:.3g}]",
+        fontsize=9,
+    )
+    ax.set_xlabel("largest impact speed across the backlash (m/s)")
+    ax.set_ylabel("samples")
+    ax.legend(fontsize=8)
+
+
+def save_impact_histogram_png(result: ImpactToleranceResult, path: str | Path) -> None:
+    """Write :func:`plot_impact_histogram` of ``result`` as a PNG (matplotlib, no pyplot state)."""
+    fig = Figure(figsize=(8, 5), layout="constrained")
+    plot_impact_histogram(fig.add_subplot(), result)
     fig.savefig(path, dpi=120)

@@ -213,6 +213,12 @@ def impact_force(motion: Motion, model: FollowerModel, omega: float, theta: floa
     if not bool(ok) or not np.all(np.isfinite(f)):
         raise NumericalError(f"impact at {math.degrees(theta) % 360:.2f} deg", "the train's contact did not integrate")
     i = int(np.argmax(f))
+    if 0 < i < f.size - 1:  # the parabola through the peak sample and its neighbours: its vertex
+        a, b, c = f[i - 1], f[i], f[i + 1]
+        den = a - 2.0 * b + c
+        if den < 0.0:
+            u = 0.5 * (a - c) / den
+            return float(b - 0.25 * (a - c) * u), theta + span * (i + u) / (IMPACT_SAMPLES - 1)
     return float(f[i]), theta + span * i / (IMPACT_SAMPLES - 1)
 
 
