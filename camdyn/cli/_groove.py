@@ -18,18 +18,16 @@ from ..plot import save_impact_histogram_png, save_impact_png
 from ._console import console, json_text, progress_bar, table
 
 
-def sweep_groove(args: argparse.Namespace, case: Case, speeds: np.ndarray) -> int:
-    """``camdyn sweep`` of a groove cam: DIR/<case>-sweep.csv (the impact map) and DIR/<case>-sweep.png."""
-    from .sweep import _parse_grid  # the one parser of A:B:N grids
-
+def sweep_groove(args: argparse.Namespace, case: Case, speeds: np.ndarray, gaps: np.ndarray | None) -> int:
+    """``camdyn sweep`` of a groove cam: DIR/<case>-sweep.csv (the impact map over ``speeds`` x ``gaps``, mm;
+    None: the case's backlash) and DIR/<case>-sweep.png."""
     assert case.follower is not None and case.follower.form_closed
     if args.spring_rates is not None:
         raise InputError(
             "--spring-rates", "a groove cam has no return spring to vary: sweep its --backlash (mm) instead"
         )
-    gaps = (
-        np.linspace(*_parse_grid("--backlash", args.backlash)) if args.backlash else np.array([case.follower.backlash])
-    )
+    if gaps is None:
+        gaps = np.array([case.follower.backlash])
     stem = safe_stem(case.name)
     csv_path, png_path = Path(args.output) / f"{stem}-sweep.csv", Path(args.output) / f"{stem}-sweep.png"
     output_dir(args.output, "impact map")

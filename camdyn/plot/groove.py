@@ -291,10 +291,12 @@ def plot_impact_map(
     return mesh
 
 
-def save_impact_png(impacts: ImpactMap, path: str | Path, **kw) -> None:
+def save_impact_png(
+    impacts: ImpactMap, path: str | Path, *, speed_rpm: float | None = None, backlash_mm: float | None = None
+) -> None:
     """Write :func:`plot_impact_map` of ``impacts`` as a PNG (matplotlib, no pyplot state)."""
     fig = Figure(figsize=(8, 5.5), layout="constrained")
-    art = plot_impact_map(fig.add_subplot(), impacts, **kw)
+    art = plot_impact_map(fig.add_subplot(), impacts, speed_rpm=speed_rpm, backlash_mm=backlash_mm)
     if art is not None:
         fig.colorbar(art, ax=fig.axes[0], label="largest impact speed (m/s)")
     fig.savefig(path, dpi=120)
