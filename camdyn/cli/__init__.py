@@ -385,13 +385,17 @@ def _refuse_form_closed(specs, paths, command: str) -> None:
         if spec.follower is not None and spec.follower.form_closed:
             raise InputError(
                 f"{path}: follower.closure" if path else "follower.closure",
-                f"{command} does not model a form-closed cam yet (it studies a spring-held follower that may jump): "
-                "camdyn check, table, profile and report give a groove cam's crossovers, impacts and walls",
+                f"{_FORM_CLOSED_REFUSAL[command]}: a form-closed cam cannot jump and has no return spring "
+                "(camdyn check, report, sweep, tolerance and size study a groove cam's crossover impacts)",
             )
 
 
 # commands that study a spring-held follower: its spring, its jump speed, its design review
-_SPRING_HELD = ("size", "spring", "optimize")
+_SPRING_HELD = ("spring", "optimize")
+_FORM_CLOSED_REFUSAL = {
+    "spring": "spring designs the return spring that holds a follower on its cam",
+    "optimize": "optimize reshapes the motion so that a spring-held follower holds to a faster jump speed",
+}
 
 
 def _end_process(code: list[int]) -> None:

@@ -12,6 +12,7 @@ from rich.table import Table
 from ..design.sizing import TIE_BREAK, SpringSizing, size_spring
 from ..model.case import build_case
 from . import _console
+from ._groove import size_groove
 from .spring import print_spring
 
 
@@ -130,6 +131,8 @@ def _preload_deflection(sz: SpringSizing) -> str:
 
 def run(args: argparse.Namespace) -> int:
     case = build_case(args.spec, source=Path(args.case))
+    if case.follower is not None and case.follower.form_closed:  # no return spring: its largest backlash instead
+        return size_groove(args, case)
     sz = size_spring(case, args.max_speed, args.margin, args.min_rate, buildable=args.buildable)
     if args.json:
         print(_console.json_text(sz.json()))

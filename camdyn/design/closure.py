@@ -7,13 +7,14 @@ negative on the outer flank by design) do not apply; ``check`` says so instead o
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
 
 from .._core.errors import InputError
 from .._core.progress import Progress, counter
-from .._core.units import RPM
+from .._core.units import AT_LIMIT_RTOL, RPM
 from ..model import dynamics as dyn
 from ..model.case import Case
 from ..model.geometry import GrooveGeometry, groove
@@ -139,3 +140,71 @@ def impact_map(
                 f[i, j] = r.max_impact_force_N
             tick()
     return ImpactMap(speeds, gaps, v, f, float(case.limits.max_impact_velocity))
+
+
+BACKLASH_STEP_MM = 0.001  # a proposed backlash is rounded down to this: a slot width the shop can hold to
+_BISECT_RTOL = 1e-6  # of the backlash, where the bisection stops
+
+
+@dataclass(frozen=True)
+class BacklashSizing:
+    """The largest backlash (mm, rounded down to :data:`BACKLASH_STEP_MM`) at which the groove cam's impact speed
+    stays within ``[limits] max_impact_velocity`` at ``speed_rpm``, with the margin of
+    :data:`~camdyn._core.units.AT_LIMIT_RTOL` (the report calls a check closer to its limit "at limit"): 0 where
+    no backlash of a step keeps it, ``inf`` where every backlash up to the roller radius does (the force never
+    changes flank, or the impacts stay slow)."""
+
+    case: str
+    speed_rpm: float
+    max_impact_velocity: float  # the limit, m/s
+    current_backlash_mm: float
+    current_impact_velocity_m_per_s: float
+    max_backlash_mm: float
+    impact_velocity_at_max_m_per_s: float  # at max_backlash_mm (0 where inf)
+
+    @property
+    def passes(self) -> bool:
+        """Whether the case's own backlash keeps the limit."""
+        return self.current_impact_velocity_m_per_s <= self.max_impact_velocity
+
+    def json(self) -> dict:
+        inf = np.isinf(self.max_backlash_mm)
+        return {
+            "case": self.case,
+            "closure": "groove",
+            "speed_rpm": self.speed_rpm,
+            "max_impact_velocity": self.max_impact_velocity,
+            "backlash_mm": self.current_backlash_mm,
+            "impact_velocity_m_per_s": self.current_impact_velocity_m_per_s,
+            "max_backlash_mm": None if inf else self.max_backlash_mm,
+            "impact_velocity_at_max_backlash_m_per_s": None if inf else self.impact_velocity_at_max_m_per_s,
+        }
+
+
+def largest_backlash(case: Case, speed_rpm: float | None = None) -> BacklashSizing:
+    """The largest backlash that keeps the groove cam of ``case`` within ``max_impact_velocity`` at ``speed_rpm``
+    (default: the case's): doubled from the case's (or 0.01 mm) until the impact exceeds the limit less
+    :data:`~camdyn._core.units.AT_LIMIT_RTOL`, then bisected,
+    then rounded down to :data:`BACKLASH_STEP_MM` and its impact computed again (what ``check`` then gives)."""
+    f = case.follower
+    assert f is not None and f.form_closed and f.roller_radius is not None  # a groove holds a roller
+    rpm = float(case.speed_rpm if speed_rpm is None else speed_rpm)
+    lim = float(case.limits.max_impact_velocity)
+    target = (1.0 - AT_LIMIT_RTOL) * lim  # passes check with margin, not at the limit
+
+    def impact(b: float) -> float:
+        follower = f.model_copy(update={"backlash": float(b)})
+        return dyn.closure_response(case.motion, follower, case.model, rpm * RPM).max_impact_velocity_m_per_s
+
+    v_now = impact(f.backlash)
+    out = lambda b, v: BacklashSizing(case.name, rpm, lim, float(f.backlash), v_now, b, v)  # noqa: E731
+    lo, hi = 0.0, max(f.backlash, 10 * BACKLASH_STEP_MM)
+    while impact(hi) <= target:
+        lo, hi = hi, 2.0 * hi
+        if lo >= f.roller_radius:
+            return out(np.inf, 0.0)
+    while hi - lo > _BISECT_RTOL * hi:
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if impact(mid) <= target else (lo, mid)
+    b = round(math.floor(lo / BACKLASH_STEP_MM) * BACKLASH_STEP_MM, 9)  # 1.257, not 1.2570000000000001
+    return out(b, impact(b) if b > 0.0 else 0.0)
