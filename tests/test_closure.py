@@ -292,18 +292,20 @@ def test_table_contact_force_is_signed(tmp_path, capsys):
 @pytest.mark.parametrize(
     "argv",
     [
-        ["size"],
         ["spring"],
         ["optimize", "-o", "r"],
+        ["size", "--buildable"],
     ],
 )
 def test_spring_held_studies_refuse_a_groove_cam(tmp_path, capsys, argv):
-    """They study a spring-held follower that may jump: one line naming follower.closure, exit 2, nothing written."""
+    """They design a return spring or a motion for a follower that may jump: one line naming follower.closure (or the
+    spring's flag), exit 2, nothing written."""
     case_file = tmp_path / "groove.toml"
     case_file.write_text(GROOVE_TOML)
     argv = [a if a != "r" else tmp_path / "r" for a in argv]
     code, out, err = run(capsys, argv[0], case_file, *argv[1:])
-    assert code == 2 and "follower.closure" in err and "form-closed" in err and len(err.strip().splitlines()) == 1
+    assert code == 2 and len(err.strip().splitlines()) == 1 and "no return spring" in err
+    assert "follower.closure" in err or "--buildable" in err
     assert not (tmp_path / "r").exists()
 
 
@@ -487,3 +489,24 @@ def test_a_backlash_tolerance_needs_a_groove():
     raw["tolerances"] = {"backlash": "10%"}
     with pytest.raises(InputError, match="tolerances.backlash.*only a groove cam"):
         case_from_dict(raw)
+
+
+def test_size_of_a_groove_cam_gives_the_largest_backlash(tmp_path, capsys):
+    """``size``: no spring to size; the largest backlash (to 0.001 mm) whose impact speed stays 2 % under the limit:
+    check passes at it (away from the at-limit band), and 0.002 mm more would not keep that margin."""
+    import json
+
+    case_file = tmp_path / "groove.toml"
+    case_file.write_text(GROOVE_TOML)
+    code, out, _ = run(capsys, "size", case_file, "--json")
+    doc = json.loads(out)
+    b = doc["max_backlash_mm"]
+    assert code == 0 and doc["backlash_mm"] == 0.05 and b > 0.05 and round(b, 3) == b
+    impacts = []
+    for gap in (b, b + 0.002):
+        case_file.write_text(GROOVE_TOML.replace("backlash = 0.05", f"backlash = {gap}"))
+        code, out, _ = run(capsys, "check", case_file, "--json")
+        assert code == 0
+        impacts.append(next(c for c in json.loads(out)["checks"] if c["name"] == "crossover_impact")["value"])
+    assert impacts[0] <= 0.98 * 0.1 < impacts[1]
+    assert doc["impact_velocity_at_max_backlash_m_per_s"] == pytest.approx(impacts[0], rel=1e-12)
