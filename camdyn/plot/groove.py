@@ -50,7 +50,7 @@ def plot_groove_cam(
     study, geo = _study(check), check.geometry
     assert geo is not None  # check computes a groove cam's geometry
     walls, f = study.walls, geo.follower
-    ax.set_aspect("equal", adjustable="datalim")
+    ax.set_aspect("equal")
     ax.grid(False)
     r_out = float(np.hypot(*walls.outer).max())
     disc = 1.12 * r_out
