@@ -24,8 +24,8 @@ from .valvetrain import draw_valvetrain
 
 
 def _groove(data: ReportData) -> bool:
-    """A form-closed cam: its walls and crossovers in place of the cam, dynamics and spring sizing pages."""
-    return data.check.closure is not None
+    """A groove cam: its walls and crossovers in place of the cam, dynamics and spring sizing pages."""
+    return data.check.closure is not None and data.case.follower.closure == "groove"
 
 
 @dataclass(frozen=True)
