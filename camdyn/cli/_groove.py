@@ -18,6 +18,16 @@ from ..plot import save_impact_histogram_png, save_impact_png
 from ._console import console, json_text, progress_bar, table
 
 
+def _outputs(args: argparse.Namespace, case: Case, suffix: str, what: str) -> tuple[Path, Path]:
+    """DIR/<case>-<suffix>.csv and .png, checked writable (and not there, without --force) before the work."""
+    stem = safe_stem(case.name)  # the case's name is data, not a path: the files stay in the folder named
+    paths = Path(args.output) / f"{stem}-{suffix}.csv", Path(args.output) / f"{stem}-{suffix}.png"
+    output_dir(args.output, what)
+    for path in paths:
+        output_file(path, args.force, what)
+    return paths
+
+
 def sweep_groove(args: argparse.Namespace, case: Case, speeds: np.ndarray, gaps: np.ndarray | None) -> int:
     """``camdyn sweep`` of a groove cam: DIR/<case>-sweep.csv (the impact map over ``speeds`` x ``gaps``, mm;
     None: the case's backlash) and DIR/<case>-sweep.png."""
@@ -28,11 +38,7 @@ def sweep_groove(args: argparse.Namespace, case: Case, speeds: np.ndarray, gaps:
         )
     if gaps is None:
         gaps = np.array([case.follower.backlash])
-    stem = safe_stem(case.name)
-    csv_path, png_path = Path(args.output) / f"{stem}-sweep.csv", Path(args.output) / f"{stem}-sweep.png"
-    output_dir(args.output, "impact map")
-    for path in (csv_path, png_path):
-        output_file(path, args.force, "impact map")
+    csv_path, png_path = _outputs(args, case, "sweep", "impact map")
     with progress_bar(args.quiet) as progress:
         im = impact_map(case, speeds, gaps, progress=progress)
     write_new(csv_path, im.csv, True)
@@ -57,11 +63,7 @@ def sweep_groove(args: argparse.Namespace, case: Case, speeds: np.ndarray, gaps:
 def tolerance_groove(args: argparse.Namespace, case: Case) -> int:
     """``camdyn tolerance`` of a groove cam: DIR/<case>-tolerance.csv and .png of the built cams' crossover impacts
     and a summary (``--json``: the document of docs/contracts.md); no worst samples as case files."""
-    stem = safe_stem(case.name)
-    csv_path, png_path = Path(args.output) / f"{stem}-tolerance.csv", Path(args.output) / f"{stem}-tolerance.png"
-    output_dir(args.output, "tolerance study")
-    for path in (csv_path, png_path):
-        output_file(path, args.force, "tolerance study")
+    csv_path, png_path = _outputs(args, case, "tolerance", "tolerance study")
     with progress_bar(args.quiet) as progress:
         result = impact_tolerance_study(case, args.samples, args.seed, progress=progress)
     write_new(csv_path, result.csv, True)

@@ -18,7 +18,14 @@ from ..design.checks import CheckKind, CheckReport
 from ..design.closure import ClosureStudy, ImpactMap
 from ..design.tolerance import ImpactToleranceResult
 from ._common import C, deg_ticks, legend_above_data, mark_breaks
-from .cam import _curvature_mark, _pressure_angle_mark, _rotation_arrow, check_colour, plot_follower
+from .cam import (
+    _curvature_mark,
+    _pressure_angle_mark,
+    _rotation_arrow,
+    check_colour,
+    curvature_limit_line,
+    plot_follower,
+)
 
 WALL_COLOURS = {"inner": C["dyn"], "outer": C["advice"]}
 
@@ -210,16 +217,7 @@ def plot_wall_curvature(
                 ms=4.5,
                 color=check_colour(check, CheckKind.CURVATURE, WALL_COLOURS[name]),
             )
-    r_lim = min_curvature_ratio * rr
-    ax.axhline(r_lim, color=C["limit"], ls="--", lw=0.9)
-    ax.text(
-        2,
-        r_lim,
-        f" limit {min_curvature_ratio:g} \u00d7 roller radius = {r_lim:.3g} mm (convex)",
-        color=C["limit"],
-        size=7,
-        va="bottom",
-    )
+    curvature_limit_line(ax, min_curvature_ratio, rr)
     ax.axhline(0, color="#888888", lw=0.6)
     ax.set_ylim(-cap, cap)
     mark_breaks(ax, breaks_deg)

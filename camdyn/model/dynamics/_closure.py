@@ -159,25 +159,26 @@ def _cross(motion, model, omega, theta0, y0, side, gap):
     )
 
 
-def _flank_field(t, y, args):
-    """d/dtheta of (x, p) of the follower pressed on the flank on ``side`` (+1 inner: pushes it up; -1 outer)
-    through the train: the free flight's field plus the flank's force, the flank ``gap`` / 2 off the pitch curve."""
-    motion, model, omega, side, gap = args
-    s, s1, _, _ = motion(t)
-    sc = model.scale
-    fi = side * contact_force(model, omega, side * s - 0.5 * gap, side * s1, side * y[0], side * y[1], sc)
-    return vector_field(t, y, (motion, model, omega, False)) + jnp.stack([0.0, fi / (model.mass * omega**2 * sc)])
-
-
 IMPACT_SAMPLES = 2001  # angles over the contact period at which the impact's contact force is taken
 
 
 def flank_force(motion, model, omega, theta, y, side, gap):
     """The contact force (N, or N*m for an arm; signed as the flank pushes) of the follower at (x, dx/dtheta)
-    ``y`` (motion units, rows) on the flank on ``side`` at ``theta`` (rad)."""
+    ``y`` (motion units, rows) on the flank on ``side`` at ``theta`` (rad), the flank ``gap`` / 2 off the pitch
+    curve: the train's unilateral force (:func:`._train.contact_force`), mirrored for the outer flank."""
     s, s1, _, _ = motion(theta)
     return side * contact_force(
         model, omega, side * s - 0.5 * gap, side * s1, side * y[..., 0], side * y[..., 1], model.scale
+    )
+
+
+def _flank_field(t, y, args):
+    """d/dtheta of (x, p) of the follower pressed on the flank on ``side`` (+1 inner: pushes it up; -1 outer)
+    through the train: the free flight's field plus the flank's force (:func:`flank_force`)."""
+    motion, model, omega, side, gap = args
+    fi = flank_force(motion, model, omega, t, y, side, gap)
+    return vector_field(t, y, (motion, model, omega, False)) + jnp.stack(
+        [0.0, fi / (model.mass * omega**2 * model.scale)]
     )
 
 
