@@ -1,4 +1,4 @@
-"""``size``, ``sweep`` and ``tolerance`` of a groove cam (``[follower] closure = "groove"``): its crossover impacts over
+"""``sweep`` and ``tolerance`` of a groove cam (``[follower] closure = "groove"``): its crossover impacts over
 cam speed x backlash, and their distribution over the built cams, in place of the jump map and the probability of
 separation of a spring-held follower (a groove cam cannot jump)."""
 
@@ -11,7 +11,7 @@ import numpy as np
 
 from .._core.errors import InputError
 from .._core.outputs import output_dir, output_file, safe_stem, write_new
-from ..design.closure import BACKLASH_STEP_MM, impact_map, largest_backlash
+from ..design.closure import impact_map
 from ..design.tolerance import impact_tolerance_study
 from ..model.case import Case
 from ..plot import save_impact_histogram_png, save_impact_png
@@ -93,36 +93,4 @@ def tolerance_groove(args: argparse.Namespace, case: Case) -> int:
             t.add_row(name, *(f"{q[k]:.4g}" for k in ("p50", "p95", "p99", "max")), unit)
     con.print(t)
     con.print(f"wrote {csv_path} and {png_path}")
-    return 0
-
-
-def size_groove(args: argparse.Namespace, case: Case) -> int:
-    """``camdyn size`` of a groove cam: there is no return spring; the largest backlash (mm) that keeps the impact
-    speed within max_impact_velocity at the speed (``--max-speed``, default the case's)."""
-    for flag, given in (("--margin", args.margin), ("--min-rate", args.min_rate), ("--buildable", args.buildable)):
-        if given:
-            raise InputError(flag, "a groove cam has no return spring to size: size gives its largest backlash")
-    sz = largest_backlash(case, args.max_speed)
-    if args.json:
-        print(json_text(sz.json()))
-        return 0
-    con = console()
-    con.print(
-        f"[bold]{case.name}[/bold]  groove cam: no return spring to size (the groove holds the follower both ways); "
-        f"the largest backlash with impact speed <= max_impact_velocity {sz.max_impact_velocity:g} m/s at "
-        f"{sz.speed_rpm:g} rpm"
-    )
-    con.print(
-        f"case: backlash {sz.current_backlash_mm:g} mm, impact speed {sz.current_impact_velocity_m_per_s:.4g} m/s "
-        + ("[green]pass[/green]" if sz.passes else "[bold red]FAIL[/bold red]")
-    )
-    if np.isinf(sz.max_backlash_mm):
-        con.print("size: any backlash up to the roller radius keeps the impact speed within the limit")
-    elif sz.max_backlash_mm <= 0.0:
-        con.print(f"size: [bold red]no backlash of {BACKLASH_STEP_MM:g} mm or more[/bold red] keeps the limit")
-    else:
-        con.print(
-            f"size: [bold]backlash <= {sz.max_backlash_mm:.4g} mm[/bold] (rounded down to {BACKLASH_STEP_MM:g} mm; "
-            f"impact speed {sz.impact_velocity_at_max_m_per_s:.4g} m/s there)"
-        )
     return 0
