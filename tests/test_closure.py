@@ -401,6 +401,11 @@ def test_report_of_a_groove_cam(tmp_path, capsys):
     for c, fact in zip(doc["closure"]["crossovers"], facts[1:], strict=True):
         assert f"{c['impact_velocity_m_per_s']:.3g} m/s (limit 0.1 m/s)" in fact and f"{c['deg']:.1f}" in fact
     assert not any("return spring cannot be built" in f or "leaves the cam" in f for f in facts)
+    with_tol = case_from_dict(GROOVE | {"tolerances": {"backlash": "20%"}})
+    assert any(
+        f.startswith("[tolerances]") and "camdyn tolerance" in f
+        for f in decision_facts(ReportData(design_review(with_tol, run_check(with_tol))))
+    )
     # the impact speed against cam speed meets the check at the case's speed
     imp = data.review.impacts
     assert np.interp(300.0, imp.speeds_rpm, imp.impact_velocity_m_per_s[0]) == pytest.approx(top, rel=2e-3)

@@ -364,6 +364,11 @@ def groove_facts(data: ReportData) -> list[str]:
         )
     if len(r.crossovers) > 4:
         out.append(f"\u2026 and {len(r.crossovers) - 4} more crossovers (page 'Dynamics: crossovers and impacts')")
+    if data.case.spec.tolerances is not None:
+        out.append(
+            "[tolerances]: the report does not draw a groove cam's tolerance study: camdyn tolerance gives the spread "
+            "of its impact speed over the built cams"
+        )
     return out
 
 
