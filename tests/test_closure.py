@@ -364,6 +364,7 @@ def test_groove_contact_stress_on_the_wall_the_force_presses():
     assert np.all(got.pressure_MPa[outer] < spring.pressure_MPa[outer])  # conformal: gentler than convex
 
 
+@pytest.mark.slow
 def test_report_of_a_groove_cam(tmp_path, capsys):
     """``camdyn report``: the walls and crossovers pages in place of the cam, dynamics and spring-sizing pages; page 1
     says why there is no jump speed and gives each crossover's impact against the limit, as ``check`` does."""
