@@ -43,6 +43,9 @@ def run(args: argparse.Namespace) -> int:
     if args.spec.follower is not None and args.spec.follower.form_closed:  # a groove cam: its impacts, not jumps
         speeds = np.linspace(*_parse_grid("--speeds", args.speeds))
         gaps = None if args.backlash is None else np.linspace(*_parse_grid("--backlash", args.backlash))
+        initialize(args.coordinator, args.num_processes, args.process_id, auto=args.distributed)
+        if not is_writer():  # not sharded: process 0 does the work
+            return 0
         return sweep_groove(args, build_case(args.spec, source=Path(args.case)), speeds, gaps)
     if args.backlash is not None:
         raise InputError("--backlash", 'only a groove cam ([follower] closure = "groove") has a backlash')

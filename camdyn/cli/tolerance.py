@@ -68,7 +68,7 @@ def run(args: argparse.Namespace) -> int:
     initialize(args.coordinator, args.num_processes, args.process_id, auto=args.distributed)
     case = build_case(args.spec, source=Path(args.case))
     if case.follower is not None and case.follower.form_closed:  # a groove cam: its impacts, not its jumps
-        return tolerance_groove(args, case)
+        return tolerance_groove(args, case) if is_writer() else 0  # not sharded: process 0 does the work
     writer = is_writer()
     stem = safe_stem(case.name)  # the case's name is data, not a path
     paths = _paths(Path(args.output), stem, 3)
