@@ -109,6 +109,11 @@ class CaseSpec(Table):
             check_dynamics_keys(self.dynamics, kind=self.kind, form_closed=form_closed)
         check_spring_keys(self.spring, kind=self.kind)
         check_tolerance_keys(self.tolerances, kind=self.kind)
+        if self.tolerances is not None and self.tolerances.backlash is not None:
+            if self.follower is None or self.follower.closure != "groove":
+                raise ValueError(
+                    'tolerances.backlash: only a groove cam ([follower] closure = "groove") has a backlash'
+                )
         if self.limits.max_contact_stress is not None and self.contact_width_mm is None:
             where = "follower" if self.follower is not None else "mechanism"
             raise ValueError(

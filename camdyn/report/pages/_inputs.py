@@ -50,6 +50,9 @@ _LIMIT_OF_CHECK = {
     "max_impact_velocity": CheckKind.CROSSOVER_IMPACT,
 }
 
+# limits that judge a follower held on by a spring (it may jump): a groove cam has none of their checks
+_SPRING_HELD_LIMITS = ("speed_margin", "min_contact_force", "min_preload", "max_train_deflection")
+
 
 def _kv_lines(d: dict, oscillating: bool = False) -> list[tuple[str, str]]:
     out = []
@@ -107,6 +110,9 @@ def input_columns(data: ReportData) -> list[tuple[str, list[tuple[str, str]]]]:
         lim["max_pressure_angle"] = pa
     for key, kind in _LIMIT_OF_CHECK.items():
         if data.check.find(kind) is None and key not in spec.limits.model_fields_set:
+            lim.pop(key, None)
+    if data.check.closure is not None:
+        for key in _SPRING_HELD_LIMITS:
             lim.pop(key, None)
     dyn_rows += [("", ""), ("\x00limits", "")] + _kv_lines(lim)
     columns.append(("dynamics", dyn_rows))
