@@ -110,7 +110,7 @@ def _compliant_map(case, pts: _Points, angles, gaps: bool, gap_method: str, prog
     theta, vals, weight = angles
     const = (base, vals[0], vals[1], np.fft.rfft(vals[0]), weight)  # numpy: no transfer or FFT program to compile
     tick = counter(progress, "steady state (frequency domain)", pts.omega.size)
-    signed, z0 = run_batched(linear_kernel, const, [pts.omega, pts.k, pts.c], LINEAR_CHUNK, tick, devices)
+    signed = run_batched(linear_kernel, const, [pts.omega, pts.k, pts.c], LINEAR_CHUNK, tick, devices)
     why = {int(i): "the frequency-domain steady state is not finite" for i in np.nonzero(~np.isfinite(signed))[0]}
     separated = signed <= 0.0
     gap = np.zeros(pts.omega.size)
@@ -119,14 +119,15 @@ def _compliant_map(case, pts: _Points, angles, gaps: bool, gap_method: str, prog
         return signed, separated, gap, why
     tick = counter(progress, "separated points (nonlinear model)", idx.size)
     point = [pts.omega[idx], pts.k[idx], pts.c[idx]]
+    spec_unit = np.fft.rfft(vals[0] / base.scale)  # the lift's spectrum in the motion's unit
     if gap_method == "exact":
         tab = vals[:3, ::GAP_STRIDE] / base.scale  # the same angles: no second evaluation of the motion (its compile)
         w_tab = _gap_weight_mm(case, theta[::GAP_STRIDE])
-        gconst = (base, *tab, w_tab, np.fft.rfft(vals[0] / base.scale))
-        g = run_batched(exact_gap_kernel, gconst, point, GAP_CHUNK, tick, devices)
+        gconst = (base, *tab, w_tab, spec_unit)
+        g = run_batched(exact_gap_kernel, gconst, point, GAP_CHUNK, tick, devices, per_point=False)
     else:
-        gconst = diffrax_gap_const(case, lambda t: _gap_weight_mm(case, t))
-        g = run_batched(diffrax_gap_kernel, gconst, [*point, z0[idx]], GAP_CHUNK, tick, devices)
+        gconst = diffrax_gap_const(case, lambda t: _gap_weight_mm(case, t), spec_unit)
+        g = run_batched(diffrax_gap_kernel, gconst, point, GAP_CHUNK, tick, devices)
     gap[idx] = np.maximum(g, 0.0)
     how = "exact piecewise-linear stepping" if gap_method == "exact" else "diffrax"
     why |= {int(i): f"the gap integration of the nonlinear model ({how}) did not finish" for i in idx[~np.isfinite(g)]}
