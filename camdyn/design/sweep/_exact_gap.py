@@ -187,7 +187,7 @@ def exact_gap_kernel(const, omega, k, c):
         base.train_damping / (base.mass * omega),
         (base.preload + base.external) / (mw2 * base.scale),
     )
-    x_spec = steady_spectrum(spec, omega[:, None], base, k[:, None], c[:, None], n_fft, unit=base.scale)
+    x_spec = steady_spectrum(spec, omega[:, None], base, k[:, None], c[:, None], n_fft, base.scale, conjugate=True)
     xl, pl = _on_steps(x_spec, n_fft, m_steps)
     xl, pl = xl.T, pl.T  # (steps, points): a step reads a row
     ec = _expm2(md.a_k + md.a_f, md.b_c + md.b_f, h)
