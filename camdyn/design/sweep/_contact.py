@@ -2,7 +2,7 @@
 
 Compliant: the frequency-domain steady state (:func:`camdyn.model.dynamics.steady_state`, harmonic balance), exact
 while the follower stays on the cam; rigid: the kinematic force, closed form per angle. Both are kernels
-``kernel(const, omega, k, c)`` for :func:`camdyn._core.sharding.run_batched`; forces are weighted per angle (1 for a
+``kernel(const, omega, k[, c])`` for :func:`camdyn._core.sharding.run_batched`; forces are weighted per angle (1 for a
 translating follower, 1 / lever arm for an oscillating one: N).
 """
 
@@ -27,10 +27,10 @@ def damping_kernel(base: FollowerModel, k):
     return base.damping_at(k)
 
 
-def linear_kernel(const, omega, k, c):
-    """Least force (N, weighted) of the frequency-domain steady state."""
+def linear_kernel(const, omega, k):
+    """Least force (N, weighted) of the frequency-domain steady state (the damping follows from ``k``)."""
     base, s, s1, spec, weight = const
-    return jnp.min(steady_train_force(spec, omega, base, k, c, s, s1) * weight)
+    return jnp.min(steady_train_force(spec, omega, base, k, base.damping_at(k), s, s1) * weight)
 
 
 def kinematic_kernel(const, omega, k, c):

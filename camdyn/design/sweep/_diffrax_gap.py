@@ -28,10 +28,11 @@ def diffrax_gap_const(case, gap_weight_mm, spec):
     return (motion, case.model, jnp.asarray(jumps), jnp.asarray(ts), jnp.asarray(s_ts), jnp.asarray(w_ts), spec)
 
 
-def diffrax_gap_kernel(const, omega, k, c):
+def diffrax_gap_kernel(const, omega, k):
     """Largest gap (weighted: mm) of the nonlinear compliant model over the last revolutions from the linear
     steady state at theta = 0; NaN on failure."""
     motion, base, jumps, ts, s_ts, weight_ts, spec = const
+    c = base.damping_at(k)
     md = with_spring_damping(base, k, c)
     x, x1 = steady_state(spec, omega, base, k, c, 2 * (spec.shape[0] - 1), unit=base.scale)
     z0 = jnp.stack([x[0], x1[0]])

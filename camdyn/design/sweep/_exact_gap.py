@@ -168,10 +168,10 @@ def _events(md: _Modes, h, ends, rows, x, p, x1, p1, contact, g0, g1, todo):
     return x_end, p_end
 
 
-def exact_gap_kernel(const, omega, k, c):
+def exact_gap_kernel(const, omega, k):
     """Largest gap (weighted: mm) of the nonlinear compliant model over the last ``GAP_LAST`` of ``GAP_REVS``
     revolutions from the linear steady state at theta = 0; NaN where it is not finite. A batch kernel: ``omega``
-    (rad/s), ``k`` and ``c`` (SI) are arrays of grid points, stepped together.
+    (rad/s) and ``k`` (SI; the damping follows from it) are arrays of grid points, stepped together.
 
     ``const = (model, s, s', s'' on the step grid, gap weight on it, rfft of s on the fine grid)`` in the
     motion's unit."""
@@ -180,6 +180,7 @@ def exact_gap_kernel(const, omega, k, c):
     m_steps = s_tab.shape[0]
     h = TWO_PI / m_steps
     mw2 = base.mass * omega**2
+    c = base.damping_at(k)
     md = _Modes(
         k / mw2,
         c / (base.mass * omega),
