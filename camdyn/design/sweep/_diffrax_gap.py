@@ -1,5 +1,5 @@
 """The reference for the largest gap: diffrax (adaptive Tsit5) on the compliant model's own vector field, from the
-linear steady state, about 20x slower than the exact stepping of :mod:`._exact_gap`."""
+linear steady state, tens of times slower than the exact stepping of :mod:`._exact_gap`."""
 
 from __future__ import annotations
 

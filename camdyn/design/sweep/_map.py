@@ -166,7 +166,7 @@ def jump_map(
     ``spring_rates`` defaults to the case's own. ``progress(phase, done, total)`` is called after every chunk.
     ``gap_method``: how the compliant model's separated points are integrated: ``"exact"`` (piecewise-linear
     stepping, :mod:`._exact_gap`) or ``"diffrax"`` (adaptive Tsit5 on the vector field of
-    :mod:`camdyn.model.dynamics`, the reference; about 20x slower). ``devices``: the JAX devices to shard the
+    :mod:`camdyn.model.dynamics`, the reference; tens of times slower). ``devices``: the JAX devices to shard the
     grid over (default: all local devices); the result does not depend on them. ``gaps=False`` skips the largest
     gap of the separated points (the nonlinear integration, most of the cost of a rigid follower's map): their
     ``max_gap`` is NaN; the least force, the separation and the jump boundary are the same.
