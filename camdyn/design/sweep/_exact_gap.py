@@ -8,7 +8,7 @@ rest of the step is exact in the new mode. The mode is recomputed from the state
 vector field decides it (``s > x`` and ``Fi > 0``). Everything here is in the motion's unit (mm or rad) and the
 cam angle, per unit ``m w^2``.
 
-A chunk of points is stepped together; at each step the points whose contact switches (a few in a hundred) are
+A chunk of points is stepped together; at each step the points whose contact switches (one or two in a hundred) are
 gathered, ``_EVENTS`` at a time, for the switch and the rest of their step, which cost as much as a whole step of
 every point. The linear steady state is needed only on the step grid: it comes from the aliased spectrum by
 inverse FFTs of the step grid's size.
