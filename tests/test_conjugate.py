@@ -283,6 +283,9 @@ def test_check_json_of_the_shipped_conjugate_cam(capsys):
     )
     assert cl["preload_torque_N_m"] == 40.0 and cl["preload_held"] is True
     assert cl["cams"]["primary"]["min_force_N"] > 0 and cl["cams"]["conjugate"]["min_force_N"] > 0
+    # the preload holds both rollers: only the net force turns, no cam lets go at the crossovers
+    assert any("net contact force changes sign 2 times" in w for w in doc["warnings"])
+    assert not any(w.startswith("the contact force changes cam") for w in doc["warnings"])
     names = [c["name"] for c in doc["checks"]]
     assert {"conjugate_pressure_angle", "conjugate_curvature", "crossover_impact"} <= set(names)
     assert "speed_margin" not in names

@@ -461,7 +461,13 @@ def _crossovers_note(study: ClosureStudy, backlash_mm: float) -> str:
     xs = study.response.crossovers
     flank = "flank" if study.loads is None else "cam"
     where = ", ".join(f"{c.deg:.1f}" for c in xs[:6]) + (", ..." if len(xs) > 6 else "")
-    note = f"the contact force changes {flank} {len(xs)} times a revolution (at {where} deg)"
+    if study.loads is not None and study.loads.preload_held:  # both rollers stay loaded: only the net force turns
+        note = (
+            f"the net contact force changes sign {len(xs)} times a revolution (at {where} deg); the preload keeps "
+            "both cams loaded all round"
+        )
+    else:
+        note = f"the contact force changes {flank} {len(xs)} times a revolution (at {where} deg)"
     if backlash_mm > 0.0:
         top = max(xs, key=lambda c: c.impact_velocity_m_per_s)
         note += (
