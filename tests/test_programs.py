@@ -154,3 +154,33 @@ def test_fitted_tables_of_other_lengths_share_one_compiled_kernel():
     # the form follows the coefficients (a table's noise study replaces them, under vmap)
     doubled = jax.vmap(lambda c: evaluate(dataclasses.replace(short, coef=c), jnp.asarray(theta)))(2 * short.coef[None])
     assert np.allclose(doubled[0], 2 * short.host(theta), rtol=1e-12, atol=1e-12)
+
+
+_TWO_DEVICES = """
+import sys, jax, numpy as np, camdyn
+camdyn.enable_x64()
+from camdyn._core import jit
+from camdyn.design.sweep import jump_map
+from camdyn.model.case import load_case
+jit.enable(sys.argv[1])
+assert jax.device_count() == 2
+jm = jump_map(load_case(sys.argv[2]), [300.0, 650.0], [1.0, 2.0])
+print(jm.csv)
+"""
+
+
+@pytest.mark.slow  # two fresh processes mapping on two host devices
+def test_a_second_process_on_two_devices_loads_what_the_first_stored(tmp_path):
+    """Two host devices: a program stored by one process runs in the next on the default device (a loaded
+    executable otherwise spans every device), and a kernel sharded over both is not stored (the plain jit runs)."""
+    env = os.environ | {
+        "XLA_FLAGS": "--xla_force_host_platform_device_count=2",
+        "JAX_PLATFORMS": "cpu",
+        "EQX_ON_ERROR": "nan",
+        "PYTHONPATH": str(ROOT),
+    }
+    cmd = [sys.executable, "-c", _TWO_DEVICES, str(tmp_path), str(ROOT / "cases" / "lecture.toml")]
+    runs = [subprocess.run(cmd, env=env, capture_output=True, text=True, timeout=300) for _ in range(2)]
+    assert [r.returncode for r in runs] == [0, 0], runs[-1].stderr[-2000:]
+    assert runs[0].stdout == runs[1].stdout
+    assert {p.name.split("-")[0] for p in tmp_path.glob("*.jaxprogram")} == {"evaluate"}

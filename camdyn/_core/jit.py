@@ -12,8 +12,8 @@ A program is stored as its compiled executable (``jax.experimental.serialize_exe
 and a deserialization, about 5 ms. A ``jax.export`` program, the portable form, must be lowered and looked up in
 JAX's compilation cache on every load, and on a CPU every such call first loads ``scipy.linalg`` (jaxlib takes its
 LAPACK kernels from it: about 0.25 s a process). That form is kept for the programs that call out of XLA
-(LAPACK, whose kernels JAX registers only while lowering). The files are pickles the user's own processes wrote:
-like JAX's own cache, the directory is trusted.
+(LAPACK, whose kernels JAX registers only while lowering). A program sharded over several devices is not stored.
+The files are pickles the user's own processes wrote: like JAX's own cache, the directory is trusted.
 
 Either way an argument with a ``jit_form`` method (a motion) is replaced by what it returns (:func:`jit_forms`):
 a form whose static structure does not depend on the case, so a case never seen before reuses the programs of
@@ -99,6 +99,10 @@ def _compile(flat: Callable, avals: tuple, name: str) -> tuple[Callable, bytes]:
         compiled = jax.jit(flat).lower(*specs).compile()
     finally:
         jax.config.update("jax_persistent_cache_min_compile_time_secs", least)
+    if len({d for s in jax.tree.leaves(compiled.input_shardings) for d in s.device_set}) > 1:
+        # a kernel sharded over several devices: neither a loaded executable nor a loaded jax.export program
+        # places one-device inputs on its mesh; the caller runs the plain jit
+        raise ValueError("a program over several devices is not stored")
     if "custom_call_target=" not in compiled.as_text():
         return compiled, pickle.dumps(("executable", *serialize_executable.serialize(compiled)))
     # a call out of XLA: LAPACK, whose kernels JAX registers as it lowers the program, or a host callback, which
@@ -112,7 +116,8 @@ def _load(file: Path) -> Callable | None:
     try:
         kind, *data = pickle.loads(file.read_bytes())
         if kind == "executable":
-            return serialize_executable.deserialize_and_load(*data)
+            # on the default device, as jax.jit compiled it (by default a loaded executable spans every device)
+            return serialize_executable.deserialize_and_load(*data, execution_devices=jax.devices()[:1])
         return export.deserialize(bytearray(data[0])).call
     except Exception:  # missing, truncated, or from another JAX or machine: trace afresh
         return None
