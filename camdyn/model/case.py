@@ -17,7 +17,6 @@ from .._core.units import M_PER_MM, MAX_ROCKER_RATIO, THETA_GRID
 from ..schema import CaseSpec, FollowerSpec, LimitsSpec, ValvetrainSpec, dynamics_keys, load_case_spec, parse
 from .follower import FollowerModel, follower_model
 from .geometry import ContourFit
-from .linkage import synthesize_motion
 from .motion import Motion, MotionFit, Program
 from .sources import contour_motion, table_motion
 from .surge import SpringInDynamics
@@ -122,6 +121,8 @@ def build_case(spec: CaseSpec, source: Path | None = None) -> Case:
         motion, follower, fit, contour, warnings = contour_motion(spec, source)
     else:
         assert spec.path is not None and spec.mechanism is not None  # CaseSpec: a case without [motion] has both
+        from .linkage import synthesize_motion  # only a path case loads the cam-linkage models (17 ms a check)
+
         synthesis = synthesize_motion(spec.path, spec.mechanism)
         motion, follower = synthesis.tabulated, synthesis.follower
         warnings += list(synthesis.warnings)
