@@ -111,6 +111,7 @@ TOLERANCE_UNITS: dict[str, tuple[dict[str, float], dict[str, float]]] = {
     "train_stiffness": _RATE_UNITS,
     "speed": ({"rpm": 1.0}, {"rpm": 1.0}),
     "profile_error": ({"mm": 1.0, "um": 1e-3}, {"rad": 1.0, "deg": math.pi / 180.0}),
+    "backlash": ({"mm": 1.0, "um": 1e-3}, {"mm": 1.0, "um": 1e-3}),  # a groove's, at the roller either way
 }
 NORMAL_TOLERANCE_SIGMAS = 3.0  # a normal tolerance is this many standard deviations
 PROFILE_ERROR_HARMONICS = 8  # a profile error is a random sum of harmonics 1..this of the revolution

@@ -23,6 +23,7 @@ from ..model.case import Case, load_case
 from ..model.geometry import newton_per_torque_at
 from ..model.motion import evaluate
 from .checks import CheckReport, forces_in_newton, run_check
+from .closure import NO_RETURN_SPRING, ImpactMap, impact_map
 from .parts import resolve_spring
 from .sizing import SpringSizing, size_spring
 from .spring import SpringDesign, design_case_spring
@@ -33,6 +34,7 @@ SIDE_DEG = 1e-7  # how far either side of a break the one-sided values are taken
 REVIEW_TOLERANCE_SAMPLES = 2000  # built cams of the report's tolerance page (seed 0; `camdyn tolerance` for more)
 SPEED_SCAN = 2000  # speeds of the force-against-speed curve: dynamic_jump_speed's scan, so compiled already
 MAP_SPEEDS, MAP_RATES = 48, 24  # the review's jump map: speeds x spring rates
+IMPACT_SPEEDS = 40  # a groove cam's impact speed against cam speed, up to 2 x the check's speed
 
 
 @dataclass(frozen=True)
@@ -84,12 +86,13 @@ class Review:
     motion: MotionSamples
     margin_rpm: float  # speed_margin x the check's speed
     margin_response: dyn.Response | Unavailable  # the steady state at margin_rpm, forces in N
-    force_vs_speed: ForceVsSpeed
+    force_vs_speed: ForceVsSpeed | Unavailable  # Unavailable for a form-closed cam: it cannot jump
     sizing: SpringSizing | Unavailable  # size_spring at the case's speed and speed_margin
     jump_map: JumpMap | Unavailable  # at the case's preload, gaps not integrated (least force and the jump boundary)
     spring_part: SpringDesign | Unavailable = Unavailable("not designed")  # the case's own spring (camdyn spring)
     original: Original | Unavailable | None = None  # the case this one was optimized from (None: not optimized)
     tolerance: ToleranceResult | Unavailable | None = None  # the study of [tolerances] (None: the case has none)
+    impacts: ImpactMap | None = None  # a groove cam's impacts against cam speed at its backlash (None: spring-held)
 
 
 def design_review(case: Case, check: CheckReport, *, progress: Progress | None = None) -> Review:
@@ -98,6 +101,15 @@ def design_review(case: Case, check: CheckReport, *, progress: Progress | None =
     tick = counter(progress, f"{case.name}: review", 6)
     motion = sample_motion(case)
     tick()
+    if check.closure is not None:  # a groove cam: no jump, no return spring; its crossovers are in the check
+        none = Unavailable(NO_RETURN_SPRING)
+        assert case.follower is not None  # a groove holds a roller
+        top = 2.0 * check.speed_rpm
+        speeds = np.linspace(top / IMPACT_SPEEDS, top, IMPACT_SPEEDS)
+        impacts = impact_map(case, speeds, np.array([case.follower.backlash]))
+        tick(5)
+        margin_rpm = case.limits.speed_margin * check.speed_rpm
+        return Review(case, check, motion, margin_rpm, none, none, none, none, none, impacts=impacts)
     margin_rpm = case.limits.speed_margin * check.speed_rpm
     margin = _margin_response(case, margin_rpm)
     tick()

@@ -6,10 +6,12 @@ depend on how the samples are chunked or sharded. One compiled, vmapped kernel (
 sample the least force at its cam speed (the sweep's frequency-domain steady state on the 0.1 deg grid; the
 kinematic force for a rigid follower) and its dynamic jump speed (a scan of 16 speeds up to ``check``'s search
 limit on a 512-angle grid, then Illinois steps), run in chunks by :func:`camdyn._core.sharding.run_batched`
-over every device of every process. :mod:`._sensitivity` linearises the jump-speed margin with JAX gradients
+over every device of every process. A groove cam (it cannot jump) is studied for its crossover impacts instead
+(:mod:`._groove`). :mod:`._sensitivity` linearises the jump-speed margin with JAX gradients
 and sets it against the Monte Carlo variance shares; :mod:`._result` holds the result and its CSV.
 """
 
+from ._groove import ImpactToleranceResult, impact_tolerance_study
 from ._result import CSV_COLUMNS, PARAM_KEYS, ToleranceResult, csv_columns
 from ._study import CHUNK_SAMPLES, CONFIDENCE, MAX_SAMPLES, SCAN_GRID, WORST, tolerance_study
 from ._worst import worst_case_docs
@@ -18,6 +20,8 @@ __all__ = [
     "CHUNK_SAMPLES",
     "CONFIDENCE",
     "CSV_COLUMNS",
+    "ImpactToleranceResult",
+    "impact_tolerance_study",
     "MAX_SAMPLES",
     "PARAM_KEYS",
     "SCAN_GRID",

@@ -18,9 +18,16 @@ force on the cam and the follower's rest on it are written once (:mod:`._train`)
 surge chain (:mod:`camdyn.model.surge`) and the design studies.
 """
 
-from ._closure import ClosureResponse, Crossover, closure_response
+from ._closure import ClosureResponse, Crossover, closure_response, preload_shares
 from ._compliant import compliant_response, min_contact_force, periodic_orbit, vector_field
-from ._harmonic import linear_contact_force, linear_min_force, steady_force_at, steady_state
+from ._harmonic import (
+    linear_contact_force,
+    linear_min_force,
+    steady_force_at,
+    steady_spectrum,
+    steady_state,
+    steady_train_force,
+)
 from ._kinematic import kinematic_force, kinematic_force_jit, kinematic_force_of, kinematic_jump_speed
 from ._response import dynamic_jump_speed, first_zero_speed, jump_search_limit, response
 from ._result import Flight, Impact, Response, Separation
@@ -36,6 +43,7 @@ __all__ = [
     "Response",
     "Separation",
     "closure_response",
+    "preload_shares",
     "compliant_response",
     "contact_force",
     "dynamic_jump_speed",
@@ -55,7 +63,9 @@ __all__ = [
     "steady_force_at",
     "vector_field",
     "static_position",
+    "steady_spectrum",
     "steady_state",
+    "steady_train_force",
     "train_force",
     "ValveEvent",
     "ValvetrainResponse",
