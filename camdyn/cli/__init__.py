@@ -185,9 +185,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument(
         "--min-rate",
         type=float,
-        default=0.0,
         metavar="K",
-        help="least spring rate, N/mm (N*m/rad oscillating; default 0)",
+        help="least spring rate, N/mm (N*m/rad oscillating; default 0; a valvetrain's: at the valve, default its own)",
     )
     p.add_argument(
         "--buildable",
