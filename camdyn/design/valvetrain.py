@@ -73,15 +73,15 @@ class ValvetrainResult:
         )
 
 
-def refuse_valvetrain(case: Case, what: str) -> None:
-    """:class:`InputError` where a study that knows one follower (``what``: sizing, a jump map, a tolerance study,
-    the optimizer) is asked about a valvetrain: it would judge the equivalent single follower, without the lash, the
-    seat or float, and propose what ``check`` may then fail."""
+def refuse_valvetrain(case: Case, what: str, why: str = "") -> None:
+    """:class:`InputError` where a study that knows one follower (``what``: a tolerance study, the optimizer) is
+    asked about a valvetrain: it would judge the equivalent single follower, without the lash, the seat or float,
+    and propose what ``check`` may then fail; ``why``: what else it would get wrong."""
     if case.valvetrain is not None:
         raise InputError(
             "valvetrain",
             f"{what} does not model a valvetrain yet (it would judge the equivalent single follower, without the lash, "
-            "the seat or float): camdyn check gives its float and bounce speeds",
+            f"the seat or float{why}): camdyn check gives its float and bounce speeds, size and sweep model it",
         )
 
 
