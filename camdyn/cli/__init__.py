@@ -222,7 +222,9 @@ def build_parser() -> argparse.ArgumentParser:
         "files",
     )
     p.add_argument("case", help="case file (TOML) with a [tolerances] table")
-    p.add_argument("--samples", type=int, default=10000, metavar="N", help="built cams to draw (default 10000)")
+    p.add_argument(
+        "--samples", type=int, metavar="N", help="built cams to draw (default 10000; a valvetrain: 50, two-mass model)"
+    )
     p.add_argument("--seed", type=int, default=0, metavar="S", help="random seed (default 0)")
     p.add_argument("-o", "--output", default=".", metavar="DIR", help="output folder (default: the current one)")
     p.add_argument("--force", action="store_true", help="overwrite the files if they exist")

@@ -81,7 +81,8 @@ def refuse_valvetrain(case: Case, what: str, why: str = "") -> None:
         raise InputError(
             "valvetrain",
             f"{what} does not model a valvetrain yet (it would judge the equivalent single follower, without the lash, "
-            f"the seat or float{why}): camdyn check gives its float and bounce speeds, size and sweep model it",
+            f"the seat or float{why}): camdyn check gives its float and bounce speeds; size, sweep and tolerance "
+            "model it",
         )
 
 

@@ -239,9 +239,7 @@ def size_valve_spring(
     sized, chosen = judged[hi.preload]
     report = run_check(sized)
     if current.holds(top) and current.peak_spring < chosen.peak_spring:
-        warnings.append(
-            f"the case's own spring holds with a lower peak force ({current.peak_spring:.4g} N): keep it"
-        )
+        warnings.append(f"the case's own spring holds with a lower peak force ({current.peak_spring:.4g} N): keep it")
     if min_rate > 0.0 and min_rate == own_rate:
         warnings.append(
             f"the rate is the case's own ({own_rate:g} N/mm): pass --min-rate for another least rate (0: the closed "
@@ -249,7 +247,9 @@ def size_valve_spring(
         )
     warnings += [
         f"check {c.name} fails on the proposal as written ({c.value} > {c.limit:g} {c.unit}): the spring does not "
-        "set it" for c in report.checks if not c.ok and c.name != "speed_margin"
+        "set it"
+        for c in report.checks
+        if not c.ok and c.name != "speed_margin"
     ]
     return ValveSpringSizing(
         case.name,

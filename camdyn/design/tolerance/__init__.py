@@ -8,22 +8,35 @@ kinematic force for a rigid follower) and its dynamic jump speed (a scan of 16 s
 limit on a 512-angle grid, then Illinois steps), run in chunks by :func:`camdyn._core.sharding.run_batched`
 over every device of every process. :mod:`._sensitivity` linearises the jump-speed margin with JAX gradients
 and sets it against the Monte Carlo variance shares; :mod:`._result` holds the result and its CSV.
+A valvetrain's study (:mod:`._valvetrain`) runs the two-mass model per sample instead: float and bounce at the
+sample's speed, its float and bounce speeds and seating velocity.
 """
 
 from ._result import CSV_COLUMNS, PARAM_KEYS, ToleranceResult, csv_columns
 from ._study import CHUNK_SAMPLES, CONFIDENCE, MAX_SAMPLES, SCAN_GRID, WORST, tolerance_study
-from ._worst import worst_case_docs
+from ._valvetrain import (
+    DEFAULT_VALVETRAIN_SAMPLES,
+    MAX_VALVETRAIN_SAMPLES,
+    ValveToleranceResult,
+    valvetrain_tolerance_study,
+)
+from ._worst import worst_case_docs, worst_valvetrain_docs
 
 __all__ = [
     "CHUNK_SAMPLES",
     "CONFIDENCE",
     "CSV_COLUMNS",
+    "DEFAULT_VALVETRAIN_SAMPLES",
+    "MAX_VALVETRAIN_SAMPLES",
     "MAX_SAMPLES",
     "PARAM_KEYS",
     "SCAN_GRID",
     "ToleranceResult",
+    "ValveToleranceResult",
     "WORST",
     "csv_columns",
     "tolerance_study",
+    "valvetrain_tolerance_study",
     "worst_case_docs",
+    "worst_valvetrain_docs",
 ]
