@@ -48,7 +48,7 @@ def _kinematic_answer(p: Problem, grid: Grid) -> tuple[float, float, str, str, G
     return k, f0, note, _SQRT_K_METHOD, grid
 
 
-def check_options(max_speed_rpm, margin, min_rate) -> None:
+def check_options(max_speed_rpm: float | None, margin: float | None, min_rate: float) -> None:
     for name, v in (("--max-speed", max_speed_rpm), ("--margin", margin)):
         if v is not None and not (math.isfinite(v) and v > 0):
             raise InputError(name, f"must be a positive number (got {v:g})")

@@ -18,11 +18,11 @@ from ..._core.sharding import run_batched
 from ..._core.units import PROFILE_ERROR_HARMONICS, RPM, THETA_GRID, tolerance_unit
 from ...model import dynamics as dyn
 from ...model.geometry import contact_per_force
-from ...schema import resolve_tolerances
+from ...schema import Tolerance, resolve_tolerances
 from ..parts import resolve_spring
 from ._kernel import Sample, make_grid, rigid_tolerance_kernel, tolerance_kernel
 from ._result import ToleranceResult
-from ._sampling import SCALAR_KEYS, draw_samples, spreads
+from ._sampling import SCALAR_KEYS, Spread, draw_samples, spreads
 from ._sensitivity import gradient_sensitivities, variance_shares
 
 if TYPE_CHECKING:
@@ -136,7 +136,7 @@ def tolerance_study(
     )
 
 
-def describe(t, sp, rotary: bool) -> dict:
+def describe(t: Tolerance, sp: Spread, rotary: bool) -> dict:
     return {
         "tolerance": t.value * 100.0 if t.relative else t.value,
         "unit": "%" if t.relative else tolerance_unit(t.key, rotary),

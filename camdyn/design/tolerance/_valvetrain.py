@@ -29,6 +29,7 @@ from ..._core.progress import Progress, counter
 from ..._core.units import RPM, tolerance_unit
 from ...model import dynamics as dyn
 from ...model.case import Case, with_valvetrain_keys
+from ...model.valvetrain import ValvetrainModel
 from ...schema import resolve_tolerances
 from ..valvetrain import analyze_valvetrain
 from ._sampling import spreads
@@ -240,7 +241,7 @@ def valvetrain_tolerance_study(
         assert vt is not None  # with_valvetrain_keys rebuilds it
         memo: dict[float, dyn.ValvetrainResponse] = {}
 
-        def at(w: float, vt=vt, memo=memo) -> dyn.ValvetrainResponse:
+        def at(w: float, vt: ValvetrainModel = vt, memo: dict = memo) -> dyn.ValvetrainResponse:
             if w not in memo:
                 memo[w] = dyn.valvetrain_response(case.motion, vt, w)
             return memo[w]
