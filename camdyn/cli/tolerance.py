@@ -80,24 +80,29 @@ def run(args: argparse.Namespace) -> int:
         output_dir(args.output, "tolerance study")
         for p in (paths["csv"], paths["png"], *paths["worst"]):
             output_file(p, args.force, "tolerance study")
-    if case.valvetrain is not None:
-        return _run_valvetrain(args, case, paths, writer)
-    args.samples = 10000 if args.samples is None else args.samples
+    if case.valvetrain is not None:  # the two-mass model per sample: float, bounce, seating velocity
+        study, samples = valvetrain_tolerance_study, DEFAULT_VALVETRAIN_SAMPLES
+        save, docs = save_valve_tolerance_png, worst_valvetrain_docs
+        as_json, show = valvetrain_json_doc, _print_valvetrain
+    else:
+        study, samples, save, docs = tolerance_study, 10000, save_tolerance_png, worst_case_docs
+        as_json, show = json_doc, _print
+    samples = samples if args.samples is None else args.samples
     t0 = time.perf_counter()
     with progress_bar(args.quiet) as progress:
-        result = tolerance_study(case, args.samples, args.seed, progress=progress if writer else None)
+        result = study(case, samples, args.seed, progress=progress if writer else None)
     elapsed = time.perf_counter() - t0
     worst_files = paths["worst"][: len(result.worst)]
     if not writer:
         return 0
     write_new(paths["csv"], result.csv, True)
-    save_tolerance_png(result, paths["png"])
-    for (doc, header), path in zip(worst_case_docs(case, result), worst_files, strict=True):
+    save(result, paths["png"])
+    for (doc, header), path in zip(docs(case, result), worst_files, strict=True):
         write_new(path, dumps_case(doc, header), True)
     if args.json:
-        print(json_text(json_doc(result, worst_files, elapsed)))
+        print(json_text(as_json(result, worst_files, elapsed)))
         return 0
-    _print(case, result, elapsed, paths, worst_files)
+    show(case, result, elapsed, paths, worst_files)
     return 0
 
 
@@ -144,27 +149,6 @@ def _print(case, result, elapsed, paths, worst_files) -> None:
     if result.sensitivities:
         con.print(t)
     con.print(f"wrote {paths['csv']}, {paths['png']} and the worst samples {', '.join(str(p) for p in worst_files)}")
-
-
-def _run_valvetrain(args: argparse.Namespace, case, paths: dict, writer: bool) -> int:
-    """A valvetrain's study: the two-mass model per sample (float, bounce, seating velocity)."""
-    samples = DEFAULT_VALVETRAIN_SAMPLES if args.samples is None else args.samples
-    t0 = time.perf_counter()
-    with progress_bar(args.quiet) as progress:
-        result = valvetrain_tolerance_study(case, samples, args.seed, progress=progress if writer else None)
-    elapsed = time.perf_counter() - t0
-    if not writer:
-        return 0
-    worst_files = paths["worst"][: len(result.worst)]
-    write_new(paths["csv"], result.csv, True)
-    save_valve_tolerance_png(result, paths["png"])
-    for (doc, header), path in zip(worst_valvetrain_docs(case, result), worst_files, strict=True):
-        write_new(path, dumps_case(doc, header), True)
-    if args.json:
-        print(json_text(valvetrain_json_doc(result, worst_files, elapsed)))
-        return 0
-    _print_valvetrain(case, result, elapsed, paths, worst_files)
-    return 0
 
 
 def valvetrain_json_doc(result: ValveToleranceResult, worst_files: list[Path], elapsed: float) -> dict:

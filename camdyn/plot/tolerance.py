@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
@@ -62,13 +63,18 @@ def plot_tolerance_tornado(ax: Axes, result: ToleranceResult) -> None:
     ax.set_title("sensitivities at the nominal design (JAX gradients) and Monte Carlo variance shares", fontsize=9)
 
 
-def save_tolerance_png(result: ToleranceResult, path: str | Path) -> None:
-    """The histogram and the tornado chart side by side, as a PNG."""
+def _save_side_by_side(left: Callable, right: Callable, result: object, path: str | Path) -> None:
+    """Two plots of ``result`` side by side, as a PNG."""
     fig = Figure(figsize=(12, 4.8), layout="constrained")
     a, b = fig.subplots(1, 2)
-    plot_jump_speed_histogram(a, result)
-    plot_tolerance_tornado(b, result)
+    left(a, result)
+    right(b, result)
     fig.savefig(path, dpi=110)
+
+
+def save_tolerance_png(result: ToleranceResult, path: str | Path) -> None:
+    """The histogram and the tornado chart side by side, as a PNG."""
+    _save_side_by_side(plot_jump_speed_histogram, plot_tolerance_tornado, result, path)
 
 
 def plot_valve_speed_histogram(ax: Axes, result: ValveToleranceResult) -> None:
@@ -107,8 +113,4 @@ def plot_seating_velocity_histogram(ax: Axes, result: ValveToleranceResult) -> N
 
 def save_valve_tolerance_png(result: ValveToleranceResult, path: str | Path) -> None:
     """A valvetrain's float and bounce speeds and its seating velocity side by side, as a PNG."""
-    fig = Figure(figsize=(12, 4.8), layout="constrained")
-    a, b = fig.subplots(1, 2)
-    plot_valve_speed_histogram(a, result)
-    plot_seating_velocity_histogram(b, result)
-    fig.savefig(path, dpi=110)
+    _save_side_by_side(plot_valve_speed_histogram, plot_seating_velocity_histogram, result, path)
