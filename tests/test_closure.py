@@ -60,7 +60,6 @@ def test_groove_needs_no_spring():
     ("table", "keys", "where", "match"),
     [
         ("follower", {"closure": "spring"}, "follower.backlash", "not used"),
-        ("follower", {"closure": "conjugate"}, "follower.closure", "not built yet"),
         ("follower", {"type": "translating-flat", "roller_radius": None}, "follower.closure", "holds a roller"),
         ("follower", {"backlash": -1}, "follower.backlash", "greater than or equal"),
         ("limits", {"max_impact_velocity": 0}, "limits.max_impact_velocity", "greater than"),

@@ -32,7 +32,7 @@ def print_machine(result: MachineResult) -> None:
             cam.name,
             f"{cam.phase_deg:g} deg",
             f"{cam.check.dynamic.min_contact_force_N:.4g} N",
-            "n/a: groove"
+            f"n/a: {cam.check.closure.response.type}"
             if cam.check.closure is not None
             else "unbounded"
             if cam.speed_margin is None

@@ -21,7 +21,7 @@ from ..design.table import table_angles
 from ..export import FORMATS, write_profile
 from ..export.profile import MAX_TOLERANCE_MM, MIN_TOLERANCE_MM
 from ..model.case import build_case
-from ..model.geometry import WALLS, analyze, groove
+from ..model.geometry import WALLS, analyze, conjugate, groove
 from . import _version
 
 _DENSE_CURVATURE = 20_000  # angles on which a tool's fit in every concave stretch is judged (0.018 deg)
@@ -102,8 +102,8 @@ def run(args: argparse.Namespace) -> int:
     if case.follower.form_closed and (suffix not in (".dxf", ".csv", ".svg") or grind):
         raise InputError(
             "follower.closure",
-            "a groove cam's walls are written as an outline (.dxf, .csv or .svg); its cutter path, grinder table "
-            "and solid are not built yet",
+            "a form-closed cam's outlines (groove walls, conjugate cams) are written as an outline (.dxf, .csv or "
+            ".svg); its cutter path, grinder table and solid are not built yet",
         )
     geo = analyze(case.motion, case.follower)
     lim = case.limits
@@ -118,7 +118,11 @@ def run(args: argparse.Namespace) -> int:
         line = _solid(args, geo, out)
     else:
         curves = geo.contour_fn()
-        if case.follower.form_closed:  # a groove cam: both walls, the inner one where a spring cam's contour is
+        if case.follower.closure == "conjugate":  # both cams, the primary the spring cam's contour
+            second = conjugate(case.motion, case.follower)
+            curves = {"CAM_PRIMARY": curves, "CAM_CONJUGATE": second.contour_fn()}
+            warnings += ["the conjugate cam's contour folds (undercut)"] if second.undercut else []
+        elif case.follower.form_closed:  # a groove cam: both walls, the inner one where a spring cam's contour is
             walls = groove(case.motion, case.follower)
             curves = {f"GROOVE_{w.upper()}": walls.wall_fn(w) for w in WALLS}
             warnings += [

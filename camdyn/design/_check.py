@@ -21,6 +21,8 @@ class CheckKind(str, Enum):  # noqa: UP042 (StrEnum would change str() and forma
     SEATING_VELOCITY = "seating_velocity"  # [valvetrain]: the valve's speed landing on its seat, m/s
     VALVE_BOUNCE = "valve_bounce"  # [valvetrain]: the valve's re-lift after it seats, mm
     CROSSOVER_IMPACT = "crossover_impact"  # a groove cam: the speed at which a flank meets the follower, m/s
+    CONJUGATE_PRESSURE_ANGLE = "conjugate_pressure_angle"  # conjugate cams: the second cam's, deg
+    CONJUGATE_CURVATURE = "conjugate_curvature"  # conjugate cams: the second cam's least convex radius / its roller
     # the return spring as a part (camdyn spring)
     SPRING_INDEX_MIN = "spring_index_min"
     SPRING_INDEX_MAX = "spring_index_max"
@@ -64,6 +66,8 @@ _WORDS = {
     CheckKind.SEATING_VELOCITY: ("valve speed landing on its seat", "m/s", "<="),
     CheckKind.VALVE_BOUNCE: ("valve re-lift after seating", "mm", "<="),
     CheckKind.CROSSOVER_IMPACT: ("largest impact speed across the backlash", "m/s", "<="),
+    CheckKind.CONJUGATE_PRESSURE_ANGLE: ("largest pressure angle of the conjugate cam", "deg", "<="),
+    CheckKind.CONJUGATE_CURVATURE: ("conjugate cam's least contour radius / its roller radius", "ratio", ">="),
     CheckKind.SPRING_INDEX_MIN: ("spring index D/d, at least", "", ">="),
     CheckKind.SPRING_INDEX_MAX: ("spring index D/d, at most", "", "<="),
     CheckKind.SPRING_LIFT_SAFETY: ("shear yield strength / stress at full lift", "x", ">="),

@@ -16,7 +16,7 @@ from ..model.drive import DriveTorque
 from ..model.geometry import CamGeometry, analyze, lever_arm_mm, newton_per_torque_at
 from ..model.surge import SpringInDynamics
 from ._check import Check, CheckKind, find
-from .closure import NOT_APPLICABLE, ClosureStudy, closure_study
+from .closure import ClosureStudy, closure_study
 from .geometry import judge_geometry
 from .parts import case_contact, case_drive, contact_check, resolve_spring
 from .userdata import least_force_uncertainty, least_force_warning, unit_slip_warnings
@@ -410,7 +410,9 @@ def _closure_check(case: Case, rpm: float) -> CheckReport:
     assert case.follower is not None and case.spring is not None  # run_check: a groove cam, its spring resolved
     study = closure_study(case, rpm)
     resp = forces_in_newton(case, study.as_response(case))
-    warnings = list(case.warnings) + [NOT_APPLICABLE]
+    drive = case_drive(case, resp)
+    resp = study.on_its_cam(case, resp)
+    warnings = list(case.warnings) + [study.not_applicable]
     kin = resp.kinematic_force
     i = int(kin.argmin())
     kinematic = Kinematics(float(kin[i]), float(resp.theta_deg[i]), None, None)
@@ -434,23 +436,21 @@ def _closure_check(case: Case, rpm: float) -> CheckReport:
         geo, case.motion, max_pressure_angle=lim.max_pressure_angle, min_curvature_ratio=lim.min_curvature_ratio
     )
     checks = (study.check(lim.max_impact_velocity), *geo_checks)
+    checks += study.geometry_checks(geo_checks[0].limit, lim.min_curvature_ratio)
     warnings += geo_warnings
-    warnings += [
-        f"the groove's {w} wall folds (undercut)"
-        for w in ("inner", "outer")
-        if getattr(study.walls, f"{w}_wall").undercut
-    ]
+    warnings += study.fold_warnings
     contact = None
     if case.spec.contact_width_mm is not None:
         if study.walls.undercut:  # a folded wall: no radius of curvature to press on
-            warnings.append("contact stress not computed: a groove wall is undercut")
+            what = "a groove wall" if study.loads is None else "the conjugate cam"
+            warnings.append(f"contact stress not computed: {what} is undercut")
         else:
-            contact = case_contact(case, geo, resp, study.walls)
+            loads = None if study.loads is None else (study.loads.primary_N, study.loads.conjugate_N)
+            contact = case_contact(case, geo, resp, study.walls, cam_forces_N=loads)
             if contact is not None and lim.max_contact_stress is not None:
                 checks += (contact_check(contact, lim.max_contact_stress),)
     if study.response.crossovers:
         warnings.append(_crossovers_note(study, case.follower.backlash))
-    drive = case_drive(case, resp)
     return CheckReport(
         case, rpm, checks, kinematic, dynamic, resp, tuple(warnings), tuple(advice), geo, drive, contact, closure=study
     )
@@ -459,12 +459,13 @@ def _closure_check(case: Case, rpm: float) -> CheckReport:
 def _crossovers_note(study: ClosureStudy, backlash_mm: float) -> str:
     """Where the contact force changes flank, and with backlash where and how fast the other flank meets it."""
     xs = study.response.crossovers
+    flank = "flank" if study.loads is None else "cam"
     where = ", ".join(f"{c.deg:.1f}" for c in xs[:6]) + (", ..." if len(xs) > 6 else "")
-    note = f"the contact force changes flank {len(xs)} times a revolution (at {where} deg)"
+    note = f"the contact force changes {flank} {len(xs)} times a revolution (at {where} deg)"
     if backlash_mm > 0.0:
         top = max(xs, key=lambda c: c.impact_velocity_m_per_s)
         note += (
-            f"; across the {backlash_mm:g} mm backlash the {top.to_flank} flank meets the follower hardest at "
+            f"; across the {backlash_mm:g} mm backlash the {top.to_flank} {flank} meets the follower hardest at "
             f"{top.land_deg:.1f} deg, {top.impact_velocity_m_per_s:.3g} m/s"
         )
     return note

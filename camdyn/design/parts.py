@@ -9,11 +9,11 @@ import numpy as np
 
 from .._core.errors import InputError
 from ..model.case import Case
-from ..model.contact import ContactStress, cam_contact, groove_contact
+from ..model.contact import ContactStress, cam_contact, conjugate_contact, groove_contact
 from ..model.drive import DriveTorque, drive_torque, follower_velocity
 from ..model.dynamics import Response
 from ..model.follower import FollowerModel
-from ..model.geometry import CamGeometry, GrooveGeometry, contact_per_force
+from ..model.geometry import CamGeometry, ConjugateGeometry, GrooveGeometry, contact_per_force
 from ..model.surge import SpringInDynamics
 from ._check import Check, CheckKind
 from .spring import design_case_spring
@@ -31,17 +31,25 @@ def case_drive(case: Case, resp: Response) -> DriveTorque:
 
 
 def case_contact(
-    case: Case, geometry: CamGeometry, resp: Response, walls: GrooveGeometry | None = None
+    case: Case,
+    geometry: CamGeometry,
+    resp: Response,
+    walls: GrooveGeometry | ConjugateGeometry | None = None,
+    cam_forces_N: tuple[np.ndarray, np.ndarray] | None = None,
 ) -> ContactStress | None:
     """The Hertz contact stress of ``camdyn check``'s response on the case's cam, with its ``[materials]``;
     None where the case gives no contact width (``[follower] width`` or ``[mechanism] width``). A groove cam's
-    (``walls``): on the wall its signed force presses."""
+    (``walls``): on the wall its signed force presses; conjugate cams' (``walls`` the conjugate cam): each cam with
+    its own force, ``cam_forces_N`` (primary, conjugate)."""
     width = case.spec.contact_width_mm
     if width is None:
         return None
     m = case.spec.materials
     cam = (m.cam.elastic_modulus, m.cam.poisson_ratio)
     follower = (m.follower.elastic_modulus, m.follower.poisson_ratio)
+    if isinstance(walls, ConjugateGeometry):
+        assert cam_forces_N is not None  # the caller gives each cam's force
+        return conjugate_contact(geometry, walls, *cam_forces_N, width_mm=width, cam=cam, follower=follower)
     if walls is not None:
         return groove_contact(geometry, walls, resp.force, width_mm=width, cam=cam, follower=follower)
     return cam_contact(geometry, resp.force, width_mm=width, cam=cam, follower=follower)

@@ -44,8 +44,10 @@ def motion_table(case: Case, step_deg: float = 1.0, speed_rpm: float | None = No
     theta = jnp.deg2rad(theta_deg)
     vals = np.asarray(evaluate(case.motion, theta))
     force = np.asarray(dyn.kinematic_force(case.motion, case.model, rpm * RPM, theta))
+    study = None
     if case.follower is not None and case.follower.form_closed:  # signed: positive on the inner flank, 0 in flight
-        resp = forces_in_newton(case, closure_study(case, rpm).as_response(case))
+        study = closure_study(case, rpm)
+        resp = study.on_its_cam(case, forces_in_newton(case, study.as_response(case)))
     else:
         resp = forces_in_newton(case, dyn.response(case.motion, case.model, rpm * RPM))
     at = lambda y: np.interp(theta_deg, resp.theta_deg, y, period=360.0)  # noqa: E731
@@ -55,7 +57,7 @@ def motion_table(case: Case, step_deg: float = 1.0, speed_rpm: float | None = No
     per_force = contact_per_force(case.motion, case.follower, np.asarray(theta))  # an arm's torque -> N
     force = force * per_force
     torque = camshaft_torque(force / per_force, vals[1] * case.model.scale)
-    cols["contact_force_N"] = force
+    cols["contact_force_N"] = force if study is None else study.force_on_its_cam(case, theta_deg, force)
     if case.follower is not None:
         cols |= analyze(case.motion, case.follower).table(theta_deg)
     cols[kind.dynamic_column] = kind.motion_to_lift(at(resp.x))

@@ -29,7 +29,7 @@ from jax.typing import ArrayLike
 from .._core.errors import InputError, NumericalError
 from .._core.materials import GPA, MPA
 from .._core.units import CUSP_MM, M_PER_MM
-from .geometry import CamGeometry, GrooveGeometry
+from .geometry import CamGeometry, ConjugateGeometry, GrooveGeometry
 
 
 def effective_modulus(e1: float, nu1: float, e2: float, nu2: float) -> float:
@@ -176,6 +176,44 @@ def groove_contact(
     if folded or np.any(k_mm <= 0.0):
         raise _undercut(geometry.theta_deg, k_mm <= 0.0)
     return _strip(geometry.theta_deg, np.abs(normal_force(geometry, force)), k_mm, width_mm, cam, follower)
+
+
+def conjugate_contact(
+    geometry: CamGeometry,
+    second: ConjugateGeometry,
+    primary_N: ArrayLike,
+    conjugate_N: ArrayLike,
+    *,
+    width_mm: float,
+    cam: tuple[float, float],
+    follower: tuple[float, float],
+) -> ContactStress:
+    """:func:`cam_contact` of conjugate cams: each roller on its own cam with its own force (N, as ``camdyn check``
+    reports them: axial for a yoke, at the contact for a rocker; both loaded under a preload), and at each angle
+    the more stressed contact. The conjugate contact: K = 1/Rr2 + 1/rho (rho its contour's signed radius), the
+    force over cos of its pressure angle on a yoke. ``geometry`` and ``second`` on one grid."""
+    primary = cam_contact(
+        geometry, np.abs(_forces(geometry, primary_N, width_mm)), width_mm=width_mm, cam=cam, follower=follower
+    )
+    f2 = np.abs(_forces(geometry, conjugate_N, width_mm))
+    if not geometry.follower.kind.rotary:
+        f2 = f2 / np.cos(np.deg2rad(second.pressure_angle_deg))
+    with np.errstate(divide="ignore"):
+        k_mm = 1.0 / second.roller_radius_mm + 1.0 / second.rho_contour_mm
+    if second.undercut or np.any(k_mm <= 0.0):
+        raise _undercut(geometry.theta_deg, k_mm <= 0.0)
+    other = _strip(geometry.theta_deg, f2, k_mm, width_mm, cam, follower)
+    on_second = other.pressure_MPa > primary.pressure_MPa
+    pick = lambda a, b: np.where(on_second, b, a)  # noqa: E731
+    return ContactStress(
+        geometry.theta_deg,
+        pick(primary.normal_force_N, other.normal_force_N),
+        pick(primary.equivalent_radius_mm, other.equivalent_radius_mm),
+        pick(primary.half_width_mm, other.half_width_mm),
+        pick(primary.pressure_MPa, other.pressure_MPa),
+        primary.width_mm,
+        primary.e_star_GPa,
+    )
 
 
 def _forces(geometry: CamGeometry, force, width_mm: float) -> np.ndarray:

@@ -18,6 +18,11 @@ _NEEDS = {
     "oscillating-roller": ("roller_radius", "pivot_distance", "arm_length"),
     "oscillating-flat": ("pivot_distance",),
 }
+# the second roller's keys (closure = conjugate), by translating
+_CONJUGATE = {
+    True: {"conjugate_spacing", "conjugate_offset", "conjugate_roller_radius", "conjugate_preload"},
+    False: {"conjugate_arm_angle", "conjugate_arm_length", "conjugate_roller_radius", "conjugate_preload_torque"},
+}
 _TAKES = {
     "translating-roller": {"offset"},
     "translating-flat": {"offset", "face_width"},
@@ -76,7 +81,10 @@ class FollowerSpec(Table):
         description=(
             "what holds the follower on the cam: spring (a return spring, the follower may jump) | groove (a roller "
             "in a slot: form-closed, no spring needed; the contact force is signed, positive on the inner flank) | "
-            "conjugate (two cams and two rollers: not built yet, refused)"
+            "conjugate (two cams on the shaft, two rollers on one follower: a yoke for a translating follower, a "
+            "two-arm rocker for an oscillating one; the primary cam is drawn from [motion] as a spring cam's, the "
+            "conjugate cam is derived so that the second roller stays on it; the contact force is signed, positive "
+            "on the primary cam)"
         ),
     )
     backlash: Real = Field(
@@ -86,7 +94,68 @@ class FollowerSpec(Table):
         description=(
             "closure = groove: the slot width less the roller diameter, mm; the groove walls lie roller_radius + "
             "backlash/2 either side of the pitch curve, and the follower flies across the backlash where the "
-            "contact force changes flank"
+            "contact force changes flank. closure = conjugate (with no preload): the clearance between the second "
+            "roller and the conjugate cam, along its normal, while the first roller sits on the primary cam, mm"
+        ),
+    )
+    conjugate_spacing: Real | None = Field(
+        default=None,
+        gt=0,
+        le=MAX_LENGTH_MM,
+        description=(
+            "closure = conjugate, translating (required): the yoke's span, mm: the second roller's centre lies this "
+            "far from the first's along the follower's axis, towards the cam centre and past it (the two rollers "
+            "sit either side of the camshaft)"
+        ),
+    )
+    conjugate_offset: Real = Field(
+        default=0.0,
+        ge=-MAX_LENGTH_MM,
+        le=MAX_LENGTH_MM,
+        description=(
+            "closure = conjugate, translating: the second roller's centre across the follower's axis from the "
+            "first's, mm, positive as offset"
+        ),
+    )
+    conjugate_arm_angle: Real | None = Field(
+        default=None,
+        ge=-360.0,
+        le=360.0,
+        description=(
+            "closure = conjugate, oscillating (required): the angle at the pivot from the first arm (pivot to first "
+            "roller) to the second, deg, counter-clockwise positive as drawn with the cam's frame (the two arms are "
+            "one rigid rocker)"
+        ),
+    )
+    conjugate_arm_length: Real | None = Field(
+        default=None,
+        gt=0,
+        le=MAX_LENGTH_MM,
+        description="closure = conjugate, oscillating: pivot to the second roller's centre, mm (default arm_length)",
+    )
+    conjugate_roller_radius: Real | None = Field(
+        default=None,
+        gt=0,
+        le=MAX_LENGTH_MM,
+        description="closure = conjugate: the second roller's radius, mm (default roller_radius)",
+    )
+    conjugate_preload: Real = Field(
+        default=0.0,
+        ge=0,
+        le=1e9,
+        description=(
+            "closure = conjugate, translating: the force with which the yoke, assembled with interference, presses "
+            "each roller on its cam at rest, N; the follower's force is shared between the cams (each carries the "
+            "preload plus or minus half the force, equally stiff contacts) until one unloads"
+        ),
+    )
+    conjugate_preload_torque: Real = Field(
+        default=0.0,
+        ge=0,
+        le=1e9,
+        description=(
+            "closure = conjugate, oscillating: the torque about the pivot with which each arm's roller is pressed "
+            "on its cam at rest, N*m (shared as conjugate_preload)"
         ),
     )
     width: Real | None = Field(
@@ -116,14 +185,23 @@ class FollowerSpec(Table):
             | _TAKES[self.type]
             | {"type", "base_radius", "contour", "rotation", "width", "closure"}
         )
-        if self.closure == "conjugate":
-            raise ValueError('closure: "conjugate" cams are not built yet: use "groove" (a roller in a slot)')
-        if self.closure == "groove":
+        if self.form_closed:
+            holds, drawn = {
+                "groove": ("a groove holds", "a groove cam is"),
+                "conjugate": ("conjugate cams hold", "conjugate cams are"),
+            }[self.closure]
             if not self.roller:
-                raise ValueError(f"closure: a groove holds a roller, not {a} {self.type} follower")
+                raise ValueError(f"closure: {holds} a roller, not {a} {self.type} follower")
             if self.contour is not None:
-                raise ValueError("closure: a groove cam is drawn from [motion], not from a contour")
+                raise ValueError(f"closure: {drawn} drawn from [motion], not from a contour")
             takes = takes | {"backlash"}
+        if self.closure == "conjugate":
+            takes = takes | _CONJUGATE[self.translating]
+            need = "conjugate_spacing" if self.translating else "conjugate_arm_angle"
+            if getattr(self, need) is None:
+                raise ValueError(f"{need}: required for conjugate cams on {a} {self.type} follower")
+            if self.backlash > 0.0 and self.pair_preload > 0.0:
+                raise ValueError("backlash: a preloaded conjugate pair has no backlash (give one or the other)")
         for key in sorted(self.model_fields_set - takes):
             raise ValueError(f"{key}: not used by {a} {self.type} follower (its keys: {', '.join(sorted(takes))})")
         return self
@@ -132,6 +210,11 @@ class FollowerSpec(Table):
     def form_closed(self) -> bool:
         """Whether a groove (or conjugate cams) holds the follower both ways: it cannot jump."""
         return self.closure != "spring"
+
+    @property
+    def pair_preload(self) -> float:
+        """closure = conjugate: the preload between the rollers in the motion's force unit (N, or N*m)."""
+        return self.conjugate_preload if self.translating else self.conjugate_preload_torque
 
     @property
     def follower_type(self) -> FollowerType:

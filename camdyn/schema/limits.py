@@ -69,8 +69,9 @@ class LimitsSpec(Table):
         gt=0,
         le=100,
         description=(
-            "form-closed cams ([follower] closure = groove): the largest relative speed at which the follower, "
-            "crossing its backlash, may meet the other flank, m/s (at the roller centre for an oscillating arm); "
+            "form-closed cams ([follower] closure = groove or conjugate): the largest relative speed at which the "
+            "follower, crossing its backlash, may meet the other flank (or cam), m/s (at the roller centre for an "
+            "oscillating arm); "
             f"default {DEFAULT_MAX_IMPACT_VELOCITY_M_PER_S:g}"
         ),
     )

@@ -18,7 +18,7 @@ force on the cam and the follower's rest on it are written once (:mod:`._train`)
 surge chain (:mod:`camdyn.model.surge`) and the design studies.
 """
 
-from ._closure import ClosureResponse, Crossover, closure_response
+from ._closure import ClosureResponse, Crossover, closure_response, preload_shares
 from ._compliant import compliant_response, min_contact_force, periodic_orbit, vector_field
 from ._harmonic import linear_contact_force, linear_min_force, steady_force_at, steady_state
 from ._kinematic import kinematic_force, kinematic_force_jit, kinematic_force_of, kinematic_jump_speed
@@ -36,6 +36,7 @@ __all__ = [
     "Response",
     "Separation",
     "closure_response",
+    "preload_shares",
     "compliant_response",
     "contact_force",
     "dynamic_jump_speed",

@@ -15,6 +15,12 @@ relative speed ``v``; a follower train of stiffness k_f turns it into the impact
 The crossovers are the zeros of the force with the roller on the pitch curve: a spring's share of the b/2 it
 actually sits off it (k b / 2) moves them by that over the force's slope. The landing is plastic; the follower's
 own motion across the gap (at most b / lever) is not carried into the response's displacement.
+
+Conjugate cams (two cams, two rollers on one follower) are the same with the primary cam for the inner flank and the
+conjugate cam for the outer (the flanks named "primary" and "conjugate"); their backlash is the clearance at the
+conjugate cam, so the gap along the follower's coordinate is b over the conjugate cam's own lever
+(:func:`camdyn.model.geometry.conjugate_lever_mm`), and an arm's impact torque becomes a force through the lever of
+the cam it lands on. A preload between the rollers is shared between the cams (:func:`preload_shares`).
 """
 
 from __future__ import annotations
@@ -32,14 +38,15 @@ from ..._core.jit import filter_jit
 from ..._core.units import THETA_GRID, TWO_PI, newton_per_torque
 from ...schema import FollowerSpec
 from ..follower import FollowerModel
-from ..geometry import evaluate_geometry
+from ..geometry import conjugate_lever_mm, evaluate_geometry
 from ..motion import Motion, evaluate
 from ._compliant import vector_field
 from ._kinematic import kinematic_force_jit
 from ._rigid import _lift_off
 from ._solver import ATOL, MAX_STEPS, RTOL
 
-_FLANKS = {True: ("inner", "outer"), False: ("outer", "inner")}  # leaving the inner flank: from, to
+# the flank that pushes the follower up (a spring's) and the one that pulls it back, by closure
+_FLANK_NAMES = {"groove": ("inner", "outer"), "conjugate": ("primary", "conjugate")}
 _GAP_EPS = 1e-9  # motion units: a return onto the flank left is detected this far into it
 _ZERO_FORCE = 1e-9  # of the largest |Fi|: below it the force is zero (a dwell without spring), on neither flank
 
@@ -52,7 +59,7 @@ class Crossover:
     train)."""
 
     deg: float
-    from_flank: str  # "inner" | "outer"
+    from_flank: str  # "inner" | "outer" (a groove), "primary" | "conjugate" (conjugate cams)
     to_flank: str
     land_deg: float
     impact_velocity_m_per_s: float
@@ -146,10 +153,27 @@ def _cross(motion, model, omega, theta0, y0, side, gap):
     )
 
 
+def flank_lever(motion: Motion, follower: FollowerSpec, theta: float, inner: bool = True) -> float:
+    """The lever (mm per motion unit) of the flank at cam angle ``theta`` (rad): the inner (primary) one, or the
+    outer; a groove's walls share the pitch curve's normal, conjugate cams have each their own."""
+    if not inner and follower.closure == "conjugate":
+        return float(conjugate_lever_mm(motion, follower, np.array([theta]))[0])
+    return float(evaluate_geometry(motion, follower, np.array([theta]))["lever"][0])
+
+
+def _roller_arm_m(follower: FollowerSpec, inner: bool) -> float:
+    """m at the centre of the roller on the inner (primary) or the outer flank per unit of the follower's velocity:
+    1 for a translating follower, the arm's length for an oscillating one (a conjugate rocker's second arm)."""
+    if follower.translating:
+        return 1.0
+    second = not inner and follower.closure == "conjugate"
+    return 1e-3 * ((follower.conjugate_arm_length if second else None) or follower.arm_length or 0.0)
+
+
 def flight_gap(motion: Motion, follower: FollowerSpec, theta: float) -> float:
-    """The backlash along the follower's coordinate at cam angle ``theta`` (rad): b / lever, mm or rad."""
-    lever = float(evaluate_geometry(motion, follower, np.array([theta]))["lever"][0])
-    return follower.backlash / lever
+    """The backlash along the follower's coordinate at cam angle ``theta`` (rad): b / lever, mm or rad (the
+    conjugate cam's lever: the backlash is its clearance)."""
+    return follower.backlash / flank_lever(motion, follower, theta, inner=follower.closure != "conjugate")
 
 
 def cross_gap(motion: Motion, model: FollowerModel, omega: float, theta0: float, gap: float, side: float):
@@ -234,21 +258,21 @@ def closure_response(
     breaks = np.deg2rad(np.asarray(motion.breaks_deg, dtype=float))
     cands = _crossing_angles(fk, signs, h, breaks)
     deg = lambda t: math.degrees(t) % 360.0  # noqa: E731
+    names = _FLANK_NAMES[follower.closure]
     out = force.copy()
     if follower.backlash == 0.0 or not cands:
-        crossovers = [Crossover(deg(t), *_FLANKS[down], deg(t), 0.0, 0.0) for t, down in cands]
+        crossovers = [Crossover(deg(t), *names[:: 1 if down else -1], deg(t), 0.0, 0.0) for t, down in cands]
         return ClosureResponse(
             follower.closure, follower.backlash, float(omega), np.degrees(theta), out, tuple(crossovers)
         )
     cands += [(t + TWO_PI, down) for t, down in cands]  # a flight may carry past the revolution's end
-    to_m = 1.0 if follower.translating else 1e-3 * (follower.arm_length or 0.0)  # rad at the roller centre -> m
     kf, m = float(model.train_stiffness), float(model.mass)
     t_end = cands[0][0] + TWO_PI
     inner = cands[0][1]  # the flank the roller is on before the first crossover (leaving inner: it was on it)
     t_c = cands[0][0]
     crossovers = []
     for _ in range(max_flights):
-        left = "inner" if inner else "outer"
+        left = names[0] if inner else names[1]
         side = 1.0 if inner else -1.0  # towards the outer flank from the inner one
         t_land, v_rel, across = cross_gap(motion, model, omega, t_c, flight_gap(motion, follower, t_c), side)
         inner = inner != across
@@ -258,10 +282,12 @@ def closure_response(
         if not math.isinf(kf):
             peak = abs(f_land) + v_rel_si * math.sqrt(kf * m)  # N, or N*m at the arm
             if not follower.translating:  # the arm's torque as the force at the roller
-                peak *= float(newton_per_torque(evaluate_geometry(motion, follower, np.array([t_land]))["lever"][0]))
+                peak *= float(newton_per_torque(flank_lever(motion, follower, t_land, inner)))
             f_imp = float(peak)
-        landed = "inner" if inner else "outer"
-        crossovers.append(Crossover(deg(t_c), left, landed, deg(t_land), v_rel_si * to_m, f_imp))
+        landed = names[0] if inner else names[1]
+        crossovers.append(
+            Crossover(deg(t_c), left, landed, deg(t_land), v_rel_si * _roller_arm_m(follower, inner), f_imp)
+        )
         out[np.arange(math.ceil(t_c / h), math.floor(t_land / h) + 1) % n] = 0.0  # in flight: on neither flank
         if (f_land <= 0.0) == inner:  # the force pulls the roller off the flank it landed on: off again
             t_c = t_land
@@ -278,3 +304,12 @@ def closure_response(
         )
     crossovers.sort(key=lambda c: c.deg)
     return ClosureResponse(follower.closure, follower.backlash, float(omega), np.degrees(theta), out, tuple(crossovers))
+
+
+def preload_shares(force: np.ndarray, preload: float) -> tuple[np.ndarray, np.ndarray]:
+    """Each conjugate cam's share of the follower's signed force ``force`` (N, or N*m) with the rollers pressed on
+    their cams by ``preload`` (same unit) at rest: equally stiff contacts share a change of force half each, so the
+    primary cam carries P + F/2 and the conjugate P - F/2, until one unloads and the other carries it all
+    (F1 = max(F, P + F/2, 0), F2 = F1 - F; with no preload the force on the cam it presses)."""
+    primary = np.maximum(np.maximum(force, preload + 0.5 * force), 0.0)
+    return primary, primary - force

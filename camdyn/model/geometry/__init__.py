@@ -50,6 +50,7 @@ from ._analyze import (
     lever_arm_mm,
     newton_per_torque_at,
 )
+from ._conjugate import ConjugateGeometry, conjugate, conjugate_lever_mm, evaluate_conjugate
 from ._groove import WALLS, GrooveGeometry, Wall, groove
 from ._inverse import ContactMotion, ContourFit, contact_motion
 from ._kernel import check_assembly, check_dimensions, evaluate_geometry, geometry_of
@@ -58,6 +59,7 @@ from ._size import BASE_RADIUS_STEP_MM, curvature_limit, min_base_radius, passes
 __all__ = [
     "BASE_RADIUS_STEP_MM",
     "CamGeometry",
+    "ConjugateGeometry",
     "ContactMotion",
     "ContourFit",
     "GeometryExtremes",
@@ -67,8 +69,11 @@ __all__ = [
     "analyze",
     "check_assembly",
     "check_dimensions",
+    "conjugate",
+    "conjugate_lever_mm",
     "contact_motion",
     "curvature_limit",
+    "evaluate_conjugate",
     "evaluate_geometry",
     "extremes",
     "geometry_of",

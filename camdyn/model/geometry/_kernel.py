@@ -4,6 +4,7 @@ once per follower type; and the assembly conditions a follower must meet."""
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from typing import TYPE_CHECKING
 
 import jax
@@ -129,6 +130,41 @@ def _jet2(F):
     return F(0.0), d1(0.0), jax.jacfwd(d1)(0.0)
 
 
+def _taylor(sv):
+    """The follower coordinate about a cam angle as the cubic Taylor polynomial of the motion values sv."""
+    return lambda t: sv[0] + t * (sv[1] + t * (sv[2] / 2 + t * sv[3] / 6))
+
+
+def roller_point(
+    centre: Callable[[jax.Array], jax.Array],
+    sigma: ArrayLike,
+    rr: ArrayLike,
+    th0: ArrayLike,
+    sv: ArrayLike,
+    drive: float = 1.0,
+) -> dict[str, jax.Array]:
+    """A roller's contact at cam angle th0 (rad): ``centre`` maps the follower coordinate to the roller centre in
+    the fixed frame; ``drive`` +1 where the cam pushes the follower towards increasing coordinate, -1 where it
+    pushes it back (a conjugate cam: its pressure angle and lever taken along the direction it drives)."""
+    q_of = _taylor(sv)
+    cam = lambda t, v: _rot(-sigma * (th0 + t), v)  # noqa: E731
+    P, P1, P2 = _jet2(lambda t: cam(t, centre(q_of(t))))
+    speed = jnp.hypot(P1[0], P1[1])
+    N = sigma * _J(P1) / speed  # outward: the pitch curve runs cw for a ccw cam and vice versa
+    kappa = -sigma * _cross(P1, P2) / speed**3  # convex positive
+    v = drive * cam(0.0, jax.jacfwd(centre)(sv[0]))
+    return dict(
+        pitch=P,
+        contour=P - rr * N,
+        normal=N,
+        kappa_pitch=kappa,
+        rho_contour=(1.0 - rr * kappa) / kappa,
+        phi=sigma * jnp.arctan2(_cross(v, N), v @ N),
+        lever=v @ N,
+        face_t=jnp.nan,
+    )
+
+
 def _point(ftype: FollowerType, p, th0, sv):
     """Everything camdyn judges at one cam angle th0 (rad), given the motion values sv = (s, s', s'', s''').
 
@@ -136,26 +172,11 @@ def _point(ftype: FollowerType, p, th0, sv):
     the geometry in t gives exact tangents and curvatures from the motion's closed-form derivatives.
     """
     sigma = p[6]
-    q_of = lambda t: sv[0] + t * (sv[1] + t * (sv[2] / 2 + t * sv[3] / 6))  # noqa: E731
     cam = lambda t, v: _rot(-sigma * (th0 + t), v)  # noqa: E731
     nan = jnp.nan
     if ftype.roller:
-        P, P1, P2 = _jet2(lambda t: cam(t, _roller_centre(ftype, p, q_of(t))))
-        speed = jnp.hypot(P1[0], P1[1])
-        N = sigma * _J(P1) / speed  # outward: the pitch curve runs cw for a ccw cam and vice versa
-        kappa = -sigma * _cross(P1, P2) / speed**3  # convex positive
-        v = cam(0.0, jax.jacfwd(lambda q: _roller_centre(ftype, p, q))(sv[0]))
-        rr = p[1]
-        return dict(
-            pitch=P,
-            contour=P - rr * N,
-            normal=N,
-            kappa_pitch=kappa,
-            rho_contour=(1.0 - rr * kappa) / kappa,
-            phi=sigma * jnp.arctan2(_cross(v, N), v @ N),
-            lever=v @ N,
-            face_t=nan,
-        )
+        return roller_point(lambda q: _roller_centre(ftype, p, q), sigma, p[1], th0, sv)
+    q_of = _taylor(sv)
 
     def face(
         t: ArrayLike,
@@ -206,16 +227,24 @@ def evaluate_geometry(
     motion: Motion, f: FollowerSpec, theta_rad: ArrayLike, base_radius: float | None = None
 ) -> dict[str, np.ndarray]:
     """Evaluate at any number of angles (rad) in fixed-size chunks, so nothing recompiles per query size."""
+    p = _params(f, base_radius)
+    return chunked(motion, theta_rad, lambda theta, sv: _geometry(p, theta, sv, f.follower_type))
+
+
+def chunked(
+    motion: Motion, theta_rad: ArrayLike, program: Callable[[np.ndarray, jax.Array], dict]
+) -> dict[str, np.ndarray]:
+    """``program(theta, sv)`` (a compiled geometry of :data:`_CHUNK` angles) over any number of angles (rad), in
+    fixed-size chunks, plus the motion ``s``."""
     theta_rad = np.asarray(theta_rad, dtype=float)
     flat = np.atleast_1d(theta_rad).ravel()
     n = flat.size
     padded = np.zeros(max(1, -(-n // _CHUNK)) * _CHUNK)
     padded[:n] = flat
-    p = _params(f, base_radius)
     parts = []
     for theta in padded.reshape(-1, _CHUNK):  # numpy between the programs: an eager jax op compiles one of its own
         sv = evaluate(motion, theta)
-        parts.append(_geometry(p, theta, sv, f.follower_type) | {"s": np.asarray(sv)[0]})
+        parts.append(program(theta, sv) | {"s": np.asarray(sv)[0]})
     out = {k: np.concatenate([np.asarray(part[k]) for part in parts])[:n] for k in parts[0]}
     return {k: v.reshape(theta_rad.shape + v.shape[1:]) for k, v in out.items()}
 
