@@ -152,6 +152,7 @@ def print_valve_size(vs: ValveSpringSizing) -> None:
     table.add_row("bounce speed (rpm)", *(speed(d.bounce_speed_rpm) for d in ds))
     table.add_row(f"seating velocity at {vs.speed_rpm:g} rpm (m/s)", *(f"{d.seating_velocity:.3g}" for d in ds))
     table.add_row(f"bounce height at {vs.speed_rpm:g} rpm (mm)", *(f"{d.bounce_height_mm:.3g}" for d in ds))
+    table.add_row(f"least train force at {vs.top_speed_rpm:.5g} rpm (N)", *(f"{d.least_train_force:.4g}" for d in ds))
     holds = (d.holds(vs.top_speed_rpm) for d in ds)
     table.add_row(
         f"holds up to {vs.top_speed_rpm:.5g} rpm",

@@ -8,7 +8,11 @@ r^2``; back at the valve ``k = k_eq / r^2`` and ``F0 = P_eq / r + k lash``: with
 compressed by ``r s - lash``, so its force at the follower is ``k r^2 s + r (F0 - k lash)``.
 
 **The two-mass model decides.** The train's compliance, the lash and the seat move the float speed off the
-equivalent's jump speed, and bounce is the two-mass model's alone. So the rate is kept and the preload is searched:
+equivalent's jump speed, and bounce is the two-mass model's alone. A light preload also lets the valve leave the
+train as the lash closes (tossed off the rocker on the opening ramp, the cam contact then unloaded on the
+constant-velocity ramp, a knife-edge the float search need not see): so the least preload that keeps the train's
+force on the valve above 0.1 % of the peak spring force over the event at the top speed is found first (bisected
+to 0.5 %), and bounds the search below. The rate is kept and the preload is searched:
 the float and bounce speeds (:func:`~camdyn.design.valvetrain.analyze_valvetrain`, the searches ``check`` runs)
 of the spring as written (4 significant digits, the preload rounded up) are driven to (1 + HEADROOM) x the top
 speed by secant steps on the least of the two speeds squared (the equivalent's jump speed squared is affine in the
@@ -20,6 +24,8 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, replace
+
+import numpy as np
 
 from ..._core.units import M_PER_MM, RPM
 from ...model import dynamics as dyn
@@ -34,6 +40,9 @@ from ._size import check_options
 
 _ROUNDS = 10
 _CLOSE = 0.01  # the search stops once the least speed is within 1 % above (1 + HEADROOM) x the top speed
+_ON_TRAIN = 1e-3  # of the peak spring force: the least train force over the valve event that keeps it on the train
+_TRAIN_WIDTH = 0.005  # relative width of the bisection for the least preload that keeps the valve on the train
+_TRAIN_ROUNDS = 30
 
 METHOD = (
     "closed form: the equivalent single follower (mass m_cam + m_valve r^2, rate k r^2, preload F0 r) sized by the "
@@ -61,6 +70,13 @@ class ValveSpringDesign:
     seating_velocity: float  # m/s at the case speed
     bounce_height_mm: float  # at the case speed
     least_event_force: float  # N: the cam contact over the valve event at the case speed
+    least_train_force: float  # N: the train on the valve over the valve event at the top speed (0: the valve left it)
+
+    @property
+    def on_train(self) -> bool:
+        """Whether the valve stays on the train over its event at the top speed (its force above
+        :data:`_ON_TRAIN` of the peak spring force: not a knife-edge)."""
+        return bool(self.least_train_force > _ON_TRAIN * self.peak_spring)
 
     @property
     def least_speed_rpm(self) -> float:
@@ -68,7 +84,7 @@ class ValveSpringDesign:
         return min(self.float_speed_rpm, self.bounce_speed_rpm, self.search_top_rpm)
 
     def holds(self, top_rpm: float) -> bool:
-        return bool(self.float_speed_rpm >= top_rpm and self.bounce_speed_rpm >= top_rpm)
+        return bool(self.float_speed_rpm >= top_rpm and self.bounce_speed_rpm >= top_rpm and self.on_train)
 
     def json(self, top_rpm: float) -> dict:
         return {
@@ -80,6 +96,7 @@ class ValveSpringDesign:
             "seating_velocity_m_per_s": _finite_or_none(self.seating_velocity),
             "bounce_height_mm": self.bounce_height_mm,
             "least_event_contact_force_N": _finite_or_none(self.least_event_force),
+            "least_train_force_N": _finite_or_none(self.least_train_force),
             "holds": self.holds(top_rpm),
         }
 
@@ -142,11 +159,20 @@ class ValveSpringSizing:
         }
 
 
+def _least_train_force(case: Case, omega: float) -> float:
+    """The train's least force on the valve over its event at ``omega`` (rad/s), N (0 where the valve leaves the
+    train: tossed off it as the lash closes, or running ahead of it); NaN where the valve never lifts."""
+    assert case.valvetrain is not None  # the caller's
+    resp = dyn.valvetrain_response(case.motion, case.valvetrain, omega)
+    return float(np.min(resp.train_force[resp.in_event])) if resp.in_event.any() else math.nan
+
+
 def _judge(case: Case, rate: float, preload: float, valve_lift_mm: float) -> tuple[Case, ValveSpringDesign]:
-    """The case with this valve spring and what the two-mass model does with it at the case speed, with the float
-    and bounce searches ``check`` runs."""
+    """The case with this valve spring and what the two-mass model does with it: at the case speed, the float and
+    bounce searches ``check`` runs, and whether the valve stays on the train at the top speed."""
     sized = with_valvetrain_keys(case, dynamics={"spring_rate": rate, "preload": preload})
     res: ValvetrainResult = analyze_valvetrain(sized, case.speed_rpm * RPM, case.limits.speed_margin)
+    top = case.limits.speed_margin * case.speed_rpm * RPM
     return sized, ValveSpringDesign(
         rate,
         preload,
@@ -157,7 +183,33 @@ def _judge(case: Case, rate: float, preload: float, valve_lift_mm: float) -> tup
         res.seating_velocity,
         res.response.bounce_height_mm,
         res.response.least_event_force,
+        _least_train_force(sized, top),
     )
+
+
+def _least_preload_on_train(case: Case, rate: float, start: float, valve_lift_mm: float) -> float:
+    """The least preload (N, to :data:`_TRAIN_WIDTH`) at or above ``start`` with which the valve stays on the train
+    over its event at the top speed (:attr:`ValveSpringDesign.on_train`): doubled from ``start`` until it holds,
+    then bisected (the train's least force grows with the preload)."""
+    top = case.limits.speed_margin * case.speed_rpm * RPM
+
+    def holds(f0: float) -> bool:
+        sized = with_valvetrain_keys(case, dynamics={"spring_rate": rate, "preload": f0})
+        return _least_train_force(sized, top) > _ON_TRAIN * (rate * valve_lift_mm + f0)
+
+    lo, hi = math.nan, start
+    for _ in range(_TRAIN_ROUNDS):
+        if holds(hi):
+            break
+        lo, hi = hi, 2.0 * hi + rate * valve_lift_mm
+    if math.isnan(lo):
+        return start
+    for _ in range(_TRAIN_ROUNDS):
+        if hi - lo <= _TRAIN_WIDTH * hi:
+            break
+        mid = 0.5 * (lo + hi)
+        lo, hi = (lo, mid) if holds(mid) else (mid, hi)
+    return hi
 
 
 def size_valve_spring(
@@ -211,18 +263,20 @@ def size_valve_spring(
     same_rate = rate == own_rate  # the case's own spring is then a point of the search: a secant seed
     if same_rate:
         judged.setdefault(current.preload, (current_case, current))
+    # the valve on the train at the top speed: below this preload it is tossed off as the lash closes
+    floor = max(written(_least_preload_on_train(case, rate, closed.preload, valve_lift_mm), up=True), seat_load)
     lo: ValveSpringDesign | None = None  # the highest preload that fails
-    hi = current if same_rate and current.least_speed_rpm >= need else None  # the least preload that holds
-    prev, d = (current if same_rate else None), closed
+    hi = current if same_rate and current.least_speed_rpm >= need and current.on_train else None  # least that holds
+    prev, d = (current if same_rate else None), (closed if floor <= closed.preload else judge(floor))
     for _ in range(_ROUNDS):
         w = d.least_speed_rpm
-        if w >= need:
+        if w >= need and d.on_train:
             hi = d if hi is None or d.preload < hi.preload else hi
             if w <= target * (1.0 + _CLOSE):
                 break
         else:
             lo = d if lo is None or d.preload > lo.preload else lo
-        f0 = written(_next_preload(d, prev, lo, hi, target, seat_load), up=True)
+        f0 = written(_next_preload(d, prev, lo, hi, target, floor), up=True)
         if f0 in judged:  # the written digits cannot get closer
             if hi is not None:
                 break
@@ -233,7 +287,8 @@ def size_valve_spring(
     if hi is None:
         hi = d
         warnings.append(
-            f"no preload found in {_ROUNDS} rounds whose float and bounce speeds reach {need:.5g} rpm (last: "
+            f"no preload found in {_ROUNDS} rounds whose float and bounce speeds reach {need:.5g} rpm with the valve "
+            f"on the train (last: "
             f"{d.preload:g} N, {d.least_speed_rpm:.5g} rpm): the proposal does not hold"
         )
     sized, chosen = judged[hi.preload]
