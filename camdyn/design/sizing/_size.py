@@ -124,7 +124,11 @@ def size_spring(
     :class:`InputError` on bad input."""
     check_options(max_speed_rpm, margin, min_rate)
     if case.valvetrain is not None:  # the equivalent single follower has no lash, seat or float
-        raise InputError("valvetrain", "size_spring sizes one follower: size_valve_spring sizes a valve spring")
+        raise InputError(
+            "valvetrain",
+            "the single follower's sizing does not apply: camdyn size sizes the valve spring with the two-mass "
+            "model (size_valve_spring)",
+        )
     case = resolve_spring(case)
     part = check = None
     if buildable:
