@@ -526,3 +526,17 @@ def test_valvetrain_tolerance_keys_are_checked(valvetrain, key, words):
     with pytest.raises(InputError) as err:
         case_from_dict(raw)
     assert err.value.where == f"tolerances.{key}" and words in str(err.value)
+
+
+def test_single_follower_sizing_and_tolerance_name_the_valvetrain_studies():
+    """From Python the single follower's studies refuse a valvetrain in one line naming the two-mass ones."""
+    from camdyn.design.sizing import size_spring
+    from camdyn.design.tolerance import tolerance_study
+
+    case = case_from_dict(copy.deepcopy(SHIPPED))
+    with pytest.raises(InputError) as err:
+        size_spring(case)
+    assert err.value.where == "valvetrain" and "size_valve_spring" in str(err.value)
+    with pytest.raises(InputError) as err:
+        tolerance_study(case, 10)
+    assert err.value.where == "valvetrain" and "valvetrain_tolerance_study" in str(err.value)

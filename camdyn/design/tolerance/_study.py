@@ -81,7 +81,11 @@ def tolerance_study(
     if not 1 <= samples <= MAX_SAMPLES:
         raise InputError("--samples", f"must be from 1 to {MAX_SAMPLES}, got {samples}")
     if case.valvetrain is not None:  # the equivalent single follower has no lash, seat or float
-        raise InputError("valvetrain", "tolerance_study knows one follower: valvetrain_tolerance_study a valvetrain")
+        raise InputError(
+            "valvetrain",
+            "the single follower's tolerance study does not apply: camdyn tolerance studies a valvetrain with the "
+            "two-mass model (valvetrain_tolerance_study)",
+        )
     devices = tuple(jax.devices() if devices is None else devices)
     case = resolve_spring(case)  # [spring] model: the spring's own mass (its lumped third) in the nominal mass
     kind, base = case.kind, case.model
