@@ -161,7 +161,26 @@ def test_flight_across_the_backlash_lands_where_the_closed_form_says():
     v = (s0[1] - s(tc + d)[1]) * w * 1e-3
     assert np.deg2rad(c.land_deg) - tc == pytest.approx(d, rel=1e-6)
     assert c.impact_velocity_m_per_s == pytest.approx(v, rel=1e-6)
-    assert c.impact_force_N == pytest.approx(abs(w**2 * s(tc + d)[2] * 1e-3) + v * np.sqrt(5e6 * 1.0), rel=1e-6)
+    # the impact through the train: scipy's DOP853 at tight tolerance from the closed-form landing, the roller
+    # pressed on the outer flank (at s + G/2) by k_f (x - s - G/2) + c_f w (x' - s'), the peak over a contact period
+    kf, cf = float(case.model.train_stiffness), float(case.model.train_damping)
+    t1 = tc + d
+    x1 = s0[0] - gap / 2 + s0[1] * d  # mm: the roller at constant velocity since it left the inner flank
+
+    def flank(t, y):
+        sv = s(t)
+        f = max(0.0, kf * (y[0] - sv[0] - gap / 2) * 1e-3 + cf * w * (y[1] - sv[1]) * 1e-3)
+        return [y[1], -f / (1.0 * w**2 * 1e-3)]
+
+    span = w * 2 * np.pi / np.sqrt(kf / 1.0)
+    ts = np.linspace(t1, t1 + span, 20001)
+    sol = solve_ivp(flank, (t1, t1 + span), [x1, s0[1]], "DOP853", t_eval=ts, rtol=1e-12, atol=1e-14)
+    sv = np.asarray(case.motion.host(ts))
+    peak = np.max(kf * (sol.y[0] - sv[0] - gap / 2) * 1e-3 + cf * w * (sol.y[1] - sv[1]) * 1e-3)
+    assert c.impact_force_N == pytest.approx(peak, rel=1e-5)
+    # under the half-sine on the flank's steady force (the closed form of a stiff undamped train), and near it
+    half_sine = abs(w**2 * s(t1)[2] * 1e-3) + v * np.sqrt(kf * 1.0)
+    assert 0.9 * half_sine < c.impact_force_N < half_sine
     assert r.max_impact_velocity_m_per_s == max(x.impact_velocity_m_per_s for x in r.crossovers)
     k0 = int(np.ceil(np.rad2deg(tc) * 10 + 1e-9))
     assert r.contact_force[k0] == 0.0  # in flight: on neither flank
@@ -272,21 +291,20 @@ def test_table_contact_force_is_signed(tmp_path, capsys):
 @pytest.mark.parametrize(
     "argv",
     [
-        ["size"],
         ["spring"],
-        ["sweep", "--speeds", "100:200:3"],
-        ["tolerance"],
-        ["report", "-o", "r"],
-        ["check", "--report", "r"],
+        ["optimize", "-o", "r"],
+        ["size", "--buildable"],
     ],
 )
 def test_spring_held_studies_refuse_a_groove_cam(tmp_path, capsys, argv):
-    """They study a spring-held follower that may jump: one line naming follower.closure, exit 2, nothing written."""
+    """They design a return spring or a motion for a follower that may jump: one line naming follower.closure (or the
+    spring's flag), exit 2, nothing written."""
     case_file = tmp_path / "groove.toml"
     case_file.write_text(GROOVE_TOML)
     argv = [a if a != "r" else tmp_path / "r" for a in argv]
     code, out, err = run(capsys, argv[0], case_file, *argv[1:])
-    assert code == 2 and "follower.closure" in err and "form-closed" in err and len(err.strip().splitlines()) == 1
+    assert code == 2 and len(err.strip().splitlines()) == 1 and "no return spring" in err
+    assert "follower.closure" in err or "--buildable" in err
     assert not (tmp_path / "r").exists()
 
 
@@ -294,7 +312,7 @@ def test_oscillating_groove_cam_crosses_at_mid_rise_and_lands_as_the_closed_form
     """The cartoner's infeed arm in its groove (no spring): the force changes flank at mid-rise and mid-return of its
     modified-sine swings (90 and 260 deg); the arm keeps its angular velocity across the gap b / (a cos phi) (rad) and
     the flank meets the roller at a (phi'(tc) - phi'(tc + d)) w; the impact force at the roller is the arm's torque
-    plus w_rel sqrt(k_f I), over the lever arm a cos phi at the landing."""
+    plus w_rel sqrt(k_f I) (less a few percent of train damping), over the lever arm a cos phi at the landing."""
     from pathlib import Path
 
     from camdyn.model.case import load_case
@@ -321,7 +339,9 @@ def test_oscillating_groove_cam_crosses_at_mid_rise_and_lands_as_the_closed_form
         assert c.impact_velocity_m_per_s == pytest.approx(w_rel * a_m, rel=1e-6)
         lever_m = a_m * np.cos(np.deg2rad(geo.table([c.land_deg])["pressure_angle_deg"][0]))
         torque = abs(0.06 * w**2 * phi(tc + d)[2])
-        assert c.impact_force_N == pytest.approx((torque + w_rel * np.sqrt(20000 * 0.06)) / lever_m, rel=1e-6)
+        # the train's contact (damping ratio 0.05) peaks a few percent under the undamped half-sine's closed form
+        half_sine = (torque + w_rel * np.sqrt(20000 * 0.06)) / lever_m
+        assert 0.94 * half_sine < c.impact_force_N < half_sine
 
 
 def test_groove_contact_stress_on_the_wall_the_force_presses():
@@ -342,3 +362,156 @@ def test_groove_contact_stress_on_the_wall_the_force_presses():
     rho_p, rr = geo.rho_pitch_mm[outer], 12.0
     np.testing.assert_allclose(got.equivalent_radius_mm[outer], 1 / (1 / rr - 1 / (rho_p + rr)), rtol=1e-12)
     assert np.all(got.pressure_MPa[outer] < spring.pressure_MPa[outer])  # conformal: gentler than convex
+
+
+@pytest.mark.slow
+def test_report_of_a_groove_cam(tmp_path, capsys):
+    """``camdyn report``: the walls and crossovers pages in place of the cam, dynamics and spring-sizing pages; page 1
+    says why there is no jump speed and gives each crossover's impact against the limit, as ``check`` does."""
+    import json
+    import re
+
+    from matplotlib.figure import Figure
+    from matplotlib.image import imread
+
+    from camdyn.report import A4, PAGES, ReportData
+    from camdyn.report.pages.summary import decision_facts, key_results
+
+    case_file = tmp_path / "groove.toml"
+    case_file.write_text(GROOVE_TOML)
+    doc = json.loads(run(capsys, "check", case_file, "--json")[1])
+    code, out, _ = run(capsys, "report", case_file, "-o", tmp_path / "r")
+    assert code == 0
+    pngs = sorted(p.name for p in (tmp_path / "r").glob("*.png"))
+    slugs = [re.match(r"groove-\d+-([a-z-]+)\.png", p).group(1) for p in pngs]
+    assert slugs == ["summary", "svaj", "groove", "crossovers", "parts", "manufacturing"]
+    for p in (tmp_path / "r").glob("*.png"):
+        ink = np.any(imread(p)[..., :3] < 0.9, axis=-1).mean()
+        assert 0.02 < ink < 0.6, p.name
+    from camdyn.design.checks import run_check
+    from camdyn.design.review import design_review
+
+    case = case_from_dict(GROOVE)
+    data = ReportData(design_review(case, run_check(case)))
+    rows = dict(key_results(data))
+    assert rows["jump speed"] == "none: form-closed" and "jump speed, dynamic" not in rows
+    top = doc["closure"]["max_impact_velocity_m_per_s"]
+    assert rows["largest impact"].startswith(f"{top:.3g} m/s")
+    facts = decision_facts(data)
+    assert "no jump speed and no speed_margin" in facts[0]
+    for c, fact in zip(doc["closure"]["crossovers"], facts[1:], strict=True):
+        assert f"{c['impact_velocity_m_per_s']:.3g} m/s (limit 0.1 m/s)" in fact and f"{c['deg']:.1f}" in fact
+    assert not any("return spring cannot be built" in f or "leaves the cam" in f for f in facts)
+    with_tol = case_from_dict(GROOVE | {"tolerances": {"backlash": "20%"}})
+    assert any(
+        f.startswith("[tolerances]") and "camdyn tolerance" in f
+        for f in decision_facts(ReportData(design_review(with_tol, run_check(with_tol))))
+    )
+    # the impact speed against cam speed meets the check at the case's speed
+    imp = data.review.impacts
+    assert np.interp(300.0, imp.speeds_rpm, imp.impact_velocity_m_per_s[0]) == pytest.approx(top, rel=2e-3)
+    text = {}
+    for page in PAGES:
+        if page.applies(data):
+            fig = Figure(figsize=A4)
+            page.draw(fig, data)
+            text[page.slug] = " ".join(t.get_text() for t in fig.findobj(lambda a: hasattr(a, "get_text")))
+    assert "does not apply: form-closed" in text["summary"] and "inner wall" in text["groove"]
+    assert "Crossovers at 300 rpm" in text["crossovers"] and "return spring: none" in text["parts"]
+
+
+def test_sweep_of_a_groove_cam_maps_the_impacts(tmp_path, capsys):
+    """``sweep`` of a groove cam: the largest impact speed over speed x backlash. No spring: the flight across the
+    gap takes the same cam angle at any speed, so the impact speed is proportional to the speed; at the case's
+    speed and backlash it is check's crossover_impact; the gap closes against the cubic lead the cam gains from a
+    crossover where s'' = 0 changes sign, so v grows as b^(2/3) for a small backlash."""
+    import json
+
+    case_file = tmp_path / "groove.toml"
+    case_file.write_text(GROOVE_TOML)
+    doc = json.loads(run(capsys, "check", case_file, "--json")[1])
+    code, out, _ = run(capsys, "sweep", case_file, "--speeds", "100:300:3", "--backlash", "0.01:0.05:5", "-o", tmp_path)
+    assert code == 0 and "cannot jump" in out
+    rows = np.genfromtxt(tmp_path / "groove-sweep.csv", delimiter=",", names=True)
+    assert rows.dtype.names == ("speed_rpm", "backlash_mm", "impact_velocity_m_per_s", "max_impact_force_N")
+    v = rows["impact_velocity_m_per_s"].reshape(5, 3)  # backlash x speed
+    np.testing.assert_allclose(v[:, 2] / v[:, 0], 3.0, rtol=1e-6)
+    impact = next(c for c in doc["checks"] if c["name"] == "crossover_impact")["value"]
+    assert v[4, 2] == pytest.approx(impact, rel=1e-9)
+    assert v[1, 0] / v[0, 0] == pytest.approx(2.0 ** (2 / 3), rel=0.02)
+    assert (tmp_path / "groove-sweep.png").stat().st_size > 10_000
+    code, _, err = run(capsys, "sweep", case_file, "--speeds", "100:300:3", "--spring-rates", "1:2:2", "-o", tmp_path)
+    assert code == 2 and "--spring-rates" in err and "no return spring" in err
+
+
+def test_sweep_backlash_of_a_spring_held_cam_is_refused(tmp_path, capsys):
+    case_file = tmp_path / "spring.toml"
+    case_file.write_text(
+        GROOVE_TOML.replace('closure = "groove"\nbacklash = 0.05\n', "").replace(
+            "train_stiffness = 5000", "train_stiffness = 5000\nspring_rate = 5\npreload = 100"
+        )
+    )
+    code, _, err = run(capsys, "sweep", case_file, "--speeds", "100:300:3", "--backlash", "0.01:0.05:2")
+    assert code == 2 and "--backlash" in err and "groove" in err
+
+
+def test_tolerance_of_a_groove_cam_gives_the_impact_spread(tmp_path, capsys):
+    """``tolerance`` of a groove cam over backlash, mass and speed: each built cam's impact is the one
+    closure_response gives a case of its backlash, mass and speed; the probability is the share over the limit."""
+    import json
+
+    case_file = tmp_path / "groove.toml"
+    tol = '\n[limits]\nmax_impact_velocity = 0.031\n[tolerances]\nbacklash = "20%"\nmass = "5%"\nspeed = "10 rpm"\n'
+    case_file.write_text(GROOVE_TOML + tol)
+    code, out, _ = run(capsys, "tolerance", case_file, "--samples", "12", "--json", "-o", tmp_path)
+    assert code == 0
+    doc = json.loads(out)
+    rows = np.genfromtxt(tmp_path / "groove-tolerance.csv", delimiter=",", names=True)
+    assert doc["samples"] == 12 and doc["closure"] == "groove" and doc["max_impact_velocity"] == 0.031
+    v = rows["impact_velocity_m_per_s"]
+    assert doc["probability_over_limit"] == pytest.approx(np.mean(v > 0.031)) and 0 < np.sum(rows["over_limit"]) < 12
+    assert doc["impact_velocity_m_per_s"]["max"] == pytest.approx(v.max()) and doc["worst"][0]["sample"] == v.argmax()
+    assert np.ptp(rows["backlash_mm"]) > 0 and np.ptp(rows["speed_rpm"]) > 0 and np.ptp(rows["mass_kg"]) > 0
+    for i in (int(v.argmax()), int(v.argmin())):
+        case = case_from_dict(
+            _with("follower", backlash=float(rows["backlash_mm"][i]))
+            | {"dynamics": GROOVE["dynamics"] | {"mass": float(rows["mass_kg"][i])}}
+        )
+        r = closure_response(case.motion, case.follower, case.model, rows["speed_rpm"][i] * np.pi / 30)
+        assert v[i] == pytest.approx(r.max_impact_velocity_m_per_s, rel=1e-9)
+        # the force is k_f times a penetration of microns on positions of mm: the CSV's 10 digits move the adaptive
+        # steps, and the solver's tolerance on the positions is 1e-6 of the penetration
+        assert rows["max_impact_force_N"][i] == pytest.approx(r.max_impact_force_N, rel=1e-5)
+    case_file.write_text(GROOVE_TOML + "[tolerances]\nprofile_error = 0.005\n")
+    code, _, err = run(capsys, "tolerance", case_file, "--samples", "4", "-o", tmp_path, "--force")
+    assert code == 2 and "tolerances.profile_error" in err
+
+
+def test_a_backlash_tolerance_needs_a_groove():
+    raw = _with("follower", closure="spring")
+    del raw["follower"]["backlash"]
+    raw["dynamics"] |= {"spring_rate": 5.0, "preload": 100.0}
+    raw["tolerances"] = {"backlash": "10%"}
+    with pytest.raises(InputError, match="tolerances.backlash.*only a groove cam"):
+        case_from_dict(raw)
+
+
+def test_size_of_a_groove_cam_gives_the_largest_backlash(tmp_path, capsys):
+    """``size``: no spring to size; the largest backlash (to 0.001 mm) whose impact speed stays 2 % under the limit:
+    check passes at it (away from the at-limit band), and 0.002 mm more would not keep that margin."""
+    import json
+
+    case_file = tmp_path / "groove.toml"
+    case_file.write_text(GROOVE_TOML)
+    code, out, _ = run(capsys, "size", case_file, "--json")
+    doc = json.loads(out)
+    b = doc["max_backlash_mm"]
+    assert code == 0 and doc["backlash_mm"] == 0.05 and b > 0.05 and round(b, 3) == b
+    impacts = []
+    for gap in (b, b + 0.002):
+        case_file.write_text(GROOVE_TOML.replace("backlash = 0.05", f"backlash = {gap}"))
+        code, out, _ = run(capsys, "check", case_file, "--json")
+        assert code == 0
+        impacts.append(next(c for c in json.loads(out)["checks"] if c["name"] == "crossover_impact")["value"])
+    assert impacts[0] <= 0.98 * 0.1 < impacts[1]
+    assert doc["impact_velocity_at_max_backlash_m_per_s"] == pytest.approx(impacts[0], rel=1e-12)

@@ -12,6 +12,7 @@ Units: the motion in mm and mm/rad, the model in SI (N/m, N*s/m), like camdyn.
 
 from __future__ import annotations
 
+import functools
 import math
 
 import jax.numpy as jnp
@@ -21,6 +22,7 @@ from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
 
 import camdyn.model  # noqa: F401  (float64)
+from camdyn._core.errors import NumericalError
 from camdyn.design.checks import run_check
 from camdyn.model import dynamics as dyn
 from camdyn.model.case import case_from_dict
@@ -531,6 +533,30 @@ def test_dynamic_jump_speed_vs_bisection(lecture):
     # solves bracket it as tightly as the nine of a bisection to 0.05 rpm would
     assert fmin(w_dyn - 0.05 * RPM) > 0.0, w_dyn / RPM
     assert fmin(w_dyn + 0.05 * RPM) <= 0.0, w_dyn / RPM
+
+
+def test_the_chunked_scan_finds_what_the_whole_scan_finds():
+    """first_zero_speed in chunks (the jump speed's scan, issue 23) stops at the chunk of the first sign change: the
+    same speed as the whole scan, fewer speeds computed; the padded last chunk and no zero at all too."""
+    calls = []
+
+    def least(ws, zero):
+        calls.append(ws.size)
+        return np.where(ws < zero, 1.0 - ws / zero, -1.0)
+
+    for zero, chunk in ((100.0, 256), (790.0, 256), (100.0, 300), (5e3, 256)):
+        whole = dyn.first_zero_speed(
+            functools.partial(least, zero=zero), 800.0, grid=2000, width_rpm=1e-3, points=16, where="t"
+        )
+        calls.clear()
+        got = dyn.first_zero_speed(
+            functools.partial(least, zero=zero), 800.0, grid=2000, width_rpm=1e-3, points=16, where="t", chunk=chunk
+        )
+        assert got == whole and (math.isinf(got) if zero > 800.0 else got == pytest.approx(zero, abs=1e-3 * RPM))
+        scanned = sum(c for c in calls if c == chunk)
+        assert set(calls) <= {chunk, 16} and scanned == chunk * math.ceil(min(zero / 0.4 + 1, 2000) / chunk)
+    with pytest.raises(NumericalError, match="not finite"):
+        dyn.first_zero_speed(lambda w: w * np.nan, 800.0, grid=2000, width_rpm=1e-3, points=16, where="t", chunk=256)
 
 
 # ============================================================================ 6. residual vibration

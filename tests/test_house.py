@@ -167,11 +167,12 @@ def test_no_private_name_crosses_packages():
 @pytest.mark.slow
 def test_check_imports_only_what_it_uses():
     """`camdyn check` without --report draws nothing and samples nothing: no matplotlib, no report, no scipy.stats;
-    a case given by segments fits no spline and builds no B-spline segment: no scipy.interpolate."""
+    a case given by segments fits no spline and builds no B-spline segment: no scipy.interpolate. Issue 23: no
+    scipy at all (0.25 s to load): the jump speed's Brent is camdyn's own, and the stored programs are executables,
+    which JAX need not lower (lowering a ``jax.export`` program on a CPU loads scipy.linalg for LAPACK)."""
     proc = _fresh(
         "import sys\nfrom camdyn.cli import main\ncode = main(['check', 'cases/lecture.toml', '--json'])\n"
-        "heavy = ('matplotlib', 'scipy.stats', 'camdyn.report', 'camdyn.plot', 'camdyn.design.tolerance', "
-        "'scipy.interpolate')\n"
+        "heavy = ('matplotlib', 'scipy', 'camdyn.report', 'camdyn.plot', 'camdyn.design.tolerance')\n"
         "print(code, sorted(m for m in heavy if m in sys.modules))"
     )
     assert proc.stdout.strip().splitlines()[-1] == "0 []", proc.stderr[-2000:]

@@ -3,6 +3,7 @@
 import dataclasses
 import json
 import os
+import pickle
 import subprocess
 import sys
 from pathlib import Path
@@ -40,17 +41,39 @@ def test_programs_persist_and_static_fields_are_part_of_the_key(tmp_path, monkey
     assert np.allclose(first(square, x, 1.0), 3 * x**2 + 1) and np.allclose(first(cube, x, 1.0), 3 * x**3 + 1)
     assert np.allclose(first(cube, x, 2.0), 3 * x**3 + 2)  # a Python number is static: its own program
     assert np.allclose(first(cube, x, shift=jnp.asarray(2.0)), 3 * x**3 + 2)  # keywords too
-    assert len(list(tmp_path.glob("_value-*.jaxexport"))) == 4
+    assert len(list(tmp_path.glob("_value-*.jaxprogram"))) == 4
     # a new wrapper (as in a fresh process) reads the programs back instead of tracing
     second = programs.cached_jit(_value)
     assert np.allclose(second(cube, x, 1.0), 3 * x**3 + 1) and np.allclose(
         second(Poly(jnp.asarray(-1.0), 2), x, 1.0), 1 - x**2
     )
-    assert len(list(tmp_path.glob("_value-*.jaxexport"))) == 4
+    assert len(list(tmp_path.glob("_value-*.jaxprogram"))) == 4
     # under a transformation the plain jit runs (exported programs have no batching rule)
     assert np.allclose(jax.vmap(lambda c: second(Poly(c, 2), x, 0.0))(jnp.arange(3.0)), np.arange(3.0)[:, None] * x**2)
-    (next(tmp_path.glob("_value-*.jaxexport"))).write_bytes(b"truncated")  # a damaged file: trace afresh
+    (next(tmp_path.glob("_value-*.jaxprogram"))).write_bytes(b"truncated")  # a damaged file: trace afresh
     assert np.allclose(programs.cached_jit(_value)(square, x, 1.0), 3 * x**2 + 1)
+
+
+def _solve(a, b):
+    return jnp.linalg.solve(a, b)
+
+
+def test_programs_are_stored_compiled_and_lapack_ones_exported(tmp_path, monkeypatch):
+    """A program loads as its compiled executable; one that calls LAPACK (whose kernels JAX registers only while
+    lowering) as a ``jax.export`` program. Either gives what the plain jit gives."""
+    monkeypatch.setattr(programs, "_DIR", None)
+    programs.enable(tmp_path)
+    x = jnp.linspace(0.0, 2.0, 5)
+    a, b = jnp.asarray([[4.0, 1.0], [2.0, 3.0]]), jnp.asarray([1.0, 2.0])
+    assert np.allclose(programs.cached_jit(_value)(Poly(jnp.asarray(2.0), 2), x, 1.0), 2 * x**2 + 1)
+    assert np.allclose(programs.cached_jit(_solve)(a, b), np.linalg.solve(a, b))
+    kinds = {f.name.split("-")[0]: pickle.loads(f.read_bytes())[0] for f in tmp_path.glob("*.jaxprogram")}
+    assert kinds == {"_value": "executable", "_solve": "exported"}
+    for fn, args, want in ((_value, (Poly(jnp.asarray(2.0), 2), x, 1.0), 2 * x**2 + 1), (_solve, (a, b), None)):
+        program = programs.cached_jit(fn)  # a fresh wrapper loads the file: nothing is traced
+        monkeypatch.setattr(programs, "_compile", lambda *_: pytest.fail("traced again"))
+        got = program(*args)
+        assert np.allclose(got, np.linalg.solve(a, b) if want is None else want)
 
 
 @pytest.mark.slow  # three fresh processes, two of them compiling every program
@@ -59,7 +82,7 @@ def test_fresh_check_processes_agree_with_and_without_the_caches(tmp_path):
     cmd = [sys.executable, "-m", "camdyn", "check", str(ROOT / "cases" / "lecture.toml"), "--json"]
     runs = [subprocess.run(cmd, env=env, capture_output=True, text=True, check=True) for _ in range(2)]
     plain = subprocess.run(cmd, env=env | {"CAMDYN_NO_CACHE": "1"}, capture_output=True, text=True, check=True)
-    assert list((tmp_path / "camdyn" / "programs").glob("_rev_with_sensitivity-*.jaxexport"))
+    assert list((tmp_path / "camdyn" / "programs").glob("_rev_with_sensitivity-*.jaxprogram"))
     docs = [json.loads(r.stdout) for r in (*runs, plain)]
     assert docs[0] == docs[1] == docs[2]
 
@@ -96,7 +119,7 @@ def test_programs_of_other_segments_share_one_compiled_kernel_and_evaluate_alike
     theta = jnp.asarray(np.linspace(-1.0, 7.5, 997))
     for prog in (lecture, other):  # the one program on disk; each agrees with the unpadded numpy evaluation
         assert np.allclose(evaluate(prog, theta), prog._eval(np, np.asarray(theta)), rtol=1e-12, atol=1e-9)
-    assert len(list(tmp_path.glob("evaluate-*.jaxexport"))) == 1
+    assert len(list(tmp_path.glob("evaluate-*.jaxprogram"))) == 1
     # 2 pi is the start (the modified sine's jerk), just below it the closing dwell: padding rows are never read
     ends = np.asarray(evaluate(other, jnp.asarray([2 * np.pi, np.nextafter(2 * np.pi, 0)])))
     assert np.allclose(ends[:, 0], other.host(0.0)) and ends[3, 0] > 100.0 and np.all(ends[:, 1] == 0.0)
@@ -131,3 +154,33 @@ def test_fitted_tables_of_other_lengths_share_one_compiled_kernel():
     # the form follows the coefficients (a table's noise study replaces them, under vmap)
     doubled = jax.vmap(lambda c: evaluate(dataclasses.replace(short, coef=c), jnp.asarray(theta)))(2 * short.coef[None])
     assert np.allclose(doubled[0], 2 * short.host(theta), rtol=1e-12, atol=1e-12)
+
+
+_TWO_DEVICES = """
+import sys, jax, numpy as np, camdyn
+camdyn.enable_x64()
+from camdyn._core import jit
+from camdyn.design.sweep import jump_map
+from camdyn.model.case import load_case
+jit.enable(sys.argv[1])
+assert jax.device_count() == 2
+jm = jump_map(load_case(sys.argv[2]), [300.0, 650.0], [1.0, 2.0])
+print(jm.csv)
+"""
+
+
+@pytest.mark.slow  # two fresh processes mapping on two host devices
+def test_a_second_process_on_two_devices_loads_what_the_first_stored(tmp_path):
+    """Two host devices: a program stored by one process runs in the next on the default device (a loaded
+    executable otherwise spans every device), and a kernel sharded over both is not stored (the plain jit runs)."""
+    env = os.environ | {
+        "XLA_FLAGS": "--xla_force_host_platform_device_count=2",
+        "JAX_PLATFORMS": "cpu",
+        "EQX_ON_ERROR": "nan",
+        "PYTHONPATH": str(ROOT),
+    }
+    cmd = [sys.executable, "-c", _TWO_DEVICES, str(tmp_path), str(ROOT / "cases" / "lecture.toml")]
+    runs = [subprocess.run(cmd, env=env, capture_output=True, text=True, timeout=300) for _ in range(2)]
+    assert [r.returncode for r in runs] == [0, 0], runs[-1].stderr[-2000:]
+    assert runs[0].stdout == runs[1].stdout
+    assert {p.name.split("-")[0] for p in tmp_path.glob("*.jaxprogram")} == {"evaluate"}

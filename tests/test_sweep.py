@@ -305,7 +305,7 @@ from camdyn.design.sweep import jump_map
 from camdyn.model.case import load_case
 enable_x64()
 jit.enable(sys.argv[1])
-files = lambda: sorted(p.name for p in Path(sys.argv[1]).glob("*.jaxexport"))
+files = lambda: sorted(p.name for p in Path(sys.argv[1]).glob("*.jaxprogram"))
 out = {}
 for name in ("polynomial", "lecture"):
     jm = jump_map(load_case(Path(sys.argv[2]) / "cases" / f"{name}.toml"), [300.0, 700.0], [0.5, 3.0])
@@ -327,9 +327,39 @@ def test_a_new_case_reuses_the_traced_map_programs(lecture, tmp_path):
     assert run.returncode == 0, run.stderr[-2000:]
     out = json.loads(run.stdout.splitlines()[-1])
     first = out["polynomial"]["files"]
-    assert {p.split("-")[0] for p in first} >= {"evaluate", "damping_kernel", "linear_kernel", "exact_gap_kernel"}
+    assert {p.split("-")[0] for p in first} >= {"evaluate", "linear_kernel", "exact_gap_kernel"}
     assert out["lecture"]["files"] == first
     assert any(map(any, out["polynomial"]["separated"])) and any(map(any, out["lecture"]["separated"]))
     plain = jump_map(lecture, [300.0, 700.0], [0.5, 3.0])
     np.testing.assert_allclose(out["lecture"]["force"], plain.min_force, rtol=1e-12)
     np.testing.assert_allclose(out["lecture"]["gap"], plain.max_gap, rtol=1e-12)
+
+
+def test_steady_state_on_the_step_grid_from_the_aliased_spectrum():
+    """The gap stepping's steady state on every 5th angle (720 steps of 3600) from inverse FFTs of 720 points of the
+    aliased spectrum equals the full inverse FFTs there, x and dx/dtheta, Nyquist bin included (numpy's irfft)."""
+    from camdyn.design.sweep._exact_gap import _on_steps
+
+    rng = np.random.default_rng(3)
+    x_spec = np.fft.rfft(rng.standard_normal((2, 3600)), axis=-1) * np.exp(-np.arange(1801) / 300.0)
+    x_spec[:, -1] += 0.25j  # irfft reads only the Nyquist bin's real part
+    x, x1 = _on_steps(jnp.asarray(x_spec), 3600, 720)
+    k = np.arange(1801)
+    np.testing.assert_allclose(x, np.fft.irfft(x_spec, 3600)[:, ::5], rtol=0, atol=1e-14)
+    np.testing.assert_allclose(x1, np.fft.irfft(1j * k * x_spec, 3600)[:, ::5], rtol=0, atol=1e-12)
+
+
+def test_steady_train_force_is_the_train_force_of_the_steady_state(lecture):
+    """The map's least force from one inverse FFT of the force spectrum (and the conjugate division) against
+    train_force of steady_state's x and dx/dtheta (two inverse FFTs, XLA's complex division)."""
+    base = lecture.model
+    theta = np.arange(3600) * (2 * np.pi / 3600)
+    s, s1 = (v * base.scale for v in np.asarray(evaluate(lecture.motion, jnp.asarray(theta)))[:2])
+    spec = jnp.asarray(np.fft.rfft(s))
+    for rpm, rate in ((300.0, 2.0), (650.0, 0.5)):
+        omega, k = rpm * RPM, rate * 1e3
+        c = base.damping_at(k)
+        x, x1 = dyn.steady_state(spec, omega, base, k, c, 3600)
+        want = np.asarray(dyn.train_force(base, omega, s, s1, x, x1))
+        got = np.asarray(dyn.steady_train_force(spec, omega, base, k, c, jnp.asarray(s), jnp.asarray(s1)))
+        np.testing.assert_allclose(got, want, rtol=0, atol=1e-9 * np.max(np.abs(want)))

@@ -1,12 +1,19 @@
-"""Traced-program cache: a fresh ``camdyn`` process skips JAX tracing of the programs it ran before.
+"""Traced-program cache: a fresh ``camdyn`` process skips JAX tracing and compiling of the programs it ran before.
 
 JAX's persistent compilation cache skips XLA compilation but not Python tracing and lowering, which for a
 diffrax solve takes longer (about 1 s) than the solve itself. :func:`cached_jit` wraps a function like
-``equinox.filter_jit``; once :func:`enable` names a directory, it serializes each traced program with
-``jax.export``, keyed by the function, the static part of its arguments (everything that is not an array:
-an equinox module's static fields, Python numbers), the shapes and dtypes of the arrays, camdyn's own source
-and the versions of the JAX stack. A later process deserializes the program instead of tracing it. Without
-:func:`enable` (the library, the tests) it is ``equinox.filter_jit`` and nothing is written.
+``equinox.filter_jit``; once :func:`enable` names a directory, it stores each program it compiles, keyed by the
+function, the static part of its arguments (everything that is not an array: an equinox module's static fields,
+Python numbers), the shapes and dtypes of the arrays, camdyn's own source, the versions of the JAX stack and the
+machine (:func:`_fingerprint`). A later process loads the program instead of tracing it. Without :func:`enable`
+(the library) it is ``equinox.filter_jit`` and nothing is written; the tests enable it in a session folder.
+
+A program is stored as its compiled executable (``jax.experimental.serialize_executable``): loading one is a read
+and a deserialization, about 5 ms. A ``jax.export`` program, the portable form, must be lowered and looked up in
+JAX's compilation cache on every load, and on a CPU every such call first loads ``scipy.linalg`` (jaxlib takes its
+LAPACK kernels from it: about 0.25 s a process). That form is kept for the programs that call out of XLA
+(LAPACK, whose kernels JAX registers only while lowering). A program sharded over several devices is not stored.
+The files are pickles the user's own processes wrote: like JAX's own cache, the directory is trusted.
 
 Either way an argument with a ``jit_form`` method (a motion) is replaced by what it returns (:func:`jit_forms`):
 a form whose static structure does not depend on the case, so a case never seen before reuses the programs of
@@ -17,7 +24,11 @@ from __future__ import annotations
 
 import functools
 import hashlib
+import math
 import os
+import pickle
+import platform
+import sys
 from collections.abc import Callable
 from importlib import metadata
 from pathlib import Path
@@ -28,9 +39,11 @@ import jax
 import numpy as np
 from jax import export
 from jax.core import Tracer
+from jax.experimental import serialize_executable
 
 T = TypeVar("T")
 _DIR: Path | None = None
+SUFFIX = "jaxprogram"  # the stored programs' file names end so
 
 
 def enable(directory: str | Path) -> None:
@@ -45,31 +58,75 @@ def enable(directory: str | Path) -> None:
 
 @functools.cache
 def _fingerprint() -> str:
-    """camdyn's source and the JAX stack's versions: a change to either invalidates every program."""
+    """camdyn's source, the JAX stack's versions and the machine a compiled program runs on (the backend's device,
+    the CPU's instruction set, ``XLA_FLAGS``): a change to any invalidates every program."""
     h = hashlib.sha256()
     for path in sorted(Path(__file__).parents[1].rglob("*.py")):
         h.update(path.read_bytes())
     for dist in ("jax", "jaxlib", "equinox", "diffrax", "optimistix", "lineax"):
-        try:
-            h.update(f"{dist}={metadata.version(dist)};".encode())
+        try:  # a loaded package's own __version__ is at hand; its metadata takes milliseconds to find
+            known = getattr(sys.modules.get(dist), "__version__", None)
+            h.update(f"{dist}={known or metadata.version(dist)};".encode())
         except metadata.PackageNotFoundError:
             pass
     x64 = jax.config.jax_enable_x64  # pyright: ignore[reportAttributeAccessIssue] - a flag jax adds at run time
-    h.update(f"{jax.default_backend()};x64={x64}".encode())
+    h.update(f"{jax.default_backend()};{jax.devices()[0].device_kind};x64={x64};".encode())
+    h.update(f"{platform.machine()};{_cpu_flags()};{os.environ.get('XLA_FLAGS', '')}".encode())
     return h.hexdigest()
 
 
-def _load(file: Path):
+def _cpu_flags() -> str:
+    """The CPU's feature flags where the system says them (Linux): XLA compiles for the host's instruction set."""
     try:
-        return export.deserialize(bytearray(file.read_bytes()))
-    except Exception:  # missing, truncated or from an incompatible JAX: trace afresh
+        with open("/proc/cpuinfo", encoding="ascii", errors="replace") as f:
+            return next((line for line in f if line.startswith(("flags", "Features"))), "")
+    except OSError:
+        return platform.processor()
+
+
+def _compile(flat: Callable, avals: tuple, name: str) -> tuple[Callable, bytes]:
+    """``flat`` traced and compiled for arrays of ``avals`` ((shape, dtype) each): the program, and what a later
+    process loads it from (:func:`_load`). Raises where it cannot be stored (a host callback, say).
+
+    The executable must come from XLA, not from JAX's compilation cache: one that cache deserialized serializes
+    without some of its functions ("Function ... not found" when the stored copy runs). So the program's module
+    is named for its file (``name``: JAX's cache keys start with it) and JAX's cache does not keep it."""
+    specs = [jax.ShapeDtypeStruct(s, d) for s, d in avals]
+    flat.__name__ = flat.__qualname__ = f"camdyn_{name}"
+    least = jax.config.jax_persistent_cache_min_compile_time_secs  # pyright: ignore[reportAttributeAccessIssue]
+    jax.config.update("jax_persistent_cache_min_compile_time_secs", math.inf)
+    try:
+        compiled = jax.jit(flat).lower(*specs).compile()
+    finally:
+        jax.config.update("jax_persistent_cache_min_compile_time_secs", least)
+    if len({d for s in jax.tree.leaves(compiled.input_shardings) for d in s.device_set}) > 1:
+        # a kernel sharded over several devices: neither a loaded executable nor a loaded jax.export program
+        # places one-device inputs on its mesh; the caller runs the plain jit
+        raise ValueError("a program over several devices is not stored")
+    if "custom_call_target=" not in compiled.as_text():
+        return compiled, pickle.dumps(("executable", *serialize_executable.serialize(compiled)))
+    # a call out of XLA: LAPACK, whose kernels JAX registers as it lowers the program, or a host callback, which
+    # jax.export refuses (and the caller then runs the plain jit)
+    exported = export.export(jax.jit(flat))(*specs)
+    return exported.call, pickle.dumps(("exported", exported.serialize()))
+
+
+def _load(file: Path) -> Callable | None:
+    """The program :func:`_compile` stored in ``file``; None where there is none to load."""
+    try:
+        kind, *data = pickle.loads(file.read_bytes())
+        if kind == "executable":
+            # on the default device, as jax.jit compiled it (by default a loaded executable spans every device)
+            return serialize_executable.deserialize_and_load(*data, execution_devices=jax.devices()[:1])
+        return export.deserialize(bytearray(data[0])).call
+    except Exception:  # missing, truncated, or from another JAX or machine: trace afresh
         return None
 
 
-def _save(file: Path, exported) -> None:
+def _save(file: Path, blob: bytes) -> None:
     tmp = file.with_suffix(f".{os.getpid()}.tmp")
     try:
-        tmp.write_bytes(exported.serialize())
+        tmp.write_bytes(blob)
         os.replace(tmp, file)  # atomic: parallel processes never read half a file
     except OSError:
         tmp.unlink(missing_ok=True)
@@ -114,31 +171,32 @@ def cached_jit(fn: Callable[..., T]) -> Callable[..., T]:
         avals = tuple((np.shape(x), np.dtype(x.dtype).str) for x in leaves)
         try:  # hashing the static part is cheap; its repr (the disk key) is not, for a motion of 1000 segments
             key = (treedef, tuple(jax.tree.leaves(static)), avals)
-            exported = programs.get(key)
+            program = programs.get(key)
         except TypeError:  # an unhashable static value: key by its text
             key = repr((treedef, static, avals))
-            exported = programs.get(key)
-        if exported is None:
-            name = hashlib.sha256(
-                repr((fn.__module__, fn.__qualname__, _fingerprint(), treedef, static, avals)).encode()
-            ).hexdigest()[:32]
-            file = _DIR / f"{fn.__name__}-{name}.jaxexport"
-            exported = _load(file)
-            if exported is None:
+            program = programs.get(key)
+        if program is None:
+            # the static part as the treedef (structure, static fields) and its leaves say it: an equinox module's
+            # own repr pretty-prints, a millisecond or more a program
+            text = repr((fn.__module__, fn.__qualname__, _fingerprint(), treedef, jax.tree.leaves(static), avals))
+            name = hashlib.sha256(text.encode()).hexdigest()[:32]
+            file = _DIR / f"{fn.__name__}-{name}.{SUFFIX}"
+            program = _load(file)
+            if program is None:
 
                 def flat(*xs: Any) -> Any:
                     a, kw = eqx.combine(jax.tree.unflatten(treedef, xs), static)
                     return fn(*a, **kw)
 
                 try:
-                    exported = export.export(jax.jit(flat))(*(jax.ShapeDtypeStruct(s, d) for s, d in avals))
-                except Exception:  # e.g. a host callback, which jax.export cannot serialize: plain jit
+                    program, blob = _compile(flat, avals, name)
+                except Exception:  # e.g. a host callback, which cannot be serialized: plain jit
                     programs[key] = jitted
                     return jitted(*args, **kwargs)
-                _save(file, exported)
-            programs[key] = exported
-        if exported is jitted:
+                _save(file, blob)
+            programs[key] = program
+        if program is jitted:
             return jitted(*args, **kwargs)
-        return exported.call(*leaves)
+        return program(*leaves)
 
     return call

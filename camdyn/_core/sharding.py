@@ -29,13 +29,14 @@ def _shard_map(f, mesh, in_specs, out_specs):
 
 
 @functools.cache
-def _sharded(kernel: Callable, devices: tuple):
-    """``kernel(const, *point)`` vmapped over grid points and sharded over ``devices``, compiled; in one process
+def _sharded(kernel: Callable, devices: tuple, per_point: bool):
+    """``kernel(const, *point)`` vmapped over grid points (``per_point``; else the kernel takes a device's points
+    as arrays itself) and sharded over ``devices``, compiled; in one process
     through :func:`camdyn._core.jit.cached_jit`, so a later process loads the traced program instead of tracing it."""
     mesh = Mesh(np.asarray(devices), ("grid",))
 
     def run(const: Any, *batched: Any) -> Any:
-        body = lambda c, *b: jax.vmap(lambda *p: kernel(c, *p))(*b)  # noqa: E731
+        body = (lambda c, *b: jax.vmap(lambda *p: kernel(c, *p))(*b)) if per_point else kernel
         spec = PartitionSpec("grid")
         return _shard_map(body, mesh, (PartitionSpec(), *([spec] * len(batched))), spec)(const, *batched)
 
@@ -66,14 +67,16 @@ def run_batched(
     chunk: int,
     progress: Callable[[int], None] | None,
     devices: tuple,
+    per_point: bool = True,
 ) -> Any:
-    """Run ``kernel`` over the rows of ``batched`` in chunks of ``chunk`` points per device (padded)."""
+    """Run ``kernel`` over the rows of ``batched`` in chunks of ``chunk`` points per device (padded); ``per_point``:
+    the kernel computes one point (vmapped here), else a device's chunk of points at once."""
     n_dev = len(devices)
     size = chunk * n_dev * (1 if devices[0].platform == "cpu" else 16)  # accelerators want wide batches
     n = batched[0].shape[0]
-    fn, mesh = _sharded(kernel, devices)
+    fn, mesh = _sharded(kernel, devices, per_point)
     multi = jax.process_count() > 1
-    outs = []
+    pending = []
     for start in range(0, n, size):
         part = [b[start : start + size] for b in batched]
         m = part[0].shape[0]
@@ -81,11 +84,12 @@ def run_batched(
             part = [np.concatenate([p, np.repeat(p[:1], size - m, axis=0)]) for p in part]
         if multi:
             c, pts = _to_mesh(const, part, mesh)
-            res = multihost_utils.process_allgather(fn(c, *pts), tiled=True)
-        else:
-            res = fn(const, *part)  # numpy: no transfer program to compile
-        res = jax.tree_util.tree_map(lambda r, m=m: np.asarray(r)[:m], res)  # m bound now: called within this iteration
-        outs.append(res)
+            pending.append((multihost_utils.process_allgather(fn(c, *pts), tiled=True), m))
+        else:  # dispatched, not waited for: the next chunk may run beside it on another core
+            pending.append((fn(const, *part), m))  # numpy: no transfer program to compile
+    outs = []
+    for res, m in pending:
+        outs.append(jax.tree_util.tree_map(lambda r, m=m: np.asarray(r)[:m], res))  # m bound now
         if progress is not None:
             progress(m)
     return jax.tree_util.tree_map(lambda *r: np.concatenate(r), *outs)

@@ -116,6 +116,7 @@ TOLERANCE_UNITS: dict[str, tuple[dict[str, float], dict[str, float]]] = {
     "cam_side_mass": ({"kg": 1.0, "g": 1e-3}, {"kg": 1.0}),
     "valve_mass": ({"kg": 1.0, "g": 1e-3}, {"kg": 1.0}),
     "valvetrain_stiffness": _RATE_UNITS,
+    "backlash": ({"mm": 1.0, "um": 1e-3}, {"mm": 1.0, "um": 1e-3}),  # a groove's, at the roller either way
 }
 VALVETRAIN_TOLERANCE_KEYS = ("lash", "cam_side_mass", "valve_mass", "valvetrain_stiffness")
 NORMAL_TOLERANCE_SIGMAS = 3.0  # a normal tolerance is this many standard deviations

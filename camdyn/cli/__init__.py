@@ -30,6 +30,18 @@ def _version() -> str:
         return "0+unknown"
 
 
+class _VersionAction(argparse.Action):
+    """``--version``: the installed version, looked up only when asked (finding it takes milliseconds)."""
+
+    def __init__(self, option_strings: list[str], dest: str = argparse.SUPPRESS, **kwargs) -> None:
+        kwargs.setdefault("help", "show program's version number and exit")
+        super().__init__(option_strings, dest=dest, default=argparse.SUPPRESS, nargs=0, **kwargs)
+
+    def __call__(self, parser: argparse.ArgumentParser, *_: object) -> NoReturn:
+        print(f"camdyn {_version()}")
+        parser.exit()
+
+
 def _positive_rpm(text: str) -> float:
     try:
         value = float(text)
@@ -59,7 +71,7 @@ def build_parser() -> argparse.ArgumentParser:
         prog="camdyn",
         description="Cam mechanism design and follower dynamics: prove the follower never leaves the cam.",
     )
-    parser.add_argument("--version", action="version", version=f"camdyn {_version()}")
+    parser.add_argument("--version", action=_VersionAction)
     parser.add_argument("--debug", action="store_true", default=False, help="show the traceback of an error")
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
 
@@ -211,6 +223,11 @@ def build_parser() -> argparse.ArgumentParser:
             "spring rates, N/mm (N*m/rad oscillating): N values from A to B (default: the case's); "
             "the preload stays the case's"
         ),
+    )
+    p.add_argument(
+        "--backlash",
+        metavar="A:B:N",
+        help="a groove cam: backlashes, mm: N values from A to B (default: the case's); the map is of the impacts",
     )
     p.add_argument("-o", "--output", default=".", metavar="DIR", help="output folder (default: the current one)")
     p.add_argument("--force", action="store_true", help="overwrite the files if they exist")
@@ -369,27 +386,49 @@ def _validate(args) -> None:
                 raise type(err)(f"{p}: {err.where}" if err.where else str(p), err.message) from None
     else:
         args.spec = load_case_spec(args.case)
-    if args.command in _SPRING_HELD or (args.command == "check" and args.report):
+    if args.command in _SPRING_HELD:
+        _refuse_form_closed([args.spec], [""], args.command)
+    elif args.command in _GROOVE_ONLY or (args.command == "check" and args.report):
         several = args.command == "report"
-        _refuse_form_closed(args.specs if several else [args.spec], args.cases if several else [""], args.command)
+        _refuse_conjugate(args.specs if several else [args.spec], args.cases if several else [""], args.command)
 
 
 def _refuse_form_closed(specs, paths, command: str) -> None:
-    """A command that studies a spring-held follower refuses a groove cam (one line naming the file among several)."""
+    """A command that studies a spring-held follower refuses a form-closed cam (one line)."""
     from .._core.errors import InputError
 
     for spec, path in zip(specs, paths, strict=True):
         if spec.follower is not None and spec.follower.form_closed:
+            raise InputError(
+                f"{path}: follower.closure" if path else "follower.closure",
+                f"{_FORM_CLOSED_REFUSAL[command]}: a form-closed cam cannot jump and has no return spring "
+                "(camdyn check, report, sweep, tolerance and size study a groove cam's crossover impacts)",
+            )
+
+
+def _refuse_conjugate(specs, paths, command: str) -> None:
+    """A command that studies a groove cam's impacts (not yet conjugate cams') refuses conjugate cams (one line
+    naming the file among several)."""
+    from .._core.errors import InputError
+
+    for spec, path in zip(specs, paths, strict=True):
+        if spec.follower is not None and spec.follower.closure == "conjugate":
             what = "the report" if command in ("report", "check") else command
             raise InputError(
                 f"{path}: follower.closure" if path else "follower.closure",
-                f"{what} does not model a form-closed cam yet (it studies a spring-held follower that may jump): "
-                "camdyn check, table and profile give a groove cam's crossovers, impacts and walls",
+                f"{what} does not model conjugate cams yet (it studies a groove cam's or a spring-held follower's): "
+                "camdyn check, table, profile and machine give conjugate cams' crossovers, impacts and cams",
             )
 
 
 # commands that study a spring-held follower: its spring, its jump speed, its design review
-_SPRING_HELD = ("size", "spring", "sweep", "tolerance", "optimize", "report")
+_SPRING_HELD = ("spring", "optimize")
+# commands that study a groove cam's crossover impacts, and a spring-held follower's jumps: not conjugate cams yet
+_GROOVE_ONLY = ("size", "sweep", "tolerance", "report")
+_FORM_CLOSED_REFUSAL = {
+    "spring": "spring designs the return spring that holds a follower on its cam",
+    "optimize": "optimize reshapes the motion so that a spring-held follower holds to a faster jump speed",
+}
 
 
 def _end_process(code: list[int]) -> None:

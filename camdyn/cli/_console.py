@@ -11,7 +11,6 @@ from contextlib import contextmanager
 
 from rich.console import Console, JustifyMethod
 from rich.markup import escape
-from rich.progress import BarColumn, MofNCompleteColumn, Progress, SpinnerColumn, TextColumn, TimeElapsedColumn
 from rich.table import Table
 
 from .._core.errors import NumericalError
@@ -44,6 +43,9 @@ def progress_bar(quiet: bool = False) -> Iterator[ProgressFn]:
     if quiet:
         yield lambda phase, done, total: None
     elif sys.stderr.isatty():
+        # rich's progress (live display, spinners) loads only for a bar: every command imports this module
+        from rich.progress import BarColumn, MofNCompleteColumn, Progress, SpinnerColumn, TextColumn, TimeElapsedColumn
+
         columns = (
             SpinnerColumn(),
             TextColumn("{task.description:<34}"),

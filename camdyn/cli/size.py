@@ -10,8 +10,9 @@ from rich.markup import escape
 from rich.table import Table
 
 from .._core.errors import InputError
+from ..design.closure import BACKLASH_STEP_MM, largest_backlash
 from ..design.sizing import TIE_BREAK, SpringSizing, ValveSpringSizing, size_spring, size_valve_spring
-from ..model.case import build_case
+from ..model.case import Case, build_case
 from . import _console
 from .spring import print_spring
 
@@ -180,8 +181,8 @@ def run(args: argparse.Namespace) -> int:
         if args.buildable:
             raise InputError(
                 "--buildable",
-                "a valvetrain's spring part is not modelled yet ([spring] with [valvetrain]): size proposes the "
-                "valve spring's rate and preload",
+                "size --buildable does not design a valvetrain's spring part yet: size proposes the valve "
+                "spring's rate and preload",
             )
         vs = size_valve_spring(case, args.max_speed, args.margin, args.min_rate)
         if args.json:
@@ -189,6 +190,8 @@ def run(args: argparse.Namespace) -> int:
         else:
             print_valve_size(vs)
         return 0
+    if case.follower is not None and case.follower.form_closed:  # no return spring: its largest backlash instead
+        return size_groove(args, case)
     min_rate = 0.0 if args.min_rate is None else args.min_rate
     sz = size_spring(case, args.max_speed, args.margin, min_rate, buildable=args.buildable)
     if args.json:
@@ -199,4 +202,36 @@ def run(args: argparse.Namespace) -> int:
             spring_spec = case.spec.spring
             lever_arm = spring_spec.lever_arm if spring_spec is not None else None  # an arm's only
             print_spring(sz.case_name, sz.part, lever_arm)
+    return 0
+
+
+def size_groove(args: argparse.Namespace, case: Case) -> int:
+    """``camdyn size`` of a groove cam: there is no return spring; the largest backlash (mm) that keeps the impact
+    speed within max_impact_velocity at the speed (``--max-speed``, default the case's)."""
+    for flag, given in (("--margin", args.margin), ("--min-rate", args.min_rate), ("--buildable", args.buildable)):
+        if given:
+            raise InputError(flag, "a groove cam has no return spring to size: size gives its largest backlash")
+    sz = largest_backlash(case, args.max_speed)
+    if args.json:
+        print(_console.json_text(sz.json()))
+        return 0
+    con = _console.console()
+    con.print(
+        f"[bold]{case.name}[/bold]  groove cam: no return spring to size (the groove holds the follower both ways); "
+        f"the largest backlash with impact speed <= max_impact_velocity {sz.max_impact_velocity:g} m/s at "
+        f"{sz.speed_rpm:g} rpm"
+    )
+    con.print(
+        f"case: backlash {sz.current_backlash_mm:g} mm, impact speed {sz.current_impact_velocity_m_per_s:.4g} m/s "
+        + ("[green]pass[/green]" if sz.passes else "[bold red]FAIL[/bold red]")
+    )
+    if np.isinf(sz.max_backlash_mm):
+        con.print("size: any backlash up to the roller radius keeps the impact speed within the limit")
+    elif sz.max_backlash_mm <= 0.0:
+        con.print(f"size: [bold red]no backlash of {BACKLASH_STEP_MM:g} mm or more[/bold red] keeps the limit")
+    else:
+        con.print(
+            f"size: [bold]backlash <= {sz.max_backlash_mm:.4g} mm[/bold] (rounded down to {BACKLASH_STEP_MM:g} mm; "
+            f"impact speed {sz.impact_velocity_at_max_m_per_s:.4g} m/s there)"
+        )
     return 0

@@ -17,6 +17,7 @@ from ..design.sweep import JumpMap, check_grid_size, first_speeds, jump_map
 from ..model.case import build_case
 from ..plot import save_png
 from ._console import progress_bar
+from ._groove import sweep_groove
 
 
 def _parse_grid(flag: str, text: str) -> tuple[float, float, int]:
@@ -39,6 +40,15 @@ def _parse_grid(flag: str, text: str) -> tuple[float, float, int]:
 
 
 def run(args: argparse.Namespace) -> int:
+    if args.spec.follower is not None and args.spec.follower.form_closed:  # a groove cam: its impacts, not jumps
+        speeds = np.linspace(*_parse_grid("--speeds", args.speeds))
+        gaps = None if args.backlash is None else np.linspace(*_parse_grid("--backlash", args.backlash))
+        initialize(args.coordinator, args.num_processes, args.process_id, auto=args.distributed)
+        if not is_writer():  # not sharded: process 0 does the work
+            return 0
+        return sweep_groove(args, build_case(args.spec, source=Path(args.case)), speeds, gaps)
+    if args.backlash is not None:
+        raise InputError("--backlash", 'only a groove cam ([follower] closure = "groove") has a backlash')
     speed_grid = _parse_grid("--speeds", args.speeds)
     rate_grid = _parse_grid("--spring-rates", args.spring_rates) if args.spring_rates is not None else None
     check_grid_size(

@@ -24,6 +24,7 @@ from ..export.toml import dumps_case
 from ..model.case import build_case
 from ..plot import save_tolerance_png, save_valve_tolerance_png
 from ._console import console, json_text, progress_bar, table
+from ._groove import tolerance_groove
 
 if TYPE_CHECKING:
     from ..design.tolerance import ToleranceResult, ValveToleranceResult
@@ -73,6 +74,8 @@ def run(args: argparse.Namespace) -> int:
         raise InputError("--samples", f"must be from 1 to {MAX_SAMPLES}, got {args.samples}")
     initialize(args.coordinator, args.num_processes, args.process_id, auto=args.distributed)
     case = build_case(args.spec, source=Path(args.case))
+    if case.follower is not None and case.follower.form_closed:  # a groove cam: its impacts, not its jumps
+        return tolerance_groove(args, case) if is_writer() else 0  # not sharded: process 0 does the work
     writer = is_writer()
     stem = safe_stem(case.name)  # the case's name is data, not a path
     paths = _paths(Path(args.output), stem, 3)

@@ -20,6 +20,7 @@ class CheckKind(str, Enum):  # noqa: UP042 (StrEnum would change str() and forma
     CLEARANCE = "clearance"  # camdyn machine: the least gap between two followers that share space, mm
     SEATING_VELOCITY = "seating_velocity"  # [valvetrain]: the valve's speed landing on its seat, m/s
     VALVE_BOUNCE = "valve_bounce"  # [valvetrain]: the valve's re-lift after it seats, mm
+    COIL_BIND = "coil_bind"  # [valvetrain] with [spring]: the valve's lift to spare before its spring goes solid, mm
     CROSSOVER_IMPACT = "crossover_impact"  # a groove cam: the speed at which a flank meets the follower, m/s
     CONJUGATE_PRESSURE_ANGLE = "conjugate_pressure_angle"  # conjugate cams: the second cam's, deg
     CONJUGATE_CURVATURE = "conjugate_curvature"  # conjugate cams: the second cam's least convex radius / its roller
@@ -65,6 +66,7 @@ _WORDS = {
     CheckKind.CLEARANCE: ("least gap between two followers", "mm", ">="),
     CheckKind.SEATING_VELOCITY: ("valve speed landing on its seat", "m/s", "<="),
     CheckKind.VALVE_BOUNCE: ("valve re-lift after seating", "mm", "<="),
+    CheckKind.COIL_BIND: ("valve lift to spare before the spring is solid", "mm", ">"),
     CheckKind.CROSSOVER_IMPACT: ("largest impact speed across the backlash", "m/s", "<="),
     CheckKind.CONJUGATE_PRESSURE_ANGLE: ("largest pressure angle of the conjugate cam", "deg", "<="),
     CheckKind.CONJUGATE_CURVATURE: ("conjugate cam's least contour radius / its roller radius", "ratio", ">="),

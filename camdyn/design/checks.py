@@ -322,7 +322,7 @@ def run_check(case: Case, speed_rpm: float | None = None) -> CheckReport:
     warnings += unit_slip_warnings(case, rpm, _finite_or_none((w_dyn if math.isfinite(w_dyn) else w_kin) / RPM))
     if not model.rigid and not resp.separations:
         # the frequency-domain steady state is exact without separation: an independent check of the solve
-        f_lin = float(dyn.linear_min_force(motion, model, np.asarray([omega]))[0])
+        f_lin = dyn.linear_least_force(motion, model, omega)
         if abs(f_lin - resp.min_force) > 5e-3 * max(1.0, float(abs(resp.force).max())):
             warnings.append(
                 f"time-domain and frequency-domain steady states disagree: least force {resp.min_force:.4g} vs "
@@ -461,7 +461,13 @@ def _crossovers_note(study: ClosureStudy, backlash_mm: float) -> str:
     xs = study.response.crossovers
     flank = "flank" if study.loads is None else "cam"
     where = ", ".join(f"{c.deg:.1f}" for c in xs[:6]) + (", ..." if len(xs) > 6 else "")
-    note = f"the contact force changes {flank} {len(xs)} times a revolution (at {where} deg)"
+    if study.loads is not None and study.loads.preload_held:  # both rollers stay loaded: only the net force turns
+        note = (
+            f"the net contact force changes sign {len(xs)} times a revolution (at {where} deg); the preload keeps "
+            "both cams loaded all round"
+        )
+    else:
+        note = f"the contact force changes {flank} {len(xs)} times a revolution (at {where} deg)"
     if backlash_mm > 0.0:
         top = max(xs, key=lambda c: c.impact_velocity_m_per_s)
         note += (

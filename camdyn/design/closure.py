@@ -10,11 +10,14 @@ infinite margin.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, replace
 
 import numpy as np
 
-from .._core.units import RPM, newton_per_torque
+from .._core.errors import InputError
+from .._core.progress import Progress, counter
+from .._core.units import AT_LIMIT_RTOL, RPM, newton_per_torque
 from ..model import dynamics as dyn
 from ..model.case import Case
 from ..model.geometry import (
@@ -70,6 +73,12 @@ class CamLoads:
             "preload_held": self.preload_held,
             "cams": {"primary": cam(self.primary_N), "conjugate": cam(self.conjugate_N)},
         }
+
+
+NO_RETURN_SPRING = (
+    "a form-closed cam has no return spring to size or build and no jump speed: the groove holds the follower both "
+    "ways, so what limits its speed is the impact where the follower crosses the backlash (crossover_impact)"
+)
 
 
 @dataclass(frozen=True)
@@ -172,3 +181,134 @@ def closure_study(case: Case, speed_rpm: float | None = None) -> ClosureStudy:
         primary = primary * newton_per_torque_at(case.motion, f, th)
         other = other * newton_per_torque(conjugate_lever_mm(case.motion, f, th))
     return ClosureStudy(r, second, CamLoads(r.theta_deg, primary, other, f.pair_preload, f.translating))
+
+
+MAX_IMPACT_POINTS = 10_000  # speeds x backlashes of a sweep: about 20 ms a point, a few minutes at the budget
+IMPACT_MAP_COLUMNS = ("speed_rpm", "backlash_mm", "impact_velocity_m_per_s", "max_impact_force_N")
+
+
+@dataclass(frozen=True)
+class ImpactMap:
+    """A groove cam's crossover impacts over cam speed x backlash: the largest impact speed (m/s at the roller)
+    and impact force (N; NaN for a rigid train, whose impact is an impulse) a revolution, (n_backlash, n_speed)."""
+
+    speeds_rpm: np.ndarray
+    backlash_mm: np.ndarray
+    impact_velocity_m_per_s: np.ndarray
+    max_impact_force_N: np.ndarray
+    max_impact_velocity: float  # [limits] max_impact_velocity, m/s
+
+    def json(self) -> dict:
+        return {
+            "speeds_rpm": self.speeds_rpm.tolist(),
+            "backlash_mm": self.backlash_mm.tolist(),
+            "impact_velocity_m_per_s": self.impact_velocity_m_per_s.tolist(),
+            "max_impact_force_N": [[None if np.isnan(f) else float(f) for f in row] for row in self.max_impact_force_N],
+            "max_impact_velocity": self.max_impact_velocity,
+        }
+
+    @property
+    def csv(self) -> str:
+        """One row per speed and backlash (speed fastest): :data:`IMPACT_MAP_COLUMNS`; the force empty for a rigid
+        train."""
+        rows = [",".join(IMPACT_MAP_COLUMNS)]
+        for i, b in enumerate(self.backlash_mm):
+            for j, rpm in enumerate(self.speeds_rpm):
+                f = self.max_impact_force_N[i, j]
+                force = "" if np.isnan(f) else f"{f:.10g}"
+                rows.append(f"{rpm:.10g},{b:.10g},{self.impact_velocity_m_per_s[i, j]:.10g},{force}")
+        return "\n".join(rows) + "\n"
+
+
+def impact_map(
+    case: Case, speeds_rpm: np.ndarray, backlash_mm: np.ndarray, *, progress: Progress | None = None
+) -> ImpactMap:
+    """The largest crossover impact of the groove cam of ``case`` at every speed (rpm) and backlash (mm)."""
+    assert case.follower is not None and case.follower.form_closed  # the caller asks only of a groove cam
+    speeds, gaps = np.asarray(speeds_rpm, dtype=float), np.asarray(backlash_mm, dtype=float)
+    if speeds.size * gaps.size > MAX_IMPACT_POINTS:
+        raise InputError(
+            "--speeds x --backlash",
+            f"a grid of {speeds.size:,} speeds x {gaps.size:,} backlashes = {speeds.size * gaps.size:,} points is "
+            f"beyond the groove sweep's budget of {MAX_IMPACT_POINTS:,} points (about 20 ms each): use fewer points",
+        )
+    v = np.zeros((gaps.size, speeds.size))
+    f = np.full_like(v, np.nan)
+    tick = counter(progress, f"{case.name}: impact map", v.size)
+    for i, b in enumerate(gaps):
+        follower = case.follower.model_copy(update={"backlash": float(b)})
+        for j, rpm in enumerate(speeds):
+            r = dyn.closure_response(case.motion, follower, case.model, float(rpm) * RPM)
+            v[i, j] = r.max_impact_velocity_m_per_s
+            if r.max_impact_force_N is not None and r.crossovers and b > 0.0:
+                f[i, j] = r.max_impact_force_N
+            tick()
+    return ImpactMap(speeds, gaps, v, f, float(case.limits.max_impact_velocity))
+
+
+BACKLASH_STEP_MM = 0.001  # a proposed backlash is rounded down to this: a slot width the shop can hold to
+_BISECT_RTOL = 1e-6  # of the backlash, where the bisection stops
+
+
+@dataclass(frozen=True)
+class BacklashSizing:
+    """The largest backlash (mm, rounded down to :data:`BACKLASH_STEP_MM`) at which the groove cam's impact speed
+    stays within ``[limits] max_impact_velocity`` at ``speed_rpm``, with the margin of
+    :data:`~camdyn._core.units.AT_LIMIT_RTOL` (the report calls a check closer to its limit "at limit"): 0 where
+    no backlash of a step keeps it, ``inf`` where every backlash up to the roller radius does (the force never
+    changes flank, or the impacts stay slow)."""
+
+    case: str
+    speed_rpm: float
+    max_impact_velocity: float  # the limit, m/s
+    current_backlash_mm: float
+    current_impact_velocity_m_per_s: float
+    max_backlash_mm: float
+    impact_velocity_at_max_m_per_s: float  # at max_backlash_mm (0 where inf)
+
+    @property
+    def passes(self) -> bool:
+        """Whether the case's own backlash keeps the limit."""
+        return self.current_impact_velocity_m_per_s <= self.max_impact_velocity
+
+    def json(self) -> dict:
+        inf = np.isinf(self.max_backlash_mm)
+        return {
+            "case": self.case,
+            "closure": "groove",
+            "speed_rpm": self.speed_rpm,
+            "max_impact_velocity": self.max_impact_velocity,
+            "backlash_mm": self.current_backlash_mm,
+            "impact_velocity_m_per_s": self.current_impact_velocity_m_per_s,
+            "max_backlash_mm": None if inf else self.max_backlash_mm,
+            "impact_velocity_at_max_backlash_m_per_s": None if inf else self.impact_velocity_at_max_m_per_s,
+        }
+
+
+def largest_backlash(case: Case, speed_rpm: float | None = None) -> BacklashSizing:
+    """The largest backlash that keeps the groove cam of ``case`` within ``max_impact_velocity`` at ``speed_rpm``
+    (default: the case's): doubled from the case's (or 0.01 mm) until the impact exceeds the limit less
+    :data:`~camdyn._core.units.AT_LIMIT_RTOL`, then bisected,
+    then rounded down to :data:`BACKLASH_STEP_MM` and its impact computed again (what ``check`` then gives)."""
+    f = case.follower
+    assert f is not None and f.form_closed and f.roller_radius is not None  # a groove holds a roller
+    rpm = float(case.speed_rpm if speed_rpm is None else speed_rpm)
+    lim = float(case.limits.max_impact_velocity)
+    target = (1.0 - AT_LIMIT_RTOL) * lim  # passes check with margin, not at the limit
+
+    def impact(b: float) -> float:
+        follower = f.model_copy(update={"backlash": float(b)})
+        return dyn.closure_response(case.motion, follower, case.model, rpm * RPM).max_impact_velocity_m_per_s
+
+    v_now = impact(f.backlash)
+    out = lambda b, v: BacklashSizing(case.name, rpm, lim, float(f.backlash), v_now, b, v)  # noqa: E731
+    lo, hi = 0.0, max(f.backlash, 10 * BACKLASH_STEP_MM)
+    while impact(hi) <= target:
+        lo, hi = hi, 2.0 * hi
+        if lo >= f.roller_radius:
+            return out(np.inf, 0.0)
+    while hi - lo > _BISECT_RTOL * hi:
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if impact(mid) <= target else (lo, mid)
+    b = round(math.floor(lo / BACKLASH_STEP_MM) * BACKLASH_STEP_MM, 9)  # 1.257, not 1.2570000000000001
+    return out(b, impact(b) if b > 0.0 else 0.0)

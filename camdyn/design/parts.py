@@ -8,13 +8,14 @@ from dataclasses import replace
 import numpy as np
 
 from .._core.errors import InputError
-from ..model.case import Case
+from ..model.case import Case, valvetrain_with_spring_mass
 from ..model.contact import ContactStress, cam_contact, conjugate_contact, groove_contact
 from ..model.drive import DriveTorque, drive_torque, follower_velocity
 from ..model.dynamics import Response
 from ..model.follower import FollowerModel
 from ..model.geometry import CamGeometry, ConjugateGeometry, GrooveGeometry, contact_per_force
 from ..model.surge import SpringInDynamics
+from ..model.valvetrain import equivalent_follower
 from ._check import Check, CheckKind
 from .spring import design_case_spring
 
@@ -70,15 +71,19 @@ def _bare(case: Case) -> SpringInDynamics:
     """The case's follower with a massless spring: what :func:`resolve_spring` adds the spring's mass to."""
     spec = case.spec.spring
     arm = spec.lever_arm if spec is not None and case.kind.rotary else None
-    return SpringInDynamics("none", 0.0, arm, case.model if case.spring is None else case.spring.bare)
+    ratio = None if case.valvetrain is None else float(case.valvetrain.ratio)
+    bare = case.model if case.spring is None else case.spring.bare
+    return SpringInDynamics("none", 0.0, arm, bare, valve_ratio=ratio)
 
 
 def resolve_spring(case: Case) -> Case:
     """The case with its spring's own mass in the dynamics, as ``[spring] model`` asks: the spring is the part
     ``camdyn spring`` designs for the case's rate and preload (:func:`camdyn.design.spring.design_case_spring`),
     and its mass enters ``case.model`` as a third on the follower ("lumped", and "surge", whose jump speed is the
-    chain's: :class:`camdyn.model.surge.SpringInDynamics`). Without a ``[spring]`` table the spring is massless
-    (its part is not known); where no spring can be built the mass stays out and ``case.spring.note`` says why.
+    chain's: :class:`camdyn.model.surge.SpringInDynamics`); a valvetrain's valve spring as a third on the valve
+    (and so through the ratio squared in its equivalent follower), in the two-mass model a chain of masses for
+    "surge". Without a ``[spring]`` table the spring is massless (its part is not known); where no spring can be
+    built the mass stays out and ``case.spring.note`` says why.
     Idempotent: a resolved case comes back as it is."""
     if case.spring is not None:
         return case
@@ -93,7 +98,14 @@ def resolve_spring(case: Case) -> Case:
             f"within [spring] ({e})"
         )
         return replace(case, spring=replace(bare, note=note))
-    sd = bare.with_mass(part.spring.mass, case.spec.spring.model)
+    sd = replace(
+        bare.with_mass(part.spring.mass, case.spec.spring.model),
+        travel_to_solid_mm=part.installed_length - part.spring.solid_length,
+    )
+    if case.valvetrain is not None:  # the valve spring's third moves with the valve, in the two-mass model too
+        lumped = valvetrain_with_spring_mass(case, part.spring.mass)
+        valvetrain = valvetrain_with_spring_mass(case, part.spring.mass, surge=sd.model == "surge")
+        return replace(case, model=equivalent_follower(lumped), spring=sd, valvetrain=valvetrain)
     return replace(case, model=sd.follower(), spring=sd)
 
 

@@ -23,6 +23,7 @@ from ..model.case import Case, load_case
 from ..model.geometry import newton_per_torque_at
 from ..model.motion import evaluate
 from .checks import CheckReport, forces_in_newton, run_check
+from .closure import NO_RETURN_SPRING, ImpactMap, impact_map
 from .parts import resolve_spring
 from .sizing import SpringSizing, size_spring
 from .spring import SpringDesign, design_case_spring
@@ -31,9 +32,10 @@ from .tolerance import ToleranceResult, tolerance_study
 
 SIDE_DEG = 1e-7  # how far either side of a break the one-sided values are taken (deg)
 REVIEW_TOLERANCE_SAMPLES = 2000  # built cams of the report's tolerance page (seed 0; `camdyn tolerance` for more)
-SPEED_SCAN = 2000  # speeds of the force-against-speed curve: dynamic_jump_speed's scan, so compiled already
+SPEED_SCAN = 2000  # speeds of the force-against-speed curve: the grid of dynamic_jump_speed's scan
 MAP_SPEEDS, MAP_RATES = 48, 24  # the review's jump map: speeds x spring rates
 VALVETRAIN_MAP = 24, 6  # a valvetrain's (the two-mass model at each point, about 0.05 s a point)
+IMPACT_SPEEDS = 40  # a groove cam's impact speed against cam speed, up to 2 x the check's speed
 
 
 @dataclass(frozen=True)
@@ -85,12 +87,13 @@ class Review:
     motion: MotionSamples
     margin_rpm: float  # speed_margin x the check's speed
     margin_response: dyn.Response | Unavailable  # the steady state at margin_rpm, forces in N
-    force_vs_speed: ForceVsSpeed
+    force_vs_speed: ForceVsSpeed | Unavailable  # Unavailable for a form-closed cam: it cannot jump
     sizing: SpringSizing | Unavailable  # size_spring at the case's speed and speed_margin
     jump_map: JumpMap | Unavailable  # at the case's preload, gaps not integrated (least force and the jump boundary)
     spring_part: SpringDesign | Unavailable = Unavailable("not designed")  # the case's own spring (camdyn spring)
     original: Original | Unavailable | None = None  # the case this one was optimized from (None: not optimized)
     tolerance: ToleranceResult | Unavailable | None = None  # the study of [tolerances] (None: the case has none)
+    impacts: ImpactMap | None = None  # a groove cam's impacts against cam speed at its backlash (None: spring-held)
 
 
 def design_review(case: Case, check: CheckReport, *, progress: Progress | None = None) -> Review:
@@ -99,6 +102,15 @@ def design_review(case: Case, check: CheckReport, *, progress: Progress | None =
     tick = counter(progress, f"{case.name}: review", 6)
     motion = sample_motion(case)
     tick()
+    if check.closure is not None:  # a groove cam: no jump, no return spring; its crossovers are in the check
+        none = Unavailable(NO_RETURN_SPRING)
+        assert case.follower is not None  # a groove holds a roller
+        top = 2.0 * check.speed_rpm
+        speeds = np.linspace(top / IMPACT_SPEEDS, top, IMPACT_SPEEDS)
+        impacts = impact_map(case, speeds, np.array([case.follower.backlash]))
+        tick(5)
+        margin_rpm = case.limits.speed_margin * check.speed_rpm
+        return Review(case, check, motion, margin_rpm, none, none, none, none, none, impacts=impacts)
     margin_rpm = case.limits.speed_margin * check.speed_rpm
     margin = _margin_response(case, margin_rpm)
     tick()
@@ -180,7 +192,7 @@ def force_vs_speed(case: Case, check: CheckReport, margin_rpm: float, *, top: fl
     """Least contact force against cam speed, up to past the jump speeds (those below 8 x the check's speed), or
     up to ``top`` rpm: kinematic (rigid) and, for a compliant train, the frequency-domain steady state."""
     top = top if top is not None else _top_speed(check, margin_rpm, jump_within=8.0 * check.speed_rpm)
-    speeds = np.linspace(top / SPEED_SCAN, top, SPEED_SCAN)  # the jump-speed scan's array shape: compiled already
+    speeds = np.linspace(top / SPEED_SCAN, top, SPEED_SCAN)
     w = speeds * RPM
     # the kinematic force is a quadratic in the speed at every angle: three evaluations give it all;
     # the very theta array (shape and JAX weak type) of dynamics.response, so its compiled force is reused

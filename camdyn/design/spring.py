@@ -21,7 +21,7 @@ import numpy as np
 
 from .._core.errors import InputError
 from .._core.materials import PREFERRED_WIRE_MM
-from .._core.units import THETA_GRID, newton_per_torque, torsion_rate_at_arm
+from .._core.units import M_PER_MM, THETA_GRID, newton_per_torque, torsion_rate_at_arm
 from ..model import spring as sp
 from ..schema import SpringSpec
 from ._check import Check, CheckKind
@@ -393,7 +393,7 @@ class SpringLoads:
 def spring_loads(case: Case, *, rate: float | None = None, preload: float | None = None) -> SpringLoads:
     """The loads of a case's spring (its own ``[dynamics]`` rate and preload, or ``rate`` and ``preload`` in the
     case's units: N/mm and N, or N*m/rad and N*m for an oscillating arm, whose spring acts at ``[spring]
-    lever_arm``)."""
+    lever_arm``; a valvetrain's valve spring at the valve, over the valve's lift on a rigid train)."""
     d = case.spec.dynamics
     s = case.motion.sample(THETA_GRID)[1][0]
     if case.kind.rotary:  # the spring acts at [spring] lever_arm from the pivot
@@ -416,6 +416,10 @@ def spring_loads(case: Case, *, rate: float | None = None, preload: float | None
         f0 = d.preload if preload is None else preload
         assert k is not None and f0 is not None  # check_dynamics_keys: the spring's rate and preload
         s_mm, key = s, "dynamics.spring_rate"
+        if case.valvetrain is not None:  # the valve spring: installed with the valve closed, its stroke the valve's
+            reach = case.valvetrain.at_valve_mm(np.array([s.min(), s.max()]))[0]
+            stroke = float(reach[1] - reach[0]) - float(case.valvetrain.lash) / M_PER_MM  # positive: build_case
+            return SpringLoads(float(k), float(f0), stroke, 0.0, key)
     lo, hi = float(np.min(s_mm)), float(np.max(s_mm))
     return SpringLoads(float(k), float(f0 + k * lo), hi - lo, lo, key)
 

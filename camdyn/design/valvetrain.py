@@ -6,6 +6,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+import numpy as np
+
 from .._core.errors import InputError
 from .._core.units import M_PER_MM, RPM, VALVE_BOUNCE_TOLERANCE_MM, VALVE_TIMING_LIFT_MM
 from ..model import dynamics as dyn
@@ -21,7 +23,7 @@ def _finite_or_none(x: float) -> float | None:
 class ValvetrainResult:
     """The valvetrain at one cam speed: its steady revolution and the speeds where it floats and bounces."""
 
-    ratio: float
+    ratio: float  # constant, or a rocker's at the cam's peak lift
     lash_mm: float
     response: dyn.ValvetrainResponse
     float_speed_rpm: float  # inf: no float up to the search's top
@@ -30,6 +32,36 @@ class ValvetrainResult:
     speeds_rpm: tuple[float, ...] = ()  # the speeds the searches marched, increasing
     seating_velocities: tuple[float, ...] = ()  # m/s at each (NaN: the valve never lifts)
     bounce_heights_mm: tuple[float, ...] = ()  # at each
+    # a rocker's: the cam's and the follower's lifts through it (mm, the lash not taken off) and its instantaneous
+    # ratio at the cam's lift, on response.theta_deg; None: the constant ratio's
+    rocker_curves: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None
+    coil_bind_lift_mm: float | None = None  # the valve's lift at which its designed spring ([spring]) is solid
+
+    @property
+    def coil_bind_clearance_mm(self) -> float | None:
+        """The valve's lift to spare before its spring goes solid, at its largest lift at the case speed (a flight's
+        overshoot included), mm; None without a designed spring."""
+        if self.coil_bind_lift_mm is None:
+            return None
+        return self.coil_bind_lift_mm - self.response.max_valve_lift_mm
+
+    @property
+    def ratios(self) -> np.ndarray:
+        """The instantaneous ratio (valve lift per follower lift) at the cam's lift, on ``response.theta_deg``."""
+        curves = self.rocker_curves
+        return np.full_like(self.response.theta_deg, self.ratio) if curves is None else curves[2]
+
+    @property
+    def cam_at_valve(self) -> np.ndarray:
+        """Where a rigid train would hold the valve: the cam's lift through the rocker less the lash, mm."""
+        curves = self.rocker_curves
+        return (self.ratio * self.response.cam_lift if curves is None else curves[0]) - self.lash_mm
+
+    @property
+    def follower_at_valve(self) -> np.ndarray:
+        """The follower's lift through the rocker less the lash, mm."""
+        curves = self.rocker_curves
+        return (self.ratio * self.response.follower_lift if curves is None else curves[1]) - self.lash_mm
 
     @property
     def timing_deg(self) -> tuple[float, float]:
@@ -54,16 +86,23 @@ class ValvetrainResult:
             "float_speed_rpm": _finite_or_none(self.float_speed_rpm),
             "bounce_speed_rpm": _finite_or_none(self.bounce_speed_rpm),
             "bounce_height_mm": self.response.bounce_height_mm,
+            "ratio_min": float(self.ratios.min()),
+            "ratio_max": float(self.ratios.max()),
+            "coil_bind_lift_mm": self.coil_bind_lift_mm,
+            "coil_bind_clearance_mm": self.coil_bind_clearance_mm,
         }
 
     def checks(self, max_seating_velocity: float) -> tuple[Check, ...]:
         """``seating_velocity`` against ``[limits] max_seating_velocity`` and ``valve_bounce`` (none beyond the seat's
-        micro-bounce tolerance) at the case speed."""
+        micro-bounce tolerance) at the case speed; with a designed spring, ``coil_bind``: the valve's largest lift
+        (a flight's overshoot included) short of where the spring goes solid."""
         v = self.seating_velocity
-        return (
+        checks = (
             CheckKind.SEATING_VELOCITY.check(_finite_or_none(v), float(max_seating_velocity)),
             CheckKind.VALVE_BOUNCE.check(self.response.bounce_height_mm, VALVE_BOUNCE_TOLERANCE_MM),
         )
+        clearance = self.coil_bind_clearance_mm
+        return checks if clearance is None else (*checks, CheckKind.COIL_BIND.check(clearance, 0.0))
 
     def note(self) -> str:
         """What the contact-force check means on a valvetrain, for ``check``'s warnings."""
@@ -86,9 +125,21 @@ def refuse_valvetrain(case: Case, what: str, why: str = "") -> None:
         )
 
 
+def refuse_spring_part(case: Case, what: str) -> None:
+    """:class:`InputError` where a valvetrain study that rebuilds the two-mass model per point (``what``) is given a
+    ``[spring]`` part, whose own mass and surge it does not carry yet."""
+    if case.valvetrain is not None and case.spec.spring is not None:
+        raise InputError(
+            "spring",
+            f"{what} of a valvetrain does not carry a [spring] part's mass yet: put a third of the spring's mass in "
+            "valvetrain.valve_mass and remove [spring]",
+        )
+
+
 def analyze_valvetrain(case: Case, omega: float, margin: float) -> ValvetrainResult:
     """The valvetrain of ``case`` at cam speed ``omega`` (rad/s), with its float and bounce speeds searched up to
-    the dynamic jump search's top for ``margin`` x the speed (both searches share the revolutions they march)."""
+    the dynamic jump search's top for ``margin`` x the speed (both searches share the revolutions they march). A
+    case resolved with its designed spring (:func:`camdyn.design.parts.resolve_spring`) carries its coil bind."""
     vt = case.valvetrain
     assert vt is not None  # the caller's: a [valvetrain] case
     w_kin = dyn.kinematic_jump_speed(case.motion, case.model)[0]  # the equivalent follower's: where float begins
@@ -104,6 +155,10 @@ def analyze_valvetrain(case: Case, omega: float, margin: float) -> ValvetrainRes
     w_bounce = dyn.bounce_speed(case.motion, vt, w_max, respond=at)
     here = at(float(omega))
     speeds = sorted(marched)
+    curves = None
+    if vt.rocker is not None:
+        cam_at_valve, ratios = vt.at_valve_mm(here.cam_lift)
+        curves = (cam_at_valve, vt.at_valve_mm(here.follower_lift)[0], ratios)
     return ValvetrainResult(
         float(vt.ratio),
         float(vt.lash) / M_PER_MM,
@@ -114,4 +169,6 @@ def analyze_valvetrain(case: Case, omega: float, margin: float) -> ValvetrainRes
         tuple(w / RPM for w in speeds),
         tuple(marched[w].seating_velocity for w in speeds),
         tuple(marched[w].bounce_height_mm for w in speeds),
+        curves,
+        None if case.spring is None else case.spring.travel_to_solid_mm,
     )

@@ -6,20 +6,28 @@ from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
+import equinox as eqx
+import jax.numpy as jnp
 import numpy as np
 
 from .._core.errors import InputError
 from .._core.kinds import FollowerKind
 from .._core.precision import require_x64
-from .._core.units import THETA_GRID
-from ..schema import CaseSpec, FollowerSpec, LimitsSpec, dynamics_keys, load_case_spec, parse
+from .._core.units import M_PER_MM, MAX_ROCKER_RATIO, THETA_GRID
+from ..schema import CaseSpec, FollowerSpec, LimitsSpec, ValvetrainSpec, dynamics_keys, load_case_spec, parse
 from .follower import FollowerModel, follower_model
 from .geometry import ContourFit
-from .linkage import synthesize_motion
 from .motion import Motion, MotionFit, Program
 from .sources import contour_motion, table_motion
 from .surge import SpringInDynamics
-from .valvetrain import ValvetrainModel, equivalent_follower, valvetrain_model
+from .valvetrain import (
+    ValvetrainModel,
+    coils_model,
+    equivalent_follower,
+    rocker_model,
+    rocker_reach,
+    valvetrain_model,
+)
 
 
 @dataclass(frozen=True)
@@ -90,7 +98,7 @@ def with_valvetrain_keys(case: Case, dynamics: dict | None = None, valvetrain: d
     assert case.spec.valvetrain is not None  # the caller's: a [valvetrain] case
     d = case.spec.dynamics.model_copy(update=dynamics or {})
     v = case.spec.valvetrain.model_copy(update=valvetrain or {})
-    vt = valvetrain_model(v, d)
+    vt = valvetrain_model(v, d, float(_lifts(case.motion).max()))
     spec = case.spec.model_copy(update={"dynamics": d, "valvetrain": v})
     return replace(case, spec=spec, model=equivalent_follower(vt), valvetrain=vt)
 
@@ -125,10 +133,16 @@ def build_case(spec: CaseSpec, source: Path | None = None) -> Case:
         motion, follower, fit, contour, warnings = contour_motion(spec, source)
     else:
         assert spec.path is not None and spec.mechanism is not None  # CaseSpec: a case without [motion] has both
+        from .linkage import synthesize_motion  # only a path case loads the cam-linkage models (17 ms a check)
+
         synthesis = synthesize_motion(spec.path, spec.mechanism)
         motion, follower = synthesis.tabulated, synthesis.follower
         warnings += list(synthesis.warnings)
-    valvetrain = None if spec.valvetrain is None else valvetrain_model(spec.valvetrain, spec.dynamics)
+    valvetrain = None
+    if spec.valvetrain is not None:
+        lifts = _lifts(motion)
+        _check_rocker(spec.valvetrain, lifts)
+        valvetrain = valvetrain_model(spec.valvetrain, spec.dynamics, float(lifts.max()))
     if valvetrain is None:
         model = follower_model(spec.dynamics, kind=spec.kind)
     else:
@@ -136,22 +150,64 @@ def build_case(spec: CaseSpec, source: Path | None = None) -> Case:
     if not follower.form_closed:  # a groove holds the follower both ways: it needs no spring to stay on
         _check_holds_at_rest(motion, model, dynamics_keys(spec.kind)[2], spec.kind.force_unit)
     if valvetrain is not None:
-        _check_valve_lifts(motion, spec)
+        _check_valve_lifts(motion, spec, valvetrain)
     return Case(
         name, source, spec, motion, follower, model, synthesis, tuple(warnings), fit, contour, valvetrain=valvetrain
     )
 
 
-def _check_valve_lifts(motion: Motion, spec: CaseSpec) -> None:
-    """The cam's lift at the valve (ratio x lift) must take up the lash, and a compliant train compressed by the
-    rest must carry more than the spring's preload, or the valve never moves (statically)."""
+def _lifts(motion: Motion) -> np.ndarray:
+    """The follower's lift on the revolution's grid (mm)."""
+    return motion.host(np.arange(THETA_GRID) * (2 * np.pi / THETA_GRID))[0]
+
+
+def valvetrain_with_spring_mass(case: Case, spring_mass_kg: float, surge: bool = False) -> ValvetrainModel:
+    """The case's two-mass valvetrain with a third of its valve spring's mass (kg) moving with the valve (the
+    lumped correction: the coils' kinetic energy with a linear velocity profile), its dampers kept at their ratios;
+    ``surge``: the spring a chain of masses instead (:class:`Coils`), half a lump on the valve, the dampers the
+    lumped model's (so a slow stroke sees it)."""
+    vt = case.spec.valvetrain
+    assert vt is not None  # the caller's: a [valvetrain] case
+    heavier = vt.model_copy(update={"valve_mass": vt.valve_mass + spring_mass_kg / 3.0})
+    lumped = valvetrain_model(heavier, case.spec.dynamics, float(_lifts(case.motion).max()))
+    if not surge:
+        return lumped
+    coils = coils_model(float(lumped.spring_rate), spring_mass_kg)
+    valve = jnp.asarray(float(vt.valve_mass)) + coils.lump_mass / 2
+    return eqx.tree_at(lambda v: (v.valve_mass, v.coils), lumped, (valve, coils), is_leaf=lambda x: x is None)
+
+
+def _check_rocker(vt: ValvetrainSpec, lifts: np.ndarray) -> None:
+    """A rocker's geometry must carry the follower over all its lifts (mm) without an arm turning square to its
+    contact's line (where the ratio would fall to zero or grow without bound)."""
+    if vt.rocker is None:
+        return
+    rocker = rocker_model(vt.rocker)
+    for lift in (float(lifts.min()), float(lifts.max())):
+        why = rocker_reach(rocker, lift)
+        if why is not None:
+            raise InputError("valvetrain.rocker", f"{why}: lengthen the arm or change its angle")
+    ratios = np.asarray(rocker.lever(lifts * M_PER_MM)[1])
+    if ratios.max() > MAX_ROCKER_RATIO:
+        raise InputError(
+            "valvetrain.rocker",
+            f"the rocker's ratio reaches {ratios.max():.3g} over the lift (at most {MAX_ROCKER_RATIO:g}): "
+            "check the arms",
+        )
+
+
+def _check_valve_lifts(motion: Motion, spec: CaseSpec, vt_model: ValvetrainModel) -> None:
+    """The cam's lift at the valve (its lift through the rocker) must take up the lash, and a compliant train
+    compressed by the rest must carry more than the spring's preload, or the valve never moves (statically)."""
     vt, preload = spec.valvetrain, spec.dynamics.preload
     assert vt is not None and preload is not None  # the caller's; CaseSpec: a valvetrain's spring has a preload
-    reach = vt.ratio * float(np.ptp(motion.host(np.arange(THETA_GRID) * (2 * np.pi / THETA_GRID))[0]))
+    lifts = _lifts(motion)
+    at_valve = vt_model.at_valve_mm(np.array([lifts.min(), lifts.max()]))[0]
+    reach = float(at_valve[1] - at_valve[0])
     if reach <= vt.lash:
         raise InputError(
             "valvetrain.lash",
-            f"the valve never lifts: the cam's lift at the valve (ratio x lift = {reach:.4g} mm) does not take up "
+            f"the valve never lifts: the cam's lift at the valve (through the rocker: {reach:.4g} mm) does not take up "
             f"the lash ({vt.lash:g} mm)",
         )
     if vt.stiffness is not None and vt.stiffness * (reach - vt.lash) <= preload:

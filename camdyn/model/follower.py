@@ -9,6 +9,7 @@ import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
+from jax.core import Tracer
 from jax.typing import ArrayLike
 
 from .._core.kinds import FollowerKind
@@ -70,8 +71,9 @@ def follower_model(d: DynamicsSpec, *, kind: FollowerKind) -> FollowerModel:
     cf = 0.0 if math.isinf(kf) else damping_from_ratio(d.train_damping_ratio, kf, m)
     ratio = math.nan if d.damping is not None else (d.damping_ratio or 0.0)
     vals = (m, k, f0, c, ext, kf, cf, d.restitution)
+    # device_put, not jnp.asarray: the latter compiles a program per shape on first use (JAX 0.10), 10 ms each
     return FollowerModel(
-        *(jnp.asarray(float(v)) for v in vals), scale=kind.si_per_motion, damping_ratio=jnp.asarray(ratio)
+        *(jax.device_put(float(v)) for v in vals), scale=kind.si_per_motion, damping_ratio=jax.device_put(ratio)
     )
 
 
@@ -83,9 +85,15 @@ def with_spring_mass(model: FollowerModel, spring_mass: float, *, lever_arm_mm: 
     added = spring_mass / 3.0
     if lever_arm_mm is not None:
         added = added * (lever_arm_mm * M_PER_MM) ** 2
-    mass = model.mass + added
-    grow = jnp.sqrt(mass / model.mass)
-    damping = jnp.where(jnp.isnan(model.damping_ratio), model.damping, model.damping * grow)
-    return eqx.tree_at(
-        lambda m: (m.mass, m.damping, m.train_damping), model, (mass, damping, model.train_damping * grow)
-    )
+    m0, c0, cf0, ratio = leaves = (model.mass, model.damping, model.train_damping, model.damping_ratio)
+    # numpy where the model is concrete (the same IEEE operations): six eager jax ops would each compile a program
+    # on first use, 40 ms of every check of a case with a spring
+    xp = jnp if any(isinstance(x, Tracer) for x in leaves) else np
+    if xp is np:
+        m0, c0, cf0, ratio = (np.asarray(x) for x in leaves)
+    mass = m0 + added
+    grow = xp.sqrt(mass / m0)
+    new = (mass, xp.where(xp.isnan(ratio), c0, c0 * grow), cf0 * grow)
+    if xp is np:  # back to JAX arrays, scalars weakly typed as jax.numpy's results are
+        new = tuple(jax.device_put(float(x) if np.ndim(x) == 0 else x) for x in new)
+    return eqx.tree_at(lambda m: (m.mass, m.damping, m.train_damping), model, new)

@@ -161,6 +161,21 @@ def surge_frequency(rate_N_per_mm: float | np.ndarray, active_mass_kg: float | n
     return 0.5 * np.sqrt(np.asarray(rate_N_per_mm, dtype=float) * N_PER_M_PER_N_PER_MM / active_mass_kg)
 
 
+# The spring as a chain of masses ([spring] model = "surge"; camdyn.model.surge, and a valvetrain's valve side)
+DEFAULT_SEGMENTS = 16
+DEFAULT_SURGE_DAMPING = 0.02  # damping ratio of the spring's first surge mode (steel coils: light)
+
+
+def chain_segments(rate: float, spring_mass: float, segments: int, surge_damping: float) -> tuple[float, float, float]:
+    """A spring of ``rate`` (SI) and mass ``spring_mass`` (kg, or its generalized mass) as ``segments`` equal lumps
+    joined by springs, fixed at the far end: (each lump's mass, each segment's rate N k, each segment's damper N c_s),
+    with the coils' damper c_s stiffness-proportional, set so that the first surge mode (fixed at both ends,
+    w_1 = pi sqrt(k / m_s)) has the damping ratio ``surge_damping``. The lump at the moving end is half a lump."""
+    n, k, m_s = segments, float(rate), float(spring_mass)
+    c_s = 2.0 * surge_damping * k / (math.pi * math.sqrt(k / m_s))  # the whole spring's: zeta_1 = c_s w_1 / 2k
+    return m_s / n, n * k, n * c_s
+
+
 def shear_endurance(
     Ssu: float | np.ndarray,
     criterion: str = "gerber",

@@ -24,7 +24,6 @@ reference for the frequency-domain orbit.
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, replace
 from typing import Any
 
@@ -39,9 +38,7 @@ from .._core.units import FFT_GRID, RPM, TWO_PI
 from .dynamics import contact_force, dynamic_jump_speed, first_zero_speed, train_force
 from .follower import FollowerModel, with_spring_mass
 from .motion import Motion, evaluate
-
-DEFAULT_SEGMENTS = 16
-DEFAULT_SURGE_DAMPING = 0.02  # damping ratio of the spring's first surge mode (steel coils: light)
+from .spring import DEFAULT_SEGMENTS, DEFAULT_SURGE_DAMPING, chain_segments
 
 
 def _matrices(model: FollowerModel, spring_mass: float, segments: int, surge_damping: float):
@@ -50,14 +47,13 @@ def _matrices(model: FollowerModel, spring_mass: float, segments: int, surge_dam
         raise InputError(
             "spring", f"a chain needs at least one segment and a positive spring mass (got {segments}, {spring_mass})"
         )
-    n, k, m_s = segments, float(model.stiffness), float(spring_mass)
-    w_surge = math.pi * math.sqrt(k / m_s)
-    c_s = 2.0 * surge_damping * k / w_surge  # KV damper of the whole spring: zeta_1 = c_s w_1 / (2 k)
-    mass = np.full(n, m_s / n)
-    mass[-1] = float(model.mass) + m_s / (2 * n)
+    n = segments
+    lump, k_seg, c_seg = chain_segments(float(model.stiffness), spring_mass, n, surge_damping)
+    mass = np.full(n, lump)
+    mass[-1] = float(model.mass) + lump / 2
     band = np.diag(np.full(n, 2.0)) - np.diag(np.ones(n - 1), 1) - np.diag(np.ones(n - 1), -1)
     band[-1, -1] = 1.0
-    K, C = n * k * band, n * c_s * band
+    K, C = k_seg * band, c_seg * band
     C[-1, -1] += float(model.damping)
     return mass, K, C
 
@@ -236,12 +232,15 @@ class SpringInDynamics:
     lever_arm_mm: float | None  # an oscillating arm's spring acts here; None: translating
     bare: FollowerModel  # the follower without the spring's mass
     note: str | None = None
+    valve_ratio: float | None = None  # a valve spring's: it acts at the valve, through the rocker's (nominal) ratio
+    travel_to_solid_mm: float | None = None  # the designed part's, from its installed length to solid
 
     @property
     def generalized_mass(self) -> float:
-        """The spring's mass in the follower's coordinate: kg, or kg*m^2 for an arm (m_s r^2)."""
+        """The spring's mass in the follower's coordinate: kg, or kg*m^2 for an arm (m_s r^2); a valve spring's
+        through the rocker (m_s ratio^2)."""
         r = 1.0 if self.lever_arm_mm is None else (self.lever_arm_mm * 1e-3) ** 2
-        return self.mass_kg * r
+        return self.mass_kg * r * (1.0 if self.valve_ratio is None else self.valve_ratio**2)
 
     def follower(self, bare: FollowerModel | None = None) -> FollowerModel:
         """The follower model the dynamics integrate: ``bare`` (default the case's) with the lumped third of the
@@ -249,7 +248,8 @@ class SpringInDynamics:
         bare = self.bare if bare is None else bare
         if self.model == "none":
             return bare
-        return with_spring_mass(bare, self.mass_kg, lever_arm_mm=self.lever_arm_mm)
+        at_valve = 1.0 if self.valve_ratio is None else self.valve_ratio**2
+        return with_spring_mass(bare, self.mass_kg * at_valve, lever_arm_mm=self.lever_arm_mm)
 
     def jump_speed(self, motion: Motion, bare: FollowerModel | None = None, *, w_max: float) -> float:
         """The dynamic jump speed (rad/s; inf if none up to ``w_max``) of the follower ``bare`` (default the
@@ -261,8 +261,9 @@ class SpringInDynamics:
         return dynamic_jump_speed(motion, self.follower(bare), w_max=w_max)
 
     def with_mass(self, mass_kg: float, model: str | None = None) -> SpringInDynamics:
-        """The same follower with another spring (kg), and spring model if given."""
-        return replace(self, mass_kg=float(mass_kg), model=self.model if model is None else model, note=None)
+        """The same follower with another spring (kg), and spring model if given (its travel to solid unknown)."""
+        model = self.model if model is None else model
+        return replace(self, mass_kg=float(mass_kg), model=model, note=None, travel_to_solid_mm=None)
 
     def json(self) -> dict:
         return {"spring_model": self.model, "spring_mass_kg": self.mass_kg if self.model != "none" else None}

@@ -1,9 +1,11 @@
 """A valvetrain's lumped parameters in SI, from ``[valvetrain]`` and ``[dynamics]``: the cam side and the valve as
 two masses, the train between them, the lash, the valve spring and seat; and the single follower it reduces to.
 
-Coordinates: the follower's lift x_c at the cam and the valve's lift x_v at the valve (m). The train's
-deflection at the valve is ``r x_c - lash - x_v`` (the lash is closed where it is positive); its force F_t at the
-valve acts as ``r F_t`` on the follower (a rocker of ratio r, virtual work).
+Coordinates: the follower's lift x_c at the cam and the valve's lift x_v at the valve (m). The rocker carries the
+follower's lift to the valve as ``g(x_c)`` (``r x_c`` for a constant ratio r; a rocker's geometry otherwise,
+:class:`Rocker`), whose derivative ``r(x_c) = dg/dx_c`` is the instantaneous ratio. The train's deflection at the
+valve is ``g(x_c) - lash - x_v`` (the lash is closed where it is positive); its force F_t at the valve acts as
+``r(x_c) F_t`` on the follower (virtual work).
 """
 
 from __future__ import annotations
@@ -14,11 +16,13 @@ import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
+from jax.typing import ArrayLike
 
 from .._core.kinds import TRANSLATING
 from .._core.units import M_PER_MM, damping_from_ratio
-from ..schema import DynamicsSpec, ValvetrainSpec
+from ..schema import DynamicsSpec, RockerSpec, ValvetrainSpec
 from .follower import FollowerModel
+from .spring import DEFAULT_SEGMENTS, DEFAULT_SURGE_DAMPING, chain_segments
 
 
 class Link(eqx.Module):
@@ -26,6 +30,71 @@ class Link(eqx.Module):
 
     train_stiffness: jax.Array  # N/m; inf: rigid
     train_damping: jax.Array  # N*s/m
+
+
+class Rocker(eqx.Module):
+    """A rocker's geometry in SI: each contact a point of the rocker at ``arm`` (m) from the pivot and ``angle``
+    (rad) from the square to its line of motion at zero lift, pressing on a flat face square to that line. Turned
+    by phi, a point lifts its face by ``arm (sin(angle + phi) - sin(angle))``: the follower's lift fixes phi, phi
+    the valve's."""
+
+    cam_arm: jax.Array  # m
+    valve_arm: jax.Array  # m
+    cam_angle: jax.Array  # rad
+    valve_angle: jax.Array  # rad
+
+    def lever(self, x_c: ArrayLike) -> tuple[jax.Array, jax.Array, jax.Array]:
+        """At follower lift ``x_c`` (m): the cam's lift at the valve g (m), the ratio dg/dx_c and d2g/dx_c2 (1/m).
+        NaN where the cam arm would turn past square to the follower's line (the caller's check refuses it)."""
+        a, b, al, be = self.cam_arm, self.valve_arm, self.cam_angle, self.valve_angle
+        u = x_c / a + jnp.sin(al)  # sin(al + phi)
+        cos_a = jnp.sqrt(1.0 - u**2)
+        phi = jnp.arcsin(u) - al
+        g = b * (jnp.sin(be + phi) - jnp.sin(be))
+        ratio = b * jnp.cos(be + phi) / (a * cos_a)
+        return g, ratio, b * jnp.sin(al - be) / (a**2 * cos_a**3)
+
+
+def rocker_model(spec: RockerSpec) -> Rocker:
+    """The SI :class:`Rocker` of a ``[valvetrain.rocker]`` table (mm, deg)."""
+    a = lambda x: jnp.asarray(float(x))  # noqa: E731
+    return Rocker(
+        a(spec.cam_arm * M_PER_MM),
+        a(spec.valve_arm * M_PER_MM),
+        a(math.radians(spec.cam_arm_angle)),
+        a(math.radians(spec.valve_arm_angle)),
+    )
+
+
+def rocker_reach(rocker: Rocker, lift_mm: float) -> str | None:
+    """Why the rocker cannot carry the follower to ``lift_mm`` (mm from zero lift), or None where it can: an arm
+    turned to square with its contact's line would stall the train there, and past it reverse it."""
+    al, be = float(rocker.cam_angle), float(rocker.valve_angle)
+    u = lift_mm * M_PER_MM / float(rocker.cam_arm) + math.sin(al)
+    if abs(u) >= 1.0:
+        return f"the cam arm turns square to the follower's line before the follower's lift of {lift_mm:.4g} mm"
+    turned = math.asin(u) - al + be
+    if abs(turned) >= math.pi / 2:
+        return f"the valve arm turns square to the valve's axis before the follower's lift of {lift_mm:.4g} mm"
+    return None
+
+
+class Coils(eqx.Module):
+    """The valve spring as a chain of masses on the valve's side (``[spring] model = "surge"``): ``count`` segments
+    fixed at the head, their inner lumps (``count - 1`` of them) free, the last half lump on the valve
+    (:func:`camdyn.model.spring.chain_segments`)."""
+
+    count: int = eqx.field(static=True)
+    lump_mass: jax.Array  # kg, each inner lump
+    segment_rate: jax.Array  # N/m, each segment: count x the spring's rate
+    segment_damping: jax.Array  # N*s/m, each segment's damper
+
+
+def coils_model(rate: float, spring_mass_kg: float) -> Coils:
+    """The chain of a valve spring of ``rate`` (N/m) and mass ``spring_mass_kg`` (kg), at the default segments and
+    surge damping."""
+    lump, k_seg, c_seg = chain_segments(rate, spring_mass_kg, DEFAULT_SEGMENTS, DEFAULT_SURGE_DAMPING)
+    return Coils(DEFAULT_SEGMENTS, jnp.asarray(lump), jnp.asarray(k_seg), jnp.asarray(c_seg))
 
 
 class ValvetrainModel(eqx.Module):
@@ -43,6 +112,23 @@ class ValvetrainModel(eqx.Module):
     preload: jax.Array  # N, the valve spring's force on the closed valve
     spring_damping: jax.Array  # N*s/m, at the valve
     tappet_force: jax.Array  # N, holding the follower on the cam
+    rocker: Rocker | None = None  # a rocker's geometry; None: the constant ``ratio``. With it ``ratio`` is the ratio
+    # at the cam's peak lift (the nominal: where float begins), which the equivalent follower uses
+    spring_damping_ratio: jax.Array = eqx.field(default_factory=lambda: jnp.asarray(math.nan))  # NaN: c was given
+    coils: Coils | None = None  # the valve spring's surge ([spring] model = "surge"); None: its mass lumped, or none
+
+    def lever(self, x_c: ArrayLike) -> tuple[jax.Array, jax.Array, jax.Array | float]:
+        """At follower lift ``x_c`` (m): the cam's lift at the valve g (m), the ratio dg/dx_c and d2g/dx_c2 (1/m)."""
+        if self.rocker is None:
+            return self.ratio * x_c, self.ratio, 0.0
+        return self.rocker.lever(x_c)
+
+    def at_valve_mm(self, lift_mm: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
+        """At follower lifts ``lift_mm`` (mm), on the host: the lift through the rocker at the valve (mm, the lash
+        not taken off) and the instantaneous ratio."""
+        g, ratio, _ = self.lever(jnp.asarray(lift_mm) * M_PER_MM)
+        shape = np.shape(lift_mm)
+        return np.broadcast_to(np.asarray(g) / M_PER_MM, shape), np.broadcast_to(np.asarray(ratio), shape)
 
     @property
     def rigid_cam(self) -> bool:
@@ -58,15 +144,17 @@ class ValvetrainModel(eqx.Module):
         return self.cam_side_mass + self.valve_mass * self.ratio**2
 
 
-def valvetrain_model(v: ValvetrainSpec, d: DynamicsSpec) -> ValvetrainModel:
+def valvetrain_model(v: ValvetrainSpec, d: DynamicsSpec, peak_lift_mm: float = 0.0) -> ValvetrainModel:
     """SI valvetrain parameters from validated ``[valvetrain]`` and ``[dynamics]`` tables.
 
     Damping ratios become dampers on the mass each one moves: the valve spring's ``c = 2 zeta sqrt(k m)`` with the
     whole train's mass reduced to the valve (``m_valve + m_cam / r^2``), so that the equivalent follower's ratio is
     the same zeta; the train's on the valve (``c = 2 zeta sqrt(k_t m_valve)``); the cam contact's on the whole
-    train at the follower (``m_cam + m_valve r^2``), as a single follower's would be.
+    train at the follower (``m_cam + m_valve r^2``), as a single follower's would be. With a rocker, r is its
+    ratio at the follower's ``peak_lift_mm`` (mm).
     """
-    r = float(v.ratio)
+    rocker = None if v.rocker is None else rocker_model(v.rocker)
+    r = float(v.ratio) if rocker is None else float(rocker.lever(jnp.asarray(peak_lift_mm * M_PER_MM))[1])
     m_c, m_v = float(v.cam_side_mass), float(v.valve_mass)
     assert d.spring_rate is not None  # the valvetrain's check: [dynamics] gives the valve spring's rate
     k = TRANSLATING.rate_to_si(d.spring_rate)
@@ -90,12 +178,15 @@ def valvetrain_model(v: ValvetrainSpec, d: DynamicsSpec) -> ValvetrainModel:
         a(d.preload),
         a(c),
         a(v.tappet_force),
+        rocker,
+        a(math.nan if d.damping is not None else (d.damping_ratio or 0.0)),
     )
 
 
 def equivalent_follower(vt: ValvetrainModel) -> FollowerModel:
     """The single follower a rigid, lash-free valvetrain is, at the cam: mass ``m_cam + m_valve r^2``, spring rate
-    ``k r^2``, preload ``F0 r``, damping ``c r^2``, the tappet force as the external load, the same cam contact.
+    ``k r^2``, preload ``F0 r``, damping ``c r^2`` (the same damping ratio), the tappet force as the external load,
+    the same cam contact.
     The checks that know one follower read this; the valvetrain's own results come from the two-mass model."""
     r = vt.ratio
     return FollowerModel(
@@ -108,6 +199,7 @@ def equivalent_follower(vt: ValvetrainModel) -> FollowerModel:
         vt.cam.train_damping,
         vt.cam_restitution,
         scale=M_PER_MM,
+        damping_ratio=vt.spring_damping_ratio,
     )
 
 

@@ -22,6 +22,16 @@ from .dynamics import (
     plot_force_vs_speed,
     plot_vibration,
 )
+from .groove import (
+    plot_flank_force,
+    plot_groove_cam,
+    plot_impact_histogram,
+    plot_impact_map,
+    plot_impact_speed,
+    plot_wall_curvature,
+    save_impact_histogram_png,
+    save_impact_png,
+)
 from .jumpmap import plot_jump_map, save_png
 from .mechanism import mechanism_bounds, mechanism_frames, plot_mechanism, plot_path, plot_path_error
 from .motion import display_scale, display_unit, plot_fit, plot_svaj, svaj_quantities
@@ -36,10 +46,19 @@ from .tolerance import (
     save_tolerance_png,
     save_valve_tolerance_png,
 )
-from .valvetrain import plot_seating_velocity, plot_valve_lift, plot_valve_velocity
+from .valvetrain import plot_rocker_ratio, plot_seating_velocity, plot_valve_lift, plot_valve_velocity
 
 __all__ = [
+    "plot_flank_force",
+    "plot_groove_cam",
+    "plot_impact_histogram",
+    "plot_impact_map",
+    "plot_impact_speed",
+    "plot_wall_curvature",
+    "save_impact_histogram_png",
+    "save_impact_png",
     "plot_seating_velocity",
+    "plot_rocker_ratio",
     "plot_valve_lift",
     "plot_valve_velocity",
     "plot_motion_before_after",

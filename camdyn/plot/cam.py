@@ -350,6 +350,20 @@ def plot_pressure_angle(
     ax.set_title("pressure angle", fontsize=9)
 
 
+def curvature_limit_line(ax: Axes, min_curvature_ratio: float, roller_radius: float) -> None:
+    """The curvature check's limit on a radius-of-curvature axis: ``min_curvature_ratio`` x roller radius (mm)."""
+    r_lim = min_curvature_ratio * roller_radius
+    ax.axhline(r_lim, color=C["limit"], ls="--", lw=0.9)
+    ax.text(
+        2,
+        r_lim,
+        f" limit {min_curvature_ratio:g} \u00d7 roller radius = {r_lim:.3g} mm (convex)",
+        color=C["limit"],
+        size=7,
+        va="bottom",
+    )
+
+
 def plot_curvature(
     ax: Axes,
     geometry: CamGeometry,
@@ -373,16 +387,7 @@ def plot_curvature(
     if f.roller_radius is not None:
         rho_p = np.where(np.abs(geo.rho_pitch_mm) <= cap * 1.05, geo.rho_pitch_mm, np.nan)
         ax.plot(th, rho_p, color=C["dyn"], lw=0.8, ls="--", alpha=0.7, label="pitch curve")
-        r_lim = min_curvature_ratio * f.roller_radius
-        ax.axhline(r_lim, color=C["limit"], ls="--", lw=0.9)
-        ax.text(
-            2,
-            r_lim,
-            f" limit {min_curvature_ratio:g} \u00d7 roller radius = {r_lim:.3g} mm (convex)",
-            color=C["limit"],
-            size=7,
-            va="bottom",
-        )
+        curvature_limit_line(ax, min_curvature_ratio, f.roller_radius)
     else:
         ax.axhline(0.0, color=C["limit"], ls="--", lw=0.9)
         ax.text(2, 0.0, " limit: no cusp (\u03c1 > 0)", color=C["limit"], size=7, va="bottom")

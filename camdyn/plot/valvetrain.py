@@ -1,5 +1,6 @@
 """A valvetrain's figures (``result``: :class:`camdyn.design.valvetrain.ValvetrainResult`): the valve and the cam
-at the valve over the event, the valve's velocity, and its seating velocity against cam speed."""
+at the valve over the event, the valve's velocity, its seating velocity against cam speed, and a rocker's ratio
+against cam angle."""
 
 from __future__ import annotations
 
@@ -27,18 +28,20 @@ def _event_window(resp, pad_deg: float = 30.0) -> tuple[float, float]:
 
 
 def plot_valve_lift(ax: Axes, result: ValvetrainResult) -> None:
-    """The valve's lift against the cam's lift at the valve (ratio x follower lift - lash: where the valve would be
-    on a rigid train), the lash and the ramps that take it up, around the valve event; opening and closing marked."""
+    """The valve's lift against the cam's lift at the valve (through the rocker, less the lash: where the valve would
+    be on a rigid train), the lash and the ramps that take it up, around the valve event; opening and closing marked,
+    and the lift at which a designed spring goes solid."""
     resp = result.response
     th = resp.theta_deg
-    cam_at_valve = result.ratio * resp.cam_lift - result.lash_mm
-    ax.plot(th, cam_at_valve, color=C["kin"], ls="--", lw=1.0, label="cam at the valve: ratio x lift - lash")
-    ax.plot(
-        th, result.ratio * resp.follower_lift - result.lash_mm, color=C["margin"], lw=0.9, label="follower at the valve"
-    )
+    cam_label = "cam at the valve (through the rocker) - lash"
+    ax.plot(th, result.cam_at_valve, color=C["kin"], ls="--", lw=1.0, label=cam_label)
+    ax.plot(th, result.follower_at_valve, color=C["margin"], lw=0.9, label="follower at the valve")
     ax.plot(th, resp.valve_lift, color=C["dyn"], lw=1.3, label=f"valve at {resp.omega * 60 / TWO_PI:g} rpm")
     ax.axhline(0.0, color=C["ink"], lw=0.8)
     ax.axhline(-result.lash_mm, color=C["grey"], lw=0.6, ls=":", label=f"lash {result.lash_mm:g} mm")
+    if result.coil_bind_lift_mm is not None:  # a designed spring's solid height: a stop the valve must not reach
+        solid = result.coil_bind_lift_mm
+        ax.axhline(solid, color=C["limit"], lw=0.8, ls="--", label=f"spring solid at {solid:.3g} mm valve lift")
     for deg in result.timing_deg:
         if math.isfinite(deg):
             ax.axvline(deg, color=C["grey"], lw=0.6)
@@ -111,3 +114,21 @@ def plot_seating_velocity(ax: Axes, result: ValvetrainResult, max_seating_veloci
         ax.set_ylim(0.0, 1.15 * max(float(shown.max()), max_seating_velocity or 0.0))
     ax.set_title("the valve landing on its seat, against cam speed", fontsize=9)
     legend_above_data(ax, fontsize=7, ncol=2)
+
+
+def plot_rocker_ratio(ax: Axes, result: ValvetrainResult) -> None:
+    """The rocker's instantaneous ratio (d valve lift / d follower lift at the cam's lift) against cam angle, around
+    the valve event, its least and largest marked."""
+    resp = result.response
+    ratios = result.ratios
+    ax.plot(resp.theta_deg, ratios, color=C["dyn"], lw=1.2, label="ratio at the cam's lift")
+    ax.axhline(result.ratio, color=C["kin"], lw=0.8, ls="--", label=f"at peak lift {result.ratio:.4g}")
+    lo, hi = float(ratios.min()), float(ratios.max())
+    pad = max(0.02, 0.15 * (hi - lo))
+    ax.set_ylim(lo - pad, hi + pad)
+    ax.set_ylabel("rocker ratio")
+    ax.set_xlabel("cam angle (deg)")
+    deg_ticks(ax, 60.0)
+    ax.set_xlim(*_event_window(resp))
+    ax.set_title(f"rocker ratio: {lo:.4g} to {hi:.4g}", fontsize=9)
+    legend_above_data(ax, fontsize=7)

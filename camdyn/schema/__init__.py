@@ -28,7 +28,7 @@ from .path import PATH_TYPES, PathSpec
 from .pathfile import PathFileSpec, SynthesisSpec
 from .spring import END_TYPES, SPRING_MODELS, SpringSpec
 from .tolerances import DISTRIBUTIONS, TOLERANCE_KEYS, Tolerance, TolerancesSpec, ToleranceValue, resolve_tolerances
-from .valvetrain import ValvetrainSpec
+from .valvetrain import RockerSpec, ValvetrainSpec
 
 __all__ = [
     "CaseSpec",
@@ -68,6 +68,7 @@ __all__ = [
     "TolerancesSpec",
     "ToleranceValue",
     "resolve_tolerances",
+    "RockerSpec",
     "ValvetrainSpec",
 ]
 

@@ -94,12 +94,16 @@ class CaseSpec(Table):
             )
         if self.motion is not None and self.motion.valve_table is not None and self.valvetrain is None:
             raise ValueError("motion.valve_table: a lift at the valve needs [valvetrain] (its ratio and lash)")
+        if self.motion is not None and self.motion.valve_table is not None and self.valvetrain is not None:
+            if self.valvetrain.rocker is not None:
+                raise ValueError(
+                    "valvetrain.rocker: a valve_table with a rocker's geometry is not supported yet: give the ratio "
+                    "(or the follower's lift as [motion] table)"
+                )
         if self.valvetrain is not None and self.follower is not None and self.follower.form_closed:
             raise ValueError("follower.closure: a valvetrain is spring-closed: remove closure (or [valvetrain])")
         if self.valvetrain is not None:
-            check_valvetrain_keys(
-                self.valvetrain, self.dynamics, translating=not self.oscillating, spring=self.spring is not None
-            )
+            check_valvetrain_keys(self.valvetrain, self.dynamics, translating=not self.oscillating)
         else:
             form_closed = self.follower is not None and self.follower.form_closed
             check_dynamics_keys(self.dynamics, kind=self.kind, form_closed=form_closed)
@@ -108,6 +112,11 @@ class CaseSpec(Table):
         check_tolerance_keys(
             self.tolerances, kind=self.kind, valvetrain=vt is not None, rigid_train=vt is None or vt.stiffness is None
         )
+        if self.tolerances is not None and self.tolerances.backlash is not None:
+            if self.follower is None or self.follower.closure != "groove":
+                raise ValueError(
+                    'tolerances.backlash: only a groove cam ([follower] closure = "groove") has a backlash'
+                )
         if self.limits.max_contact_stress is not None and self.contact_width_mm is None:
             where = "follower" if self.follower is not None else "mechanism"
             raise ValueError(

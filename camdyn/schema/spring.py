@@ -51,8 +51,8 @@ class SpringSpec(Table):
     model: Literal["lumped", "surge"] = Field(
         default="lumped",
         description=(
-            "the spring in the dynamics: lumped (a third of its mass moves with the follower) | surge (a chain of "
-            "masses)"
+            "the spring in the dynamics: lumped (a third of its mass moves with the follower, or the valve of a "
+            "[valvetrain]) | surge (a chain of masses)"
         ),
     )
 

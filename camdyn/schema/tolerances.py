@@ -92,6 +92,13 @@ class TolerancesSpec(Table):
             + _HELP.format(u="500 N/mm", u0="N/mm")
         ),
     )
+    backlash: Tol | None = Field(
+        default=None,
+        description=(
+            'a groove cam\'s backlash tolerance ([follower] closure = "groove"): "20%", "10 um" or a number (mm); '
+            "camdyn tolerance then gives the spread of the crossover impact speed"
+        ),
+    )
     distribution: Literal["normal", "uniform"] = Field(
         default="normal",
         description=(

@@ -24,15 +24,62 @@ from ._base import Real, Table
 from .dynamics import LINEAR_KEYS, ROTARY_KEYS, DynamicsSpec
 
 
+class RockerSpec(Table):
+    """The ``[valvetrain.rocker]`` table: a rocker (or a finger follower) turning about a fixed pivot, whose ratio
+    follows from its geometry and varies with lift. Each contact is a point of the rocker (the centre of a pushrod's
+    ball, a roller's axle, a radiused pad's centre of curvature) pressing on a flat face square to its line of motion
+    (the tappet's cup, the valve's tip): its lift is the point's travel along that line, whatever the pad's radius."""
+
+    cam_arm: Real = Field(
+        gt=0,
+        le=1000.0,
+        description=(
+            "pivot to the cam side's contact point (the pushrod's ball centre, a finger follower's roller axle or "
+            "pad centre), mm"
+        ),
+    )
+    valve_arm: Real = Field(
+        gt=0,
+        le=1000.0,
+        description="pivot to the valve side's contact point (the centre of curvature of the pad on the valve tip), mm",
+    )
+    cam_arm_angle: Real = Field(
+        default=0.0,
+        gt=-80.0,
+        lt=80.0,
+        description=(
+            "the cam arm's angle at zero lift, deg, from the square to the follower's line of motion, positive "
+            "towards the follower's lift (0: square at zero lift; -a/2: square at half of a lift of a)"
+        ),
+    )
+    valve_arm_angle: Real = Field(
+        default=0.0,
+        gt=-80.0,
+        lt=80.0,
+        description=(
+            "the valve arm's angle at zero lift, deg, from the square to the valve's axis, positive towards the "
+            "valve's opening; equal to cam_arm_angle for a straight rocker (a constant ratio valve_arm / cam_arm)"
+        ),
+    )
+
+
 class ValvetrainSpec(Table):
-    """The ``[valvetrain]`` table: a rocker of constant ratio (1: direct acting), lash at the valve, the cam side
-    and the valve as two masses joined by the train, the valve on a rigid seat."""
+    """The ``[valvetrain]`` table: a rocker of constant ratio (1: direct acting) or of given geometry
+    (``[valvetrain.rocker]``), lash at the valve, the cam side and the valve as two masses joined by the train, the
+    valve on a rigid seat."""
 
     ratio: Real = Field(
         default=1.0,
         gt=0,
         le=MAX_ROCKER_RATIO,
-        description="valve lift per unit of follower lift (rocker ratio); 1: direct acting (at most 5)",
+        description=(
+            "valve lift per unit of follower lift (rocker ratio), constant; 1: direct acting (at most 5); omit with "
+            "[valvetrain.rocker], whose geometry gives the ratio"
+        ),
+    )
+    rocker: RockerSpec | None = Field(
+        default=None,
+        description="the rocker's geometry (its arms and their angles): a ratio varying with lift, instead of ratio",
     )
     lash: Real = Field(
         default=0.0,
@@ -48,7 +95,10 @@ class ValvetrainSpec(Table):
     valve_mass: Real = Field(
         ge=MASS_RANGE_KG[0],
         le=MASS_RANGE_KG[1],
-        description="mass moving with the valve: valve, retainer, keepers, the spring's share, kg",
+        description=(
+            "mass moving with the valve: valve, retainer, keepers, and a third of the valve spring's mass unless a "
+            "[spring] part is given (camdyn then adds its designed spring's third), kg"
+        ),
     )
     stiffness: Real | None = Field(
         default=None,
@@ -91,16 +141,12 @@ class ValvetrainSpec(Table):
     )
 
 
-def check_valvetrain_keys(v: ValvetrainSpec, d: DynamicsSpec, *, translating: bool, spring: bool = False) -> None:
+def check_valvetrain_keys(v: ValvetrainSpec, d: DynamicsSpec, *, translating: bool) -> None:
     """Raise ``ValueError("<key>: message")`` unless ``[dynamics]`` fits a valvetrain: a translating follower,
     the valve spring's rate and preload given, no ``mass`` (the two masses replace it), no rotational keys and no
-    external force (``tappet_force`` holds the follower on the cam); and no ``[spring]`` part (``spring``: one is
-    given), whose mass and surge on the valve's side are not modelled yet."""
-    if spring:
-        raise ValueError(
-            "spring: a [spring] part with [valvetrain] is not modelled yet (its mass and surge act on the valve): "
-            "put a third of the spring's mass in valvetrain.valve_mass"
-        )
+    external force (``tappet_force`` holds the follower on the cam)."""
+    if v.rocker is not None and "ratio" in v.model_fields_set:
+        raise ValueError("valvetrain.ratio: give either ratio or [valvetrain.rocker] (its geometry gives it), not both")
     if not translating:
         raise ValueError("valvetrain: the follower must be translating (a tappet or a lifter); the rocker is the ratio")
     if d.mass is not None:

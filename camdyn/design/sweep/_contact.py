@@ -2,7 +2,7 @@
 
 Compliant: the frequency-domain steady state (:func:`camdyn.model.dynamics.steady_state`, harmonic balance), exact
 while the follower stays on the cam; rigid: the kinematic force, closed form per angle. Both are kernels
-``kernel(const, omega, k, c)`` for :func:`camdyn._core.sharding.run_batched`; forces are weighted per angle (1 for a
+``kernel(const, omega, k[, c])`` for :func:`camdyn._core.sharding.run_batched`; forces are weighted per angle (1 for a
 translating follower, 1 / lever arm for an oscillating one: N).
 """
 
@@ -11,7 +11,7 @@ from __future__ import annotations
 import equinox as eqx
 import jax.numpy as jnp
 
-from ...model.dynamics import kinematic_force_of, steady_state, train_force
+from ...model.dynamics import kinematic_force_of, steady_train_force
 from ...model.follower import FollowerModel
 
 
@@ -27,13 +27,10 @@ def damping_kernel(base: FollowerModel, k):
     return base.damping_at(k)
 
 
-def linear_kernel(const, omega, k, c):
-    """Least force (N, weighted) of the frequency-domain steady state, and its state (x, dx/dtheta) at 0 in the
-    motion's unit (the start of the diffrax gap integration)."""
+def linear_kernel(const, omega, k):
+    """Least force (N, weighted) of the frequency-domain steady state (the damping follows from ``k``)."""
     base, s, s1, spec, weight = const
-    x, x1 = steady_state(spec, omega, base, k, c, s.shape[0])
-    force = train_force(base, omega, s, s1, x, x1) * weight
-    return jnp.min(force), jnp.stack([x[0], x1[0]]) / base.scale
+    return jnp.min(steady_train_force(spec, omega, base, k, base.damping_at(k), s, s1) * weight)
 
 
 def kinematic_kernel(const, omega, k, c):

@@ -27,13 +27,14 @@ from ._valvetrain import valvetrain_map
 
 @dataclass(frozen=True)
 class _Points:
-    """The grid flattened speed-major: cam speed (rad/s), spring rate and damping (SI) per point."""
+    """The grid flattened speed-major: cam speed (rad/s), spring rate and damping (SI) per point (the damping only
+    for a rigid follower: the compliant kernels derive it from the rate themselves, one program fewer to load)."""
 
     speeds_rpm: np.ndarray  # (ns,)
     rates: np.ndarray  # (nk,) user units
     omega: np.ndarray  # (ns * nk,)
     k: np.ndarray
-    c: np.ndarray
+    c: np.ndarray | None
 
     @property
     def shape(self) -> tuple[int, int]:
@@ -54,9 +55,8 @@ def _points(case, speeds_rpm, spring_rates, devices) -> _Points:
         raise InputError("sweep", "speeds and spring rates must be positive and finite")
     sp, kr = np.meshgrid(speeds, rates, indexing="ij")
     k_si = case.kind.rate_to_si(kr.ravel())
-    return _Points(
-        speeds, rates, sp.ravel() * RPM, k_si, run_batched(damping_kernel, base, [k_si], LINEAR_CHUNK, None, devices)
-    )
+    c = run_batched(damping_kernel, base, [k_si], LINEAR_CHUNK, None, devices) if base.rigid else None
+    return _Points(speeds, rates, sp.ravel() * RPM, k_si, c)
 
 
 def _gap_weight_mm(case, theta) -> np.ndarray:
@@ -110,7 +110,7 @@ def _compliant_map(case, pts: _Points, angles, gaps: bool, gap_method: str, prog
     theta, vals, weight = angles
     const = (base, vals[0], vals[1], np.fft.rfft(vals[0]), weight)  # numpy: no transfer or FFT program to compile
     tick = counter(progress, "steady state (frequency domain)", pts.omega.size)
-    signed, z0 = run_batched(linear_kernel, const, [pts.omega, pts.k, pts.c], LINEAR_CHUNK, tick, devices)
+    signed = run_batched(linear_kernel, const, [pts.omega, pts.k], LINEAR_CHUNK, tick, devices)
     why = {int(i): "the frequency-domain steady state is not finite" for i in np.nonzero(~np.isfinite(signed))[0]}
     separated = signed <= 0.0
     gap = np.zeros(pts.omega.size)
@@ -118,15 +118,16 @@ def _compliant_map(case, pts: _Points, angles, gaps: bool, gap_method: str, prog
     if not idx.size:
         return signed, separated, gap, why
     tick = counter(progress, "separated points (nonlinear model)", idx.size)
-    point = [pts.omega[idx], pts.k[idx], pts.c[idx]]
+    point = [pts.omega[idx], pts.k[idx]]
+    spec_unit = np.fft.rfft(vals[0] / base.scale)  # the lift's spectrum in the motion's unit
     if gap_method == "exact":
         tab = vals[:3, ::GAP_STRIDE] / base.scale  # the same angles: no second evaluation of the motion (its compile)
         w_tab = _gap_weight_mm(case, theta[::GAP_STRIDE])
-        gconst = (base, *tab, w_tab, np.fft.rfft(vals[0] / base.scale))
-        g = run_batched(exact_gap_kernel, gconst, point, GAP_CHUNK, tick, devices)
+        gconst = (base, *tab, w_tab, spec_unit)
+        g = run_batched(exact_gap_kernel, gconst, point, GAP_CHUNK, tick, devices, per_point=False)
     else:
-        gconst = diffrax_gap_const(case, lambda t: _gap_weight_mm(case, t))
-        g = run_batched(diffrax_gap_kernel, gconst, [*point, z0[idx]], GAP_CHUNK, tick, devices)
+        gconst = diffrax_gap_const(case, lambda t: _gap_weight_mm(case, t), spec_unit)
+        g = run_batched(diffrax_gap_kernel, gconst, point, GAP_CHUNK, tick, devices)
     gap[idx] = np.maximum(g, 0.0)
     how = "exact piecewise-linear stepping" if gap_method == "exact" else "diffrax"
     why |= {int(i): f"the gap integration of the nonlinear model ({how}) did not finish" for i in idx[~np.isfinite(g)]}
@@ -167,7 +168,7 @@ def jump_map(
     ``spring_rates`` defaults to the case's own. ``progress(phase, done, total)`` is called after every chunk.
     ``gap_method``: how the compliant model's separated points are integrated: ``"exact"`` (piecewise-linear
     stepping, :mod:`._exact_gap`) or ``"diffrax"`` (adaptive Tsit5 on the vector field of
-    :mod:`camdyn.model.dynamics`, the reference; about 20x slower). ``devices``: the JAX devices to shard the
+    :mod:`camdyn.model.dynamics`, the reference; tens of times slower). ``devices``: the JAX devices to shard the
     grid over (default: all local devices); the result does not depend on them. ``gaps=False`` skips the largest
     gap of the separated points (the nonlinear integration, most of the cost of a rigid follower's map): their
     ``max_gap`` is NaN; the least force, the separation and the jump boundary are the same.

@@ -12,26 +12,32 @@ lets it fall through.
 
 from __future__ import annotations
 
+import jax.numpy as jnp
 import numpy as np
 
 from ..._core.errors import InputError, NumericalError
 from ..._core.progress import Progress, counter
-from ..._core.units import RPM
+from ..._core.units import M_PER_MM, RPM
 from ...model import dynamics as dyn
 from ...model.case import Case, with_valvetrain_keys
+from ...model.valvetrain import ValvetrainModel
+from ..valvetrain import refuse_spring_part
 from ._grid import check_grid_size
 from ._result import STATUS_OK, JumpMap, ValveMap, failed
 
 
-def _gap_at_valve_mm(resp: dyn.ValvetrainResponse, ratio: float, lash_mm: float) -> float:
-    """The valve's largest lift above where the cam would hold it (mm, at the valve): float and bounce both."""
-    held = np.maximum(ratio * resp.cam_lift - lash_mm, 0.0)
+def _gap_at_valve_mm(resp: dyn.ValvetrainResponse, vt: ValvetrainModel, lash_mm: float) -> float:
+    """The valve's largest lift above where the cam would hold it (mm, at the valve; through the rocker's lever
+    where it has one): float and bounce both."""
+    at_valve = np.asarray(vt.lever(jnp.asarray(resp.cam_lift * M_PER_MM))[0]) / M_PER_MM
+    held = np.maximum(at_valve - lash_mm, 0.0)
     return max(0.0, float(np.max(resp.valve_lift - held)))
 
 
 def valvetrain_map(case: Case, speeds_rpm, spring_rates=None, *, progress: Progress | None = None) -> JumpMap:
     """The jump map of a ``[valvetrain]`` case over ``speeds_rpm`` x ``spring_rates`` (the valve spring's rate,
     N/mm at the valve; default the case's own), the preload kept the case's."""
+    refuse_spring_part(case, "sweep")
     vt = case.valvetrain
     assert vt is not None and case.spec.dynamics.spring_rate is not None  # the caller's: a [valvetrain] case
     speeds = np.atleast_1d(np.asarray(speeds_rpm, dtype=float))
@@ -45,7 +51,7 @@ def valvetrain_map(case: Case, speeds_rpm, spring_rates=None, *, progress: Progr
     least, gap, seat_v, bounce_h = (np.full(shape, np.nan) for _ in range(4))
     floated, bounced = np.zeros(shape, bool), np.zeros(shape, bool)
     status = np.full(shape, STATUS_OK, dtype=object)
-    ratio, lash_mm = float(vt.ratio), float(case.spec.valvetrain.lash if case.spec.valvetrain else 0.0)
+    lash_mm = float(case.spec.valvetrain.lash if case.spec.valvetrain else 0.0)
     tick = counter(progress, "two-mass valvetrain model (one point at a time)", speeds.size * rates.size)
     for j, rate in enumerate(rates):
         model = with_valvetrain_keys(case, dynamics={"spring_rate": float(rate)}).valvetrain
@@ -60,7 +66,7 @@ def valvetrain_map(case: Case, speeds_rpm, spring_rates=None, *, progress: Progr
             else:
                 floated[i, j], bounced[i, j] = resp.floated, resp.bounced
                 least[i, j] = resp.least_event_force
-                gap[i, j] = _gap_at_valve_mm(resp, ratio, lash_mm)
+                gap[i, j] = _gap_at_valve_mm(resp, model, lash_mm)
                 seat_v[i, j], bounce_h[i, j] = resp.seating_velocity, resp.bounce_height_mm
             tick(1)
     bad = status != STATUS_OK

@@ -64,4 +64,6 @@ def draw_samples(spread: dict[str, Spread], nominal: dict[str, float], n: int, s
     out["profile_coeffs"] = (
         spread["profile_error"].draw(rng, (n, k2)) if "profile_error" in spread else np.zeros((n, k2))
     )
+    if "backlash" in nominal:  # a groove cam's, drawn last: the other keys' samples are a spring cam's
+        out["backlash"] = nominal["backlash"] + (spread["backlash"].draw(rng, n) if "backlash" in spread else 0.0)
     return out

@@ -31,7 +31,7 @@ from ...model import dynamics as dyn
 from ...model.case import Case, with_valvetrain_keys
 from ...model.valvetrain import ValvetrainModel
 from ...schema import resolve_tolerances
-from ..valvetrain import analyze_valvetrain
+from ..valvetrain import analyze_valvetrain, refuse_spring_part
 from ._sampling import spreads
 from ._sensitivity import variance_shares
 from ._study import describe
@@ -207,6 +207,7 @@ def valvetrain_tolerance_study(
             "--samples",
             f"a valvetrain runs the two-mass model per sample: from 1 to {MAX_VALVETRAIN_SAMPLES}, got {samples}",
         )
+    refuse_spring_part(case, "tolerance")
     tols = resolve_tolerances(case.spec.tolerances, kind=case.kind) if case.spec.tolerances is not None else ()
     nominal = _nominal(case)
     if any(t.key == "train_stiffness" for t in tols) and math.isinf(nominal["train_stiffness"]):

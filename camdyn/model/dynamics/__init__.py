@@ -20,9 +20,16 @@ surge chain (:mod:`camdyn.model.surge`) and the design studies.
 
 from ._closure import ClosureResponse, Crossover, closure_response, preload_shares
 from ._compliant import compliant_response, min_contact_force, periodic_orbit, vector_field
-from ._harmonic import linear_contact_force, linear_min_force, steady_force_at, steady_state
+from ._harmonic import (
+    linear_contact_force,
+    linear_min_force,
+    steady_force_at,
+    steady_spectrum,
+    steady_state,
+    steady_train_force,
+)
 from ._kinematic import kinematic_force, kinematic_force_jit, kinematic_force_of, kinematic_jump_speed
-from ._response import dynamic_jump_speed, first_zero_speed, jump_search_limit, response
+from ._response import dynamic_jump_speed, first_zero_speed, jump_search_limit, linear_least_force, response
 from ._result import Flight, Impact, Response, Separation
 from ._rigid import rigid_response
 from ._train import contact_force, preload_share, static_position, train_force
@@ -47,6 +54,7 @@ __all__ = [
     "kinematic_force_of",
     "kinematic_jump_speed",
     "linear_contact_force",
+    "linear_least_force",
     "linear_min_force",
     "min_contact_force",
     "periodic_orbit",
@@ -56,7 +64,9 @@ __all__ = [
     "steady_force_at",
     "vector_field",
     "static_position",
+    "steady_spectrum",
     "steady_state",
+    "steady_train_force",
     "train_force",
     "ValveEvent",
     "ValvetrainResponse",

@@ -10,11 +10,16 @@ it: diffrax with a landing event, as the rigid follower's flights (:mod:`._rigid
 coordinate is b / lever, the lever (mm per motion unit, :func:`camdyn.model.geometry.geometry_of`) taken at the
 crossover and held for the flight (cos of the pressure angle for a translating roller, arm length times it for an
 oscillating one; a flight across a fraction of a mm lasts a few degrees). The flank meets the roller at the
-relative speed ``v``; a follower train of stiffness k_f turns it into the impact force ``|Fi| + v sqrt(k_f m)``
-(the peak of the half-sine contact on the flank's steady force); a rigid train has no finite impact force.
+relative speed ``v``. A follower train of stiffness k_f (and damping c_f) carries the impact: from the landing the
+follower is integrated on that flank through the train (:func:`._train.contact_force`, unilateral, mirrored for
+the outer flank; the spring and damper as in flight, :func:`._compliant.vector_field`) over one period of the
+contact mode sqrt((k + k_f) / m), and the impact force is the contact force's peak there (about ``|Fi| + v
+sqrt(k_f m)``, the half-sine on the flank's steady force, for a stiff undamped train); a rigid train has no finite
+impact force.
 The crossovers are the zeros of the force with the roller on the pitch curve: a spring's share of the b/2 it
-actually sits off it (k b / 2) moves them by that over the force's slope. The landing is plastic; the follower's
-own motion across the gap (at most b / lever) is not carried into the response's displacement.
+actually sits off it (k b / 2) moves them by that over the force's slope. For the march the landing is plastic
+(the rebound after the impact's peak is not followed); the follower's own motion across the gap (at most b /
+lever) is not carried into the response's displacement.
 
 Conjugate cams (two cams, two rollers on one follower) are the same with the primary cam for the inner flank and the
 conjugate cam for the outer (the flanks named "primary" and "conjugate"); their backlash is the clearance at the
@@ -44,6 +49,7 @@ from ._compliant import vector_field
 from ._kinematic import kinematic_force_jit
 from ._rigid import _lift_off
 from ._solver import ATOL, MAX_STEPS, RTOL
+from ._train import contact_force
 
 # the flank that pushes the follower up (a spring's) and the one that pulls it back, by closure
 _FLANK_NAMES = {"groove": ("inner", "outer"), "conjugate": ("primary", "conjugate")}
@@ -153,6 +159,78 @@ def _cross(motion, model, omega, theta0, y0, side, gap):
     )
 
 
+IMPACT_SAMPLES = 2001  # angles over the contact period at which the impact's contact force is taken
+
+
+def flank_force(motion, model, omega, theta, y, side, gap):
+    """The contact force (N, or N*m for an arm; signed as the flank pushes) of the follower at (x, dx/dtheta)
+    ``y`` (motion units, rows) on the flank on ``side`` at ``theta`` (rad), the flank ``gap`` / 2 off the pitch
+    curve: the train's unilateral force (:func:`._train.contact_force`), mirrored for the outer flank."""
+    s, s1, _, _ = motion(theta)
+    return side * contact_force(
+        model, omega, side * s - 0.5 * gap, side * s1, side * y[..., 0], side * y[..., 1], model.scale
+    )
+
+
+def _flank_field(t, y, args):
+    """d/dtheta of (x, p) of the follower pressed on the flank on ``side`` (+1 inner: pushes it up; -1 outer)
+    through the train: the free flight's field plus the flank's force (:func:`flank_force`)."""
+    motion, model, omega, side, gap = args
+    fi = flank_force(motion, model, omega, t, y, side, gap)
+    return vector_field(t, y, (motion, model, omega, False)) + jnp.stack(
+        [0.0, fi / (model.mass * omega**2 * model.scale)]
+    )
+
+
+@filter_jit
+def _impact(motion, model, omega, theta0, y0, side, gap, span):
+    """The follower from its landing (theta0, y0) on the flank on ``side`` over ``span`` rad of cam angle: its
+    contact force there on :data:`IMPACT_SAMPLES` angles."""
+    ts = theta0 + span * jnp.linspace(0.0, 1.0, IMPACT_SAMPLES)
+    sol = diffrax.diffeqsolve(
+        diffrax.ODETerm(_flank_field),
+        diffrax.Tsit5(),
+        t0=theta0,
+        t1=theta0 + span,
+        dt0=None,
+        y0=y0,
+        args=(motion, model, omega, side, gap),
+        saveat=diffrax.SaveAt(ts=ts),
+        stepsize_controller=diffrax.PIDController(rtol=RTOL, atol=ATOL),
+        max_steps=MAX_STEPS,
+        throw=False,
+    )
+    return flank_force(motion, model, omega, ts, sol.ys, side, gap), sol.result == diffrax.RESULTS.successful
+
+
+def impact_force(motion: Motion, model: FollowerModel, omega: float, theta: float, y, side: float, gap: float):
+    """The peak contact force (N, or N*m for an arm) of the impact of the follower landing at ``theta`` (rad) in
+    state ``y`` (x, dx/dtheta; motion units) on the flank on ``side`` (+1 inner, -1 outer) of the groove ``gap``
+    wide (motion units): the train's contact over one period of its contact mode, and the angle (rad) of the peak."""
+    span = omega * TWO_PI / math.sqrt((float(model.stiffness) + float(model.train_stiffness)) / float(model.mass))
+    f, ok = _impact(
+        motion,
+        model,
+        jnp.asarray(omega, dtype=float),
+        jnp.asarray(theta, dtype=float),
+        jnp.asarray(y, dtype=float),
+        jnp.asarray(side, dtype=float),
+        jnp.asarray(gap, dtype=float),
+        jnp.asarray(span, dtype=float),
+    )
+    f = np.abs(np.asarray(f))
+    if not bool(ok) or not np.all(np.isfinite(f)):
+        raise NumericalError(f"impact at {math.degrees(theta) % 360:.2f} deg", "the train's contact did not integrate")
+    i = int(np.argmax(f))
+    if 0 < i < f.size - 1:  # the parabola through the peak sample and its neighbours: its vertex
+        a, b, c = f[i - 1], f[i], f[i + 1]
+        den = a - 2.0 * b + c
+        if den < 0.0:
+            u = 0.5 * (a - c) / den
+            return float(b - 0.25 * (a - c) * u), theta + span * (i + u) / (IMPACT_SAMPLES - 1)
+    return float(f[i]), theta + span * i / (IMPACT_SAMPLES - 1)
+
+
 def flank_lever(motion: Motion, follower: FollowerSpec, theta: float, inner: bool = True) -> float:
     """The lever (mm per motion unit) of the flank at cam angle ``theta`` (rad): the inner (primary) one, or the
     outer; a groove's walls share the pitch curve's normal, conjugate cams have each their own."""
@@ -178,8 +256,9 @@ def flight_gap(motion: Motion, follower: FollowerSpec, theta: float) -> float:
 
 def cross_gap(motion: Motion, model: FollowerModel, omega: float, theta0: float, gap: float, side: float):
     """The flight from the flank opposite ``side`` at ``theta0`` (rad) towards the one across ``gap`` (motion
-    units): the landing angle (rad, unwrapped), the relative speed there (motion units per rad, positive closing)
-    and whether the roller met the other flank (False: it came back onto the one it left)."""
+    units): the landing angle (rad, unwrapped), the relative speed there (motion units per rad, positive closing),
+    whether the roller met the other flank (False: it came back onto the one it left) and its state there (x,
+    dx/dtheta)."""
     s0 = np.asarray(evaluate(motion, jnp.asarray(theta0)))
     y0 = jnp.asarray([s0[0] - side * 0.5 * gap, s0[1]])
     sol = _cross(
@@ -199,7 +278,7 @@ def cross_gap(motion: Motion, model: FollowerModel, omega: float, theta0: float,
     t1 = float(sol.ts[-1])
     s1 = np.asarray(evaluate(motion, jnp.asarray(t1)))
     across = side * float(sol.ys[-1][0] - s1[0]) > 0.0  # on the far side of the pitch curve: the other flank
-    return t1, abs(float(sol.ys[-1][1] - s1[1])), across
+    return t1, abs(float(sol.ys[-1][1] - s1[1])), across, np.asarray(sol.ys[-1])
 
 
 def _sign_changes(signs: np.ndarray) -> list[tuple[int, int]]:
@@ -266,7 +345,7 @@ def closure_response(
             follower.closure, follower.backlash, float(omega), np.degrees(theta), out, tuple(crossovers)
         )
     cands += [(t + TWO_PI, down) for t, down in cands]  # a flight may carry past the revolution's end
-    kf, m = float(model.train_stiffness), float(model.mass)
+    kf = float(model.train_stiffness)
     t_end = cands[0][0] + TWO_PI
     inner = cands[0][1]  # the flank the roller is on before the first crossover (leaving inner: it was on it)
     t_c = cands[0][0]
@@ -274,15 +353,16 @@ def closure_response(
     for _ in range(max_flights):
         left = names[0] if inner else names[1]
         side = 1.0 if inner else -1.0  # towards the outer flank from the inner one
-        t_land, v_rel, across = cross_gap(motion, model, omega, t_c, flight_gap(motion, follower, t_c), side)
+        gap = flight_gap(motion, follower, t_c)
+        t_land, v_rel, across, y_land = cross_gap(motion, model, omega, t_c, gap, side)
         inner = inner != across
         v_rel_si = v_rel * omega * model.scale  # m/s, or rad/s of the arm
         f_land = fk(t_land)
         f_imp = None
         if not math.isinf(kf):
-            peak = abs(f_land) + v_rel_si * math.sqrt(kf * m)  # N, or N*m at the arm
+            peak, t_peak = impact_force(motion, model, omega, t_land, y_land, 1.0 if inner else -1.0, gap)
             if not follower.translating:  # the arm's torque as the force at the roller
-                peak *= float(newton_per_torque(flank_lever(motion, follower, t_land, inner)))
+                peak *= float(newton_per_torque(flank_lever(motion, follower, t_peak, inner)))
             f_imp = float(peak)
         landed = names[0] if inner else names[1]
         crossovers.append(

@@ -3,15 +3,14 @@
 from __future__ import annotations
 
 import math
-from typing import cast
 
 import jax
 import jax.numpy as jnp
 import numpy as np
 from jax.typing import ArrayLike
-from scipy.optimize import OptimizeResult, minimize_scalar  # unannotated: cast its result
 
 from ..._core.jit import cached_jit
+from ..._core.minimize import minimize_bounded
 from ..._core.units import TWO_PI
 from ..follower import FollowerModel
 from ..motion import Motion, evaluate
@@ -88,10 +87,7 @@ def kinematic_jump_speed(motion: Motion, model: FollowerModel, n: int = 7200) ->
     def objective(t: float) -> float:
         return min(float(w_at(np.array([t]))[0]), cap)
 
-    res = cast(
-        OptimizeResult,
-        minimize_scalar(objective, bounds=(theta[i] - h, theta[i] + h), method="bounded", options={"xatol": 1e-10}),
-    )
-    if res.fun < w[i]:
-        return float(res.fun), math.degrees(res.x) % 360.0
+    x, fx, _ = minimize_bounded(objective, theta[i] - h, theta[i] + h, xatol=1e-10)
+    if fx < w[i]:
+        return float(fx), math.degrees(x) % 360.0
     return float(w[i]), math.degrees(theta[i])

@@ -17,6 +17,10 @@ from ._kinematic import kinematic_jump_speed
 from ._result import Response
 from ._rigid import rigid_response
 
+# speeds of the linear model's jump-speed scan per call: four of linear_min_force's batches of 64
+SCAN_CHUNK = 256
+BISECT_POINTS = 16  # speeds per step of its bisection
+
 
 def response(motion: Motion, model: FollowerModel, omega: float, n: int = THETA_GRID) -> Response:
     """Steady-state response with the model the parameters call for (rigid if train_stiffness is inf)."""
@@ -36,7 +40,21 @@ def dynamic_jump_speed(
     if model.rigid:
         return kinematic_jump_speed(motion, model)[0]
     least = lambda ws: np.asarray(linear_min_force(motion, model, ws))  # noqa: E731
-    return first_zero_speed(least, w_max, grid=grid, width_rpm=tol_rpm / 10, points=16, where="jump-speed search")
+    return first_zero_speed(
+        least,
+        w_max,
+        grid=grid,
+        width_rpm=tol_rpm / 10,
+        points=BISECT_POINTS,
+        where="jump-speed search",
+        chunk=SCAN_CHUNK,
+    )
+
+
+def linear_least_force(motion: Motion, model: FollowerModel, omega: float) -> float:
+    """:func:`linear_min_force` at one speed (rad/s), N: computed as one of the jump-speed bisection's speeds, a
+    program a ``check`` has loaded already (each program a fresh process loads costs milliseconds)."""
+    return float(np.asarray(linear_min_force(motion, model, np.full(BISECT_POINTS, float(omega))))[0])
 
 
 def first_zero_speed(
@@ -47,20 +65,30 @@ def first_zero_speed(
     width_rpm: float,
     points: int,
     where: str,
+    chunk: int | None = None,
 ) -> float:
     """The jump-speed search, for every steady-state model: the least speed (rad/s) in (0, ``w_max``] at which
     ``least_force(omegas)`` (the least interface force at each speed, an array) reaches 0, inf if none. A scan
     of ``grid`` speeds, then ``points`` speeds at a time (1: bisection) into the first sign change until it is
-    ``width_rpm`` wide; ``where`` names the model in a numerical error."""
+    ``width_rpm`` wide; ``where`` names the model in a numerical error.
+
+    ``chunk``: the scan runs ``chunk`` speeds at a time from the slowest (the last chunk padded with its top speed:
+    one array shape) and stops at the first chunk that reaches 0; the same answer as the whole scan, which
+    computes every speed above the jump too (the jump is usually in the first quarter of the grid)."""
     speeds = np.linspace(w_max / grid, w_max, grid)
-    fmin = least_force(speeds)
-    if not np.all(np.isfinite(fmin)):
-        bad = speeds[~np.isfinite(fmin)][0]
-        raise NumericalError(f"{where} at {bad / RPM:.1f} rpm", "the steady-state force is not finite")
-    hit = np.nonzero(fmin <= 0.0)[0]
-    if hit.size == 0:
+    step = chunk or grid
+    for start in range(0, grid, step):
+        part = speeds[start : start + step]
+        fmin = np.asarray(least_force(np.pad(part, (0, step - part.size), mode="edge")))[: part.size]
+        if not np.all(np.isfinite(fmin)):
+            bad = part[~np.isfinite(fmin)][0]
+            raise NumericalError(f"{where} at {bad / RPM:.1f} rpm", "the steady-state force is not finite")
+        hit = np.nonzero(fmin <= 0.0)[0]
+        if hit.size:
+            break
+    else:
         return math.inf
-    i = int(hit[0])
+    i = start + int(hit[0])
     lo, hi = (speeds[i - 1] if i > 0 else 0.0), speeds[i]
     while (hi - lo) / RPM > width_rpm:
         ws = np.linspace(lo, hi, points + 2)[1:-1]

@@ -1,14 +1,18 @@
 """The valvetrain in the time domain: two masses, the train and its lash, the cam contact and the valve's seat,
 event-driven on diffrax (float64), over one revolution at a constant cam speed.
 
-Equations (SI, time derivatives; x_c the follower's lift at the cam, x_v the valve's lift, r the rocker ratio)::
+Equations (SI, time derivatives; x_c the follower's lift at the cam, x_v the valve's lift, g(x_c) the cam's lift
+at the valve through the rocker and r = dg/dx_c its ratio, constant or varying with lift)::
 
     m_c x_c'' = F_cam - r F_t - F_hold
     m_v x_v'' = F_t - (k x_v + F0 + c x_v') + F_seat
 
-* F_t, the train: ``train_force`` (the compliant contact's formula) on the deflection ``r x_c - lash - x_v``, in
+* F_t, the train: ``train_force`` (the compliant contact's formula) on the deflection ``g(x_c) - lash - x_v``, in
   compression only; a rigid train locks the two masses together once the lash closes (a plastic impact) and lets
-  go where its force would pull.
+  go where its force would pull. Locked, x_v'' = r x_c'' + r' x_c'^2 (r' = dr/dx_c: 0 for a constant ratio).
+* The valve spring: ``k x_v + F0 + c x_v'``; with its coils as a chain of masses (``[spring] model = "surge"``,
+  :class:`~camdyn.model.valvetrain.Coils`) the last segment's spring and damper on the valve, the inner lumps in
+  the state after the four above, each between its neighbours (the head fixed).
 * F_cam, the cam contact: compliant (``train_force`` on ``s - x_c``) or rigid (x_c = s while F_cam > 0, a flight
   when it falls to zero, a landing with the cam's restitution).
 * F_seat, the seat at zero valve lift: rigid, with ``seat_restitution``. A seat is one to two orders stiffer than
@@ -63,8 +67,9 @@ def _state(theta, y, args):
     s, s1, s2, _ = motion(theta) * M_PER_MM
     xc = jnp.where(cam_locked, s, y[0])
     pc = jnp.where(cam_locked, s1, y[1])
-    xv = jnp.where(train_locked, vt.ratio * xc - vt.lash, jnp.where(seat_locked, 0.0, y[2]))
-    pv = jnp.where(train_locked, vt.ratio * pc, jnp.where(seat_locked, 0.0, y[3]))
+    g, r, _ = vt.lever(xc)
+    xv = jnp.where(train_locked, g - vt.lash, jnp.where(seat_locked, 0.0, y[2]))
+    pv = jnp.where(train_locked, r * pc, jnp.where(seat_locked, 0.0, y[3]))
     return s, s1, s2, xc, pc, xv, pv
 
 
@@ -74,30 +79,59 @@ def _dynamics(theta, y, args):
     cam_locked, train_locked, seat_locked = modes[CAM], modes[TRAIN], modes[SEAT]
     s, s1, s2, xc, pc, xv, pv = _state(theta, y, args)
     w2 = omega**2
-    r, m_c, m_v = vt.ratio, vt.cam_side_mass, vt.valve_mass
-    spring = vt.spring_rate * xv + vt.preload + vt.spring_damping * omega * pv
+    m_c, m_v = vt.cam_side_mass, vt.valve_mass
+    g, r, r1 = vt.lever(xc)
+    spring = _spring_force(vt, omega, xv, pv, y)
     # the compliant contacts (0 for a rigid one, whose force is its constraint's): the cam's, and the train's on
-    # its deflection r x_c - lash - x_v
+    # its deflection g(x_c) - lash - x_v
     f_cam_c = jnp.where(jnp.isinf(vt.cam.train_stiffness), 0.0, contact_force(vt.cam, omega, s, s1, xc, pc))
     f_t_c = jnp.where(
-        jnp.isinf(vt.train.train_stiffness), 0.0, contact_force(vt.train, omega, r * xc - vt.lash, r * pc, xv, pv)
+        jnp.isinf(vt.train.train_stiffness), 0.0, contact_force(vt.train, omega, g - vt.lash, r * pc, xv, pv)
     )
-    # the train locked: one body at the follower (mass m_c + m_v r^2), driven by the cam or flying on its contact
-    a_body = (f_cam_c - r * spring - vt.tappet_force) / (vt.equivalent_mass * w2)
+    # the train locked: one body at the follower (mass m_c + m_v r^2), driven by the cam or flying on its contact;
+    # a varying ratio adds the valve's r' x_c'^2
+    turn = m_v * r * r1 * pc**2
+    a_body = (f_cam_c - r * spring - vt.tappet_force - turn * w2) / ((m_c + m_v * r**2) * w2)
     a_c_locked_train = jnp.where(cam_locked, s2, a_body)
-    f_t_locked = m_v * r * a_c_locked_train * w2 + spring
+    f_t_locked = m_v * r * a_c_locked_train * w2 + m_v * r1 * pc**2 * w2 + spring
     f_t = jnp.where(train_locked, f_t_locked, f_t_c)
     a_c_free = (f_cam_c - r * f_t - vt.tappet_force) / (m_c * w2)
     a_c = jnp.where(cam_locked, s2, jnp.where(train_locked, a_body, a_c_free))
     f_cam = jnp.where(cam_locked, m_c * s2 * w2 + r * f_t + vt.tappet_force, f_cam_c)
-    a_v = jnp.where(train_locked, r * a_c, jnp.where(seat_locked, 0.0, (f_t - spring) / (m_v * w2)))
+    a_v = jnp.where(train_locked, r * a_c + r1 * pc**2, jnp.where(seat_locked, 0.0, (f_t - spring) / (m_v * w2)))
     f_seat = jnp.where(seat_locked, spring - f_t, 0.0)
     return a_c, a_v, f_cam, f_t, f_seat, (xc, pc, xv, pv, s, s1)
 
 
+def _spring_force(vt, omega, xv, pv, y):
+    """The valve spring's force on the valve (N): ``k x_v + F0 + c x_v'``, or with its coils as a chain the last
+    segment's (spring and damper) with the preload and the valve's damper."""
+    if vt.coils is None:
+        return vt.spring_rate * xv + vt.preload + vt.spring_damping * omega * pv
+    m = vt.coils.count - 1
+    u, p = y[4 + m - 1], y[4 + 2 * m - 1]  # the lump next to the valve
+    end = vt.coils.segment_rate * (xv - u) + vt.coils.segment_damping * omega * (pv - p)
+    return end + vt.preload + vt.spring_damping * omega * pv
+
+
+def _coils_accel(vt, omega, xv, pv, y):
+    """The inner lumps' accelerations per rad^2, each between its neighbours (the fixed head at 0, the valve)."""
+    c, m = vt.coils, vt.coils.count - 1
+    u, p = y[4 : 4 + m], y[4 + m :]
+    zero = jnp.zeros(1)
+    u_l, u_r = jnp.concatenate([zero, u[:-1]]), jnp.concatenate([u[1:], jnp.atleast_1d(xv)])
+    p_l, p_r = jnp.concatenate([zero, p[:-1]]), jnp.concatenate([p[1:], jnp.atleast_1d(pv)])
+    force = c.segment_rate * (u_l - 2 * u + u_r) + c.segment_damping * omega * (p_l - 2 * p + p_r)
+    return force / (c.lump_mass * omega**2)
+
+
 def _vector_field(theta, y, args):
     a_c, a_v, *_, (xc, pc, xv, pv, s, s1) = _dynamics(theta, y, args)
-    return jnp.stack([pc, a_c, pv, a_v])
+    vt, omega = args[1], args[2]
+    if vt.coils is None:
+        return jnp.stack([pc, a_c, pv, a_v])
+    m = vt.coils.count - 1
+    return jnp.concatenate([jnp.stack([pc, a_c, pv, a_v]), y[4 + m :], _coils_accel(vt, omega, xv, pv, y)])
 
 
 def _conditions(theta, y, args):
@@ -105,7 +139,7 @@ def _conditions(theta, y, args):
     _, vt, _, modes, force_tol = args
     _, _, f_cam, f_t, f_seat, (xc, pc, xv, pv, s, s1) = _dynamics(theta, y, args)
     cam = jnp.where(modes[CAM], f_cam + force_tol, jnp.where(jnp.isinf(vt.cam.train_stiffness), xc - s + _GAP_EPS, 1.0))
-    lash_gap = vt.lash + xv - vt.ratio * xc
+    lash_gap = vt.lash + xv - vt.lever(xc)[0]
     train = jnp.where(
         jnp.isinf(vt.train.train_stiffness), jnp.where(modes[TRAIN], f_t + force_tol, lash_gap + _GAP_EPS), 1.0
     )
@@ -285,7 +319,8 @@ def valvetrain_response(motion: Motion, vt: ValvetrainModel, omega: float, n: in
 
     From rest on the base circle (the valve seated, the follower on the cam) the revolution is marched stretch by
     stretch; where the valve or the follower is still moving when it ends, up to :data:`_REVS` revolutions are
-    marched and the last one is the answer (``settled`` says whether it came back to rest).
+    marched and the last one is the answer (``settled`` says whether it came back to rest); a spring's coils, which
+    ring on over the base circle, at least two.
     """
     theta = np.arange(n) * (TWO_PI / n)
     vals = motion.host(theta)
@@ -301,7 +336,8 @@ def valvetrain_response(motion: Motion, vt: ValvetrainModel, omega: float, n: in
     jumps = jumps if jumps.size else jnp.asarray([-1.0])
     # the rest state: the valve seated, the follower on the cam, pressed into a compliant contact by the tappet force
     deflect = 0.0 if rigid_cam else float(vt.tappet_force) / float(vt.cam.train_stiffness)
-    y = np.array([s_si[i0] - deflect, vals[1][i0] * M_PER_MM, 0.0, 0.0])
+    coils = 0 if vt.coils is None else 2 * (vt.coils.count - 1)  # the spring's inner lumps, at rest
+    y = np.concatenate([[s_si[i0] - deflect, vals[1][i0] * M_PER_MM, 0.0, 0.0], np.zeros(coils)])
     modes = np.array([rigid_cam, False, True])
     out = np.zeros((6, n))
     seated = np.ones(n, bool)
@@ -311,7 +347,12 @@ def valvetrain_response(motion: Motion, vt: ValvetrainModel, omega: float, n: in
     e_seat, e_cam = float(vt.seat_restitution), float(vt.cam_restitution)
     # the valve's event ends where it lands after rising past half its static lift at the nose (the train and the
     # spring in balance): a landing before (the valve kicked off its seat as the lash closes) belongs to the opening
-    reach = r * float(np.ptp(s_si)) - float(vt.lash)
+
+    def lever(x_c: float) -> tuple[float, float]:  # the cam's lift at the valve (m) and the ratio at x_c (m)
+        g, ratio, _ = vt.lever(jnp.asarray(x_c))
+        return float(g), float(ratio)
+
+    reach = lever(float(s_si.max()))[0] - lever(float(s_si.min()))[0] - float(vt.lash)
     kt, k = float(vt.train.train_stiffness), float(vt.spring_rate)
     half_lift = 0.5 * (reach if rigid_train else (kt * reach - float(vt.preload)) / (kt + k))
     warnings: list[str] = []
@@ -355,7 +396,8 @@ def valvetrain_response(motion: Motion, vt: ValvetrainModel, omega: float, n: in
                 k_next = k1 + 1
             if first_seating is not None and not modes[SEAT]:
                 bounce = max(bounce, _apex(run, t0, t1, n))
-            if not hit:
+            if not hit:  # the revolution's end: the next one, if any, goes on from here
+                y = np.asarray(y1)
                 break
             count += 1
             if count > _MAX_EVENTS:
@@ -368,7 +410,7 @@ def valvetrain_response(motion: Motion, vt: ValvetrainModel, omega: float, n: in
             conds = np.asarray(_conditions_jit(jnp.asarray(t1), jnp.asarray(y1), args))
             which = int(np.argmin(conds))  # the contact whose event function reached zero
             deg = math.degrees(t1) % 360.0
-            y = np.array([xc, pc, xv, pv])
+            y = np.concatenate([[xc, pc, xv, pv], y1[4:]])
             if which == CAM and modes[CAM]:  # the cam lets go of the follower
                 modes[CAM] = False
                 if not modes[SEAT] and first_seating is None:
@@ -379,19 +421,21 @@ def valvetrain_response(motion: Motion, vt: ValvetrainModel, omega: float, n: in
                 y[1] = s1 - e_cam * rel
                 y[0] = s
                 if modes[TRAIN]:
-                    y[3] = r * y[1]
+                    y[3] = lever(y[0])[1] * y[1]
                 if not (e_cam > 0.0 and abs(rel) > v_floor):
                     y[1] = s1
                     modes[CAM] = True
             elif which == TRAIN and modes[TRAIN]:  # the rigid train lets go: the lash opens
                 modes[TRAIN] = False
-            elif which == TRAIN:  # the lash closes: the two masses meet (plastic)
+            elif which == TRAIN:  # the lash closes: the two masses meet (plastic), at the rocker's ratio there
+                g, r_here = lever(xc)
                 if modes[CAM]:
-                    y[3] = r * pc
+                    y[3] = r_here * pc
                 else:
-                    y[1] = (float(vt.cam_side_mass) * pc + r * float(vt.valve_mass) * pv) / float(vt.equivalent_mass)
-                    y[3] = r * y[1]
-                y[2] = r * y[0] - float(vt.lash)
+                    m_c, m_v = float(vt.cam_side_mass), float(vt.valve_mass)
+                    y[1] = (m_c * pc + r_here * m_v * pv) / (m_c + m_v * r_here**2)
+                    y[3] = r_here * y[1]
+                y[2] = g - float(vt.lash)
                 modes[TRAIN], modes[SEAT] = True, False
                 events.append(ValveEvent("lash", deg))
             elif which == SEAT and modes[SEAT]:  # the train lifts the valve
@@ -415,7 +459,7 @@ def valvetrain_response(motion: Motion, vt: ValvetrainModel, omega: float, n: in
             and abs(y[3]) == 0.0
             and count <= _MAX_EVENTS
         )
-        if settled:
+        if settled and (vt.coils is None or rev > 0):  # a spring's coils ring on: a revolution that starts with it
             break
     if not settled:
         warnings.append(

@@ -175,7 +175,7 @@ class Program(Motion):
         arrays = {k: np.array(v, dtype=float) for k, v in cols.items()}
         arrays = {k: _pad_rows(v, rows, np.inf if k == "start" else None) for k, v in arrays.items()}
         arrays["jumps"] = _pad_rows(np.deg2rad(np.asarray(breaks, dtype=float)), rows, np.inf)
-        table = PieceTable(unit=unit, **{k: jnp.asarray(v) for k, v in arrays.items()})
+        table = PieceTable(unit=unit, **{k: jax.device_put(v) for k, v in arrays.items()})  # jnp.asarray compiles
         return cls(segments=segs, unit=unit, breaks_deg=breaks, table=table)
 
     def jit_form(self) -> PieceTable:

@@ -11,6 +11,7 @@ from ..._core.results import Unavailable
 from .._data import ReportData
 from .cam import draw_cam
 from .dynamics import draw_dynamics
+from .groove import draw_crossovers, draw_groove
 from .manufacturing import draw_manufacturing
 from .mechanism import draw_mechanism
 from .optimization import draw_optimization
@@ -20,6 +21,11 @@ from .summary import draw_summary
 from .svaj import draw_svaj
 from .tolerances import draw_tolerances
 from .valvetrain import draw_valvetrain
+
+
+def _groove(data: ReportData) -> bool:
+    """A groove cam: its walls and crossovers in place of the cam, dynamics and spring sizing pages."""
+    return data.check.closure is not None and data.case.follower.closure == "groove"
 
 
 @dataclass(frozen=True)
@@ -35,8 +41,10 @@ class Page:
 PAGES: list[Page] = [
     Page("summary", "Summary", draw_summary),
     Page("svaj", "Follower motion (SVAJ)", draw_svaj),
-    Page("cam", "Cam profile", draw_cam, lambda data: data.check.geometry is not None),
-    Page("dynamics", "Dynamics", draw_dynamics),
+    Page("cam", "Cam profile", draw_cam, lambda data: data.check.geometry is not None and not _groove(data)),
+    Page("groove", "Groove cam: both walls", draw_groove, _groove),
+    Page("dynamics", "Dynamics", draw_dynamics, lambda data: not _groove(data)),
+    Page("crossovers", "Dynamics: crossovers and impacts", draw_crossovers, _groove),
     Page(
         "valvetrain",
         "Valvetrain: valve lift, seating, float and bounce",
@@ -51,7 +59,7 @@ PAGES: list[Page] = [
         lambda data: data.review.original is not None and not isinstance(data.review.original, Unavailable),
     ),
     Page("parts", "Drive, contact and spring", draw_parts),
-    Page("springs", "Spring sizing", draw_springs),
+    Page("springs", "Spring sizing", draw_springs, lambda data: not _groove(data)),
     Page("manufacturing", "Segments and manufacturing", draw_manufacturing),
     Page("tolerances", "Tolerances", draw_tolerances, lambda data: data.review.tolerance is not None),
 ]
@@ -60,6 +68,8 @@ __all__ = [
     "PAGES",
     "Page",
     "draw_cam",
+    "draw_crossovers",
+    "draw_groove",
     "draw_dynamics",
     "draw_manufacturing",
     "draw_mechanism",

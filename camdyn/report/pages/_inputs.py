@@ -39,12 +39,19 @@ UNITS = {
     "stiffness": "N/mm",
     "ramp_velocity": "mm/deg",
     "tappet_force": "N",
+    "cam_arm": "mm",  # [valvetrain.rocker]
+    "valve_arm": "mm",
+    "cam_arm_angle": "deg",
+    "valve_arm_angle": "deg",
 }
 # limits of checks only some cases have: listed where the case has the check or the user set the limit
 _LIMIT_OF_CHECK = {
     "max_seating_velocity": CheckKind.SEATING_VELOCITY,
     "max_impact_velocity": CheckKind.CROSSOVER_IMPACT,
 }
+
+# limits that judge a follower held on by a spring (it may jump): a groove cam has none of their checks
+_SPRING_HELD_LIMITS = ("speed_margin", "min_contact_force", "min_preload", "max_train_deflection")
 
 
 def _kv_lines(d: dict, oscillating: bool = False) -> list[tuple[str, str]]:
@@ -91,7 +98,9 @@ def input_columns(data: ReportData) -> list[tuple[str, list[tuple[str, str]]]]:
         columns.append(("mechanism (\u2192 synthesized)", _mechanism_rows(data)))
     if spec.valvetrain is not None:  # the train between the cam and the valve: under the follower
         title, rows = columns[-1]
-        vt = _kv_lines(spec.valvetrain.model_dump(exclude_unset=True))
+        given = spec.valvetrain.model_dump(exclude_unset=True)
+        rocker = given.pop("rocker", None)
+        vt = _kv_lines(given) + ([] if rocker is None else [("\x00rocker", ""), *_kv_lines(rocker)])
         columns[-1] = (title, [*rows, ("", ""), ("\x00valvetrain", ""), *vt])
     dyn_rows = _kv_lines(spec.dynamics.model_dump(exclude_unset=True), data.oscillating)
     lim = spec.limits.model_dump()
@@ -101,6 +110,9 @@ def input_columns(data: ReportData) -> list[tuple[str, list[tuple[str, str]]]]:
         lim["max_pressure_angle"] = pa
     for key, kind in _LIMIT_OF_CHECK.items():
         if data.check.find(kind) is None and key not in spec.limits.model_fields_set:
+            lim.pop(key, None)
+    if data.check.closure is not None:
+        for key in _SPRING_HELD_LIMITS:
             lim.pop(key, None)
     dyn_rows += [("", ""), ("\x00limits", "")] + _kv_lines(lim)
     columns.append(("dynamics", dyn_rows))

@@ -64,12 +64,27 @@ def manufacturing_rows(data: ReportData) -> list[tuple[str, str]]:
     case, geo = data.case, data.check.geometry
     f = case.follower
     rows = []
+    walls = data.check.closure.walls if data.check.closure is not None else None
+    if walls is not None:  # a groove cam: the slot and its walls, not a contour
+        r_in, r_out = np.hypot(*walls.inner), np.hypot(*walls.outer)
+        rows += [
+            (
+                "groove",
+                f"slot {2 * walls.wall_offset_mm:.4f} mm wide (roller diameter + backlash {walls.backlash_mm:g} mm), "
+                f"each wall {walls.wall_offset_mm:.4f} mm from the pitch curve",
+            ),
+            ("inner wall", f"radius {float(r_in.min()):.4f} to {float(r_in.max()):.4f} mm from the cam centre"),
+            ("outer wall", f"radius {float(r_out.min()):.4f} to {float(r_out.max()):.4f} mm from the cam centre"),
+        ]
     if geo is not None:
         radius = np.hypot(*geo.contour)
         roller = float(f.roller_radius or 0.0)
         base = float(radius.min())
         rows += [
-            ("base radius", f"{base:.4f} mm (least contour radius)"),
+            (
+                "base radius",
+                f"{base:.4f} mm (least contour radius" + (": b/2 outside the inner wall)" if walls else ")"),
+            ),
             (
                 "prime radius",
                 f"{base + roller:.4f} mm" + (" (base + roller)" if roller else " (flat face: the base radius)"),
@@ -119,10 +134,13 @@ def manufacturing_rows(data: ReportData) -> list[tuple[str, str]]:
     pe = getattr(spec_tol, "profile_error", None) if spec_tol is not None else None
     if pe is not None:
         tol += f"; the tolerance study takes a profile error of {pe} RMS"
-    rows += [
-        ("profile tolerance", tol),
-        ("file formats", ", ".join(s.lstrip(".").upper() for s in FORMATS) + " (camdyn profile -o cam.<format>)"),
-    ]
+    formats = ", ".join(s.lstrip(".").upper() for s in FORMATS) + " (camdyn profile -o cam.<format>)"
+    if walls is not None:
+        formats = (
+            "DXF (a layer per wall), CSV (an outline column), SVG (a polygon per wall): camdyn profile -o "
+            "cam.<format>; a groove's cutter path, grinder table and solid are not built yet"
+        )
+    rows += [("profile tolerance", tol), ("file formats", formats)]
     return rows
 
 

@@ -32,7 +32,9 @@ def draw_parts(fig: Figure, data: ReportData) -> None:
     assert chk.drive is not None  # check computes the camshaft drive of every case (design.checks.check)
     plot_drive(fig.add_subplot(gs[0]), chk.drive)
     ax_s = fig.add_subplot(gs[2])
-    if isinstance(part, Unavailable):
+    if chk.closure is not None:
+        _say(ax_s, f"return spring: none ({part})")
+    elif isinstance(part, Unavailable):
         _say(ax_s, f"return spring: no spring of the case's rate and preload can be built within [spring]: {part}")
     else:
         plot_spring(ax_s, part)

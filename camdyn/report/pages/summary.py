@@ -18,7 +18,9 @@ from ...plot import (
     flight_summary,
     flights_by_gap,
     legend_above_data,
+    plot_flank_force,
     plot_follower,
+    plot_groove_cam,
     shade_separations,
     square_face,
     svaj_quantities,
@@ -36,6 +38,8 @@ IN_FACTS = (
     "velocity jumps by",
     "acceleration jumps by",
     "the follower leaves the cam ",  # at ..., or N times a revolution: the flights fact says it
+    "speed_margin and contact_force do not apply",  # a groove cam: the no-jump fact says it
+    "the contact force changes flank",  # a groove cam: the crossover facts say it
 )  # warnings page 1 lists as facts
 NOTE_LINES = 14  # lines of warnings and advice before the rest is referred to `camdyn check`
 INPUT_ROWS = 26  # rows per column of key inputs
@@ -124,6 +128,19 @@ def _checks_table(data: ReportData, flow: Flow) -> None:
             ],
             size=8.5,
         )
+    mono = {"family": "DejaVu Sans Mono", "size": 7.8}
+    if data.check.closure is not None:  # what a spring-held cam is judged by first, and why a groove cam is not
+        flow.row(
+            [
+                (0.0, "speed_margin", mono),
+                (
+                    0.165,
+                    "does not apply: form-closed, the groove holds the follower both ways (it cannot jump)",
+                    {"color": C["grey"]},
+                ),
+            ],
+            size=8.5,
+        )
     contact = data.check.contact
     if contact is None:
         what = "not evaluated: the case gives no contact width ([follower] width)"
@@ -131,15 +148,14 @@ def _checks_table(data: ReportData, flow: Flow) -> None:
         what = f"largest Hertz pressure {contact.peak_pressure_MPa:.4g} MPa: not judged, no [limits] max_contact_stress"
     else:
         return
-    flow.row(
-        [(0.0, "contact_stress", {"family": "DejaVu Sans Mono", "size": 7.8}), (0.165, what, {"color": C["grey"]})],
-        size=8.5,
-    )
+    flow.row([(0.0, "contact_stress", mono), (0.165, what, {"color": C["grey"]})], size=8.5)
 
 
 def key_results(data: ReportData) -> list[tuple[str, str]]:
     """(label, value) of the summary's key results."""
-    chk, case = data.check, data.case
+    chk = data.check
+    if chk.closure is not None:
+        return _groove_results(data) + _geometry_results(data)
     dyn, kin = chk.dynamic, chk.kinematic
     resp = chk.response
     seps = resp.separations
@@ -179,6 +195,37 @@ def key_results(data: ReportData) -> list[tuple[str, str]]:
         rows.append(("flights", "none: in contact all round"))
     rv = chk.response.residual_vibration * data.to_display
     rows.append(("residual vibration", f"{rv:.3g} {data.unit}"))
+    return rows + _geometry_results(data)
+
+
+def _groove_results(data: ReportData) -> list[tuple[str, str]]:
+    """A groove cam's key results: the signed force on each flank, the crossovers and their impacts; no jump."""
+    chk = data.check
+    assert chk.closure is not None
+    r, force, th = chk.closure.response, chk.response.force, chk.response.theta_deg
+    i, j = int(np.argmax(force)), int(np.argmin(force))
+    rows = [
+        ("force, inner flank", f"up to {force[i]:.4g} N at {th[i]:.1f}\u00b0"),
+        ("force, outer flank", f"up to {-force[j]:.4g} N at {th[j]:.1f}\u00b0" if force[j] < 0.0 else "never"),
+        ("jump speed", "none: form-closed"),
+        (
+            "crossovers",
+            f"{len(r.crossovers)}"
+            + (f", at {', '.join(f'{c.deg:.1f}' for c in r.crossovers[:4])}\u00b0" if r.crossovers else ""),
+        ),
+    ]
+    if r.crossovers and r.backlash_mm > 0.0:
+        top = max(r.crossovers, key=lambda c: c.impact_velocity_m_per_s)
+        rows.append(("largest impact", f"{top.impact_velocity_m_per_s:.3g} m/s at {top.land_deg:.1f}\u00b0"))
+        f = r.max_impact_force_N
+        rows.append(("impact force", "impulse (rigid train)" if f is None else f"up to {f:.4g} N"))
+    return rows
+
+
+def _geometry_results(data: ReportData) -> list[tuple[str, str]]:
+    """The key results of the cam's geometry: pressure angle, face contact, radius of curvature, path error."""
+    chk, case = data.check, data.case
+    rows: list[tuple[str, str]] = []
     geo = chk.geometry
     if geo is not None:
         if square_face(geo):
@@ -200,9 +247,19 @@ def key_results(data: ReportData) -> list[tuple[str, str]]:
             )
         rows.append(
             (
-                "least radius of curvature",
+                "least radius of curvature" if chk.closure is None else "inner wall, least radius",
                 f"{geo.min_radius_of_curvature_mm:.4g} mm at {geo.min_radius_of_curvature_at_deg:.1f}\u00b0"
                 + ("  (undercut)" if geo.undercut else ""),
+            )
+        )
+    if chk.closure is not None:  # the outer wall: convex towards the roller where the pitch curve is concave
+        w = chk.closure.walls.outer_wall
+        rows.append(
+            (
+                "outer wall, least convex",
+                "concave all round"
+                if math.isinf(w.min_convex_radius_mm)
+                else f"{w.min_convex_radius_mm:.4g} mm at {w.min_convex_radius_at_deg:.1f}\u00b0",
             )
         )
     if case.synthesis is not None:
@@ -229,6 +286,8 @@ def decision_facts(data: ReportData) -> list[str]:
     acceleration jumps, concave flanks."""
     chk, rv = data.check, data.review
     out = []
+    if chk.closure is not None:
+        out += groove_facts(data)
     for c in chk.checks:
         if at_limit(c):
             out.append(
@@ -236,10 +295,12 @@ def decision_facts(data: ReportData) -> list[str]:
                 f"{'passes' if c.ok else 'fails'} by a rounding)"
             )
     resp = chk.response
-    if resp.flights:
+    if resp.flights and chk.closure is None:
         out.append(f"the follower leaves the cam: {flight_summary(resp)}")
     part = rv.spring_part
-    if isinstance(part, Unavailable):
+    if chk.closure is not None:
+        pass  # no return spring: groove_facts says so
+    elif isinstance(part, Unavailable):
         out.append(f"the return spring cannot be built within [spring]: {part}")
     else:
         bad = [c.name for c in part.checks if not c.ok]
@@ -265,7 +326,7 @@ def decision_facts(data: ReportData) -> list[str]:
                 f"infinite {cause}"
             )
     geo = chk.geometry
-    if geo is not None and not geo.undercut:
+    if geo is not None and not geo.undercut and chk.closure is None:  # a groove: one wall is concave by design
         spans = concave_spans(geo)
         if spans:
             where = ", ".join(f"{a:.0f}\u2013{b:.0f}\u00b0" for a, b, _ in spans[:3])
@@ -274,6 +335,40 @@ def decision_facts(data: ReportData) -> list[str]:
                 f"concave flank{'s' if len(spans) > 1 else ''} at cam angles {where}: least concave radius "
                 f"{least:.4g} mm (the grinding wheel or cutter must be smaller)"
             )
+    return out
+
+
+def groove_facts(data: ReportData) -> list[str]:
+    """A groove cam's decision-changing facts: that it cannot jump (no jump speed, no speed margin, no return
+    spring: why the spring pages are left out), and each crossover's flight and impact against the limit."""
+    study = data.check.closure
+    assert study is not None
+    r = study.response
+    out = [
+        "no jump speed and no speed_margin: the groove holds the follower both ways, so it cannot jump; there is no "
+        "return spring to size (no spring sizing or jump map pages); what limits the speed is the impact where the "
+        "follower crosses the backlash (crossover_impact)"
+    ]
+    lim = data.case.limits.max_impact_velocity
+    for c in r.crossovers[:4]:
+        if r.backlash_mm == 0.0:
+            out.append(
+                f"the contact force changes from the {c.from_flank} to the {c.to_flank} flank at {c.deg:.1f}\u00b0"
+            )
+            continue
+        force = "an impulse (rigid train)" if c.impact_force_N is None else f"a peak of {c.impact_force_N:.4g} N"
+        out.append(
+            f"at {c.deg:.1f}\u00b0 the force leaves the {c.from_flank} flank: the follower crosses the "
+            f"{r.backlash_mm:g} mm backlash and the {c.to_flank} flank meets it at {c.land_deg:.1f}\u00b0 at "
+            f"{c.impact_velocity_m_per_s:.3g} m/s (limit {lim:g} m/s), {force}"
+        )
+    if len(r.crossovers) > 4:
+        out.append(f"\u2026 and {len(r.crossovers) - 4} more crossovers (page 'Dynamics: crossovers and impacts')")
+    if data.case.spec.tolerances is not None:
+        out.append(
+            "[tolerances]: the report does not draw a groove cam's tolerance study: camdyn tolerance gives the spread "
+            "of its impact speed over the built cams"
+        )
     return out
 
 
@@ -361,6 +456,16 @@ def _glance(fig, data: ReportData, top: float) -> None:
     h = min(top - bottom - 0.03, 0.26)
     y0 = top - 0.03 - h
     geo = data.check.geometry
+    if data.check.closure is not None:
+        ax = fig.add_axes((0.06, y0, 0.3, h))
+        plot_groove_cam(ax, data.check, angles=(0.0,), marks=False)
+        ax.set_title("cam at \u03b8 = 0: both walls", fontsize=8.5)
+        _small(ax)
+        ax = fig.add_axes((0.42, y0, 0.52, h))
+        plot_flank_force(ax, data.check, legend=False, marks=False)
+        ax.set_title(f"contact force at {data.check.speed_rpm:g} rpm (+ inner flank, \u2212 outer)", fontsize=8.5)
+        _small(ax)
+        return
     if geo is not None:
         ax = fig.add_axes((0.1, y0, 0.24, h))
         ax.set_aspect("equal", adjustable="datalim")
@@ -374,6 +479,13 @@ def _glance(fig, data: ReportData, top: float) -> None:
         ax.tick_params(labelsize=6.5)
         ax.grid(False)
     _force_thumbnail(fig.add_axes((0.42, y0, 0.52, h)), data)
+
+
+def _small(ax) -> None:
+    """A thumbnail's axis labels and ticks, small."""
+    ax.xaxis.label.set_fontsize(7)
+    ax.yaxis.label.set_fontsize(7)
+    ax.tick_params(labelsize=6.5)
 
 
 def _force_thumbnail(ax, data: ReportData) -> None:

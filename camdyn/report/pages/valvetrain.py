@@ -1,12 +1,12 @@
 """The valvetrain page (cases with ``[valvetrain]``): the valve and the cam at the valve with the lash and its ramps,
 the valve's velocity and the cam contact over the event, the seating velocity against cam speed with the float and
-bounce speeds, from ``check``'s two-mass model."""
+bounce speeds, and a rocker's ratio against cam angle, from ``check``'s two-mass model."""
 
 from __future__ import annotations
 
 from matplotlib.figure import Figure
 
-from ...plot import plot_seating_velocity, plot_valve_lift, plot_valve_velocity
+from ...plot import plot_rocker_ratio, plot_seating_velocity, plot_valve_lift, plot_valve_velocity
 from .._data import ReportData
 from .._layout import Flow, fmt
 from .._style import LEFT, C
@@ -18,10 +18,10 @@ def draw_valvetrain(fig: Figure, data: ReportData) -> None:
     j = vt.json()
     flow = Flow(fig, 0.94)
     flow.para(
-        f"Rocker ratio {vt.ratio:g}, lash {vt.lash_mm:g} mm; valve lift {fmt(j['max_valve_lift_mm'])} mm, seats at "
+        f"Rocker ratio {_ratio(vt, j)}, lash {vt.lash_mm:g} mm; valve lift {fmt(j['max_valve_lift_mm'])} mm, seats at "
         f"{fmt(j['seating_velocity_m_per_s'])} m/s; float at {fmt(j['float_speed_rpm'])} rpm, bounce at "
         f"{fmt(j['bounce_speed_rpm'])} rpm (searched to {vt.search_top_rpm:.0f} rpm); bounce height "
-        f"{fmt(j['bounce_height_mm'])} mm at {data.check.speed_rpm:g} rpm.",
+        f"{fmt(j['bounce_height_mm'])} mm at {data.check.speed_rpm:g} rpm{_coil_bind(j)}.",
         size=8.5,
         width=115,
         color=C["ink"],
@@ -38,5 +38,25 @@ def draw_valvetrain(fig: Figure, data: ReportData) -> None:
     plot_valve_lift(ax, vt)
     ax = fig.add_axes((LEFT, 0.32, 0.86 - LEFT, 0.2))
     plot_valve_velocity(ax, vt)
-    ax = fig.add_axes((LEFT, 0.06, 0.95 - LEFT, 0.19))
+    rocker = vt.rocker_curves is not None  # its ratio against cam angle beside the seating velocity
+    ax = fig.add_axes((LEFT, 0.06, (0.56 if rocker else 0.95) - LEFT, 0.19))
     plot_seating_velocity(ax, vt, data.case.limits.max_seating_velocity)
+    if rocker:
+        plot_rocker_ratio(fig.add_axes((0.66, 0.06, 0.29, 0.19)), vt)
+
+
+def _coil_bind(j: dict) -> str:
+    """The spring's coil bind, where a designed spring gives it."""
+    if j["coil_bind_lift_mm"] is None:
+        return ""
+    return (
+        f"; the spring goes solid at {fmt(j['coil_bind_lift_mm'])} mm of valve lift, "
+        f"{fmt(j['coil_bind_clearance_mm'])} mm beyond the valve's largest"
+    )
+
+
+def _ratio(vt, j: dict) -> str:
+    """The constant ratio, or a rocker's range over the lift and its value at peak lift."""
+    if vt.rocker_curves is None:
+        return f"{vt.ratio:g}"
+    return f"{j['ratio_min']:.4g} to {j['ratio_max']:.4g} from the rocker's geometry ({vt.ratio:.4g} at peak lift)"

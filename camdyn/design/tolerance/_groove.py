@@ -1,0 +1,191 @@
+"""A groove cam's tolerance study: the spread of its crossover impact over the built cams.
+
+A groove cam cannot jump, so what its tolerances change is how hard the flanks meet the follower where it crosses
+the backlash. The samples are drawn as a spring cam's (:mod:`._sampling`: the same keys, seed and order, the
+``backlash`` drawn last); each built cam's follower (:func:`._kernel.sample_model`) and backlash go through
+:func:`camdyn.model.dynamics.closure_response` at the sample's speed, one after another (a flight is an
+event-driven solve: tens of ms a sample). The result: the probability that the impact speed exceeds
+``[limits] max_impact_velocity`` (Clopper-Pearson interval), the percentiles of the impact speed and force, and
+the worst samples.
+"""
+
+from __future__ import annotations
+
+import io
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+import jax.numpy as jnp
+import numpy as np
+from scipy.stats import binomtest
+
+from ..._core.errors import InputError
+from ..._core.kinds import FollowerKind
+from ..._core.progress import Progress, counter
+from ..._core.units import PROFILE_ERROR_HARMONICS, tolerance_unit
+from ...model import dynamics as dyn
+from ...schema import resolve_tolerances
+from ._kernel import Sample, sample_model
+from ._result import csv_columns
+from ._sampling import SCALAR_KEYS, draw_samples, spreads
+from ._study import CONFIDENCE, MAX_SAMPLES, WORST, _nominal, _to_si, describe
+
+if TYPE_CHECKING:
+    from ...model.case import Case
+
+IMPACT_PERCENTILES = (50, 95, 99)  # of the impact speed and force: the upper tail is what fails
+
+
+@dataclass(frozen=True)
+class ImpactToleranceResult:
+    """A groove cam's Monte Carlo tolerance study: per sample its parameters (case-file units, the backlash in mm)
+    and its largest impact speed (m/s) and force (N; NaN for a rigid train)."""
+
+    case: str
+    kind: FollowerKind
+    seed: int
+    speed_rpm: float  # the case's
+    params: dict[str, np.ndarray]  # SCALAR_KEYS and "backlash" -> (n,)
+    impact_velocity_m_per_s: np.ndarray
+    max_impact_force_N: np.ndarray
+    max_impact_velocity: float  # the limit, m/s
+    tolerances: dict[str, dict]
+    probability: float  # of an impact speed above the limit
+    confidence_interval: tuple[float, float]
+    worst: tuple[int, ...]  # the samples of the fastest impacts, fastest first
+
+    @property
+    def samples(self) -> int:
+        return self.impact_velocity_m_per_s.size
+
+    @staticmethod
+    def percentiles(values: np.ndarray) -> dict[str, float] | None:
+        """P50, P95, P99 and the largest (sample values); None where every value is NaN (a rigid train's force)."""
+        if np.all(np.isnan(values)):
+            return None
+        q = np.percentile(values, IMPACT_PERCENTILES, method="inverted_cdf")
+        return {f"p{p}": float(v) for p, v in zip(IMPACT_PERCENTILES, q, strict=True)} | {"max": float(np.max(values))}
+
+    @property
+    def csv(self) -> str:
+        """One row per sample: ``sample``, the spring cam's parameter columns (:func:`csv_columns`) but the
+        profile error, ``backlash_mm``, ``impact_velocity_m_per_s``, ``max_impact_force_N`` (empty for a rigid
+        train), ``over_limit`` (0/1)."""
+        buf = io.StringIO()
+        names = csv_columns(self.kind)[1 : 1 + len(SCALAR_KEYS)]
+        buf.write(
+            ",".join(("sample", *names, "backlash_mm", "impact_velocity_m_per_s", "max_impact_force_N", "over_limit"))
+            + "\n"
+        )
+        cols = [self.params[k] for k in (*SCALAR_KEYS, "backlash")]
+        for i in range(self.samples):
+            v, f = self.impact_velocity_m_per_s[i], self.max_impact_force_N[i]
+            force = "" if np.isnan(f) else f"{f:.10g}"
+            buf.write(
+                f"{i:d},"
+                + ",".join(f"{c[i]:.10g}" for c in cols)
+                + f",{v:.10g},{force},{v > self.max_impact_velocity:d}\n"
+            )
+        return buf.getvalue()
+
+    def json(self) -> dict:
+        """The ``tolerance --json`` document of a groove cam (keys only ever added)."""
+        return {
+            "case": self.case,
+            "closure": "groove",
+            "samples": self.samples,
+            "seed": self.seed,
+            "speed_rpm": self.speed_rpm,
+            "max_impact_velocity": self.max_impact_velocity,
+            "probability_over_limit": self.probability,
+            "confidence_interval": list(self.confidence_interval),
+            "confidence": CONFIDENCE,
+            "impact_velocity_m_per_s": self.percentiles(self.impact_velocity_m_per_s),
+            "max_impact_force_N": self.percentiles(self.max_impact_force_N),
+            "tolerances": self.tolerances,
+            "worst": [
+                {
+                    "sample": i,
+                    "backlash_mm": float(self.params["backlash"][i]),
+                    "speed_rpm": float(self.params["speed"][i]),
+                    "impact_velocity_m_per_s": float(self.impact_velocity_m_per_s[i]),
+                    "max_impact_force_N": None
+                    if np.isnan(self.max_impact_force_N[i])
+                    else float(self.max_impact_force_N[i]),
+                }
+                for i in self.worst
+            ],
+        }
+
+
+def impact_tolerance_study(
+    case: Case, samples: int, seed: int = 0, *, progress: Progress | None = None
+) -> ImpactToleranceResult:
+    """Monte Carlo study of the groove cam ``case``'s ``[tolerances]`` (``backlash`` among them) over ``samples``
+    built cams drawn from ``seed``: their largest crossover impact at their speed."""
+    if not 1 <= samples <= MAX_SAMPLES:
+        raise InputError("--samples", f"must be from 1 to {MAX_SAMPLES}, got {samples}")
+    f = case.follower
+    assert f is not None and f.form_closed  # the caller asks only of a groove cam
+    kind, base = case.kind, case.model
+    tols = resolve_tolerances(case.spec.tolerances, kind=kind) if case.spec.tolerances is not None else ()
+    keys = {t.key for t in tols}
+    if "profile_error" in keys:
+        raise InputError(
+            "tolerances.profile_error",
+            "a groove cam's tolerance study does not take a profile error yet: its crossovers are studied on the "
+            "drawn motion (remove the key; backlash, mass, train_stiffness and speed are studied)",
+        )
+    if base.rigid and "train_stiffness" in keys:
+        raise InputError(
+            "tolerances.train_stiffness",
+            "a rigid follower has no train stiffness: remove the key or give [dynamics] train_stiffness",
+        )
+    nominal = _nominal(case) | {"backlash": float(f.backlash)}
+    spread = spreads(tols, nominal)
+    vals = draw_samples(spread, nominal, samples, seed)
+    for key in ("mass", "train_stiffness", "speed"):
+        if np.any(vals[key] <= 0.0):
+            raise InputError(
+                f"tolerances.{key}",
+                f"the tolerance reaches a value <= 0 {tolerance_unit(key, kind.rotary)} in some samples: give a "
+                "smaller one",
+            )
+    for key in ("spring_rate", "preload", "backlash"):
+        if np.any(vals[key] < 0.0) and key in keys:
+            raise InputError(
+                f"tolerances.{key}",
+                f"the tolerance reaches a value < 0 {tolerance_unit(key, kind.rotary)} in some samples: give a "
+                "smaller one",
+            )
+    k, f0, m, kf, omega, _ = _to_si(case, vals)
+    zero = jnp.zeros(2 * PROFILE_ERROR_HARMONICS)
+    v = np.zeros(samples)
+    force = np.full(samples, np.nan)
+    tick = counter(progress, "built cams (crossover impacts)", samples)
+    for i in range(samples):
+        p = Sample(*(jnp.asarray(float(x[i])) for x in (k, f0, m, kf, omega)), zero)
+        r = dyn.closure_response(
+            case.motion, f.model_copy(update={"backlash": float(vals["backlash"][i])}), sample_model(base, p), omega[i]
+        )
+        v[i] = r.max_impact_velocity_m_per_s
+        if r.max_impact_force_N is not None and vals["backlash"][i] > 0.0 and r.crossovers:
+            force[i] = r.max_impact_force_N
+        tick()
+    lim = float(case.limits.max_impact_velocity)
+    over = int(np.count_nonzero(v > lim))
+    ci = binomtest(over, samples).proportion_ci(CONFIDENCE, method="exact")
+    return ImpactToleranceResult(
+        case=case.name,
+        kind=kind,
+        seed=seed,
+        speed_rpm=float(case.speed_rpm),
+        params={key: vals[key] for key in (*SCALAR_KEYS, "backlash")},
+        impact_velocity_m_per_s=v,
+        max_impact_force_N=force,
+        max_impact_velocity=lim,
+        tolerances={t.key: describe(t, spread[t.key], kind.rotary) for t in tols},
+        probability=over / samples,
+        confidence_interval=(float(ci.low), float(ci.high)),
+        worst=tuple(int(i) for i in np.argsort(-v, kind="stable")[:WORST]),
+    )

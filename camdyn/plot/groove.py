@@ -1,0 +1,328 @@
+"""A groove cam drawn (``[follower] closure = "groove"``): the cam with both walls, the signed contact force with
+its crossovers and impacts, and each wall's radius of curvature. Each takes a
+:class:`~camdyn.design.checks.CheckReport` of a groove cam (``check.closure`` set)."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from pathlib import Path
+
+import numpy as np
+from matplotlib.axes import Axes
+from matplotlib.collections import QuadMesh
+from matplotlib.figure import Figure
+from matplotlib.patches import Circle, Polygon
+
+from .._core.units import DEFAULT_MIN_CURVATURE_RATIO
+from ..design.checks import CheckKind, CheckReport
+from ..design.closure import ClosureStudy, ImpactMap
+from ..design.tolerance import ImpactToleranceResult
+from ._common import C, deg_ticks, legend_above_data, mark_breaks
+from .cam import (
+    _curvature_mark,
+    _pressure_angle_mark,
+    _rotation_arrow,
+    check_colour,
+    curvature_limit_line,
+    plot_follower,
+)
+
+WALL_COLOURS = {"inner": C["dyn"], "outer": C["advice"]}
+
+
+def _study(check: CheckReport) -> ClosureStudy:
+    assert check.closure is not None, "a groove cam's check (check.closure set)"
+    return check.closure
+
+
+def flight_spans_deg(check: CheckReport) -> list[tuple[float, float]]:
+    """The cam-angle spans (deg, within [0, 360]) of the flights across the backlash: two where one wraps 0."""
+    out = []
+    for c in _study(check).response.crossovers:
+        a, b = c.deg, c.land_deg
+        if b > a:
+            out.append((a, b))
+        elif b < a:
+            out += [(a, 360.0), (0.0, b)]
+    return out
+
+
+def plot_groove_cam(
+    ax: Axes, check: CheckReport, *, angles: Sequence[float] = (0.0, 90.0, 180.0, 270.0), marks: bool = True
+) -> None:
+    """The groove cam in its frame: the slot between the inner and the outer wall (the cam's face shaded, the slot
+    white), the pitch curve, the roller at ``angles`` (grey); with ``marks`` the roller where each crossover's
+    flight lands (on the flank it lands on), the largest pressure angle and the inner wall's least radius of
+    curvature, and the legend."""
+    study, geo = _study(check), check.geometry
+    assert geo is not None  # check computes a groove cam's geometry
+    walls, f = study.walls, geo.follower
+    ax.set_aspect("equal")
+    ax.grid(False)
+    r_out = float(np.hypot(*walls.outer).max())
+    disc = 1.12 * r_out
+    ax.add_patch(Circle((0, 0), disc, fc=C["cam"], ec=C["ink"], lw=1.0, zorder=0.5, label="cam face"))
+    ax.add_patch(Polygon(walls.outer.T, closed=True, fc="white", ec="none", zorder=0.8))
+    ax.add_patch(Polygon(walls.inner.T, closed=True, fc=C["cam"], ec="none", zorder=0.9))
+    for name in ("inner", "outer"):
+        xy = getattr(walls, name)
+        ax.plot(*np.c_[xy, xy[:, :1]], color=WALL_COLOURS[name], lw=1.3, zorder=2, label=f"{name} wall")
+    ax.plot(*np.c_[geo.pitch, geo.pitch[:, :1]], color=C["grey"], lw=0.8, ls="--", zorder=2, label="pitch curve")
+    ax.plot(0, 0, marker="+", color=C["ink"], ms=9, mew=1.2, zorder=4)
+    for th in angles:
+        at = plot_follower(ax, geo, th, colour=C["grey"], lw=0.9, alpha=0.85, z=3)
+        if marks:
+            ax.annotate(
+                f"{th:g}\u00b0",
+                at["centre"],
+                xytext=(0, 0),
+                textcoords="offset points",
+                size=6.5,
+                color=C["grey"],
+                ha="center",
+                va="center",
+                zorder=5,
+            )
+    lim = disc * 1.04
+    ax.set_xlim(-lim, lim)
+    ax.set_ylim(-lim, lim)
+    ax.set_xlabel("x, cam frame = fixed frame at \u03b8 = 0 (mm)" if marks else "x (mm)")
+    ax.set_ylabel("y (mm)")
+    if not marks:
+        return
+    colour = check_colour(check, CheckKind.CROSSOVER_IMPACT, C["margin"])
+    for k, c in enumerate(study.response.crossovers):
+        at = plot_follower(ax, geo, c.land_deg, colour=colour, lw=1.4, z=6, stem=False)
+        out = at["centre"] / max(float(np.linalg.norm(at["centre"])), 1e-9)
+        ax.annotate(
+            f"lands {c.land_deg:.0f}\u00b0\n({c.to_flank})",
+            at["centre"],
+            xytext=tuple(26 * out),
+            textcoords="offset points",
+            size=7,
+            color=colour,
+            ha="center",
+            va="center",
+            zorder=7,
+            bbox=dict(fc="white", ec="none", alpha=0.8, pad=0.6),
+        )
+        if k == 0:
+            ax.plot([], [], "o", mfc="none", color=colour, label="roller where a flight\nacross the backlash lands")
+    r_all = float(np.hypot(*geo.pitch).max()) + (f.roller_radius or 0.0)
+    _pressure_angle_mark(ax, geo, check_colour(check, CheckKind.PRESSURE_ANGLE, C["margin"]), r_all)
+    _curvature_mark(ax, geo, check_colour(check, CheckKind.CURVATURE, C["advice"]), r_all)
+    _rotation_arrow(ax, f)
+    ax.legend(loc="upper left", bbox_to_anchor=(1.0, 1.0), fontsize=7, framealpha=0.9)
+
+
+def plot_flank_force(
+    ax: Axes, check: CheckReport, *, breaks_deg: Sequence[float] = (), legend: bool = True, marks: bool = True
+) -> None:
+    """The signed contact force (N at the roller) over a revolution: positive on the inner flank, negative on the
+    outer, 0 in flight across the backlash (shaded); the kinematic force (the roller on the pitch curve) dashed;
+    each crossover (where the force leaves its flank) and each impact (on the flank it lands on: its peak force
+    where the train is compliant, else its speed) marked, labelled with ``marks``."""
+    study, resp = _study(check), check.response
+    th = resp.theta_deg
+    ax.plot(th, resp.kinematic_force, color=C["kin"], lw=1.0, ls="--", label="kinematic (on the pitch curve)")
+    ax.plot(th, resp.force, color=C["dyn"], lw=1.3, label=f"contact force at {check.speed_rpm:g} rpm")
+    ax.axhline(0.0, color=C["ink"], lw=0.8)
+    for k, (a, b) in enumerate(flight_spans_deg(check)):
+        ax.axvspan(
+            a, b, color=C["limit"], alpha=0.13, lw=0, zorder=0.4, label="flight across the backlash" if k == 0 else None
+        )
+    mark_breaks(ax, breaks_deg)
+    colour = check_colour(check, CheckKind.CROSSOVER_IMPACT, C["margin"])
+    for k, c in enumerate(study.response.crossovers):
+        ax.axvline(
+            c.deg,
+            color=C["ink"],
+            lw=0.8,
+            ls="-.",
+            zorder=1,
+            label="crossover (the force changes flank)" if k == 0 else None,
+        )
+        sign = 1.0 if c.to_flank == "inner" else -1.0
+        if c.impact_force_N is not None:
+            y = sign * c.impact_force_N
+            text = f"{c.impact_velocity_m_per_s:.3g} m/s, {c.impact_force_N:.3g} N"
+        else:  # a rigid train: the impact is an impulse, its force is not finite
+            y = float(np.interp(c.land_deg, th, resp.kinematic_force, period=360.0))
+            text = f"{c.impact_velocity_m_per_s:.3g} m/s (rigid: impulse)"
+        ax.plot(
+            c.land_deg,
+            y,
+            "v" if sign < 0 else "^",
+            color=colour,
+            ms=6,
+            zorder=6,
+            label=f"impact on the other flank ({'peak force' if c.impact_force_N is not None else 'speed'})"
+            if k == 0
+            else None,
+        )
+        if marks:
+            ax.annotate(
+                text,
+                (c.land_deg, y),
+                xytext=(6, -2 * sign),
+                textcoords="offset points",
+                size=6.8,
+                color=colour,
+                ha="left",
+                va="top" if sign < 0 else "bottom",
+                zorder=7,
+            )
+    deg_ticks(ax, 30.0 if marks else 60.0)
+    ax.set_ylabel("contact force (N)")
+    if not marks:
+        return
+    lo, hi = ax.get_ylim()
+    ax.text(2, hi * 0.96, "inner flank (+)", size=7, color=C["grey"], va="top")
+    ax.text(2, lo * 0.96, "outer flank (\u2212)", size=7, color=C["grey"], va="bottom")
+    ax.set_xlabel("cam angle \u03b8 (deg)")
+    ax.set_title(
+        f"contact force on the flank that carries it at {check.speed_rpm:g} rpm (backlash "
+        f"{study.response.backlash_mm:g} mm)",
+        fontsize=9,
+    )
+    if legend:
+        legend_above_data(ax, fontsize=7, ncol=2)
+
+
+def plot_wall_curvature(
+    ax: Axes,
+    check: CheckReport,
+    *,
+    min_curvature_ratio: float = DEFAULT_MIN_CURVATURE_RATIO,
+    breaks_deg: Sequence[float] = (),
+) -> None:
+    """Both walls' radii of curvature against the cam angle, as the roller sees each (convex towards it > 0: one
+    wall is concave where the other is convex), the limit (``min_curvature_ratio`` x roller radius) and each
+    wall's least convex radius marked."""
+    study, geo = _study(check), check.geometry
+    assert geo is not None and geo.follower.roller_radius is not None  # a groove holds a roller
+    walls = study.walls
+    rr = geo.follower.roller_radius
+    cap = 3.0 * float(geo.follower.base_radius or rr)
+    for name in ("inner", "outer"):
+        rho = np.asarray(getattr(walls, f"rho_{name}_mm"))
+        shown = np.where(np.isfinite(rho) & (np.abs(rho) <= cap * 1.05), rho, np.nan)
+        ax.plot(walls.theta_deg, shown, color=WALL_COLOURS[name], lw=1.3, label=f"{name} wall")
+        w = getattr(walls, f"{name}_wall")
+        if np.isfinite(w.min_convex_radius_mm):
+            ax.plot(
+                w.min_convex_radius_at_deg,
+                w.min_convex_radius_mm,
+                "o",
+                ms=4.5,
+                color=check_colour(check, CheckKind.CURVATURE, WALL_COLOURS[name]),
+            )
+    curvature_limit_line(ax, min_curvature_ratio, rr)
+    ax.axhline(0, color="#888888", lw=0.6)
+    ax.set_ylim(-cap, cap)
+    mark_breaks(ax, breaks_deg)
+    deg_ticks(ax, 30.0)
+    ax.set_ylabel("radius of curvature (mm)")
+    ax.set_xlabel("cam angle \u03b8 (deg)")
+    ax.set_title(
+        f"radius of curvature of each wall as the roller sees it (convex > 0; |\u03c1| above {cap:.0f} mm not drawn)",
+        fontsize=9,
+    )
+    ax.legend(loc="upper right", fontsize=7, ncol=2)
+
+
+def plot_impact_speed(ax: Axes, impacts: ImpactMap, *, speed_rpm: float | None = None) -> None:
+    """The largest crossover impact speed against cam speed, a line per backlash, the limit
+    (``[limits] max_impact_velocity``) and the case's speed marked."""
+    for i, b in enumerate(impacts.backlash_mm):
+        ax.plot(
+            impacts.speeds_rpm,
+            impacts.impact_velocity_m_per_s[i],
+            lw=1.3,
+            color=C["dyn"] if i == 0 else None,
+            label=f"backlash {b:g} mm",
+        )
+    lim = impacts.max_impact_velocity
+    ax.axhline(lim, color=C["limit"], ls="--", lw=0.9, label=f"max_impact_velocity {lim:g} m/s")
+    if speed_rpm is not None:
+        ax.axvline(speed_rpm, color=C["ink"], ls=":", lw=0.9, label=f"{speed_rpm:g} rpm")
+    ax.set_xlim(0.0, float(impacts.speeds_rpm[-1]))
+    ax.set_ylim(0.0, max(lim, float(np.nanmax(impacts.impact_velocity_m_per_s))) * 1.1)
+    ax.set_xlabel("cam speed (rpm)")
+    ax.set_ylabel("impact speed (m/s)")
+    ax.set_title(
+        "largest impact speed across the backlash against cam speed (a groove cam has no jump speed)", fontsize=9
+    )
+    legend_above_data(ax, also=(lim,), fontsize=7, ncol=3, loc="upper left")
+
+
+def plot_impact_map(
+    ax: Axes, impacts: ImpactMap, *, speed_rpm: float | None = None, backlash_mm: float | None = None
+) -> QuadMesh | None:
+    """The largest impact speed over cam speed x backlash, the limit's contour and the operating point; a single
+    backlash gives :func:`plot_impact_speed`. Returns the artist a colorbar can use (None for a line plot)."""
+    if impacts.backlash_mm.size == 1 or impacts.speeds_rpm.size == 1:
+        plot_impact_speed(ax, impacts, speed_rpm=speed_rpm)
+        return None
+    v = impacts.impact_velocity_m_per_s
+    mesh = ax.pcolormesh(impacts.speeds_rpm, impacts.backlash_mm, v, shading="nearest", cmap="viridis")
+    lim = impacts.max_impact_velocity
+    if np.nanmin(v) < lim < np.nanmax(v):
+        ax.contour(impacts.speeds_rpm, impacts.backlash_mm, v, levels=[lim], colors="red", linewidths=1.5)
+        ax.plot([], [], color="red", label=f"max_impact_velocity {lim:g} m/s")
+    if speed_rpm is not None and backlash_mm is not None:
+        ax.plot(
+            [speed_rpm],
+            [backlash_mm],
+            marker="*",
+            ms=12,
+            color="white",
+            mec="black",
+            ls="none",
+            label=f"operating point ({speed_rpm:g} rpm, {backlash_mm:g} mm)",
+        )
+    ax.set_xlabel("cam speed (rpm)")
+    ax.set_ylabel("backlash (mm)")
+    ax.set_title("largest impact speed across the backlash (m/s)", fontsize=10)
+    if ax.get_legend_handles_labels()[0]:
+        ax.legend(loc="upper left", fontsize=8)
+    return mesh
+
+
+def save_impact_png(
+    impacts: ImpactMap, path: str | Path, *, speed_rpm: float | None = None, backlash_mm: float | None = None
+) -> None:
+    """Write :func:`plot_impact_map` of ``impacts`` as a PNG (matplotlib, no pyplot state)."""
+    fig = Figure(figsize=(8, 5.5), layout="constrained")
+    art = plot_impact_map(fig.add_subplot(), impacts, speed_rpm=speed_rpm, backlash_mm=backlash_mm)
+    if art is not None:
+        fig.colorbar(art, ax=fig.axes[0], label="largest impact speed (m/s)")
+    fig.savefig(path, dpi=120)
+
+
+def plot_impact_histogram(ax: Axes, result: ImpactToleranceResult) -> None:
+    """Histogram of the built cams' largest impact speed (m/s), the limit and the P50/P99 marked."""
+    v = result.impact_velocity_m_per_s
+    ax.hist(v, bins=min(60, max(10, int(np.sqrt(v.size)))), color=C["dyn"], alpha=0.8)
+    lim = result.max_impact_velocity
+    ax.axvline(lim, color=C["limit"], lw=1.5, label=f"max_impact_velocity {lim:g} m/s")
+    q = result.percentiles(v)
+    assert q is not None  # impact speeds are finite
+    for name, style in (("p50", "--"), ("p99", ":")):
+        ax.axvline(q[name], color=C["ink"], ls=style, lw=1, label=f"{name.upper()} {q[name]:.3g} m/s")
+    lo, hi = result.confidence_interval
+    ax.set_title(
+        f"{result.case}: largest impact speed of {result.samples} built groove cams; P(over the limit) = "
+        f"{result.probability:.3g} [{lo:.3g}, {hi:.3g}]",
+        fontsize=9,
+    )
+    ax.set_xlabel("largest impact speed across the backlash (m/s)")
+    ax.set_ylabel("samples")
+    ax.legend(fontsize=8)
+
+
+def save_impact_histogram_png(result: ImpactToleranceResult, path: str | Path) -> None:
+    """Write :func:`plot_impact_histogram` of ``result`` as a PNG (matplotlib, no pyplot state)."""
+    fig = Figure(figsize=(8, 5), layout="constrained")
+    plot_impact_histogram(fig.add_subplot(), result)
+    fig.savefig(path, dpi=120)

@@ -1,0 +1,125 @@
+"""A valvetrain's valve spring as a part (``[spring]`` with ``[valvetrain]``, issue 24): designed for the valve's
+stroke, a third of its mass on the valve, and coil bind, a stop the valve's flight must stay short of.
+
+Checked against independent routes: the spring's travel to solid from its solid force and rate; a stiff, lash-free
+train with the spring's third on the valve floats at the hand-written equivalent follower's jump speed (mass
+m_cam + (m_valve + m_s / 3) r^2); a flight past float that reaches solid fails ``coil_bind`` by what it overshoots.
+"""
+
+import copy
+import math
+
+import numpy as np
+import pytest
+from test_valvetrain import EVENT, F0, M_CAM, M_VALVE, SHIPPED, C, K, R
+
+from camdyn._core.units import RPM
+from camdyn.design.parts import resolve_spring
+from camdyn.design.spring import design_case_spring
+from camdyn.design.valvetrain import ValvetrainResult
+from camdyn.model.case import case_from_dict
+from camdyn.model.dynamics import float_speed, kinematic_jump_speed, valvetrain_response
+from camdyn.model.surge import chain_steady_force
+
+SPRING = {"material": "chrome-silicon"}
+
+
+def _shipped_with_spring(**spring):
+    raw = copy.deepcopy(SHIPPED)
+    raw["spring"] = SPRING | spring
+    raw["valvetrain"]["valve_mass"] = 0.055  # the valve, retainer and keepers: camdyn adds the spring's third
+    return case_from_dict(raw)
+
+
+def test_the_valve_spring_is_designed_for_the_valves_stroke():
+    """At the valve: the case's 40 N/mm and 300 N with the valve closed, over the valve's stroke on a rigid train
+    (1.6 x 6.375 mm - 0.2 mm lash = 10 mm); its travel from installed to solid is (solid force - preload) / rate."""
+    case = _shipped_with_spring()
+    part = design_case_spring(case)
+    assert part.spring.rate == pytest.approx(40.0, rel=1e-9) and part.preload == pytest.approx(300.0)
+    assert part.lift == pytest.approx(1.6 * 6.375 - 0.2, rel=1e-9)
+    resolved = resolve_spring(case)
+    travel = (part.spring.solid_force - 300.0) / 40.0
+    assert resolved.spring.travel_to_solid_mm == pytest.approx(travel, rel=1e-9)
+    assert travel >= 1.15 * part.lift  # Shigley's clash allowance, at least
+
+
+def test_a_third_of_the_spring_moves_with_the_valve():
+    case = _shipped_with_spring()
+    resolved = resolve_spring(case)
+    m_s = resolved.spring.mass_kg
+    assert 0.0 < m_s and resolved.spring.model == "lumped"
+    assert float(resolved.valvetrain.valve_mass) == pytest.approx(0.055 + m_s / 3.0, rel=1e-12)
+    # the equivalent follower: m_cam + m_valve r^2 with the spring's third on the valve; its damping keeps its ratio
+    assert float(resolved.model.mass) == pytest.approx(0.12 + (0.055 + m_s / 3.0) * 1.6**2, rel=1e-12)
+    assert float(resolved.model.mass) == pytest.approx(float(resolved.spring.follower().mass), rel=1e-12)
+    assert float(resolved.model.damping) == pytest.approx(float(resolved.spring.follower().damping), rel=1e-12)
+
+
+@pytest.mark.slow
+def test_surge_on_the_valve_side_is_the_chain_of_the_equivalent_follower():
+    """[spring] model = "surge": the coils a chain of masses on the valve. A rigid cam contact and train without lash
+    carry the valve with the cam, so the cam's force is that of the single follower m_cam + m_valve r^2 with the
+    chain of mass m_s r^2 and rate k r^2 at the follower, whose periodic orbit the frequency domain solves exactly
+    (camdyn.model.surge, written apart): they agree to the transient the march from rest leaves (3 revolutions,
+    0.18 N of 853 N at 1500 rpm), where the lumped third is 7 N off."""
+    dyn = {"speed": 3000, "spring_rate": K, "preload": F0, "damping": C, "restitution": 0.0}
+    vt = {"ratio": R, "lash": 0.0, "cam_side_mass": M_CAM, "valve_mass": M_VALVE, "tappet_force": 10.0}
+    raw = copy.deepcopy(EVENT) | {"dynamics": dyn, "valvetrain": vt, "spring": SPRING | {"model": "surge"}}
+    case = resolve_spring(case_from_dict(raw))
+    m_s = case.spring.mass_kg
+    coils = case.valvetrain.coils
+    assert coils.count == 16 and float(coils.lump_mass) == pytest.approx(m_s / 16, rel=1e-12)
+    assert float(case.valvetrain.valve_mass) == pytest.approx(M_VALVE + m_s / 32, rel=1e-12)
+    single_dyn = {"speed": 3000, "mass": M_CAM + M_VALVE * R**2, "spring_rate": K * R**2, "preload": F0 * R}
+    single_dyn |= {"damping": C * R**2, "restitution": 0.0, "external_force": 10.0}
+    single = case_from_dict(copy.deepcopy(EVENT) | {"dynamics": single_dyn})
+    omega = 1500 * RPM
+    resp = valvetrain_response(case.motion, case.valvetrain, omega)
+    chain, _, _ = chain_steady_force(single.motion, single.model, m_s * R**2, omega, n=len(resp.theta_deg))
+    lifted = resp.valve_lift > 0.1
+    assert not resp.floated and chain.min() > 0.0
+    assert resp.cam_force[lifted] == pytest.approx(chain[lifted], abs=0.5)
+    lumped = resolve_spring(case_from_dict(raw | {"spring": SPRING}))
+    off = valvetrain_response(lumped.motion, lumped.valvetrain, omega).cam_force - chain
+    assert np.max(np.abs(off[lifted])) > 10 * 0.5  # 7 N
+
+
+@pytest.mark.slow
+def test_stiff_train_with_its_springs_third_floats_at_the_equivalent_followers_jump_speed():
+    """A stiff, lash-free train with a [spring] part on a rigid cam contact floats where the single follower of mass
+    m_cam + (m_valve + m_s / 3) r^2, rate k r^2 and preload F0 r, written out by hand, jumps (closed form)."""
+    dyn = {"speed": 3000, "spring_rate": K, "preload": F0, "damping": C, "restitution": 0.0}
+    vt = {"ratio": R, "lash": 0.0, "cam_side_mass": M_CAM, "valve_mass": M_VALVE, "stiffness": 1e6}
+    case = resolve_spring(case_from_dict(copy.deepcopy(EVENT) | {"dynamics": dyn, "valvetrain": vt, "spring": SPRING}))
+    m_s = case.spring.mass_kg
+    single_dyn = {"speed": 3000, "mass": M_CAM + (M_VALVE + m_s / 3.0) * R**2, "spring_rate": K * R**2}
+    single_dyn |= {"preload": F0 * R, "damping": C * R**2, "restitution": 0.0}
+    single = case_from_dict(copy.deepcopy(EVENT) | {"dynamics": single_dyn})
+    w_jump = kinematic_jump_speed(single.motion, single.model)[0]
+    w_bare = kinematic_jump_speed(single.motion, case.spring.bare)[0]
+    assert w_bare / w_jump - 1.0 > 0.02  # the spring's third matters here
+    w_float = float_speed(case.motion, case.valvetrain, 1.5 * w_jump, width_rpm=0.5)
+    assert w_float / RPM == pytest.approx(w_jump / RPM, rel=2e-3)
+
+
+@pytest.mark.slow
+def test_check_reports_coil_bind_and_fails_a_flight_to_solid():
+    """At the case speed the valve stops 2.7 mm short of solid (check --json, coil_bind passes); at 10000 rpm, far
+    past float, it flies 18.3 mm and would compress the spring to solid: coil_bind fails by the overshoot."""
+    from camdyn.design.checks import run_check
+
+    case = resolve_spring(_shipped_with_spring())
+    travel = case.spring.travel_to_solid_mm
+    report = run_check(case)
+    vt = report.json()["valvetrain"]
+    assert vt["coil_bind_lift_mm"] == pytest.approx(travel, rel=1e-12)
+    assert vt["coil_bind_clearance_mm"] == pytest.approx(travel - vt["max_valve_lift_mm"], rel=1e-12)
+    assert 2.0 < vt["coil_bind_clearance_mm"] < travel - 9.5
+    checks = {c["name"]: c for c in report.json()["checks"]}
+    assert checks["coil_bind"]["ok"] and checks["coil_bind"]["value"] == vt["coil_bind_clearance_mm"]
+    fast = valvetrain_response(case.motion, case.valvetrain, 10000 * RPM)
+    assert fast.floated and fast.max_valve_lift_mm > travel + 3.0
+    flight = ValvetrainResult(1.6, 0.2, fast, math.inf, math.inf, 10000.0 * 4, coil_bind_lift_mm=travel)
+    coil = {c.name: c for c in flight.checks(0.5)}["coil_bind"]
+    assert not coil.ok and coil.value == pytest.approx(travel - fast.max_valve_lift_mm, rel=1e-12) and coil.value < 0
