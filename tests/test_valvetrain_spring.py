@@ -118,6 +118,12 @@ def test_check_reports_coil_bind_and_fails_a_flight_to_solid():
     assert 2.0 < vt["coil_bind_clearance_mm"] < travel - 9.5
     checks = {c["name"]: c for c in report.json()["checks"]}
     assert checks["coil_bind"]["ok"] and checks["coil_bind"]["value"] == vt["coil_bind_clearance_mm"]
+    from types import SimpleNamespace
+
+    from camdyn.report.pages.summary import key_results
+
+    rows = dict(key_results(SimpleNamespace(check=report, case=case)))
+    assert rows["coil-bind clearance"] == f"{vt['coil_bind_clearance_mm']:.3g} mm"  # page 1 gives it
     fast = valvetrain_response(case.motion, case.valvetrain, 10000 * RPM)
     assert fast.floated and fast.max_valve_lift_mm > travel + 3.0
     flight = ValvetrainResult(1.6, 0.2, fast, math.inf, math.inf, 10000.0 * 4, coil_bind_lift_mm=travel)
