@@ -381,3 +381,59 @@ def test_conjugate_contact_stress_on_each_cam():
     both = conjugate_contact(geo, second, p1, p2, **mats)
     alone = [conjugate_contact(geo, second, p1, 0 * p2, **mats), conjugate_contact(geo, second, 0 * p1, p2, **mats)]
     np.testing.assert_allclose(both.pressure_MPa, np.maximum(*(a.pressure_MPa for a in alone)), rtol=1e-12)
+
+
+@pytest.mark.slow
+def test_report_of_conjugate_cams(tmp_path, capsys):
+    """``camdyn report`` of the shipped rocker: both cams and each cam's force in place of the cam, dynamics and
+    spring-sizing pages; page 1 gives the preload held, the least cam force and the crossovers as ``check`` does,
+    and the forces page draws each cam's force (its share of the preload) under the net force."""
+    import re
+
+    from matplotlib.figure import Figure
+    from matplotlib.image import imread
+
+    from camdyn.design.checks import run_check
+    from camdyn.design.review import design_review
+    from camdyn.report import A4, PAGES, ReportData
+    from camdyn.report.pages.summary import decision_facts, key_results
+
+    doc = json.loads(run(capsys, "check", EXAMPLE, "--json")[1])
+    code, _, _ = run(capsys, "report", EXAMPLE, "-o", tmp_path / "r")
+    assert code == 0
+    pngs = sorted(p.name for p in (tmp_path / "r").glob("*.png"))
+    slugs = [re.match(r"conjugate-\d+-([a-z-]+)\.png", p).group(1) for p in pngs]
+    assert slugs == ["summary", "svaj", "conjugate", "crossovers", "parts", "manufacturing"]
+    for p in (tmp_path / "r").glob("*.png"):
+        ink = np.any(imread(p)[..., :3] < 0.9, axis=-1).mean()
+        assert 0.02 < ink < 0.6, p.name
+    case = load_case(EXAMPLE)
+    data = ReportData(design_review(case, run_check(case)))
+    rows = dict(key_results(data))
+    cams = doc["closure"]["cams"]
+    least = min(cams["primary"]["min_force_N"], cams["conjugate"]["min_force_N"])
+    assert doc["closure"]["preload_held"] and rows["preload"] == "40 N\u00b7m: held"
+    assert rows["least cam force"].startswith(f"{least:.4g} N (the primary cam's)")
+    assert rows["crossovers"] == "2, at 90.0, 270.0\u00b0" and rows["jump speed"] == "none: form-closed"
+    second = doc["closure"]["conjugate_cam"]
+    assert rows["conjugate, max angle"].startswith(f"{second['max_pressure_angle_deg']:.2f}\u00b0")
+    facts = decision_facts(data)
+    assert "two conjugate cams hold" in facts[0] and f"least cam force is {least:.4g} N" in facts[1]
+    # the preload holds while it exceeds half the largest net force (N*m about the pivot): 40 > 4.8
+    half = 0.5 * np.max(np.abs(data.check.closure.response.contact_force))
+    assert f"({half:.4g} N\u00b7m)" in facts[1] and half < 40.0
+    assert all(f"at {c['deg']:.1f}\u00b0" in f for c, f in zip(doc["closure"]["crossovers"], facts[2:], strict=True))
+    text, lines = {}, {}
+    for page in PAGES:
+        if page.applies(data):
+            fig = Figure(figsize=A4)
+            page.draw(fig, data)
+            text[page.slug] = " ".join(t.get_text() for t in fig.findobj(lambda a: hasattr(a, "get_text")))
+            lines[page.slug] = {ln.get_label(): ln for ax in fig.axes for ln in ax.get_lines()}
+    assert "conjugate 26.2\u00b0" in text["conjugate"] and "return spring: none" in text["parts"]
+    assert "Crossovers at 200 rpm" in text["crossovers"] and "preload 40 N\u00b7m" in text["crossovers"]
+    loads = data.check.closure.loads
+    on = lines["crossovers"]
+    np.testing.assert_array_equal(on["on the primary cam"].get_ydata(), loads.primary_N)
+    np.testing.assert_array_equal(on["on the conjugate cam"].get_ydata(), loads.conjugate_N)
+    assert "crossover (the force changes cam)" in on

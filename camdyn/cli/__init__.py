@@ -387,9 +387,8 @@ def _validate(args) -> None:
         args.spec = load_case_spec(args.case)
     if args.command in _SPRING_HELD:
         _refuse_form_closed([args.spec], [""], args.command)
-    elif args.command in _GROOVE_ONLY or (args.command == "check" and args.report):
-        several = args.command == "report"
-        _refuse_conjugate(args.specs if several else [args.spec], args.cases if several else [""], args.command)
+    elif args.command in _GROOVE_ONLY:
+        _refuse_conjugate([args.spec], [""], args.command)
 
 
 def _refuse_form_closed(specs, paths, command: str) -> None:
@@ -423,7 +422,7 @@ def _refuse_conjugate(specs, paths, command: str) -> None:
 # commands that study a spring-held follower: its spring, its jump speed, its design review
 _SPRING_HELD = ("spring", "optimize")
 # commands that study a groove cam's crossover impacts, and a spring-held follower's jumps: not conjugate cams yet
-_GROOVE_ONLY = ("size", "sweep", "tolerance", "report")
+_GROOVE_ONLY = ("size", "sweep", "tolerance")
 _FORM_CLOSED_REFUSAL = {
     "spring": "spring designs the return spring that holds a follower on its cam",
     "optimize": "optimize reshapes the motion so that a spring-held follower holds to a faster jump speed",

@@ -76,8 +76,9 @@ class CamLoads:
 
 
 NO_RETURN_SPRING = (
-    "a form-closed cam has no return spring to size or build and no jump speed: the groove holds the follower both "
-    "ways, so what limits its speed is the impact where the follower crosses the backlash (crossover_impact)"
+    "a form-closed cam has no return spring to size or build and no jump speed: the groove (or the conjugate cams) "
+    "holds the follower both ways, so what limits its speed is the impact where the follower crosses the backlash "
+    "(crossover_impact), or conjugate cams' preload that keeps both rollers loaded"
 )
 
 

@@ -23,6 +23,8 @@ from .dynamics import (
     plot_vibration,
 )
 from .groove import (
+    flank_names,
+    plot_cam_pressure_angles,
     plot_flank_force,
     plot_groove_cam,
     plot_impact_histogram,
@@ -42,6 +44,8 @@ from .tolerance import plot_jump_speed_histogram, plot_tolerance_tornado, save_t
 from .valvetrain import plot_rocker_ratio, plot_seating_velocity, plot_valve_lift, plot_valve_velocity
 
 __all__ = [
+    "flank_names",
+    "plot_cam_pressure_angles",
     "plot_flank_force",
     "plot_groove_cam",
     "plot_impact_histogram",
