@@ -437,3 +437,55 @@ def test_report_of_conjugate_cams(tmp_path, capsys):
     np.testing.assert_array_equal(on["on the primary cam"].get_ydata(), loads.primary_N)
     np.testing.assert_array_equal(on["on the conjugate cam"].get_ydata(), loads.conjugate_N)
     assert "crossover (the force changes cam)" in on
+
+
+def test_size_of_conjugate_cams_gives_the_least_preload(tmp_path, capsys):
+    """``size`` of a yoke without backlash: the least preload is half the largest net force (m a of a cycloidal rise,
+    closed form: 2 pi h / beta^2 omega^2); preload_shares keeps both rollers loaded just above it and unloads one
+    just below; the proposed preload (20 % over, rounded up to 0.1 N) written into the case passes check with both
+    rollers held and the least cam force size gives."""
+    yoke = tmp_path / "yoke.toml"
+    yoke.write_text(YOKE_TOML)
+    code, out, _ = run(capsys, "size", yoke, "--json")
+    doc = json.loads(out)
+    omega, beta = 300 * math.pi / 30, math.radians(120)
+    f_max = 1.0 * 2 * math.pi * 0.020 / beta**2 * omega**2
+    assert code == 0 and doc["closure"] == "conjugate" and not doc["preload_held"] and doc["least_cam_force_N"] == 0
+    assert doc["max_net_force_N"] == pytest.approx(f_max, rel=1e-4) and doc["least_preload_N"] == pytest.approx(
+        f_max / 2, rel=1e-4
+    )
+    p = doc["proposed_preload_N"]
+    assert p == math.ceil(1.2 * doc["least_preload_N"] * 10) / 10 == 17.0
+    r = closure_response(*(lambda c: (c.motion, c.follower, c.model))(_yoke()), omega)
+    for preload, held in ((1.001 * f_max / 2, True), (0.999 * f_max / 2, False)):
+        first, second = preload_shares(r.contact_force, preload)
+        assert bool(np.all(first > 0) and np.all(second > 0)) is held
+    yoke.write_text(YOKE_TOML.replace("conjugate_spacing = 150", f"conjugate_spacing = 150\nconjugate_preload = {p}"))
+    code, out, _ = run(capsys, "check", yoke, "--json")
+    closure = json.loads(out)["closure"]
+    least = min(closure["cams"][c]["min_force_N"] for c in ("primary", "conjugate"))
+    assert code == 0 and closure["preload_held"] and least == pytest.approx(doc["least_cam_force_at_proposed_N"])
+    assert least == pytest.approx(p - f_max / 2, rel=1e-3)  # each cam carries P -+ F/2: the least is P - max|F|/2
+    # the shipped rocker: N*m about the pivot; its 40 N*m holds, 8 times the least
+    code, out, _ = run(capsys, "size", EXAMPLE, "--json")
+    doc = json.loads(out)
+    assert doc["preload_held"] and doc["preload_torque_N_m"] == 40 and 4.0 < doc["least_preload_torque_N_m"] < 6.0
+    assert doc["least_preload_torque_N_m"] == pytest.approx(doc["max_net_torque_N_m"] / 2)
+    code, _, err = run(capsys, "size", EXAMPLE, "--margin", "1.5")
+    assert code == 2 and "conjugate cams have no return spring" in err and "least preload" in err
+
+
+def test_size_of_conjugate_cams_with_backlash_gives_the_largest_backlash(tmp_path, capsys):
+    """With backlash (no preload) ``size`` is the groove's: the largest backlash whose impact at the conjugate cam
+    stays 2 % under max_impact_velocity; check of the case written with it passes."""
+    yoke = tmp_path / "yoke.toml"
+    yoke.write_text(YOKE_TOML.replace("conjugate_spacing = 150", "conjugate_spacing = 150\nbacklash = 0.05"))
+    code, out, _ = run(capsys, "size", yoke, "--json")
+    doc = json.loads(out)
+    b = doc["max_backlash_mm"]
+    assert code == 0 and doc["closure"] == "conjugate" and doc["backlash_mm"] == 0.05 and b > 0.05
+    yoke.write_text(YOKE_TOML.replace("conjugate_spacing = 150", f"conjugate_spacing = 150\nbacklash = {b}"))
+    code, out, _ = run(capsys, "check", yoke, "--json")
+    impact = next(c for c in json.loads(out)["checks"] if c["name"] == "crossover_impact")["value"]
+    assert code == 0 and impact == pytest.approx(doc["impact_velocity_at_max_backlash_m_per_s"], rel=1e-9)
+    assert impact <= 0.98 * 0.1
