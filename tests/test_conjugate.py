@@ -489,3 +489,33 @@ def test_size_of_conjugate_cams_with_backlash_gives_the_largest_backlash(tmp_pat
     impact = next(c for c in json.loads(out)["checks"] if c["name"] == "crossover_impact")["value"]
     assert code == 0 and impact == pytest.approx(doc["impact_velocity_at_max_backlash_m_per_s"], rel=1e-9)
     assert impact <= 0.98 * 0.1
+
+
+def test_sweep_of_conjugate_cams(tmp_path, capsys):
+    """``sweep`` of the preloaded rocker: the least holding preload over speed, max |F| / 2, grows as the speed
+    squared (an inertia force) and is size's at the case's speed; the preload holds (least cam force > 0) exactly
+    where it exceeds it. With backlash (a yoke, no preload) the sweep is the groove's impact map, check's impact at
+    the case's speed."""
+    code, out, _ = run(capsys, "sweep", EXAMPLE, "--speeds", "100:800:8", "-o", tmp_path)
+    assert code == 0 and "cannot jump" in out and "unloads from 600 rpm" in out
+    rows = np.genfromtxt(tmp_path / "conjugate-sweep.csv", delimiter=",", names=True)
+    assert rows.dtype.names == ("speed_rpm", "least_cam_force_N", "least_preload_torque_N_m", "preload_held")
+    need = rows["least_preload_torque_N_m"]
+    np.testing.assert_allclose(need / need[0], (rows["speed_rpm"] / 100.0) ** 2, rtol=2e-2)
+    np.testing.assert_array_equal(rows["preload_held"] == 1, need < 40.0)
+    np.testing.assert_array_equal(rows["least_cam_force_N"] > 0, need < 40.0)
+    size = json.loads(run(capsys, "size", EXAMPLE, "--json")[1])
+    assert need[1] == pytest.approx(size["least_preload_torque_N_m"], rel=1e-9)  # 200 rpm
+    assert rows["least_cam_force_N"][1] == pytest.approx(size["least_cam_force_N"], rel=1e-9)
+    assert (tmp_path / "conjugate-sweep.png").stat().st_size > 10_000
+    code, _, err = run(capsys, "sweep", EXAMPLE, "--speeds", "100:800:8", "--backlash", "0.01:0.02:2", "-o", tmp_path)
+    assert code == 2 and "--backlash" in err and "preload" in err
+    yoke = tmp_path / "yoke.toml"
+    yoke.write_text(YOKE_TOML.replace("conjugate_spacing = 150", "conjugate_spacing = 150\nbacklash = 0.05"))
+    impact = next(
+        c for c in json.loads(run(capsys, "check", yoke, "--json")[1])["checks"] if c["name"] == "crossover_impact"
+    )
+    code, out, _ = run(capsys, "sweep", yoke, "--speeds", "100:300:3", "-o", tmp_path)
+    assert code == 0 and "conjugate cam, impact map" in out
+    rows = np.genfromtxt(tmp_path / "yoke-sweep.csv", delimiter=",", names=True)
+    assert rows["impact_velocity_m_per_s"][-1] == pytest.approx(impact["value"], rel=1e-9)

@@ -422,7 +422,7 @@ def _refuse_conjugate(specs, paths, command: str) -> None:
 # commands that study a spring-held follower: its spring, its jump speed, its design review
 _SPRING_HELD = ("spring", "optimize")
 # commands that study a groove cam's crossover impacts, and a spring-held follower's jumps: not conjugate cams yet
-_GROOVE_ONLY = ("sweep", "tolerance")
+_GROOVE_ONLY = ("tolerance",)
 _FORM_CLOSED_REFUSAL = {
     "spring": "spring designs the return spring that holds a follower on its cam",
     "optimize": "optimize reshapes the motion so that a spring-held follower holds to a faster jump speed",

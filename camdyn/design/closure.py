@@ -395,3 +395,55 @@ def least_preload(case: Case, speed_rpm: float | None = None) -> PreloadSizing:
         proposed,
         least_cam_force(proposed),
     )
+
+
+PRELOAD_MAP_COLUMNS = ("speed_rpm", "least_cam_force_N", "least_preload", "preload_held")
+
+
+@dataclass(frozen=True)
+class PreloadMap:
+    """Conjugate cams under their preload over cam speed: the least force on either cam (N; 0 where a roller
+    unloads) and the least preload that holds (half the largest |net force|: N, or N*m about the pivot) a
+    revolution at each speed."""
+
+    speeds_rpm: np.ndarray
+    least_cam_force_N: np.ndarray
+    least_preload: np.ndarray
+    preload: float  # the case's, N or N*m
+    translating: bool
+
+    @property
+    def columns(self) -> tuple[str, ...]:
+        """:data:`PRELOAD_MAP_COLUMNS` with the preload's unit: ``least_preload_N`` or ``least_preload_torque_N_m``."""
+        unit = "_N" if self.translating else "_torque_N_m"
+        return tuple(c + unit if c == "least_preload" else c for c in PRELOAD_MAP_COLUMNS)
+
+    @property
+    def held(self) -> np.ndarray:
+        """Whether the preload keeps both rollers loaded at each speed."""
+        return self.least_cam_force_N > 0.0
+
+    @property
+    def csv(self) -> str:
+        rows = [",".join(self.columns)]
+        for rpm, f, p, h in zip(self.speeds_rpm, self.least_cam_force_N, self.least_preload, self.held, strict=True):
+            rows.append(f"{rpm:.10g},{f:.10g},{p:.10g},{int(h)}")
+        return "\n".join(rows) + "\n"
+
+
+def preload_map(case: Case, speeds_rpm: np.ndarray, *, progress: Progress | None = None) -> PreloadMap:
+    """The least cam force and the least holding preload of the conjugate cams of ``case`` at every speed (rpm)."""
+    f = case.follower
+    assert f is not None and f.closure == "conjugate"  # the caller asks only of conjugate cams
+    speeds = np.asarray(speeds_rpm, dtype=float)
+    if speeds.size > MAX_IMPACT_POINTS:
+        raise InputError("--speeds", f"{speeds.size:,} speeds is beyond the sweep's budget of {MAX_IMPACT_POINTS:,}")
+    least, need = np.zeros(speeds.size), np.zeros(speeds.size)
+    tick = counter(progress, f"{case.name}: preload over speed", speeds.size)
+    for j, rpm in enumerate(speeds):
+        r = dyn.closure_response(case.motion, f, case.model, float(rpm) * RPM)
+        loads = cam_loads(case, r, f.pair_preload)
+        least[j] = min(np.min(loads.primary_N), np.min(loads.conjugate_N))
+        need[j] = 0.5 * np.max(np.abs(r.contact_force))
+        tick()
+    return PreloadMap(speeds, least, need, float(f.pair_preload), f.translating)

@@ -33,6 +33,7 @@ from .groove import (
     plot_wall_curvature,
     save_impact_histogram_png,
     save_impact_png,
+    save_preload_png,
 )
 from .jumpmap import plot_jump_map, save_png
 from .mechanism import mechanism_bounds, mechanism_frames, plot_mechanism, plot_path, plot_path_error
@@ -54,6 +55,7 @@ __all__ = [
     "plot_wall_curvature",
     "save_impact_histogram_png",
     "save_impact_png",
+    "save_preload_png",
     "plot_seating_velocity",
     "plot_rocker_ratio",
     "plot_valve_lift",

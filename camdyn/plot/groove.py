@@ -16,7 +16,7 @@ from matplotlib.patches import Circle, Polygon
 
 from .._core.units import DEFAULT_MIN_CURVATURE_RATIO
 from ..design.checks import CheckKind, CheckReport
-from ..design.closure import ClosureStudy, ImpactMap
+from ..design.closure import ClosureStudy, ImpactMap, PreloadMap
 from ..design.tolerance import ImpactToleranceResult
 from ..model.geometry import ConjugateGeometry
 from ._common import C, deg_ticks, legend_above_data, mark_breaks
@@ -408,6 +408,46 @@ def save_impact_png(
     art = plot_impact_map(fig.add_subplot(), impacts, speed_rpm=speed_rpm, backlash_mm=backlash_mm)
     if art is not None:
         fig.colorbar(art, ax=fig.axes[0], label="largest impact speed (m/s)")
+    fig.savefig(path, dpi=120)
+
+
+def plot_preload_map(ax: Axes, pm: PreloadMap, *, speed_rpm: float | None = None) -> None:
+    """Conjugate cams over cam speed: the least preload that keeps both rollers loaded (half the largest |net
+    force|) against the case's preload, and the case's speed marked; the preload holds where its line is above."""
+    unit = "N" if pm.translating else "N\u00b7m"
+    ax.plot(pm.speeds_rpm, pm.least_preload, color=C["dyn"], lw=1.3, label="least preload that holds (max |F| / 2)")
+    ax.axhline(pm.preload, color=C["limit"], ls="--", lw=0.9, label=f"the case's preload {pm.preload:g} {unit}")
+    if speed_rpm is not None:
+        ax.axvline(speed_rpm, color=C["ink"], ls=":", lw=0.9, label=f"{speed_rpm:g} rpm")
+    ax.set_xlim(0.0, float(pm.speeds_rpm[-1]))
+    ax.set_ylim(0.0, 1.1 * max(pm.preload, float(np.max(pm.least_preload))))
+    ax.set_xlabel("cam speed (rpm)")
+    ax.set_ylabel(f"preload ({unit})")
+    ax.set_title("least preload between the rollers against cam speed (conjugate cams have no jump speed)", fontsize=9)
+    legend_above_data(ax, also=(pm.preload,), fontsize=7, loc="upper left")
+
+
+def plot_least_cam_force(ax: Axes, pm: PreloadMap, *, speed_rpm: float | None = None) -> None:
+    """Conjugate cams over cam speed: the least force on either cam under the case's preload (0: a roller
+    unloads), the case's speed marked."""
+    ax.plot(pm.speeds_rpm, pm.least_cam_force_N, color=C["dyn"], lw=1.3, label="least force on either cam")
+    ax.axhline(0.0, color=C["limit"], ls="--", lw=0.9, label="0: a roller unloads")
+    if speed_rpm is not None:
+        ax.axvline(speed_rpm, color=C["ink"], ls=":", lw=0.9, label=f"{speed_rpm:g} rpm")
+    ax.set_xlim(0.0, float(pm.speeds_rpm[-1]))
+    ax.set_xlabel("cam speed (rpm)")
+    ax.set_ylabel("least cam force (N)")
+    ax.set_title("least force on either cam under the preload", fontsize=9)
+    legend_above_data(ax, fontsize=7, loc="upper right")
+
+
+def save_preload_png(pm: PreloadMap, path: str | Path, *, speed_rpm: float | None = None) -> None:
+    """Write :func:`plot_preload_map` and :func:`plot_least_cam_force` of ``pm`` as a PNG (no pyplot state)."""
+    fig = Figure(figsize=(8, 7), layout="constrained")
+    top, bottom = fig.subplots(2, 1, sharex=True)
+    plot_preload_map(top, pm, speed_rpm=speed_rpm)
+    plot_least_cam_force(bottom, pm, speed_rpm=speed_rpm)
+    top.set_xlabel("")
     fig.savefig(path, dpi=120)
 
 
