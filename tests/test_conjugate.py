@@ -519,3 +519,28 @@ def test_sweep_of_conjugate_cams(tmp_path, capsys):
     assert code == 0 and "conjugate cam, impact map" in out
     rows = np.genfromtxt(tmp_path / "yoke-sweep.csv", delimiter=",", names=True)
     assert rows["impact_velocity_m_per_s"][-1] == pytest.approx(impact["value"], rel=1e-9)
+
+
+def test_tolerance_of_preloaded_conjugate_cams_gives_the_chance_a_roller_unloads(tmp_path, capsys):
+    """``tolerance`` of a yoke preloaded 15 N over speed: a built cam's roller unloads where its speed needs more
+    than the preload, max |F| / 2 = m 2 pi h / beta^2 omega^2 / 2 (closed form): above 300 sqrt(15 / 14.137) rpm;
+    each sample's least cam force is the preload less half its largest net force; the worst is the least loaded."""
+    yoke = tmp_path / "yoke.toml"
+    tol = '\n[tolerances]\nspeed = "60 rpm"\nmass = "2%"\n'
+    yoke.write_text(
+        YOKE_TOML.replace("conjugate_spacing = 150", "conjugate_spacing = 150\nconjugate_preload = 15") + tol
+    )
+    code, out, _ = run(capsys, "tolerance", yoke, "--samples", "60", "--json", "-o", tmp_path)
+    doc = json.loads(out)
+    rows = np.genfromtxt(tmp_path / "yoke-tolerance.csv", delimiter=",", names=True)
+    assert code == 0 and doc["closure"] == "conjugate" and doc["preload_N"] == 15
+    omega, beta = rows["speed_rpm"] * math.pi / 30, math.radians(120)
+    half = 0.5 * rows["mass_kg"] * 2 * math.pi * 0.020 / beta**2 * omega**2
+    np.testing.assert_allclose(rows["least_cam_force_N"], np.maximum(15 - half, 0.0), atol=0.02 * 15)
+    clear = np.abs(half - 15) > 0.02 * 15  # away from the edge, where the compliant train's ripple decides
+    np.testing.assert_array_equal(rows["unloaded"][clear] == 1, half[clear] > 15)
+    assert 0 < np.sum(rows["unloaded"]) < 60
+    assert doc["probability_unloaded"] == pytest.approx(np.mean(rows["unloaded"]))
+    assert doc["least_cam_force_N"]["min"] == pytest.approx(rows["least_cam_force_N"].min())
+    assert doc["worst"][0]["least_cam_force_N"] == pytest.approx(rows["least_cam_force_N"].min())
+    assert (tmp_path / "yoke-tolerance.png").stat().st_size > 10_000

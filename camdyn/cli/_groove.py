@@ -96,8 +96,9 @@ def sweep_preload(args: argparse.Namespace, case: Case, speeds: np.ndarray) -> i
 
 
 def tolerance_groove(args: argparse.Namespace, case: Case) -> int:
-    """``camdyn tolerance`` of a groove cam: DIR/<case>-tolerance.csv and .png of the built cams' crossover impacts
-    and a summary (``--json``: the document of docs/contracts.md); no worst samples as case files."""
+    """``camdyn tolerance`` of a form-closed cam: DIR/<case>-tolerance.csv and .png of the built cams' crossover
+    impacts (conjugate cams under a preload: their least cam force) and a summary (``--json``: the document of
+    docs/contracts.md); no worst samples as case files."""
     csv_path, png_path = _outputs(args, case, "tolerance", "tolerance study")
     with progress_bar(args.quiet) as progress:
         result = impact_tolerance_study(case, args.samples, args.seed, progress=progress)
@@ -108,9 +109,24 @@ def tolerance_groove(args: argparse.Namespace, case: Case) -> int:
         return 0
     con = console()
     lo, hi = result.confidence_interval
+    held = result.least_cam_force_N
+    if held is not None:  # conjugate cams under a preload: no impacts, whether a roller unloads
+        lo, hi = result.unloaded_interval
+        q = result.json()["least_cam_force_N"]
+        con.print(
+            f"{case.name}: {result.samples} built conjugate cams (seed {result.seed}) at {result.speed_rpm:g} rpm "
+            f"under the preload {result.preload:g} {'N*m' if case.kind.rotary else 'N'}; they cannot jump: the study "
+            "is of the least force on either cam"
+        )
+        con.print(
+            f"probability that a roller unloads: {result.unloaded_probability:.4g} (95% interval {lo:.4g} to "
+            f"{hi:.4g}); least cam force P1 {q['p1']:.4g} N, P50 {q['p50']:.4g} N, least {q['min']:.4g} N"
+        )
+        con.print(f"wrote {csv_path} and {png_path}")
+        return 0
     con.print(
-        f"{case.name}: {result.samples} built groove cams (seed {result.seed}) at {result.speed_rpm:g} rpm; a groove "
-        "cam cannot jump: the study is of the impacts where the follower crosses the backlash"
+        f"{case.name}: {result.samples} built {result.closure} cams (seed {result.seed}) at {result.speed_rpm:g} rpm; "
+        f"a {result.closure} cam cannot jump: the study is of the impacts where the follower crosses the backlash"
     )
     con.print(
         f"probability of an impact speed above max_impact_velocity {result.max_impact_velocity:g} m/s: "

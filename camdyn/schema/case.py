@@ -110,9 +110,11 @@ class CaseSpec(Table):
         check_spring_keys(self.spring, kind=self.kind)
         check_tolerance_keys(self.tolerances, kind=self.kind)
         if self.tolerances is not None and self.tolerances.backlash is not None:
-            if self.follower is None or self.follower.closure != "groove":
+            f = self.follower
+            if f is None or not f.form_closed or f.pair_preload > 0.0:
                 raise ValueError(
-                    'tolerances.backlash: only a groove cam ([follower] closure = "groove") has a backlash'
+                    'tolerances.backlash: only a groove cam ([follower] closure = "groove") or conjugate cams without '
+                    "a preload have a backlash"
                 )
         if self.limits.max_contact_stress is not None and self.contact_width_mm is None:
             where = "follower" if self.follower is not None else "mechanism"

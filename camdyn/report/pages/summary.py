@@ -418,7 +418,7 @@ def groove_facts(data: ReportData) -> list[str]:
     if data.case.spec.tolerances is not None:
         out.append(
             "[tolerances]: the report does not draw a form-closed cam's tolerance study: camdyn tolerance gives the "
-            "spread of its impact speed over the built cams"
+            "spread of its impact speed over the built cams (of preloaded conjugate cams: their least cam force)"
         )
     return out
 
