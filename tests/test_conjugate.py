@@ -544,3 +544,47 @@ def test_tolerance_of_preloaded_conjugate_cams_gives_the_chance_a_roller_unloads
     assert doc["least_cam_force_N"]["min"] == pytest.approx(rows["least_cam_force_N"].min())
     assert doc["worst"][0]["least_cam_force_N"] == pytest.approx(rows["least_cam_force_N"].min())
     assert (tmp_path / "yoke-tolerance.png").stat().st_size > 10_000
+
+
+def test_table_adds_the_conjugate_cams_columns(tmp_path, capsys):
+    """``table`` of a preloaded yoke: the primary's columns as before, then the conjugate cam's geometry (its pitch
+    point 150 mm from the primary's at every angle: the rigid yoke; its pressure angle as the geometry's) and each
+    cam's force, whose difference is the signed net force."""
+    yoke = tmp_path / "yoke.toml"
+    yoke.write_text(YOKE_TOML.replace("conjugate_spacing = 150", "conjugate_spacing = 150\nconjugate_preload = 20"))
+    code, out, _ = run(capsys, "table", yoke, "--step", "0.5")
+    path = tmp_path / "t.csv"
+    path.write_text(out)
+    rows = np.genfromtxt(path, delimiter=",", names=True)
+    names = rows.dtype.names
+    assert code == 0 and names[names.index("drive_torque_N_m") + 1 :] == (
+        "conjugate_pressure_angle_deg",
+        "conjugate_rho_pitch_mm",
+        "conjugate_rho_contour_mm",
+        "conjugate_pitch_x_mm",
+        "conjugate_pitch_y_mm",
+        "conjugate_contour_x_mm",
+        "conjugate_contour_y_mm",
+        "primary_cam_force_N",
+        "conjugate_cam_force_N",
+    )
+    gap = np.hypot(rows["pitch_x_mm"] - rows["conjugate_pitch_x_mm"], rows["pitch_y_mm"] - rows["conjugate_pitch_y_mm"])
+    np.testing.assert_allclose(gap, 150.0, rtol=1e-9)  # the CSV keeps 10 digits
+    np.testing.assert_allclose(
+        np.hypot(
+            rows["conjugate_pitch_x_mm"] - rows["conjugate_contour_x_mm"],
+            rows["conjugate_pitch_y_mm"] - rows["conjugate_contour_y_mm"],
+        ),
+        12.0,
+        rtol=1e-9,
+    )
+    geo = conjugate(*(lambda c: (c.motion, c.follower))(_yoke(conjugate_preload=20)))
+    on_grid = np.isin(np.round(rows["theta_deg"], 6), np.round(geo.theta_deg, 6))
+    np.testing.assert_allclose(
+        rows["conjugate_pressure_angle_deg"][on_grid],
+        np.interp(rows["theta_deg"][on_grid], geo.theta_deg, geo.pressure_angle_deg),
+        atol=1e-9,
+    )
+    net = rows["primary_cam_force_N"] - rows["conjugate_cam_force_N"]
+    np.testing.assert_allclose(net, rows["dynamic_contact_force_N"], atol=1e-9 * 20)
+    assert np.all(rows["primary_cam_force_N"] > 0) and np.all(rows["conjugate_cam_force_N"] > 0)  # 20 N > 14.1
