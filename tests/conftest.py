@@ -2,6 +2,8 @@ import os
 
 os.environ.setdefault("EQX_ON_ERROR", "nan")  # as the CLI runs: solver results are checked explicitly
 
+import shutil  # noqa: E402
+import tempfile  # noqa: E402
 import tomllib  # noqa: E402
 from pathlib import Path  # noqa: E402
 
@@ -16,6 +18,26 @@ from camdyn.model.case import case_from_dict, load_case  # noqa: E402
 from camdyn.model.linkage import synthesize_motion  # noqa: E402
 
 CASES = Path(__file__).resolve().parents[1] / "cases"
+_CACHE = "CAMDYN_TEST_CACHE"
+
+
+def pytest_configure(config):
+    """One program cache for the session, shared by the xdist workers (they inherit the variable): a program one
+    worker traced and compiled, the other loads. Every test runs as the CLI does, with the caches on from the
+    start (an in-process ``camdyn.cli.main`` turned them on in ``~/.cache`` half-way through a worker before);
+    the subprocesses the tests start use the same folder. ``CAMDYN_TEST_CACHE=DIR`` keeps it between sessions."""
+    if not os.environ.get(_CACHE):  # the controller (or the one process of -n 0): a fresh folder, removed after
+        os.environ[_CACHE] = config._camdyn_cache_made = tempfile.mkdtemp(prefix="camdyn-tests-")
+    os.environ["XDG_CACHE_HOME"] = os.environ[_CACHE]
+    from camdyn.cli import _enable_caches
+
+    _enable_caches()
+
+
+def pytest_unconfigure(config):
+    made = getattr(config, "_camdyn_cache_made", None)
+    if made:
+        shutil.rmtree(made, ignore_errors=True)
 
 
 # shared cases, built once per session

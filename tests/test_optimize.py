@@ -8,6 +8,7 @@ model; where it cannot improve, it writes nothing and exits 1."""
 from __future__ import annotations
 
 import csv
+import dataclasses
 import io
 import math
 import tomllib
@@ -24,7 +25,7 @@ from camdyn import InputError
 from camdyn._core.units import RPM
 from camdyn.design.checks import run_check
 from camdyn.design.optimize import _robust_claim, default_margin
-from camdyn.design.optimize._objectives import hold_to, least_slack
+from camdyn.design.optimize._objectives import hold_to, least_slack, peak_spring_force_floor
 from camdyn.design.optimize._rows import Rows
 from camdyn.design.optimize._shape import shape_space
 from camdyn.design.optimize._slp import maximize_least, with_jacobian
@@ -346,6 +347,27 @@ def test_where_it_cannot_improve_it_writes_nothing(capsys, tmp_path):
     out = tmp_path / "out.toml"
     code, stdout, err = run(capsys, "optimize", LECTURE, "-o", out, "--objective", "spring-force", "--min-force", "100")
     assert code == 1 and not out.exists() and "cannot improve" in stdout and "wrote nothing" in stdout, stdout + err
+
+
+def test_the_spring_force_floor_is_below_every_shape_that_holds():
+    """``peak_spring_force_floor`` bounds the peak spring force from below: for the case's own shape and random
+    monotone reshapes, at each rate, the least preload that holds a 10 N margin at every speed up to 1.25 x the
+    case's gives a peak spring force at or above it (the optimizer skips a rate on this bound alone)."""
+    case = load_case(LECTURE)
+    space = shape_space(case, n_control=8)
+    free = space.n_free // len(space.moving)
+    rng = np.random.default_rng(3)
+    shapes = [space.z0] + [np.concatenate([np.sort(rng.uniform(size=free)) for _ in space.moving]) for _ in range(3)]
+    rates = float(case.model.stiffness) * np.array([0.25, 1.0, 2.0])
+    margin, w = 10.0, 1.25 * case.speed_rpm * RPM
+    floors = peak_spring_force_floor(Rows(case, space, margin), rates)
+    assert np.all(floors >= margin - 1e-12)  # no external force: at least the margin itself
+    for k, floor in zip(rates, floors, strict=True):
+        rows = Rows(dataclasses.replace(case, model=case.model.with_spring(k)), space, margin)
+        for z in shapes:
+            preload = -float(np.min(rows.least_on_scan(jnp.asarray(z), w, 0.0)))  # the least that holds
+            peak = preload + k * float(np.max(space.values(jnp.asarray(z))[0])) * case.model.scale
+            assert peak >= floor - 1e-9, (k, peak, floor)
 
 
 @pytest.mark.slow

@@ -6,7 +6,7 @@ diffrax solve takes longer (about 1 s) than the solve itself. :func:`cached_jit`
 function, the static part of its arguments (everything that is not an array: an equinox module's static fields,
 Python numbers), the shapes and dtypes of the arrays, camdyn's own source, the versions of the JAX stack and the
 machine (:func:`_fingerprint`). A later process loads the program instead of tracing it. Without :func:`enable`
-(the library, the tests) it is ``equinox.filter_jit`` and nothing is written.
+(the library) it is ``equinox.filter_jit`` and nothing is written; the tests enable it in a session folder.
 
 A program is stored as its compiled executable (``jax.experimental.serialize_executable``): loading one is a read
 and a deserialization, about 5 ms. A ``jax.export`` program, the portable form, must be lowered and looked up in

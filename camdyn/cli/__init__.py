@@ -197,9 +197,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument(
         "--min-rate",
         type=float,
-        default=0.0,
         metavar="K",
-        help="least spring rate, N/mm (N*m/rad oscillating; default 0)",
+        help="least spring rate, N/mm (N*m/rad oscillating; default 0; a valvetrain's: at the valve, default its own)",
     )
     p.add_argument(
         "--buildable",
@@ -240,7 +239,9 @@ def build_parser() -> argparse.ArgumentParser:
         "files",
     )
     p.add_argument("case", help="case file (TOML) with a [tolerances] table")
-    p.add_argument("--samples", type=int, default=10000, metavar="N", help="built cams to draw (default 10000)")
+    p.add_argument(
+        "--samples", type=int, metavar="N", help="built cams to draw (default 10000; a valvetrain: 50, two-mass model)"
+    )
     p.add_argument("--seed", type=int, default=0, metavar="S", help="random seed (default 0)")
     p.add_argument("-o", "--output", default=".", metavar="DIR", help="output folder (default: the current one)")
     p.add_argument("--force", action="store_true", help="overwrite the files if they exist")

@@ -101,7 +101,8 @@ def tolerance_groove(args: argparse.Namespace, case: Case) -> int:
     docs/contracts.md); no worst samples as case files."""
     csv_path, png_path = _outputs(args, case, "tolerance", "tolerance study")
     with progress_bar(args.quiet) as progress:
-        result = impact_tolerance_study(case, args.samples, args.seed, progress=progress)
+        samples = 10000 if args.samples is None else args.samples
+        result = impact_tolerance_study(case, samples, args.seed, progress=progress)
     write_new(csv_path, result.csv, True)
     save_impact_histogram_png(result, png_path)
     if args.json:

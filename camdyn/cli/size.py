@@ -11,7 +11,7 @@ from rich.table import Table
 
 from .._core.errors import InputError
 from ..design.closure import BACKLASH_STEP_MM, PRELOAD_MARGIN, PRELOAD_STEP, largest_backlash, least_preload
-from ..design.sizing import TIE_BREAK, SpringSizing, size_spring
+from ..design.sizing import TIE_BREAK, SpringSizing, ValveSpringSizing, size_spring, size_valve_spring
 from ..model.case import Case, build_case
 from . import _console
 from .spring import print_spring
@@ -159,11 +159,70 @@ def _preload_deflection(sz: SpringSizing) -> str:
     return f"; {c.preload / c.rate:.4g} mm of preload deflection"
 
 
+def print_valve_size(vs: ValveSpringSizing) -> None:
+    """``size`` on a valvetrain: the closed-form start, the proposal and the case's spring, by the two-mass model."""
+    console = _console.console()
+    console.print(f"[bold]{vs.case_name}[/bold]  valve spring sizing (at the valve)")
+    console.print(
+        f"float and bounce speeds >= {vs.top_speed_rpm:.5g} rpm ({vs.margin:g} x {vs.speed_rpm:g} rpm), two-mass "
+        f"model; ratio {vs.ratio:g}, lash {vs.lash_mm:g} mm, equivalent mass {vs.equivalent_mass_kg:.4g} kg at the "
+        f"follower, {vs.valve_lift_mm:.4g} mm of spring travel; the least preload with rate >= {vs.min_rate:g} N/mm"
+    )
+    speed = lambda w: "none" if w == float("inf") else f"{w:.1f}"  # noqa: E731
+    designs = (("proposed", vs.chosen), ("closed form", vs.closed_form), ("current", vs.current))
+    table = Table(show_edge=False, pad_edge=False, box=None, header_style="bold")
+    table.add_column("")
+    for name, _ in designs:
+        table.add_column(name, justify="right", no_wrap=True)
+    ds = [d for _, d in designs]
+    table.add_row("rate (N/mm)", *(f"{d.rate:.4g}" for d in ds))
+    table.add_row("preload (N)", *(f"{d.preload:.4g}" for d in ds))
+    table.add_row("peak spring force (N)", *(f"{d.peak_spring:.4g}" for d in ds))
+    table.add_row("float speed (rpm)", *(speed(d.float_speed_rpm) for d in ds))
+    table.add_row("bounce speed (rpm)", *(speed(d.bounce_speed_rpm) for d in ds))
+    table.add_row(f"seating velocity at {vs.speed_rpm:g} rpm (m/s)", *(f"{d.seating_velocity:.3g}" for d in ds))
+    table.add_row(f"bounce height at {vs.speed_rpm:g} rpm (mm)", *(f"{d.bounce_height_mm:.3g}" for d in ds))
+    table.add_row(f"least train force at {vs.top_speed_rpm:.5g} rpm (N)", *(f"{d.least_train_force:.4g}" for d in ds))
+    holds = (d.holds(vs.top_speed_rpm) for d in ds)
+    table.add_row(
+        f"holds up to {vs.top_speed_rpm:.5g} rpm",
+        *("[green]yes[/green]" if h else "[bold red]no[/bold red]" for h in holds),
+    )
+    console.print(table)
+    console.print(
+        f"[dim]closed form: the equivalent follower's least peak force (its kinematic jump speed "
+        f"{speed(vs.closed_form_jump_rpm)} rpm), judged by the two-mass model; the preload then searched in "
+        f"{len(vs.rounds)} two-mass runs[/dim]"
+    )
+    for w in vs.warnings:
+        console.print(f"[yellow]warning:[/yellow] {escape(w)}")
+    c = vs.chosen
+    verdict = "[green]pass[/green]" if vs.verdict == "pass" else "[bold red]FAIL[/bold red]"
+    console.print(
+        f"size: [bold]spring_rate = {c.rate:.4g}, preload = {c.preload:.4g}[/bold] in \\[dynamics] (at the valve); "
+        f"check as written: {verdict}"
+    )
+
+
 def run(args: argparse.Namespace) -> int:
     case = build_case(args.spec, source=Path(args.case))
+    if case.valvetrain is not None:
+        if args.buildable:
+            raise InputError(
+                "--buildable",
+                "size --buildable does not design a valvetrain's spring part yet: size proposes the valve "
+                "spring's rate and preload",
+            )
+        vs = size_valve_spring(case, args.max_speed, args.margin, args.min_rate)
+        if args.json:
+            print(_console.json_text(vs.json()))
+        else:
+            print_valve_size(vs)
+        return 0
     if case.follower is not None and case.follower.form_closed:  # no return spring: its largest backlash instead
         return size_groove(args, case)
-    sz = size_spring(case, args.max_speed, args.margin, args.min_rate, buildable=args.buildable)
+    min_rate = 0.0 if args.min_rate is None else args.min_rate
+    sz = size_spring(case, args.max_speed, args.margin, min_rate, buildable=args.buildable)
     if args.json:
         print(_console.json_text(sz.json()))
     else:

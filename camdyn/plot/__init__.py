@@ -41,7 +41,14 @@ from .motion import display_scale, display_unit, plot_fit, plot_svaj, svaj_quant
 from .optimization import plot_motion_before_after, plot_speed_before_after
 from .parts import plot_contact, plot_drive, plot_spring
 from .springs import PLOT_COLORS, plot_feasible_region
-from .tolerance import plot_jump_speed_histogram, plot_tolerance_tornado, save_tolerance_png
+from .tolerance import (
+    plot_jump_speed_histogram,
+    plot_seating_velocity_histogram,
+    plot_tolerance_tornado,
+    plot_valve_speed_histogram,
+    save_tolerance_png,
+    save_valve_tolerance_png,
+)
 from .valvetrain import plot_rocker_ratio, plot_seating_velocity, plot_valve_lift, plot_valve_velocity
 
 __all__ = [
@@ -104,4 +111,7 @@ __all__ = [
     "plot_jump_speed_histogram",
     "plot_tolerance_tornado",
     "save_tolerance_png",
+    "plot_valve_speed_histogram",
+    "plot_seating_velocity_histogram",
+    "save_valve_tolerance_png",
 ]

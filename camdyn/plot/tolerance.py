@@ -3,13 +3,14 @@
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
 from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 
-from ..design.tolerance import ToleranceResult
+from ..design.tolerance import ToleranceResult, ValveToleranceResult
 from ._common import PALETTE
 
 
@@ -62,10 +63,54 @@ def plot_tolerance_tornado(ax: Axes, result: ToleranceResult) -> None:
     ax.set_title("sensitivities at the nominal design (JAX gradients) and Monte Carlo variance shares", fontsize=9)
 
 
-def save_tolerance_png(result: ToleranceResult, path: str | Path) -> None:
-    """The histogram and the tornado chart side by side, as a PNG."""
+def _save_side_by_side(left: Callable, right: Callable, result: object, path: str | Path) -> None:
+    """Two plots of ``result`` side by side, as a PNG."""
     fig = Figure(figsize=(12, 4.8), layout="constrained")
     a, b = fig.subplots(1, 2)
-    plot_jump_speed_histogram(a, result)
-    plot_tolerance_tornado(b, result)
+    left(a, result)
+    right(b, result)
     fig.savefig(path, dpi=110)
+
+
+def save_tolerance_png(result: ToleranceResult, path: str | Path) -> None:
+    """The histogram and the tornado chart side by side, as a PNG."""
+    _save_side_by_side(plot_jump_speed_histogram, plot_tolerance_tornado, result, path)
+
+
+def plot_valve_speed_histogram(ax: Axes, result: ValveToleranceResult) -> None:
+    """Histograms of the built valvetrains' float and bounce speeds (rpm), the case speed and the nominal ones."""
+    for values, name, color, nominal in (
+        (result.float_speed_rpm, "float", PALETTE["dyn"], result.nominal_float_speed_rpm),
+        (result.bounce_speed_rpm, "bounce", PALETTE["fail"], result.nominal_bounce_speed_rpm),
+    ):
+        ok = values[np.isfinite(values)]
+        if ok.size:
+            ax.hist(ok, bins=min(40, max(8, int(np.sqrt(ok.size)))), color=color, alpha=0.6, label=f"{name} speed")
+        if math.isfinite(nominal):
+            ax.axvline(nominal, color=color, linestyle="--", linewidth=1, label=f"nominal {name} {nominal:.0f} rpm")
+    ax.axvline(result.speed_rpm, color=PALETTE["limit"], linewidth=1.5, label=f"case speed {result.speed_rpm:g} rpm")
+    p_float, _ = result.probability(result.floated)
+    p_bounce, _ = result.probability(result.bounced)
+    ax.set_title(
+        f"{result.case}: {result.samples} built valvetrains; P(float) = {p_float:.3g}, P(bounce) = {p_bounce:.3g} "
+        "at their speed",
+        fontsize=9,
+    )
+    ax.set_xlabel("speed (rpm)")
+    ax.set_ylabel("samples")
+    ax.legend(fontsize=8)
+
+
+def plot_seating_velocity_histogram(ax: Axes, result: ValveToleranceResult) -> None:
+    """Histogram of the built valvetrains' seating velocity at their speed (m/s)."""
+    v = result.seating_velocity[np.isfinite(result.seating_velocity)]
+    if v.size:
+        ax.hist(v, bins=min(40, max(8, int(np.sqrt(v.size)))), color=PALETTE["ok"], alpha=0.8)
+    ax.set_xlabel("seating velocity at the sample's speed (m/s)")
+    ax.set_ylabel("samples")
+    ax.set_title("the valve landing on its seat", fontsize=9)
+
+
+def save_valve_tolerance_png(result: ValveToleranceResult, path: str | Path) -> None:
+    """A valvetrain's float and bounce speeds and its seating velocity side by side, as a PNG."""
+    _save_side_by_side(plot_valve_speed_histogram, plot_seating_velocity_histogram, result, path)

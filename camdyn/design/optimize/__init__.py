@@ -26,7 +26,7 @@ from ..checks import CheckReport, run_check
 from ..parts import resolve_spring
 from ..tolerance import tolerance_study
 from ..valvetrain import refuse_valvetrain
-from ._objectives import CLEAR, jump_speed, least_slack, spring_force, vibration
+from ._objectives import CLEAR, jump_speed, least_slack, peak_spring_force_floor, spring_force, vibration
 from ._rows import Rows
 from ._shape import N_CONTROL, ShapeSpace, shape_space
 
@@ -360,7 +360,7 @@ def optimize_case(
     The answer's ``refusals`` say why it is not to be written (no better, or a check it would break)."""
     if objective not in OBJECTIVES:
         raise InputError("--objective", f"unknown objective {objective!r}; choose one of {', '.join(OBJECTIVES)}")
-    refuse_valvetrain(case, "optimize")
+    refuse_valvetrain(case, "optimize", ", and would reshape the lash ramps and move the valve's opening and closing")
     if robust and case.spec.tolerances is None:
         raise InputError(
             "--robust", "the case has no [tolerances]: give them to claim a speed at P(separation) <= 1e-3"
@@ -390,7 +390,23 @@ def optimize_case(
         else:
             w = case.limits.speed_margin * rpm * RPM * CLEAR
             rates = float(case.model.stiffness) * np.array([0.25, 0.5, 1.0, 2.0])
-            z, k, f0 = spring_force(rows, w, rates)
+            floors = peak_spring_force_floor(rows, rates)
+            hopeful = floors < before.peak_spring_force * (1.0 - _BETTER)
+            if not hopeful.any():  # closed form: no program of these rates can come out lighter than the input
+                f = case.kind.force_unit
+                return _refused(
+                    objective,
+                    before,
+                    case,
+                    margin,
+                    control_points,
+                    t0,
+                    f"no spring of the rates tried (0.25 to 2 x the input's) can hold the {margin:.4g} {f} margin "
+                    f"with a peak force under the input's {before.peak_spring_force:.4g} {f}: the least is "
+                    f"{float(np.min(floors)):.4g} {f} (the least interface force is at most its mean over a "
+                    "revolution, k <s> + preload + external force)",
+                )
+            z, k, f0 = spring_force(rows, w, rates[hopeful])
             keys = dynamics_keys(case.kind)
             dynamics = {
                 keys[1]: float(np.round(case.kind.rate_from_si(k), 6)),

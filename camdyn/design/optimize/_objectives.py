@@ -158,6 +158,23 @@ def vibration(rows: Rows, omega: float, band: bool = True) -> np.ndarray:
     return _held(rows, deviation, space.z0, case.limits.speed_margin * omega * CLEAR).x
 
 
+def peak_spring_force_floor(rows: Rows, rates: np.ndarray) -> np.ndarray:
+    """The least peak spring force (N; N*m for an arm) that any motion of the shape space can have at each rate
+    (SI) while it keeps the margin in a steady state. Over a revolution inertia and damping average out, through a
+    compliant train too, so the least interface force is at most its mean, ``k <s> + F0 + F_ext`` (less in a
+    compliant train); the peak is ``F0 + k s_max``. Hence ``peak >= margin - F_ext + k (s_max - <s>_max)``, with
+    ``<s>_max`` the mean lift when every reshaped angle sits at ``s_max`` (a reshaped segment stays within its
+    lifts), and ``peak >= k s_max + seat`` (the least preload the spring may have)."""
+    case, space = rows.case, rows.space
+    s0 = space.offset[0] + space.matrix[0] @ space.z0
+    s_max = float(np.max(s0)) * case.model.scale
+    moving = np.any(space.matrix[0] != 0.0, axis=-1)
+    mean_max = float(np.mean(np.where(moving, np.max(s0), space.offset[0]))) * case.model.scale
+    seat = max(0.0, min_preload(case))
+    by_mean = rows.margin - float(case.model.external) + rates * (s_max - mean_max)
+    return np.maximum(by_mean, rates * s_max + seat)
+
+
 def spring_force(rows: Rows, w: float, rates: np.ndarray) -> tuple[np.ndarray, float, float]:
     """Control points, spring rate (SI) and preload (SI) of the least peak spring force that holds at every speed
     up to ``w`` (rad/s): linear programs in the control points and the preload, per trial rate."""

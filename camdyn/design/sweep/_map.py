@@ -17,12 +17,12 @@ from ...model import dynamics as dyn
 from ...model.geometry import contact_per_force, newton_per_torque_at
 from ...model.motion import evaluate
 from ..parts import resolve_spring, spring_mass_notes
-from ..valvetrain import refuse_valvetrain
 from ._contact import damping_kernel, kinematic_kernel, linear_kernel, with_spring_damping
 from ._diffrax_gap import diffrax_gap_const, diffrax_gap_kernel
 from ._exact_gap import exact_gap_kernel
 from ._grid import GAP_CHUNK, GAP_STRIDE, GRID_N, LINEAR_CHUNK, check_grid_size
 from ._result import STATUS_OK, JumpMap, failed
+from ._valvetrain import valvetrain_map
 
 
 @dataclass(frozen=True)
@@ -162,6 +162,8 @@ def jump_map(
     gaps: bool = True,
 ) -> JumpMap:
     """Jump map of ``case`` over ``speeds_rpm`` x ``spring_rates`` (N/mm; N*m/rad for an oscillating follower).
+    A ``[valvetrain]`` case's is the two-mass model's (:mod:`._valvetrain`: float, bounce, the valve spring's
+    rate at the valve).
 
     ``spring_rates`` defaults to the case's own. ``progress(phase, done, total)`` is called after every chunk.
     ``gap_method``: how the compliant model's separated points are integrated: ``"exact"`` (piecewise-linear
@@ -171,7 +173,8 @@ def jump_map(
     gap of the separated points (the nonlinear integration, most of the cost of a rigid follower's map): their
     ``max_gap`` is NaN; the least force, the separation and the jump boundary are the same.
     """
-    refuse_valvetrain(case, "sweep")
+    if case.valvetrain is not None:  # the two-mass model, one point at a time: lash, seat, float and bounce
+        return valvetrain_map(case, speeds_rpm, spring_rates, progress=progress)
     devices = tuple(jax.devices() if devices is None else devices)
     if gap_method not in ("exact", "diffrax"):
         raise ValueError(f"gap_method must be 'exact' or 'diffrax', not {gap_method!r}")

@@ -31,7 +31,7 @@ from ..closure import cam_loads
 from ._kernel import Sample, sample_model
 from ._result import csv_columns
 from ._sampling import SCALAR_KEYS, draw_samples, spreads
-from ._study import CONFIDENCE, MAX_SAMPLES, WORST, _describe, _nominal, _to_si
+from ._study import CONFIDENCE, MAX_SAMPLES, WORST, _nominal, _to_si, describe
 
 if TYPE_CHECKING:
     from ...model.case import Case
@@ -229,7 +229,7 @@ def impact_tolerance_study(
         impact_velocity_m_per_s=v,
         max_impact_force_N=force,
         max_impact_velocity=lim,
-        tolerances={t.key: _describe(t, spread[t.key], kind.rotary) for t in tols},
+        tolerances={t.key: describe(t, spread[t.key], kind.rotary) for t in tols},
         probability=over / samples,
         confidence_interval=(float(ci.low), float(ci.high)),
         worst=tuple(int(i) for i in worst[:WORST]),
