@@ -19,7 +19,7 @@ from ..design.checks import CheckKind, CheckReport
 from ..design.closure import ClosureStudy, ImpactMap, PreloadMap
 from ..design.tolerance import ImpactToleranceResult
 from ..model.geometry import ConjugateGeometry
-from ._common import C, deg_ticks, legend_above_data, mark_breaks
+from ._common import C, deg_ticks, legend_above_data, mark_breaks, sample_histogram
 from .cam import (
     _curvature_mark,
     _pressure_angle_mark,
@@ -456,20 +456,17 @@ def plot_least_cam_force_histogram(ax: Axes, result: ImpactToleranceResult) -> N
     unloads) and the P1/P50 marked."""
     held = result.least_cam_force_N
     assert held is not None  # a preloaded pair's study
-    ax.hist(held, bins=min(60, max(10, int(np.sqrt(held.size)))), color=C["dyn"], alpha=0.8)
-    ax.axvline(0.0, color=C["limit"], lw=1.5, label="0: a roller unloads")
-    for p, style in ((1, ":"), (50, "--")):
-        q = float(np.percentile(held, p, method="inverted_cdf"))
-        ax.axvline(q, color=C["ink"], ls=style, lw=1, label=f"P{p} {q:.4g} N")
+    q = {p: float(np.percentile(held, p, method="inverted_cdf")) for p in (1, 50)}
     lo, hi = result.unloaded_interval
-    ax.set_title(
+    sample_histogram(
+        ax,
+        held,
+        (0.0, "0: a roller unloads"),
+        [(q[1], ":", f"P1 {q[1]:.4g} N"), (q[50], "--", f"P50 {q[50]:.4g} N")],
         f"{result.case}: least force on either cam of {result.samples} built conjugate cams; P(a roller unloads) = "
         f"{result.unloaded_probability:.3g} [{lo:.3g}, {hi:.3g}]",
-        fontsize=9,
+        "least force on either cam (N)",
     )
-    ax.set_xlabel("least force on either cam (N)")
-    ax.set_ylabel("samples")
-    ax.legend(fontsize=8)
 
 
 def plot_impact_histogram(ax: Axes, result: ImpactToleranceResult) -> None:
@@ -479,22 +476,19 @@ def plot_impact_histogram(ax: Axes, result: ImpactToleranceResult) -> None:
         plot_least_cam_force_histogram(ax, result)
         return
     v = result.impact_velocity_m_per_s
-    ax.hist(v, bins=min(60, max(10, int(np.sqrt(v.size)))), color=C["dyn"], alpha=0.8)
     lim = result.max_impact_velocity
-    ax.axvline(lim, color=C["limit"], lw=1.5, label=f"max_impact_velocity {lim:g} m/s")
     q = result.percentiles(v)
     assert q is not None  # impact speeds are finite
-    for name, style in (("p50", "--"), ("p99", ":")):
-        ax.axvline(q[name], color=C["ink"], ls=style, lw=1, label=f"{name.upper()} {q[name]:.3g} m/s")
     lo, hi = result.confidence_interval
-    ax.set_title(
+    sample_histogram(
+        ax,
+        v,
+        (lim, f"max_impact_velocity {lim:g} m/s"),
+        [(q[n], style, f"{n.upper()} {q[n]:.3g} m/s") for n, style in (("p50", "--"), ("p99", ":"))],
         f"{result.case}: largest impact speed of {result.samples} built {result.closure} cams; P(over the limit) = "
         f"{result.probability:.3g} [{lo:.3g}, {hi:.3g}]",
-        fontsize=9,
+        "largest impact speed across the backlash (m/s)",
     )
-    ax.set_xlabel("largest impact speed across the backlash (m/s)")
-    ax.set_ylabel("samples")
-    ax.legend(fontsize=8)
 
 
 def save_impact_histogram_png(result: ImpactToleranceResult, path: str | Path) -> None:
