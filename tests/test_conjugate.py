@@ -437,6 +437,12 @@ def test_report_of_conjugate_cams(tmp_path, capsys):
     np.testing.assert_array_equal(on["on the primary cam"].get_ydata(), loads.primary_N)
     np.testing.assert_array_equal(on["on the conjugate cam"].get_ydata(), loads.conjugate_N)
     assert "crossover (the force changes cam)" in on
+    # with backlash there is no preload: page 1 gives the impacts and says nothing of a preload
+    backlash = _yoke(backlash=0.05)
+    data = ReportData(design_review(backlash, run_check(backlash)))
+    rows, facts = dict(key_results(data)), decision_facts(data)
+    assert "preload" not in rows and not any("preload 0" in f for f in facts)
+    assert rows["largest impact"].endswith("m/s at 68.8\u00b0") and "0.05 mm backlash" in facts[1]
 
 
 def test_size_of_conjugate_cams_gives_the_least_preload(tmp_path, capsys):

@@ -178,7 +178,8 @@ def plot_flank_force(
     study, resp = _study(check), check.response
     th = resp.theta_deg
     plus, minus = flank_names(check)
-    loads = study.loads
+    loads = study.loads if study.response.backlash_mm == 0.0 else None  # with backlash there is no preload
+    conj = study.loads is not None
     if loads is not None:
         for name, share in (("primary", loads.primary_N), ("conjugate", loads.conjugate_N)):
             ax.plot(loads.theta_deg, share, color=CAM_COLOURS[name], lw=1.0, alpha=0.9, label=f"on the {name} cam")
@@ -200,9 +201,9 @@ def plot_flank_force(
             lw=0.8,
             ls="-.",
             zorder=1,
-            label=f"crossover (the force changes {'flank' if loads is None else 'cam'})" if k == 0 else None,
+            label=f"crossover (the force changes {'cam' if conj else 'flank'})" if k == 0 else None,
         )
-        if loads is not None and study.response.backlash_mm == 0.0:
+        if loads is not None:
             continue  # held on both cams: no flight, no impact to mark
         sign = 1.0 if c.to_flank in ("inner", "primary") else -1.0
         if c.impact_force_N is not None:
@@ -243,7 +244,7 @@ def plot_flank_force(
     ax.text(2, lo * 0.96, f"{minus} (\u2212)", size=7, color=C["grey"], va="bottom")
     ax.set_xlabel("cam angle \u03b8 (deg)")
     if loads is None:
-        what = "on the flank that carries it"
+        what = "on the cam that carries it" if conj else "on the flank that carries it"
     else:
         unit = "N" if loads.translating else "N\u00b7m"
         what = f"net (signed) and on each cam under the preload {loads.preload:g} {unit}"
@@ -362,7 +363,7 @@ def plot_impact_speed(ax: Axes, impacts: ImpactMap, *, speed_rpm: float | None =
     ax.set_xlabel("cam speed (rpm)")
     ax.set_ylabel("impact speed (m/s)")
     ax.set_title(
-        "largest impact speed across the backlash against cam speed (a groove cam has no jump speed)", fontsize=9
+        "largest impact speed across the backlash against cam speed (a form-closed cam has no jump speed)", fontsize=9
     )
     legend_above_data(ax, also=(lim,), fontsize=7, ncol=3, loc="upper left")
 

@@ -119,7 +119,7 @@ def _checks_table(data: ReportData, flow: Flow) -> None:
         ok_kw = {"color": C["ok"] if c.ok else C["fail"], "weight": "bold", "ha": "right"}
         flow.row(
             [
-                (0.0, c.name, {"family": "DejaVu Sans Mono", "size": 7.8 if len(c.name) <= 20 else 6.4}),
+                (0.0, c.name, {"family": "DejaVu Sans Mono", "size": 7.8 if len(c.name) <= 16 else 6.4}),
                 (0.165, c.label, {"color": C["grey"]}),
                 (0.6, value, {"ha": "right"}),
                 (0.625, {">=": "\u2265", "<=": "\u2264", ">": ">"}.get(c.sense, c.sense), {"ha": "center"}),
@@ -222,7 +222,7 @@ def _groove_results(data: ReportData) -> list[tuple[str, str]]:
         f = r.max_impact_force_N
         rows.append(("impact force", "impulse (rigid train)" if f is None else f"up to {f:.4g} N"))
     loads = chk.closure.loads
-    if loads is not None:
+    if loads is not None and r.backlash_mm == 0.0:  # a preload and a backlash exclude each other
         unit = "N" if loads.translating else "N\u00b7m"
         k, cam = min((float(np.min(v)), n) for n, v in (("primary", loads.primary_N), ("conjugate", loads.conjugate_N)))
         rows.append(("preload", f"{loads.preload:g} {unit}: " + ("held" if loads.preload_held else "NOT held")))
@@ -386,7 +386,7 @@ def groove_facts(data: ReportData) -> list[str]:
         + " (crossover_impact)"
     ]
     loads = study.loads
-    if loads is not None:
+    if loads is not None and r.backlash_mm == 0.0:  # a preload and a backlash exclude each other
         unit = "N" if loads.translating else "N\u00b7m"
         k, cam = min((float(np.min(v)), n) for n, v in (("primary", loads.primary_N), ("conjugate", loads.conjugate_N)))
         net = float(np.max(np.abs(r.contact_force)))
