@@ -7,7 +7,7 @@ import argparse
 import math
 import time
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, TypeVar
 
 from .._core.distributed import initialize, is_writer
 from .._core.errors import InputError
@@ -28,6 +28,8 @@ from ._groove import tolerance_groove
 
 if TYPE_CHECKING:
     from ..design.tolerance import ToleranceResult, ValveToleranceResult
+
+R = TypeVar("R", "ToleranceResult", "ValveToleranceResult")
 
 
 def _paths(out: Path, stem: str, worst: int) -> dict:
@@ -83,30 +85,36 @@ def run(args: argparse.Namespace) -> int:
         output_dir(args.output, "tolerance study")
         for p in (paths["csv"], paths["png"], *paths["worst"]):
             output_file(p, args.force, "tolerance study")
-    if case.valvetrain is not None:  # the two-mass model per sample: float, bounce, seating velocity
-        study, samples = valvetrain_tolerance_study, DEFAULT_VALVETRAIN_SAMPLES
-        save, docs = save_valve_tolerance_png, worst_valvetrain_docs
-        as_json, show = valvetrain_json_doc, _print_valvetrain
-    else:
-        study, samples, save, docs = tolerance_study, 10000, save_tolerance_png, worst_case_docs
-        as_json, show = json_doc, _print
-    samples = samples if args.samples is None else args.samples
     t0 = time.perf_counter()
-    with progress_bar(args.quiet) as progress:
-        result = study(case, samples, args.seed, progress=progress if writer else None)
-    elapsed = time.perf_counter() - t0
-    worst_files = paths["worst"][: len(result.worst)]
-    if not writer:
+    if case.valvetrain is not None:  # the two-mass model per sample: float, bounce, seating velocity
+        samples = DEFAULT_VALVETRAIN_SAMPLES if args.samples is None else args.samples
+        with progress_bar(args.quiet) as progress:
+            vt = valvetrain_tolerance_study(case, samples, args.seed, progress=progress if writer else None)
+        if writer:
+            outputs = (save_valve_tolerance_png, worst_valvetrain_docs, valvetrain_json_doc, _print_valvetrain)
+            _write(args, case, vt, time.perf_counter() - t0, paths, *outputs)
         return 0
+    samples = 10000 if args.samples is None else args.samples
+    with progress_bar(args.quiet) as progress:
+        result = tolerance_study(case, samples, args.seed, progress=progress if writer else None)
+    if writer:
+        outputs = (save_tolerance_png, worst_case_docs, json_doc, _print)
+        _write(args, case, result, time.perf_counter() - t0, paths, *outputs)
+    return 0
+
+
+def _write(args, case, result: R, elapsed: float, paths, save, docs, as_json, show) -> None:
+    """Write a study's CSV, PNG and worst samples, then its summary or ``--json`` (``save``, ``docs``, ``as_json``,
+    ``show``: the study's own writers of ``result``)."""
+    worst_files = paths["worst"][: len(result.worst)]
     write_new(paths["csv"], result.csv, True)
     save(result, paths["png"])
     for (doc, header), path in zip(docs(case, result), worst_files, strict=True):
         write_new(path, dumps_case(doc, header), True)
     if args.json:
         print(json_text(as_json(result, worst_files, elapsed)))
-        return 0
-    show(case, result, elapsed, paths, worst_files)
-    return 0
+    else:
+        show(case, result, elapsed, paths, worst_files)
 
 
 def _print(case, result, elapsed, paths, worst_files) -> None:

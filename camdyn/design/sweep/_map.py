@@ -37,6 +37,13 @@ class _Points:
     c: np.ndarray | None
 
     @property
+    def damping(self) -> np.ndarray:
+        """The damping per point (SI), computed for a rigid follower's map only."""
+        if self.c is None:
+            raise ValueError("the damping per point is computed for a rigid follower's map only")
+        return self.c
+
+    @property
     def shape(self) -> tuple[int, int]:
         return self.speeds_rpm.size, self.rates.size
 
@@ -73,7 +80,7 @@ def _rigid_gaps(case, pts: _Points, idx, progress) -> tuple[np.ndarray, dict[int
     step = counter(progress, "flights (rigid model, one point at a time)", idx.size)
     for i in idx:
         # Python floats, as case.follower_model builds them: the compiled flight solve is reused
-        md = with_spring_damping(base, jnp.asarray(float(pts.k[i])), jnp.asarray(float(pts.c[i])))
+        md = with_spring_damping(base, jnp.asarray(float(pts.k[i])), jnp.asarray(float(pts.damping[i])))
         try:
             r = dyn.rigid_response(case.motion, md, float(pts.omega[i]))
         except NumericalError as err:
@@ -93,7 +100,7 @@ def _rigid_map(case, pts: _Points, angles, gaps: bool, progress, devices):
     signed = run_batched(
         kinematic_kernel,
         const,
-        [pts.omega, pts.k, pts.c],
+        [pts.omega, pts.k, pts.damping],
         LINEAR_CHUNK,
         counter(progress, "kinematic force", pts.omega.size),
         devices,

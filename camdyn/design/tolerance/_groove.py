@@ -195,7 +195,8 @@ def impact_tolerance_study(
     held = np.zeros(samples) if preloaded else None
     tick = counter(progress, "built cams (crossover impacts)", samples)
     for i in range(samples):
-        p = Sample(*(jnp.asarray(float(x[i])) for x in (k, f0, m, kf, omega)), zero)
+        k_i, f0_i, m_i, kf_i, omega_i = (jnp.asarray(float(x[i])) for x in (k, f0, m, kf, omega))
+        p = Sample(k_i, f0_i, m_i, kf_i, omega_i, zero)
         r = dyn.closure_response(
             case.motion, f.model_copy(update={"backlash": float(vals["backlash"][i])}), sample_model(base, p), omega[i]
         )
