@@ -99,6 +99,20 @@ class ClosureStudy:
         return out | {"conjugate_cam": self.walls.json()} | self.loads.json()
 
     @property
+    def groove(self) -> GrooveGeometry:
+        """The groove's walls (a groove cam only)."""
+        if not isinstance(self.walls, GrooveGeometry):
+            raise TypeError("conjugate cams have no groove walls")
+        return self.walls
+
+    @property
+    def conjugate(self) -> ConjugateGeometry:
+        """The conjugate cam (conjugate cams only)."""
+        if not isinstance(self.walls, ConjugateGeometry):
+            raise TypeError("a groove cam has no conjugate cam")
+        return self.walls
+
+    @property
     def not_applicable(self) -> str:
         """Why speed_margin and the least contact force are not judged."""
         return NOT_APPLICABLE if self.loads is None else NOT_APPLICABLE_CONJUGATE

@@ -68,9 +68,9 @@ def _second_roller(ax: Axes, study: ClosureStudy, at: dict, theta_deg: float, *,
     """The conjugate cam's roller at ``theta_deg`` (cam frame) tied to the first (``at``: its
     :func:`follower_pose`): the rocker's second arm from the pivot, or the yoke between the rollers."""
     centre = conjugate_centre(study, theta_deg)
-    rr2 = study.walls.roller_radius_mm
+    rr2 = study.conjugate.roller_radius_mm
     lw, alpha, z = kw.get("lw", 1.0), kw.get("alpha", 1.0), kw.get("z", 3)
-    ax.add_patch(Circle(centre, rr2, fill=False, ec=colour, lw=lw, alpha=alpha, zorder=z))
+    ax.add_patch(Circle((float(centre[0]), float(centre[1])), rr2, fill=False, ec=colour, lw=lw, alpha=alpha, zorder=z))
     ax.plot(*centre, marker=".", ms=2.5, color=colour, alpha=alpha, zorder=z)
     tie = at["centre"] if at["pivot"] is None else at["pivot"]
     ax.plot(*np.c_[tie, centre], color=colour, lw=lw * 1.6, alpha=alpha, zorder=z, solid_capstyle="butt")
@@ -148,7 +148,7 @@ def plot_groove_cam(
         out = where / max(float(np.linalg.norm(where)), 1e-9)
         ax.annotate(
             f"lands {c.land_deg:.0f}\u00b0\n({c.to_flank})",
-            where,
+            (float(where[0]), float(where[1])),
             xytext=tuple(26 * out),
             textcoords="offset points",
             size=7,

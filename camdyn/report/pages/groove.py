@@ -25,7 +25,7 @@ from .._style import LEFT, C
 def draw_groove(fig: Figure, data: ReportData) -> None:
     chk = data.check
     assert chk.closure is not None and chk.geometry is not None  # drawn for a groove cam only (pages.PAGES)
-    walls = chk.closure.walls
+    walls = chk.closure.groove
     plot_groove_cam(fig.add_axes((0.1, 0.43, 0.56, 0.455)), chk)
     fig.text(
         0.08,
@@ -76,8 +76,7 @@ def draw_conjugate(fig: Figure, data: ReportData) -> None:
     """Both conjugate cams, each roller on its cam; each cam's pressure angle and radius of curvature."""
     chk = data.check
     assert chk.closure is not None and chk.geometry is not None  # drawn for conjugate cams only (pages.PAGES)
-    second, geo = chk.closure.walls, chk.geometry
-    assert chk.closure.loads is not None and not hasattr(second, "inner")  # the conjugate cam, not a groove's walls
+    second, geo = chk.closure.conjugate, chk.geometry
     plot_groove_cam(fig.add_axes((0.1, 0.43, 0.56, 0.455)), chk)
     f = data.case.follower
     tie = "yoke" if f.translating else "two-arm rocker"

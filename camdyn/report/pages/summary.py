@@ -261,13 +261,13 @@ def _geometry_results(data: ReportData) -> list[tuple[str, str]]:
             )
         )
     if chk.closure is not None:  # the outer wall (convex where the pitch curve is concave), or the conjugate cam
-        walls = chk.closure.walls
-        w = walls.convex if chk.closure.loads is not None else walls.outer_wall
-        if chk.closure.loads is not None:
+        second = chk.closure.conjugate if chk.closure.loads is not None else None
+        w = second.convex if second is not None else chk.closure.groove.outer_wall
+        if second is not None:
             rows.append(
                 (
                     "conjugate, max angle",
-                    f"{walls.max_pressure_angle_deg:.2f}\u00b0 at {walls.max_pressure_angle_at_deg:.1f}\u00b0",
+                    f"{second.max_pressure_angle_deg:.2f}\u00b0 at {second.max_pressure_angle_at_deg:.1f}\u00b0",
                 )
             )
         rows.append(
