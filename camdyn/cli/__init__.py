@@ -388,9 +388,6 @@ def _validate(args) -> None:
         args.spec = load_case_spec(args.case)
     if args.command in _SPRING_HELD:
         _refuse_form_closed([args.spec], [""], args.command)
-    elif args.command in _GROOVE_ONLY or (args.command == "check" and args.report):
-        several = args.command == "report"
-        _refuse_conjugate(args.specs if several else [args.spec], args.cases if several else [""], args.command)
 
 
 def _refuse_form_closed(specs, paths, command: str) -> None:
@@ -406,25 +403,8 @@ def _refuse_form_closed(specs, paths, command: str) -> None:
             )
 
 
-def _refuse_conjugate(specs, paths, command: str) -> None:
-    """A command that studies a groove cam's impacts (not yet conjugate cams') refuses conjugate cams (one line
-    naming the file among several)."""
-    from .._core.errors import InputError
-
-    for spec, path in zip(specs, paths, strict=True):
-        if spec.follower is not None and spec.follower.closure == "conjugate":
-            what = "the report" if command in ("report", "check") else command
-            raise InputError(
-                f"{path}: follower.closure" if path else "follower.closure",
-                f"{what} does not model conjugate cams yet (it studies a groove cam's or a spring-held follower's): "
-                "camdyn check, table, profile and machine give conjugate cams' crossovers, impacts and cams",
-            )
-
-
 # commands that study a spring-held follower: its spring, its jump speed, its design review
 _SPRING_HELD = ("spring", "optimize")
-# commands that study a groove cam's crossover impacts, and a spring-held follower's jumps: not conjugate cams yet
-_GROOVE_ONLY = ("size", "sweep", "tolerance", "report")
 _FORM_CLOSED_REFUSAL = {
     "spring": "spring designs the return spring that holds a follower on its cam",
     "optimize": "optimize reshapes the motion so that a spring-held follower holds to a faster jump speed",

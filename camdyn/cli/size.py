@@ -10,7 +10,7 @@ from rich.markup import escape
 from rich.table import Table
 
 from .._core.errors import InputError
-from ..design.closure import BACKLASH_STEP_MM, largest_backlash
+from ..design.closure import BACKLASH_STEP_MM, PRELOAD_MARGIN, PRELOAD_STEP, largest_backlash, least_preload
 from ..design.sizing import TIE_BREAK, SpringSizing, ValveSpringSizing, size_spring, size_valve_spring
 from ..model.case import Case, build_case
 from . import _console
@@ -122,6 +122,35 @@ def print_size(sz: SpringSizing, verbose: bool = False) -> None:
     )
 
 
+def size_preload(args: argparse.Namespace, case: Case) -> int:
+    """``camdyn size`` of conjugate cams without backlash: the least preload between the rollers (N, or N*m about
+    the pivot) that keeps both loaded at the speed, and the one proposed with its margin."""
+    sz = least_preload(case, args.max_speed)
+    if args.json:
+        print(_console.json_text(sz.json()))
+        return 0
+    con = _console.console()
+    unit, key = ("N", "conjugate_preload") if sz.translating else ("N*m", "conjugate_preload_torque")
+    con.print(
+        f"[bold]{case.name}[/bold]  conjugate cams: no return spring to size (the two cams hold the follower both "
+        f"ways); the preload between the rollers that keeps both loaded at {sz.speed_rpm:g} rpm"
+    )
+    con.print(
+        f"case: {key} = {sz.current_preload:g} {unit}, least force on either cam {sz.current_least_cam_force_N:.4g} N "
+        + ("[green]held[/green]" if sz.holds else "[bold red]a roller unloads[/bold red]")
+        + (f" ({sz.current_preload / sz.least_preload:.3g} x the least)" if sz.least_preload > 0.0 else "")
+    )
+    con.print(
+        f"least preload: {sz.least_preload:.4g} {unit} (half the largest net force {sz.max_net_force:.4g} {unit}: "
+        "equally stiff contacts share a change of force half each)"
+    )
+    con.print(
+        f"size: [bold]{key} = {sz.proposed_preload:g} {unit}[/bold] ({PRELOAD_MARGIN:g} x the least, rounded up to "
+        f"{PRELOAD_STEP:g} {unit}); least force on either cam {sz.proposed_least_cam_force_N:.4g} N there"
+    )
+    return 0
+
+
 def _preload_deflection(sz: SpringSizing) -> str:
     """The spring's deflection at its preload (mm; translating followers), which says whether it can be a part."""
     c = sz.chosen
@@ -206,18 +235,27 @@ def run(args: argparse.Namespace) -> int:
 
 
 def size_groove(args: argparse.Namespace, case: Case) -> int:
-    """``camdyn size`` of a groove cam: there is no return spring; the largest backlash (mm) that keeps the impact
-    speed within max_impact_velocity at the speed (``--max-speed``, default the case's)."""
+    """``camdyn size`` of a groove cam (or conjugate cams with backlash): there is no return spring; the largest
+    backlash (mm) that keeps the impact speed within max_impact_velocity at the speed (``--max-speed``, default the
+    case's). Conjugate cams without backlash: the least preload between the rollers (:func:`size_preload`)."""
+    f = case.follower
+    assert f is not None
+    conj = f.closure == "conjugate"
+    answer = "the least preload between its rollers" if conj and f.backlash == 0.0 else "its largest backlash"
+    what = "conjugate cams have" if conj else "a groove cam has"
     for flag, given in (("--margin", args.margin), ("--min-rate", args.min_rate), ("--buildable", args.buildable)):
         if given:
-            raise InputError(flag, "a groove cam has no return spring to size: size gives its largest backlash")
+            raise InputError(flag, f"{what} no return spring to size: size gives {answer}")
+    if conj and f.backlash == 0.0:
+        return size_preload(args, case)
     sz = largest_backlash(case, args.max_speed)
     if args.json:
         print(_console.json_text(sz.json()))
         return 0
     con = _console.console()
+    holder = "the conjugate cams hold" if conj else "the groove holds"
     con.print(
-        f"[bold]{case.name}[/bold]  groove cam: no return spring to size (the groove holds the follower both ways); "
+        f"[bold]{case.name}[/bold]  {f.closure} cam: no return spring to size ({holder} the follower both ways); "
         f"the largest backlash with impact speed <= max_impact_velocity {sz.max_impact_velocity:g} m/s at "
         f"{sz.speed_rpm:g} rpm"
     )

@@ -23,6 +23,8 @@ from .dynamics import (
     plot_vibration,
 )
 from .groove import (
+    flank_names,
+    plot_cam_pressure_angles,
     plot_flank_force,
     plot_groove_cam,
     plot_impact_histogram,
@@ -31,6 +33,7 @@ from .groove import (
     plot_wall_curvature,
     save_impact_histogram_png,
     save_impact_png,
+    save_preload_png,
 )
 from .jumpmap import plot_jump_map, save_png
 from .mechanism import mechanism_bounds, mechanism_frames, plot_mechanism, plot_path, plot_path_error
@@ -49,6 +52,8 @@ from .tolerance import (
 from .valvetrain import plot_rocker_ratio, plot_seating_velocity, plot_valve_lift, plot_valve_velocity
 
 __all__ = [
+    "flank_names",
+    "plot_cam_pressure_angles",
     "plot_flank_force",
     "plot_groove_cam",
     "plot_impact_histogram",
@@ -57,6 +62,7 @@ __all__ = [
     "plot_wall_curvature",
     "save_impact_histogram_png",
     "save_impact_png",
+    "save_preload_png",
     "plot_seating_velocity",
     "plot_rocker_ratio",
     "plot_valve_lift",

@@ -11,30 +11,26 @@ from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 
 from ..design.tolerance import ToleranceResult, ValveToleranceResult
-from ._common import PALETTE
+from ._common import PALETTE, sample_histogram
 
 
 def plot_jump_speed_histogram(ax: Axes, result: ToleranceResult) -> None:
     """Histogram of the samples' dynamic jump speed (rpm), the case speed and the P1/P50 marked."""
-    js = result.jump_speed_rpm[np.isfinite(result.jump_speed_rpm)]
-    if js.size:
-        ax.hist(js, bins=min(60, max(10, int(np.sqrt(js.size)))), color=PALETTE["dyn"], alpha=0.8)
-    ax.axvline(result.speed_rpm, color=PALETTE["limit"], linewidth=1.5, label=f"case speed {result.speed_rpm:g} rpm")
     q = result.percentiles(result.jump_speed_rpm)
-    for name, style in (("p1", ":"), ("p50", "--")):
-        if math.isfinite(q[name]):
-            ax.axvline(
-                q[name], color=PALETTE["ink"], linestyle=style, linewidth=1, label=f"{name.upper()} {q[name]:.1f} rpm"
-            )
     lo, hi = result.confidence_interval
-    ax.set_title(
+    sample_histogram(
+        ax,
+        result.jump_speed_rpm,
+        (result.speed_rpm, f"case speed {result.speed_rpm:g} rpm"),
+        [
+            (q[n], style, f"{n.upper()} {q[n]:.1f} rpm")
+            for n, style in (("p1", ":"), ("p50", "--"))
+            if math.isfinite(q[n])
+        ],
         f"{result.case}: dynamic jump speed of {result.samples} built cams; P(separation) = {result.probability:.3g} "
         f"[{lo:.3g}, {hi:.3g}]",
-        fontsize=9,
+        "dynamic jump speed (rpm)",
     )
-    ax.set_xlabel("dynamic jump speed (rpm)")
-    ax.set_ylabel("samples")
-    ax.legend(fontsize=8)
 
 
 def plot_tolerance_tornado(ax: Axes, result: ToleranceResult) -> None:

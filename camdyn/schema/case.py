@@ -113,9 +113,11 @@ class CaseSpec(Table):
             self.tolerances, kind=self.kind, valvetrain=vt is not None, rigid_train=vt is None or vt.stiffness is None
         )
         if self.tolerances is not None and self.tolerances.backlash is not None:
-            if self.follower is None or self.follower.closure != "groove":
+            f = self.follower
+            if f is None or not f.form_closed or f.pair_preload > 0.0:
                 raise ValueError(
-                    'tolerances.backlash: only a groove cam ([follower] closure = "groove") has a backlash'
+                    'tolerances.backlash: only a groove cam ([follower] closure = "groove") or conjugate cams without '
+                    "a preload have a backlash"
                 )
         if self.limits.max_contact_stress is not None and self.contact_width_mm is None:
             where = "follower" if self.follower is not None else "mechanism"

@@ -95,7 +95,8 @@ class TolerancesSpec(Table):
     backlash: Tol | None = Field(
         default=None,
         description=(
-            'a groove cam\'s backlash tolerance ([follower] closure = "groove"): "20%", "10 um" or a number (mm); '
+            "a groove cam's (or unpreloaded conjugate cams') backlash tolerance ([follower] closure = \"groove\" or "
+            '"conjugate"): "20%", "10 um" or a number (mm); '
             "camdyn tolerance then gives the spread of the crossover impact speed"
         ),
     )
