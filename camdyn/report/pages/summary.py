@@ -129,7 +129,7 @@ def _checks_table(data: ReportData, flow: Flow) -> None:
         ok_kw = {"color": C["ok"] if c.ok else C["fail"], "weight": "bold", "ha": "right"}
         flow.row(
             [
-                (0.0, c.name, {"family": "DejaVu Sans Mono", "size": 7.8 if len(c.name) <= 16 else 6.4}),
+                (0.0, c.name, {"family": "DejaVu Sans Mono", "size": min(7.8, 132.0 / len(c.name))}),  # fits its column
                 (0.165, c.label, {"color": C["grey"]}),
                 (0.6, value, {"ha": "right"}),
                 (0.625, {">=": "\u2265", "<=": "\u2264", ">": ">"}.get(c.sense, c.sense), {"ha": "center"}),
