@@ -384,3 +384,216 @@ def test_conjugate_contact_stress_on_each_cam():
     both = conjugate_contact(geo, second, p1, p2, **mats)
     alone = [conjugate_contact(geo, second, p1, 0 * p2, **mats), conjugate_contact(geo, second, 0 * p1, p2, **mats)]
     np.testing.assert_allclose(both.pressure_MPa, np.maximum(*(a.pressure_MPa for a in alone)), rtol=1e-12)
+
+
+@pytest.mark.slow
+def test_report_of_conjugate_cams(tmp_path, capsys):
+    """``camdyn report`` of the shipped rocker: both cams and each cam's force in place of the cam, dynamics and
+    spring-sizing pages; page 1 gives the preload held, the least cam force and the crossovers as ``check`` does,
+    and the forces page draws each cam's force (its share of the preload) under the net force."""
+    import re
+
+    from matplotlib.figure import Figure
+    from matplotlib.image import imread
+
+    from camdyn.design.checks import run_check
+    from camdyn.design.review import design_review
+    from camdyn.report import A4, PAGES, ReportData
+    from camdyn.report.pages.summary import decision_facts, key_results
+
+    doc = json.loads(run(capsys, "check", EXAMPLE, "--json")[1])
+    code, _, _ = run(capsys, "report", EXAMPLE, "-o", tmp_path / "r")
+    assert code == 0
+    pngs = sorted(p.name for p in (tmp_path / "r").glob("*.png"))
+    slugs = [re.match(r"conjugate-\d+-([a-z-]+)\.png", p).group(1) for p in pngs]
+    assert slugs == ["summary", "svaj", "conjugate", "crossovers", "parts", "manufacturing"]
+    for p in (tmp_path / "r").glob("*.png"):
+        ink = np.any(imread(p)[..., :3] < 0.9, axis=-1).mean()
+        assert 0.02 < ink < 0.6, p.name
+    case = load_case(EXAMPLE)
+    data = ReportData(design_review(case, run_check(case)))
+    rows = dict(key_results(data))
+    cams = doc["closure"]["cams"]
+    least = min(cams["primary"]["min_force_N"], cams["conjugate"]["min_force_N"])
+    assert doc["closure"]["preload_held"] and rows["preload"] == "40 N\u00b7m: held"
+    assert rows["least cam force"].startswith(f"{least:.4g} N (the primary cam's)")
+    assert rows["crossovers"] == "2, at 90.0, 270.0\u00b0" and rows["jump speed"] == "none: form-closed"
+    second = doc["closure"]["conjugate_cam"]
+    assert rows["conjugate, max angle"].startswith(f"{second['max_pressure_angle_deg']:.2f}\u00b0")
+    facts = decision_facts(data)
+    assert "two conjugate cams hold" in facts[0] and f"least cam force is {least:.4g} N" in facts[1]
+    # the preload holds while it exceeds half the largest net force (N*m about the pivot): 40 > 4.8
+    half = 0.5 * np.max(np.abs(data.check.closure.response.contact_force))
+    assert f"({half:.4g} N\u00b7m)" in facts[1] and half < 40.0
+    assert all(f"at {c['deg']:.1f}\u00b0" in f for c, f in zip(doc["closure"]["crossovers"], facts[2:], strict=True))
+    text, lines = {}, {}
+    for page in PAGES:
+        if page.applies(data):
+            fig = Figure(figsize=A4)
+            page.draw(fig, data)
+            text[page.slug] = " ".join(t.get_text() for t in fig.findobj(lambda a: hasattr(a, "get_text")))
+            lines[page.slug] = {ln.get_label(): ln for ax in fig.axes for ln in ax.get_lines()}
+    assert "conjugate 26.2\u00b0" in text["conjugate"] and "return spring: none" in text["parts"]
+    assert "Crossovers at 200 rpm" in text["crossovers"] and "preload 40 N\u00b7m" in text["crossovers"]
+    loads = data.check.closure.loads
+    on = lines["crossovers"]
+    np.testing.assert_array_equal(on["on the primary cam"].get_ydata(), loads.primary_N)
+    np.testing.assert_array_equal(on["on the conjugate cam"].get_ydata(), loads.conjugate_N)
+    assert "crossover (the force changes cam)" in on
+    # with backlash there is no preload: page 1 gives the impacts and says nothing of a preload
+    backlash = _yoke(backlash=0.05)
+    data = ReportData(design_review(backlash, run_check(backlash)))
+    rows, facts = dict(key_results(data)), decision_facts(data)
+    assert "preload" not in rows and not any("preload 0" in f for f in facts)
+    assert rows["largest impact"].endswith("m/s at 68.8\u00b0") and "0.05 mm backlash" in facts[1]
+
+
+def test_size_of_conjugate_cams_gives_the_least_preload(tmp_path, capsys):
+    """``size`` of a yoke without backlash: the least preload is half the largest net force (m a of a cycloidal rise,
+    closed form: 2 pi h / beta^2 omega^2); preload_shares keeps both rollers loaded just above it and unloads one
+    just below; the proposed preload (20 % over, rounded up to 0.1 N) written into the case passes check with both
+    rollers held and the least cam force size gives."""
+    yoke = tmp_path / "yoke.toml"
+    yoke.write_text(YOKE_TOML)
+    code, out, _ = run(capsys, "size", yoke, "--json")
+    doc = json.loads(out)
+    omega, beta = 300 * math.pi / 30, math.radians(120)
+    f_max = 1.0 * 2 * math.pi * 0.020 / beta**2 * omega**2
+    assert code == 0 and doc["closure"] == "conjugate" and not doc["preload_held"] and doc["least_cam_force_N"] == 0
+    assert doc["max_net_force_N"] == pytest.approx(f_max, rel=1e-4) and doc["least_preload_N"] == pytest.approx(
+        f_max / 2, rel=1e-4
+    )
+    p = doc["proposed_preload_N"]
+    assert p == math.ceil(1.2 * doc["least_preload_N"] * 10) / 10 == 17.0
+    r = closure_response(*(lambda c: (c.motion, c.follower, c.model))(_yoke()), omega)
+    for preload, held in ((1.001 * f_max / 2, True), (0.999 * f_max / 2, False)):
+        first, second = preload_shares(r.contact_force, preload)
+        assert bool(np.all(first > 0) and np.all(second > 0)) is held
+    yoke.write_text(YOKE_TOML.replace("conjugate_spacing = 150", f"conjugate_spacing = 150\nconjugate_preload = {p}"))
+    code, out, _ = run(capsys, "check", yoke, "--json")
+    closure = json.loads(out)["closure"]
+    least = min(closure["cams"][c]["min_force_N"] for c in ("primary", "conjugate"))
+    assert code == 0 and closure["preload_held"] and least == pytest.approx(doc["least_cam_force_at_proposed_N"])
+    assert least == pytest.approx(p - f_max / 2, rel=1e-3)  # each cam carries P -+ F/2: the least is P - max|F|/2
+    # the shipped rocker: N*m about the pivot; its 40 N*m holds, 8 times the least
+    code, out, _ = run(capsys, "size", EXAMPLE, "--json")
+    doc = json.loads(out)
+    assert doc["preload_held"] and doc["preload_torque_N_m"] == 40 and 4.0 < doc["least_preload_torque_N_m"] < 6.0
+    assert doc["least_preload_torque_N_m"] == pytest.approx(doc["max_net_torque_N_m"] / 2)
+    code, _, err = run(capsys, "size", EXAMPLE, "--margin", "1.5")
+    assert code == 2 and "conjugate cams have no return spring" in err and "least preload" in err
+
+
+def test_size_of_conjugate_cams_with_backlash_gives_the_largest_backlash(tmp_path, capsys):
+    """With backlash (no preload) ``size`` is the groove's: the largest backlash whose impact at the conjugate cam
+    stays 2 % under max_impact_velocity; check of the case written with it passes."""
+    yoke = tmp_path / "yoke.toml"
+    yoke.write_text(YOKE_TOML.replace("conjugate_spacing = 150", "conjugate_spacing = 150\nbacklash = 0.05"))
+    code, out, _ = run(capsys, "size", yoke, "--json")
+    doc = json.loads(out)
+    b = doc["max_backlash_mm"]
+    assert code == 0 and doc["closure"] == "conjugate" and doc["backlash_mm"] == 0.05 and b > 0.05
+    yoke.write_text(YOKE_TOML.replace("conjugate_spacing = 150", f"conjugate_spacing = 150\nbacklash = {b}"))
+    code, out, _ = run(capsys, "check", yoke, "--json")
+    impact = next(c for c in json.loads(out)["checks"] if c["name"] == "crossover_impact")["value"]
+    assert code == 0 and impact == pytest.approx(doc["impact_velocity_at_max_backlash_m_per_s"], rel=1e-9)
+    assert impact <= 0.98 * 0.1
+
+
+def test_sweep_of_conjugate_cams(tmp_path, capsys):
+    """``sweep`` of the preloaded rocker: the least holding preload over speed, max |F| / 2, grows as the speed
+    squared (an inertia force) and is size's at the case's speed; the preload holds (least cam force > 0) exactly
+    where it exceeds it. With backlash (a yoke, no preload) the sweep is the groove's impact map, check's impact at
+    the case's speed."""
+    code, out, _ = run(capsys, "sweep", EXAMPLE, "--speeds", "100:800:8", "-o", tmp_path)
+    assert code == 0 and "cannot jump" in out and "unloads from 600 rpm" in out
+    rows = np.genfromtxt(tmp_path / "conjugate-sweep.csv", delimiter=",", names=True)
+    assert rows.dtype.names == ("speed_rpm", "least_cam_force_N", "least_preload_torque_N_m", "preload_held")
+    need = rows["least_preload_torque_N_m"]
+    np.testing.assert_allclose(need / need[0], (rows["speed_rpm"] / 100.0) ** 2, rtol=2e-2)
+    np.testing.assert_array_equal(rows["preload_held"] == 1, need < 40.0)
+    np.testing.assert_array_equal(rows["least_cam_force_N"] > 0, need < 40.0)
+    size = json.loads(run(capsys, "size", EXAMPLE, "--json")[1])
+    assert need[1] == pytest.approx(size["least_preload_torque_N_m"], rel=1e-9)  # 200 rpm
+    assert rows["least_cam_force_N"][1] == pytest.approx(size["least_cam_force_N"], rel=1e-9)
+    assert (tmp_path / "conjugate-sweep.png").stat().st_size > 10_000
+    code, _, err = run(capsys, "sweep", EXAMPLE, "--speeds", "100:800:8", "--backlash", "0.01:0.02:2", "-o", tmp_path)
+    assert code == 2 and "--backlash" in err and "preload" in err
+    yoke = tmp_path / "yoke.toml"
+    yoke.write_text(YOKE_TOML.replace("conjugate_spacing = 150", "conjugate_spacing = 150\nbacklash = 0.05"))
+    impact = next(
+        c for c in json.loads(run(capsys, "check", yoke, "--json")[1])["checks"] if c["name"] == "crossover_impact"
+    )
+    code, out, _ = run(capsys, "sweep", yoke, "--speeds", "100:300:3", "-o", tmp_path)
+    assert code == 0 and "conjugate cam, impact map" in out
+    rows = np.genfromtxt(tmp_path / "yoke-sweep.csv", delimiter=",", names=True)
+    assert rows["impact_velocity_m_per_s"][-1] == pytest.approx(impact["value"], rel=1e-9)
+
+
+def test_tolerance_of_preloaded_conjugate_cams_gives_the_chance_a_roller_unloads(tmp_path, capsys):
+    """``tolerance`` of a yoke preloaded 15 N over speed: a built cam's roller unloads where its speed needs more
+    than the preload, max |F| / 2 = m 2 pi h / beta^2 omega^2 / 2 (closed form): above 300 sqrt(15 / 14.137) rpm;
+    each sample's least cam force is the preload less half its largest net force; the worst is the least loaded."""
+    yoke = tmp_path / "yoke.toml"
+    tol = '\n[tolerances]\nspeed = "60 rpm"\nmass = "2%"\n'
+    yoke.write_text(
+        YOKE_TOML.replace("conjugate_spacing = 150", "conjugate_spacing = 150\nconjugate_preload = 15") + tol
+    )
+    code, out, _ = run(capsys, "tolerance", yoke, "--samples", "60", "--json", "-o", tmp_path)
+    doc = json.loads(out)
+    rows = np.genfromtxt(tmp_path / "yoke-tolerance.csv", delimiter=",", names=True)
+    assert code == 0 and doc["closure"] == "conjugate" and doc["preload_N"] == 15
+    omega, beta = rows["speed_rpm"] * math.pi / 30, math.radians(120)
+    half = 0.5 * rows["mass_kg"] * 2 * math.pi * 0.020 / beta**2 * omega**2
+    np.testing.assert_allclose(rows["least_cam_force_N"], np.maximum(15 - half, 0.0), atol=0.02 * 15)
+    clear = np.abs(half - 15) > 0.02 * 15  # away from the edge, where the compliant train's ripple decides
+    np.testing.assert_array_equal(rows["unloaded"][clear] == 1, half[clear] > 15)
+    assert 0 < np.sum(rows["unloaded"]) < 60
+    assert doc["probability_unloaded"] == pytest.approx(np.mean(rows["unloaded"]))
+    assert doc["least_cam_force_N"]["min"] == pytest.approx(rows["least_cam_force_N"].min())
+    assert doc["worst"][0]["least_cam_force_N"] == pytest.approx(rows["least_cam_force_N"].min())
+    assert (tmp_path / "yoke-tolerance.png").stat().st_size > 10_000
+
+
+def test_table_adds_the_conjugate_cams_columns(tmp_path, capsys):
+    """``table`` of a preloaded yoke: the primary's columns as before, then the conjugate cam's geometry (its pitch
+    point 150 mm from the primary's at every angle: the rigid yoke; its pressure angle as the geometry's) and each
+    cam's force, whose difference is the signed net force."""
+    yoke = tmp_path / "yoke.toml"
+    yoke.write_text(YOKE_TOML.replace("conjugate_spacing = 150", "conjugate_spacing = 150\nconjugate_preload = 20"))
+    code, out, _ = run(capsys, "table", yoke, "--step", "0.5")
+    path = tmp_path / "t.csv"
+    path.write_text(out)
+    rows = np.genfromtxt(path, delimiter=",", names=True)
+    names = rows.dtype.names
+    assert code == 0 and names[names.index("drive_torque_N_m") + 1 :] == (
+        "conjugate_pressure_angle_deg",
+        "conjugate_rho_pitch_mm",
+        "conjugate_rho_contour_mm",
+        "conjugate_pitch_x_mm",
+        "conjugate_pitch_y_mm",
+        "conjugate_contour_x_mm",
+        "conjugate_contour_y_mm",
+        "primary_cam_force_N",
+        "conjugate_cam_force_N",
+    )
+    gap = np.hypot(rows["pitch_x_mm"] - rows["conjugate_pitch_x_mm"], rows["pitch_y_mm"] - rows["conjugate_pitch_y_mm"])
+    np.testing.assert_allclose(gap, 150.0, rtol=1e-9)  # the CSV keeps 10 digits
+    np.testing.assert_allclose(
+        np.hypot(
+            rows["conjugate_pitch_x_mm"] - rows["conjugate_contour_x_mm"],
+            rows["conjugate_pitch_y_mm"] - rows["conjugate_contour_y_mm"],
+        ),
+        12.0,
+        rtol=1e-9,
+    )
+    geo = conjugate(*(lambda c: (c.motion, c.follower))(_yoke(conjugate_preload=20)))
+    on_grid = np.isin(np.round(rows["theta_deg"], 6), np.round(geo.theta_deg, 6))
+    np.testing.assert_allclose(
+        rows["conjugate_pressure_angle_deg"][on_grid],
+        np.interp(rows["theta_deg"][on_grid], geo.theta_deg, geo.pressure_angle_deg),
+        atol=1e-9,
+    )
+    net = rows["primary_cam_force_N"] - rows["conjugate_cam_force_N"]
+    np.testing.assert_allclose(net, rows["dynamic_contact_force_N"], atol=1e-9 * 20)
+    assert np.all(rows["primary_cam_force_N"] > 0) and np.all(rows["conjugate_cam_force_N"] > 0)  # 20 N > 14.1

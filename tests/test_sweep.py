@@ -363,3 +363,26 @@ def test_steady_train_force_is_the_train_force_of_the_steady_state(lecture):
         want = np.asarray(dyn.train_force(base, omega, s, s1, x, x1))
         got = np.asarray(dyn.steady_train_force(spec, omega, base, k, c, jnp.asarray(s), jnp.asarray(s1)))
         np.testing.assert_allclose(got, want, rtol=0, atol=1e-9 * np.max(np.abs(want)))
+
+
+@pytest.mark.slow
+def test_the_accelerators_every_point_stepping_equals_the_gathered_one(lecture, monkeypatch):
+    """The exact stepping computes a switching point's step gathered with the others that switch (a CPU) or at
+    every point, keeping the switching ones (an accelerator, where gathers cost more than arithmetic): the same
+    largest gaps at 8 speeds of the lecture, most of them separating."""
+    from camdyn._core.units import TWO_PI
+    from camdyn.design.sweep import _exact_gap
+    from camdyn.design.sweep._grid import GAP_STRIDE, GRID_N
+    from camdyn.design.sweep._map import _gap_weight_mm
+
+    theta = np.arange(GRID_N) * (TWO_PI / GRID_N)
+    vals = np.asarray(evaluate(lecture.motion, theta))  # the motion's unit, as the map hands the kernel
+    tab = vals[:3, ::GAP_STRIDE]
+    const = (lecture.model, *tab, _gap_weight_mm(lecture, theta[::GAP_STRIDE]), np.fft.rfft(vals[0]))
+    omega, k = np.linspace(480.0, 700.0, 8) * RPM, np.full(8, 2e3)
+    gaps = {}
+    for gathered in (True, False):
+        monkeypatch.setattr(_exact_gap, "_gathers", lambda g=gathered: g)
+        gaps[gathered] = np.asarray(eqx.filter_jit(_exact_gap.exact_gap_kernel)(const, omega, k))
+    assert np.all(np.isfinite(gaps[True])) and np.sum(gaps[True] > 1e-3) >= 4
+    np.testing.assert_allclose(gaps[False], gaps[True], rtol=1e-9, atol=1e-12)

@@ -103,7 +103,7 @@ def _compile(flat: Callable, avals: tuple, name: str) -> tuple[Callable, bytes]:
         # a kernel sharded over several devices: neither a loaded executable nor a loaded jax.export program
         # places one-device inputs on its mesh; the caller runs the plain jit
         raise ValueError("a program over several devices is not stored")
-    if "custom_call_target=" not in compiled.as_text():
+    if "custom_call_target=" not in (compiled.as_text() or ""):
         return compiled, pickle.dumps(("executable", *serialize_executable.serialize(compiled)))
     # a call out of XLA: LAPACK, whose kernels JAX registers as it lowers the program, or a host callback, which
     # jax.export refuses (and the caller then runs the plain jit)

@@ -111,8 +111,14 @@ TOLERANCE_UNITS: dict[str, tuple[dict[str, float], dict[str, float]]] = {
     "train_stiffness": _RATE_UNITS,
     "speed": ({"rpm": 1.0}, {"rpm": 1.0}),
     "profile_error": ({"mm": 1.0, "um": 1e-3}, {"rad": 1.0, "deg": math.pi / 180.0}),
+    # [valvetrain] cases only (a valvetrain's follower translates: its second entry is never read)
+    "lash": ({"mm": 1.0, "um": 1e-3}, {"mm": 1.0}),
+    "cam_side_mass": ({"kg": 1.0, "g": 1e-3}, {"kg": 1.0}),
+    "valve_mass": ({"kg": 1.0, "g": 1e-3}, {"kg": 1.0}),
+    "valvetrain_stiffness": _RATE_UNITS,
     "backlash": ({"mm": 1.0, "um": 1e-3}, {"mm": 1.0, "um": 1e-3}),  # a groove's, at the roller either way
 }
+VALVETRAIN_TOLERANCE_KEYS = ("lash", "cam_side_mass", "valve_mass", "valvetrain_stiffness")
 NORMAL_TOLERANCE_SIGMAS = 3.0  # a normal tolerance is this many standard deviations
 PROFILE_ERROR_HARMONICS = 8  # a profile error is a random sum of harmonics 1..this of the revolution
 

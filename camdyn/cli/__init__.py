@@ -197,9 +197,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument(
         "--min-rate",
         type=float,
-        default=0.0,
         metavar="K",
-        help="least spring rate, N/mm (N*m/rad oscillating; default 0)",
+        help="least spring rate, N/mm (N*m/rad oscillating; default 0; a valvetrain's: at the valve, default its own)",
     )
     p.add_argument(
         "--buildable",
@@ -240,7 +239,9 @@ def build_parser() -> argparse.ArgumentParser:
         "files",
     )
     p.add_argument("case", help="case file (TOML) with a [tolerances] table")
-    p.add_argument("--samples", type=int, default=10000, metavar="N", help="built cams to draw (default 10000)")
+    p.add_argument(
+        "--samples", type=int, metavar="N", help="built cams to draw (default 10000; a valvetrain: 50, two-mass model)"
+    )
     p.add_argument("--seed", type=int, default=0, metavar="S", help="random seed (default 0)")
     p.add_argument("-o", "--output", default=".", metavar="DIR", help="output folder (default: the current one)")
     p.add_argument("--force", action="store_true", help="overwrite the files if they exist")
@@ -387,9 +388,6 @@ def _validate(args) -> None:
         args.spec = load_case_spec(args.case)
     if args.command in _SPRING_HELD:
         _refuse_form_closed([args.spec], [""], args.command)
-    elif args.command in _GROOVE_ONLY or (args.command == "check" and args.report):
-        several = args.command == "report"
-        _refuse_conjugate(args.specs if several else [args.spec], args.cases if several else [""], args.command)
 
 
 def _refuse_form_closed(specs, paths, command: str) -> None:
@@ -405,25 +403,8 @@ def _refuse_form_closed(specs, paths, command: str) -> None:
             )
 
 
-def _refuse_conjugate(specs, paths, command: str) -> None:
-    """A command that studies a groove cam's impacts (not yet conjugate cams') refuses conjugate cams (one line
-    naming the file among several)."""
-    from .._core.errors import InputError
-
-    for spec, path in zip(specs, paths, strict=True):
-        if spec.follower is not None and spec.follower.closure == "conjugate":
-            what = "the report" if command in ("report", "check") else command
-            raise InputError(
-                f"{path}: follower.closure" if path else "follower.closure",
-                f"{what} does not model conjugate cams yet (it studies a groove cam's or a spring-held follower's): "
-                "camdyn check, table, profile and machine give conjugate cams' crossovers, impacts and cams",
-            )
-
-
 # commands that study a spring-held follower: its spring, its jump speed, its design review
 _SPRING_HELD = ("spring", "optimize")
-# commands that study a groove cam's crossover impacts, and a spring-held follower's jumps: not conjugate cams yet
-_GROOVE_ONLY = ("size", "sweep", "tolerance", "report")
 _FORM_CLOSED_REFUSAL = {
     "spring": "spring designs the return spring that holds a follower on its cam",
     "optimize": "optimize reshapes the motion so that a spring-held follower holds to a faster jump speed",

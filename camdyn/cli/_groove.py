@@ -1,6 +1,7 @@
-"""``sweep`` and ``tolerance`` of a groove cam (``[follower] closure = "groove"``): its crossover impacts over
-cam speed x backlash, and their distribution over the built cams, in place of the jump map and the probability of
-separation of a spring-held follower (a groove cam cannot jump)."""
+"""``sweep`` and ``tolerance`` of a form-closed cam (``[follower] closure = "groove"`` or ``"conjugate"``): its
+crossover impacts over cam speed x backlash, and their distribution over the built cams, or conjugate cams' least
+cam force and least holding preload over cam speed, in place of the jump map and the probability of separation of a
+spring-held follower (a form-closed cam cannot jump)."""
 
 from __future__ import annotations
 
@@ -11,10 +12,10 @@ import numpy as np
 
 from .._core.errors import InputError
 from .._core.outputs import output_dir, output_file, safe_stem, write_new
-from ..design.closure import impact_map
+from ..design.closure import impact_map, preload_map
 from ..design.tolerance import impact_tolerance_study
 from ..model.case import Case
-from ..plot import save_impact_histogram_png, save_impact_png
+from ..plot import save_impact_histogram_png, save_impact_png, save_preload_png
 from ._console import console, json_text, progress_bar, table
 
 
@@ -31,11 +32,15 @@ def _outputs(args: argparse.Namespace, case: Case, suffix: str, what: str) -> tu
 def sweep_groove(args: argparse.Namespace, case: Case, speeds: np.ndarray, gaps: np.ndarray | None) -> int:
     """``camdyn sweep`` of a groove cam: DIR/<case>-sweep.csv (the impact map over ``speeds`` x ``gaps``, mm;
     None: the case's backlash) and DIR/<case>-sweep.png."""
-    assert case.follower is not None and case.follower.form_closed
+    f = case.follower
+    assert f is not None and f.form_closed
+    what = "a groove cam has" if f.closure == "groove" else "conjugate cams have"
     if args.spring_rates is not None:
-        raise InputError(
-            "--spring-rates", "a groove cam has no return spring to vary: sweep its --backlash (mm) instead"
-        )
+        raise InputError("--spring-rates", f"{what} no return spring to vary: sweep its --backlash (mm) instead")
+    if f.closure == "conjugate" and f.pair_preload > 0.0 and gaps is not None:
+        raise InputError("--backlash", "conjugate cams with a preload have no backlash: sweep them without --backlash")
+    if f.closure == "conjugate" and f.backlash == 0.0 and gaps is None:
+        return sweep_preload(args, case, speeds)
     if gaps is None:
         gaps = np.array([case.follower.backlash])
     csv_path, png_path = _outputs(args, case, "sweep", "impact map")
@@ -46,8 +51,8 @@ def sweep_groove(args: argparse.Namespace, case: Case, speeds: np.ndarray, gaps:
     lim = im.max_impact_velocity
     over = im.impact_velocity_m_per_s > lim
     print(
-        f"{case.name}: groove cam, impact map of {im.impact_velocity_m_per_s.size} points ({speeds.size} speeds "
-        f"{speeds[0]:g}-{speeds[-1]:g} rpm x {gaps.size} backlashes {gaps[0]:g}-{gaps[-1]:g} mm); a groove cam "
+        f"{case.name}: {f.closure} cam, impact map of {im.impact_velocity_m_per_s.size} points ({speeds.size} speeds "
+        f"{speeds[0]:g}-{speeds[-1]:g} rpm x {gaps.size} backlashes {gaps[0]:g}-{gaps[-1]:g} mm); a {f.closure} cam "
         "cannot jump: the map is of the impacts where the follower crosses the backlash"
     )
     forces = im.max_impact_force_N
@@ -60,12 +65,44 @@ def sweep_groove(args: argparse.Namespace, case: Case, speeds: np.ndarray, gaps:
     return 0
 
 
+def sweep_preload(args: argparse.Namespace, case: Case, speeds: np.ndarray) -> int:
+    """``camdyn sweep`` of conjugate cams without backlash: DIR/<case>-sweep.csv (the least cam force and the least
+    holding preload at each speed) and DIR/<case>-sweep.png."""
+    csv_path, png_path = _outputs(args, case, "sweep", "preload sweep")
+    with progress_bar(args.quiet) as progress:
+        pm = preload_map(case, speeds, progress=progress)
+    write_new(csv_path, pm.csv, True)
+    save_preload_png(pm, png_path, speed_rpm=case.speed_rpm)
+    unit = "N" if pm.translating else "N*m"
+    print(
+        f"{case.name}: conjugate cams, {speeds.size} speeds {speeds[0]:g}-{speeds[-1]:g} rpm; conjugate cams cannot "
+        f"jump: the sweep is of the least force on either cam under the preload {pm.preload:g} {unit}"
+    )
+    held = pm.held
+    if held.all():
+        print(
+            f"the preload keeps both rollers loaded at every speed (least cam force {pm.least_cam_force_N.min():.4g} N)"
+        )
+    else:
+        first = float(speeds[np.argmin(held)])
+        ok = speeds[held & (speeds < first)]
+        upto = f"up to {float(ok[-1]):g} rpm" if ok.size else "at no speed of the sweep"
+        print(
+            f"the preload keeps both rollers loaded {upto}; a roller unloads from {first:g} rpm (the least preload "
+            f"that holds there: {float(pm.least_preload[np.argmin(held)]):.4g} {unit})"
+        )
+    print(f"wrote {csv_path} and {png_path}")
+    return 0
+
+
 def tolerance_groove(args: argparse.Namespace, case: Case) -> int:
-    """``camdyn tolerance`` of a groove cam: DIR/<case>-tolerance.csv and .png of the built cams' crossover impacts
-    and a summary (``--json``: the document of docs/contracts.md); no worst samples as case files."""
+    """``camdyn tolerance`` of a form-closed cam: DIR/<case>-tolerance.csv and .png of the built cams' crossover
+    impacts (conjugate cams under a preload: their least cam force) and a summary (``--json``: the document of
+    docs/contracts.md); no worst samples as case files."""
     csv_path, png_path = _outputs(args, case, "tolerance", "tolerance study")
     with progress_bar(args.quiet) as progress:
-        result = impact_tolerance_study(case, args.samples, args.seed, progress=progress)
+        samples = 10000 if args.samples is None else args.samples
+        result = impact_tolerance_study(case, samples, args.seed, progress=progress)
     write_new(csv_path, result.csv, True)
     save_impact_histogram_png(result, png_path)
     if args.json:
@@ -73,9 +110,24 @@ def tolerance_groove(args: argparse.Namespace, case: Case) -> int:
         return 0
     con = console()
     lo, hi = result.confidence_interval
+    held = result.least_cam_force_N
+    if held is not None:  # conjugate cams under a preload: no impacts, whether a roller unloads
+        lo, hi = result.unloaded_interval
+        q = result.json()["least_cam_force_N"]
+        con.print(
+            f"{case.name}: {result.samples} built conjugate cams (seed {result.seed}) at {result.speed_rpm:g} rpm "
+            f"under the preload {result.preload:g} {'N*m' if case.kind.rotary else 'N'}; they cannot jump: the study "
+            "is of the least force on either cam"
+        )
+        con.print(
+            f"probability that a roller unloads: {result.unloaded_probability:.4g} (95% interval {lo:.4g} to "
+            f"{hi:.4g}); least cam force P1 {q['p1']:.4g} N, P50 {q['p50']:.4g} N, least {q['min']:.4g} N"
+        )
+        con.print(f"wrote {csv_path} and {png_path}")
+        return 0
     con.print(
-        f"{case.name}: {result.samples} built groove cams (seed {result.seed}) at {result.speed_rpm:g} rpm; a groove "
-        "cam cannot jump: the study is of the impacts where the follower crosses the backlash"
+        f"{case.name}: {result.samples} built {result.closure} cams (seed {result.seed}) at {result.speed_rpm:g} rpm; "
+        f"a {result.closure} cam cannot jump: the study is of the impacts where the follower crosses the backlash"
     )
     con.print(
         f"probability of an impact speed above max_impact_velocity {result.max_impact_velocity:g} m/s: "

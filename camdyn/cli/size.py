@@ -10,8 +10,8 @@ from rich.markup import escape
 from rich.table import Table
 
 from .._core.errors import InputError
-from ..design.closure import BACKLASH_STEP_MM, largest_backlash
-from ..design.sizing import TIE_BREAK, SpringSizing, size_spring
+from ..design.closure import BACKLASH_STEP_MM, PRELOAD_MARGIN, PRELOAD_STEP, largest_backlash, least_preload
+from ..design.sizing import TIE_BREAK, SpringSizing, ValveSpringSizing, size_spring, size_valve_spring
 from ..model.case import Case, build_case
 from . import _console
 from .spring import print_spring
@@ -122,6 +122,35 @@ def print_size(sz: SpringSizing, verbose: bool = False) -> None:
     )
 
 
+def size_preload(args: argparse.Namespace, case: Case) -> int:
+    """``camdyn size`` of conjugate cams without backlash: the least preload between the rollers (N, or N*m about
+    the pivot) that keeps both loaded at the speed, and the one proposed with its margin."""
+    sz = least_preload(case, args.max_speed)
+    if args.json:
+        print(_console.json_text(sz.json()))
+        return 0
+    con = _console.console()
+    unit, key = ("N", "conjugate_preload") if sz.translating else ("N*m", "conjugate_preload_torque")
+    con.print(
+        f"[bold]{case.name}[/bold]  conjugate cams: no return spring to size (the two cams hold the follower both "
+        f"ways); the preload between the rollers that keeps both loaded at {sz.speed_rpm:g} rpm"
+    )
+    con.print(
+        f"case: {key} = {sz.current_preload:g} {unit}, least force on either cam {sz.current_least_cam_force_N:.4g} N "
+        + ("[green]held[/green]" if sz.holds else "[bold red]a roller unloads[/bold red]")
+        + (f" ({sz.current_preload / sz.least_preload:.3g} x the least)" if sz.least_preload > 0.0 else "")
+    )
+    con.print(
+        f"least preload: {sz.least_preload:.4g} {unit} (half the largest net force {sz.max_net_force:.4g} {unit}: "
+        "equally stiff contacts share a change of force half each)"
+    )
+    con.print(
+        f"size: [bold]{key} = {sz.proposed_preload:g} {unit}[/bold] ({PRELOAD_MARGIN:g} x the least, rounded up to "
+        f"{PRELOAD_STEP:g} {unit}); least force on either cam {sz.proposed_least_cam_force_N:.4g} N there"
+    )
+    return 0
+
+
 def _preload_deflection(sz: SpringSizing) -> str:
     """The spring's deflection at its preload (mm; translating followers), which says whether it can be a part."""
     c = sz.chosen
@@ -130,11 +159,70 @@ def _preload_deflection(sz: SpringSizing) -> str:
     return f"; {c.preload / c.rate:.4g} mm of preload deflection"
 
 
+def print_valve_size(vs: ValveSpringSizing) -> None:
+    """``size`` on a valvetrain: the closed-form start, the proposal and the case's spring, by the two-mass model."""
+    console = _console.console()
+    console.print(f"[bold]{vs.case_name}[/bold]  valve spring sizing (at the valve)")
+    console.print(
+        f"float and bounce speeds >= {vs.top_speed_rpm:.5g} rpm ({vs.margin:g} x {vs.speed_rpm:g} rpm), two-mass "
+        f"model; ratio {vs.ratio:g}, lash {vs.lash_mm:g} mm, equivalent mass {vs.equivalent_mass_kg:.4g} kg at the "
+        f"follower, {vs.valve_lift_mm:.4g} mm of spring travel; the least preload with rate >= {vs.min_rate:g} N/mm"
+    )
+    speed = lambda w: "none" if w == float("inf") else f"{w:.1f}"  # noqa: E731
+    designs = (("proposed", vs.chosen), ("closed form", vs.closed_form), ("current", vs.current))
+    table = Table(show_edge=False, pad_edge=False, box=None, header_style="bold")
+    table.add_column("")
+    for name, _ in designs:
+        table.add_column(name, justify="right", no_wrap=True)
+    ds = [d for _, d in designs]
+    table.add_row("rate (N/mm)", *(f"{d.rate:.4g}" for d in ds))
+    table.add_row("preload (N)", *(f"{d.preload:.4g}" for d in ds))
+    table.add_row("peak spring force (N)", *(f"{d.peak_spring:.4g}" for d in ds))
+    table.add_row("float speed (rpm)", *(speed(d.float_speed_rpm) for d in ds))
+    table.add_row("bounce speed (rpm)", *(speed(d.bounce_speed_rpm) for d in ds))
+    table.add_row(f"seating velocity at {vs.speed_rpm:g} rpm (m/s)", *(f"{d.seating_velocity:.3g}" for d in ds))
+    table.add_row(f"bounce height at {vs.speed_rpm:g} rpm (mm)", *(f"{d.bounce_height_mm:.3g}" for d in ds))
+    table.add_row(f"least train force at {vs.top_speed_rpm:.5g} rpm (N)", *(f"{d.least_train_force:.4g}" for d in ds))
+    holds = (d.holds(vs.top_speed_rpm) for d in ds)
+    table.add_row(
+        f"holds up to {vs.top_speed_rpm:.5g} rpm",
+        *("[green]yes[/green]" if h else "[bold red]no[/bold red]" for h in holds),
+    )
+    console.print(table)
+    console.print(
+        f"[dim]closed form: the equivalent follower's least peak force (its kinematic jump speed "
+        f"{speed(vs.closed_form_jump_rpm)} rpm), judged by the two-mass model; the preload then searched in "
+        f"{len(vs.rounds)} two-mass runs[/dim]"
+    )
+    for w in vs.warnings:
+        console.print(f"[yellow]warning:[/yellow] {escape(w)}")
+    c = vs.chosen
+    verdict = "[green]pass[/green]" if vs.verdict == "pass" else "[bold red]FAIL[/bold red]"
+    console.print(
+        f"size: [bold]spring_rate = {c.rate:.4g}, preload = {c.preload:.4g}[/bold] in \\[dynamics] (at the valve); "
+        f"check as written: {verdict}"
+    )
+
+
 def run(args: argparse.Namespace) -> int:
     case = build_case(args.spec, source=Path(args.case))
+    if case.valvetrain is not None:
+        if args.buildable:
+            raise InputError(
+                "--buildable",
+                "size --buildable does not design a valvetrain's spring part yet: size proposes the valve "
+                "spring's rate and preload",
+            )
+        vs = size_valve_spring(case, args.max_speed, args.margin, args.min_rate)
+        if args.json:
+            print(_console.json_text(vs.json()))
+        else:
+            print_valve_size(vs)
+        return 0
     if case.follower is not None and case.follower.form_closed:  # no return spring: its largest backlash instead
         return size_groove(args, case)
-    sz = size_spring(case, args.max_speed, args.margin, args.min_rate, buildable=args.buildable)
+    min_rate = 0.0 if args.min_rate is None else args.min_rate
+    sz = size_spring(case, args.max_speed, args.margin, min_rate, buildable=args.buildable)
     if args.json:
         print(_console.json_text(sz.json()))
     else:
@@ -147,18 +235,27 @@ def run(args: argparse.Namespace) -> int:
 
 
 def size_groove(args: argparse.Namespace, case: Case) -> int:
-    """``camdyn size`` of a groove cam: there is no return spring; the largest backlash (mm) that keeps the impact
-    speed within max_impact_velocity at the speed (``--max-speed``, default the case's)."""
+    """``camdyn size`` of a groove cam (or conjugate cams with backlash): there is no return spring; the largest
+    backlash (mm) that keeps the impact speed within max_impact_velocity at the speed (``--max-speed``, default the
+    case's). Conjugate cams without backlash: the least preload between the rollers (:func:`size_preload`)."""
+    f = case.follower
+    assert f is not None
+    conj = f.closure == "conjugate"
+    answer = "the least preload between its rollers" if conj and f.backlash == 0.0 else "its largest backlash"
+    what = "conjugate cams have" if conj else "a groove cam has"
     for flag, given in (("--margin", args.margin), ("--min-rate", args.min_rate), ("--buildable", args.buildable)):
         if given:
-            raise InputError(flag, "a groove cam has no return spring to size: size gives its largest backlash")
+            raise InputError(flag, f"{what} no return spring to size: size gives {answer}")
+    if conj and f.backlash == 0.0:
+        return size_preload(args, case)
     sz = largest_backlash(case, args.max_speed)
     if args.json:
         print(_console.json_text(sz.json()))
         return 0
     con = _console.console()
+    holder = "the conjugate cams hold" if conj else "the groove holds"
     con.print(
-        f"[bold]{case.name}[/bold]  groove cam: no return spring to size (the groove holds the follower both ways); "
+        f"[bold]{case.name}[/bold]  {f.closure} cam: no return spring to size ({holder} the follower both ways); "
         f"the largest backlash with impact speed <= max_impact_velocity {sz.max_impact_velocity:g} m/s at "
         f"{sz.speed_rpm:g} rpm"
     )

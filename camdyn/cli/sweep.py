@@ -13,7 +13,7 @@ import numpy as np
 from .._core.distributed import initialize, is_writer
 from .._core.errors import InputError
 from .._core.outputs import output_dir, output_file, safe_stem, write_new
-from ..design.sweep import check_grid_size, jump_map
+from ..design.sweep import JumpMap, check_grid_size, first_speeds, jump_map
 from ..model.case import build_case
 from ..plot import save_png
 from ._console import progress_bar
@@ -88,12 +88,14 @@ def run(args: argparse.Namespace) -> int:
             else ""
         )
     )
+    if jm.valve is not None:
+        _print_valvetrain(jm)
     gap = np.nanmax(jm.max_gap) if n_sep and np.isfinite(jm.max_gap).any() else 0.0
     least = float(np.nanmin(jm.min_force)) if np.isfinite(jm.min_force).any() else math.nan
     n_failed = int(np.count_nonzero(jm.failed))
     print(
-        f"separated at {n_sep} of {jm.separated.size} points"
-        + (f" (largest gap {gap:.4g} mm)" if n_sep else "")
+        f"{'floats' if jm.valve is not None else 'separated'} at {n_sep} of {jm.separated.size} points"
+        + (f" (largest gap {gap:.4g} mm{' at the valve' if jm.valve is not None else ''})" if n_sep else "")
         + f"; least contact force on the map {least:.4g} N"
         + (f"; {n_failed} point(s) failed (status column)" if n_failed else "")
     )
@@ -101,3 +103,25 @@ def run(args: argparse.Namespace) -> int:
         print(f"warning: {note}", file=sys.stderr)
     print(f"wrote {csv_path} and {png_path}")
     return 0
+
+
+def _print_valvetrain(jm: JumpMap) -> None:
+    """A valvetrain's map: per valve spring rate, the first speed on the grid where it floats and where it
+    bounces, which comes first, and the seating velocity there."""
+    assert jm.valve is not None  # the caller's: a valvetrain's map
+    floats, bounces = first_speeds(jm.speeds_rpm, jm.separated), first_speeds(jm.speeds_rpm, jm.valve.bounced)
+    at = lambda w: "none on the grid" if math.isnan(w) else f"{w:g} rpm"  # noqa: E731
+    for j, rate in enumerate(jm.spring_rates):
+        f, b = floats[j], bounces[j]
+        first = (
+            "neither"
+            if math.isnan(f) and math.isnan(b)
+            else "float first"
+            if math.isnan(b) or (not math.isnan(f) and f < b)
+            else "bounce first"
+            if math.isnan(f) or b < f
+            else "both at once"
+        )
+        v = jm.valve.seating_velocity[:, j]
+        seat = f"{np.nanmin(v):.3g}-{np.nanmax(v):.3g} m/s" if np.isfinite(v).any() else "-"
+        print(f"valve spring {rate:g} N/mm: floats at {at(f)}, bounces at {at(b)} ({first}); seating {seat}")

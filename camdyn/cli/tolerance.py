@@ -7,20 +7,29 @@ import argparse
 import math
 import time
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, TypeVar
 
 from .._core.distributed import initialize, is_writer
 from .._core.errors import InputError
 from .._core.outputs import output_dir, output_file, safe_stem, write_new
-from ..design.tolerance import MAX_SAMPLES, tolerance_study, worst_case_docs
+from ..design.tolerance import (
+    DEFAULT_VALVETRAIN_SAMPLES,
+    MAX_SAMPLES,
+    tolerance_study,
+    valvetrain_tolerance_study,
+    worst_case_docs,
+    worst_valvetrain_docs,
+)
 from ..export.toml import dumps_case
 from ..model.case import build_case
-from ..plot import save_tolerance_png
+from ..plot import save_tolerance_png, save_valve_tolerance_png
 from ._console import console, json_text, progress_bar, table
 from ._groove import tolerance_groove
 
 if TYPE_CHECKING:
-    from ..design.tolerance import ToleranceResult
+    from ..design.tolerance import ToleranceResult, ValveToleranceResult
+
+R = TypeVar("R", "ToleranceResult", "ValveToleranceResult")
 
 
 def _paths(out: Path, stem: str, worst: int) -> dict:
@@ -63,7 +72,7 @@ def json_doc(result: ToleranceResult, worst_files: list[Path], elapsed: float) -
 
 
 def run(args: argparse.Namespace) -> int:
-    if not 1 <= args.samples <= MAX_SAMPLES:  # before any work or any folder is made
+    if args.samples is not None and not 1 <= args.samples <= MAX_SAMPLES:  # before any work or any folder is made
         raise InputError("--samples", f"must be from 1 to {MAX_SAMPLES}, got {args.samples}")
     initialize(args.coordinator, args.num_processes, args.process_id, auto=args.distributed)
     case = build_case(args.spec, source=Path(args.case))
@@ -77,21 +86,35 @@ def run(args: argparse.Namespace) -> int:
         for p in (paths["csv"], paths["png"], *paths["worst"]):
             output_file(p, args.force, "tolerance study")
     t0 = time.perf_counter()
-    with progress_bar(args.quiet) as progress:
-        result = tolerance_study(case, args.samples, args.seed, progress=progress if writer else None)
-    elapsed = time.perf_counter() - t0
-    worst_files = paths["worst"][: len(result.worst)]
-    if not writer:
+    if case.valvetrain is not None:  # the two-mass model per sample: float, bounce, seating velocity
+        samples = DEFAULT_VALVETRAIN_SAMPLES if args.samples is None else args.samples
+        with progress_bar(args.quiet) as progress:
+            vt = valvetrain_tolerance_study(case, samples, args.seed, progress=progress if writer else None)
+        if writer:
+            outputs = (save_valve_tolerance_png, worst_valvetrain_docs, valvetrain_json_doc, _print_valvetrain)
+            _write(args, case, vt, time.perf_counter() - t0, paths, *outputs)
         return 0
+    samples = 10000 if args.samples is None else args.samples
+    with progress_bar(args.quiet) as progress:
+        result = tolerance_study(case, samples, args.seed, progress=progress if writer else None)
+    if writer:
+        outputs = (save_tolerance_png, worst_case_docs, json_doc, _print)
+        _write(args, case, result, time.perf_counter() - t0, paths, *outputs)
+    return 0
+
+
+def _write(args, case, result: R, elapsed: float, paths, save, docs, as_json, show) -> None:
+    """Write a study's CSV, PNG and worst samples, then its summary or ``--json`` (``save``, ``docs``, ``as_json``,
+    ``show``: the study's own writers of ``result``)."""
+    worst_files = paths["worst"][: len(result.worst)]
     write_new(paths["csv"], result.csv, True)
-    save_tolerance_png(result, paths["png"])
-    for (doc, header), path in zip(worst_case_docs(case, result), worst_files, strict=True):
+    save(result, paths["png"])
+    for (doc, header), path in zip(docs(case, result), worst_files, strict=True):
         write_new(path, dumps_case(doc, header), True)
     if args.json:
-        print(json_text(json_doc(result, worst_files, elapsed)))
-        return 0
-    _print(case, result, elapsed, paths, worst_files)
-    return 0
+        print(json_text(as_json(result, worst_files, elapsed)))
+    else:
+        show(case, result, elapsed, paths, worst_files)
 
 
 def _print(case, result, elapsed, paths, worst_files) -> None:
@@ -136,4 +159,71 @@ def _print(case, result, elapsed, paths, worst_files) -> None:
         col.no_wrap = True
     if result.sensitivities:
         con.print(t)
+    con.print(f"wrote {paths['csv']}, {paths['png']} and the worst samples {', '.join(str(p) for p in worst_files)}")
+
+
+def valvetrain_json_doc(result: ValveToleranceResult, worst_files: list[Path], elapsed: float) -> dict:
+    """A valvetrain's ``--json`` document: the single follower's keys where they mean the same (separation is
+    float, the jump speed the float speed), and ``valvetrain``."""
+    p_float, ci = result.probability(result.floated)
+    return {
+        "case": result.case,
+        "samples": result.samples,
+        "seed": result.seed,
+        "probability_of_separation": p_float,
+        "confidence_interval": list(ci),
+        "jump_speed_rpm": result.low(result.float_speed_rpm),
+        "least_contact_force_N": result.low(result.least_force),
+        "sensitivities": {},
+        "worst": [
+            {
+                "sample": i,
+                "file": str(f),
+                "least_contact_force_N": float(result.least_force[i]),
+                "jump_speed_rpm": float(result.float_speed_rpm[i]),
+                "bounce_speed_rpm": float(result.bounce_speed_rpm[i]),
+                "separated": bool(result.floated[i]),
+            }
+            for i, f in zip(result.worst, worst_files, strict=True)
+        ],
+        "time_s": elapsed,
+        "nominal_jump_speed_rpm": result.nominal_float_speed_rpm,
+        "speed_rpm": result.speed_rpm,
+        "tolerances": result.tolerances,
+        "confidence": 0.95,
+        "devices": 1,
+        "processes": 1,
+        "valvetrain": result.json(),
+    }
+
+
+def _print_valvetrain(case, result: ValveToleranceResult, elapsed, paths, worst_files) -> None:
+    con = console()
+    doc = result.json()
+    con.print(
+        f"{case.name}: {result.samples} built valvetrains (seed {result.seed}) at {result.speed_rpm:g} rpm, two-mass "
+        f"model, {elapsed:.1f} s"
+    )
+    for what in ("float", "bounce"):
+        lo, hi = doc[f"{what}_confidence_interval"]
+        con.print(
+            f"probability of {what} at the sample's speed {doc[f'probability_of_{what}']:.4g} (95% interval {lo:.4g} "
+            f"to {hi:.4g}); nominal {what} speed {doc[f'nominal_{what}_speed_rpm']:.1f} rpm"
+        )
+    t = table(("quantity", "left"), ("P1", "right"), ("P5", "right"), ("P50", "right"), ("unit", "left"))
+    for name, key in (("float speed", "float_speed_rpm"), ("bounce speed", "bounce_speed_rpm")):
+        q = doc[key]
+        t.add_row(name, *(f"{q[k]:.5g}" for k in ("p1", "p5", "p50")), "rpm")
+    con.print(t)
+    t = table(("quantity", "left"), ("P50", "right"), ("P95", "right"), ("P99", "right"), ("unit", "left"))
+    for name, key, unit in (
+        ("seating velocity", "seating_velocity_m_per_s", "m/s"),
+        ("bounce height", "bounce_height_mm", "mm"),
+    ):
+        q = doc[key]
+        t.add_row(name, *(f"{q[k]:.4g}" for k in ("p50", "p95", "p99")), unit)
+    con.print(t)
+    shares = ", ".join(f"{k} {v:.0%}" for k, v in result.shares.items() if math.isfinite(v))
+    if shares:
+        con.print(f"share of the float/bounce margin's variance (linear fit over the samples): {shares}")
     con.print(f"wrote {paths['csv']}, {paths['png']} and the worst samples {', '.join(str(p) for p in worst_files)}")

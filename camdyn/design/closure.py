@@ -76,8 +76,9 @@ class CamLoads:
 
 
 NO_RETURN_SPRING = (
-    "a form-closed cam has no return spring to size or build and no jump speed: the groove holds the follower both "
-    "ways, so what limits its speed is the impact where the follower crosses the backlash (crossover_impact)"
+    "a form-closed cam has no return spring to size or build and no jump speed: the groove (or the conjugate cams) "
+    "holds the follower both ways, so what limits its speed is the impact where the follower crosses the backlash "
+    "(crossover_impact), or conjugate cams' preload that keeps both rollers loaded"
 )
 
 
@@ -96,6 +97,20 @@ class ClosureStudy:
         if self.loads is None:
             return out | {"walls": self.walls.json()}
         return out | {"conjugate_cam": self.walls.json()} | self.loads.json()
+
+    @property
+    def groove(self) -> GrooveGeometry:
+        """The groove's walls (a groove cam only)."""
+        if not isinstance(self.walls, GrooveGeometry):
+            raise TypeError("conjugate cams have no groove walls")
+        return self.walls
+
+    @property
+    def conjugate(self) -> ConjugateGeometry:
+        """The conjugate cam (conjugate cams only)."""
+        if not isinstance(self.walls, ConjugateGeometry):
+            raise TypeError("a groove cam has no conjugate cam")
+        return self.walls
 
     @property
     def not_applicable(self) -> str:
@@ -175,12 +190,19 @@ def closure_study(case: Case, speed_rpm: float | None = None) -> ClosureStudy:
         return ClosureStudy(dyn.closure_response(case.motion, f, case.model, omega), groove(case.motion, f))
     second = conjugate(case.motion, f)  # first: a pair that cannot be assembled is refused before the dynamics
     r = dyn.closure_response(case.motion, f, case.model, omega)
-    primary, other = dyn.preload_shares(r.contact_force, f.pair_preload)
+    return ClosureStudy(r, second, cam_loads(case, r, f.pair_preload))
+
+
+def cam_loads(case: Case, response: dyn.ClosureResponse, preload: float) -> CamLoads:
+    """Each conjugate cam's force (N) under ``preload`` (N, or N*m about the pivot) for the net force of
+    ``response``."""
+    f = case.follower
+    primary, other = dyn.preload_shares(response.contact_force, preload)
     if case.oscillating:  # torques about the pivot -> each cam's contact force through its own lever
-        th = np.deg2rad(r.theta_deg)
+        th = np.deg2rad(response.theta_deg)
         primary = primary * newton_per_torque_at(case.motion, f, th)
         other = other * newton_per_torque(conjugate_lever_mm(case.motion, f, th))
-    return ClosureStudy(r, second, CamLoads(r.theta_deg, primary, other, f.pair_preload, f.translating))
+    return CamLoads(response.theta_deg, primary, other, preload, f.translating)
 
 
 MAX_IMPACT_POINTS = 10_000  # speeds x backlashes of a sweep: about 20 ms a point, a few minutes at the budget
@@ -265,6 +287,7 @@ class BacklashSizing:
     current_impact_velocity_m_per_s: float
     max_backlash_mm: float
     impact_velocity_at_max_m_per_s: float  # at max_backlash_mm (0 where inf)
+    closure: str = "groove"  # or "conjugate": the clearance at the conjugate cam
 
     @property
     def passes(self) -> bool:
@@ -275,7 +298,7 @@ class BacklashSizing:
         inf = np.isinf(self.max_backlash_mm)
         return {
             "case": self.case,
-            "closure": "groove",
+            "closure": self.closure,
             "speed_rpm": self.speed_rpm,
             "max_impact_velocity": self.max_impact_velocity,
             "backlash_mm": self.current_backlash_mm,
@@ -286,7 +309,8 @@ class BacklashSizing:
 
 
 def largest_backlash(case: Case, speed_rpm: float | None = None) -> BacklashSizing:
-    """The largest backlash that keeps the groove cam of ``case`` within ``max_impact_velocity`` at ``speed_rpm``
+    """The largest backlash that keeps the groove (or conjugate) cam of ``case`` within ``max_impact_velocity`` at
+    ``speed_rpm``
     (default: the case's): doubled from the case's (or 0.01 mm) until the impact exceeds the limit less
     :data:`~camdyn._core.units.AT_LIMIT_RTOL`, then bisected,
     then rounded down to :data:`BACKLASH_STEP_MM` and its impact computed again (what ``check`` then gives)."""
@@ -301,7 +325,7 @@ def largest_backlash(case: Case, speed_rpm: float | None = None) -> BacklashSizi
         return dyn.closure_response(case.motion, follower, case.model, rpm * RPM).max_impact_velocity_m_per_s
 
     v_now = impact(f.backlash)
-    out = lambda b, v: BacklashSizing(case.name, rpm, lim, float(f.backlash), v_now, b, v)  # noqa: E731
+    out = lambda b, v: BacklashSizing(case.name, rpm, lim, float(f.backlash), v_now, b, v, f.closure)  # noqa: E731
     lo, hi = 0.0, max(f.backlash, 10 * BACKLASH_STEP_MM)
     while impact(hi) <= target:
         lo, hi = hi, 2.0 * hi
@@ -312,3 +336,128 @@ def largest_backlash(case: Case, speed_rpm: float | None = None) -> BacklashSizi
         lo, hi = (mid, hi) if impact(mid) <= target else (lo, mid)
     b = round(math.floor(lo / BACKLASH_STEP_MM) * BACKLASH_STEP_MM, 9)  # 1.257, not 1.2570000000000001
     return out(b, impact(b) if b > 0.0 else 0.0)
+
+
+PRELOAD_MARGIN = 1.2  # a proposed preload between conjugate rollers: 20 % over the least that keeps both loaded
+PRELOAD_STEP = 0.1  # N (a yoke) or N*m (a rocker): a proposed preload is rounded up to this
+
+
+@dataclass(frozen=True)
+class PreloadSizing:
+    """The least preload between conjugate cams' rollers (N for a yoke, N*m about the pivot for a rocker) that keeps
+    both rollers loaded all round at ``speed_rpm``, and the one proposed: :data:`PRELOAD_MARGIN` x the least, rounded
+    up to :data:`PRELOAD_STEP`. With equally stiff contacts each cam carries P +- F/2 of the net force F
+    (:func:`camdyn.model.dynamics.preload_shares`), so both stay loaded while P > max |F| / 2."""
+
+    case: str
+    speed_rpm: float
+    translating: bool
+    max_net_force: float  # the largest |F| a revolution, N or N*m
+    current_preload: float
+    current_least_cam_force_N: float  # the least force on either cam with the case's preload (0: a roller unloads)
+    proposed_preload: float
+    proposed_least_cam_force_N: float  # the same with the proposed preload
+
+    @property
+    def least_preload(self) -> float:
+        """max |F| / 2: the preload at which the more loaded angle just unloads a roller."""
+        return 0.5 * self.max_net_force
+
+    @property
+    def holds(self) -> bool:
+        """Whether the case's own preload keeps both rollers loaded all round."""
+        return self.current_least_cam_force_N > 0.0
+
+    def json(self) -> dict:
+        unit = "_N" if self.translating else "_torque_N_m"
+        return {
+            "case": self.case,
+            "closure": "conjugate",
+            "speed_rpm": self.speed_rpm,
+            f"preload{unit}": self.current_preload,
+            "preload_held": self.holds,
+            "least_cam_force_N": self.current_least_cam_force_N,
+            "max_net_force_N" if self.translating else "max_net_torque_N_m": self.max_net_force,
+            f"least_preload{unit}": self.least_preload,
+            "margin": PRELOAD_MARGIN,
+            f"proposed_preload{unit}": self.proposed_preload,
+            "least_cam_force_at_proposed_N": self.proposed_least_cam_force_N,
+        }
+
+
+def least_preload(case: Case, speed_rpm: float | None = None) -> PreloadSizing:
+    """The preload that keeps both rollers of the conjugate cams of ``case`` loaded at ``speed_rpm`` (default: the
+    case's), with each cam's least force under the case's preload and the proposed one (:class:`CamLoads`)."""
+    f = case.follower
+    assert f is not None and f.closure == "conjugate" and f.backlash == 0.0  # a preload and a backlash exclude
+    rpm = float(case.speed_rpm if speed_rpm is None else speed_rpm)
+    r = dyn.closure_response(case.motion, f, case.model, rpm * RPM)
+    f_max = float(np.max(np.abs(r.contact_force)))
+    proposed = round(math.ceil(PRELOAD_MARGIN * 0.5 * f_max / PRELOAD_STEP) * PRELOAD_STEP, 9)
+
+    def least_cam_force(preload: float) -> float:
+        loads = cam_loads(case, r, preload)
+        return float(min(np.min(loads.primary_N), np.min(loads.conjugate_N)))
+
+    return PreloadSizing(
+        case.name,
+        rpm,
+        f.translating,
+        f_max,
+        float(f.pair_preload),
+        least_cam_force(f.pair_preload),
+        proposed,
+        least_cam_force(proposed),
+    )
+
+
+PRELOAD_MAP_COLUMNS = ("speed_rpm", "least_cam_force_N", "least_preload", "preload_held")
+
+
+@dataclass(frozen=True)
+class PreloadMap:
+    """Conjugate cams under their preload over cam speed: the least force on either cam (N; 0 where a roller
+    unloads) and the least preload that holds (half the largest |net force|: N, or N*m about the pivot) a
+    revolution at each speed."""
+
+    speeds_rpm: np.ndarray
+    least_cam_force_N: np.ndarray
+    least_preload: np.ndarray
+    preload: float  # the case's, N or N*m
+    translating: bool
+
+    @property
+    def columns(self) -> tuple[str, ...]:
+        """:data:`PRELOAD_MAP_COLUMNS` with the preload's unit: ``least_preload_N`` or ``least_preload_torque_N_m``."""
+        unit = "_N" if self.translating else "_torque_N_m"
+        return tuple(c + unit if c == "least_preload" else c for c in PRELOAD_MAP_COLUMNS)
+
+    @property
+    def held(self) -> np.ndarray:
+        """Whether the preload keeps both rollers loaded at each speed."""
+        return self.least_cam_force_N > 0.0
+
+    @property
+    def csv(self) -> str:
+        rows = [",".join(self.columns)]
+        for rpm, f, p, h in zip(self.speeds_rpm, self.least_cam_force_N, self.least_preload, self.held, strict=True):
+            rows.append(f"{rpm:.10g},{f:.10g},{p:.10g},{int(h)}")
+        return "\n".join(rows) + "\n"
+
+
+def preload_map(case: Case, speeds_rpm: np.ndarray, *, progress: Progress | None = None) -> PreloadMap:
+    """The least cam force and the least holding preload of the conjugate cams of ``case`` at every speed (rpm)."""
+    f = case.follower
+    assert f is not None and f.closure == "conjugate"  # the caller asks only of conjugate cams
+    speeds = np.asarray(speeds_rpm, dtype=float)
+    if speeds.size > MAX_IMPACT_POINTS:
+        raise InputError("--speeds", f"{speeds.size:,} speeds is beyond the sweep's budget of {MAX_IMPACT_POINTS:,}")
+    least, need = np.zeros(speeds.size), np.zeros(speeds.size)
+    tick = counter(progress, f"{case.name}: preload over speed", speeds.size)
+    for j, rpm in enumerate(speeds):
+        r = dyn.closure_response(case.motion, f, case.model, float(rpm) * RPM)
+        loads = cam_loads(case, r, f.pair_preload)
+        least[j] = min(np.min(loads.primary_N), np.min(loads.conjugate_N))
+        need[j] = 0.5 * np.max(np.abs(r.contact_force))
+        tick()
+    return PreloadMap(speeds, least, need, float(f.pair_preload), f.translating)

@@ -34,6 +34,7 @@ SIDE_DEG = 1e-7  # how far either side of a break the one-sided values are taken
 REVIEW_TOLERANCE_SAMPLES = 2000  # built cams of the report's tolerance page (seed 0; `camdyn tolerance` for more)
 SPEED_SCAN = 2000  # speeds of the force-against-speed curve: the grid of dynamic_jump_speed's scan
 MAP_SPEEDS, MAP_RATES = 48, 24  # the review's jump map: speeds x spring rates
+VALVETRAIN_MAP = 24, 6  # a valvetrain's (the two-mass model at each point, about 0.05 s a point)
 IMPACT_SPEEDS = 40  # a groove cam's impact speed against cam speed, up to 2 x the check's speed
 
 
@@ -227,6 +228,9 @@ def _review_jump_map(
         if not isinstance(sizing, Unavailable)
         else 2.0 * float(case.kind.rate_from_si(case.model.stiffness))
     )
-    speeds = np.linspace(top / MAP_SPEEDS, top, MAP_SPEEDS)
-    rates = np.linspace(k_top / MAP_RATES, k_top, MAP_RATES)
+    n_speeds, n_rates = MAP_SPEEDS, MAP_RATES
+    if case.valvetrain is not None:  # the two-mass model point by point: the valve spring's rates, a coarser grid
+        k_top, n_speeds, n_rates = 2.0 * float(case.spec.dynamics.spring_rate or 0.0), *VALVETRAIN_MAP
+    speeds = np.linspace(top / n_speeds, top, n_speeds)
+    rates = np.linspace(k_top / n_rates, k_top, n_rates)
     return _or_reason(jump_map, case, speeds, rates, gaps=False)

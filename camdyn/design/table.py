@@ -67,6 +67,12 @@ def motion_table(case: Case, step_deg: float = 1.0, speed_rpm: float | None = No
         cols["valve_lift_mm"] = np.interp(theta_deg, valve.theta_deg, valve.valve_lift, period=360.0)
         cols["valve_velocity_m_per_s"] = np.interp(theta_deg, valve.theta_deg, valve.valve_velocity, period=360.0)
     cols["drive_torque_N_m"] = torque  # the camshaft torque of the kinematic force, from the power balance
+    if study is not None and study.loads is not None:  # conjugate cams: the second cam and each cam's force
+        cols |= study.conjugate.table(theta_deg)
+        cols["primary_cam_force_N"] = np.interp(theta_deg, study.loads.theta_deg, study.loads.primary_N, period=360.0)
+        cols["conjugate_cam_force_N"] = np.interp(
+            theta_deg, study.loads.theta_deg, study.loads.conjugate_N, period=360.0
+        )
     return cols
 
 

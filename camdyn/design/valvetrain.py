@@ -112,15 +112,27 @@ class ValvetrainResult:
         )
 
 
-def refuse_valvetrain(case: Case, what: str) -> None:
-    """:class:`InputError` where a study that knows one follower (``what``: sizing, a jump map, a tolerance study,
-    the optimizer) is asked about a valvetrain: it would judge the equivalent single follower, without the lash, the
-    seat or float, and propose what ``check`` may then fail."""
+def refuse_valvetrain(case: Case, what: str, why: str = "") -> None:
+    """:class:`InputError` where a study that knows one follower (``what``: a tolerance study, the optimizer) is
+    asked about a valvetrain: it would judge the equivalent single follower, without the lash, the seat or float,
+    and propose what ``check`` may then fail; ``why``: what else it would get wrong."""
     if case.valvetrain is not None:
         raise InputError(
             "valvetrain",
             f"{what} does not model a valvetrain yet (it would judge the equivalent single follower, without the lash, "
-            "the seat or float): camdyn check gives its float and bounce speeds",
+            f"the seat or float{why}): camdyn check gives its float and bounce speeds; size, sweep and tolerance "
+            "model it",
+        )
+
+
+def refuse_spring_part(case: Case, what: str) -> None:
+    """:class:`InputError` where a valvetrain study that rebuilds the two-mass model per point (``what``) is given a
+    ``[spring]`` part, whose own mass and surge it does not carry yet."""
+    if case.valvetrain is not None and case.spec.spring is not None:
+        raise InputError(
+            "spring",
+            f"{what} of a valvetrain does not carry a [spring] part's mass yet: put a third of the spring's mass in "
+            "valvetrain.valve_mass and remove [spring]",
         )
 
 

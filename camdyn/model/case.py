@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
@@ -89,6 +89,18 @@ class Case:
         elif self.fit is not None:
             out["fit"] = self.fit.json()
         return out
+
+
+def with_valvetrain_keys(case: Case, dynamics: dict | None = None, valvetrain: dict | None = None) -> Case:
+    """A ``[valvetrain]`` case with ``[dynamics]`` and ``[valvetrain]`` keys replaced (the case file's names and
+    units: the valve spring's ``spring_rate`` N/mm and ``preload`` N at the valve, the masses, the stiffness, the
+    lash), its two-mass model and equivalent follower rebuilt; the motion (ramps included) is kept."""
+    assert case.spec.valvetrain is not None  # the caller's: a [valvetrain] case
+    d = case.spec.dynamics.model_copy(update=dynamics or {})
+    v = case.spec.valvetrain.model_copy(update=valvetrain or {})
+    vt = valvetrain_model(v, d, float(_lifts(case.motion).max()))
+    spec = case.spec.model_copy(update={"dynamics": d, "valvetrain": v})
+    return replace(case, spec=spec, model=equivalent_follower(vt), valvetrain=vt)
 
 
 def load_case(path: str | Path) -> Case:

@@ -23,6 +23,8 @@ from .dynamics import (
     plot_vibration,
 )
 from .groove import (
+    flank_names,
+    plot_cam_pressure_angles,
     plot_flank_force,
     plot_groove_cam,
     plot_impact_histogram,
@@ -31,6 +33,7 @@ from .groove import (
     plot_wall_curvature,
     save_impact_histogram_png,
     save_impact_png,
+    save_preload_png,
 )
 from .jumpmap import plot_jump_map, save_png
 from .mechanism import mechanism_bounds, mechanism_frames, plot_mechanism, plot_path, plot_path_error
@@ -38,10 +41,19 @@ from .motion import display_scale, display_unit, plot_fit, plot_svaj, svaj_quant
 from .optimization import plot_motion_before_after, plot_speed_before_after
 from .parts import plot_contact, plot_drive, plot_spring
 from .springs import PLOT_COLORS, plot_feasible_region
-from .tolerance import plot_jump_speed_histogram, plot_tolerance_tornado, save_tolerance_png
+from .tolerance import (
+    plot_jump_speed_histogram,
+    plot_seating_velocity_histogram,
+    plot_tolerance_tornado,
+    plot_valve_speed_histogram,
+    save_tolerance_png,
+    save_valve_tolerance_png,
+)
 from .valvetrain import plot_rocker_ratio, plot_seating_velocity, plot_valve_lift, plot_valve_velocity
 
 __all__ = [
+    "flank_names",
+    "plot_cam_pressure_angles",
     "plot_flank_force",
     "plot_groove_cam",
     "plot_impact_histogram",
@@ -50,6 +62,7 @@ __all__ = [
     "plot_wall_curvature",
     "save_impact_histogram_png",
     "save_impact_png",
+    "save_preload_png",
     "plot_seating_velocity",
     "plot_rocker_ratio",
     "plot_valve_lift",
@@ -98,4 +111,7 @@ __all__ = [
     "plot_jump_speed_histogram",
     "plot_tolerance_tornado",
     "save_tolerance_png",
+    "plot_valve_speed_histogram",
+    "plot_seating_velocity_histogram",
+    "save_valve_tolerance_png",
 ]

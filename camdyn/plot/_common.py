@@ -169,3 +169,25 @@ def mark_mean_and_peak_torque(ax: Axes, theta_deg: np.ndarray, drive: DriveTorqu
         label=f"peak {drive.peak_torque:.3g} N\u00b7m at {drive.peak_torque_at_deg:.1f}\u00b0",
     )
     ax.axhline(0.0, color="0.6", lw=0.5)
+
+
+def sample_histogram(
+    ax: Axes,
+    values: np.ndarray,
+    limit: tuple[float, str],
+    marks: Sequence[tuple[float, str, str]],
+    title: str,
+    xlabel: str,
+) -> None:
+    """A tolerance study's histogram of ``values`` (the samples'), the ``limit`` (x, label) as a red line and each
+    of ``marks`` (x, line style, label: its percentiles) as a black one; NaN or infinite samples are left out."""
+    shown = values[np.isfinite(values)]
+    if shown.size:
+        ax.hist(shown, bins=min(60, max(10, int(np.sqrt(shown.size)))), color=PALETTE["dyn"], alpha=0.8)
+    ax.axvline(limit[0], color=PALETTE["limit"], lw=1.5, label=limit[1])
+    for x, style, label in marks:
+        ax.axvline(x, color=PALETTE["ink"], ls=style, lw=1, label=label)
+    ax.set_title(title, fontsize=9)
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel("samples")
+    ax.legend(fontsize=8)

@@ -10,6 +10,7 @@ import numpy as np
 from matplotlib.axes import Axes
 
 from .._core.kinds import kind_of_motion
+from .._core.results import Unavailable
 from .._core.units import RPM
 from ..design.review import Review
 from ..model.dynamics import Response
@@ -163,6 +164,10 @@ def plot_force_vs_speed(ax: Axes, review: Review) -> None:
     """The least contact force against cam speed (kinematic; the frequency-domain steady state of a compliant
     train), the jump speeds, speed_margin x speed, min_contact_force and the check's operating point."""
     sw, chk = review.force_vs_speed, review.check
+    if isinstance(sw, Unavailable):  # a form-closed cam: it cannot jump, there is no speed to hold to
+        ax.text(0.5, 0.5, sw.reason, ha="center", va="center", wrap=True, transform=ax.transAxes)
+        ax.set_axis_off()
+        return
     rpm = chk.speed_rpm
     v = sw.speeds_rpm
     ax.plot(v, sw.kinematic_N, color=C["kin"], ls="--", lw=1.0, label="kinematic (rigid)")

@@ -1,6 +1,7 @@
-"""A groove cam drawn (``[follower] closure = "groove"``): the cam with both walls, the signed contact force with
-its crossovers and impacts, and each wall's radius of curvature. Each takes a
-:class:`~camdyn.design.checks.CheckReport` of a groove cam (``check.closure`` set)."""
+"""A form-closed cam drawn (``[follower] closure = "groove"`` or ``"conjugate"``): the cam with both walls (or
+both conjugate cams, each roller on its cam), the signed contact force with its crossovers and impacts (and each
+conjugate cam's own force under the preload), and each flank's radius of curvature. Each takes a
+:class:`~camdyn.design.checks.CheckReport` of a form-closed cam (``check.closure`` set)."""
 
 from __future__ import annotations
 
@@ -15,9 +16,10 @@ from matplotlib.patches import Circle, Polygon
 
 from .._core.units import DEFAULT_MIN_CURVATURE_RATIO
 from ..design.checks import CheckKind, CheckReport
-from ..design.closure import ClosureStudy, ImpactMap
+from ..design.closure import ClosureStudy, ImpactMap, PreloadMap
 from ..design.tolerance import ImpactToleranceResult
-from ._common import C, deg_ticks, legend_above_data, mark_breaks
+from ..model.geometry import ConjugateGeometry
+from ._common import C, deg_ticks, legend_above_data, mark_breaks, sample_histogram
 from .cam import (
     _curvature_mark,
     _pressure_angle_mark,
@@ -25,14 +27,29 @@ from .cam import (
     check_colour,
     curvature_limit_line,
     plot_follower,
+    plot_pressure_angle,
 )
 
 WALL_COLOURS = {"inner": C["dyn"], "outer": C["advice"]}
+CAM_COLOURS = {"primary": C["dyn"], "conjugate": C["iso"]}
 
 
 def _study(check: CheckReport) -> ClosureStudy:
-    assert check.closure is not None, "a groove cam's check (check.closure set)"
+    assert check.closure is not None, "a form-closed cam's check (check.closure set)"
     return check.closure
+
+
+def flank_names(check: CheckReport) -> tuple[str, str]:
+    """The flank a positive force presses and the other: a groove's walls, or the conjugate cams."""
+    return ("inner flank", "outer flank") if _study(check).loads is None else ("primary cam", "conjugate cam")
+
+
+def conjugate_centre(study: ClosureStudy, theta_deg: float) -> np.ndarray:
+    """The second roller's centre in the cam frame at cam angle ``theta_deg`` (mm; the nearest grid angle)."""
+    w = study.walls
+    assert isinstance(w, ConjugateGeometry)
+    n = w.theta_deg.size
+    return w.pitch[:, int(round(theta_deg / 360.0 * n)) % n]
 
 
 def flight_spans_deg(check: CheckReport) -> list[tuple[float, float]]:
@@ -47,30 +64,59 @@ def flight_spans_deg(check: CheckReport) -> list[tuple[float, float]]:
     return out
 
 
+def _second_roller(ax: Axes, study: ClosureStudy, at: dict, theta_deg: float, *, colour: str, **kw) -> np.ndarray:
+    """The conjugate cam's roller at ``theta_deg`` (cam frame) tied to the first (``at``: its
+    :func:`follower_pose`): the rocker's second arm from the pivot, or the yoke between the rollers."""
+    centre = conjugate_centre(study, theta_deg)
+    rr2 = study.conjugate.roller_radius_mm
+    lw, alpha, z = kw.get("lw", 1.0), kw.get("alpha", 1.0), kw.get("z", 3)
+    ax.add_patch(Circle((float(centre[0]), float(centre[1])), rr2, fill=False, ec=colour, lw=lw, alpha=alpha, zorder=z))
+    ax.plot(*centre, marker=".", ms=2.5, color=colour, alpha=alpha, zorder=z)
+    tie = at["centre"] if at["pivot"] is None else at["pivot"]
+    ax.plot(*np.c_[tie, centre], color=colour, lw=lw * 1.6, alpha=alpha, zorder=z, solid_capstyle="butt")
+    return centre
+
+
 def plot_groove_cam(
     ax: Axes, check: CheckReport, *, angles: Sequence[float] = (0.0, 90.0, 180.0, 270.0), marks: bool = True
 ) -> None:
-    """The groove cam in its frame: the slot between the inner and the outer wall (the cam's face shaded, the slot
-    white), the pitch curve, the roller at ``angles`` (grey); with ``marks`` the roller where each crossover's
-    flight lands (on the flank it lands on), the largest pressure angle and the inner wall's least radius of
-    curvature, and the legend."""
+    """The form-closed cam in its frame: a groove's slot between the inner and the outer wall (the cam's face
+    shaded, the slot white), or both conjugate cams (the primary shaded, the conjugate outlined over it), the pitch
+    curve(s), the roller(s) at ``angles`` (grey); with ``marks`` the roller where each crossover's flight lands (on
+    the flank it lands on), the largest pressure angle and the (primary or inner) least radius of curvature, and
+    the legend."""
     study, geo = _study(check), check.geometry
-    assert geo is not None  # check computes a groove cam's geometry
+    assert geo is not None  # check computes a form-closed cam's geometry
     walls, f = study.walls, geo.follower
+    conj = isinstance(walls, ConjugateGeometry)
     ax.set_aspect("equal")
     ax.grid(False)
-    r_out = float(np.hypot(*walls.outer).max())
-    disc = 1.12 * r_out
-    ax.add_patch(Circle((0, 0), disc, fc=C["cam"], ec=C["ink"], lw=1.0, zorder=0.5, label="cam face"))
-    ax.add_patch(Polygon(walls.outer.T, closed=True, fc="white", ec="none", zorder=0.8))
-    ax.add_patch(Polygon(walls.inner.T, closed=True, fc=C["cam"], ec="none", zorder=0.9))
-    for name in ("inner", "outer"):
-        xy = getattr(walls, name)
-        ax.plot(*np.c_[xy, xy[:, :1]], color=WALL_COLOURS[name], lw=1.3, zorder=2, label=f"{name} wall")
-    ax.plot(*np.c_[geo.pitch, geo.pitch[:, :1]], color=C["grey"], lw=0.8, ls="--", zorder=2, label="pitch curve")
+    if conj:
+        r_out = float(max(np.hypot(*geo.pitch).max(), np.hypot(*walls.pitch).max()))
+        disc = r_out + max(f.roller_radius or 0.0, walls.roller_radius_mm)
+        ax.add_patch(Polygon(geo.contour.T, closed=True, fc=C["cam"], ec="none", zorder=0.8))
+        ax.add_patch(Polygon(walls.contour.T, closed=True, fc=C["iso"], alpha=0.1, ec="none", zorder=0.9))
+        curves = (("primary", geo.contour, geo.pitch), ("conjugate", walls.contour, walls.pitch))
+        for name, contour, pitch in curves:
+            colour = CAM_COLOURS[name]
+            ax.plot(*np.c_[contour, contour[:, :1]], color=colour, lw=1.3, zorder=2, label=f"{name} cam")
+            ax.plot(*np.c_[pitch, pitch[:, :1]], color=colour, lw=0.7, ls="--", alpha=0.8, zorder=2)
+        ax.plot([], [], color=C["grey"], lw=0.7, ls="--", label="pitch curves")
+    else:
+        r_out = float(np.hypot(*walls.outer).max())
+        disc = 1.12 * r_out
+        ax.add_patch(Circle((0, 0), disc, fc=C["cam"], ec=C["ink"], lw=1.0, zorder=0.5, label="cam face"))
+        ax.add_patch(Polygon(walls.outer.T, closed=True, fc="white", ec="none", zorder=0.8))
+        ax.add_patch(Polygon(walls.inner.T, closed=True, fc=C["cam"], ec="none", zorder=0.9))
+        for name in ("inner", "outer"):
+            xy = getattr(walls, name)
+            ax.plot(*np.c_[xy, xy[:, :1]], color=WALL_COLOURS[name], lw=1.3, zorder=2, label=f"{name} wall")
+        ax.plot(*np.c_[geo.pitch, geo.pitch[:, :1]], color=C["grey"], lw=0.8, ls="--", zorder=2, label="pitch curve")
     ax.plot(0, 0, marker="+", color=C["ink"], ms=9, mew=1.2, zorder=4)
     for th in angles:
         at = plot_follower(ax, geo, th, colour=C["grey"], lw=0.9, alpha=0.85, z=3)
+        if conj:
+            _second_roller(ax, study, at, th, colour=C["grey"], lw=0.9, alpha=0.85, z=3)
         if marks:
             ax.annotate(
                 f"{th:g}\u00b0",
@@ -84,6 +130,8 @@ def plot_groove_cam(
                 zorder=5,
             )
     lim = disc * 1.04
+    if conj and not f.translating:  # the rocker's pivot lies beyond the cams
+        lim = max(lim, 1.08 * (f.pivot_distance or 0.0))
     ax.set_xlim(-lim, lim)
     ax.set_ylim(-lim, lim)
     ax.set_xlabel("x, cam frame = fixed frame at \u03b8 = 0 (mm)" if marks else "x (mm)")
@@ -91,12 +139,16 @@ def plot_groove_cam(
     if not marks:
         return
     colour = check_colour(check, CheckKind.CROSSOVER_IMPACT, C["margin"])
-    for k, c in enumerate(study.response.crossovers):
+    landings = study.response.crossovers if not conj or study.response.backlash_mm > 0.0 else ()  # none at b = 0
+    for k, c in enumerate(landings):
         at = plot_follower(ax, geo, c.land_deg, colour=colour, lw=1.4, z=6, stem=False)
-        out = at["centre"] / max(float(np.linalg.norm(at["centre"])), 1e-9)
+        where = at["centre"]
+        if conj and c.to_flank == "conjugate":
+            where = _second_roller(ax, study, at, c.land_deg, colour=colour, lw=1.4, z=6)
+        out = where / max(float(np.linalg.norm(where)), 1e-9)
         ax.annotate(
             f"lands {c.land_deg:.0f}\u00b0\n({c.to_flank})",
-            at["centre"],
+            (float(where[0]), float(where[1])),
             xytext=tuple(26 * out),
             textcoords="offset points",
             size=7,
@@ -118,14 +170,23 @@ def plot_groove_cam(
 def plot_flank_force(
     ax: Axes, check: CheckReport, *, breaks_deg: Sequence[float] = (), legend: bool = True, marks: bool = True
 ) -> None:
-    """The signed contact force (N at the roller) over a revolution: positive on the inner flank, negative on the
-    outer, 0 in flight across the backlash (shaded); the kinematic force (the roller on the pitch curve) dashed;
-    each crossover (where the force leaves its flank) and each impact (on the flank it lands on: its peak force
-    where the train is compliant, else its speed) marked, labelled with ``marks``."""
+    """The signed contact force (N at the roller) over a revolution: positive on the inner flank (the primary cam),
+    negative on the outer (the conjugate cam), 0 in flight across the backlash (shaded); the kinematic force (the
+    roller on the pitch curve) dashed; of conjugate cams each cam's own force under the preload (its share); each
+    crossover (where the force leaves its flank) and each impact (on the flank it lands on: its peak force where
+    the train is compliant, else its speed) marked, labelled with ``marks``."""
     study, resp = _study(check), check.response
     th = resp.theta_deg
+    plus, minus = flank_names(check)
+    loads = study.loads if study.response.backlash_mm == 0.0 else None  # with backlash there is no preload
+    conj = study.loads is not None
+    if loads is not None:
+        for name, share in (("primary", loads.primary_N), ("conjugate", loads.conjugate_N)):
+            ax.plot(loads.theta_deg, share, color=CAM_COLOURS[name], lw=1.0, alpha=0.9, label=f"on the {name} cam")
     ax.plot(th, resp.kinematic_force, color=C["kin"], lw=1.0, ls="--", label="kinematic (on the pitch curve)")
-    ax.plot(th, resp.force, color=C["dyn"], lw=1.3, label=f"contact force at {check.speed_rpm:g} rpm")
+    net = "contact force" if loads is None else "net force"
+    colour = C["dyn" if loads is None else "ink"]
+    ax.plot(th, resp.force, color=colour, lw=1.3, label=f"{net} at {check.speed_rpm:g} rpm")
     ax.axhline(0.0, color=C["ink"], lw=0.8)
     for k, (a, b) in enumerate(flight_spans_deg(check)):
         ax.axvspan(
@@ -140,9 +201,11 @@ def plot_flank_force(
             lw=0.8,
             ls="-.",
             zorder=1,
-            label="crossover (the force changes flank)" if k == 0 else None,
+            label=f"crossover (the force changes {'cam' if conj else 'flank'})" if k == 0 else None,
         )
-        sign = 1.0 if c.to_flank == "inner" else -1.0
+        if loads is not None:
+            continue  # held on both cams: no flight, no impact to mark
+        sign = 1.0 if c.to_flank in ("inner", "primary") else -1.0
         if c.impact_force_N is not None:
             y = sign * c.impact_force_N
             text = f"{c.impact_velocity_m_per_s:.3g} m/s, {c.impact_force_N:.3g} N"
@@ -177,13 +240,16 @@ def plot_flank_force(
     if not marks:
         return
     lo, hi = ax.get_ylim()
-    ax.text(2, hi * 0.96, "inner flank (+)", size=7, color=C["grey"], va="top")
-    ax.text(2, lo * 0.96, "outer flank (\u2212)", size=7, color=C["grey"], va="bottom")
+    ax.text(2, hi * 0.96, f"{plus} (+)", size=7, color=C["grey"], va="top")
+    ax.text(2, lo * 0.96, f"{minus} (\u2212)", size=7, color=C["grey"], va="bottom")
     ax.set_xlabel("cam angle \u03b8 (deg)")
+    if loads is None:
+        what = "on the cam that carries it" if conj else "on the flank that carries it"
+    else:
+        unit = "N" if loads.translating else "N\u00b7m"
+        what = f"net (signed) and on each cam under the preload {loads.preload:g} {unit}"
     ax.set_title(
-        f"contact force on the flank that carries it at {check.speed_rpm:g} rpm (backlash "
-        f"{study.response.backlash_mm:g} mm)",
-        fontsize=9,
+        f"contact force {what} at {check.speed_rpm:g} rpm (backlash {study.response.backlash_mm:g} mm)", fontsize=9
     )
     if legend:
         legend_above_data(ax, fontsize=7, ncol=2)
@@ -196,27 +262,57 @@ def plot_wall_curvature(
     min_curvature_ratio: float = DEFAULT_MIN_CURVATURE_RATIO,
     breaks_deg: Sequence[float] = (),
 ) -> None:
-    """Both walls' radii of curvature against the cam angle, as the roller sees each (convex towards it > 0: one
-    wall is concave where the other is convex), the limit (``min_curvature_ratio`` x roller radius) and each
-    wall's least convex radius marked."""
+    """Both walls' (or both conjugate cams') radii of curvature against the cam angle, as the roller sees each
+    (convex towards it > 0: a groove's one wall is concave where the other is convex), the limit
+    (``min_curvature_ratio`` x roller radius) and each one's least convex radius marked."""
     study, geo = _study(check), check.geometry
-    assert geo is not None and geo.follower.roller_radius is not None  # a groove holds a roller
+    assert geo is not None and geo.follower.roller_radius is not None  # a form-closed cam holds a roller
     walls = study.walls
     rr = geo.follower.roller_radius
     cap = 3.0 * float(geo.follower.base_radius or rr)
-    for name in ("inner", "outer"):
-        rho = np.asarray(getattr(walls, f"rho_{name}_mm"))
-        shown = np.where(np.isfinite(rho) & (np.abs(rho) <= cap * 1.05), rho, np.nan)
-        ax.plot(walls.theta_deg, shown, color=WALL_COLOURS[name], lw=1.3, label=f"{name} wall")
-        w = getattr(walls, f"{name}_wall")
-        if np.isfinite(w.min_convex_radius_mm):
-            ax.plot(
-                w.min_convex_radius_at_deg,
-                w.min_convex_radius_mm,
-                "o",
-                ms=4.5,
-                color=check_colour(check, CheckKind.CURVATURE, WALL_COLOURS[name]),
+    if isinstance(walls, ConjugateGeometry):
+        least = walls.convex.min_convex_radius_mm, walls.convex.min_convex_radius_at_deg
+        curves = [
+            (
+                "primary cam",
+                CAM_COLOURS["primary"],
+                geo.theta_deg,
+                geo.rho_contour_mm,
+                CheckKind.CURVATURE,
+                (geo.min_radius_of_curvature_mm, geo.min_radius_of_curvature_at_deg),
+            ),
+            (
+                "conjugate cam",
+                CAM_COLOURS["conjugate"],
+                walls.theta_deg,
+                walls.rho_contour_mm,
+                CheckKind.CONJUGATE_CURVATURE,
+                least,
+            ),
+        ]
+        what = "each cam"
+    else:
+        curves = [
+            (
+                f"{n} wall",
+                WALL_COLOURS[n],
+                walls.theta_deg,
+                getattr(walls, f"rho_{n}_mm"),
+                CheckKind.CURVATURE,
+                (
+                    getattr(walls, f"{n}_wall").min_convex_radius_mm,
+                    getattr(walls, f"{n}_wall").min_convex_radius_at_deg,
+                ),
             )
+            for n in ("inner", "outer")
+        ]
+        what = "each wall"
+    for label, colour, th, rho, kind, (r_least, at_deg) in curves:
+        rho = np.asarray(rho)
+        shown = np.where(np.isfinite(rho) & (np.abs(rho) <= cap * 1.05), rho, np.nan)
+        ax.plot(th, shown, color=colour, lw=1.3, label=label)
+        if np.isfinite(r_least):
+            ax.plot(at_deg, r_least, "o", ms=4.5, color=check_colour(check, kind, colour))
     curvature_limit_line(ax, min_curvature_ratio, rr)
     ax.axhline(0, color="#888888", lw=0.6)
     ax.set_ylim(-cap, cap)
@@ -225,9 +321,25 @@ def plot_wall_curvature(
     ax.set_ylabel("radius of curvature (mm)")
     ax.set_xlabel("cam angle \u03b8 (deg)")
     ax.set_title(
-        f"radius of curvature of each wall as the roller sees it (convex > 0; |\u03c1| above {cap:.0f} mm not drawn)",
+        f"radius of curvature of {what}, as its roller sees it (convex > 0; |\u03c1| > {cap:.0f} mm not drawn)",
         fontsize=9,
     )
+    ax.legend(loc="upper right", fontsize=7, ncol=2)
+
+
+def plot_cam_pressure_angles(ax: Axes, check: CheckReport, *, breaks_deg: Sequence[float] = ()) -> None:
+    """Conjugate cams: each cam's pressure angle against the cam angle (the conjugate's from the direction it
+    drives the follower back), the limit and each one's largest marked."""
+    study, geo = _study(check), check.geometry
+    walls = study.walls
+    assert geo is not None and isinstance(walls, ConjugateGeometry)
+    plot_pressure_angle(ax, geo, check, breaks_deg=breaks_deg)
+    ax.lines[0].set_label("primary cam")
+    ax.plot(walls.theta_deg, walls.pressure_angle_deg, color=CAM_COLOURS["conjugate"], lw=1.3, label="conjugate cam")
+    i = int(np.argmax(np.abs(walls.pressure_angle_deg)))
+    colour = check_colour(check, CheckKind.CONJUGATE_PRESSURE_ANGLE, CAM_COLOURS["conjugate"])
+    ax.plot(walls.theta_deg[i], walls.pressure_angle_deg[i], "o", color=colour, ms=4.5)
+    ax.set_title("pressure angle of each cam (the conjugate's from the way it drives the follower back)", fontsize=9)
     ax.legend(loc="upper right", fontsize=7, ncol=2)
 
 
@@ -251,7 +363,7 @@ def plot_impact_speed(ax: Axes, impacts: ImpactMap, *, speed_rpm: float | None =
     ax.set_xlabel("cam speed (rpm)")
     ax.set_ylabel("impact speed (m/s)")
     ax.set_title(
-        "largest impact speed across the backlash against cam speed (a groove cam has no jump speed)", fontsize=9
+        "largest impact speed across the backlash against cam speed (a form-closed cam has no jump speed)", fontsize=9
     )
     legend_above_data(ax, also=(lim,), fontsize=7, ncol=3, loc="upper left")
 
@@ -300,25 +412,84 @@ def save_impact_png(
     fig.savefig(path, dpi=120)
 
 
+def plot_preload_map(ax: Axes, pm: PreloadMap, *, speed_rpm: float | None = None) -> None:
+    """Conjugate cams over cam speed: the least preload that keeps both rollers loaded (half the largest |net
+    force|) against the case's preload, and the case's speed marked; the preload holds where its line is above."""
+    unit = "N" if pm.translating else "N\u00b7m"
+    ax.plot(pm.speeds_rpm, pm.least_preload, color=C["dyn"], lw=1.3, label="least preload that holds (max |F| / 2)")
+    ax.axhline(pm.preload, color=C["limit"], ls="--", lw=0.9, label=f"the case's preload {pm.preload:g} {unit}")
+    if speed_rpm is not None:
+        ax.axvline(speed_rpm, color=C["ink"], ls=":", lw=0.9, label=f"{speed_rpm:g} rpm")
+    ax.set_xlim(0.0, float(pm.speeds_rpm[-1]))
+    ax.set_ylim(0.0, 1.1 * max(pm.preload, float(np.max(pm.least_preload))))
+    ax.set_xlabel("cam speed (rpm)")
+    ax.set_ylabel(f"preload ({unit})")
+    ax.set_title("least preload between the rollers against cam speed (conjugate cams have no jump speed)", fontsize=9)
+    legend_above_data(ax, also=(pm.preload,), fontsize=7, loc="upper left")
+
+
+def plot_least_cam_force(ax: Axes, pm: PreloadMap, *, speed_rpm: float | None = None) -> None:
+    """Conjugate cams over cam speed: the least force on either cam under the case's preload (0: a roller
+    unloads), the case's speed marked."""
+    ax.plot(pm.speeds_rpm, pm.least_cam_force_N, color=C["dyn"], lw=1.3, label="least force on either cam")
+    ax.axhline(0.0, color=C["limit"], ls="--", lw=0.9, label="0: a roller unloads")
+    if speed_rpm is not None:
+        ax.axvline(speed_rpm, color=C["ink"], ls=":", lw=0.9, label=f"{speed_rpm:g} rpm")
+    ax.set_xlim(0.0, float(pm.speeds_rpm[-1]))
+    ax.set_xlabel("cam speed (rpm)")
+    ax.set_ylabel("least cam force (N)")
+    ax.set_title("least force on either cam under the preload", fontsize=9)
+    legend_above_data(ax, fontsize=7, loc="upper right")
+
+
+def save_preload_png(pm: PreloadMap, path: str | Path, *, speed_rpm: float | None = None) -> None:
+    """Write :func:`plot_preload_map` and :func:`plot_least_cam_force` of ``pm`` as a PNG (no pyplot state)."""
+    fig = Figure(figsize=(8, 7), layout="constrained")
+    top, bottom = fig.subplots(2, 1, sharex=True)
+    plot_preload_map(top, pm, speed_rpm=speed_rpm)
+    plot_least_cam_force(bottom, pm, speed_rpm=speed_rpm)
+    top.set_xlabel("")
+    fig.savefig(path, dpi=120)
+
+
+def plot_least_cam_force_histogram(ax: Axes, result: ImpactToleranceResult) -> None:
+    """Conjugate cams under a preload: histogram of the built cams' least force on either cam (N), 0 (a roller
+    unloads) and the P1/P50 marked."""
+    held = result.least_cam_force_N
+    assert held is not None  # a preloaded pair's study
+    q = {p: float(np.percentile(held, p, method="inverted_cdf")) for p in (1, 50)}
+    lo, hi = result.unloaded_interval
+    sample_histogram(
+        ax,
+        held,
+        (0.0, "0: a roller unloads"),
+        [(q[1], ":", f"P1 {q[1]:.4g} N"), (q[50], "--", f"P50 {q[50]:.4g} N")],
+        f"{result.case}: least force on either cam of {result.samples} built conjugate cams; P(a roller unloads) = "
+        f"{result.unloaded_probability:.3g} [{lo:.3g}, {hi:.3g}]",
+        "least force on either cam (N)",
+    )
+
+
 def plot_impact_histogram(ax: Axes, result: ImpactToleranceResult) -> None:
-    """Histogram of the built cams' largest impact speed (m/s), the limit and the P50/P99 marked."""
+    """Histogram of the built cams' largest impact speed (m/s), the limit and the P50/P99 marked (conjugate cams
+    under a preload: :func:`plot_least_cam_force_histogram`)."""
+    if result.least_cam_force_N is not None:
+        plot_least_cam_force_histogram(ax, result)
+        return
     v = result.impact_velocity_m_per_s
-    ax.hist(v, bins=min(60, max(10, int(np.sqrt(v.size)))), color=C["dyn"], alpha=0.8)
     lim = result.max_impact_velocity
-    ax.axvline(lim, color=C["limit"], lw=1.5, label=f"max_impact_velocity {lim:g} m/s")
     q = result.percentiles(v)
     assert q is not None  # impact speeds are finite
-    for name, style in (("p50", "--"), ("p99", ":")):
-        ax.axvline(q[name], color=C["ink"], ls=style, lw=1, label=f"{name.upper()} {q[name]:.3g} m/s")
     lo, hi = result.confidence_interval
-    ax.set_title(
-        f"{result.case}: largest impact speed of {result.samples} built groove cams; P(over the limit) = "
+    sample_histogram(
+        ax,
+        v,
+        (lim, f"max_impact_velocity {lim:g} m/s"),
+        [(q[n], style, f"{n.upper()} {q[n]:.3g} m/s") for n, style in (("p50", "--"), ("p99", ":"))],
+        f"{result.case}: largest impact speed of {result.samples} built {result.closure} cams; P(over the limit) = "
         f"{result.probability:.3g} [{lo:.3g}, {hi:.3g}]",
-        fontsize=9,
+        "largest impact speed across the backlash (m/s)",
     )
-    ax.set_xlabel("largest impact speed across the backlash (m/s)")
-    ax.set_ylabel("samples")
-    ax.legend(fontsize=8)
 
 
 def save_impact_histogram_png(result: ImpactToleranceResult, path: str | Path) -> None:

@@ -22,9 +22,12 @@ def plot_jump_map(ax: Axes, jm: JumpMap) -> QuadMesh | None:
     ax.set_title(title, fontsize=10)
     if jm.spring_rates.size > 1 and jm.speeds_rpm.size > 1:
         mesh = ax.pcolormesh(jm.speeds_rpm, jm.spring_rates, jm.min_force.T, shading="nearest", cmap="viridis")
-        cs = ax.contour(jm.speeds_rpm, jm.spring_rates, jm.contact_force.T, levels=[0.0], colors="red", linewidths=1.5)
-        ax.plot([], [], color="red", label="jump boundary (Fi = 0)")
-        del cs
+        ax.contour(jm.speeds_rpm, jm.spring_rates, jm.contact_force.T, levels=[0.0], colors="red", linewidths=1.5)
+        ax.plot([], [], color="red", label="float boundary" if jm.valve is not None else "jump boundary (Fi = 0)")
+        if jm.valve is not None:  # where the valve leaves its seat after closing
+            bounced = jm.valve.bounced.astype(float).T
+            ax.contour(jm.speeds_rpm, jm.spring_rates, bounced, levels=[0.5], colors="orange", linewidths=1.5)
+            ax.plot([], [], color="orange", label="bounce boundary")
         ax.plot(
             [jm.speed_rpm],
             [jm.spring_rate],
@@ -51,6 +54,9 @@ def plot_jump_map(ax: Axes, jm: JumpMap) -> QuadMesh | None:
     for j, i in enumerate(cross):  # linear interpolation of the sign change
         xb = x[i] - f[i] * (x[i + 1] - x[i]) / (f[i + 1] - f[i])
         ax.axvline(xb, color="red", linewidth=1.2, label="jump boundary (Fi = 0)" if j == 0 else None)
+    if jm.valve is not None:  # the points where the valve bounces
+        hit = (jm.valve.bounced[:, 0] if jm.spring_rates.size == 1 else jm.valve.bounced[0, :]).astype(bool)
+        ax.plot(x[hit], np.maximum(f, 0.0)[hit], "x", color="orange", label="valve bounces")
     ax.axvline(op_x, color="black", linestyle="--", linewidth=1.0, label=op_label)
     ax.set_xlabel(xlabel)
     ax.set_ylabel("least contact force (N)")

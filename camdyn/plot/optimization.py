@@ -8,6 +8,7 @@ from collections.abc import Sequence
 import numpy as np
 from matplotlib.axes import Axes
 
+from .._core.results import Unavailable
 from ..design.review import Original, Review
 from ._common import C, deg_ticks, mark_breaks
 from .motion import display_scale, svaj_quantities
@@ -53,6 +54,8 @@ def plot_speed_before_after(ax: Axes, review: Review) -> None:
         (review.force_vs_speed, review.check, "after", "-", C["dyn"]),
     )
     for sw, chk, label, ls, colour in curves:
+        if isinstance(sw, Unavailable):  # a form-closed cam, which optimize refuses: nothing to compare
+            continue
         force = sw.dynamic_N if sw.dynamic_N is not None else sw.kinematic_N
         jump = chk.dynamic.jump_speed_rpm
         held = sw.speeds_rpm <= (jump if jump is not None and np.isfinite(jump) else np.inf)
@@ -71,7 +74,8 @@ def plot_speed_before_after(ax: Axes, review: Review) -> None:
         size=7,
         va="top",
     )
-    ax.set_xlim(0.0, float(review.force_vs_speed.speeds_rpm[-1]))
+    if not isinstance(review.force_vs_speed, Unavailable):
+        ax.set_xlim(0.0, float(review.force_vs_speed.speeds_rpm[-1]))
     ax.set_xlabel("cam speed (rpm)")
     ax.set_ylabel("least interface force (N)")
     ax.set_title("least interface force against cam speed, before and after", fontsize=9)

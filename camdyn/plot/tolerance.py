@@ -3,37 +3,34 @@
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
 from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 
-from ..design.tolerance import ToleranceResult
-from ._common import PALETTE
+from ..design.tolerance import ToleranceResult, ValveToleranceResult
+from ._common import PALETTE, sample_histogram
 
 
 def plot_jump_speed_histogram(ax: Axes, result: ToleranceResult) -> None:
     """Histogram of the samples' dynamic jump speed (rpm), the case speed and the P1/P50 marked."""
-    js = result.jump_speed_rpm[np.isfinite(result.jump_speed_rpm)]
-    if js.size:
-        ax.hist(js, bins=min(60, max(10, int(np.sqrt(js.size)))), color=PALETTE["dyn"], alpha=0.8)
-    ax.axvline(result.speed_rpm, color=PALETTE["limit"], linewidth=1.5, label=f"case speed {result.speed_rpm:g} rpm")
     q = result.percentiles(result.jump_speed_rpm)
-    for name, style in (("p1", ":"), ("p50", "--")):
-        if math.isfinite(q[name]):
-            ax.axvline(
-                q[name], color=PALETTE["ink"], linestyle=style, linewidth=1, label=f"{name.upper()} {q[name]:.1f} rpm"
-            )
     lo, hi = result.confidence_interval
-    ax.set_title(
+    sample_histogram(
+        ax,
+        result.jump_speed_rpm,
+        (result.speed_rpm, f"case speed {result.speed_rpm:g} rpm"),
+        [
+            (q[n], style, f"{n.upper()} {q[n]:.1f} rpm")
+            for n, style in (("p1", ":"), ("p50", "--"))
+            if math.isfinite(q[n])
+        ],
         f"{result.case}: dynamic jump speed of {result.samples} built cams; P(separation) = {result.probability:.3g} "
         f"[{lo:.3g}, {hi:.3g}]",
-        fontsize=9,
+        "dynamic jump speed (rpm)",
     )
-    ax.set_xlabel("dynamic jump speed (rpm)")
-    ax.set_ylabel("samples")
-    ax.legend(fontsize=8)
 
 
 def plot_tolerance_tornado(ax: Axes, result: ToleranceResult) -> None:
@@ -62,10 +59,54 @@ def plot_tolerance_tornado(ax: Axes, result: ToleranceResult) -> None:
     ax.set_title("sensitivities at the nominal design (JAX gradients) and Monte Carlo variance shares", fontsize=9)
 
 
-def save_tolerance_png(result: ToleranceResult, path: str | Path) -> None:
-    """The histogram and the tornado chart side by side, as a PNG."""
+def _save_side_by_side(left: Callable, right: Callable, result: object, path: str | Path) -> None:
+    """Two plots of ``result`` side by side, as a PNG."""
     fig = Figure(figsize=(12, 4.8), layout="constrained")
     a, b = fig.subplots(1, 2)
-    plot_jump_speed_histogram(a, result)
-    plot_tolerance_tornado(b, result)
+    left(a, result)
+    right(b, result)
     fig.savefig(path, dpi=110)
+
+
+def save_tolerance_png(result: ToleranceResult, path: str | Path) -> None:
+    """The histogram and the tornado chart side by side, as a PNG."""
+    _save_side_by_side(plot_jump_speed_histogram, plot_tolerance_tornado, result, path)
+
+
+def plot_valve_speed_histogram(ax: Axes, result: ValveToleranceResult) -> None:
+    """Histograms of the built valvetrains' float and bounce speeds (rpm), the case speed and the nominal ones."""
+    for values, name, color, nominal in (
+        (result.float_speed_rpm, "float", PALETTE["dyn"], result.nominal_float_speed_rpm),
+        (result.bounce_speed_rpm, "bounce", PALETTE["fail"], result.nominal_bounce_speed_rpm),
+    ):
+        ok = values[np.isfinite(values)]
+        if ok.size:
+            ax.hist(ok, bins=min(40, max(8, int(np.sqrt(ok.size)))), color=color, alpha=0.6, label=f"{name} speed")
+        if math.isfinite(nominal):
+            ax.axvline(nominal, color=color, linestyle="--", linewidth=1, label=f"nominal {name} {nominal:.0f} rpm")
+    ax.axvline(result.speed_rpm, color=PALETTE["limit"], linewidth=1.5, label=f"case speed {result.speed_rpm:g} rpm")
+    p_float, _ = result.probability(result.floated)
+    p_bounce, _ = result.probability(result.bounced)
+    ax.set_title(
+        f"{result.case}: {result.samples} built valvetrains; P(float) = {p_float:.3g}, P(bounce) = {p_bounce:.3g} "
+        "at their speed",
+        fontsize=9,
+    )
+    ax.set_xlabel("speed (rpm)")
+    ax.set_ylabel("samples")
+    ax.legend(fontsize=8)
+
+
+def plot_seating_velocity_histogram(ax: Axes, result: ValveToleranceResult) -> None:
+    """Histogram of the built valvetrains' seating velocity at their speed (m/s)."""
+    v = result.seating_velocity[np.isfinite(result.seating_velocity)]
+    if v.size:
+        ax.hist(v, bins=min(40, max(8, int(np.sqrt(v.size)))), color=PALETTE["ok"], alpha=0.8)
+    ax.set_xlabel("seating velocity at the sample's speed (m/s)")
+    ax.set_ylabel("samples")
+    ax.set_title("the valve landing on its seat", fontsize=9)
+
+
+def save_valve_tolerance_png(result: ValveToleranceResult, path: str | Path) -> None:
+    """A valvetrain's float and bounce speeds and its seating velocity side by side, as a PNG."""
+    _save_side_by_side(plot_valve_speed_histogram, plot_seating_velocity_histogram, result, path)

@@ -108,11 +108,16 @@ class CaseSpec(Table):
             form_closed = self.follower is not None and self.follower.form_closed
             check_dynamics_keys(self.dynamics, kind=self.kind, form_closed=form_closed)
         check_spring_keys(self.spring, kind=self.kind)
-        check_tolerance_keys(self.tolerances, kind=self.kind)
+        vt = self.valvetrain
+        check_tolerance_keys(
+            self.tolerances, kind=self.kind, valvetrain=vt is not None, rigid_train=vt is None or vt.stiffness is None
+        )
         if self.tolerances is not None and self.tolerances.backlash is not None:
-            if self.follower is None or self.follower.closure != "groove":
+            f = self.follower
+            if f is None or not f.form_closed or f.pair_preload > 0.0:
                 raise ValueError(
-                    'tolerances.backlash: only a groove cam ([follower] closure = "groove") has a backlash'
+                    'tolerances.backlash: only a groove cam ([follower] closure = "groove") or conjugate cams without '
+                    "a preload have a backlash"
                 )
         if self.limits.max_contact_stress is not None and self.contact_width_mm is None:
             where = "follower" if self.follower is not None else "mechanism"

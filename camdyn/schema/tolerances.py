@@ -19,7 +19,7 @@ from typing import Annotated, Literal
 from pydantic import Discriminator, Field, Tag, model_validator
 
 from .._core.kinds import FollowerKind
-from .._core.units import TOLERANCE_UNITS, tolerance_to_case_unit
+from .._core.units import TOLERANCE_UNITS, VALVETRAIN_TOLERANCE_KEYS, tolerance_to_case_unit
 from ._base import Real, Table
 
 TOLERANCE_KEYS = tuple(TOLERANCE_UNITS)
@@ -73,10 +73,30 @@ class TolerancesSpec(Table):
             '"5 um"'
         ),
     )
+    lash: Tol | None = Field(
+        default=None,
+        description="[valvetrain] cases: valve lash tolerance at the valve" + _HELP.format(u="0.05 mm", u0="mm"),
+    )
+    cam_side_mass: Tol | None = Field(
+        default=None,
+        description="[valvetrain] cases: cam-side mass tolerance" + _HELP.format(u="5 g", u0="kg"),
+    )
+    valve_mass: Tol | None = Field(
+        default=None,
+        description="[valvetrain] cases: valve-side mass tolerance" + _HELP.format(u="5 g", u0="kg"),
+    )
+    valvetrain_stiffness: Tol | None = Field(
+        default=None,
+        description=(
+            "[valvetrain] cases: tolerance of the train's stiffness between the two masses (valvetrain.stiffness)"
+            + _HELP.format(u="500 N/mm", u0="N/mm")
+        ),
+    )
     backlash: Tol | None = Field(
         default=None,
         description=(
-            'a groove cam\'s backlash tolerance ([follower] closure = "groove"): "20%", "10 um" or a number (mm); '
+            "a groove cam's (or unpreloaded conjugate cams') backlash tolerance ([follower] closure = \"groove\" or "
+            '"conjugate"): "20%", "10 um" or a number (mm); '
             "camdyn tolerance then gives the spread of the crossover impact speed"
         ),
     )
@@ -151,9 +171,28 @@ def resolve_tolerances(spec: TolerancesSpec, *, kind: FollowerKind) -> tuple[Tol
     return tuple(out)
 
 
-def check_tolerance_keys(spec: TolerancesSpec | None, *, kind: FollowerKind, key: str = "tolerances") -> None:
-    """Raise ``ValueError("<key>.<name>: message")`` for a tolerance whose unit its follower kind does not take."""
+def check_tolerance_keys(
+    spec: TolerancesSpec | None,
+    *,
+    kind: FollowerKind,
+    key: str = "tolerances",
+    valvetrain: bool = False,
+    rigid_train: bool = True,
+) -> None:
+    """Raise ``ValueError("<key>.<name>: message")`` for a tolerance whose unit its follower kind does not take,
+    a valvetrain's tolerance without ``[valvetrain]`` (``valvetrain``: the case has one; ``rigid_train``: its train
+    has no stiffness), or a single follower's that a valvetrain replaces or does not model."""
     if spec is not None:
+        given = [name for name in TOLERANCE_KEYS if getattr(spec, name) is not None]
+        for name in given:
+            if name in VALVETRAIN_TOLERANCE_KEYS and not valvetrain:
+                raise ValueError(f"{key}.{name}: a valvetrain's tolerance needs [valvetrain]")
+            if valvetrain and name == "mass":
+                raise ValueError(f"{key}.mass: a valvetrain's masses are cam_side_mass and valve_mass")
+            if valvetrain and name == "profile_error":
+                raise ValueError(f"{key}.profile_error: not modelled on a valvetrain yet (the two-mass model)")
+            if name == "valvetrain_stiffness" and rigid_train:
+                raise ValueError(f"{key}.valvetrain_stiffness: the train is rigid: give valvetrain.stiffness")
         try:
             resolve_tolerances(spec, kind=kind)
         except ValueError as err:

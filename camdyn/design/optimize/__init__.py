@@ -360,7 +360,7 @@ def optimize_case(
     The answer's ``refusals`` say why it is not to be written (no better, or a check it would break)."""
     if objective not in OBJECTIVES:
         raise InputError("--objective", f"unknown objective {objective!r}; choose one of {', '.join(OBJECTIVES)}")
-    refuse_valvetrain(case, "optimize")
+    refuse_valvetrain(case, "optimize", ", and would reshape the lash ramps and move the valve's opening and closing")
     if robust and case.spec.tolerances is None:
         raise InputError(
             "--robust", "the case has no [tolerances]: give them to claim a speed at P(separation) <= 1e-3"

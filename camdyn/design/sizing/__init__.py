@@ -61,10 +61,20 @@ Modules: :mod:`._problem` (the problem and its angle grid, immutable), :mod:`._k
 angle, the least preload per rate, where it binds), :mod:`._lp` (the LP with its cutting planes and tie-break),
 :mod:`._sqrt_k` (damping that follows the rate: the search in sqrt k), :mod:`._dynamic` (the dynamic
 correction), :mod:`._design` (what one spring does), :mod:`._results` (the result types and their JSON),
-:mod:`._size` (:func:`size_spring`).
+:mod:`._size` (:func:`size_spring`), :mod:`._valvetrain` (:func:`size_valve_spring`: a valvetrain's valve spring,
+from the equivalent follower's closed form to the two-mass model's float and bounce speeds).
 """
 
 from ._results import TIE_BREAK, SpringDesign, SpringSizing
 from ._size import size_spring
+from ._valvetrain import ValveSpringDesign, ValveSpringSizing, size_valve_spring
 
-__all__ = ["TIE_BREAK", "SpringDesign", "SpringSizing", "size_spring"]
+__all__ = [
+    "TIE_BREAK",
+    "SpringDesign",
+    "SpringSizing",
+    "ValveSpringDesign",
+    "ValveSpringSizing",
+    "size_spring",
+    "size_valve_spring",
+]

@@ -11,7 +11,6 @@ import numpy as np
 from ..._core.errors import InputError
 from ..._core.units import RPM
 from ..parts import resolve_spring
-from ..valvetrain import refuse_valvetrain
 from ._buildable import HEADROOM, WRITTEN_DIGITS, buildable_fixed_point
 from ._design import design
 from ._dynamic import Dynamic, dynamic_answer
@@ -49,7 +48,7 @@ def _kinematic_answer(p: Problem, grid: Grid) -> tuple[float, float, str, str, G
     return k, f0, note, _SQRT_K_METHOD, grid
 
 
-def _check_options(max_speed_rpm, margin, min_rate) -> None:
+def check_options(max_speed_rpm: float | None, margin: float | None, min_rate: float) -> None:
     for name, v in (("--max-speed", max_speed_rpm), ("--margin", margin)):
         if v is not None and not (math.isfinite(v) and v > 0):
             raise InputError(name, f"must be a positive number (got {v:g})")
@@ -123,8 +122,13 @@ def size_spring(
     be built within the case's ``[spring]`` table, and the part (:mod:`._buildable`). See
     :mod:`camdyn.design.sizing` for the method, the tie-break rule and the dynamic correction. Raises
     :class:`InputError` on bad input."""
-    _check_options(max_speed_rpm, margin, min_rate)
-    refuse_valvetrain(case, "size")
+    check_options(max_speed_rpm, margin, min_rate)
+    if case.valvetrain is not None:  # the equivalent single follower has no lash, seat or float
+        raise InputError(
+            "valvetrain",
+            "the single follower's sizing does not apply: camdyn size sizes the valve spring with the two-mass "
+            "model (size_valve_spring)",
+        )
     case = resolve_spring(case)
     part = check = None
     if buildable:

@@ -30,7 +30,8 @@ with NaN numbers, and the map goes on. A grid beyond :data:`MAX_GRID_POINTS` is 
 
 The case's preload F0 is kept fixed while the spring rate varies; damping given as ``damping_ratio`` scales
 with sqrt(k m) (:meth:`camdyn.model.follower.FollowerModel.damping_at`), damping given as ``damping`` stays fixed.
-The map and its CSV are :mod:`._result`; :mod:`._map` assembles them.
+The map and its CSV are :mod:`._result`; :mod:`._map` assembles them. A valvetrain's map is the two-mass model's,
+one point at a time (:mod:`._valvetrain`): float, bounce, the seating velocity and the gap at the valve.
 """
 
 from ._grid import (
@@ -45,7 +46,7 @@ from ._grid import (
     check_grid_size,
 )
 from ._map import jump_map
-from ._result import CSV_COLUMNS, STATUS_OK, JumpMap
+from ._result import CSV_COLUMNS, STATUS_OK, JumpMap, ValveMap, first_speeds
 
 __all__ = [
     "CSV_COLUMNS",
@@ -59,6 +60,8 @@ __all__ = [
     "LINEAR_CHUNK",
     "MAX_GRID_POINTS",
     "STATUS_OK",
+    "ValveMap",
     "check_grid_size",
+    "first_speeds",
     "jump_map",
 ]

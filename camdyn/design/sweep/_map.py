@@ -17,12 +17,12 @@ from ...model import dynamics as dyn
 from ...model.geometry import contact_per_force, newton_per_torque_at
 from ...model.motion import evaluate
 from ..parts import resolve_spring, spring_mass_notes
-from ..valvetrain import refuse_valvetrain
 from ._contact import damping_kernel, kinematic_kernel, linear_kernel, with_spring_damping
 from ._diffrax_gap import diffrax_gap_const, diffrax_gap_kernel
 from ._exact_gap import exact_gap_kernel
 from ._grid import GAP_CHUNK, GAP_STRIDE, GRID_N, LINEAR_CHUNK, check_grid_size
 from ._result import STATUS_OK, JumpMap, failed
+from ._valvetrain import valvetrain_map
 
 
 @dataclass(frozen=True)
@@ -35,6 +35,13 @@ class _Points:
     omega: np.ndarray  # (ns * nk,)
     k: np.ndarray
     c: np.ndarray | None
+
+    @property
+    def damping(self) -> np.ndarray:
+        """The damping per point (SI), computed for a rigid follower's map only."""
+        if self.c is None:
+            raise ValueError("the damping per point is computed for a rigid follower's map only")
+        return self.c
 
     @property
     def shape(self) -> tuple[int, int]:
@@ -73,7 +80,7 @@ def _rigid_gaps(case, pts: _Points, idx, progress) -> tuple[np.ndarray, dict[int
     step = counter(progress, "flights (rigid model, one point at a time)", idx.size)
     for i in idx:
         # Python floats, as case.follower_model builds them: the compiled flight solve is reused
-        md = with_spring_damping(base, jnp.asarray(float(pts.k[i])), jnp.asarray(float(pts.c[i])))
+        md = with_spring_damping(base, jnp.asarray(float(pts.k[i])), jnp.asarray(float(pts.damping[i])))
         try:
             r = dyn.rigid_response(case.motion, md, float(pts.omega[i]))
         except NumericalError as err:
@@ -93,7 +100,7 @@ def _rigid_map(case, pts: _Points, angles, gaps: bool, progress, devices):
     signed = run_batched(
         kinematic_kernel,
         const,
-        [pts.omega, pts.k, pts.c],
+        [pts.omega, pts.k, pts.damping],
         LINEAR_CHUNK,
         counter(progress, "kinematic force", pts.omega.size),
         devices,
@@ -162,6 +169,8 @@ def jump_map(
     gaps: bool = True,
 ) -> JumpMap:
     """Jump map of ``case`` over ``speeds_rpm`` x ``spring_rates`` (N/mm; N*m/rad for an oscillating follower).
+    A ``[valvetrain]`` case's is the two-mass model's (:mod:`._valvetrain`: float, bounce, the valve spring's
+    rate at the valve).
 
     ``spring_rates`` defaults to the case's own. ``progress(phase, done, total)`` is called after every chunk.
     ``gap_method``: how the compliant model's separated points are integrated: ``"exact"`` (piecewise-linear
@@ -171,7 +180,8 @@ def jump_map(
     gap of the separated points (the nonlinear integration, most of the cost of a rigid follower's map): their
     ``max_gap`` is NaN; the least force, the separation and the jump boundary are the same.
     """
-    refuse_valvetrain(case, "sweep")
+    if case.valvetrain is not None:  # the two-mass model, one point at a time: lash, seat, float and bounce
+        return valvetrain_map(case, speeds_rpm, spring_rates, progress=progress)
     devices = tuple(jax.devices() if devices is None else devices)
     if gap_method not in ("exact", "diffrax"):
         raise ValueError(f"gap_method must be 'exact' or 'diffrax', not {gap_method!r}")

@@ -8,7 +8,11 @@ N*m/rad: deprecated there, kept for the scripts that read it; use ``spring_rate_
 also where contact is lost in the follower train alone, the follower never passing the profile);
 ``spring_rate_N_m_per_rad`` (the torsion rate of an oscillating follower; empty for a translating one);
 ``status`` (``ok``, or ``failed: <reason>`` for a point whose computation failed: its ``min_contact_force_N``,
-``separated`` and ``max_gap_mm`` are ``nan``).
+``separated`` and ``max_gap_mm`` are ``nan``); ``bounced``, ``seating_velocity_m_per_s``, ``bounce_height_mm``
+(a valvetrain's map: the valve leaves its seat after closing, 0/1, its landing speed and re-lift; empty for a
+single follower). On a valvetrain's map ``spring_rate_N_per_mm`` is the valve spring's at the valve,
+``min_contact_force_N`` the cam contact's over the valve event, ``separated`` float and ``max_gap_mm`` the valve's
+largest lift above where the cam would hold it (at the valve; the seat bounds it).
 """
 
 from __future__ import annotations
@@ -29,6 +33,9 @@ CSV_COLUMNS = (
     "max_gap_mm",
     "spring_rate_N_m_per_rad",
     "status",
+    "bounced",
+    "seating_velocity_m_per_s",
+    "bounce_height_mm",
 )
 STATUS_OK = "ok"
 
@@ -43,6 +50,21 @@ def _quoted(text: str) -> str:
     buf = io.StringIO()
     csv.writer(buf, lineterminator="").writerow([text])
     return buf.getvalue()
+
+
+@dataclass(frozen=True)
+class ValveMap:
+    """A valvetrain's map beyond float (``JumpMap.separated``): arrays of shape (speeds, spring rates)."""
+
+    bounced: np.ndarray  # bool: the valve leaves its seat after closing by more than the micro-bounce tolerance
+    seating_velocity: np.ndarray  # m/s; NaN where the valve never lifts or the point failed
+    bounce_height: np.ndarray  # mm
+
+
+def first_speeds(speeds_rpm: np.ndarray, hit: np.ndarray) -> np.ndarray:
+    """The first speed of each spring rate's column where ``hit`` (rpm; NaN where none on the grid)."""
+    any_ = hit.any(axis=0)
+    return np.where(any_, speeds_rpm[np.argmax(hit, axis=0)], np.nan)
 
 
 @dataclass(frozen=True)
@@ -66,6 +88,7 @@ class JumpMap:
     devices: int = 1
     notes: tuple[str, ...] = field(default=())
     status: np.ndarray | None = None  # str per point: "ok" or "failed: <reason>"; None: every point ok
+    valve: ValveMap | None = None  # a valvetrain's map: bounce and seating beside float
 
     @property
     def oscillating(self) -> bool:
@@ -102,13 +125,27 @@ class JumpMap:
             self.separated.ravel().tolist(),
             self.max_gap.ravel().tolist(),
             status.tolist(),
+            *(
+                (np.zeros(sp.size, int).tolist(),) * 3
+                if self.valve is None
+                else (
+                    self.valve.bounced.ravel().tolist(),
+                    self.valve.seating_velocity.ravel().tolist(),
+                    self.valve.bounce_height.ravel().tolist(),
+                )
+            ),
             strict=True,
         )
         buf = io.StringIO()
         buf.write(",".join(CSV_COLUMNS) + "\n")
-        for speed, rate, force, sep, gap, st in rows:
+        for speed, rate, force, sep, gap, st, bounce, seat_v, height in rows:
             ok = st == STATUS_OK
             sep_text = f"{sep:d}" if ok else "nan"
             torsion = f"{rate:.10g}" if self.kind.rotary else ""
-            buf.write(f"{speed:.10g},{rate:.10g},{force:.10g},{sep_text},{gap:.10g},{torsion},{quoted[st]}\n")
+            if self.valve is None:
+                valve = ",,"
+            else:
+                valve = f"{bounce:d}," if ok else "nan,"
+                valve += f"{seat_v:.10g},{height:.10g}"
+            buf.write(f"{speed:.10g},{rate:.10g},{force:.10g},{sep_text},{gap:.10g},{torsion},{quoted[st]},{valve}\n")
         return buf.getvalue()

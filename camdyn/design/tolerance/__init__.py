@@ -9,25 +9,38 @@ limit on a 512-angle grid, then Illinois steps), run in chunks by :func:`camdyn.
 over every device of every process. A groove cam (it cannot jump) is studied for its crossover impacts instead
 (:mod:`._groove`). :mod:`._sensitivity` linearises the jump-speed margin with JAX gradients
 and sets it against the Monte Carlo variance shares; :mod:`._result` holds the result and its CSV.
+A valvetrain's study (:mod:`._valvetrain`) runs the two-mass model per sample instead: float and bounce at the
+sample's speed, its float and bounce speeds and seating velocity.
 """
 
 from ._groove import ImpactToleranceResult, impact_tolerance_study
 from ._result import CSV_COLUMNS, PARAM_KEYS, ToleranceResult, csv_columns
 from ._study import CHUNK_SAMPLES, CONFIDENCE, MAX_SAMPLES, SCAN_GRID, WORST, tolerance_study
-from ._worst import worst_case_docs
+from ._valvetrain import (
+    DEFAULT_VALVETRAIN_SAMPLES,
+    MAX_VALVETRAIN_SAMPLES,
+    ValveToleranceResult,
+    valvetrain_tolerance_study,
+)
+from ._worst import worst_case_docs, worst_valvetrain_docs
 
 __all__ = [
     "CHUNK_SAMPLES",
     "CONFIDENCE",
     "CSV_COLUMNS",
+    "DEFAULT_VALVETRAIN_SAMPLES",
+    "MAX_VALVETRAIN_SAMPLES",
     "ImpactToleranceResult",
     "impact_tolerance_study",
     "MAX_SAMPLES",
     "PARAM_KEYS",
     "SCAN_GRID",
     "ToleranceResult",
+    "ValveToleranceResult",
     "WORST",
     "csv_columns",
     "tolerance_study",
+    "valvetrain_tolerance_study",
     "worst_case_docs",
+    "worst_valvetrain_docs",
 ]

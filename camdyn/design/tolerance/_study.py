@@ -18,12 +18,11 @@ from ..._core.sharding import run_batched
 from ..._core.units import PROFILE_ERROR_HARMONICS, RPM, THETA_GRID, tolerance_unit
 from ...model import dynamics as dyn
 from ...model.geometry import contact_per_force
-from ...schema import resolve_tolerances
+from ...schema import Tolerance, resolve_tolerances
 from ..parts import resolve_spring
-from ..valvetrain import refuse_valvetrain
 from ._kernel import Sample, make_grid, rigid_tolerance_kernel, tolerance_kernel
 from ._result import ToleranceResult
-from ._sampling import SCALAR_KEYS, draw_samples, spreads
+from ._sampling import SCALAR_KEYS, Spread, draw_samples, spreads
 from ._sensitivity import gradient_sensitivities, variance_shares
 
 if TYPE_CHECKING:
@@ -81,7 +80,12 @@ def tolerance_study(
     mesh after :func:`camdyn._core.distributed.initialize`); the result does not depend on them."""
     if not 1 <= samples <= MAX_SAMPLES:
         raise InputError("--samples", f"must be from 1 to {MAX_SAMPLES}, got {samples}")
-    refuse_valvetrain(case, "tolerance")
+    if case.valvetrain is not None:  # the equivalent single follower has no lash, seat or float
+        raise InputError(
+            "valvetrain",
+            "the single follower's tolerance study does not apply: camdyn tolerance studies a valvetrain with the "
+            "two-mass model (valvetrain_tolerance_study)",
+        )
     devices = tuple(jax.devices() if devices is None else devices)
     case = resolve_spring(case)  # [spring] model: the spring's own mass (its lumped third) in the nominal mass
     kind, base = case.kind, case.model
@@ -125,7 +129,7 @@ def tolerance_study(
         params=params,
         least_force=np.asarray(force),
         jump_speed_rpm=jump_rpm,
-        tolerances={t.key: _describe(t, spread[t.key], kind.rotary) for t in tols},
+        tolerances={t.key: describe(t, spread[t.key], kind.rotary) for t in tols},
         probability=sep / samples,
         confidence_interval=(float(ci.low), float(ci.high)),
         sensitivities=sens,
@@ -136,7 +140,7 @@ def tolerance_study(
     )
 
 
-def _describe(t, sp, rotary: bool) -> dict:
+def describe(t: Tolerance, sp: Spread, rotary: bool) -> dict:
     return {
         "tolerance": t.value * 100.0 if t.relative else t.value,
         "unit": "%" if t.relative else tolerance_unit(t.key, rotary),

@@ -340,7 +340,8 @@ def closure_response(
     names = _FLANK_NAMES[follower.closure]
     out = force.copy()
     if follower.backlash == 0.0 or not cands:
-        crossovers = [Crossover(deg(t), *names[:: 1 if down else -1], deg(t), 0.0, 0.0) for t, down in cands]
+        flip = (names[1], names[0])
+        crossovers = [Crossover(deg(t), *(names if down else flip), deg(t), 0.0, 0.0) for t, down in cands]
         return ClosureResponse(
             follower.closure, follower.backlash, float(omega), np.degrees(theta), out, tuple(crossovers)
         )

@@ -77,7 +77,7 @@ def steady_state(
 
 def steady_train_force(
     spec: jax.Array,
-    omega: ArrayLike,
+    omega: jax.Array | float,
     model: FollowerModel,
     stiffness: ArrayLike,
     damping: ArrayLike,

@@ -90,6 +90,22 @@ def extremes(
     return _extremes(follower, th, evaluate_geometry(motion, follower, th, base_radius))
 
 
+def geometry_columns(ev: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
+    """``table``'s geometry columns of an evaluated cam (:func:`evaluate_geometry`'s dict): pressure angle (deg),
+    radii of curvature and the pitch curve and contour in the cam frame (mm)."""
+    with np.errstate(divide="ignore"):
+        rho_p = 1.0 / ev["kappa_pitch"]
+    return {
+        "pressure_angle_deg": np.rad2deg(ev["phi"]),
+        "rho_pitch_mm": rho_p,
+        "rho_contour_mm": ev["rho_contour"],
+        "pitch_x_mm": ev["pitch"][..., 0],
+        "pitch_y_mm": ev["pitch"][..., 1],
+        "contour_x_mm": ev["contour"][..., 0],
+        "contour_y_mm": ev["contour"][..., 1],
+    }
+
+
 @dataclass(frozen=True)
 class CamGeometry(GeometryExtremes):
     """The cam of one case: its extremes (as :class:`GeometryExtremes`) and, over ``theta_deg`` (n equal steps of
@@ -143,17 +159,7 @@ class CamGeometry(GeometryExtremes):
         Flat followers add ``face_t_mm``, the contact's position along the face.
         """
         ev = self._evaluate(np.deg2rad(np.asarray(theta_deg, dtype=float)))
-        with np.errstate(divide="ignore"):
-            rho_p = 1.0 / ev["kappa_pitch"]
-        cols = {
-            "pressure_angle_deg": np.rad2deg(ev["phi"]),
-            "rho_pitch_mm": rho_p,
-            "rho_contour_mm": ev["rho_contour"],
-            "pitch_x_mm": ev["pitch"][..., 0],
-            "pitch_y_mm": ev["pitch"][..., 1],
-            "contour_x_mm": ev["contour"][..., 0],
-            "contour_y_mm": ev["contour"][..., 1],
-        }
+        cols = geometry_columns(ev)
         if not self.follower.roller:
             cols["face_t_mm"] = ev["face_t"]
         return cols

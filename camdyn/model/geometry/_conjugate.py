@@ -33,7 +33,7 @@ from ..._core.jit import cached_jit
 from ..._core.kinds import FollowerType
 from ..._core.units import THETA_GRID
 from ...schema import FollowerSpec
-from ._analyze import _grid
+from ._analyze import _grid, geometry_columns
 from ._groove import Wall, _wall
 from ._kernel import _params, _pivot, _roller_centre, _rot, check_assembly, chunked, roller_point, with_breaks
 
@@ -107,6 +107,12 @@ class ConjugateGeometry:
         """Least convex contour radius over the second roller's radius (None: nowhere convex)."""
         r = self.convex.min_convex_radius_mm
         return None if math.isinf(r) else r / self.roller_radius_mm
+
+    def table(self, theta_deg: ArrayLike) -> dict[str, np.ndarray]:
+        """``table``'s columns of the conjugate cam at cam angles (deg): the primary's geometry columns
+        (:meth:`CamGeometry.table`) prefixed ``conjugate_``."""
+        ev = self._evaluate(np.deg2rad(np.asarray(theta_deg, dtype=float)))
+        return {f"conjugate_{k}": v for k, v in geometry_columns(ev).items()}
 
     def contour_fn(self) -> Callable[[np.ndarray], np.ndarray]:
         """The exact contour as a closed curve u in [0, 1] -> (2, m) mm (as :meth:`CamGeometry.contour_fn`)."""

@@ -142,10 +142,11 @@ def roller_point(
     th0: ArrayLike,
     sv: ArrayLike,
     drive: float = 1.0,
-) -> dict[str, jax.Array]:
+) -> dict[str, jax.Array | float]:
     """A roller's contact at cam angle th0 (rad): ``centre`` maps the follower coordinate to the roller centre in
     the fixed frame; ``drive`` +1 where the cam pushes the follower towards increasing coordinate, -1 where it
     pushes it back (a conjugate cam: its pressure angle and lever taken along the direction it drives)."""
+    sigma, sv = jnp.asarray(sigma), jnp.asarray(sv)
     q_of = _taylor(sv)
     cam = lambda t, v: _rot(-sigma * (th0 + t), v)  # noqa: E731
     P, P1, P2 = _jet2(lambda t: cam(t, centre(q_of(t))))

@@ -11,7 +11,7 @@ from ..._core.results import Unavailable
 from .._data import ReportData
 from .cam import draw_cam
 from .dynamics import draw_dynamics
-from .groove import draw_crossovers, draw_groove
+from .groove import draw_conjugate, draw_crossovers, draw_groove
 from .manufacturing import draw_manufacturing
 from .mechanism import draw_mechanism
 from .optimization import draw_optimization
@@ -28,6 +28,15 @@ def _groove(data: ReportData) -> bool:
     return data.check.closure is not None and data.case.follower.closure == "groove"
 
 
+def _conjugate(data: ReportData) -> bool:
+    """Conjugate cams: both cams and each cam's force in place of the cam, dynamics and spring sizing pages."""
+    return data.check.closure is not None and data.case.follower.closure == "conjugate"
+
+
+def _form_closed(data: ReportData) -> bool:
+    return data.check.closure is not None
+
+
 @dataclass(frozen=True)
 class Page:
     """One report page: ``draw(fig, data)`` fills an A4 figure; ``applies(data)`` says whether the case has it."""
@@ -41,10 +50,11 @@ class Page:
 PAGES: list[Page] = [
     Page("summary", "Summary", draw_summary),
     Page("svaj", "Follower motion (SVAJ)", draw_svaj),
-    Page("cam", "Cam profile", draw_cam, lambda data: data.check.geometry is not None and not _groove(data)),
+    Page("cam", "Cam profile", draw_cam, lambda data: data.check.geometry is not None and not _form_closed(data)),
     Page("groove", "Groove cam: both walls", draw_groove, _groove),
-    Page("dynamics", "Dynamics", draw_dynamics, lambda data: not _groove(data)),
-    Page("crossovers", "Dynamics: crossovers and impacts", draw_crossovers, _groove),
+    Page("conjugate", "Conjugate cams: both cams", draw_conjugate, _conjugate),
+    Page("dynamics", "Dynamics", draw_dynamics, lambda data: not _form_closed(data)),
+    Page("crossovers", "Dynamics: crossovers and impacts", draw_crossovers, _form_closed),
     Page(
         "valvetrain",
         "Valvetrain: valve lift, seating, float and bounce",
@@ -59,7 +69,7 @@ PAGES: list[Page] = [
         lambda data: data.review.original is not None and not isinstance(data.review.original, Unavailable),
     ),
     Page("parts", "Drive, contact and spring", draw_parts),
-    Page("springs", "Spring sizing", draw_springs, lambda data: not _groove(data)),
+    Page("springs", "Spring sizing", draw_springs, lambda data: not _form_closed(data)),
     Page("manufacturing", "Segments and manufacturing", draw_manufacturing),
     Page("tolerances", "Tolerances", draw_tolerances, lambda data: data.review.tolerance is not None),
 ]
@@ -68,6 +78,7 @@ __all__ = [
     "PAGES",
     "Page",
     "draw_cam",
+    "draw_conjugate",
     "draw_crossovers",
     "draw_groove",
     "draw_dynamics",

@@ -64,7 +64,20 @@ def manufacturing_rows(data: ReportData) -> list[tuple[str, str]]:
     case, geo = data.case, data.check.geometry
     f = case.follower
     rows = []
-    walls = data.check.closure.walls if data.check.closure is not None else None
+    closure = data.check.closure
+    conj = closure.conjugate if closure is not None and closure.loads is not None else None
+    walls = closure.groove if closure is not None and conj is None else None
+    if (
+        conj is not None
+    ):  # the second cam beside the primary (its contour: its roller + backlash inside its pitch curve)
+        r2 = np.hypot(*conj.contour)
+        rows.append(
+            (
+                "conjugate cam",
+                f"radius {float(r2.min()):.4f} to {float(r2.max()):.4f} mm from the cam centre; its roller "
+                f"{conj.roller_radius_mm:g} mm",
+            )
+        )
     if walls is not None:  # a groove cam: the slot and its walls, not a contour
         r_in, r_out = np.hypot(*walls.inner), np.hypot(*walls.outer)
         rows += [
@@ -135,6 +148,11 @@ def manufacturing_rows(data: ReportData) -> list[tuple[str, str]]:
     if pe is not None:
         tol += f"; the tolerance study takes a profile error of {pe} RMS"
     formats = ", ".join(s.lstrip(".").upper() for s in FORMATS) + " (camdyn profile -o cam.<format>)"
+    if conj is not None:
+        formats = (
+            "DXF (layers CAM_PRIMARY, CAM_CONJUGATE), CSV (an outline column), SVG (a polygon per cam): camdyn "
+            "profile -o cam.<format>; the conjugate cam's cutter path, grinder table and solid are not built yet"
+        )
     if walls is not None:
         formats = (
             "DXF (a layer per wall), CSV (an outline column), SVG (a polygon per wall): camdyn profile -o "

@@ -214,7 +214,8 @@ def _spring_jump_map(fig, data: ReportData) -> None:
     jm = data.review.jump_map
     ax = fig.add_axes((LEFT, bottom, 0.79 - LEFT, top - bottom))
     kind = data.case.kind
-    pre = f"{float(data.case.model.preload):g} {pretty_unit(kind.force_unit)}"
+    preload = float(data.case.model.preload) if isinstance(jm, Unavailable) else jm.preload  # a valve's: at the valve
+    pre = f"{preload:g} {pretty_unit(kind.force_unit)}"
     title = f"jump map: least contact force at the case's preload {kind.preload_symbol} = {pre}"
     if isinstance(jm, Unavailable):
         ax.text(

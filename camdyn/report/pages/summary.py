@@ -15,6 +15,7 @@ from ..._core.units import AT_LIMIT_RTOL
 from ...design.checks import CheckKind
 from ...plot import (
     deg_ticks,
+    flank_names,
     flight_summary,
     flights_by_gap,
     legend_above_data,
@@ -118,7 +119,7 @@ def _checks_table(data: ReportData, flow: Flow) -> None:
         ok_kw = {"color": C["ok"] if c.ok else C["fail"], "weight": "bold", "ha": "right"}
         flow.row(
             [
-                (0.0, c.name, {"family": "DejaVu Sans Mono", "size": 7.8}),
+                (0.0, c.name, {"family": "DejaVu Sans Mono", "size": 7.8 if len(c.name) <= 16 else 6.4}),
                 (0.165, c.label, {"color": C["grey"]}),
                 (0.6, value, {"ha": "right"}),
                 (0.625, {">=": "\u2265", "<=": "\u2264", ">": ">"}.get(c.sense, c.sense), {"ha": "center"}),
@@ -135,7 +136,7 @@ def _checks_table(data: ReportData, flow: Flow) -> None:
                 (0.0, "speed_margin", mono),
                 (
                     0.165,
-                    "does not apply: form-closed, the groove holds the follower both ways (it cannot jump)",
+                    f"does not apply: form-closed, {_holder(data)} the follower both ways (it cannot jump)",
                     {"color": C["grey"]},
                 ),
             ],
@@ -204,9 +205,10 @@ def _groove_results(data: ReportData) -> list[tuple[str, str]]:
     assert chk.closure is not None
     r, force, th = chk.closure.response, chk.response.force, chk.response.theta_deg
     i, j = int(np.argmax(force)), int(np.argmin(force))
+    plus, minus = flank_names(chk)
     rows = [
-        ("force, inner flank", f"up to {force[i]:.4g} N at {th[i]:.1f}\u00b0"),
-        ("force, outer flank", f"up to {-force[j]:.4g} N at {th[j]:.1f}\u00b0" if force[j] < 0.0 else "never"),
+        (f"force, {plus}", f"up to {force[i]:.4g} N at {th[i]:.1f}\u00b0"),
+        (f"force, {minus}", f"up to {-force[j]:.4g} N at {th[j]:.1f}\u00b0" if force[j] < 0.0 else "never"),
         ("jump speed", "none: form-closed"),
         (
             "crossovers",
@@ -219,6 +221,12 @@ def _groove_results(data: ReportData) -> list[tuple[str, str]]:
         rows.append(("largest impact", f"{top.impact_velocity_m_per_s:.3g} m/s at {top.land_deg:.1f}\u00b0"))
         f = r.max_impact_force_N
         rows.append(("impact force", "impulse (rigid train)" if f is None else f"up to {f:.4g} N"))
+    loads = chk.closure.loads
+    if loads is not None and r.backlash_mm == 0.0:  # a preload and a backlash exclude each other
+        unit = "N" if loads.translating else "N\u00b7m"
+        k, cam = min((float(np.min(v)), n) for n, v in (("primary", loads.primary_N), ("conjugate", loads.conjugate_N)))
+        rows.append(("preload", f"{loads.preload:g} {unit}: " + ("held" if loads.preload_held else "NOT held")))
+        rows.append(("least cam force", f"{k:.4g} N (the {cam} cam's)"))
     return rows
 
 
@@ -247,16 +255,24 @@ def _geometry_results(data: ReportData) -> list[tuple[str, str]]:
             )
         rows.append(
             (
-                "least radius of curvature" if chk.closure is None else "inner wall, least radius",
+                "least radius of curvature" if chk.closure is None else f"{_flanks(data)[0]}, least radius",
                 f"{geo.min_radius_of_curvature_mm:.4g} mm at {geo.min_radius_of_curvature_at_deg:.1f}\u00b0"
                 + ("  (undercut)" if geo.undercut else ""),
             )
         )
-    if chk.closure is not None:  # the outer wall: convex towards the roller where the pitch curve is concave
-        w = chk.closure.walls.outer_wall
+    if chk.closure is not None:  # the outer wall (convex where the pitch curve is concave), or the conjugate cam
+        second = chk.closure.conjugate if chk.closure.loads is not None else None
+        w = second.convex if second is not None else chk.closure.groove.outer_wall
+        if second is not None:
+            rows.append(
+                (
+                    "conjugate, max angle",
+                    f"{second.max_pressure_angle_deg:.2f}\u00b0 at {second.max_pressure_angle_at_deg:.1f}\u00b0",
+                )
+            )
         rows.append(
             (
-                "outer wall, least convex",
+                f"{_flanks(data)[1]}, least convex",
                 "concave all round"
                 if math.isinf(w.min_convex_radius_mm)
                 else f"{w.min_convex_radius_mm:.4g} mm at {w.min_convex_radius_at_deg:.1f}\u00b0",
@@ -338,23 +354,58 @@ def decision_facts(data: ReportData) -> list[str]:
     return out
 
 
+def _conjugate(data: ReportData) -> bool:
+    return data.check.closure is not None and data.check.closure.loads is not None
+
+
+def _holder(data: ReportData) -> str:
+    """What holds a form-closed follower both ways."""
+    return "the two conjugate cams hold" if _conjugate(data) else "the groove holds"
+
+
+def _flanks(data: ReportData) -> tuple[str, str]:
+    """A form-closed cam's two contours: a groove's walls, or the conjugate cams."""
+    return ("primary", "conjugate") if _conjugate(data) else ("inner wall", "outer wall")
+
+
 def groove_facts(data: ReportData) -> list[str]:
-    """A groove cam's decision-changing facts: that it cannot jump (no jump speed, no speed margin, no return
-    spring: why the spring pages are left out), and each crossover's flight and impact against the limit."""
+    """A form-closed cam's decision-changing facts: that it cannot jump (no jump speed, no speed margin, no return
+    spring: why the spring pages are left out), whether conjugate cams' preload holds both rollers on their cams
+    (and the least cam force), and each crossover's flight and impact against the limit."""
     study = data.check.closure
     assert study is not None
     r = study.response
     out = [
-        "no jump speed and no speed_margin: the groove holds the follower both ways, so it cannot jump; there is no "
-        "return spring to size (no spring sizing or jump map pages); what limits the speed is the impact where the "
-        "follower crosses the backlash (crossover_impact)"
+        f"no jump speed and no speed_margin: {_holder(data)} the follower both ways, so it cannot jump; there is no "
+        "return spring to size (no spring sizing or jump map pages); what limits the speed is "
+        + (
+            "the preload that keeps both rollers loaded, or with backlash the impact where the follower crosses it"
+            if _conjugate(data)
+            else "the impact where the follower crosses the backlash"
+        )
+        + " (crossover_impact)"
     ]
+    loads = study.loads
+    if loads is not None and r.backlash_mm == 0.0:  # a preload and a backlash exclude each other
+        unit = "N" if loads.translating else "N\u00b7m"
+        k, cam = min((float(np.min(v)), n) for n, v in (("primary", loads.primary_N), ("conjugate", loads.conjugate_N)))
+        net = float(np.max(np.abs(r.contact_force)))
+        if loads.preload_held:
+            out.append(
+                f"the preload {loads.preload:g} {unit} holds both rollers on their cams all round: the least cam force "
+                f"is {k:.4g} N (the {cam} cam's); it holds while the preload exceeds half the largest net force "
+                f"({0.5 * net:.4g} {unit})"
+            )
+        else:
+            out.append(
+                f"the preload {loads.preload:g} {unit} does not hold both rollers: the {cam} cam unloads (force "
+                f"{k:.4g} N); holding needs more than half the largest net force ({0.5 * net:.4g} {unit}; camdyn size)"
+            )
     lim = data.case.limits.max_impact_velocity
     for c in r.crossovers[:4]:
         if r.backlash_mm == 0.0:
-            out.append(
-                f"the contact force changes from the {c.from_flank} to the {c.to_flank} flank at {c.deg:.1f}\u00b0"
-            )
+            what = "flank" if loads is None else "cam"
+            out.append(f"the net force changes from the {c.from_flank} to the {c.to_flank} {what} at {c.deg:.1f}\u00b0")
             continue
         force = "an impulse (rigid train)" if c.impact_force_N is None else f"a peak of {c.impact_force_N:.4g} N"
         out.append(
@@ -366,8 +417,8 @@ def groove_facts(data: ReportData) -> list[str]:
         out.append(f"\u2026 and {len(r.crossovers) - 4} more crossovers (page 'Dynamics: crossovers and impacts')")
     if data.case.spec.tolerances is not None:
         out.append(
-            "[tolerances]: the report does not draw a groove cam's tolerance study: camdyn tolerance gives the spread "
-            "of its impact speed over the built cams"
+            "[tolerances]: the report does not draw a form-closed cam's tolerance study: camdyn tolerance gives the "
+            "spread of its impact speed over the built cams (of preloaded conjugate cams: their least cam force)"
         )
     return out
 
@@ -459,11 +510,12 @@ def _glance(fig, data: ReportData, top: float) -> None:
     if data.check.closure is not None:
         ax = fig.add_axes((0.06, y0, 0.3, h))
         plot_groove_cam(ax, data.check, angles=(0.0,), marks=False)
-        ax.set_title("cam at \u03b8 = 0: both walls", fontsize=8.5)
+        ax.set_title(f"cam at \u03b8 = 0: both {'cams' if _conjugate(data) else 'walls'}", fontsize=8.5)
         _small(ax)
         ax = fig.add_axes((0.42, y0, 0.52, h))
         plot_flank_force(ax, data.check, legend=False, marks=False)
-        ax.set_title(f"contact force at {data.check.speed_rpm:g} rpm (+ inner flank, \u2212 outer)", fontsize=8.5)
+        plus, minus = flank_names(data.check)
+        ax.set_title(f"contact force at {data.check.speed_rpm:g} rpm (+ {plus}, \u2212 {minus})", fontsize=8.5)
         _small(ax)
         return
     if geo is not None:
