@@ -363,6 +363,26 @@ def test_report_has_a_valvetrain_page(tmp_path, shipped_check):
     assert "valvetrain-5-valvetrain.png" in pages and written.pdf.exists()
 
 
+@pytest.mark.slow
+def test_summary_gives_the_two_mass_models_numbers(shipped_check):
+    """Page 1's key results are the two-mass model's, as check --json gives them (float, bounce, seating, the
+    least cam force over the valve event); the one equivalent-follower figure says it is one."""
+    from types import SimpleNamespace
+
+    from camdyn.report.pages.summary import key_results
+
+    vt = shipped_check.json()["valvetrain"]
+    rows = dict(key_results(SimpleNamespace(check=shipped_check, case=shipped_check.case)))
+    assert rows["float speed"] == f"{vt['float_speed_rpm']:.4g} rpm"
+    assert rows["bounce speed"] == f"{vt['bounce_speed_rpm']:.4g} rpm"
+    assert rows["seating velocity"] == f"{vt['seating_velocity_m_per_s']:.3g} m/s"
+    least = shipped_check.valvetrain.response
+    assert rows["least cam force, event"].startswith(f"{least.least_event_force:.4g} N")
+    assert shipped_check.json()["dynamic"]["min_contact_force_N"] == pytest.approx(least.least_event_force)
+    assert rows["equivalent follower"].startswith("rigid jump") and "coil-bind clearance" not in rows
+    assert not any(k.startswith(("least force", "jump speed", "flights")) for k in rows)  # the single follower's
+
+
 @pytest.mark.parametrize("command", ["optimize"])
 def test_single_follower_studies_refuse_a_valvetrain(capsys, tmp_path, command):
     """They would judge the equivalent single follower (no lash, seat or float): one line, exit 2."""

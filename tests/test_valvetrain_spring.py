@@ -118,8 +118,90 @@ def test_check_reports_coil_bind_and_fails_a_flight_to_solid():
     assert 2.0 < vt["coil_bind_clearance_mm"] < travel - 9.5
     checks = {c["name"]: c for c in report.json()["checks"]}
     assert checks["coil_bind"]["ok"] and checks["coil_bind"]["value"] == vt["coil_bind_clearance_mm"]
+    from types import SimpleNamespace
+
+    from camdyn.report.pages.summary import key_results
+
+    rows = dict(key_results(SimpleNamespace(check=report, case=case)))
+    assert rows["coil-bind clearance"] == f"{vt['coil_bind_clearance_mm']:.3g} mm"  # page 1 gives it
     fast = valvetrain_response(case.motion, case.valvetrain, 10000 * RPM)
     assert fast.floated and fast.max_valve_lift_mm > travel + 3.0
     flight = ValvetrainResult(1.6, 0.2, fast, math.inf, math.inf, 10000.0 * 4, coil_bind_lift_mm=travel)
     coil = {c.name: c for c in flight.checks(0.5)}["coil_bind"]
     assert not coil.ok and coil.value == pytest.approx(travel - fast.max_valve_lift_mm, rel=1e-12) and coil.value < 0
+
+
+def test_a_rebuilt_valvetrain_keeps_its_springs_mass():
+    """Sweep and tolerance rebuild the two-mass model per point (with_valvetrain_keys): a resolved case keeps the
+    case's spring on the valve there, its lumped third (and its surge chain), as check carries it."""
+    from camdyn.model.case import with_valvetrain_keys
+
+    case = resolve_spring(_shipped_with_spring())
+    m_s = case.spring.mass_kg
+    again = with_valvetrain_keys(case, dynamics={"spring_rate": 40.0})
+    assert float(again.valvetrain.valve_mass) == pytest.approx(0.055 + m_s / 3.0, rel=1e-12)
+    assert float(again.model.mass) == pytest.approx(float(case.model.mass), rel=1e-12)
+    stiffer = with_valvetrain_keys(case, dynamics={"spring_rate": 50.0})
+    assert float(stiffer.valvetrain.spring_rate) == pytest.approx(50e3, rel=1e-12)
+    assert float(stiffer.valvetrain.valve_mass) == pytest.approx(0.055 + m_s / 3.0, rel=1e-12)
+    surge = resolve_spring(_shipped_with_spring(model="surge"))
+    rebuilt = with_valvetrain_keys(surge, valvetrain={"lash": 0.2}).valvetrain
+    assert rebuilt.coils is not None and rebuilt.coils.count == surge.valvetrain.coils.count
+    assert float(rebuilt.valve_mass) == pytest.approx(float(surge.valvetrain.valve_mass), rel=1e-12)
+
+
+def test_size_refuses_a_valvetrain_with_a_spring_part_in_one_line():
+    from camdyn._core.errors import InputError
+    from camdyn.design.sizing import size_valve_spring
+
+    with pytest.raises(InputError) as err:
+        size_valve_spring(_shipped_with_spring())
+    text = str(err.value)
+    assert "\n" not in text and "[spring]" in text and "valve_mass" in text and "camdyn spring" in text
+
+
+@pytest.mark.slow
+def test_sweep_carries_the_spring_and_bounds_the_gap_by_coil_bind():
+    """At 3000 rpm the map's point is check's (the spring's third on the valve): its seating velocity and its
+    coil-bind clearance (travel to solid less the valve's largest lift); at 10000 rpm the flight would pass solid
+    (clearance negative by the overshoot) and the gap is counted to solid, not beyond."""
+    from camdyn.design.sweep import jump_map
+    from camdyn.design.sweep._valvetrain import _gap_at_valve_mm
+
+    case = resolve_spring(_shipped_with_spring())
+    travel = case.spring.travel_to_solid_mm
+    jm = jump_map(_shipped_with_spring(), [3000.0, 10000.0])
+    slow = valvetrain_response(case.motion, case.valvetrain, 3000 * RPM)
+    fast = valvetrain_response(case.motion, case.valvetrain, 10000 * RPM)
+    clearance = jm.valve.coil_bind_clearance[:, 0]
+    assert clearance[0] == pytest.approx(travel - slow.max_valve_lift_mm, rel=1e-9) and clearance[0] > 2.0
+    assert jm.valve.seating_velocity[0, 0] == pytest.approx(slow.seating_velocity, rel=1e-9)
+    assert clearance[1] == pytest.approx(travel - fast.max_valve_lift_mm, rel=1e-9) and clearance[1] < -3.0
+    free = _gap_at_valve_mm(fast, case.valvetrain, 0.2)
+    assert free > travel and jm.max_gap[1, 0] <= travel and jm.max_gap[1, 0] > 0.8 * travel
+    assert any("valve spring" in n and "lumped third" in n for n in jm.notes)
+    assert any(n.startswith("coil bind") for n in jm.notes)
+    rows = jm.csv.splitlines()
+    assert rows[0].endswith(",coil_bind_clearance_mm")
+    assert float(rows[1].split(",")[-1]) == pytest.approx(clearance[0], rel=1e-9)
+
+
+@pytest.mark.slow
+def test_tolerance_carries_the_springs_third_as_a_hand_written_valve_mass_would():
+    """The study's nominal float speed is that of the case without [spring] and a third of the spring's mass
+    written into valvetrain.valve_mass (the route the refusal used to ask for): the same model, the same search."""
+    from camdyn.design.tolerance import valvetrain_tolerance_study
+    from camdyn.design.valvetrain import analyze_valvetrain
+
+    raw = copy.deepcopy(SHIPPED) | {"spring": SPRING, "tolerances": {"preload": "1 N"}}
+    raw["valvetrain"]["valve_mass"] = 0.055
+    case = case_from_dict(raw)
+    m_s = resolve_spring(case).spring.mass_kg
+    by_hand = copy.deepcopy(SHIPPED)
+    by_hand["valvetrain"]["valve_mass"] = 0.055 + m_s / 3.0
+    hand = analyze_valvetrain(case_from_dict(by_hand), 3000 * RPM, 1.25)
+    study = valvetrain_tolerance_study(case, 1)
+    assert study.nominal_float_speed_rpm == pytest.approx(hand.float_speed_rpm, rel=1e-9)
+    assert study.nominal_bounce_speed_rpm == pytest.approx(hand.bounce_speed_rpm, rel=1e-9)
+    assert study.float_speed_rpm[0] == pytest.approx(hand.float_speed_rpm, rel=0.02)
+    assert any("lumped third in every sample" in n for n in study.notes)

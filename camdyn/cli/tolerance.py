@@ -226,4 +226,6 @@ def _print_valvetrain(case, result: ValveToleranceResult, elapsed, paths, worst_
     shares = ", ".join(f"{k} {v:.0%}" for k, v in result.shares.items() if math.isfinite(v))
     if shares:
         con.print(f"share of the float/bounce margin's variance (linear fit over the samples): {shares}")
+    for note in result.notes:
+        con.print(f"note: {note}")
     con.print(f"wrote {paths['csv']}, {paths['png']} and the worst samples {', '.join(str(p) for p in worst_files)}")

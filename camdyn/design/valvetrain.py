@@ -125,15 +125,29 @@ def refuse_valvetrain(case: Case, what: str, why: str = "") -> None:
         )
 
 
-def refuse_spring_part(case: Case, what: str) -> None:
-    """:class:`InputError` where a valvetrain study that rebuilds the two-mass model per point (``what``) is given a
-    ``[spring]`` part, whose own mass and surge it does not carry yet."""
+def refuse_spring_part(case: Case) -> None:
+    """:class:`InputError` where ``size`` is asked about a valvetrain with a ``[spring]`` part: the part's own mass
+    on the valve depends on the rate and preload being sized (sweep and tolerance hold the case's spring)."""
     if case.valvetrain is not None and case.spec.spring is not None:
         raise InputError(
             "spring",
-            f"{what} of a valvetrain does not carry a [spring] part's mass yet: put a third of the spring's mass in "
-            "valvetrain.valve_mass and remove [spring]",
+            "size of a valvetrain does not size a [spring] part yet (its mass on the valve would change with the rate "
+            "and preload sized): remove [spring], put a third of its mass in valvetrain.valve_mass, size, then design "
+            "the part with camdyn spring",
         )
+
+
+def spring_notes(case: Case, study: str) -> tuple[str, ...]:
+    """What a valvetrain study (``study``: "at every rate", "in every sample") carries of a resolved ``[spring]``
+    part: the case's spring, its mass on the valve and its coil bind."""
+    sd = case.spring
+    if sd is None or sd.model == "none":
+        return () if sd is None or sd.note is None else (sd.note,)
+    how = "its surge chain" if sd.model == "surge" else "its lumped third"
+    out = f"the case's valve spring ({1e3 * sd.mass_kg:.3g} g) is on the valve as {how} {study}"
+    if sd.travel_to_solid_mm is not None:
+        out += f"; it goes solid at {sd.travel_to_solid_mm:.4g} mm of valve lift (coil bind)"
+    return (out,)
 
 
 def analyze_valvetrain(case: Case, omega: float, margin: float) -> ValvetrainResult:

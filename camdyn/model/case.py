@@ -94,13 +94,21 @@ class Case:
 def with_valvetrain_keys(case: Case, dynamics: dict | None = None, valvetrain: dict | None = None) -> Case:
     """A ``[valvetrain]`` case with ``[dynamics]`` and ``[valvetrain]`` keys replaced (the case file's names and
     units: the valve spring's ``spring_rate`` N/mm and ``preload`` N at the valve, the masses, the stiffness, the
-    lash), its two-mass model and equivalent follower rebuilt; the motion (ramps included) is kept."""
+    lash), its two-mass model and equivalent follower rebuilt; the motion (ramps included) is kept. A case whose
+    spring is resolved keeps that spring (its mass on the valve, lumped or its surge chain, and its coil bind), as
+    :func:`valvetrain_with_spring_mass` puts it there."""
     assert case.spec.valvetrain is not None  # the caller's: a [valvetrain] case
     d = case.spec.dynamics.model_copy(update=dynamics or {})
     v = case.spec.valvetrain.model_copy(update=valvetrain or {})
     vt = valvetrain_model(v, d, float(_lifts(case.motion).max()))
     spec = case.spec.model_copy(update={"dynamics": d, "valvetrain": v})
-    return replace(case, spec=spec, model=equivalent_follower(vt), valvetrain=vt)
+    sd = case.spring
+    if sd is None or sd.model == "none":
+        return replace(case, spec=spec, model=equivalent_follower(vt), valvetrain=vt)
+    rebuilt = replace(case, spec=spec, spring=replace(sd, bare=equivalent_follower(vt)))
+    lumped = valvetrain_with_spring_mass(rebuilt, sd.mass_kg)
+    train = valvetrain_with_spring_mass(rebuilt, sd.mass_kg, surge=True) if sd.model == "surge" else lumped
+    return replace(rebuilt, model=equivalent_follower(lumped), valvetrain=train)
 
 
 def load_case(path: str | Path) -> Case:

@@ -220,7 +220,7 @@ def size_valve_spring(
     speed_margin); ``min_rate`` (N/mm at the valve) bounds the rate from below (default: the case's own rate; 0
     lets the closed form choose, a constant-force spring where the rate only costs peak force). See the module's
     docstring for the method."""
-    refuse_spring_part(case, "size")
+    refuse_spring_part(case)
     vt = case.valvetrain
     assert vt is not None  # the caller's: a [valvetrain] case
     speed = float(case.speed_rpm if max_speed_rpm is None else max_speed_rpm)

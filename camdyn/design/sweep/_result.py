@@ -12,7 +12,9 @@ also where contact is lost in the follower train alone, the follower never passi
 (a valvetrain's map: the valve leaves its seat after closing, 0/1, its landing speed and re-lift; empty for a
 single follower). On a valvetrain's map ``spring_rate_N_per_mm`` is the valve spring's at the valve,
 ``min_contact_force_N`` the cam contact's over the valve event, ``separated`` float and ``max_gap_mm`` the valve's
-largest lift above where the cam would hold it (at the valve; the seat bounds it).
+largest lift above where the cam would hold it (at the valve; the seat bounds it, and with a ``[spring]`` part its
+coil bind); ``coil_bind_clearance_mm`` (a valvetrain's map with a ``[spring]`` part: the valve's lift to spare
+before the case's spring goes solid, negative where the flight would reach solid; empty otherwise).
 """
 
 from __future__ import annotations
@@ -36,6 +38,7 @@ CSV_COLUMNS = (
     "bounced",
     "seating_velocity_m_per_s",
     "bounce_height_mm",
+    "coil_bind_clearance_mm",
 )
 STATUS_OK = "ok"
 
@@ -59,6 +62,7 @@ class ValveMap:
     bounced: np.ndarray  # bool: the valve leaves its seat after closing by more than the micro-bounce tolerance
     seating_velocity: np.ndarray  # m/s; NaN where the valve never lifts or the point failed
     bounce_height: np.ndarray  # mm
+    coil_bind_clearance: np.ndarray | None = None  # mm to spare before the spring is solid; None: no [spring] part
 
 
 def first_speeds(speeds_rpm: np.ndarray, hit: np.ndarray) -> np.ndarray:
@@ -126,26 +130,29 @@ class JumpMap:
             self.max_gap.ravel().tolist(),
             status.tolist(),
             *(
-                (np.zeros(sp.size, int).tolist(),) * 3
+                (np.zeros(sp.size, int).tolist(),) * 3 + ([None] * sp.size,)
                 if self.valve is None
                 else (
                     self.valve.bounced.ravel().tolist(),
                     self.valve.seating_velocity.ravel().tolist(),
                     self.valve.bounce_height.ravel().tolist(),
+                    [None] * sp.size
+                    if self.valve.coil_bind_clearance is None
+                    else self.valve.coil_bind_clearance.ravel().tolist(),
                 )
             ),
             strict=True,
         )
         buf = io.StringIO()
         buf.write(",".join(CSV_COLUMNS) + "\n")
-        for speed, rate, force, sep, gap, st, bounce, seat_v, height in rows:
+        for speed, rate, force, sep, gap, st, bounce, seat_v, height, coil in rows:
             ok = st == STATUS_OK
             sep_text = f"{sep:d}" if ok else "nan"
             torsion = f"{rate:.10g}" if self.kind.rotary else ""
             if self.valve is None:
-                valve = ",,"
+                valve = ",,,"
             else:
                 valve = f"{bounce:d}," if ok else "nan,"
-                valve += f"{seat_v:.10g},{height:.10g}"
+                valve += f"{seat_v:.10g},{height:.10g}," + ("" if coil is None else f"{coil:.10g}")
             buf.write(f"{speed:.10g},{rate:.10g},{force:.10g},{sep_text},{gap:.10g},{torsion},{quoted[st]},{valve}\n")
         return buf.getvalue()

@@ -7,7 +7,10 @@ off its seat: float), whether the valve floats and whether it bounces (leaves it
 the seat's micro-bounce tolerance), its seating velocity and bounce height, and the largest gap at the valve: how
 far the valve is above where the cam would hold it, ``x_v - max(r s - lash, 0)``, over the revolution. The seat
 bounds it: the valve's lift is never below 0, so a valve that flies is caught by its seat, not by a profile that
-lets it fall through.
+lets it fall through. With a ``[spring]`` part the case's valve spring is held at every rate: its own mass on the
+valve as ``check`` puts it (its lumped third, or its surge chain), and its coil bind, the other stop: a valve whose
+flight would compress the spring to solid is stopped there (its gap counted to solid, and
+``coil_bind_clearance_mm`` negative by the overshoot of the model, which does not carry the solid stop itself).
 """
 
 from __future__ import annotations
@@ -21,23 +24,26 @@ from ..._core.units import M_PER_MM, RPM
 from ...model import dynamics as dyn
 from ...model.case import Case, with_valvetrain_keys
 from ...model.valvetrain import ValvetrainModel
-from ..valvetrain import refuse_spring_part
+from ..parts import resolve_spring
+from ..valvetrain import spring_notes
 from ._grid import check_grid_size
 from ._result import STATUS_OK, JumpMap, ValveMap, failed
 
 
-def _gap_at_valve_mm(resp: dyn.ValvetrainResponse, vt: ValvetrainModel, lash_mm: float) -> float:
+def _gap_at_valve_mm(
+    resp: dyn.ValvetrainResponse, vt: ValvetrainModel, lash_mm: float, solid_mm: float = np.inf
+) -> float:
     """The valve's largest lift above where the cam would hold it (mm, at the valve; through the rocker's lever
-    where it has one): float and bounce both."""
+    where it has one): float and bounce both; the valve's lift bounded by ``solid_mm``, its coil bind."""
     at_valve = np.asarray(vt.lever(jnp.asarray(resp.cam_lift * M_PER_MM))[0]) / M_PER_MM
     held = np.maximum(at_valve - lash_mm, 0.0)
-    return max(0.0, float(np.max(resp.valve_lift - held)))
+    return max(0.0, float(np.max(np.minimum(resp.valve_lift, solid_mm) - held)))
 
 
 def valvetrain_map(case: Case, speeds_rpm, spring_rates=None, *, progress: Progress | None = None) -> JumpMap:
     """The jump map of a ``[valvetrain]`` case over ``speeds_rpm`` x ``spring_rates`` (the valve spring's rate,
     N/mm at the valve; default the case's own), the preload kept the case's."""
-    refuse_spring_part(case, "sweep")
+    case = resolve_spring(case)  # [spring]: the valve spring's own mass on the valve and its coil bind, as check
     vt = case.valvetrain
     assert vt is not None and case.spec.dynamics.spring_rate is not None  # the caller's: a [valvetrain] case
     speeds = np.atleast_1d(np.asarray(speeds_rpm, dtype=float))
@@ -48,7 +54,8 @@ def valvetrain_map(case: Case, speeds_rpm, spring_rates=None, *, progress: Progr
     if not (speeds.size and rates.size and np.all(values > 0) and np.all(np.isfinite(values))):
         raise InputError("sweep", "speeds and spring rates must be positive and finite")
     shape = (speeds.size, rates.size)
-    least, gap, seat_v, bounce_h = (np.full(shape, np.nan) for _ in range(4))
+    least, gap, seat_v, bounce_h, clearance = (np.full(shape, np.nan) for _ in range(5))
+    solid_mm = case.spring.travel_to_solid_mm if case.spring is not None else None
     floated, bounced = np.zeros(shape, bool), np.zeros(shape, bool)
     status = np.full(shape, STATUS_OK, dtype=object)
     lash_mm = float(case.spec.valvetrain.lash if case.spec.valvetrain else 0.0)
@@ -66,11 +73,18 @@ def valvetrain_map(case: Case, speeds_rpm, spring_rates=None, *, progress: Progr
             else:
                 floated[i, j], bounced[i, j] = resp.floated, resp.bounced
                 least[i, j] = resp.least_event_force
-                gap[i, j] = _gap_at_valve_mm(resp, model, lash_mm)
+                gap[i, j] = _gap_at_valve_mm(resp, model, lash_mm, np.inf if solid_mm is None else solid_mm)
+                if solid_mm is not None:
+                    clearance[i, j] = solid_mm - resp.max_valve_lift_mm
                 seat_v[i, j], bounce_h[i, j] = resp.seating_velocity, resp.bounce_height_mm
             tick(1)
     bad = status != STATUS_OK
-    notes = []
+    notes = list(spring_notes(case, "at every rate"))
+    if solid_mm is not None and np.any(clearance < 0.0):
+        notes.append(
+            f"coil bind: the valve's flight reaches its spring's solid height at {int(np.sum(clearance < 0.0))} "
+            "point(s) (coil_bind_clearance_mm negative; the gap is counted to solid)"
+        )
     if bad.any():
         notes.append(f"{int(bad.sum())} grid point(s) failed (status column, their numbers NaN)")
     return JumpMap(
@@ -88,5 +102,5 @@ def valvetrain_map(case: Case, speeds_rpm, spring_rates=None, *, progress: Progr
         preload=float(case.spec.dynamics.preload or 0.0),
         notes=tuple(notes),
         status=status,
-        valve=ValveMap(bounced, seat_v, bounce_h),
+        valve=ValveMap(bounced, seat_v, bounce_h, None if solid_mm is None else clearance),
     )

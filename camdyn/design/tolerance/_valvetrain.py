@@ -12,7 +12,9 @@ design's (which ``check``'s global searches give): from the nominal speed in ste
 (bounces) on one side and not on the other, then bisected to 1 %. A sample whose float window lies far below the
 nominal one would be missed by that local search, and bounce, a threshold on a re-lift that can come and go
 with speed near its onset, may start in a window below the crossing found (``check``'s global search finds the
-first); the per-sample verdict at its speed is exact.
+first); the per-sample verdict at its speed is exact. With a ``[spring]`` part the case's valve spring is in every
+sample as ``check`` carries it: its own mass on the valve (its lumped third, or its surge chain; a sample's
+``valve_mass`` is the case file's, without it) and its coil bind in the nominal ``check``.
 """
 
 from __future__ import annotations
@@ -31,7 +33,8 @@ from ...model import dynamics as dyn
 from ...model.case import Case, with_valvetrain_keys
 from ...model.valvetrain import ValvetrainModel
 from ...schema import resolve_tolerances
-from ..valvetrain import analyze_valvetrain, refuse_spring_part
+from ..parts import resolve_spring
+from ..valvetrain import analyze_valvetrain, spring_notes
 from ._sampling import spreads
 from ._sensitivity import variance_shares
 from ._study import describe
@@ -85,6 +88,7 @@ class ValveToleranceResult:
     nominal_float_speed_rpm: float
     nominal_bounce_speed_rpm: float
     shares: dict[str, float] = field(default_factory=dict)  # first-order share of the least speed's variance
+    notes: tuple[str, ...] = ()  # what the study carries beyond the keys (a [spring] part's mass)
 
     @property
     def samples(self) -> int:
@@ -133,6 +137,7 @@ class ValveToleranceResult:
             "nominal_float_speed_rpm": self.nominal_float_speed_rpm,
             "nominal_bounce_speed_rpm": self.nominal_bounce_speed_rpm,
             "shares": self.shares,
+            "notes": list(self.notes),
         }
 
     @property
@@ -207,7 +212,7 @@ def valvetrain_tolerance_study(
             "--samples",
             f"a valvetrain runs the two-mass model per sample: from 1 to {MAX_VALVETRAIN_SAMPLES}, got {samples}",
         )
-    refuse_spring_part(case, "tolerance")
+    case = resolve_spring(case)  # [spring]: the valve spring's own mass on the valve and its coil bind, as check
     tols = resolve_tolerances(case.spec.tolerances, kind=case.kind) if case.spec.tolerances is not None else ()
     nominal = _nominal(case)
     if any(t.key == "train_stiffness" for t in tols) and math.isinf(nominal["train_stiffness"]):
@@ -273,4 +278,5 @@ def valvetrain_tolerance_study(
         nominal_float_speed_rpm=nominal_res.float_speed_rpm,
         nominal_bounce_speed_rpm=nominal_res.bounce_speed_rpm,
         shares=shares,
+        notes=spring_notes(case, "in every sample"),
     )

@@ -35,6 +35,8 @@ def _force_panels(ax_f, ax_m, data: ReportData) -> None:
     """The contact force at the case speed and at speed_margin x speed, on one force scale."""
     rpm, rv = data.check.speed_rpm, data.review
     osc = " (contact force: torque / lever arm)" if data.case.kind.rotary else ""
+    if data.check.valvetrain is not None:  # page 1 and the valvetrain page give the two-mass model's force
+        osc += ", one equivalent mass (the valve event's force: the valvetrain page)"
     plot_contact_force(
         ax_f,
         data.check.response,
@@ -65,7 +67,8 @@ def _force_panels(ax_f, ax_m, data: ReportData) -> None:
         ax_m,
         rv.margin_response,
         colour=C["margin"],
-        title=f"interface force at speed_margin {m:g} \u00d7 speed = {rv.margin_rpm:g} rpm",
+        title=f"interface force at speed_margin {m:g} \u00d7 speed = {rv.margin_rpm:g} rpm"
+        + ("" if data.check.valvetrain is None else ", one equivalent mass"),
         breaks_deg=data.breaks_deg,
         legend=False,
     )

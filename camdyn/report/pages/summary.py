@@ -66,10 +66,20 @@ def _verdict(fig, data: ReportData, flow: Flow) -> None:
     passed = chk.verdict == "pass"
     n_fail = sum(not c.ok for c in chk.checks)
     what = "every check passes" if passed else f"{n_fail} of {len(chk.checks)} checks fail"
+    if chk.valvetrain is not None:
+        verdict_block(fig, flow, passed, f"at {chk.speed_rpm:g} rpm: {what}", _valvetrain_model(data))
+        return
     model = f"{chk.dynamic.model} follower" + (
         " (oscillating arm; torques as contact forces through the lever arm)" if data.oscillating else ""
     )
     verdict_block(fig, flow, passed, f"at {chk.speed_rpm:g} rpm: {what}", model)
+
+
+def _valvetrain_model(data: ReportData) -> str:
+    """What judges a valvetrain: the two-mass model, its cam contact and its spring's mass."""
+    sd = data.case.spring
+    spring = "" if sd is None or sd.model == "none" else f"; the valve spring's mass on the valve ({sd.model})"
+    return f"two-mass valvetrain, {data.check.dynamic.model} cam contact{spring}"
 
 
 def at_limit(c: Check) -> bool:
@@ -157,6 +167,8 @@ def key_results(data: ReportData) -> list[tuple[str, str]]:
     chk = data.check
     if chk.closure is not None:
         return _groove_results(data) + _geometry_results(data)
+    if chk.valvetrain is not None:
+        return valvetrain_results(data) + _geometry_results(data)
     dyn, kin = chk.dynamic, chk.kinematic
     resp = chk.response
     seps = resp.separations
@@ -197,6 +209,47 @@ def key_results(data: ReportData) -> list[tuple[str, str]]:
     rv = chk.response.residual_vibration * data.to_display
     rows.append(("residual vibration", f"{rv:.3g} {data.unit}"))
     return rows + _geometry_results(data)
+
+
+def _speed(rpm: float, top_rpm: float) -> str:
+    return f"{rpm:.4g} rpm" if math.isfinite(rpm) else f"none up to {top_rpm:.4g} rpm"
+
+
+def valvetrain_results(data: ReportData) -> list[tuple[str, str]]:
+    """A valvetrain's key results, the two-mass model's (what its checks judge): the least cam-contact force over
+    the valve event, the float and bounce speeds, the seating velocity and bounce height at the case speed, the
+    coil-bind clearance with a designed spring; the equivalent single follower's rigid jump speed, labelled so."""
+    chk = data.check
+    vt = chk.valvetrain
+    assert vt is not None
+    r = vt.response
+    opening, closing = vt.timing_deg
+    least = r.least_event_force
+    if r.floated:
+        force = f"0 N: floats at {r.least_event_force_deg:.1f}\u00b0"
+    elif math.isfinite(least):
+        force = f"{least:.4g} N at {r.least_event_force_deg:.1f}\u00b0"
+    else:
+        force = "no valve event"
+    seat = vt.seating_velocity
+    rows = [
+        ("least cam force, event", force),
+        ("float speed", _speed(vt.float_speed_rpm, vt.search_top_rpm)),
+        ("bounce speed", _speed(vt.bounce_speed_rpm, vt.search_top_rpm)),
+        ("seating velocity", f"{seat:.3g} m/s" if math.isfinite(seat) else "the valve never lifts"),
+        ("bounce height", f"{r.bounce_height_mm:.3g} mm"),
+        (
+            "valve lift",
+            f"{r.max_valve_lift_mm:.4g} mm, open {opening:.1f} to {closing:.1f}\u00b0"
+            if math.isfinite(opening) and math.isfinite(closing)
+            else f"{r.max_valve_lift_mm:.4g} mm",
+        ),
+    ]
+    clearance = vt.coil_bind_clearance_mm
+    if clearance is not None:
+        rows.append(("coil-bind clearance", f"{clearance:.3g} mm" + (" (goes solid)" if clearance < 0.0 else "")))
+    rows.append(("equivalent follower", f"rigid jump {fmt(chk.kinematic.jump_speed_rpm)} rpm (one mass, no lash)"))
+    return rows
 
 
 def _groove_results(data: ReportData) -> list[tuple[str, str]]:
@@ -542,7 +595,8 @@ def _small(ax) -> None:
 
 def _force_thumbnail(ax, data: ReportData) -> None:
     resp = data.check.response
-    ax.plot(resp.theta_deg, resp.kinematic_force, color=C["kin"], ls="--", lw=0.9, label="kinematic")
+    kin_label = "kinematic" if data.check.valvetrain is None else "kinematic, one equivalent mass"
+    ax.plot(resp.theta_deg, resp.kinematic_force, color=C["kin"], ls="--", lw=0.9, label=kin_label)
     valve = data.check.valvetrain
     dyn_label = "dynamic" if valve is None else "dynamic, one equivalent mass"
     ax.plot(resp.theta_deg, resp.force, color=C["dyn"], lw=1.2, label=dyn_label)
@@ -560,4 +614,4 @@ def _force_thumbnail(ax, data: ReportData) -> None:
     ax.set_xlabel("cam angle \u03b8 (deg)", fontsize=7)
     ax.set_ylabel("force (N)", fontsize=7)
     ax.tick_params(labelsize=6.5)
-    legend_above_data(ax, fontsize=6.5, ncol=4)
+    legend_above_data(ax, fontsize=6.5, ncol=4 if valve is None else 2)
