@@ -179,7 +179,11 @@ def test_oscillating_case_forces_in_newton(capsys):
     force = torque / (np.asarray(lever_arm_mm(case.motion, case.follower, th)) / 1000.0)
     np.testing.assert_allclose(data[:, 5], force, rtol=1e-9)
     np.testing.assert_allclose(data[:, 1], np.degrees(phi), atol=1e-9)
-    code, out, _ = run(capsys, "check", case_path, "--json")
+
+
+@pytest.mark.slow  # a whole check; test_robustness' oscillating check at 2000 rpm keeps the quick set's
+def test_oscillating_case_check_passes_with_its_residual_vibration_in_rad(capsys):
+    code, out, _ = run(capsys, "check", ROOT / "cases" / "oscillating.toml", "--json")
     doc = json.loads(out)
     assert code == 0 and doc["dynamic"]["min_contact_force_N"] > 10.0 and "residual_vibration_rad" in doc["dynamic"]
 

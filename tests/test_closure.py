@@ -308,6 +308,9 @@ def test_spring_held_studies_refuse_a_groove_cam(tmp_path, capsys, argv):
     assert not (tmp_path / "r").exists()
 
 
+# slow: the oscillating groove's flight compiles alone (seconds); the quick set keeps the translating groove's
+# (test_flight_across_the_backlash_lands_where_the_closed_form_says)
+@pytest.mark.slow
 def test_oscillating_groove_cam_crosses_at_mid_rise_and_lands_as_the_closed_form_says():
     """The cartoner's infeed arm in its groove (no spring): the force changes flank at mid-rise and mid-return of its
     modified-sine swings (90 and 260 deg); the arm keeps its angular velocity across the gap b / (a cos phi) (rad) and

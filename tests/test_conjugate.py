@@ -293,6 +293,9 @@ def test_check_json_of_the_shipped_conjugate_cam(capsys):
     assert pa["value"] == pytest.approx(cl["conjugate_cam"]["max_pressure_angle_deg"]) and pa["limit"] == 35.0
 
 
+# slow: compiles the rocker's flight across the backlash alone (seconds); the quick set keeps the yoke's flight
+# (test_flight_across_the_conjugate_backlash_uses_the_conjugate_cams_lever) and the rocker's forces
+@pytest.mark.slow
 def test_rocker_flight_across_the_backlash_lands_and_hits_through_the_conjugate_arm():
     """The shipped rocker without preload, 0.05 mm backlash and a longer second arm (165 mm): the arm keeps its
     angular velocity across the gap b / (a2 cos phi2) (rad, the conjugate cam's lever at the crossover), the landing
@@ -334,18 +337,18 @@ def test_rocker_flight_across_the_backlash_lands_and_hits_through_the_conjugate_
         # lands on through k_f and c_f (N*m/rad), the peak torque over a contact period over that cam's lever arm
         to = -side  # +1: pressed up by the primary cam, -1: back by the conjugate one
 
-        def flank_torque(t, y, to=to, gap=gap):
-            sv = _host(case, t)[:, 0]
-            return to * max(0.0, kf * (to * (sv[0] - y[0]) - gap / 2) + cf * w * to * (sv[1] - y[1]))
+        def flank_torque(t, y, to=to, gap=gap):  # t (n,) and y (2, n), or one angle and its state
+            sv = _host(case, t)
+            return to * np.maximum(0.0, kf * (to * (sv[0] - y[0]) - gap / 2) + cf * w * to * (sv[1] - y[1]))
 
         def field(t, y, flank_torque=flank_torque):
-            return [y[1], (flank_torque(t, y) - k * y[0] - c_ * w * y[1] - t0) / (0.05 * w**2)]
+            return [y[1], (flank_torque(t, y)[0] - k * y[0] - c_ * w * y[1] - t0) / (0.05 * w**2)]
 
         t1, span = tc + d, w * 2 * np.pi / np.sqrt((k + kf) / 0.05)
         ts = np.linspace(t1, t1 + span, 20001)
         y1 = [p0[0] - side * gap / 2 + p0[1] * d, p0[1]]
         sol = solve_ivp(field, (t1, t1 + span), y1, "DOP853", t_eval=ts, rtol=1e-12, atol=1e-14)
-        torques = np.abs([flank_torque(t, y) for t, y in zip(ts, sol.y.T, strict=True)])
+        torques = np.abs(flank_torque(ts, sol.y))
         i = int(np.argmax(torques))
         want = torques[i] / (lever[c.to_flank](np.rad2deg(ts[i]) % 360) * 1e-3)
         assert c.impact_force_N == pytest.approx(want, rel=1e-5)

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from typing import Literal
 
 from pydantic import ConfigDict, Field, model_validator
@@ -143,6 +144,12 @@ class MechanismSpec(Table):
             assert self.pin_distance is not None and self.path_link is not None  # check_type_keys: needed
             if abs(self.pin_distance - self.path_link) < 1e-9:
                 raise ValueError("pin_distance: the pin B cannot coincide with the joint C")
+            assert self.pivot is not None and self.arm is not None
+            if math.dist(self.pivot, self.cam_center) < 1e-9 * max(self.arm, 1.0):  # before the synthesis compiles
+                raise ValueError(
+                    "pivot: the follower pivot D lies on the cam centre: move it off cam_center (the arm must swing "
+                    "about a point away from the camshaft)"
+                )
         return self
 
     @property

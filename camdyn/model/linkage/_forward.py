@@ -186,13 +186,7 @@ def oscillating_forward(
     # the schema: an oscillating mechanism needs these; the roller radius is the one the synthesis chose
     assert ms.arm is not None and ms.path_link is not None and ms.follower_link is not None
     assert ms.pin_distance is not None and ms.roller_radius is not None
-    d = np.asarray(chain.pivot)
-    if np.linalg.norm(d) < 1e-9 * max(ms.arm, 1.0):
-        raise InputError(
-            "mechanism.pivot",
-            "the follower pivot D lies on the cam centre: move it off cam_center (the arm must swing about a point "
-            "away from the camshaft)",
-        )
+    d = np.asarray(chain.pivot)  # the schema refused a pivot on the cam centre
     psi = np.asarray(pts["psi"])
     if np.any(psi <= 0.0) or np.any(psi >= np.pi):
         raise InputError(
