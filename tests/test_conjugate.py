@@ -10,6 +10,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+import tomli_w
 from _helpers import distance_to_outline, run
 from scipy.integrate import solve_ivp
 from scipy.optimize import brentq, minimize_scalar
@@ -289,6 +290,9 @@ def test_check_json_of_the_shipped_conjugate_cam(capsys):
     names = [c["name"] for c in doc["checks"]]
     assert {"conjugate_pressure_angle", "conjugate_curvature", "crossover_impact"} <= set(names)
     assert "speed_margin" not in names
+    held = doc["checks"][names.index("conjugate_preload")]  # the least force on either cam under the preload
+    least = min(cl["cams"]["primary"]["min_force_N"], cl["cams"]["conjugate"]["min_force_N"])
+    assert held["ok"] and held["value"] == pytest.approx(least, rel=1e-12) and held["limit"] == 0.0
     pa = doc["checks"][names.index("conjugate_pressure_angle")]
     assert pa["value"] == pytest.approx(cl["conjugate_cam"]["max_pressure_angle_deg"]) and pa["limit"] == 35.0
 
@@ -597,3 +601,18 @@ def test_table_adds_the_conjugate_cams_columns(tmp_path, capsys):
     net = rows["primary_cam_force_N"] - rows["conjugate_cam_force_N"]
     np.testing.assert_allclose(net, rows["dynamic_contact_force_N"], atol=1e-9 * 20)
     assert np.all(rows["primary_cam_force_N"] > 0) and np.all(rows["conjugate_cam_force_N"] > 0)  # 20 N > 14.1
+
+
+def test_a_preload_too_small_to_hold_fails_the_check(capsys, tmp_path):
+    """The shipped rocker needs more than 4.824 N*m of preload at 200 rpm (half its largest net torque): at 4 N*m a
+    roller lets go, so ``conjugate_preload`` fails (exit 1) with a least cam force of 0; at 6 N*m it holds."""
+    raw = tomllib.loads(EXAMPLE.read_text())
+    for preload, ok in ((4.0, False), (6.0, True)):
+        raw["follower"]["conjugate_preload_torque"] = preload
+        path = tmp_path / f"p{preload:g}.toml"
+        path.write_text(tomli_w.dumps(raw))
+        code, out, _ = run(capsys, "check", path, "--json")
+        doc = json.loads(out)
+        check = next(c for c in doc["checks"] if c["name"] == "conjugate_preload")
+        assert check["ok"] is ok and doc["closure"]["preload_held"] is ok and code == (0 if ok else 1)
+        assert (check["value"] > 0.0) is ok

@@ -24,6 +24,7 @@ class CheckKind(str, Enum):  # noqa: UP042 (StrEnum would change str() and forma
     CROSSOVER_IMPACT = "crossover_impact"  # a groove cam: the speed at which a flank meets the follower, m/s
     CONJUGATE_PRESSURE_ANGLE = "conjugate_pressure_angle"  # conjugate cams: the second cam's, deg
     CONJUGATE_CURVATURE = "conjugate_curvature"  # conjugate cams: the second cam's least convex radius / its roller
+    CONJUGATE_PRELOAD = "conjugate_preload"  # preloaded conjugate cams: the least force on either cam, N
     # the return spring as a part (camdyn spring)
     SPRING_INDEX_MIN = "spring_index_min"
     SPRING_INDEX_MAX = "spring_index_max"
@@ -70,6 +71,7 @@ _WORDS = {
     CheckKind.CROSSOVER_IMPACT: ("largest impact speed across the backlash", "m/s", "<="),
     CheckKind.CONJUGATE_PRESSURE_ANGLE: ("largest pressure angle, conjugate cam", "deg", "<="),
     CheckKind.CONJUGATE_CURVATURE: ("conjugate cam: least radius / its roller", "ratio", ">="),
+    CheckKind.CONJUGATE_PRELOAD: ("least force on either cam, preloaded", "N", ">"),
     CheckKind.SPRING_INDEX_MIN: ("spring index D/d, at least", "", ">="),
     CheckKind.SPRING_INDEX_MAX: ("spring index D/d, at most", "", "<="),
     CheckKind.SPRING_LIFT_SAFETY: ("shear yield strength / stress at full lift", "x", ">="),

@@ -437,6 +437,7 @@ def _closure_check(case: Case, rpm: float) -> CheckReport:
     )
     checks = (study.check(lim.max_impact_velocity), *geo_checks)
     checks += study.geometry_checks(geo_checks[0].limit, lim.min_curvature_ratio)
+    checks += study.preload_check(lim.min_contact_force)
     warnings += geo_warnings
     warnings += study.fold_warnings
     contact = None

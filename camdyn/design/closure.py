@@ -125,6 +125,15 @@ class ClosureStudy:
             return ["the conjugate cam's contour folds (undercut)"] if w.undercut else []
         return [f"the groove's {n} wall folds (undercut)" for n in WALLS if getattr(w, f"{n}_wall").undercut]
 
+    def preload_check(self, min_contact_force: float) -> tuple[Check, ...]:
+        """Preloaded conjugate cams: the least force on either cam (N, at the contact) against ``[limits]
+        min_contact_force``: the preload must keep both rollers loaded all round, or one lets go and the follower is
+        held by one cam at a time. None without a preload (a groove, or conjugate cams with backlash)."""
+        if self.loads is None or self.loads.preload <= 0.0:
+            return ()
+        least = float(min(np.min(self.loads.primary_N), np.min(self.loads.conjugate_N)))
+        return (CheckKind.CONJUGATE_PRELOAD.check(least, float(min_contact_force)),)
+
     def geometry_checks(self, max_pressure_angle: float, min_curvature_ratio: float) -> tuple[Check, ...]:
         """The conjugate cam's pressure angle and curvature against the primary's limits (deg, ratio to its
         roller); none for a groove (its walls share the pitch curve's pressure angle, judged as the cam's)."""
