@@ -371,11 +371,12 @@ def _validate(args) -> None:
     """Read and validate the input files before any model is built: a typo is reported before JAX loads."""
     from .._core.errors import CamdynError
     from ..schema import load_case_spec, load_path_file
-    from ..schema.machine import load_machine
 
     if args.command == "synthesize":
         args.spec = load_path_file(args.case)
     elif args.command == "machine":
+        from ..schema.machine import load_machine  # a machine's schema loads only for ``machine``
+
         args.spec = load_machine(args.case)
     elif args.command == "report":
         args.specs = []

@@ -24,7 +24,6 @@ from ...schema import CaseSpec
 from ...schema.dynamics import dynamics_keys
 from ..checks import CheckReport, run_check
 from ..parts import resolve_spring
-from ..tolerance import tolerance_study
 from ..valvetrain import refuse_valvetrain
 from ._objectives import CLEAR, jump_speed, least_slack, peak_spring_force_floor, spring_force, vibration
 from ._rows import Rows
@@ -180,7 +179,7 @@ def margin_speed(case: Case, margin: float, w_max: float) -> float:
 def metrics(case: Case, check: CheckReport | None = None, margin: float = 0.0) -> Metrics:
     chk = check or run_check(case)
     theta = np.linspace(0.0, 2 * math.pi, 7200, endpoint=False)
-    sv = np.asarray(case.motion(theta))
+    sv = case.motion.host(theta)  # numpy: eager jax.numpy compiles a program per operation
     to_user = 1.0 if case.motion.unit == "mm" else 180.0 / math.pi
     m = case.model
     geo = chk.geometry
@@ -263,7 +262,7 @@ def _motion_kept(new: Case, space: ShapeSpace) -> list[str]:
     """Where a reshaped segment leaves its lift's range or reverses, on a 0.01 deg grid (the control points'
     order rules it out; this is the written file's own proof)."""
     theta = np.radians(np.arange(0.0, 360.0, 0.01))
-    sv = np.asarray(new.motion(theta))
+    sv = new.motion.host(theta)
     out, start, base = [], 0.0, 0.0
     for i, spec in enumerate(space.specs):
         inside = (theta >= math.radians(start)) & (theta < math.radians(spec.end))
@@ -329,6 +328,8 @@ def _robust_claim(case: Case, progress: Progress | None) -> dict:
         raise InputError(
             "--robust", "the case has no [tolerances]: give them to claim a speed at P(separation) <= 1e-3"
         )
+    from ..tolerance import tolerance_study  # scipy.stats and the sampling kernels load only with --robust
+
     study = tolerance_study(case, ROBUST_SAMPLES, progress=progress)
     jumps = np.asarray(study.jump_speed_rpm, dtype=float)
     return {

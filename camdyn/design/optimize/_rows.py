@@ -16,12 +16,15 @@ import jax.numpy as jnp
 import numpy as np
 from jax.typing import ArrayLike
 
+from ..._core.jit import cached_jit
 from ..._core.units import newton_per_torque
 from ...model.case import Case
 from ...model.dynamics import kinematic_force_of, steady_state, train_force
+from ...model.follower import FollowerModel
 from ...model.geometry import curvature_limit, geometry_of
-from ._shape import ShapeSpace
-from ._slp import with_jacobian
+from ...schema import FollowerSpec
+from ._shape import ShapeSpace, control_order, motion_values
+from ._slp import value_and_jacobian
 
 EVERY = 4  # the linear programs see every 4th grid angle; a fine scan of each answer checks them all
 _SAFETY = 1e-4  # the limits are met with this much to spare: the check reads them on another grid
@@ -29,28 +32,37 @@ FINE = 400  # speeds of the scan that checks each answer between the programs' s
 SPEED_SLOTS = 32  # speeds per linear program (a fixed count: one compiled Jacobian per case)
 
 
-@dataclass(frozen=True)
-class Rows:
-    """The case's model and limits, bound to a shape space."""
+class RowsKernel(eqx.Module):
+    """What the rows compute from: the model, the shape space's arrays and the grid (array leaves, arguments of
+    the compiled programs) and the follower and limits (static: constants of the programs, part of their keys).
+    A module-level pytree, so the programs of :class:`Rows` are stored by :func:`camdyn._core.jit.cached_jit`
+    and a later ``optimize`` of the case loads them instead of tracing them (seconds each)."""
 
-    case: Case
-    space: ShapeSpace
-    margin: float = 0.0  # the least interface force to keep at every speed held (N; N*m for an arm)
+    model: FollowerModel
+    offset: np.ndarray  # (4, n) the shape space's
+    matrix: np.ndarray  # (4, n, n_free)
+    theta: np.ndarray  # (n,) rad
+    follower: FollowerSpec = eqx.field(static=True)
+    margin: float = eqx.field(static=True)  # the least interface force to keep (N; N*m for an arm)
+    min_contact_force: float = eqx.field(static=True)  # N at the contact
+    rotary: bool = eqx.field(static=True)
+    rigid: bool = eqx.field(static=True)  # the model's, which its (traced) train stiffness says
+    max_pressure_angle_deg: float = eqx.field(static=True)
+    min_curvature_ratio: float = eqx.field(static=True)
+    moving: int = eqx.field(static=True)  # segments reshaped
+    n_control: int = eqx.field(static=True)
 
-    @property
-    def scale(self) -> float:
-        """The size of the forces (N; N*m for an arm): the static preload."""
-        return max(abs(float(self.case.model.preload)), abs(self.margin), 1e-3)
+    def values(self, z: np.ndarray | jax.Array) -> jax.Array:
+        return motion_values(self.offset, self.matrix, z)
 
     def forces(self, z: np.ndarray | jax.Array, omegas: jax.Array, preload: ArrayLike | None = None) -> jax.Array:
         """Interface force (N; N*m for an arm) at each speed (rad/s) and grid angle: (len(omegas), n). ``preload``
         (SI) overrides the case's, traceably (the spring-force objective frees it)."""
-        case, space = self.case, self.space
-        model = case.model if preload is None else eqx.tree_at(lambda m: m.preload, case.model, preload)
-        sv = space.values(z)
+        model = self.model if preload is None else eqx.tree_at(lambda m: m.preload, self.model, preload)
+        sv = self.values(z)
         s, s1, s2 = sv[0] * model.scale, sv[1] * model.scale, sv[2] * model.scale
         omegas = jnp.asarray(omegas, dtype=float)
-        if model.rigid:
+        if self.rigid:
             force = kinematic_force_of(model, omegas[:, None], s, s1, s2)
         else:
             spec = jnp.fft.rfft(s)
@@ -66,10 +78,10 @@ class Rows:
     def slack(self, z: np.ndarray | jax.Array, omegas: jax.Array, preload: ArrayLike | None = None) -> jax.Array:
         """:meth:`forces` over the least to keep (N; N*m for an arm): >= 0 where both the margin and the check's
         ``min_contact_force`` (N at the contact; through the lever arm, which moves with s, for an arm) hold."""
-        fmin = float(self.case.limits.min_contact_force)
+        fmin = self.min_contact_force
         need = max(self.margin, fmin)
-        if self.case.kind.rotary:  # the least contact force through the lever arm, which moves with s
-            lever = geometry_of(self.case.follower, jnp.asarray(self.space.theta), self.space.values(z))["lever"]
+        if self.rotary:  # the least contact force through the lever arm, which moves with s
+            lever = geometry_of(self.follower, jnp.asarray(self.theta), self.values(z))["lever"]
             need = jnp.maximum(self.margin, fmin / newton_per_torque(lever))
         return self.forces(z, omegas, preload) - need
 
@@ -77,29 +89,89 @@ class Rows:
         """The geometry constraints as ``g <= 0``, each scaled to its limit: |phi| / phi_max - 1 and, for a roller,
         kappa / kappa_max - 1 (the check's least contour radius over the roller radius), for a flat face
         1 - rho / rho_min."""
-        f, lim = self.case.follower, self.case.limits
-        geo = geometry_of(f, jnp.asarray(self.space.theta), self.space.values(z))
-        phi_max = math.radians(lim.max_pressure_angle or f.kind.default_max_pressure_angle_deg)
+        f = self.follower
+        geo = geometry_of(f, jnp.asarray(self.theta), self.values(z))
+        phi_max = math.radians(self.max_pressure_angle_deg)
         rows = [jnp.abs(geo["phi"]) / phi_max - 1.0 + _SAFETY]
         if f.roller_radius is not None:  # a roller follower
-            kappa_max = 1.0 / (f.roller_radius * (1.0 + curvature_limit(f, lim.min_curvature_ratio)))
+            kappa_max = 1.0 / (f.roller_radius * (1.0 + curvature_limit(f, self.min_curvature_ratio)))
             rows.append(geo["kappa_pitch"] / kappa_max - 1.0 + _SAFETY)
         else:
             assert f.base_radius is not None  # a built case's follower has it
-            rho_min = max(curvature_limit(f, lim.min_curvature_ratio), 1e-3 * f.base_radius)
+            rho_min = max(curvature_limit(f, self.min_curvature_ratio), 1e-3 * f.base_radius)
             rows.append(1.0 - geo["rho_contour"] / rho_min + _SAFETY)
-        rows.append(self.space.order(z))
+        rows.append(control_order(z, self.moving, self.n_control))
         return jnp.concatenate(rows)
+
+    def sampled_slack(self, z: jax.Array, speeds: jax.Array, preload: ArrayLike | None) -> jax.Array:
+        """:meth:`slack` at the angles the linear programs see, flat."""
+        return self.slack(z, speeds, preload)[:, np.arange(0, self.theta.size, EVERY)].ravel()
+
+
+@cached_jit
+def _force_jacobian(kernel: RowsKernel, z: jax.Array, speeds: jax.Array, preload: ArrayLike | None):
+    return value_and_jacobian(kernel.sampled_slack, z, speeds, preload)
+
+
+@cached_jit
+def _geometry_jacobian(kernel: RowsKernel, z: jax.Array):
+    return value_and_jacobian(kernel.geometry, z)
+
+
+@cached_jit
+def _least_on_scan(kernel: RowsKernel, z: jax.Array, w: jax.Array, preload: ArrayLike | None) -> jax.Array:
+    return kernel.slack(z, w * jnp.arange(1, FINE + 1) / FINE, preload).min(axis=1)
+
+
+@dataclass(frozen=True)
+class Rows:
+    """The case's model and limits, bound to a shape space."""
+
+    case: Case
+    space: ShapeSpace
+    margin: float = 0.0  # the least interface force to keep at every speed held (N; N*m for an arm)
+
+    @property
+    def scale(self) -> float:
+        """The size of the forces (N; N*m for an arm): the static preload."""
+        return max(abs(float(self.case.model.preload)), abs(self.margin), 1e-3)
+
+    @cached_property
+    def kernel(self) -> RowsKernel:
+        case, space, lim = self.case, self.space, self.case.limits
+        return RowsKernel(
+            model=case.model,
+            offset=space.offset,
+            matrix=space.matrix,
+            theta=space.theta,
+            follower=case.follower,
+            margin=float(self.margin),
+            min_contact_force=float(lim.min_contact_force),
+            rotary=case.kind.rotary,
+            rigid=case.model.rigid,
+            max_pressure_angle_deg=float(lim.max_pressure_angle or case.follower.kind.default_max_pressure_angle_deg),
+            min_curvature_ratio=float(lim.min_curvature_ratio),
+            moving=len(space.moving),
+            n_control=space.n_control,
+        )
+
+    def forces(self, z: np.ndarray | jax.Array, omegas: jax.Array, preload: ArrayLike | None = None) -> jax.Array:
+        return self.kernel.forces(z, omegas, preload)
+
+    def slack(self, z: np.ndarray | jax.Array, omegas: jax.Array, preload: ArrayLike | None = None) -> jax.Array:
+        return self.kernel.slack(z, omegas, preload)
+
+    def geometry(self, z: np.ndarray | jax.Array) -> jax.Array:
+        return self.kernel.geometry(z)
 
     @cached_property
     def sampled(self) -> np.ndarray:
         """The grid angles the linear programs see."""
         return np.arange(0, self.space.theta.size, EVERY)
 
-    @cached_property
-    def force_jacobian(self) -> Callable[..., tuple[jax.Array, jax.Array]]:
-        """``(z, speeds[SPEED_SLOTS], preload) -> (slack at the sampled angles, d/dz)``, compiled once."""
-        return with_jacobian(lambda z, speeds, preload: self.slack(z, speeds, preload)[:, self.sampled].ravel())
+    def force_jacobian(self, z: jax.Array, speeds: jax.Array, preload: ArrayLike | None = None):
+        """``(z, speeds[SPEED_SLOTS], preload) -> (slack at the sampled angles, d/dz)``, a stored program."""
+        return _force_jacobian(self.kernel, z, speeds, preload)
 
     def force_values(
         self, speeds: jax.Array
@@ -114,16 +186,12 @@ class Rows:
         v_ref, jac = (np.asarray(a) for a in self.force_jacobian(jnp.asarray(z_ref), speeds, None))
         return lambda z: (v_ref + np.einsum("ij,j->i", jac, np.asarray(z, dtype=float) - z_ref), jac)
 
-    @cached_property
-    def least_on_scan(self) -> Callable[..., jax.Array]:
-        """``(z, w_max, preload) -> the least slack at each of FINE speeds up to w_max``, compiled once."""
-        return jax.jit(
-            lambda z, w, preload=None: self.slack(z, w * jnp.arange(1, FINE + 1) / FINE, preload).min(axis=1)
-        )
+    def least_on_scan(self, z: jax.Array, w_max: float, preload: ArrayLike | None = None) -> jax.Array:
+        """The least slack at each of FINE speeds up to ``w_max`` (rad/s), a stored program."""
+        return _least_on_scan(self.kernel, z, np.asarray(w_max, dtype=float), preload)
 
-    @cached_property
-    def geometry_jacobian(self) -> Callable[..., tuple[jax.Array, jax.Array]]:
-        return with_jacobian(self.geometry)
+    def geometry_jacobian(self, z: jax.Array):
+        return _geometry_jacobian(self.kernel, z)
 
 
 def speed_slots(speeds: ArrayLike) -> np.ndarray:

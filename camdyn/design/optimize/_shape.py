@@ -46,17 +46,12 @@ class ShapeSpace:
 
     def values(self, z: np.ndarray | jax.Array) -> jax.Array:
         """(s, s', s'', s''') on the grid for control points ``z``: (4, n), JAX-traceable."""
-        return jnp.asarray(self.offset) + jnp.einsum("dnk,k->dn", jnp.asarray(self.matrix), z)
+        return motion_values(self.offset, self.matrix, z)
 
     def order(self, z: np.ndarray | jax.Array) -> jax.Array:
         """``<= 0`` where each segment's control points (clamped 0s, free, clamped 1s) are monotone in [0, 1]:
         exactly linear in ``z`` (JAX-traceable)."""
-        free = self.n_control - 2 * CLAMPED
-        rows = []
-        for k in range(len(self.moving)):
-            c = jnp.concatenate([jnp.zeros(1), z[k * free : (k + 1) * free], jnp.ones(1)])
-            rows.append(c[:-1] - c[1:])
-        return jnp.concatenate(rows)
+        return control_order(z, len(self.moving), self.n_control)
 
     def control_points(self, z: np.ndarray | jax.Array) -> list[np.ndarray]:
         """The full control points of each reshaped segment (clamped ends included)."""
@@ -81,6 +76,22 @@ class ShapeSpace:
         return Program.from_segments(self.segments(z), unit=unit)
 
 
+def motion_values(offset: np.ndarray, matrix: np.ndarray, z: np.ndarray | jax.Array) -> jax.Array:
+    """``offset + matrix @ z``: (s, s', s'', s''') on the grid, (4, n), JAX-traceable."""
+    return jnp.asarray(offset) + jnp.einsum("dnk,k->dn", jnp.asarray(matrix), z)
+
+
+def control_order(z: np.ndarray | jax.Array, moving: int, n_control: int) -> jax.Array:
+    """``<= 0`` where the control points of each of ``moving`` segments (clamped 0s, free ones from ``z``, clamped
+    1s) are monotone in [0, 1]: exactly linear in ``z`` (JAX-traceable)."""
+    free = n_control - 2 * CLAMPED
+    rows = []
+    for k in range(moving):
+        c = jnp.concatenate([jnp.zeros(1), z[k * free : (k + 1) * free], jnp.ones(1)])
+        rows.append(c[:-1] - c[1:])
+    return jnp.concatenate(rows)
+
+
 def shape_space(case: Case, n: int = FFT_GRID, n_control: int = N_CONTROL) -> ShapeSpace:
     """The shape space of a segment case with ``n_control`` control points per reshaped segment; a path, table or
     contour case has no segments to reshape."""
@@ -103,7 +114,7 @@ def shape_space(case: Case, n: int = FFT_GRID, n_control: int = N_CONTROL) -> Sh
         raise InputError("motion.segments", "no segment lifts: nothing to reshape")
     to_unit = case.kind.motion_per_lift  # the segments' lift unit -> the motion's
     theta = np.arange(n) * (TWO_PI / n)
-    now = np.asarray(case.motion(theta))  # the case's own motion: the start and what the dwells keep
+    now = case.motion.host(theta)  # the case's own motion (numpy): the start and what the dwells keep
     offset = np.zeros((4, n))
     free = n_control - 2 * CLAMPED
     matrix = np.zeros((4, n, free * len(moving)))

@@ -30,14 +30,15 @@ class Step:
     steps: int
 
 
+def value_and_jacobian(fn: Callable, x: jax.Array, *args: Any) -> tuple[jax.Array, jax.Array]:
+    """``(fn(x, *args), dfn/dx)`` by forward-mode autodiff, one tangent per variable (JAX-traceable)."""
+    v, jvp_fn = jax.linearize(lambda y: fn(y, *args), x)
+    return v, jax.vmap(jvp_fn, out_axes=-1)(jnp.eye(x.size))
+
+
 def with_jacobian(fn: Callable) -> Callable:
-    """``x -> (fn(x), dfn/dx)`` compiled once: forward-mode autodiff, one tangent per variable."""
-
-    def both(x: jax.Array, *args: Any) -> tuple[jax.Array, jax.Array]:
-        v, jvp_fn = jax.linearize(lambda y: fn(y, *args), x)
-        return v, jax.vmap(jvp_fn, out_axes=-1)(jnp.eye(x.size))
-
-    return jax.jit(both)
+    """``x -> (fn(x), dfn/dx)`` compiled once (:func:`value_and_jacobian`)."""
+    return jax.jit(lambda x, *args: value_and_jacobian(fn, x, *args))
 
 
 def _value_and_jacobian(fn: Callable, x: np.ndarray):

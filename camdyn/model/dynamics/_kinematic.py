@@ -5,7 +5,6 @@ from __future__ import annotations
 import math
 
 import jax
-import jax.numpy as jnp
 import numpy as np
 from jax.typing import ArrayLike
 
@@ -13,7 +12,7 @@ from ..._core.jit import cached_jit
 from ..._core.minimize import minimize_bounded
 from ..._core.units import TWO_PI
 from ..follower import FollowerModel
-from ..motion import Motion, evaluate
+from ..motion import Motion
 
 
 def kinematic_force(motion: Motion, model: FollowerModel, omega: ArrayLike, theta: ArrayLike) -> jax.Array:
@@ -73,7 +72,7 @@ def kinematic_jump_speed(motion: Motion, model: FollowerModel, n: int = 7200) ->
     f0 = float(model.preload) + float(model.external)
 
     def w_at(theta: ArrayLike) -> np.ndarray:
-        s, s1, s2, _ = np.asarray(evaluate(motion, jnp.asarray(theta, dtype=float))) * model.scale
+        s, s1, s2, _ = motion.host(np.asarray(theta, dtype=float)) * model.scale  # numpy where it can: no program
         return _quadratic_jump_speed(m * s2, c * s1, k * s + f0)
 
     theta = np.arange(n) * (TWO_PI / n)

@@ -35,7 +35,6 @@ from dataclasses import dataclass, field
 from typing import Any
 
 import diffrax
-import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
@@ -43,6 +42,7 @@ import optimistix as optx
 from jax.typing import ArrayLike
 
 from ..._core.errors import NumericalError
+from ..._core.jit import cached_jit
 from ..._core.units import M_PER_MM, RPM, THETA_GRID, TWO_PI, VALVE_BOUNCE_TOLERANCE_MM, VALVE_TIMING_LIFT_MM
 from ..motion import Motion
 from ..valvetrain import ValvetrainModel
@@ -166,10 +166,11 @@ class _Bracket(optx.Bisection):
 _EVENT = diffrax.Event(_first_change, root_finder=_Bracket(rtol=1e-14, atol=1e-12), direction=False)
 
 
-@eqx.filter_jit
+@cached_jit
 def _stretch(motion, vt, omega, modes, force_tol, t0, t1, y0, jumps, ts):
     """One stretch in a fixed mode from t0 until a contact opens or closes (an event) or t1, saved at ``ts``
-    (clipped into [t0, t1]; those past an event come back as inf) and at its end, with (F_cam, F_t) at each."""
+    (clipped into [t0, t1]; those past an event come back as inf) and at its end, with (F_cam, F_t) at each, and
+    whether it ended at an event and whether the solver succeeded."""
     pid = diffrax.PIDController(rtol=_RTOL, atol=_ATOL)
     args = (motion, vt, omega, modes, force_tol)
     sol = diffrax.diffeqsolve(
@@ -193,11 +194,13 @@ def _stretch(motion, vt, omega, modes, force_tol, t0, t1, y0, jumps, ts):
 
     assert sol.ts is not None and sol.ys is not None  # saved at ts and at the end
     (t_saved, t_end), (y_saved, y_end) = sol.ts, sol.ys
-    return t_end[0], y_end[0], sol.result, jax.vmap(one)(t_saved, y_saved)
+    # the solver's result as two flags: a stored program (cached_jit) returns arrays, not equinox's enumeration
+    hit, ok = sol.result == diffrax.RESULTS.event_occurred, sol.result == diffrax.RESULTS.successful
+    return t_end[0], y_end[0], (hit, ok), jax.vmap(one)(t_saved, y_saved)
 
 
-_conditions_jit = eqx.filter_jit(_conditions)
-_state_jit = eqx.filter_jit(_state)
+_conditions_jit = cached_jit(_conditions)
+_state_jit = cached_jit(_state)
 
 
 @dataclass(frozen=True)
@@ -376,12 +379,12 @@ def valvetrain_response(motion: Motion, vt: ValvetrainModel, omega: float, n: in
                 return np.asarray(out).T
 
             tt = np.clip(t_start + np.arange(k_next, k_next + n) * (TWO_PI / n), t0, t_end)  # fixed shape
-            t1, y1, result, samples = _stretch(
+            t1, y1, (hit, ok), samples = _stretch(
                 motion, vt, w, m, force_tol, jnp.asarray(t0), jnp.asarray(t_end), jnp.asarray(y), jumps, jnp.asarray(tt)
             )
             t1, samples = float(t1), np.asarray(samples).T
-            hit = bool(result == diffrax.RESULTS.event_occurred)
-            if not (hit or bool(result == diffrax.RESULTS.successful)):
+            hit = bool(hit)
+            if not (hit or bool(ok)):
                 raise NumericalError(
                     f"valvetrain at {omega / RPM:.4g} rpm",
                     "the two-mass integration failed (solver out of steps or NaN): check the masses and stiffnesses",

@@ -57,7 +57,7 @@ class Motion(eqx.Module):
     def sample(self, n: int = THETA_GRID) -> tuple[np.ndarray, np.ndarray]:
         """(theta_deg, values) on ``n`` equal steps of [0, 360); values has shape (4, n)."""
         theta_deg = np.arange(n) * (360.0 / n)
-        return theta_deg, np.asarray(evaluate(self, np.deg2rad(theta_deg)))
+        return theta_deg, self.host(np.deg2rad(theta_deg))
 
 
 def padded_length(n: int, least: int, factor: int = 4) -> int:
