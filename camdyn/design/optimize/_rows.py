@@ -109,12 +109,14 @@ class RowsKernel(eqx.Module):
 
 
 @cached_jit
-def _force_jacobian(kernel: RowsKernel, z: jax.Array, speeds: jax.Array, preload: ArrayLike | None):
+def _force_jacobian(
+    kernel: RowsKernel, z: jax.Array, speeds: jax.Array, preload: ArrayLike | None
+) -> tuple[jax.Array, jax.Array]:
     return value_and_jacobian(kernel.sampled_slack, z, speeds, preload)
 
 
 @cached_jit
-def _geometry_jacobian(kernel: RowsKernel, z: jax.Array):
+def _geometry_jacobian(kernel: RowsKernel, z: jax.Array) -> tuple[jax.Array, jax.Array]:
     return value_and_jacobian(kernel.geometry, z)
 
 
@@ -169,7 +171,9 @@ class Rows:
         """The grid angles the linear programs see."""
         return np.arange(0, self.space.theta.size, EVERY)
 
-    def force_jacobian(self, z: jax.Array, speeds: jax.Array, preload: ArrayLike | None = None):
+    def force_jacobian(
+        self, z: jax.Array, speeds: jax.Array, preload: ArrayLike | None = None
+    ) -> tuple[jax.Array, jax.Array]:
         """``(z, speeds[SPEED_SLOTS], preload) -> (slack at the sampled angles, d/dz)``, a stored program."""
         return _force_jacobian(self.kernel, z, speeds, preload)
 
@@ -190,7 +194,8 @@ class Rows:
         """The least slack at each of FINE speeds up to ``w_max`` (rad/s), a stored program."""
         return _least_on_scan(self.kernel, z, np.asarray(w_max, dtype=float), preload)
 
-    def geometry_jacobian(self, z: jax.Array):
+    def geometry_jacobian(self, z: jax.Array) -> tuple[jax.Array, jax.Array]:
+        """``z -> (geometry constraints, d/dz)`` (:meth:`geometry`), a stored program."""
         return _geometry_jacobian(self.kernel, z)
 
 

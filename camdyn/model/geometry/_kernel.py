@@ -16,6 +16,7 @@ from ..._core.errors import InputError
 from ..._core.jit import cached_jit
 from ..._core.kinds import FollowerType
 from ...schema import FollowerSpec
+from ..motion import evaluate
 
 if TYPE_CHECKING:
     from ..motion import Motion
@@ -243,7 +244,7 @@ def chunked(
     padded[:n] = flat
     parts = []
     for theta in padded.reshape(-1, _CHUNK):  # numpy between the programs: an eager jax op compiles one of its own
-        sv = motion.host(theta)  # numpy where the motion has a numpy form: one program fewer to load
+        sv = evaluate(motion, theta)
         parts.append(program(theta, sv) | {"s": np.asarray(sv)[0]})
     out = {k: np.concatenate([np.asarray(part[k]) for part in parts])[:n] for k in parts[0]}
     return {k: v.reshape(theta_rad.shape + v.shape[1:]) for k, v in out.items()}
