@@ -16,8 +16,8 @@ from pathlib import Path
 import jax.numpy as jnp
 import numpy as np
 import pytest
-from scipy.optimize import linprog
 from _helpers import run
+from scipy.optimize import linprog
 
 from camdyn import InputError
 from camdyn._core.units import M_PER_MM, RPM

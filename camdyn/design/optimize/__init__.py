@@ -3,7 +3,8 @@ follower, spring and limits, for the objective the designer names (:mod:`._objec
 differentiated through the frequency-domain steady state by JAX (never by finite differences) and each step is
 a linear program (:mod:`._slp`); the answer is then checked by ``check``'s own models, the time-domain
 diffrax model included. A valvetrain keeps its ramps and its valve's timing: only the flanks between the ramps
-are reshaped (:func:`._shape.flank_space`), on its equivalent single follower, and the answer is judged by the
+are reshaped (:func:`._shape.flank_space`), on the valve event's single follower (the valve on the compliant
+train, :func:`camdyn.model.valvetrain.event_follower`), and the answer is judged by the
 two-mass model's float and bounce speeds and seating velocity (``check``'s), none of which may come out worse."""
 
 from __future__ import annotations
@@ -463,17 +464,19 @@ def optimize_case(
     new = resolve_spring(build_case(CaseSpec.model_validate(doc), case.source))
     after_check = run_check(new, speed_rpm)
     after = metrics(new, after_check, margin)
+    facts = None
     if case.valvetrain is not None:
-        return _valvetrain_answer(
-            case, new, doc, space, before_check, after_check, before, after, margin, control_points, t0
+        claimed, verification, refusals, facts = _valvetrain_verdict(new, space, before_check, after_check)
+    else:
+        claimed = after.margin_speed_rpm if objective == "jump-speed" else case.limits.speed_margin * rpm
+        checked = [w / RPM for w in _dips(new, claimed * RPM, _VERIFIED)] if not new.model.rigid else []
+        checked = sorted(
+            set(round(v, 1) for v in checked + [0.99 * claimed] + ([] if objective == "jump-speed" else [rpm]))
         )
-    claimed = after.margin_speed_rpm if objective == "jump-speed" else case.limits.speed_margin * rpm
-    checked = [w / RPM for w in _dips(new, claimed * RPM, _VERIFIED)] if not new.model.rigid else []
-    checked = sorted(
-        set(round(v, 1) for v in checked + [0.99 * claimed] + ([] if objective == "jump-speed" else [rpm]))
-    )
-    verification = _verify(new, checked, margin)
-    refusals = _refusals(objective, before_check, after_check, before, after, _motion_kept(new, space), verification)
+        verification = _verify(new, checked, margin)
+        refusals = _refusals(
+            objective, before_check, after_check, before, after, _motion_kept(new, space), verification
+        )
     robust_claim = None
     if robust and not refusals:
         robust_claim = _robust_claim(new, progress)
@@ -491,6 +494,7 @@ def optimize_case(
         margin,
         tuple(refusals),
         robust_claim,
+        facts,
     )
 
 
@@ -527,15 +531,24 @@ def valve_facts(check: CheckReport) -> dict:
 
 
 def _valve_sentence(facts: dict) -> str:
-    b, a = facts["before"], facts["after"]
-    rpm = lambda x: "none found" if x is None else f"{x:.1f}"  # noqa: E731
-    return (
-        f"Two-mass valvetrain: float speed {rpm(b['float_speed_rpm'])} -> {rpm(a['float_speed_rpm'])} rpm, bounce "
-        f"speed {rpm(b['bounce_speed_rpm'])} -> {rpm(a['bounce_speed_rpm'])} rpm, seating velocity "
-        f"{b['seating_velocity_m_per_s']:.4g} -> {a['seating_velocity_m_per_s']:.4g} m/s, opening "
-        f"{b['opening_deg']:.2f} -> {a['opening_deg']:.2f} deg, closing {b['closing_deg']:.2f} -> "
-        f"{a['closing_deg']:.2f} deg."
+    """The written case's header line of a valvetrain's two-mass facts, before -> after."""
+    rows = (
+        ("float speed", "float_speed_rpm", ".1f", " rpm"),
+        ("bounce speed", "bounce_speed_rpm", ".1f", " rpm"),
+        ("seating velocity", "seating_velocity_m_per_s", ".4g", " m/s"),
+        ("opening", "opening_deg", ".2f", " deg"),
+        ("closing", "closing_deg", ".2f", " deg"),
     )
+    said = (
+        f"{label} {_shown_or_none(facts['before'][key], fmt)} -> {_shown_or_none(facts['after'][key], fmt)}{unit}"
+        for label, key, fmt, unit in rows
+    )
+    return "Two-mass valvetrain: " + ", ".join(said) + "."
+
+
+def _shown_or_none(x: float | None, fmt: str) -> str:
+    """``x`` as ``fmt``; "none" for a speed none was found up to the search's top (or an angle never reached)."""
+    return "none" if x is None else format(x, fmt)
 
 
 def _valvetrain_refusals(b: dict, a: dict) -> list[str]:
@@ -550,30 +563,22 @@ def _valvetrain_refusals(b: dict, a: dict) -> list[str]:
         out.append(f"the bounce speed would fall {inf(b['bounce_speed_rpm']):.1f} -> {a['bounce_speed_rpm']:.1f} rpm")
     vb, va = b["seating_velocity_m_per_s"], a["seating_velocity_m_per_s"]
     if vb is not None and (va is None or va > vb * (1.0 + _SEATING_RTOL)):
-        out.append(f"the seating velocity would rise {vb:.4g} -> {va} m/s")
+        out.append(f"the seating velocity would rise {vb:.4g} -> {_shown_or_none(va, '.4g')} m/s")
     for key in ("opening_deg", "closing_deg"):
         if b[key] is None or a[key] is None or abs(a[key] - b[key]) > _TIMING_DEG:
-            out.append(f"the valve's {key[:-4]} would move {b[key]} -> {a[key]} deg")
+            shown = (_shown_or_none(v, ".2f") for v in (b[key], a[key]))
+            out.append(f"the valve's {key[:-4]} at 0.05 mm would move {' -> '.join(shown)} deg")
     if abs(a["peak_cam_lift_mm"] - b["peak_cam_lift_mm"]) > 1e-9 * b["peak_cam_lift_mm"]:
         out.append(f"the peak lift would change {b['peak_cam_lift_mm']:.6g} -> {a['peak_cam_lift_mm']:.6g} mm")
     return out
 
 
-def _valvetrain_answer(
-    case: Case,
-    new: Case,
-    doc: dict,
-    space: ShapeSpace,
-    before_check: CheckReport,
-    after_check: CheckReport,
-    before: Metrics,
-    after: Metrics,
-    margin: float,
-    control_points: int,
-    t0: float,
-) -> Optimization:
-    """A valvetrain's answer, judged by the two-mass model: claimed to its float speed, verified there (0.99 x)
-    and at the case speed (the least cam-contact force over the valve event, and whether it floats)."""
+def _valvetrain_verdict(
+    new: Case, space: ShapeSpace, before_check: CheckReport, after_check: CheckReport
+) -> tuple[float, dict, list[str], dict]:
+    """A valvetrain's answer judged by the two-mass model: the claim (its float speed, rpm), the verification (the
+    model again at 0.99 x the claim and at the case speed: the least cam force over the valve event, and whether it
+    floats), the refusals and the facts before and after (:func:`valve_facts`)."""
     facts = {"before": valve_facts(before_check), "after": valve_facts(after_check)}
     claimed = facts["after"]["float_speed_rpm"]
     claimed = math.inf if claimed is None else floor_rpm(claimed)
@@ -585,7 +590,7 @@ def _valvetrain_answer(
             {
                 "speed_rpm": rpm,
                 "time_domain_least_force_N": r.least_event_force,
-                "frequency_domain_least_force_N": math.nan,
+                "frequency_domain_least_force_N": None,  # no frequency domain through the lash and the seat
                 "separated": r.floated,
                 "margin_held": not r.floated and not (rpm == after_check.speed_rpm and r.bounced),
             }
@@ -602,21 +607,7 @@ def _valvetrain_answer(
     refusals += [
         f"the two-mass model floats or bounces at {p['speed_rpm']:.1f} rpm" for p in points if not p["margin_held"]
     ]
-    return Optimization(
-        "jump-speed",
-        before,
-        after,
-        new,
-        doc,
-        claimed,
-        verification,
-        control_points,
-        time.perf_counter() - t0,
-        margin,
-        tuple(refusals),
-        None,
-        facts,
-    )
+    return claimed, verification, refusals, facts
 
 
 def _refused(
