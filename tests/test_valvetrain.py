@@ -334,6 +334,20 @@ def test_valvetrain_figures_and_search_curve(shipped_check):
     assert v[below] == pytest.approx(0.015e-3 * rpm[below] * 6.0, rel=0.1)
 
 
+def test_train_that_gives_way_to_the_spring_is_refused():
+    """A train that lifts the valve, but less than half the cam's stroke at the valve, turned slowly: (k_t (L - lash)
+    - F0) / (k_t + k) at full lift, the train and the spring in series (here 1.25 of 10 mm)."""
+    raw = copy.deepcopy(SHIPPED)
+    raw["valvetrain"]["stiffness"] = 40  # N/mm: 400 N at full compression, more than the 300 N preload
+    stroke = 6.375 * 1.6 - 0.2
+    lifted = (40 * stroke - 300) / (40 + 40)
+    with pytest.raises(InputError) as err:
+        case_from_dict(raw)
+    assert err.value.where == "valvetrain.stiffness" and f"lifts only {lifted:.3g} mm" in str(err.value)
+    raw["valvetrain"]["stiffness"] = 120  # 5.6 of 10 mm: a soft train, not a unit slip
+    case_from_dict(raw)
+
+
 def test_lash_the_cam_cannot_take_up_is_refused():
     raw = copy.deepcopy(SHIPPED)
     raw["valvetrain"]["lash"] = 4.0  # more than 0.5 x 6.375 mm
