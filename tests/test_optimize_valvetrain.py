@@ -22,6 +22,7 @@ from scipy.optimize import linprog
 from camdyn import InputError
 from camdyn._core.units import M_PER_MM, RPM
 from camdyn.cli import main
+from camdyn.design.optimize import _valvetrain_refusals
 from camdyn.design.optimize._shape import flank_space
 from camdyn.model.case import case_from_dict, load_case
 from camdyn.model.dynamics import linear_min_force, steady_state, valvetrain_response
@@ -251,3 +252,34 @@ def test_the_optimized_valvetrain_passes_check_as_written(capsys, optimized):
     w = np.linspace(100.0, 0.99 * vt["float_speed_rpm"], 4) * RPM  # the single follower holds where the valve does
     case = load_case(out)
     assert np.all(np.asarray(linear_min_force(case.motion, case.model, w)) > 0.0)
+
+
+FACTS = {
+    "float_speed_rpm": 5920.2,
+    "bounce_speed_rpm": 6625.9,
+    "seating_velocity_m_per_s": 0.2686,
+    "opening_deg": 56.06,
+    "closing_deg": 299.85,
+    "max_valve_lift_mm": 9.924,
+    "peak_cam_lift_mm": 6.375,
+}
+
+
+@pytest.mark.parametrize(
+    "change, needle",
+    [
+        ({"float_speed_rpm": 5923.0}, "no better on jump-speed: the float speed would go 5920.2 -> 5923.0 rpm"),
+        ({"bounce_speed_rpm": 6600.0}, "the bounce speed would fall 6625.9 -> 6600.0 rpm"),
+        ({"bounce_speed_rpm": None, "float_speed_rpm": None}, None),  # none found up to the top: better on both
+        ({"seating_velocity_m_per_s": 0.2690}, "the seating velocity would rise 0.2686 -> 0.269 m/s"),
+        ({"seating_velocity_m_per_s": 0.26885}, None),  # within the 0.1 % the integrator's noise moves it
+        ({"closing_deg": 300.5}, "the valve's closing at 0.05 mm would move 299.85 -> 300.50 deg"),
+        ({"opening_deg": None}, "the valve's opening at 0.05 mm would move 56.06 -> none deg"),
+        ({"peak_cam_lift_mm": 6.3751}, "the peak lift would change 6.375 -> 6.3751 mm"),
+    ],
+)
+def test_a_valvetrain_answer_is_refused_where_anything_is_worse(change, needle):
+    """Never worse than the input: each fact alone refuses the answer (the float speed up 10 % otherwise)."""
+    better = FACTS | {"float_speed_rpm": 1.1 * FACTS["float_speed_rpm"]}
+    out = _valvetrain_refusals(FACTS, better | change)
+    assert out == ([] if needle is None else [needle])
