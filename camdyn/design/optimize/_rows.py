@@ -51,6 +51,15 @@ class RowsKernel(eqx.Module):
     min_curvature_ratio: float = eqx.field(static=True)
     moving: int = eqx.field(static=True)  # segments reshaped
     n_control: int = eqx.field(static=True)
+    control_offset: np.ndarray | None = None  # a valvetrain's flanks (:class:`ShapeSpace`)
+    control_matrix: np.ndarray | None = None
+    # a valvetrain's event: the cam side's inertia (kg) and the tappet force (N) on the cam's force
+    cam_mass: float = eqx.field(static=True, default=0.0)
+    cam_load: float = eqx.field(static=True, default=0.0)
+    # and its valve's closing speed held: the grid angles around its seating (an array leaf), and (cam speed
+    # rad/s, ratio, the most m/s)
+    seating_idx: np.ndarray | None = None
+    seating: tuple[float, float, float] | None = eqx.field(static=True, default=None)
 
     def values(self, z: np.ndarray | jax.Array) -> jax.Array:
         return motion_values(self.offset, self.matrix, z)
@@ -73,6 +82,8 @@ class RowsKernel(eqx.Module):
                 return train_force(model, w, s, s1, x, x1)
 
             force = jax.vmap(one)(omegas)
+        if self.cam_mass or self.cam_load:
+            force = force + self.cam_mass * omegas[:, None] ** 2 * s2 + self.cam_load
         return force
 
     def slack(self, z: np.ndarray | jax.Array, omegas: jax.Array, preload: ArrayLike | None = None) -> jax.Array:
@@ -100,8 +111,20 @@ class RowsKernel(eqx.Module):
             assert f.base_radius is not None  # a built case's follower has it
             rho_min = max(curvature_limit(f, self.min_curvature_ratio), 1e-3 * f.base_radius)
             rows.append(1.0 - geo["rho_contour"] / rho_min + _SAFETY)
-        rows.append(control_order(z, self.moving, self.n_control))
+        rows.append(control_order(z, self.moving, self.n_control, self.control_offset, self.control_matrix))
+        if self.seating is not None:
+            rows.append(self.closing_speed(z) / self.seating[2] - 1.0)
         return jnp.concatenate(rows)
+
+    def closing_speed(self, z: np.ndarray | jax.Array) -> jax.Array:
+        """A valvetrain's valve speed toward its seat (m/s, the surrogate's steady state at ``seating``'s speed) at
+        ``seating``'s grid angles: where the valve lands on its seat, what its seating velocity follows."""
+        assert self.seating is not None  # a valvetrain's rows
+        omega, ratio, _ = self.seating
+        model = self.model
+        s = self.values(z)[0] * model.scale
+        _, x1 = steady_state(jnp.fft.rfft(s), omega, model, model.stiffness, model.damping, s.shape[0])
+        return -ratio * omega * x1[self.seating_idx]
 
     def sampled_slack(self, z: jax.Array, speeds: jax.Array, preload: ArrayLike | None) -> jax.Array:
         """:meth:`slack` at the angles the linear programs see, flat."""
@@ -132,6 +155,12 @@ class Rows:
     case: Case
     space: ShapeSpace
     margin: float = 0.0  # the least interface force to keep at every speed held (N; N*m for an arm)
+    # a valvetrain's event (:func:`camdyn.model.valvetrain.event_follower`): the case's model is the valve side, and
+    # the cam's force adds the cam side's inertia (kg, moving with the cam) and the tappet force (N)
+    cam_mass: float = 0.0
+    cam_load: float = 0.0
+    # and the valve's closing speed held: (cam speed rad/s, ratio, grid angles around its seating, the most m/s)
+    seating: tuple[float, float, np.ndarray, float] | None = None
 
     @property
     def scale(self) -> float:
@@ -155,6 +184,14 @@ class Rows:
             min_curvature_ratio=float(lim.min_curvature_ratio),
             moving=len(space.moving),
             n_control=space.n_control,
+            control_offset=space.control_offset,
+            control_matrix=space.control_matrix,
+            cam_mass=float(self.cam_mass),
+            cam_load=float(self.cam_load),
+            seating_idx=None if self.seating is None else np.asarray(self.seating[2]),
+            seating=None
+            if self.seating is None
+            else (float(self.seating[0]), float(self.seating[1]), float(self.seating[3])),
         )
 
     def forces(self, z: np.ndarray | jax.Array, omegas: jax.Array, preload: ArrayLike | None = None) -> jax.Array:
@@ -165,6 +202,9 @@ class Rows:
 
     def geometry(self, z: np.ndarray | jax.Array) -> jax.Array:
         return self.kernel.geometry(z)
+
+    def closing_speed(self, z: np.ndarray | jax.Array) -> jax.Array:
+        return self.kernel.closing_speed(z)
 
     @cached_property
     def sampled(self) -> np.ndarray:
