@@ -181,8 +181,10 @@ def test_valve_table_beyond_the_rockers_reach_is_refused(tmp_path):
     data = np.loadtxt(CASES / "valve-lift.csv", delimiter=",", skiprows=1)
     first = int(np.flatnonzero(data[:, 1] + 0.2 > 40.0 * (1.0 - math.sin(math.radians(60.0))))[0])
     assert err.value.where == f"valve.csv line {first + 2}"
-    assert f"at {data[first, 0]:g} deg" in str(err.value) and "5.359 mm" in str(err.value) and "valve arm" in str(
-        err.value
+    assert (
+        f"at {data[first, 0]:g} deg" in str(err.value)
+        and "5.359 mm" in str(err.value)
+        and "valve arm" in str(err.value)
     )
 
 
