@@ -125,18 +125,6 @@ def refuse_valvetrain(case: Case, what: str, why: str = "") -> None:
         )
 
 
-def refuse_spring_part(case: Case) -> None:
-    """:class:`InputError` where ``size`` is asked about a valvetrain with a ``[spring]`` part: the part's own mass
-    on the valve depends on the rate and preload being sized (sweep and tolerance hold the case's spring)."""
-    if case.valvetrain is not None and case.spec.spring is not None:
-        raise InputError(
-            "spring",
-            "size of a valvetrain does not size a [spring] part yet (its mass on the valve would change with the rate "
-            "and preload sized): remove [spring], put a third of its mass in valvetrain.valve_mass, size, then design "
-            "the part with camdyn spring",
-        )
-
-
 def spring_notes(case: Case, study: str) -> tuple[str, ...]:
     """What a valvetrain study (``study``: "at every rate", "in every sample") carries of a resolved ``[spring]``
     part: the case's spring, its mass on the valve and its coil bind."""
