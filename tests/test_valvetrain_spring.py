@@ -174,7 +174,7 @@ def test_size_with_a_spring_part_proposes_the_part_check_designs(capsys, tmp_pat
     doc = json.loads(out)
     top = doc["sized_to_rpm"]
     assert doc["holds"] and doc["valvetrain"]["check"]["verdict"] == "pass" and doc["spring_model"] == "lumped"
-    part, rounds = doc["part"], doc["valvetrain"]["part_rounds"]
+    part, rounds = doc["part"], doc["part_rounds"]
     assert part["rate_N_per_mm"] == pytest.approx(40.0) and part["preload_N"] == pytest.approx(doc["preload_N"])
     assert doc["spring_mass_kg"] == pytest.approx(part["mass_kg"], rel=1e-12)
     # the first round's mass is the case's own part's (300 N); the last round's preload is the proposal, sized with

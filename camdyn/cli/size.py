@@ -218,8 +218,8 @@ def run(args: argparse.Namespace) -> int:
         if args.buildable:
             raise InputError(
                 "--buildable",
-                "size --buildable does not design a valvetrain's spring part yet: size proposes the valve "
-                "spring's rate and preload",
+                "size --buildable does not apply to a valvetrain: size proposes the valve spring's rate and "
+                "preload, and with a [spring] part designs the part for them",
             )
         vs = size_valve_spring(case, args.max_speed, args.margin, args.min_rate)
         if args.json:

@@ -18,6 +18,11 @@ of the spring as written (4 significant digits, the preload rounded up) are driv
 speed by secant steps on the least of the two speeds squared (the equivalent's jump speed squared is affine in the
 preload), bracketed, with bisection where a secant step leaves the bracket. The answer is the least preload whose
 float and bounce speeds are at least (1 + HEADROOM / 2) x the top speed, and ``check`` judges it as written.
+
+**A ``[spring]`` part** moves with the valve (its lumped third, or its surge chain), and its mass depends on the
+rate and preload sized: a fixed point (:func:`_size_with_part`) sizes with the case's own part's mass, then with
+the mass of the part designed for each proposal, until the part is the one sized with or its mass moves the
+preload by less than 0.1 %; ``check`` judges the proposal with the part it designs for it, the one reported.
 """
 
 from __future__ import annotations
@@ -154,9 +159,7 @@ class ValveSpringSizing:
             "warnings": list(self.warnings),
             "buildable": False,
             "bound": False,
-            "spring_model": self.spring_model,
-            "spring_mass_kg": self.spring_mass_kg if self.spring_model != "none" else None,
-            **({} if self.part is None else {"part": self.part.json()}),
+            **({} if self.part is None else self._part_json()),
             "valvetrain": {
                 "ratio": self.ratio,
                 "lash_mm": self.lash_mm,
@@ -165,9 +168,19 @@ class ValveSpringSizing:
                 "closed_form": self.closed_form.json(top)
                 | {"equivalent_jump_speed_rpm": _finite_or_none(self.closed_form_jump_rpm)},
                 "search": [{"preload_N": f0, "least_speed_rpm": w} for f0, w in self.rounds],
-                "part_rounds": [{"spring_mass_kg": m, "preload_N": f0} for m, f0 in self.part_rounds],
                 "check": {"verdict": self.verdict, "checks": [c.json() for c in self.checks]},
             },
+        }
+
+    def _part_json(self) -> dict:
+        """With a ``[spring]`` part: the spring whose mass is in the sizing, the part, and the fixed point's rounds."""
+        assert self.part is not None  # the caller's
+        rounds = [{"spring_mass_kg": m, "preload_N": f0} for m, f0 in self.part_rounds]
+        return {
+            "spring_model": self.spring_model,
+            "spring_mass_kg": self.spring_mass_kg,
+            "part": self.part.json(),
+            "part_rounds": rounds,
         }
 
 
