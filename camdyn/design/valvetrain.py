@@ -8,7 +8,6 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .._core.errors import InputError
 from .._core.units import M_PER_MM, RPM, VALVE_BOUNCE_TOLERANCE_MM, VALVE_TIMING_LIFT_MM
 from ..model import dynamics as dyn
 from ..model.case import Case
@@ -109,19 +108,6 @@ class ValvetrainResult:
         return (
             "valvetrain: the cam contact force is judged over the valve event (from the valve's lift to its seating); "
             "on the base circle the lash is open and only valvetrain.tappet_force holds the follower"
-        )
-
-
-def refuse_valvetrain(case: Case, what: str, why: str = "") -> None:
-    """:class:`InputError` where a study that knows one follower (``what``: a tolerance study, the optimizer) is
-    asked about a valvetrain: it would judge the equivalent single follower, without the lash, the seat or float,
-    and propose what ``check`` may then fail; ``why``: what else it would get wrong."""
-    if case.valvetrain is not None:
-        raise InputError(
-            "valvetrain",
-            f"{what} does not model a valvetrain yet (it would judge the equivalent single follower, without the lash, "
-            f"the seat or float{why}): camdyn check gives its float and bounce speeds; size, sweep and tolerance "
-            "model it",
         )
 
 

@@ -19,7 +19,14 @@ from ..schema import CaseSpec, FollowerSpec
 from .datafiles import Samples, read_contour, read_lift_table
 from .geometry import ContourFit, contact_motion
 from .motion import FittedMotion, MotionFit, fit_motion, fit_warnings
-from .valvetrain import Rocker, lift_with_ramps, rocker_follower_lift, rocker_model, rocker_valve_reach
+from .valvetrain import (
+    Rocker,
+    lift_with_ramps,
+    ramp_join_warnings,
+    rocker_follower_lift,
+    rocker_model,
+    rocker_valve_reach,
+)
 
 ZERO_SHARE = 0.01  # a table may dip below zero lift by this share of its range (noise in a dwell), no more
 # a table whose lift spans less than this (mm; deg of swing) is likely in metres (radians): no cam lifts less
@@ -90,6 +97,7 @@ def table_motion(spec: CaseSpec, source: Path | None) -> tuple[FittedMotion, Mot
             lift = lift_with_ramps(theta, lift, vt.lash, vt.ramp_velocity)
         except ValueError as err:
             raise InputError(f"motion.valve_table ({name})", str(err)) from None
+        warnings += ramp_join_warnings(theta, table.values[:, 1], vt.ramp_velocity)
     rocker = None if vt is None or vt.rocker is None else rocker_model(vt.rocker)
     data = lift if rocker is None else _through_rocker(rocker, lift, table)
     # through a rocker the data's rounding and the tolerance at the follower are the valve's over the largest ratio
