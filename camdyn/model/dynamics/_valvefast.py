@@ -428,6 +428,11 @@ def _rigid_cam(motion: Motion, vt: ValvetrainModel, w: float, n: int):
     )
 
 
+def _read(name: str) -> property:
+    """A number the fast path's summary and the diffrax model's response both give, from whichever answers."""
+    return property(lambda self: float(getattr(self._answer, name)), doc=f"The response's ``{name}``.")
+
+
 class ValvePoint:
     """The valvetrain at one cam speed as its studies read it: :func:`fast_valve_summary` where it answers, the
     diffrax model's :func:`~camdyn.model.dynamics.valvetrain_response` (run once, when first asked) for what it
@@ -452,40 +457,24 @@ class ValvePoint:
             self._response = valvetrain_response(self._motion, self._vt, self.omega)
         return self._response
 
-    def _read(self, name: str) -> float:
-        return float(getattr(self._fast if isinstance(self._fast, ValveSummary) else self.response, name))
+    @property
+    def _answer(self) -> ValveSummary | ValvetrainResponse:
+        return self._fast if isinstance(self._fast, ValveSummary) else self.response
 
     @property
     def floated(self) -> bool:
-        return True if self._fast is FLOATED else bool(self._fast.floated if self.fast else self.response.floated)
+        return True if self._fast is FLOATED else bool(self._answer.floated)
 
     @property
     def least_event_force(self) -> float:
-        return 0.0 if self._fast is FLOATED else self._read("least_event_force")
+        return 0.0 if self._fast is FLOATED else float(self._answer.least_event_force)
 
-    @property
-    def least_event_force_deg(self) -> float:
-        return self._read("least_event_force_deg")
-
-    @property
-    def least_train_force(self) -> float:
-        return self._read("least_train_force")
-
-    @property
-    def seating_velocity(self) -> float:
-        return self._read("seating_velocity")
-
-    @property
-    def seating_deg(self) -> float:
-        return self._read("seating_deg")
-
-    @property
-    def bounce_height_mm(self) -> float:
-        return self._read("bounce_height_mm")
-
-    @property
-    def max_valve_lift_mm(self) -> float:
-        return self._read("max_valve_lift_mm")
+    least_event_force_deg = _read("least_event_force_deg")
+    least_train_force = _read("least_train_force")
+    seating_velocity = _read("seating_velocity")
+    seating_deg = _read("seating_deg")
+    bounce_height_mm = _read("bounce_height_mm")
+    max_valve_lift_mm = _read("max_valve_lift_mm")
 
     @property
     def bounced(self) -> bool:
