@@ -42,8 +42,9 @@ from ._response import first_zero_speed
 from ._valvetrain import GAP_EPS, NO_EVENT, ValvetrainResponse, landing_floor, start_angle, valvetrain_response
 
 REFINE = 2  # fine steps per output angle (0.05 deg): the cubic hold's error is of order h^4
-_SPLIT, _ROUNDS = 64, 3  # a contact change inside a step: the step cut in 64, three times over
+_SPLIT = 64  # a contact change inside a step: the step cut in 64, twice over
 _MAX_REBOUNDS = 200
+_MARCH = 64  # a stretch's first chunk of fine steps (then four times what it has, to the revolution's end)
 _SCAN_CHUNK = 8  # the speed searches' scan, 8 speeds at a time from the slowest: none above the first crossing's
 # chunk is marched (the same answer; the speeds where the valve floats are the diffrax model's, the slow ones)
 _ORDER = 4  # the input's Taylor chain: value, slope, curvature, third derivative (a cubic)
@@ -144,11 +145,17 @@ class _Linear:
             z[n + i, n + i + 1] = 1.0
         self.z, self.n, self.taylor, self.h = z, n, taylor, h
         self._step: tuple | None = None  # the full step's propagator and its modes, once
+        self._steps: dict[bytes, np.ndarray] = {}  # propagators by their angles
 
     def steps(self, deltas: np.ndarray) -> np.ndarray:
         """The augmented propagators over angles ``deltas`` (rad): (len, n, n + 5)."""
-        e = _expm(self.z[None] * np.asarray(deltas, dtype=float)[:, None, None])
-        return e[:, : self.n, :]
+        deltas = np.asarray(deltas, dtype=float)
+        key = deltas.tobytes()
+        if key not in self._steps:  # a step's cuts from its start recur: kept
+            if len(self._steps) > 64:
+                self._steps.clear()
+            self._steps[key] = _expm(self.z[None] * deltas[:, None, None])[:, : self.n, :]
+        return self._steps[key]
 
     def advance(self, step: int, tau: float, y: np.ndarray, deltas: np.ndarray) -> np.ndarray:
         """The states at ``deltas`` past angle ``tau`` into fine step ``step`` from ``y`` there: (len, n)."""
@@ -156,15 +163,16 @@ class _Linear:
         src = np.concatenate([y, _shift(self.taylor[step], tau), [1.0]])
         return e @ src
 
-    def march(self, step: int, y: np.ndarray) -> np.ndarray:
-        """The states at every node from ``step`` (where the state is ``y``) to the last: (nodes - step, n)."""
+    def march(self, step: int, y: np.ndarray, count: int | None = None) -> np.ndarray:
+        """The states at the nodes from ``step`` (where the state is ``y``) to the last, or the next ``count`` steps
+        of them: (steps + 1, n)."""
         if self._step is None:
             e = self.steps(np.array([self.h]))[0]
             phi = e[:, : self.n]
             lam, vec = np.linalg.eig(phi)
             self._step = (phi, e[:, self.n :], lam, vec, np.linalg.cond(vec) > 1e8)
         phi, gam, lam, vec, repeated = self._step
-        taylor = self.taylor[step:]
+        taylor = self.taylor[step:] if count is None else self.taylor[step : step + count]
         if not taylor.shape[0]:
             return y[None]
         forcing = np.concatenate([taylor, np.ones((taylor.shape[0], 1))], axis=1) @ gam.T  # (steps, n)
@@ -190,40 +198,30 @@ def _cross(lin: _Linear, step: int, tau: float, y: np.ndarray, span: float, guar
     """The first angle past ``tau`` in fine step ``step`` (from state ``y``), within ``span`` (rad), where
     ``guard(states, steps, taus)`` falls below zero: (delta, state) or None. The span cut in :data:`_SPLIT` finds
     the first sign change (``fresh``: the guard starts at zero, a rebound off the seat: the cuts spaced
-    geometrically), then the Illinois method on the exact propagator pins it to 1e-12 of the span."""
-    ds = span * np.geomspace(1e-7, 1.0, _SPLIT) if fresh else np.linspace(0.0, span, _SPLIT + 1)[1:]
-    g = guard(lin.advance(step, tau, y, ds), step, tau + ds)
-    below = np.nonzero(g < 0.0)[0]
-    if not below.size:
-        return None
-    j = int(below[0])
-    if j == 0 and not fresh:
-        lo, g_lo = 0.0, float(guard(y[None], step, np.array([tau]))[0])
-    else:
-        lo, g_lo = (ds[j - 1], float(g[j - 1])) if j > 0 else (0.0, 0.0)
-    hi, g_hi = ds[j], float(g[j])
-    side = 0
-    for _ in range(60):
-        if hi - lo <= 1e-12 * span or g_lo == g_hi:
-            break
-        mid = hi - g_hi * (hi - lo) / (g_hi - g_lo) if g_lo > 0.0 else 0.5 * (lo + hi)
-        if not lo < mid < hi:
-            mid = 0.5 * (lo + hi)
-        g_mid = float(guard(lin.advance(step, tau, y, np.array([mid])), step, np.array([tau + mid]))[0])
-        if g_mid < 0.0:
-            hi, g_hi = mid, g_mid
-            if side == -1:
-                g_lo *= 0.5
-            side = -1
+    geometrically), that cut in :data:`_SPLIT` again, the guard interpolated linearly across the last (a width of
+    1/4096 of a fine step: an error of its square), and the state there from the exact propagator."""
+    lo, width = 0.0, span
+    for r in range(2):
+        if r == 0 and fresh:
+            ds = span * np.geomspace(1e-7, 1.0, _SPLIT)
         else:
-            lo, g_lo = mid, g_mid
-            if side == 1:
-                g_hi *= 0.5
-            side = 1
-        if g_mid == 0.0:
-            lo = hi = mid
-    ends = lin.advance(step, tau, y, np.array([hi]))
-    return hi, ends[0]
+            ds = lo + np.linspace(0.0, width, _SPLIT + 1)
+        ys = lin.advance(step, tau, y, ds)
+        g = guard(ys, step, tau + ds)
+        below = np.nonzero(g < 0.0)[0]
+        if r == 0 and not fresh:
+            below = below[below > 0]
+        if not below.size:
+            return None
+        j = int(below[0])
+        if j == 0:  # fresh: below at the first cut already
+            lo, g_lo, width = 0.0, 0.0, ds[0]
+        else:
+            lo, g_lo, width = ds[j - 1], float(g[j - 1]), ds[j] - ds[j - 1]
+        g_hi = float(g[j])
+    f = min(max(g_lo / (g_lo - g_hi), 0.0), 1.0) if g_lo != g_hi else 1.0
+    root = lo + f * width
+    return root, lin.advance(step, tau, y, np.array([root]))[0]
 
 
 def _stretch(lin: _Linear, step: int, tau: float, y: np.ndarray, guard, fresh: bool = False):
@@ -235,9 +233,14 @@ def _stretch(lin: _Linear, step: int, tau: float, y: np.ndarray, guard, fresh: b
     if got is not None:
         ds = np.linspace(0.0, got[0], 9)[1:]
         return lin.advance(step, tau, y, ds), np.full(ds.size, step), tau + ds, (step, tau + got[0], got[1])
-    nodes = lin.march(step + 1, lin.advance(step, tau, y, np.array([h - tau]))[0])
-    idx = step + 1 + np.arange(len(nodes))
-    below = np.nonzero(guard(nodes, idx, np.zeros(len(nodes))) < 0.0)[0]
+    nodes = lin.march(step + 1, lin.advance(step, tau, y, np.array([h - tau]))[0], _MARCH)
+    last = len(lin.taylor)  # the last node: the revolution's end
+    while True:  # a chunk at a time: most stretches end within a few steps
+        idx = step + 1 + np.arange(len(nodes))
+        below = np.nonzero(guard(nodes, idx, np.zeros(len(nodes))) < 0.0)[0]
+        if below.size or idx[-1] >= last:
+            break
+        nodes = np.concatenate([nodes, lin.march(int(idx[-1]), nodes[-1], 4 * len(nodes))[1:]])
     if not below.size:
         return nodes, idx, np.zeros(len(nodes)), None
     q = int(below[0])
@@ -309,11 +312,13 @@ def _rigid_cam(motion: Motion, vt: ValvetrainModel, w: float, n: int):
         return np.where(d > 0.0, np.maximum(0.0, kt * d + ct * w * r * v[1]), 0.0) - f0 - tol
 
     lo, hi = th0 + (j - 1) * h, th0 + j * h
-    for _ in range(_ROUNDS):
+    for _ in range(2):  # as _cross: twice cut in 64, then interpolated
         ts = np.linspace(lo, hi, _SPLIT + 1)
-        i = int(np.argmax(seated_force(ts) > 0.0))
+        g = seated_force(ts)
+        i = int(np.argmax(g > 0.0))
         lo, hi = ts[i - 1], ts[i]
-    lift_step, tau_lift = j - 1, hi - (th0 + (j - 1) * h)
+    f = min(max(g[i - 1] / (g[i - 1] - g[i]), 0.0), 1.0)
+    lift_step, tau_lift = j - 1, lo + f * (hi - lo) - (th0 + (j - 1) * h)
 
     # the valve off its seat, on the train (loaded) or off it (free, on its spring alone): two linear systems
     loaded = _Linear(
@@ -350,7 +355,7 @@ def _rigid_cam(motion: Motion, vt: ValvetrainModel, w: float, n: int):
     # the event: lifted by the train, to the seating after rising past half its static lift at the nose (a landing
     # before belongs to the opening: the diffrax model's rule)
     y_first = loaded.advance(lift_step, tau_lift, np.zeros(2), np.array([h - tau_lift]))[0]
-    ys = loaded.march(lift_step + 1, y_first)
+    ys = loaded.march(lift_step + 1, y_first)  # to the revolution's end: the seating is late in it
     idx = np.arange(lift_step + 1, nf + 1)
     d, f_t = train(ys, idx, 0.0)
     f_cam = f_cam_bare[idx] + r * f_t
