@@ -11,7 +11,7 @@ speed) is linear with constant coefficients for a constant ratio r::
 the output grid) is a matrix exponential of the system augmented with the input's Taylor chain, the input held as
 the cubic through its values and slopes at both ends (``u'`` is known exactly from s' and s''), so the only
 approximation is that cubic, of order h^4. The steps are chained as a linear recurrence in the system's modes
-(``scipy.signal.lfilter``), contact changes located inside a step by the same exact propagator on finer angles.
+(a cumulative sum in blocks), contact changes located inside a step by the same exact propagator on finer angles.
 
 What comes out equals :func:`~camdyn.model.dynamics.valvetrain_response`'s: the valve lifts where the train's
 force on the seated valve reaches the preload (algebraic on a rigid cam), the least cam-contact and train forces
@@ -33,7 +33,6 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.signal import lfilter
 
 from ..._core.units import M_PER_MM, THETA_GRID, TWO_PI, VALVE_BOUNCE_TOLERANCE_MM
 from ..motion import Motion
@@ -77,6 +76,9 @@ class _Floated:
 
 
 FLOATED = _Floated()
+
+Index = int | float | np.ndarray  # fine steps, or angles into them (rad): one, or one per state
+Guard = Callable[[np.ndarray, Index, Index], np.ndarray]  # states, their steps and angles -> > 0 while a mode holds
 
 _fine_cache: dict[int, tuple[Motion, int, np.ndarray]] = {}
 
@@ -129,6 +131,27 @@ def _shift(taylor: np.ndarray, tau: float) -> np.ndarray:
     return np.array(
         [a0 + a1 * tau + a2 * tau**2 / 2 + a3 * tau**3 / 6, a1 + a2 * tau + a3 * tau**2 / 2, a2 + a3 * tau, a3]
     )
+
+
+def _recur(lam: complex, g: np.ndarray, z0: complex) -> np.ndarray:
+    """``z[k + 1] = lam z[k] + g[k]`` from ``z[0] = z0``: (len(g) + 1,). In blocks short enough that ``lam``'s powers
+    within one stay within 1e3 of each other (a decaying mode), each block a cumulative sum:
+    ``z[k + i] = lam^i (z[k] + sum_{j < i} g[k + j] lam^-(j + 1))``."""
+    count = len(g)
+    out = np.empty(count + 1, complex)
+    out[0] = z0
+    size = abs(lam)
+    if size < 1e-12:  # a mode gone within a step
+        out[1:] = g
+        return out
+    block = count if size >= 1.0 else max(1, min(count, int(math.log(1e3) / -math.log(size))))
+    k = 0
+    while k < count:
+        m = min(block, count - k)
+        powers = lam ** np.arange(1, m + 1)
+        out[k + 1 : k + m + 1] = powers * (out[k] + np.cumsum(g[k : k + m] / powers))
+        k += m
+    return out
 
 
 class _Linear:
@@ -186,7 +209,7 @@ class _Linear:
         z = np.empty((self.n, taylor.shape[0] + 1), complex)
         z[:, 0] = z0
         for i in range(self.n):
-            z[i, 1:] = lfilter([1.0], [1.0, -lam[i]], modal[i], zi=[lam[i] * z0[i]])[0]
+            z[i] = _recur(lam[i], modal[i], z0[i])
         return np.real(vec @ z).T
 
 
@@ -194,7 +217,9 @@ class _Unsure(Exception):
     """The fast path cannot say: the caller runs the diffrax model."""
 
 
-def _cross(lin: _Linear, step: int, tau: float, y: np.ndarray, span: float, guard, fresh: bool):
+def _cross(
+    lin: _Linear, step: int, tau: float, y: np.ndarray, span: float, guard: Guard, fresh: bool
+) -> tuple[float, np.ndarray] | None:
     """The first angle past ``tau`` in fine step ``step`` (from state ``y``), within ``span`` (rad), where
     ``guard(states, steps, taus)`` falls below zero: (delta, state) or None. The span cut in :data:`_SPLIT` finds
     the first sign change (``fresh``: the guard starts at zero, a rebound off the seat: the cuts spaced
@@ -224,7 +249,9 @@ def _cross(lin: _Linear, step: int, tau: float, y: np.ndarray, span: float, guar
     return root, lin.advance(step, tau, y, np.array([root]))[0]
 
 
-def _stretch(lin: _Linear, step: int, tau: float, y: np.ndarray, guard, fresh: bool = False):
+def _stretch(
+    lin: _Linear, step: int, tau: float, y: np.ndarray, guard: Guard, fresh: bool = False
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, tuple | None]:
     """From angle ``tau`` into fine step ``step`` with state ``y`` on ``lin`` to where ``guard`` first falls below
     zero: the states passed (at their fine steps and angles into them) and the event (step, tau, state), None where
     the revolution ends first."""
@@ -263,7 +290,9 @@ def _lower_bound(f: np.ndarray) -> float:
     return float(np.min(np.minimum(f[:-1], f[1:]) - 0.25 * convex))
 
 
-def fast_valve_summary(motion: Motion, vt: ValvetrainModel, omega: float, n: int = THETA_GRID):
+def fast_valve_summary(
+    motion: Motion, vt: ValvetrainModel, omega: float, n: int = THETA_GRID
+) -> ValveSummary | _Floated | None:
     """The :class:`ValveSummary` at cam speed ``omega`` (rad/s) on the fast path, :data:`FLOATED` where the valve
     surely floats, or None where the fast path cannot say (the caller runs the diffrax model)."""
     if not vt.rigid_cam or vt.rigid_train or vt.rocker is not None or vt.coils is not None:
@@ -274,7 +303,7 @@ def fast_valve_summary(motion: Motion, vt: ValvetrainModel, omega: float, n: int
         return None
 
 
-def _rigid_cam(motion: Motion, vt: ValvetrainModel, w: float, n: int):
+def _rigid_cam(motion: Motion, vt: ValvetrainModel, w: float, n: int) -> ValveSummary | _Floated:
     """:func:`fast_valve_summary` of a rigid cam contact and a compliant train of constant ratio."""
     s_all, s1_all, s2_all = _fine(motion, n)
     nf = s_all.size
@@ -332,7 +361,7 @@ def _rigid_cam(motion: Motion, vt: ValvetrainModel, w: float, n: int):
     )
     cam = _hermite(s, s1, h)  # the cam's lift between the fine angles, for the guards there
 
-    def train(ys: np.ndarray, steps, taus) -> tuple[np.ndarray, np.ndarray]:
+    def train(ys: np.ndarray, steps: Index, taus: Index) -> tuple[np.ndarray, np.ndarray]:
         """The train's deflection (m) and its linear force (N) at states ``ys``, ``taus`` into fine ``steps``."""
         taus = np.broadcast_to(taus, (len(ys),))
         steps = np.broadcast_to(steps, (len(ys),))
@@ -342,14 +371,14 @@ def _rigid_cam(motion: Motion, vt: ValvetrainModel, w: float, n: int):
         d = r * at - lash - ys[:, 0]
         return d, kt * d + ct * w * (r * at1 - ys[:, 1])
 
-    def on_train(ys, steps, taus) -> np.ndarray:  # > 0 while the train pushes the valve (N)
+    def on_train(ys: np.ndarray, steps: Index, taus: Index) -> np.ndarray:  # > 0 while the train pushes the valve (N)
         d, f_t = train(ys, steps, taus)
         return np.minimum(kt * d, f_t)
 
-    def landing(ys, steps, taus) -> np.ndarray:  # the valve above its seat (in N, to mix with the train's)
+    def landing(ys: np.ndarray, steps: Index, taus: Index) -> np.ndarray:  # the valve above its seat (N: as the train)
         return kt * (ys[:, 0] + GAP_EPS)
 
-    def rising(ys, steps, taus) -> np.ndarray:
+    def rising(ys: np.ndarray, steps: Index, taus: Index) -> np.ndarray:
         return ys[:, 1]
 
     # the event: lifted by the train, to the seating after rising past half its static lift at the nose (a landing
