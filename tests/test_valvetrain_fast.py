@@ -158,3 +158,18 @@ def test_batched_matrix_exponential_against_scipy():
         for d, e in zip(deltas, ours, strict=True):
             ref = expm(z * d)
             assert np.max(np.abs(e - ref)) <= 1e-12 * np.max(np.abs(ref))
+
+
+@pytest.mark.parametrize("lam", [0.999 * np.exp(0.03j), 0.85 * np.exp(0.9j), 1.0 + 0.0j, 1e-14 + 0.0j])
+def test_modal_recurrence_against_the_loop(lam):
+    """The blocked cumulative sum that chains the steps against the recurrence stepped one at a time: a slowly and a
+    quickly decaying mode (a stiff train: blocks of a few dozen steps), an undamped one, one gone within a step."""
+    from camdyn.model.dynamics._valvefast import _recur
+
+    rng = np.random.default_rng(2)
+    g = rng.normal(size=3000) + 1j * rng.normal(size=3000)
+    want = np.empty(3001, complex)
+    want[0] = 0.3 - 0.2j
+    for k in range(3000):
+        want[k + 1] = lam * want[k] + g[k]
+    assert np.max(np.abs(_recur(lam, g, want[0]) - want)) <= 1e-11 * np.max(np.abs(want))

@@ -16,14 +16,16 @@ approximation is that cubic, of order h^4. The steps are chained as a linear rec
 What comes out equals :func:`~camdyn.model.dynamics.valvetrain_response`'s: the valve lifts where the train's
 force on the seated valve reaches the preload (algebraic on a rigid cam), the least cam-contact and train forces
 over the event on the output grid, the seating (x_v = 0 closing) and its speed, the rebounds off the seat (at
-``seat_restitution`` x the landing speed) each a flight on the same linear system while the train stays in
-compression, to the speed below which the seat holds the valve, their highest apex (the bounce height), and the
-rest of the revolution with the valve seated. The answer is ``None`` (the caller falls back on the diffrax model
-for that point) wherever the linear model stops holding before the revolution ends: the train unloads, the cam
-contact's force comes within the sampling's bound of zero without a sure crossing, the valve leaves the train,
-or the model is not this one (a compliant cam contact, a rigid train, a rocker's varying ratio, the spring's surge
-chain). Where the cam contact's force crosses zero on the exact solution before anything else opens, the valve
-floats there for sure: :data:`FLOATED`, with what happens next left to the diffrax model.
+``seat_restitution`` x the landing speed) each a flight on the train or, where the train's force or deflection
+falls to zero, off it on the spring alone (a second linear system), to the speed below which the seat holds the
+valve, their highest apex (the bounce height) and the gap at the valve, and the rest of the revolution with the
+valve seated. The answer is ``None`` (the caller falls back on the diffrax model for that point) wherever the
+linear model stops holding before the revolution ends: the train unloads before the seating, the cam contact's
+force comes within the sampling's bound of zero without a sure crossing, the valve lifts again after the
+seating, the follower leaves the cam on the ramps or the base circle, or the model is not this one (a compliant
+cam contact, a rigid train, a rocker's varying ratio, the spring's surge chain). Where the cam contact's force
+crosses zero on the exact solution before anything else opens, the valve floats there for sure: :data:`FLOATED`,
+with what happens next left to the diffrax model.
 """
 
 from __future__ import annotations
