@@ -113,19 +113,6 @@ class ValvetrainResult:
         )
 
 
-def refuse_valvetrain(case: Case, what: str, why: str = "") -> None:
-    """:class:`InputError` where a study that knows one follower (``what``: a tolerance study, the optimizer) is
-    asked about a valvetrain: it would judge the equivalent single follower, without the lash, the seat or float,
-    and propose what ``check`` may then fail; ``why``: what else it would get wrong."""
-    if case.valvetrain is not None:
-        raise InputError(
-            "valvetrain",
-            f"{what} does not model a valvetrain yet (it would judge the equivalent single follower, without the lash, "
-            f"the seat or float{why}): camdyn check gives its float and bounce speeds; size, sweep and tolerance "
-            "model it",
-        )
-
-
 def refuse_spring_part(case: Case) -> None:
     """:class:`InputError` where ``size`` is asked about a valvetrain with a ``[spring]`` part: the part's own mass
     on the valve depends on the rate and preload being sized (sweep and tolerance hold the case's spring)."""
