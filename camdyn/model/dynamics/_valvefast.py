@@ -227,7 +227,7 @@ def _cross(
     the first sign change (``fresh``: the guard starts at zero, a rebound off the seat: the cuts spaced
     geometrically), that cut in :data:`_SPLIT` again, the guard interpolated linearly across the last (a width of
     1/4096 of a fine step: an error of its square), and the state there from the exact propagator."""
-    lo, width = 0.0, span
+    lo, width, g_lo, g_hi = 0.0, span, 0.0, 0.0
     for r in range(2):
         if r == 0 and fresh:
             ds = span * np.geomspace(1e-7, 1.0, _SPLIT)
