@@ -1,5 +1,6 @@
 """A valvetrain judged: the valve's event at the case speed (lift, timing, seating speed, bounce), and the float
-and bounce speeds, from the two-mass model (:mod:`camdyn.model.dynamics._valvetrain`)."""
+and bounce speeds, from the two-mass model (:mod:`camdyn.model.dynamics._valvetrain`; the searches on its fast
+path where every contact stays closed, :mod:`camdyn.model.dynamics._valvefast`)."""
 
 from __future__ import annotations
 
@@ -132,16 +133,16 @@ def analyze_valvetrain(case: Case, omega: float, margin: float) -> ValvetrainRes
     assert vt is not None  # the caller's: a [valvetrain] case
     w_kin = dyn.kinematic_jump_speed(case.motion, case.model)[0]  # the equivalent follower's: where float begins
     w_max = dyn.jump_search_limit(margin * omega, w_kin)
-    marched: dict[float, dyn.ValvetrainResponse] = {}
+    marched: dict[float, dyn.ValvePoint] = {}
 
-    def at(w: float) -> dyn.ValvetrainResponse:
+    def at(w: float) -> dyn.ValvePoint:  # the fast path where every contact stays closed, else the diffrax model
         if w not in marched:
-            marched[w] = dyn.valvetrain_response(case.motion, vt, w)
+            marched[w] = dyn.ValvePoint(case.motion, vt, w)
         return marched[w]
 
     w_float = dyn.float_speed(case.motion, vt, w_max, respond=at)
     w_bounce = dyn.bounce_speed(case.motion, vt, w_max, respond=at)
-    here = at(float(omega))
+    here = at(float(omega)).response  # the whole revolution at the case speed: the diffrax model's
     speeds = sorted(marched)
     curves = None
     if vt.rocker is not None:

@@ -74,6 +74,7 @@ class ShapeSpace:
         free = self.n_control - 2 * CLAMPED
         z = np.asarray(z, dtype=float)
         if self.control_matrix is not None:
+            assert self.control_offset is not None and self.at_rest is not None  # flank_space sets all three
             out = []
             for c, (start, end) in zip(self.control_offset + self.control_matrix @ z, self.at_rest, strict=True):
                 c[: 3 if start else 1], c[-3 if end else -1 :] = 0.0, 1.0  # exactly what the null space gives to 1e-16
@@ -173,6 +174,7 @@ def flank_space(case: Case, n: int = FFT_GRID, n_control: int = N_CONTROL) -> Sh
         i = next(i for i in moving if specs[i].lift == 0.0)
         raise InputError(f"motion.segments[{i}]", "a flank that rises by 0 cannot be reshaped as a B-spline")
     program = case.motion
+    assert isinstance(program, Program)  # a segment list's motion
     starts = np.r_[0.0, [s.end for s in specs[:-1]]]
     theta = np.arange(n) * (TWO_PI / n)
     now = np.asarray(case.motion(theta))
@@ -251,6 +253,7 @@ def _in_order(space: ShapeSpace, z: np.ndarray) -> np.ndarray:
     (:meth:`ShapeSpace.order`): a linear program."""
     if float(np.max(np.asarray(space.order(jnp.asarray(z))))) <= 0.0:
         return z
+    assert space.control_matrix is not None and space.control_offset is not None  # a flank space's
     K, m, f = space.control_matrix.shape
     M = space.control_matrix.reshape(K * m, f)
     diff = (np.eye(m)[:-1] - np.eye(m)[1:])[None].repeat(K, 0)  # c_j - c_{j+1} per flank
