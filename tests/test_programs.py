@@ -54,6 +54,31 @@ def test_programs_persist_and_static_fields_are_part_of_the_key(tmp_path, monkey
     assert np.allclose(programs.cached_jit(_value)(square, x, 1.0), 3 * x**2 + 1)
 
 
+def test_prepare_compiles_without_running_and_threads_compile_at_once(tmp_path, monkeypatch):
+    """``prepare`` stores the program a later call runs (no second trace); two threads compiling at once leave
+    JAX's persistent-cache threshold as it was (each compile lifts it while it runs)."""
+    import threading
+
+    monkeypatch.setattr(programs, "_DIR", None)
+    programs.enable(tmp_path)
+    traced = []
+
+    def double(x):
+        traced.append(1)
+        return 2.0 * x
+
+    fn = programs.cached_jit(double)
+    threshold = jax.config.jax_persistent_cache_min_compile_time_secs
+    both = [threading.Thread(target=fn.prepare, args=(np.ones(n),)) for n in (3, 4)]
+    for t in both:
+        t.start()
+    for t in both:
+        t.join()
+    assert len(traced) == 2 and len(list(tmp_path.glob("double-*.jaxprogram"))) == 2
+    assert jax.config.jax_persistent_cache_min_compile_time_secs == threshold
+    assert np.allclose(fn(np.arange(3.0)), [0.0, 2.0, 4.0]) and len(traced) == 2  # prepared: not traced again
+
+
 def _solve(a, b):
     return jnp.linalg.solve(a, b)
 
