@@ -79,6 +79,27 @@ def test_prepare_compiles_without_running_and_threads_compile_at_once(tmp_path, 
     assert np.allclose(fn(np.arange(3.0)), [0.0, 2.0, 4.0]) and len(traced) == 2  # prepared: not traced again
 
 
+def _wave(x):
+    return jnp.exp(-x) * jnp.cos(3.0 * x)
+
+
+def test_compiler_options_are_part_of_the_key_and_unknown_ones_dropped(tmp_path, monkeypatch):
+    """XLA options (the jump map's kernels compile with some) key a program of their own and apply whether or not
+    the cache is enabled; an option this XLA does not know is dropped, not an error."""
+    monkeypatch.setattr(programs, "_DIR", None)
+    assert programs.known_options((("xla_camdyn_no_such_option", 1),)) == {}
+    opts = (("xla_cpu_use_fusion_emitters", False),)
+    assert programs.known_options(opts) == dict(opts)
+    x = np.linspace(0.0, 2.0, 7)
+    uncached = np.asarray(programs.cached_jit(_wave, opts)(x))  # no cache: compiled with the options all the same
+    programs.enable(tmp_path)
+    plain, optioned = programs.cached_jit(_wave), programs.cached_jit(_wave, opts)
+    np.testing.assert_allclose(plain(x), np.exp(-x) * np.cos(3.0 * x), rtol=1e-14)
+    np.testing.assert_array_equal(optioned(x), uncached)
+    np.testing.assert_allclose(optioned(x), plain(x), rtol=1e-14)
+    assert len(list(tmp_path.glob("_wave-*.jaxprogram"))) == 2
+
+
 def _solve(a, b):
     return jnp.linalg.solve(a, b)
 

@@ -108,7 +108,7 @@ def _outside_jax_cache():
                 jax.config.update("jax_persistent_cache_min_compile_time_secs", _outside[1])
 
 
-def _compile(flat: Callable, avals: tuple, name: str) -> tuple[Callable, bytes]:
+def _compile(flat: Callable, avals: tuple, name: str, options: dict) -> tuple[Callable, bytes]:
     """``flat`` traced and compiled for arrays of ``avals`` ((shape, dtype) each): the program, and what a later
     process loads it from (:func:`_load`). Raises where it cannot be stored (a host callback, say).
 
@@ -118,7 +118,7 @@ def _compile(flat: Callable, avals: tuple, name: str) -> tuple[Callable, bytes]:
     specs = [jax.ShapeDtypeStruct(s, d) for s, d in avals]
     flat.__name__ = flat.__qualname__ = f"camdyn_{name}"
     with _outside_jax_cache():
-        compiled = jax.jit(flat).lower(*specs).compile()
+        compiled = jax.jit(flat, compiler_options=options or None).lower(*specs).compile()
     if len({d for s in jax.tree.leaves(compiled.input_shardings) for d in s.device_set}) > 1:
         # a kernel sharded over several devices: neither a loaded executable nor a loaded jax.export program
         # places one-device inputs on its mesh; the caller runs the plain jit
@@ -174,9 +174,49 @@ def filter_jit(fn: Callable[..., T]) -> Callable[..., T]:
     return call
 
 
-def cached_jit(fn: Callable[..., T]) -> Callable[..., T]:
-    """:func:`filter_jit` whose traced programs persist across processes once :func:`enable` is called."""
-    jitted = eqx.filter_jit(fn)
+@functools.cache
+def known_options(options: tuple[tuple[str, Any], ...]) -> dict:
+    """``options`` (XLA compiler options as (name, value) pairs) as a dict where this XLA compiles with them, else
+    empty (an option a later XLA dropped): a program is then compiled as XLA compiles by default."""
+    try:
+        jax.jit(lambda x: x + 1.0, compiler_options=dict(options)).lower(np.ones(2)).compile()
+    except Exception:  # noqa: BLE001  (an unknown option: INVALID_ARGUMENT)
+        return {}
+    return dict(options)
+
+
+def jit_with(fn: Callable, options: dict) -> Callable:
+    """``equinox.filter_jit(fn)``, compiled with the XLA compiler ``options`` (equinox takes none)."""
+    if not options:
+        return eqx.filter_jit(fn)
+    traced: dict = {}
+
+    def call(*args: Any, **kwargs: Any) -> Any:
+        dynamic, static = eqx.partition((args, kwargs), eqx.is_array)
+        leaves, treedef = jax.tree.flatten(dynamic)
+        try:
+            key = (treedef, tuple(jax.tree.leaves(static)))
+            hash(key)
+        except TypeError:
+            key = repr((treedef, static))
+        if key not in traced:
+
+            def flat(*xs: Any) -> Any:
+                a, kw = eqx.combine(jax.tree.unflatten(treedef, xs), static)
+                return fn(*a, **kw)
+
+            traced[key] = jax.jit(flat, compiler_options=options)
+        return traced[key](*leaves)
+
+    return call
+
+
+def cached_jit(fn: Callable[..., T], compiler_options: tuple[tuple[str, Any], ...] = ()) -> Callable[..., T]:
+    """:func:`filter_jit` whose traced programs persist across processes once :func:`enable` is called.
+    ``compiler_options``: XLA options as (name, value) pairs, for every compile of ``fn``, cached or not (and
+    part of the key); dropped where this XLA does not know them (:func:`known_options`)."""
+    options = known_options(tuple(compiler_options)) if compiler_options else {}
+    jitted = jit_with(fn, options)
     programs: dict = {}
 
     def program_for(args: tuple, kwargs: dict) -> tuple[Callable, list] | None:
@@ -197,6 +237,7 @@ def cached_jit(fn: Callable[..., T]) -> Callable[..., T]:
             # the static part as the treedef (structure, static fields) and its leaves say it: an equinox module's
             # own repr pretty-prints, a millisecond or more a program
             text = repr((fn.__module__, fn.__qualname__, _fingerprint(), treedef, jax.tree.leaves(static), avals))
+            text += repr(sorted(options.items())) if options else ""  # no options: the keys of before
             name = hashlib.sha256(text.encode()).hexdigest()[:32]
             file = _DIR / f"{fn.__name__}-{name}.{SUFFIX}"  # pyright: ignore[reportOptionalOperand] - enabled
             program = _load(file)
@@ -207,7 +248,7 @@ def cached_jit(fn: Callable[..., T]) -> Callable[..., T]:
                     return fn(*a, **kw)
 
                 try:
-                    program, blob = _compile(flat, avals, name)
+                    program, blob = _compile(flat, avals, name, options)
                 except Exception:  # e.g. a host callback, which cannot be serialized: plain jit
                     program = jitted
                 else:
