@@ -118,7 +118,7 @@ def _compile(flat: Callable, avals: tuple, name: str, options: dict) -> tuple[Ca
     specs = [jax.ShapeDtypeStruct(s, d) for s, d in avals]
     flat.__name__ = flat.__qualname__ = f"camdyn_{name}"
     with _outside_jax_cache():
-        compiled = jax.jit(flat, compiler_options=options or None).lower(*specs).compile()
+        compiled = _jit_compile(flat, options, *specs)
     if len({d for s in jax.tree.leaves(compiled.input_shardings) for d in s.device_set}) > 1:
         # a kernel sharded over several devices: neither a loaded executable nor a loaded jax.export program
         # places one-device inputs on its mesh; the caller runs the plain jit
@@ -174,15 +174,18 @@ def filter_jit(fn: Callable[..., T]) -> Callable[..., T]:
     return call
 
 
-@functools.cache
-def known_options(options: tuple[tuple[str, Any], ...]) -> dict:
-    """``options`` (XLA compiler options as (name, value) pairs) as a dict where this XLA compiles with them, else
-    empty (an option a later XLA dropped): a program is then compiled as XLA compiles by default."""
+_UNKNOWN_OPTION = "No such compile option"  # XLA's error for an option it does not know (one a later XLA dropped)
+
+
+def _jit_compile(flat: Callable, options: dict, *specs: Any) -> Any:
+    """``jax.jit(flat)`` lowered for ``specs`` and compiled with the XLA ``options``, or without them where this XLA
+    does not know one."""
     try:
-        jax.jit(lambda x: x + 1.0, compiler_options=dict(options)).lower(np.ones(2)).compile()
-    except Exception:  # noqa: BLE001  (an unknown option: INVALID_ARGUMENT)
-        return {}
-    return dict(options)
+        return jax.jit(flat, compiler_options=options or None).lower(*specs).compile()
+    except Exception as err:
+        if not options or _UNKNOWN_OPTION not in str(err):
+            raise
+        return jax.jit(flat).lower(*specs).compile()
 
 
 def jit_with(fn: Callable, options: dict) -> Callable:
@@ -206,7 +209,13 @@ def jit_with(fn: Callable, options: dict) -> Callable:
                 return fn(*a, **kw)
 
             traced[key] = jax.jit(flat, compiler_options=options)
-        return traced[key](*leaves)
+        try:
+            return traced[key](*leaves)
+        except Exception as err:  # an option this XLA does not know: compiled as XLA compiles by default
+            if _UNKNOWN_OPTION not in str(err):
+                raise
+            traced[key] = jax.jit(traced[key].__wrapped__)
+            return traced[key](*leaves)
 
     return call
 
@@ -214,8 +223,8 @@ def jit_with(fn: Callable, options: dict) -> Callable:
 def cached_jit(fn: Callable[..., T], compiler_options: tuple[tuple[str, Any], ...] = ()) -> Callable[..., T]:
     """:func:`filter_jit` whose traced programs persist across processes once :func:`enable` is called.
     ``compiler_options``: XLA options as (name, value) pairs, for every compile of ``fn``, cached or not (and
-    part of the key); dropped where this XLA does not know them (:func:`known_options`)."""
-    options = known_options(tuple(compiler_options)) if compiler_options else {}
+    part of the key); dropped where this XLA does not know them."""
+    options = dict(compiler_options)
     jitted = jit_with(fn, options)
     programs: dict = {}
 

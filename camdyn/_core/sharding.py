@@ -17,7 +17,7 @@ import numpy as np
 from jax.experimental import multihost_utils
 from jax.sharding import Mesh, NamedSharding, PartitionSpec
 
-from .jit import cached_jit, jit_with, known_options
+from .jit import cached_jit, jit_with
 
 
 def accelerated(devices) -> bool:
@@ -47,7 +47,7 @@ def _sharded(kernel: Callable, devices: tuple, per_point: bool, options: tuple =
         return _shard_map(body, mesh, (PartitionSpec(), *([spec] * len(batched))), spec)(const, *batched)
 
     if jax.process_count() > 1:  # global arrays over several processes: traced in each
-        return jit_with(run, known_options(options)), mesh
+        return jit_with(run, dict(options)), mesh
     # the disk key names the kernel and the devices (cached_jit keys by the wrapped function's name)
     run.__module__ = kernel.__module__
     run.__qualname__ = run.__name__ = f"{kernel.__qualname__}-on-{len(devices)}-{devices[0].platform}"
