@@ -417,12 +417,14 @@ def test_summary_gives_the_two_mass_models_numbers(shipped_check):
     assert not any(k.startswith(("least force", "jump speed", "flights")) for k in rows)  # the single follower's
 
 
-@pytest.mark.parametrize("command", ["optimize"])
-def test_single_follower_studies_refuse_a_valvetrain(capsys, tmp_path, command):
-    """They would judge the equivalent single follower (no lash, seat or float): one line, exit 2."""
-    extra = ["-o", tmp_path / "o.toml"] if command == "optimize" else []
-    code, out, err = run(capsys, command, CASES / "valvetrain.toml", *extra)
-    assert code == 2 and len(err.strip().splitlines()) == 1 and "does not model a valvetrain yet" in err
+def test_optimize_of_a_valvetrain_reshapes_for_its_float_speed_only(capsys, tmp_path):
+    """A valvetrain is optimized for its float speed: another objective is refused in one line, exit 2 (the
+    reshaped valvetrain itself is tests/test_optimize_valvetrain.py's)."""
+    code, out, err = run(
+        capsys, "optimize", CASES / "valvetrain.toml", "-o", tmp_path / "o.toml", "--objective", "vibration"
+    )
+    assert code == 2 and len(err.strip().splitlines()) == 1 and "float speed (jump-speed) only" in err
+    assert not (tmp_path / "o.toml").exists()
 
 
 def test_rigid_train_takes_up_the_lash_at_the_ramps_speed():

@@ -250,3 +250,28 @@ def ramp_join_warnings(theta_deg: np.ndarray, lift: np.ndarray, ramp_velocity: f
                 "cam card starts and ends at its ramp's speed"
             )
     return out
+
+
+def event_follower(vt: ValvetrainModel) -> tuple[FollowerModel, float]:
+    """The single follower that stands for a valvetrain over its event (the lash taken up, a constant ratio r), and
+    the mass (kg) that moves with the cam beside it. The valve spring is ``k r^2`` with the preload it has at the
+    valve's lift, ``(F0 - k lash) r``; the tappet force is left to the caller (it loads the cam, not the valve).
+    A rigid train is the equivalent follower; a compliant train on a rigid cam contact is the valve on the train
+    reduced to the cam (mass m_v r^2, train k_t r^2 and c_t r^2), the cam side's m_c moving with the cam beside it
+    (the cam's force is the train's plus m_c s'' w^2: exact in contact); a compliant train on a compliant cam
+    contact, the whole mass on the two contacts in series."""
+    r = vt.ratio
+    eq = equivalent_follower(vt)
+    eq = eqx.tree_at(
+        lambda m: (m.preload, m.external), eq, ((vt.preload - vt.spring_rate * vt.lash) * r, jnp.zeros(()))
+    )
+    if vt.rigid_train:
+        return eq, 0.0
+    kt, ct = vt.train.train_stiffness * r**2, vt.train.train_damping * r**2
+    if vt.rigid_cam:
+        return eqx.tree_at(
+            lambda m: (m.mass, m.train_stiffness, m.train_damping), eq, (vt.valve_mass * r**2, kt, ct)
+        ), (float(vt.cam_side_mass))
+    kc, cc = vt.cam.train_stiffness, vt.cam.train_damping
+    series = kc * kt / (kc + kt)
+    return eqx.tree_at(lambda m: (m.train_stiffness, m.train_damping), eq, (series, cc * series / kc)), 0.0
