@@ -280,5 +280,5 @@ def cached_jit(fn: Callable[..., T], compiler_options: tuple[tuple[str, Any], ..
         if _DIR is not None:
             program_for(*jit_forms((args, kwargs)))
 
-    call.prepare = prepare  # pyright: ignore[reportFunctionMemberAccess]
+    call.prepare = prepare  # pyright: ignore[reportAttributeAccessIssue]
     return call
