@@ -23,9 +23,11 @@ from camdyn.model.dynamics import Response
 from camdyn.plot import flight_spans, plot_contact_force, plot_follower
 from camdyn.report import A4, PAGES, STYLE, ReportData
 from camdyn.report._layout import header
+from camdyn.report.pages._inputs import DIMENSIONLESS, UNITS
 from camdyn.report.pages.dynamics import _force_panels
 from camdyn.report.pages.manufacturing import manufacturing_rows, segment_rows, title_block
 from camdyn.report.pages.summary import decision_facts, draw_summary, key_results
+from camdyn.schema import DynamicsSpec, FollowerSpec, LimitsSpec, RockerSpec, ValvetrainSpec
 
 CASES = Path(__file__).resolve().parents[1] / "cases"
 
@@ -319,3 +321,15 @@ def test_verdict_on_every_page_and_page_one_says_what_it_did_not_evaluate(fast_r
     text = "\n".join(t.get_text() for t in fig.texts)
     assert "not evaluated: the case gives no contact width" in text and "Decision-changing facts" in text
     assert "the follower leaves the cam: 8 flights" in text
+
+
+def test_every_key_input_on_page_one_has_its_unit():
+    """Page 1's key inputs print a number with its unit: every numeric key of the sections it lists is in UNITS
+    or declared dimensionless (a new key without either would print a bare number)."""
+    missing = [
+        f"{spec.__name__}.{key}"
+        for spec in (FollowerSpec, DynamicsSpec, LimitsSpec, ValvetrainSpec, RockerSpec)
+        for key in spec.model_fields
+        if key not in UNITS and key not in DIMENSIONLESS and key not in ("damping", "rocker")
+    ]
+    assert missing == []

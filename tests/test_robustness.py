@@ -384,3 +384,23 @@ def test_profile_of_an_undercut_flat_cam_warns(capsys, tmp_path):
     case.write_text(text)
     code, out, err = run(capsys, "profile", case, "-o", tmp_path / "cam.csv")
     assert code == 0 and out.startswith("wrote ") and "warning: undercut: the contour folds" in err
+
+
+def test_many_landings_of_a_rigid_follower_are_one_warning(tmp_path, capsys):
+    """Forty 1 mm cycloids at 300 rpm: a rigid follower leaves the cam ten times; check says so in one line with
+    the worst gap and impact (the JSON keeps each flight), not ten lines (1000 segments gave 400)."""
+    segments = ",\n".join(f'{{ law = "cycloidal", end = {9 * (i + 1)}, lift = {1 - 2 * (i % 2)} }}' for i in range(40))
+    case = tmp_path / "ripple.toml"
+    case.write_text(
+        f"[motion]\nsegments = [\n{segments}\n]\n"
+        '[follower]\ntype = "translating-roller"\nbase_radius = 60\nroller_radius = 10\n'
+        "[dynamics]\nspeed = 300\nmass = 1\nspring_rate = 10\npreload = 50\n"
+    )
+    code, out, _ = run(capsys, "check", case, "--json")
+    doc = json.loads(out)
+    seps = doc["dynamic"]["separations"]
+    notes = [w for w in doc["warnings"] if w.startswith("the follower leaves the cam")]
+    assert code == 1 and len(seps) > 4 and len(notes) == 1
+    assert notes[0].startswith(f"the follower leaves the cam {len(seps)} times a revolution at 300 rpm")
+    assert f"gap up to {max(s['max_gap_mm'] for s in seps):.3g} mm" in notes[0]
+    assert f"impacts up to {max(s['impact_speed_m_s'] for s in seps):.3g} m/s" in notes[0]

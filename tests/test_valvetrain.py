@@ -301,6 +301,26 @@ def test_valve_table_reproduced_at_the_valve(tmp_path, lash):
         assert base.size and np.max(np.abs(base[:20])) < 0.01
 
 
+def test_a_valve_table_that_misses_its_ramps_speed_is_told(tmp_path):
+    """A valve table that leaves its seat at rest (10 sin^3 over 250 deg) meets 0.015 mm/deg ramps with a jump of
+    the cam's velocity at both ends: one warning each; the same with 3.75 x (1 - x) added (it leaves and meets its
+    seat at 0.015 mm/deg) meets them."""
+    theta = np.arange(360.0)
+    x = np.clip((theta - 55.0) / 250.0, 0.0, 1.0)
+
+    def told(lift: np.ndarray) -> list[str]:
+        rows = "".join(f"{t:g},{v:.4f}\n" for t, v in zip(theta, lift, strict=True))
+        (tmp_path / "valve.csv").write_text("theta_deg,lift_mm\n" + rows)
+        raw = copy.deepcopy(SHIPPED)
+        raw["motion"] = {"valve_table": str(tmp_path / "valve.csv")}
+        raw["valvetrain"] |= {"ratio": 1.5, "lash": 0.15}
+        return [w.split(" at ")[0] for w in case_from_dict(raw).warnings if "lash ramp at 0.015" in w]
+
+    at_rest = 10.0 * np.sin(np.pi * x) ** 3
+    assert told(at_rest) == ["the valve table opens", "the valve table closes"]
+    assert told(at_rest + 3.75 * x * (1.0 - x)) == []
+
+
 def test_valve_table_needs_a_valvetrain(tmp_path):
     raw = copy.deepcopy(SHIPPED)
     raw["motion"] = {"valve_table": "valve.csv"}
@@ -332,6 +352,20 @@ def test_valvetrain_figures_and_search_curve(shipped_check):
     below = rpm < 0.9 * vt.float_speed_rpm
     assert below.sum() >= 5
     assert v[below] == pytest.approx(0.015e-3 * rpm[below] * 6.0, rel=0.1)
+
+
+def test_train_that_gives_way_to_the_spring_is_refused():
+    """A train that lifts the valve, but less than half the cam's stroke at the valve, turned slowly: (k_t (L - lash)
+    - F0) / (k_t + k) at full lift, the train and the spring in series (here 1.25 of 10 mm)."""
+    raw = copy.deepcopy(SHIPPED)
+    raw["valvetrain"]["stiffness"] = 40  # N/mm: 400 N at full compression, more than the 300 N preload
+    stroke = 6.375 * 1.6 - 0.2
+    lifted = (40 * stroke - 300) / (40 + 40)
+    with pytest.raises(InputError) as err:
+        case_from_dict(raw)
+    assert err.value.where == "valvetrain.stiffness" and f"lifts only {lifted:.3g} mm" in str(err.value)
+    raw["valvetrain"]["stiffness"] = 120  # 5.6 of 10 mm: a soft train, not a unit slip
+    case_from_dict(raw)
 
 
 def test_lash_the_cam_cannot_take_up_is_refused():
@@ -383,12 +417,14 @@ def test_summary_gives_the_two_mass_models_numbers(shipped_check):
     assert not any(k.startswith(("least force", "jump speed", "flights")) for k in rows)  # the single follower's
 
 
-@pytest.mark.parametrize("command", ["optimize"])
-def test_single_follower_studies_refuse_a_valvetrain(capsys, tmp_path, command):
-    """They would judge the equivalent single follower (no lash, seat or float): one line, exit 2."""
-    extra = ["-o", tmp_path / "o.toml"] if command == "optimize" else []
-    code, out, err = run(capsys, command, CASES / "valvetrain.toml", *extra)
-    assert code == 2 and len(err.strip().splitlines()) == 1 and "does not model a valvetrain yet" in err
+def test_optimize_of_a_valvetrain_reshapes_for_its_float_speed_only(capsys, tmp_path):
+    """A valvetrain is optimized for its float speed: another objective is refused in one line, exit 2 (the
+    reshaped valvetrain itself is tests/test_optimize_valvetrain.py's)."""
+    code, out, err = run(
+        capsys, "optimize", CASES / "valvetrain.toml", "-o", tmp_path / "o.toml", "--objective", "vibration"
+    )
+    assert code == 2 and len(err.strip().splitlines()) == 1 and "float speed (jump-speed) only" in err
+    assert not (tmp_path / "o.toml").exists()
 
 
 def test_rigid_train_takes_up_the_lash_at_the_ramps_speed():

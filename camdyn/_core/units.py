@@ -55,6 +55,9 @@ DEFAULT_SEAT_RESTITUTION = 0.3
 # at 0.27 m/s, inside the seating-velocity limit below.
 DEFAULT_RAMP_VELOCITY_MM_PER_DEG = 0.015
 MAX_ROCKER_RATIO = 5.0
+# A train that lets the valve lift less than this fraction of the cam's stroke at the valve, at rest, is a unit slip
+# (a real pushrod and rocker lose tenths of a millimetre of ten to their compliance), not a valvetrain.
+MIN_STATIC_VALVE_LIFT = 0.5
 # [limits] max_seating_velocity default, m/s: the valve's speed on landing; 0.5 m/s is the usual ceiling at rated
 # speed for a steel valve on a hardened seat (0.3 m/s where seat wear matters most).
 DEFAULT_MAX_SEATING_VELOCITY = 0.5

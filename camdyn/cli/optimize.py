@@ -19,13 +19,24 @@ if TYPE_CHECKING:
     from ..design.optimize import Optimization
 
 
+_VALVE_ROWS = (  # a valvetrain's two-mass facts (:func:`camdyn.design.optimize.valve_facts`) in the table
+    ("float_speed_rpm", "valve float speed, two-mass (rpm)", ".1f"),
+    ("bounce_speed_rpm", "valve bounce speed, two-mass (rpm)", ".1f"),
+    ("seating_velocity_m_per_s", "seating velocity (m/s)", ".4g"),
+    ("opening_deg", "opening at 0.05 mm (deg)", ".2f"),
+    ("closing_deg", "closing at 0.05 mm (deg)", ".2f"),
+    ("max_valve_lift_mm", "max valve lift (mm)", ".4g"),
+)
+
+
 def print_optimization(res: Optimization, output: Path) -> None:
     con = _console.console()
     u, f = res.unit, res.force_unit
     con.print(
         f"[bold]{res.case.name}[/bold]  optimized for {res.objective}: "
         f"{len(res.document['motion']['segments'])} segments, "
-        f"rises and returns as B-splines of {res.control_points} control points"
+        f"{'rises and returns' if res.valvetrain is None else 'the flanks between the ramps'} as B-splines of "
+        f"{res.control_points} control points"
     )
     con.print(f"force margin {res.margin:.4g} {f}")
     t = _console.table(("", "left"), ("before", "right"), ("after", "right"))
@@ -36,6 +47,10 @@ def print_optimization(res: Optimization, output: Path) -> None:
             format(getattr(res.before, fld.name), fmt),
             format(getattr(res.after, fld.name), fmt),
         )
+    if res.valvetrain is not None:
+        for key, label, fmt in _VALVE_ROWS:
+            b, a = res.valvetrain["before"][key], res.valvetrain["after"][key]
+            t.add_row(label, *("none found" if x is None else format(x, fmt) for x in (b, a)))
     con.print(t)
     for p in res.verification["points"]:
         td = next(v for k, v in p.items() if k.startswith("time_domain"))
@@ -45,6 +60,13 @@ def print_optimization(res: Optimization, output: Path) -> None:
             if p["separated"]
             else ("" if p["margin_held"] else f", under the {res.margin:.4g} {f} margin")
         )
+        if res.valvetrain is not None:
+            said = ", floats" if p["separated"] else ("" if p["margin_held"] else ", bounces")
+            con.print(
+                f"[dim]two-mass model at {p['speed_rpm']:.1f} rpm: least cam force over the valve event {td:.4g} N"
+                f"{said}[/dim]"
+            )
+            continue
         con.print(
             f"[dim]time domain at {p['speed_rpm']:.1f} rpm: least force {td:.4g} {f} "
             f"(frequency domain {fd:.4g} {f}){said}[/dim]"
@@ -55,7 +77,12 @@ def print_optimization(res: Optimization, output: Path) -> None:
             f"up to {floor_rpm(res.robust['speed_rpm']):.1f} rpm "
             f"({res.robust['samples']} built cams of [tolerances])"
         )
-    if res.written:
+    if res.written and res.valvetrain is not None:
+        con.print(
+            f"claimed: the valve does not float up to {floor_rpm(res.claimed_speed_rpm):.1f} rpm (two-mass model)"
+        )
+        con.print(f"wrote {output} in {res.time_s:.1f} s; next: camdyn check {output}")
+    elif res.written:
         con.print(f"claimed: the margin holds at every speed up to {floor_rpm(res.claimed_speed_rpm):.1f} rpm")
         con.print(f"wrote {output} in {res.time_s:.1f} s; next: camdyn check {output}")
     else:

@@ -23,6 +23,7 @@ from .userdata import least_force_uncertainty, least_force_warning, unit_slip_wa
 from .valvetrain import ValvetrainResult, analyze_valvetrain
 
 SYNTHESIS_ARRAYS = ("theta_deg", "pitch", "contour", "path_xy", "traced_xy")  # check --json --arrays only
+MAX_SEPARATION_NOTES = 4  # landed separations listed one per line; more are summed up in one
 
 
 @dataclass(frozen=True)
@@ -269,6 +270,17 @@ def _separation_note(sep: ContactSeparation, rpm: float, restitution: float) -> 
     )
 
 
+def _separations_note(seps: list[ContactSeparation], rpm: float) -> str:
+    """Many landed separations of a rigid follower in one line: how many, the first few, the worst gap and impact."""
+    spans = ", ".join(f"{sep.start_deg:.1f}-{sep.end_deg:.1f}" for sep in seps[:4])
+    gap = max(sep.max_gap_mm for sep in seps)
+    impact = max(sep.impact_speed_m_s for sep in seps)
+    return (
+        f"the follower leaves the cam {len(seps)} times a revolution at {rpm:g} rpm (flights {spans}, ... deg; "
+        f"gap up to {gap:.3g} mm, impacts up to {impact:.3g} m/s; check --json lists each)"
+    )
+
+
 def _flights_note(flights: tuple[ContactFlight, ...], impacts: tuple[ContactImpact, ...], rpm: float) -> str:
     """Every flight (where the interface force is zero) and the largest impact: what the report's page 1 says."""
     spans = ", ".join(f"{f.leave_deg:.1f}-{f.land_deg:.1f}" for f in flights[:4]) + (
@@ -394,9 +406,12 @@ def run_check(case: Case, speed_rpm: float | None = None) -> CheckReport:
             if contact is not None and limits.max_contact_stress is not None:
                 checks += (contact_check(contact, limits.max_contact_stress),)
     by_flights = bool(resp.flights) and not model.rigid  # a compliant train's flights and impacts
-    for sep in dynamic.separations:
-        if not (by_flights and sep.settled):  # one flight-and-impacts note says it, as the report does
-            warnings.append(_separation_note(sep, rpm, float(case.model.restitution)))
+    told = [sep for sep in dynamic.separations if not (by_flights and sep.settled)]  # flights: one note says it
+    landed = [sep for sep in told if sep.settled]
+    if len(landed) > MAX_SEPARATION_NOTES:  # hundreds of short flights: one line, the JSON lists each
+        warnings.append(_separations_note(landed, rpm))
+        told = [sep for sep in told if not sep.settled]
+    warnings += [_separation_note(sep, rpm, float(case.model.restitution)) for sep in told]
     if by_flights:
         warnings.append(_flights_note(dynamic.flights, dynamic.impacts, rpm))
     return CheckReport(

@@ -1,5 +1,6 @@
 """A valvetrain judged: the valve's event at the case speed (lift, timing, seating speed, bounce), and the float
-and bounce speeds, from the two-mass model (:mod:`camdyn.model.dynamics._valvetrain`)."""
+and bounce speeds, from the two-mass model (:mod:`camdyn.model.dynamics._valvetrain`; the searches on its fast
+path where every contact stays closed, :mod:`camdyn.model.dynamics._valvefast`)."""
 
 from __future__ import annotations
 
@@ -112,19 +113,6 @@ class ValvetrainResult:
         )
 
 
-def refuse_valvetrain(case: Case, what: str, why: str = "") -> None:
-    """:class:`InputError` where a study that knows one follower (``what``: a tolerance study, the optimizer) is
-    asked about a valvetrain: it would judge the equivalent single follower, without the lash, the seat or float,
-    and propose what ``check`` may then fail; ``why``: what else it would get wrong."""
-    if case.valvetrain is not None:
-        raise InputError(
-            "valvetrain",
-            f"{what} does not model a valvetrain yet (it would judge the equivalent single follower, without the lash, "
-            f"the seat or float{why}): camdyn check gives its float and bounce speeds; size, sweep and tolerance "
-            "model it",
-        )
-
-
 def refuse_spring_part(case: Case) -> None:
     """:class:`InputError` where ``size`` is asked about a valvetrain with a ``[spring]`` part: the part's own mass
     on the valve depends on the rate and preload being sized (sweep and tolerance hold the case's spring)."""
@@ -158,16 +146,16 @@ def analyze_valvetrain(case: Case, omega: float, margin: float) -> ValvetrainRes
     assert vt is not None  # the caller's: a [valvetrain] case
     w_kin = dyn.kinematic_jump_speed(case.motion, case.model)[0]  # the equivalent follower's: where float begins
     w_max = dyn.jump_search_limit(margin * omega, w_kin)
-    marched: dict[float, dyn.ValvetrainResponse] = {}
+    marched: dict[float, dyn.ValvePoint] = {}
 
-    def at(w: float) -> dyn.ValvetrainResponse:
+    def at(w: float) -> dyn.ValvePoint:  # the fast path where every contact stays closed, else the diffrax model
         if w not in marched:
-            marched[w] = dyn.valvetrain_response(case.motion, vt, w)
+            marched[w] = dyn.ValvePoint(case.motion, vt, w)
         return marched[w]
 
     w_float = dyn.float_speed(case.motion, vt, w_max, respond=at)
     w_bounce = dyn.bounce_speed(case.motion, vt, w_max, respond=at)
-    here = at(float(omega))
+    here = at(float(omega)).response  # the whole revolution at the case speed: the diffrax model's
     speeds = sorted(marched)
     curves = None
     if vt.rocker is not None:

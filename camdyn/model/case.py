@@ -13,7 +13,7 @@ import numpy as np
 from .._core.errors import InputError
 from .._core.kinds import FollowerKind
 from .._core.precision import require_x64
-from .._core.units import M_PER_MM, MAX_ROCKER_RATIO, THETA_GRID
+from .._core.units import M_PER_MM, MAX_ROCKER_RATIO, MIN_STATIC_VALVE_LIFT, THETA_GRID
 from ..schema import CaseSpec, FollowerSpec, LimitsSpec, ValvetrainSpec, dynamics_keys, load_case_spec, parse
 from .follower import FollowerModel, follower_model
 from .geometry import ContourFit
@@ -218,12 +218,23 @@ def _check_valve_lifts(motion: Motion, spec: CaseSpec, vt_model: ValvetrainModel
             f"the valve never lifts: the cam's lift at the valve (through the rocker: {reach:.4g} mm) does not take up "
             f"the lash ({vt.lash:g} mm)",
         )
-    if vt.stiffness is not None and vt.stiffness * (reach - vt.lash) <= preload:
+    if vt.stiffness is None:
+        return
+    stroke = reach - vt.lash  # mm the cam would move the valve through a rigid train
+    if vt.stiffness * stroke <= preload:
         raise InputError(
             "valvetrain.stiffness",
             f"the valve never lifts: the train ({vt.stiffness:g} N/mm) compressed by the cam's whole lift at the "
-            f"valve less the lash ({reach - vt.lash:.4g} mm) carries {vt.stiffness * (reach - vt.lash):.4g} N, not "
+            f"valve less the lash ({stroke:.4g} mm) carries {vt.stiffness * stroke:.4g} N, not "
             f"the spring's preload ({preload:g} N): is the stiffness in N/mm, at the valve?",
+        )
+    # at full lift, slowly: the train and the valve spring in series share the cam's stroke
+    lifted = (vt.stiffness * stroke - preload) / (vt.stiffness + (spec.dynamics.spring_rate or 0.0))
+    if lifted < MIN_STATIC_VALVE_LIFT * stroke:
+        raise InputError(
+            "valvetrain.stiffness",
+            f"the valve lifts only {lifted:.3g} mm of the cam's {stroke:.4g} mm at the valve, turned slowly: the train "
+            f"({vt.stiffness:g} N/mm) gives way under the spring's load: is the stiffness in N/mm, at the valve?",
         )
 
 

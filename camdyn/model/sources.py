@@ -18,7 +18,7 @@ from ..schema import CaseSpec, FollowerSpec
 from .datafiles import Samples, read_contour, read_lift_table
 from .geometry import ContourFit, contact_motion
 from .motion import FittedMotion, MotionFit, fit_motion, fit_warnings
-from .valvetrain import lift_with_ramps
+from .valvetrain import lift_with_ramps, ramp_join_warnings
 
 ZERO_SHARE = 0.01  # a table may dip below zero lift by this share of its range (noise in a dwell), no more
 # a table whose lift spans less than this (mm; deg of swing) is likely in metres (radians): no cam lifts less
@@ -87,6 +87,7 @@ def table_motion(spec: CaseSpec, source: Path | None) -> tuple[FittedMotion, Mot
             lift = lift_with_ramps(theta, lift, vt.lash, vt.ramp_velocity)
         except ValueError as err:
             raise InputError(f"motion.valve_table ({name})", str(err)) from None
+        warnings += ramp_join_warnings(theta, table.values[:, 1], vt.ramp_velocity)
     motion, fit = fit_motion(
         theta,
         lift,

@@ -225,3 +225,53 @@ def lift_with_ramps(theta_deg: np.ndarray, lift: np.ndarray, lash: float, ramp_v
     from_close = (theta_deg - seat_close) % 360.0
     ramp = np.maximum(0.0, lash - ramp_velocity * np.minimum(to_open, from_close))
     return np.where(open_, lift + lash, ramp)
+
+
+def ramp_join_warnings(theta_deg: np.ndarray, lift: np.ndarray, ramp_velocity: float) -> list[str]:
+    """Where a valve's lift table opens or closes at a speed far from the lash ramp's (mm per cam degree), the cam's
+    velocity jumps as the ramp joins it: the fit smooths the jump into a spike of acceleration that a follower held
+    by ``tappet_force`` alone cannot follow. One line per such end (none for a table that meets its ramps)."""
+    open_ = lift > 0.0
+    if not open_.any() or open_.all():
+        return []  # lift_with_ramps refuses these
+    n = len(lift)
+    rise = int(np.flatnonzero(open_ & ~np.roll(open_, 1))[0])
+    fall = int(np.flatnonzero(open_ & ~np.roll(open_, -1))[0])
+    out = []
+    for name, seat, inner in (("opens", rise - 1, rise + 1), ("closes", fall + 1, fall - 1)):
+        # the mean slope over the two table steps from the seat: the valve's speed as it leaves or meets it
+        span = abs(theta_deg[inner % n] - theta_deg[seat % n]) % 360.0
+        speed = float(lift[inner % n]) / span if span > 0.0 else math.inf
+        if not 0.5 <= speed / ramp_velocity <= 2.0:
+            out.append(
+                f"the valve table {name} at {speed:.3g} mm/deg near {theta_deg[seat % n]:g} deg and the "
+                f"lash ramp at {ramp_velocity:g} (valvetrain.ramp_velocity): the cam's velocity jumps where they "
+                "join and the follower leaves the cam there unless valvetrain.tappet_force holds it; a table from a "
+                "cam card starts and ends at its ramp's speed"
+            )
+    return out
+
+
+def event_follower(vt: ValvetrainModel) -> tuple[FollowerModel, float]:
+    """The single follower that stands for a valvetrain over its event (the lash taken up, a constant ratio r), and
+    the mass (kg) that moves with the cam beside it. The valve spring is ``k r^2`` with the preload it has at the
+    valve's lift, ``(F0 - k lash) r``; the tappet force is left to the caller (it loads the cam, not the valve).
+    A rigid train is the equivalent follower; a compliant train on a rigid cam contact is the valve on the train
+    reduced to the cam (mass m_v r^2, train k_t r^2 and c_t r^2), the cam side's m_c moving with the cam beside it
+    (the cam's force is the train's plus m_c s'' w^2: exact in contact); a compliant train on a compliant cam
+    contact, the whole mass on the two contacts in series."""
+    r = vt.ratio
+    eq = equivalent_follower(vt)
+    eq = eqx.tree_at(
+        lambda m: (m.preload, m.external), eq, ((vt.preload - vt.spring_rate * vt.lash) * r, jnp.zeros(()))
+    )
+    if vt.rigid_train:
+        return eq, 0.0
+    kt, ct = vt.train.train_stiffness * r**2, vt.train.train_damping * r**2
+    if vt.rigid_cam:
+        return eqx.tree_at(
+            lambda m: (m.mass, m.train_stiffness, m.train_damping), eq, (vt.valve_mass * r**2, kt, ct)
+        ), (float(vt.cam_side_mass))
+    kc, cc = vt.cam.train_stiffness, vt.cam.train_damping
+    series = kc * kt / (kc + kt)
+    return eqx.tree_at(lambda m: (m.train_stiffness, m.train_damping), eq, (series, cc * series / kc)), 0.0

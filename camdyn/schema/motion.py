@@ -120,8 +120,9 @@ class PolynomialSegmentSpec(Table):
 class BSplineSegmentSpec(Table):
     """A rise or return whose normalized lift y(u) (u from 0 to 1 over the segment, y from 0 to 1) is a clamped
     B-spline of degree 5 on uniform knots with the control points ``coefficients``: the first three 0 and the last
-    three 1, so that lift, velocity and acceleration meet a dwell on either side smoothly. ``camdyn optimize``
-    writes these."""
+    three 1, so that lift, velocity and acceleration meet a dwell on either side smoothly; an end not at rest
+    (``start_at_rest``/``end_at_rest`` false) keeps only its first 0 (last 1), its next two setting the velocity and
+    acceleration there (a valvetrain's flank meeting its lash ramp). ``camdyn optimize`` writes these."""
 
     law: Literal["bspline"] = Field(description='"bspline"')
     end: Real = Field(description="cam angle where the segment ends, deg")
@@ -136,17 +137,40 @@ class BSplineSegmentSpec(Table):
         max_length=1000,
         description=(
             f"control points of y(u), dimensionless: at least {BSPLINE_DEGREE + 1}, the first three 0 and the last "
-            f"three 1 (degree {BSPLINE_DEGREE}, uniform knots)"
+            f"three 1 (degree {BSPLINE_DEGREE}, uniform knots); at an end not at rest only the first 0 (the last 1)"
+        ),
+    )
+    start_at_rest: bool = Field(
+        default=True,
+        description=(
+            "the segment starts at rest (the first three coefficients 0); false: only the first is 0 and the second "
+            "and third set its starting velocity and acceleration (camdyn optimize's flank meeting a valvetrain's "
+            "opening ramp)"
+        ),
+    )
+    end_at_rest: bool = Field(
+        default=True,
+        description=(
+            "the segment ends at rest (the last three coefficients 1); false: only the last is 1 and the two before "
+            "set its ending velocity and acceleration"
         ),
     )
 
     @model_validator(mode="after")
     def _clamped_ends(self) -> BSplineSegmentSpec:
         c = self.coefficients
-        if any(abs(v) > 1e-12 for v in c[:3]) or any(abs(v - 1.0) > 1e-12 for v in c[-3:]):
+        head, tail = c[: 3 if self.start_at_rest else 1], c[-3 if self.end_at_rest else -1 :]
+        if any(abs(v) > 1e-12 for v in head) or any(abs(v - 1.0) > 1e-12 for v in tail):
+            if self.start_at_rest and self.end_at_rest:
+                raise ValueError(
+                    f"coefficients: the first three must be 0 and the last three 1 (got {c[:3]} ... {c[-3:]}): lift, "
+                    "velocity and acceleration start at 0 and end at the full lift, at rest"
+                )
+            first = "three" if self.start_at_rest else "one"
+            last = "three" if self.end_at_rest else "one"
             raise ValueError(
-                f"coefficients: the first three must be 0 and the last three 1 (got {c[:3]} ... {c[-3:]}): lift, "
-                "velocity and acceleration start at 0 and end at the full lift, at rest"
+                f"coefficients: the first {first} must be 0 and the last {last} 1 (got {c[:3]} ... {c[-3:]}): the "
+                "lift starts at 0 and ends at the full lift"
             )
         return self
 

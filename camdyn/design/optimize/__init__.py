@@ -2,15 +2,19 @@
 follower, spring and limits, for the objective the designer names (:mod:`._objectives`). The margins are
 differentiated through the frequency-domain steady state by JAX (never by finite differences) and each step is
 a linear program (:mod:`._slp`); the answer is then checked by ``check``'s own models, the time-domain
-diffrax model included."""
+diffrax model included. A valvetrain keeps its ramps and its valve's timing: only the flanks between the ramps
+are reshaped (:func:`._shape.flank_space`), on the valve event's single follower (the valve on the compliant
+train, :func:`camdyn.model.valvetrain.event_follower`), and the answer is judged by the
+two-mass model's float and bounce speeds and seating velocity (``check``'s), none of which may come out worse."""
 
 from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import equinox as eqx
+import jax.numpy as jnp
 import numpy as np
 
 from ..._core.errors import InputError, NumericalError
@@ -18,18 +22,18 @@ from ..._core.progress import Progress
 from ..._core.units import RPM
 from ...export import camdyn_version, dumps_case
 from ...model.case import Case, build_case
-from ...model.dynamics import dynamic_jump_speed, linear_min_force, preload_share, response
+from ...model.dynamics import dynamic_jump_speed, linear_min_force, preload_share, response, valvetrain_response
 from ...model.follower import FollowerModel
 from ...model.motion import evaluate
+from ...model.valvetrain import event_follower
 from ...schema import CaseSpec
 from ...schema.dynamics import dynamics_keys
 from ..checks import CheckReport, run_check
 from ..parts import resolve_spring
 from ..tolerance import tolerance_study
-from ..valvetrain import refuse_valvetrain
 from ._objectives import CLEAR, jump_speed, least_slack, peak_spring_force_floor, spring_force, vibration
 from ._rows import Rows
-from ._shape import N_CONTROL, ShapeSpace, shape_space
+from ._shape import N_CONTROL, ShapeSpace, flank_space, shape_space
 
 OBJECTIVES = ("jump-speed", "vibration", "spring-force")
 MARGIN_OF_PRELOAD = 0.05  # the default force margin: this share of the static preload
@@ -37,6 +41,9 @@ ROBUST_SEPARATION = 1e-3  # --robust: the claim is the speed up to which P(separ
 ROBUST_SAMPLES = 4000  # built cams drawn for it (4 below the 1e-3 quantile)
 _BETTER = 1e-3  # an answer must beat the input on its objective by this share to be written
 _VERIFIED = 3  # the time-domain model checks this many of the force's dips below the claim, and the claim
+_TIMING_DEG = 0.5  # a valvetrain's opening or closing (at 0.05 mm of valve lift) may move this much at the case speed
+_SEAT_WINDOW_DEG = 3.0  # the surrogate holds the valve's closing speed this close to where it seats
+_SEATING_RTOL = 1e-3  # its seating velocity may differ by this share: the ramp sets it, the integrator's noise moves it
 
 
 def _shown(label: str, fmt: str = ".4g"):
@@ -100,6 +107,7 @@ class Optimization:
     margin: float = 0.0  # the force margin held (N; N*m for an arm)
     refusals: tuple[str, ...] = ()  # why the answer is no better than the input, or invalid
     robust: dict | None = None  # --robust: the tolerance study's claim
+    valvetrain: dict | None = None  # a valvetrain's two-mass facts: {"before": ..., "after": ...} (:func:`valve_facts`)
 
     @property
     def unit(self) -> str:
@@ -124,11 +132,30 @@ class Optimization:
             "vibration": "the least residual vibration in the dwells over 0.9-1.1 x the case speed, holding there",
             "spring-force": "the least peak spring force (preload and rate free) holding to speed_margin x speed",
         }[self.objective]
+        checked = "the time-domain (diffrax) model"
+        if self.valvetrain is not None:
+            aim += (
+                " on the valve event's single follower (the valve on the compliant train, the cam side moving with "
+                "the cam), the valve closing no faster where it seats"
+            )
+            checked = "the two-mass (diffrax) valvetrain model, least cam force over the valve event,"
+        made = (
+            f"Written by `camdyn optimize {source} --objective {self.objective} --control-points {self.control_points}`"
+        )
+        what = (
+            f"every rise and return is a clamped B-spline of degree 5 with {self.control_points} control points "
+            '(law = "bspline"), monotone within [0, 1]; the segment boundaries, lifts and dwells, the follower, the '
+            "limits and (but for spring-force) the spring are the original's."
+        )
+        if self.valvetrain is not None:
+            what = (
+                f"only the flanks between the lash ramps are reshaped, each a B-spline of degree 5 with "
+                f'{self.control_points} control points (law = "bspline"), monotone within [0, 1], meeting the ramps '
+                "with their lift, velocity and acceleration; the ramps, the dwells, the nose's angle and lift, the "
+                "valvetrain, the spring and the limits are the original's."
+            )
         header = [
-            f"Written by `camdyn optimize {source} --objective {self.objective} --control-points "
-            f"{self.control_points}` (camdyn{ver}): every rise and return is a clamped B-spline of degree 5 with "
-            f'{self.control_points} control points (law = "bspline"), monotone within [0, 1]; the segment boundaries, '
-            "lifts and dwells, the follower, the limits and (but for spring-force) the spring are the original's.",
+            f"{made} (camdyn{ver}): {what}",
             f"Objective: {aim}. Linear programs (HiGHS) on the frequency-domain steady state, its Jacobian by JAX "
             "autodiff.",
             f"Dynamic jump speed {b.jump_speed_rpm:.1f} -> {a.jump_speed_rpm:.1f} rpm; the force margin of "
@@ -136,7 +163,8 @@ class Optimization:
             f"{floor_rpm(a.margin_speed_rpm):.1f} rpm; least contact force at the case speed "
             f"{b.least_force_N:.3g} -> {a.least_force_N:.3g} N; max pressure angle {b.max_pressure_angle_deg:.2f} -> "
             f"{a.max_pressure_angle_deg:.2f} deg; verdict {b.verdict} -> {a.verdict}.",
-            "Checked by the time-domain (diffrax) model at "
+            *([] if self.valvetrain is None else [_valve_sentence(self.valvetrain)]),
+            f"Checked by {checked} at "
             + ", ".join(f"{p['speed_rpm']:.0f}" for p in self.verification["points"])
             + f" rpm (least force {self.verification['least_force']:.4g} {f}).",
         ]
@@ -157,6 +185,7 @@ class Optimization:
             "written": self.written,
             "refusals": list(self.refusals),
             "robust": self.robust,
+            "valvetrain": self.valvetrain,
         }
 
 
@@ -211,7 +240,8 @@ def _document(
         doc["optimized_from"] = source
     doc["name"] = name or f"{case.name}-optimized"
     said = case.spec.description.strip().rstrip(".")
-    doc["description"] = (f"{said}. " if said else "") + f"Rises and returns reshaped by camdyn optimize ({objective})."
+    what = "Rises and returns" if space.control_matrix is None else "Flanks between the ramps"
+    doc["description"] = (f"{said}. " if said else "") + f"{what} reshaped by camdyn optimize ({objective})."
     doc["motion"] = {"segments": space.segments(z)}
     if dynamics:
         doc["dynamics"] = doc["dynamics"] | dynamics
@@ -301,12 +331,7 @@ def _refusals(
             "spring-force": "the peak spring force",
         }
         out.append(f"no better on {objective}: {what[objective]} would go {_pair(objective, b, a)}")
-    passed = {c.name for c in before.checks if c.ok}
-    out += [
-        f"check {c.name} passed before and would fail ({c.value:.6g} against {c.limit:.6g} {c.unit})"
-        for c in after.checks
-        if c.name in passed and not c.ok
-    ]
+    out += _broken_checks(before, after)
     out += kept
     out += [
         f"the time-domain model finds the margin broken at {p['speed_rpm']:.1f} rpm"
@@ -314,6 +339,16 @@ def _refusals(
         if not p["margin_held"]
     ]
     return out
+
+
+def _broken_checks(before: CheckReport, after: CheckReport) -> list[str]:
+    """The checks the input passed that the answer would fail."""
+    passed = {c.name for c in before.checks if c.ok}
+    return [
+        f"check {c.name} passed before and would fail ({c.value:.6g} against {c.limit:.6g} {c.unit})"
+        for c in after.checks
+        if c.name in passed and not c.ok
+    ]
 
 
 def _pair(objective: str, b: Metrics, a: Metrics) -> str:
@@ -361,7 +396,12 @@ def optimize_case(
     The answer's ``refusals`` say why it is not to be written (no better, or a check it would break)."""
     if objective not in OBJECTIVES:
         raise InputError("--objective", f"unknown objective {objective!r}; choose one of {', '.join(OBJECTIVES)}")
-    refuse_valvetrain(case, "optimize", ", and would reshape the lash ramps and move the valve's opening and closing")
+    if case.valvetrain is not None and objective != "jump-speed":
+        raise InputError(
+            "--objective",
+            f"{objective}: a valvetrain is optimized for its float speed (jump-speed) only; camdyn size sizes its "
+            "valve spring",
+        )
     if robust and case.spec.tolerances is None:
         raise InputError(
             "--robust", "the case has no [tolerances]: give them to claim a speed at P(separation) <= 1e-3"
@@ -372,9 +412,13 @@ def optimize_case(
     t0 = time.perf_counter()
     case = resolve_spring(case)  # the model check judges: with the spring's own mass where [spring] gives the part
     control_points = N_CONTROL if control_points is None else control_points
-    space = shape_space(case, n_control=control_points)
-    rows = Rows(case, space, margin)
+    space = (flank_space if case.valvetrain is not None else shape_space)(case, n_control=control_points)
     before_check = run_check(case, speed_rpm)
+    rows = Rows(case, space, margin)
+    if case.valvetrain is not None:  # the event's single follower: the train's compliance, the lash taken up
+        surrogate, cam_mass = event_follower(case.valvetrain)
+        rows = Rows(replace(case, model=surrogate), space, margin, cam_mass, float(case.valvetrain.tappet_force))
+        rows = replace(rows, seating=_seating(rows, before_check, speed_rpm))
     before = metrics(case, before_check, margin)
     rpm = float(speed_rpm if speed_rpm is not None else case.speed_rpm)
     dynamics: dict = {}
@@ -421,13 +465,19 @@ def optimize_case(
     new = resolve_spring(build_case(CaseSpec.model_validate(doc), case.source))
     after_check = run_check(new, speed_rpm)
     after = metrics(new, after_check, margin)
-    claimed = after.margin_speed_rpm if objective == "jump-speed" else case.limits.speed_margin * rpm
-    checked = [w / RPM for w in _dips(new, claimed * RPM, _VERIFIED)] if not new.model.rigid else []
-    checked = sorted(
-        set(round(v, 1) for v in checked + [0.99 * claimed] + ([] if objective == "jump-speed" else [rpm]))
-    )
-    verification = _verify(new, checked, margin)
-    refusals = _refusals(objective, before_check, after_check, before, after, _motion_kept(new, space), verification)
+    facts = None
+    if case.valvetrain is not None:
+        claimed, verification, refusals, facts = _valvetrain_verdict(new, space, before_check, after_check)
+    else:
+        claimed = after.margin_speed_rpm if objective == "jump-speed" else case.limits.speed_margin * rpm
+        checked = [w / RPM for w in _dips(new, claimed * RPM, _VERIFIED)] if not new.model.rigid else []
+        checked = sorted(
+            set(round(v, 1) for v in checked + [0.99 * claimed] + ([] if objective == "jump-speed" else [rpm]))
+        )
+        verification = _verify(new, checked, margin)
+        refusals = _refusals(
+            objective, before_check, after_check, before, after, _motion_kept(new, space), verification
+        )
     robust_claim = None
     if robust and not refusals:
         robust_claim = _robust_claim(new, progress)
@@ -445,7 +495,120 @@ def optimize_case(
         margin,
         tuple(refusals),
         robust_claim,
+        facts,
     )
+
+
+def _seating(rows: Rows, check: CheckReport, speed_rpm: float | None) -> tuple | None:
+    """What holds a valvetrain's seating velocity at the case speed (:attr:`Rows.seating`): its valve's speed
+    toward the seat in the surrogate, at every grid angle within :data:`_SEAT_WINDOW_DEG` of where the two-mass
+    model seats it, at most what the case's own flanks give there; None for a rigid train (the ramp sets it)."""
+    vt = rows.case.valvetrain
+    assert vt is not None and check.valvetrain is not None  # a valvetrain's rows and check
+    if rows.case.model.rigid or not math.isfinite(check.valvetrain.response.seating_deg):
+        return None
+    omega = float(speed_rpm if speed_rpm is not None else rows.case.speed_rpm) * RPM
+    deg = np.degrees(rows.space.theta)
+    near = np.abs((deg - check.valvetrain.response.seating_deg + 180.0) % 360.0 - 180.0) <= _SEAT_WINDOW_DEG
+    idx = np.nonzero(near)[0]
+    s = np.asarray(rows.case.motion(rows.space.theta))[:, None]  # the case's own flanks, not their fit
+    own = replace(rows.space, offset=s[:, 0], matrix=np.zeros((4, s.shape[-1], 1)), z0=np.zeros(1))
+    probe = replace(rows, space=own, seating=(omega, float(vt.ratio), idx, 1.0))
+    return omega, float(vt.ratio), idx, float(np.max(np.asarray(probe.closing_speed(jnp.zeros(1)))))
+
+
+def valve_facts(check: CheckReport) -> dict:
+    """What a valvetrain's answer is judged on, from ``check``'s two-mass model: its float and bounce speeds (rpm;
+    None: none up to the search's top), its seating velocity (m/s), timing (deg at 0.05 mm of valve lift) and
+    largest valve lift (mm) at the case speed, and the cam's peak lift at the follower (mm)."""
+    vt = check.valvetrain
+    assert vt is not None  # a valvetrain's check
+    j = vt.json()
+    keys = ("float_speed_rpm", "bounce_speed_rpm", "seating_velocity_m_per_s", "opening_deg", "closing_deg")
+    return {k: j[k] for k in keys} | {
+        "max_valve_lift_mm": j["max_valve_lift_mm"],
+        "peak_cam_lift_mm": float(np.max(vt.response.cam_lift)),
+    }
+
+
+def _valve_sentence(facts: dict) -> str:
+    """The written case's header line of a valvetrain's two-mass facts, before -> after."""
+    rows = (
+        ("float speed", "float_speed_rpm", ".1f", " rpm"),
+        ("bounce speed", "bounce_speed_rpm", ".1f", " rpm"),
+        ("seating velocity", "seating_velocity_m_per_s", ".4g", " m/s"),
+        ("opening", "opening_deg", ".2f", " deg"),
+        ("closing", "closing_deg", ".2f", " deg"),
+    )
+    said = (
+        f"{label} {_shown_or_none(facts['before'][key], fmt)} -> {_shown_or_none(facts['after'][key], fmt)}{unit}"
+        for label, key, fmt, unit in rows
+    )
+    return "Two-mass valvetrain: " + ", ".join(said) + "."
+
+
+def _shown_or_none(x: float | None, fmt: str) -> str:
+    """``x`` as ``fmt``; "none" for a speed none was found up to the search's top (or an angle never reached)."""
+    return "none" if x is None else format(x, fmt)
+
+
+def _valvetrain_refusals(b: dict, a: dict) -> list[str]:
+    """Why a valvetrain's answer must not be written: its float speed no higher, its bounce speed lower, its
+    seating velocity higher, its timing moved or its peak lift changed (``b``, ``a``: :func:`valve_facts`)."""
+    inf = lambda x: math.inf if x is None else x  # noqa: E731  (None: no float or bounce up to the search's top)
+    out = []
+    fb, fa = inf(b["float_speed_rpm"]), inf(a["float_speed_rpm"])
+    if not fa > fb * (1.0 + _BETTER):
+        out.append(f"no better on jump-speed: the float speed would go {fb:.1f} -> {fa:.1f} rpm")
+    if inf(a["bounce_speed_rpm"]) < inf(b["bounce_speed_rpm"]):
+        out.append(f"the bounce speed would fall {inf(b['bounce_speed_rpm']):.1f} -> {a['bounce_speed_rpm']:.1f} rpm")
+    vb, va = b["seating_velocity_m_per_s"], a["seating_velocity_m_per_s"]
+    if vb is not None and (va is None or va > vb * (1.0 + _SEATING_RTOL)):
+        out.append(f"the seating velocity would rise {vb:.4g} -> {_shown_or_none(va, '.4g')} m/s")
+    for key in ("opening_deg", "closing_deg"):
+        if b[key] is None or a[key] is None or abs(a[key] - b[key]) > _TIMING_DEG:
+            shown = (_shown_or_none(v, ".2f") for v in (b[key], a[key]))
+            out.append(f"the valve's {key[:-4]} at 0.05 mm would move {' -> '.join(shown)} deg")
+    if abs(a["peak_cam_lift_mm"] - b["peak_cam_lift_mm"]) > 1e-9 * b["peak_cam_lift_mm"]:
+        out.append(f"the peak lift would change {b['peak_cam_lift_mm']:.6g} -> {a['peak_cam_lift_mm']:.6g} mm")
+    return out
+
+
+def _valvetrain_verdict(
+    new: Case, space: ShapeSpace, before_check: CheckReport, after_check: CheckReport
+) -> tuple[float, dict, list[str], dict]:
+    """A valvetrain's answer judged by the two-mass model: the claim (its float speed, rpm), the verification (the
+    model again at 0.99 x the claim and at the case speed: the least cam force over the valve event, and whether it
+    floats), the refusals and the facts before and after (:func:`valve_facts`)."""
+    facts = {"before": valve_facts(before_check), "after": valve_facts(after_check)}
+    claimed = facts["after"]["float_speed_rpm"]
+    claimed = math.inf if claimed is None else floor_rpm(claimed)
+    assert new.valvetrain is not None  # built from a valvetrain's case
+    points = []
+    for rpm in sorted({after_check.speed_rpm} | ({0.99 * claimed} if math.isfinite(claimed) else set())):
+        r = valvetrain_response(new.motion, new.valvetrain, rpm * RPM)
+        points.append(
+            {
+                "speed_rpm": rpm,
+                "time_domain_least_force_N": r.least_event_force,
+                "frequency_domain_least_force_N": None,  # no frequency domain through the lash and the seat
+                "separated": r.floated,
+                "margin_held": not r.floated and not (rpm == after_check.speed_rpm and r.bounced),
+            }
+        )
+    verification = {
+        "model": "two-mass valvetrain",
+        "points": points,
+        "least_force": min((p["time_domain_least_force_N"] for p in points), default=None),
+        "unit": "N",
+    }
+    refusals = _valvetrain_refusals(facts["before"], facts["after"])
+    refusals += _broken_checks(before_check, after_check)
+    refusals += _motion_kept(new, space)
+    refusals += [
+        f"the two-mass model floats or bounces at {p['speed_rpm']:.1f} rpm" for p in points if not p["margin_held"]
+    ]
+    return claimed, verification, refusals, facts
 
 
 def _refused(
@@ -470,4 +633,5 @@ __all__ = [
     "margin_speed",
     "metrics",
     "optimize_case",
+    "valve_facts",
 ]

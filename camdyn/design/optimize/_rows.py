@@ -36,6 +36,12 @@ class Rows:
     case: Case
     space: ShapeSpace
     margin: float = 0.0  # the least interface force to keep at every speed held (N; N*m for an arm)
+    # a valvetrain's event (:func:`camdyn.model.valvetrain.event_follower`): the case's model is the valve side, and
+    # the cam's force adds the cam side's inertia (kg, moving with the cam) and the tappet force (N)
+    cam_mass: float = 0.0
+    cam_load: float = 0.0
+    # and the valve's closing speed held: (cam speed rad/s, ratio, grid angles around its seating, the most m/s)
+    seating: tuple[float, float, np.ndarray, float] | None = None
 
     @property
     def scale(self) -> float:
@@ -61,6 +67,8 @@ class Rows:
                 return train_force(model, w, s, s1, x, x1)
 
             force = jax.vmap(one)(omegas)
+        if self.cam_mass or self.cam_load:
+            force = force + self.cam_mass * omegas[:, None] ** 2 * s2 + self.cam_load
         return force
 
     def slack(self, z: np.ndarray | jax.Array, omegas: jax.Array, preload: ArrayLike | None = None) -> jax.Array:
@@ -89,7 +97,19 @@ class Rows:
             rho_min = max(curvature_limit(f, lim.min_curvature_ratio), 1e-3 * f.base_radius)
             rows.append(1.0 - geo["rho_contour"] / rho_min + _SAFETY)
         rows.append(self.space.order(z))
+        if self.seating is not None:
+            rows.append(self.closing_speed(z) / self.seating[3] - 1.0)
         return jnp.concatenate(rows)
+
+    def closing_speed(self, z: np.ndarray | jax.Array) -> jax.Array:
+        """A valvetrain's valve speed toward its seat (m/s, the surrogate's steady state at ``seating``'s speed) at
+        ``seating``'s grid angles: where the valve lands on its seat, what its seating velocity follows."""
+        assert self.seating is not None  # a valvetrain's rows
+        omega, ratio, idx, _ = self.seating
+        model = self.case.model
+        s = self.space.values(z)[0] * model.scale
+        _, x1 = steady_state(jnp.fft.rfft(s), omega, model, model.stiffness, model.damping, s.shape[0])
+        return -ratio * omega * x1[idx]
 
     @cached_property
     def sampled(self) -> np.ndarray:

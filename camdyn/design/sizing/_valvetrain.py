@@ -25,8 +25,6 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, replace
 
-import numpy as np
-
 from ..._core.units import M_PER_MM, RPM
 from ...model import dynamics as dyn
 from ...model.case import Case, with_valvetrain_keys
@@ -163,8 +161,7 @@ def _least_train_force(case: Case, omega: float) -> float:
     """The train's least force on the valve over its event at ``omega`` (rad/s), N (0 where the valve leaves the
     train: tossed off it as the lash closes, or running ahead of it); NaN where the valve never lifts."""
     assert case.valvetrain is not None  # the caller's
-    resp = dyn.valvetrain_response(case.motion, case.valvetrain, omega)
-    return float(np.min(resp.train_force[resp.in_event])) if resp.in_event.any() else math.nan
+    return dyn.ValvePoint(case.motion, case.valvetrain, omega).least_train_force
 
 
 def _judge(case: Case, rate: float, preload: float, valve_lift_mm: float) -> tuple[Case, ValveSpringDesign]:

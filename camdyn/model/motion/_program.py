@@ -201,7 +201,7 @@ class Program(Motion):
         peak = np.max(np.abs(self._eval(np, np.linspace(0.0, TWO_PI, 3601))), axis=1)
         for i, seg in enumerate(self.segments):
             nxt = self.segments[(i + 1) % n]
-            left = self._segment_end(seg)
+            left = self.segment_end(seg)
             right = self._eval(np, np.deg2rad(seg.end % 360.0))
             for order, name, unit in ((1, "velocity", f"{lu}/rad"), (2, "acceleration", f"{lu}/rad^2")):
                 jump = right[order] - left[order]
@@ -223,7 +223,9 @@ class Program(Motion):
             for w in polynomial_warnings(seg.polynomial, f"motion.segments[{i}]", seg.start, seg.end, lu)
         ]
 
-    def _segment_end(self, seg: Segment):
+    def segment_end(self, seg: Segment) -> np.ndarray:
+        """s and its first three derivatives at ``seg``'s end by its own law (the motion's unit per rad^d): the
+        left side of the boundary, where the program evaluated there gives the next segment's start."""
         t, lift = seg.table(self.kind.motion_per_lift)
         u = np.array(1.0 - t.x0[-1])
         vals = _piece_eval(np, u, t.c[-1], t.w[-1], t.p1[-1], t.p2[-1], t.y0[-1], t.v0[-1])

@@ -33,6 +33,15 @@ UNITS = {
     "max_seating_velocity": "m/s",
     "max_impact_velocity": "m/s",
     "backlash": "mm",
+    "width": "mm",
+    "conjugate_spacing": "mm",  # closure = "conjugate"
+    "conjugate_offset": "mm",
+    "conjugate_arm_angle": "deg",
+    "conjugate_arm_length": "mm",
+    "conjugate_roller_radius": "mm",
+    "conjugate_preload": "N",
+    "conjugate_preload_torque": "N\u00b7m",
+    "min_preload": "N",
     "lash": "mm",  # [valvetrain]
     "cam_side_mass": "kg",
     "valve_mass": "kg",
@@ -44,6 +53,11 @@ UNITS = {
     "cam_arm_angle": "deg",
     "valve_arm_angle": "deg",
 }
+# keys whose values are pure numbers (ratios, fractions) or words: no unit on page 1
+DIMENSIONLESS = frozenset(
+    {"damping_ratio", "train_damping_ratio", "restitution", "seat_restitution", "ratio", "min_curvature_ratio"}
+    | {"max_train_deflection", "type", "rotation", "closure", "contour"}
+)
 # limits of checks only some cases have: listed where the case has the check or the user set the limit
 _LIMIT_OF_CHECK = {
     "max_seating_velocity": CheckKind.SEATING_VELOCITY,
@@ -60,6 +74,8 @@ def _kv_lines(d: dict, oscillating: bool = False) -> list[tuple[str, str]]:
         unit = UNITS.get(k, "") if v is not None else ""  # "unbounded" takes no unit
         if k == "damping":
             unit = "N\u00b7m\u00b7s/rad" if oscillating else "N\u00b7s/m"
+        elif k == "min_preload" and oscillating:
+            unit = "N\u00b7m"
         out.append((k, f"{fmt(v)} {unit}".strip()))
     return out
 
@@ -114,7 +130,7 @@ def input_columns(data: ReportData) -> list[tuple[str, list[tuple[str, str]]]]:
     if data.check.closure is not None:
         for key in _SPRING_HELD_LIMITS:
             lim.pop(key, None)
-    dyn_rows += [("", ""), ("\x00limits", "")] + _kv_lines(lim)
+    dyn_rows += [("", ""), ("\x00limits", "")] + _kv_lines(lim, data.oscillating)
     columns.append(("dynamics", dyn_rows))
     return columns
 
