@@ -8,7 +8,7 @@ and gathers every result (``multihost_utils.process_allgather``), so every proce
 from __future__ import annotations
 
 import functools
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from typing import Any
 
 import equinox as eqx
@@ -20,7 +20,7 @@ from jax.sharding import Mesh, NamedSharding, PartitionSpec
 from .jit import cached_jit, jit_with
 
 
-def accelerated(devices) -> bool:
+def accelerated(devices: Sequence[jax.Device]) -> bool:
     """Whether ``devices`` are accelerators (GPUs, TPUs) rather than CPUs: the one test of the platform a batched
     kernel runs on, for its batch width here and for the path a kernel takes (see the jump map's gap stepping)."""
     return devices[0].platform != "cpu"
