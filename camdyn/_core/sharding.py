@@ -20,7 +20,7 @@ from jax.sharding import Mesh, NamedSharding, PartitionSpec
 from .jit import cached_jit, jit_with
 
 
-def accelerated(devices: Sequence[jax.Device]) -> bool:
+def accelerated(devices: Sequence[Any]) -> bool:  # jax.Device, which pyright cannot take as a type
     """Whether ``devices`` are accelerators (GPUs, TPUs) rather than CPUs: the one test of the platform a batched
     kernel runs on, for its batch width here and for the path a kernel takes (see the jump map's gap stepping)."""
     return devices[0].platform != "cpu"
