@@ -24,6 +24,7 @@ from ...export import camdyn_version, dumps_case
 from ...model.case import Case, build_case
 from ...model.dynamics import dynamic_jump_speed, linear_min_force, preload_share, response, valvetrain_response
 from ...model.follower import FollowerModel
+from ...model.motion import evaluate
 from ...model.valvetrain import event_follower
 from ...schema import CaseSpec
 from ...schema.dynamics import dynamics_keys
@@ -209,7 +210,7 @@ def margin_speed(case: Case, margin: float, w_max: float) -> float:
 def metrics(case: Case, check: CheckReport | None = None, margin: float = 0.0) -> Metrics:
     chk = check or run_check(case)
     theta = np.linspace(0.0, 2 * math.pi, 7200, endpoint=False)
-    sv = np.asarray(case.motion(theta))
+    sv = np.asarray(evaluate(case.motion, theta))  # one program: eagerly each operation compiles alone
     to_user = 1.0 if case.motion.unit == "mm" else 180.0 / math.pi
     m = case.model
     geo = chk.geometry
@@ -293,7 +294,7 @@ def _motion_kept(new: Case, space: ShapeSpace) -> list[str]:
     """Where a reshaped segment leaves its lift's range or reverses, on a 0.01 deg grid (the control points'
     order rules it out; this is the written file's own proof)."""
     theta = np.radians(np.arange(0.0, 360.0, 0.01))
-    sv = np.asarray(new.motion(theta))
+    sv = np.asarray(evaluate(new.motion, theta))
     out, start, base = [], 0.0, 0.0
     for i, spec in enumerate(space.specs):
         inside = (theta >= math.radians(start)) & (theta < math.radians(spec.end))

@@ -22,7 +22,7 @@ from ..._core.errors import InputError
 from ..._core.units import FFT_GRID, M_PER_MM, TWO_PI
 from ...model.case import Case
 from ...model.motion import BSPLINE_CLAMPED as CLAMPED
-from ...model.motion import Program
+from ...model.motion import Program, evaluate
 from ...model.motion import bspline_basis as basis
 
 MIN_CONTROL, MAX_CONTROL = 2 * CLAMPED + 1, 64  # at least one free point; past 64 the programs only slow down
@@ -112,7 +112,7 @@ def shape_space(case: Case, n: int = FFT_GRID, n_control: int = N_CONTROL) -> Sh
         raise InputError("motion.segments", "no segment lifts: nothing to reshape")
     to_unit = case.kind.motion_per_lift  # the segments' lift unit -> the motion's
     theta = np.arange(n) * (TWO_PI / n)
-    now = np.asarray(case.motion(theta))  # the case's own motion: the start and what the dwells keep
+    now = np.asarray(evaluate(case.motion, theta))  # the case's own motion: the start and what the dwells keep
     offset = np.zeros((4, n))
     free = n_control - 2 * CLAMPED
     matrix = np.zeros((4, n, free * len(moving)))
