@@ -533,14 +533,17 @@ def float_speed(
     grid: int = 40,
     width_rpm: float = 1.0,
     respond: Callable[[float], ValvePoint] | None = None,
+    margin: float = 0.0,
 ) -> float:
     """The first cam speed (rad/s) at which the cam contact opens while the valve is off its seat (inf: none up
     to ``w_max``): the shared jump search on the least cam-contact force over the valve event. ``respond``: the
-    valvetrain at a speed, where a caller shares them between searches (default a fresh :class:`ValvePoint`)."""
+    valvetrain at a speed, where a caller shares them between searches (default a fresh :class:`ValvePoint`);
+    ``margin`` (N): the first speed at which that force falls to it instead (``optimize``'s force margin)."""
     respond = respond or (lambda w: ValvePoint(motion, vt, w))
 
     def least(ws: np.ndarray) -> np.ndarray:  # a speed at which the valve does not lift has no event to float in
-        return np.nan_to_num([respond(float(w)).least_event_force for w in np.atleast_1d(ws)], nan=NO_EVENT)
+        forces = [respond(float(w)).least_event_force - margin for w in np.atleast_1d(ws)]
+        return np.nan_to_num(forces, nan=NO_EVENT)
 
     return first_zero_speed(
         least, w_max, grid=grid, width_rpm=width_rpm, points=1, where="valvetrain float search", chunk=_SCAN_CHUNK
