@@ -1,7 +1,12 @@
-"""Helpers the test modules share: the CLI run in-process, and the reproducer cases of issue 13."""
+"""Helpers the test modules share: the CLI run in-process, the reproducer cases of issue 13, and the form-closed
+cams' scaffolding (test_closure.py, test_conjugate.py)."""
+
+import json
+from pathlib import Path
 
 import numpy as np
 import pytest
+from scipy.optimize import brentq
 
 from camdyn import InputError
 from camdyn.cli import main
@@ -65,3 +70,70 @@ def distance_to_outline(pts: np.ndarray, poly: np.ndarray) -> np.ndarray:
         w = np.clip(np.sum((p - a) * d, -1) / L2, 0.0, 1.0)
         out[i : i + 256] = np.min(np.linalg.norm(p - a - w[..., None] * d, axis=-1), axis=1)
     return out
+
+
+# form-closed cams (a groove, conjugate cams): test_closure.py and test_conjugate.py
+
+
+def omega(case) -> float:
+    """The case's cam speed, rad/s."""
+    return case.speed_rpm * 2 * np.pi / 60
+
+
+def host(case, theta) -> np.ndarray:
+    """(4, n): the motion and its first three derivatives (per rad) at ``theta`` (rad, a scalar or an array)."""
+    return np.asarray(case.motion.host(np.atleast_1d(theta)))
+
+
+def write_case(folder: Path, name: str, text: str) -> Path:
+    """``folder/name`` holding the case file ``text``."""
+    path = folder / name
+    path.write_text(text)
+    return path
+
+
+def check_value(doc: dict, name: str) -> float:
+    """The value of the check ``name`` in a ``check --json`` document."""
+    return next(c for c in doc["checks"] if c["name"] == name)["value"]
+
+
+def check_json(capsys, case_file) -> dict:
+    """``camdyn check CASE --json`` in this process, parsed."""
+    return json.loads(run(capsys, "check", case_file, "--json")[1])
+
+
+def constant_velocity_landing(case, tc: float, gap: float, side: float = 1.0) -> float:
+    """The cam angle d (rad) after ``tc`` at which a follower that left its flank at ``tc`` with the cam's velocity
+    (and keeps it) has crossed ``gap`` (the motion's unit) to the other: side (s'(tc) d - (s(tc + d) - s(tc))) = gap,
+    side +1 leaving the inner or primary flank, -1 the other."""
+    s0 = host(case, tc)[:, 0]
+    return brentq(lambda d: side * (s0[1] * d - (host(case, tc + d)[0, 0] - s0[0])) - gap, 1e-6, 1.0, xtol=1e-15)
+
+
+def assert_pages_inked(folder: Path) -> None:
+    """Every PNG page in ``folder`` is drawn on: between 2 % and 60 % of its pixels not (near) white."""
+    from matplotlib.image import imread
+
+    for p in folder.glob("*.png"):
+        ink = np.any(imread(p)[..., :3] < 0.9, axis=-1).mean()
+        assert 0.02 < ink < 0.6, p.name
+
+
+def drawn_pages(data) -> dict:
+    """slug -> the report page (a matplotlib Figure) drawn from ``data`` (a ``ReportData``), for each page that
+    applies."""
+    from matplotlib.figure import Figure
+
+    from camdyn.report import A4, PAGES
+
+    figures = {}
+    for page in PAGES:
+        if page.applies(data):
+            figures[page.slug] = fig = Figure(figsize=A4)
+            page.draw(fig, data)
+    return figures
+
+
+def figure_text(fig) -> str:
+    """Every text on a figure, joined by spaces."""
+    return " ".join(t.get_text() for t in fig.findobj(lambda a: hasattr(a, "get_text")))

@@ -2,13 +2,25 @@
 and the flight across the backlash."""
 
 import copy
+import json
 import tomllib
 
 import numpy as np
 import pytest
-from _helpers import distance_to_outline, run
+from _helpers import (
+    assert_pages_inked,
+    check_json,
+    check_value,
+    constant_velocity_landing,
+    distance_to_outline,
+    drawn_pages,
+    figure_text,
+    host,
+    omega,
+    run,
+    write_case,
+)
 from scipy.integrate import solve_ivp
-from scipy.optimize import brentq
 
 from camdyn import InputError
 from camdyn.model.case import case_from_dict
@@ -125,23 +137,19 @@ def _groove_case(backlash: float, fall: str = "polynomial-345", **dynamics):
     return case_from_dict(raw)
 
 
-def _omega(case) -> float:
-    return case.speed_rpm * 2 * np.pi / 60
-
-
 def test_crossovers_fall_where_the_acceleration_changes_sign():
     """No spring, no external force: Fi = m w^2 s'', so the force changes flank at mid-rise of the cycloidal rise
     (60 deg) and mid-fall of the 3-4-5 fall (240 deg), and nowhere on the dwells (where it is zero)."""
     case = _groove_case(0.0)
-    r = closure_response(case.motion, case.follower, case.model, _omega(case))
+    r = closure_response(case.motion, case.follower, case.model, omega(case))
     assert [(c.from_flank, c.to_flank) for c in r.crossovers] == [("inner", "outer"), ("outer", "inner")]
     assert [c.deg for c in r.crossovers] == pytest.approx([60.0, 240.0], abs=1e-8)
     assert all(c.impact_velocity_m_per_s == 0.0 and c.land_deg == c.deg for c in r.crossovers)
     # signed: positive (inner flank) in the first half of the rise, negative (outer) in the second
     i, j = int(np.argmin(np.abs(r.theta_deg - 30))), int(np.argmin(np.abs(r.theta_deg - 90)))
     assert r.contact_force[i] > 0 > r.contact_force[j]
-    vals = np.asarray(case.motion.host(np.deg2rad(r.theta_deg)))
-    np.testing.assert_allclose(r.contact_force, 1.0 * _omega(case) ** 2 * vals[2] * 1e-3, rtol=1e-12, atol=1e-12)
+    vals = host(case, np.deg2rad(r.theta_deg))
+    np.testing.assert_allclose(r.contact_force, 1.0 * omega(case) ** 2 * vals[2] * 1e-3, rtol=1e-12, atol=1e-12)
 
 
 def test_flight_across_the_backlash_lands_where_the_closed_form_says():
@@ -150,14 +158,14 @@ def test_flight_across_the_backlash_lands_where_the_closed_form_says():
     (tan phi = s' / (Rp + s), zero offset), at the relative speed (s'(tc) - s'(tc + d)) w."""
     b = 0.05
     case = _groove_case(b, train_stiffness=5000)
-    w = _omega(case)
+    w = omega(case)
     r = closure_response(case.motion, case.follower, case.model, w)
     c = r.crossovers[0]
     tc = np.deg2rad(60.0)
-    s = lambda t: np.asarray(case.motion.host(np.atleast_1d(t)))[:, 0]  # noqa: E731
+    s = lambda t: host(case, t)[:, 0]  # noqa: E731
     s0 = s(tc)
     gap = b * np.hypot(1.0, s0[1] / (62.0 + s0[0]))
-    d = brentq(lambda d: s0[1] * d - (s(tc + d)[0] - s0[0]) - gap, 1e-6, 1.0, xtol=1e-15)
+    d = constant_velocity_landing(case, tc, gap)
     v = (s0[1] - s(tc + d)[1]) * w * 1e-3
     assert np.deg2rad(c.land_deg) - tc == pytest.approx(d, rel=1e-6)
     assert c.impact_velocity_m_per_s == pytest.approx(v, rel=1e-6)
@@ -175,7 +183,7 @@ def test_flight_across_the_backlash_lands_where_the_closed_form_says():
     span = w * 2 * np.pi / np.sqrt(kf / 1.0)
     ts = np.linspace(t1, t1 + span, 20001)
     sol = solve_ivp(flank, (t1, t1 + span), [x1, s0[1]], "DOP853", t_eval=ts, rtol=1e-12, atol=1e-14)
-    sv = np.asarray(case.motion.host(ts))
+    sv = host(case, ts)
     peak = np.max(kf * (sol.y[0] - sv[0] - gap / 2) * 1e-3 + cf * w * (sol.y[1] - sv[1]) * 1e-3)
     assert c.impact_force_N == pytest.approx(peak, rel=1e-5)
     # under the half-sine on the flank's steady force (the closed form of a stiff undamped train), and near it
@@ -192,11 +200,11 @@ def test_flight_under_a_spring_matches_a_second_integrator(rpm):
     tight tolerance, from each crossover, meets the same flank at the same angle and speed (at 3000 rpm the roller
     drifts across the top dwell and the falling outer flank catches it: a flight back onto the flank it left)."""
     case = _groove_case(0.2, spring_rate=1.0, preload=5.0, damping_ratio=0.1, speed=rpm)
-    w = _omega(case)
+    w = omega(case)
     r = closure_response(case.motion, case.follower, case.model, w)
     assert len(r.crossovers) >= 2
     m, k, c, f0 = (float(x) for x in (case.model.mass, case.model.stiffness, case.model.damping, case.model.preload))
-    motion = lambda t: np.asarray(case.motion.host(np.atleast_1d(t)))[:, 0]  # noqa: E731
+    motion = lambda t: host(case, t)[:, 0]  # noqa: E731
 
     def field(t, y):  # x in mm, p = dx/dtheta: m w^2 x'' = -(k x + F0 + c w x'), SI inside
         return [y[1], -(k * y[0] * 1e-3 + f0 + c * w * y[1] * 1e-3) / (m * w**2 * 1e-3)]
@@ -232,8 +240,7 @@ def test_profile_writes_both_walls(tmp_path, capsys):
     pitch curve. A cutter path of a groove is refused (not built)."""
     import ezdxf
 
-    case_file = tmp_path / "groove.toml"
-    case_file.write_text(GROOVE_TOML)
+    case_file = write_case(tmp_path, "groove.toml", GROOVE_TOML)
     assert run(capsys, "profile", case_file, "-o", tmp_path / "g.dxf")[0] == 0
     doc = ezdxf.readfile(tmp_path / "g.dxf")
     layers = {e.dxf.layer: np.array([p[:2] for p in e.get_points()]) for e in doc.modelspace()}
@@ -252,10 +259,7 @@ def test_check_json_of_a_groove_cam(tmp_path, capsys):
     """``check --json``: the closure block (the contract's keys), crossover_impact judged against
     max_impact_velocity, no speed_margin and no least contact force (said, not an infinite margin); a tighter limit
     than the impact fails (exit 1)."""
-    import json
-
-    case_file = tmp_path / "groove.toml"
-    case_file.write_text(GROOVE_TOML)
+    case_file = write_case(tmp_path, "groove.toml", GROOVE_TOML)
     code, out, _ = run(capsys, "check", case_file, "--json")
     doc = json.loads(out)
     assert code == 0 and doc["verdict"] == "pass"
@@ -278,8 +282,7 @@ def test_check_json_of_a_groove_cam(tmp_path, capsys):
 def test_table_contact_force_is_signed(tmp_path, capsys):
     """``table``: contact_force_N positive on the inner flank, negative on the outer; the dynamic column is zero
     while the follower crosses the backlash (60 to 68.8 deg)."""
-    case_file = tmp_path / "groove.toml"
-    case_file.write_text(GROOVE_TOML)
+    case_file = write_case(tmp_path, "groove.toml", GROOVE_TOML)
     code, out, _ = run(capsys, "table", case_file, "--step", 1)
     assert code == 0
     rows = np.genfromtxt(out.splitlines(), delimiter=",", names=True)
@@ -299,8 +302,7 @@ def test_table_contact_force_is_signed(tmp_path, capsys):
 def test_spring_held_studies_refuse_a_groove_cam(tmp_path, capsys, argv):
     """They design a return spring or a motion for a follower that may jump: one line naming follower.closure (or the
     spring's flag), exit 2, nothing written."""
-    case_file = tmp_path / "groove.toml"
-    case_file.write_text(GROOVE_TOML)
+    case_file = write_case(tmp_path, "groove.toml", GROOVE_TOML)
     argv = [a if a != "r" else tmp_path / "r" for a in argv]
     code, out, err = run(capsys, argv[0], case_file, *argv[1:])
     assert code == 2 and len(err.strip().splitlines()) == 1 and "no return spring" in err
@@ -321,22 +323,18 @@ def test_oscillating_groove_cam_crosses_at_mid_rise_and_lands_as_the_closed_form
     from camdyn.model.case import load_case
 
     case = load_case(Path(__file__).resolve().parents[1] / "cases" / "machines" / "infeed.toml")
-    w = _omega(case)
+    w = omega(case)
     r = closure_response(case.motion, case.follower, case.model, w)
     assert [c.deg for c in r.crossovers] == pytest.approx([90.0, 260.0], abs=1e-8)
     geo = analyze(case.motion, case.follower)
     a_m, b = 0.150, 0.05
-    phi = lambda t: np.asarray(case.motion.host(np.atleast_1d(t)))[:, 0]  # noqa: E731
+    phi = lambda t: host(case, t)[:, 0]  # noqa: E731
     for c in r.crossovers:
         tc = np.deg2rad(c.deg)
         p0 = phi(tc)
         side = 1.0 if c.from_flank == "inner" else -1.0
         gap = b / (150.0 * np.cos(np.deg2rad(geo.table([c.deg])["pressure_angle_deg"][0])))
-
-        def rel(d, tc=tc, p0=p0, side=side, gap=gap):  # the gap closed at constant arm velocity, less the gap
-            return side * (p0[1] * d - (phi(tc + d)[0] - p0[0])) - gap
-
-        d = brentq(rel, 1e-6, 1.0, xtol=1e-15)
+        d = constant_velocity_landing(case, tc, gap, side)  # the gap closed at constant arm velocity
         assert np.deg2rad(c.land_deg) - tc == pytest.approx(d, rel=1e-6)
         w_rel = abs(p0[1] - phi(tc + d)[1]) * w
         assert c.impact_velocity_m_per_s == pytest.approx(w_rel * a_m, rel=1e-6)
@@ -354,7 +352,7 @@ def test_groove_contact_stress_on_the_wall_the_force_presses():
     from camdyn.model.contact import cam_contact, groove_contact
 
     case = _groove_case(0.0)
-    r = closure_response(case.motion, case.follower, case.model, _omega(case))
+    r = closure_response(case.motion, case.follower, case.model, omega(case))
     geo = analyze(case.motion, case.follower)
     walls = groove(case.motion, case.follower)
     mats = {"width_mm": 10.0, "cam": (206.0, 0.3), "follower": (206.0, 0.3)}
@@ -371,26 +369,19 @@ def test_groove_contact_stress_on_the_wall_the_force_presses():
 def test_report_of_a_groove_cam(tmp_path, capsys):
     """``camdyn report``: the walls and crossovers pages in place of the cam, dynamics and spring-sizing pages; page 1
     says why there is no jump speed and gives each crossover's impact against the limit, as ``check`` does."""
-    import json
     import re
 
-    from matplotlib.figure import Figure
-    from matplotlib.image import imread
-
-    from camdyn.report import A4, PAGES, ReportData
+    from camdyn.report import ReportData
     from camdyn.report.pages.summary import decision_facts, key_results
 
-    case_file = tmp_path / "groove.toml"
-    case_file.write_text(GROOVE_TOML)
-    doc = json.loads(run(capsys, "check", case_file, "--json")[1])
+    case_file = write_case(tmp_path, "groove.toml", GROOVE_TOML)
+    doc = check_json(capsys, case_file)
     code, out, _ = run(capsys, "report", case_file, "-o", tmp_path / "r")
     assert code == 0
     pngs = sorted(p.name for p in (tmp_path / "r").glob("*.png"))
     slugs = [re.match(r"groove-\d+-([a-z-]+)\.png", p).group(1) for p in pngs]
     assert slugs == ["summary", "svaj", "groove", "crossovers", "parts", "manufacturing"]
-    for p in (tmp_path / "r").glob("*.png"):
-        ink = np.any(imread(p)[..., :3] < 0.9, axis=-1).mean()
-        assert 0.02 < ink < 0.6, p.name
+    assert_pages_inked(tmp_path / "r")
     from camdyn.design.checks import run_check
     from camdyn.design.review import design_review
 
@@ -413,12 +404,7 @@ def test_report_of_a_groove_cam(tmp_path, capsys):
     # the impact speed against cam speed meets the check at the case's speed
     imp = data.review.impacts
     assert np.interp(300.0, imp.speeds_rpm, imp.impact_velocity_m_per_s[0]) == pytest.approx(top, rel=2e-3)
-    text = {}
-    for page in PAGES:
-        if page.applies(data):
-            fig = Figure(figsize=A4)
-            page.draw(fig, data)
-            text[page.slug] = " ".join(t.get_text() for t in fig.findobj(lambda a: hasattr(a, "get_text")))
+    text = {slug: figure_text(fig) for slug, fig in drawn_pages(data).items()}
     assert "does not apply: form-closed" in text["summary"] and "inner wall" in text["groove"]
     assert "Crossovers at 300 rpm" in text["crossovers"] and "return spring: none" in text["parts"]
 
@@ -428,18 +414,15 @@ def test_sweep_of_a_groove_cam_maps_the_impacts(tmp_path, capsys):
     gap takes the same cam angle at any speed, so the impact speed is proportional to the speed; at the case's
     speed and backlash it is check's crossover_impact; the gap closes against the cubic lead the cam gains from a
     crossover where s'' = 0 changes sign, so v grows as b^(2/3) for a small backlash."""
-    import json
-
-    case_file = tmp_path / "groove.toml"
-    case_file.write_text(GROOVE_TOML)
-    doc = json.loads(run(capsys, "check", case_file, "--json")[1])
+    case_file = write_case(tmp_path, "groove.toml", GROOVE_TOML)
+    doc = check_json(capsys, case_file)
     code, out, _ = run(capsys, "sweep", case_file, "--speeds", "100:300:3", "--backlash", "0.01:0.05:5", "-o", tmp_path)
     assert code == 0 and "cannot jump" in out
     rows = np.genfromtxt(tmp_path / "groove-sweep.csv", delimiter=",", names=True)
     assert rows.dtype.names == ("speed_rpm", "backlash_mm", "impact_velocity_m_per_s", "max_impact_force_N")
     v = rows["impact_velocity_m_per_s"].reshape(5, 3)  # backlash x speed
     np.testing.assert_allclose(v[:, 2] / v[:, 0], 3.0, rtol=1e-6)
-    impact = next(c for c in doc["checks"] if c["name"] == "crossover_impact")["value"]
+    impact = check_value(doc, "crossover_impact")
     assert v[4, 2] == pytest.approx(impact, rel=1e-9)
     assert v[1, 0] / v[0, 0] == pytest.approx(2.0 ** (2 / 3), rel=0.02)
     assert (tmp_path / "groove-sweep.png").stat().st_size > 10_000
@@ -448,11 +431,11 @@ def test_sweep_of_a_groove_cam_maps_the_impacts(tmp_path, capsys):
 
 
 def test_sweep_backlash_of_a_spring_held_cam_is_refused(tmp_path, capsys):
-    case_file = tmp_path / "spring.toml"
-    case_file.write_text(
-        GROOVE_TOML.replace('closure = "groove"\nbacklash = 0.05\n', "").replace(
-            "train_stiffness = 5000", "train_stiffness = 5000\nspring_rate = 5\npreload = 100"
-        )
+    spring = GROOVE_TOML.replace('closure = "groove"\nbacklash = 0.05\n', "")
+    case_file = write_case(
+        tmp_path,
+        "spring.toml",
+        spring.replace("train_stiffness = 5000", "train_stiffness = 5000\nspring_rate = 5\npreload = 100"),
     )
     code, _, err = run(capsys, "sweep", case_file, "--speeds", "100:300:3", "--backlash", "0.01:0.05:2")
     assert code == 2 and "--backlash" in err and "groove" in err
@@ -461,11 +444,8 @@ def test_sweep_backlash_of_a_spring_held_cam_is_refused(tmp_path, capsys):
 def test_tolerance_of_a_groove_cam_gives_the_impact_spread(tmp_path, capsys):
     """``tolerance`` of a groove cam over backlash, mass and speed: each built cam's impact is the one
     closure_response gives a case of its backlash, mass and speed; the probability is the share over the limit."""
-    import json
-
-    case_file = tmp_path / "groove.toml"
     tol = '\n[limits]\nmax_impact_velocity = 0.031\n[tolerances]\nbacklash = "20%"\nmass = "5%"\nspeed = "10 rpm"\n'
-    case_file.write_text(GROOVE_TOML + tol)
+    case_file = write_case(tmp_path, "groove.toml", GROOVE_TOML + tol)
     code, out, _ = run(capsys, "tolerance", case_file, "--samples", "12", "--json", "-o", tmp_path)
     assert code == 0
     doc = json.loads(out)
@@ -502,10 +482,7 @@ def test_a_backlash_tolerance_needs_a_groove():
 def test_size_of_a_groove_cam_gives_the_largest_backlash(tmp_path, capsys):
     """``size``: no spring to size; the largest backlash (to 0.001 mm) whose impact speed stays 2 % under the limit:
     check passes at it (away from the at-limit band), and 0.002 mm more would not keep that margin."""
-    import json
-
-    case_file = tmp_path / "groove.toml"
-    case_file.write_text(GROOVE_TOML)
+    case_file = write_case(tmp_path, "groove.toml", GROOVE_TOML)
     code, out, _ = run(capsys, "size", case_file, "--json")
     doc = json.loads(out)
     b = doc["max_backlash_mm"]
@@ -515,6 +492,6 @@ def test_size_of_a_groove_cam_gives_the_largest_backlash(tmp_path, capsys):
         case_file.write_text(GROOVE_TOML.replace("backlash = 0.05", f"backlash = {gap}"))
         code, out, _ = run(capsys, "check", case_file, "--json")
         assert code == 0
-        impacts.append(next(c for c in json.loads(out)["checks"] if c["name"] == "crossover_impact")["value"])
+        impacts.append(check_value(json.loads(out), "crossover_impact"))
     assert impacts[0] <= 0.98 * 0.1 < impacts[1]
     assert doc["impact_velocity_at_max_backlash_m_per_s"] == pytest.approx(impacts[0], rel=1e-12)

@@ -11,9 +11,21 @@ from pathlib import Path
 import numpy as np
 import pytest
 import tomli_w
-from _helpers import distance_to_outline, run
+from _helpers import (
+    assert_pages_inked,
+    check_json,
+    check_value,
+    constant_velocity_landing,
+    distance_to_outline,
+    drawn_pages,
+    figure_text,
+    host,
+    omega,
+    run,
+    write_case,
+)
 from scipy.integrate import solve_ivp
-from scipy.optimize import brentq, minimize_scalar
+from scipy.optimize import minimize_scalar
 
 from camdyn import InputError
 from camdyn.model.case import case_from_dict, load_case
@@ -49,14 +61,6 @@ def _yoke(**follower):
     raw["follower"].update(follower)
     raw["follower"] = {k: v for k, v in raw["follower"].items() if v is not None}
     return case_from_dict(raw)
-
-
-def _omega(case) -> float:
-    return case.speed_rpm * 2 * np.pi / 60
-
-
-def _host(case, theta):
-    return np.asarray(case.motion.host(np.atleast_1d(theta)))
 
 
 def _to_cam(theta, sigma, xy):
@@ -120,7 +124,7 @@ def test_yoke_conjugate_cam_keeps_both_rollers_on_their_cams(rotation):
     curve = g.contour_fn()
     for deg in np.arange(0.0, 360.0, 17.3):
         th = np.deg2rad(deg)
-        s = _host(case, th)[0, 0]
+        s = host(case, th)[0, 0]
         centre = _to_cam(th, sigma, (sigma * (e + c), h0 + s - D))
         assert _distance_to_curve(centre, curve, th) == pytest.approx(rr2 + b, abs=1e-6)
     i = int(np.argmin(np.abs(g.theta_deg - 150.0)))  # top dwell: s = 20
@@ -138,7 +142,7 @@ def test_rocker_conjugate_cam_keeps_both_rollers_on_their_cams():
     curve = g.contour_fn()
     for deg in np.arange(3.0, 360.0, 23.1):
         th = np.deg2rad(deg)
-        ang = math.pi - (psi0 + _host(case, th)[0, 0]) + math.radians(f.conjugate_arm_angle)
+        ang = math.pi - (psi0 + host(case, th)[0, 0]) + math.radians(f.conjugate_arm_angle)
         centre = _to_cam(
             th, f.sigma, (L + f.conjugate_arm_length * math.cos(ang), f.conjugate_arm_length * math.sin(ang))
         )
@@ -167,7 +171,7 @@ def test_conjugate_pressure_angle_and_curvature_from_finite_differences(which):
         if which == "yoke":
             drive = _to_cam(th, sigma, (0.0, -1.0))
         else:  # the second roller's centre moves with the swing: its back-drive direction by a difference in swing
-            q = _host(case, th)[0, 0]
+            q = host(case, th)[0, 0]
             centres = []
             for dq in (-1e-6, 1e-6):
                 L = f.pivot_distance
@@ -189,11 +193,11 @@ def test_crossovers_fall_at_mid_rise_and_the_preload_is_shared():
     back. A preload P is shared: each cam P +- Fi/2 while |Fi| < 2P, else the one it presses carries Fi alone; the
     check's closure block reports each cam's extremes, and whether the preload held."""
     case = _yoke()
-    w = _omega(case)
+    w = omega(case)
     r = closure_response(case.motion, case.follower, case.model, w)
     assert [c.deg for c in r.crossovers] == pytest.approx([60.0, 240.0], abs=1e-8)
     assert [(c.from_flank, c.to_flank) for c in r.crossovers] == [("primary", "conjugate"), ("conjugate", "primary")]
-    s2 = _host(case, np.deg2rad(r.theta_deg))[2]
+    s2 = host(case, np.deg2rad(r.theta_deg))[2]
     np.testing.assert_allclose(r.contact_force, w**2 * s2 * 1e-3, rtol=1e-12, atol=1e-12)
     peak = float(np.max(np.abs(r.contact_force)))  # m w^2 s''max = 2 pi L / beta^2 w^2 m
     assert peak == pytest.approx(2 * np.pi * 20e-3 / (2 * np.pi / 3) ** 2 * w**2, rel=1e-6)
@@ -212,16 +216,16 @@ def test_flight_across_the_conjugate_backlash_uses_the_conjugate_cams_lever():
     s' / (Rp + s); the conjugate cam meets the yoke where s'(tc) d - (s(tc + d) - s(tc)) = gap."""
     b, D = 0.05, 150.0
     case = _yoke(backlash=b)
-    w = _omega(case)
+    w = omega(case)
     r = closure_response(case.motion, case.follower, case.model, w)
     c = r.crossovers[0]
     assert (c.from_flank, c.to_flank) == ("primary", "conjugate")
     tc = np.deg2rad(60.0)
-    s0 = _host(case, tc)[:, 0]
+    s0 = host(case, tc)[:, 0]
     gap = b * np.hypot(1.0, s0[1] / (D - 62.0 - s0[0]))
-    d = brentq(lambda d: s0[1] * d - (_host(case, tc + d)[0, 0] - s0[0]) - gap, 1e-6, 1.0, xtol=1e-15)
+    d = constant_velocity_landing(case, tc, gap)
     assert np.deg2rad(c.land_deg) - tc == pytest.approx(d, rel=1e-6)
-    v = (s0[1] - _host(case, tc + d)[1, 0]) * w * 1e-3
+    v = (s0[1] - host(case, tc + d)[1, 0]) * w * 1e-3
     assert c.impact_velocity_m_per_s == pytest.approx(v, rel=1e-6)
 
 
@@ -248,8 +252,7 @@ def test_profile_writes_both_cams(tmp_path, capsys):
     column; SVG: one polygon each."""
     import ezdxf
 
-    case_file = tmp_path / "yoke.toml"
-    case_file.write_text(YOKE_TOML)
+    case_file = write_case(tmp_path, "yoke.toml", YOKE_TOML)
     case = case_from_dict(YOKE)
     exact = {
         "CAM_PRIMARY": analyze(case.motion, case.follower, n=40_000).contour,
@@ -311,7 +314,7 @@ def test_rocker_flight_across_the_backlash_lands_and_hits_through_the_conjugate_
     del f["conjugate_preload_torque"]
     f.update(backlash=0.05, conjugate_arm_length=165.0)
     case = case_from_dict(raw)
-    w = _omega(case)
+    w = omega(case)
     r = closure_response(case.motion, case.follower, case.model, w)
     assert [c.deg for c in r.crossovers] == pytest.approx([90.0, 270.0], abs=1e-8)
     g = conjugate(case.motion, case.follower, n=3600)
@@ -325,24 +328,20 @@ def test_rocker_flight_across_the_backlash_lands_and_hits_through_the_conjugate_
     )
     for c in r.crossovers:
         tc = np.deg2rad(c.deg)
-        p0 = _host(case, tc)[:, 0]
+        p0 = host(case, tc)[:, 0]
         side = 1.0 if c.from_flank == "primary" else -1.0
         gap = 0.05 / lever["conjugate"](c.deg)
-
-        def rel(d, tc=tc, p0=p0, side=side, gap=gap):
-            return side * (p0[1] * d - (_host(case, tc + d)[0, 0] - p0[0])) - gap
-
-        d = brentq(rel, 1e-6, 1.0, xtol=1e-15)
+        d = constant_velocity_landing(case, tc, gap, side)
         assert c.to_flank != c.from_flank
         assert np.deg2rad(c.land_deg) - tc == pytest.approx(d, rel=1e-6)
-        w_rel = abs(p0[1] - _host(case, tc + d)[1, 0]) * w
+        w_rel = abs(p0[1] - host(case, tc + d)[1, 0]) * w
         assert c.impact_velocity_m_per_s == pytest.approx(w_rel * arm_m[c.to_flank], rel=1e-6)
         # the impact through the train: scipy's DOP853 from the closed-form landing, the arm pressed on the flank it
         # lands on through k_f and c_f (N*m/rad), the peak torque over a contact period over that cam's lever arm
         to = -side  # +1: pressed up by the primary cam, -1: back by the conjugate one
 
         def flank_torque(t, y, to=to, gap=gap):  # t (n,) and y (2, n), or one angle and its state
-            sv = _host(case, t)
+            sv = host(case, t)
             return to * np.maximum(0.0, kf * (to * (sv[0] - y[0]) - gap / 2) + cf * w * to * (sv[1] - y[1]))
 
         def field(t, y, flank_torque=flank_torque):
@@ -357,7 +356,7 @@ def test_rocker_flight_across_the_backlash_lands_and_hits_through_the_conjugate_
         want = torques[i] / (lever[c.to_flank](np.rad2deg(ts[i]) % 360) * 1e-3)
         assert c.impact_force_N == pytest.approx(want, rel=1e-5)
         # near the half-sine of a stiff train on the arm's torque at the landing: |T| + w_rel sqrt(k_f I)
-        half_sine = (abs(0.05 * w**2 * _host(case, t1)[2, 0]) + w_rel * np.sqrt(kf * 0.05)) / (
+        half_sine = (abs(0.05 * w**2 * host(case, t1)[2, 0]) + w_rel * np.sqrt(kf * 0.05)) / (
             lever[c.to_flank](c.land_deg) * 1e-3
         )
         assert 0.8 * half_sine < c.impact_force_N < 1.25 * half_sine
@@ -370,7 +369,7 @@ def test_conjugate_contact_stress_on_each_cam():
     from camdyn.model.contact import cam_contact, conjugate_contact
 
     case = _yoke(conjugate_roller_radius=10.0)
-    r = closure_response(case.motion, case.follower, case.model, _omega(case))
+    r = closure_response(case.motion, case.follower, case.model, omega(case))
     geo = analyze(case.motion, case.follower)
     second = conjugate(case.motion, case.follower)
     mats = {"width_mm": 10.0, "cam": (206.0, 0.3), "follower": (206.0, 0.3)}
@@ -397,23 +396,18 @@ def test_report_of_conjugate_cams(tmp_path, capsys):
     and the forces page draws each cam's force (its share of the preload) under the net force."""
     import re
 
-    from matplotlib.figure import Figure
-    from matplotlib.image import imread
-
     from camdyn.design.checks import run_check
     from camdyn.design.review import design_review
-    from camdyn.report import A4, PAGES, ReportData
+    from camdyn.report import ReportData
     from camdyn.report.pages.summary import decision_facts, key_results
 
-    doc = json.loads(run(capsys, "check", EXAMPLE, "--json")[1])
+    doc = check_json(capsys, EXAMPLE)
     code, _, _ = run(capsys, "report", EXAMPLE, "-o", tmp_path / "r")
     assert code == 0
     pngs = sorted(p.name for p in (tmp_path / "r").glob("*.png"))
     slugs = [re.match(r"conjugate-\d+-([a-z-]+)\.png", p).group(1) for p in pngs]
     assert slugs == ["summary", "svaj", "conjugate", "crossovers", "parts", "manufacturing"]
-    for p in (tmp_path / "r").glob("*.png"):
-        ink = np.any(imread(p)[..., :3] < 0.9, axis=-1).mean()
-        assert 0.02 < ink < 0.6, p.name
+    assert_pages_inked(tmp_path / "r")
     case = load_case(EXAMPLE)
     data = ReportData(design_review(case, run_check(case)))
     rows = dict(key_results(data))
@@ -430,13 +424,9 @@ def test_report_of_conjugate_cams(tmp_path, capsys):
     half = 0.5 * np.max(np.abs(data.check.closure.response.contact_force))
     assert f"({half:.4g} N\u00b7m)" in facts[1] and half < 40.0
     assert all(f"at {c['deg']:.1f}\u00b0" in f for c, f in zip(doc["closure"]["crossovers"], facts[2:], strict=True))
-    text, lines = {}, {}
-    for page in PAGES:
-        if page.applies(data):
-            fig = Figure(figsize=A4)
-            page.draw(fig, data)
-            text[page.slug] = " ".join(t.get_text() for t in fig.findobj(lambda a: hasattr(a, "get_text")))
-            lines[page.slug] = {ln.get_label(): ln for ax in fig.axes for ln in ax.get_lines()}
+    pages = drawn_pages(data)
+    text = {slug: figure_text(fig) for slug, fig in pages.items()}
+    lines = {slug: {ln.get_label(): ln for ax in fig.axes for ln in ax.get_lines()} for slug, fig in pages.items()}
     assert "conjugate 26.2\u00b0" in text["conjugate"] and "return spring: none" in text["parts"]
     assert "Crossovers at 200 rpm" in text["crossovers"] and "preload 40 N\u00b7m" in text["crossovers"]
     loads = data.check.closure.loads
@@ -457,8 +447,7 @@ def test_size_of_conjugate_cams_gives_the_least_preload(tmp_path, capsys):
     closed form: 2 pi h / beta^2 omega^2); preload_shares keeps both rollers loaded just above it and unloads one
     just below; the proposed preload (20 % over, rounded up to 0.1 N) written into the case passes check with both
     rollers held and the least cam force size gives."""
-    yoke = tmp_path / "yoke.toml"
-    yoke.write_text(YOKE_TOML)
+    yoke = write_case(tmp_path, "yoke.toml", YOKE_TOML)
     code, out, _ = run(capsys, "size", yoke, "--json")
     doc = json.loads(out)
     omega, beta = 300 * math.pi / 30, math.radians(120)
@@ -491,15 +480,16 @@ def test_size_of_conjugate_cams_gives_the_least_preload(tmp_path, capsys):
 def test_size_of_conjugate_cams_with_backlash_gives_the_largest_backlash(tmp_path, capsys):
     """With backlash (no preload) ``size`` is the groove's: the largest backlash whose impact at the conjugate cam
     stays 2 % under max_impact_velocity; check of the case written with it passes."""
-    yoke = tmp_path / "yoke.toml"
-    yoke.write_text(YOKE_TOML.replace("conjugate_spacing = 150", "conjugate_spacing = 150\nbacklash = 0.05"))
+    yoke = write_case(
+        tmp_path, "yoke.toml", YOKE_TOML.replace("conjugate_spacing = 150", "conjugate_spacing = 150\nbacklash = 0.05")
+    )
     code, out, _ = run(capsys, "size", yoke, "--json")
     doc = json.loads(out)
     b = doc["max_backlash_mm"]
     assert code == 0 and doc["closure"] == "conjugate" and doc["backlash_mm"] == 0.05 and b > 0.05
     yoke.write_text(YOKE_TOML.replace("conjugate_spacing = 150", f"conjugate_spacing = 150\nbacklash = {b}"))
     code, out, _ = run(capsys, "check", yoke, "--json")
-    impact = next(c for c in json.loads(out)["checks"] if c["name"] == "crossover_impact")["value"]
+    impact = check_value(json.loads(out), "crossover_impact")
     assert code == 0 and impact == pytest.approx(doc["impact_velocity_at_max_backlash_m_per_s"], rel=1e-9)
     assert impact <= 0.98 * 0.1
 
@@ -523,26 +513,23 @@ def test_sweep_of_conjugate_cams(tmp_path, capsys):
     assert (tmp_path / "conjugate-sweep.png").stat().st_size > 10_000
     code, _, err = run(capsys, "sweep", EXAMPLE, "--speeds", "100:800:8", "--backlash", "0.01:0.02:2", "-o", tmp_path)
     assert code == 2 and "--backlash" in err and "preload" in err
-    yoke = tmp_path / "yoke.toml"
-    yoke.write_text(YOKE_TOML.replace("conjugate_spacing = 150", "conjugate_spacing = 150\nbacklash = 0.05"))
-    impact = next(
-        c for c in json.loads(run(capsys, "check", yoke, "--json")[1])["checks"] if c["name"] == "crossover_impact"
+    yoke = write_case(
+        tmp_path, "yoke.toml", YOKE_TOML.replace("conjugate_spacing = 150", "conjugate_spacing = 150\nbacklash = 0.05")
     )
+    impact = check_value(check_json(capsys, yoke), "crossover_impact")
     code, out, _ = run(capsys, "sweep", yoke, "--speeds", "100:300:3", "-o", tmp_path)
     assert code == 0 and "conjugate cam, impact map" in out
     rows = np.genfromtxt(tmp_path / "yoke-sweep.csv", delimiter=",", names=True)
-    assert rows["impact_velocity_m_per_s"][-1] == pytest.approx(impact["value"], rel=1e-9)
+    assert rows["impact_velocity_m_per_s"][-1] == pytest.approx(impact, rel=1e-9)
 
 
 def test_tolerance_of_preloaded_conjugate_cams_gives_the_chance_a_roller_unloads(tmp_path, capsys):
     """``tolerance`` of a yoke preloaded 15 N over speed: a built cam's roller unloads where its speed needs more
     than the preload, max |F| / 2 = m 2 pi h / beta^2 omega^2 / 2 (closed form): above 300 sqrt(15 / 14.137) rpm;
     each sample's least cam force is the preload less half its largest net force; the worst is the least loaded."""
-    yoke = tmp_path / "yoke.toml"
     tol = '\n[tolerances]\nspeed = "60 rpm"\nmass = "2%"\n'
-    yoke.write_text(
-        YOKE_TOML.replace("conjugate_spacing = 150", "conjugate_spacing = 150\nconjugate_preload = 15") + tol
-    )
+    preloaded = YOKE_TOML.replace("conjugate_spacing = 150", "conjugate_spacing = 150\nconjugate_preload = 15")
+    yoke = write_case(tmp_path, "yoke.toml", preloaded + tol)
     code, out, _ = run(capsys, "tolerance", yoke, "--samples", "60", "--json", "-o", tmp_path)
     doc = json.loads(out)
     rows = np.genfromtxt(tmp_path / "yoke-tolerance.csv", delimiter=",", names=True)
@@ -563,8 +550,11 @@ def test_table_adds_the_conjugate_cams_columns(tmp_path, capsys):
     """``table`` of a preloaded yoke: the primary's columns as before, then the conjugate cam's geometry (its pitch
     point 150 mm from the primary's at every angle: the rigid yoke; its pressure angle as the geometry's) and each
     cam's force, whose difference is the signed net force."""
-    yoke = tmp_path / "yoke.toml"
-    yoke.write_text(YOKE_TOML.replace("conjugate_spacing = 150", "conjugate_spacing = 150\nconjugate_preload = 20"))
+    yoke = write_case(
+        tmp_path,
+        "yoke.toml",
+        YOKE_TOML.replace("conjugate_spacing = 150", "conjugate_spacing = 150\nconjugate_preload = 20"),
+    )
     code, out, _ = run(capsys, "table", yoke, "--step", "0.5")
     path = tmp_path / "t.csv"
     path.write_text(out)

@@ -27,7 +27,7 @@ from camdyn.design.optimize._shape import flank_space
 from camdyn.model.case import case_from_dict, load_case
 from camdyn.model.dynamics import linear_min_force, steady_state, valvetrain_response
 from camdyn.model.motion import Program
-from camdyn.model.valvetrain import equivalent_follower, event_follower
+from camdyn.model.valvetrain import ValvetrainModel, equivalent_follower, event_follower
 
 ROOT = Path(__file__).resolve().parents[1]
 VALVETRAIN = ROOT / "cases" / "valvetrain.toml"
@@ -55,6 +55,17 @@ def space():
     return flank_space(load_case(VALVETRAIN))
 
 
+def motion_of(case) -> Program:
+    """The case's motion, a segment program (every case here has segments)."""
+    assert isinstance(case.motion, Program)
+    return case.motion
+
+
+def vt_of(case) -> ValvetrainModel:
+    assert case.valvetrain is not None
+    return case.valvetrain
+
+
 def case_of(segments: list[dict]):
     return case_from_dict(copy.deepcopy(RAW) | {"motion": {"segments": segments}})
 
@@ -74,8 +85,8 @@ def test_every_point_of_the_space_joins_the_ramps_c2_and_keeps_the_nose(space):
         assert np.max(np.asarray(space.order(jnp.asarray(z)))) <= 1e-12  # in the space the optimizer searches
         case = case_of(space.segments(z))
         for deg in JOINS_DEG:
-            assert_c2(case.motion, deg)
-        assert case.motion.continuity_warnings() == []
+            assert_c2(motion_of(case), deg)
+        assert motion_of(case).continuity_warnings() == []
         th = np.radians(np.arange(0.0, 360.0, 0.01))
         s = np.asarray(case.motion.host(th))
         nose = float(case.motion.host(np.array(math.radians(170.0)))[0])
@@ -159,7 +170,7 @@ def test_the_event_follower_is_the_two_mass_model_in_contact():
     take-up (a plastic impact at 52 deg, damped at 5 % of the train's 1.7 kHz) has died down: from 120 deg on, to
     5 % of the peak force (0.5 % past 200 deg). Before, the surrogate, which has no lash, misses that ringing."""
     case = load_case(VALVETRAIN)
-    vt = case.valvetrain
+    vt = vt_of(case)
     surrogate, cam_mass = event_follower(vt)
     assert cam_mass == pytest.approx(0.12) and float(surrogate.mass) == pytest.approx(0.07 * 1.6**2)
     assert float(surrogate.train_stiffness) == pytest.approx(8e6 * 1.6**2)
@@ -183,8 +194,8 @@ def test_the_event_follower_is_the_two_mass_model_in_contact():
     rigid = dict(RAW["valvetrain"])
     rigid.pop("stiffness")
     rigid_case = case_from_dict(copy.deepcopy(RAW) | {"valvetrain": rigid})
-    eq, m = event_follower(rigid_case.valvetrain)
-    full = equivalent_follower(rigid_case.valvetrain)
+    eq, m = event_follower(vt_of(rigid_case))
+    full = equivalent_follower(vt_of(rigid_case))
     assert (
         m == 0.0
         and float(eq.mass) == float(full.mass)
@@ -230,7 +241,7 @@ def test_the_optimized_valvetrain_keeps_its_ramps_and_joins_them_c2(optimized):
     }
     case = load_case(out)
     for deg in JOINS_DEG:
-        assert_c2(case.motion, deg)
+        assert_c2(motion_of(case), deg)
     th = np.radians(np.r_[np.arange(0.0, 60.0, 0.05), np.arange(295.0, 360.0, 0.05)])
     np.testing.assert_array_equal(case.motion.host(th), load_case(VALVETRAIN).motion.host(th))  # ramps unchanged
     assert float(np.max(case.motion.host(np.radians(np.arange(0.0, 360.0, 0.01)))[0])) == pytest.approx(

@@ -54,6 +54,52 @@ def test_programs_persist_and_static_fields_are_part_of_the_key(tmp_path, monkey
     assert np.allclose(programs.cached_jit(_value)(square, x, 1.0), 3 * x**2 + 1)
 
 
+def test_prepare_compiles_without_running_and_threads_compile_at_once(tmp_path, monkeypatch):
+    """``prepare`` stores the program a later call runs (no second trace); two threads compiling at once leave
+    JAX's persistent-cache threshold as it was (each compile lifts it while it runs)."""
+    import threading
+
+    monkeypatch.setattr(programs, "_DIR", None)
+    programs.enable(tmp_path)
+    traced = []
+
+    def double(x):
+        traced.append(1)
+        return 2.0 * x
+
+    fn = programs.cached_jit(double)
+    threshold = jax.config.jax_persistent_cache_min_compile_time_secs
+    both = [threading.Thread(target=fn.prepare, args=(np.ones(n),)) for n in (3, 4)]
+    for t in both:
+        t.start()
+    for t in both:
+        t.join()
+    assert len(traced) == 2 and len(list(tmp_path.glob("double-*.jaxprogram"))) == 2
+    assert jax.config.jax_persistent_cache_min_compile_time_secs == threshold
+    assert np.allclose(fn(np.arange(3.0)), [0.0, 2.0, 4.0]) and len(traced) == 2  # prepared: not traced again
+
+
+def _wave(x):
+    return jnp.exp(-x) * jnp.cos(3.0 * x)
+
+
+def test_compiler_options_are_part_of_the_key_and_unknown_ones_dropped(tmp_path, monkeypatch):
+    """XLA options (the jump map's kernels compile with some) key a program of their own and apply whether or not
+    the cache is enabled; an option this XLA does not know is dropped, not an error."""
+    monkeypatch.setattr(programs, "_DIR", None)
+    opts, unknown = (("xla_cpu_use_fusion_emitters", False),), (("xla_camdyn_no_such_option", True),)
+    x = np.linspace(0.0, 2.0, 7)
+    np.testing.assert_allclose(programs.cached_jit(_wave, unknown)(x), np.exp(-x) * np.cos(3.0 * x), rtol=1e-14)
+    uncached = np.asarray(programs.cached_jit(_wave, opts)(x))  # no cache: compiled with the options all the same
+    programs.enable(tmp_path)
+    plain, optioned = programs.cached_jit(_wave), programs.cached_jit(_wave, opts)
+    np.testing.assert_allclose(plain(x), np.exp(-x) * np.cos(3.0 * x), rtol=1e-14)
+    np.testing.assert_array_equal(optioned(x), uncached)
+    np.testing.assert_allclose(optioned(x), plain(x), rtol=1e-14)
+    assert len(list(tmp_path.glob("_wave-*.jaxprogram"))) == 2
+    np.testing.assert_allclose(programs.cached_jit(_wave, unknown)(x), plain(x), rtol=1e-14)  # compiled without it
+
+
 def _solve(a, b):
     return jnp.linalg.solve(a, b)
 

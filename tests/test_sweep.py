@@ -335,6 +335,23 @@ def test_a_new_case_reuses_the_traced_map_programs(lecture, tmp_path):
     np.testing.assert_allclose(out["lecture"]["gap"], plain.max_gap, rtol=1e-12)
 
 
+def test_one_test_of_the_platform_decides_batch_width_and_gap_kernel():
+    """The jump map's batch width and its gap stepping's path follow one function of the devices it runs on
+    (:func:`camdyn._core.sharding.accelerated`), not the default backend."""
+    from types import SimpleNamespace
+
+    import jax
+
+    from camdyn._core.sharding import _chunk_size, accelerated
+    from camdyn.design.sweep import _exact_gap
+
+    cpu, gpu = tuple(jax.devices("cpu")[:1]), (SimpleNamespace(platform="gpu"),)
+    assert not accelerated(cpu) and accelerated(gpu)
+    assert _chunk_size(1024, cpu) == 1024 and _chunk_size(1024, gpu) == 16 * 1024
+    assert _exact_gap.gap_kernel(accelerated(cpu)) is _exact_gap.exact_gap_kernel
+    assert _exact_gap.gap_kernel(accelerated(gpu)) is _exact_gap.exact_gap_kernel_every
+
+
 def test_steady_state_on_the_step_grid_from_the_aliased_spectrum():
     """The gap stepping's steady state on every 5th angle (720 steps of 3600) from inverse FFTs of 720 points of the
     aliased spectrum equals the full inverse FFTs there, x and dx/dtheta, Nyquist bin included (numpy's irfft)."""
@@ -366,7 +383,7 @@ def test_steady_train_force_is_the_train_force_of_the_steady_state(lecture):
 
 
 @pytest.mark.slow
-def test_the_accelerators_every_point_stepping_equals_the_gathered_one(lecture, monkeypatch):
+def test_the_accelerators_every_point_stepping_equals_the_gathered_one(lecture):
     """The exact stepping computes a switching point's step gathered with the others that switch (a CPU) or at
     every point, keeping the switching ones (an accelerator, where gathers cost more than arithmetic): the same
     largest gaps at 8 speeds of the lecture, most of them separating."""
@@ -380,9 +397,9 @@ def test_the_accelerators_every_point_stepping_equals_the_gathered_one(lecture, 
     tab = vals[:3, ::GAP_STRIDE]
     const = (lecture.model, *tab, _gap_weight_mm(lecture, theta[::GAP_STRIDE]), np.fft.rfft(vals[0]))
     omega, k = np.linspace(480.0, 700.0, 8) * RPM, np.full(8, 2e3)
-    gaps = {}
-    for gathered in (True, False):
-        monkeypatch.setattr(_exact_gap, "_gathers", lambda g=gathered: g)
-        gaps[gathered] = np.asarray(eqx.filter_jit(_exact_gap.exact_gap_kernel)(const, omega, k))
+    gaps = {
+        gathered: np.asarray(eqx.filter_jit(_exact_gap.gap_kernel(accelerator=not gathered))(const, omega, k))
+        for gathered in (True, False)
+    }
     assert np.all(np.isfinite(gaps[True])) and np.sum(gaps[True] > 1e-3) >= 4
     np.testing.assert_allclose(gaps[False], gaps[True], rtol=1e-9, atol=1e-12)

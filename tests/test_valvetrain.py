@@ -19,6 +19,7 @@ from scipy.integrate import solve_ivp
 
 from camdyn import InputError
 from camdyn._core.units import RPM
+from camdyn.design.review import _least_event_force, force_vs_speed
 from camdyn.model.case import case_from_dict
 from camdyn.model.dynamics import (
     dynamic_jump_speed,
@@ -598,3 +599,20 @@ def test_single_follower_sizing_and_tolerance_name_the_valvetrain_studies():
     with pytest.raises(InputError) as err:
         tolerance_study(case, 10)
     assert err.value.where == "valvetrain" and "valvetrain_tolerance_study" in str(err.value)
+
+
+@pytest.mark.slow
+def test_force_against_speed_is_the_two_mass_models(shipped_check):
+    """The review's force against speed (the dynamics and optimization pages) carries the two-mass model's least
+    cam force over the valve event: at the case speed check's contact force, positive up to the float speed, 0 at
+    the first speed past it and not computed beyond (the equivalent follower's curve said 480 N at 3000 rpm, where
+    page 1 and the operating point say 241.6 N)."""
+    case, float_rpm = shipped_check.case, shipped_check.valvetrain.float_speed_rpm
+    assert _least_event_force(case, np.array([3000.0]))[0] == pytest.approx(
+        shipped_check.dynamic.min_contact_force_N, rel=1e-6
+    )
+    fvs = force_vs_speed(case, shipped_check, 1.25 * 3000.0)
+    speeds, least = fvs.valve_speeds_rpm, fvs.valve_event_N
+    assert speeds is not None and least is not None
+    i = int(np.searchsorted(speeds, float_rpm))
+    assert np.all(least[:i] > 0.0) and least[i] == 0.0 and np.isnan(least[i + 1 :]).all()

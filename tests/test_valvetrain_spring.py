@@ -150,14 +150,58 @@ def test_a_rebuilt_valvetrain_keeps_its_springs_mass():
     assert float(rebuilt.valve_mass) == pytest.approx(float(surge.valvetrain.valve_mass), rel=1e-12)
 
 
-def test_size_refuses_a_valvetrain_with_a_spring_part_in_one_line():
-    from camdyn._core.errors import InputError
-    from camdyn.design.sizing import size_valve_spring
+@pytest.mark.slow
+def test_size_with_a_spring_part_proposes_the_part_check_designs(capsys, tmp_path):
+    """size on the shipped valvetrain with a [spring] part: the preload is sized with the mass of the part designed
+    for it (a fixed point, from the case's own part's mass), the part is reported, and the proposal written into
+    the case file passes check with that very part; 2 % less preload, the part's mass on the valve, does not hold
+    at margin x speed."""
+    import json
+    import re
 
-    with pytest.raises(InputError) as err:
-        size_valve_spring(_shipped_with_spring())
-    text = str(err.value)
-    assert "\n" not in text and "[spring]" in text and "valve_mass" in text and "camdyn spring" in text
+    import tomli_w
+    from _helpers import run
+
+    from camdyn.design.valvetrain import analyze_valvetrain
+    from camdyn.model.case import load_case, with_valvetrain_keys
+
+    raw = copy.deepcopy(SHIPPED) | {"spring": SPRING}
+    raw["valvetrain"]["valve_mass"] = 0.055
+    path = tmp_path / "vs.toml"
+    path.write_text(tomli_w.dumps(raw))
+    code, out, err = run(capsys, "size", path, "--json")
+    assert code == 0, err
+    doc = json.loads(out)
+    top = doc["sized_to_rpm"]
+    assert doc["holds"] and doc["valvetrain"]["check"]["verdict"] == "pass" and doc["spring_model"] == "lumped"
+    part, rounds = doc["part"], doc["part_rounds"]
+    assert part["rate_N_per_mm"] == pytest.approx(40.0) and part["preload_N"] == pytest.approx(doc["preload_N"])
+    assert doc["spring_mass_kg"] == pytest.approx(part["mass_kg"], rel=1e-12)
+    # the first round's mass is the case's own part's (300 N); the last round's preload is the proposal, sized with
+    # a mass whose part moves it by less than 0.1 %
+    assert rounds[0]["spring_mass_kg"] == pytest.approx(design_case_spring(load_case(path)).spring.mass, rel=1e-12)
+    assert rounds[-1]["preload_N"] == doc["preload_N"] and len(rounds) >= 2
+    exact = rounds[-1]["spring_mass_kg"] == pytest.approx(part["mass_kg"], rel=1e-12)
+    assert exact or abs(rounds[-1]["preload_N"] - rounds[-2]["preload_N"]) <= 1e-3 * doc["preload_N"]
+    # the part's mass matters: the case's own (heavier, 300 N) part's third on the valve asked for more preload
+    assert rounds[0]["spring_mass_kg"] > 1.1 * part["mass_kg"] and rounds[0]["preload_N"] > doc["preload_N"]
+    text = re.sub(r"^preload = .*$", f"preload = {doc['preload_N']!r}", path.read_text(), flags=re.M)
+    (tmp_path / "proposed.toml").write_text(text)
+    code, out, err = run(capsys, "check", tmp_path / "proposed.toml", "--json")
+    chk = json.loads(out)
+    assert code == 0 and chk["verdict"] == "pass", err
+    assert chk["dynamic"]["spring_mass_kg"] == pytest.approx(part["mass_kg"], rel=1e-12)  # check's part is size's
+    vt = chk["valvetrain"]
+    assert vt["float_speed_rpm"] >= top and vt["bounce_speed_rpm"] >= top and vt["coil_bind_clearance_mm"] > 0
+    # the least preload: 2 % less, with the proposed part's mass, is tossed off the train at the top speed, or
+    # floats or bounces below it
+    written = resolve_spring(load_case(tmp_path / "proposed.toml"))
+    assert written.spring.mass_kg == pytest.approx(part["mass_kg"], rel=1e-12)
+    less = with_valvetrain_keys(written, dynamics={"preload": 0.98 * doc["preload_N"]})
+    resp = valvetrain_response(less.motion, less.valvetrain, top * RPM)
+    tossed = resp.train_force[resp.in_event].min() <= 1e-3 * doc["peak_spring_force_N"]
+    res = analyze_valvetrain(less, 3000 * RPM, 1.25)
+    assert tossed or min(res.float_speed_rpm, res.bounce_speed_rpm) < top
 
 
 @pytest.mark.slow
@@ -166,7 +210,6 @@ def test_sweep_carries_the_spring_and_bounds_the_gap_by_coil_bind():
     coil-bind clearance (travel to solid less the valve's largest lift); at 10000 rpm the flight would pass solid
     (clearance negative by the overshoot) and the gap is counted to solid, not beyond."""
     from camdyn.design.sweep import jump_map
-    from camdyn.design.sweep._valvetrain import _gap_at_valve_mm
 
     case = resolve_spring(_shipped_with_spring())
     travel = case.spring.travel_to_solid_mm
@@ -175,9 +218,10 @@ def test_sweep_carries_the_spring_and_bounds_the_gap_by_coil_bind():
     fast = valvetrain_response(case.motion, case.valvetrain, 10000 * RPM)
     clearance = jm.valve.coil_bind_clearance[:, 0]
     assert clearance[0] == pytest.approx(travel - slow.max_valve_lift_mm, rel=1e-9) and clearance[0] > 2.0
+    # the map's point on the valvetrain's fast path (every contact closed at 3000 rpm): the same to 1e-9
     assert jm.valve.seating_velocity[0, 0] == pytest.approx(slow.seating_velocity, rel=1e-9)
     assert clearance[1] == pytest.approx(travel - fast.max_valve_lift_mm, rel=1e-9) and clearance[1] < -3.0
-    free = _gap_at_valve_mm(fast, case.valvetrain, 0.2)
+    free = fast.max_gap_mm(case.valvetrain)
     assert free > travel and jm.max_gap[1, 0] <= travel and jm.max_gap[1, 0] > 0.8 * travel
     assert any("valve spring" in n and "lumped third" in n for n in jm.notes)
     assert any(n.startswith("coil bind") for n in jm.notes)

@@ -22,6 +22,7 @@ the others.
 
 from __future__ import annotations
 
+import contextlib
 import functools
 import hashlib
 import math
@@ -29,6 +30,7 @@ import os
 import pickle
 import platform
 import sys
+import threading
 from collections.abc import Callable
 from importlib import metadata
 from pathlib import Path
@@ -84,7 +86,29 @@ def _cpu_flags() -> str:
         return platform.processor()
 
 
-def _compile(flat: Callable, avals: tuple, name: str) -> tuple[Callable, bytes]:
+_OUTSIDE = threading.Lock()
+_outside: list = [0, None]  # compilations under way outside JAX's cache, and the threshold they replaced
+
+
+@contextlib.contextmanager
+def _outside_jax_cache():
+    """JAX's persistent cache keeps nothing compiled inside (its threshold infinite), while any thread compiles
+    inside: threads may compile at once, and the threshold comes back when the last one is done."""
+    with _OUTSIDE:
+        if not _outside[0]:
+            _outside[1] = jax.config.jax_persistent_cache_min_compile_time_secs  # pyright: ignore[reportAttributeAccessIssue]
+            jax.config.update("jax_persistent_cache_min_compile_time_secs", math.inf)
+        _outside[0] += 1
+    try:
+        yield
+    finally:
+        with _OUTSIDE:
+            _outside[0] -= 1
+            if not _outside[0]:
+                jax.config.update("jax_persistent_cache_min_compile_time_secs", _outside[1])
+
+
+def _compile(flat: Callable, avals: tuple, name: str, options: dict) -> tuple[Callable, bytes]:
     """``flat`` traced and compiled for arrays of ``avals`` ((shape, dtype) each): the program, and what a later
     process loads it from (:func:`_load`). Raises where it cannot be stored (a host callback, say).
 
@@ -93,12 +117,8 @@ def _compile(flat: Callable, avals: tuple, name: str) -> tuple[Callable, bytes]:
     is named for its file (``name``: JAX's cache keys start with it) and JAX's cache does not keep it."""
     specs = [jax.ShapeDtypeStruct(s, d) for s, d in avals]
     flat.__name__ = flat.__qualname__ = f"camdyn_{name}"
-    least = jax.config.jax_persistent_cache_min_compile_time_secs  # pyright: ignore[reportAttributeAccessIssue]
-    jax.config.update("jax_persistent_cache_min_compile_time_secs", math.inf)
-    try:
-        compiled = jax.jit(flat).lower(*specs).compile()
-    finally:
-        jax.config.update("jax_persistent_cache_min_compile_time_secs", least)
+    with _outside_jax_cache():
+        compiled = _jit_compile(flat, options, *specs)
     if len({d for s in jax.tree.leaves(compiled.input_shardings) for d in s.device_set}) > 1:
         # a kernel sharded over several devices: neither a loaded executable nor a loaded jax.export program
         # places one-device inputs on its mesh; the caller runs the plain jit
@@ -154,20 +174,67 @@ def filter_jit(fn: Callable[..., T]) -> Callable[..., T]:
     return call
 
 
-def cached_jit(fn: Callable[..., T]) -> Callable[..., T]:
-    """:func:`filter_jit` whose traced programs persist across processes once :func:`enable` is called."""
-    jitted = eqx.filter_jit(fn)
+_UNKNOWN_OPTION = "No such compile option"  # XLA's error for an option it does not know (one a later XLA dropped)
+
+
+def _jit_compile(flat: Callable, options: dict, *specs: Any) -> Any:
+    """``jax.jit(flat)`` lowered for ``specs`` and compiled with the XLA ``options``, or without them where this XLA
+    does not know one."""
+    try:
+        return jax.jit(flat, compiler_options=options or None).lower(*specs).compile()
+    except Exception as err:
+        if not options or _UNKNOWN_OPTION not in str(err):
+            raise
+        return jax.jit(flat).lower(*specs).compile()
+
+
+def jit_with(fn: Callable, options: dict) -> Callable:
+    """``equinox.filter_jit(fn)``, compiled with the XLA compiler ``options`` (equinox takes none)."""
+    if not options:
+        return eqx.filter_jit(fn)
+    traced: dict = {}
+
+    def call(*args: Any, **kwargs: Any) -> Any:
+        dynamic, static = eqx.partition((args, kwargs), eqx.is_array)
+        leaves, treedef = jax.tree.flatten(dynamic)
+        try:
+            key = (treedef, tuple(jax.tree.leaves(static)))
+            hash(key)
+        except TypeError:
+            key = repr((treedef, static))
+        if key not in traced:
+
+            def flat(*xs: Any) -> Any:
+                a, kw = eqx.combine(jax.tree.unflatten(treedef, xs), static)
+                return fn(*a, **kw)
+
+            traced[key] = jax.jit(flat, compiler_options=options)
+        try:
+            return traced[key](*leaves)
+        except Exception as err:  # an option this XLA does not know: compiled as XLA compiles by default
+            if _UNKNOWN_OPTION not in str(err):
+                raise
+            traced[key] = jax.jit(traced[key].__wrapped__)
+            return traced[key](*leaves)
+
+    return call
+
+
+def cached_jit(fn: Callable[..., T], compiler_options: tuple[tuple[str, Any], ...] = ()) -> Callable[..., T]:
+    """:func:`filter_jit` whose traced programs persist across processes once :func:`enable` is called.
+    ``compiler_options``: XLA options as (name, value) pairs, for every compile of ``fn``, cached or not (and
+    part of the key); dropped where this XLA does not know them."""
+    options = dict(compiler_options)
+    jitted = jit_with(fn, options)
     programs: dict = {}
 
-    @functools.wraps(fn)
-    def call(*args: Any, **kwargs: Any) -> Any:
-        args, kwargs = jit_forms((args, kwargs))
-        if _DIR is None:
-            return jitted(*args, **kwargs)
+    def program_for(args: tuple, kwargs: dict) -> tuple[Callable, list] | None:
+        """The program for these (jit-form) arguments, compiled or loaded, and their array leaves; None where the
+        plain ``jitted`` runs them (inside another trace)."""
         dynamic, static = eqx.partition((args, kwargs), eqx.is_array)
         leaves, treedef = jax.tree.flatten(dynamic)
         if any(isinstance(x, Tracer) for x in leaves):  # inside jit/vmap/grad: an exported program has
-            return jitted(*args, **kwargs)  # no batching or differentiation rules; the outer trace is cached anyway
+            return None  # no batching or differentiation rules; the outer trace is cached anyway
         avals = tuple((np.shape(x), np.dtype(x.dtype).str) for x in leaves)
         try:  # hashing the static part is cheap; its repr (the disk key) is not, for a motion of 1000 segments
             key = (treedef, tuple(jax.tree.leaves(static)), avals)
@@ -179,8 +246,9 @@ def cached_jit(fn: Callable[..., T]) -> Callable[..., T]:
             # the static part as the treedef (structure, static fields) and its leaves say it: an equinox module's
             # own repr pretty-prints, a millisecond or more a program
             text = repr((fn.__module__, fn.__qualname__, _fingerprint(), treedef, jax.tree.leaves(static), avals))
+            text += repr(sorted(options.items())) if options else ""  # no options: the keys of before
             name = hashlib.sha256(text.encode()).hexdigest()[:32]
-            file = _DIR / f"{fn.__name__}-{name}.{SUFFIX}"
+            file = _DIR / f"{fn.__name__}-{name}.{SUFFIX}"  # pyright: ignore[reportOptionalOperand] - enabled
             program = _load(file)
             if program is None:
 
@@ -189,14 +257,28 @@ def cached_jit(fn: Callable[..., T]) -> Callable[..., T]:
                     return fn(*a, **kw)
 
                 try:
-                    program, blob = _compile(flat, avals, name)
+                    program, blob = _compile(flat, avals, name, options)
                 except Exception:  # e.g. a host callback, which cannot be serialized: plain jit
-                    programs[key] = jitted
-                    return jitted(*args, **kwargs)
-                _save(file, blob)
+                    program = jitted
+                else:
+                    _save(file, blob)
             programs[key] = program
-        if program is jitted:
+        return program, leaves
+
+    @functools.wraps(fn)
+    def call(*args: Any, **kwargs: Any) -> Any:
+        args, kwargs = jit_forms((args, kwargs))
+        found = None if _DIR is None else program_for(args, kwargs)
+        if found is None or found[0] is jitted:
             return jitted(*args, **kwargs)
+        program, leaves = found
         return program(*leaves)
 
+    def prepare(*args: Any, **kwargs: Any) -> None:
+        """Compile (or load) the program for arguments like these without running it (nothing where the cache is
+        not enabled)."""
+        if _DIR is not None:
+            program_for(*jit_forms((args, kwargs)))
+
+    call.prepare = prepare  # pyright: ignore[reportAttributeAccessIssue]
     return call

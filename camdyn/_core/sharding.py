@@ -8,7 +8,7 @@ and gathers every result (``multihost_utils.process_allgather``), so every proce
 from __future__ import annotations
 
 import functools
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from typing import Any
 
 import equinox as eqx
@@ -17,7 +17,13 @@ import numpy as np
 from jax.experimental import multihost_utils
 from jax.sharding import Mesh, NamedSharding, PartitionSpec
 
-from .jit import cached_jit
+from .jit import cached_jit, jit_with
+
+
+def accelerated(devices: Sequence[Any]) -> bool:  # jax.Device, which pyright cannot take as a type
+    """Whether ``devices`` are accelerators (GPUs, TPUs) rather than CPUs: the one test of the platform a batched
+    kernel runs on, for its batch width here and for the path a kernel takes (see the jump map's gap stepping)."""
+    return devices[0].platform != "cpu"
 
 
 def _shard_map(f, mesh, in_specs, out_specs):
@@ -29,7 +35,7 @@ def _shard_map(f, mesh, in_specs, out_specs):
 
 
 @functools.cache
-def _sharded(kernel: Callable, devices: tuple, per_point: bool):
+def _sharded(kernel: Callable, devices: tuple, per_point: bool, options: tuple = ()):
     """``kernel(const, *point)`` vmapped over grid points (``per_point``; else the kernel takes a device's points
     as arrays itself) and sharded over ``devices``, compiled; in one process
     through :func:`camdyn._core.jit.cached_jit`, so a later process loads the traced program instead of tracing it."""
@@ -41,11 +47,11 @@ def _sharded(kernel: Callable, devices: tuple, per_point: bool):
         return _shard_map(body, mesh, (PartitionSpec(), *([spec] * len(batched))), spec)(const, *batched)
 
     if jax.process_count() > 1:  # global arrays over several processes: traced in each
-        return eqx.filter_jit(run), mesh
+        return jit_with(run, dict(options)), mesh
     # the disk key names the kernel and the devices (cached_jit keys by the wrapped function's name)
     run.__module__ = kernel.__module__
     run.__qualname__ = run.__name__ = f"{kernel.__qualname__}-on-{len(devices)}-{devices[0].platform}"
-    return cached_jit(run), mesh
+    return cached_jit(run, options), mesh
 
 
 def _global(x, mesh, spec):
@@ -60,6 +66,38 @@ def _to_mesh(const, part, mesh):
     return const, [_global(p, mesh, PartitionSpec("grid")) for p in part]
 
 
+def _chunk_size(chunk: int, devices: tuple) -> int:
+    """Grid points a call takes: ``chunk`` per device, 16 times as many on accelerators (they want wide batches)."""
+    return chunk * len(devices) * (16 if accelerated(devices) else 1)
+
+
+def _padded(batched: list[np.ndarray], size: int) -> list[np.ndarray]:
+    """``batched`` padded to ``size`` rows with copies of the first: one compiled shape for every chunk."""
+    m = batched[0].shape[0]
+    return [np.concatenate([b, np.repeat(b[:1], size - m, axis=0)]) for b in batched] if m < size else batched
+
+
+def prepare_batched(
+    kernel: Callable,
+    const: Any,
+    point: list[np.ndarray],
+    chunk: int,
+    devices: tuple,
+    per_point: bool = True,
+    options: tuple = (),
+) -> None:
+    """Trace and compile (or load) the program :func:`run_batched` will run ``kernel`` with, for grid points like
+    ``point`` (one row of each batched input is enough), without running it: another thread can do this while
+    the caller computes what decides the points. Nothing where the program is not one of the traced-program
+    cache's (several processes, or the cache not enabled: then the first call compiles)."""
+    if jax.process_count() > 1:
+        return
+    fn, _ = _sharded(kernel, devices, per_point, options)
+    prepare = getattr(fn, "prepare", None)
+    if prepare is not None:
+        prepare(const, *_padded([np.asarray(p)[:1] for p in point], _chunk_size(chunk, devices)))
+
+
 def run_batched(
     kernel: Callable,
     const: Any,
@@ -68,20 +106,20 @@ def run_batched(
     progress: Callable[[int], None] | None,
     devices: tuple,
     per_point: bool = True,
+    options: tuple = (),
 ) -> Any:
     """Run ``kernel`` over the rows of ``batched`` in chunks of ``chunk`` points per device (padded); ``per_point``:
-    the kernel computes one point (vmapped here), else a device's chunk of points at once."""
-    n_dev = len(devices)
-    size = chunk * n_dev * (1 if devices[0].platform == "cpu" else 16)  # accelerators want wide batches
+    the kernel computes one point (vmapped here), else a device's chunk of points at once. ``options``: XLA
+    compiler options of its program, as (name, value) pairs (:func:`camdyn._core.jit.cached_jit`)."""
+    size = _chunk_size(chunk, devices)
     n = batched[0].shape[0]
-    fn, mesh = _sharded(kernel, devices, per_point)
+    fn, mesh = _sharded(kernel, devices, per_point, options)
     multi = jax.process_count() > 1
     pending = []
     for start in range(0, n, size):
         part = [b[start : start + size] for b in batched]
         m = part[0].shape[0]
-        if m < size:  # pad with copies of the first point: one compiled shape for every chunk
-            part = [np.concatenate([p, np.repeat(p[:1], size - m, axis=0)]) for p in part]
+        part = _padded(part, size)
         if multi:
             c, pts = _to_mesh(const, part, mesh)
             pending.append((multihost_utils.process_allgather(fn(c, *pts), tiled=True), m))

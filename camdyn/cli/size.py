@@ -198,9 +198,17 @@ def print_valve_size(vs: ValveSpringSizing) -> None:
         console.print(f"[yellow]warning:[/yellow] {escape(w)}")
     c = vs.chosen
     verdict = "[green]pass[/green]" if vs.verdict == "pass" else "[bold red]FAIL[/bold red]"
+    part = ""
+    if vs.part is not None:
+        settled = ", ".join(f"{1e3 * m:.4g} g: {f0:.4g} N" for m, f0 in vs.part_rounds)
+        console.print(
+            f"[dim]the \\[spring] part: its mass on the valve ({vs.spring_model}) sized with, round by round, "
+            f"and the preload it asked: {settled}; the part below is the one check designs for the proposal[/dim]"
+        )
+        part = f", the \\[spring] part below ({1e3 * vs.spring_mass_kg:.4g} g)"
     console.print(
-        f"size: [bold]spring_rate = {c.rate:.4g}, preload = {c.preload:.4g}[/bold] in \\[dynamics] (at the valve); "
-        f"check as written: {verdict}"
+        f"size: [bold]spring_rate = {c.rate:.4g}, preload = {c.preload:.4g}[/bold] in \\[dynamics] (at the valve)"
+        f"{part}; check as written: {verdict}"
     )
 
 
@@ -210,14 +218,16 @@ def run(args: argparse.Namespace) -> int:
         if args.buildable:
             raise InputError(
                 "--buildable",
-                "size --buildable does not design a valvetrain's spring part yet: size proposes the valve "
-                "spring's rate and preload",
+                "size --buildable does not apply to a valvetrain: size proposes the valve spring's rate and "
+                "preload, and with a [spring] part designs the part for them",
             )
         vs = size_valve_spring(case, args.max_speed, args.margin, args.min_rate)
         if args.json:
             print(_console.json_text(vs.json()))
         else:
             print_valve_size(vs)
+            if vs.part is not None:
+                print_spring(vs.case_name, vs.part, None)
         return 0
     if case.follower is not None and case.follower.form_closed:  # no return spring: its largest backlash instead
         return size_groove(args, case)

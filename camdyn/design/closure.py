@@ -169,7 +169,7 @@ class ClosureStudy:
         motion, which the backlash leaves within b/2), for the drive torque, the tables and the plots."""
         r = self.response
         vals = np.asarray(evaluate(case.motion, np.deg2rad(r.theta_deg)))
-        kin = np.asarray(dyn.kinematic_force(case.motion, case.model, r.omega, np.deg2rad(r.theta_deg)))
+        kin = np.asarray(dyn.kinematic_force_jit(case.motion, case.model, r.omega, np.deg2rad(r.theta_deg)))
         return dyn.Response(
             case.follower.closure,
             r.omega,

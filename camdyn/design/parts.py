@@ -17,7 +17,7 @@ from ..model.geometry import CamGeometry, ConjugateGeometry, GrooveGeometry, con
 from ..model.surge import SpringInDynamics
 from ..model.valvetrain import equivalent_follower
 from ._check import Check, CheckKind
-from .spring import design_case_spring
+from .spring import SpringDesign, design_case_spring
 
 
 def case_drive(case: Case, resp: Response) -> DriveTorque:
@@ -98,8 +98,15 @@ def resolve_spring(case: Case) -> Case:
             f"within [spring] ({e})"
         )
         return replace(case, spring=replace(bare, note=note))
+    return with_spring_part(case, part)
+
+
+def with_spring_part(case: Case, part: SpringDesign) -> Case:
+    """The case with ``part``'s own mass (and its travel to solid) in the dynamics, as ``[spring] model`` asks
+    (:func:`resolve_spring`, which gives it the part designed for the case's rate and preload)."""
+    assert case.spec.spring is not None  # the caller's: a case with a [spring] table
     sd = replace(
-        bare.with_mass(part.spring.mass, case.spec.spring.model),
+        _bare(case).with_mass(part.spring.mass, case.spec.spring.model),
         travel_to_solid_mm=part.installed_length - part.spring.solid_length,
     )
     if case.valvetrain is not None:  # the valve spring's third moves with the valve, in the two-mass model too

@@ -33,6 +33,7 @@ from .tolerance import ToleranceResult, tolerance_study
 SIDE_DEG = 1e-7  # how far either side of a break the one-sided values are taken (deg)
 REVIEW_TOLERANCE_SAMPLES = 2000  # built cams of the report's tolerance page (seed 0; `camdyn tolerance` for more)
 SPEED_SCAN = 2000  # speeds of the force-against-speed curve: the grid of dynamic_jump_speed's scan
+VALVE_SPEED_SCAN = 80  # speeds of a valvetrain's two-mass curve (a revolution of the two-mass model each)
 MAP_SPEEDS, MAP_RATES = 48, 24  # the review's jump map: speeds x spring rates
 VALVETRAIN_MAP = 24, 6  # a valvetrain's (the two-mass model at each point, about 0.05 s a point)
 IMPACT_SPEEDS = 40  # a groove cam's impact speed against cam speed, up to 2 x the check's speed
@@ -66,6 +67,10 @@ class ForceVsSpeed:
     dynamic_N: (
         np.ndarray | None
     )  # compliant train: frequency-domain steady state, exact until separation; None if rigid
+    # a valvetrain's two-mass model: the least cam force over the valve event (N) at valve_speeds_rpm, up to the
+    # first speed where the valve floats (0 there; NaN past it); None for a single follower
+    valve_speeds_rpm: np.ndarray | None = None
+    valve_event_N: np.ndarray | None = None
 
 
 @dataclass(frozen=True)
@@ -214,7 +219,22 @@ def force_vs_speed(case: Case, check: CheckReport, margin_rpm: float, *, top: fl
                 newton_per_torque_at(case.motion, case.follower, np.arange(FFT_GRID) * (TWO_PI / FFT_GRID))
             )
         linear = np.asarray(dyn.linear_min_force(case.motion, case.model, jnp.asarray(w), FFT_GRID, weight))
-    return ForceVsSpeed(speeds, kin.min(axis=1), linear)
+    if case.valvetrain is None:
+        return ForceVsSpeed(speeds, kin.min(axis=1), linear)
+    valve_speeds = np.linspace(top / VALVE_SPEED_SCAN, top, VALVE_SPEED_SCAN)
+    return ForceVsSpeed(speeds, kin.min(axis=1), linear, valve_speeds, _least_event_force(case, valve_speeds))
+
+
+def _least_event_force(case: Case, speeds_rpm: np.ndarray) -> np.ndarray:
+    """The two-mass model's least cam force over the valve event (N) at each speed, up to the first that floats
+    (0 there, NaN past it): what ``check`` judges a valvetrain's contact force and float speed by."""
+    assert case.valvetrain is not None  # force_vs_speed asks for a valvetrain's only
+    least = np.full(len(speeds_rpm), np.nan)
+    for i, rpm in enumerate(speeds_rpm):
+        least[i] = dyn.ValvePoint(case.motion, case.valvetrain, float(rpm) * RPM).least_event_force
+        if least[i] <= 0.0:
+            break
+    return least
 
 
 def _review_jump_map(

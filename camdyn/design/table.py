@@ -41,9 +41,9 @@ def motion_table(case: Case, step_deg: float = 1.0, speed_rpm: float | None = No
     (interpolated from its 0.1 deg grid), and the cam geometry; a valvetrain's valve lift and velocity."""
     theta_deg = table_angles(step_deg)
     rpm = float(case.speed_rpm if speed_rpm is None else speed_rpm)
-    theta = jnp.deg2rad(theta_deg)
+    theta = jnp.asarray(np.deg2rad(theta_deg))
     vals = np.asarray(evaluate(case.motion, theta))
-    force = np.asarray(dyn.kinematic_force(case.motion, case.model, rpm * RPM, theta))
+    force = np.asarray(dyn.kinematic_force_jit(case.motion, case.model, rpm * RPM, theta))  # one program
     study = None
     if case.follower is not None and case.follower.form_closed:  # signed: positive on the inner flank, 0 in flight
         study = closure_study(case, rpm)
@@ -86,7 +86,7 @@ def ecam_table(case: Case, n: int) -> tuple[dict[str, np.ndarray], str]:
     if not 2 <= n <= MAX_ECAM_POINTS:
         raise InputError("--ecam", f"must be between 2 and {MAX_ECAM_POINTS:,} master angles (got {n})")
     master = np.arange(n) * (360.0 / n)
-    s, v, a, _ = np.asarray(evaluate(case.motion, jnp.deg2rad(master)))
+    s, v, a, _ = np.asarray(evaluate(case.motion, jnp.asarray(np.deg2rad(master))))
     rad = np.pi / 180.0  # per master degree: d/d(deg) = (pi / 180) d/d(rad)
     kind = case.kind
     s, v, a, unit = (

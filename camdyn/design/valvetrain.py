@@ -1,5 +1,6 @@
 """A valvetrain judged: the valve's event at the case speed (lift, timing, seating speed, bounce), and the float
-and bounce speeds, from the two-mass model (:mod:`camdyn.model.dynamics._valvetrain`)."""
+and bounce speeds, from the two-mass model (:mod:`camdyn.model.dynamics._valvetrain`; the searches on its fast
+path where every contact stays closed, :mod:`camdyn.model.dynamics._valvefast`)."""
 
 from __future__ import annotations
 
@@ -8,7 +9,6 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .._core.errors import InputError
 from .._core.units import M_PER_MM, RPM, VALVE_BOUNCE_TOLERANCE_MM, VALVE_TIMING_LIFT_MM
 from ..model import dynamics as dyn
 from ..model.case import Case
@@ -112,18 +112,6 @@ class ValvetrainResult:
         )
 
 
-def refuse_spring_part(case: Case) -> None:
-    """:class:`InputError` where ``size`` is asked about a valvetrain with a ``[spring]`` part: the part's own mass
-    on the valve depends on the rate and preload being sized (sweep and tolerance hold the case's spring)."""
-    if case.valvetrain is not None and case.spec.spring is not None:
-        raise InputError(
-            "spring",
-            "size of a valvetrain does not size a [spring] part yet (its mass on the valve would change with the rate "
-            "and preload sized): remove [spring], put a third of its mass in valvetrain.valve_mass, size, then design "
-            "the part with camdyn spring",
-        )
-
-
 def spring_notes(case: Case, study: str) -> tuple[str, ...]:
     """What a valvetrain study (``study``: "at every rate", "in every sample") carries of a resolved ``[spring]``
     part: the case's spring, its mass on the valve and its coil bind."""
@@ -145,16 +133,16 @@ def analyze_valvetrain(case: Case, omega: float, margin: float) -> ValvetrainRes
     assert vt is not None  # the caller's: a [valvetrain] case
     w_kin = dyn.kinematic_jump_speed(case.motion, case.model)[0]  # the equivalent follower's: where float begins
     w_max = dyn.jump_search_limit(margin * omega, w_kin)
-    marched: dict[float, dyn.ValvetrainResponse] = {}
+    marched: dict[float, dyn.ValvePoint] = {}
 
-    def at(w: float) -> dyn.ValvetrainResponse:
+    def at(w: float) -> dyn.ValvePoint:  # the fast path where every contact stays closed, else the diffrax model
         if w not in marched:
-            marched[w] = dyn.valvetrain_response(case.motion, vt, w)
+            marched[w] = dyn.ValvePoint(case.motion, vt, w)
         return marched[w]
 
     w_float = dyn.float_speed(case.motion, vt, w_max, respond=at)
     w_bounce = dyn.bounce_speed(case.motion, vt, w_max, respond=at)
-    here = at(float(omega))
+    here = at(float(omega)).response  # the whole revolution at the case speed: the diffrax model's
     speeds = sorted(marched)
     curves = None
     if vt.rocker is not None:

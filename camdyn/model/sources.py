@@ -14,11 +14,19 @@ import numpy as np
 
 from .._core.errors import InputError
 from .._core.files import data_file_path
+from .._core.units import M_PER_MM
 from ..schema import CaseSpec, FollowerSpec
 from .datafiles import Samples, read_contour, read_lift_table
 from .geometry import ContourFit, contact_motion
 from .motion import FittedMotion, MotionFit, fit_motion, fit_warnings
-from .valvetrain import lift_with_ramps, ramp_join_warnings
+from .valvetrain import (
+    Rocker,
+    lift_with_ramps,
+    ramp_join_warnings,
+    rocker_follower_lift,
+    rocker_model,
+    rocker_valve_reach,
+)
 
 ZERO_SHARE = 0.01  # a table may dip below zero lift by this share of its range (noise in a dwell), no more
 # a table whose lift spans less than this (mm; deg of swing) is likely in metres (radians): no cam lifts less
@@ -57,20 +65,22 @@ def _unit_slip(table: Samples, lift: np.ndarray, unit: str, column: str) -> list
 
 
 def _within_tolerance(fit: MotionFit, table: Samples, tolerance: float | None) -> None:
-    if tolerance is None or fit.spline.max_residual <= tolerance * (1.0 + 1e-9):
+    if tolerance is None or fit.max_residual <= tolerance * (1.0 + 1e-9):
         return
     i = int(np.argmax(np.abs(fit.residual)))
     raise InputError(
         "motion.tolerance",
         f"no smooth fit comes within {tolerance:g} {fit.unit} of {table.shown}: the closest departs by "
-        f"{fit.spline.max_residual:.3g} {fit.unit} at {table.row_word} {int(table.rows[i])} ({fit.theta_deg[i]:g} "
+        f"{fit.max_residual:.3g} {fit.unit} at {table.row_word} {int(table.rows[i])} ({fit.theta_deg[i]:g} "
         "deg): is the data periodic, without a step?",
     )
 
 
 def table_motion(spec: CaseSpec, source: Path | None) -> tuple[FittedMotion, MotionFit, list[str]]:
-    """The motion fitted to the case's lift table; a valve's lift table (``valve_table``) is fitted at the valve,
-    its lash ramps added (:func:`~camdyn.model.valvetrain.lift_with_ramps`), and divided by the rocker ratio."""
+    """The motion fitted to the case's lift table. A valve's lift table (``valve_table``) gets its lash ramps
+    (:func:`~camdyn.model.valvetrain.lift_with_ramps`); through a constant ratio it is fitted at the valve and divided
+    by the ratio, through a rocker's geometry it is carried to the follower by the inverse of the rocker's lift and
+    fitted there, its residual measured back at the valve."""
     if spec.motion is None or (spec.motion.table is None and spec.motion.valve_table is None):
         raise ValueError("table_motion: the case's [motion] has no table")
     vt = spec.valvetrain if spec.motion.valve_table is not None else None
@@ -88,21 +98,55 @@ def table_motion(spec: CaseSpec, source: Path | None) -> tuple[FittedMotion, Mot
         except ValueError as err:
             raise InputError(f"motion.valve_table ({name})", str(err)) from None
         warnings += ramp_join_warnings(theta, table.values[:, 1], vt.ramp_velocity)
+    rocker = None if vt is None or vt.rocker is None else rocker_model(vt.rocker)
+    data = lift if rocker is None else _through_rocker(rocker, lift, table)
+    # through a rocker the data's rounding and the tolerance at the follower are the valve's over the largest ratio
+    per_data = 1.0 if rocker is None else 1.0 / _largest_ratio(rocker, data, tolerance)
     motion, fit = fit_motion(
         theta,
-        lift,
+        data,
         unit=unit,
         source="table" if vt is None else "valve_table",
         file=name,
-        tolerance=tolerance,
-        rounding=table.rounding,
+        tolerance=None if tolerance is None else tolerance * per_data,
+        rounding=table.rounding * per_data,
         repeats=table.repeats,
     )
+    if rocker is not None:
+        at_valve = np.asarray(rocker.lever(fit.fitted * M_PER_MM)[0]) / M_PER_MM
+        fit = dataclasses.replace(fit, data=lift, tolerance=tolerance, follower_data=data, data_fitted=at_valve)
     _within_tolerance(fit, table, tolerance)
-    if vt is not None:  # the follower's lift: the cam's lift at the valve over the ratio
+    if vt is not None and rocker is None:  # the follower's lift: the cam's lift at the valve over the ratio
         motion = eqx.tree_at(lambda m: m.coef, motion, motion.coef / vt.ratio)
         fit = dataclasses.replace(fit, follower_per_data=1.0 / vt.ratio)
     return motion, fit, warnings + fit_warnings(fit)
+
+
+def _through_rocker(rocker: Rocker, at_valve: np.ndarray, table: Samples) -> np.ndarray:
+    """The follower's lift (mm) that gives the cam's lift at the valve ``at_valve`` (mm, ramps added) through the
+    rocker; InputError at the first row asking for more (or less) than the rocker can give."""
+    follower = rocker_follower_lift(rocker, at_valve)
+    bad = np.flatnonzero(np.isnan(follower))
+    if bad.size:
+        i = int(bad[0])
+        (least, least_arm), (most, most_arm) = rocker_valve_reach(rocker)
+        word, reach, arm = ("more", most, most_arm) if at_valve[i] > 0 else ("less", least, least_arm)
+        raise InputError(
+            table.where(i),
+            f"at {table.values[i, 0]:g} deg the cam's lift at the valve ({at_valve[i]:.4g} mm, the lash taken up) "
+            f"is {word} than the rocker can give ({reach:.4g} mm, where its {arm} arm turns square to its contact's "
+            "line): lengthen the valve arm or change the arms' angles",
+        )
+    return follower
+
+
+def _largest_ratio(rocker: Rocker, follower_mm: np.ndarray, tolerance: float | None) -> float:
+    """The rocker's largest ratio over the follower's lifts (mm) and a tolerance's (mm at the valve) span around
+    them: a residual at the follower within ``tolerance`` over it is within ``tolerance`` at the valve. The ratio
+    is monotone in lift (its slope's sign is that of sin(cam_angle - valve_angle)): its ends bound it."""
+    ends = np.array([follower_mm.min(), follower_mm.max()]) * M_PER_MM
+    span = 0.0 if tolerance is None else tolerance * M_PER_MM / float(np.min(rocker.lever(ends)[1]))
+    return float(np.nanmax(np.asarray(rocker.lever(ends + np.array([-span, span]))[1])))
 
 
 def contour_motion(

@@ -210,7 +210,7 @@ def chain_revolution(
     ys = np.asarray(sol.ys)
     nn = segments
     q, v = ys[:-1, :nn], ys[:-1, nn:]
-    vals = np.asarray(motion(jnp.asarray(theta))) * model.scale
+    vals = np.asarray(evaluate(motion, jnp.asarray(theta))) * model.scale
     fi = np.asarray(contact_force(model, omega, vals[0], vals[1], q[:, -1], v[:, -1] / omega))
     return q, fi, ys[-1]
 

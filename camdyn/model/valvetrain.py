@@ -79,6 +79,34 @@ def rocker_reach(rocker: Rocker, lift_mm: float) -> str | None:
     return None
 
 
+def rocker_follower_lift(rocker: Rocker, valve_mm: np.ndarray) -> np.ndarray:
+    """The follower's lift (mm) whose lift through the rocker at the valve is ``valve_mm`` (mm, the lash not taken
+    off): the inverse of :meth:`Rocker.lever`'s g, in closed form (g fixes the turn phi by sin(be + phi) = g / b +
+    sin(be), phi the follower's lift a (sin(al + phi) - sin(al))). NaN where only an arm turned to or past square
+    with its contact's line would give it (:func:`rocker_valve_reach`)."""
+    a, b = float(rocker.cam_arm), float(rocker.valve_arm)
+    al, be = float(rocker.cam_angle), float(rocker.valve_angle)
+    low, high = rocker_valve_reach(rocker)
+    g = np.asarray(valve_mm, dtype=float)
+    inside = (g > low[0]) & (g < high[0])
+    phi = np.arcsin(np.clip(g * M_PER_MM / b + math.sin(be), -1.0, 1.0)) - be
+    return np.where(inside, a * (np.sin(al + phi) - math.sin(al)) / M_PER_MM, np.nan)
+
+
+def rocker_valve_reach(rocker: Rocker) -> tuple[tuple[float, str], tuple[float, str]]:
+    """The least and the most lift (mm from zero lift, at the valve) the rocker can give, each with the arm that
+    turns square to its contact's line there ("cam" or "valve"): the follower's lift through g is monotone between
+    them (:func:`rocker_reach`)."""
+    b, al, be = float(rocker.valve_arm), float(rocker.cam_angle), float(rocker.valve_angle)
+
+    def at(sign: float) -> tuple[float, str]:
+        turns = {"cam": sign * math.pi / 2 - al, "valve": sign * math.pi / 2 - be}  # the turn that squares each arm
+        arm = min(turns, key=lambda k: abs(turns[k]))
+        return b * (math.sin(be + turns[arm]) - math.sin(be)) / M_PER_MM, arm
+
+    return at(-1.0), at(1.0)
+
+
 class Coils(eqx.Module):
     """The valve spring as a chain of masses on the valve's side (``[spring] model = "surge"``): ``count`` segments
     fixed at the head, their inner lumps (``count - 1`` of them) free, the last half lump on the valve

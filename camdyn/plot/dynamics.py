@@ -186,6 +186,9 @@ def plot_force_vs_speed(ax: Axes, review: Review) -> None:
                 alpha=0.7,
                 label="linear model past the jump (not valid)",
             )
+    if sw.valve_event_N is not None:  # what a valvetrain's contact_force and float speed are judged by
+        assert sw.valve_speeds_rpm is not None  # ForceVsSpeed gives both
+        ax.plot(sw.valve_speeds_rpm, sw.valve_event_N, color=C["margin"], lw=1.4, label="two masses, valve event")
     ax.axhline(0.0, color=C["ink"], lw=0.8)
     mf = chk.case.limits.min_contact_force
     if mf:
@@ -193,7 +196,7 @@ def plot_force_vs_speed(ax: Axes, review: Review) -> None:
     top = max(float(np.max(sw.kinematic_N)), mf) * 1.15
     floor = min(float(np.min(sw.kinematic_N)), float(np.min(sw.dynamic_N)) if sw.dynamic_N is not None else 0.0)
     ymin, ymax = max(floor, -0.8 * top) - 0.05 * top, top
-    _jump_speeds(ax, jd, jk, v[-1])
+    _jump_speeds(ax, jd, jk, v[-1], "dynamic jump speed" if sw.valve_event_N is None else "valve float speed")
     ax.axvline(
         review.margin_rpm,
         color=C["margin"],
@@ -218,10 +221,11 @@ def plot_force_vs_speed(ax: Axes, review: Review) -> None:
     legend_clear(ax, fontsize=6.5)
 
 
-def _jump_speeds(ax, jd: float | None, jk: float | None, v_top: float) -> None:
-    """The dynamic jump speed (the range past it shaded) and the rigid one where it differs, named in the legend."""
+def _jump_speeds(ax, jd: float | None, jk: float | None, v_top: float, name: str = "dynamic jump speed") -> None:
+    """The dynamic jump speed (the range past it shaded) and the rigid one where it differs, named in the legend
+    (``name``: a valvetrain's is its float speed)."""
     if jd is not None and jd <= v_top:
         ax.axvspan(jd, v_top, color=C["limit"], alpha=0.08, lw=0)
-        ax.axvline(jd, color=C["limit"], lw=1.0, label=f"dynamic jump speed {jd:.0f} rpm (shaded past it)")
+        ax.axvline(jd, color=C["limit"], lw=1.0, label=f"{name} {jd:.0f} rpm (shaded past it)")
     if jk is not None and jk <= v_top and (jd is None or abs(jk - jd) > 0.02 * v_top):
         ax.axvline(jk, color=C["kin"], lw=0.8, ls="--", label=f"rigid jump speed {jk:.0f} rpm")

@@ -101,11 +101,13 @@ def plot_fit(ax_lift: Axes, ax_residual: Axes, fit: MotionFit, contour: ContourF
         if contour is None
         else f"lift at contact with the fitted outline ({th.size} angles)"
     )
-    if fit.follower_per_data != 1.0:  # a valve's table, ramps added: at the follower
+    if fit.follower_data is not None:  # a valve's table, ramps added: at the follower
+        label = f"{fit.source} data with its ramps, through the rocker ({th.size} points)"
+    elif fit.follower_per_data != 1.0:
         label = f"{fit.source} data with its ramps / ratio ({th.size} points)"
     ax_lift.plot(
         th[::every],
-        fit.data[::every] * fit.follower_per_data,
+        fit.data_at_follower[::every],
         ".",
         ms=2.2,
         color=C["limit"],

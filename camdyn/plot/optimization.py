@@ -56,12 +56,13 @@ def plot_speed_before_after(ax: Axes, review: Review) -> None:
     for sw, chk, label, ls, colour in curves:
         if isinstance(sw, Unavailable):  # a form-closed cam, which optimize refuses: nothing to compare
             continue
-        force = sw.dynamic_N if sw.dynamic_N is not None else sw.kinematic_N
-        jump = chk.dynamic.jump_speed_rpm
-        held = sw.speeds_rpm <= (jump if jump is not None and np.isfinite(jump) else np.inf)
-        ax.plot(
-            sw.speeds_rpm[held], force[held], color=colour, ls=ls, lw=1.3, label=f"{label}: jump speed {jump:.0f} rpm"
-        )
+        speeds, force = sw.speeds_rpm, sw.dynamic_N if sw.dynamic_N is not None else sw.kinematic_N
+        jump, what = chk.dynamic.jump_speed_rpm, "jump speed"
+        if sw.valve_event_N is not None:  # a valvetrain: the two-mass model's, as its float speed
+            assert sw.valve_speeds_rpm is not None  # ForceVsSpeed gives both
+            speeds, force, what = sw.valve_speeds_rpm, sw.valve_event_N, "float speed"
+        held = speeds <= (jump if jump is not None and np.isfinite(jump) else np.inf)
+        ax.plot(speeds[held], force[held], color=colour, ls=ls, lw=1.3, label=f"{label}: {what} {jump:.0f} rpm")
         if jump is not None and np.isfinite(jump):
             ax.axvline(jump, color=colour, lw=0.8, ls=ls)
     ax.axhline(review.case.limits.min_contact_force, color=C["limit"], lw=0.8, ls="--")
@@ -77,6 +78,8 @@ def plot_speed_before_after(ax: Axes, review: Review) -> None:
     if not isinstance(review.force_vs_speed, Unavailable):
         ax.set_xlim(0.0, float(review.force_vs_speed.speeds_rpm[-1]))
     ax.set_xlabel("cam speed (rpm)")
-    ax.set_ylabel("least interface force (N)")
-    ax.set_title("least interface force against cam speed, before and after", fontsize=9)
+    valvetrain = review.case.valvetrain is not None
+    ax.set_ylabel("least cam force over the valve event (N)" if valvetrain else "least interface force (N)")
+    what = "least cam force (two masses, valve event)" if valvetrain else "least interface force"
+    ax.set_title(f"{what} against cam speed, before and after", fontsize=9)
     ax.legend(loc="lower left", fontsize=7)

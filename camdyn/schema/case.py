@@ -94,12 +94,6 @@ class CaseSpec(Table):
             )
         if self.motion is not None and self.motion.valve_table is not None and self.valvetrain is None:
             raise ValueError("motion.valve_table: a lift at the valve needs [valvetrain] (its ratio and lash)")
-        if self.motion is not None and self.motion.valve_table is not None and self.valvetrain is not None:
-            if self.valvetrain.rocker is not None:
-                raise ValueError(
-                    "valvetrain.rocker: a valve_table with a rocker's geometry is not supported yet: give the ratio "
-                    "(or the follower's lift as [motion] table)"
-                )
         if self.valvetrain is not None and self.follower is not None and self.follower.form_closed:
             raise ValueError("follower.closure: a valvetrain is spring-closed: remove closure (or [valvetrain])")
         if self.valvetrain is not None:

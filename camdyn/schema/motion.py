@@ -207,7 +207,8 @@ class MotionSpec(Table):
         description=(
             "with [valvetrain]: CSV file of the valve's lift at the valve, header theta_deg,lift_mm (cam degrees); "
             "camdyn adds constant-velocity ramps (valvetrain.ramp_velocity) that take up the lash, divides by the "
-            "ratio and fits the follower's lift as a table's"
+            "ratio (or carries it through the inverse of [valvetrain.rocker]'s lift) and fits the follower's lift as "
+            "a table's"
         ),
     )
     tolerance: Real | None = Field(

@@ -22,8 +22,16 @@ from ..._core.progress import Progress
 from ..._core.units import RPM
 from ...export import camdyn_version, dumps_case
 from ...model.case import Case, build_case
-from ...model.dynamics import dynamic_jump_speed, linear_min_force, preload_share, response, valvetrain_response
+from ...model.dynamics import (
+    dynamic_jump_speed,
+    float_speed,
+    linear_min_force,
+    preload_share,
+    response,
+    valvetrain_response,
+)
 from ...model.follower import FollowerModel
+from ...model.motion import evaluate
 from ...model.valvetrain import event_follower
 from ...schema import CaseSpec
 from ...schema.dynamics import dynamics_keys
@@ -201,19 +209,33 @@ def _less_preload(model: FollowerModel, margin: float) -> FollowerModel:
 
 def margin_speed(case: Case, margin: float, w_max: float) -> float:
     """The least speed (rad/s) at which the least interface force falls to ``margin`` (N; N*m for an arm), by
-    ``check``'s own jump-speed search on the model less the margin; inf if none up to ``w_max``."""
+    ``check``'s own jump-speed search on the model less the margin (a valvetrain's: its float search, the two-mass
+    model's least cam force over the valve event); inf if none up to ``w_max``."""
+    if case.valvetrain is not None:
+        return float_speed(case.motion, case.valvetrain, w_max, margin=margin)
+    return _follower_margin_speed(case, margin, w_max)
+
+
+def _follower_margin_speed(case: Case, margin: float, w_max: float) -> float:
+    """:func:`margin_speed` of the case's single follower (a valvetrain's equivalent follower), rad/s."""
     return dynamic_jump_speed(case.motion, _less_preload(case.model, margin), w_max=w_max)
+
+
+def _search_top(case: Case, chk: CheckReport) -> float:
+    """How far (rad/s) the margin-speed searches look: 4 x the larger of the margin speed and the jump speed."""
+    jump = chk.dynamic.jump_speed_rpm
+    return 4.0 * max(case.limits.speed_margin * chk.speed_rpm, jump if jump is not None else 0.0) * RPM
 
 
 def metrics(case: Case, check: CheckReport | None = None, margin: float = 0.0) -> Metrics:
     chk = check or run_check(case)
     theta = np.linspace(0.0, 2 * math.pi, 7200, endpoint=False)
-    sv = case.motion.host(theta)  # numpy: eager jax.numpy compiles a program per operation
+    sv = np.asarray(evaluate(case.motion, theta))  # one program: eagerly each operation compiles alone
     to_user = 1.0 if case.motion.unit == "mm" else 180.0 / math.pi
     m = case.model
     geo = chk.geometry
     jump = chk.dynamic.jump_speed_rpm
-    w_max = 4.0 * max(case.limits.speed_margin * chk.speed_rpm, jump if jump is not None else 0.0) * RPM
+    w_max = _search_top(case, chk)
     residual = chk.dynamic.residual_vibration_as_lift  # mm, or deg of arm swing, as the motion's unit
     return Metrics(
         jump_speed_rpm=float(jump if jump is not None else math.inf),
@@ -292,7 +314,7 @@ def _motion_kept(new: Case, space: ShapeSpace) -> list[str]:
     """Where a reshaped segment leaves its lift's range or reverses, on a 0.01 deg grid (the control points'
     order rules it out; this is the written file's own proof)."""
     theta = np.radians(np.arange(0.0, 360.0, 0.01))
-    sv = new.motion.host(theta)
+    sv = np.asarray(evaluate(new.motion, theta))
     out, start, base = [], 0.0, 0.0
     for i, spec in enumerate(space.specs):
         inside = (theta >= math.radians(start)) & (theta < math.radians(spec.end))
@@ -425,6 +447,8 @@ def optimize_case(
     try:
         if objective == "jump-speed":
             w0 = before.margin_speed_rpm * RPM
+            if case.valvetrain is not None:  # the programs start where the equivalent follower's margin gives out
+                w0 = _follower_margin_speed(case, margin, _search_top(case, before_check))
             if not math.isfinite(w0):
                 raise InputError(
                     "case", "the case does not jump within the check's search: there is no jump speed to raise"

@@ -22,7 +22,7 @@ from ..._core.errors import InputError
 from ..._core.units import FFT_GRID, M_PER_MM, TWO_PI
 from ...model.case import Case
 from ...model.motion import BSPLINE_CLAMPED as CLAMPED
-from ...model.motion import Program
+from ...model.motion import Program, evaluate
 from ...model.motion import bspline_basis as basis
 
 MIN_CONTROL, MAX_CONTROL = 2 * CLAMPED + 1, 64  # at least one free point; past 64 the programs only slow down
@@ -66,6 +66,7 @@ class ShapeSpace:
         free = self.n_control - 2 * CLAMPED
         z = np.asarray(z, dtype=float)
         if self.control_matrix is not None:
+            assert self.control_offset is not None and self.at_rest is not None  # flank_space sets all three
             out = []
             for c, (start, end) in zip(self.control_offset + self.control_matrix @ z, self.at_rest, strict=True):
                 c[: 3 if start else 1], c[-3 if end else -1 :] = 0.0, 1.0  # exactly what the null space gives to 1e-16
@@ -129,7 +130,7 @@ def shape_space(case: Case, n: int = FFT_GRID, n_control: int = N_CONTROL) -> Sh
         raise InputError("motion.segments", "no segment lifts: nothing to reshape")
     to_unit = case.kind.motion_per_lift  # the segments' lift unit -> the motion's
     theta = np.arange(n) * (TWO_PI / n)
-    now = case.motion.host(theta)  # the case's own motion (numpy): the start and what the dwells keep
+    now = np.asarray(evaluate(case.motion, theta))  # the case's own motion: the start and what the dwells keep
     offset = np.zeros((4, n))
     free = n_control - 2 * CLAMPED
     matrix = np.zeros((4, n, free * len(moving)))
@@ -191,6 +192,7 @@ def flank_space(case: Case, n: int = FFT_GRID, n_control: int = N_CONTROL) -> Sh
         i = next(i for i in moving if specs[i].lift == 0.0)
         raise InputError(f"motion.segments[{i}]", "a flank that rises by 0 cannot be reshaped as a B-spline")
     program = case.motion
+    assert isinstance(program, Program)  # a segment list's motion
     starts = np.r_[0.0, [s.end for s in specs[:-1]]]
     theta = np.arange(n) * (TWO_PI / n)
     now = case.motion.host(theta)  # numpy: eager jax.numpy compiles a program per operation
@@ -269,6 +271,7 @@ def _in_order(space: ShapeSpace, z: np.ndarray) -> np.ndarray:
     (:meth:`ShapeSpace.order`): a linear program."""
     if float(np.max(np.asarray(space.order(jnp.asarray(z))))) <= 0.0:
         return z
+    assert space.control_matrix is not None and space.control_offset is not None  # a flank space's
     K, m, f = space.control_matrix.shape
     M = space.control_matrix.reshape(K * m, f)
     diff = (np.eye(m)[:-1] - np.eye(m)[1:])[None].repeat(K, 0)  # c_j - c_{j+1} per flank

@@ -90,8 +90,10 @@ def buildable_answer(
     def peak(rate: float) -> float:  # user units in, the peak spring force out; inf where it cannot be built
         k_si = p.kind.rate_to_si(rate)
         top = case_max_preload(case, rate, surge_top_rpm)
+        if top is None:  # no spring of this rate fits: the least preload (10 dynamic solves) is not needed
+            return _UNBUILDABLE
         f0 = least(k_si)
-        return _UNBUILDABLE if top is None or f0 > top else k_si * p.s_max + f0
+        return _UNBUILDABLE if f0 > top else k_si * p.s_max + f0
 
     lo, hi = _rate_range(case, p)
     if not lo < hi:

@@ -18,6 +18,11 @@ of the spring as written (4 significant digits, the preload rounded up) are driv
 speed by secant steps on the least of the two speeds squared (the equivalent's jump speed squared is affine in the
 preload), bracketed, with bisection where a secant step leaves the bracket. The answer is the least preload whose
 float and bounce speeds are at least (1 + HEADROOM / 2) x the top speed, and ``check`` judges it as written.
+
+**A ``[spring]`` part** moves with the valve (its lumped third, or its surge chain), and its mass depends on the
+rate and preload sized: a fixed point (:func:`_size_with_part`) sizes with the case's own part's mass, then with
+the mass of the part designed for each proposal, until the part is the one sized with or its mass moves the
+preload by less than 0.1 %; ``check`` judges the proposal with the part it designs for it, the one reported.
 """
 
 from __future__ import annotations
@@ -25,14 +30,14 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, replace
 
-import numpy as np
-
 from ..._core.units import M_PER_MM, RPM
 from ...model import dynamics as dyn
 from ...model.case import Case, with_valvetrain_keys
 from .._check import Check
 from ..checks import run_check
-from ..valvetrain import ValvetrainResult, analyze_valvetrain, refuse_spring_part
+from ..parts import resolve_spring, with_spring_part
+from ..spring import SpringDesign, design_case_spring
+from ..valvetrain import ValvetrainResult, analyze_valvetrain
 from ._buildable import HEADROOM, WRITTEN_DIGITS, written
 from ._lp import lp
 from ._problem import build_problem
@@ -43,6 +48,8 @@ _CLOSE = 0.01  # the search stops once the least speed is within 1 % above (1 + 
 _ON_TRAIN = 1e-3  # of the peak spring force: the least train force over the valve event that keeps it on the train
 _TRAIN_WIDTH = 0.005  # relative width of the bisection for the least preload that keeps the valve on the train
 _TRAIN_ROUNDS = 30
+_PART_ROUNDS = 6
+_PART_CLOSE = 1e-3  # a [spring] part's fixed point ends where the part's new mass moves the preload by less
 
 METHOD = (
     "closed form: the equivalent single follower (mass m_cam + m_valve r^2, rate k r^2, preload F0 r) sized by the "
@@ -122,6 +129,10 @@ class ValveSpringSizing:
     checks: tuple[Check, ...]  # check's on the proposal as written
     rounds: tuple[tuple[float, float], ...]  # (preload N, least of float and bounce rpm) the search judged
     warnings: tuple[str, ...] = ()
+    part: SpringDesign | None = None  # with a [spring] part: the part check designs for the proposal
+    spring_model: str = "none"  # the spring whose mass is in the sizing's dynamics ([spring] model)
+    spring_mass_kg: float = 0.0  # its mass: the proposed part's (the case's own spring's before the first round)
+    part_rounds: tuple[tuple[float, float], ...] = ()  # (spring mass kg, preload N) of the fixed point on the part
 
     @property
     def verdict(self) -> str:
@@ -146,6 +157,7 @@ class ValveSpringSizing:
             "warnings": list(self.warnings),
             "buildable": False,
             "bound": False,
+            **({} if self.part is None else self._part_json()),
             "valvetrain": {
                 "ratio": self.ratio,
                 "lash_mm": self.lash_mm,
@@ -158,22 +170,32 @@ class ValveSpringSizing:
             },
         }
 
+    def _part_json(self) -> dict:
+        """With a ``[spring]`` part: the spring whose mass is in the sizing, the part, and the fixed point's rounds."""
+        assert self.part is not None  # the caller's
+        rounds = [{"spring_mass_kg": m, "preload_N": f0} for m, f0 in self.part_rounds]
+        return {
+            "spring_model": self.spring_model,
+            "spring_mass_kg": self.spring_mass_kg,
+            "part": self.part.json(),
+            "part_rounds": rounds,
+        }
+
 
 def _least_train_force(case: Case, omega: float) -> float:
     """The train's least force on the valve over its event at ``omega`` (rad/s), N (0 where the valve leaves the
     train: tossed off it as the lash closes, or running ahead of it); NaN where the valve never lifts."""
     assert case.valvetrain is not None  # the caller's
-    resp = dyn.valvetrain_response(case.motion, case.valvetrain, omega)
-    return float(np.min(resp.train_force[resp.in_event])) if resp.in_event.any() else math.nan
+    return dyn.ValvePoint(case.motion, case.valvetrain, omega).least_train_force
 
 
-def _judge(case: Case, rate: float, preload: float, valve_lift_mm: float) -> tuple[Case, ValveSpringDesign]:
+def _judge(case: Case, rate: float, preload: float, valve_lift_mm: float) -> ValveSpringDesign:
     """The case with this valve spring and what the two-mass model does with it: at the case speed, the float and
     bounce searches ``check`` runs, and whether the valve stays on the train at the top speed."""
     sized = with_valvetrain_keys(case, dynamics={"spring_rate": rate, "preload": preload})
     res: ValvetrainResult = analyze_valvetrain(sized, case.speed_rpm * RPM, case.limits.speed_margin)
     top = case.limits.speed_margin * case.speed_rpm * RPM
-    return sized, ValveSpringDesign(
+    return ValveSpringDesign(
         rate,
         preload,
         rate * valve_lift_mm + preload,
@@ -218,11 +240,10 @@ def size_valve_spring(
     """The valve spring of a ``[valvetrain]`` case (rate and preload at the valve) with the least preload for its
     rate whose float and bounce speeds are at least ``margin`` x ``max_speed_rpm`` (defaults: the case's speed and
     speed_margin); ``min_rate`` (N/mm at the valve) bounds the rate from below (default: the case's own rate; 0
-    lets the closed form choose, a constant-force spring where the rate only costs peak force). See the module's
-    docstring for the method."""
-    refuse_spring_part(case)
-    vt = case.valvetrain
-    assert vt is not None  # the caller's: a [valvetrain] case
+    lets the closed form choose, a constant-force spring where the rate only costs peak force). With a ``[spring]``
+    part, the part designed for the proposal and its mass on the valve (:func:`_size_with_part`). The proposal is
+    judged by ``check`` as written (the part designed afresh for it). See the module's docstring for the method."""
+    assert case.valvetrain is not None  # the caller's: a [valvetrain] case
     speed = float(case.speed_rpm if max_speed_rpm is None else max_speed_rpm)
     margin = float(case.limits.speed_margin if margin is None else margin)
     own_rate = float(case.spec.dynamics.spring_rate or 0.0)
@@ -236,6 +257,67 @@ def size_valve_spring(
         }
     )
     case = replace(case, spec=spec)
+    sizing = _size(case, min_rate) if case.spec.spring is None else _size_with_part(case, min_rate)
+    chosen = sizing.chosen
+    unresolved = replace(case, spring=None)  # check designs the [spring] part for the proposal, as for the file
+    as_written = with_valvetrain_keys(unresolved, dynamics={"spring_rate": chosen.rate, "preload": chosen.preload})
+    report = run_check(as_written)
+    failing = [
+        f"check {c.name} fails on the proposal as written ({c.value} > {c.limit:g} {c.unit}): the spring does not "
+        "set it"
+        for c in report.checks
+        if not c.ok and c.name != "speed_margin"
+    ]
+    current = sizing.current
+    if current.holds(sizing.top_speed_rpm) and current.peak_spring < chosen.peak_spring:
+        failing.insert(0, f"the case's own spring holds with a lower peak force ({current.peak_spring:.4g} N): keep it")
+    return replace(sizing, checks=report.checks, warnings=sizing.warnings + tuple(failing))
+
+
+def _size_with_part(case: Case, min_rate: float) -> ValveSpringSizing:
+    """:func:`_size` with a ``[spring]`` part: its mass (a third on the valve, or its surge chain) depends on the
+    rate and preload sized. A fixed point: sized with the case's own part's mass first, then with the mass of the
+    part designed for the last proposal (:func:`camdyn.design.spring.design_case_spring`, as ``check`` designs it),
+    until that part's mass is the one sized with, or its change moves the preload by less than
+    :data:`_PART_CLOSE`. The case's own spring is judged with its own part."""
+    own = resolve_spring(case)  # the case's own part: the first round's mass, and its spring's judge
+    assert own.spring is not None and case.spec.spring is not None  # resolved, of a case with a [spring] table
+    mass, model = own.spring.mass_kg, case.spec.spring.model
+    sizing = first = _size(own, min_rate)
+    rounds: list[tuple[float, float]] = []
+    warnings: list[str] = []
+    for _ in range(_PART_ROUNDS):
+        rate, preload = sizing.chosen.rate, sizing.chosen.preload
+        part = design_case_spring(case, rate=rate, preload=preload)
+        rounds.append((mass, preload))
+        moved = abs(preload - rounds[-2][1]) if len(rounds) > 1 else math.inf
+        if part.spring.mass == mass or moved <= _PART_CLOSE * preload:
+            break
+        mass = part.spring.mass
+        sizing = _size(with_spring_part(case, part), min_rate)
+    else:
+        warnings.append(
+            f"the spring part's mass did not settle in {_PART_ROUNDS} rounds (last: {1e3 * mass:.4g} g, preload "
+            f"{sizing.chosen.preload:g} N): check judges the proposal with its own part"
+        )
+    return replace(
+        sizing,
+        current=first.current,
+        warnings=sizing.warnings + tuple(warnings),
+        part=part,
+        spring_model=model,
+        spring_mass_kg=part.spring.mass,
+        part_rounds=tuple(rounds),
+    )
+
+
+def _size(case: Case, min_rate: float) -> ValveSpringSizing:
+    """The sizing's search on ``case`` (its speed and margin the sizing's; a ``[spring]`` part's mass, if any,
+    held as the case carries it), not yet judged by ``check`` (``checks`` empty)."""
+    vt = case.valvetrain
+    assert vt is not None  # the caller's: a [valvetrain] case
+    speed, margin = case.speed_rpm, case.limits.speed_margin
+    own_rate = float(case.spec.dynamics.spring_rate or 0.0)
     r, lash_mm = float(vt.ratio), float(vt.lash) / M_PER_MM
     top = margin * speed
     target, need = top * (1.0 + HEADROOM), top * (1.0 + 0.5 * HEADROOM)
@@ -248,22 +330,21 @@ def size_valve_spring(
     rate = written(max(p.kind.rate_from_si(k_eq) / r**2, min_rate))
     seat_load = case.limits.min_preload if case.limits.min_preload is not None else 0.0
     f0_closed = max(p_eq / r + rate * lash_mm, seat_load, 0.0)
-    closed_case, closed = _judge(case, rate, written(f0_closed, up=True), valve_lift_mm)
+    closed = _judge(case, rate, written(f0_closed, up=True), valve_lift_mm)
     w_eq = _equivalent_jump(case, rate, closed.preload)
 
     # the two-mass search on the preload: (least speed)^2 is near affine in it
-    judged: dict[float, tuple[Case, ValveSpringDesign]] = {}
+    judged: dict[float, ValveSpringDesign] = {closed.preload: closed}
 
     def judge(f0: float) -> ValveSpringDesign:
         if f0 not in judged:
             judged[f0] = _judge(case, rate, f0, valve_lift_mm)
-        return judged[f0][1]
+        return judged[f0]
 
-    judged[closed.preload] = (closed_case, closed)
-    current_case, current = _judge(case, own_rate, float(case.spec.dynamics.preload or 0.0), valve_lift_mm)
+    current = _judge(case, own_rate, float(case.spec.dynamics.preload or 0.0), valve_lift_mm)
     same_rate = rate == own_rate  # the case's own spring is then a point of the search: a secant seed
     if same_rate:
-        judged.setdefault(current.preload, (current_case, current))
+        judged.setdefault(current.preload, current)
     # the valve on the train at the top speed: below this preload it is tossed off as the lash closes
     floor = max(written(_least_preload_on_train(case, rate, closed.preload, valve_lift_mm), up=True), seat_load)
     lo: ValveSpringDesign | None = None  # the highest preload that fails
@@ -283,7 +364,7 @@ def size_valve_spring(
                 break
             f0 = written(f0 * 1.001, up=True)
         prev, d = d, judge(f0)
-    rounds = tuple((f0, dd.least_speed_rpm) for f0, (_, dd) in judged.items() if dd.rate == rate)
+    rounds = tuple((f0, dd.least_speed_rpm) for f0, dd in judged.items() if dd.rate == rate)
     warnings: list[str] = []
     if hi is None:
         hi = d
@@ -292,21 +373,12 @@ def size_valve_spring(
             f"on the train (last: "
             f"{d.preload:g} N, {d.least_speed_rpm:.5g} rpm): the proposal does not hold"
         )
-    sized, chosen = judged[hi.preload]
-    report = run_check(sized)
-    if current.holds(top) and current.peak_spring < chosen.peak_spring:
-        warnings.append(f"the case's own spring holds with a lower peak force ({current.peak_spring:.4g} N): keep it")
+    chosen = judged[hi.preload]
     if min_rate > 0.0 and min_rate == own_rate:
         warnings.append(
             f"the rate is the case's own ({own_rate:g} N/mm): pass --min-rate for another least rate (0: the closed "
             "form's choice)"
         )
-    warnings += [
-        f"check {c.name} fails on the proposal as written ({c.value} > {c.limit:g} {c.unit}): the spring does not "
-        "set it"
-        for c in report.checks
-        if not c.ok and c.name != "speed_margin"
-    ]
     return ValveSpringSizing(
         case.name,
         speed,
@@ -321,7 +393,7 @@ def size_valve_spring(
         w_eq,
         chosen,
         current,
-        report.checks,
+        (),
         rounds,
         tuple(warnings),
     )

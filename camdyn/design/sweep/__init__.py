@@ -15,7 +15,11 @@ multiple of the device count, so a progress bar can follow the chunks).
   integration is exact piecewise-linear stepping (:mod:`._exact_gap`: both contact modes are linear), a chunk
   of points stepped together and the few whose contact switches within a step gathered for the switch;
   diffrax on the vector field of :mod:`camdyn.model.dynamics` (``gap_method="diffrax"``, :mod:`._diffrax_gap`)
-  is the reference, tens of times slower; on the benchmark's map both agree to a median 3e-5 mm.
+  is the reference, tens of times slower; on the benchmark's map both agree to a median 3e-5 mm. Its program
+  depends on the follower kind and the shapes only, so a map compiles (or loads) it in another thread from the
+  start, beside the motion's evaluation and the steady state (most of a first map's time on a CPU). A CPU gathers
+  the switching points; an accelerator computes every point's switch (:func:`._exact_gap.gap_kernel`, chosen by
+  :func:`camdyn._core.sharding.accelerated`, the test that also sets the batch width).
 * Rigid follower: the least force is the kinematic one (closed form per angle, vectorized); where it is
   <= 0 the follower separates, and the largest gap comes from the event-driven flight model
   (:func:`camdyn.model.dynamics.rigid_response`), one separated point at a time (a Python loop, not batched).

@@ -149,46 +149,36 @@ def _switched(md: _Modes, h, ends, rows, x, p, x1, p1, contact, g0, g1):
     return _rest_of_step(md, h, tb, contact, row0, row1, xs, ps)
 
 
-def _gathers() -> bool:
-    """Whether the switching points are gathered (a CPU) or every point's switch is computed (an accelerator)."""
-    return jax.default_backend() == "cpu"
-
-
-def _events(md: _Modes, h, ends, rows, x, p, x1, p1, contact, g0, g1, todo):
+def _events(md: _Modes, h, ends, rows, x, p, x1, p1, contact, g0, g1, todo, gather: bool):
     """The state at the step's end, :func:`_switched` for the points ``todo`` whose contact changes within the step.
-    On a CPU they are gathered ``_EVENTS`` at a time: the switch costs about as much as a whole step of every point,
-    and a step has few switching points. An accelerator computes the switch of every point in parallel and keeps
-    the ``todo`` ones: its sequential gathers would cost more than the arithmetic (0.10 s against 0.77 s a map of
-    10^4 designs on an H200)."""
-    if not _gathers():
+    ``gather`` (a CPU): they are gathered ``_EVENTS`` at a time: the switch costs about as much as a whole step of
+    every point, and a step has few switching points. Else (an accelerator) the switch of every point is computed
+    in parallel and the ``todo`` ones kept: its sequential gathers would cost more than the arithmetic (0.10 s
+    against 0.77 s a map of 10^4 designs on an H200)."""
+    if not gather:
         x_ev, p_ev = _switched(md, h, ends, rows, x, p, x1, p1, contact, g0, g1)
         return jnp.where(todo, x_ev, x1), jnp.where(todo, p_ev, p1)
     n = x.shape[0]
     n_lanes = math.gcd(n, _EVENTS)
+    # every per-point input as the rows of one array, the state as another: one gather and one scatter a round
+    # (a gather or a scatter per array is a kernel each: more program to compile)
+    data = jnp.stack([*md, *rows, x, p, x1, p1, contact.astype(x.dtype), g0, g1])
 
     def body(state):
-        x_end, p_end, left = state
+        end, left = state
         # point i is in lane i % n_lanes: each lane gives its first point left (one reduction, no sort or cumsum)
         lanes = left.reshape(n // n_lanes, n_lanes)
         idx = jnp.where(lanes.any(axis=0), jnp.argmax(lanes, axis=0) * n_lanes + jnp.arange(n_lanes), n)
+        got = data.at[:, idx].get(mode="clip")  # the fill columns read a real point; their results are dropped
+        xk, pk, x1k, p1k, ck, g0k, g1k = got[9:]
+        ev = _switched(_Modes(*got[:5]), h, ends, tuple(got[5:9]), xk, pk, x1k, p1k, ck > 0.5, g0k, g1k)
+        return end.at[:, idx].set(jnp.stack(ev), mode="drop"), left.at[idx].set(False, mode="drop")
 
-        def take(a):
-            return a.at[idx].get(mode="clip")  # the fill rows read a real point; their results are dropped
-
-        mk = _Modes(*(take(f) for f in md))
-        args = (take(x), take(p), take(x1), take(p1), take(contact), take(g0), take(g1))
-        x_ev, p_ev = _switched(mk, h, ends, tuple(take(r) for r in rows), *args)
-        return (
-            x_end.at[idx].set(x_ev, mode="drop"),
-            p_end.at[idx].set(p_ev, mode="drop"),
-            left.at[idx].set(False, mode="drop"),
-        )
-
-    x_end, p_end, _ = jax.lax.while_loop(lambda state: jnp.any(state[2]), body, (x1, p1, todo))
-    return x_end, p_end
+    end, _ = jax.lax.while_loop(lambda state: jnp.any(state[1]), body, (jnp.stack([x1, p1]), todo))
+    return end[0], end[1]
 
 
-def exact_gap_kernel(const, omega, k):
+def _gap(const, omega, k, gather: bool):
     """Largest gap (weighted: mm) of the nonlinear compliant model over the last ``GAP_LAST`` of ``GAP_REVS``
     revolutions from the linear steady state at theta = 0; NaN where it is not finite. A batch kernel: ``omega``
     (rad/s) and ``k`` (SI; the damping follows from it) are arrays of grid points, stepped together.
@@ -215,7 +205,7 @@ def exact_gap_kernel(const, omega, k):
     ef = _expm2(md.a_k, md.b_c, h)
     last = (GAP_REVS - GAP_LAST) * m_steps
 
-    def step(carry, j, track: bool):
+    def step(carry, j):
         x, p, gap = carry
         i0, i1 = j % m_steps, (j + 1) % m_steps
         s0, s10, s20, w0 = s_tab[i0], s1_tab[i0], s2_tab[i0], w_tab[i0]
@@ -230,8 +220,9 @@ def exact_gap_kernel(const, omega, k):
         g1 = md.g(s1_, s11, x1, p1)
         event = (g1 > 0) != contact
         ends = ((s0, s10, s20), (s1_, s11, s21))
-        x_next, p_next = _events(md, h, ends, (xl0, pl0, xl1, pl1), x, p, x1, p1, contact, g0, g1, event)
-        if track:  # the gap at the step end and inside the step (Hermite of this step)
+        x_next, p_next = _events(md, h, ends, (xl0, pl0, xl1, pl1), x, p, x1, p1, contact, g0, g1, event, gather)
+
+        def tracked(gap):  # the gap at the step end and inside the step (Hermite of this step)
             inner = [
                 (_hermite(x, p, x1, p1, v, h) - _hermite(s0, s10, s1_, s11, v, h)) * (w0 + v * (w1 - w0))
                 for v in _INNER
@@ -240,12 +231,28 @@ def exact_gap_kernel(const, omega, k):
                 jnp.where(event, -jnp.inf, jnp.maximum(jnp.maximum(inner[0], inner[1]), inner[2])),
                 (x_next - s1_) * w1,
             )
-            gap = jnp.maximum(gap, cand)
-        return (x_next, p_next, gap), None
+            return jnp.maximum(gap, cand)
+
+        # the gap is taken from the step that ends where revolution GAP_REVS - GAP_LAST + 1 begins; one loop with
+        # the tracking in a branch, not a loop before and a loop after: half the program to trace and compile
+        return (x_next, p_next, jax.lax.cond(j >= last - 1, tracked, lambda g: g, gap)), None
 
     carry = (xl[0], pl[0], jnp.full(omega.shape, -jnp.inf))
-    # the gap is taken from the step that ends where revolution GAP_REVS - GAP_LAST + 1 begins
-    carry, _ = jax.lax.scan(lambda cr, j: step(cr, j, False), carry, jnp.arange(last - 1))
-    carry, _ = jax.lax.scan(lambda cr, j: step(cr, j, True), carry, jnp.arange(last - 1, GAP_REVS * m_steps))
+    carry, _ = jax.lax.scan(step, carry, jnp.arange(GAP_REVS * m_steps))
     gap = carry[2]
     return jnp.where(jnp.isfinite(gap), gap, jnp.nan)
+
+
+def exact_gap_kernel(const, omega, k):
+    """The largest gap of :func:`_gap` with the switching points gathered: a CPU's kernel."""
+    return _gap(const, omega, k, gather=True)
+
+
+def exact_gap_kernel_every(const, omega, k):
+    """The largest gap of :func:`_gap` with every point's switch computed: an accelerator's kernel."""
+    return _gap(const, omega, k, gather=False)
+
+
+def gap_kernel(accelerator: bool):
+    """The gap kernel for CPUs or for accelerators (:func:`camdyn._core.sharding.accelerated` of the devices)."""
+    return exact_gap_kernel_every if accelerator else exact_gap_kernel

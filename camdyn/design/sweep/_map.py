@@ -3,6 +3,7 @@ the separated ones, and the :class:`JumpMap` they make."""
 
 from __future__ import annotations
 
+import threading
 from dataclasses import dataclass
 
 import jax
@@ -11,7 +12,7 @@ import numpy as np
 
 from ..._core.errors import InputError, NumericalError
 from ..._core.progress import Progress, counter
-from ..._core.sharding import run_batched
+from ..._core.sharding import accelerated, prepare_batched, run_batched
 from ..._core.units import RPM, TWO_PI
 from ...model import dynamics as dyn
 from ...model.geometry import contact_per_force, newton_per_torque_at
@@ -19,8 +20,8 @@ from ...model.motion import evaluate
 from ..parts import resolve_spring, spring_mass_notes
 from ._contact import damping_kernel, kinematic_kernel, linear_kernel, with_spring_damping
 from ._diffrax_gap import diffrax_gap_const, diffrax_gap_kernel
-from ._exact_gap import exact_gap_kernel
-from ._grid import GAP_CHUNK, GAP_STRIDE, GRID_N, LINEAR_CHUNK, check_grid_size
+from ._exact_gap import gap_kernel
+from ._grid import GAP_CHUNK, GAP_STRIDE, GRID_N, LINEAR_CHUNK, XLA_OPTIONS, check_grid_size
 from ._result import STATUS_OK, JumpMap, failed
 from ._valvetrain import valvetrain_map
 
@@ -112,12 +113,12 @@ def _rigid_map(case, pts: _Points, angles, gaps: bool, progress, devices):
     return signed, separated, gap, why | why_gap
 
 
-def _compliant_map(case, pts: _Points, angles, gaps: bool, gap_method: str, progress, devices):
+def _compliant_map(case, pts: _Points, angles, gaps: bool, gap_method: str, progress, devices, head_start=None):
     base = case.model
     theta, vals, weight = angles
     const = (base, vals[0], vals[1], np.fft.rfft(vals[0]), weight)  # numpy: no transfer or FFT program to compile
     tick = counter(progress, "steady state (frequency domain)", pts.omega.size)
-    signed = run_batched(linear_kernel, const, [pts.omega, pts.k], LINEAR_CHUNK, tick, devices)
+    signed = run_batched(linear_kernel, const, [pts.omega, pts.k], LINEAR_CHUNK, tick, devices, options=XLA_OPTIONS)
     why = {int(i): "the frequency-domain steady state is not finite" for i in np.nonzero(~np.isfinite(signed))[0]}
     separated = signed <= 0.0
     gap = np.zeros(pts.omega.size)
@@ -131,7 +132,10 @@ def _compliant_map(case, pts: _Points, angles, gaps: bool, gap_method: str, prog
         tab = vals[:3, ::GAP_STRIDE] / base.scale  # the same angles: no second evaluation of the motion (its compile)
         w_tab = _gap_weight_mm(case, theta[::GAP_STRIDE])
         gconst = (base, *tab, w_tab, spec_unit)
-        g = run_batched(exact_gap_kernel, gconst, point, GAP_CHUNK, tick, devices, per_point=False)
+        kernel = gap_kernel(accelerated(devices))
+        if head_start is not None:
+            head_start.join()  # its program, not a second compile of it here
+        g = run_batched(kernel, gconst, point, GAP_CHUNK, tick, devices, per_point=False, options=XLA_OPTIONS)
     else:
         gconst = diffrax_gap_const(case, lambda t: _gap_weight_mm(case, t), spec_unit)
         g = run_batched(diffrax_gap_kernel, gconst, point, GAP_CHUNK, tick, devices)
@@ -139,6 +143,31 @@ def _compliant_map(case, pts: _Points, angles, gaps: bool, gap_method: str, prog
     how = "exact piecewise-linear stepping" if gap_method == "exact" else "diffrax"
     why |= {int(i): f"the gap integration of the nonlinear model ({how}) did not finish" for i in idx[~np.isfinite(g)]}
     return signed, separated, gap, why
+
+
+def _gap_const_like(base) -> tuple:
+    """Zeros shaped as the exact gap stepping's constants (``_compliant_map``'s ``gconst``): its program's key."""
+    steps = np.zeros(GRID_N // GAP_STRIDE)
+    return (base, steps, steps, steps, steps, np.zeros(GRID_N // 2 + 1, dtype=complex))
+
+
+def _prepare_gaps(base, devices) -> threading.Thread:
+    """A thread that compiles (or loads) the exact gap stepping's program while this one evaluates the motion and
+    the steady state (a compile of about a second on a CPU, most of a first map's time). Its key depends on the
+    follower kind and the shapes only, so it is known before anything is computed. A failure there is ignored: the
+    first call compiles it as ever."""
+
+    def prepare():
+        try:
+            kernel = gap_kernel(accelerated(devices))
+            point = [np.ones(1), np.ones(1)]
+            prepare_batched(kernel, _gap_const_like(base), point, GAP_CHUNK, devices, False, XLA_OPTIONS)
+        except Exception:  # noqa: BLE001, S110  (only a head start: the map compiles what it needs itself)
+            pass
+
+    thread = threading.Thread(target=prepare, name="camdyn-prepare-gaps", daemon=True)
+    thread.start()
+    return thread
 
 
 def _notes(gaps: bool, separated, gap, why: dict[int, str]) -> tuple[str, ...]:
@@ -188,14 +217,21 @@ def jump_map(
     case = resolve_spring(case)  # [spring] model: the spring's own mass (its lumped third) on the follower
     pts = _points(case, speeds_rpm, spring_rates, devices)
     base = case.model
-    theta = np.arange(GRID_N) * (TWO_PI / GRID_N)
-    vals = np.asarray(evaluate(case.motion, theta)) * base.scale
-    weight = contact_per_force(case.motion, case.follower, theta)
-    angles = (theta, vals, weight)
-    if base.rigid:
-        signed, separated, gap, why = _rigid_map(case, pts, angles, gaps, progress, devices)
-    else:
-        signed, separated, gap, why = _compliant_map(case, pts, angles, gaps, gap_method, progress, devices)
+    head_start = _prepare_gaps(base, devices) if gaps and gap_method == "exact" and not base.rigid else None
+    try:
+        theta = np.arange(GRID_N) * (TWO_PI / GRID_N)
+        vals = np.asarray(evaluate(case.motion, theta)) * base.scale
+        weight = contact_per_force(case.motion, case.follower, theta)
+        angles = (theta, vals, weight)
+        if base.rigid:
+            signed, separated, gap, why = _rigid_map(case, pts, angles, gaps, progress, devices)
+        else:
+            signed, separated, gap, why = _compliant_map(
+                case, pts, angles, gaps, gap_method, progress, devices, head_start
+            )
+    finally:
+        if head_start is not None:
+            head_start.join()
     if not gaps:
         gap[separated] = np.nan
     status = np.full(signed.shape, STATUS_OK, dtype=object)

@@ -1,6 +1,7 @@
-"""The jump map of a valvetrain: the two-mass model (:func:`camdyn.model.dynamics.valvetrain_response`, event
-driven on diffrax) at every (speed, valve spring rate) point, one point at a time; a modest grid, honest where
-the batched single-follower map would not be (it knows no lash, seat or float).
+"""The jump map of a valvetrain: the two-mass model at every (speed, valve spring rate) point, one point at a time
+(:class:`camdyn.model.dynamics.ValvePoint`: the exact linear solution where every contact stays closed, else
+:func:`camdyn.model.dynamics.valvetrain_response`, event driven on diffrax); a modest grid, honest where the
+batched single-follower map would not be (it knows no lash, seat or float).
 
 At each point: the least cam-contact force over the valve event (0 where the cam contact opens while the valve is
 off its seat: float), whether the valve floats and whether it bounces (leaves its seat after closing by more than
@@ -15,29 +16,17 @@ flight would compress the spring to solid is stopped there (its gap counted to s
 
 from __future__ import annotations
 
-import jax.numpy as jnp
 import numpy as np
 
 from ..._core.errors import InputError, NumericalError
 from ..._core.progress import Progress, counter
-from ..._core.units import M_PER_MM, RPM
+from ..._core.units import RPM
 from ...model import dynamics as dyn
 from ...model.case import Case, with_valvetrain_keys
-from ...model.valvetrain import ValvetrainModel
 from ..parts import resolve_spring
 from ..valvetrain import spring_notes
 from ._grid import check_grid_size
 from ._result import STATUS_OK, JumpMap, ValveMap, failed
-
-
-def _gap_at_valve_mm(
-    resp: dyn.ValvetrainResponse, vt: ValvetrainModel, lash_mm: float, solid_mm: float = np.inf
-) -> float:
-    """The valve's largest lift above where the cam would hold it (mm, at the valve; through the rocker's lever
-    where it has one): float and bounce both; the valve's lift bounded by ``solid_mm``, its coil bind."""
-    at_valve = np.asarray(vt.lever(jnp.asarray(resp.cam_lift * M_PER_MM))[0]) / M_PER_MM
-    held = np.maximum(at_valve - lash_mm, 0.0)
-    return max(0.0, float(np.max(np.minimum(resp.valve_lift, solid_mm) - held)))
 
 
 def valvetrain_map(case: Case, speeds_rpm, spring_rates=None, *, progress: Progress | None = None) -> JumpMap:
@@ -58,25 +47,23 @@ def valvetrain_map(case: Case, speeds_rpm, spring_rates=None, *, progress: Progr
     solid_mm = case.spring.travel_to_solid_mm if case.spring is not None else None
     floated, bounced = np.zeros(shape, bool), np.zeros(shape, bool)
     status = np.full(shape, STATUS_OK, dtype=object)
-    lash_mm = float(case.spec.valvetrain.lash if case.spec.valvetrain else 0.0)
     tick = counter(progress, "two-mass valvetrain model (one point at a time)", speeds.size * rates.size)
     for j, rate in enumerate(rates):
         model = with_valvetrain_keys(case, dynamics={"spring_rate": float(rate)}).valvetrain
         assert model is not None  # with_valvetrain_keys rebuilds it
         for i, rpm in enumerate(speeds):
             try:
-                resp = dyn.valvetrain_response(case.motion, model, float(rpm) * RPM)
+                point = dyn.ValvePoint(case.motion, model, float(rpm) * RPM)
+                floated[i, j], bounced[i, j] = point.floated, point.bounced
+                least[i, j] = point.least_event_force
+                gap[i, j] = point.max_gap_mm(np.inf if solid_mm is None else solid_mm)
+                if solid_mm is not None:
+                    clearance[i, j] = solid_mm - point.max_valve_lift_mm
+                seat_v[i, j], bounce_h[i, j] = point.seating_velocity, point.bounce_height_mm
             except NumericalError as err:
                 status[i, j] = failed(str(err))
             except Exception as err:  # noqa: BLE001  (a bug at one point: flagged in its row, the map goes on)
                 status[i, j] = failed(f"internal error in the two-mass model: {type(err).__name__}: {err}")
-            else:
-                floated[i, j], bounced[i, j] = resp.floated, resp.bounced
-                least[i, j] = resp.least_event_force
-                gap[i, j] = _gap_at_valve_mm(resp, model, lash_mm, np.inf if solid_mm is None else solid_mm)
-                if solid_mm is not None:
-                    clearance[i, j] = solid_mm - resp.max_valve_lift_mm
-                seat_v[i, j], bounce_h[i, j] = resp.seating_velocity, resp.bounce_height_mm
             tick(1)
     bad = status != STATUS_OK
     notes = list(spring_notes(case, "at every rate"))

@@ -5,7 +5,8 @@ Keys: the valve spring (``spring_rate``, ``preload``, at the valve), the cam con
 (the train between the two masses). The ground cam is the nominal one (its ramps included): a lash off nominal
 is what the assembly sets, and the ramps take it up where they reach it.
 
-Per sample (:func:`camdyn.model.dynamics.valvetrain_response`, event driven on diffrax, one sample at a time):
+Per sample (:class:`camdyn.model.dynamics.ValvePoint`: the exact linear solution where every contact stays closed,
+else :func:`camdyn.model.dynamics.valvetrain_response`, event driven on diffrax; one sample at a time):
 at the sample's speed whether the valve floats and bounces, its seating velocity, bounce height and the least
 cam-contact force over the valve event; and its float and bounce speeds, searched locally about the nominal
 design's (which ``check``'s global searches give): from the nominal speed in steps of 10 % until the valve floats
@@ -245,11 +246,11 @@ def valvetrain_tolerance_study(
         sample = _sample_case(case, vals, i)
         vt = sample.valvetrain
         assert vt is not None  # with_valvetrain_keys rebuilds it
-        memo: dict[float, dyn.ValvetrainResponse] = {}
+        memo: dict[float, dyn.ValvePoint] = {}
 
-        def at(w: float, vt: ValvetrainModel = vt, memo: dict = memo) -> dyn.ValvetrainResponse:
+        def at(w: float, vt: ValvetrainModel = vt, memo: dict = memo) -> dyn.ValvePoint:
             if w not in memo:
-                memo[w] = dyn.valvetrain_response(case.motion, vt, w)
+                memo[w] = dyn.ValvePoint(case.motion, vt, w)
             return memo[w]
 
         here = at(float(vals["speed"][i]) * RPM)

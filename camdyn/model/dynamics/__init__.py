@@ -33,7 +33,8 @@ from ._response import dynamic_jump_speed, first_zero_speed, jump_search_limit, 
 from ._result import Flight, Impact, Response, Separation
 from ._rigid import rigid_response
 from ._train import contact_force, preload_share, static_position, train_force
-from ._valvetrain import ValveEvent, ValvetrainResponse, bounce_speed, float_speed, valvetrain_response
+from ._valvefast import ValvePoint, ValveSummary, bounce_speed, fast_valve_summary, float_speed
+from ._valvetrain import ValveEvent, ValvetrainResponse, valvetrain_response
 
 __all__ = [
     "ClosureResponse",
@@ -70,6 +71,9 @@ __all__ = [
     "train_force",
     "ValveEvent",
     "ValvetrainResponse",
+    "ValvePoint",
+    "ValveSummary",
+    "fast_valve_summary",
     "bounce_speed",
     "float_speed",
     "valvetrain_response",

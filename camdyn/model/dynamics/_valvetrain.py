@@ -30,7 +30,6 @@ the follower is back on the cam before the revolution ends, that revolution is t
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -46,17 +45,14 @@ from ..._core.jit import cached_jit
 from ..._core.units import M_PER_MM, RPM, THETA_GRID, TWO_PI, VALVE_BOUNCE_TOLERANCE_MM, VALVE_TIMING_LIFT_MM
 from ..motion import Motion
 from ..valvetrain import ValvetrainModel
-from ._response import first_zero_speed
 from ._train import contact_force
 
 _RTOL, _ATOL = 1e-10, 1e-14  # the state is in m and m/rad: lifts of 1e-2 m
-_GAP_EPS = 1e-12  # m: a landing is detected this far below contact
+GAP_EPS = 1e-12  # m: a landing is detected this far below contact
 _MAX_STEPS = 1_000_000
 _MAX_EVENTS = 2000  # per revolution: bounces beyond it leave the valve or the follower not settled
 _REVS = 3  # revolutions at most to reach the periodic steady state
-_NO_EVENT = (
-    1e300  # N: the float search's least force at a speed where the valve does not lift (the search wants finite)
-)
+NO_EVENT = 1e300  # N: the float search's least force at a speed where the valve does not lift (it wants finite)
 CAM, TRAIN, SEAT = 0, 1, 2  # the contacts, in the mode vector and the event list
 
 
@@ -138,12 +134,12 @@ def _conditions(theta, y, args):
     """Each contact's event function, positive while its mode holds: a locked contact's force, a free one's gap."""
     _, vt, _, modes, force_tol = args
     _, _, f_cam, f_t, f_seat, (xc, pc, xv, pv, s, s1) = _dynamics(theta, y, args)
-    cam = jnp.where(modes[CAM], f_cam + force_tol, jnp.where(jnp.isinf(vt.cam.train_stiffness), xc - s + _GAP_EPS, 1.0))
+    cam = jnp.where(modes[CAM], f_cam + force_tol, jnp.where(jnp.isinf(vt.cam.train_stiffness), xc - s + GAP_EPS, 1.0))
     lash_gap = vt.lash + xv - vt.lever(xc)[0]
     train = jnp.where(
-        jnp.isinf(vt.train.train_stiffness), jnp.where(modes[TRAIN], f_t + force_tol, lash_gap + _GAP_EPS), 1.0
+        jnp.isinf(vt.train.train_stiffness), jnp.where(modes[TRAIN], f_t + force_tol, lash_gap + GAP_EPS), 1.0
     )
-    seat = jnp.where(modes[SEAT], f_seat + force_tol, xv + _GAP_EPS)
+    seat = jnp.where(modes[SEAT], f_seat + force_tol, xv + GAP_EPS)
     return cam, train, seat
 
 
@@ -271,6 +267,19 @@ class ValvetrainResponse:
         return landings[0].deg if landings else math.nan
 
     @property
+    def least_train_force(self) -> float:
+        """The train's least force on the valve over the valve event, N (0 where the valve leaves the train); NaN for
+        a valve that never lifts."""
+        return float(np.min(self.train_force[self.in_event])) if self.in_event.any() else math.nan
+
+    def max_gap_mm(self, vt: ValvetrainModel, solid_mm: float = math.inf) -> float:
+        """The valve's largest lift above where the cam would hold it (mm, at the valve; through the rocker's lever
+        where it has one), float and bounce both; the valve's lift bounded by ``solid_mm``, its coil bind."""
+        at_valve = np.asarray(vt.lever(jnp.asarray(self.cam_lift * M_PER_MM))[0]) / M_PER_MM
+        held = np.maximum(at_valve - float(vt.lash) / M_PER_MM, 0.0)
+        return max(0.0, float(np.max(np.minimum(self.valve_lift, solid_mm) - held)))
+
+    @property
     def bounced(self) -> bool:
         """Whether the valve leaves its seat after closing by more than the seat's micro-bounce tolerance."""
         return self.bounce_height_mm > VALVE_BOUNCE_TOLERANCE_MM
@@ -296,7 +305,14 @@ class ValvetrainResponse:
         return float(cross(up - 1)), float(cross(down))
 
 
-def _start_angle(s: np.ndarray) -> int:
+def landing_floor(vt: ValvetrainModel, omega: float) -> float:
+    """The valve's rebound speed (m/rad) at or below which the seat holds it: its bounces below are the landing
+    tolerance's own (the Zeno tail)."""
+    a_seat = float(vt.preload) / float(vt.valve_mass) / omega**2
+    return 10.0 * math.sqrt(2.0 * a_seat * GAP_EPS)
+
+
+def start_angle(s: np.ndarray) -> int:
     """The grid index in the middle of the longest stretch of base circle (the least lift, periodic): where the
     follower rests furthest from the event on either side (a start closer to the rise would begin with the
     compliant contact's vibration that the rise's first acceleration sets off, not at rest)."""
@@ -328,7 +344,7 @@ def valvetrain_response(motion: Motion, vt: ValvetrainModel, omega: float, n: in
     theta = np.arange(n) * (TWO_PI / n)
     vals = motion.host(theta)
     s_si = vals[0] * M_PER_MM
-    i0 = _start_angle(vals[0])
+    i0 = start_angle(vals[0])
     t_start = float(theta[i0])
     w = jnp.asarray(float(omega))
     r = float(vt.ratio)
@@ -344,9 +360,7 @@ def valvetrain_response(motion: Motion, vt: ValvetrainModel, omega: float, n: in
     modes = np.array([rigid_cam, False, True])
     out = np.zeros((6, n))
     seated = np.ones(n, bool)
-    # the valve's rebound speed below which its bounces are the landing tolerance's own (the Zeno tail)
-    a_seat = float(vt.preload) / float(vt.valve_mass) / float(omega) ** 2
-    v_floor = 10.0 * math.sqrt(2.0 * a_seat * _GAP_EPS)
+    v_floor = landing_floor(vt, float(omega))
     e_seat, e_cam = float(vt.seat_restitution), float(vt.cam_restitution)
     # the valve's event ends where it lands after rising past half its static lift at the nose (the train and the
     # spring in balance): a landing before (the valve kicked off its seat as the lash closes) belongs to the opening
@@ -520,42 +534,3 @@ def _apex(run, t0: float, t1: float, n: int) -> float:
         if den < 0.0:
             return float(b - 0.125 * (a - c) ** 2 / den)
     return float(xv[j])
-
-
-def float_speed(
-    motion: Motion,
-    vt: ValvetrainModel,
-    w_max: float,
-    *,
-    grid: int = 40,
-    width_rpm: float = 1.0,
-    respond: Callable[[float], ValvetrainResponse] | None = None,
-) -> float:
-    """The first cam speed (rad/s) at which the cam contact opens while the valve is off its seat (inf: none up
-    to ``w_max``): the shared jump search on the least cam-contact force over the valve event. ``respond``: the
-    response at a speed, where a caller shares them between searches (default :func:`valvetrain_response`)."""
-    respond = respond or (lambda w: valvetrain_response(motion, vt, w))
-
-    def least(ws: np.ndarray) -> np.ndarray:  # a speed at which the valve does not lift has no event to float in
-        return np.nan_to_num([respond(float(w)).least_event_force for w in np.atleast_1d(ws)], nan=_NO_EVENT)
-
-    return first_zero_speed(least, w_max, grid=grid, width_rpm=width_rpm, points=1, where="valvetrain float search")
-
-
-def bounce_speed(
-    motion: Motion,
-    vt: ValvetrainModel,
-    w_max: float,
-    *,
-    grid: int = 40,
-    width_rpm: float = 1.0,
-    respond: Callable[[float], ValvetrainResponse] | None = None,
-) -> float:
-    """The first cam speed (rad/s) at which the valve leaves its seat after closing by more than the seat's
-    micro-bounce tolerance :data:`VALVE_BOUNCE_TOLERANCE_MM` (inf: none up to ``w_max``)."""
-    respond = respond or (lambda w: valvetrain_response(motion, vt, w))
-
-    def margin(ws: np.ndarray) -> np.ndarray:
-        return np.array([VALVE_BOUNCE_TOLERANCE_MM - respond(float(w)).bounce_height_mm for w in np.atleast_1d(ws)])
-
-    return first_zero_speed(margin, w_max, grid=grid, width_rpm=width_rpm, points=1, where="valvetrain bounce search")

@@ -61,20 +61,38 @@ class MotionFit:
     tolerance: float | None = None
     repeats: int = 0  # rows dropped from the file for exactly repeating the one before them
     follower_per_data: float = 1.0  # the data times this is the follower's lift (1 / ratio for a valve's table)
+    # a valve's table through a rocker: the spline is fitted to the data carried to the follower (``follower_data``,
+    # through the inverse of the rocker's lift), and ``data_fitted`` is that fit carried back to the valve
+    follower_data: np.ndarray | None = None
+    data_fitted: np.ndarray | None = None
 
     @property
     def fitted(self) -> np.ndarray:
-        return self.spline.fitted
+        """The fit at the data's angles, the data's unit."""
+        return self.spline.fitted if self.data_fitted is None else self.data_fitted
 
     @property
     def residual(self) -> np.ndarray:
         """data - fit, the data's unit."""
-        return self.spline.residual
+        return self.data - self.fitted
+
+    @property
+    def max_residual(self) -> float:
+        return float(np.max(np.abs(self.residual)))
+
+    @property
+    def data_at_follower(self) -> np.ndarray:
+        """The data as the follower's lift (a valve's table: its ramps added, through the rocker)."""
+        return self.data * self.follower_per_data if self.follower_data is None else self.follower_data
 
     def json(self) -> dict:
         sp = self.spline
-        out = sp.summary()
-        i = out.pop("worst")
+        out = sp.summary(
+            "" if self.follower_data is None else " to the follower's lift (the table's through the rocker)"
+        )
+        out |= {"max_residual": self.max_residual, "rms_residual": float(np.sqrt(np.mean(self.residual**2)))}
+        i = int(np.argmax(np.abs(self.residual)))
+        del out["worst"]
         return out | {
             "points": int(len(self.data)),
             "unit": self.unit,

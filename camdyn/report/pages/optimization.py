@@ -23,8 +23,9 @@ def draw_optimization(fig: Figure, data: ReportData) -> None:
     plot_speed_before_after(fig.add_subplot(gs[5]), review)
     assert isinstance(review.original, Original)  # the page is drawn for a loaded original only (pages.PAGES)
     b, a = review.original.check, review.check
+    speed = "dynamic jump speed" if data.case.valvetrain is None else "valve float speed (two masses)"
     note = (
-        f"Reshaped from {data.case.spec.optimized_from} by camdyn optimize: dynamic jump speed "
+        f"Reshaped from {data.case.spec.optimized_from} by camdyn optimize: {speed} "
         f"{b.dynamic.jump_speed_rpm:.1f} -> {a.dynamic.jump_speed_rpm:.1f} rpm, least force at {a.speed_rpm:g} "
         f"rpm {b.dynamic.min_contact_force_N:.3g} -> {a.dynamic.min_contact_force_N:.3g} N, verdict {b.verdict} "
         f"-> {a.verdict}. The segment boundaries, lifts and dwells are the original's."

@@ -1,0 +1,571 @@
+"""The valvetrain's fast path: the valve event solved exactly where every contact stays closed.
+
+From the valve's lift off its seat to its seating, with the cam contact rigid and closed (x_c = s), the lash
+closed and the train in compression, the valve's equation (SI, in the cam angle, ' = d/dtheta, omega the cam
+speed) is linear with constant coefficients for a constant ratio r::
+
+    m_v w^2 x'' + (c_t + c) w x' + (k_t + k) x = u(theta) - k_t lash - F0,   u = k_t r s + c_t w r s'
+
+(the train's force ``k_t d + c_t w d'`` on its deflection ``d = r s - lash - x``, the valve spring
+``k x + F0 + c w x'``). Its exact solution over a step of a fixed angle grid (:data:`REFINE` steps per angle of
+the output grid) is a matrix exponential of the system augmented with the input's Taylor chain, the input held as
+the cubic through its values and slopes at both ends (``u'`` is known exactly from s' and s''), so the only
+approximation is that cubic, of order h^4. The steps are chained as a linear recurrence in the system's modes
+(a cumulative sum in blocks), contact changes located inside a step by the same exact propagator on finer angles.
+
+What comes out equals :func:`~camdyn.model.dynamics.valvetrain_response`'s: the valve lifts where the train's
+force on the seated valve reaches the preload (algebraic on a rigid cam), the least cam-contact and train forces
+over the event on the output grid, the seating (x_v = 0 closing) and its speed, the rebounds off the seat (at
+``seat_restitution`` x the landing speed) each a flight on the train or, where the train's force or deflection
+falls to zero, off it on the spring alone (a second linear system), to the speed below which the seat holds the
+valve, their highest apex (the bounce height) and the gap at the valve, and the rest of the revolution with the
+valve seated. The answer is ``None`` (the caller falls back on the diffrax model for that point) wherever the
+linear model stops holding before the revolution ends: the train unloads before the seating, the cam contact's
+force comes within the sampling's bound of zero without a sure crossing, the valve lifts again after the
+seating, the follower leaves the cam on the ramps or the base circle, or the model is not this one (a compliant
+cam contact, a rigid train, a rocker's varying ratio, the spring's surge chain). Where the cam contact's force
+crosses zero on the exact solution before anything else opens, the valve floats there for sure: :data:`FLOATED`,
+with what happens next left to the diffrax model.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..._core.units import M_PER_MM, THETA_GRID, TWO_PI, VALVE_BOUNCE_TOLERANCE_MM
+from ..motion import Motion
+from ..valvetrain import ValvetrainModel
+from ._response import first_zero_speed
+from ._valvetrain import GAP_EPS, NO_EVENT, ValvetrainResponse, landing_floor, start_angle, valvetrain_response
+
+REFINE = 2  # fine steps per output angle (0.05 deg): the cubic hold's error is of order h^4
+_SPLIT = 64  # a contact change inside a step: the step cut in 64, twice over
+_MAX_REBOUNDS = 200
+_MARCH = 64  # a stretch's first chunk of fine steps (then four times what it has, to the revolution's end)
+_SCAN_CHUNK = 8  # the speed searches' scan, 8 speeds at a time from the slowest: none above the first crossing's
+# chunk is marched (the same answer; the speeds where the valve floats are the diffrax model's, the slow ones)
+_ORDER = 4  # the input's Taylor chain: value, slope, curvature, third derivative (a cubic)
+
+
+@dataclass(frozen=True)
+class ValveSummary:
+    """What the valvetrain's studies read of its revolution at cam speed ``omega`` (rad/s): forces in N, the seating
+    velocity in m/s, lifts in mm (the names and meanings of :class:`~camdyn.model.dynamics.ValvetrainResponse`'s).
+    ``least_event_force`` is NaN where the valve never lifts."""
+
+    omega: float
+    least_event_force: float
+    least_event_force_deg: float
+    least_train_force: float
+    seating_velocity: float
+    seating_deg: float
+    bounce_height_mm: float
+    max_valve_lift_mm: float
+    floated: bool = False
+    max_gap_mm: float = 0.0  # the valve above where the cam would hold it (off the train on a rebound), mm
+    bounce_lift_mm: float = 0.0  # the valve's highest lift on the output grid after its seating, mm
+
+
+class _Floated:
+    """The exact solution's cam-contact force falls below zero before anything else opens: the valve floats."""
+
+    def __repr__(self) -> str:
+        return "FLOATED"
+
+
+FLOATED = _Floated()
+
+Index = int | float | np.ndarray  # fine steps, or angles into them (rad): one, or one per state
+Guard = Callable[[np.ndarray, Index, Index], np.ndarray]  # states, their steps and angles -> > 0 while a mode holds
+
+_fine_cache: dict[int, tuple[Motion, int, np.ndarray]] = {}
+
+
+def _fine(motion: Motion, n: int) -> np.ndarray:
+    """s, s', s'' (m, m/rad, m/rad^2) on ``n * REFINE`` equal steps of one revolution: the motion evaluated once
+    per motion and grid (a speed search asks the same motion many times)."""
+    hit = _fine_cache.get(id(motion))
+    if hit is not None and hit[0] is motion and hit[1] == n:
+        return hit[2]
+    theta = np.arange(n * REFINE) * (TWO_PI / (n * REFINE))
+    vals = np.asarray(motion.host(theta))[:3] * M_PER_MM
+    if len(_fine_cache) > 16:
+        _fine_cache.clear()
+    _fine_cache[id(motion)] = (motion, n, vals)
+    return vals
+
+
+def _expm(z: np.ndarray) -> np.ndarray:
+    """``exp`` of a stack of small matrices (..., m, m), batched: scaled to a norm below 1/4, a Taylor series to
+    the 12th power (a remainder below 3e-18), squared back. scipy's ``expm`` goes matrix by matrix (its Pade
+    step costs milliseconds for each of the thousands a speed asks for)."""
+    norm = np.max(np.sum(np.abs(z), axis=-1), axis=-1)
+    squarings = np.maximum(0, np.ceil(np.log2(np.maximum(norm, 1e-300)) + 2)).astype(int)
+    top = int(squarings.max()) if squarings.size else 0
+    a = z / (2.0**squarings)[..., None, None]
+    out = np.broadcast_to(np.eye(z.shape[-1]), z.shape).copy()
+    term = out.copy()
+    for i in range(1, 13):
+        term = term @ a / i
+        out = out + term
+    for i in range(top):
+        more = squarings > i
+        out[more] = out[more] @ out[more]
+    return out
+
+
+def _hermite(u: np.ndarray, du: np.ndarray, h: float) -> np.ndarray:
+    """The cubic through each step's end values and slopes, as its Taylor coefficients at the step's start
+    (value, first, second, third derivative): (steps, 4)."""
+    u0, u1, d0, d1 = u[:-1], u[1:], du[:-1], du[1:]
+    c2 = (3.0 * (u1 - u0) / h - 2.0 * d0 - d1) / h
+    c3 = (d0 + d1 - 2.0 * (u1 - u0) / h) / h**2
+    return np.stack([u0, d0, 2.0 * c2, 6.0 * c3], axis=1)
+
+
+def _shift(taylor: np.ndarray, tau: float) -> np.ndarray:
+    """A cubic's Taylor coefficients moved ``tau`` along its step."""
+    a0, a1, a2, a3 = taylor
+    return np.array(
+        [a0 + a1 * tau + a2 * tau**2 / 2 + a3 * tau**3 / 6, a1 + a2 * tau + a3 * tau**2 / 2, a2 + a3 * tau, a3]
+    )
+
+
+def _recur(lam: complex, g: np.ndarray, z0: complex) -> np.ndarray:
+    """``z[k + 1] = lam z[k] + g[k]`` from ``z[0] = z0``: (len(g) + 1,). In blocks short enough that ``lam``'s powers
+    within one stay within 1e3 of each other (a decaying mode), each block a cumulative sum:
+    ``z[k + i] = lam^i (z[k] + sum_{j < i} g[k + j] lam^-(j + 1))``."""
+    count = len(g)
+    out = np.empty(count + 1, complex)
+    out[0] = z0
+    size = abs(lam)
+    if size < 1e-12:  # a mode gone within a step
+        out[1:] = g
+        return out
+    block = count if size >= 1.0 else max(1, min(count, int(math.log(1e3) / -math.log(size))))
+    k = 0
+    while k < count:
+        m = min(block, count - k)
+        powers = lam ** np.arange(1, m + 1)
+        out[k + 1 : k + m + 1] = powers * (out[k] + np.cumsum(g[k : k + m] / powers))
+        k += m
+    return out
+
+
+class _Linear:
+    """The valve's linear system ``y' = A y + e (w0 + b)`` (y = (x, x'), w0 the cubic input) and its exact
+    propagators: ``expm`` of the system augmented with the input's Taylor chain and the constant."""
+
+    def __init__(self, a: np.ndarray, b: float, taylor: np.ndarray, h: float) -> None:
+        n = a.shape[0]
+        z = np.zeros((n + _ORDER + 1, n + _ORDER + 1))
+        z[:n, :n] = a
+        z[n - 1, n] = 1.0  # the input drives the last state's derivative
+        z[n - 1, n + _ORDER] = b
+        for i in range(_ORDER - 1):
+            z[n + i, n + i + 1] = 1.0
+        self.z, self.n, self.taylor, self.h = z, n, taylor, h
+        self._step: tuple | None = None  # the full step's propagator and its modes, once
+        self._steps: dict[bytes, np.ndarray] = {}  # propagators by their angles
+
+    def steps(self, deltas: np.ndarray) -> np.ndarray:
+        """The augmented propagators over angles ``deltas`` (rad): (len, n, n + 5)."""
+        deltas = np.asarray(deltas, dtype=float)
+        key = deltas.tobytes()
+        if key not in self._steps:  # a step's cuts from its start recur: kept
+            if len(self._steps) > 64:
+                self._steps.clear()
+            self._steps[key] = _expm(self.z[None] * deltas[:, None, None])[:, : self.n, :]
+        return self._steps[key]
+
+    def advance(self, step: int, tau: float, y: np.ndarray, deltas: np.ndarray) -> np.ndarray:
+        """The states at ``deltas`` past angle ``tau`` into fine step ``step`` from ``y`` there: (len, n)."""
+        e = self.steps(deltas)
+        src = np.concatenate([y, _shift(self.taylor[step], tau), [1.0]])
+        return e @ src
+
+    def march(self, step: int, y: np.ndarray, count: int | None = None) -> np.ndarray:
+        """The states at the nodes from ``step`` (where the state is ``y``) to the last, or the next ``count`` steps
+        of them: (steps + 1, n)."""
+        if self._step is None:
+            e = self.steps(np.array([self.h]))[0]
+            phi = e[:, : self.n]
+            lam, vec = np.linalg.eig(phi)
+            self._step = (phi, e[:, self.n :], lam, vec, np.linalg.cond(vec) > 1e8)
+        phi, gam, lam, vec, repeated = self._step
+        taylor = self.taylor[step:] if count is None else self.taylor[step : step + count]
+        if not taylor.shape[0]:
+            return y[None]
+        forcing = np.concatenate([taylor, np.ones((taylor.shape[0], 1))], axis=1) @ gam.T  # (steps, n)
+        if repeated:  # (nearly) repeated modes: step by step
+            out = [y]
+            for g in forcing:
+                out.append(phi @ out[-1] + g)
+            return np.array(out)
+        modal = np.linalg.solve(vec, forcing.T.astype(complex))  # (n, steps)
+        z0 = np.linalg.solve(vec, y.astype(complex))
+        z = np.empty((self.n, taylor.shape[0] + 1), complex)
+        z[:, 0] = z0
+        for i in range(self.n):
+            z[i] = _recur(lam[i], modal[i], z0[i])
+        return np.real(vec @ z).T
+
+
+class _Unsure(Exception):
+    """The fast path cannot say: the caller runs the diffrax model."""
+
+
+def _cross(
+    lin: _Linear, step: int, tau: float, y: np.ndarray, span: float, guard: Guard, fresh: bool
+) -> tuple[float, np.ndarray] | None:
+    """The first angle past ``tau`` in fine step ``step`` (from state ``y``), within ``span`` (rad), where
+    ``guard(states, steps, taus)`` falls below zero: (delta, state) or None. The span cut in :data:`_SPLIT` finds
+    the first sign change (``fresh``: the guard starts at zero, a rebound off the seat: the cuts spaced
+    geometrically), that cut in :data:`_SPLIT` again, the guard interpolated linearly across the last (a width of
+    1/4096 of a fine step: an error of its square), and the state there from the exact propagator."""
+    lo, width, g_lo, g_hi = 0.0, span, 0.0, 0.0
+    for r in range(2):
+        if r == 0 and fresh:
+            ds = span * np.geomspace(1e-7, 1.0, _SPLIT)
+        else:
+            ds = lo + np.linspace(0.0, width, _SPLIT + 1)
+        ys = lin.advance(step, tau, y, ds)
+        g = guard(ys, step, tau + ds)
+        below = np.nonzero(g < 0.0)[0]
+        if r == 0 and not fresh:
+            below = below[below > 0]
+        if not below.size:
+            return None
+        j = int(below[0])
+        if j == 0:  # fresh: below at the first cut already
+            lo, g_lo, width = 0.0, 0.0, ds[0]
+        else:
+            lo, g_lo, width = ds[j - 1], float(g[j - 1]), ds[j] - ds[j - 1]
+        g_hi = float(g[j])
+    f = min(max(g_lo / (g_lo - g_hi), 0.0), 1.0) if g_lo != g_hi else 1.0
+    root = lo + f * width
+    return root, lin.advance(step, tau, y, np.array([root]))[0]
+
+
+def _stretch(
+    lin: _Linear, step: int, tau: float, y: np.ndarray, guard: Guard, fresh: bool = False
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, tuple | None]:
+    """From angle ``tau`` into fine step ``step`` with state ``y`` on ``lin`` to where ``guard`` first falls below
+    zero: the states passed (at their fine steps and angles into them) and the event (step, tau, state), None where
+    the revolution ends first."""
+    h = lin.h
+    got = _cross(lin, step, tau, y, h - tau, guard, fresh)
+    if got is not None:
+        ds = np.linspace(0.0, got[0], 9)[1:]
+        return lin.advance(step, tau, y, ds), np.full(ds.size, step), tau + ds, (step, tau + got[0], got[1])
+    nodes = lin.march(step + 1, lin.advance(step, tau, y, np.array([h - tau]))[0], _MARCH)
+    last = len(lin.taylor)  # the last node: the revolution's end
+    while True:  # a chunk at a time: most stretches end within a few steps
+        idx = step + 1 + np.arange(len(nodes))
+        below = np.nonzero(guard(nodes, idx, np.zeros(len(nodes))) < 0.0)[0]
+        if below.size or idx[-1] >= last:
+            break
+        nodes = np.concatenate([nodes, lin.march(int(idx[-1]), nodes[-1], 4 * len(nodes))[1:]])
+    if not below.size:
+        return nodes, idx, np.zeros(len(nodes)), None
+    q = int(below[0])
+    got = _cross(lin, step + q, 0.0, nodes[q - 1], h, guard, False) if q > 0 else None
+    if got is None:
+        raise _Unsure("a contact change the bracketing lost")
+    return nodes[:q], idx[:q], np.zeros(q), (step + q, got[0], got[1])
+
+
+def _lower_bound(f: np.ndarray) -> float:
+    """A bound below a force sampled on the fine nodes, between them too: each step's lower end less twice the
+    reach of its convexity (a second difference over 8), the least of the four second differences about the step
+    (a jump at a segment's boundary is not a curvature)."""
+    if f.size < 4:
+        return float(np.min(f)) if f.size else math.inf
+    d2 = np.diff(f, 2)
+    curv = np.concatenate([d2[:1], d2, d2[-1:]])  # per node
+    pad = np.concatenate([curv[:1], curv, curv[-1:]])  # per node, one more each side
+    convex = np.maximum(0.0, np.min(np.stack([pad[:-3], pad[1:-2], pad[2:-1], pad[3:]]), axis=0))  # per step
+    return float(np.min(np.minimum(f[:-1], f[1:]) - 0.25 * convex))
+
+
+def fast_valve_summary(
+    motion: Motion, vt: ValvetrainModel, omega: float, n: int = THETA_GRID
+) -> ValveSummary | _Floated | None:
+    """The :class:`ValveSummary` at cam speed ``omega`` (rad/s) on the fast path, :data:`FLOATED` where the valve
+    surely floats, or None where the fast path cannot say (the caller runs the diffrax model)."""
+    if not vt.rigid_cam or vt.rigid_train or vt.rocker is not None or vt.coils is not None:
+        return None
+    try:
+        return _rigid_cam(motion, vt, float(omega), n)
+    except _Unsure:
+        return None
+
+
+def _rigid_cam(motion: Motion, vt: ValvetrainModel, w: float, n: int) -> ValveSummary | _Floated:
+    """:func:`fast_valve_summary` of a rigid cam contact and a compliant train of constant ratio."""
+    s_all, s1_all, s2_all = _fine(motion, n)
+    nf = s_all.size
+    h = TWO_PI / nf
+    w2 = w * w
+    r, lash = float(vt.ratio), float(vt.lash)
+    m_c, m_v = float(vt.cam_side_mass), float(vt.valve_mass)
+    kt, ct = float(vt.train.train_stiffness), float(vt.train.train_damping)
+    k, c, f0, tappet = float(vt.spring_rate), float(vt.spring_damping), float(vt.preload), float(vt.tappet_force)
+    tol = 1e-6 * max(1.0, r * f0)  # the diffrax model's force tolerance on its events
+    i0 = start_angle(s_all[::REFINE] / M_PER_MM) * REFINE  # the diffrax model's revolution, from here
+    order = (i0 + np.arange(nf + 1)) % nf
+    s, s1, s2 = s_all[order], s1_all[order], s2_all[order]
+    th0 = i0 * h
+    deg = lambda step, tau: math.degrees(th0 + step * h + tau) % 360.0  # noqa: E731
+    out_node = (np.arange(nf + 1) % REFINE) == 0  # the output grid's angles among the fine ones
+
+    # the valve seated (x_v = 0): the train's force and the cam's, and where the train lifts the valve
+    seated_defl = r * s - lash
+    f_seated = np.where(seated_defl > 0.0, np.maximum(0.0, kt * seated_defl + ct * w * r * s1), 0.0)
+    f_cam_bare = m_c * s2 * w2 + tappet  # the cam's force with no train force on the follower
+    lifts = np.nonzero(f_seated - f0 - tol > 0.0)[0]
+    if not lifts.size:  # the valve never lifts: no event, the follower held on the cam all the way round
+        if _lower_bound(f_cam_bare + r * f_seated) < -tol:
+            raise _Unsure("the follower leaves the cam")
+        nan = math.nan
+        return ValveSummary(w, nan, nan, nan, nan, nan, 0.0, 0.0)
+    j = int(lifts[0])
+    if j == 0 or _lower_bound((f_cam_bare + r * f_seated)[: j + 1]) < -tol:
+        raise _Unsure("the follower leaves the cam before the valve lifts")
+
+    def seated_force(theta: np.ndarray) -> np.ndarray:  # the train's on the seated valve, less F0 + tol
+        v = np.asarray(motion.host(theta))[:2] * M_PER_MM
+        d = r * v[0] - lash
+        return np.where(d > 0.0, np.maximum(0.0, kt * d + ct * w * r * v[1]), 0.0) - f0 - tol
+
+    lo, hi = th0 + (j - 1) * h, th0 + j * h
+    for _ in range(2):  # as _cross: twice cut in 64, then interpolated
+        ts = np.linspace(lo, hi, _SPLIT + 1)
+        g = seated_force(ts)
+        i = int(np.argmax(g > 0.0))
+        lo, hi = ts[i - 1], ts[i]
+    f = min(max(g[i - 1] / (g[i - 1] - g[i]), 0.0), 1.0)
+    lift_step, tau_lift = j - 1, lo + f * (hi - lo) - (th0 + (j - 1) * h)
+
+    # the valve off its seat, on the train (loaded) or off it (free, on its spring alone): two linear systems
+    loaded = _Linear(
+        np.array([[0.0, 1.0], [-(kt + k) / (m_v * w2), -(ct + c) / (m_v * w)]]),
+        (-kt * lash - f0) / (m_v * w2),
+        _hermite((kt * r * s + ct * w * r * s1) / (m_v * w2), (kt * r * s1 + ct * w * r * s2) / (m_v * w2), h),
+        h,
+    )
+    free = _Linear(
+        np.array([[0.0, 1.0], [-k / (m_v * w2), -c / (m_v * w)]]), -f0 / (m_v * w2), np.zeros((nf, _ORDER)), h
+    )
+    cam = _hermite(s, s1, h)  # the cam's lift between the fine angles, for the guards there
+
+    def train(ys: np.ndarray, steps: Index, taus: Index) -> tuple[np.ndarray, np.ndarray]:
+        """The train's deflection (m) and its linear force (N) at states ``ys``, ``taus`` into fine ``steps``."""
+        taus = np.broadcast_to(taus, (len(ys),))
+        steps = np.broadcast_to(steps, (len(ys),))
+        a0, a1, a2, a3 = cam[np.minimum(steps, nf - 1)].T
+        at = np.where(taus > 0.0, a0 + a1 * taus + a2 * taus**2 / 2 + a3 * taus**3 / 6, s[steps])
+        at1 = np.where(taus > 0.0, a1 + a2 * taus + a3 * taus**2 / 2, s1[steps])
+        d = r * at - lash - ys[:, 0]
+        return d, kt * d + ct * w * (r * at1 - ys[:, 1])
+
+    def on_train(ys: np.ndarray, steps: Index, taus: Index) -> np.ndarray:  # > 0 while the train pushes the valve (N)
+        d, f_t = train(ys, steps, taus)
+        return np.minimum(kt * d, f_t)
+
+    def landing(ys: np.ndarray, steps: Index, taus: Index) -> np.ndarray:  # the valve above its seat (N: as the train)
+        return kt * (ys[:, 0] + GAP_EPS)
+
+    def rising(ys: np.ndarray, steps: Index, taus: Index) -> np.ndarray:
+        return ys[:, 1]
+
+    # the event: lifted by the train, to the seating after rising past half its static lift at the nose (a landing
+    # before belongs to the opening: the diffrax model's rule)
+    y_first = loaded.advance(lift_step, tau_lift, np.zeros(2), np.array([h - tau_lift]))[0]
+    ys = loaded.march(lift_step + 1, y_first)  # to the revolution's end: the seating is late in it
+    idx = np.arange(lift_step + 1, nf + 1)
+    d, f_t = train(ys, idx, 0.0)
+    f_cam = f_cam_bare[idx] + r * f_t
+    reach = r * (float(s.max()) - float(s.min())) - lash
+    half_lift = 0.5 * (kt * reach - f0) / (kt + k)
+    risen = np.nonzero(ys[:, 0] > half_lift)[0]
+    down = np.nonzero(ys[risen[0] :, 0] < -GAP_EPS)[0] if risen.size else risen
+    if not down.size or np.any(ys[: risen[0], 0] < -GAP_EPS):
+        raise _Unsure("no seating after the valve's rise")
+    q = int(risen[0] + down[0])  # the first fine angle below the seat, counted from lift_step + 1
+    train_open = np.nonzero((d[:q] <= 0.0) | (f_t[:q] < 0.0))[0]
+    cam_open = np.nonzero(f_cam[:q] < -tol)[0]
+    if cam_open.size and (not train_open.size or cam_open[0] < train_open[0]):
+        return FLOATED  # the exact solution's cam force crosses the diffrax model's threshold first: float
+    if train_open.size or _lower_bound(f_cam[:q]) <= tol or _lower_bound(f_t[:q]) <= 0.0:
+        raise _Unsure("the cam contact near opening, or the valve off the train, within the event")
+    got = _cross(loaded, lift_step + q, 0.0, ys[q - 1], h, landing, False)
+    if got is None:
+        raise _Unsure("the seating lost")
+    event = out_node[idx[:q]]
+    least = int(np.argmin(np.where(event, f_cam[:q], np.inf)))
+    least_force, least_deg = float(f_cam[least]), deg(lift_step + 1 + least, 0.0)
+    least_train = float(np.min(f_t[:q][event]))
+    max_lift = float(np.max(ys[:q, 0][event]))
+    step, tau, y = lift_step + q, got[0], got[1]
+    seating_velocity, seating_deg = abs(float(y[1])) * w, deg(step, tau)
+
+    # the rebounds at seat_restitution x the landing speed, each a flight on the train or off it, to the speed
+    # below which the seat holds the valve; the bounce height is the highest apex
+    floor, e_seat = landing_floor(vt, w), float(vt.seat_restitution)
+    bounce = gap = flight_lift = 0.0  # the highest apex; above the cam's hold and off the seat on the output grid
+    for _ in range(_MAX_REBOUNDS):
+        v = -e_seat * float(y[1])
+        if v <= floor:
+            break
+        y = np.array([0.0, v])
+        first = True
+        while True:  # the flight's stretches, each on one system
+            lin, sign = (loaded, 1.0) if on_train(y[None], step, tau)[0] > 0.0 else (free, -1.0)
+            guard = lambda ys, st, ta, sign=sign: np.minimum(landing(ys, st, ta), sign * on_train(ys, st, ta))  # noqa: E731
+            along, steps, taus, end = _stretch(lin, step, tau, y, guard, fresh=first)
+            if end is None:
+                raise _Unsure("the valve in the air at the revolution's end")
+            if y[1] > 0.0 and end[2][1] <= 0.0:  # the apex in this stretch
+                apex = _stretch(lin, step, tau, y, rising, fresh=first)[3]
+                bounce = max(bounce, float(apex[2][0]) if apex is not None else float(np.max(along[:, 0])))
+            bounce = max(bounce, float(np.max(along[:, 0])))
+            grid = (taus == 0.0) & out_node[np.minimum(steps, nf)]  # the output grid's angles in the flight
+            flight_lift = max(flight_lift, float(np.max(along[grid, 0], initial=0.0)))
+            held = np.maximum(r * s[steps[grid]] - lash, 0.0)
+            gap = max(gap, float(np.max(along[grid, 0] - held, initial=0.0)))
+            if np.min(f_cam_bare[np.minimum(steps, nf)]) < -tol:
+                raise _Unsure("the follower leaves the cam while the valve rebounds")
+            step, tau, y = end
+            first = False
+            if landing(y[None], step, tau)[0] <= kt * GAP_EPS * 1e-3:  # on the seat (not a change of system)
+                break
+    else:
+        raise _Unsure("the valve rattles on its seat beyond the rebounds followed")
+    # the valve held on its seat to the revolution's end: no re-lift, the follower on the cam
+    rest = slice(step + 1, nf + 1)
+    if np.any(f_seated[rest] > f0) or _lower_bound((f_cam_bare + r * f_seated)[rest]) < -tol:
+        raise _Unsure("the valve re-lifted or the follower off the cam after the seating")
+    return ValveSummary(
+        w,
+        least_force,
+        least_deg,
+        least_train,
+        seating_velocity,
+        seating_deg,
+        bounce / M_PER_MM,
+        max(max_lift, flight_lift) / M_PER_MM,
+        max_gap_mm=gap / M_PER_MM,
+        bounce_lift_mm=flight_lift / M_PER_MM,
+    )
+
+
+def _read(name: str) -> property:
+    """A number the fast path's summary and the diffrax model's response both give, from whichever answers."""
+    return property(lambda self: float(getattr(self._answer, name)), doc=f"The response's ``{name}``.")
+
+
+class ValvePoint:
+    """The valvetrain at one cam speed as its studies read it: :func:`fast_valve_summary` where it answers, the
+    diffrax model's :func:`~camdyn.model.dynamics.valvetrain_response` (run once, when first asked) for what it
+    does not: everything where the fast path cannot say, all but the float verdict and the least force (0) where
+    the valve surely floats. The same names as the response's."""
+
+    def __init__(self, motion: Motion, vt: ValvetrainModel, omega: float) -> None:
+        self.omega = float(omega)
+        self._motion, self._vt = motion, vt
+        self._fast = fast_valve_summary(motion, vt, self.omega)
+        self._response: ValvetrainResponse | None = None
+
+    @property
+    def fast(self) -> bool:
+        """Whether the fast path answered everything (the diffrax model not run)."""
+        return isinstance(self._fast, ValveSummary)
+
+    @property
+    def response(self) -> ValvetrainResponse:
+        """The diffrax model's revolution at this speed (run on first use)."""
+        if self._response is None:
+            self._response = valvetrain_response(self._motion, self._vt, self.omega)
+        return self._response
+
+    @property
+    def _answer(self) -> ValveSummary | ValvetrainResponse:
+        return self._fast if isinstance(self._fast, ValveSummary) else self.response
+
+    @property
+    def floated(self) -> bool:
+        return True if self._fast is FLOATED else bool(self._answer.floated)
+
+    @property
+    def least_event_force(self) -> float:
+        return 0.0 if self._fast is FLOATED else float(self._answer.least_event_force)
+
+    least_event_force_deg = _read("least_event_force_deg")
+    least_train_force = _read("least_train_force")
+    seating_velocity = _read("seating_velocity")
+    seating_deg = _read("seating_deg")
+    bounce_height_mm = _read("bounce_height_mm")
+    max_valve_lift_mm = _read("max_valve_lift_mm")
+
+    @property
+    def bounced(self) -> bool:
+        """Whether the valve leaves its seat after closing by more than the seat's micro-bounce tolerance."""
+        return self.bounce_height_mm > VALVE_BOUNCE_TOLERANCE_MM
+
+    def max_gap_mm(self, solid_mm: float = math.inf) -> float:
+        """:meth:`ValvetrainResponse.max_gap_mm` (mm)."""
+        fast = self._fast
+        if isinstance(fast, ValveSummary) and fast.bounce_lift_mm <= solid_mm:  # the rebounds short of coil bind
+            return fast.max_gap_mm
+        return self.response.max_gap_mm(self._vt, solid_mm)
+
+
+def float_speed(
+    motion: Motion,
+    vt: ValvetrainModel,
+    w_max: float,
+    *,
+    grid: int = 40,
+    width_rpm: float = 1.0,
+    respond: Callable[[float], ValvePoint] | None = None,
+    margin: float = 0.0,
+) -> float:
+    """The first cam speed (rad/s) at which the cam contact opens while the valve is off its seat (inf: none up
+    to ``w_max``): the shared jump search on the least cam-contact force over the valve event. ``respond``: the
+    valvetrain at a speed, where a caller shares them between searches (default a fresh :class:`ValvePoint`);
+    ``margin`` (N): the first speed at which that force falls to it instead (``optimize``'s force margin)."""
+    respond = respond or (lambda w: ValvePoint(motion, vt, w))
+
+    def least(ws: np.ndarray) -> np.ndarray:  # a speed at which the valve does not lift has no event to float in
+        forces = [respond(float(w)).least_event_force - margin for w in np.atleast_1d(ws)]
+        return np.nan_to_num(forces, nan=NO_EVENT)
+
+    return first_zero_speed(
+        least, w_max, grid=grid, width_rpm=width_rpm, points=1, where="valvetrain float search", chunk=_SCAN_CHUNK
+    )
+
+
+def bounce_speed(
+    motion: Motion,
+    vt: ValvetrainModel,
+    w_max: float,
+    *,
+    grid: int = 40,
+    width_rpm: float = 1.0,
+    respond: Callable[[float], ValvePoint] | None = None,
+) -> float:
+    """The first cam speed (rad/s) at which the valve leaves its seat after closing by more than the seat's
+    micro-bounce tolerance :data:`VALVE_BOUNCE_TOLERANCE_MM` (inf: none up to ``w_max``)."""
+    respond = respond or (lambda w: ValvePoint(motion, vt, w))
+
+    def margin(ws: np.ndarray) -> np.ndarray:
+        return np.array([VALVE_BOUNCE_TOLERANCE_MM - respond(float(w)).bounce_height_mm for w in np.atleast_1d(ws)])
+
+    return first_zero_speed(
+        margin, w_max, grid=grid, width_rpm=width_rpm, points=1, where="valvetrain bounce search", chunk=_SCAN_CHUNK
+    )

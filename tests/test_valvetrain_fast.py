@@ -1,0 +1,175 @@
+"""The valvetrain's fast path (issue 24): the exact linear solution of the valve event where every contact stays
+closed, checked against the event-driven diffrax model (an independent integrator of the same equations at
+tight tolerance), and the points it must hand to that model: float, a compliant cam contact, a rocker."""
+
+import copy
+import tomllib
+from pathlib import Path
+
+import numpy as np
+import pytest
+from scipy.linalg import expm
+
+from camdyn._core.units import RPM
+from camdyn.model.case import case_from_dict, load_case
+from camdyn.model.dynamics import (
+    ValvePoint,
+    ValveSummary,
+    bounce_speed,
+    fast_valve_summary,
+    float_speed,
+    jump_search_limit,
+    kinematic_jump_speed,
+    valvetrain_response,
+)
+from camdyn.model.dynamics._valvefast import FLOATED, _expm
+
+CASES = Path(__file__).resolve().parents[1] / "cases"
+SHIPPED = tomllib.loads((CASES / "valvetrain.toml").read_text())
+
+
+def _variant(dynamics=None, valvetrain=None):
+    raw = copy.deepcopy(SHIPPED)
+    raw["dynamics"] |= dynamics or {}
+    raw["valvetrain"] |= valvetrain or {}
+    return case_from_dict(raw)
+
+
+@pytest.fixture(scope="module")
+def shipped():
+    return load_case(CASES / "valvetrain.toml")
+
+
+def _same(fast: ValveSummary, resp) -> None:
+    """The fast path's numbers against the diffrax model's: forces to 1e-6 of the preload's push at the cam,
+    the seating speed and lifts to 1e-6 relative (both solve the same equations; the diffrax model at rtol 1e-10)."""
+    scale = 1e-6 * 1.6 * 300.0  # N
+    assert fast.least_event_force == pytest.approx(resp.least_event_force, abs=scale)
+    assert fast.least_event_force_deg == pytest.approx(resp.least_event_force_deg, abs=1e-9)
+    assert fast.least_train_force == pytest.approx(resp.least_train_force, abs=scale)
+    assert fast.seating_velocity == pytest.approx(resp.seating_velocity, rel=1e-6)
+    assert fast.seating_deg == pytest.approx(resp.seating_deg, abs=1e-6)
+    assert fast.bounce_height_mm == pytest.approx(resp.bounce_height_mm, rel=1e-5, abs=1e-9)
+    assert fast.max_valve_lift_mm == pytest.approx(resp.max_valve_lift_mm, rel=1e-9)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("rpm", [1500.0, 3000.0, 5000.0, 5900.0])
+def test_fast_path_equals_the_diffrax_model_on_the_shipped_case(shipped, rpm):
+    """Below the float speed (5920 rpm) every contact of the shipped case stays closed over the event; the rebounds
+    off the seat run on the train and, from about 3500 rpm, off it (the gap at the valve): all on the fast path."""
+    vt, w = shipped.valvetrain, rpm * RPM
+    fast = fast_valve_summary(shipped.motion, vt, w)
+    assert isinstance(fast, ValveSummary)
+    resp = valvetrain_response(shipped.motion, vt, w)
+    assert not resp.floated and resp.settled
+    _same(fast, resp)
+    assert fast.max_gap_mm == pytest.approx(resp.max_gap_mm(vt), abs=1e-8)
+    point = ValvePoint(shipped.motion, vt, w)
+    assert point.fast and not point.floated and point.bounced == resp.bounced
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize(
+    ("valvetrain", "rpm"),
+    [
+        ({"stiffness": 3000.0, "lash": 0.15, "seat_restitution": 0.4}, 3000.0),  # a soft train: long rebounds
+        ({"stiffness": 1e6, "lash": 0.0, "tappet_force": 20.0}, 4500.0),  # a stiff train, no lash, a tappet spring
+    ],
+)
+def test_fast_path_equals_the_diffrax_model_on_other_trains(valvetrain, rpm):
+    case = _variant(valvetrain=valvetrain)
+    fast = fast_valve_summary(case.motion, case.valvetrain, rpm * RPM)
+    assert isinstance(fast, ValveSummary)
+    _same(fast, valvetrain_response(case.motion, case.valvetrain, rpm * RPM))
+
+
+@pytest.mark.slow
+def test_a_point_that_floats_falls_back(shipped):
+    """At 6500 rpm the cam contact opens in the event: the exact solution says so (float, least force 0), and the
+    rest (seating, bounce: a flight) is the diffrax model's, run for that point only."""
+    vt, w = shipped.valvetrain, 6500.0 * RPM
+    assert fast_valve_summary(shipped.motion, vt, w) is FLOATED
+    point = ValvePoint(shipped.motion, vt, w)
+    assert point.floated and point.least_event_force == 0.0 and not point.fast
+    resp = valvetrain_response(shipped.motion, vt, w)
+    assert resp.floated
+    assert point.seating_velocity == resp.seating_velocity and point.bounce_height_mm == resp.bounce_height_mm
+    assert point.max_gap_mm() == resp.max_gap_mm(vt)
+
+
+@pytest.mark.slow
+def test_float_and_bounce_speeds_equal_the_diffrax_models(shipped):
+    """The searches on the fast path (the diffrax model where the valve floats) give the speeds the diffrax model
+    alone gives, to 0.1 rpm (the same bisection: every speed's verdict agrees)."""
+    vt = shipped.valvetrain
+    w_max = jump_search_limit(1.25 * shipped.speed_rpm * RPM, kinematic_jump_speed(shipped.motion, shipped.model)[0])
+    slow: dict[float, object] = {}
+
+    def diffrax_only(w):
+        if w not in slow:
+            slow[w] = valvetrain_response(shipped.motion, vt, w)
+        return slow[w]
+
+    fast: dict[float, ValvePoint] = {}
+
+    def points(w):
+        if w not in fast:
+            fast[w] = ValvePoint(shipped.motion, vt, w)
+        return fast[w]
+
+    for search in (float_speed, bounce_speed):
+        ref = search(shipped.motion, vt, w_max, respond=diffrax_only)
+        assert search(shipped.motion, vt, w_max, respond=points) / RPM == pytest.approx(ref / RPM, abs=0.1)
+    assert float_speed(shipped.motion, vt, w_max, respond=points) / RPM == pytest.approx(5920.15, abs=0.5)
+    assert sum(p.fast for p in fast.values()) >= 8  # the speeds below float, on the fast path
+
+
+def test_compliant_cam_rocker_and_rigid_train_fall_back(shipped):
+    """What the fast path does not model yet goes to the diffrax model whole: a compliant cam contact (a 2-DOF
+    event), a rocker's ratio varying with lift (nonlinear), a rigid train (the masses locked)."""
+    w = 3000.0 * RPM
+    compliant = _variant(dynamics={"train_stiffness": 2e4, "train_damping_ratio": 0.05})
+    assert fast_valve_summary(compliant.motion, compliant.valvetrain, w) is None
+    rigid = copy.deepcopy(SHIPPED)
+    del rigid["valvetrain"]["stiffness"]
+    rigid = case_from_dict(rigid)
+    assert fast_valve_summary(rigid.motion, rigid.valvetrain, w) is None
+    rocker = copy.deepcopy(SHIPPED)
+    del rocker["valvetrain"]["ratio"]
+    rocker["valvetrain"]["rocker"] = {"cam_arm": 30.0, "valve_arm": 48.0}
+    rocker = case_from_dict(rocker)
+    assert fast_valve_summary(rocker.motion, rocker.valvetrain, w) is None
+    assert isinstance(fast_valve_summary(shipped.motion, shipped.valvetrain, w), ValveSummary)
+
+
+def test_batched_matrix_exponential_against_scipy():
+    """The augmented propagators' exponential (batched Taylor with scaling and squaring) against scipy's Pade:
+    a valve on its train (1.7 kHz, 5 % damping) at 1000 to 8000 rpm over steps of 1e-7 to 0.05 deg."""
+    rng = np.random.default_rng(1)
+    for rpm in (1000.0, 8000.0):
+        w = rpm * RPM
+        z = np.zeros((7, 7))
+        z[:2, :2] = [[0.0, 1.0], [-(8e6 + 4e4) / (0.07 * w**2), -(75.0 + 10.0) / (0.07 * w)]]
+        z[1, 2], z[1, 6] = 1.0, -rng.uniform(1.0, 100.0)
+        z[2, 3] = z[3, 4] = z[4, 5] = 1.0
+        deltas = np.deg2rad(np.geomspace(1e-7, 0.05, 12))
+        ours = _expm(z[None] * deltas[:, None, None])
+        for d, e in zip(deltas, ours, strict=True):
+            ref = expm(z * d)
+            assert np.max(np.abs(e - ref)) <= 1e-12 * np.max(np.abs(ref))
+
+
+@pytest.mark.parametrize("lam", [0.999 * np.exp(0.03j), 0.85 * np.exp(0.9j), 1.0 + 0.0j, 1e-14 + 0.0j])
+def test_modal_recurrence_against_the_loop(lam):
+    """The blocked cumulative sum that chains the steps against the recurrence stepped one at a time: a slowly and a
+    quickly decaying mode (a stiff train: blocks of a few dozen steps), an undamped one, one gone within a step."""
+    from camdyn.model.dynamics._valvefast import _recur
+
+    rng = np.random.default_rng(2)
+    g = rng.normal(size=3000) + 1j * rng.normal(size=3000)
+    want = np.empty(3001, complex)
+    want[0] = 0.3 - 0.2j
+    for k in range(3000):
+        want[k + 1] = lam * want[k] + g[k]
+    assert np.max(np.abs(_recur(lam, g, want[0]) - want)) <= 1e-11 * np.max(np.abs(want))
