@@ -616,3 +616,20 @@ def test_force_against_speed_is_the_two_mass_models(shipped_check):
     assert speeds is not None and least is not None
     i = int(np.searchsorted(speeds, float_rpm))
     assert np.all(least[:i] > 0.0) and least[i] == 0.0 and np.isnan(least[i + 1 :]).all()
+
+
+@pytest.mark.slow
+def test_a_valve_far_past_float_never_goes_through_its_seat():
+    """A rigid train without lash on cases/valve-lift.csv (at the valve, ratio 1.5), 15540 rpm, 2.6 x its float
+    speed: the valve is tossed and lands where it may, but never below its seat and the follower never inside the
+    cam (a grazing change the root finder missed left every event function below zero, and the valve fell to -27.8
+    mm through a revolution without an event)."""
+    raw = copy.deepcopy(SHIPPED)
+    raw["motion"] = {"valve_table": str(CASES / "valve-lift.csv")}
+    raw["valvetrain"] |= {"ratio": 1.5, "lash": 0.0}
+    raw["valvetrain"].pop("stiffness")
+    case = case_from_dict(raw)
+    assert case.valvetrain is not None
+    r = valvetrain_response(case.motion, case.valvetrain, 15540 * RPM)
+    assert r.valve_lift.min() >= -1e-6 and r.events
+    assert np.min(r.follower_lift - r.cam_lift) >= -1e-6

@@ -392,30 +392,47 @@ def valvetrain_response(motion: Motion, vt: ValvetrainModel, omega: float, n: in
                 )
                 return np.asarray(out).T
 
-            tt = np.clip(t_start + np.arange(k_next, k_next + n) * (TWO_PI / n), t0, t_end)  # fixed shape
-            t1, y1, (hit, ok), samples = _stretch(
-                motion, vt, w, m, force_tol, jnp.asarray(t0), jnp.asarray(t_end), jnp.asarray(y), jumps, jnp.asarray(tt)
-            )
-            t1, samples = float(t1), np.asarray(samples).T
-            hit = bool(hit)
-            if not (hit or bool(ok)):
-                raise NumericalError(
-                    f"valvetrain at {omega / RPM:.4g} rpm",
-                    "the two-mass integration failed (solver out of steps or NaN): check the masses and stiffnesses",
+            start = np.asarray(_conditions_jit(jnp.asarray(t0), jnp.asarray(y), (motion, vt, w, m, force_tol)))
+            if start.min() < 0.0:
+                # a contact already past its change where the stretch would start (a grazing crossing the last
+                # one's root finder did not see): every event function would start below zero and the stretch
+                # would see none of them, so the change is made here, before marching on
+                t1, y1, hit = t0, y, True
+            else:
+                tt = np.clip(t_start + np.arange(k_next, k_next + n) * (TWO_PI / n), t0, t_end)  # fixed shape
+                t1, y1, (hit, ok), samples = _stretch(
+                    motion,
+                    vt,
+                    w,
+                    m,
+                    force_tol,
+                    jnp.asarray(t0),
+                    jnp.asarray(t_end),
+                    jnp.asarray(y),
+                    jumps,
+                    jnp.asarray(tt),
                 )
-            k1 = min(math.floor((t1 - t_start) / (TWO_PI / n) + 1e-9), (rev + 1) * n - 1)
-            if k1 >= k_next:
-                ii = (i0 + np.arange(k_next, k1 + 1)) % n
-                out[:, ii] = samples[:, : k1 - k_next + 1]
-                seated[ii] = bool(modes[SEAT])
-                in_event[ii] = first_seating is None and not modes[SEAT]
-                peak = max(peak, float(samples[2, : k1 - k_next + 1].max()))
-                k_next = k1 + 1
-            if first_seating is not None and not modes[SEAT]:
-                bounce = max(bounce, _apex(run, t0, t1, n))
-            if not hit:  # the revolution's end: the next one, if any, goes on from here
-                y = np.asarray(y1)
-                break
+                t1, samples = float(t1), np.asarray(samples).T
+                hit = bool(hit)
+                if not (hit or bool(ok)):
+                    raise NumericalError(
+                        f"valvetrain at {omega / RPM:.4g} rpm",
+                        "the two-mass integration failed (solver out of steps or NaN): check the masses and "
+                        "stiffnesses",
+                    )
+                k1 = min(math.floor((t1 - t_start) / (TWO_PI / n) + 1e-9), (rev + 1) * n - 1)
+                if k1 >= k_next:
+                    ii = (i0 + np.arange(k_next, k1 + 1)) % n
+                    out[:, ii] = samples[:, : k1 - k_next + 1]
+                    seated[ii] = bool(modes[SEAT])
+                    in_event[ii] = first_seating is None and not modes[SEAT]
+                    peak = max(peak, float(samples[2, : k1 - k_next + 1].max()))
+                    k_next = k1 + 1
+                if first_seating is not None and not modes[SEAT]:
+                    bounce = max(bounce, _apex(run, t0, t1, n))
+                if not hit:  # the revolution's end: the next one, if any, goes on from here
+                    y = np.asarray(y1)
+                    break
             count += 1
             if count > _MAX_EVENTS:
                 warnings.append(f"more than {_MAX_EVENTS} contact changes in a revolution at {omega / RPM:.1f} rpm")
