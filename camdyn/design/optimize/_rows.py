@@ -212,7 +212,7 @@ class Rows:
         return np.arange(0, self.space.theta.size, EVERY)
 
     def force_jacobian(
-        self, z: jax.Array, speeds: jax.Array, preload: ArrayLike | None = None
+        self, z: ArrayLike, speeds: jax.Array, preload: ArrayLike | None = None
     ) -> tuple[jax.Array, jax.Array]:
         """``(z, speeds[SPEED_SLOTS], preload) -> (slack at the sampled angles, d/dz)``, a stored program."""
         return _force_jacobian(self.kernel, z, speeds, preload)
