@@ -23,7 +23,7 @@ from camdyn.model.dynamics import Response
 from camdyn.plot import flight_spans, plot_contact_force, plot_follower
 from camdyn.report import A4, PAGES, STYLE, ReportData
 from camdyn.report._layout import header
-from camdyn.report.pages._inputs import DIMENSIONLESS, UNITS
+from camdyn.report.pages._inputs import DIMENSIONLESS, UNITS, _kv_lines
 from camdyn.report.pages.dynamics import _force_panels
 from camdyn.report.pages.manufacturing import manufacturing_rows, segment_rows, title_block
 from camdyn.report.pages.summary import decision_facts, draw_summary, key_results
@@ -333,3 +333,8 @@ def test_every_key_input_on_page_one_has_its_unit():
         if key not in UNITS and key not in DIMENSIONLESS and key not in ("damping", "rocker")
     ]
     assert missing == []
+    # an arm's preload is a torque; a limit left unbounded takes no unit
+    assert _kv_lines({"min_preload": 2.0, "max_contact_stress": None}, oscillating=True) == [
+        ("min_preload", "2 N\u00b7m"),
+        ("max_contact_stress", "unbounded"),
+    ]

@@ -71,12 +71,12 @@ _SPRING_HELD_LIMITS = ("speed_margin", "min_contact_force", "min_preload", "max_
 def _kv_lines(d: dict, oscillating: bool = False) -> list[tuple[str, str]]:
     out = []
     for k, v in d.items():
-        unit = UNITS.get(k, "") if v is not None else ""  # "unbounded" takes no unit
+        unit = UNITS.get(k, "")
         if k == "damping":
             unit = "N\u00b7m\u00b7s/rad" if oscillating else "N\u00b7s/m"
         elif k == "min_preload" and oscillating:
             unit = "N\u00b7m"
-        out.append((k, f"{fmt(v)} {unit}".strip()))
+        out.append((k, f"{fmt(v)} {unit if v is not None else ''}".strip()))  # "unbounded" takes no unit
     return out
 
 
