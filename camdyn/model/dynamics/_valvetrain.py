@@ -381,6 +381,7 @@ def valvetrain_response(motion: Motion, vt: ValvetrainModel, omega: float, n: in
         k_next = rev * n  # the next grid angle to fill, counted from t_start
         in_event = np.zeros(n, bool)  # the valve off its seat between its lift and its first seating
         count = 0
+        start = None  # the contacts' event functions where the next stretch starts
         while True:
             m = jnp.asarray(modes)
 
@@ -392,7 +393,8 @@ def valvetrain_response(motion: Motion, vt: ValvetrainModel, omega: float, n: in
                 )
                 return np.asarray(out).T
 
-            start = np.asarray(_conditions_jit(jnp.asarray(t0), jnp.asarray(y), (motion, vt, w, m, force_tol)))
+            if start is None:  # a revolution's first stretch (after a transition _consistent gave them)
+                start = np.asarray(_conditions_jit(jnp.asarray(t0), jnp.asarray(y), (motion, vt, w, m, force_tol)))
             if start.min() < 0.0:
                 # a contact already past its change where the stretch would start (a grazing crossing the last
                 # one's root finder did not see): every event function would start below zero and the stretch
@@ -484,7 +486,7 @@ def valvetrain_response(motion: Motion, vt: ValvetrainModel, omega: float, n: in
                 y[2], y[3] = 0.0, -e_seat * pv
                 if y[3] <= v_floor:
                     modes[SEAT], y[3] = True, 0.0
-            modes = _consistent(modes, t1, y, motion, vt, w, force_tol, rigid_cam, rigid_train)
+            modes, start = _consistent(modes, t1, y, motion, vt, w, force_tol, rigid_cam, rigid_train)
             t0 = t1
         settled = (
             modes[SEAT]
@@ -519,14 +521,18 @@ def valvetrain_response(motion: Motion, vt: ValvetrainModel, omega: float, n: in
     )
 
 
-def _consistent(modes, t, y, motion, vt, w, force_tol, rigid_cam, rigid_train) -> np.ndarray:
+def _consistent(modes, t, y, motion, vt, w, force_tol, rigid_cam, rigid_train) -> tuple[np.ndarray, np.ndarray]:
     """The modes after a transition, with every locked contact whose force already pulls released (its event
-    would not see a crossing that starts below zero)."""
+    would not see a crossing that starts below zero), and the contacts' event functions in those modes."""
     modes = modes.copy()
-    for _ in range(4):
-        conds = np.asarray(
+
+    def conditions() -> np.ndarray:
+        return np.asarray(
             _conditions_jit(jnp.asarray(t), jnp.asarray(y), (motion, vt, w, jnp.asarray(modes), force_tol))
         )
+
+    for _ in range(4):
+        conds = conditions()
         changed = False
         if modes[CAM] and rigid_cam and conds[CAM] <= 0.0:
             modes[CAM], changed = False, True
@@ -535,8 +541,8 @@ def _consistent(modes, t, y, motion, vt, w, force_tol, rigid_cam, rigid_train) -
         if modes[SEAT] and conds[SEAT] <= 0.0:
             modes[SEAT], changed = False, True
         if not changed:
-            break
-    return modes
+            return modes, conds
+    return modes, conditions()
 
 
 def _apex(run, t0: float, t1: float, n: int) -> float:
