@@ -237,8 +237,20 @@ def lift_with_ramps(theta_deg: np.ndarray, lift: np.ndarray, lash: float, ramp_v
     ``ramp_velocity`` (mm per cam degree): ``lift + lash`` while the valve is open; before it opens and after it
     closes a ramp from the base circle to ``lash`` over ``lash / ramp_velocity`` degrees; 0 elsewhere.
     ValueError for a valve that never opens or opens more than once a revolution."""
-    open_ = lift > 0.0
     n = len(lift)
+    rise, fall = _event_rows(lift)
+    seat_open = theta_deg[(rise - 1) % n]  # the last row on the seat before the event, and the first after
+    seat_close = theta_deg[(fall + 1) % n]
+    to_open = (seat_open - theta_deg) % 360.0
+    from_close = (theta_deg - seat_close) % 360.0
+    ramp = np.maximum(0.0, lash - ramp_velocity * np.minimum(to_open, from_close))
+    return np.where(lift > 0.0, lift + lash, ramp)
+
+
+def _event_rows(lift: np.ndarray) -> tuple[int, int]:
+    """The first and the last open row (lift > 0) of a valve's one event a revolution. ValueError for a valve that
+    never opens, never closes or opens more than once a revolution."""
+    open_ = lift > 0.0
     if not open_.any():
         raise ValueError("the valve never lifts: no lift_mm above 0")
     if open_.all():
@@ -246,25 +258,16 @@ def lift_with_ramps(theta_deg: np.ndarray, lift: np.ndarray, lash: float, ramp_v
     rises = np.flatnonzero(open_ & ~np.roll(open_, 1))  # the first open row of each event
     if len(rises) > 1:
         raise ValueError(f"the valve opens {len(rises)} times a revolution: camdyn models one event")
-    falls = np.flatnonzero(open_ & ~np.roll(open_, -1))
-    seat_open = theta_deg[(rises[0] - 1) % n]  # the last row on the seat before the event, and the first after
-    seat_close = theta_deg[(falls[0] + 1) % n]
-    to_open = (seat_open - theta_deg) % 360.0
-    from_close = (theta_deg - seat_close) % 360.0
-    ramp = np.maximum(0.0, lash - ramp_velocity * np.minimum(to_open, from_close))
-    return np.where(open_, lift + lash, ramp)
+    return int(rises[0]), int(np.flatnonzero(open_ & ~np.roll(open_, -1))[0])
 
 
 def ramp_join_warnings(theta_deg: np.ndarray, lift: np.ndarray, ramp_velocity: float) -> list[str]:
     """Where a valve's lift table opens or closes at a speed far from the lash ramp's (mm per cam degree), the cam's
     velocity jumps as the ramp joins it: the fit smooths the jump into a spike of acceleration that a follower held
-    by ``tappet_force`` alone cannot follow. One line per such end (none for a table that meets its ramps)."""
-    open_ = lift > 0.0
-    if not open_.any() or open_.all():
-        return []  # lift_with_ramps refuses these
+    by ``tappet_force`` alone cannot follow. One line per such end (none for a table that meets its ramps).
+    ``lift``: a table :func:`lift_with_ramps` takes (ValueError otherwise, as there)."""
     n = len(lift)
-    rise = int(np.flatnonzero(open_ & ~np.roll(open_, 1))[0])
-    fall = int(np.flatnonzero(open_ & ~np.roll(open_, -1))[0])
+    rise, fall = _event_rows(lift)
     out = []
     for name, seat, inner in (("opens", rise - 1, rise + 1), ("closes", fall + 1, fall - 1)):
         # the mean slope over the two table steps from the seat: the valve's speed as it leaves or meets it
