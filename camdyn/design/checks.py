@@ -270,22 +270,25 @@ def _separation_note(sep: ContactSeparation, rpm: float, restitution: float) -> 
     )
 
 
+def _spans(spans: list[tuple[float, float]]) -> str:
+    """The first four (leave, land) spans of a list of flights, deg, as a note gives them."""
+    return ", ".join(f"{a:.1f}-{b:.1f}" for a, b in spans[:4]) + (", ..." if len(spans) > 4 else "")
+
+
 def _separations_note(seps: list[ContactSeparation], rpm: float) -> str:
     """Many landed separations of a rigid follower in one line: how many, the first few, the worst gap and impact."""
-    spans = ", ".join(f"{sep.start_deg:.1f}-{sep.end_deg:.1f}" for sep in seps[:4])
+    spans = _spans([(sep.start_deg, sep.end_deg) for sep in seps])
     gap = max(sep.max_gap_mm for sep in seps)
     impact = max(sep.impact_speed_m_s for sep in seps)
     return (
-        f"the follower leaves the cam {len(seps)} times a revolution at {rpm:g} rpm (flights {spans}, ... deg; "
+        f"the follower leaves the cam {len(seps)} times a revolution at {rpm:g} rpm (flights {spans} deg; "
         f"gap up to {gap:.3g} mm, impacts up to {impact:.3g} m/s; check --json lists each)"
     )
 
 
 def _flights_note(flights: tuple[ContactFlight, ...], impacts: tuple[ContactImpact, ...], rpm: float) -> str:
     """Every flight (where the interface force is zero) and the largest impact: what the report's page 1 says."""
-    spans = ", ".join(f"{f.leave_deg:.1f}-{f.land_deg:.1f}" for f in flights[:4]) + (
-        ", ..." if len(flights) > 4 else ""
-    )
+    spans = _spans([(f.leave_deg, f.land_deg) for f in flights])
     gap = max(f.max_gap_mm for f in flights)
     times = {1: "once", 2: "twice"}.get(len(flights), f"{len(flights)} times")
     note = (
