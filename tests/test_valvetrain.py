@@ -612,8 +612,8 @@ def test_force_against_speed_is_the_two_mass_models(shipped_check):
         shipped_check.dynamic.min_contact_force_N, rel=1e-6
     )
     fvs = force_vs_speed(case, shipped_check, 1.25 * 3000.0)
-    speeds, least = fvs.valve_speeds_rpm, fvs.valve_event_N
-    assert speeds is not None and least is not None
+    assert fvs.valve_event is not None
+    speeds, least = fvs.valve_event
     i = int(np.searchsorted(speeds, float_rpm))
     assert np.all(least[:i] > 0.0) and least[i] == 0.0 and np.isnan(least[i + 1 :]).all()
 

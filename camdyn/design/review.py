@@ -67,10 +67,9 @@ class ForceVsSpeed:
     dynamic_N: (
         np.ndarray | None
     )  # compliant train: frequency-domain steady state, exact until separation; None if rigid
-    # a valvetrain's two-mass model: the least cam force over the valve event (N) at valve_speeds_rpm, up to the
+    # a valvetrain's two-mass model: (speeds rpm, the least cam force over the valve event N at each), up to the
     # first speed where the valve floats (0 there; NaN past it); None for a single follower
-    valve_speeds_rpm: np.ndarray | None = None
-    valve_event_N: np.ndarray | None = None
+    valve_event: tuple[np.ndarray, np.ndarray] | None = None
 
 
 @dataclass(frozen=True)
@@ -222,7 +221,7 @@ def force_vs_speed(case: Case, check: CheckReport, margin_rpm: float, *, top: fl
     if case.valvetrain is None:
         return ForceVsSpeed(speeds, kin.min(axis=1), linear)
     valve_speeds = np.linspace(top / VALVE_SPEED_SCAN, top, VALVE_SPEED_SCAN)
-    return ForceVsSpeed(speeds, kin.min(axis=1), linear, valve_speeds, _least_event_force(case, valve_speeds))
+    return ForceVsSpeed(speeds, kin.min(axis=1), linear, (valve_speeds, _least_event_force(case, valve_speeds)))
 
 
 def _least_event_force(case: Case, speeds_rpm: np.ndarray) -> np.ndarray:

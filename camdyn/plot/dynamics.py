@@ -186,9 +186,8 @@ def plot_force_vs_speed(ax: Axes, review: Review) -> None:
                 alpha=0.7,
                 label="linear model past the jump (not valid)",
             )
-    if sw.valve_event_N is not None:  # what a valvetrain's contact_force and float speed are judged by
-        assert sw.valve_speeds_rpm is not None  # ForceVsSpeed gives both
-        ax.plot(sw.valve_speeds_rpm, sw.valve_event_N, color=C["margin"], lw=1.4, label="two masses, valve event")
+    if sw.valve_event is not None:  # what a valvetrain's contact_force and float speed are judged by
+        ax.plot(*sw.valve_event, color=C["margin"], lw=1.4, label="two masses, valve event")
     ax.axhline(0.0, color=C["ink"], lw=0.8)
     mf = chk.case.limits.min_contact_force
     if mf:
@@ -196,7 +195,7 @@ def plot_force_vs_speed(ax: Axes, review: Review) -> None:
     top = max(float(np.max(sw.kinematic_N)), mf) * 1.15
     floor = min(float(np.min(sw.kinematic_N)), float(np.min(sw.dynamic_N)) if sw.dynamic_N is not None else 0.0)
     ymin, ymax = max(floor, -0.8 * top) - 0.05 * top, top
-    _jump_speeds(ax, jd, jk, v[-1], "dynamic jump speed" if sw.valve_event_N is None else "valve float speed")
+    _jump_speeds(ax, jd, jk, v[-1], "dynamic jump speed" if sw.valve_event is None else "valve float speed")
     ax.axvline(
         review.margin_rpm,
         color=C["margin"],

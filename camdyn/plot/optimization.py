@@ -58,9 +58,8 @@ def plot_speed_before_after(ax: Axes, review: Review) -> None:
             continue
         speeds, force = sw.speeds_rpm, sw.dynamic_N if sw.dynamic_N is not None else sw.kinematic_N
         jump, what = chk.dynamic.jump_speed_rpm, "jump speed"
-        if sw.valve_event_N is not None:  # a valvetrain: the two-mass model's, as its float speed
-            assert sw.valve_speeds_rpm is not None  # ForceVsSpeed gives both
-            speeds, force, what = sw.valve_speeds_rpm, sw.valve_event_N, "float speed"
+        if sw.valve_event is not None:  # a valvetrain: the two-mass model's, as its float speed
+            (speeds, force), what = sw.valve_event, "float speed"
         held = speeds <= (jump if jump is not None and np.isfinite(jump) else np.inf)
         ax.plot(speeds[held], force[held], color=colour, ls=ls, lw=1.3, label=f"{label}: {what} {jump:.0f} rpm")
         if jump is not None and np.isfinite(jump):
