@@ -26,6 +26,7 @@ from .valvetrain import (
     equivalent_follower,
     rocker_model,
     rocker_reach,
+    static_valve_lift,
     valvetrain_model,
 )
 
@@ -228,8 +229,7 @@ def _check_valve_lifts(motion: Motion, spec: CaseSpec, vt_model: ValvetrainModel
             f"valve less the lash ({stroke:.4g} mm) carries {vt.stiffness * stroke:.4g} N, not "
             f"the spring's preload ({preload:g} N): is the stiffness in N/mm, at the valve?",
         )
-    # at full lift, slowly: the train and the valve spring in series share the cam's stroke
-    lifted = (vt.stiffness * stroke - preload) / (vt.stiffness + (spec.dynamics.spring_rate or 0.0))
+    lifted = static_valve_lift(stroke, preload, vt.stiffness, spec.dynamics.spring_rate or 0.0)  # at full lift
     if lifted < MIN_STATIC_VALVE_LIFT * stroke:
         raise InputError(
             "valvetrain.stiffness",

@@ -231,6 +231,15 @@ def equivalent_follower(vt: ValvetrainModel) -> FollowerModel:
     )
 
 
+def static_valve_lift(stroke: float, preload: float, train_rate: float, spring_rate: float) -> float:
+    """The valve's lift with the cam turned slowly to ``stroke`` past the lash (at the valve): the train
+    (``train_rate``; inf: rigid) and the valve spring (``spring_rate``, ``preload``) in series share it,
+    ``(k_t stroke - F0) / (k_t + k)``. Any consistent units (mm, N and N/mm, or SI)."""
+    if math.isinf(train_rate):
+        return stroke
+    return (train_rate * stroke - preload) / (train_rate + spring_rate)
+
+
 def lift_with_ramps(theta_deg: np.ndarray, lift: np.ndarray, lash: float, ramp_velocity: float) -> np.ndarray:
     """The cam's lift at the valve (mm, ``r`` times the follower's) that gives the valve ``lift`` (mm) at
     ``theta_deg`` (one revolution, increasing) with ``lash`` (mm) taken up by constant-velocity ramps of

@@ -38,7 +38,7 @@ import numpy as np
 
 from ..._core.units import M_PER_MM, THETA_GRID, TWO_PI, VALVE_BOUNCE_TOLERANCE_MM
 from ..motion import Motion
-from ..valvetrain import ValvetrainModel
+from ..valvetrain import ValvetrainModel, static_valve_lift
 from ._response import first_zero_speed
 from ._valvetrain import GAP_EPS, NO_EVENT, ValvetrainResponse, landing_floor, start_angle, valvetrain_response
 
@@ -391,7 +391,7 @@ def _rigid_cam(motion: Motion, vt: ValvetrainModel, w: float, n: int) -> ValveSu
     d, f_t = train(ys, idx, 0.0)
     f_cam = f_cam_bare[idx] + r * f_t
     reach = r * (float(s.max()) - float(s.min())) - lash
-    half_lift = 0.5 * (kt * reach - f0) / (kt + k)
+    half_lift = 0.5 * static_valve_lift(reach, f0, kt, k)
     risen = np.nonzero(ys[:, 0] > half_lift)[0]
     down = np.nonzero(ys[risen[0] :, 0] < -GAP_EPS)[0] if risen.size else risen
     if not down.size or np.any(ys[: risen[0], 0] < -GAP_EPS):

@@ -44,7 +44,7 @@ from ..._core.errors import NumericalError
 from ..._core.jit import cached_jit
 from ..._core.units import M_PER_MM, RPM, THETA_GRID, TWO_PI, VALVE_BOUNCE_TOLERANCE_MM, VALVE_TIMING_LIFT_MM
 from ..motion import Motion
-from ..valvetrain import ValvetrainModel
+from ..valvetrain import ValvetrainModel, static_valve_lift
 from ._train import contact_force
 
 _RTOL, _ATOL = 1e-10, 1e-14  # the state is in m and m/rad: lifts of 1e-2 m
@@ -370,8 +370,9 @@ def valvetrain_response(motion: Motion, vt: ValvetrainModel, omega: float, n: in
         return float(g), float(ratio)
 
     reach = lever(float(s_si.max()))[0] - lever(float(s_si.min()))[0] - float(vt.lash)
-    kt, k = float(vt.train.train_stiffness), float(vt.spring_rate)
-    half_lift = 0.5 * (reach if rigid_train else (kt * reach - float(vt.preload)) / (kt + k))
+    half_lift = 0.5 * static_valve_lift(
+        reach, float(vt.preload), float(vt.train.train_stiffness), float(vt.spring_rate)
+    )
     warnings: list[str] = []
     settled = False
     for rev in range(_REVS):
