@@ -11,6 +11,7 @@ import io
 import json
 import math
 import tomllib
+from dataclasses import replace
 from pathlib import Path
 
 import jax.numpy as jnp
@@ -22,8 +23,8 @@ from scipy.optimize import linprog
 from camdyn import InputError
 from camdyn._core.units import M_PER_MM, RPM
 from camdyn.cli import main
-from camdyn.design.optimize import _valvetrain_refusals
 from camdyn.design.optimize._shape import flank_space
+from camdyn.design.optimize._valvetrain import ValveFacts, valve_refusals
 from camdyn.model.case import case_from_dict, load_case
 from camdyn.model.dynamics import linear_min_force, steady_state, valvetrain_response
 from camdyn.model.motion import Program
@@ -265,15 +266,15 @@ def test_the_optimized_valvetrain_passes_check_as_written(capsys, optimized):
     assert np.all(np.asarray(linear_min_force(case.motion, case.model, w)) > 0.0)
 
 
-FACTS = {
-    "float_speed_rpm": 5920.2,
-    "bounce_speed_rpm": 6625.9,
-    "seating_velocity_m_per_s": 0.2686,
-    "opening_deg": 56.06,
-    "closing_deg": 299.85,
-    "max_valve_lift_mm": 9.924,
-    "peak_cam_lift_mm": 6.375,
-}
+FACTS = ValveFacts(
+    float_speed_rpm=5920.2,
+    bounce_speed_rpm=6625.9,
+    seating_velocity_m_per_s=0.2686,
+    opening_deg=56.06,
+    closing_deg=299.85,
+    max_valve_lift_mm=9.924,
+    peak_cam_lift_mm=6.375,
+)
 
 
 @pytest.mark.parametrize(
@@ -291,6 +292,6 @@ FACTS = {
 )
 def test_a_valvetrain_answer_is_refused_where_anything_is_worse(change, needle):
     """Never worse than the input: each fact alone refuses the answer (the float speed up 10 % otherwise)."""
-    better = FACTS | {"float_speed_rpm": 1.1 * FACTS["float_speed_rpm"]}
-    out = _valvetrain_refusals(FACTS, better | change)
+    better = replace(FACTS, float_speed_rpm=1.1 * 5920.2)
+    out = valve_refusals(FACTS, replace(better, **change))
     assert out == ([] if needle is None else [needle])

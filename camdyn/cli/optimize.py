@@ -19,16 +19,6 @@ if TYPE_CHECKING:
     from ..design.optimize import Optimization
 
 
-_VALVE_ROWS = (  # a valvetrain's two-mass facts (:func:`camdyn.design.optimize.valve_facts`) in the table
-    ("float_speed_rpm", "valve float speed, two-mass (rpm)", ".1f"),
-    ("bounce_speed_rpm", "valve bounce speed, two-mass (rpm)", ".1f"),
-    ("seating_velocity_m_per_s", "seating velocity (m/s)", ".4g"),
-    ("opening_deg", "opening at 0.05 mm (deg)", ".2f"),
-    ("closing_deg", "closing at 0.05 mm (deg)", ".2f"),
-    ("max_valve_lift_mm", "max valve lift (mm)", ".4g"),
-)
-
-
 def print_optimization(res: Optimization, output: Path) -> None:
     con = _console.console()
     u, f = res.unit, res.force_unit
@@ -47,10 +37,11 @@ def print_optimization(res: Optimization, output: Path) -> None:
             format(getattr(res.before, fld.name), fmt),
             format(getattr(res.after, fld.name), fmt),
         )
-    if res.valvetrain is not None:
-        for key, label, fmt in _VALVE_ROWS:
-            b, a = res.valvetrain["before"][key], res.valvetrain["after"][key]
-            t.add_row(label, *("none found" if x is None else format(x, fmt) for x in (b, a)))
+    if res.valvetrain is not None:  # the two-mass facts its table shows (ValveFacts' labelled fields)
+        for fld in (f for f in fields(res.valvetrain[0]) if "label" in f.metadata):
+            pair = (getattr(facts, fld.name) for facts in res.valvetrain)
+            shown = ("none found" if x is None else format(x, fld.metadata["format"]) for x in pair)
+            t.add_row(fld.metadata["label"], *shown)
     con.print(t)
     for p in res.verification["points"]:
         td = next(v for k, v in p.items() if k.startswith("time_domain"))

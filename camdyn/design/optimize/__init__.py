@@ -14,7 +14,6 @@ import time
 from dataclasses import dataclass, field, replace
 
 import equinox as eqx
-import jax.numpy as jnp
 import numpy as np
 
 from ..._core.errors import InputError, NumericalError
@@ -37,19 +36,16 @@ from ...schema import CaseSpec
 from ...schema.dynamics import dynamics_keys
 from ..checks import CheckReport, run_check
 from ..parts import resolve_spring
-from ._objectives import CLEAR, jump_speed, least_slack, peak_spring_force_floor, spring_force, vibration
+from ._objectives import BETTER, CLEAR, jump_speed, least_slack, peak_spring_force_floor, spring_force, vibration
 from ._rows import Rows
 from ._shape import N_CONTROL, ShapeSpace, flank_space, shape_space
+from ._valvetrain import ValveFacts, seating_rows, valve_refusals, valve_sentence
 
 OBJECTIVES = ("jump-speed", "vibration", "spring-force")
 MARGIN_OF_PRELOAD = 0.05  # the default force margin: this share of the static preload
 ROBUST_SEPARATION = 1e-3  # --robust: the claim is the speed up to which P(separation) stays at or below this
 ROBUST_SAMPLES = 4000  # built cams drawn for it (4 below the 1e-3 quantile)
-_BETTER = 1e-3  # an answer must beat the input on its objective by this share to be written
 _VERIFIED = 3  # the time-domain model checks this many of the force's dips below the claim, and the claim
-_TIMING_DEG = 0.5  # a valvetrain's opening or closing (at 0.05 mm of valve lift) may move this much at the case speed
-_SEAT_WINDOW_DEG = 3.0  # the surrogate holds the valve's closing speed this close to where it seats
-_SEATING_RTOL = 1e-3  # its seating velocity may differ by this share: the ramp sets it, the integrator's noise moves it
 
 
 def _shown(label: str, fmt: str = ".4g"):
@@ -113,7 +109,7 @@ class Optimization:
     margin: float = 0.0  # the force margin held (N; N*m for an arm)
     refusals: tuple[str, ...] = ()  # why the answer is no better than the input, or invalid
     robust: dict | None = None  # --robust: the tolerance study's claim
-    valvetrain: dict | None = None  # a valvetrain's two-mass facts: {"before": ..., "after": ...} (:func:`valve_facts`)
+    valvetrain: tuple[ValveFacts, ValveFacts] | None = None  # a valvetrain's two-mass facts, before and after
 
     @property
     def unit(self) -> str:
@@ -169,7 +165,7 @@ class Optimization:
             f"{floor_rpm(a.margin_speed_rpm):.1f} rpm; least contact force at the case speed "
             f"{b.least_force_N:.3g} -> {a.least_force_N:.3g} N; max pressure angle {b.max_pressure_angle_deg:.2f} -> "
             f"{a.max_pressure_angle_deg:.2f} deg; verdict {b.verdict} -> {a.verdict}.",
-            *([] if self.valvetrain is None else [_valve_sentence(self.valvetrain)]),
+            *([] if self.valvetrain is None else [valve_sentence(*self.valvetrain)]),
             f"Checked by {checked} at "
             + ", ".join(f"{p['speed_rpm']:.0f}" for p in self.verification["points"])
             + f" rpm (least force {self.verification['least_force']:.4g} {f}).",
@@ -191,7 +187,9 @@ class Optimization:
             "written": self.written,
             "refusals": list(self.refusals),
             "robust": self.robust,
-            "valvetrain": self.valvetrain,
+            "valvetrain": None
+            if self.valvetrain is None
+            else {"before": self.valvetrain[0].json(), "after": self.valvetrain[1].json()},
         }
 
 
@@ -340,9 +338,9 @@ def _refusals(
     failing, the motion leaving its range, or the time-domain model finding the margin broken."""
     out = []
     worse = {
-        "jump-speed": a.margin_speed_rpm <= b.margin_speed_rpm * (1.0 + _BETTER) or a.jump_speed_rpm < b.jump_speed_rpm,
-        "vibration": a.residual_vibration >= b.residual_vibration * (1.0 - _BETTER),
-        "spring-force": a.peak_spring_force >= b.peak_spring_force * (1.0 - _BETTER),
+        "jump-speed": a.margin_speed_rpm <= b.margin_speed_rpm * (1.0 + BETTER) or a.jump_speed_rpm < b.jump_speed_rpm,
+        "vibration": a.residual_vibration >= b.residual_vibration * (1.0 - BETTER),
+        "spring-force": a.peak_spring_force >= b.peak_spring_force * (1.0 - BETTER),
     }[objective]
     if worse:
         what = {
@@ -440,7 +438,7 @@ def optimize_case(
     if case.valvetrain is not None:  # the event's single follower: the train's compliance, the lash taken up
         surrogate, cam_mass = event_follower(case.valvetrain)
         rows = Rows(replace(case, model=surrogate), space, margin, cam_mass, float(case.valvetrain.tappet_force))
-        rows = replace(rows, seating=_seating(rows, before_check, speed_rpm))
+        rows = replace(rows, seating=seating_rows(rows, before_check, speed_rpm))
     before = metrics(case, before_check, margin)
     rpm = float(speed_rpm if speed_rpm is not None else case.speed_rpm)
     dynamics: dict = {}
@@ -460,7 +458,7 @@ def optimize_case(
             w = case.limits.speed_margin * rpm * RPM * CLEAR
             rates = float(case.model.stiffness) * np.array([0.25, 0.5, 1.0, 2.0])
             floors = peak_spring_force_floor(rows, rates)
-            hopeful = floors < before.peak_spring_force * (1.0 - _BETTER)
+            hopeful = floors < before.peak_spring_force * (1.0 - BETTER)
             if not hopeful.any():  # closed form: no program of these rates can come out lighter than the input
                 f = case.kind.force_unit
                 return _refused(
@@ -523,89 +521,14 @@ def optimize_case(
     )
 
 
-def _seating(rows: Rows, check: CheckReport, speed_rpm: float | None) -> tuple | None:
-    """What holds a valvetrain's seating velocity at the case speed (:attr:`Rows.seating`): its valve's speed
-    toward the seat in the surrogate, at every grid angle within :data:`_SEAT_WINDOW_DEG` of where the two-mass
-    model seats it, at most what the case's own flanks give there; None for a rigid train (the ramp sets it)."""
-    vt = rows.case.valvetrain
-    assert vt is not None and check.valvetrain is not None  # a valvetrain's rows and check
-    if rows.case.model.rigid or not math.isfinite(check.valvetrain.response.seating_deg):
-        return None
-    omega = float(speed_rpm if speed_rpm is not None else rows.case.speed_rpm) * RPM
-    deg = np.degrees(rows.space.theta)
-    near = np.abs((deg - check.valvetrain.response.seating_deg + 180.0) % 360.0 - 180.0) <= _SEAT_WINDOW_DEG
-    idx = np.nonzero(near)[0]
-    s = np.asarray(rows.case.motion(rows.space.theta))[:, None]  # the case's own flanks, not their fit
-    own = replace(rows.space, offset=s[:, 0], matrix=np.zeros((4, s.shape[-1], 1)), z0=np.zeros(1))
-    probe = replace(rows, space=own, seating=(omega, float(vt.ratio), idx, 1.0))
-    return omega, float(vt.ratio), idx, float(np.max(np.asarray(probe.closing_speed(jnp.zeros(1)))))
-
-
-def valve_facts(check: CheckReport) -> dict:
-    """What a valvetrain's answer is judged on, from ``check``'s two-mass model: its float and bounce speeds (rpm;
-    None: none up to the search's top), its seating velocity (m/s), timing (deg at 0.05 mm of valve lift) and
-    largest valve lift (mm) at the case speed, and the cam's peak lift at the follower (mm)."""
-    vt = check.valvetrain
-    assert vt is not None  # a valvetrain's check
-    j = vt.json()
-    keys = ("float_speed_rpm", "bounce_speed_rpm", "seating_velocity_m_per_s", "opening_deg", "closing_deg")
-    return {k: j[k] for k in keys} | {
-        "max_valve_lift_mm": j["max_valve_lift_mm"],
-        "peak_cam_lift_mm": float(np.max(vt.response.cam_lift)),
-    }
-
-
-def _valve_sentence(facts: dict) -> str:
-    """The written case's header line of a valvetrain's two-mass facts, before -> after."""
-    rows = (
-        ("float speed", "float_speed_rpm", ".1f", " rpm"),
-        ("bounce speed", "bounce_speed_rpm", ".1f", " rpm"),
-        ("seating velocity", "seating_velocity_m_per_s", ".4g", " m/s"),
-        ("opening", "opening_deg", ".2f", " deg"),
-        ("closing", "closing_deg", ".2f", " deg"),
-    )
-    said = (
-        f"{label} {_shown_or_none(facts['before'][key], fmt)} -> {_shown_or_none(facts['after'][key], fmt)}{unit}"
-        for label, key, fmt, unit in rows
-    )
-    return "Two-mass valvetrain: " + ", ".join(said) + "."
-
-
-def _shown_or_none(x: float | None, fmt: str) -> str:
-    """``x`` as ``fmt``; "none" for a speed none was found up to the search's top (or an angle never reached)."""
-    return "none" if x is None else format(x, fmt)
-
-
-def _valvetrain_refusals(b: dict, a: dict) -> list[str]:
-    """Why a valvetrain's answer must not be written: its float speed no higher, its bounce speed lower, its
-    seating velocity higher, its timing moved or its peak lift changed (``b``, ``a``: :func:`valve_facts`)."""
-    inf = lambda x: math.inf if x is None else x  # noqa: E731  (None: no float or bounce up to the search's top)
-    out = []
-    fb, fa = inf(b["float_speed_rpm"]), inf(a["float_speed_rpm"])
-    if not fa > fb * (1.0 + _BETTER):
-        out.append(f"no better on jump-speed: the float speed would go {fb:.1f} -> {fa:.1f} rpm")
-    if inf(a["bounce_speed_rpm"]) < inf(b["bounce_speed_rpm"]):
-        out.append(f"the bounce speed would fall {inf(b['bounce_speed_rpm']):.1f} -> {a['bounce_speed_rpm']:.1f} rpm")
-    vb, va = b["seating_velocity_m_per_s"], a["seating_velocity_m_per_s"]
-    if vb is not None and (va is None or va > vb * (1.0 + _SEATING_RTOL)):
-        out.append(f"the seating velocity would rise {vb:.4g} -> {_shown_or_none(va, '.4g')} m/s")
-    for key in ("opening_deg", "closing_deg"):
-        if b[key] is None or a[key] is None or abs(a[key] - b[key]) > _TIMING_DEG:
-            shown = (_shown_or_none(v, ".2f") for v in (b[key], a[key]))
-            out.append(f"the valve's {key[:-4]} at 0.05 mm would move {' -> '.join(shown)} deg")
-    if abs(a["peak_cam_lift_mm"] - b["peak_cam_lift_mm"]) > 1e-9 * b["peak_cam_lift_mm"]:
-        out.append(f"the peak lift would change {b['peak_cam_lift_mm']:.6g} -> {a['peak_cam_lift_mm']:.6g} mm")
-    return out
-
-
 def _valvetrain_verdict(
     new: Case, space: ShapeSpace, before_check: CheckReport, after_check: CheckReport
-) -> tuple[float, dict, list[str], dict]:
+) -> tuple[float, dict, list[str], tuple[ValveFacts, ValveFacts]]:
     """A valvetrain's answer judged by the two-mass model: the claim (its float speed, rpm), the verification (the
     model again at 0.99 x the claim and at the case speed: the least cam force over the valve event, and whether it
-    floats), the refusals and the facts before and after (:func:`valve_facts`)."""
-    facts = {"before": valve_facts(before_check), "after": valve_facts(after_check)}
-    claimed = facts["after"]["float_speed_rpm"]
+    floats), the refusals and the facts before and after."""
+    facts = ValveFacts.of(before_check), ValveFacts.of(after_check)
+    claimed = facts[1].float_speed_rpm
     claimed = math.inf if claimed is None else floor_rpm(claimed)
     assert new.valvetrain is not None  # built from a valvetrain's case
     points = []
@@ -626,7 +549,7 @@ def _valvetrain_verdict(
         "least_force": min((p["time_domain_least_force_N"] for p in points), default=None),
         "unit": "N",
     }
-    refusals = _valvetrain_refusals(facts["before"], facts["after"])
+    refusals = valve_refusals(*facts)
     refusals += _broken_checks(before_check, after_check)
     refusals += _motion_kept(new, space)
     refusals += [
@@ -657,5 +580,5 @@ __all__ = [
     "margin_speed",
     "metrics",
     "optimize_case",
-    "valve_facts",
+    "ValveFacts",
 ]

@@ -26,6 +26,7 @@ from ._rows import FINE, Rows, speed_slots
 from ._slp import Step, maximize_least, with_jacobian
 
 RADIUS = 0.2  # first trust region of a control point (normalized lift)
+BETTER = 1e-3  # an answer must beat the input on its objective by this share to be written
 CLEAR = 1.002  # hold a little past the margin the check asks for: it reads the jump speed on its own grid
 _TOL_RPM = 1.0  # the bisection stops when the jump speed is known to 1 rpm
 
