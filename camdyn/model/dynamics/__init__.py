@@ -33,7 +33,8 @@ from ._response import dynamic_jump_speed, first_zero_speed, jump_search_limit, 
 from ._result import Flight, Impact, Response, Separation
 from ._rigid import rigid_response
 from ._train import contact_force, preload_share, static_position, train_force
-from ._valvefast import ValvePoint, ValveSummary, bounce_speed, fast_valve_summary, float_speed
+from ._valvefast import ValveSummary, fast_valve_summary
+from ._valvepoint import ValvePoint, bounce_speed, float_speed
 from ._valvetrain import ValveEvent, ValvetrainResponse, valvetrain_response
 
 __all__ = [

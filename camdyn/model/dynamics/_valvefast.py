@@ -36,17 +36,15 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..._core.units import M_PER_MM, THETA_GRID, TWO_PI, VALVE_BOUNCE_TOLERANCE_MM
+from ..._core.units import M_PER_MM, THETA_GRID, TWO_PI
 from ..motion import Motion
 from ..valvetrain import ValvetrainModel, static_valve_lift
-from ._response import first_zero_speed
-from ._valvetrain import GAP_EPS, NO_EVENT, ValvetrainResponse, landing_floor, start_angle, valvetrain_response
+from ._valvetrain import GAP_EPS, landing_floor, start_angle
 
 REFINE = 2  # fine steps per output angle (0.05 deg): the cubic hold's error is of order h^4
 _SPLIT = 64  # a contact change inside a step: the step cut in 64, twice over
 _MAX_REBOUNDS = 200
 _MARCH = 64  # a stretch's first chunk of fine steps (then four times what it has, to the revolution's end)
-_SCAN_CHUNK = 8  # the speed searches' scan, 8 speeds at a time from the slowest: none above the first crossing's
 # chunk is marched (the same answer; the speeds where the valve floats are the diffrax model's, the slow ones)
 _ORDER = 4  # the input's Taylor chain: value, slope, curvature, third derivative (a cubic)
 
@@ -461,111 +459,4 @@ def _rigid_cam(motion: Motion, vt: ValvetrainModel, w: float, n: int) -> ValveSu
         max(max_lift, flight_lift) / M_PER_MM,
         max_gap_mm=gap / M_PER_MM,
         bounce_lift_mm=flight_lift / M_PER_MM,
-    )
-
-
-def _read(name: str) -> property:
-    """A number the fast path's summary and the diffrax model's response both give, from whichever answers."""
-    return property(lambda self: float(getattr(self._answer, name)), doc=f"The response's ``{name}``.")
-
-
-class ValvePoint:
-    """The valvetrain at one cam speed as its studies read it: :func:`fast_valve_summary` where it answers, the
-    diffrax model's :func:`~camdyn.model.dynamics.valvetrain_response` (run once, when first asked) for what it
-    does not: everything where the fast path cannot say, all but the float verdict and the least force (0) where
-    the valve surely floats. The same names as the response's."""
-
-    def __init__(self, motion: Motion, vt: ValvetrainModel, omega: float) -> None:
-        self.omega = float(omega)
-        self._motion, self._vt = motion, vt
-        self._fast = fast_valve_summary(motion, vt, self.omega)
-        self._response: ValvetrainResponse | None = None
-
-    @property
-    def fast(self) -> bool:
-        """Whether the fast path answered everything (the diffrax model not run)."""
-        return isinstance(self._fast, ValveSummary)
-
-    @property
-    def response(self) -> ValvetrainResponse:
-        """The diffrax model's revolution at this speed (run on first use)."""
-        if self._response is None:
-            self._response = valvetrain_response(self._motion, self._vt, self.omega)
-        return self._response
-
-    @property
-    def _answer(self) -> ValveSummary | ValvetrainResponse:
-        return self._fast if isinstance(self._fast, ValveSummary) else self.response
-
-    @property
-    def floated(self) -> bool:
-        return True if self._fast is FLOATED else bool(self._answer.floated)
-
-    @property
-    def least_event_force(self) -> float:
-        return 0.0 if self._fast is FLOATED else float(self._answer.least_event_force)
-
-    least_event_force_deg = _read("least_event_force_deg")
-    least_train_force = _read("least_train_force")
-    seating_velocity = _read("seating_velocity")
-    seating_deg = _read("seating_deg")
-    bounce_height_mm = _read("bounce_height_mm")
-    max_valve_lift_mm = _read("max_valve_lift_mm")
-
-    @property
-    def bounced(self) -> bool:
-        """Whether the valve leaves its seat after closing by more than the seat's micro-bounce tolerance."""
-        return self.bounce_height_mm > VALVE_BOUNCE_TOLERANCE_MM
-
-    def max_gap_mm(self, solid_mm: float = math.inf) -> float:
-        """:meth:`ValvetrainResponse.max_gap_mm` (mm)."""
-        fast = self._fast
-        if isinstance(fast, ValveSummary) and fast.bounce_lift_mm <= solid_mm:  # the rebounds short of coil bind
-            return fast.max_gap_mm
-        return self.response.max_gap_mm(self._vt, solid_mm)
-
-
-def float_speed(
-    motion: Motion,
-    vt: ValvetrainModel,
-    w_max: float,
-    *,
-    grid: int = 40,
-    width_rpm: float = 1.0,
-    respond: Callable[[float], ValvePoint] | None = None,
-    margin: float = 0.0,
-) -> float:
-    """The first cam speed (rad/s) at which the cam contact opens while the valve is off its seat (inf: none up
-    to ``w_max``): the shared jump search on the least cam-contact force over the valve event. ``respond``: the
-    valvetrain at a speed, where a caller shares them between searches (default a fresh :class:`ValvePoint`);
-    ``margin`` (N): the first speed at which that force falls to it instead (``optimize``'s force margin)."""
-    respond = respond or (lambda w: ValvePoint(motion, vt, w))
-
-    def least(ws: np.ndarray) -> np.ndarray:  # a speed at which the valve does not lift has no event to float in
-        forces = [respond(float(w)).least_event_force - margin for w in np.atleast_1d(ws)]
-        return np.nan_to_num(forces, nan=NO_EVENT)
-
-    return first_zero_speed(
-        least, w_max, grid=grid, width_rpm=width_rpm, points=1, where="valvetrain float search", chunk=_SCAN_CHUNK
-    )
-
-
-def bounce_speed(
-    motion: Motion,
-    vt: ValvetrainModel,
-    w_max: float,
-    *,
-    grid: int = 40,
-    width_rpm: float = 1.0,
-    respond: Callable[[float], ValvePoint] | None = None,
-) -> float:
-    """The first cam speed (rad/s) at which the valve leaves its seat after closing by more than the seat's
-    micro-bounce tolerance :data:`VALVE_BOUNCE_TOLERANCE_MM` (inf: none up to ``w_max``)."""
-    respond = respond or (lambda w: ValvePoint(motion, vt, w))
-
-    def margin(ws: np.ndarray) -> np.ndarray:
-        return np.array([VALVE_BOUNCE_TOLERANCE_MM - respond(float(w)).bounce_height_mm for w in np.atleast_1d(ws)])
-
-    return first_zero_speed(
-        margin, w_max, grid=grid, width_rpm=width_rpm, points=1, where="valvetrain bounce search", chunk=_SCAN_CHUNK
     )
