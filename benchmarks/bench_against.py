@@ -1,6 +1,6 @@
 """Benchmark: ``camdyn check`` and ``camdyn optimize`` from this tree against another camdyn source tree, in one run.
 
-    python benchmarks/bench_against.py --against DIR [--repeat 5] [--what check optimize]
+    python benchmarks/bench_against.py --against DIR [--repeat 5] [--what check optimize] [--cases lecture ...]
 
 Fresh processes with the caches warm (one warm-up run of each first; the user's cache directory, where each
 tree's stored programs have keys of their own), interleaved round by round (the bare import, then each command
@@ -54,6 +54,9 @@ def main() -> int:
     ap.add_argument("--against", type=Path, required=True, metavar="DIR", help="the other camdyn source tree")
     ap.add_argument("--repeat", type=int, default=5, help="rounds; medians are shown (default 5)")
     ap.add_argument("--what", nargs="+", default=["check", "optimize"], choices=["check", "optimize"])
+    ap.add_argument(
+        "--cases", nargs="+", default=list(CASES), metavar="CASE", help="shipped cases under cases/, without .toml"
+    )
     opts = ap.parse_args()
     t_all = time.perf_counter()
     py = sys.executable
@@ -61,7 +64,7 @@ def main() -> int:
     tmp = Path(tempfile.mkdtemp(prefix="camdyn-bench-against-"))
     jobs: list[tuple[str, str, list[str]]] = [("bare", "", [py, "-c", BARE])]
     for what in opts.what:
-        for case in CASES:
+        for case in opts.cases:
             for tag in trees:
                 argv = [py, "-m", "camdyn", what, str(ROOT / "cases" / f"{case}.toml"), "--quiet"]
                 if what == "optimize":
