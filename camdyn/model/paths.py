@@ -24,6 +24,7 @@ from jax.experimental import jet
 from jax.typing import ArrayLike
 
 from .._core.errors import InputError
+from .._core.jit import device_array
 from .._core.units import TWO_PI
 from ..schema import PathSpec, parse
 
@@ -201,11 +202,11 @@ def _chain(pieces: list, start: np.ndarray, head0: float, joints_sharp: bool, fi
         np.append(kappa, np.zeros(pad)),
     )
     return Chain(
-        v0=jnp.asarray(v0),
-        p0=jnp.asarray(p0),
-        head=jnp.asarray(head),
-        kappa=jnp.asarray(kappa),
-        total=jnp.asarray(total),
+        v0=device_array(v0),
+        p0=device_array(p0),
+        head=device_array(head),
+        kappa=device_array(kappa),
+        total=device_array(total),
         local_breaks=joints,
         local_sharp=joints if joints_sharp else (),
         **kw,
@@ -232,7 +233,7 @@ def build_path(spec: PathSpec | dict) -> Path:
             p0, p1 = np.asarray(spec.start, dtype=float), np.asarray(spec.end, dtype=float)
             c, a[0] = (p0 + p1) / 2.0, -(p1 - p0) / 2.0
         return Trig(
-            center=jnp.asarray(c), a=jnp.asarray(a), b=jnp.asarray(b), local_breaks=(), local_sharp=(), **common
+            center=device_array(c), a=device_array(a), b=device_array(b), local_breaks=(), local_sharp=(), **common
         )
     if t == "rectangle":
         w, h, r = spec.width, spec.height, spec.corner_radius or 0.0
@@ -276,8 +277,8 @@ def build_path(spec: PathSpec | dict) -> Path:
     cs = CubicSpline(knots, closed, bc_type="periodic")
     coef = np.transpose(cs.c, (1, 0, 2))  # (n, 4, 2)
     return Spline(
-        knots=jnp.asarray(knots),
-        coef=jnp.asarray(coef),
+        knots=device_array(knots),
+        coef=device_array(coef),
         local_breaks=tuple(float(k) for k in knots[:-1]),
         local_sharp=(),
         **common,

@@ -21,6 +21,7 @@ import numpy as np
 from jax.typing import ArrayLike
 
 from ..._core.errors import NumericalError
+from ..._core.jit import cached_jit
 from ..paths import Path
 from ._batch import padded
 from ._dyads import norm
@@ -131,7 +132,7 @@ def _q_factor(d: np.ndarray, r: float, coupler: float, sgn: float, to_pi: float)
     return ((coupler - r + d) if sgn < 0 else (coupler + r - d)) / (2 * r * d)
 
 
-@eqx.filter_jit
+@cached_jit
 def _dvals(chain, u):
     return jax.vmap(lambda v: norm(chain.p_side(v)))(jnp.atleast_1d(u))
 
@@ -185,14 +186,14 @@ def build_crank(
         sw += [(u, ext.d_min, 1.0, 1.0 if coupler > r else 0.0) for u in ext.u_min]
     sw = sorted((0.0 if min(u, 1.0 - u) < 1e-12 else u, *rest) for u, *rest in sw)
     k = len(sw)
-    a = lambda x: jnp.asarray(np.array(x, dtype=float))  # noqa: E731
+    a = lambda x: jax.device_put(np.array(x, dtype=float))  # noqa: E731 - jnp.asarray compiles a program a shape
     if k % 2:
         raise NumericalError(
             "mechanism.crank",
             f"the crank dyad reaches {k} singular positions per loop; an odd count cannot close the assembly modes",
         )
     if k == 0:
-        z = jnp.zeros(0)
+        z = a(np.zeros(0))
         return CrankDyad(
             a(r),
             a(coupler),
@@ -202,8 +203,8 @@ def build_crank(
             z,
             z,
             z,
-            jnp.zeros((0, 2, _Q_DEGREE + 1)),
-            jnp.zeros((0, 2)),
+            a(np.zeros((0, 2, _Q_DEGREE + 1))),
+            a(np.zeros((0, 2))),
             z,
             m_start=float(m_start),
         ), notes
