@@ -4,14 +4,14 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import equinox as eqx
 import numpy as np
 from jax.typing import ArrayLike
 
 from ..._core.errors import NumericalError
-from ..._core.jit import device_array
+from ..._core.jit import device_array, stored
 from ..._core.units import TWO_PI
 from ...schema import FollowerSpec, MechanismSpec, PathSpec, parse
 from ..motion import HermiteMotion
@@ -217,15 +217,25 @@ def _table_error(
         )
 
 
-def synthesize_motion(path: dict | PathSpec, mechanism: dict | MechanismSpec) -> Synthesis:
+def synthesize_motion(path: dict | PathSpec, mechanism: dict | MechanismSpec, reuse: bool = False) -> Synthesis:
     """Synthesize the cam of a combined cam-linkage so that the tracing point follows ``path`` exactly.
 
     ``path``, ``mechanism``: the ``[path]`` and ``[mechanism]`` tables (see :class:`PathSpec`,
     :class:`MechanismSpec`). Raises :class:`InputError` for invalid tables and :class:`NumericalError` for a
-    dyad that cannot close or a crank that would reverse (naming the path point).
+    dyad that cannot close or a crank that would reverse (naming the path point). ``reuse``: read the synthesis
+    an earlier process stored for the same tables (:func:`camdyn._core.jit.stored`; a case's, checked again and
+    again), else compute and store it; ``synthesis_time_s`` is the time taken here either way.
     """
     t_start = time.perf_counter()
     ps, ms = parse_path(path), parse_mechanism(mechanism)
+    if not reuse:
+        return _synthesize(ps, ms, t_start)
+    syn = stored("synthesis", ps.model_dump_json() + ms.model_dump_json(), lambda: _synthesize(ps, ms, t_start))
+    return replace(syn, summary=dict(syn.summary, synthesis_time_s=time.perf_counter() - t_start))
+
+
+def _synthesize(ps: PathSpec, ms: MechanismSpec, t_start: float) -> Synthesis:
+    """:func:`synthesize_motion` of validated tables; ``t_start``: its start (``time.perf_counter``)."""
     pth = build_path(ps)
     warnings: list[str] = []
     sharp = bool(pth.sharp_u)
