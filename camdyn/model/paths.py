@@ -29,6 +29,7 @@ from .._core.units import TWO_PI
 from ..schema import PathSpec, parse
 
 _CHAIN_PIECES = 12
+_SPLINE_PIECES = 64  # precision points padded to a multiple of this: splines of up to 64 points share one program
 
 
 def parse_path(path: dict | PathSpec) -> PathSpec:
@@ -155,11 +156,11 @@ class Chain(Path):
 class Spline(Path):
     """Periodic cubic spline through precision points, chord-length parametrized (C2; jerk jumps at knots)."""
 
-    knots: jax.Array  # (n + 1,) in [0, 1]
-    coef: jax.Array  # (n, 4, 2): P = sum_k coef[i, k] (v - knot_i)^(3 - k)
+    knots: jax.Array  # (n + 1,) in [0, 1], then 2 (never reached) up to a multiple of _SPLINE_PIECES
+    coef: jax.Array  # (n, 4, 2): P = sum_k coef[i, k] (v - knot_i)^(3 - k); zeros past them
 
     def _local(self, v):
-        i = _piece(self.knots[:-1], v)
+        i = _piece(self.knots, v)  # v < 1 = knots[n]: never the last knot nor the padding
         x = v - self.knots[i]
         c = self.coef[i]
         return ((c[0] * x + c[1]) * x + c[2]) * x + c[3]
@@ -276,9 +277,10 @@ def build_path(spec: PathSpec | dict) -> Path:
     knots = np.concatenate([[0.0], np.cumsum(chord)]) / chord.sum()
     cs = CubicSpline(knots, closed, bc_type="periodic")
     coef = np.transpose(cs.c, (1, 0, 2))  # (n, 4, 2)
+    pad = -(-len(coef) // _SPLINE_PIECES) * _SPLINE_PIECES - len(coef)
     return Spline(
-        knots=device_array(knots),
-        coef=device_array(coef),
+        knots=device_array(np.concatenate([knots, np.full(pad, 2.0)])),
+        coef=device_array(np.concatenate([coef, np.zeros((pad, 4, 2))])),
         local_breaks=tuple(float(k) for k in knots[:-1]),
         local_sharp=(),
         **common,
