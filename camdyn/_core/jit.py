@@ -193,9 +193,9 @@ def stored(name: str, key: str, compute: Callable[[], T]) -> T:
     """``compute()``, or what an earlier process stored for the same ``key`` (the text of every input) under the
     same camdyn source, JAX stack and machine (:func:`_fingerprint`: the same programs, so the same numbers);
     nothing stored without :func:`enable`, nor where ``compute`` raises."""
-    if _DIR is None:
+    if (root := _DIR) is None:
         return compute()
-    file = _DIR / f"{name}-{hashlib.sha256((_fingerprint() + key).encode()).hexdigest()[:32]}.result"
+    file = _programs(root) / f"{name}-{hashlib.sha256(key.encode()).hexdigest()[:32]}.result"
     try:
         return pickle.loads(file.read_bytes())
     except Exception:  # missing, truncated, or of classes that changed: compute afresh
