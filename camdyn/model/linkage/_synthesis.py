@@ -285,7 +285,7 @@ def _synthesize(ps: PathSpec, ms: MechanismSpec, t_start: float) -> Synthesis:
                 * 180
                 / math.pi,
             }
-            for us in np.asarray(core.crank_dyad.u_sw)
+            for us in np.asarray(core.crank_dyad.u_sw)[: core.crank_dyad.n_switch]
         ],
         "max_path_error_mm": err,
         "base_radius_mm": follower.base_radius,
