@@ -147,21 +147,29 @@ def test_a_stored_result_is_read_back_and_a_failure_is_not_stored(tmp_path, monk
     assert len(list(tmp_path.rglob("thing-*.result"))) == 2
 
 
-def test_a_method_of_paths_of_one_type_is_one_stored_program(tmp_path, monkeypatch):
+_PATH_METHOD = """
+import sys, numpy as np, camdyn
+camdyn.enable_x64()
+from camdyn._core import jit
+from camdyn.model.linkage import vmap_scalar
+from camdyn.model.paths import build_path
+jit.enable(sys.argv[1])
+u = np.linspace(0.0, 1.0, 7, endpoint=False)
+for radius, centre in ((10.0, (0.0, 0.0)), (13.0, (1.0, -2.0))):
+    xy = vmap_scalar(build_path({"type": "circle", "center": list(centre), "radius": radius}).point, u)
+    want = np.column_stack([np.cos(2 * np.pi * u), np.sin(2 * np.pi * u)]) * radius + centre
+    assert np.max(np.abs(xy - want)) < 1e-12
+"""
+
+
+@pytest.mark.slow  # two fresh processes
+def test_a_method_of_paths_of_one_type_is_one_stored_program_in_every_process(tmp_path):
     """``vmap_scalar`` of a path's bound method stores one program, named by the method (a function object's text
     holds its address: a new file in every process), that every path of the type shares, whatever its numbers."""
-    from camdyn.model.linkage import vmap_scalar
-    from camdyn.model.paths import build_path
-
-    monkeypatch.setattr(programs, "_DIR", None)
-    programs.enable(tmp_path)
-    u = np.linspace(0.0, 1.0, 7, endpoint=False)
-    for radius, centre in ((10.0, (0.0, 0.0)), (13.0, (1.0, -2.0))):
-        path = build_path({"type": "circle", "center": list(centre), "radius": radius})
-        xy = vmap_scalar(path.point, u)
-        want = np.column_stack([np.cos(2 * np.pi * u), np.sin(2 * np.pi * u)]) * radius + centre
-        np.testing.assert_allclose(xy, want, rtol=0, atol=1e-12)
-    assert len(list(tmp_path.rglob("_vmap_method-*.jaxprogram"))) == 1
+    env = {k: v for k, v in os.environ.items() if k != "CAMDYN_NO_CACHE"} | {"PYTHONPATH": str(ROOT)}
+    for _ in range(2):
+        subprocess.run([sys.executable, "-c", _PATH_METHOD, str(tmp_path)], env=env, check=True, timeout=300)
+        assert len(list(tmp_path.rglob("_vmap_method-*.jaxprogram"))) == 1
 
 
 def _solve(a, b):

@@ -255,7 +255,7 @@ def _padded_dyad(r, coupler, u_sw, sgn, to_pi, m_before, lo, hi, polys, spans, i
         size *= 2
     more = size - k
 
-    def pad(x, value, shape=()):
+    def pad(x: ArrayLike, value: float, shape: tuple[int, ...] = ()) -> jax.Array:
         x = np.asarray(x, dtype=float).reshape(k, *shape)
         return jax.device_put(np.concatenate([x, np.full((more, *shape), value, dtype=float)]))
 
