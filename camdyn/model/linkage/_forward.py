@@ -25,20 +25,11 @@ if TYPE_CHECKING:
     from ..motion import Motion
     from ._motion import CamLinkMotion
 
-MIN_TRANSMISSION_DEG = (
-    30.0  # a driven dyad's transmission angle under this is warned about (and the dimensional synthesis avoids it)
-)
 
-
-def transmission_warning(name: str, ang: np.ndarray, warnings: list[str]) -> float:
-    """Least transmission angle (deg, folded into [0, 90]) of a driven dyad; warns below 30 deg."""
-    fold = np.degrees(np.minimum(ang, np.pi - ang))
-    worst = float(fold.min())
-    if worst < MIN_TRANSMISSION_DEG:
-        warnings.append(
-            f"transmission angle of dyad {name} falls to {worst:.1f} deg (below {MIN_TRANSMISSION_DEG:g} deg)"
-        )
-    return worst
+def least_transmission_deg(ang: np.ndarray) -> float:
+    """Least transmission angle (deg, folded into [0, 90]) of a driven dyad over the path (``check`` judges it:
+    ``[limits] min_transmission_angle``)."""
+    return float(np.degrees(np.minimum(ang, np.pi - ang)).min())
 
 
 def pitch_contour(
@@ -150,14 +141,10 @@ def ccm_forward(
         warnings.append(
             "the forward dyad B-C-E changes assembly mode along the path: the linkage cannot run through it"
         )
-    tmin = transmission_warning(
-        "B-C-E (angle at C)", _angle_between(pts["B"] - pts["C"], pts["E"] - pts["C"]), warnings
-    )
+    tmin = least_transmission_deg(_angle_between(pts["B"] - pts["C"], pts["E"] - pts["C"]))  # B-C-E, at C
     # RRP transmission angle: 90 deg minus the link's angle to the slider line (singular when perpendicular)
     phi = _angle_between(pts["C"] - pts["E"], np.broadcast_to(e_dir, pts["E"].shape))
-    slider_ang = transmission_warning(
-        "C-E-slider (link to the slider's normal)", np.pi / 2 - np.minimum(phi, np.pi - phi), warnings
-    )
+    slider_ang = least_transmission_deg(np.pi / 2 - np.minimum(phi, np.pi - phi))  # the link to the slider's normal
     extra = {
         "offset_mm": e,
         "min_transmission_angle_deg": tmin,
@@ -229,6 +216,6 @@ def oscillating_forward(
         warnings.append(
             "the forward dyad A-B-C changes assembly mode along the path: the linkage cannot run through it"
         )
-    tmin = transmission_warning("A-B-C (angle at B)", _angle_between(a_pin - pts["B"], pts["C"] - pts["B"]), warnings)
+    tmin = least_transmission_deg(_angle_between(a_pin - pts["B"], pts["C"] - pts["B"]))  # A-B-C, at B
     extra = {"min_transmission_angle_deg": tmin, "psi0_deg": math.degrees(psi0)}
     return follower, traced, pos, vel, extra

@@ -54,6 +54,19 @@ class Synthesis:
     sharp_corners: bool = False
     warnings: list[str] = field(default_factory=list)
 
+    @property
+    def path_error_mm(self) -> float:
+        """How far (mm) the linkage driven by the cam misses the path at worst: the forward check."""
+        return float(self.summary["max_path_error_mm"])
+
+    @property
+    def least_transmission_deg(self) -> float:
+        """The least transmission angle (deg) of the driven dyads over the path (a CCM's coupler-link and
+        link-slider, an oscillating mechanism's coupler-follower)."""
+        return min(
+            float(self.summary[k]) for k in ("min_transmission_angle_deg", "min_slider_angle_deg") if k in self.summary
+        )
+
     def json(self) -> dict:
         out = dict(self.summary)
         out.update(
@@ -259,8 +272,6 @@ def _synthesize(ps: PathSpec, ms: MechanismSpec, t_start: float) -> Synthesis:
     forward = ccm_forward if ms.type == "ccm" else oscillating_forward
     follower, traced, pos, vel, extra = forward(motion, tabulated, ms, vals, pts, a_pin, coupler, sense, warnings)
     err = float(np.max(np.linalg.norm(traced - target, axis=1)))
-    if not err < 1e-3:
-        warnings.append(f"forward check: the linkage driven by the cam misses the path by {err:.3g} mm")
     rr = ms.roller_radius
     pitch, contour, _ = pitch_contour(pos, vel, theta, sense, rr)
     if sharp:
