@@ -124,9 +124,9 @@ def fit_motion(
     spline = fit_periodic(np.deg2rad(theta_deg), data, tolerance=tolerance, sigma_floor=rounding)
     kind = kind_of_lift(unit)
     m = spline.coef.shape[0]
-    motion = FittedMotion(
-        knots=jnp.asarray(np.linspace(0.0, TWO_PI, m + 1)),
-        coef=jnp.asarray(kind.lift_to_motion(spline.coef)),
+    motion = FittedMotion(  # device_put, not jnp.asarray: the latter compiles a program per shape (JAX 0.10)
+        knots=jax.device_put(np.linspace(0.0, TWO_PI, m + 1)),
+        coef=jax.device_put(kind.lift_to_motion(spline.coef)),
         unit=kind.motion_unit,
         breaks_deg=(),
     )

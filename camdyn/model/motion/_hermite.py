@@ -67,11 +67,13 @@ class QuinticTable(eqx.Module):
         breaks = np.deg2rad(np.asarray(breaks_deg, dtype=float))
         if breaks.size:
             breaks = np.pad(breaks, (0, padded_length(breaks.size, _BREAK_ROWS) - breaks.size), constant_values=np.inf)
+        # device_put, not jnp.asarray: the latter compiles a program per shape on first use (JAX 0.10)
+        put = jnp.asarray if xp is jnp else jax.device_put
         return cls(
-            knots=jnp.asarray(xp.pad(knots, (0, more), constant_values=np.inf)),
-            coef=jnp.asarray(xp.pad(coef, [(0, more), (0, 0)], mode="edge")),
-            last=jnp.asarray(coef.shape[0] - 1),
-            jumps=jnp.asarray(breaks),
+            knots=put(xp.pad(knots, (0, more), constant_values=np.inf)),
+            coef=put(xp.pad(coef, [(0, more), (0, 0)], mode="edge")),
+            last=jax.device_put(np.asarray(coef.shape[0] - 1)),
+            jumps=jax.device_put(breaks),
             unit=unit,
         )
 
