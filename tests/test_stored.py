@@ -1,22 +1,22 @@
 """Stored results (``camdyn._core.stored``): a second process reads what the first computed from the same data, the
-same to the bit; other data are computed afresh; nothing is stored until the cache is enabled."""
+same to the bit; other data are computed afresh; nothing is stored while the program cache is off."""
 
 import dataclasses
 
 import numpy as np
 import pytest
 
-from camdyn._core import stored as stored_module
+from camdyn._core import jit
 from camdyn._core.stored import SUFFIX, stored
 from camdyn.model.motion import fit_periodic
 
 
 @pytest.fixture
 def cache(monkeypatch, tmp_path):
-    """The stored results enabled in a fresh folder for one test, off again after it."""
-    monkeypatch.setattr(stored_module, "_DIR", None)
-    stored_module.enable(tmp_path)
-    return tmp_path
+    """The program cache, and so the stored results, in a fresh folder for one test: this fingerprint's folder."""
+    monkeypatch.setattr(jit, "_DIR", None)
+    jit.enable(tmp_path)
+    return jit._programs(tmp_path)
 
 
 def test_a_result_is_computed_once_per_distinct_arguments(cache):
@@ -48,8 +48,8 @@ def test_a_truncated_file_is_computed_afresh(cache):
     assert double(np.ones(3)).sum() == 6.0
 
 
-def test_nothing_is_stored_until_enabled(monkeypatch, tmp_path):
-    monkeypatch.setattr(stored_module, "_DIR", None)
+def test_nothing_is_stored_while_the_cache_is_off(monkeypatch, tmp_path):
+    monkeypatch.setattr(jit, "_DIR", None)
     calls = []
 
     @stored

@@ -2,11 +2,12 @@
 
 For host-side (numpy) work a check repeats on unchanged data and that costs more than reading its result: a lift
 table's or a contour's smoothing-spline fit (scipy's LAPACK and a REML search) or a B-spline law's piecewise table
-(scipy.interpolate, 0.3 s to import). :func:`stored` wraps such a function; once :func:`enable` names a directory
-(the CLI's cache), each result is pickled under a key of the function, its arguments (arrays by their bytes, other
-values by their repr), camdyn's source, the versions of the libraries that compute it and the machine
-(:func:`~camdyn._core.jit` 's fingerprint). Without :func:`enable` (the library, the tests) it only computes. Like
-JAX's own cache, the directory is trusted: the files are pickles the user's own processes wrote.
+(scipy.interpolate, 0.3 s to import). :func:`stored` wraps such a function; while the traced-program cache is on
+(:func:`camdyn._core.jit.enable`: the CLI, the tests), each result is pickled beside the programs of this
+fingerprint (camdyn's source, the JAX stack, the machine), which go with them when stale, under a key of the
+function, its arguments (arrays by their bytes, other values by their repr) and the numpy and scipy versions.
+Without it (the library) it only computes. Like JAX's own cache, the folder is trusted: the files are pickles
+the user's own processes wrote.
 """
 
 from __future__ import annotations
@@ -17,36 +18,24 @@ import os
 import pickle
 from collections.abc import Callable
 from importlib import metadata
-from pathlib import Path
 from typing import Any, TypeVar
 
 import numpy as np
 
-from .jit import _fingerprint  # camdyn's source, the JAX stack and the machine: computed once a process
+from . import jit
 
 T = TypeVar("T")
-_DIR: Path | None = None
 SUFFIX = "result"  # the stored results' file names end so
-
-
-def enable(directory: str | Path) -> None:
-    """Store results under ``directory`` (created if needed; silently off if it cannot be)."""
-    global _DIR
-    try:
-        Path(directory).mkdir(parents=True, exist_ok=True)
-    except OSError:
-        return
-    _DIR = Path(directory)
 
 
 @functools.cache
 def _versions() -> str:
-    """The libraries the stored functions compute with (numpy, and scipy's LAPACK and splines)."""
+    """camdyn's source and the libraries the stored functions compute with (numpy, scipy's LAPACK and splines)."""
     try:
         scipy = metadata.version("scipy")
     except metadata.PackageNotFoundError:
         scipy = ""
-    return f"{_fingerprint()};numpy={np.__version__};scipy={scipy}"
+    return f"{jit._fingerprint()};numpy={np.__version__};scipy={scipy}"
 
 
 def _text(x: Any) -> str:
@@ -59,16 +48,17 @@ def _text(x: Any) -> str:
 
 
 def stored(fn: Callable[..., T]) -> Callable[..., T]:
-    """``fn``, its results stored once :func:`enable` is called. ``fn`` must be pure: its result a function of its
+    """``fn``, its results stored while the program cache is on. ``fn`` must be pure: its result a function of its
     arguments (numpy arrays, numbers, strings, tuples of them) and of camdyn's source alone, and picklable."""
 
     @functools.wraps(fn)
     def call(*args: Any, **kwargs: Any) -> T:
-        if _DIR is None:
+        if (root := jit._DIR) is None:
             return fn(*args, **kwargs)
         text = repr((fn.__module__, fn.__qualname__, _versions()))
         text += _text(args) + _text(sorted(kwargs.items()))
-        file = _DIR / f"{fn.__name__}-{hashlib.sha256(text.encode()).hexdigest()[:32]}.{SUFFIX}"
+        # this fingerprint's folder of programs: camdyn's source is in its name, and stale ones are removed
+        file = jit._programs(root) / f"{fn.__name__}-{hashlib.sha256(text.encode()).hexdigest()[:32]}.{SUFFIX}"
         try:
             return pickle.loads(file.read_bytes())
         except Exception:  # missing, truncated or unreadable: compute afresh

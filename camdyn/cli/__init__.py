@@ -360,12 +360,11 @@ def _enable_caches() -> None:
         return
     import jax
 
-    from .._core import jit, stored
+    from .._core import jit
 
     jax.config.update("jax_compilation_cache_dir", str(root / "jax"))
     jax.config.update("jax_persistent_cache_min_compile_time_secs", 0.1)
-    jit.enable(root / "programs")
-    stored.enable(root / "results")
+    jit.enable(root / "programs")  # and the stored data fits (camdyn._core.stored), beside the programs
 
 
 def _validate(args) -> None:
