@@ -1,5 +1,6 @@
-"""Stored results (``camdyn._core.stored``): a second process reads what the first computed from the same data, the
-same to the bit; other data are computed afresh; nothing is stored while the program cache is off."""
+"""Results stored by their arguments (``camdyn._core.stored``): a second process reads what the first computed from
+the same data, the same to the bit; other data are computed afresh; nothing is stored while the program cache is
+off."""
 
 import dataclasses
 
@@ -7,7 +8,7 @@ import numpy as np
 import pytest
 
 from camdyn._core import jit
-from camdyn._core.stored import SUFFIX, stored
+from camdyn._core.stored import stored_by_arguments
 from camdyn.model.motion import fit_periodic
 
 
@@ -22,7 +23,7 @@ def cache(monkeypatch, tmp_path):
 def test_a_result_is_computed_once_per_distinct_arguments(cache):
     calls = []
 
-    @stored
+    @stored_by_arguments
     def scaled(x, factor=1.0):
         calls.append(1)
         return x * factor
@@ -34,16 +35,16 @@ def test_a_result_is_computed_once_per_distinct_arguments(cache):
     scaled(x, factor=3.0)  # another keyword value
     scaled(x + 1e-15 * x, factor=2.0)  # other bytes, however close
     scaled(x.astype(np.float32), factor=2.0)  # another dtype
-    assert len(calls) == 4 and len(list(cache.glob(f"*.{SUFFIX}"))) == 4
+    assert len(calls) == 4 and len(list(cache.glob("*.result"))) == 4
 
 
 def test_a_truncated_file_is_computed_afresh(cache):
-    @stored
+    @stored_by_arguments
     def double(x):
         return 2 * x
 
     assert double(np.ones(3)).sum() == 6.0
-    (file,) = cache.glob(f"*.{SUFFIX}")
+    (file,) = cache.glob("*.result")
     file.write_bytes(file.read_bytes()[:10])
     assert double(np.ones(3)).sum() == 6.0
 
@@ -52,7 +53,7 @@ def test_nothing_is_stored_while_the_cache_is_off(monkeypatch, tmp_path):
     monkeypatch.setattr(jit, "_DIR", None)
     calls = []
 
-    @stored
+    @stored_by_arguments
     def one(x):
         calls.append(1)
         return x
@@ -69,7 +70,7 @@ def test_a_stored_fit_is_the_fit(cache):
     y = np.round(np.sin(x) + 0.3 * np.cos(3 * x) + 1e-3 * rng.standard_normal(x.size), 3)
     computed = fit_periodic(x, y, sigma_floor=1e-3 / np.sqrt(12.0))
     read = fit_periodic(x, y, sigma_floor=1e-3 / np.sqrt(12.0))
-    assert len(list(cache.glob(f"fit_periodic-*.{SUFFIX}"))) == 1
+    assert len(list(cache.glob("fit_periodic-*.result"))) == 1
     for field in dataclasses.fields(computed):
         a, b = getattr(computed, field.name), getattr(read, field.name)
         assert np.array_equal(a, b) if isinstance(a, np.ndarray) else a == b, field.name

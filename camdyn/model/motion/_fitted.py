@@ -14,6 +14,7 @@ import jax.numpy as jnp
 import numpy as np
 from jax.typing import ArrayLike
 
+from ..._core.jit import device_array
 from ..._core.kinds import kind_of_lift
 from ..._core.units import TWO_PI
 from ._base import Motion
@@ -124,9 +125,9 @@ def fit_motion(
     spline = fit_periodic(np.deg2rad(theta_deg), data, tolerance=tolerance, sigma_floor=rounding)
     kind = kind_of_lift(unit)
     m = spline.coef.shape[0]
-    motion = FittedMotion(  # device_put, not jnp.asarray: the latter compiles a program per shape (JAX 0.10)
-        knots=jax.device_put(np.linspace(0.0, TWO_PI, m + 1)),
-        coef=jax.device_put(kind.lift_to_motion(spline.coef)),
+    motion = FittedMotion(
+        knots=device_array(np.linspace(0.0, TWO_PI, m + 1)),
+        coef=device_array(kind.lift_to_motion(spline.coef)),
         unit=kind.motion_unit,
         breaks_deg=(),
     )

@@ -29,7 +29,7 @@ from functools import cache
 import numpy as np
 
 from ..._core.minimize import minimize_bounded
-from ..._core.stored import stored
+from ..._core.stored import stored_by_arguments
 from ._hermite import quintic_eval
 
 _BAND = 5  # a quintic B-spline overlaps 5 neighbours on each side
@@ -252,7 +252,7 @@ def knot_count(n: int) -> int:
     return int(np.clip(n, 360, 3600))
 
 
-@stored  # a check of unchanged data reads the fit an earlier one stored: no scipy, no REML search
+@stored_by_arguments  # a check of unchanged data reads the fit an earlier one stored: no scipy, no REML search
 def fit_periodic(
     x: np.ndarray, y: np.ndarray, *, tolerance: float | None = None, sigma_floor: float = 0.0, m: int | None = None
 ) -> SplineFit:
