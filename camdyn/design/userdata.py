@@ -26,7 +26,7 @@ from .._core.units import FFT_GRID, RPM
 from ..model import dynamics as dyn
 from ..model.case import Case
 from ..model.geometry import contact_per_force
-from ..model.motion import FittedMotion, QuinticTable
+from ..model.motion import FittedMotion
 from ..schema import dynamics_keys
 
 # A table's least force is called uncertain when its noise moves it by more than this share (95 %): a finer
@@ -45,13 +45,13 @@ def _noise_forces(motion, model, omega, theta, noise, rigid: bool):
     (samples, n) with each of ``noise``'s coefficients (samples, rows, 6) added to the motion's (its jit form, whose
     rows they match): one compiled program, stored, where eager ops and a vmap would trace in every process."""
 
-    def force(m: QuinticTable) -> jax.Array:
+    def _force(m):  # m: the motion's jit form (a QuinticTable), evaluated like a Motion
         if rigid:
             return dyn.kinematic_force(m, model, omega, theta)
         return dyn.linear_contact_force(m, model, omega[None], n=theta.size)[0]
 
-    base = force(motion)
-    return base, jax.vmap(lambda c: force(eqx.tree_at(lambda t: t.coef, motion, motion.coef + c)) - base)(noise)
+    base = _force(motion)
+    return base, jax.vmap(lambda c: _force(eqx.tree_at(lambda t: t.coef, motion, motion.coef + c)) - base)(noise)
 
 
 def least_force_uncertainty(case: Case, omega: float) -> float | None:

@@ -5,7 +5,7 @@ from ._base import Motion, evaluate
 from ._bspline import CLAMPED as BSPLINE_CLAMPED
 from ._bspline import basis as bspline_basis
 from ._fitted import ACCEL_NOISE_SHARE, FittedMotion, MotionFit, fit_motion, fit_warnings
-from ._hermite import HermiteMotion, QuinticTable
+from ._hermite import HermiteMotion
 from ._laws import LAWS, law
 from ._program import Program, Segment
 from ._spline import SplineFit, fit_periodic
@@ -19,7 +19,6 @@ __all__ = [
     "Motion",
     "MotionFit",
     "Program",
-    "QuinticTable",
     "Segment",
     "SplineFit",
     "bspline_basis",
