@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import threading
 from collections.abc import Sequence
 from types import ModuleType
 from typing import Any
@@ -44,6 +45,10 @@ def quintic_eval(
 # Compiled programs take a quintic table padded to 4096 intervals (16384, ... beyond) and its breaks padded to 1024
 # (+inf past them): lift tables of any length up to that, linkages of any breaks, share one compiled program.
 _INTERVAL_ROWS, _BREAK_ROWS = 4096, 1024
+# The padded tables last made (:meth:`QuinticTable.padded`), by the identity of the arrays they pad
+_MADE: dict[tuple, tuple[jax.Array, jax.Array, QuinticTable]] = {}
+_MADE_MOST = 8
+_MADE_LOCK = threading.Lock()
 
 
 class QuinticTable(eqx.Module):
@@ -60,7 +65,25 @@ class QuinticTable(eqx.Module):
     def padded(
         cls, knots: np.ndarray | jax.Array, coef: np.ndarray | jax.Array, breaks_deg: Sequence[float], unit: str
     ) -> QuinticTable:
-        """The table of ``knots`` (m + 1,) and ``coef`` (m, 6), padded; traceable (a vmap over noisy coefficients)."""
+        """The table of ``knots`` (m + 1,) and ``coef`` (m, 6), padded; traceable (a vmap over noisy coefficients).
+        Made once for the same (immutable) JAX arrays: every compiled call on a motion asks for its form."""
+        key = (id(knots), id(coef), tuple(breaks_deg), unit)
+        with _MADE_LOCK:  # a sweep prepares programs in a thread of its own
+            made = _MADE.get(key)
+        if made is not None and made[0] is knots and made[1] is coef:
+            return made[2]
+        table = cls._padded(knots, coef, breaks_deg, unit)
+        if isinstance(knots, jax.Array) and isinstance(coef, jax.Array) and not isinstance(coef, Tracer):
+            with _MADE_LOCK:
+                if len(_MADE) >= _MADE_MOST:
+                    del _MADE[next(iter(_MADE))]
+                _MADE[key] = (knots, coef, table)  # holding the arrays: their ids stay theirs while the entry lives
+        return table
+
+    @classmethod
+    def _padded(
+        cls, knots: np.ndarray | jax.Array, coef: np.ndarray | jax.Array, breaks_deg: Sequence[float], unit: str
+    ) -> QuinticTable:
         xp = jnp if isinstance(coef, Tracer) else np  # numpy where it can: no eager dispatch
         knots, coef = xp.asarray(knots), xp.asarray(coef)
         more = padded_length(coef.shape[0], _INTERVAL_ROWS) - coef.shape[0]
