@@ -15,7 +15,9 @@ from ._response import first_zero_speed
 from ._valvefast import FLOATED, ValveSummary, fast_valve_summary
 from ._valvetrain import NO_EVENT, ValvetrainResponse, valvetrain_response
 
-_SCAN_CHUNK = 8  # the speed searches' scan, 8 speeds at a time from the slowest: none above the first crossing's
+# the speed searches' scan, one speed at a time from the slowest: each speed is a solve of its own (no batch to fill),
+# and above the first crossing the valve floats and every speed is the diffrax model's, the slow one
+_SCAN_CHUNK = 1
 
 
 def _read(name: str) -> property:
