@@ -14,9 +14,18 @@ from ..model import dynamics as dyn
 from ..model.case import Case
 from ._check import Check, CheckKind
 
+# the seating velocity against speed reaches half again the float speed (or the case speed): beyond float the train
+# flies and its landings scatter
+SEATING_CURVE_REACH = 1.5
+
 
 def _finite_or_none(x: float) -> float | None:
     return float(x) if math.isfinite(x) else None
+
+
+def _seating_curve_top(case_speed: float, float_speed: float) -> float:
+    """Where the seating velocity against speed ends (the units of the speeds given)."""
+    return SEATING_CURVE_REACH * max(case_speed, float_speed if math.isfinite(float_speed) else 0.0)
 
 
 @dataclass(frozen=True)
@@ -29,8 +38,9 @@ class ValvetrainResult:
     float_speed_rpm: float  # inf: no float up to the search's top
     bounce_speed_rpm: float  # inf: no bounce up to the search's top
     search_top_rpm: float
-    # the valvetrain at each speed the searches marched, increasing: what the searches did not read of one (the
-    # seating of a floating valve: its diffrax run) is computed when first asked (a report's figure, not check)
+    # the valvetrain at each speed the searches marched and at the scan's speeds to the seating curve's top,
+    # increasing: what the searches did not read of one (the seating of a floating valve: its diffrax run) is
+    # computed when first asked (a report's figure, not check)
     marched: tuple[dyn.ValvePoint, ...] = ()
     # a rocker's: the cam's and the follower's lifts through it (mm, the lash not taken off) and its instantaneous
     # ratio at the cam's lift, on response.theta_deg; None: the constant ratio's
@@ -41,6 +51,12 @@ class ValvetrainResult:
     def speeds_rpm(self) -> tuple[float, ...]:
         """The speeds the float and bounce searches marched, increasing, rpm."""
         return tuple(p.omega / RPM for p in self.marched)
+
+    @property
+    def seating_curve_top_rpm(self) -> float:
+        """How far the seating velocity against speed is drawn: :data:`SEATING_CURVE_REACH` x the float speed (or
+        the case speed), rpm."""
+        return _seating_curve_top(self.response.omega / RPM, self.float_speed_rpm)
 
     @property
     def seating_velocities(self) -> tuple[float, ...]:
@@ -158,6 +174,11 @@ def analyze_valvetrain(case: Case, omega: float, margin: float) -> ValvetrainRes
     w_float = dyn.float_speed(case.motion, vt, w_max, respond=at)
     w_bounce = dyn.bounce_speed(case.motion, vt, w_max, respond=at)
     here = at(float(omega)).response  # the whole revolution at the case speed: the diffrax model's
+    top = _seating_curve_top(float(omega), w_float)
+    for w in dyn.valve_scan_speeds(w_max):  # the seating curve's scan beyond the searches', to its first past the top
+        at(float(w))
+        if w >= top:
+            break
     curves = None
     if vt.rocker is not None:
         cam_at_valve, ratios = vt.at_valve_mm(here.cam_lift)
