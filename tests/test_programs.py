@@ -128,7 +128,7 @@ def test_a_motions_form_is_made_once_for_all_the_calls_of_a_stored_program(tmp_p
     assert _Squared.made == [one]
     np.testing.assert_allclose(fn(two, x), -2.0 * x**2, rtol=1e-15)
     np.testing.assert_allclose(fn(one, x=x), 3.0 * x**2, rtol=1e-15)  # x as a keyword: a program of its own
-    assert _Squared.made == [one, two] and len(list(tmp_path.glob("_at-*.jaxprogram"))) == 2
+    assert _Squared.made == [one, two] and len(list(tmp_path.rglob("_at-*.jaxprogram"))) == 2
     # under a transformation the plain jit runs, on the form as well
     np.testing.assert_allclose(jax.vmap(lambda c: fn(_Squared(c), x))(jnp.arange(2.0)), [0.0 * x, x**2], rtol=1e-15)
 
