@@ -275,7 +275,7 @@ class ValvetrainResponse:
     def max_gap_mm(self, vt: ValvetrainModel, solid_mm: float = math.inf) -> float:
         """The valve's largest lift above where the cam would hold it (mm, at the valve; through the rocker's lever
         where it has one), float and bounce both; the valve's lift bounded by ``solid_mm``, its coil bind."""
-        at_valve = np.asarray(vt.lever(jnp.asarray(self.cam_lift * M_PER_MM))[0]) / M_PER_MM
+        at_valve = vt.host_lever(self.cam_lift * M_PER_MM)[0] / M_PER_MM
         held = np.maximum(at_valve - float(vt.lash) / M_PER_MM, 0.0)
         return max(0.0, float(np.max(np.minimum(self.valve_lift, solid_mm) - held)))
 
@@ -367,7 +367,7 @@ def valvetrain_response(motion: Motion, vt: ValvetrainModel, omega: float, n: in
     # spring in balance): a landing before (the valve kicked off its seat as the lash closes) belongs to the opening
 
     def lever(x_c: float) -> tuple[float, float]:  # the cam's lift at the valve (m) and the ratio at x_c (m)
-        g, ratio, _ = vt.lever(jnp.asarray(x_c))
+        g, ratio, _ = vt.host_lever(x_c)
         return float(g), float(ratio)
 
     reach = lever(float(s_si.max()))[0] - lever(float(s_si.min()))[0] - float(vt.lash)
