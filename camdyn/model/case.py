@@ -144,7 +144,7 @@ def build_case(spec: CaseSpec, source: Path | None = None) -> Case:
         assert spec.path is not None and spec.mechanism is not None  # CaseSpec: a case without [motion] has both
         from .linkage import synthesize_motion  # only a path case loads the cam-linkage models (17 ms a check)
 
-        synthesis = synthesize_motion(spec.path, spec.mechanism)
+        synthesis = synthesize_motion(spec.path, spec.mechanism, reuse=True)
         motion, follower = synthesis.tabulated, synthesis.follower
         warnings += list(synthesis.warnings)
     valvetrain = None

@@ -8,9 +8,16 @@ from __future__ import annotations
 
 import jax
 import jax.numpy as jnp
+import numpy as np
 from jax.typing import ArrayLike
 
 from ..paths import taylor
+
+
+def _xp(*xs):
+    """numpy for host values (the synthesis' checks on its samples: no program to compile, and the same numbers as
+    JAX's operations one by one), jax.numpy for device arrays and traced ones."""
+    return jnp if any(isinstance(x, jax.Array) for x in xs) else np
 
 
 def cross2(a: jax.Array, b: jax.Array) -> jax.Array:
@@ -20,24 +27,27 @@ def cross2(a: jax.Array, b: jax.Array) -> jax.Array:
 
 def cw(v: jax.Array) -> jax.Array:
     """v turned clockwise by 90 degrees."""
-    return jnp.stack([v[..., 1], -v[..., 0]], axis=-1)
+    return _xp(v).stack([v[..., 1], -v[..., 0]], axis=-1)
 
 
 def unit(angle: ArrayLike) -> jax.Array:
     """Unit vector at ``angle`` (rad)."""
-    return jnp.stack([jnp.cos(angle), jnp.sin(angle)], axis=-1)
+    xp = _xp(angle)
+    return xp.stack([xp.cos(angle), xp.sin(angle)], axis=-1)
 
 
 def turn(v: jax.Array, angle: ArrayLike) -> jax.Array:
     """v turned anticlockwise by ``angle`` (rad)."""
-    c, s = jnp.cos(angle), jnp.sin(angle)
-    return jnp.stack([c * v[..., 0] - s * v[..., 1], s * v[..., 0] + c * v[..., 1]], axis=-1)
+    xp = _xp(v, angle)
+    c, s = xp.cos(angle), xp.sin(angle)
+    return xp.stack([c * v[..., 0] - s * v[..., 1], s * v[..., 0] + c * v[..., 1]], axis=-1)
 
 
 def rrr_reach_miss(p: ArrayLike, q: ArrayLike, lp: float | jax.Array, lq: float | jax.Array) -> jax.Array:
     """How far (mm) the RRR dyad P-M-Q is from closing: 0 when |lp - lq| <= |PQ| <= lp + lq."""
-    d = jnp.linalg.norm(jnp.asarray(q) - jnp.asarray(p), axis=-1)
-    return jnp.maximum(jnp.maximum(d - (lp + lq), abs(lp - lq) - d), 0.0)
+    xp = _xp(p, q, lp, lq)
+    d = xp.linalg.norm(xp.asarray(q) - xp.asarray(p), axis=-1)
+    return xp.maximum(xp.maximum(d - (lp + lq), abs(lp - lq) - d), 0.0)
 
 
 def rrr(p: ArrayLike, q: ArrayLike, lp: float | jax.Array, lq: float | jax.Array, mode: ArrayLike) -> jax.Array:
@@ -46,11 +56,13 @@ def rrr(p: ArrayLike, q: ArrayLike, lp: float | jax.Array, lq: float | jax.Array
     ``mode`` +1: P, M, Q anticlockwise (Ye & Smith's solid lines), -1: clockwise. Works on (..., 2) arrays;
     a dyad that cannot close gives NaN (check :func:`rrr_reach_miss` first for a message).
     """
-    p, q = jnp.asarray(p, dtype=float), jnp.asarray(q, dtype=float)
+    xp = _xp(p, q, lp, lq, mode)
+    p, q = xp.asarray(p, dtype=float), xp.asarray(q, dtype=float)
     v = q - p
-    d2 = jnp.sum(v * v, axis=-1)
+    d2 = xp.sum(v * v, axis=-1)
     x = (lp * lp - lq * lq + d2) / (2.0 * d2)  # foot of M on PQ, as a fraction of PQ
-    h = jnp.sqrt(lp * lp / d2 - x * x)  # distance of M from PQ, as a fraction of |PQ|
+    with np.errstate(invalid="ignore"):  # NaN where the dyad cannot close, as in JAX
+        h = xp.sqrt(lp * lp / d2 - x * x)  # distance of M from PQ, as a fraction of |PQ|
     return p + x[..., None] * v + (mode * h)[..., None] * cw(v)
 
 

@@ -11,7 +11,6 @@ from __future__ import annotations
 import math
 from typing import TYPE_CHECKING
 
-import jax.numpy as jnp
 import numpy as np
 from pydantic import ValidationError
 
@@ -196,7 +195,7 @@ def oscillating_forward(
         )
     psi0 = float(motion.out0)
     dn = -d / np.linalg.norm(d)
-    e0 = d + ms.arm * np.asarray(turn(jnp.asarray(dn), -psi0))
+    e0 = d + ms.arm * turn(dn, -psi0)
     rp = float(np.linalg.norm(e0))
     base = rp - ms.roller_radius
     if base <= 0.0:
@@ -215,11 +214,11 @@ def oscillating_forward(
         rotation="ccw" if sense > 0 else "cw",
     )
     psi_t = psi0 + vals[0]
-    arm_dir = np.asarray(turn(jnp.asarray(np.broadcast_to(dn, (len(psi_t), 2))), -jnp.asarray(psi_t)))
+    arm_dir = turn(np.broadcast_to(dn, (len(psi_t), 2)), -psi_t)
     pos = d + ms.arm * arm_dir
     vel = -ms.arm * vals[1][:, None] * np.column_stack([-arm_dir[:, 1], arm_dir[:, 0]])  # dE/dpsi = arm * (cw normal)
     # forward: arm at phi(theta) -> C; crank at the cam angle -> A; dyad A-B-C closes; F on C->B produced
-    c_fwd = d + ms.follower_link * np.asarray(turn(jnp.asarray(arm_dir), -math.radians(ms.arm_angle)))
+    c_fwd = d + ms.follower_link * turn(arm_dir, -math.radians(ms.arm_angle))
     lbc = abs(ms.path_link - ms.pin_distance)
     mode_b = float(np.sign(cross2(pts["B"][0] - a_pin[0], pts["C"][0] - a_pin[0])))
     b_fwd = np.asarray(rrr(a_pin, c_fwd, coupler, lbc, mode_b))
