@@ -46,6 +46,7 @@ from typing import Any, TypeVar
 
 import equinox as eqx
 import jax
+import numpy as np
 from jax import export
 from jax.core import Tracer
 from jax.experimental import serialize_executable
