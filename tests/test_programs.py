@@ -99,6 +99,40 @@ def test_prepare_compiles_without_running_and_threads_compile_at_once(tmp_path, 
     assert np.allclose(fn(np.arange(3.0)), [0.0, 2.0, 4.0]) and len(traced) == 2  # prepared: not traced again
 
 
+class _Squared(eqx.Module):
+    """A stand-in for a motion: its ``jit_form`` (counted) is what compiled programs take."""
+
+    coef: jax.Array
+    made = []  # the forms made, counted across instances
+
+    def jit_form(self):
+        _Squared.made.append(self)
+        return Poly(self.coef, 2)
+
+
+def _at(p, x):
+    return p(x)
+
+
+def test_a_motions_form_is_made_once_for_all_the_calls_of_a_stored_program(tmp_path, monkeypatch):
+    """Issue 23: a speed search calls its stored programs hundreds of times with one motion: its jit form is made
+    (and flattened) once, not per call; another object of the same structure makes its own and runs the same
+    program, with its own numbers."""
+    monkeypatch.setattr(programs, "_DIR", None)
+    programs.enable(tmp_path)
+    monkeypatch.setattr(_Squared, "made", [])
+    x = jnp.linspace(0.0, 2.0, 5)
+    fn, one, two = programs.cached_jit(_at), _Squared(jnp.asarray(3.0)), _Squared(jnp.asarray(-2.0))
+    for _ in range(5):
+        np.testing.assert_allclose(fn(one, x), 3.0 * x**2, rtol=1e-15)
+    assert _Squared.made == [one]
+    np.testing.assert_allclose(fn(two, x), -2.0 * x**2, rtol=1e-15)
+    np.testing.assert_allclose(fn(one, x=x), 3.0 * x**2, rtol=1e-15)  # x as a keyword: a program of its own
+    assert _Squared.made == [one, two] and len(list(tmp_path.rglob("_at-*.jaxprogram"))) == 2
+    # under a transformation the plain jit runs, on the form as well
+    np.testing.assert_allclose(jax.vmap(lambda c: fn(_Squared(c), x))(jnp.arange(2.0)), [0.0 * x, x**2], rtol=1e-15)
+
+
 def _wave(x):
     return jnp.exp(-x) * jnp.cos(3.0 * x)
 

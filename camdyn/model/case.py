@@ -196,7 +196,7 @@ def _check_rocker(vt: ValvetrainSpec, lifts: np.ndarray) -> None:
         why = rocker_reach(rocker, lift)
         if why is not None:
             raise InputError("valvetrain.rocker", f"{why}: lengthen the arm or change its angle")
-    ratios = np.asarray(rocker.lever(lifts * M_PER_MM)[1])
+    ratios = rocker.host_lever(lifts * M_PER_MM)[1]
     if ratios.max() > MAX_ROCKER_RATIO:
         raise InputError(
             "valvetrain.rocker",
