@@ -121,13 +121,19 @@ def _warm_install_map(warm_case: Path, grid: int) -> dict:
     """The lecture's map in a fresh process whose caches a process mapping ``warm_case`` filled."""
     cache = tempfile.mkdtemp(prefix="camdyn-bench-map-")
     try:
-        run = lambda case: subprocess.run(  # noqa: E731
-            [sys.executable, __file__, "--map-only", str(case), "--cache", cache, "--grid", str(grid)],
-            capture_output=True,
-            text=True,
-            check=True,
-            env=os.environ | {"PYTHONPATH": os.pathsep.join([str(ROOT), os.environ.get("PYTHONPATH", "")])},
-        )
+        # the child may not take the GPU's memory that this process preallocated (JAX takes 75 % by default)
+        env = os.environ | {
+            "PYTHONPATH": os.pathsep.join([str(ROOT), os.environ.get("PYTHONPATH", "")]),
+            "XLA_PYTHON_CLIENT_PREALLOCATE": "false",
+        }
+
+        def run(case: Path) -> subprocess.CompletedProcess:
+            argv = [sys.executable, __file__, "--map-only", str(case), "--cache", cache, "--grid", str(grid)]
+            proc = subprocess.run(argv, capture_output=True, text=True, env=env)
+            if proc.returncode:
+                raise RuntimeError(f"the map of {case.name} in a fresh process failed: {proc.stderr.strip()[-2000:]}")
+            return proc
+
         json.loads(run(warm_case).stdout.splitlines()[-1])
         return json.loads(run(CASE).stdout.splitlines()[-1])
     finally:
