@@ -148,5 +148,6 @@ class HermiteMotion(Motion):
 
     def max_error(self, source: Motion) -> np.ndarray:
         """Largest |self - source| of (s, s', s'', s''') at the interval midpoints, where the error peaks."""
-        mid = jnp.asarray(0.5 * (np.asarray(self.knots[:-1]) + np.asarray(self.knots[1:])))
+        knots = np.asarray(self.knots)  # sliced in numpy: an eager slice of a jax array compiles a program
+        mid = jnp.asarray(0.5 * (knots[:-1] + knots[1:]))
         return np.max(np.abs(np.asarray(evaluate(self, mid)) - np.asarray(evaluate(source, mid))), axis=1)
