@@ -449,7 +449,7 @@ def test_rigid_lift_off_and_landing(lecture, rigid_600):
     t_lo = lift_off(rigid, omega, 130, 155)
     # lift-off: the zero of camdyn's own kinematic force too
     t_lo2 = brentq(
-        lambda t: float(dyn.kinematic_force(motion, rigid, omega, jnp.asarray(t))),
+        lambda t: float(dyn.kinematic_force_jit(motion, rigid, omega, np.asarray(t))),
         math.radians(130),
         math.radians(155),
         xtol=1e-14,
