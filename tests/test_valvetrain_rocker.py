@@ -10,7 +10,6 @@ solve_ivp on the two masses through the rocker, past float, with the seat.
 import copy
 import math
 
-import jax
 import numpy as np
 import pytest
 from scipy.optimize import brentq
@@ -30,12 +29,6 @@ def _rocker(cam_arm, valve_arm, cam_arm_angle=0.0, valve_arm_angle=0.0) -> Rocke
     a = lambda x: np.asarray(float(x))  # noqa: E731
     angles = a(math.radians(cam_arm_angle)), a(math.radians(valve_arm_angle))
     return Rocker(a(cam_arm * 1e-3), a(valve_arm * 1e-3), *angles)
-
-
-@jax.jit
-def lever(rocker: Rocker, x):
-    """``rocker.lever(x)``, compiled (eager jax.numpy compiles one small program per operation)."""
-    return rocker.lever(x)
 
 
 def _planar(cam_arm, valve_arm, cam_arm_angle=0.0, valve_arm_angle=0.0):
@@ -73,7 +66,7 @@ def test_straight_rocker_is_its_arms_ratio():
     valve lift = follower lift."""
     x = np.linspace(0.0, 8e-3, 9)
     for a, b, angle, ratio in ((25.0, 40.0, -7.0, 1.6), (30.0, 30.0, 12.0, 1.0)):
-        g, r, r1 = lever(_rocker(a, b, angle, angle), x)
+        g, r, r1 = _rocker(a, b, angle, angle).lever(x)
         assert np.asarray(g) == pytest.approx(ratio * x, rel=1e-12, abs=1e-18)
         assert np.asarray(r) == pytest.approx(ratio, rel=1e-12) and np.asarray(r1) == pytest.approx(0.0, abs=1e-12)
 
@@ -83,13 +76,13 @@ def test_bent_rocker_ratio_is_one_where_equal_arms_lean_equally():
     10 deg, the symmetric point, where the ratio is 1; elsewhere cos(valve arm) / cos(cam arm) (closed form)."""
     rocker = _rocker(30.0, 30.0, -20.0, 0.0)
     x_sym = 30e-3 * (math.sin(math.radians(-10.0)) - math.sin(math.radians(-20.0)))
-    assert float(lever(rocker, x_sym)[1]) == pytest.approx(1.0, abs=1e-12)
+    assert float(rocker.lever(x_sym)[1]) == pytest.approx(1.0, abs=1e-12)
     for turn_deg in (0.0, 5.0, 15.0, 25.0):
         phi = math.radians(turn_deg)
         x = 30e-3 * (math.sin(phi - math.radians(20.0)) - math.sin(math.radians(-20.0)))
         expected = math.cos(phi) / math.cos(phi - math.radians(20.0))
-        assert float(lever(rocker, x)[1]) == pytest.approx(expected, rel=1e-12)
-    assert float(lever(rocker, 0.0)[1]) > 1.0 > float(lever(rocker, 2 * x_sym)[1])
+        assert float(rocker.lever(x)[1]) == pytest.approx(expected, rel=1e-12)
+    assert float(rocker.lever(0.0)[1]) > 1.0 > float(rocker.lever(2 * x_sym)[1])
 
 
 @pytest.mark.parametrize("geometry", [(25.0, 40.0, -7.3, -2.0), (20.0, 38.0, 10.0, -15.0), (45.0, 30.0, -3.0, 8.0)])
@@ -98,10 +91,10 @@ def test_rocker_lift_ratio_and_its_slope_against_the_plane(geometry):
     finite differences of that lift, and the ratio's slope against finite differences of the ratio."""
     rocker, planar = _rocker(*geometry), _planar(*geometry)
     for x in np.linspace(0.0, 7e-3, 8):
-        g, r, r1 = (float(v) for v in lever(rocker, x))
+        g, r, r1 = (float(v) for v in rocker.lever(x))
         assert g == pytest.approx(planar(x), abs=1e-13)
         assert r == pytest.approx(_fd(planar, x), rel=1e-7)
-        assert r1 == pytest.approx(_fd(lambda u: float(lever(rocker, u)[1]), x), rel=1e-6, abs=1e-9)
+        assert r1 == pytest.approx(_fd(lambda u: float(rocker.lever(u)[1]), x), rel=1e-6, abs=1e-9)
 
 
 def test_ratio_and_a_rocker_are_refused_together():

@@ -46,13 +46,18 @@ class Rocker(eqx.Module):
     def lever(self, x_c: ArrayLike) -> tuple[jax.Array, jax.Array, jax.Array]:
         """At follower lift ``x_c`` (m): the cam's lift at the valve g (m), the ratio dg/dx_c and d2g/dx_c2 (1/m).
         NaN where the cam arm would turn past square to the follower's line (the caller's check refuses it)."""
-        a, b, al, be = self.cam_arm, self.valve_arm, self.cam_angle, self.valve_angle
-        u = x_c / a + jnp.sin(al)  # sin(al + phi)
-        cos_a = jnp.sqrt(1.0 - u**2)
-        phi = jnp.arcsin(u) - al
-        g = b * (jnp.sin(be + phi) - jnp.sin(be))
-        ratio = b * jnp.cos(be + phi) / (a * cos_a)
-        return g, ratio, b * jnp.sin(al - be) / (a**2 * cos_a**3)
+        return _rocker_lever(self, x_c)
+
+
+@jax.jit  # one program: a case is built and tabulated outside compiled code, where each jnp operation compiles alone
+def _rocker_lever(rocker: Rocker, x_c: ArrayLike) -> tuple[jax.Array, jax.Array, jax.Array]:
+    a, b, al, be = rocker.cam_arm, rocker.valve_arm, rocker.cam_angle, rocker.valve_angle
+    u = x_c / a + jnp.sin(al)  # sin(al + phi)
+    cos_a = jnp.sqrt(1.0 - u**2)
+    phi = jnp.arcsin(u) - al
+    g = b * (jnp.sin(be + phi) - jnp.sin(be))
+    ratio = b * jnp.cos(be + phi) / (a * cos_a)
+    return g, ratio, b * jnp.sin(al - be) / (a**2 * cos_a**3)
 
 
 def rocker_model(spec: RockerSpec) -> Rocker:
