@@ -28,7 +28,7 @@ from camdyn.design.optimize._shape import flank_space
 from camdyn.design.optimize._valvetrain import ValveFacts, valve_refusals
 from camdyn.model.case import case_from_dict, load_case
 from camdyn.model.dynamics import linear_min_force, steady_state, valvetrain_response
-from camdyn.model.motion import Program
+from camdyn.model.motion import Program, evaluate
 from camdyn.model.valvetrain import ValvetrainModel, equivalent_follower, event_follower
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -119,7 +119,7 @@ def extreme_points(space, count: int) -> list[np.ndarray]:
 
 def test_the_fitted_start_is_the_case_itself(space):
     case = load_case(VALVETRAIN)
-    now = np.asarray(case.motion(space.theta))
+    now = np.asarray(evaluate(case.motion, space.theta))
     fit = np.asarray(space.values(space.z0))
     assert np.max(np.abs(fit[0] - now[0])) < 1e-6 and np.max(np.abs(fit[2] - now[2])) < 1e-4 * np.abs(now[2]).max()
 
