@@ -107,11 +107,11 @@ def _map_process(case_file: str, cache: str, grid: int) -> int:
     from camdyn._core.jit import SUFFIX
 
     programs = Path(cache) / "programs"
-    before = set(programs.glob(f"*.{SUFFIX}"))
+    before = set(programs.rglob(f"*.{SUFFIX}"))
     t = time.perf_counter()
     jm = sweep.jump_map(case, speeds, rates)
     t_map = time.perf_counter() - t
-    traced = len(set(programs.glob(f"*.{SUFFIX}")) - before)
+    traced = len(set(programs.rglob(f"*.{SUFFIX}")) - before)
     counts = {"traced": traced, "loaded": compiles.hits, "compiled": compiles.started - compiles.hits}
     print(json.dumps({"t_map": t_map, "separated": int(jm.separated.sum())} | counts))
     return 0

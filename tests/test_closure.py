@@ -372,7 +372,7 @@ def test_report_of_a_groove_cam(tmp_path, capsys):
     import re
 
     from camdyn.report import ReportData
-    from camdyn.report.pages.summary import decision_facts, key_results
+    from camdyn.report.pages._facts import decision_facts, key_results
 
     case_file = write_case(tmp_path, "groove.toml", GROOVE_TOML)
     doc = check_json(capsys, case_file)

@@ -399,7 +399,7 @@ def test_report_of_conjugate_cams(tmp_path, capsys):
     from camdyn.design.checks import run_check
     from camdyn.design.review import design_review
     from camdyn.report import ReportData
-    from camdyn.report.pages.summary import decision_facts, key_results
+    from camdyn.report.pages._facts import decision_facts, key_results
 
     doc = check_json(capsys, EXAMPLE)
     code, _, _ = run(capsys, "report", EXAMPLE, "-o", tmp_path / "r")

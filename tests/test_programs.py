@@ -41,17 +41,37 @@ def test_programs_persist_and_static_fields_are_part_of_the_key(tmp_path, monkey
     assert np.allclose(first(square, x, 1.0), 3 * x**2 + 1) and np.allclose(first(cube, x, 1.0), 3 * x**3 + 1)
     assert np.allclose(first(cube, x, 2.0), 3 * x**3 + 2)  # a Python number is static: its own program
     assert np.allclose(first(cube, x, shift=jnp.asarray(2.0)), 3 * x**3 + 2)  # keywords too
-    assert len(list(tmp_path.glob("_value-*.jaxprogram"))) == 4
+    assert len(list(tmp_path.rglob("_value-*.jaxprogram"))) == 4
     # a new wrapper (as in a fresh process) reads the programs back instead of tracing
     second = programs.cached_jit(_value)
     assert np.allclose(second(cube, x, 1.0), 3 * x**3 + 1) and np.allclose(
         second(Poly(jnp.asarray(-1.0), 2), x, 1.0), 1 - x**2
     )
-    assert len(list(tmp_path.glob("_value-*.jaxprogram"))) == 4
+    assert len(list(tmp_path.rglob("_value-*.jaxprogram"))) == 4
     # under a transformation the plain jit runs (exported programs have no batching rule)
     assert np.allclose(jax.vmap(lambda c: second(Poly(c, 2), x, 0.0))(jnp.arange(3.0)), np.arange(3.0)[:, None] * x**2)
-    (next(tmp_path.glob("_value-*.jaxprogram"))).write_bytes(b"truncated")  # a damaged file: trace afresh
+    (next(tmp_path.rglob("_value-*.jaxprogram"))).write_bytes(b"truncated")  # a damaged file: trace afresh
     assert np.allclose(programs.cached_jit(_value)(square, x, 1.0), 3 * x**2 + 1)
+
+
+def test_programs_are_kept_per_fingerprint_and_unused_ones_removed(tmp_path, monkeypatch):
+    """Each fingerprint (an install's camdyn, JAX stack and machine) has its folder; storing a program removes the
+    folders unused for STALE_DAYS and the flat files of the layout before folders, and keeps the rest."""
+    monkeypatch.setattr(programs, "_DIR", None)
+    stale, recent = tmp_path / "0123456789abcdef", tmp_path / "fedcba9876543210"
+    for folder, age_days in ((stale, programs.STALE_DAYS + 1), (recent, programs.STALE_DAYS - 1)):
+        folder.mkdir()
+        (folder / "f-0.jaxprogram").write_bytes(b"")
+        used = folder / programs._USED
+        used.touch()
+        then = used.stat().st_mtime - age_days * 86400.0
+        os.utime(used, (then, then))
+    (tmp_path / "g-1.jaxprogram").write_bytes(b"")  # stored before the folders
+    programs.enable(tmp_path)
+    assert np.allclose(programs.cached_jit(_value)(Poly(jnp.asarray(2.0), 1), jnp.ones(2), 1.0), 3.0)
+    ours = tmp_path / programs._fingerprint()[:16]
+    assert sorted(p.name for p in tmp_path.iterdir()) == sorted([ours.name, recent.name])
+    assert len(list(ours.glob("_value-*.jaxprogram"))) == 1 and (ours / programs._USED).exists()
 
 
 def test_prepare_compiles_without_running_and_threads_compile_at_once(tmp_path, monkeypatch):
@@ -74,7 +94,7 @@ def test_prepare_compiles_without_running_and_threads_compile_at_once(tmp_path, 
         t.start()
     for t in both:
         t.join()
-    assert len(traced) == 2 and len(list(tmp_path.glob("double-*.jaxprogram"))) == 2
+    assert len(traced) == 2 and len(list(tmp_path.rglob("double-*.jaxprogram"))) == 2
     assert jax.config.jax_persistent_cache_min_compile_time_secs == threshold
     assert np.allclose(fn(np.arange(3.0)), [0.0, 2.0, 4.0]) and len(traced) == 2  # prepared: not traced again
 
@@ -96,7 +116,7 @@ def test_compiler_options_are_part_of_the_key_and_unknown_ones_dropped(tmp_path,
     np.testing.assert_allclose(plain(x), np.exp(-x) * np.cos(3.0 * x), rtol=1e-14)
     np.testing.assert_array_equal(optioned(x), uncached)
     np.testing.assert_allclose(optioned(x), plain(x), rtol=1e-14)
-    assert len(list(tmp_path.glob("_wave-*.jaxprogram"))) == 2
+    assert len(list(tmp_path.rglob("_wave-*.jaxprogram"))) == 2
     np.testing.assert_allclose(programs.cached_jit(_wave, unknown)(x), plain(x), rtol=1e-14)  # compiled without it
 
 
@@ -113,7 +133,7 @@ def test_programs_are_stored_compiled_and_lapack_ones_exported(tmp_path, monkeyp
     a, b = jnp.asarray([[4.0, 1.0], [2.0, 3.0]]), jnp.asarray([1.0, 2.0])
     assert np.allclose(programs.cached_jit(_value)(Poly(jnp.asarray(2.0), 2), x, 1.0), 2 * x**2 + 1)
     assert np.allclose(programs.cached_jit(_solve)(a, b), np.linalg.solve(a, b))
-    kinds = {f.name.split("-")[0]: pickle.loads(f.read_bytes())[0] for f in tmp_path.glob("*.jaxprogram")}
+    kinds = {f.name.split("-")[0]: pickle.loads(f.read_bytes())[0] for f in tmp_path.rglob("*.jaxprogram")}
     assert kinds == {"_value": "executable", "_solve": "exported"}
     for fn, args, want in ((_value, (Poly(jnp.asarray(2.0), 2), x, 1.0), 2 * x**2 + 1), (_solve, (a, b), None)):
         program = programs.cached_jit(fn)  # a fresh wrapper loads the file: nothing is traced
@@ -128,7 +148,7 @@ def test_fresh_check_processes_agree_with_and_without_the_caches(tmp_path):
     cmd = [sys.executable, "-m", "camdyn", "check", str(ROOT / "cases" / "lecture.toml"), "--json"]
     runs = [subprocess.run(cmd, env=env, capture_output=True, text=True, check=True) for _ in range(2)]
     plain = subprocess.run(cmd, env=env | {"CAMDYN_NO_CACHE": "1"}, capture_output=True, text=True, check=True)
-    assert list((tmp_path / "camdyn" / "programs").glob("_rev_with_sensitivity-*.jaxprogram"))
+    assert list((tmp_path / "camdyn" / "programs").rglob("_rev_with_sensitivity-*.jaxprogram"))
     docs = [json.loads(r.stdout) for r in (*runs, plain)]
     assert docs[0] == docs[1] == docs[2]
 
@@ -165,7 +185,7 @@ def test_programs_of_other_segments_share_one_compiled_kernel_and_evaluate_alike
     theta = jnp.asarray(np.linspace(-1.0, 7.5, 997))
     for prog in (lecture, other):  # the one program on disk; each agrees with the unpadded numpy evaluation
         assert np.allclose(evaluate(prog, theta), prog._eval(np, np.asarray(theta)), rtol=1e-12, atol=1e-9)
-    assert len(list(tmp_path.glob("evaluate-*.jaxprogram"))) == 1
+    assert len(list(tmp_path.rglob("evaluate-*.jaxprogram"))) == 1
     # 2 pi is the start (the modified sine's jerk), just below it the closing dwell: padding rows are never read
     ends = np.asarray(evaluate(other, jnp.asarray([2 * np.pi, np.nextafter(2 * np.pi, 0)])))
     assert np.allclose(ends[:, 0], other.host(0.0)) and ends[3, 0] > 100.0 and np.all(ends[:, 1] == 0.0)
@@ -229,4 +249,4 @@ def test_a_second_process_on_two_devices_loads_what_the_first_stored(tmp_path):
     runs = [subprocess.run(cmd, env=env, capture_output=True, text=True, timeout=300) for _ in range(2)]
     assert [r.returncode for r in runs] == [0, 0], runs[-1].stderr[-2000:]
     assert runs[0].stdout == runs[1].stdout
-    assert {p.name.split("-")[0] for p in tmp_path.glob("*.jaxprogram")} == {"evaluate"}
+    assert {p.name.split("-")[0] for p in tmp_path.rglob("*.jaxprogram")} == {"evaluate"}

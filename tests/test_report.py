@@ -40,7 +40,7 @@ from camdyn.plot import (
 )
 from camdyn.report import A4, DPI, PAGES, STYLE, ReportData, render
 from camdyn.report.pages import draw_parts, draw_springs
-from camdyn.report.pages.summary import key_results
+from camdyn.report.pages._facts import key_results
 
 ROOT = Path(__file__).resolve().parents[1]
 LECTURE = ROOT / "cases" / "lecture.toml"

@@ -23,10 +23,11 @@ from camdyn.model.dynamics import Response
 from camdyn.plot import flight_spans, plot_contact_force, plot_follower
 from camdyn.report import A4, PAGES, STYLE, ReportData
 from camdyn.report._layout import header
+from camdyn.report.pages._facts import decision_facts, key_results
 from camdyn.report.pages._inputs import DIMENSIONLESS, UNITS, _kv_lines
 from camdyn.report.pages.dynamics import _force_panels
 from camdyn.report.pages.manufacturing import manufacturing_rows, segment_rows, title_block
-from camdyn.report.pages.summary import decision_facts, draw_summary, key_results
+from camdyn.report.pages.summary import draw_summary
 from camdyn.schema import DynamicsSpec, FollowerSpec, LimitsSpec, RockerSpec, ValvetrainSpec
 
 CASES = Path(__file__).resolve().parents[1] / "cases"

@@ -404,7 +404,7 @@ def test_summary_gives_the_two_mass_models_numbers(shipped_check):
     least cam force over the valve event); the one equivalent-follower figure says it is one."""
     from types import SimpleNamespace
 
-    from camdyn.report.pages.summary import key_results
+    from camdyn.report.pages._facts import key_results
 
     vt = shipped_check.json()["valvetrain"]
     rows = dict(key_results(SimpleNamespace(check=shipped_check, case=shipped_check.case)))

@@ -120,7 +120,7 @@ def test_check_reports_coil_bind_and_fails_a_flight_to_solid():
     assert checks["coil_bind"]["ok"] and checks["coil_bind"]["value"] == vt["coil_bind_clearance_mm"]
     from types import SimpleNamespace
 
-    from camdyn.report.pages.summary import key_results
+    from camdyn.report.pages._facts import key_results
 
     rows = dict(key_results(SimpleNamespace(check=report, case=case)))
     assert rows["coil-bind clearance"] == f"{vt['coil_bind_clearance_mm']:.3g} mm"  # page 1 gives it

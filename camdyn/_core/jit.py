@@ -13,7 +13,10 @@ and a deserialization, about 5 ms. A ``jax.export`` program, the portable form, 
 JAX's compilation cache on every load, and on a CPU every such call first loads ``scipy.linalg`` (jaxlib takes its
 LAPACK kernels from it: about 0.25 s a process). That form is kept for the programs that call out of XLA
 (LAPACK, whose kernels JAX registers only while lowering). A program sharded over several devices is not stored.
-The files are pickles the user's own processes wrote: like JAX's own cache, the directory is trusted.
+The files are pickles the user's own processes wrote: like JAX's own cache, the directory is trusted. They are kept
+in a folder per :func:`_fingerprint` (a camdyn release, a JAX stack, a machine): the first program a process stores
+removes the folders no process has used for :data:`STALE_DAYS` days (an install upgraded long ago), so the cache
+holds what the installs in use need, not every version's programs.
 
 Either way an argument with a ``jit_form`` method (a motion) is replaced by what it returns (:func:`jit_forms`):
 a form whose static structure does not depend on the case, so a case never seen before reuses the programs of
@@ -29,8 +32,10 @@ import math
 import os
 import pickle
 import platform
+import shutil
 import sys
 import threading
+import time
 from collections.abc import Callable
 from importlib import metadata
 from pathlib import Path
@@ -46,6 +51,8 @@ from jax.experimental import serialize_executable
 T = TypeVar("T")
 _DIR: Path | None = None
 SUFFIX = "jaxprogram"  # the stored programs' file names end so
+STALE_DAYS = 14  # a fingerprint's folder no process has used for this long is removed
+_USED = "used"  # the file in a fingerprint's folder whose time says when a process last used it
 
 
 def enable(directory: str | Path) -> None:
@@ -84,6 +91,33 @@ def _cpu_flags() -> str:
             return next((line for line in f if line.startswith(("flags", "Features"))), "")
     except OSError:
         return platform.processor()
+
+
+@functools.cache
+def _programs(root: Path) -> Path:
+    """This fingerprint's folder under ``root``, marked as used now (once a process)."""
+    folder = root / _fingerprint()[:16]
+    try:
+        folder.mkdir(exist_ok=True)
+        (folder / _USED).touch()
+    except OSError:
+        pass
+    return folder
+
+
+@functools.cache
+def _prune(root: Path) -> None:
+    """Remove the folders under ``root`` of other fingerprints unused for :data:`STALE_DAYS` days, and the programs
+    stored before they had folders (once a process, when it stores its first program: a slow moment anyway)."""
+    keep, cutoff = _programs(root), time.time() - STALE_DAYS * 86400.0
+    for entry in root.iterdir():
+        try:
+            if entry.is_dir() and entry != keep and (entry / _USED).stat().st_mtime < cutoff:
+                shutil.rmtree(entry, ignore_errors=True)
+            elif entry.is_file() and entry.suffix == f".{SUFFIX}":
+                entry.unlink()
+        except OSError:  # another process removed it first, or no stamp: a folder being made
+            pass
 
 
 _OUTSIDE = threading.Lock()
@@ -230,7 +264,9 @@ def cached_jit(fn: Callable[..., T], compiler_options: tuple[tuple[str, Any], ..
 
     def program_for(args: tuple, kwargs: dict) -> tuple[Callable, list] | None:
         """The program for these (jit-form) arguments, compiled or loaded, and their array leaves; None where the
-        plain ``jitted`` runs them (inside another trace)."""
+        plain ``jitted`` runs them (inside another trace, or with the cache not enabled)."""
+        if (root := _DIR) is None:
+            return None
         dynamic, static = eqx.partition((args, kwargs), eqx.is_array)
         leaves, treedef = jax.tree.flatten(dynamic)
         if any(isinstance(x, Tracer) for x in leaves):  # inside jit/vmap/grad: an exported program has
@@ -248,7 +284,7 @@ def cached_jit(fn: Callable[..., T], compiler_options: tuple[tuple[str, Any], ..
             text = repr((fn.__module__, fn.__qualname__, _fingerprint(), treedef, jax.tree.leaves(static), avals))
             text += repr(sorted(options.items())) if options else ""  # no options: the keys of before
             name = hashlib.sha256(text.encode()).hexdigest()[:32]
-            file = _DIR / f"{fn.__name__}-{name}.{SUFFIX}"  # pyright: ignore[reportOptionalOperand] - enabled
+            file = _programs(root) / f"{fn.__name__}-{name}.{SUFFIX}"
             program = _load(file)
             if program is None:
 
@@ -261,6 +297,7 @@ def cached_jit(fn: Callable[..., T], compiler_options: tuple[tuple[str, Any], ..
                 except Exception:  # e.g. a host callback, which cannot be serialized: plain jit
                     program = jitted
                 else:
+                    _prune(root)
                     _save(file, blob)
             programs[key] = program
         return program, leaves
@@ -268,7 +305,7 @@ def cached_jit(fn: Callable[..., T], compiler_options: tuple[tuple[str, Any], ..
     @functools.wraps(fn)
     def call(*args: Any, **kwargs: Any) -> Any:
         args, kwargs = jit_forms((args, kwargs))
-        found = None if _DIR is None else program_for(args, kwargs)
+        found = program_for(args, kwargs)
         if found is None or found[0] is jitted:
             return jitted(*args, **kwargs)
         program, leaves = found
@@ -277,8 +314,7 @@ def cached_jit(fn: Callable[..., T], compiler_options: tuple[tuple[str, Any], ..
     def prepare(*args: Any, **kwargs: Any) -> None:
         """Compile (or load) the program for arguments like these without running it (nothing where the cache is
         not enabled)."""
-        if _DIR is not None:
-            program_for(*jit_forms((args, kwargs)))
+        program_for(*jit_forms((args, kwargs)))
 
     call.prepare = prepare  # pyright: ignore[reportAttributeAccessIssue]
     return call

@@ -43,30 +43,25 @@ def print_optimization(res: Optimization, output: Path) -> None:
             shown = ("none found" if x is None else format(x, fld.metadata["format"]) for x in pair)
             t.add_row(fld.metadata["label"], *shown)
     con.print(t)
-    for p in res.verification["points"]:
-        td = next(v for k, v in p.items() if k.startswith("time_domain"))
-        fd = next(v for k, v in p.items() if k.startswith("frequency_domain"))
-        said = (
-            ", separates"
-            if p["separated"]
-            else ("" if p["margin_held"] else f", under the {res.margin:.4g} {f} margin")
-        )
+    for p in res.verification.points:
+        td, fd = p.time_domain_least_force, p.frequency_domain_least_force
         if res.valvetrain is not None:
-            said = ", floats" if p["separated"] else ("" if p["margin_held"] else ", bounces")
+            said = ", floats" if p.separated else ("" if p.margin_held else ", bounces")
             con.print(
-                f"[dim]two-mass model at {p['speed_rpm']:.1f} rpm: least cam force over the valve event {td:.4g} N"
+                f"[dim]two-mass model at {p.speed_rpm:.1f} rpm: least cam force over the valve event {td:.4g} N"
                 f"{said}[/dim]"
             )
             continue
+        said = ", separates" if p.separated else ("" if p.margin_held else f", under the {res.margin:.4g} {f} margin")
         con.print(
-            f"[dim]time domain at {p['speed_rpm']:.1f} rpm: least force {td:.4g} {f} "
+            f"[dim]time domain at {p.speed_rpm:.1f} rpm: least force {td:.4g} {f} "
             f"(frequency domain {fd:.4g} {f}){said}[/dim]"
         )
-    if res.robust is not None:
+    if (rob := res.robust) is not None:  # no speed: none of the built cams jumps within the search
+        up_to = "at every speed searched" if rob.speed_rpm is None else f"up to {floor_rpm(rob.speed_rpm):.1f} rpm"
         con.print(
-            f"robust: P(separation) <= {res.robust['separation_probability']:g} "
-            f"up to {floor_rpm(res.robust['speed_rpm']):.1f} rpm "
-            f"({res.robust['samples']} built cams of [tolerances])"
+            f"robust: P(separation) <= {rob.separation_probability:g} {up_to} "
+            f"({rob.samples} built cams of [tolerances])"
         )
     if res.written and res.valvetrain is not None:
         con.print(

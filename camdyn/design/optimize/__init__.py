@@ -26,8 +26,6 @@ from ...model.dynamics import (
     float_speed,
     linear_min_force,
     preload_share,
-    response,
-    valvetrain_response,
 )
 from ...model.follower import FollowerModel
 from ...model.motion import evaluate
@@ -40,6 +38,15 @@ from ._objectives import BETTER, CLEAR, jump_speed, least_slack, peak_spring_for
 from ._rows import Rows
 from ._shape import N_CONTROL, ShapeSpace, flank_space, shape_space
 from ._valvetrain import ValveFacts, seating_rows, valve_refusals, valve_sentence
+from ._verification import (
+    RobustClaim,
+    Verification,
+    VerifiedSpeed,
+    finite_or_none,
+    unverified,
+    verify,
+    verify_valvetrain,
+)
 
 OBJECTIVES = ("jump-speed", "vibration", "spring-force")
 MARGIN_OF_PRELOAD = 0.05  # the default force margin: this share of the static preload
@@ -71,7 +78,7 @@ class Metrics:
 
     def json(self, unit: str) -> dict:
         return {
-            "jump_speed_rpm": _finite_or_none(self.jump_speed_rpm),
+            "jump_speed_rpm": finite_or_none(self.jump_speed_rpm),
             "least_contact_force_N": self.least_force_N,
             f"peak_acceleration_{unit}_per_rad2": self.peak_acceleration,
             "max_pressure_angle_deg": self.max_pressure_angle_deg,
@@ -79,17 +86,13 @@ class Metrics:
             "peak_spring_force_N_m" if unit == "deg" else "peak_spring_force_N": self.peak_spring_force,
             f"residual_vibration_{unit}": self.residual_vibration,
             "verdict": self.verdict,
-            "margin_speed_rpm": _finite_or_none(self.margin_speed_rpm),
+            "margin_speed_rpm": finite_or_none(self.margin_speed_rpm),
         }
 
 
 def floor_rpm(rpm: float) -> float:
     """A claimed speed as printed (to 0.1 rpm): rounded down, never past what holds."""
     return math.floor(rpm * 10.0) / 10.0 if math.isfinite(rpm) else rpm
-
-
-def _finite_or_none(x: float) -> float | None:
-    return float(x) if math.isfinite(x) else None
 
 
 @dataclass(frozen=True)
@@ -103,12 +106,12 @@ class Optimization:
     case: Case
     document: dict  # the case file to write
     claimed_speed_rpm: float  # the speed up to which the written design keeps the force margin (robust: P(sep) <= 1e-3)
-    verification: dict  # the time-domain model against the frequency domain at the claimed speeds
+    verification: Verification  # the time-domain model at the speeds the claim rests on
     control_points: int
     time_s: float
     margin: float = 0.0  # the force margin held (N; N*m for an arm)
     refusals: tuple[str, ...] = ()  # why the answer is no better than the input, or invalid
-    robust: dict | None = None  # --robust: the tolerance study's claim
+    robust: RobustClaim | None = None  # --robust: the tolerance study's claim
     valvetrain: tuple[ValveFacts, ValveFacts] | None = None  # a valvetrain's two-mass facts, before and after
 
     @property
@@ -167,8 +170,8 @@ class Optimization:
             f"{a.max_pressure_angle_deg:.2f} deg; verdict {b.verdict} -> {a.verdict}.",
             *([] if self.valvetrain is None else [valve_sentence(*self.valvetrain)]),
             f"Checked by {checked} at "
-            + ", ".join(f"{p['speed_rpm']:.0f}" for p in self.verification["points"])
-            + f" rpm (least force {self.verification['least_force']:.4g} {f}).",
+            + ", ".join(f"{p.speed_rpm:.0f}" for p in self.verification.points)
+            + f" rpm (least force {self.verification.least_force:.4g} {f}).",
         ]
         return dumps_case(self.document, header)
 
@@ -178,15 +181,15 @@ class Optimization:
             "case": self.case.name,
             "objective": self.objective,
             "control_points_per_segment": self.control_points,
-            "claimed_speed_rpm": _finite_or_none(self.claimed_speed_rpm),
+            "claimed_speed_rpm": finite_or_none(self.claimed_speed_rpm),
             "before": self.before.json(self.unit),
             "after": self.after.json(self.unit),
-            "verification": self.verification,
+            "verification": self.verification.json(),
             "time_s": self.time_s,
             margin_key: self.margin,
             "written": self.written,
             "refusals": list(self.refusals),
-            "robust": self.robust,
+            "robust": None if self.robust is None else self.robust.json(),
             "valvetrain": None
             if self.valvetrain is None
             else {"before": self.valvetrain[0].json(), "after": self.valvetrain[1].json()},
@@ -275,39 +278,6 @@ def _dips(case: Case, w_claim: float, count: int) -> list[float]:
     return sorted(float(speeds[i]) for i in inner[np.argsort(f[inner])][:count])
 
 
-def _verify(case: Case, speeds_rpm: list[float], margin: float) -> dict:
-    """The diffrax time-domain steady state against the frequency domain the optimizer used, at ``speeds_rpm``:
-    least interface force of each (N; N*m for an arm), whether the follower separates and whether it keeps
-    ``margin`` (to 0.1 % of the largest force: the two models agree to well within it)."""
-    unit = case.kind.force_suffix
-    points = []
-    for rpm in speeds_rpm:
-        w = rpm * RPM
-        r = response(case.motion, case.model, w)
-        fd = (
-            float(np.asarray(linear_min_force(case.motion, case.model, np.array([w])))[0])
-            if not case.model.rigid
-            else math.nan
-        )
-        held = bool(r.min_force >= margin - 1e-3 * float(np.abs(r.force).max())) and not r.separations
-        points.append(
-            {
-                "speed_rpm": rpm,
-                f"time_domain_least_force_{unit}": r.min_force,
-                f"frequency_domain_least_force_{unit}": fd,
-                "separated": bool(r.separations),
-                "margin_held": held,
-            }
-        )
-    least = min((p[f"time_domain_least_force_{unit}"] for p in points), default=None)
-    return {
-        "model": "rigid" if case.model.rigid else "compliant",
-        "points": points,
-        "least_force": least,
-        "unit": unit.replace("_", "*"),
-    }
-
-
 def _motion_kept(new: Case, space: ShapeSpace) -> list[str]:
     """Where a reshaped segment leaves its lift's range or reverses, on a 0.01 deg grid (the control points'
     order rules it out; this is the written file's own proof)."""
@@ -332,7 +302,13 @@ def _motion_kept(new: Case, space: ShapeSpace) -> list[str]:
 
 
 def _refusals(
-    objective: str, before: CheckReport, after: CheckReport, b: Metrics, a: Metrics, kept: list[str], verification: dict
+    objective: str,
+    before: CheckReport,
+    after: CheckReport,
+    b: Metrics,
+    a: Metrics,
+    kept: list[str],
+    verification: Verification,
 ) -> list[str]:
     """Why the answer must not be written: no better than the input on the objective, a check the input passed
     failing, the motion leaving its range, or the time-domain model finding the margin broken."""
@@ -351,11 +327,7 @@ def _refusals(
         out.append(f"no better on {objective}: {what[objective]} would go {_pair(objective, b, a)}")
     out += _broken_checks(before, after)
     out += kept
-    out += [
-        f"the time-domain model finds the margin broken at {p['speed_rpm']:.1f} rpm"
-        for p in verification["points"]
-        if not p["margin_held"]
-    ]
+    out += [f"the time-domain model finds the margin broken at {rpm:.1f} rpm" for rpm in verification.broken_at_rpm]
     return out
 
 
@@ -376,7 +348,7 @@ def _pair(objective: str, b: Metrics, a: Metrics) -> str:
     return f"{getattr(b, name):.4g} -> {getattr(a, name):.4g}"
 
 
-def _robust_claim(case: Case, progress: Progress | None) -> dict:
+def _robust_claim(case: Case, progress: Progress | None) -> RobustClaim:
     """The speed up to which P(separation) <= :data:`ROBUST_SEPARATION` over the case's ``[tolerances]``: that
     quantile of the built cams' jump speeds (the tolerance study's kernel)."""
     if case.spec.tolerances is None:
@@ -387,12 +359,12 @@ def _robust_claim(case: Case, progress: Progress | None) -> dict:
 
     study = tolerance_study(case, ROBUST_SAMPLES, progress=progress)
     jumps = np.asarray(study.jump_speed_rpm, dtype=float)
-    return {
-        "separation_probability": ROBUST_SEPARATION,
-        "samples": study.samples,
-        "speed_rpm": _finite_or_none(float(np.quantile(jumps, ROBUST_SEPARATION))),
-        "nominal_jump_speed_rpm": _finite_or_none(study.nominal_jump_speed_rpm),
-    }
+    return RobustClaim(
+        ROBUST_SEPARATION,
+        study.samples,
+        finite_or_none(float(np.quantile(jumps, ROBUST_SEPARATION))),
+        finite_or_none(study.nominal_jump_speed_rpm),
+    )
 
 
 def optimize_case(
@@ -496,14 +468,14 @@ def optimize_case(
         checked = sorted(
             set(round(v, 1) for v in checked + [0.99 * claimed] + ([] if objective == "jump-speed" else [rpm]))
         )
-        verification = _verify(new, checked, margin)
+        verification = verify(new, checked, margin)
         refusals = _refusals(
             objective, before_check, after_check, before, after, _motion_kept(new, space), verification
         )
     robust_claim = None
     if robust and not refusals:
         robust_claim = _robust_claim(new, progress)
-        claimed = robust_claim["speed_rpm"] if robust_claim["speed_rpm"] is not None else math.nan
+        claimed = robust_claim.speed_rpm if robust_claim.speed_rpm is not None else math.nan
     return Optimization(
         objective,
         before,
@@ -523,38 +495,19 @@ def optimize_case(
 
 def _valvetrain_verdict(
     new: Case, space: ShapeSpace, before_check: CheckReport, after_check: CheckReport
-) -> tuple[float, dict, list[str], tuple[ValveFacts, ValveFacts]]:
+) -> tuple[float, Verification, list[str], tuple[ValveFacts, ValveFacts]]:
     """A valvetrain's answer judged by the two-mass model: the claim (its float speed, rpm), the verification (the
     model again at 0.99 x the claim and at the case speed: the least cam force over the valve event, and whether it
     floats), the refusals and the facts before and after."""
     facts = ValveFacts.of(before_check), ValveFacts.of(after_check)
     claimed = facts[1].float_speed_rpm
     claimed = math.inf if claimed is None else floor_rpm(claimed)
-    assert new.valvetrain is not None  # built from a valvetrain's case
-    points = []
-    for rpm in sorted({after_check.speed_rpm} | ({0.99 * claimed} if math.isfinite(claimed) else set())):
-        r = valvetrain_response(new.motion, new.valvetrain, rpm * RPM)
-        points.append(
-            {
-                "speed_rpm": rpm,
-                "time_domain_least_force_N": r.least_event_force,
-                "frequency_domain_least_force_N": None,  # no frequency domain through the lash and the seat
-                "separated": r.floated,
-                "margin_held": not r.floated and not (rpm == after_check.speed_rpm and r.bounced),
-            }
-        )
-    verification = {
-        "model": "two-mass valvetrain",
-        "points": points,
-        "least_force": min((p["time_domain_least_force_N"] for p in points), default=None),
-        "unit": "N",
-    }
+    speeds = sorted({after_check.speed_rpm} | ({0.99 * claimed} if math.isfinite(claimed) else set()))
+    verification = verify_valvetrain(new, speeds, after_check.speed_rpm)
     refusals = valve_refusals(*facts)
     refusals += _broken_checks(before_check, after_check)
     refusals += _motion_kept(new, space)
-    refusals += [
-        f"the two-mass model floats or bounces at {p['speed_rpm']:.1f} rpm" for p in points if not p["margin_held"]
-    ]
+    refusals += [f"the two-mass model floats or bounces at {rpm:.1f} rpm" for rpm in verification.broken_at_rpm]
     return claimed, verification, refusals, facts
 
 
@@ -563,9 +516,18 @@ def _refused(
 ) -> Optimization:
     """The input itself, with why nothing better was found."""
     doc = case.spec.model_dump(exclude_unset=True, exclude_none=True)
-    empty = {"model": "compliant", "points": [], "least_force": None, "unit": case.kind.force_unit}
     return Optimization(
-        objective, before, before, case, doc, math.nan, empty, control_points, time.perf_counter() - t0, margin, (why,)
+        objective,
+        before,
+        before,
+        case,
+        doc,
+        math.nan,
+        unverified(case),
+        control_points,
+        time.perf_counter() - t0,
+        margin,
+        (why,),
     )
 
 
@@ -574,6 +536,9 @@ __all__ = [
     "OBJECTIVES",
     "Metrics",
     "Optimization",
+    "RobustClaim",
+    "Verification",
+    "VerifiedSpeed",
     "default_margin",
     "floor_rpm",
     "least_slack",
