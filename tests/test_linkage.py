@@ -334,3 +334,47 @@ def test_chosen_base_radius_is_the_least_half_millimetre_check_accepts(path_synt
     assert f.base_radius % 0.5 == 0.0 and "base_radius" not in load("circle")["mechanism"]
     assert passes(f, extremes(tab, f), 30.0, 1.5)
     assert not passes(f, extremes(tab, f, base_radius=f.base_radius - 0.5), 30.0, 1.5)
+
+
+def test_a_crank_without_switches_is_padded_and_is_the_closed_form():
+    """A crank with slack (no singular position) is padded to the two switches of the usual crank, so it shares
+    their compiled programs, and its angle is still the closed form: the padding is never reached."""
+    from camdyn.model.linkage._crank import _padded_dyad
+
+    r, coupler, m_start = 12.0, 20.0, -1.0
+    dyad = _padded_dyad(r, coupler, [], [], [], [], [], [], [], [], [], m_start)
+    assert dyad.n_switch == 0 and dyad.u_sw.shape == (2,) and dyad.qpoly.shape[0] == 2
+
+    def p_side(u):
+        return jnp.stack([20.0 * jnp.cos(2 * jnp.pi * u) - 2.0, 20.0 * jnp.sin(2 * jnp.pi * u) - 3.0])
+
+    u = np.linspace(0.0, 1.0, 9)
+    alpha, phi = jax.vmap(lambda v: dyad.angles(p_side, v))(jnp.asarray(u))
+    p = np.asarray(jax.vmap(p_side)(jnp.asarray(u)))
+    d = np.linalg.norm(p, axis=1)
+    np.testing.assert_allclose(alpha, np.arctan2(p[:, 1], p[:, 0]), rtol=0, atol=1e-14)
+    np.testing.assert_allclose(phi, m_start * np.arccos((r * r + d * d - coupler**2) / (2 * r * d)), rtol=0, atol=1e-13)
+    slope = jax.vmap(jax.grad(lambda v: dyad.angles(p_side, v)[1]))(jnp.asarray(u))
+    assert np.all(np.isfinite(slope))
+
+
+def test_a_linkage_that_cannot_trace_its_path_fails_check():
+    """The shipped circle with its cam centre moved and a crank and coupler given: the forward dyad changes assembly
+    mode along the path, so the linkage the cam drives misses the circle by its diameter and passes through a dead
+    centre. check judges both (it passed with three warnings before); the shipped circle passes them with margin."""
+    from camdyn.design.checks import run_check
+    from camdyn.model.case import case_from_dict
+
+    doc = load("circle")
+    shipped = {c.name: c for c in run_check(case_from_dict(doc)).checks}
+    assert shipped["path_error"].ok and shipped["path_error"].value < 1e-9
+    assert shipped["transmission_angle"].ok and shipped["transmission_angle"].value == pytest.approx(47.67, abs=0.01)
+    doc["mechanism"] |= {"cam_center": [2.0, 3.0], "crank": 12.0, "coupler": 20.0}
+    report = run_check(case_from_dict(doc))
+    checks = {c.name: c for c in report.checks}
+    assert report.verdict == "fail"
+    assert not checks["path_error"].ok and checks["path_error"].value == pytest.approx(40.0, abs=0.01)  # the diameter
+    assert not checks["transmission_angle"].ok and checks["transmission_angle"].value < 1.0
+    assert any("changes assembly mode" in w for w in report.warnings)
+    doc["limits"] |= {"max_path_error": 50.0, "min_transmission_angle": 0.1}  # the limits are the user's
+    assert all(c.ok for c in run_check(case_from_dict(doc)).checks if c.name in ("path_error", "transmission_angle"))

@@ -90,7 +90,7 @@ def test_closed_and_derivatives_match_finite_differences(name):
 def test_precision_points_are_passed_exactly_in_order():
     path = build_path(PATHS["points"])
     pts = np.column_stack([TABLE_I_X, TABLE_I_Y])[:-1].astype(float)
-    knots = np.asarray(path.knots)[:-1]
+    knots = np.asarray(path.knots)[: len(pts)]  # the points' knots: not the closing 1, nor the padding past it
     assert np.max(np.abs(np.asarray(points(path, knots)) - pts)) < 1e-10
     # C2 at the knots (periodic cubic spline): second derivative continuous, third jumps
     sides = np.asarray(derivatives(path, np.concatenate([knots[1:4] - 1e-9, knots[1:4] + 1e-9]))).reshape(2, 3, 4, 2)

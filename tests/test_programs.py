@@ -99,6 +99,40 @@ def test_prepare_compiles_without_running_and_threads_compile_at_once(tmp_path, 
     assert np.allclose(fn(np.arange(3.0)), [0.0, 2.0, 4.0]) and len(traced) == 2  # prepared: not traced again
 
 
+class _Squared(eqx.Module):
+    """A stand-in for a motion: its ``jit_form`` (counted) is what compiled programs take."""
+
+    coef: jax.Array
+    made = []  # the forms made, counted across instances
+
+    def jit_form(self):
+        _Squared.made.append(self)
+        return Poly(self.coef, 2)
+
+
+def _at(p, x):
+    return p(x)
+
+
+def test_a_motions_form_is_made_once_for_all_the_calls_of_a_stored_program(tmp_path, monkeypatch):
+    """Issue 23: a speed search calls its stored programs hundreds of times with one motion: its jit form is made
+    (and flattened) once, not per call; another object of the same structure makes its own and runs the same
+    program, with its own numbers."""
+    monkeypatch.setattr(programs, "_DIR", None)
+    programs.enable(tmp_path)
+    monkeypatch.setattr(_Squared, "made", [])
+    x = jnp.linspace(0.0, 2.0, 5)
+    fn, one, two = programs.cached_jit(_at), _Squared(jnp.asarray(3.0)), _Squared(jnp.asarray(-2.0))
+    for _ in range(5):
+        np.testing.assert_allclose(fn(one, x), 3.0 * x**2, rtol=1e-15)
+    assert _Squared.made == [one]
+    np.testing.assert_allclose(fn(two, x), -2.0 * x**2, rtol=1e-15)
+    np.testing.assert_allclose(fn(one, x=x), 3.0 * x**2, rtol=1e-15)  # x as a keyword: a program of its own
+    assert _Squared.made == [one, two] and len(list(tmp_path.rglob("_at-*.jaxprogram"))) == 2
+    # under a transformation the plain jit runs, on the form as well
+    np.testing.assert_allclose(jax.vmap(lambda c: fn(_Squared(c), x))(jnp.arange(2.0)), [0.0 * x, x**2], rtol=1e-15)
+
+
 def _wave(x):
     return jnp.exp(-x) * jnp.cos(3.0 * x)
 
@@ -118,6 +152,58 @@ def test_compiler_options_are_part_of_the_key_and_unknown_ones_dropped(tmp_path,
     np.testing.assert_allclose(optioned(x), plain(x), rtol=1e-14)
     assert len(list(tmp_path.rglob("_wave-*.jaxprogram"))) == 2
     np.testing.assert_allclose(programs.cached_jit(_wave, unknown)(x), plain(x), rtol=1e-14)  # compiled without it
+
+
+def test_a_stored_result_is_read_back_and_a_failure_is_not_stored(tmp_path, monkeypatch):
+    """``stored`` computes once a key and reads the result back after (a path case's synthesis); a computation
+    that raises stores nothing, and without ``enable`` nothing is written."""
+    calls = []
+
+    def compute(value):
+        calls.append(value)
+        if value is None:
+            raise ValueError("no result")
+        return {"values": np.arange(3.0) * value, "device": jnp.asarray(value)}
+
+    monkeypatch.setattr(programs, "_DIR", None)
+    programs.stored("thing", "a", lambda: compute(1.0))
+    assert not list(tmp_path.rglob("*")) and calls == [1.0]
+    programs.enable(tmp_path)
+    first = programs.stored("thing", "a", lambda: compute(2.0))
+    again = programs.stored("thing", "a", lambda: compute(3.0))  # the key, not the function, says which result
+    other = programs.stored("thing", "b", lambda: compute(4.0))
+    assert calls == [1.0, 2.0, 4.0]
+    np.testing.assert_array_equal(again["values"], first["values"])
+    assert float(again["device"]) == 2.0 and isinstance(again["device"], jax.Array)
+    np.testing.assert_array_equal(other["values"], np.arange(3.0) * 4.0)
+    with pytest.raises(ValueError, match="no result"):
+        programs.stored("thing", "c", lambda: compute(None))
+    assert len(list(tmp_path.rglob("thing-*.result"))) == 2
+
+
+_PATH_METHOD = """
+import sys, numpy as np, camdyn
+camdyn.enable_x64()
+from camdyn._core import jit
+from camdyn.model.linkage import vmap_scalar
+from camdyn.model.paths import build_path
+jit.enable(sys.argv[1])
+u = np.linspace(0.0, 1.0, 7, endpoint=False)
+for radius, centre in ((10.0, (0.0, 0.0)), (13.0, (1.0, -2.0))):
+    xy = vmap_scalar(build_path({"type": "circle", "center": list(centre), "radius": radius}).point, u)
+    want = np.column_stack([np.cos(2 * np.pi * u), np.sin(2 * np.pi * u)]) * radius + centre
+    assert np.max(np.abs(xy - want)) < 1e-12
+"""
+
+
+@pytest.mark.slow  # two fresh processes
+def test_a_method_of_paths_of_one_type_is_one_stored_program_in_every_process(tmp_path):
+    """``vmap_scalar`` of a path's bound method stores one program, named by the method (a function object's text
+    holds its address: a new file in every process), that every path of the type shares, whatever its numbers."""
+    env = {k: v for k, v in os.environ.items() if k != "CAMDYN_NO_CACHE"} | {"PYTHONPATH": str(ROOT)}
+    for _ in range(2):
+        subprocess.run([sys.executable, "-c", _PATH_METHOD, str(tmp_path)], env=env, check=True, timeout=300)
+        assert len(list(tmp_path.rglob("_vmap_method-*.jaxprogram"))) == 1
 
 
 def _solve(a, b):

@@ -306,7 +306,7 @@ from camdyn.design.sweep import jump_map
 from camdyn.model.case import load_case
 enable_x64()
 jit.enable(sys.argv[1])
-files = lambda: sorted(p.name for p in Path(sys.argv[1]).glob("*.jaxprogram"))
+files = lambda: sorted(p.name for p in Path(sys.argv[1]).rglob("*.jaxprogram"))
 out = {}
 for name in ("polynomial", "lecture"):
     jm = jump_map(load_case(Path(sys.argv[2]) / "cases" / f"{name}.toml"), [300.0, 700.0], [0.5, 3.0])

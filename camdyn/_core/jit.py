@@ -21,6 +21,9 @@ holds what the installs in use need, not every version's programs.
 Either way an argument with a ``jit_form`` method (a motion) is replaced by what it returns (:func:`jit_forms`):
 a form whose static structure does not depend on the case, so a case never seen before reuses the programs of
 the others.
+
+:func:`stored` keeps a deterministic result of those programs that takes longer to compute than to read (a path's
+synthesis: its programs alone take 0.3 s to load), keyed like the programs.
 """
 
 from __future__ import annotations
@@ -186,6 +189,28 @@ def _save(file: Path, blob: bytes) -> None:
         tmp.unlink(missing_ok=True)
 
 
+def stored(name: str, key: str, compute: Callable[[], T]) -> T:
+    """``compute()``, or what an earlier process stored for the same ``key`` (the text of every input) under the
+    same camdyn source, JAX stack and machine (:func:`_fingerprint`: the same programs, so the same numbers);
+    nothing stored without :func:`enable`, nor where ``compute`` raises."""
+    if (root := _DIR) is None:
+        return compute()
+    file = _programs(root) / f"{name}-{hashlib.sha256(key.encode()).hexdigest()[:32]}.result"
+    try:
+        return pickle.loads(file.read_bytes())
+    except Exception:  # missing, truncated, or of classes that changed: compute afresh
+        pass
+    value = compute()
+    _save(file, pickle.dumps(value))
+    return value
+
+
+def device_array(x: Any) -> jax.Array:
+    """``x`` as a float64 JAX array, placed without a program: ``jnp.asarray`` of a host value compiles one per
+    shape (JAX 0.10), some 10 ms each in every process."""
+    return jax.device_put(np.asarray(x, dtype=float))
+
+
 def _has_form(x) -> bool:
     return hasattr(type(x), "jit_form")
 
@@ -193,6 +218,55 @@ def _has_form(x) -> bool:
 def jit_forms(tree: T) -> T:
     """``tree`` with every object that has a ``jit_form`` method (a motion) replaced by ``x.jit_form()``."""
     return jax.tree.map(lambda x: x.jit_form() if _has_form(x) else x, tree, is_leaf=_has_form)
+
+
+_flat_form_memo: dict[int, tuple[Any, list, Any]] = {}
+
+
+def _flat_form(x: Any) -> tuple[list, Any]:
+    """The leaves and treedef of ``x.jit_form()``, once per object (a motion is immutable, and a search calls its
+    programs hundreds of times with the same one; flattening a form costs tens of microseconds)."""
+    hit = _flat_form_memo.get(id(x))
+    if hit is None or hit[0] is not x:
+        if len(_flat_form_memo) > 64:
+            _flat_form_memo.clear()
+        hit = _flat_form_memo[id(x)] = (x, *jax.tree.flatten(x.jit_form()))
+    return hit[1], hit[2]
+
+
+def _flat_forms(tree: Any) -> tuple[list, Any, tuple]:
+    """The leaves of :func:`jit_forms` of ``tree`` and what rebuilds it (:func:`_unflatten_forms`): the treedef with
+    each object that has a ``jit_form`` as one leaf, and per such leaf the treedef of its form (None for the other
+    leaves). Flattened once, no module rebuilt: a stored program's call costs microseconds, not a rebuilt tree."""
+    outer, treedef = jax.tree.flatten(tree, is_leaf=_has_form)
+    if not any(_has_form(x) for x in outer):
+        return outer, treedef, ()
+    leaves, forms = [], []
+    for x in outer:
+        if _has_form(x):
+            inner, inner_def = _flat_form(x)
+            leaves.extend(inner)
+            forms.append((inner_def, len(inner)))
+        else:
+            leaves.append(x)
+            forms.append(None)
+    return leaves, treedef, tuple(forms)
+
+
+def _unflatten_forms(treedef: Any, forms: tuple, leaves: list) -> Any:
+    """The tree :func:`_flat_forms` flattened, each object that has a ``jit_form`` as its form."""
+    if not forms:
+        return jax.tree.unflatten(treedef, leaves)
+    outer, i = [], 0
+    for form in forms:
+        if form is None:
+            outer.append(leaves[i])
+            i += 1
+        else:
+            inner_def, count = form
+            outer.append(jax.tree.unflatten(inner_def, leaves[i : i + count]))
+            i += count
+    return jax.tree.unflatten(treedef, outer)
 
 
 def filter_jit(fn: Callable[..., T]) -> Callable[..., T]:
@@ -262,26 +336,29 @@ def cached_jit(fn: Callable[..., T], compiler_options: tuple[tuple[str, Any], ..
     jitted = jit_with(fn, options)
     programs: dict = {}
 
-    def program_for(args: tuple, kwargs: dict) -> tuple[Callable, list] | None:
-        """The program for these (jit-form) arguments, compiled or loaded, and their array leaves; None where the
-        plain ``jitted`` runs them (inside another trace, or with the cache not enabled)."""
+    def program_for(tree: tuple) -> tuple[Callable, list] | None:
+        """The program for these (args, kwargs), compiled or loaded, and their array leaves; None where the plain
+        ``jitted`` runs them (inside another trace, or with the cache not enabled). A motion is keyed and traced as
+        its :func:`jit_forms`."""
         if (root := _DIR) is None:
             return None
-        dynamic, static = eqx.partition((args, kwargs), eqx.is_array)
-        leaves, treedef = jax.tree.flatten(dynamic)
-        if any(isinstance(x, Tracer) for x in leaves):  # inside jit/vmap/grad: an exported program has
+        leaves, treedef, forms = _flat_forms(tree)
+        is_array = [eqx.is_array(x) for x in leaves]
+        arrays = [x for x, a in zip(leaves, is_array, strict=True) if a]
+        if any(isinstance(x, Tracer) for x in arrays):  # inside jit/vmap/grad: an exported program has
             return None  # no batching or differentiation rules; the outer trace is cached anyway
-        avals = tuple((np.shape(x), np.dtype(x.dtype).str) for x in leaves)
+        static = [x for x, a in zip(leaves, is_array, strict=True) if not a]
+        avals = tuple((x.shape, x.dtype.str) for x in arrays)
         try:  # hashing the static part is cheap; its repr (the disk key) is not, for a motion of 1000 segments
-            key = (treedef, tuple(jax.tree.leaves(static)), avals)
+            key = (treedef, forms, tuple(is_array), tuple(static), avals)
             program = programs.get(key)
         except TypeError:  # an unhashable static value: key by its text
-            key = repr((treedef, static, avals))
+            key = repr((treedef, forms, is_array, static, avals))
             program = programs.get(key)
         if program is None:
-            # the static part as the treedef (structure, static fields) and its leaves say it: an equinox module's
-            # own repr pretty-prints, a millisecond or more a program
-            text = repr((fn.__module__, fn.__qualname__, _fingerprint(), treedef, jax.tree.leaves(static), avals))
+            # the static part as the treedefs (structure, static fields) and the static leaves say it: an equinox
+            # module's own repr pretty-prints, a millisecond or more a program
+            text = repr((fn.__module__, fn.__qualname__, _fingerprint(), treedef, forms, is_array, static, avals))
             text += repr(sorted(options.items())) if options else ""  # no options: the keys of before
             name = hashlib.sha256(text.encode()).hexdigest()[:32]
             file = _programs(root) / f"{fn.__name__}-{name}.{SUFFIX}"
@@ -289,7 +366,8 @@ def cached_jit(fn: Callable[..., T], compiler_options: tuple[tuple[str, Any], ..
             if program is None:
 
                 def flat(*xs: Any) -> Any:
-                    a, kw = eqx.combine(jax.tree.unflatten(treedef, xs), static)
+                    it, fixed = iter(xs), iter(static)
+                    a, kw = _unflatten_forms(treedef, forms, [next(it) if b else next(fixed) for b in is_array])
                     return fn(*a, **kw)
 
                 try:
@@ -300,21 +378,20 @@ def cached_jit(fn: Callable[..., T], compiler_options: tuple[tuple[str, Any], ..
                     _prune(root)
                     _save(file, blob)
             programs[key] = program
-        return program, leaves
+        return program, arrays
 
     @functools.wraps(fn)
     def call(*args: Any, **kwargs: Any) -> Any:
-        args, kwargs = jit_forms((args, kwargs))
-        found = program_for(args, kwargs)
+        found = program_for((args, kwargs))
         if found is None or found[0] is jitted:
-            return jitted(*args, **kwargs)
-        program, leaves = found
-        return program(*leaves)
+            return jitted(*jit_forms(args), **jit_forms(kwargs))
+        program, arrays = found
+        return program(*arrays)
 
     def prepare(*args: Any, **kwargs: Any) -> None:
         """Compile (or load) the program for arguments like these without running it (nothing where the cache is
         not enabled)."""
-        program_for(*jit_forms((args, kwargs)))
+        program_for((args, kwargs))
 
     call.prepare = prepare  # pyright: ignore[reportAttributeAccessIssue]
     return call

@@ -44,6 +44,8 @@ DEFAULT_MIN_CONTACT_FORCE_N = 0.0
 DEFAULT_MAX_PRESSURE_ANGLE_DEG = {"translating": 30.0, "oscillating": 35.0}
 DEFAULT_MIN_CURVATURE_RATIO = 1.5
 DEFAULT_MAX_TRAIN_DEFLECTION = 0.1  # of the lift: a compliant train compressed by more no longer drives the follower
+DEFAULT_MAX_PATH_ERROR_MM = 1e-3  # a path case: the linkage driven by the cam may miss its path by this (mm)
+DEFAULT_MIN_TRANSMISSION_ANGLE_DEG = 30.0  # a path case's driven dyads: under this the linkage binds
 DEFAULT_TRAIN_DAMPING_RATIO = 0.05
 # form-closed cams: the largest speed at which a follower crossing its backlash may meet the other flank, m/s (a
 # soft landing; the noise and the flank wear of a groove cam grow with it)

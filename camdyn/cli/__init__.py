@@ -349,8 +349,8 @@ def _distributed_options(p: argparse.ArgumentParser) -> None:
 
 
 def _enable_caches() -> None:
-    """Persist compiled XLA programs and traced camdyn programs between runs (the user's second ``check`` skips
-    most of JAX's tracing and compilation). ``CAMDYN_NO_CACHE`` turns both off."""
+    """Persist compiled XLA programs, traced camdyn programs and data fits between runs (the user's second ``check``
+    skips most of JAX's tracing and compilation, and refits nothing). ``CAMDYN_NO_CACHE`` turns them off."""
     if os.environ.get("CAMDYN_NO_CACHE"):
         return
     root = Path(os.environ.get("XDG_CACHE_HOME", Path.home() / ".cache")) / "camdyn"
@@ -364,7 +364,7 @@ def _enable_caches() -> None:
 
     jax.config.update("jax_compilation_cache_dir", str(root / "jax"))
     jax.config.update("jax_persistent_cache_min_compile_time_secs", 0.1)
-    jit.enable(root / "programs")
+    jit.enable(root / "programs")  # and the stored data fits (camdyn._core.stored), beside the programs
 
 
 def _validate(args) -> None:

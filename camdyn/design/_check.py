@@ -17,6 +17,8 @@ class CheckKind(str, Enum):  # noqa: UP042 (StrEnum would change str() and forma
     FACE_WIDTH = "face_width"
     TRAIN_DEFLECTION = "train_deflection"
     CONTACT_STRESS = "contact_stress"  # Hertz pressure between cam and follower, MPa
+    PATH_ERROR = "path_error"  # a path case: how far the linkage driven by the cam misses the path, mm
+    TRANSMISSION_ANGLE = "transmission_angle"  # a path case: the driven dyads' least transmission angle, deg
     CLEARANCE = "clearance"  # camdyn machine: the least gap between two followers that share space, mm
     SEATING_VELOCITY = "seating_velocity"  # [valvetrain]: the valve's speed landing on its seat, m/s
     VALVE_BOUNCE = "valve_bounce"  # [valvetrain]: the valve's re-lift after it seats, mm
@@ -64,6 +66,8 @@ _WORDS = {
     CheckKind.FACE_WIDTH: ("contact travel along the face", "mm", "<="),
     CheckKind.TRAIN_DEFLECTION: ("largest train compression / lift", "ratio", "<="),
     CheckKind.CONTACT_STRESS: ("largest Hertz contact pressure", "MPa", "<="),
+    CheckKind.PATH_ERROR: ("linkage driven by the cam: path missed by", "mm", "<="),
+    CheckKind.TRANSMISSION_ANGLE: ("least transmission angle of the linkage", "deg", ">="),
     CheckKind.CLEARANCE: ("least gap between two followers", "mm", ">="),
     CheckKind.SEATING_VELOCITY: ("valve speed landing on its seat", "m/s", "<="),
     CheckKind.VALVE_BOUNCE: ("valve re-lift after seating", "mm", "<="),

@@ -399,6 +399,13 @@ def run_check(case: Case, speed_rpm: float | None = None) -> CheckReport:
         checks += tuple(geo_checks)
         warnings += geo_warnings
         advice += geo_advice
+    if case.synthesis is not None:  # a path case: the linkage the cam drives must trace the path, and run
+        checks += (
+            CheckKind.PATH_ERROR.check(case.synthesis.path_error_mm, float(limits.max_path_error)),
+            CheckKind.TRANSMISSION_ANGLE.check(
+                case.synthesis.least_transmission_deg, float(limits.min_transmission_angle)
+            ),
+        )
     drive = case_drive(case, resp)
     contact = None
     if geo is not None and case.spec.contact_width_mm is not None:

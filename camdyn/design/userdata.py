@@ -15,13 +15,13 @@ far below what the slip gives (60 x a margin, 1000 x a ratio).
 
 from __future__ import annotations
 
-import dataclasses
 import math
 
+import equinox as eqx
 import jax
-import jax.numpy as jnp
 import numpy as np
 
+from .._core.jit import cached_jit
 from .._core.units import FFT_GRID, RPM
 from ..model import dynamics as dyn
 from ..model.case import Case
@@ -39,11 +39,19 @@ HZ_SLIP_RATIO = 40.0
 RATE_SLIP_RATIO = 30.0
 
 
-def _force(case: Case, motion, omega: float, theta: np.ndarray):
-    """The interface force (N or N*m) of the follower in contact on ``theta`` (rad, 2 pi k / n)."""
-    if case.model.rigid:
-        return dyn.kinematic_force(motion, case.model, omega, jnp.asarray(theta))
-    return dyn.linear_contact_force(motion, case.model, jnp.asarray([omega]), n=theta.size)[0]
+@cached_jit
+def _noise_forces(motion, model, omega, theta, noise, rigid: bool):
+    """The interface force (N or N*m) of the follower in contact on ``theta`` (rad, 2 pi k / n), and its change
+    (samples, n) with each of ``noise``'s coefficients (samples, rows, 6) added to the motion's (its jit form, whose
+    rows they match): one compiled program, stored, where eager ops and a vmap would trace in every process."""
+
+    def _force(m):  # m: the motion's jit form (a QuinticTable), evaluated like a Motion
+        if rigid:
+            return dyn.kinematic_force(m, model, omega, theta)
+        return dyn.linear_contact_force(m, model, omega[None], n=theta.size)[0]
+
+    base = _force(motion)
+    return base, jax.vmap(lambda c: _force(eqx.tree_at(lambda t: t.coef, motion, motion.coef + c)) - base)(noise)
 
 
 def least_force_uncertainty(case: Case, omega: float) -> float | None:
@@ -53,11 +61,13 @@ def least_force_uncertainty(case: Case, omega: float) -> float | None:
         return None
     motion = case.motion
     assert isinstance(motion, FittedMotion)  # a table's motion is fitted to it
-    noise = jnp.asarray(case.kind.lift_to_motion(np.moveaxis(case.fit.spline.noise_coef, -1, 0)))  # (samples, m, 6)
+    noise = case.kind.lift_to_motion(np.moveaxis(case.fit.spline.noise_coef, -1, 0))  # (samples, m, 6)
+    rows = motion.jit_form().coef.shape[0]  # the padded rows the compiled program takes: one program per bucket
+    noise = np.pad(noise, [(0, 0), (0, rows - noise.shape[1]), (0, 0)])  # the padding rows are never evaluated
     theta = np.arange(FFT_GRID) * (2 * math.pi / FFT_GRID)
-    base = np.asarray(_force(case, motion, omega, theta))
-    err = np.asarray(
-        jax.vmap(lambda c: _force(case, dataclasses.replace(motion, coef=motion.coef + c), omega, theta) - base)(noise)
+    base, err = (
+        np.asarray(a)
+        for a in _noise_forces(motion, case.model, np.asarray(omega, dtype=float), theta, noise, case.model.rigid)
     )
     if case.kind.rotary:  # torques to contact forces through the lever arm
         per_torque = contact_per_force(motion, case.follower, theta)

@@ -14,9 +14,18 @@ from ..model import dynamics as dyn
 from ..model.case import Case
 from ._check import Check, CheckKind
 
+# the seating velocity against speed reaches half again the float speed (or the case speed): beyond float the train
+# flies and its landings scatter
+SEATING_CURVE_REACH = 1.5
+
 
 def _finite_or_none(x: float) -> float | None:
     return float(x) if math.isfinite(x) else None
+
+
+def _seating_curve_top(case_speed: float, float_speed: float) -> float:
+    """Where the seating velocity against speed ends (the units of the speeds given)."""
+    return SEATING_CURVE_REACH * max(case_speed, float_speed if math.isfinite(float_speed) else 0.0)
 
 
 @dataclass(frozen=True)
@@ -29,13 +38,35 @@ class ValvetrainResult:
     float_speed_rpm: float  # inf: no float up to the search's top
     bounce_speed_rpm: float  # inf: no bounce up to the search's top
     search_top_rpm: float
-    speeds_rpm: tuple[float, ...] = ()  # the speeds the searches marched, increasing
-    seating_velocities: tuple[float, ...] = ()  # m/s at each (NaN: the valve never lifts)
-    bounce_heights_mm: tuple[float, ...] = ()  # at each
+    # the valvetrain at each speed the searches marched and at the scan's speeds to the seating curve's top,
+    # increasing: what the searches did not read of one (the seating of a floating valve: its diffrax run) is
+    # computed when first asked (a report's figure, not check)
+    marched: tuple[dyn.ValvePoint, ...] = ()
     # a rocker's: the cam's and the follower's lifts through it (mm, the lash not taken off) and its instantaneous
     # ratio at the cam's lift, on response.theta_deg; None: the constant ratio's
     rocker_curves: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None
     coil_bind_lift_mm: float | None = None  # the valve's lift at which its designed spring ([spring]) is solid
+
+    @property
+    def speeds_rpm(self) -> tuple[float, ...]:
+        """The speeds the float and bounce searches marched, increasing, rpm."""
+        return tuple(p.omega / RPM for p in self.marched)
+
+    @property
+    def seating_curve_top_rpm(self) -> float:
+        """How far the seating velocity against speed is drawn: :data:`SEATING_CURVE_REACH` x the float speed (or
+        the case speed), rpm."""
+        return _seating_curve_top(self.response.omega / RPM, self.float_speed_rpm)
+
+    @property
+    def seating_velocities(self) -> tuple[float, ...]:
+        """m/s at each of :attr:`speeds_rpm` (NaN: the valve never lifts)."""
+        return tuple(p.seating_velocity for p in self.marched)
+
+    @property
+    def bounce_heights_mm(self) -> tuple[float, ...]:
+        """The bounce height at each of :attr:`speeds_rpm`, mm."""
+        return tuple(p.bounce_height_mm for p in self.marched)
 
     @property
     def coil_bind_clearance_mm(self) -> float | None:
@@ -143,7 +174,11 @@ def analyze_valvetrain(case: Case, omega: float, margin: float) -> ValvetrainRes
     w_float = dyn.float_speed(case.motion, vt, w_max, respond=at)
     w_bounce = dyn.bounce_speed(case.motion, vt, w_max, respond=at)
     here = at(float(omega)).response  # the whole revolution at the case speed: the diffrax model's
-    speeds = sorted(marched)
+    top = _seating_curve_top(float(omega), w_float)
+    for w in dyn.valve_scan_speeds(w_max):  # the seating curve's scan beyond the searches', to its first past the top
+        at(float(w))
+        if w >= top:
+            break
     curves = None
     if vt.rocker is not None:
         cam_at_valve, ratios = vt.at_valve_mm(here.cam_lift)
@@ -155,9 +190,7 @@ def analyze_valvetrain(case: Case, omega: float, margin: float) -> ValvetrainRes
         w_float / RPM,
         w_bounce / RPM,
         w_max / RPM,
-        tuple(w / RPM for w in speeds),
-        tuple(marched[w].seating_velocity for w in speeds),
-        tuple(marched[w].bounce_height_mm for w in speeds),
+        tuple(marched[w] for w in sorted(marched)),
         curves,
         None if case.spring is None else case.spring.travel_to_solid_mm,
     )

@@ -144,7 +144,7 @@ def build_case(spec: CaseSpec, source: Path | None = None) -> Case:
         assert spec.path is not None and spec.mechanism is not None  # CaseSpec: a case without [motion] has both
         from .linkage import synthesize_motion  # only a path case loads the cam-linkage models (17 ms a check)
 
-        synthesis = synthesize_motion(spec.path, spec.mechanism)
+        synthesis = synthesize_motion(spec.path, spec.mechanism, reuse=True)
         motion, follower = synthesis.tabulated, synthesis.follower
         warnings += list(synthesis.warnings)
     valvetrain = None
@@ -196,7 +196,7 @@ def _check_rocker(vt: ValvetrainSpec, lifts: np.ndarray) -> None:
         why = rocker_reach(rocker, lift)
         if why is not None:
             raise InputError("valvetrain.rocker", f"{why}: lengthen the arm or change its angle")
-    ratios = np.asarray(rocker.lever(lifts * M_PER_MM)[1])
+    ratios = rocker.host_lever(lifts * M_PER_MM)[1]
     if ratios.max() > MAX_ROCKER_RATIO:
         raise InputError(
             "valvetrain.rocker",

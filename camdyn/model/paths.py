@@ -24,10 +24,12 @@ from jax.experimental import jet
 from jax.typing import ArrayLike
 
 from .._core.errors import InputError
+from .._core.jit import device_array
 from .._core.units import TWO_PI
 from ..schema import PathSpec, parse
 
 _CHAIN_PIECES = 12
+_SPLINE_PIECES = 64  # precision points padded to a multiple of this: splines of up to 64 points share one program
 
 
 def parse_path(path: dict | PathSpec) -> PathSpec:
@@ -154,11 +156,11 @@ class Chain(Path):
 class Spline(Path):
     """Periodic cubic spline through precision points, chord-length parametrized (C2; jerk jumps at knots)."""
 
-    knots: jax.Array  # (n + 1,) in [0, 1]
-    coef: jax.Array  # (n, 4, 2): P = sum_k coef[i, k] (v - knot_i)^(3 - k)
+    knots: jax.Array  # (n + 1,) in [0, 1], then 2 (never reached) up to a multiple of _SPLINE_PIECES
+    coef: jax.Array  # (n, 4, 2): P = sum_k coef[i, k] (v - knot_i)^(3 - k); zeros past them
 
     def _local(self, v):
-        i = _piece(self.knots[:-1], v)
+        i = _piece(self.knots, v)  # v < 1 = knots[n]: never the last knot nor the padding
         x = v - self.knots[i]
         c = self.coef[i]
         return ((c[0] * x + c[1]) * x + c[2]) * x + c[3]
@@ -201,11 +203,11 @@ def _chain(pieces: list, start: np.ndarray, head0: float, joints_sharp: bool, fi
         np.append(kappa, np.zeros(pad)),
     )
     return Chain(
-        v0=jnp.asarray(v0),
-        p0=jnp.asarray(p0),
-        head=jnp.asarray(head),
-        kappa=jnp.asarray(kappa),
-        total=jnp.asarray(total),
+        v0=device_array(v0),
+        p0=device_array(p0),
+        head=device_array(head),
+        kappa=device_array(kappa),
+        total=device_array(total),
         local_breaks=joints,
         local_sharp=joints if joints_sharp else (),
         **kw,
@@ -232,7 +234,7 @@ def build_path(spec: PathSpec | dict) -> Path:
             p0, p1 = np.asarray(spec.start, dtype=float), np.asarray(spec.end, dtype=float)
             c, a[0] = (p0 + p1) / 2.0, -(p1 - p0) / 2.0
         return Trig(
-            center=jnp.asarray(c), a=jnp.asarray(a), b=jnp.asarray(b), local_breaks=(), local_sharp=(), **common
+            center=device_array(c), a=device_array(a), b=device_array(b), local_breaks=(), local_sharp=(), **common
         )
     if t == "rectangle":
         w, h, r = spec.width, spec.height, spec.corner_radius or 0.0
@@ -275,9 +277,10 @@ def build_path(spec: PathSpec | dict) -> Path:
     knots = np.concatenate([[0.0], np.cumsum(chord)]) / chord.sum()
     cs = CubicSpline(knots, closed, bc_type="periodic")
     coef = np.transpose(cs.c, (1, 0, 2))  # (n, 4, 2)
+    pad = -(-len(coef) // _SPLINE_PIECES) * _SPLINE_PIECES - len(coef)
     return Spline(
-        knots=jnp.asarray(knots),
-        coef=jnp.asarray(coef),
+        knots=device_array(np.concatenate([knots, np.full(pad, 2.0)])),
+        coef=device_array(np.concatenate([coef, np.zeros((pad, 4, 2))])),
         local_breaks=tuple(float(k) for k in knots[:-1]),
         local_sharp=(),
         **common,

@@ -113,7 +113,7 @@ def table_motion(spec: CaseSpec, source: Path | None) -> tuple[FittedMotion, Mot
         repeats=table.repeats,
     )
     if rocker is not None:
-        at_valve = np.asarray(rocker.lever(fit.fitted * M_PER_MM)[0]) / M_PER_MM
+        at_valve = rocker.host_lever(fit.fitted * M_PER_MM)[0] / M_PER_MM
         fit = dataclasses.replace(fit, data=lift, tolerance=tolerance, follower_data=data, data_fitted=at_valve)
     _within_tolerance(fit, table, tolerance)
     if vt is not None and rocker is None:  # the follower's lift: the cam's lift at the valve over the ratio
@@ -145,8 +145,8 @@ def _largest_ratio(rocker: Rocker, follower_mm: np.ndarray, tolerance: float | N
     them: a residual at the follower within ``tolerance`` over it is within ``tolerance`` at the valve. The ratio
     is monotone in lift (its slope's sign is that of sin(cam_angle - valve_angle)): its ends bound it."""
     ends = np.array([follower_mm.min(), follower_mm.max()]) * M_PER_MM
-    span = 0.0 if tolerance is None else tolerance * M_PER_MM / float(np.min(rocker.lever(ends)[1]))
-    return float(np.nanmax(np.asarray(rocker.lever(ends + np.array([-span, span]))[1])))
+    span = 0.0 if tolerance is None else tolerance * M_PER_MM / float(np.min(rocker.host_lever(ends)[1]))
+    return float(np.nanmax(rocker.host_lever(ends + np.array([-span, span]))[1]))
 
 
 def contour_motion(

@@ -46,18 +46,24 @@ class Rocker(eqx.Module):
     def lever(self, x_c: ArrayLike) -> tuple[jax.Array, jax.Array, jax.Array]:
         """At follower lift ``x_c`` (m): the cam's lift at the valve g (m), the ratio dg/dx_c and d2g/dx_c2 (1/m).
         NaN where the cam arm would turn past square to the follower's line (the caller's check refuses it)."""
-        return _rocker_lever(self, x_c)
+        return _rocker_lever(jnp, x_c, self.cam_arm, self.valve_arm, self.cam_angle, self.valve_angle)
+
+    def host_lever(self, x_c: ArrayLike) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """:meth:`lever` on the host, in numpy: outside a trace each jax operation is a program of its own, compiled
+        in every process."""
+        fields = (self.cam_arm, self.valve_arm, self.cam_angle, self.valve_angle)
+        return _rocker_lever(np, np.asarray(x_c, dtype=float), *(float(v) for v in fields))
 
 
-@jax.jit  # one program: a case is built and tabulated outside compiled code, where each jnp operation compiles alone
-def _rocker_lever(rocker: Rocker, x_c: ArrayLike) -> tuple[jax.Array, jax.Array, jax.Array]:
-    a, b, al, be = rocker.cam_arm, rocker.valve_arm, rocker.cam_angle, rocker.valve_angle
-    u = x_c / a + jnp.sin(al)  # sin(al + phi)
-    cos_a = jnp.sqrt(1.0 - u**2)
-    phi = jnp.arcsin(u) - al
-    g = b * (jnp.sin(be + phi) - jnp.sin(be))
-    ratio = b * jnp.cos(be + phi) / (a * cos_a)
-    return g, ratio, b * jnp.sin(al - be) / (a**2 * cos_a**3)
+def _rocker_lever(xp, x_c, a, b, al, be):
+    """:meth:`Rocker.lever` in the array module ``xp`` (jax.numpy or numpy): arms ``a``, ``b`` (m), angles ``al``,
+    ``be`` (rad)."""
+    u = x_c / a + xp.sin(al)  # sin(al + phi)
+    cos_a = xp.sqrt(1.0 - u**2)
+    phi = xp.arcsin(u) - al
+    g = b * (xp.sin(be + phi) - xp.sin(be))
+    ratio = b * xp.cos(be + phi) / (a * cos_a)
+    return g, ratio, b * xp.sin(al - be) / (a**2 * cos_a**3)
 
 
 def rocker_model(spec: RockerSpec) -> Rocker:
@@ -156,10 +162,17 @@ class ValvetrainModel(eqx.Module):
             return self.ratio * x_c, self.ratio, 0.0
         return self.rocker.lever(x_c)
 
+    def host_lever(self, x_c: ArrayLike) -> tuple[np.ndarray, np.ndarray | float, np.ndarray | float]:
+        """:meth:`lever` on the host, in numpy (no compiled program)."""
+        if self.rocker is None:
+            ratio = float(self.ratio)
+            return ratio * np.asarray(x_c, dtype=float), ratio, 0.0
+        return self.rocker.host_lever(x_c)
+
     def at_valve_mm(self, lift_mm: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
         """At follower lifts ``lift_mm`` (mm), on the host: the lift through the rocker at the valve (mm, the lash
         not taken off) and the instantaneous ratio."""
-        g, ratio, _ = self.lever(jnp.asarray(lift_mm) * M_PER_MM)
+        g, ratio, _ = self.host_lever(np.asarray(lift_mm, dtype=float) * M_PER_MM)
         shape = np.shape(lift_mm)
         return np.broadcast_to(np.asarray(g) / M_PER_MM, shape), np.broadcast_to(np.asarray(ratio), shape)
 
@@ -187,7 +200,7 @@ def valvetrain_model(v: ValvetrainSpec, d: DynamicsSpec, peak_lift_mm: float = 0
     ratio at the follower's ``peak_lift_mm`` (mm).
     """
     rocker = None if v.rocker is None else rocker_model(v.rocker)
-    r = float(v.ratio) if rocker is None else float(rocker.lever(jnp.asarray(peak_lift_mm * M_PER_MM))[1])
+    r = float(v.ratio) if rocker is None else float(rocker.host_lever(peak_lift_mm * M_PER_MM)[1])
     m_c, m_v = float(v.cam_side_mass), float(v.valve_mass)
     assert d.spring_rate is not None  # the valvetrain's check: [dynamics] gives the valve spring's rate
     k = TRANSLATING.rate_to_si(d.spring_rate)

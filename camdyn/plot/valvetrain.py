@@ -88,8 +88,9 @@ def plot_valve_velocity(ax: Axes, result: ValvetrainResult) -> None:
 
 
 def plot_seating_velocity(ax: Axes, result: ValvetrainResult, max_seating_velocity: float | None = None) -> None:
-    """The valve's seating velocity against cam speed (the speeds the float and bounce searches marched), the
-    limit, the case speed and the float and bounce speeds marked."""
+    """The valve's seating velocity against cam speed (the speeds the float and bounce searches marched, and their
+    scan on to the result's ``seating_curve_top_rpm``), the limit, the case speed and the float and bounce speeds
+    marked."""
     rpm = np.asarray(result.speeds_rpm)
     v = np.asarray(result.seating_velocities)
     ax.plot(rpm, v, ".-", color=C["dyn"], lw=1.0, ms=3, label="seating velocity")
@@ -105,8 +106,7 @@ def plot_seating_velocity(ax: Axes, result: ValvetrainResult, max_seating_veloci
             ax.axvline(at, color=colour, lw=1.0, ls=":", label=f"{what} at {at:.0f} rpm")
     ax.set_xlabel("cam speed (rpm)")
     ax.set_ylabel("seating velocity (m/s)")
-    # up to half again the float speed (or the case speed): beyond float the train flies and its landings scatter
-    top = 1.5 * max(speed, result.float_speed_rpm if math.isfinite(result.float_speed_rpm) else 0.0)
+    top = result.seating_curve_top_rpm
     top = min(top, float(rpm.max()) if rpm.size else top)
     ax.set_xlim(0.0, top)
     shown = v[(rpm <= top) & np.isfinite(v)]

@@ -6,10 +6,12 @@ from pydantic import Field
 
 from .._core.units import (
     DEFAULT_MAX_IMPACT_VELOCITY_M_PER_S,
+    DEFAULT_MAX_PATH_ERROR_MM,
     DEFAULT_MAX_SEATING_VELOCITY,
     DEFAULT_MAX_TRAIN_DEFLECTION,
     DEFAULT_MIN_CONTACT_FORCE_N,
     DEFAULT_MIN_CURVATURE_RATIO,
+    DEFAULT_MIN_TRANSMISSION_ANGLE_DEG,
     DEFAULT_SPEED_MARGIN,
     MAX_FORCE_N,
 )
@@ -46,6 +48,23 @@ class LimitsSpec(Table):
         description=(
             "compliant trains: the largest train deflection (cam lift minus follower motion) as a fraction of the "
             "lift; beyond it the cam no longer drives the follower"
+        ),
+    )
+    max_path_error: Real = Field(
+        default=DEFAULT_MAX_PATH_ERROR_MM,
+        gt=0,
+        description=(
+            "path cases ([path] and [mechanism]): how far the linkage driven by the synthesized cam may miss the path, "
+            f"mm (the forward check); default {DEFAULT_MAX_PATH_ERROR_MM:g}"
+        ),
+    )
+    min_transmission_angle: Real = Field(
+        default=DEFAULT_MIN_TRANSMISSION_ANGLE_DEG,
+        gt=0,
+        lt=90,
+        description=(
+            "path cases: the least transmission angle of the mechanism's driven dyads over the path, deg (under it the "
+            f"linkage binds; 0 is a dead centre); default {DEFAULT_MIN_TRANSMISSION_ANGLE_DEG:g}"
         ),
     )
     min_preload: Real | None = Field(

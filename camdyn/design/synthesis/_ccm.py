@@ -19,8 +19,12 @@ import math
 import numpy as np
 import numpy.typing as npt
 
-from ..._core.units import DEFAULT_MIN_CURVATURE_RATIO, TWO_PI
-from ...model.linkage import MIN_TRANSMISSION_DEG
+from ..._core.units import (
+    DEFAULT_MAX_PATH_ERROR_MM,
+    DEFAULT_MIN_CURVATURE_RATIO,
+    DEFAULT_MIN_TRANSMISSION_ANGLE_DEG,
+    TWO_PI,
+)
 
 FIT_MARGIN_DEG = 1.0  # the optimizer asks for 31 deg: the exact synthesis samples finer and rounds the table
 DIMENSION_OBJECTIVE = (
@@ -171,7 +175,7 @@ def ccm_objective(
     sl = (90.0 - np.degrees(np.arccos(np.clip(np.abs(cex * ex + cey * ey) / ce, 0.0, 1.0)))).min(1)
     rp = _prime_radius(s, k["un"], off[:, 0], k["sense"], rr, max_pa, sharp, min_ratio)
     stroke = s.max(1)
-    need = MIN_TRANSMISSION_DEG + FIT_MARGIN_DEG
+    need = DEFAULT_MIN_TRANSMISSION_ANGLE_DEG + FIT_MARGIN_DEG
     penalty = 1e3 * miss + 1e3 * k["rev"] + 10.0 * (np.clip(need - tr, 0.0, None) + np.clip(need - sl, 0.0, None))
     cost = np.where(k["degenerate"], 1e6, stroke + 0.5 * rp + penalty)
     return dict(
@@ -223,9 +227,9 @@ def ccm_table(x: np.ndarray, start: float, rr: float, max_pa: float) -> dict:
 def meets_constraints(summary: dict) -> list[str]:
     """What an exactly synthesized CCM misses of the synthesis constraints (empty: it meets them all)."""
     out = []
-    if not summary["max_path_error_mm"] < 1e-3:
+    if not summary["max_path_error_mm"] < DEFAULT_MAX_PATH_ERROR_MM:
         out.append(f"forward check misses the path by {summary['max_path_error_mm']:.3g} mm")
     for key, name in (("min_transmission_angle_deg", "coupler-link"), ("min_slider_angle_deg", "link-slider")):
-        if summary[key] < MIN_TRANSMISSION_DEG:
-            out.append(f"{name} transmission angle {summary[key]:.1f} deg < {MIN_TRANSMISSION_DEG:g} deg")
+        if summary[key] < DEFAULT_MIN_TRANSMISSION_ANGLE_DEG:
+            out.append(f"{name} transmission angle {summary[key]:.1f} deg < {DEFAULT_MIN_TRANSMISSION_ANGLE_DEG:g} deg")
     return out

@@ -9,8 +9,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..._core.units import TWO_PI
-from ._ccm import FIT_MARGIN_DEG, MIN_TRANSMISSION_DEG
+from ..._core.units import DEFAULT_MIN_TRANSMISSION_ANGLE_DEG, TWO_PI
+from ._ccm import FIT_MARGIN_DEG
 
 
 def fourbar_curve(x: np.ndarray, n: int = 360) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -88,7 +88,7 @@ def fourbar_objective(x: np.ndarray, t: np.ndarray) -> np.ndarray:
     or above 30 deg."""
     x = np.asarray(x, dtype=float).reshape(10, -1)
     curve, miss, tmin = fourbar_curve(x, 180)
-    need = MIN_TRANSMISSION_DEG + FIT_MARGIN_DEG
+    need = DEFAULT_MIN_TRANSMISSION_ANGLE_DEG + FIT_MARGIN_DEG
     pen = 1e3 * miss + 1e2 * grashof_excess(x) + np.clip(need - tmin, 0.0, None)
     tt = np.broadcast_to(t[::4], curve.shape[:-2] + t[::4].shape)
     return np.maximum(_near_distance(tt, curve).max(-1), _near_distance(curve, tt).max(-1)) + pen

@@ -34,7 +34,7 @@ from ._result import Flight, Impact, Response, Separation
 from ._rigid import rigid_response
 from ._train import contact_force, preload_share, static_position, train_force
 from ._valvefast import ValveSummary, fast_valve_summary
-from ._valvepoint import ValvePoint, bounce_speed, float_speed
+from ._valvepoint import ValvePoint, bounce_speed, float_speed, valve_scan_speeds
 from ._valvetrain import ValveEvent, ValvetrainResponse, valvetrain_response
 
 __all__ = [
@@ -77,5 +77,6 @@ __all__ = [
     "fast_valve_summary",
     "bounce_speed",
     "float_speed",
+    "valve_scan_speeds",
     "valvetrain_response",
 ]

@@ -57,6 +57,11 @@ def linear_least_force(motion: Motion, model: FollowerModel, omega: float) -> fl
     return float(np.asarray(linear_min_force(motion, model, np.full(BISECT_POINTS, float(omega))))[0])
 
 
+def scan_speeds(w_max: float, grid: int) -> np.ndarray:
+    """The jump-speed search's scan (:func:`first_zero_speed`): ``grid`` equal steps up to ``w_max`` (rad/s)."""
+    return np.linspace(w_max / grid, w_max, grid)
+
+
 def first_zero_speed(
     least_force: Callable[[np.ndarray], np.ndarray],
     w_max: float,
@@ -75,7 +80,7 @@ def first_zero_speed(
     ``chunk``: the scan runs ``chunk`` speeds at a time from the slowest (the last chunk padded with its top speed:
     one array shape) and stops at the first chunk that reaches 0; the same answer as the whole scan, which
     computes every speed above the jump too (the jump is usually in the first quarter of the grid)."""
-    speeds = np.linspace(w_max / grid, w_max, grid)
+    speeds = scan_speeds(w_max, grid)
     step = chunk or grid
     for start in range(0, grid, step):
         part = speeds[start : start + step]

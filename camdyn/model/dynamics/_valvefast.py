@@ -45,7 +45,6 @@ REFINE = 2  # fine steps per output angle (0.05 deg): the cubic hold's error is 
 _SPLIT = 64  # a contact change inside a step: the step cut in 64, twice over
 _MAX_REBOUNDS = 200
 _MARCH = 64  # a stretch's first chunk of fine steps (then four times what it has, to the revolution's end)
-# chunk is marched (the same answer; the speeds where the valve floats are the diffrax model's, the slow ones)
 _ORDER = 4  # the input's Taylor chain: value, slope, curvature, third derivative (a cubic)
 
 

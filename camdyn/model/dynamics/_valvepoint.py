@@ -3,6 +3,7 @@ diffrax model where it cannot), and the float and bounce speeds searched on it."
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Callable
 
@@ -11,11 +12,19 @@ import numpy as np
 from ..._core.units import VALVE_BOUNCE_TOLERANCE_MM
 from ..motion import Motion
 from ..valvetrain import ValvetrainModel
-from ._response import first_zero_speed
+from ._response import first_zero_speed, scan_speeds
 from ._valvefast import FLOATED, ValveSummary, fast_valve_summary
 from ._valvetrain import NO_EVENT, ValvetrainResponse, valvetrain_response
 
-_SCAN_CHUNK = 8  # the speed searches' scan, 8 speeds at a time from the slowest: none above the first crossing's
+# the speed searches' scan, one speed at a time from the slowest: each speed is a solve of its own (no batch to fill),
+# and above the first crossing the valve floats and every speed is the diffrax model's, the slow one
+_SCAN_CHUNK = 1
+SCAN_GRID = 40  # the float and bounce searches' scan: speeds up to the search's top
+
+
+def valve_scan_speeds(w_max: float) -> np.ndarray:
+    """The speeds (rad/s) the float and bounce searches scan up to ``w_max``, from the slowest."""
+    return scan_speeds(w_max, SCAN_GRID)
 
 
 def _read(name: str) -> property:
@@ -27,13 +36,17 @@ class ValvePoint:
     """The valvetrain at one cam speed as its studies read it: :func:`fast_valve_summary` where it answers, the
     diffrax model's :func:`~camdyn.model.dynamics.valvetrain_response` (run once, when first asked) for what it
     does not: everything where the fast path cannot say, all but the float verdict and the least force (0) where
-    the valve surely floats. The same names as the response's."""
+    the valve surely floats. The same names as the response's. Nothing is computed until a number is asked for."""
 
     def __init__(self, motion: Motion, vt: ValvetrainModel, omega: float) -> None:
         self.omega = float(omega)
         self._motion, self._vt = motion, vt
-        self._fast = fast_valve_summary(motion, vt, self.omega)
         self._response: ValvetrainResponse | None = None
+
+    @functools.cached_property
+    def _fast(self) -> ValveSummary | object | None:
+        """The fast path's answer (:func:`fast_valve_summary`), on first use."""
+        return fast_valve_summary(self._motion, self._vt, self.omega)
 
     @property
     def fast(self) -> bool:
@@ -84,7 +97,7 @@ def float_speed(
     vt: ValvetrainModel,
     w_max: float,
     *,
-    grid: int = 40,
+    grid: int = SCAN_GRID,
     width_rpm: float = 1.0,
     respond: Callable[[float], ValvePoint] | None = None,
     margin: float = 0.0,
@@ -109,7 +122,7 @@ def bounce_speed(
     vt: ValvetrainModel,
     w_max: float,
     *,
-    grid: int = 40,
+    grid: int = SCAN_GRID,
     width_rpm: float = 1.0,
     respond: Callable[[float], ValvePoint] | None = None,
 ) -> float:

@@ -275,7 +275,7 @@ class ValvetrainResponse:
     def max_gap_mm(self, vt: ValvetrainModel, solid_mm: float = math.inf) -> float:
         """The valve's largest lift above where the cam would hold it (mm, at the valve; through the rocker's lever
         where it has one), float and bounce both; the valve's lift bounded by ``solid_mm``, its coil bind."""
-        at_valve = np.asarray(vt.lever(jnp.asarray(self.cam_lift * M_PER_MM))[0]) / M_PER_MM
+        at_valve = vt.host_lever(self.cam_lift * M_PER_MM)[0] / M_PER_MM
         held = np.maximum(at_valve - float(vt.lash) / M_PER_MM, 0.0)
         return max(0.0, float(np.max(np.minimum(self.valve_lift, solid_mm) - held)))
 
@@ -346,13 +346,14 @@ def valvetrain_response(motion: Motion, vt: ValvetrainModel, omega: float, n: in
     s_si = vals[0] * M_PER_MM
     i0 = start_angle(vals[0])
     t_start = float(theta[i0])
-    w = jnp.asarray(float(omega))
+    # the stored programs' inputs as numpy arrays: jnp.asarray dispatches a conversion (tens of microseconds) per call
+    w = np.asarray(float(omega))
     r = float(vt.ratio)
     rigid_cam, rigid_train = vt.rigid_cam, vt.rigid_train
-    force_tol = jnp.asarray(1e-6 * max(1.0, r * float(vt.preload)))
+    force_tol = np.asarray(1e-6 * max(1.0, r * float(vt.preload)))
     breaks = np.deg2rad(np.asarray(motion.breaks_deg, dtype=float))
-    jumps = jnp.asarray(np.sort((breaks[None, :] + TWO_PI * np.arange(-1, _REVS + 2)[:, None]).ravel()))
-    jumps = jumps if jumps.size else jnp.asarray([-1.0])
+    jumps = np.sort((breaks[None, :] + TWO_PI * np.arange(-1, _REVS + 2)[:, None]).ravel())
+    jumps = jumps if jumps.size else np.asarray([-1.0])
     # the rest state: the valve seated, the follower on the cam, pressed into a compliant contact by the tappet force
     deflect = 0.0 if rigid_cam else float(vt.tappet_force) / float(vt.cam.train_stiffness)
     coils = 0 if vt.coils is None else 2 * (vt.coils.count - 1)  # the spring's inner lumps, at rest
@@ -366,7 +367,7 @@ def valvetrain_response(motion: Motion, vt: ValvetrainModel, omega: float, n: in
     # spring in balance): a landing before (the valve kicked off its seat as the lash closes) belongs to the opening
 
     def lever(x_c: float) -> tuple[float, float]:  # the cam's lift at the valve (m) and the ratio at x_c (m)
-        g, ratio, _ = vt.lever(jnp.asarray(x_c))
+        g, ratio, _ = vt.host_lever(x_c)
         return float(g), float(ratio)
 
     reach = lever(float(s_si.max()))[0] - lever(float(s_si.min()))[0] - float(vt.lash)
@@ -384,18 +385,18 @@ def valvetrain_response(motion: Motion, vt: ValvetrainModel, omega: float, n: in
         count = 0
         start = None  # the contacts' event functions where the next stretch starts
         while True:
-            m = jnp.asarray(modes)
+            m = modes.copy()  # this stretch's: modes changes at its end
 
             def run(
                 ts: np.ndarray, m: Any = m, t0: float = t0, t_end: float = t_end, y: Any = y
             ) -> np.ndarray:  # this stretch again, saved at ts: (6, len(ts))
                 t1, _, _, out = _stretch(
-                    motion, vt, w, m, force_tol, jnp.asarray(t0), jnp.asarray(t_end), jnp.asarray(y), jumps, ts
+                    motion, vt, w, m, force_tol, np.asarray(t0), np.asarray(t_end), np.asarray(y), jumps, ts
                 )
                 return np.asarray(out).T
 
             if start is None:  # a revolution's first stretch (after a transition _consistent gave them)
-                start = np.asarray(_conditions_jit(jnp.asarray(t0), jnp.asarray(y), (motion, vt, w, m, force_tol)))
+                start = np.asarray(_conditions_jit(np.asarray(t0), np.asarray(y), (motion, vt, w, m, force_tol)))
             if start.min() < 0.0:
                 # a contact already past its change where the stretch would start (a grazing crossing the last
                 # one's root finder did not see): every event function would start below zero and the stretch
@@ -409,11 +410,11 @@ def valvetrain_response(motion: Motion, vt: ValvetrainModel, omega: float, n: in
                     w,
                     m,
                     force_tol,
-                    jnp.asarray(t0),
-                    jnp.asarray(t_end),
-                    jnp.asarray(y),
+                    np.asarray(t0),
+                    np.asarray(t_end),
+                    np.asarray(y),
                     jumps,
-                    jnp.asarray(tt),
+                    tt,
                 )
                 t1, samples = float(t1), np.asarray(samples).T
                 hit = bool(hit)
@@ -441,10 +442,10 @@ def valvetrain_response(motion: Motion, vt: ValvetrainModel, omega: float, n: in
                 warnings.append(f"more than {_MAX_EVENTS} contact changes in a revolution at {omega / RPM:.1f} rpm")
                 break
             y1 = np.asarray(y1)
-            args = (motion, vt, w, jnp.asarray(modes), force_tol)
-            st = np.asarray(_state_jit(jnp.asarray(t1), jnp.asarray(y1), args))
+            args = (motion, vt, w, modes.copy(), force_tol)
+            st = np.asarray(_state_jit(np.asarray(t1), y1, args))
             s, s1, _, xc, pc, xv, pv = (float(v) for v in st)
-            conds = np.asarray(_conditions_jit(jnp.asarray(t1), jnp.asarray(y1), args))
+            conds = np.asarray(_conditions_jit(np.asarray(t1), y1, args))
             which = int(np.argmin(conds))  # the contact whose event function reached zero
             deg = math.degrees(t1) % 360.0
             y = np.concatenate([[xc, pc, xv, pv], y1[4:]])
@@ -528,9 +529,7 @@ def _consistent(modes, t, y, motion, vt, w, force_tol, rigid_cam, rigid_train) -
     modes = modes.copy()
 
     def conditions() -> np.ndarray:
-        return np.asarray(
-            _conditions_jit(jnp.asarray(t), jnp.asarray(y), (motion, vt, w, jnp.asarray(modes), force_tol))
-        )
+        return np.asarray(_conditions_jit(np.asarray(t), np.asarray(y), (motion, vt, w, modes.copy(), force_tol)))
 
     for _ in range(4):
         conds = conditions()

@@ -29,7 +29,7 @@ from ._batch import N_GRID, vmap_scalar
 from ._chains import CCMChain, OscillatingChain
 from ._crank import CrankDyad
 from ._dyads import cross2, rrp, rrp_kinematics, rrr, rrr_kinematics, rrr_reach_miss
-from ._forward import MIN_TRANSMISSION_DEG, pitch_contour
+from ._forward import pitch_contour
 from ._motion import CamLinkMotion
 from ._synthesis import Synthesis, parse_mechanism, synthesize_motion
 
@@ -37,7 +37,6 @@ __all__ = [
     "CCMChain",
     "CamLinkMotion",
     "CrankDyad",
-    "MIN_TRANSMISSION_DEG",
     "N_GRID",
     "OscillatingChain",
     "Synthesis",

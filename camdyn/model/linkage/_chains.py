@@ -14,6 +14,7 @@ import numpy as np
 from jax.typing import ArrayLike
 
 from ..._core.errors import NumericalError
+from ..._core.jit import device_array
 from ...schema import MechanismSpec
 from ..paths import Path
 from ._batch import vmap_scalar, where_point
@@ -93,7 +94,8 @@ LinkChain = CCMChain | OscillatingChain  # the chain a cam-linkage mechanism sol
 
 def make_chain(path: Path, ms: MechanismSpec, r: float, coupler: float) -> CCMChain | OscillatingChain:
     """The chain of a ``[mechanism]`` table tracing ``path``, with crank ``r`` and ``coupler`` (mm)."""
-    c0 = jnp.asarray(ms.cam_center, dtype=float)
+    c0 = np.asarray(ms.cam_center, dtype=float)
+    a = device_array
     if ms.type == "ccm":
         jd = ms.joint_distance if ms.joint_distance is not None else coupler
         ja = math.radians(ms.joint_angle)
@@ -101,28 +103,28 @@ def make_chain(path: Path, ms: MechanismSpec, r: float, coupler: float) -> CCMCh
             ms.cam_center
         )
         assert ms.slider_angle is not None  # the schema: a ccm needs it
-        a = math.radians(ms.slider_angle)
+        slider = math.radians(ms.slider_angle)
         return CCMChain(
             path=path,
-            center=c0,
-            crank=jnp.asarray(r),
-            coupler=jnp.asarray(coupler),
-            joint=jnp.asarray([jd * math.cos(ja), jd * math.sin(ja)]),
-            link=jnp.asarray(ms.link),
-            origin=jnp.asarray(sp),
-            direction=jnp.asarray([math.cos(a), math.sin(a)]),
+            center=a(c0),
+            crank=a(r),
+            coupler=a(coupler),
+            joint=a([jd * math.cos(ja), jd * math.sin(ja)]),
+            link=a(ms.link),
+            origin=a(sp),
+            direction=a([math.cos(slider), math.sin(slider)]),
             slider_mode=float(ms.slider_mode),
         )
     assert ms.pin_distance is not None  # the schema: an oscillating mechanism needs it
     return OscillatingChain(
         path=path,
-        center=c0,
-        pivot=jnp.asarray(ms.pivot, dtype=float) - c0,
-        path_link=jnp.asarray(ms.path_link),
-        follower_link=jnp.asarray(ms.follower_link),
-        pin=jnp.asarray(float(ms.pin_distance)),
-        arm=jnp.asarray(ms.arm),
-        arm_angle=jnp.asarray(math.radians(ms.arm_angle)),
+        center=a(c0),
+        pivot=a(np.asarray(ms.pivot, dtype=float) - c0),
+        path_link=a(ms.path_link),
+        follower_link=a(ms.follower_link),
+        pin=a(float(ms.pin_distance)),
+        arm=a(ms.arm),
+        arm_angle=a(math.radians(ms.arm_angle)),
         follower_mode=float(ms.follower_mode),
     )
 
@@ -148,7 +150,7 @@ def check_follower_side(chain: LinkChain, ms: MechanismSpec, u_grid: np.ndarray)
 def check_ccm_slider(chain: CCMChain, motion_pts: dict, ms: MechanismSpec) -> None:
     """The link C-E must reach the slider line at every path point (else: where and by how much)."""
     c = np.asarray(motion_pts["C"])
-    off = np.abs(np.asarray(cross2(jnp.asarray(chain.direction), jnp.asarray(c - np.asarray(chain.origin)))))
+    off = np.abs(cross2(np.asarray(chain.direction), c - np.asarray(chain.origin)))
     miss = off - ms.link
     i = int(np.argmax(miss))
     if miss[i] > 0.0:

@@ -21,6 +21,7 @@ import numpy as np
 from jax.typing import ArrayLike
 
 from ..._core.errors import NumericalError
+from ..._core.jit import cached_jit
 from ..paths import Path
 from ._batch import padded
 from ._dyads import norm
@@ -50,7 +51,8 @@ class CrankDyad(eqx.Module):
     f = |d - d*| (a double zero at the switch, t = u - u_sw): the square root is taken analytically and only
     the smooth, positive q = f / t^2 is a local expansion, a polynomial in t / span fitted by least squares to
     f = t^2 q (``qpoly[k, side]``, ascending powers; side 0 for t < 0, 1 for t > 0, so a curvature break at
-    the switch is honoured).
+    the switch is honoured). The arrays are padded to 2, 4, 8, ... switches (:func:`_padded_dyad`), so that a
+    crank with no switch or a few more shares the compiled programs of the others.
     """
 
     r: jax.Array  # crank, mm
@@ -64,11 +66,11 @@ class CrankDyad(eqx.Module):
     qpoly: jax.Array  # (K, 2, n): q(t) = sum_i qpoly[k, side, i] (t / span[k, side])^i
     span: jax.Array  # (K, 2)
     imodes: jax.Array
-    m_start: float = eqx.field(static=True)
 
     @property
     def n_switch(self) -> int:
-        return int(self.u_sw.shape[0])
+        """The number of switches (host only): the arrays are padded past them (:func:`_padded_dyad`)."""
+        return int(np.sum(np.isfinite(np.asarray(self.u_sw))))
 
     def angles(self, pfun: Callable, u: ArrayLike) -> tuple[jax.Array, jax.Array]:
         """(alpha, Phi) at scalar u, rad; Phi is smooth through the switches."""
@@ -77,14 +79,12 @@ class CrankDyad(eqx.Module):
         alpha = jnp.arctan2(p[1], p[0])
         r, coupler = self.r, self.coupler
         c = (r * r + d * d - coupler * coupler) / (2.0 * r * d)
-        if self.n_switch == 0:
-            return alpha, self.m_start * _acos(jnp.clip(c, -1.0, 1.0))
         j = jnp.sum(jnp.mod(u, 1.0) >= self.u_sw) - 1
-        m = self.imodes[j]  # j = -1 (before the first switch) is the last interval
+        m = self.imodes[j]  # j = -1 (before the first switch, or no switch): the last interval's, the padding's
         # only the nearest switch can hold u in its window (windows never overlap): evaluate that one
         ts = jnp.mod(u - self.u_sw + 0.5, 1.0) - 0.5
         inside = (ts > self.lo) & (ts < self.hi)
-        k = jnp.sum(jnp.where(inside, jnp.arange(self.n_switch), 0))  # (no argmin: jet has no rule for it)
+        k = jnp.sum(jnp.where(inside, jnp.arange(self.u_sw.shape[0]), 0))  # (no argmin: jet has no rule for it)
         t = ts[k]
         inw = jnp.sum(inside) > 0
         phi_w = self._window(k, jnp.where(inw, t, 0.0), jnp.where(inw, d, r + coupler))
@@ -131,7 +131,7 @@ def _q_factor(d: np.ndarray, r: float, coupler: float, sgn: float, to_pi: float)
     return ((coupler - r + d) if sgn < 0 else (coupler + r - d)) / (2 * r * d)
 
 
-@eqx.filter_jit
+@cached_jit
 def _dvals(chain, u):
     return jax.vmap(lambda v: norm(chain.p_side(v)))(jnp.atleast_1d(u))
 
@@ -185,28 +185,13 @@ def build_crank(
         sw += [(u, ext.d_min, 1.0, 1.0 if coupler > r else 0.0) for u in ext.u_min]
     sw = sorted((0.0 if min(u, 1.0 - u) < 1e-12 else u, *rest) for u, *rest in sw)
     k = len(sw)
-    a = lambda x: jnp.asarray(np.array(x, dtype=float))  # noqa: E731
     if k % 2:
         raise NumericalError(
             "mechanism.crank",
             f"the crank dyad reaches {k} singular positions per loop; an odd count cannot close the assembly modes",
         )
     if k == 0:
-        z = jnp.zeros(0)
-        return CrankDyad(
-            a(r),
-            a(coupler),
-            z,
-            z,
-            z,
-            z,
-            z,
-            z,
-            jnp.zeros((0, 2, _Q_DEGREE + 1)),
-            jnp.zeros((0, 2)),
-            z,
-            m_start=float(m_start),
-        ), notes
+        return _padded_dyad(r, coupler, [], [], [], [], [], [], [], [], [], m_start), notes
     u_sw = np.array([s_[0] for s_ in sw])
     sign0 = 1.0 if u_sw[0] == 0.0 else -1.0
     imodes = np.array([m_start * sign0 * (-1.0) ** j for j in range(k)])
@@ -254,18 +239,37 @@ def build_crank(
                 f"{np.degrees(edge.min()):.2g} deg off collinear at its edge, fit error "
                 f"{max(f[3] for f in fits):.1e}): the follower jerk is less accurate there"
             )
-    crank = CrankDyad(
-        a(r),
-        a(coupler),
-        a(u_sw),
-        a([s_[2] for s_ in sw]),
-        a([s_[3] for s_ in sw]),
-        a(m_before),
-        a(lo),
-        a(hi),
-        a(np.array(polys)),
-        a(np.array(spans)),
-        a(imodes),
-        m_start=float(m_start),
+    crank = _padded_dyad(
+        r, coupler, u_sw, [s_[2] for s_ in sw], [s_[3] for s_ in sw], m_before, lo, hi, polys, spans, imodes, m_start
     )
     return crank, notes
+
+
+def _padded_dyad(r, coupler, u_sw, sgn, to_pi, m_before, lo, hi, polys, spans, imodes, m_start) -> CrankDyad:
+    """The crank dyad of these switches, padded to 2, 4, 8, ... (one compiled program for every crank of a
+    bucket; a crank without switches among them): a padded switch is never reached (u +inf), its window empty,
+    and its mode the last interval's (``m_start`` where there is none), which u before the first switch takes."""
+    k = len(u_sw)
+    size = 2
+    while size < k:
+        size *= 2
+    more = size - k
+
+    def pad(x: ArrayLike, value: float, shape: tuple[int, ...] = ()) -> jax.Array:
+        x = np.asarray(x, dtype=float).reshape(k, *shape)
+        return jax.device_put(np.concatenate([x, np.full((more, *shape), value, dtype=float)]))
+
+    last = imodes[-1] if k else m_start
+    return CrankDyad(
+        jax.device_put(np.asarray(r, dtype=float)),
+        jax.device_put(np.asarray(coupler, dtype=float)),
+        pad(u_sw, np.inf),
+        pad(sgn, 1.0),
+        pad(to_pi, 0.0),
+        pad(m_before, 1.0),
+        pad(lo, 0.0),
+        pad(hi, 0.0),
+        pad(polys, 0.0, (2, _Q_DEGREE + 1)),
+        pad(spans, 1.0, (2,)),
+        pad(imodes, last),
+    )

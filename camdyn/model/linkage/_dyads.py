@@ -6,52 +6,68 @@ An RRR dyad with outer joints P, Q and middle joint M has assembly mode +1 when 
 
 from __future__ import annotations
 
+from typing import Any, TypeVar
+
 import jax
 import jax.numpy as jnp
+import numpy as np
 from jax.typing import ArrayLike
 
 from ..paths import taylor
 
+Vec = TypeVar("Vec", jax.Array, np.ndarray)  # a host (numpy) array or a device or traced one: computed in its library
 
-def cross2(a: jax.Array, b: jax.Array) -> jax.Array:
+
+def _xp(*xs) -> Any:  # numpy or jax.numpy
+    """numpy for host values (the synthesis' checks on its samples: no program to compile, and the same numbers as
+    JAX's operations one by one), jax.numpy for device arrays and traced ones."""
+    return jnp if any(isinstance(x, jax.Array) for x in xs) else np
+
+
+def cross2(a: Vec, b: Vec) -> Vec:
     """z component of a x b for 2-vectors (..., 2)."""
     return a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]
 
 
-def cw(v: jax.Array) -> jax.Array:
+def cw(v: Vec) -> Vec:
     """v turned clockwise by 90 degrees."""
-    return jnp.stack([v[..., 1], -v[..., 0]], axis=-1)
+    return _xp(v).stack([v[..., 1], -v[..., 0]], axis=-1)
 
 
-def unit(angle: ArrayLike) -> jax.Array:
+def unit(angle: ArrayLike) -> Any:
     """Unit vector at ``angle`` (rad)."""
-    return jnp.stack([jnp.cos(angle), jnp.sin(angle)], axis=-1)
+    xp = _xp(angle)
+    return xp.stack([xp.cos(angle), xp.sin(angle)], axis=-1)
 
 
-def turn(v: jax.Array, angle: ArrayLike) -> jax.Array:
+def turn(v: Vec, angle: ArrayLike) -> Vec:
     """v turned anticlockwise by ``angle`` (rad)."""
-    c, s = jnp.cos(angle), jnp.sin(angle)
-    return jnp.stack([c * v[..., 0] - s * v[..., 1], s * v[..., 0] + c * v[..., 1]], axis=-1)
+    xp = _xp(v, angle)
+    c, s = xp.cos(angle), xp.sin(angle)
+    return xp.stack([c * v[..., 0] - s * v[..., 1], s * v[..., 0] + c * v[..., 1]], axis=-1)
 
 
-def rrr_reach_miss(p: ArrayLike, q: ArrayLike, lp: float | jax.Array, lq: float | jax.Array) -> jax.Array:
+def rrr_reach_miss(p: ArrayLike, q: ArrayLike, lp: float | Vec, lq: float | Vec) -> Vec:
     """How far (mm) the RRR dyad P-M-Q is from closing: 0 when |lp - lq| <= |PQ| <= lp + lq."""
-    d = jnp.linalg.norm(jnp.asarray(q) - jnp.asarray(p), axis=-1)
-    return jnp.maximum(jnp.maximum(d - (lp + lq), abs(lp - lq) - d), 0.0)
+    xp = _xp(p, q, lp, lq)
+    d = xp.linalg.norm(xp.asarray(q) - xp.asarray(p), axis=-1)
+    return xp.maximum(xp.maximum(d - (lp + lq), abs(lp - lq) - d), 0.0)
 
 
-def rrr(p: ArrayLike, q: ArrayLike, lp: float | jax.Array, lq: float | jax.Array, mode: ArrayLike) -> jax.Array:
+def rrr(p: ArrayLike, q: ArrayLike, lp: float | Vec, lq: float | Vec, mode: ArrayLike) -> Vec:
     """Middle joint M of an RRR dyad with |M - P| = lp, |M - Q| = lq (mm).
 
     ``mode`` +1: P, M, Q anticlockwise (Ye & Smith's solid lines), -1: clockwise. Works on (..., 2) arrays;
     a dyad that cannot close gives NaN (check :func:`rrr_reach_miss` first for a message).
     """
-    p, q = jnp.asarray(p, dtype=float), jnp.asarray(q, dtype=float)
-    v = q - p
-    d2 = jnp.sum(v * v, axis=-1)
+    xp = _xp(p, q, lp, lq, mode)
+    pa, qa = xp.asarray(p, dtype=float), xp.asarray(q, dtype=float)
+    v = qa - pa
+    d2 = xp.sum(v * v, axis=-1)
     x = (lp * lp - lq * lq + d2) / (2.0 * d2)  # foot of M on PQ, as a fraction of PQ
-    h = jnp.sqrt(lp * lp / d2 - x * x)  # distance of M from PQ, as a fraction of |PQ|
-    return p + x[..., None] * v + (mode * h)[..., None] * cw(v)
+    with np.errstate(invalid="ignore"):  # NaN where the dyad cannot close, as in JAX
+        h = xp.sqrt(lp * lp / d2 - x * x)  # distance of M from PQ, as a fraction of |PQ|
+    return pa + x[..., None] * v + (mode * h)[..., None] * cw(v)
 
 
 def rrp(c: jax.Array, origin: jax.Array, direction: jax.Array, length: ArrayLike, mode: ArrayLike) -> jax.Array:

@@ -6,12 +6,12 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
-import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
 from jax.typing import ArrayLike
 
+from ..._core.jit import cached_jit
 from ._batch import padded
 from ._dyads import norm
 
@@ -19,7 +19,7 @@ if TYPE_CHECKING:
     from ._chains import LinkChain
 
 
-@eqx.filter_jit
+@cached_jit
 def _d_and_slope(chain, u):
     def one(v: ArrayLike) -> jax.Array:
         d, dd = jax.jvp(lambda w: norm(chain.p_side(w)), (v,), (jnp.ones_like(v),))
@@ -28,23 +28,26 @@ def _d_and_slope(chain, u):
     return jax.vmap(one)(u)
 
 
-def _refine_extremum(chain, u0: float, h: float) -> float:
-    """u of the extremum of d(u) = |p_side(u)| near u0 (bisection on d', robust at curvature breaks)."""
+def _refine_extrema(chain, u0: np.ndarray, h: float) -> np.ndarray:
+    """u of the extremum of d(u) = |p_side(u)| near each u0 (bisection on d', robust at curvature breaks); all
+    candidates in one evaluation a step."""
     lo, hi = u0 - h, u0 + h
-    slope = lambda v: float(padded(_d_and_slope, chain, [v])[0, 1])  # noqa: E731
+    slope = lambda v: padded(_d_and_slope, chain, v)[:, 1]  # noqa: E731
     s_lo, s_hi = slope(lo), slope(hi)
-    if s_lo * s_hi > 0.0:  # no sign change: a kink (sharp corner) or flat; keep the grid extremum
-        return u0
+    done = s_lo * s_hi > 0.0  # no sign change: a kink (sharp corner) or flat; keep the grid extremum
+    out = u0.copy()
     for _ in range(60):
+        if done.all():
+            return out
         mid = 0.5 * (lo + hi)
         s_mid = slope(mid)
-        if s_mid == 0.0:
-            return mid
-        if (s_mid > 0.0) == (s_lo > 0.0):
-            lo, s_lo = mid, s_mid
-        else:
-            hi = mid
-    return 0.5 * (lo + hi)
+        hit = ~done & (s_mid == 0.0)
+        out[hit], done = mid[hit], done | hit
+        up = (s_mid > 0.0) == (s_lo > 0.0)
+        lo, s_lo = np.where(up, mid, lo), np.where(up, s_mid, s_lo)
+        hi = np.where(up, hi, mid)
+    out[~done] = 0.5 * (lo + hi)[~done]
+    return out
 
 
 @dataclass(frozen=True)
@@ -72,12 +75,12 @@ def find_extremes(chain: LinkChain, u_grid: np.ndarray) -> Extremes:
             cands["max"].append(i)
         if d[i] <= a and d[i] < b:
             cands["min"].append(i)
+    index = np.array(cands["max"] + cands["min"], dtype=int)
+    u = _refine_extrema(chain, u_grid[index], h) % 1.0
+    dv = padded(_d_and_slope, chain, u)[:, 0]
     out = {}
-    for kind in ("max", "min"):
-        refined = []
-        for i in cands[kind]:
-            u = _refine_extremum(chain, float(u_grid[i]), h) % 1.0
-            refined.append((float(padded(_d_and_slope, chain, [u])[0, 0]), u, i))
+    for kind, part in (("max", slice(0, len(cands["max"]))), ("min", slice(len(cands["max"]), None))):
+        refined = [(float(a), float(b), int(i)) for a, b, i in zip(dv[part], u[part], index[part], strict=True)]
         best = max(refined)[0] if kind == "max" else min(refined)[0]
         keep = [(dv, u, i) for dv, u, i in refined if abs(dv - best) <= 1e-9 * max(best, 1.0)]
         out[kind] = (best, keep)

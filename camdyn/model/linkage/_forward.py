@@ -11,7 +11,6 @@ from __future__ import annotations
 import math
 from typing import TYPE_CHECKING
 
-import jax.numpy as jnp
 import numpy as np
 from pydantic import ValidationError
 
@@ -26,20 +25,11 @@ if TYPE_CHECKING:
     from ..motion import Motion
     from ._motion import CamLinkMotion
 
-MIN_TRANSMISSION_DEG = (
-    30.0  # a driven dyad's transmission angle under this is warned about (and the dimensional synthesis avoids it)
-)
 
-
-def transmission_warning(name: str, ang: np.ndarray, warnings: list[str]) -> float:
-    """Least transmission angle (deg, folded into [0, 90]) of a driven dyad; warns below 30 deg."""
-    fold = np.degrees(np.minimum(ang, np.pi - ang))
-    worst = float(fold.min())
-    if worst < MIN_TRANSMISSION_DEG:
-        warnings.append(
-            f"transmission angle of dyad {name} falls to {worst:.1f} deg (below {MIN_TRANSMISSION_DEG:g} deg)"
-        )
-    return worst
+def least_transmission_deg(ang: np.ndarray) -> float:
+    """Least transmission angle (deg, folded into [0, 90]) of a driven dyad over the path (``check`` judges it:
+    ``[limits] min_transmission_angle``)."""
+    return float(np.degrees(np.minimum(ang, np.pi - ang)).min())
 
 
 def pitch_contour(
@@ -151,14 +141,10 @@ def ccm_forward(
         warnings.append(
             "the forward dyad B-C-E changes assembly mode along the path: the linkage cannot run through it"
         )
-    tmin = transmission_warning(
-        "B-C-E (angle at C)", _angle_between(pts["B"] - pts["C"], pts["E"] - pts["C"]), warnings
-    )
+    tmin = least_transmission_deg(_angle_between(pts["B"] - pts["C"], pts["E"] - pts["C"]))  # B-C-E, at C
     # RRP transmission angle: 90 deg minus the link's angle to the slider line (singular when perpendicular)
     phi = _angle_between(pts["C"] - pts["E"], np.broadcast_to(e_dir, pts["E"].shape))
-    slider_ang = transmission_warning(
-        "C-E-slider (link to the slider's normal)", np.pi / 2 - np.minimum(phi, np.pi - phi), warnings
-    )
+    slider_ang = least_transmission_deg(np.pi / 2 - np.minimum(phi, np.pi - phi))  # the link to the slider's normal
     extra = {
         "offset_mm": e,
         "min_transmission_angle_deg": tmin,
@@ -196,7 +182,7 @@ def oscillating_forward(
         )
     psi0 = float(motion.out0)
     dn = -d / np.linalg.norm(d)
-    e0 = d + ms.arm * np.asarray(turn(jnp.asarray(dn), -psi0))
+    e0 = d + ms.arm * turn(dn, -psi0)
     rp = float(np.linalg.norm(e0))
     base = rp - ms.roller_radius
     if base <= 0.0:
@@ -215,11 +201,11 @@ def oscillating_forward(
         rotation="ccw" if sense > 0 else "cw",
     )
     psi_t = psi0 + vals[0]
-    arm_dir = np.asarray(turn(jnp.asarray(np.broadcast_to(dn, (len(psi_t), 2))), -jnp.asarray(psi_t)))
+    arm_dir = turn(np.broadcast_to(dn, (len(psi_t), 2)), -psi_t)
     pos = d + ms.arm * arm_dir
     vel = -ms.arm * vals[1][:, None] * np.column_stack([-arm_dir[:, 1], arm_dir[:, 0]])  # dE/dpsi = arm * (cw normal)
     # forward: arm at phi(theta) -> C; crank at the cam angle -> A; dyad A-B-C closes; F on C->B produced
-    c_fwd = d + ms.follower_link * np.asarray(turn(jnp.asarray(arm_dir), -math.radians(ms.arm_angle)))
+    c_fwd = d + ms.follower_link * turn(arm_dir, -math.radians(ms.arm_angle))
     lbc = abs(ms.path_link - ms.pin_distance)
     mode_b = float(np.sign(cross2(pts["B"][0] - a_pin[0], pts["C"][0] - a_pin[0])))
     b_fwd = np.asarray(rrr(a_pin, c_fwd, coupler, lbc, mode_b))
@@ -230,6 +216,6 @@ def oscillating_forward(
         warnings.append(
             "the forward dyad A-B-C changes assembly mode along the path: the linkage cannot run through it"
         )
-    tmin = transmission_warning("A-B-C (angle at B)", _angle_between(a_pin - pts["B"], pts["C"] - pts["B"]), warnings)
+    tmin = least_transmission_deg(_angle_between(a_pin - pts["B"], pts["C"] - pts["B"]))  # A-B-C, at B
     extra = {"min_transmission_angle_deg": tmin, "psi0_deg": math.degrees(psi0)}
     return follower, traced, pos, vel, extra

@@ -10,6 +10,7 @@ import jax
 import jax.numpy as jnp
 from jax.typing import ArrayLike
 
+from ..._core.jit import cached_jit
 from ..._core.units import TWO_PI
 from ..motion import Motion
 from ..paths import taylor
@@ -98,13 +99,18 @@ class CamLinkMotion(Motion):
         d3 = (s3 * t1**2 - 3.0 * s2 * t1 * t2 + s1 * (3.0 * t2**2 - t1 * t3)) / t1**5
         return jnp.stack([s0, d1, d2, d3])
 
+    def jit_form(self) -> CamLinkMotion:
+        """Without its breaks (which only the step-size controller reads): one compiled program serves every
+        path of a kind."""
+        return with_breaks(self, ())
+
     def __call__(self, theta: ArrayLike) -> jax.Array:
         theta = jnp.asarray(theta, dtype=float)
         out = jax.vmap(self._one)(theta.ravel())  # (n, 4)
         return out.T.reshape(4, *theta.shape)
 
 
-@eqx.filter_jit
+@cached_jit
 def tabulate(motion: CamLinkMotion, u: ArrayLike) -> jax.Array:
     """Theta_raw, follower coordinate and their u-derivative on a grid."""
 
@@ -130,7 +136,7 @@ def with_breaks(m: CamLinkMotion, breaks: tuple[float, ...]) -> CamLinkMotion:
     )
 
 
-@eqx.filter_jit
+@cached_jit
 def sample(motion: CamLinkMotion, theta: ArrayLike) -> tuple[jax.Array, jax.Array]:
     """Path parameters u (n,) and follower value and first derivative per radian of cam angle (n, 2) at theta.
 
@@ -146,6 +152,6 @@ def sample(motion: CamLinkMotion, theta: ArrayLike) -> tuple[jax.Array, jax.Arra
     return jax.vmap(one)(theta)
 
 
-@eqx.filter_jit
+@cached_jit
 def joint_points(chain: LinkChain, u: ArrayLike, theta: ArrayLike) -> dict[str, jax.Array]:
     return jax.vmap(chain.points)(u, theta)

@@ -4,14 +4,14 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import equinox as eqx
-import jax.numpy as jnp
 import numpy as np
 from jax.typing import ArrayLike
 
 from ..._core.errors import NumericalError
+from ..._core.jit import device_array, stored
 from ..._core.units import TWO_PI
 from ...schema import FollowerSpec, MechanismSpec, PathSpec, parse
 from ..motion import HermiteMotion
@@ -54,6 +54,19 @@ class Synthesis:
     sharp_corners: bool = False
     warnings: list[str] = field(default_factory=list)
 
+    @property
+    def path_error_mm(self) -> float:
+        """How far (mm) the linkage driven by the cam misses the path at worst: the forward check."""
+        return float(self.summary["max_path_error_mm"])
+
+    @property
+    def least_transmission_deg(self) -> float:
+        """The least transmission angle (deg) of the driven dyads over the path (a CCM's coupler-link and
+        link-slider, an oscillating mechanism's coupler-follower)."""
+        return min(
+            float(self.summary[k]) for k in ("min_transmission_angle_deg", "min_slider_angle_deg") if k in self.summary
+        )
+
     def json(self) -> dict:
         out = dict(self.summary)
         out.update(
@@ -74,7 +87,7 @@ class Synthesis:
         Oscillating: O (cam centre), A (crank pin), B, F (tracing point), C, D (pivot), E (roller centre).
         """
         m = with_breaks(self.motion, ())
-        th = jnp.deg2rad(jnp.atleast_1d(jnp.asarray(theta_deg, dtype=float)))
+        th = np.deg2rad(np.atleast_1d(np.asarray(theta_deg, dtype=float)))
         u = padded(sample, m, np.asarray(th))[0]
         crank = np.asarray(m.theta0) + float(m.sense) * np.asarray(th)
         pts = {k: v for k, v in padded(joint_points, m.chain, u, crank).items() if np.ndim(v) == 2}
@@ -117,11 +130,10 @@ def _crank_lengths(ext: Extremes, ms: MechanismSpec) -> tuple[float, float]:
     return r, coupler
 
 
-def _cam_angle_table(proto: CamLinkMotion, u_grid: np.ndarray, ms: MechanismSpec, dyad: CrankDyad):
-    """The crank's sense and the unwrapped cam-angle table over the path grid: (tab_u, tab_theta, sense, follower
-    coordinate at each u, the crank's net turn). Refuses a linkage that cannot be assembled, a crank that
-    reverses, and one that does not turn exactly once per loop."""
-    tab = padded(tabulate, proto, u_grid)
+def _cam_angle_table(tab: np.ndarray, u_grid: np.ndarray, ms: MechanismSpec, dyad: CrankDyad):
+    """The crank's sense and the unwrapped cam-angle table over the path grid from ``tab``, the motion's
+    :func:`tabulate` there: (tab_u, tab_theta, sense, follower coordinate at each u). Refuses a linkage that
+    cannot be assembled, a crank that reverses, and one that does not turn exactly once per loop."""
     if not np.all(np.isfinite(tab[:, :2])):
         i = int(np.argmax(~np.isfinite(tab[:, :2]).all(axis=1)))
         raise NumericalError(where_point(i), "the linkage cannot be assembled here (NaN position)")
@@ -171,31 +183,33 @@ def _build_motion(pth: Path, ms: MechanismSpec, u_grid: np.ndarray, warnings: li
     dyad, notes = build_crank(chain, r, coupler, ext, ms.crank_mode, pth)
     warnings += notes
     unit = ms.kind.motion_unit
+    a = device_array
     proto = CamLinkMotion(
         chain=chain,
         crank_dyad=dyad,
-        theta0=jnp.asarray(0.0),
-        out0=jnp.asarray(0.0),
-        tab_u=jnp.zeros(N_GRID + 1),
-        tab_theta=jnp.zeros(N_GRID + 1),
-        sense=jnp.asarray(1.0),
+        theta0=a(0.0),
+        out0=a(0.0),
+        tab_u=a(np.zeros(N_GRID + 1)),
+        tab_theta=a(np.zeros(N_GRID + 1)),
+        sense=a(1.0),
         unit=unit,
         breaks_deg=(),
     )
     th0 = float(padded(tabulate, proto, [0.0])[0, 0])
-    proto = eqx.tree_at(lambda m: m.theta0, proto, jnp.asarray(th0))
+    proto = eqx.tree_at(lambda m: m.theta0, proto, a(th0))
+    tab = padded(tabulate, proto, u_grid)
     if isinstance(chain, CCMChain):
-        pts0 = padded(joint_points, chain, u_grid, padded(tabulate, proto, u_grid)[:, 0] + th0)
+        pts0 = padded(joint_points, chain, u_grid, tab[:, 0] + th0)
         check_ccm_slider(chain, pts0, ms)
-    tab_u, tab_theta, sense, out = _cam_angle_table(proto, u_grid, ms, dyad)
+    tab_u, tab_theta, sense, out = _cam_angle_table(tab, u_grid, ms, dyad)
     core = CamLinkMotion(
         chain=chain,
         crank_dyad=dyad,
-        theta0=jnp.asarray(th0),
-        out0=jnp.asarray(float(out.min())),
-        tab_u=jnp.asarray(tab_u),
-        tab_theta=jnp.asarray(tab_theta),
-        sense=jnp.asarray(sense),
+        theta0=a(th0),
+        out0=a(float(out.min())),
+        tab_u=a(tab_u),
+        tab_theta=a(tab_theta),
+        sense=a(sense),
         unit=unit,
         breaks_deg=(),
     )
@@ -216,15 +230,25 @@ def _table_error(
         )
 
 
-def synthesize_motion(path: dict | PathSpec, mechanism: dict | MechanismSpec) -> Synthesis:
+def synthesize_motion(path: dict | PathSpec, mechanism: dict | MechanismSpec, reuse: bool = False) -> Synthesis:
     """Synthesize the cam of a combined cam-linkage so that the tracing point follows ``path`` exactly.
 
     ``path``, ``mechanism``: the ``[path]`` and ``[mechanism]`` tables (see :class:`PathSpec`,
     :class:`MechanismSpec`). Raises :class:`InputError` for invalid tables and :class:`NumericalError` for a
-    dyad that cannot close or a crank that would reverse (naming the path point).
+    dyad that cannot close or a crank that would reverse (naming the path point). ``reuse``: read the synthesis
+    an earlier process stored for the same tables (:func:`camdyn._core.jit.stored`; a case's, checked again and
+    again), else compute and store it; ``synthesis_time_s`` is the time taken here either way.
     """
     t_start = time.perf_counter()
     ps, ms = parse_path(path), parse_mechanism(mechanism)
+    if not reuse:
+        return _synthesize(ps, ms, t_start)
+    syn = stored("synthesis", ps.model_dump_json() + ms.model_dump_json(), lambda: _synthesize(ps, ms, t_start))
+    return replace(syn, summary=dict(syn.summary, synthesis_time_s=time.perf_counter() - t_start))
+
+
+def _synthesize(ps: PathSpec, ms: MechanismSpec, t_start: float) -> Synthesis:
+    """:func:`synthesize_motion` of validated tables; ``t_start``: its start (``time.perf_counter``)."""
     pth = build_path(ps)
     warnings: list[str] = []
     sharp = bool(pth.sharp_u)
@@ -248,8 +272,6 @@ def synthesize_motion(path: dict | PathSpec, mechanism: dict | MechanismSpec) ->
     forward = ccm_forward if ms.type == "ccm" else oscillating_forward
     follower, traced, pos, vel, extra = forward(motion, tabulated, ms, vals, pts, a_pin, coupler, sense, warnings)
     err = float(np.max(np.linalg.norm(traced - target, axis=1)))
-    if not err < 1e-3:
-        warnings.append(f"forward check: the linkage driven by the cam misses the path by {err:.3g} mm")
     rr = ms.roller_radius
     pitch, contour, _ = pitch_contour(pos, vel, theta, sense, rr)
     if sharp:
@@ -274,7 +296,7 @@ def synthesize_motion(path: dict | PathSpec, mechanism: dict | MechanismSpec) ->
                 * 180
                 / math.pi,
             }
-            for us in np.asarray(core.crank_dyad.u_sw)
+            for us in np.asarray(core.crank_dyad.u_sw)[: core.crank_dyad.n_switch]
         ],
         "max_path_error_mm": err,
         "base_radius_mm": follower.base_radius,

@@ -10,6 +10,7 @@ from collections.abc import Sequence
 import numpy as np
 from jax.typing import ArrayLike
 
+from ..._core.stored import stored_by_arguments
 from ...schema.motion import BSPLINE_DEGREE
 from ._laws import _LawTable, law_host
 
@@ -34,6 +35,7 @@ def basis(u: ArrayLike, n: int, order: int = 0) -> np.ndarray:
     return np.nan_to_num(out)
 
 
+@stored_by_arguments  # an unchanged case reads the table an earlier check stored: scipy.interpolate takes 0.3 s
 def bspline_table(coefficients: Sequence[float] | np.ndarray) -> _LawTable:
     """The acceleration-piece table of y(u) (``_piece_eval``'s form): one cubic acceleration per knot span, with
     y and y' at the span's start."""

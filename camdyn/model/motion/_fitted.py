@@ -14,6 +14,7 @@ import jax.numpy as jnp
 import numpy as np
 from jax.typing import ArrayLike
 
+from ..._core.jit import device_array
 from ..._core.kinds import kind_of_lift
 from ..._core.units import TWO_PI
 from ._base import Motion
@@ -125,8 +126,8 @@ def fit_motion(
     kind = kind_of_lift(unit)
     m = spline.coef.shape[0]
     motion = FittedMotion(
-        knots=jnp.asarray(np.linspace(0.0, TWO_PI, m + 1)),
-        coef=jnp.asarray(kind.lift_to_motion(spline.coef)),
+        knots=device_array(np.linspace(0.0, TWO_PI, m + 1)),
+        coef=device_array(kind.lift_to_motion(spline.coef)),
         unit=kind.motion_unit,
         breaks_deg=(),
     )

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import threading
 from collections.abc import Sequence
 from types import ModuleType
 from typing import Any
@@ -44,6 +45,10 @@ def quintic_eval(
 # Compiled programs take a quintic table padded to 4096 intervals (16384, ... beyond) and its breaks padded to 1024
 # (+inf past them): lift tables of any length up to that, linkages of any breaks, share one compiled program.
 _INTERVAL_ROWS, _BREAK_ROWS = 4096, 1024
+# The padded tables last made (:meth:`QuinticTable.padded`), by the identity of the arrays they pad
+_MADE: dict[tuple, tuple[jax.Array, jax.Array, QuinticTable]] = {}
+_MADE_MOST = 8
+_MADE_LOCK = threading.Lock()
 
 
 class QuinticTable(eqx.Module):
@@ -60,18 +65,38 @@ class QuinticTable(eqx.Module):
     def padded(
         cls, knots: np.ndarray | jax.Array, coef: np.ndarray | jax.Array, breaks_deg: Sequence[float], unit: str
     ) -> QuinticTable:
-        """The table of ``knots`` (m + 1,) and ``coef`` (m, 6), padded; traceable (a vmap over noisy coefficients)."""
+        """The table of ``knots`` (m + 1,) and ``coef`` (m, 6), padded; traceable (a vmap over noisy coefficients).
+        Made once for the same (immutable) JAX arrays: every compiled call on a motion asks for its form."""
+        key = (id(knots), id(coef), tuple(breaks_deg), unit)
+        with _MADE_LOCK:  # a sweep prepares programs in a thread of its own
+            made = _MADE.get(key)
+        if made is not None and made[0] is knots and made[1] is coef:
+            return made[2]
+        table = cls._padded(knots, coef, breaks_deg, unit)
+        if isinstance(knots, jax.Array) and isinstance(coef, jax.Array) and not isinstance(coef, Tracer):
+            with _MADE_LOCK:
+                if len(_MADE) >= _MADE_MOST:
+                    del _MADE[next(iter(_MADE))]
+                _MADE[key] = (knots, coef, table)  # holding the arrays: their ids stay theirs while the entry lives
+        return table
+
+    @classmethod
+    def _padded(
+        cls, knots: np.ndarray | jax.Array, coef: np.ndarray | jax.Array, breaks_deg: Sequence[float], unit: str
+    ) -> QuinticTable:
         xp = jnp if isinstance(coef, Tracer) else np  # numpy where it can: no eager dispatch
         knots, coef = xp.asarray(knots), xp.asarray(coef)
         more = padded_length(coef.shape[0], _INTERVAL_ROWS) - coef.shape[0]
         breaks = np.deg2rad(np.asarray(breaks_deg, dtype=float))
         if breaks.size:
             breaks = np.pad(breaks, (0, padded_length(breaks.size, _BREAK_ROWS) - breaks.size), constant_values=np.inf)
+        # host values are placed, not staged: jnp.asarray compiles a program a shape (JAX 0.10), in every process
+        put = jnp.asarray if xp is jnp else jax.device_put
         return cls(
-            knots=jnp.asarray(xp.pad(knots, (0, more), constant_values=np.inf)),
-            coef=jnp.asarray(xp.pad(coef, [(0, more), (0, 0)], mode="edge")),
-            last=jnp.asarray(coef.shape[0] - 1),
-            jumps=jnp.asarray(breaks),
+            knots=put(xp.pad(knots, (0, more), constant_values=np.inf)),
+            coef=put(xp.pad(coef, [(0, more), (0, 0)], mode="edge")),
+            last=put(np.asarray(coef.shape[0] - 1)),
+            jumps=put(breaks),
             unit=unit,
         )
 
@@ -83,6 +108,17 @@ class QuinticTable(eqx.Module):
 
     def host(self, theta: ArrayLike) -> np.ndarray:
         return quintic_eval(np, np.asarray(self.knots), np.asarray(self.coef), theta, int(self.last))
+
+
+_VALUE_ROWS = 256  # angles evaluated at once are padded to a multiple of this
+
+
+def _values(motion: Motion, theta: np.ndarray) -> np.ndarray:
+    """``motion`` at the angles ``theta`` (n,) rad, (4, n) numpy: padded to a multiple of 256 angles, so that
+    tables with a few knots more or fewer (a linkage's breaks) share one compiled program."""
+    n = theta.size
+    more = -(-n // _VALUE_ROWS) * _VALUE_ROWS - n
+    return np.asarray(evaluate(motion, np.pad(theta, (0, more), mode="edge")))[:, :n]
 
 
 class HermiteMotion(Motion):
@@ -112,8 +148,8 @@ class HermiteMotion(Motion):
         h = np.diff(knots)
         # one-sided values: evaluate just inside each interval and step back by Taylor to the knot
         d = 1e-7 * h
-        left = np.asarray(evaluate(source, jnp.asarray(knots[:-1] + d)))  # at the start of interval i, from the right
-        right = np.asarray(evaluate(source, jnp.asarray(knots[1:] - d)))  # at its end, from the left
+        left = _values(source, knots[:-1] + d)  # at the start of interval i, from the right
+        right = _values(source, knots[1:] - d)  # at its end, from the left
         y0 = np.stack(
             [
                 left[0] - d * left[1] + d**2 / 2 * left[2] - d**3 / 6 * left[3],
@@ -137,7 +173,10 @@ class HermiteMotion(Motion):
         c5 = (6 * r0 - 3 * h * r1 + h**2 / 2 * r2) / h**5
         coef = np.column_stack([y0[0], y0[1], y0[2] / 2, c3, c4, c5])
         return cls(
-            knots=jnp.asarray(knots), coef=jnp.asarray(coef), unit=source.unit, breaks_deg=tuple(source.breaks_deg)
+            knots=jax.device_put(knots),
+            coef=jax.device_put(coef),
+            unit=source.unit,
+            breaks_deg=tuple(source.breaks_deg),
         )
 
     def jit_form(self) -> QuinticTable:
@@ -148,6 +187,6 @@ class HermiteMotion(Motion):
 
     def max_error(self, source: Motion) -> np.ndarray:
         """Largest |self - source| of (s, s', s'', s''') at the interval midpoints, where the error peaks."""
-        knots = np.asarray(self.knots)  # sliced in numpy: an eager slice of a jax array compiles a program
-        mid = jnp.asarray(0.5 * (knots[:-1] + knots[1:]))
-        return np.max(np.abs(np.asarray(evaluate(self, mid)) - np.asarray(evaluate(source, mid))), axis=1)
+        knots = np.asarray(self.knots)
+        mid = 0.5 * (knots[:-1] + knots[1:])
+        return np.max(np.abs(_values(self, mid) - _values(source, mid)), axis=1)
