@@ -15,6 +15,8 @@ from __future__ import annotations
 import functools
 import math
 
+import equinox as eqx
+import jax
 import jax.numpy as jnp
 import numpy as np
 import pytest
@@ -414,7 +416,7 @@ def test_free_flight_closed_form(lecture):
     sol = _rigid._flight(
         motion, model, jnp.asarray(omega, dtype=float), jnp.asarray(t_lo, dtype=float), jnp.asarray([s0[0], s10[0]])
     )
-    t1 = float(sol.ts[-1])
+    t1 = float(np.asarray(sol.ts)[-1])
     x_cf, _ = flight_closed_form(model, omega, t_lo, s0[0], s10[0])
     # landing where the closed-form x meets the cam again
     th = np.linspace(t_lo + 1e-3, t_lo + math.pi, 20001)
@@ -423,11 +425,11 @@ def test_free_flight_closed_form(lecture):
     t_land = brentq(lambda t: float(x_cf(t) - lecture_motion(np.array([t]))[0][0]), th[j - 1], th[j], xtol=1e-15)
     assert math.degrees(t_land - t_lo) > 20.0  # a real flight
     assert abs(t1 - t_land) < 1e-8, (t1, t_land)
-    y1 = np.asarray(sol.ys[-1])
+    y1 = np.asarray(sol.ys)[-1]
     assert abs(y1[0] - lecture_motion(np.array([t1]))[0][0]) < 1e-8  # the event: x = s at the landing
     # the dense solution against the closed form before the landing
     angles = t_lo + (t1 - t_lo) * np.array([0.01, 0.1, 0.3, 0.5, 0.7, 0.9, 0.999])
-    got = np.array([float(sol.evaluate(jnp.asarray(a))[0]) for a in angles])
+    got = np.asarray(eqx.filter_jit(lambda sol, t: jax.vmap(sol.evaluate)(t))(sol, angles))[:, 0]  # one compiled call
     assert np.max(np.abs(got - x_cf(angles))) < 5e-8, np.abs(got - x_cf(angles))  # mm (measured 4e-9)
     assert np.all(got > lecture_motion(angles)[0])  # airborne
 
@@ -449,7 +451,7 @@ def test_rigid_lift_off_and_landing(lecture, rigid_600):
     t_lo = lift_off(rigid, omega, 130, 155)
     # lift-off: the zero of camdyn's own kinematic force too
     t_lo2 = brentq(
-        lambda t: float(dyn.kinematic_force(motion, rigid, omega, jnp.asarray(t))),
+        lambda t: float(dyn.kinematic_force_jit(motion, rigid, omega, np.asarray(t))),
         math.radians(130),
         math.radians(155),
         xtol=1e-14,

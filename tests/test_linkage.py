@@ -49,16 +49,23 @@ def racetrack(path_synthesis):
 
 
 # ------------------------------------------------------------------------------------------------ dyads
+# the dyads compiled: eager jax.numpy compiles one small program per operation
+rrr_ = jax.jit(rrr, static_argnums=4)
+reach_miss_ = jax.jit(rrr_reach_miss)
+rrr_kinematics_ = jax.jit(rrr_kinematics, static_argnums=4)
+rrp_kinematics_ = jax.jit(rrp_kinematics, static_argnums=4)
+
+
 def test_rrr_closes_with_the_paper_mode_convention():
     p, q = np.array([0.0, 0.0]), np.array([10.0, 0.0])
     for mode in (1, -1):
-        m = np.asarray(rrr(p, q, 6.0, 7.0, mode))
+        m = np.asarray(rrr_(p, q, 6.0, 7.0, mode))
         assert np.linalg.norm(m - p) == pytest.approx(6.0) and np.linalg.norm(m - q) == pytest.approx(7.0)
         # mode +1: P, M, Q anticlockwise (Ye & Smith, Appendix 2: theta_PM = theta_PQ - angle MPQ)
         assert np.sign(cross2(m - p, q - p)) == mode
-    assert float(rrr_reach_miss(p, q, 3.0, 4.0)) == pytest.approx(3.0)
-    assert float(rrr_reach_miss(p, q, 30.0, 4.0)) == pytest.approx(16.0)
-    assert float(rrr_reach_miss(p, q, 6.0, 7.0)) == 0.0
+    assert float(reach_miss_(p, q, 3.0, 4.0)) == pytest.approx(3.0)
+    assert float(reach_miss_(p, q, 30.0, 4.0)) == pytest.approx(16.0)
+    assert float(reach_miss_(p, q, 6.0, 7.0)) == 0.0
 
 
 def test_rrr_velocity_matches_ye_smith_explicit_formulas_and_acceleration_fd():
@@ -66,7 +73,7 @@ def test_rrr_velocity_matches_ye_smith_explicit_formulas_and_acceleration_fd():
     p = np.vstack([[0.0, 0.0], rng.normal(size=2), rng.normal(size=2)])
     q = np.vstack([[9.0, 2.0], rng.normal(size=2), rng.normal(size=2)])
     lp, lq = 6.0, 5.0
-    k = rrr_kinematics(p, q, lp, lq, 1)
+    k = {key: np.asarray(v) for key, v in rrr_kinematics_(p, q, lp, lq, 1).items()}
     t_ab, t_cb = float(k["theta_pm"][0]), float(k["theta_qm"][0])
     dv = p[1] - q[1]  # Appendix 2 with A -> P, C -> Q: omega_AB and omega_CB
     w_ab = (dv[0] * math.cos(t_cb) + dv[1] * math.sin(t_cb)) / (lp * math.sin(t_ab - t_cb))
@@ -76,7 +83,7 @@ def test_rrr_velocity_matches_ye_smith_explicit_formulas_and_acceleration_fd():
     h = 1e-5
 
     def at(tau):
-        return np.asarray(rrr(p[0] + p[1] * tau + p[2] * tau**2 / 2, q[0] + q[1] * tau + q[2] * tau**2 / 2, lp, lq, 1))
+        return np.asarray(rrr_(p[0] + p[1] * tau + p[2] * tau**2 / 2, q[0] + q[1] * tau + q[2] * tau**2 / 2, lp, lq, 1))
 
     fd2 = (at(h) - 2 * at(0.0) + at(-h)) / h**2
     assert np.allclose(np.asarray(k["M"][2]), fd2, atol=1e-5)
@@ -85,13 +92,13 @@ def test_rrr_velocity_matches_ye_smith_explicit_formulas_and_acceleration_fd():
 def test_rrp_kinematics_against_finite_differences():
     c = np.array([[3.0, 4.0], [0.5, -0.2], [0.1, 0.3]])
     origin, direction = np.array([0.0, 0.0]), np.array([1.0, 0.0])
-    k = rrp_kinematics(c, origin, direction, 6.0, 1)
+    k = {key: np.asarray(v) for key, v in rrp_kinematics_(c, origin, direction, 6.0, 1).items()}
     assert float(k["p"][0]) == pytest.approx(3.0 + math.sqrt(36 - 16))
     h = 1e-5
 
     def pos(tau):
         moved = np.array([c[0] + c[1] * tau + c[2] * tau**2 / 2, c[1], c[2]])
-        return float(rrp_kinematics(moved, origin, direction, 6.0, 1)["p"][0])
+        return float(np.asarray(rrp_kinematics_(moved, origin, direction, 6.0, 1)["p"])[0])
 
     assert float(k["p"][1]) == pytest.approx((pos(h) - pos(-h)) / (2 * h), rel=1e-8)
     assert float(k["p"][2]) == pytest.approx((pos(h) - 2 * pos(0) + pos(-h)) / h**2, rel=1e-4)

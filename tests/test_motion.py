@@ -1,31 +1,48 @@
 """Motion laws and programs: closed forms against autodiff, published coefficients, the lecture's table."""
 
+import functools
+
 import jax
 import jax.numpy as jnp
 import numpy as np
 import pytest
 
 from camdyn import LAWS, HermiteMotion, InputError, Program, law
+from camdyn.model.motion import evaluate
 from camdyn.schema import LAW_NAMES
 
-X = jnp.linspace(0.0, 1.0, 2001)
+X = np.linspace(0.0, 1.0, 2001)
+# the tests evaluate through compiled programs: eager jax.numpy compiles one small program per operation and shape
+jit_law = jax.jit(law, static_argnums=0)
+
+
+@functools.partial(jax.jit, static_argnums=0)
+def law_autodiff(name, x):
+    """The first three derivatives of law ``name``'s y at each x, by autodiff: shape (3, *x.shape)."""
+    y = lambda t: law(name, t)[0]  # noqa: E731
+    d1 = jax.grad(y)
+    d2 = jax.grad(d1)
+    return jnp.stack([jax.vmap(d)(x) for d in (d1, d2, jax.grad(d2))])
+
+
+@jax.jit
+def call(motion, theta):
+    """``motion(theta)``, the motion's own evaluation, compiled."""
+    return motion(theta)
 
 
 @pytest.mark.parametrize("name", LAWS)
 def test_law_derivatives_match_autodiff(name):
-    vals = np.asarray(law(name, X))
-    y = lambda x: law(name, x)[0]  # noqa: E731
-    d1 = jax.vmap(jax.grad(y))
-    d2 = jax.vmap(jax.grad(jax.grad(y)))
-    d3 = jax.vmap(jax.grad(jax.grad(jax.grad(y))))
+    vals = np.asarray(jit_law(name, X))
     xi = X[1:-1]  # piece boundaries are measure-zero; autodiff picks one side there, as the closed form does
-    for k, d in ((1, d1), (2, d2), (3, d3)):
-        np.testing.assert_allclose(np.asarray(d(xi)), vals[k, 1:-1], rtol=1e-9, atol=1e-8, err_msg=f"{name} order {k}")
+    derivatives = np.asarray(law_autodiff(name, xi))
+    for k in (1, 2, 3):
+        np.testing.assert_allclose(derivatives[k - 1], vals[k, 1:-1], rtol=1e-9, atol=1e-8, err_msg=f"{name} order {k}")
 
 
 @pytest.mark.parametrize("name", [n for n in LAWS if n != "dwell"])
 def test_law_boundary_values(name):
-    y0, y1 = np.asarray(law(name, 0.0)), np.asarray(law(name, 1.0))
+    y0, y1 = np.asarray(jit_law(name, np.array([0.0, 1.0]))).T
     assert y0[0] == pytest.approx(0.0, abs=1e-14) and y1[0] == pytest.approx(1.0, abs=1e-12)
     expected_v = 1.0 if name == "constant-velocity" else 0.0
     assert y0[1] == pytest.approx(expected_v, abs=1e-12) and y1[1] == pytest.approx(expected_v, abs=1e-12)
@@ -45,7 +62,7 @@ NORTON = {
 
 @pytest.mark.parametrize("name", NORTON)
 def test_peak_coefficients(name):
-    vals = np.abs(np.asarray(law(name, jnp.linspace(0, 1, 200001))))
+    vals = np.abs(np.asarray(jit_law(name, np.linspace(0, 1, 200001))))
     cv, ca, cj = NORTON[name]
     assert vals[1].max() == pytest.approx(cv, rel=2e-4)
     assert vals[2].max() == pytest.approx(ca, rel=2e-4)
@@ -55,11 +72,15 @@ def test_peak_coefficients(name):
 
 def test_closed_forms():
     x = np.linspace(0, 1, 101)
-    np.testing.assert_allclose(np.asarray(law("cycloidal", x)[0]), x - np.sin(2 * np.pi * x) / (2 * np.pi), atol=1e-14)
-    np.testing.assert_allclose(np.asarray(law("harmonic", x)[0]), (1 - np.cos(np.pi * x)) / 2, atol=1e-14)
-    np.testing.assert_allclose(np.asarray(law("polynomial-345", x)[0]), 10 * x**3 - 15 * x**4 + 6 * x**5, atol=1e-14)
     np.testing.assert_allclose(
-        np.asarray(law("polynomial-4567", x)[0]), 35 * x**4 - 84 * x**5 + 70 * x**6 - 20 * x**7, atol=1e-13
+        np.asarray(jit_law("cycloidal", x)[0]), x - np.sin(2 * np.pi * x) / (2 * np.pi), atol=1e-14
+    )
+    np.testing.assert_allclose(np.asarray(jit_law("harmonic", x)[0]), (1 - np.cos(np.pi * x)) / 2, atol=1e-14)
+    np.testing.assert_allclose(
+        np.asarray(jit_law("polynomial-345", x)[0]), 10 * x**3 - 15 * x**4 + 6 * x**5, atol=1e-14
+    )
+    np.testing.assert_allclose(
+        np.asarray(jit_law("polynomial-4567", x)[0]), 35 * x**4 - 84 * x**5 + 70 * x**6 - 20 * x**7, atol=1e-13
     )
 
 
@@ -100,7 +121,7 @@ LECTURE_TABLE = [
 def test_lecture_table():
     prog = Program.from_segments(LECTURE)
     table = np.array(LECTURE_TABLE)
-    vals = np.asarray(prog(np.deg2rad(table[:, 0]))) / 10.0  # mm -> cm
+    vals = np.asarray(evaluate(prog, np.deg2rad(table[:, 0]))) / 10.0  # mm -> cm
     np.testing.assert_allclose(vals[:3].T, table[:, 1:], atol=5.1e-4)  # the table's 3 decimals
 
 
@@ -149,20 +170,20 @@ def test_velocity_jump_is_reported():
 
 def test_program_periodic_and_jittable():
     prog = Program.from_segments(LECTURE)
-    th = jnp.linspace(-1.0, 7.0, 50)
+    th = np.linspace(-1.0, 7.0, 50)
     np.testing.assert_allclose(
-        np.asarray(jax.jit(lambda p, t: p(t))(prog, th)), np.asarray(prog(th + 2 * np.pi)), atol=1e-12
+        np.asarray(jax.jit(lambda p, t: p(t))(prog, th)), np.asarray(evaluate(prog, th + 2 * np.pi)), atol=1e-12
     )
-    np.testing.assert_allclose(np.asarray(prog.host(np.asarray(th))), np.asarray(prog(th)), atol=1e-12)
+    np.testing.assert_allclose(np.asarray(prog.host(th)), np.asarray(evaluate(prog, th)), atol=1e-12)
 
 
 def test_program_derivatives_match_finite_differences():
     prog = Program.from_segments(LECTURE)
     th = np.deg2rad(np.array([100.0, 135.0, 170.0, 250.0, 300.0, 355.0]))
     h = 1e-5
-    v = np.asarray(prog(th))
+    v, up, down = np.moveaxis(np.asarray(evaluate(prog, np.stack([th, th + h, th - h]))), 1, 0)  # each (4, 6)
     for k in range(3):
-        fd = (np.asarray(prog(th + h))[k] - np.asarray(prog(th - h))[k]) / (2 * h)
+        fd = (up[k] - down[k]) / (2 * h)
         np.testing.assert_allclose(fd, v[k + 1], rtol=1e-6, atol=1e-6)
 
 
@@ -199,12 +220,11 @@ def test_hermite_table_reproduces_a_program():
     err = tab.max_error(prog)
     assert err[0] < 1e-12 and err[1] < 1e-9 and err[2] < 1e-6
     # an independent check off the midpoints, on a random sample of angles
-    th = jnp.asarray(np.random.default_rng(0).uniform(0, 2 * np.pi, 5000))
-    np.testing.assert_allclose(np.asarray(tab(th))[:3], np.asarray(prog(th))[:3], atol=1e-6)
+    th = np.random.default_rng(0).uniform(0, 2 * np.pi, 5000)
+    np.testing.assert_allclose(np.asarray(call(tab, th))[:3], np.asarray(evaluate(prog, th))[:3], atol=1e-6)
     # the s'' jump at 240 deg (harmonic return after a dwell) is kept, not smeared over a step
-    b = np.deg2rad(240.0)
-    for side in (-1e-9, 1e-9):
-        np.testing.assert_allclose(np.asarray(tab(b + side))[2], np.asarray(prog(b + side))[2], atol=1e-5)
+    sides = np.deg2rad(240.0) + np.array([-1e-9, 1e-9])
+    np.testing.assert_allclose(np.asarray(call(tab, sides))[2], np.asarray(evaluate(prog, sides))[2], atol=1e-5)
     # s is at round-off already; s'' converges as h^4: halving the step cuts its error 16-fold
     fine = HermiteMotion.from_motion(prog, n=1440).max_error(prog)
     assert 12 < err[2] / fine[2] < 20
@@ -213,11 +233,16 @@ def test_hermite_table_reproduces_a_program():
 def test_hermite_table_derivatives_are_its_own():
     """s', s'', s''' of the table are the derivatives of its s (autodiff), so the dynamics see one curve."""
     tab = HermiteMotion.from_motion(Program.from_segments(LECTURE), n=360)
-    th = jnp.deg2rad(jnp.array([10.3, 95.0, 171.7, 250.2, 333.3]))
-    s = lambda t: tab(t)[0]  # noqa: E731
-    v = np.asarray(tab(th))
-    np.testing.assert_allclose(np.asarray(jax.vmap(jax.grad(s))(th)), v[1], rtol=1e-10, atol=1e-10)
-    np.testing.assert_allclose(np.asarray(jax.vmap(jax.grad(jax.grad(s)))(th)), v[2], rtol=1e-9, atol=1e-9)
+    th = np.deg2rad(np.array([10.3, 95.0, 171.7, 250.2, 333.3]))
+
+    @jax.jit
+    def values_and_autodiff(tab, th):
+        s = lambda t: tab(t)[0]  # noqa: E731
+        return tab(th), jax.vmap(jax.grad(s))(th), jax.vmap(jax.grad(jax.grad(s)))(th)
+
+    v, d1, d2 = (np.asarray(a) for a in values_and_autodiff(tab, th))
+    np.testing.assert_allclose(d1, v[1], rtol=1e-10, atol=1e-10)
+    np.testing.assert_allclose(d2, v[2], rtol=1e-9, atol=1e-9)
     assert tab.unit == "mm" and tab.breaks_deg == Program.from_segments(LECTURE).breaks_deg
 
 

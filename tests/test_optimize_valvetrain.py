@@ -14,6 +14,7 @@ import tomllib
 from dataclasses import replace
 from pathlib import Path
 
+import equinox as eqx
 import jax.numpy as jnp
 import numpy as np
 import pytest
@@ -27,7 +28,7 @@ from camdyn.design.optimize._shape import flank_space
 from camdyn.design.optimize._valvetrain import ValveFacts, valve_refusals
 from camdyn.model.case import case_from_dict, load_case
 from camdyn.model.dynamics import linear_min_force, steady_state, valvetrain_response
-from camdyn.model.motion import Program
+from camdyn.model.motion import Program, evaluate
 from camdyn.model.valvetrain import ValvetrainModel, equivalent_follower, event_follower
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -118,7 +119,7 @@ def extreme_points(space, count: int) -> list[np.ndarray]:
 
 def test_the_fitted_start_is_the_case_itself(space):
     case = load_case(VALVETRAIN)
-    now = np.asarray(case.motion(space.theta))
+    now = np.asarray(evaluate(case.motion, space.theta))
     fit = np.asarray(space.values(space.z0))
     assert np.max(np.abs(fit[0] - now[0])) < 1e-6 and np.max(np.abs(fit[2] - now[2])) < 1e-4 * np.abs(now[2]).max()
 
@@ -178,9 +179,9 @@ def test_the_event_follower_is_the_two_mass_model_in_contact():
     w = 3000 * RPM
     r = valvetrain_response(case.motion, vt, w)
     theta = np.radians(r.theta_deg)
-    s = np.asarray(case.motion(jnp.asarray(theta)))
-    x, x1 = steady_state(
-        jnp.fft.rfft(jnp.asarray(s[0] * M_PER_MM)), w, surrogate, surrogate.stiffness, surrogate.damping, len(theta)
+    s = case.motion.host(theta)
+    x, x1 = eqx.filter_jit(steady_state)(  # compiled: eager jax.numpy compiles a program per operation
+        jnp.asarray(np.fft.rfft(s[0] * M_PER_MM)), w, surrogate, surrogate.stiffness, surrogate.damping, len(theta)
     )
     force = float(surrogate.train_stiffness) * (s[0] * M_PER_MM - np.asarray(x)) + float(
         surrogate.train_damping

@@ -3,7 +3,6 @@
 import math
 
 import jax
-import jax.numpy as jnp
 import numpy as np
 import pytest
 from _helpers import assert_keys_by_type
@@ -44,6 +43,19 @@ TABLE_I_Y = [
     11,
 ]
 
+
+@jax.jit
+def points(path, u):
+    """``path(u)``, compiled (eager jax.numpy compiles one small program per operation): (*u.shape, 2)."""
+    return path(u)
+
+
+@jax.jit
+def derivatives(path, u):
+    """``path.derivatives`` at each of the parameters ``u`` (n,), compiled: (n, 4, 2)."""
+    return jax.vmap(path.derivatives)(u)
+
+
 PATHS = {
     "ellipse": dict(type="ellipse", center=[10, -5], semi_major=30, semi_minor=12, rotation=25),
     "circle": dict(type="circle", center=[0, 0], radius=20, reverse=True),
@@ -58,21 +70,19 @@ PATHS = {
 @pytest.mark.parametrize("name", PATHS)
 def test_closed_and_derivatives_match_finite_differences(name):
     path = build_path(PATHS[name])
-    assert np.allclose(np.asarray(path(jnp.asarray([0.0, 1.0]))), np.asarray(path(jnp.asarray([1.0, 2.0]))), atol=1e-9)
+    assert np.allclose(*np.asarray(points(path, np.array([[0.0, 1.0], [1.0, 2.0]]))), atol=1e-9)
     rng = np.random.default_rng(1)
     breaks = np.array(path.breaks_u + (1.0,))
     h = 1e-6
-    derivatives = jax.jit(lambda v: path.derivatives(v))  # traced once, evaluated at up to 42 points
-    for u in rng.uniform(0, 1, 6):
+    us = rng.uniform(0, 1, 6)
+    # one compiled call: the derivatives at each u and at u +- h
+    at, up, down = np.asarray(derivatives(path, np.concatenate([us, us + h, us - h]))).reshape(3, len(us), 4, 2)
+    for i, u in enumerate(us):
         if np.min(np.abs((breaks - u + 0.5) % 1.0 - 0.5)) < 5 * h:  # central differences need a smooth stencil
             continue
-        d = np.asarray(derivatives(jnp.asarray(u)))
+        d = at[i]
         for k in (1, 2, 3):
-
-            def lower(v, k=k):  # called in this iteration only: k bound for clarity
-                return np.asarray(derivatives(jnp.asarray(v)))[k - 1]
-
-            fd = (lower(u + h) - lower(u - h)) / (2 * h)
+            fd = (up[i, k - 1] - down[i, k - 1]) / (2 * h)
             scale = np.max(np.abs(d[k])) + 1e-12
             assert np.max(np.abs(fd - d[k])) < 1e-6 * scale * 10 ** (k - 1), (name, k, fd, d[k])
 
@@ -81,17 +91,17 @@ def test_precision_points_are_passed_exactly_in_order():
     path = build_path(PATHS["points"])
     pts = np.column_stack([TABLE_I_X, TABLE_I_Y])[:-1].astype(float)
     knots = np.asarray(path.knots)[: len(pts)]  # the points' knots: not the closing 1, nor the padding past it
-    assert np.max(np.abs(np.asarray(path(jnp.asarray(knots))) - pts)) < 1e-10
+    assert np.max(np.abs(np.asarray(points(path, knots)) - pts)) < 1e-10
     # C2 at the knots (periodic cubic spline): second derivative continuous, third jumps
-    for u in knots[1:4]:
-        left, right = (np.asarray(path.derivatives(jnp.asarray(u + e))) for e in (-1e-9, 1e-9))
+    sides = np.asarray(derivatives(path, np.concatenate([knots[1:4] - 1e-9, knots[1:4] + 1e-9]))).reshape(2, 3, 4, 2)
+    for left, right in zip(*sides, strict=True):
         assert np.max(np.abs(left[2] - right[2])) < 1e-3 * np.max(np.abs(left[2]))
 
 
 def test_racetrack_is_ye_smith_eq9():
     path = build_path(PATHS["racetrack"])
     index = np.array([0, 800, 1500, 2500, 3500])
-    xy = np.asarray(path(jnp.asarray(index / 4000)))
+    xy = np.asarray(points(path, index / 4000))
     xg, yg, r = -250.0, 200.0, 100 / math.pi
     expect = [
         (xg, yg - r),  # F0 = (-250, 168.169)
@@ -103,7 +113,7 @@ def test_racetrack_is_ye_smith_eq9():
     assert np.allclose(xy, expect, atol=1e-10)
     assert np.allclose(xy[1], [-231.29, 225.75], atol=5e-3)
     # dXF/dI at I = 800 (the paper prints -0.080917, 0.0587795: its pi is rounded; exact is -0.1 cos 36 deg)
-    v = np.asarray(path.derivatives(jnp.asarray(0.2)))[1] / 4000
+    v = np.asarray(derivatives(path, np.array([0.2])))[0, 1] / 4000
     assert np.allclose(v, [-0.1 * math.cos(math.radians(36)), 0.1 * math.sin(math.radians(36))], atol=1e-12)
     assert path.breaks_u == (0.0, 0.25, 0.5, 0.75)
 
@@ -115,10 +125,10 @@ def test_rectangle_corners():
     assert float(sharp.total) == pytest.approx(120.0) and float(round_.total) == pytest.approx(
         120 - 8 * 4 + 2 * math.pi * 4
     )
-    xy = np.asarray(round_(jnp.linspace(0, 1, 2001)))
+    xy = np.asarray(points(round_, np.linspace(0, 1, 2001)))
     assert xy[:, 0].max() == pytest.approx(20.0) and xy[:, 1].min() == pytest.approx(-10.0)
     # unit speed in arc length: |P'| = perimeter everywhere
-    speed = [np.linalg.norm(np.asarray(round_.derivatives(jnp.asarray(u)))[1]) for u in (0.03, 0.1, 0.37, 0.8)]
+    speed = np.linalg.norm(np.asarray(derivatives(round_, np.array([0.03, 0.1, 0.37, 0.8])))[:, 1], axis=-1)
     assert np.allclose(speed, float(round_.total))
 
 

@@ -8,6 +8,7 @@ coils surge on the lift's 6th harmonic and the chain jumps near 2990 rpm.
 
 import math
 
+import equinox as eqx
 import numpy as np
 import pytest
 
@@ -60,9 +61,9 @@ def test_a_massless_chain_is_the_lumped_spring(train):
     fi, _, _ = chain_steady_force(case.motion, case.model, 1e-12, w, n=n)
     theta = np.arange(n) * (2 * math.pi / n)
     lumped = (
-        dyn.steady_force_at(case.motion, case.model, n)(w)
+        eqx.filter_jit(lambda motion, model, w: dyn.steady_force_at(motion, model, n)(w))(case.motion, case.model, w)
         if train
-        else dyn.kinematic_force(case.motion, case.model, w, theta)
+        else dyn.kinematic_force_jit(case.motion, case.model, w, theta)
     )
     # what differs is the spring's own inertia (1e-12 kg) and the coils' damper (~ sqrt(m_s): 2e-8 N*s/m)
     np.testing.assert_allclose(fi, np.asarray(lumped), rtol=0, atol=1e-6)

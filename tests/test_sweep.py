@@ -9,6 +9,7 @@ import sys
 from pathlib import Path
 
 import equinox as eqx
+import jax
 import jax.numpy as jnp
 import numpy as np
 import pytest
@@ -360,7 +361,7 @@ def test_steady_state_on_the_step_grid_from_the_aliased_spectrum():
     rng = np.random.default_rng(3)
     x_spec = np.fft.rfft(rng.standard_normal((2, 3600)), axis=-1) * np.exp(-np.arange(1801) / 300.0)
     x_spec[:, -1] += 0.25j  # irfft reads only the Nyquist bin's real part
-    x, x1 = _on_steps(jnp.asarray(x_spec), 3600, 720)
+    x, x1 = jax.jit(_on_steps, static_argnums=(1, 2))(x_spec, 3600, 720)  # compiled, as the map runs it
     k = np.arange(1801)
     np.testing.assert_allclose(x, np.fft.irfft(x_spec, 3600)[:, ::5], rtol=0, atol=1e-14)
     np.testing.assert_allclose(x1, np.fft.irfft(1j * k * x_spec, 3600)[:, ::5], rtol=0, atol=1e-12)
@@ -371,14 +372,19 @@ def test_steady_train_force_is_the_train_force_of_the_steady_state(lecture):
     train_force of steady_state's x and dx/dtheta (two inverse FFTs, XLA's complex division)."""
     base = lecture.model
     theta = np.arange(3600) * (2 * np.pi / 3600)
-    s, s1 = (v * base.scale for v in np.asarray(evaluate(lecture.motion, jnp.asarray(theta)))[:2])
+    s, s1 = (v * base.scale for v in np.asarray(evaluate(lecture.motion, theta))[:2])
     spec = jnp.asarray(np.fft.rfft(s))
+
+    @eqx.filter_jit  # one compiled program for both routes (eager jax.numpy compiles one per operation)
+    def want_and_got(spec, omega, base, k, c, s, s1):
+        x, x1 = dyn.steady_state(spec, omega, base, k, c, 3600)
+        return dyn.train_force(base, omega, s, s1, x, x1), dyn.steady_train_force(spec, omega, base, k, c, s, s1)
+
     for rpm, rate in ((300.0, 2.0), (650.0, 0.5)):
         omega, k = rpm * RPM, rate * 1e3
         c = base.damping_at(k)
-        x, x1 = dyn.steady_state(spec, omega, base, k, c, 3600)
-        want = np.asarray(dyn.train_force(base, omega, s, s1, x, x1))
-        got = np.asarray(dyn.steady_train_force(spec, omega, base, k, c, jnp.asarray(s), jnp.asarray(s1)))
+        omega, k, c = (np.asarray(v, dtype=float) for v in (omega, k, c))  # traced, not static: one compile
+        want, got = (np.asarray(a) for a in want_and_got(spec, omega, base, k, c, jnp.asarray(s), jnp.asarray(s1)))
         np.testing.assert_allclose(got, want, rtol=0, atol=1e-9 * np.max(np.abs(want)))
 
 

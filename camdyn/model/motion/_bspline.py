@@ -12,7 +12,7 @@ from jax.typing import ArrayLike
 
 from ..._core.stored import stored_by_arguments
 from ...schema.motion import BSPLINE_DEGREE
-from ._laws import _LawTable, law
+from ._laws import _LawTable, law_host
 
 CLAMPED = 3  # control points held at each end: y, y', y'' meet a dwell (0 at the start, 1 at the end)
 
@@ -56,7 +56,7 @@ def fit_law(name: str, n: int) -> np.ndarray:
     """The ``n`` control points of the clamped spline nearest (least squares on 400 points) to the named law's
     normalized lift; the first and last three are exactly 0 and 1."""
     u = np.linspace(0.0, 1.0, 401)
-    y = np.asarray(law(name, u)[0])
+    y = law_host(name, u)[0]
     B = basis(u, n)
     fixed = np.r_[np.zeros(CLAMPED), np.ones(CLAMPED)]
     free = slice(CLAMPED, n - CLAMPED)

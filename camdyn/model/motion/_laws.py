@@ -132,8 +132,17 @@ _LAW_TABLES = {name: _build_law(name) for name in LAWS}
 
 def law(name: str, x: ArrayLike) -> jax.Array:
     """Normalized law ``name`` at x in [0, 1]: (y, y', y'', y''') with y(0) = 0, y(1) = 1."""
+    return _law(jnp, name, x)
+
+
+def law_host(name: str, x: ArrayLike) -> np.ndarray:
+    """:func:`law` in numpy (no dispatch or compile cost outside compiled programs)."""
+    return _law(np, name, x)
+
+
+def _law(xp, name: str, x: ArrayLike):
     t = _LAW_TABLES[name]
-    x = jnp.asarray(x, dtype=float)
-    i = jnp.clip(jnp.searchsorted(jnp.asarray(t.x0), x, side="right") - 1, 0, len(t.x0) - 1)
-    g = lambda a: jnp.asarray(a)[i]  # noqa: E731
-    return jnp.stack(_piece_eval(jnp, x - g(t.x0), g(t.c), g(t.w), g(t.p1), g(t.p2), g(t.y0), g(t.v0)))
+    x = xp.asarray(x, dtype=float)
+    i = xp.clip(xp.searchsorted(xp.asarray(t.x0), x, side="right") - 1, 0, len(t.x0) - 1)
+    g = lambda a: xp.asarray(a)[i]  # noqa: E731
+    return xp.stack(_piece_eval(xp, x - g(t.x0), g(t.c), g(t.w), g(t.p1), g(t.p2), g(t.y0), g(t.v0)))
