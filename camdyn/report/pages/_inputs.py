@@ -32,6 +32,8 @@ UNITS = {
     "max_contact_stress": "MPa",
     "max_seating_velocity": "m/s",
     "max_impact_velocity": "m/s",
+    "max_path_error": "mm",  # path cases
+    "min_transmission_angle": "deg",
     "backlash": "mm",
     "width": "mm",
     "conjugate_spacing": "mm",  # closure = "conjugate"
@@ -62,6 +64,8 @@ DIMENSIONLESS = frozenset(
 _LIMIT_OF_CHECK = {
     "max_seating_velocity": CheckKind.SEATING_VELOCITY,
     "max_impact_velocity": CheckKind.CROSSOVER_IMPACT,
+    "max_path_error": CheckKind.PATH_ERROR,
+    "min_transmission_angle": CheckKind.TRANSMISSION_ANGLE,
 }
 
 # limits that judge a follower held on by a spring (it may jump): a groove cam has none of their checks
