@@ -380,12 +380,13 @@ def test_the_robust_claim_is_where_one_built_cam_in_a_thousand_separates():
     count of separations at that speed (the least force of each built cam there; the speed spread taken out)."""
     raw = tomllib.loads((ROOT / "cases" / "lecture-tolerances.toml").read_text())
     claim = _robust_claim(case_from_dict(raw), None)
-    assert claim["samples"] == 4000 and claim["speed_rpm"] < claim["nominal_jump_speed_rpm"]
-    raw["dynamics"]["speed"] = claim["speed_rpm"]
+    assert claim.speed_rpm is not None and claim.nominal_jump_speed_rpm is not None
+    assert claim.samples == 4000 and claim.speed_rpm < claim.nominal_jump_speed_rpm
+    raw["dynamics"]["speed"] = claim.speed_rpm
     raw["tolerances"].pop("speed")
     at = tolerance_study(case_from_dict(raw), 4000)
     assert at.probability <= 2e-3  # 4 of 4000 below the quantile, and a built cam that re-holds above its jump
-    raw["dynamics"]["speed"] = 1.05 * claim["speed_rpm"]
+    raw["dynamics"]["speed"] = 1.05 * claim.speed_rpm
     assert tolerance_study(case_from_dict(raw), 4000).probability > 1e-3  # a claim 5 % higher would not hold
 
 

@@ -121,6 +121,7 @@ def test_a_motions_form_is_made_once_for_all_the_calls_of_a_stored_program(tmp_p
     monkeypatch.setattr(programs, "_DIR", None)
     programs.enable(tmp_path)
     monkeypatch.setattr(_Squared, "made", [])
+    monkeypatch.setattr(programs, "_flat_form_memo", {})  # the session's earlier calls leave no eviction due
     x = jnp.linspace(0.0, 2.0, 5)
     fn, one, two = programs.cached_jit(_at), _Squared(jnp.asarray(3.0)), _Squared(jnp.asarray(-2.0))
     for _ in range(5):
