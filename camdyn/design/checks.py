@@ -8,6 +8,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .._core.results import finite_or_none
 from .._core.units import JUMP_SEARCH_FACTOR, RPM
 from ..model import dynamics as dyn
 from ..model.case import Case
@@ -135,7 +136,7 @@ class Dynamics:
         out = {
             "model": self.model,
             "min_contact_force_N": self.min_contact_force_N,
-            "min_contact_force_deg": _finite_or_none(self.min_contact_force_deg),  # NaN: a valve that never opens
+            "min_contact_force_deg": finite_or_none(self.min_contact_force_deg),  # NaN: a valve that never opens
             "min_contact_force_uncertainty_N": self.min_contact_force_uncertainty_N,
             "jump_speed_rpm": self.jump_speed_rpm,
             "separations": [s.json() for s in self.separations],
@@ -205,10 +206,6 @@ class CheckReport:
         return out
 
 
-def _finite_or_none(x: float) -> float | None:
-    return None if x is None or not math.isfinite(x) else float(x)
-
-
 def _at_contact(case: Case, value_rad: float, deg: float) -> float:
     """An arm-swing quantity (rad, rad/s) at the contact along its normal (mm, mm/s): times the lever arm there."""
     if not math.isfinite(deg):
@@ -242,7 +239,7 @@ def contact_flight(case: Case, fl: dyn.Flight) -> ContactFlight:
 
 def contact_impact(imp: dyn.Impact) -> ContactImpact:
     """One landing: where, and its peak contact force (N; None for a rigid follower's impulse)."""
-    return ContactImpact(imp.deg, _finite_or_none(imp.peak_force), _finite_or_none(imp.peak_deg))
+    return ContactImpact(imp.deg, finite_or_none(imp.peak_force), finite_or_none(imp.peak_deg))
 
 
 def forces_in_newton(case: Case, resp: dyn.Response) -> dyn.Response:
@@ -314,7 +311,7 @@ def jump_speeds(case: Case, omega: float, margin: float) -> tuple[float, float, 
 def speed_margin_check(w_dyn: float, omega: float, margin: float) -> Check:
     """``[limits] speed_margin``: the dynamic jump speed over the speed, at least ``margin``. The one comparison
     ``check`` judges and ``size`` proposes a spring by."""
-    return CheckKind.SPEED_MARGIN.check(_finite_or_none(w_dyn / omega), float(margin))
+    return CheckKind.SPEED_MARGIN.check(finite_or_none(w_dyn / omega), float(margin))
 
 
 def run_check(case: Case, speed_rpm: float | None = None) -> CheckReport:
@@ -334,7 +331,7 @@ def run_check(case: Case, speed_rpm: float | None = None) -> CheckReport:
     if not math.isfinite(w_dyn) and not model.rigid:
         searched = f"searched {JUMP_SEARCH_FACTOR:g}x beyond the margin"
         warnings.append(f"no jump found up to {w_max / RPM:.0f} rpm ({searched})")
-    warnings += unit_slip_warnings(case, rpm, _finite_or_none((w_dyn if math.isfinite(w_dyn) else w_kin) / RPM))
+    warnings += unit_slip_warnings(case, rpm, finite_or_none((w_dyn if math.isfinite(w_dyn) else w_kin) / RPM))
     if not model.rigid and not resp.separations:
         # the frequency-domain steady state is exact without separation: an independent check of the solve
         f_lin = dyn.linear_least_force(motion, model, omega)
@@ -369,7 +366,7 @@ def run_check(case: Case, speed_rpm: float | None = None) -> CheckReport:
     if valve is not None:
         checks += valve.checks(limits.max_seating_velocity)
     kinematic = Kinematics(
-        float(kin_force[i_kin]), float(resp.theta_deg[i_kin]), _finite_or_none(w_kin / RPM), _finite_or_none(at_kin)
+        float(kin_force[i_kin]), float(resp.theta_deg[i_kin]), finite_or_none(w_kin / RPM), finite_or_none(at_kin)
     )
     osc = case.oscillating  # the contract's values at the contact, the arm's angle beside them
     dynamic = Dynamics(
@@ -377,11 +374,11 @@ def run_check(case: Case, speed_rpm: float | None = None) -> CheckReport:
         min_contact_force_N=float(least),  # a valve: the cam contact over the valve event, where it is judged
         min_contact_force_deg=resp.min_force_deg if valve is None else float(valve.response.least_event_force_deg),
         min_contact_force_uncertainty_N=noise_N,
-        jump_speed_rpm=_finite_or_none(w_dyn / RPM),
+        jump_speed_rpm=finite_or_none(w_dyn / RPM),
         separations=tuple(contact_separation(case, s) for s in resp.separations),
         flights=tuple(contact_flight(case, f) for f in resp.flights),
         impacts=tuple(contact_impact(i) for i in resp.impacts),
-        max_impact_force_N=_finite_or_none(resp.max_impact_force),
+        max_impact_force_N=finite_or_none(resp.max_impact_force),
         residual_vibration_mm=(
             _at_contact(case, resp.residual_vibration, resp.residual_vibration_deg) if osc else resp.residual_vibration
         ),

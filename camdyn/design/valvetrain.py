@@ -9,6 +9,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .._core.results import finite_or_none
 from .._core.units import M_PER_MM, RPM, VALVE_BOUNCE_TOLERANCE_MM, VALVE_TIMING_LIFT_MM
 from ..model import dynamics as dyn
 from ..model.case import Case
@@ -17,10 +18,6 @@ from ._check import Check, CheckKind
 # the seating velocity against speed reaches half again the float speed (or the case speed): beyond float the train
 # flies and its landings scatter
 SEATING_CURVE_REACH = 1.5
-
-
-def _finite_or_none(x: float) -> float | None:
-    return float(x) if math.isfinite(x) else None
 
 
 def _seating_curve_top(case_speed: float, float_speed: float) -> float:
@@ -111,11 +108,11 @@ class ValvetrainResult:
             "ratio": self.ratio,
             "lash_mm": self.lash_mm,
             "max_valve_lift_mm": self.response.max_valve_lift_mm,
-            "opening_deg": _finite_or_none(opening),
-            "closing_deg": _finite_or_none(closing),
-            "seating_velocity_m_per_s": _finite_or_none(self.seating_velocity),
-            "float_speed_rpm": _finite_or_none(self.float_speed_rpm),
-            "bounce_speed_rpm": _finite_or_none(self.bounce_speed_rpm),
+            "opening_deg": finite_or_none(opening),
+            "closing_deg": finite_or_none(closing),
+            "seating_velocity_m_per_s": finite_or_none(self.seating_velocity),
+            "float_speed_rpm": finite_or_none(self.float_speed_rpm),
+            "bounce_speed_rpm": finite_or_none(self.bounce_speed_rpm),
             "bounce_height_mm": self.response.bounce_height_mm,
             "ratio_min": float(self.ratios.min()),
             "ratio_max": float(self.ratios.max()),
@@ -129,7 +126,7 @@ class ValvetrainResult:
         (a flight's overshoot included) short of where the spring goes solid."""
         v = self.seating_velocity
         checks = (
-            CheckKind.SEATING_VELOCITY.check(_finite_or_none(v), float(max_seating_velocity)),
+            CheckKind.SEATING_VELOCITY.check(finite_or_none(v), float(max_seating_velocity)),
             CheckKind.VALVE_BOUNCE.check(self.response.bounce_height_mm, VALVE_BOUNCE_TOLERANCE_MM),
         )
         clearance = self.coil_bind_clearance_mm

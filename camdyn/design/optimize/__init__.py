@@ -18,6 +18,7 @@ import numpy as np
 
 from ..._core.errors import InputError, NumericalError
 from ..._core.progress import Progress
+from ..._core.results import finite_or_none
 from ..._core.units import RPM
 from ...export import camdyn_version, dumps_case
 from ...model.case import Case, build_case
@@ -42,7 +43,6 @@ from ._verification import (
     RobustClaim,
     Verification,
     VerifiedSpeed,
-    finite_or_none,
     unverified,
     verify,
     verify_valvetrain,

@@ -9,6 +9,7 @@ from dataclasses import asdict, dataclass, field, replace
 import jax.numpy as jnp
 import numpy as np
 
+from ..._core.results import finite_or_none
 from ..._core.units import RPM
 from ..checks import CheckReport
 from ._objectives import BETTER
@@ -22,10 +23,6 @@ SEATING_RTOL = 1e-3  # its seating velocity may differ by this share: the ramp s
 def _shown(label: str, fmt: str):
     """A field of :class:`ValveFacts` with how ``optimize``'s before/after table shows it."""
     return field(metadata={"label": label, "format": fmt})
-
-
-def _finite_or_none(x: float) -> float | None:
-    return float(x) if math.isfinite(x) else None
 
 
 @dataclass(frozen=True)
@@ -48,11 +45,11 @@ class ValveFacts:
         opening, closing = vt.timing_deg
         return cls(
             float(np.max(vt.response.cam_lift)),
-            _finite_or_none(vt.float_speed_rpm),
-            _finite_or_none(vt.bounce_speed_rpm),
-            _finite_or_none(vt.seating_velocity),
-            _finite_or_none(opening),
-            _finite_or_none(closing),
+            finite_or_none(vt.float_speed_rpm),
+            finite_or_none(vt.bounce_speed_rpm),
+            finite_or_none(vt.seating_velocity),
+            finite_or_none(opening),
+            finite_or_none(closing),
             vt.response.max_valve_lift_mm,
         )
 

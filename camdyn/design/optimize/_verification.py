@@ -14,11 +14,6 @@ from ...model.case import Case
 from ...model.dynamics import linear_min_force, response, valvetrain_response
 
 
-def finite_or_none(x: float) -> float | None:
-    """``x`` for JSON: None where it is not finite."""
-    return float(x) if math.isfinite(x) else None
-
-
 @dataclass(frozen=True)
 class VerifiedSpeed:
     """One speed of the verification: the time-domain least force (N; N*m for an arm) and, where the model has one,

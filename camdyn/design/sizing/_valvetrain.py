@@ -30,6 +30,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, replace
 
+from ..._core.results import finite_or_none
 from ..._core.units import M_PER_MM, RPM
 from ...model import dynamics as dyn
 from ...model.case import Case, with_valvetrain_keys
@@ -58,10 +59,6 @@ METHOD = (
     f"searches them, reach (1 + {HEADROOM:g}) x the top speed; written to {WRITTEN_DIGITS} digits, the preload "
     "rounded up, and judged by check as written"
 )
-
-
-def _finite_or_none(x: float) -> float | None:
-    return float(x) if math.isfinite(x) else None
 
 
 @dataclass(frozen=True)
@@ -98,12 +95,12 @@ class ValveSpringDesign:
             "spring_rate_N_per_mm": self.rate,
             "preload_N": self.preload,
             "peak_spring_force_N": self.peak_spring,
-            "float_speed_rpm": _finite_or_none(self.float_speed_rpm),
-            "bounce_speed_rpm": _finite_or_none(self.bounce_speed_rpm),
-            "seating_velocity_m_per_s": _finite_or_none(self.seating_velocity),
+            "float_speed_rpm": finite_or_none(self.float_speed_rpm),
+            "bounce_speed_rpm": finite_or_none(self.bounce_speed_rpm),
+            "seating_velocity_m_per_s": finite_or_none(self.seating_velocity),
             "bounce_height_mm": self.bounce_height_mm,
-            "least_event_contact_force_N": _finite_or_none(self.least_event_force),
-            "least_train_force_N": _finite_or_none(self.least_train_force),
+            "least_event_contact_force_N": finite_or_none(self.least_event_force),
+            "least_train_force_N": finite_or_none(self.least_train_force),
             "holds": self.holds(top_rpm),
         }
 
@@ -164,7 +161,7 @@ class ValveSpringSizing:
                 "equivalent_mass_kg": self.equivalent_mass_kg,
                 "valve_lift_mm": self.valve_lift_mm,
                 "closed_form": self.closed_form.json(top)
-                | {"equivalent_jump_speed_rpm": _finite_or_none(self.closed_form_jump_rpm)},
+                | {"equivalent_jump_speed_rpm": finite_or_none(self.closed_form_jump_rpm)},
                 "search": [{"preload_N": f0, "least_speed_rpm": w} for f0, w in self.rounds],
                 "check": {"verdict": self.verdict, "checks": [c.json() for c in self.checks]},
             },
