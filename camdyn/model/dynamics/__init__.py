@@ -35,7 +35,8 @@ from ._rigid import rigid_response
 from ._train import contact_force, preload_share, static_position, train_force
 from ._valvefast import ValveSummary, fast_valve_summary
 from ._valvepoint import ValvePoint, bounce_speed, float_speed, valve_scan_speeds
-from ._valvetrain import ValveEvent, ValvetrainResponse, valvetrain_response
+from ._valveresponse import ValveEvent, ValvetrainResponse
+from ._valvetrain import valvetrain_response
 
 __all__ = [
     "ClosureResponse",

@@ -14,7 +14,8 @@ from ..motion import Motion
 from ..valvetrain import ValvetrainModel
 from ._response import first_zero_speed, scan_speeds
 from ._valvefast import FLOATED, ValveSummary, fast_valve_summary
-from ._valvetrain import NO_EVENT, ValvetrainResponse, valvetrain_response
+from ._valveresponse import ValvetrainResponse
+from ._valvetrain import NO_EVENT, valvetrain_response
 
 # the speed searches' scan, one speed at a time from the slowest: each speed is a solve of its own (no batch to fill),
 # and above the first crossing the valve floats and every speed is the diffrax model's, the slow one
