@@ -9,6 +9,7 @@ from matplotlib.axes import Axes
 from matplotlib.patches import Circle, Polygon
 from numpy.typing import ArrayLike
 
+from .._core.units import DEFAULT_MAX_PATH_ERROR_MM
 from ..model.linkage import Synthesis
 from ._common import C, rotate
 
@@ -153,16 +154,17 @@ def plot_path(ax: Axes, synthesis: Synthesis) -> None:
     ax.legend(loc="best", fontsize=7)
 
 
-def plot_path_error(ax: Axes, synthesis: Synthesis) -> None:
-    """|traced - target| (mm, log scale) along the target path, with 1 um marked."""
+def plot_path_error(ax: Axes, synthesis: Synthesis, limit_mm: float = DEFAULT_MAX_PATH_ERROR_MM) -> None:
+    """|traced - target| (mm, log scale) along the target path, with ``check``'s limit (``[limits] max_path_error``,
+    mm) marked."""
     target, traced = synthesis.path_xy, synthesis.traced_xy
     seg = np.linalg.norm(np.diff(np.vstack([target, target[:1]]), axis=0), axis=1)
     arc = np.concatenate([[0.0], np.cumsum(seg)[:-1]])
     err = np.linalg.norm(traced - target, axis=1)
     ax.semilogy(arc, np.maximum(err, 1e-16), color=C["traced"], lw=1.0)
-    ax.axhline(1e-3, color=C["limit"], ls="--", lw=0.8)
-    ax.text(arc[-1], 1e-3, "1 \u00b5m ", color=C["limit"], size=7, ha="right", va="bottom")
-    ax.set_ylim(1e-16, 1e-1)
+    ax.axhline(limit_mm, color=C["limit"], ls="--", lw=0.8)
+    ax.text(arc[-1], limit_mm, f"limit {limit_mm:g} mm ", color=C["limit"], size=7, ha="right", va="bottom")
+    ax.set_ylim(1e-16, max(1e-1, 10.0 * limit_mm, 3.0 * float(err.max())))  # a miss of millimetres in view
     ax.set_xlim(0.0, arc[-1])
     ax.set_xlabel("distance along the target path (mm)")
     ax.set_ylabel("|traced \u2212 target| (mm)")

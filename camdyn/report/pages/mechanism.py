@@ -44,7 +44,7 @@ def draw_mechanism(fig: Figure, data: ReportData) -> None:
             ax.set_xlabel("x (mm)", fontsize=7.5)
     path_box, error_box = _path_boxes(syn.path_xy, grid_bottom - 0.075)
     plot_path(fig.add_axes(path_box), syn)
-    plot_path_error(fig.add_axes(error_box), syn)
+    plot_path_error(fig.add_axes(error_box), syn, float(data.case.limits.max_path_error))
 
 
 _Box = tuple[float, float, float, float]  # an axes' rectangle: left, bottom, width, height (figure fractions)
