@@ -21,7 +21,7 @@ import numpy as np
 from jax.typing import ArrayLike
 
 from ..._core.errors import NumericalError
-from ..._core.jit import cached_jit
+from ..._core.jit import cached_jit, device_array
 from ..paths import Path
 from ._batch import padded
 from ._dyads import norm
@@ -257,12 +257,12 @@ def _padded_dyad(r, coupler, u_sw, sgn, to_pi, m_before, lo, hi, polys, spans, i
 
     def pad(x: ArrayLike, value: float, shape: tuple[int, ...] = ()) -> jax.Array:
         x = np.asarray(x, dtype=float).reshape(k, *shape)
-        return jax.device_put(np.concatenate([x, np.full((more, *shape), value, dtype=float)]))
+        return device_array(np.concatenate([x, np.full((more, *shape), value, dtype=float)]))
 
     last = imodes[-1] if k else m_start
     return CrankDyad(
-        jax.device_put(np.asarray(r, dtype=float)),
-        jax.device_put(np.asarray(coupler, dtype=float)),
+        device_array(r),
+        device_array(coupler),
         pad(u_sw, np.inf),
         pad(sgn, 1.0),
         pad(to_pi, 0.0),
