@@ -60,15 +60,30 @@ restitution = 0.3
 
 
 def distance_to_outline(pts: np.ndarray, poly: np.ndarray) -> np.ndarray:
-    """Exact distance of points (m, 2) from the closed polyline (k, 2): every chord, in blocks."""
-    a, b = poly, np.roll(poly, -1, axis=0)
-    d = b - a
+    """Exact distance of points (m, 2) from the closed polyline (k, 2). Each point is measured against the chords
+    that meet its nearest vertices, more of them until no other chord can be nearer: every point of a chord lies
+    within half its length of one of its ends, so a chord whose ends are both farther than the farthest vertex asked
+    for, less half the longest chord, is farther than one already measured."""
+    from scipy.spatial import cKDTree
+
+    a = np.asarray(poly, float)
+    pts = np.asarray(pts, float)
+    d = np.roll(a, -1, axis=0) - a
     L2 = np.sum(d * d, 1)
-    out = np.empty(len(pts))
-    for i in range(0, len(pts), 256):
-        p = pts[i : i + 256, None, :]
-        w = np.clip(np.sum((p - a) * d, -1) / L2, 0.0, 1.0)
-        out[i : i + 256] = np.min(np.linalg.norm(p - a - w[..., None] * d, axis=-1), axis=1)
+    half = 0.5 * np.sqrt(L2.max())
+    tree, n = cKDTree(a), len(a)
+    out = np.full(len(pts), np.nan)
+    todo, k = np.arange(len(pts)), 32
+    while todo.size:
+        k = min(k, n)
+        far, near = tree.query(pts[todo], k=k)
+        chords = np.concatenate([near, (near - 1) % n], axis=1)  # the chords from and to each vertex
+        p = pts[todo, None, :]
+        w = np.clip(np.sum((p - a[chords]) * d[chords], -1) / L2[chords], 0.0, 1.0)
+        dist = np.min(np.linalg.norm(p - a[chords] - w[..., None] * d[chords], axis=-1), axis=1)
+        sure = (dist <= far[:, -1] - half) | (k == n)
+        out[todo[sure]] = dist[sure]
+        todo, k = todo[~sure], 4 * k
     return out
 
 
