@@ -152,6 +152,7 @@ def test_crossovers_fall_where_the_acceleration_changes_sign():
     np.testing.assert_allclose(r.contact_force, 1.0 * omega(case) ** 2 * vals[2] * 1e-3, rtol=1e-12, atol=1e-12)
 
 
+@pytest.mark.slow  # compiles the groove's diffrax model
 def test_flight_across_the_backlash_lands_where_the_closed_form_says():
     """No spring: the roller leaves the inner flank at mid-rise with the cam's velocity and keeps it; the outer
     flank meets it where s'(tc) d - (s(tc + d) - s(tc)) = G, G = b / cos(phi) the gap along the follower's axis
@@ -441,6 +442,7 @@ def test_sweep_backlash_of_a_spring_held_cam_is_refused(tmp_path, capsys):
     assert code == 2 and "--backlash" in err and "groove" in err
 
 
+@pytest.mark.slow  # compiles the groove's tolerance programs
 def test_tolerance_of_a_groove_cam_gives_the_impact_spread(tmp_path, capsys):
     """``tolerance`` of a groove cam over backlash, mass and speed: each built cam's impact is the one
     closure_response gives a case of its backlash, mass and speed; the probability is the share over the limit."""

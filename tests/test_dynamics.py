@@ -406,6 +406,7 @@ def lift_off(model, omega, lo_deg, hi_deg):
     )
 
 
+@pytest.mark.slow  # compiles the rigid follower's flight
 def test_free_flight_closed_form(lecture):
     motion, model = lecture
     model = with_(model, external=5.0, damping=20.0, train_stiffness=math.inf, train_damping=0.0)

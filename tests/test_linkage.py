@@ -336,6 +336,7 @@ def test_chosen_base_radius_is_the_least_half_millimetre_check_accepts(path_synt
     assert not passes(f, extremes(tab, f, base_radius=f.base_radius - 0.5), 30.0, 1.5)
 
 
+@pytest.mark.slow  # compiles the padded crank's programs and their gradient
 def test_a_crank_without_switches_is_padded_and_is_the_closed_form():
     """A crank with slack (no singular position) is padded to the two switches of the usual crank, so it shares
     their compiled programs, and its angle is still the closed form: the padding is never reached."""
@@ -358,6 +359,7 @@ def test_a_crank_without_switches_is_padded_and_is_the_closed_form():
     assert np.all(np.isfinite(slope))
 
 
+@pytest.mark.slow  # three whole checks of path cases, each a synthesis
 def test_a_linkage_that_cannot_trace_its_path_fails_check():
     """The shipped circle with its cam centre moved and a crank and coupler given: the forward dyad changes assembly
     mode along the path, so the linkage the cam drives misses the circle by its diameter and passes through a dead

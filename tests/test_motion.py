@@ -12,17 +12,29 @@ from camdyn.model.motion import evaluate
 from camdyn.schema import LAW_NAMES
 
 X = np.linspace(0.0, 1.0, 2001)
-# the tests evaluate through compiled programs: eager jax.numpy compiles one small program per operation and shape
-jit_law = jax.jit(law, static_argnums=0)
 
 
-@functools.partial(jax.jit, static_argnums=0)
-def law_autodiff(name, x):
+@functools.cache
+def every_law(n: int = X.size) -> dict[str, np.ndarray]:
+    """Each law's (y, y', y'', y''), shape (4, n), at n points spread over [0, 1]: every law in one compiled program
+    (a program a law and a grid compiled for seconds; eager jax.numpy, one a law and an operation)."""
+    x = np.linspace(0.0, 1.0, n)
+    return dict(zip(LAWS, np.asarray(jax.jit(lambda x: jnp.stack([law(name, x) for name in LAWS]))(x)), strict=True))
+
+
+def _autodiff(name, x):
     """The first three derivatives of law ``name``'s y at each x, by autodiff: shape (3, *x.shape)."""
     y = lambda t: law(name, t)[0]  # noqa: E731
     d1 = jax.grad(y)
     d2 = jax.grad(d1)
     return jnp.stack([jax.vmap(d)(x) for d in (d1, d2, jax.grad(d2))])
+
+
+@functools.cache
+def every_law_autodiff() -> dict[str, np.ndarray]:
+    """:func:`_autodiff` of every law at ``X`` but its ends, in one compiled program."""
+    derivatives = jax.jit(lambda x: jnp.stack([_autodiff(name, x) for name in LAWS]))(X[1:-1])
+    return dict(zip(LAWS, np.asarray(derivatives), strict=True))
 
 
 @jax.jit
@@ -33,16 +45,16 @@ def call(motion, theta):
 
 @pytest.mark.parametrize("name", LAWS)
 def test_law_derivatives_match_autodiff(name):
-    vals = np.asarray(jit_law(name, X))
-    xi = X[1:-1]  # piece boundaries are measure-zero; autodiff picks one side there, as the closed form does
-    derivatives = np.asarray(law_autodiff(name, xi))
+    vals = every_law()[name]
+    # piece boundaries are measure-zero; autodiff picks one side there, as the closed form does
+    derivatives = every_law_autodiff()[name]
     for k in (1, 2, 3):
         np.testing.assert_allclose(derivatives[k - 1], vals[k, 1:-1], rtol=1e-9, atol=1e-8, err_msg=f"{name} order {k}")
 
 
 @pytest.mark.parametrize("name", [n for n in LAWS if n != "dwell"])
 def test_law_boundary_values(name):
-    y0, y1 = np.asarray(jit_law(name, np.array([0.0, 1.0]))).T
+    y0, y1 = every_law()[name][:, [0, -1]].T
     assert y0[0] == pytest.approx(0.0, abs=1e-14) and y1[0] == pytest.approx(1.0, abs=1e-12)
     expected_v = 1.0 if name == "constant-velocity" else 0.0
     assert y0[1] == pytest.approx(expected_v, abs=1e-12) and y1[1] == pytest.approx(expected_v, abs=1e-12)
@@ -62,7 +74,7 @@ NORTON = {
 
 @pytest.mark.parametrize("name", NORTON)
 def test_peak_coefficients(name):
-    vals = np.abs(np.asarray(jit_law(name, np.linspace(0, 1, 200001))))
+    vals = np.abs(every_law(200001)[name])
     cv, ca, cj = NORTON[name]
     assert vals[1].max() == pytest.approx(cv, rel=2e-4)
     assert vals[2].max() == pytest.approx(ca, rel=2e-4)
@@ -71,17 +83,11 @@ def test_peak_coefficients(name):
 
 
 def test_closed_forms():
-    x = np.linspace(0, 1, 101)
-    np.testing.assert_allclose(
-        np.asarray(jit_law("cycloidal", x)[0]), x - np.sin(2 * np.pi * x) / (2 * np.pi), atol=1e-14
-    )
-    np.testing.assert_allclose(np.asarray(jit_law("harmonic", x)[0]), (1 - np.cos(np.pi * x)) / 2, atol=1e-14)
-    np.testing.assert_allclose(
-        np.asarray(jit_law("polynomial-345", x)[0]), 10 * x**3 - 15 * x**4 + 6 * x**5, atol=1e-14
-    )
-    np.testing.assert_allclose(
-        np.asarray(jit_law("polynomial-4567", x)[0]), 35 * x**4 - 84 * x**5 + 70 * x**6 - 20 * x**7, atol=1e-13
-    )
+    x, y = X, {name: v[0] for name, v in every_law().items()}
+    np.testing.assert_allclose(y["cycloidal"], x - np.sin(2 * np.pi * x) / (2 * np.pi), atol=1e-14)
+    np.testing.assert_allclose(y["harmonic"], (1 - np.cos(np.pi * x)) / 2, atol=1e-14)
+    np.testing.assert_allclose(y["polynomial-345"], 10 * x**3 - 15 * x**4 + 6 * x**5, atol=1e-14)
+    np.testing.assert_allclose(y["polynomial-4567"], 35 * x**4 - 84 * x**5 + 70 * x**6 - 20 * x**7, atol=1e-13)
 
 
 LECTURE = [

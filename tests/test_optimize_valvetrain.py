@@ -166,6 +166,7 @@ def test_an_end_not_at_rest_has_the_velocity_its_control_points_give():
 
 
 # ------------------------------------------------------------------------------------- the surrogate
+@pytest.mark.slow  # compiles the two-mass diffrax model
 def test_the_event_follower_is_the_two_mass_model_in_contact():
     """At 3000 rpm (no float) the surrogate's cam force (the valve side's steady state through the train, plus the
     cam side's m_c s'' w^2) is the two-mass diffrax model's over the valve event, once the ringing of the lash's

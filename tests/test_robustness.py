@@ -122,6 +122,7 @@ def test_oscillating_separations_carry_mm_and_rad(capsys, tmp_path):
     assert "m/s" not in "".join(w for w in json.loads(out)["warnings"] if "rad/s" in w)
 
 
+@pytest.mark.slow  # the session's racetrack check: a synthesis and a whole check
 def test_json_is_strict_and_path_arrays_are_optional(capsys, monkeypatch, racetrack_check):
     # the CLI formats the session's racetrack check (the same run_check of the same case) rather than solving it twice
     monkeypatch.setattr("camdyn.cli.check.run_check", lambda case, speed=None: racetrack_check)

@@ -282,6 +282,7 @@ def _valve_table_case(tmp_path, lash, stiffness=None):
     return load_case(path)
 
 
+@pytest.mark.slow  # compiles a valve table's fit and its table
 @pytest.mark.parametrize("lash", [0.0, 0.2])
 def test_valve_table_reproduced_at_the_valve(tmp_path, lash):
     """A valve-lift table, rigid train: the valve's lift reproduces the table within the fit's stated residual,

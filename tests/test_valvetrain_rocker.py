@@ -132,6 +132,7 @@ def _valve_table_rocker_case(tmp_path, rocker=TABLE_ROCKER, lash=0.2, **motion):
     return load_case(path)
 
 
+@pytest.mark.slow  # compiles a valve table's fit through a rocker
 def test_valve_table_through_a_rocker_is_reproduced_at_the_valve(tmp_path):
     """A valve-lift table through a bent rocker, rigid train: the valve's lift (``table``'s valve_lift_mm) reproduces
     the table within the fit's stated residual, and the follower's lift carried back through the rocker turned in
