@@ -68,7 +68,7 @@ def _rocker_lever(xp, x_c, a, b, al, be):
 
 def rocker_model(spec: RockerSpec) -> Rocker:
     """The SI :class:`Rocker` of a ``[valvetrain.rocker]`` table (mm, deg)."""
-    a = lambda x: jnp.asarray(float(x))  # noqa: E731
+    a = lambda x: jax.device_put(float(x))  # noqa: E731  (jnp.asarray compiles a program on first use)
     return Rocker(
         a(spec.cam_arm * M_PER_MM),
         a(spec.valve_arm * M_PER_MM),
@@ -185,9 +185,10 @@ class ValvetrainModel(eqx.Module):
         return bool(math.isinf(float(self.train.train_stiffness)))
 
     @property
-    def equivalent_mass(self) -> jax.Array:
-        """The whole train's mass at the follower, kg: ``m_cam + m_valve r^2``."""
-        return self.cam_side_mass + self.valve_mass * self.ratio**2
+    def equivalent_mass(self) -> float:
+        """The whole train's mass at the follower, kg: ``m_cam + m_valve r^2`` (on the host: a jax.numpy operation
+        outside a compiled program compiles one of its own)."""
+        return float(self.cam_side_mass) + float(self.valve_mass) * float(self.ratio) ** 2
 
 
 def valvetrain_model(v: ValvetrainSpec, d: DynamicsSpec, peak_lift_mm: float = 0.0) -> ValvetrainModel:
@@ -210,7 +211,7 @@ def valvetrain_model(v: ValvetrainSpec, d: DynamicsSpec, peak_lift_mm: float = 0
     ct = 0.0 if math.isinf(kt) else damping_from_ratio(v.damping_ratio, kt, m_v)
     kf = math.inf if d.train_stiffness is None else TRANSLATING.rate_to_si(d.train_stiffness)
     cf = 0.0 if math.isinf(kf) else damping_from_ratio(d.train_damping_ratio, kf, m_c + m_v * r**2)
-    a = lambda x: jnp.asarray(float(x))  # noqa: E731
+    a = lambda x: jax.device_put(float(x))  # noqa: E731  (jnp.asarray compiles a program on first use)
     return ValvetrainModel(
         a(r),
         a(v.lash * M_PER_MM),
@@ -234,12 +235,14 @@ def equivalent_follower(vt: ValvetrainModel) -> FollowerModel:
     ``k r^2``, preload ``F0 r``, damping ``c r^2`` (the same damping ratio), the tappet force as the external load,
     the same cam contact.
     The checks that know one follower read this; the valvetrain's own results come from the two-mass model."""
-    r = vt.ratio
+    r = float(vt.ratio)  # the products on the host, placed as the case's own model is (no program per operation)
+    host = (vt.equivalent_mass, float(vt.spring_rate) * r**2, float(vt.preload) * r, float(vt.spring_damping) * r**2)
+    mass, rate, preload, damping = (jax.device_put(x) for x in host)
     return FollowerModel(
-        vt.equivalent_mass,
-        vt.spring_rate * r**2,
-        vt.preload * r,
-        vt.spring_damping * r**2,
+        mass,
+        rate,
+        preload,
+        damping,
         vt.tappet_force,
         vt.cam.train_stiffness,
         vt.cam.train_damping,

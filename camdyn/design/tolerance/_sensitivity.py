@@ -17,24 +17,37 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from ._kernel import Grid, Sample, min_force
+from ..._core.jit import cached_jit
+from ._kernel import Grid, Sample, jump_speed, min_force
 
 if TYPE_CHECKING:
     from ...model.follower import FollowerModel
 
 
+@cached_jit
+def nominal_derivatives(base: FollowerModel, scan: Grid, nominal: Sample, w_max: jax.Array, rigid: bool):
+    """The nominal design's jump speed w* (rad/s, inf if none up to ``w_max``) on the scan grid, and the
+    derivatives of its least force F there: dF/dw and dF/dp (a :class:`Sample` of them). One compiled program,
+    stored: evaluated op by op, each operation compiled alone (about 4 s a ``tolerance`` run)."""
+    w_star = jump_speed(base, scan, nominal, w_max, rigid)
+    w = jnp.where(jnp.isfinite(w_star), w_star, w_max)  # a finite speed to differentiate at; unread where inf
+    f_w = jax.grad(lambda w_: min_force(base, scan, nominal, w_, rigid))(w)
+    return w_star, f_w, jax.grad(lambda p: min_force(base, scan, p, w, rigid))(nominal)
+
+
 def gradient_sensitivities(
-    base: FollowerModel, scan: Grid, nominal: Sample, w_star: float, sigma_si: dict[str, float], rigid: bool
-) -> dict[str, float]:
-    """``d margin / d p x sigma`` per key of ``sigma_si`` (SI sigmas; the profile error's per coefficient);
-    NaN for every key where the nominal design has no jump speed."""
+    base: FollowerModel, scan: Grid, nominal: Sample, w_max: float, sigma_si: dict[str, float], rigid: bool
+) -> tuple[dict[str, float], float]:
+    """``d margin / d p x sigma`` per key of ``sigma_si`` (SI sigmas; the profile error's per coefficient), NaN
+    for every key where the nominal design has no jump speed up to ``w_max`` (rad/s); and that jump speed w*
+    (rad/s, inf if none)."""
+    w_star, f_w, g = nominal_derivatives(base, scan, nominal, jnp.asarray(w_max, dtype=float), rigid)
+    w_star = float(w_star)
     if not math.isfinite(w_star):
-        return {key: math.nan for key in sigma_si}
-    w = jnp.asarray(w_star)
-    f_w = float(jax.grad(lambda w_: min_force(base, scan, nominal, w_, rigid))(w))
-    g = jax.grad(lambda p: min_force(base, scan, p, w, rigid))(nominal)
+        return {key: math.nan for key in sigma_si}, w_star
+    f_w = float(f_w)
     omega = float(nominal.omega)
-    dm = {"spring_rate": g.k, "preload": g.f0, "mass": g.m, "train_stiffness": g.kf}
+    dm = {"spring_rate": float(g.k), "preload": float(g.f0), "mass": float(g.m), "train_stiffness": float(g.kf)}
     out = {}
     for key, sig in sigma_si.items():
         if key == "speed":
@@ -42,8 +55,8 @@ def gradient_sensitivities(
         elif key == "profile_error":
             out[key] = float(np.sqrt(np.sum((np.asarray(g.coeffs) / -f_w / omega * sig) ** 2)))
         else:
-            out[key] = float(-dm[key] / f_w / omega * sig)
-    return out
+            out[key] = -dm[key] / f_w / omega * sig
+    return out, w_star
 
 
 def variance_shares(margin: np.ndarray, deviations: dict[str, np.ndarray]) -> dict[str, float]:

@@ -168,11 +168,8 @@ def _sensitivities(case, base, scan, w_max, nominal, spread, vals, jump_rpm):
         jnp.asarray(case.speed_rpm * RPM),
         jnp.zeros(2 * PROFILE_ERROR_HARMONICS),
     )
-    kernel = rigid_tolerance_kernel if base.rigid else tolerance_kernel
-    _, w_star = kernel((base, scan, scan, jnp.asarray(w_max)), *nom)
-    w_star = float(w_star)
     sigma_si = {k: sp.sigma * si.get(k, 1.0) for k, sp in spread.items()}
-    grad = gradient_sensitivities(base, scan, nom, w_star, sigma_si, base.rigid)
+    grad, w_star = gradient_sensitivities(base, scan, nom, w_max, sigma_si, base.rigid)
     margin = jump_rpm / vals["speed"]
     devs = {k: (vals["profile_coeffs"] if k == "profile_error" else vals[k] - nominal[k]) for k in spread}
     shares = variance_shares(margin, devs)

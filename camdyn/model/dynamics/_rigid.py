@@ -167,8 +167,9 @@ def rigid_response(
     """
     theta = np.arange(n) * (TWO_PI / n)
     theta_deg = np.degrees(theta)
-    vals = np.asarray(evaluate(motion, jnp.asarray(theta)))
-    kin = np.asarray(kinematic_force_jit(motion, model, jnp.asarray(omega, dtype=float), jnp.asarray(theta)))
+    # numpy arguments: jnp.asarray outside a compiled program compiles one of its own
+    vals = np.asarray(evaluate(motion, theta))
+    kin = np.asarray(kinematic_force_jit(motion, model, np.asarray(omega, dtype=float), theta))
     if kin.min() > 0.0:
         return Response(
             "rigid", float(omega), theta_deg, vals[0], vals[0].copy(), vals[1].copy(), kin, kin, (), 0.0, 0.0
