@@ -25,7 +25,9 @@ if TYPE_CHECKING:
 
 
 @cached_jit
-def nominal_derivatives(base: FollowerModel, scan: Grid, nominal: Sample, w_max: jax.Array, rigid: bool):
+def nominal_derivatives(
+    base: FollowerModel, scan: Grid, nominal: Sample, w_max: jax.Array, rigid: bool
+) -> tuple[jax.Array, jax.Array, Sample]:
     """The nominal design's jump speed w* (rad/s, inf if none up to ``w_max``) on the scan grid, and the
     derivatives of its least force F there: dF/dw and dF/dp (a :class:`Sample` of them). One compiled program,
     stored: evaluated op by op, each operation compiled alone (about 4 s a ``tolerance`` run)."""
