@@ -142,7 +142,14 @@ def _flight_field(t, y, args):
 @filter_jit
 def _cross(motion, model, omega, theta0, y0, side, gap):
     """Free flight from theta0 until a flank meets the roller: the other one across the gap (motion units) on
-    ``side``, or the one it left."""
+    ``side``, or the one it left. Returns the angle (rad) and state where it ended and whether a flank was met,
+    each read inside the program (an indexing or a comparison of its result outside compiles one of its own)."""
+    sol = _cross_solve(motion, model, omega, theta0, y0, side, gap)
+    assert sol.ts is not None and sol.ys is not None
+    return sol.ts[-1], sol.ys[-1], sol.result == diffrax.RESULTS.event_occurred
+
+
+def _cross_solve(motion, model, omega, theta0, y0, side, gap):
     return diffrax.diffeqsolve(
         diffrax.ODETerm(_flight_field),
         diffrax.Tsit5(),
@@ -208,16 +215,8 @@ def impact_force(motion: Motion, model: FollowerModel, omega: float, theta: floa
     state ``y`` (x, dx/dtheta; motion units) on the flank on ``side`` (+1 inner, -1 outer) of the groove ``gap``
     wide (motion units): the train's contact over one period of its contact mode, and the angle (rad) of the peak."""
     span = omega * TWO_PI / math.sqrt((float(model.stiffness) + float(model.train_stiffness)) / float(model.mass))
-    f, ok = _impact(
-        motion,
-        model,
-        jnp.asarray(omega, dtype=float),
-        jnp.asarray(theta, dtype=float),
-        jnp.asarray(y, dtype=float),
-        jnp.asarray(side, dtype=float),
-        jnp.asarray(gap, dtype=float),
-        jnp.asarray(span, dtype=float),
-    )
+    host = lambda x: np.asarray(x, dtype=float)  # noqa: E731  (jnp.asarray compiles a program on first use)
+    f, ok = _impact(motion, model, host(omega), host(theta), host(y), host(side), host(gap), host(span))
     f = np.abs(np.asarray(f))
     if not bool(ok) or not np.all(np.isfinite(f)):
         raise NumericalError(f"impact at {math.degrees(theta) % 360:.2f} deg", "the train's contact did not integrate")
@@ -259,26 +258,19 @@ def cross_gap(motion: Motion, model: FollowerModel, omega: float, theta0: float,
     units): the landing angle (rad, unwrapped), the relative speed there (motion units per rad, positive closing),
     whether the roller met the other flank (False: it came back onto the one it left) and its state there (x,
     dx/dtheta)."""
-    s0 = np.asarray(evaluate(motion, jnp.asarray(theta0)))
-    y0 = jnp.asarray([s0[0] - side * 0.5 * gap, s0[1]])
-    sol = _cross(
-        motion,
-        model,
-        jnp.asarray(omega, dtype=float),
-        jnp.asarray(theta0, dtype=float),
-        y0,
-        jnp.asarray(side, dtype=float),
-        jnp.asarray(gap, dtype=float),
-    )
-    if sol.result != diffrax.RESULTS.event_occurred:
+    # numpy arguments and results: a jax.numpy operation outside a compiled program compiles one of its own
+    host = lambda x: np.asarray(x, dtype=float)  # noqa: E731
+    s0 = np.asarray(evaluate(motion, host(theta0)))
+    y0 = np.array([s0[0] - side * 0.5 * gap, s0[1]])
+    t1, y1, met = _cross(motion, model, host(omega), host(theta0), y0, host(side), host(gap))
+    if not bool(met):
         raise NumericalError(
             f"crossover at {math.degrees(theta0) % 360:.2f} deg", "the follower never met the other flank"
         )
-    assert sol.ts is not None and sol.ys is not None
-    t1 = float(sol.ts[-1])
-    s1 = np.asarray(evaluate(motion, jnp.asarray(t1)))
-    across = side * float(sol.ys[-1][0] - s1[0]) > 0.0  # on the far side of the pitch curve: the other flank
-    return t1, abs(float(sol.ys[-1][1] - s1[1])), across, np.asarray(sol.ys[-1])
+    t1, y1 = float(t1), np.asarray(y1)
+    s1 = np.asarray(evaluate(motion, host(t1)))
+    across = side * float(y1[0] - s1[0]) > 0.0  # on the far side of the pitch curve: the other flank
+    return t1, abs(float(y1[1] - s1[1])), across, y1
 
 
 def _sign_changes(signs: np.ndarray) -> list[tuple[int, int]]:
@@ -327,12 +319,12 @@ def closure_response(
     """
     h = TWO_PI / n
     theta = np.arange(n) * h
-    w = jnp.asarray(omega, dtype=float)
-    force = np.asarray(kinematic_force_jit(motion, model, w, jnp.asarray(theta)))
+    w = np.asarray(omega, dtype=float)  # numpy arguments: jnp.asarray would compile a program of its own
+    force = np.asarray(kinematic_force_jit(motion, model, w, theta))
     signs = np.where(np.abs(force) <= _ZERO_FORCE * float(np.max(np.abs(force))), 0, np.sign(force)).astype(int)
 
     def fk(t):
-        return float(kinematic_force_jit(motion, model, w, jnp.asarray(t, dtype=float)))
+        return float(kinematic_force_jit(motion, model, w, np.asarray(t, dtype=float)))
 
     breaks = np.deg2rad(np.asarray(motion.breaks_deg, dtype=float))
     cands = _crossing_angles(fk, signs, h, breaks)
