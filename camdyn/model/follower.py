@@ -12,6 +12,7 @@ import numpy as np
 from jax.core import Tracer
 from jax.typing import ArrayLike
 
+from .._core.jit import device_array
 from .._core.kinds import FollowerKind
 from .._core.units import M_PER_MM, damping_from_ratio
 from ..schema import DynamicsSpec
@@ -44,20 +45,30 @@ class FollowerModel(eqx.Module):
 
     def damping_at(self, stiffness: ArrayLike) -> jax.Array:
         """The spring damping at another rate: it follows sqrt(k m) when given as a ratio, else it stays."""
-        ratio = self.damping_ratio
-        return jnp.where(
-            jnp.isnan(ratio), self.damping, damping_from_ratio(jnp.nan_to_num(ratio), stiffness, self.mass)
-        )
+        xp, (ratio, damping, mass, k) = _host_or_traced(self.damping_ratio, self.damping, self.mass, stiffness)
+        c = xp.where(xp.isnan(ratio), damping, damping_from_ratio(xp.nan_to_num(ratio), k, mass))
+        return c if xp is jnp else jax.device_put(c)
 
     def with_spring(self, stiffness: ArrayLike, preload: ArrayLike | None = None) -> FollowerModel:
         """The same follower with another spring rate (SI; and preload, if given), its damping re-derived."""
-        stiffness = jnp.asarray(stiffness, dtype=float)
-        new = (
-            stiffness,
-            self.preload if preload is None else jnp.asarray(preload, dtype=float),
-            self.damping_at(stiffness),
-        )
+        stiffness = _placed(stiffness)
+        new = (stiffness, self.preload if preload is None else _placed(preload), self.damping_at(stiffness))
         return eqx.tree_at(lambda m: (m.stiffness, m.preload, m.damping), self, new)
+
+
+def _placed(x: ArrayLike) -> jax.Array:
+    """``x`` as a float64 JAX array: placed on the device where it is concrete (:func:`device_array`, no program
+    compiled), ``jnp.asarray`` inside a trace."""
+    return jnp.asarray(x, dtype=float) if isinstance(x, Tracer) else device_array(x)
+
+
+def _host_or_traced(*values: ArrayLike) -> tuple:
+    """(jax.numpy, the values) where any is traced (inside a compiled program), else (numpy, the values as numpy
+    arrays): the same IEEE operations, but an eager jax.numpy operation compiles a program of its own on first use
+    and costs tens of microseconds a call (a spring search re-rates a follower a thousand times)."""
+    if any(isinstance(x, Tracer) for x in values):
+        return jnp, values
+    return np, tuple(np.asarray(x, dtype=float) for x in values)
 
 
 def follower_model(d: DynamicsSpec, *, kind: FollowerKind) -> FollowerModel:
@@ -85,12 +96,8 @@ def with_spring_mass(model: FollowerModel, spring_mass: float, *, lever_arm_mm: 
     added = spring_mass / 3.0
     if lever_arm_mm is not None:
         added = added * (lever_arm_mm * M_PER_MM) ** 2
-    m0, c0, cf0, ratio = leaves = (model.mass, model.damping, model.train_damping, model.damping_ratio)
-    # numpy where the model is concrete (the same IEEE operations): six eager jax ops would each compile a program
-    # on first use, 40 ms of every check of a case with a spring
-    xp = jnp if any(isinstance(x, Tracer) for x in leaves) else np
-    if xp is np:
-        m0, c0, cf0, ratio = (np.asarray(x) for x in leaves)
+    # numpy where the model is concrete: six eager jax ops would cost 40 ms of every check of a case with a spring
+    xp, (m0, c0, cf0, ratio) = _host_or_traced(model.mass, model.damping, model.train_damping, model.damping_ratio)
     mass = m0 + added
     grow = xp.sqrt(mass / m0)
     new = (mass, xp.where(xp.isnan(ratio), c0, c0 * grow), cf0 * grow)
