@@ -11,34 +11,37 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass, field, replace
+from dataclasses import replace
 
-import equinox as eqx
 import numpy as np
 
 from ..._core.errors import InputError, NumericalError
 from ..._core.progress import Progress
 from ..._core.results import finite_or_none
 from ..._core.units import RPM
-from ...export import camdyn_version, dumps_case
 from ...model.case import Case, build_case
-from ...model.dynamics import (
-    dynamic_jump_speed,
-    float_speed,
-    linear_min_force,
-    preload_share,
-)
-from ...model.follower import FollowerModel
+from ...model.dynamics import linear_min_force
 from ...model.motion import evaluate
 from ...model.valvetrain import event_follower
 from ...schema import CaseSpec
 from ...schema.dynamics import dynamics_keys
 from ..checks import CheckReport, run_check
 from ..parts import resolve_spring
+from ._metrics import (
+    MARGIN_OF_PRELOAD,
+    Metrics,
+    default_margin,
+    floor_rpm,
+    follower_margin_speed,
+    margin_speed,
+    metrics,
+    search_top,
+)
 from ._objectives import BETTER, CLEAR, jump_speed, least_slack, peak_spring_force_floor, spring_force, vibration
+from ._result import Optimization
 from ._rows import Rows
 from ._shape import N_CONTROL, ShapeSpace, flank_space, shape_space
-from ._valvetrain import ValveFacts, seating_rows, valve_refusals, valve_sentence
+from ._valvetrain import ValveFacts, seating_rows, valve_refusals
 from ._verification import (
     RobustClaim,
     Verification,
@@ -49,206 +52,9 @@ from ._verification import (
 )
 
 OBJECTIVES = ("jump-speed", "vibration", "spring-force")
-MARGIN_OF_PRELOAD = 0.05  # the default force margin: this share of the static preload
 ROBUST_SEPARATION = 1e-3  # --robust: the claim is the speed up to which P(separation) stays at or below this
 ROBUST_SAMPLES = 4000  # built cams drawn for it (4 below the 1e-3 quantile)
 _VERIFIED = 3  # the time-domain model checks this many of the force's dips below the claim, and the claim
-
-
-def _shown(label: str, fmt: str = ".4g"):
-    """A field of :class:`Metrics` with how the before/after table shows it ({u}: mm or deg, {f}: N or N*m)."""
-    return field(metadata={"label": label, "format": fmt})
-
-
-@dataclass(frozen=True)
-class Metrics:
-    """What the before/after table compares."""
-
-    jump_speed_rpm: float = _shown("dynamic jump speed (rpm)", ".1f")  # check's
-    margin_speed_rpm: float = _shown("speed holding the force margin (rpm)", ".1f")  # :func:`margin_speed`
-    least_force_N: float = _shown("least contact force at the case speed (N)")
-    peak_acceleration: float = _shown("peak acceleration ({u}/rad^2)")  # |s''| max
-    max_pressure_angle_deg: float = _shown("max pressure angle (deg)", ".2f")
-    min_radius_of_curvature_mm: float = _shown("least radius of curvature (mm)")
-    peak_spring_force: float = _shown("peak spring force ({f})")  # N (N*m for an arm)
-    residual_vibration: float = _shown(
-        "residual vibration ({u})", ".3g"
-    )  # at the case speed: mm (deg of swing for an arm)
-    verdict: str = _shown("verdict", "")
-
-    def json(self, unit: str) -> dict:
-        return {
-            "jump_speed_rpm": finite_or_none(self.jump_speed_rpm),
-            "least_contact_force_N": self.least_force_N,
-            f"peak_acceleration_{unit}_per_rad2": self.peak_acceleration,
-            "max_pressure_angle_deg": self.max_pressure_angle_deg,
-            "min_radius_of_curvature_mm": self.min_radius_of_curvature_mm,
-            "peak_spring_force_N_m" if unit == "deg" else "peak_spring_force_N": self.peak_spring_force,
-            f"residual_vibration_{unit}": self.residual_vibration,
-            "verdict": self.verdict,
-            "margin_speed_rpm": finite_or_none(self.margin_speed_rpm),
-        }
-
-
-def floor_rpm(rpm: float) -> float:
-    """A claimed speed as printed (to 0.1 rpm): rounded down, never past what holds."""
-    return math.floor(rpm * 10.0) / 10.0 if math.isfinite(rpm) else rpm
-
-
-@dataclass(frozen=True)
-class Optimization:
-    """The optimized case (as a case-file dict and as a :class:`Case`), what changed, how it was verified, and
-    why it is not to be written (``refusals``: empty when it is)."""
-
-    objective: str
-    before: Metrics
-    after: Metrics
-    case: Case
-    document: dict  # the case file to write
-    claimed_speed_rpm: float  # the speed up to which the written design keeps the force margin (robust: P(sep) <= 1e-3)
-    verification: Verification  # the time-domain model at the speeds the claim rests on
-    control_points: int
-    time_s: float
-    margin: float = 0.0  # the force margin held (N; N*m for an arm)
-    refusals: tuple[str, ...] = ()  # why the answer is no better than the input, or invalid
-    robust: RobustClaim | None = None  # --robust: the tolerance study's claim
-    valvetrain: tuple[ValveFacts, ValveFacts] | None = None  # a valvetrain's two-mass facts, before and after
-
-    @property
-    def unit(self) -> str:
-        return self.case.kind.lift_unit
-
-    @property
-    def force_unit(self) -> str:
-        return self.case.kind.force_unit
-
-    @property
-    def written(self) -> bool:
-        return not self.refusals
-
-    def text(self, source: str) -> str:
-        """The case file, with a header saying how it was made from ``source``."""
-        b, a = self.before, self.after
-        ver = f" {camdyn_version()}".rstrip()
-        f = self.force_unit
-        aim = {
-            "jump-speed": f"the largest speed up to which the least contact force stays >= {self.margin:.4g} {f} "
-            "at every speed",
-            "vibration": "the least residual vibration in the dwells over 0.9-1.1 x the case speed, holding there",
-            "spring-force": "the least peak spring force (preload and rate free) holding to speed_margin x speed",
-        }[self.objective]
-        checked = "the time-domain (diffrax) model"
-        if self.valvetrain is not None:
-            aim += (
-                " on the valve event's single follower (the valve on the compliant train, the cam side moving with "
-                "the cam), the valve closing no faster where it seats"
-            )
-            checked = "the two-mass (diffrax) valvetrain model, least cam force over the valve event,"
-        made = (
-            f"Written by `camdyn optimize {source} --objective {self.objective} --control-points {self.control_points}`"
-        )
-        what = (
-            f"every rise and return is a clamped B-spline of degree 5 with {self.control_points} control points "
-            '(law = "bspline"), monotone within [0, 1]; the segment boundaries, lifts and dwells, the follower, the '
-            "limits and (but for spring-force) the spring are the original's."
-        )
-        if self.valvetrain is not None:
-            what = (
-                f"only the flanks between the lash ramps are reshaped, each a B-spline of degree 5 with "
-                f'{self.control_points} control points (law = "bspline"), monotone within [0, 1], meeting the ramps '
-                "with their lift, velocity and acceleration; the ramps, the dwells, the nose's angle and lift, the "
-                "valvetrain, the spring and the limits are the original's."
-            )
-        header = [
-            f"{made} (camdyn{ver}): {what}",
-            f"Objective: {aim}. Linear programs (HiGHS) on the frequency-domain steady state, its Jacobian by JAX "
-            "autodiff.",
-            f"Dynamic jump speed {b.jump_speed_rpm:.1f} -> {a.jump_speed_rpm:.1f} rpm; the force margin of "
-            f"{self.margin:.4g} {f} holds to {floor_rpm(b.margin_speed_rpm):.1f} -> "
-            f"{floor_rpm(a.margin_speed_rpm):.1f} rpm; least contact force at the case speed "
-            f"{b.least_force_N:.3g} -> {a.least_force_N:.3g} N; max pressure angle {b.max_pressure_angle_deg:.2f} -> "
-            f"{a.max_pressure_angle_deg:.2f} deg; verdict {b.verdict} -> {a.verdict}.",
-            *([] if self.valvetrain is None else [valve_sentence(*self.valvetrain)]),
-            f"Checked by {checked} at "
-            + ", ".join(f"{p.speed_rpm:.0f}" for p in self.verification.points)
-            + f" rpm (least force {self.verification.least_force:.4g} {f}).",
-        ]
-        return dumps_case(self.document, header)
-
-    def json(self) -> dict:
-        margin_key = f"force_margin_{self.case.kind.force_suffix}"
-        return {
-            "case": self.case.name,
-            "objective": self.objective,
-            "control_points_per_segment": self.control_points,
-            "claimed_speed_rpm": finite_or_none(self.claimed_speed_rpm),
-            "before": self.before.json(self.unit),
-            "after": self.after.json(self.unit),
-            "verification": self.verification.json(),
-            "time_s": self.time_s,
-            margin_key: self.margin,
-            "written": self.written,
-            "refusals": list(self.refusals),
-            "robust": None if self.robust is None else self.robust.json(),
-            "valvetrain": None
-            if self.valvetrain is None
-            else {"before": self.valvetrain[0].json(), "after": self.valvetrain[1].json()},
-        }
-
-
-def default_margin(case: Case) -> float:
-    """The force margin to keep when none is given: :data:`MARGIN_OF_PRELOAD` of the static preload (N; N*m)."""
-    return MARGIN_OF_PRELOAD * abs(float(case.model.preload))
-
-
-def _less_preload(model: FollowerModel, margin: float) -> FollowerModel:
-    """The model whose interface force is ``model``'s less ``margin`` at every angle and speed in contact: the
-    steady state is affine in the preload, a change dF0 moving the force by k_f / (k + k_f) dF0."""
-    share = 1.0 if model.rigid else float(preload_share(model.stiffness, model.train_stiffness))
-    return eqx.tree_at(lambda m: m.preload, model, model.preload - margin / share)
-
-
-def margin_speed(case: Case, margin: float, w_max: float) -> float:
-    """The least speed (rad/s) at which the least interface force falls to ``margin`` (N; N*m for an arm), by
-    ``check``'s own jump-speed search on the model less the margin (a valvetrain's: its float search, the two-mass
-    model's least cam force over the valve event); inf if none up to ``w_max``."""
-    if case.valvetrain is not None:
-        return float_speed(case.motion, case.valvetrain, w_max, margin=margin)
-    return _follower_margin_speed(case, margin, w_max)
-
-
-def _follower_margin_speed(case: Case, margin: float, w_max: float) -> float:
-    """:func:`margin_speed` of the case's single follower (a valvetrain's equivalent follower), rad/s."""
-    return dynamic_jump_speed(case.motion, _less_preload(case.model, margin), w_max=w_max)
-
-
-def _search_top(case: Case, chk: CheckReport) -> float:
-    """How far (rad/s) the margin-speed searches look: 4 x the larger of the margin speed and the jump speed."""
-    jump = chk.dynamic.jump_speed_rpm
-    return 4.0 * max(case.limits.speed_margin * chk.speed_rpm, jump if jump is not None else 0.0) * RPM
-
-
-def metrics(case: Case, check: CheckReport | None = None, margin: float = 0.0) -> Metrics:
-    chk = check or run_check(case)
-    theta = np.linspace(0.0, 2 * math.pi, 7200, endpoint=False)
-    sv = np.asarray(evaluate(case.motion, theta))  # one program: eagerly each operation compiles alone
-    to_user = 1.0 if case.motion.unit == "mm" else 180.0 / math.pi
-    m = case.model
-    geo = chk.geometry
-    jump = chk.dynamic.jump_speed_rpm
-    w_max = _search_top(case, chk)
-    residual = chk.dynamic.residual_vibration_as_lift  # mm, or deg of arm swing, as the motion's unit
-    return Metrics(
-        jump_speed_rpm=float(jump if jump is not None else math.inf),
-        margin_speed_rpm=float(margin_speed(case, margin, w_max) / RPM),
-        least_force_N=float(chk.dynamic.min_contact_force_N),
-        peak_acceleration=float(np.abs(sv[2]).max() * to_user),
-        max_pressure_angle_deg=float(geo.max_pressure_angle_deg) if geo else math.nan,
-        min_radius_of_curvature_mm=float(geo.min_radius_of_curvature_mm) if geo else math.nan,
-        peak_spring_force=float(m.preload + m.stiffness * sv[0].max() * m.scale),
-        residual_vibration=float(residual),
-        verdict=chk.verdict,
-    )
 
 
 def _document(
@@ -418,7 +224,7 @@ def optimize_case(
         if objective == "jump-speed":
             w0 = before.margin_speed_rpm * RPM
             if case.valvetrain is not None:  # the programs start where the equivalent follower's margin gives out
-                w0 = _follower_margin_speed(case, margin, _search_top(case, before_check))
+                w0 = follower_margin_speed(case, margin, search_top(case, before_check))
             if not math.isfinite(w0):
                 raise InputError(
                     "case", "the case does not jump within the check's search: there is no jump speed to raise"
