@@ -17,7 +17,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from ..._core.jit import cached_jit
+from ..._core.jit import cached_jit, device_array
 from ._kernel import Grid, Sample, jump_speed, min_force
 
 if TYPE_CHECKING:
@@ -43,7 +43,7 @@ def gradient_sensitivities(
     """``d margin / d p x sigma`` per key of ``sigma_si`` (SI sigmas; the profile error's per coefficient), NaN
     for every key where the nominal design has no jump speed up to ``w_max`` (rad/s); and that jump speed w*
     (rad/s, inf if none)."""
-    w_star, f_w, g = nominal_derivatives(base, scan, nominal, jnp.asarray(w_max, dtype=float), rigid)
+    w_star, f_w, g = nominal_derivatives(base, scan, nominal, device_array(w_max), rigid)
     w_star = float(w_star)
     if not math.isfinite(w_star):
         return {key: math.nan for key in sigma_si}, w_star

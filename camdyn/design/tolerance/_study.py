@@ -8,11 +8,11 @@ import math
 from typing import TYPE_CHECKING
 
 import jax
-import jax.numpy as jnp
 import numpy as np
 from scipy.stats import binomtest
 
 from ..._core.errors import InputError
+from ..._core.jit import device_array
 from ..._core.progress import Progress, counter
 from ..._core.sharding import run_batched
 from ..._core.units import PROFILE_ERROR_HARMONICS, RPM, THETA_GRID, tolerance_unit
@@ -112,7 +112,7 @@ def tolerance_study(
     kernel = rigid_tolerance_kernel if base.rigid else tolerance_kernel
     tick = counter(progress, "built cams (steady state, jump speed)", samples)
     force, jump = run_batched(
-        kernel, (base, fine, scan, jnp.asarray(w_max)), _to_si(case, vals), CHUNK_SAMPLES, tick, devices
+        kernel, (base, fine, scan, device_array(w_max)), _to_si(case, vals), CHUNK_SAMPLES, tick, devices
     )
     sep = int(np.count_nonzero(force <= 0.0))
     ci = binomtest(sep, samples).proportion_ci(CONFIDENCE, method="exact")
@@ -165,8 +165,8 @@ def _sensitivities(case, base, scan, w_max, nominal, spread, vals, jump_rpm):
         base.preload,
         base.mass,
         base.train_stiffness,
-        jnp.asarray(case.speed_rpm * RPM),
-        jnp.zeros(2 * PROFILE_ERROR_HARMONICS),
+        device_array(case.speed_rpm * RPM),  # placed: jax.numpy here would compile a program per operation
+        device_array(np.zeros(2 * PROFILE_ERROR_HARMONICS)),
     )
     sigma_si = {k: sp.sigma * si.get(k, 1.0) for k, sp in spread.items()}
     grad, w_star = gradient_sensitivities(base, scan, nom, w_max, sigma_si, base.rigid)
