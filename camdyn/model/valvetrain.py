@@ -18,6 +18,7 @@ import jax.numpy as jnp
 import numpy as np
 from jax.typing import ArrayLike
 
+from .._core.jit import device_array
 from .._core.kinds import TRANSLATING
 from .._core.units import M_PER_MM, damping_from_ratio
 from ..schema import DynamicsSpec, RockerSpec, ValvetrainSpec
@@ -68,7 +69,7 @@ def _rocker_lever(xp, x_c, a, b, al, be):
 
 def rocker_model(spec: RockerSpec) -> Rocker:
     """The SI :class:`Rocker` of a ``[valvetrain.rocker]`` table (mm, deg)."""
-    a = lambda x: jax.device_put(float(x))  # noqa: E731  (jnp.asarray compiles a program on first use)
+    a = device_array
     return Rocker(
         a(spec.cam_arm * M_PER_MM),
         a(spec.valve_arm * M_PER_MM),
@@ -211,7 +212,7 @@ def valvetrain_model(v: ValvetrainSpec, d: DynamicsSpec, peak_lift_mm: float = 0
     ct = 0.0 if math.isinf(kt) else damping_from_ratio(v.damping_ratio, kt, m_v)
     kf = math.inf if d.train_stiffness is None else TRANSLATING.rate_to_si(d.train_stiffness)
     cf = 0.0 if math.isinf(kf) else damping_from_ratio(d.train_damping_ratio, kf, m_c + m_v * r**2)
-    a = lambda x: jax.device_put(float(x))  # noqa: E731  (jnp.asarray compiles a program on first use)
+    a = device_array
     return ValvetrainModel(
         a(r),
         a(v.lash * M_PER_MM),

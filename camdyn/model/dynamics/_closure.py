@@ -37,6 +37,7 @@ import diffrax
 import jax.numpy as jnp
 import numpy as np
 import optimistix as optx
+from jax.typing import ArrayLike
 
 from ..._core.errors import NumericalError
 from ..._core.jit import filter_jit
@@ -210,13 +211,18 @@ def _impact(motion, model, omega, theta0, y0, side, gap, span):
     return flank_force(motion, model, omega, ts, sol.ys, side, gap), sol.result == diffrax.RESULTS.successful
 
 
+def _host(x: ArrayLike) -> np.ndarray:
+    """A compiled program's argument as a float64 numpy array: ``jnp.asarray`` outside a program compiles one of
+    its own."""
+    return np.asarray(x, dtype=float)
+
+
 def impact_force(motion: Motion, model: FollowerModel, omega: float, theta: float, y, side: float, gap: float):
     """The peak contact force (N, or N*m for an arm) of the impact of the follower landing at ``theta`` (rad) in
     state ``y`` (x, dx/dtheta; motion units) on the flank on ``side`` (+1 inner, -1 outer) of the groove ``gap``
     wide (motion units): the train's contact over one period of its contact mode, and the angle (rad) of the peak."""
     span = omega * TWO_PI / math.sqrt((float(model.stiffness) + float(model.train_stiffness)) / float(model.mass))
-    host = lambda x: np.asarray(x, dtype=float)  # noqa: E731  (jnp.asarray compiles a program on first use)
-    f, ok = _impact(motion, model, host(omega), host(theta), host(y), host(side), host(gap), host(span))
+    f, ok = _impact(motion, model, _host(omega), _host(theta), _host(y), _host(side), _host(gap), _host(span))
     f = np.abs(np.asarray(f))
     if not bool(ok) or not np.all(np.isfinite(f)):
         raise NumericalError(f"impact at {math.degrees(theta) % 360:.2f} deg", "the train's contact did not integrate")
@@ -258,17 +264,15 @@ def cross_gap(motion: Motion, model: FollowerModel, omega: float, theta0: float,
     units): the landing angle (rad, unwrapped), the relative speed there (motion units per rad, positive closing),
     whether the roller met the other flank (False: it came back onto the one it left) and its state there (x,
     dx/dtheta)."""
-    # numpy arguments and results: a jax.numpy operation outside a compiled program compiles one of its own
-    host = lambda x: np.asarray(x, dtype=float)  # noqa: E731
-    s0 = np.asarray(evaluate(motion, host(theta0)))
+    s0 = np.asarray(evaluate(motion, _host(theta0)))
     y0 = np.array([s0[0] - side * 0.5 * gap, s0[1]])
-    t1, y1, met = _cross(motion, model, host(omega), host(theta0), y0, host(side), host(gap))
+    t1, y1, met = _cross(motion, model, _host(omega), _host(theta0), y0, _host(side), _host(gap))
     if not bool(met):
         raise NumericalError(
             f"crossover at {math.degrees(theta0) % 360:.2f} deg", "the follower never met the other flank"
         )
     t1, y1 = float(t1), np.asarray(y1)
-    s1 = np.asarray(evaluate(motion, host(t1)))
+    s1 = np.asarray(evaluate(motion, _host(t1)))
     across = side * float(y1[0] - s1[0]) > 0.0  # on the far side of the pitch curve: the other flank
     return t1, abs(float(y1[1] - s1[1])), across, y1
 
