@@ -75,8 +75,8 @@ def test_programs_are_kept_per_fingerprint_and_unused_ones_removed(tmp_path, mon
 
 
 def test_prepare_compiles_without_running_and_threads_compile_at_once(tmp_path, monkeypatch):
-    """``prepare`` stores the program a later call runs (no second trace); two threads compiling at once leave
-    JAX's persistent-cache threshold as it was (each compile lifts it while it runs)."""
+    """``prepare`` stores the program a later call runs (no second trace); two threads compiling two programs at
+    once leave JAX's persistent-cache threshold as it was (each compile lifts it while it runs)."""
     import threading
 
     monkeypatch.setattr(programs, "_DIR", None)
@@ -87,16 +87,49 @@ def test_prepare_compiles_without_running_and_threads_compile_at_once(tmp_path, 
         traced.append(1)
         return 2.0 * x
 
-    fn = programs.cached_jit(double)
+    def triple(x):
+        traced.append(1)
+        return 3.0 * x
+
+    fns = programs.cached_jit(double), programs.cached_jit(triple)
     threshold = jax.config.jax_persistent_cache_min_compile_time_secs
-    both = [threading.Thread(target=fn.prepare, args=(np.ones(n),)) for n in (3, 4)]
+    both = [threading.Thread(target=fn.prepare, args=(np.ones(3),)) for fn in fns]
     for t in both:
         t.start()
     for t in both:
         t.join()
-    assert len(traced) == 2 and len(list(tmp_path.rglob("double-*.jaxprogram"))) == 2
+    assert len(traced) == 2 and len(list(tmp_path.rglob("*.jaxprogram"))) == 2
     assert jax.config.jax_persistent_cache_min_compile_time_secs == threshold
-    assert np.allclose(fn(np.arange(3.0)), [0.0, 2.0, 4.0]) and len(traced) == 2  # prepared: not traced again
+    assert np.allclose(fns[0](np.arange(3.0)), [0.0, 2.0, 4.0]) and len(traced) == 2  # prepared: not traced again
+
+
+def test_a_call_waits_for_the_head_start_that_loads_its_program(tmp_path, monkeypatch, capsys):
+    """A program prepared on another thread (``in_background``) while the caller reaches its first call is traced
+    and compiled once: the call waits for it instead of compiling it again. A head start that fails is ignored."""
+    import threading
+
+    monkeypatch.setattr(programs, "_DIR", None)
+    programs.enable(tmp_path)
+    traced, started = [], threading.Event()
+
+    def slow_double(x):
+        started.set()
+        traced.append(threading.current_thread().name)
+        threading.Event().wait(0.2)  # the trace takes a while: the caller arrives during it
+        return 2.0 * x
+
+    fn = programs.cached_jit(slow_double)
+    thread = programs.in_background(lambda: fn.prepare(np.ones(3)), "head-start")
+    assert started.wait(10.0)
+    assert np.allclose(fn(np.arange(3.0)), [0.0, 2.0, 4.0])
+    thread.join()
+    assert traced == ["head-start"] and len(list(tmp_path.rglob("slow_double-*.jaxprogram"))) == 1
+
+    def broken():
+        raise RuntimeError("no head start")
+
+    programs.in_background(broken, "broken").join()
+    assert capsys.readouterr().err == ""  # nothing raised, nothing printed
 
 
 class _Squared(eqx.Module):

@@ -328,6 +328,51 @@ def jit_with(fn: Callable, options: dict) -> Callable:
     return call
 
 
+def _load_or_compile(
+    root: Path, fn: Callable, jitted: Callable, options: dict, treedef, forms, is_array, static, avals
+) -> Callable:
+    """:func:`cached_jit`'s program for ``fn`` and these arguments: loaded from ``root``, or traced, compiled and
+    stored there (the plain ``jitted`` where it cannot be stored)."""
+    # the static part as the treedefs (structure, static fields) and the static leaves say it: an equinox
+    # module's own repr pretty-prints, a millisecond or more a program
+    text = repr((fn.__module__, fn.__qualname__, _fingerprint(), treedef, forms, is_array, static, avals))
+    text += repr(sorted(options.items())) if options else ""  # no options: the keys of before
+    name = hashlib.sha256(text.encode()).hexdigest()[:32]
+    file = _programs(root) / f"{fn.__name__}-{name}.{SUFFIX}"
+    program = _load(file)
+    if program is not None:
+        return program
+
+    def flat(*xs: Any) -> Any:
+        it, fixed = iter(xs), iter(static)
+        a, kw = _unflatten_forms(treedef, forms, [next(it) if b else next(fixed) for b in is_array])
+        return fn(*a, **kw)
+
+    try:
+        program, blob = _compile(flat, avals, name, options)
+    except Exception:  # e.g. a host callback, which cannot be serialized: plain jit
+        return jitted
+    _prune(root)
+    _save(file, blob)
+    return program
+
+
+def in_background(prepare: Callable[[], object], name: str) -> threading.Thread:
+    """``prepare()`` (a :func:`cached_jit` program's ``prepare``: its load or compile, which on a CPU releases the
+    interpreter) on a daemon thread named ``name`` while the caller computes what comes before the program's first
+    call; that call waits for it. A failure there is ignored: the first call loads or compiles as ever."""
+
+    def run() -> None:
+        try:
+            prepare()
+        except Exception:  # noqa: BLE001, S110  (only a head start)
+            pass
+
+    thread = threading.Thread(target=run, name=name, daemon=True)
+    thread.start()
+    return thread
+
+
 def cached_jit(fn: Callable[..., T], compiler_options: tuple[tuple[str, Any], ...] = ()) -> Callable[..., T]:
     """:func:`filter_jit` whose traced programs persist across processes once :func:`enable` is called.
     ``compiler_options``: XLA options as (name, value) pairs, for every compile of ``fn``, cached or not (and
@@ -335,6 +380,9 @@ def cached_jit(fn: Callable[..., T], compiler_options: tuple[tuple[str, Any], ..
     options = dict(compiler_options)
     jitted = jit_with(fn, options)
     programs: dict = {}
+    # one load or compile at a time: a caller that arrives while another thread loads the program (a head start,
+    # :func:`in_background`) waits for it instead of loading it a second time
+    loading = threading.RLock()
 
     def program_for(tree: tuple) -> tuple[Callable, list] | None:
         """The program for these (args, kwargs), compiled or loaded, and their array leaves; None where the plain
@@ -356,28 +404,11 @@ def cached_jit(fn: Callable[..., T], compiler_options: tuple[tuple[str, Any], ..
             key = repr((treedef, forms, is_array, static, avals))
             program = programs.get(key)
         if program is None:
-            # the static part as the treedefs (structure, static fields) and the static leaves say it: an equinox
-            # module's own repr pretty-prints, a millisecond or more a program
-            text = repr((fn.__module__, fn.__qualname__, _fingerprint(), treedef, forms, is_array, static, avals))
-            text += repr(sorted(options.items())) if options else ""  # no options: the keys of before
-            name = hashlib.sha256(text.encode()).hexdigest()[:32]
-            file = _programs(root) / f"{fn.__name__}-{name}.{SUFFIX}"
-            program = _load(file)
-            if program is None:
-
-                def flat(*xs: Any) -> Any:
-                    it, fixed = iter(xs), iter(static)
-                    a, kw = _unflatten_forms(treedef, forms, [next(it) if b else next(fixed) for b in is_array])
-                    return fn(*a, **kw)
-
-                try:
-                    program, blob = _compile(flat, avals, name, options)
-                except Exception:  # e.g. a host callback, which cannot be serialized: plain jit
-                    program = jitted
-                else:
-                    _prune(root)
-                    _save(file, blob)
-            programs[key] = program
+            with loading:
+                program = programs.get(key) or _load_or_compile(
+                    root, fn, jitted, options, treedef, forms, is_array, static, avals
+                )
+                programs[key] = program
         return program, arrays
 
     @functools.wraps(fn)

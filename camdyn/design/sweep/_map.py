@@ -11,6 +11,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from ..._core.errors import InputError, NumericalError
+from ..._core.jit import in_background
 from ..._core.progress import Progress, counter
 from ..._core.sharding import accelerated, prepare_batched, run_batched
 from ..._core.units import RPM, TWO_PI
@@ -154,20 +155,13 @@ def _gap_const_like(base) -> tuple:
 def _prepare_gaps(base, devices) -> threading.Thread:
     """A thread that compiles (or loads) the exact gap stepping's program while this one evaluates the motion and
     the steady state (a compile of about a second on a CPU, most of a first map's time). Its key depends on the
-    follower kind and the shapes only, so it is known before anything is computed. A failure there is ignored: the
-    first call compiles it as ever."""
-
-    def prepare():
-        try:
-            kernel = gap_kernel(accelerated(devices))
-            point = [np.ones(1), np.ones(1)]
-            prepare_batched(kernel, _gap_const_like(base), point, GAP_CHUNK, devices, False, XLA_OPTIONS)
-        except Exception:  # noqa: BLE001, S110  (only a head start: the map compiles what it needs itself)
-            pass
-
-    thread = threading.Thread(target=prepare, name="camdyn-prepare-gaps", daemon=True)
-    thread.start()
-    return thread
+    follower kind and the shapes only, so it is known before anything is computed."""
+    kernel = gap_kernel(accelerated(devices))
+    point = [np.ones(1), np.ones(1)]
+    return in_background(
+        lambda: prepare_batched(kernel, _gap_const_like(base), point, GAP_CHUNK, devices, False, XLA_OPTIONS),
+        "camdyn-prepare-gaps",
+    )
 
 
 def _notes(gaps: bool, separated, gap, why: dict[int, str]) -> tuple[str, ...]:

@@ -36,7 +36,7 @@ from ._train import contact_force, preload_share, static_position, train_force
 from ._valvefast import ValveSummary, fast_valve_summary
 from ._valvepoint import ValvePoint, bounce_speed, float_speed, valve_scan_speeds
 from ._valveresponse import ValveEvent, ValvetrainResponse
-from ._valvetrain import valvetrain_response
+from ._valvetrain import prepare_valvetrain, valvetrain_response
 
 __all__ = [
     "ClosureResponse",
@@ -47,6 +47,7 @@ __all__ = [
     "Separation",
     "closure_response",
     "preload_shares",
+    "prepare_valvetrain",
     "compliant_response",
     "contact_force",
     "dynamic_jump_speed",

@@ -199,6 +199,34 @@ _conditions_jit = cached_jit(_conditions)
 _state_jit = cached_jit(_state)
 
 
+def _jump_angles(motion: Motion) -> np.ndarray:
+    """The motion's segment boundaries (rad) over every revolution a response marches: the stretches' jump times."""
+    breaks = np.deg2rad(np.asarray(motion.breaks_deg, dtype=float))
+    jumps = np.sort((breaks[None, :] + TWO_PI * np.arange(-1, _REVS + 2)[:, None]).ravel())
+    return jumps if jumps.size else np.asarray([-1.0])
+
+
+def _state_size(vt: ValvetrainModel) -> int:
+    """The two-mass state's length: follower and valve (position and velocity), and the spring's inner lumps."""
+    return 4 + (0 if vt.coils is None else 2 * (vt.coils.count - 1))
+
+
+def _first_modes(vt: ValvetrainModel) -> np.ndarray:
+    """The contacts' modes at rest (cam contact locked where it is rigid, the train free, the valve seated)."""
+    return np.array([vt.rigid_cam, False, True])
+
+
+def prepare_valvetrain(motion: Motion, vt: ValvetrainModel, n: int = THETA_GRID) -> None:
+    """Load (or compile) the stored programs :func:`valvetrain_response` starts with, for ``motion`` and ``vt`` on
+    ``n`` angles, without running them: the stretch's (a 1.6 MB executable: 0.16 s of a warm valvetrain ``check``
+    on a CPU) and the contacts' conditions. For a head start on another thread
+    (:func:`camdyn._core.jit.in_background`)."""
+    one, y = np.asarray(1.0), np.zeros(_state_size(vt))
+    args = (motion, vt, one, _first_modes(vt), one)
+    _stretch.prepare(*args, one, one, y, _jump_angles(motion), np.zeros(n))  # pyright: ignore[reportFunctionMemberAccess]
+    _conditions_jit.prepare(one, y, args)  # pyright: ignore[reportFunctionMemberAccess]
+
+
 def landing_floor(vt: ValvetrainModel, omega: float) -> float:
     """The valve's rebound speed (m/rad) at or below which the seat holds it: its bounces below are the landing
     tolerance's own (the Zeno tail)."""
@@ -245,14 +273,12 @@ def valvetrain_response(motion: Motion, vt: ValvetrainModel, omega: float, n: in
     r = float(vt.ratio)
     rigid_cam, rigid_train = vt.rigid_cam, vt.rigid_train
     force_tol = np.asarray(1e-6 * max(1.0, r * float(vt.preload)))
-    breaks = np.deg2rad(np.asarray(motion.breaks_deg, dtype=float))
-    jumps = np.sort((breaks[None, :] + TWO_PI * np.arange(-1, _REVS + 2)[:, None]).ravel())
-    jumps = jumps if jumps.size else np.asarray([-1.0])
+    jumps = _jump_angles(motion)
     # the rest state: the valve seated, the follower on the cam, pressed into a compliant contact by the tappet force
     deflect = 0.0 if rigid_cam else float(vt.tappet_force) / float(vt.cam.train_stiffness)
-    coils = 0 if vt.coils is None else 2 * (vt.coils.count - 1)  # the spring's inner lumps, at rest
-    y = np.concatenate([[s_si[i0] - deflect, vals[1][i0] * M_PER_MM, 0.0, 0.0], np.zeros(coils)])
-    modes = np.array([rigid_cam, False, True])
+    y = np.zeros(_state_size(vt))  # the spring's inner lumps at rest
+    y[:2] = s_si[i0] - deflect, vals[1][i0] * M_PER_MM
+    modes = _first_modes(vt)
     out = np.zeros((6, n))
     seated = np.ones(n, bool)
     v_floor = landing_floor(vt, float(omega))
