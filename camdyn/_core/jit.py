@@ -28,6 +28,7 @@ synthesis: its programs alone take 0.3 s to load), keyed like the programs.
 
 from __future__ import annotations
 
+import atexit
 import contextlib
 import functools
 import hashlib
@@ -370,6 +371,7 @@ def in_background(prepare: Callable[[], object], name: str) -> threading.Thread:
 
     thread = threading.Thread(target=run, name=name, daemon=True)
     thread.start()
+    atexit.register(thread.join)  # a caller that ends first (an error) does not tear XLA down under it
     return thread
 
 
