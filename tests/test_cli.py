@@ -212,6 +212,22 @@ def test_sharp_square_gets_the_corner_radius_that_passes(capsys, tmp_path, monke
     assert fails < 5.0 < passes <= 20.0 and force >= 2.0  # the shipped 5 mm fillets pass; min_contact_force 2 N
 
 
+def test_only_batched_commands_reach_for_an_accelerator(capsys, tmp_path, monkeypatch):
+    """``sweep`` and ``tolerance`` run on every device JAX finds; every other command on the CPU (JAX_PLATFORMS=cpu
+    before JAX loads: a GPU's start alone is longer than a check), unless the user set JAX_PLATFORMS."""
+    import os
+
+    from camdyn.cli import BATCHED_COMMANDS
+
+    assert BATCHED_COMMANDS == {"sweep", "tolerance"}
+    monkeypatch.delenv("JAX_PLATFORMS", raising=False)
+    sweep = ["sweep", LECTURE, "--speeds", "200:300:2", "--spring-rates", "1:2:2", "-o", tmp_path, "--quiet"]
+    assert run(capsys, *sweep)[0] == 0 and "JAX_PLATFORMS" not in os.environ
+    assert run(capsys, "table", LECTURE, "--step", "30")[0] == 0 and os.environ["JAX_PLATFORMS"] == "cpu"
+    monkeypatch.setenv("JAX_PLATFORMS", "cuda,cpu")
+    assert run(capsys, "table", LECTURE, "--step", "30")[0] == 0 and os.environ["JAX_PLATFORMS"] == "cuda,cpu"
+
+
 def test_long_runs_say_each_phase_on_a_pipe_unless_quiet(capsys, tmp_path):
     """Where stderr is no terminal (a pipe, a log, CI), a long command still says what it is doing, one line per
     phase; --quiet silences it (issue 23)."""

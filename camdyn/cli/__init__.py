@@ -22,6 +22,12 @@ from typing import NoReturn
 
 from .._core.units import DEFAULT_PROFILE_TOLERANCE_MM, MAX_SPEED_RPM
 
+# The commands whose work is one batch an accelerator speeds up (a jump map, a Monte Carlo study): they run on every
+# device JAX finds. Every other command is one small solve after another, where a GPU's start (CUDA and its memory,
+# 1.3 s on an H100 machine before the first program) and its kernel launches cost more than they save: those run on
+# the CPU. JAX_PLATFORMS, where the user sets it, decides for every command.
+BATCHED_COMMANDS = frozenset({"sweep", "tolerance"})
+
 
 def _version() -> str:
     try:
@@ -446,6 +452,8 @@ def _command(argv: list[str] | None) -> int:
     source = getattr(args, "case", "") or ""
     try:
         _validate(args)
+        if args.command not in BATCHED_COMMANDS:
+            os.environ.setdefault("JAX_PLATFORMS", "cpu")  # before JAX loads: it reads it then
         from .._core.precision import enable_x64  # loads JAX: only once the input is known to be valid
 
         enable_x64()  # before any model module loads: camdyn's models compute in float64
