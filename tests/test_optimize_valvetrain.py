@@ -24,12 +24,13 @@ from scipy.optimize import linprog
 from camdyn import InputError
 from camdyn._core.units import M_PER_MM, RPM
 from camdyn.cli import main
+from camdyn.design.optimize._rows import Rows
 from camdyn.design.optimize._shape import flank_space
 from camdyn.design.optimize._valvetrain import ValveFacts, valve_refusals
 from camdyn.model.case import case_from_dict, load_case
-from camdyn.model.dynamics import linear_min_force, steady_state, valvetrain_response
+from camdyn.model.dynamics import linear_min_force, train_force, valvetrain_response
 from camdyn.model.motion import Program, evaluate
-from camdyn.model.valvetrain import ValvetrainModel, equivalent_follower, event_follower
+from camdyn.model.valvetrain import ValvetrainModel, equivalent_follower, event_follower, lift_off
 
 ROOT = Path(__file__).resolve().parents[1]
 VALVETRAIN = ROOT / "cases" / "valvetrain.toml"
@@ -168,32 +169,33 @@ def test_an_end_not_at_rest_has_the_velocity_its_control_points_give():
 # ------------------------------------------------------------------------------------- the surrogate
 @pytest.mark.slow  # compiles the two-mass diffrax model
 def test_the_event_follower_is_the_two_mass_model_in_contact():
-    """At 3000 rpm (no float) the surrogate's cam force (the valve side's steady state through the train, plus the
-    cam side's m_c s'' w^2) is the two-mass diffrax model's over the valve event, once the ringing of the lash's
-    take-up (a plastic impact at 52 deg, damped at 5 % of the train's 1.7 kHz) has died down: from 120 deg on, to
-    5 % of the peak force (0.5 % past 200 deg). Before, the surrogate, which has no lash, misses that ringing."""
+    """Below the float speed the surrogate's cam force (the valve side on the train: its steady state, and the free
+    vibration from where the valve leaves its seat at rest on the opening ramp; plus the cam side's m_c s'' w^2 and
+    the tappet force) is the two-mass diffrax model's over the whole valve event, to 1 N in forces of 1-2 kN. The
+    steady state alone misses the ringing the lift-off sets off (the train's 1.7 kHz, damped at 5 %) by hundreds of
+    newtons and called the least force 150-210 N higher than it is (the one ``optimize`` held its valvetrains to
+    before)."""
     case = load_case(VALVETRAIN)
     vt = vt_of(case)
     surrogate, cam_mass = event_follower(vt)
     assert cam_mass == pytest.approx(0.12) and float(surrogate.mass) == pytest.approx(0.07 * 1.6**2)
     assert float(surrogate.train_stiffness) == pytest.approx(8e6 * 1.6**2)
-    w = 3000 * RPM
-    r = valvetrain_response(case.motion, vt, w)
-    theta = np.radians(r.theta_deg)
-    s = case.motion.host(theta)
-    x, x1 = eqx.filter_jit(steady_state)(  # compiled: eager jax.numpy compiles a program per operation
-        jnp.asarray(np.fft.rfft(s[0] * M_PER_MM)), w, surrogate, surrogate.stiffness, surrogate.damping, len(theta)
-    )
-    force = float(surrogate.train_stiffness) * (s[0] * M_PER_MM - np.asarray(x)) + float(
-        surrogate.train_damping
-    ) * w * (s[1] * M_PER_MM - np.asarray(x1))
-    force = force + cam_mass * w**2 * s[2] * M_PER_MM
-    deg = r.theta_deg
-    event = r.in_event & (deg > 120.0) & (deg < 285.0)
-    peak = np.abs(r.cam_force[r.in_event]).max()
-    assert np.max(np.abs(force[event] - r.cam_force[event])) < 0.05 * peak
-    late = r.in_event & (deg > 200.0) & (deg < 285.0)
-    assert np.max(np.abs(force[late] - r.cam_force[late])) < 5e-3 * peak
+    assert lift_off(vt) == pytest.approx((0.2e-3 / 1.6, 300.0 * 1.6))
+    space = flank_space(case)
+    s = case.motion.host(space.theta) * M_PER_MM  # the case's own flanks, not their fit
+    for rpm, missed in ((3000.0, 180.0), (5000.0, 120.0)):
+        w = rpm * RPM
+        r = valvetrain_response(case.motion, vt, w)
+        event = r.in_event
+        forces = []
+        for seat in (lift_off(vt), None):
+            rows = Rows(replace(case, model=surrogate), space, 0.0, cam_mass, float(vt.tappet_force), lift_off=seat)
+            x, x1 = eqx.filter_jit(rows.kernel.in_contact)(surrogate, w, jnp.asarray(s[0]), jnp.asarray(s[1]))
+            f = np.asarray(train_force(surrogate, w, s[0], s[1], x, x1)) + cam_mass * w**2 * s[2] + vt.tappet_force
+            forces.append(np.interp(r.theta_deg, np.degrees(space.theta), f))
+        exact, steady = (f[event] - r.cam_force[event] for f in forces)
+        assert np.max(np.abs(exact)) < 1.0, rpm
+        assert np.max(np.abs(steady)) > 190.0 and np.min(forces[1][event]) - np.min(r.cam_force[event]) > missed
     rigid = dict(RAW["valvetrain"])
     rigid.pop("stiffness")
     rigid_case = case_from_dict(copy.deepcopy(RAW) | {"valvetrain": rigid})

@@ -314,13 +314,21 @@ def ramp_join_warnings(theta_deg: np.ndarray, lift: np.ndarray, ramp_velocity: f
     return out
 
 
+def lift_off(vt: ValvetrainModel) -> tuple[float, float]:
+    """Where :func:`event_follower`'s follower sits while the valve is seated (m: the lash at the cam, ``lash / r``)
+    and the train's force on it that lifts the valve off its seat (N: the preload at the cam, ``F0 r``)."""
+    r = float(vt.ratio)
+    return float(vt.lash) / r, float(vt.preload) * r
+
+
 def event_follower(vt: ValvetrainModel) -> tuple[FollowerModel, float]:
     """The single follower that stands for a valvetrain over its event (the lash taken up, a constant ratio r), and
     the mass (kg) that moves with the cam beside it. The valve spring is ``k r^2`` with the preload it has at the
     valve's lift, ``(F0 - k lash) r``; the tappet force is left to the caller (it loads the cam, not the valve).
     A rigid train is the equivalent follower; a compliant train on a rigid cam contact is the valve on the train
     reduced to the cam (mass m_v r^2, train k_t r^2 and c_t r^2), the cam side's m_c moving with the cam beside it
-    (the cam's force is the train's plus m_c s'' w^2: exact in contact); a compliant train on a compliant cam
+    (the cam's force is the train's plus m_c s'' w^2: exact in contact, with the valve's start from rest on its seat
+    where it lifts off, :func:`lift_off`); a compliant train on a compliant cam
     contact, the whole mass on the two contacts in series."""
     r = vt.ratio
     eq = equivalent_follower(vt)

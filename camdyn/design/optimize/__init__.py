@@ -4,7 +4,8 @@ differentiated through the frequency-domain steady state by JAX (never by finite
 a linear program (:mod:`._slp`); the answer is then checked by ``check``'s own models, the time-domain
 diffrax model included. A valvetrain keeps its ramps and its valve's timing: only the flanks between the ramps
 are reshaped (:func:`._shape.flank_space`), on the valve event's single follower (the valve on the compliant
-train, :func:`camdyn.model.valvetrain.event_follower`), and the answer is judged by the
+train, :func:`camdyn.model.valvetrain.event_follower`, from rest on its seat where it lifts off:
+:meth:`._rows.RowsKernel.in_contact`), and the answer is judged by the
 two-mass model's float and bounce speeds and seating velocity (``check``'s), none of which may come out worse."""
 
 from __future__ import annotations
@@ -22,7 +23,7 @@ from ..._core.units import RPM
 from ...model.case import Case, build_case
 from ...model.dynamics import linear_min_force
 from ...model.motion import evaluate
-from ...model.valvetrain import event_follower
+from ...model.valvetrain import event_follower, lift_off
 from ...schema import CaseSpec
 from ...schema.dynamics import dynamics_keys
 from ..checks import CheckReport, run_check
@@ -215,7 +216,9 @@ def optimize_case(
     rows = Rows(case, space, margin)
     if case.valvetrain is not None:  # the event's single follower: the train's compliance, the lash taken up
         surrogate, cam_mass = event_follower(case.valvetrain)
-        rows = Rows(replace(case, model=surrogate), space, margin, cam_mass, float(case.valvetrain.tappet_force))
+        seat = None if case.valvetrain.rigid_train else lift_off(case.valvetrain)  # a rigid train has no ringing
+        tappet = float(case.valvetrain.tappet_force)
+        rows = Rows(replace(case, model=surrogate), space, margin, cam_mass, tappet, lift_off=seat)
         rows = replace(rows, seating=seating_rows(rows, before_check, speed_rpm))
     before = metrics(case, before_check, margin)
     rpm = float(speed_rpm if speed_rpm is not None else case.speed_rpm)

@@ -58,8 +58,8 @@ class Optimization:
         checked = "the time-domain (diffrax) model"
         if self.valvetrain is not None:
             aim += (
-                " on the valve event's single follower (the valve on the compliant train, the cam side moving with "
-                "the cam), the valve closing no faster where it seats"
+                " on the valve event's single follower (the valve on the compliant train from rest on its seat, the "
+                "cam side moving with the cam), the valve closing no faster where it seats"
             )
             checked = "the two-mass (diffrax) valvetrain model, least cam force over the valve event,"
         made = (

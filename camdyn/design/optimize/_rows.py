@@ -19,7 +19,7 @@ from jax.typing import ArrayLike
 from ..._core.jit import cached_jit
 from ..._core.units import newton_per_torque
 from ...model.case import Case
-from ...model.dynamics import kinematic_force_of, steady_state, train_force
+from ...model.dynamics import free_vibration, kinematic_force_of, steady_state, train_force
 from ...model.follower import FollowerModel
 from ...model.geometry import curvature_limit, geometry_of
 from ...schema import FollowerSpec
@@ -60,6 +60,9 @@ class RowsKernel(eqx.Module):
     # rad/s, ratio, the most m/s)
     seating_idx: np.ndarray | None = None
     seating: tuple[float, float, float] | None = eqx.field(static=True, default=None)
+    # and where its valve lifts off: the follower's position with the valve seated (m) and the train's force that
+    # lifts it (N), :func:`camdyn.model.valvetrain.lift_off`
+    lift_off: tuple[float, float] | None = eqx.field(static=True, default=None)
 
     def values(self, z: np.ndarray | jax.Array) -> jax.Array:
         return motion_values(self.offset, self.matrix, z)
@@ -74,17 +77,52 @@ class RowsKernel(eqx.Module):
         if self.rigid:
             force = kinematic_force_of(model, omegas[:, None], s, s1, s2)
         else:
-            spec = jnp.fft.rfft(s)
-            n = s.shape[0]
 
             def one(w: float | jax.Array) -> jax.Array:
-                x, x1 = steady_state(spec, w, model, model.stiffness, model.damping, n)
-                return train_force(model, w, s, s1, x, x1)
+                return train_force(model, w, s, s1, *self.in_contact(model, w, s, s1))
 
             force = jax.vmap(one)(omegas)
         if self.cam_mass or self.cam_load:
             force = force + self.cam_mass * omegas[:, None] ** 2 * s2 + self.cam_load
         return force
+
+    def in_contact(
+        self, model: FollowerModel, w: float | jax.Array, s: jax.Array, s1: jax.Array
+    ) -> tuple[jax.Array, jax.Array]:
+        """The follower's x and dx/dtheta (m) on the grid at cam speed ``w`` (rad/s) for the lift ``s``, ``s1`` (m): the
+        periodic steady state in contact (frequency domain), and for a valvetrain's event the valve's lift from rest
+        on its seat (:meth:`_from_lift_off`)."""
+        x, x1 = steady_state(jnp.fft.rfft(s), w, model, model.stiffness, model.damping, s.shape[0])
+        if self.lift_off is None:
+            return x, x1
+        h, h1 = self._from_lift_off(model, w, s, s1, x, x1)
+        return x + h, x1 + h1
+
+    def _from_lift_off(
+        self, model: FollowerModel, w: float | jax.Array, s: jax.Array, s1: jax.Array, x: jax.Array, x1: jax.Array
+    ) -> tuple[jax.Array, jax.Array]:
+        """What a valvetrain's event adds to the periodic steady state ``x``, ``x1``: the valve leaves its seat at rest
+        where the train's force on it reaches the preload (on the opening ramp), while the steady state has it
+        moving there, so the free vibration of the difference rings on through the event (the train's mode: at
+        engine speeds a hundred newtons and more on the cam). Exact in contact: the steady state plus the free motion
+        from the state the seat imposes at lift-off. Linear in the lift, as the rows need it. Zero before lift-off
+        (the base circle and the lash ramp, where the steady state stands as before)."""
+        assert self.lift_off is not None  # a valvetrain's rows (in_contact asks)
+        x_seat, f_lift = self.lift_off
+        seated = model.train_stiffness * (s - x_seat) + model.train_damping * w * s1  # the train on the seated valve
+        up = seated >= f_lift
+        i = jnp.maximum(jnp.argmax(up), 1)  # the first grid angle past lift-off (the grid starts on the base circle)
+        u = jnp.clip((f_lift - seated[i - 1]) / (seated[i] - seated[i - 1]), 0.0, 1.0)  # where between, linearly
+        theta = jnp.asarray(self.theta)
+        at = theta[i - 1] + u * (theta[i] - theta[i - 1])
+        h0 = x_seat - (x[i - 1] + u * (x[i] - x[i - 1]))
+        h1 = -(x1[i - 1] + u * (x1[i] - x1[i - 1]))
+        mw2 = model.mass * w**2
+        a = (model.train_stiffness + model.stiffness) / mw2
+        b = (model.train_damping + model.damping) * w / mw2
+        after = (theta >= at) & jnp.any(up)
+        e00, e01, e10, e11 = free_vibration(a, b, jnp.where(after, theta - at, 0.0))
+        return jnp.where(after, e00 * h0 + e01 * h1, 0.0), jnp.where(after, e10 * h0 + e11 * h1, 0.0)
 
     def slack(self, z: np.ndarray | jax.Array, omegas: jax.Array, preload: ArrayLike | None = None) -> jax.Array:
         """:meth:`forces` over the least to keep (N; N*m for an arm): >= 0 where both the margin and the check's
@@ -122,8 +160,8 @@ class RowsKernel(eqx.Module):
         assert self.seating is not None  # a valvetrain's rows
         omega, ratio, _ = self.seating
         model = self.model
-        s = self.values(z)[0] * model.scale
-        _, x1 = steady_state(jnp.fft.rfft(s), omega, model, model.stiffness, model.damping, s.shape[0])
+        sv = self.values(z)
+        _, x1 = self.in_contact(model, omega, sv[0] * model.scale, sv[1] * model.scale)
         return -ratio * omega * x1[self.seating_idx]
 
     def sampled_slack(self, z: jax.Array, speeds: jax.Array, preload: ArrayLike | None) -> jax.Array:
@@ -161,6 +199,7 @@ class Rows:
     cam_load: float = 0.0
     # and the valve's closing speed held: (cam speed rad/s, ratio, grid angles around its seating, the most m/s)
     seating: tuple[float, float, np.ndarray, float] | None = None
+    lift_off: tuple[float, float] | None = None  # and where its valve lifts off (RowsKernel.lift_off)
 
     @property
     def scale(self) -> float:
@@ -192,6 +231,7 @@ class Rows:
             seating=None
             if self.seating is None
             else (float(self.seating[0]), float(self.seating[1]), float(self.seating[3])),
+            lift_off=self.lift_off,
         )
 
     def forces(self, z: np.ndarray | jax.Array, omegas: jax.Array, preload: ArrayLike | None = None) -> jax.Array:

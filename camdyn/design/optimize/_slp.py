@@ -1,6 +1,7 @@
 """Sequential linear programming: each step maximizes a linear model of the objective (the least contact force
 over sampled speeds and angles, or a residual vibration, or a preload) under the linearized geometry limits
-within a trust region, with HiGHS (``scipy.optimize.linprog``). The Jacobians are JAX autodiff (forward mode:
+within a trust region, with HiGHS (``highspy``: its rows generated in rounds, each round re-solved from the last
+round's basis). The Jacobians are JAX autodiff (forward mode:
 a few dozen control points); in contact the force is exactly linear in the control points, so for a
 translating follower only the geometry is linearized."""
 
@@ -8,17 +9,19 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, NamedTuple
 
+import highspy
 import jax
 import jax.numpy as jnp
 import numpy as np
 import numpy.typing as npt
-from scipy.optimize import linprog
+from highspy._core import _Highs  # highspy.__all__ exports it; its stub names it here only
 
 _MAX_STEPS = 30
 _FIRST_ROWS = 200  # rows of a linear program's first round
 _ADDED_ROWS = 100  # rows joining it per round at most, the most broken first
+_TIE = 1e-7  # the least move's weight (of the objective's scale) per half-width of the trust region moved
 _PENALTY = 1e3  # merit per unit of scaled geometry violation, relative to the objective's own scale
 
 
@@ -52,12 +55,76 @@ def _matvec(a: np.ndarray, x: np.ndarray) -> np.ndarray:
     return np.einsum("ij,j->i", a, x)
 
 
-def _linear_step(v, Jv, g, Jg, bounds, seed=None):
+OPTIMAL, INFEASIBLE, FAILED = 0, 2, 4  # an answer's status (scipy's ``linprog`` codes)
+
+
+class Answer(NamedTuple):
+    """A linear program's answer: its status (:data:`OPTIMAL`, :data:`INFEASIBLE` or :data:`FAILED`) and the
+    variables (NaN unless optimal)."""
+
+    status: int
+    x: np.ndarray
+
+
+class _Program:
+    """``min cost @ x`` subject to rows ``a @ x <= b`` added in rounds, within bounds on ``x``; each :meth:`solve`
+    starts from the basis of the last (HiGHS' dual simplex: the rows a round adds cost a few pivots, where a new
+    program would start over: a fifth of the time of ``scipy.optimize.linprog`` on ``optimize``'s programs)."""
+
+    def __init__(self, cost: np.ndarray, lower: np.ndarray, upper: np.ndarray) -> None:
+        # the binding's class: highspy.Highs adds Python callbacks and prints HiGHS' banner on stdout (where a
+        # --json document goes)
+        self._h = _Highs()
+        self._h.setOptionValue("output_flag", False)
+        self._n = cost.size
+        self._h.addVars(self._n, lower, upper)
+        self._h.changeColsCost(self._n, np.arange(self._n, dtype=np.int32), cost)
+
+    def add(self, a: np.ndarray, b: np.ndarray) -> None:
+        """The rows ``a @ x <= b`` (dense)."""
+        m = a.shape[0]
+        if m:
+            starts = np.arange(m, dtype=np.int32) * self._n
+            index = np.tile(np.arange(self._n, dtype=np.int32), m)
+            self._h.addRows(m, np.full(m, -np.inf), b, m * self._n, starts, index, np.ravel(a))
+
+    def solve(self) -> Answer:
+        self._h.run()
+        status = self._h.getModelStatus()
+        if status == highspy.HighsModelStatus.kOptimal:
+            return Answer(OPTIMAL, np.asarray(self._h.getSolution().col_value))
+        code = INFEASIBLE if status == highspy.HighsModelStatus.kInfeasible else FAILED
+        return Answer(code, np.full(self._n, np.nan))
+
+
+def _split_bounds(lower: np.ndarray, upper: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Bounds of ``(p, q)`` with ``dx = p - q``, ``p, q >= 0``, for ``lower <= dx <= upper``."""
+    return np.r_[np.maximum(lower, 0.0), np.maximum(-upper, 0.0)], np.r_[
+        np.maximum(upper, 0.0), np.maximum(-lower, 0.0)
+    ]
+
+
+def _least_violation(Jg: np.ndarray, g: np.ndarray, lower: np.ndarray, upper: np.ndarray, tie: np.ndarray) -> Answer:
+    """The step ``dx`` within the bounds that breaks the linearized limits ``g + Jg dx <= 0`` least, the least
+    move (``tie`` per unit of ``|dx|``) among them: variables (p, q, s), dx = p - q, minimize s with
+    g + Jg dx <= s, s >= 0. Its ``x`` is (dx, s)."""
+    n = Jg.shape[1]
+    lo, hi = _split_bounds(lower, upper)
+    lp = _Program(np.r_[tie, tie, 1.0], np.r_[lo, 0.0], np.r_[hi, np.inf])
+    lp.add(np.c_[Jg, -Jg, -np.ones(g.size)], -g)
+    answer = lp.solve()
+    return Answer(answer.status, np.r_[answer.x[:n] - answer.x[n : 2 * n], answer.x[-1]])
+
+
+def _linear_step(v, Jv, g, Jg, bounds, seed=None, tie=0.0) -> tuple[Answer, tuple | None]:
     """The linear program of one step, variables (dx, t): maximize t with v + Jv dx >= t, g + Jg dx <= 0 within
-    ``bounds``; where the linearized limits cannot be met there, the least violation instead. Rows are
+    ``bounds``; where the linearized limits cannot be met there, the least violation instead. Of the steps that
+    reach the best t, the least move: ``tie`` (units of t) per half-width of the box moved in a variable, so the
+    answer does not depend on which of a degenerate program's optimal vertices the simplex ends at. Rows are
     generated: HiGHS sees the lowest rows (and ``seed``'s, the rows that bound the previous step) first, and the
-    rows the answer breaks most join until none is broken (the answer is that of the whole program). Returns
-    the program's answer and the rows that bound it (the next step's ``seed``)."""
+    rows the answer breaks most join, re-solved from the last basis, until none is broken (the answer is that of
+    the whole program). Returns the program's answer, its ``x`` (dx, t), and the rows that bound it (the next
+    step's ``seed``)."""
     n = Jv.shape[1]
     lo_dx = np.array([b[0] for b in bounds])
     hi_dx = np.array([b[1] for b in bounds])
@@ -73,22 +140,21 @@ def _linear_step(v, Jv, g, Jg, bounds, seed=None):
     if seed is not None:
         kv = np.union1d(kv, np.nonzero(np.isin(kv_all, seed[0]))[0])
         kg = np.union1d(kg, np.nonzero(np.isin(kg_all, seed[1]))[0])
+    move = np.divide(tie, half, out=np.zeros(n), where=half > 0)
+    lo, hi = _split_bounds(lo_dx, hi_dx)
+    lp = _Program(np.r_[move, move, -1.0], np.r_[lo, -np.inf], np.r_[hi, np.inf])
+    new_v, new_g = kv, kg
+    answer = Answer(FAILED, np.full(n + 1, np.nan))
     for _ in range(50):
-        A = np.vstack([np.c_[-Jv_all[kv], np.ones(kv.size)], np.c_[Jg_all[kg], np.zeros(kg.size)]])
-        lp = linprog(
-            np.r_[np.zeros(n), -1.0],
-            A_ub=A,
-            b_ub=np.r_[v_all[kv], -g_all[kg]],
-            bounds=bounds + [(None, None)],
-            method="highs",
-        )
-        if lp.status == 2:  # the linearized geometry cannot be met in this region: least violation instead
-            A2 = np.c_[Jg_all, -np.ones(kg_all.size)]
-            lp = linprog(np.r_[np.zeros(n), 1.0], A_ub=A2, b_ub=-g_all, bounds=bounds + [(0, None)], method="highs")
-            return lp, None
-        if lp.status != 0:
-            return lp, None
-        dx, t = lp.x[:n], lp.x[-1]
+        lp.add(np.c_[-Jv_all[new_v], Jv_all[new_v], np.ones(new_v.size)], v_all[new_v])
+        lp.add(np.c_[Jg_all[new_g], -Jg_all[new_g], np.zeros(new_g.size)], -g_all[new_g])
+        answer = lp.solve()
+        if answer.status == INFEASIBLE:  # the linearized geometry cannot be met in this region: least violation
+            return _least_violation(Jg_all, g_all, lo_dx, hi_dx, move), None
+        dx, t = answer.x[:n] - answer.x[n : 2 * n], answer.x[-1]
+        answer = Answer(answer.status, np.r_[dx, t])
+        if answer.status != OPTIMAL:
+            return answer, None
         over_v = (v_all + _matvec(Jv_all, dx)) - t  # < 0: broken
         over_g = g_all + _matvec(Jg_all, dx)  # > 0: broken
         broken_v = np.nonzero(over_v < -1e-9 * max(1.0, abs(t)))[0]
@@ -98,11 +164,12 @@ def _linear_step(v, Jv, g, Jg, bounds, seed=None):
         if new_v.size == 0 and new_g.size == 0:
             bind_v = kv[over_v[kv] <= 1e-9 * max(1.0, abs(t))]
             bind_g = kg[over_g[kg] >= -1e-12]
-            return lp, (kv_all[bind_v], kg_all[bind_g])
+            return answer, (kv_all[bind_v], kg_all[bind_g])
         # the most broken first: fewer rounds of smaller programs
-        kv = np.union1d(kv, new_v[np.argsort(over_v[new_v])][:_ADDED_ROWS])
-        kg = np.union1d(kg, new_g[np.argsort(-over_g[new_g])][:_ADDED_ROWS])
-    return lp, None
+        new_v = new_v[np.argsort(over_v[new_v])][:_ADDED_ROWS]
+        new_g = new_g[np.argsort(-over_g[new_g])][:_ADDED_ROWS]
+        kv, kg = np.union1d(kv, new_v), np.union1d(kg, new_g)
+    return answer, None
 
 
 def maximize_least(
@@ -135,10 +202,8 @@ def maximize_least(
     for _ in range(_MAX_STEPS):
         steps += 1  # the steps taken, read after the loop
         bounds = [(max(-delta[i], lo[i] - x[i]), min(delta[i], hi[i] - x[i])) for i in range(n)]
-        lp, seed = _linear_step(v, Jv, g, Jg, bounds, seed)
-        if (
-            lp.status != 0
-        ):  # HiGHS gave up on this region (numerical trouble): the point reached stands, judged as it is
+        lp, seed = _linear_step(v, Jv, g, Jg, bounds, seed, _TIE * scale)
+        if lp.status != OPTIMAL:  # HiGHS gave up on this region (numerical trouble): the point reached stands
             break
         dx = lp.x[:n]
         if lp.x[-1] - np.min(v) <= 1e-9 * scale and np.max(g) <= 0.0:

@@ -23,26 +23,12 @@ import jax
 import jax.numpy as jnp
 
 from ..._core.units import TWO_PI
-from ...model.dynamics import steady_spectrum
+from ...model.dynamics import free_vibration, steady_spectrum
 from ._grid import GAP_LAST, GAP_REVS
 
 _ILLINOIS = 3  # iterations locating a contact switch within a step
 _INNER = (0.25, 0.5, 0.75)  # where inside a step the gap is also sampled (0.125 deg apart)
 _EVENTS = 32  # switching points handled together (a step with more repeats)
-
-
-def _expm2(a, b, t):
-    """exp(A t) for A = [[0, 1], [-a, -b]] in closed form (under-, critically or over-damped): (e00, e01, e10, e11)."""
-    alpha = -0.5 * b
-    d = alpha * alpha - a
-    y = jnp.sqrt(jnp.abs(d)) * t
-    small = y < 1e-8
-    under = d < 0
-    cc = jnp.where(under, jnp.cos(y), jnp.cosh(y))
-    sy = jnp.where(small, 1.0, jnp.where(under, jnp.sin(y), jnp.sinh(y)) / jnp.where(small, 1.0, y))  # sin(y)/y
-    ss = sy * t
-    e = jnp.exp(alpha * t)
-    return e * (cc + 0.5 * b * ss), e * ss, -e * a * ss, e * (cc - 0.5 * b * ss)
 
 
 def _hermite(f0, d0, f1, d1, u, h):
@@ -126,7 +112,8 @@ def _rest_of_step(md: _Modes, h, tb, contact, row0, row1, xs, ps):
     s1_, s11, _, xl1, pl1, _ = row1
     u = tb / h
     to_contact = ~contact
-    er = _expm2(jnp.where(to_contact, md.a_k + md.a_f, md.a_k), jnp.where(to_contact, md.b_c + md.b_f, md.b_c), h - tb)
+    a = jnp.where(to_contact, md.a_k + md.a_f, md.a_k)
+    er = free_vibration(a, jnp.where(to_contact, md.b_c + md.b_f, md.b_c), h - tb)
     al0, al1 = md.acc(True, s0, s10, xl0, pl0), md.acc(True, s1_, s11, xl1, pl1)
     rx = jnp.where(to_contact, _hermite(xl0, pl0, xl1, pl1, u, h), md.x_flight)
     rp = jnp.where(to_contact, _hermite(pl0, al0, pl1, al1, u, h), 0.0)
@@ -201,8 +188,8 @@ def _gap(const, omega, k, gather: bool):
     x_spec = steady_spectrum(spec, omega[:, None], base, k[:, None], c[:, None], n_fft, base.scale, conjugate=True)
     xl, pl = _on_steps(x_spec, n_fft, m_steps)
     xl, pl = xl.T, pl.T  # (steps, points): a step reads a row
-    ec = _expm2(md.a_k + md.a_f, md.b_c + md.b_f, h)
-    ef = _expm2(md.a_k, md.b_c, h)
+    ec = free_vibration(md.a_k + md.a_f, md.b_c + md.b_f, h)
+    ef = free_vibration(md.a_k, md.b_c, h)
     last = (GAP_REVS - GAP_LAST) * m_steps
 
     def step(carry, j):

@@ -55,3 +55,19 @@ def preload_share(stiffness: Num, train_stiffness: Num) -> Num:
     in-contact steady state is affine in the preload, which moves the follower by ``-dF0 / (k + k_f)`` at every
     angle and speed (:func:`static_position`). Spring rate and train stiffness in one unit (SI); compliant trains."""
     return train_stiffness / (stiffness + train_stiffness)
+
+
+def free_vibration(a: Values, b: Values, t: Values) -> tuple[jax.Array, jax.Array, jax.Array, jax.Array]:
+    """exp(A t) for A = [[0, 1], [-a, -b]] in closed form (under-, critically or over-damped): (e00, e01, e10,
+    e11). The free motion of a linear follower, ``y'' = -a y - b y'``, over ``t`` (any consistent units: the cam
+    angle with ``a = k / (m w^2)``, ``b = c / (m w)``): ``y(t) = e00 y0 + e01 y0'``, ``y'(t) = e10 y0 + e11 y0'``."""
+    alpha = -0.5 * b
+    d = alpha * alpha - a
+    y = jnp.sqrt(jnp.abs(d)) * t
+    small = y < 1e-8
+    under = d < 0
+    cc = jnp.where(under, jnp.cos(y), jnp.cosh(y))
+    sy = jnp.where(small, 1.0, jnp.where(under, jnp.sin(y), jnp.sinh(y)) / jnp.where(small, 1.0, y))  # sin(y)/y
+    ss = sy * t
+    e = jnp.exp(alpha * t)
+    return e * (cc + 0.5 * b * ss), e * ss, -e * a * ss, e * (cc - 0.5 * b * ss)
