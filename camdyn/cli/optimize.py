@@ -31,11 +31,11 @@ def print_optimization(res: Optimization, output: Path) -> None:
     con.print(f"force margin {res.margin:.4g} {f}")
     t = _console.table(("", "left"), ("before", "right"), ("after", "right"))
     for fld in fields(res.before):
-        fmt = fld.metadata["format"]
+        fmt, shown = fld.metadata["format"], floor_rpm if fld.metadata["claim"] else (lambda x: x)
         t.add_row(
             fld.metadata["label"].format(u=u, f=f),
-            format(getattr(res.before, fld.name), fmt),
-            format(getattr(res.after, fld.name), fmt),
+            format(shown(getattr(res.before, fld.name)), fmt),
+            format(shown(getattr(res.after, fld.name)), fmt),
         )
     if res.valvetrain is not None:  # the two-mass facts its table shows (ValveFacts' labelled fields)
         for fld in (f for f in fields(res.valvetrain[0]) if "label" in f.metadata):

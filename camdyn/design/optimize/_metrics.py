@@ -20,9 +20,11 @@ from ..checks import CheckReport, run_check
 MARGIN_OF_PRELOAD = 0.05  # the default force margin: this share of the static preload
 
 
-def _shown(label: str, fmt: str = ".4g"):
-    """A field of :class:`Metrics` with how the before/after table shows it ({u}: mm or deg, {f}: N or N*m)."""
-    return field(metadata={"label": label, "format": fmt})
+def _shown(label: str, fmt: str = ".4g", claim: bool = False):
+    """A field of :class:`Metrics` with how the before/after table shows it ({u}: mm or deg, {f}: N or N*m);
+    ``claim``: a speed camdyn claims holds, shown rounded down as the written case's header says it
+    (:func:`floor_rpm`)."""
+    return field(metadata={"label": label, "format": fmt, "claim": claim})
 
 
 @dataclass(frozen=True)
@@ -30,7 +32,7 @@ class Metrics:
     """What the before/after table compares."""
 
     jump_speed_rpm: float = _shown("dynamic jump speed (rpm)", ".1f")  # check's
-    margin_speed_rpm: float = _shown("speed holding the force margin (rpm)", ".1f")  # :func:`margin_speed`
+    margin_speed_rpm: float = _shown("speed holding the force margin (rpm)", ".1f", claim=True)  # :func:`margin_speed`
     least_force_N: float = _shown("least contact force at the case speed (N)")
     peak_acceleration: float = _shown("peak acceleration ({u}/rad^2)")  # |s''| max
     max_pressure_angle_deg: float = _shown("max pressure angle (deg)", ".2f")
