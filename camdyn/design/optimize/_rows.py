@@ -106,7 +106,8 @@ class RowsKernel(eqx.Module):
         moving there, so the free vibration of the difference rings on through the event (the train's mode: at
         engine speeds a hundred newtons and more on the cam). Exact in contact: the steady state plus the free motion
         from the state the seat imposes at lift-off. Linear in the lift, as the rows need it. Zero before lift-off
-        (the base circle and the lash ramp, where the steady state stands as before)."""
+        (the base circle and the lash ramp, where the steady state stands as before), and for an event that runs
+        through theta = 0 (the grid must start on the base circle)."""
         assert self.lift_off is not None  # a valvetrain's rows (in_contact asks)
         x_seat, f_lift = self.lift_off
         seated = model.train_stiffness * (s - x_seat) + model.train_damping * w * s1  # the train on the seated valve
@@ -120,7 +121,8 @@ class RowsKernel(eqx.Module):
         mw2 = model.mass * w**2
         a = (model.train_stiffness + model.stiffness) / mw2
         b = (model.train_damping + model.damping) * w / mw2
-        after = (theta >= at) & jnp.any(up)
+        # an event that runs through theta = 0 (its valve up where the grid starts) keeps the steady state alone
+        after = (theta >= at) & jnp.any(up) & ~up[0]
         e00, e01, e10, e11 = free_vibration(a, b, jnp.where(after, theta - at, 0.0))
         return jnp.where(after, e00 * h0 + e01 * h1, 0.0), jnp.where(after, e10 * h0 + e11 * h1, 0.0)
 
