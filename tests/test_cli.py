@@ -213,8 +213,9 @@ def test_sharp_square_gets_the_corner_radius_that_passes(capsys, tmp_path, monke
 
 
 def test_only_batched_commands_reach_for_an_accelerator(capsys, tmp_path, monkeypatch):
-    """``sweep`` and ``tolerance`` run on every device JAX finds; every other command on the CPU (JAX_PLATFORMS=cpu
-    before JAX loads: a GPU's start alone is longer than a check), unless the user set JAX_PLATFORMS."""
+    """``sweep`` and ``tolerance`` run on every device JAX finds (but for a valvetrain, a point at a time); every
+    other command on the CPU (JAX_PLATFORMS=cpu before JAX loads: a GPU's start alone is longer than a check),
+    unless the user set JAX_PLATFORMS."""
     import os
 
     from camdyn.cli import BATCHED_COMMANDS
@@ -226,6 +227,16 @@ def test_only_batched_commands_reach_for_an_accelerator(capsys, tmp_path, monkey
     assert run(capsys, "table", LECTURE, "--step", "30")[0] == 0 and os.environ["JAX_PLATFORMS"] == "cpu"
     monkeypatch.setenv("JAX_PLATFORMS", "cuda,cpu")
     assert run(capsys, "table", LECTURE, "--step", "30")[0] == 0 and os.environ["JAX_PLATFORMS"] == "cuda,cpu"
+
+
+@pytest.mark.slow  # the two-mass model's programs
+def test_a_valvetrains_map_runs_on_the_cpu(capsys, tmp_path, monkeypatch):
+    """A valvetrain's ``sweep`` runs its two-mass model one point at a time: on the CPU, as every unbatched command."""
+    import os
+
+    monkeypatch.delenv("JAX_PLATFORMS", raising=False)
+    valve = ["sweep", ROOT / "cases" / "valvetrain.toml", "--speeds", "2000:2500:2", "-o", tmp_path, "--quiet"]
+    assert run(capsys, *valve)[0] == 0 and os.environ["JAX_PLATFORMS"] == "cpu"
 
 
 def test_long_runs_say_each_phase_on_a_pipe_unless_quiet(capsys, tmp_path):

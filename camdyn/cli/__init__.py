@@ -23,10 +23,16 @@ from typing import NoReturn
 from .._core.units import DEFAULT_PROFILE_TOLERANCE_MM, MAX_SPEED_RPM
 
 # The commands whose work is one batch an accelerator speeds up (a jump map, a Monte Carlo study): they run on every
-# device JAX finds. Every other command is one small solve after another, where a GPU's start (CUDA and its memory,
-# 1.3 s on an H100 machine before the first program) and its kernel launches cost more than they save: those run on
-# the CPU. JAX_PLATFORMS, where the user sets it, decides for every command.
+# device JAX finds, but for a valvetrain, whose maps and studies run its two-mass model one point at a time. Every
+# other command is one small solve after another, where a GPU's start (CUDA and its memory, 1.3 s on an H100 machine
+# before the first program) and its kernel launches cost more than they save: those run on the CPU. JAX_PLATFORMS,
+# where the user sets it, decides for every command.
 BATCHED_COMMANDS = frozenset({"sweep", "tolerance"})
+
+
+def _batched(args) -> bool:
+    """Whether this run's work is a batch for every device (:data:`BATCHED_COMMANDS`; its case validated)."""
+    return args.command in BATCHED_COMMANDS and getattr(getattr(args, "spec", None), "valvetrain", None) is None
 
 
 def _version() -> str:
@@ -452,7 +458,7 @@ def _command(argv: list[str] | None) -> int:
     source = getattr(args, "case", "") or ""
     try:
         _validate(args)
-        if args.command not in BATCHED_COMMANDS:
+        if not _batched(args):
             os.environ.setdefault("JAX_PLATFORMS", "cpu")  # before JAX loads: it reads it then
         from .._core.precision import enable_x64  # loads JAX: only once the input is known to be valid
 
