@@ -28,7 +28,6 @@ synthesis: its programs alone take 0.3 s to load), keyed like the programs.
 
 from __future__ import annotations
 
-import atexit
 import contextlib
 import functools
 import hashlib
@@ -360,7 +359,7 @@ def _load_or_compile(
 
 def in_background(prepare: Callable[[], object], name: str) -> threading.Thread:
     """``prepare()`` (a :func:`cached_jit` program's ``prepare``: its load or compile, which on a CPU releases the
-    interpreter) on a daemon thread named ``name`` while the caller computes what comes before the program's first
+    interpreter) on a thread named ``name`` while the caller computes what comes before the program's first
     call; that call waits for it. A failure there is ignored: the first call loads or compiles as ever."""
 
     def run() -> None:
@@ -369,9 +368,9 @@ def in_background(prepare: Callable[[], object], name: str) -> threading.Thread:
         except Exception:  # noqa: BLE001, S110  (only a head start)
             pass
 
-    thread = threading.Thread(target=run, name=name, daemon=True)
+    # not a daemon: a caller that ends first (an error) waits for it at exit rather than tear XLA down under it
+    thread = threading.Thread(target=run, name=name)
     thread.start()
-    atexit.register(thread.join)  # a caller that ends first (an error) does not tear XLA down under it
     return thread
 
 

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import dataclasses
+import functools
 import math
 from dataclasses import dataclass
 
@@ -320,8 +321,8 @@ def run_check(case: Case, speed_rpm: float | None = None) -> CheckReport:
     spring's own mass as ``[spring] model`` asks (:func:`camdyn.design.parts.resolve_spring`)."""
     case = resolve_spring(case)
     assert case.spring is not None  # resolve_spring resolved it
-    if case.valvetrain is not None:  # its two-mass programs load while the equivalent follower is judged
-        jit.in_background(lambda vt=case.valvetrain: dyn.prepare_valvetrain(case.motion, vt), "camdyn-valvetrain")
+    if (vt := case.valvetrain) is not None:  # its two-mass programs load while the equivalent follower is judged
+        jit.in_background(functools.partial(dyn.prepare_valvetrain, case.motion, vt), "camdyn-valvetrain")
     rpm = float(speed_rpm if speed_rpm is not None else case.speed_rpm)
     if case.follower is not None and case.follower.form_closed:
         return _closure_check(case, rpm)
