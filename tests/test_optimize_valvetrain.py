@@ -208,6 +208,32 @@ def test_the_event_follower_is_the_two_mass_model_in_contact():
     )
 
 
+@pytest.mark.slow  # compiles the two-mass diffrax model
+def test_through_a_rockers_geometry_the_event_follower_is_the_two_mass_model():
+    """With a bent rocker (its ratio moves with lift) the rows drive the event follower with the lift the rocker
+    gives the valve over the constant ratio it is reduced with, and turn its train force into the cam's by the
+    rocker's ratio at the cam's lift: the least cam force over the event is the two-mass model's to 0.5 N (the
+    constant-ratio steady state alone: 145-205 N high)."""
+    raw = copy.deepcopy(RAW)
+    raw["valvetrain"].pop("ratio")
+    raw["valvetrain"]["rocker"] = {"cam_arm": 25.0, "valve_arm": 40.0, "cam_arm_angle": -7.3, "valve_arm_angle": -2.0}
+    case = case_from_dict(raw)
+    vt = vt_of(case)
+    surrogate, cam_mass = event_follower(vt)
+    space = flank_space(case)
+    s = case.motion.host(space.theta) * M_PER_MM
+    rows = Rows(replace(case, model=surrogate), space, 0.0, cam_mass, float(vt.tappet_force), None, lift_off(vt))
+    rows = replace(rows, rocker=vt.rocker, rocker_ratio=float(vt.ratio))
+    for rpm in (3000.0, 5000.0):
+        w = rpm * RPM
+        r = valvetrain_response(case.motion, vt, w)
+        f = np.asarray(eqx.filter_jit(rows.forces)(jnp.asarray(space.z0), jnp.asarray([w])))[0]
+        own = np.asarray(eqx.filter_jit(rows.kernel.drive)(jnp.asarray(s[0]), jnp.asarray(s[1]))[0])
+        assert np.max(np.abs(own * float(vt.ratio) - vt.host_lever(s[0])[0])) < 1e-15  # the valve's lift, g(s)
+        least = np.interp(r.theta_deg, np.degrees(space.theta), f)[r.in_event].min()
+        assert least == pytest.approx(r.cam_force[r.in_event].min(), abs=0.5), rpm
+
+
 # ------------------------------------------------------------------------------------ the optimized case
 @pytest.fixture(scope="module")
 def optimized(tmp_path_factory):

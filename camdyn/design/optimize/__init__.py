@@ -216,9 +216,11 @@ def optimize_case(
     rows = Rows(case, space, margin)
     if case.valvetrain is not None:  # the event's single follower: the train's compliance, the lash taken up
         surrogate, cam_mass = event_follower(case.valvetrain)
-        seat = None if case.valvetrain.rigid_train else lift_off(case.valvetrain)  # a rigid train has no ringing
-        tappet = float(case.valvetrain.tappet_force)
-        rows = Rows(replace(case, model=surrogate), space, margin, cam_mass, tappet, lift_off=seat)
+        vt = case.valvetrain
+        seat = None if vt.rigid_train else lift_off(vt)  # a rigid train has no ringing
+        rocker = vt.rocker if seat is not None else None  # its geometry on the valve's drive (Rows.rocker)
+        valve_side = replace(case, model=surrogate)
+        rows = Rows(valve_side, space, margin, cam_mass, float(vt.tappet_force), None, seat, rocker, float(vt.ratio))
         rows = replace(rows, seating=seating_rows(rows, before_check, speed_rpm))
     before = metrics(case, before_check, margin)
     rpm = float(speed_rpm if speed_rpm is not None else case.speed_rpm)

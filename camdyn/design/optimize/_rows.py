@@ -22,6 +22,7 @@ from ...model.case import Case
 from ...model.dynamics import free_vibration, kinematic_force_of, steady_state, train_force
 from ...model.follower import FollowerModel
 from ...model.geometry import curvature_limit, geometry_of
+from ...model.valvetrain import Rocker
 from ...schema import FollowerSpec
 from ._shape import ShapeSpace, control_order, motion_values
 from ._slp import value_and_jacobian
@@ -63,6 +64,10 @@ class RowsKernel(eqx.Module):
     # and where its valve lifts off: the follower's position with the valve seated (m) and the train's force that
     # lifts it (N), :func:`camdyn.model.valvetrain.lift_off`
     lift_off: tuple[float, float] | None = eqx.field(static=True, default=None)
+    # and a rocker's geometry: the event follower's drive is the lift the rocker gives the valve over its constant
+    # ratio ``rocker_ratio`` (the ratio :func:`camdyn.model.valvetrain.event_follower` reduces the valve with)
+    rocker: Rocker | None = None
+    rocker_ratio: float = eqx.field(static=True, default=1.0)
 
     def values(self, z: np.ndarray | jax.Array) -> jax.Array:
         return motion_values(self.offset, self.matrix, z)
@@ -77,14 +82,27 @@ class RowsKernel(eqx.Module):
         if self.rigid:
             force = kinematic_force_of(model, omegas[:, None], s, s1, s2)
         else:
+            d, d1, factor = self.drive(s, s1)
 
             def one(w: float | jax.Array) -> jax.Array:
-                return train_force(model, w, s, s1, *self.in_contact(model, w, s, s1))
+                return factor * train_force(model, w, d, d1, *self.in_contact(model, w, d, d1))
 
             force = jax.vmap(one)(omegas)
         if self.cam_mass or self.cam_load:
             force = force + self.cam_mass * omegas[:, None] ** 2 * s2 + self.cam_load
         return force
+
+    def drive(self, s: jax.Array, s1: jax.Array) -> tuple[jax.Array, jax.Array, jax.Array | float]:
+        """What drives the follower of the rows, from the cam's lift ``s`` and ``s1`` (m): the lift itself, or through a
+        rocker's geometry ``g(s)`` its lift at the valve over the constant ratio r the event follower is reduced with
+        (so the valve's equation is the event follower's exactly: x = (x_v + lash) / r), with the factor ``g'(s) / r``
+        that turns the event follower's train force into the cam's (the rocker's ratio at the cam's lift). Not affine
+        in the control points then: the rows differentiate again at every step (:meth:`Rows.force_values`)."""
+        if self.rocker is None:
+            return s, s1, 1.0
+        g, ratio, _ = self.rocker.lever(s)
+        r = self.rocker_ratio
+        return g / r, ratio * s1 / r, ratio / r
 
     def in_contact(
         self, model: FollowerModel, w: float | jax.Array, s: jax.Array, s1: jax.Array
@@ -163,7 +181,8 @@ class RowsKernel(eqx.Module):
         omega, ratio, _ = self.seating
         model = self.model
         sv = self.values(z)
-        _, x1 = self.in_contact(model, omega, sv[0] * model.scale, sv[1] * model.scale)
+        d, d1, _ = self.drive(sv[0] * model.scale, sv[1] * model.scale)
+        _, x1 = self.in_contact(model, omega, d, d1)
         return -ratio * omega * x1[self.seating_idx]
 
     def sampled_slack(self, z: jax.Array, speeds: jax.Array, preload: ArrayLike | None) -> jax.Array:
@@ -202,6 +221,8 @@ class Rows:
     # and the valve's closing speed held: (cam speed rad/s, ratio, grid angles around its seating, the most m/s)
     seating: tuple[float, float, np.ndarray, float] | None = None
     lift_off: tuple[float, float] | None = None  # and where its valve lifts off (RowsKernel.lift_off)
+    rocker: Rocker | None = None  # and its rocker's geometry, with the event follower's ratio (RowsKernel.rocker)
+    rocker_ratio: float = 1.0
 
     @property
     def scale(self) -> float:
@@ -234,6 +255,8 @@ class Rows:
             if self.seating is None
             else (float(self.seating[0]), float(self.seating[1]), float(self.seating[3])),
             lift_off=self.lift_off,
+            rocker=self.rocker,
+            rocker_ratio=float(self.rocker_ratio),
         )
 
     def forces(self, z: np.ndarray | jax.Array, omegas: jax.Array, preload: ArrayLike | None = None) -> jax.Array:
@@ -265,8 +288,9 @@ class Rows:
         """``z -> (slack at the sampled angles, d/dz)`` at the fixed ``speeds`` (:data:`SPEED_SLOTS`) for the linear
         programs. Where the follower translates the slack is exactly affine in ``z`` (the steady state in contact is
         linear in the motion, the motion in the control points), so the Jacobian is computed once and every later
-        value is one product; an arm's lever arm moves with ``z``, so there each call differentiates again."""
-        if self.case.oscillating:
+        value is one product; an arm's lever arm and a rocker's ratio move with ``z``, so there each call
+        differentiates again."""
+        if self.case.oscillating or self.rocker is not None:
             return lambda z: self.force_jacobian(z, speeds, None)
         z_ref = np.asarray(self.space.z0, dtype=float)
         v_ref, jac = (np.asarray(a) for a in self.force_jacobian(jnp.asarray(z_ref), speeds, None))
