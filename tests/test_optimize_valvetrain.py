@@ -222,8 +222,15 @@ def test_through_a_rockers_geometry_the_event_follower_is_the_two_mass_model():
     surrogate, cam_mass = event_follower(vt)
     space = flank_space(case)
     s = case.motion.host(space.theta) * M_PER_MM
-    rows = Rows(replace(case, model=surrogate), space, 0.0, cam_mass, float(vt.tappet_force), None, lift_off(vt))
-    rows = replace(rows, rocker=vt.rocker, rocker_ratio=float(vt.ratio))
+    rows = Rows(
+        replace(case, model=surrogate),
+        space,
+        cam_mass=cam_mass,
+        cam_load=float(vt.tappet_force),
+        lift_off=lift_off(vt),
+        rocker=vt.rocker,
+        rocker_ratio=float(vt.ratio),
+    )
     for rpm in (3000.0, 5000.0):
         w = rpm * RPM
         r = valvetrain_response(case.motion, vt, w)

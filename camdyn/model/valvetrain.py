@@ -238,7 +238,7 @@ def equivalent_follower(vt: ValvetrainModel) -> FollowerModel:
     The checks that know one follower read this; the valvetrain's own results come from the two-mass model."""
     r = float(vt.ratio)  # the products on the host, placed as the case's own model is (no program per operation)
     host = (vt.equivalent_mass, float(vt.spring_rate) * r**2, float(vt.preload) * r, float(vt.spring_damping) * r**2)
-    mass, rate, preload, damping = (jax.device_put(x) for x in host)
+    mass, rate, preload, damping = (device_array(x) for x in host)
     return FollowerModel(
         mass,
         rate,

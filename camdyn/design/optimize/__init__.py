@@ -215,12 +215,19 @@ def optimize_case(
     before_check = run_check(case, speed_rpm)
     rows = Rows(case, space, margin)
     if case.valvetrain is not None:  # the event's single follower: the train's compliance, the lash taken up
-        surrogate, cam_mass = event_follower(case.valvetrain)
         vt = case.valvetrain
+        surrogate, cam_mass = event_follower(vt)
         seat = None if vt.rigid_train else lift_off(vt)  # a rigid train has no ringing
-        rocker = vt.rocker if seat is not None else None  # its geometry on the valve's drive (Rows.rocker)
-        valve_side = replace(case, model=surrogate)
-        rows = Rows(valve_side, space, margin, cam_mass, float(vt.tappet_force), None, seat, rocker, float(vt.ratio))
+        rows = Rows(
+            replace(case, model=surrogate),
+            space,
+            margin,
+            cam_mass=cam_mass,
+            cam_load=float(vt.tappet_force),
+            lift_off=seat,
+            rocker=vt.rocker if seat is not None else None,  # its geometry on the valve's drive (Rows.rocker)
+            rocker_ratio=float(vt.ratio),
+        )
         rows = replace(rows, seating=seating_rows(rows, before_check, speed_rpm))
     before = metrics(case, before_check, margin)
     rpm = float(speed_rpm if speed_rpm is not None else case.speed_rpm)
