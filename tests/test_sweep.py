@@ -353,6 +353,28 @@ def test_one_test_of_the_platform_decides_batch_width_and_gap_kernel():
     assert _exact_gap.gap_kernel(accelerated(gpu)) is _exact_gap.exact_gap_kernel_every
 
 
+def test_cpu_chunks_on_threads_equal_one_thread(monkeypatch):
+    """On CPUs the chunks run on a thread per core (XLA runs one program at a time per CPU device): the rows come
+    back in order, each chunk's padding dropped, progress told in order, the same numbers as on one thread."""
+    from camdyn._core import sharding
+
+    cpu = tuple(jax.devices("cpu")[:1])
+    rows = np.arange(1, 11, dtype=float)
+
+    def kernel(const, x):
+        return const * x**2
+
+    def run(workers):
+        monkeypatch.setattr(sharding, "_workers", lambda devices: workers)
+        told = []
+        return sharding.run_batched(kernel, 3.0, [rows], 4, told.append, cpu), told
+
+    (one, told1), (three, told3) = run(1), run(3)
+    np.testing.assert_array_equal(three, 3.0 * rows**2)
+    np.testing.assert_array_equal(three, one)
+    assert told1 == told3 == [4, 4, 2]
+
+
 def test_steady_state_on_the_step_grid_from_the_aliased_spectrum():
     """The gap stepping's steady state on every 5th angle (720 steps of 3600) from inverse FFTs of 720 points of the
     aliased spectrum equals the full inverse FFTs there, x and dx/dtheta, Nyquist bin included (numpy's irfft)."""

@@ -1,6 +1,10 @@
 """Grid points over devices: a kernel ``kernel(const, *point)`` vmapped over points, compiled once and sharded
 over the JAX devices (``jax.shard_map`` on a one-axis mesh), run chunk by chunk so progress can follow.
 
+On CPUs the chunks run on a thread per core: XLA runs one program at a time per CPU device, each on one core, so
+chunks dispatched from one thread wait for each other (a 100 x 100 jump map's gap stepping: 0.28 s on one of two
+cores, 0.15 s on both). Accelerators take them from one thread: their dispatch does not wait.
+
 With several processes (:func:`camdyn._core.distributed.initialize`) the devices are every process's: each
 process holds the same inputs, gives the mesh its own devices' shards of them (``jax.make_array_from_callback``)
 and gathers every result (``multihost_utils.process_allgather``), so every process returns the whole output."""
@@ -8,7 +12,9 @@ and gathers every result (``multihost_utils.process_allgather``), so every proce
 from __future__ import annotations
 
 import functools
+import os
 from collections.abc import Callable, Sequence
+from concurrent.futures import ThreadPoolExecutor
 from typing import Any
 
 import equinox as eqx
@@ -71,6 +77,14 @@ def _chunk_size(chunk: int, devices: tuple) -> int:
     return chunk * len(devices) * (16 if accelerated(devices) else 1)
 
 
+def _workers(devices: tuple) -> int:
+    """Threads that run chunks at once: the cores this process may use per CPU device (1 on accelerators)."""
+    if accelerated(devices):
+        return 1
+    cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
+    return max(1, cores // len(devices))
+
+
 def _padded(batched: list[np.ndarray], size: int) -> list[np.ndarray]:
     """``batched`` padded to ``size`` rows with copies of the first: one compiled shape for every chunk."""
     m = batched[0].shape[0]
@@ -98,6 +112,11 @@ def prepare_batched(
         prepare(const, *_padded([np.asarray(p)[:1] for p in point], _chunk_size(chunk, devices)))
 
 
+def _ready(out: tuple[Any, int]) -> tuple[Any, int]:
+    """A chunk's result, computed: its worker thread waits for it, not the thread that gathers them."""
+    return jax.block_until_ready(out[0]), out[1]
+
+
 def run_batched(
     kernel: Callable,
     const: Any,
@@ -115,19 +134,30 @@ def run_batched(
     n = batched[0].shape[0]
     fn, mesh = _sharded(kernel, devices, per_point, options)
     multi = jax.process_count() > 1
-    pending = []
-    for start in range(0, n, size):
+
+    def one(start: int) -> tuple[Any, int]:
         part = [b[start : start + size] for b in batched]
         m = part[0].shape[0]
         part = _padded(part, size)
         if multi:
             c, pts = _to_mesh(const, part, mesh)
-            pending.append((multihost_utils.process_allgather(fn(c, *pts), tiled=True), m))
-        else:  # dispatched, not waited for: the next chunk may run beside it on another core
-            pending.append((fn(const, *part), m))  # numpy: no transfer program to compile
+            return multihost_utils.process_allgather(fn(c, *pts), tiled=True), m
+        return fn(const, *part), m  # numpy: no transfer program to compile
+
+    starts = range(0, n, size)
+    workers = 1 if multi else min(_workers(devices), len(starts))
+    if workers > 1:
+        pool = ThreadPoolExecutor(workers, thread_name_prefix="camdyn-chunk")
+        pending = pool.map(lambda start: _ready(one(start)), starts)
+    else:  # dispatched, not waited for: an accelerator queues the next chunk while this one runs
+        pool, pending = None, [one(start) for start in starts]
     outs = []
-    for res, m in pending:
-        outs.append(jax.tree_util.tree_map(lambda r, m=m: np.asarray(r)[:m], res))  # m bound now
-        if progress is not None:
-            progress(m)
+    try:
+        for res, m in pending:
+            outs.append(jax.tree_util.tree_map(lambda r, m=m: np.asarray(r)[:m], res))  # m bound now
+            if progress is not None:
+                progress(m)
+    finally:
+        if pool is not None:
+            pool.shutdown(cancel_futures=True)
     return jax.tree_util.tree_map(lambda *r: np.concatenate(r), *outs)
