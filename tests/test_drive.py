@@ -163,3 +163,21 @@ def test_energy_balance_compliant_train():
     )
     assert d.mean_power == pytest.approx(loss, rel=2e-5)  # the rectangle rule's O(h^2), as for the rigid follower
     assert np.max(np.abs(d.torque)) * w > 50 * loss
+
+
+def test_one_stored_program_serves_every_speed(tmp_path, monkeypatch):
+    """The speed is data, not part of the program: a drive at a second speed traces and stores nothing new (a Python
+    float would be a static argument, a program for every speed)."""
+    from camdyn._core import jit as programs
+    from camdyn.model.dynamics import _kinematic
+
+    monkeypatch.setattr(programs, "_DIR", None)
+    programs.enable(tmp_path)
+    # a program of its own: not the one an earlier test of this process holds in memory
+    monkeypatch.setattr(_kinematic, "_kinematic_force_program", programs.cached_jit(_kinematic.kinematic_force))
+    stored = lambda: set(tmp_path.rglob(f"*.{programs.SUFFIX}"))  # noqa: E731
+    kinematic_drive(eccentric_cam(), rigid(), 300.0 * RPM)
+    first = stored()
+    assert any(p.name.startswith("kinematic_force") for p in first)
+    kinematic_drive(eccentric_cam(), rigid(), 450.0 * RPM)
+    assert stored() == first

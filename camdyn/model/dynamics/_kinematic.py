@@ -40,7 +40,13 @@ def kinematic_force_of(
     return model.mass * omega**2 * s2 + c * omega * s1 + k * s + model.preload + model.external
 
 
-kinematic_force_jit = cached_jit(kinematic_force)
+_kinematic_force_program = cached_jit(kinematic_force)
+
+
+def kinematic_force_jit(motion: Motion, model: FollowerModel, omega: ArrayLike, theta: ArrayLike) -> jax.Array:
+    """:func:`kinematic_force` compiled once per motion form and shape of ``theta``, for every speed: ``omega``
+    goes in as data (a Python float would be a static argument of the stored program, one program per speed)."""
+    return _kinematic_force_program(motion, model, np.asarray(omega, dtype=float), theta)
 
 
 def _quadratic_jump_speed(a, b, c):
