@@ -16,6 +16,7 @@ import pytest
 
 import camdyn.model  # noqa: F401  (float64)
 from camdyn._core import jit as programs
+from camdyn.model.motion import _base as motion_base
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -302,13 +303,35 @@ def test_programs_of_other_segments_share_one_compiled_kernel_and_evaluate_alike
     assert _kernel_key(lecture) == _kernel_key(other)
     monkeypatch.setattr(programs, "_DIR", None)
     programs.enable(tmp_path)
+    # a program of its own: not the one an earlier test of this process holds in memory for these angles' bucket
+    monkeypatch.setattr(motion_base, "_evaluate", programs.cached_jit(motion_base._evaluate.__wrapped__))
     theta = jnp.asarray(np.linspace(-1.0, 7.5, 997))
     for prog in (lecture, other):  # the one program on disk; each agrees with the unpadded numpy evaluation
         assert np.allclose(evaluate(prog, theta), prog._eval(np, np.asarray(theta)), rtol=1e-12, atol=1e-9)
-    assert len(list(tmp_path.rglob("evaluate-*.jaxprogram"))) == 1
+    assert len(list(tmp_path.rglob("_evaluate-*.jaxprogram"))) == 1
     # 2 pi is the start (the modified sine's jerk), just below it the closing dwell: padding rows are never read
     ends = np.asarray(evaluate(other, jnp.asarray([2 * np.pi, np.nextafter(2 * np.pi, 0)])))
     assert np.allclose(ends[:, 0], other.host(0.0)) and ends[3, 0] > 100.0 and np.all(ends[:, 1] == 0.0)
+
+
+def test_angles_of_other_counts_share_one_evaluate_program(tmp_path, monkeypatch):
+    """``evaluate`` pads a 1-D array of angles to the next power of two (at least 8): 300 and 500 angles run the one
+    stored program of 512, the values those of the exact shape's program to the bit, numpy, as long as the angles."""
+    from camdyn.model.motion import Program, evaluate
+
+    prog = Program.from_segments(
+        [{"law": "cycloidal", "end": 180, "lift": 20}, {"law": "harmonic", "end": 360, "lift": -20}]
+    )
+    monkeypatch.setattr(programs, "_DIR", None)
+    programs.enable(tmp_path)
+    monkeypatch.setattr(motion_base, "_evaluate", programs.cached_jit(motion_base._evaluate.__wrapped__))
+    for n in (300, 500):
+        theta = np.linspace(0.0, 2 * np.pi, n)
+        got = evaluate(prog, theta)
+        assert isinstance(got, np.ndarray) and got.shape == (4, n)
+        assert np.array_equal(got, np.asarray(jax.jit(motion_base._evaluate.__wrapped__)(prog, theta)))
+    assert len(list(tmp_path.rglob("_evaluate-*.jaxprogram"))) == 1
+    assert evaluate(prog, np.zeros(0)).shape == (4, 0) and evaluate(prog, 1.0).shape == (4,)
 
 
 def test_a_thousand_segments_fill_one_bucket():
@@ -369,4 +392,4 @@ def test_a_second_process_on_two_devices_loads_what_the_first_stored(tmp_path):
     runs = [subprocess.run(cmd, env=env, capture_output=True, text=True, timeout=300) for _ in range(2)]
     assert [r.returncode for r in runs] == [0, 0], runs[-1].stderr[-2000:]
     assert runs[0].stdout == runs[1].stdout
-    assert {p.name.split("-")[0] for p in tmp_path.rglob("*.jaxprogram")} == {"evaluate"}
+    assert {p.name.split("-")[0] for p in tmp_path.rglob("*.jaxprogram")} == {"_evaluate"}

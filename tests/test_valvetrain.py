@@ -634,3 +634,25 @@ def test_a_valve_far_past_float_never_goes_through_its_seat():
     r = valvetrain_response(case.motion, case.valvetrain, 15540 * RPM)
     assert r.valve_lift.min() >= -1e-6 and r.events
     assert np.min(r.follower_lift - r.cam_lift) >= -1e-6
+
+
+def test_cams_of_other_segment_counts_share_the_stretch_program():
+    """The stretches' jump times (every break over the revolutions marched) are padded with +inf to 32, 128, ...:
+    cams of four and of five segments give the stretch's stored program arguments of one shape."""
+    from camdyn.model.dynamics._valvetrain import _jump_angles
+    from camdyn.model.motion import Program
+
+    def cam(n):  # a rise, a return and n - 2 dwells
+        lifts = [1.0, -1.0] + [0.0] * (n - 2)
+        laws = ["cycloidal", "cycloidal"] + ["dwell"] * (n - 2)
+        return Program.from_segments(
+            [
+                {"law": law, "end": 360.0 * (i + 1) / n} | ({"lift": lift} if lift else {})
+                for i, (law, lift) in enumerate(zip(laws, lifts, strict=True))
+            ]
+        )
+
+    four, five = _jump_angles(cam(4)), _jump_angles(cam(5))
+    assert four.shape == five.shape == (32,)
+    assert np.isfinite(four).sum() == 24 and np.isfinite(five).sum() == 30 and np.all(np.diff(five[:30]) > 0)
+    assert np.isinf(five[30:]).all() and np.isinf(four[24:]).all()

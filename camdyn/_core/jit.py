@@ -205,6 +205,15 @@ def stored(name: str, key: str, compute: Callable[[], T]) -> T:
     return value
 
 
+def padded_length(n: int, least: int, factor: int = 4) -> int:
+    """The bucket ``n`` rows are padded to: ``least``, or ``least * factor**k``, the first that holds them (a
+    program compiled for the bucket serves every length in it)."""
+    size = least
+    while size < n:
+        size *= factor
+    return size
+
+
 def device_array(x: Any) -> jax.Array:
     """``x`` as a float64 JAX array, placed without a program: ``jnp.asarray`` of a host value compiles one per
     shape (JAX 0.10), some 10 ms each in every process."""

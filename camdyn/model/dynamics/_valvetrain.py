@@ -40,7 +40,7 @@ import optimistix as optx
 from jax.typing import ArrayLike
 
 from ..._core.errors import NumericalError
-from ..._core.jit import cached_jit
+from ..._core.jit import cached_jit, padded_length
 from ..._core.units import M_PER_MM, RPM, THETA_GRID, TWO_PI
 from ..motion import Motion
 from ..valvetrain import ValvetrainModel, static_valve_lift
@@ -52,6 +52,7 @@ GAP_EPS = 1e-12  # m: a landing is detected this far below contact
 _MAX_STEPS = 1_000_000
 _MAX_EVENTS = 2000  # per revolution: bounces beyond it leave the valve or the follower not settled
 _REVS = 3  # revolutions at most to reach the periodic steady state
+_JUMP_ROWS = 32  # the stretches' jump times are padded to 32, 128, 512, ... (+inf)
 NO_EVENT = 1e300  # N: the float search's least force at a speed where the valve does not lift (it wants finite)
 CAM, TRAIN, SEAT = 0, 1, 2  # the contacts, in the mode vector and the event list
 
@@ -200,10 +201,12 @@ _state_jit = cached_jit(_state)
 
 
 def _jump_angles(motion: Motion) -> np.ndarray:
-    """The motion's segment boundaries (rad) over every revolution a response marches: the stretches' jump times."""
+    """The motion's segment boundaries (rad) over every revolution a response marches: the stretches' jump times,
+    padded with +inf to a bucket of lengths (32, 128, ...), so that cams with other numbers of segments share the
+    stretch's stored program (a compile of about 3 s)."""
     breaks = np.deg2rad(np.asarray(motion.breaks_deg, dtype=float))
     jumps = np.sort((breaks[None, :] + TWO_PI * np.arange(-1, _REVS + 2)[:, None]).ravel())
-    return jumps if jumps.size else np.asarray([-1.0])
+    return np.pad(jumps, (0, padded_length(jumps.size, _JUMP_ROWS) - jumps.size), constant_values=np.inf)
 
 
 def _state_size(vt: ValvetrainModel) -> int:

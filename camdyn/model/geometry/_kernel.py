@@ -233,7 +233,7 @@ def evaluate_geometry(
 
 
 def chunked(
-    motion: Motion, theta_rad: ArrayLike, program: Callable[[np.ndarray, jax.Array], dict]
+    motion: Motion, theta_rad: ArrayLike, program: Callable[[np.ndarray, jax.Array | np.ndarray], dict]
 ) -> dict[str, np.ndarray]:
     """``program(theta, sv)`` (a compiled geometry of :data:`_CHUNK` angles) over any number of angles (rad), in
     fixed-size chunks, plus the motion ``s``."""

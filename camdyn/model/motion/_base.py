@@ -12,9 +12,10 @@ import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
+from jax.core import Tracer
 from jax.typing import ArrayLike
 
-from ..._core.jit import cached_jit
+from ..._core.jit import cached_jit, padded_length
 from ..._core.kinds import FollowerKind, kind_of_motion
 from ..._core.units import THETA_GRID
 
@@ -60,15 +61,27 @@ class Motion(eqx.Module):
         return theta_deg, self.host(np.deg2rad(theta_deg))
 
 
-def padded_length(n: int, least: int, factor: int = 4) -> int:
-    """The bucket ``n`` rows are padded to: ``least``, or ``least * factor**k``, the first that holds them."""
-    size = least
-    while size < n:
-        size *= factor
-    return size
-
-
 @cached_jit
-def evaluate(motion: Motion, theta: ArrayLike) -> jax.Array:
-    """``motion(theta)`` compiled once per motion structure (eager evaluation dispatches op by op)."""
+def _evaluate(motion: Motion, theta: ArrayLike) -> jax.Array:
+    """``motion(theta)`` compiled once per motion form and shape of ``theta`` (eagerly each operation dispatches and
+    compiles alone)."""
     return motion(theta)
+
+
+_LEAST_ANGLES = 8  # the smallest bucket of angles evaluate compiles for
+
+
+def evaluate(motion: Motion, theta: ArrayLike) -> jax.Array | np.ndarray:
+    """s and its first three derivatives at ``theta`` (rad), shape (4, *theta.shape), by a program compiled once per
+    motion form and bucket of lengths: angles given as a 1-D array of numbers are padded (with the last angle) to
+    the next power of two, at least 8, and the values come back as numpy, so a new number of angles (a table's
+    step, a refined grid, another case's breaks) runs a stored program (the values are the same to the bit).
+    Inside a trace (of the angles), or for other shapes, the program of that shape."""
+    if isinstance(theta, Tracer) or np.ndim(theta) != 1:
+        return _evaluate(motion, theta)
+    t = np.asarray(theta, dtype=float)
+    n = t.size
+    size = padded_length(n, _LEAST_ANGLES, factor=2)
+    padded = np.pad(t, (0, size - n), mode="edge") if n else np.zeros(size)
+    out = _evaluate(motion, padded)
+    return out[:, :n] if isinstance(out, Tracer) else np.asarray(out)[:, :n]  # a traced motion: traced values

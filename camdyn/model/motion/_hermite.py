@@ -14,8 +14,9 @@ import numpy as np
 from jax.core import Tracer
 from jax.typing import ArrayLike
 
+from ..._core.jit import padded_length
 from ..._core.units import TWO_PI
-from ._base import Motion, evaluate, padded_length
+from ._base import Motion, evaluate
 
 
 def quintic_eval(
@@ -110,17 +111,6 @@ class QuinticTable(eqx.Module):
         return quintic_eval(np, np.asarray(self.knots), np.asarray(self.coef), theta, int(self.last))
 
 
-_VALUE_ROWS = 256  # angles evaluated at once are padded to a multiple of this
-
-
-def _values(motion: Motion, theta: np.ndarray) -> np.ndarray:
-    """``motion`` at the angles ``theta`` (n,) rad, (4, n) numpy: padded to a multiple of 256 angles, so that
-    tables with a few knots more or fewer (a linkage's breaks) share one compiled program."""
-    n = theta.size
-    more = -(-n // _VALUE_ROWS) * _VALUE_ROWS - n
-    return np.asarray(evaluate(motion, np.pad(theta, (0, more), mode="edge")))[:, :n]
-
-
 class HermiteMotion(Motion):
     """Piecewise quintic Hermite interpolant of another motion: exact s, s', s'' at every knot.
 
@@ -148,8 +138,8 @@ class HermiteMotion(Motion):
         h = np.diff(knots)
         # one-sided values: evaluate just inside each interval and step back by Taylor to the knot
         d = 1e-7 * h
-        left = _values(source, knots[:-1] + d)  # at the start of interval i, from the right
-        right = _values(source, knots[1:] - d)  # at its end, from the left
+        left = evaluate(source, knots[:-1] + d)  # at the start of interval i, from the right
+        right = evaluate(source, knots[1:] - d)  # at its end, from the left
         y0 = np.stack(
             [
                 left[0] - d * left[1] + d**2 / 2 * left[2] - d**3 / 6 * left[3],
@@ -189,4 +179,4 @@ class HermiteMotion(Motion):
         """Largest |self - source| of (s, s', s'', s''') at the interval midpoints, where the error peaks."""
         knots = np.asarray(self.knots)
         mid = 0.5 * (knots[:-1] + knots[1:])
-        return np.max(np.abs(_values(self, mid) - _values(source, mid)), axis=1)
+        return np.max(np.abs(evaluate(self, mid) - evaluate(source, mid)), axis=1)

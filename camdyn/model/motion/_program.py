@@ -13,11 +13,12 @@ import numpy as np
 from jax.typing import ArrayLike
 
 from ..._core.errors import InputError
+from ..._core.jit import padded_length
 from ..._core.kinds import kind_of_motion
 from ..._core.units import JUMP_RTOL, TWO_PI
 from ...schema import SegmentSpec, check_segments, parse
 from ...schema.motion import BSPLINE, POLYNOMIAL, BSplineSegmentSpec, PolynomialSegmentSpec
-from ._base import Motion, padded_length
+from ._base import Motion
 from ._bspline import bspline_table
 from ._laws import _LAW_TABLES, _NC, _LawTable, _piece_eval
 from ._polynomial import BoundaryPolynomial, polynomial_warnings, solve_polynomial
