@@ -214,6 +214,23 @@ def padded_length(n: int, least: int, factor: int = 4) -> int:
     return size
 
 
+_LEAST_ANGLES = 8  # the smallest bucket of angles :func:`on_angle_buckets` compiles for
+
+
+def on_angle_buckets(program: Callable[[Any], Any], theta: Any) -> Any:
+    """``program(theta)`` of a program that is elementwise in the angles (its output's last axis): a 1-D array of
+    numbers is padded (with its last angle) to the next power of two, at least 8, so one compiled program serves
+    every length in the bucket, and the output comes back as numpy cut to ``theta``'s length. Inside a trace, or for
+    other shapes, ``program(theta)`` as it is."""
+    if isinstance(theta, Tracer) or np.ndim(theta) != 1:
+        return program(theta)
+    t = np.asarray(theta, dtype=float)
+    n = t.size
+    size = padded_length(n, _LEAST_ANGLES, factor=2)
+    out = program(np.pad(t, (0, size - n), mode="edge") if n else np.zeros(size))
+    return out[..., :n] if isinstance(out, Tracer) else np.asarray(out)[..., :n]  # a traced motion: traced values
+
+
 def device_array(x: Any) -> jax.Array:
     """``x`` as a float64 JAX array, placed without a program: ``jnp.asarray`` of a host value compiles one per
     shape (JAX 0.10), some 10 ms each in every process."""

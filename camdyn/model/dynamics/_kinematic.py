@@ -8,7 +8,7 @@ import jax
 import numpy as np
 from jax.typing import ArrayLike
 
-from ..._core.jit import cached_jit
+from ..._core.jit import cached_jit, on_angle_buckets
 from ..._core.minimize import minimize_bounded
 from ..._core.units import TWO_PI
 from ..follower import FollowerModel
@@ -43,10 +43,14 @@ def kinematic_force_of(
 _kinematic_force_program = cached_jit(kinematic_force)
 
 
-def kinematic_force_jit(motion: Motion, model: FollowerModel, omega: ArrayLike, theta: ArrayLike) -> jax.Array:
-    """:func:`kinematic_force` compiled once per motion form and shape of ``theta``, for every speed: ``omega``
-    goes in as data (a Python float would be a static argument of the stored program, one program per speed)."""
-    return _kinematic_force_program(motion, model, np.asarray(omega, dtype=float), theta)
+def kinematic_force_jit(
+    motion: Motion, model: FollowerModel, omega: ArrayLike, theta: ArrayLike
+) -> jax.Array | np.ndarray:
+    """:func:`kinematic_force` compiled once per motion form and bucket of angles
+    (:func:`camdyn._core.jit.on_angle_buckets`), for every speed: ``omega`` goes in as data (a Python float would be a
+    static argument of the stored program, one program per speed)."""
+    w = np.asarray(omega, dtype=float)
+    return on_angle_buckets(lambda t: _kinematic_force_program(motion, model, w, t), theta)
 
 
 def _quadratic_jump_speed(a, b, c):

@@ -12,10 +12,9 @@ import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
-from jax.core import Tracer
 from jax.typing import ArrayLike
 
-from ..._core.jit import cached_jit, padded_length
+from ..._core.jit import cached_jit, on_angle_buckets
 from ..._core.kinds import FollowerKind, kind_of_motion
 from ..._core.units import THETA_GRID
 
@@ -68,20 +67,8 @@ def _evaluate(motion: Motion, theta: ArrayLike) -> jax.Array:
     return motion(theta)
 
 
-_LEAST_ANGLES = 8  # the smallest bucket of angles evaluate compiles for
-
-
 def evaluate(motion: Motion, theta: ArrayLike) -> jax.Array | np.ndarray:
     """s and its first three derivatives at ``theta`` (rad), shape (4, *theta.shape), by a program compiled once per
-    motion form and bucket of lengths: angles given as a 1-D array of numbers are padded (with the last angle) to
-    the next power of two, at least 8, and the values come back as numpy, so a new number of angles (a table's
-    step, a refined grid, another case's breaks) runs a stored program (the values are the same to the bit).
-    Inside a trace (of the angles), or for other shapes, the program of that shape."""
-    if isinstance(theta, Tracer) or np.ndim(theta) != 1:
-        return _evaluate(motion, theta)
-    t = np.asarray(theta, dtype=float)
-    n = t.size
-    size = padded_length(n, _LEAST_ANGLES, factor=2)
-    padded = np.pad(t, (0, size - n), mode="edge") if n else np.zeros(size)
-    out = _evaluate(motion, padded)
-    return out[:, :n] if isinstance(out, Tracer) else np.asarray(out)[:, :n]  # a traced motion: traced values
+    motion form and bucket of lengths (:func:`camdyn._core.jit.on_angle_buckets`: a new number of angles, a table's
+    step or another case's breaks, runs a stored program; the values are the same to the bit)."""
+    return on_angle_buckets(lambda t: _evaluate(motion, t), theta)
