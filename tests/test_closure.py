@@ -195,6 +195,7 @@ def test_flight_across_the_backlash_lands_where_the_closed_form_says():
     assert r.contact_force[k0] == 0.0  # in flight: on neither flank
 
 
+@pytest.mark.slow  # compiles the groove cam's flight model (4-5 s)
 @pytest.mark.parametrize("rpm", [300, 3000])
 def test_flight_under_a_spring_matches_a_second_integrator(rpm):
     """With a spring and damper in the groove the flight is no longer at constant velocity: scipy's DOP853 at

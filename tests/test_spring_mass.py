@@ -210,6 +210,7 @@ def test_min_preload_is_a_case_key(tmp_path, capsys):
     assert code == 2 and "limits.min_preload" in err
 
 
+@pytest.mark.slow  # sizes twice with the dynamic model (4-5 s)
 def test_plain_size_is_a_bound_not_a_spring(capsys):
     """The lecture's least peak force is a 0.086 N/mm spring with 437 mm of preload deflection: never drawn or
     printed as the chosen spring."""
