@@ -222,7 +222,7 @@ def main() -> int:
         elif ", new " in name:
             case = name.split(", new ")[1].split(" variant")[0]
             warm = best[f"camdyn check cases/{case}.toml, warm caches"][0]
-            goal = f"{wall / warm:.2f} x its warm check, goal <= {GOAL_NEW:g} x"
+            goal = f"{wall / warm:.2f} x the shipped case's warm check, goal <= {GOAL_NEW:g} x"
         else:
             goal = f"goal < {GOAL_ERROR_S:g} s; exit {code}: {err[:70]}"
         rows.append((name, f"{wall:.2f} s", f"{wall / bare:.2f} x the bare import, cpu {cpu:.2f} s; {goal}"))
