@@ -297,8 +297,10 @@ class Rows:
         return lambda z: (v_ref + np.einsum("ij,j->i", jac, np.asarray(z, dtype=float) - z_ref), jac)
 
     def least_on_scan(self, z: jax.Array, w_max: float, preload: ArrayLike | None = None) -> jax.Array:
-        """The least slack at each of FINE speeds up to ``w_max`` (rad/s), a stored program."""
-        return _least_on_scan(self.kernel, z, np.asarray(w_max, dtype=float), preload)
+        """The least slack at each of FINE speeds up to ``w_max`` (rad/s), a stored program; the speed and a preload
+        go in as data (a Python float would be a static argument: a program for every value)."""
+        f0 = None if preload is None else np.asarray(preload, dtype=float)
+        return _least_on_scan(self.kernel, z, np.asarray(w_max, dtype=float), f0)
 
     def geometry_jacobian(self, z: jax.Array) -> tuple[jax.Array, jax.Array]:
         """``z -> (geometry constraints, d/dz)`` (:meth:`geometry`), a stored program."""
