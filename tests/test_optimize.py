@@ -143,6 +143,52 @@ def test_the_translating_force_is_affine_in_the_control_points(lecture_rows):
 
 
 @pytest.mark.slow
+def test_a_case_of_the_same_structure_loads_the_stored_row_programs(tmp_path, monkeypatch):
+    """The follower's dimensions, the spring, the limits and the margin are data of the rows' programs, not constants
+    in them: a second case of the lecture's structure with other numbers traces and stores nothing new, and its rows
+    are its own (equal to the same functions compiled afresh for it)."""
+    import equinox as eqx
+
+    from camdyn._core import jit as programs
+    from camdyn.design.optimize import _rows
+
+    monkeypatch.setattr(programs, "_DIR", None)
+    programs.enable(tmp_path)
+    for name in ("_force_jacobian", "_geometry_jacobian"):  # programs of their own, not the ones earlier tests hold
+        monkeypatch.setattr(_rows, name, programs.cached_jit(getattr(_rows, name).__wrapped__))
+    stored = lambda: {p for p in tmp_path.rglob(f"*.{programs.SUFFIX}") if "_jacobian-" in p.name}  # noqa: E731
+    raw = tomllib.loads(LECTURE.read_text())
+    speeds = jnp.asarray(np.linspace(100.0, 600.0, 32) * RPM)
+
+    def rows_of(raw: dict, margin: float) -> tuple:
+        case = case_from_dict(raw)
+        rows = Rows(case, shape_space(case), margin=margin)
+        z = jnp.asarray(rows.space.z0)
+        return rows, z, rows.force_jacobian(z, speeds, None), rows.geometry_jacobian(z)
+
+    _, _, force, geometry = rows_of(raw, 1.5)
+    first = stored()
+    assert sorted(p.name.split("-")[0] for p in first) == ["_force_jacobian", "_geometry_jacobian"]
+    raw["follower"] |= {"base_radius": 45.0, "roller_radius": 12.0, "offset": 3.0}
+    raw["dynamics"] |= {"spring_rate": 2.5, "preload": 35.0}
+    raw["limits"] |= {"min_contact_force": 2.0, "max_pressure_angle": 28.0, "min_curvature_ratio": 1.5}
+    rows, z, force2, geometry2 = rows_of(raw, 3.0)
+    assert stored() == first
+    for got, was, want in zip(
+        (*force2, *geometry2),
+        (*force, *geometry),
+        (
+            *eqx.filter_jit(_rows.value_and_jacobian)(rows.kernel.sampled_slack, z, speeds, None),
+            *eqx.filter_jit(_rows.value_and_jacobian)(rows.kernel.geometry, z),
+        ),
+        strict=True,
+    ):
+        got, want = np.asarray(got), np.asarray(want)
+        assert not np.allclose(got, np.asarray(was))  # the second case's own numbers
+        np.testing.assert_allclose(got, want, rtol=1e-12, atol=1e-12 * np.abs(want).max())
+
+
+@pytest.mark.slow
 def test_reshaped_lecture_holds_at_every_speed_to_130_percent(lecture_rows):
     """The inner problem of the jump-speed objective at 1.3 x the lecture's jump speed: a reshaped rise and return
     that hold there, at every speed below and every angle, within the pressure-angle and curvature limits (the

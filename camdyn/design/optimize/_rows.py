@@ -17,13 +17,13 @@ import numpy as np
 from jax.typing import ArrayLike
 
 from ..._core.jit import cached_jit
+from ..._core.kinds import FollowerType
 from ..._core.units import newton_per_torque
 from ...model.case import Case
 from ...model.dynamics import free_vibration, kinematic_force_of, steady_state, train_force
 from ...model.follower import FollowerModel
-from ...model.geometry import curvature_limit, geometry_of
+from ...model.geometry import curvature_limit, follower_params, geometry_of
 from ...model.valvetrain import Rocker
-from ...schema import FollowerSpec
 from ._shape import ShapeSpace, control_order, motion_values
 from ._slp import value_and_jacobian
 
@@ -34,40 +34,47 @@ SPEED_SLOTS = 32  # speeds per linear program (a fixed count: one compiled Jacob
 
 
 class RowsKernel(eqx.Module):
-    """What the rows compute from: the model, the shape space's arrays and the grid (array leaves, arguments of
-    the compiled programs) and the follower and limits (static: constants of the programs, part of their keys).
-    A module-level pytree, so the programs of :class:`Rows` are stored by :func:`camdyn._core.jit.cached_jit`
-    and a later ``optimize`` of the case loads them instead of tracing them (seconds each)."""
+    """What the rows compute from: the model, the shape space's arrays, the grid, the follower's dimensions and the
+    limits (array leaves, arguments of the compiled programs), and the case's structure (static: the follower
+    type, the model's kind, the shape space's sizes; part of the programs' keys). A module-level pytree, so the
+    programs of :class:`Rows` are stored by :func:`camdyn._core.jit.cached_jit`: a later ``optimize`` of the
+    case, or of another case of the same structure (another margin, spring, limit, lash or preload), loads them
+    instead of tracing them (seconds each)."""
 
     model: FollowerModel
     offset: np.ndarray  # (4, n) the shape space's
     matrix: np.ndarray  # (4, n, n_free)
     theta: np.ndarray  # (n,) rad
-    follower: FollowerSpec = eqx.field(static=True)
-    margin: float = eqx.field(static=True)  # the least interface force to keep (N; N*m for an arm)
-    min_contact_force: float = eqx.field(static=True)  # N at the contact
+    follower: np.ndarray  # the follower's dimensions, :func:`camdyn.model.geometry.follower_params`
+    margin: np.ndarray  # () the least interface force to keep (N; N*m for an arm)
+    min_contact_force: np.ndarray  # () N at the contact
+    max_pressure_angle: np.ndarray  # () rad
+    # () the curvature the check holds a roller's pitch curve to (1/mm, the largest), a flat face's contour to (mm,
+    # the least radius)
+    curvature_bound: np.ndarray
+    follower_type: FollowerType = eqx.field(static=True)
+    roller: bool = eqx.field(static=True)
     rotary: bool = eqx.field(static=True)
     rigid: bool = eqx.field(static=True)  # the model's, which its (traced) train stiffness says
-    max_pressure_angle_deg: float = eqx.field(static=True)
-    min_curvature_ratio: float = eqx.field(static=True)
     moving: int = eqx.field(static=True)  # segments reshaped
     n_control: int = eqx.field(static=True)
     control_offset: np.ndarray | None = None  # a valvetrain's flanks (:class:`ShapeSpace`)
     control_matrix: np.ndarray | None = None
     # a valvetrain's event: the cam side's inertia (kg) and the tappet force (N) on the cam's force
-    cam_mass: float = eqx.field(static=True, default=0.0)
-    cam_load: float = eqx.field(static=True, default=0.0)
-    # and its valve's closing speed held: the grid angles around its seating (an array leaf), and (cam speed
-    # rad/s, ratio, the most m/s)
+    event: bool = eqx.field(static=True, default=False)
+    cam_mass: np.ndarray | float = 0.0
+    cam_load: np.ndarray | float = 0.0
+    # and its valve's closing speed held: the grid angles around its seating, and (cam speed rad/s, ratio, the most
+    # m/s)
     seating_idx: np.ndarray | None = None
-    seating: tuple[float, float, float] | None = eqx.field(static=True, default=None)
+    seating: np.ndarray | None = None
     # and where its valve lifts off: the follower's position with the valve seated (m) and the train's force that
     # lifts it (N), :func:`camdyn.model.valvetrain.lift_off`
-    lift_off: tuple[float, float] | None = eqx.field(static=True, default=None)
+    lift_off: np.ndarray | None = None
     # and a rocker's geometry: the event follower's drive is the lift the rocker gives the valve over its constant
     # ratio ``rocker_ratio`` (the ratio :func:`camdyn.model.valvetrain.event_follower` reduces the valve with)
     rocker: Rocker | None = None
-    rocker_ratio: float = eqx.field(static=True, default=1.0)
+    rocker_ratio: np.ndarray | float = 1.0
 
     def values(self, z: np.ndarray | jax.Array) -> jax.Array:
         return motion_values(self.offset, self.matrix, z)
@@ -88,7 +95,7 @@ class RowsKernel(eqx.Module):
                 return factor * train_force(model, w, d, d1, *self.in_contact(model, w, d, d1))
 
             force = jax.vmap(one)(omegas)
-        if self.cam_mass or self.cam_load:
+        if self.event:
             force = force + self.cam_mass * omegas[:, None] ** 2 * s2 + self.cam_load
         return force
 
@@ -148,9 +155,9 @@ class RowsKernel(eqx.Module):
         """:meth:`forces` over the least to keep (N; N*m for an arm): >= 0 where both the margin and the check's
         ``min_contact_force`` (N at the contact; through the lever arm, which moves with s, for an arm) hold."""
         fmin = self.min_contact_force
-        need = max(self.margin, fmin)
+        need = jnp.maximum(self.margin, fmin)
         if self.rotary:  # the least contact force through the lever arm, which moves with s
-            lever = geometry_of(self.follower, jnp.asarray(self.theta), self.values(z))["lever"]
+            lever = self._geometry(z)["lever"]
             need = jnp.maximum(self.margin, fmin / newton_per_torque(lever))
         return self.forces(z, omegas, preload) - need
 
@@ -158,21 +165,19 @@ class RowsKernel(eqx.Module):
         """The geometry constraints as ``g <= 0``, each scaled to its limit: |phi| / phi_max - 1 and, for a roller,
         kappa / kappa_max - 1 (the check's least contour radius over the roller radius), for a flat face
         1 - rho / rho_min."""
-        f = self.follower
-        geo = geometry_of(f, jnp.asarray(self.theta), self.values(z))
-        phi_max = math.radians(self.max_pressure_angle_deg)
-        rows = [jnp.abs(geo["phi"]) / phi_max - 1.0 + _SAFETY]
-        if f.roller_radius is not None:  # a roller follower
-            kappa_max = 1.0 / (f.roller_radius * (1.0 + curvature_limit(f, self.min_curvature_ratio)))
-            rows.append(geo["kappa_pitch"] / kappa_max - 1.0 + _SAFETY)
-        else:
-            assert f.base_radius is not None  # a built case's follower has it
-            rho_min = max(curvature_limit(f, self.min_curvature_ratio), 1e-3 * f.base_radius)
-            rows.append(1.0 - geo["rho_contour"] / rho_min + _SAFETY)
+        geo = self._geometry(z)
+        rows = [jnp.abs(geo["phi"]) / self.max_pressure_angle - 1.0 + _SAFETY]
+        if self.roller:  # the pitch curve's curvature at most kappa_max
+            rows.append(geo["kappa_pitch"] / self.curvature_bound - 1.0 + _SAFETY)
+        else:  # the contour's radius at least rho_min
+            rows.append(1.0 - geo["rho_contour"] / self.curvature_bound + _SAFETY)
         rows.append(control_order(z, self.moving, self.n_control, self.control_offset, self.control_matrix))
         if self.seating is not None:
             rows.append(self.closing_speed(z) / self.seating[2] - 1.0)
         return jnp.concatenate(rows)
+
+    def _geometry(self, z: np.ndarray | jax.Array) -> dict:
+        return geometry_of(self.follower_type, self.follower, jnp.asarray(self.theta), self.values(z))
 
     def closing_speed(self, z: np.ndarray | jax.Array) -> jax.Array:
         """A valvetrain's valve speed toward its seat (m/s, the surrogate's steady state at ``seating``'s speed) at
@@ -231,32 +236,42 @@ class Rows:
 
     @cached_property
     def kernel(self) -> RowsKernel:
-        case, space, lim = self.case, self.space, self.case.limits
+        case, space, lim, f = self.case, self.space, self.case.limits, self.case.follower
+        data = lambda x: np.asarray(x, dtype=float)  # noqa: E731  (data of the programs, not a constant in them)
+        ratio = float(lim.min_curvature_ratio)
+        if f.roller_radius is not None:  # the least contour radius the check allows, as the pitch curvature
+            bound = 1.0 / (f.roller_radius * (1.0 + curvature_limit(f, ratio)))
+        else:
+            assert f.base_radius is not None  # a built case's follower has it
+            bound = max(curvature_limit(f, ratio), 1e-3 * f.base_radius)
         return RowsKernel(
             model=case.model,
             offset=space.offset,
             matrix=space.matrix,
             theta=space.theta,
-            follower=case.follower,
-            margin=float(self.margin),
-            min_contact_force=float(lim.min_contact_force),
+            follower=follower_params(f),
+            margin=data(self.margin),
+            min_contact_force=data(lim.min_contact_force),
+            max_pressure_angle=data(
+                math.radians(float(lim.max_pressure_angle or f.kind.default_max_pressure_angle_deg))
+            ),
+            curvature_bound=data(bound),
+            follower_type=f.follower_type,
+            roller=f.roller_radius is not None,
             rotary=case.kind.rotary,
             rigid=case.model.rigid,
-            max_pressure_angle_deg=float(lim.max_pressure_angle or case.follower.kind.default_max_pressure_angle_deg),
-            min_curvature_ratio=float(lim.min_curvature_ratio),
             moving=len(space.moving),
             n_control=space.n_control,
             control_offset=space.control_offset,
             control_matrix=space.control_matrix,
-            cam_mass=float(self.cam_mass),
-            cam_load=float(self.cam_load),
+            event=bool(self.cam_mass or self.cam_load),
+            cam_mass=data(self.cam_mass),
+            cam_load=data(self.cam_load),
             seating_idx=None if self.seating is None else np.asarray(self.seating[2]),
-            seating=None
-            if self.seating is None
-            else (float(self.seating[0]), float(self.seating[1]), float(self.seating[3])),
-            lift_off=self.lift_off,
+            seating=None if self.seating is None else data([self.seating[0], self.seating[1], self.seating[3]]),
+            lift_off=None if self.lift_off is None else data(self.lift_off),
             rocker=self.rocker,
-            rocker_ratio=float(self.rocker_ratio),
+            rocker_ratio=data(self.rocker_ratio),
         )
 
     def forces(self, z: np.ndarray | jax.Array, omegas: jax.Array, preload: ArrayLike | None = None) -> jax.Array:

@@ -53,7 +53,7 @@ from ._analyze import (
 from ._conjugate import ConjugateGeometry, conjugate, conjugate_lever_mm, evaluate_conjugate
 from ._groove import WALLS, GrooveGeometry, Wall, groove
 from ._inverse import ContactMotion, ContourFit, contact_motion
-from ._kernel import check_assembly, check_dimensions, evaluate_geometry, geometry_of
+from ._kernel import check_assembly, check_dimensions, evaluate_geometry, follower_params, geometry_of
 from ._size import BASE_RADIUS_STEP_MM, curvature_limit, min_base_radius, passes, rounded_base_radius
 
 __all__ = [
@@ -76,6 +76,7 @@ __all__ = [
     "evaluate_conjugate",
     "evaluate_geometry",
     "extremes",
+    "follower_params",
     "geometry_of",
     "contact_per_force",
     "groove",

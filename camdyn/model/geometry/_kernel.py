@@ -214,11 +214,18 @@ def _geometry(p, theta, sv, ftype: FollowerType):
     return jax.vmap(lambda th, s: _point(ftype, p, th, s), in_axes=(0, 1))(theta, sv)
 
 
-def geometry_of(f: FollowerSpec, theta: ArrayLike, sv: jax.Array) -> dict:
+def follower_params(f: FollowerSpec) -> np.ndarray:
+    """The follower's dimensions as :func:`geometry_of` takes them: an array (data of a compiled program, so
+    followers of one type share it)."""
+    return _params(f)
+
+
+def geometry_of(ftype: FollowerType, params: ArrayLike, theta: ArrayLike, sv: jax.Array) -> dict:
     """The geometry at cam angles ``theta`` (rad) from motion values ``sv`` = (s, s', s'', s''') of shape (4, n),
-    as a traceable JAX function of ``sv``: what the optimizer differentiates (pressure angle ``phi`` rad,
-    ``kappa_pitch`` 1/mm, ``rho_contour`` mm, ``lever`` mm)."""
-    return jax.vmap(lambda th, s: _point(f.follower_type, jnp.asarray(_params(f)), th, s), in_axes=(0, 1))(theta, sv)
+    as a traceable JAX function of ``sv``, for a follower of type ``ftype`` with dimensions ``params``
+    (:func:`follower_params`): what the optimizer differentiates (pressure angle ``phi`` rad, ``kappa_pitch``
+    1/mm, ``rho_contour`` mm, ``lever`` mm)."""
+    return jax.vmap(lambda th, s: _point(ftype, jnp.asarray(params), th, s), in_axes=(0, 1))(theta, sv)
 
 
 _CHUNK = 4096  # angles per compiled call: a 3600-step revolution plus its breaks fits one
