@@ -112,7 +112,11 @@ def seating_rows(rows: Rows, check: CheckReport, speed_rpm: float | None) -> tup
     omega = float(speed_rpm if speed_rpm is not None else rows.case.speed_rpm) * RPM
     deg = np.degrees(rows.space.theta)
     near = np.abs((deg - check.valvetrain.response.seating_deg + 180.0) % 360.0 - 180.0) <= SEAT_WINDOW_DEG
+    # as many angles for every case (a seat between two grid angles has one fewer within the window): the stored
+    # programs of the rows are shared by the valvetrains of one structure; a repeated angle repeats a row
+    width = math.floor(2.0 * SEAT_WINDOW_DEG / (deg[1] - deg[0])) + 1  # the most a window of the grid holds
     idx = np.nonzero(near)[0]
+    idx = np.pad(idx, (0, width - idx.size), mode="edge")
     s = np.asarray(rows.case.motion(rows.space.theta))[:, None]  # the case's own flanks, not their fit
     own = replace(rows.space, offset=s[:, 0], matrix=np.zeros((4, s.shape[-1], 1)), z0=np.zeros(1))
     probe = replace(rows, space=own, seating=(omega, float(vt.ratio), idx, 1.0))
