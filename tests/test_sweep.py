@@ -375,6 +375,33 @@ def test_cpu_chunks_on_threads_equal_one_thread(monkeypatch):
     assert told1 == told3 == [4, 4, 2]
 
 
+def test_on_cores_keeps_the_order_and_raises_the_first_error(monkeypatch):
+    """``on_cores`` (``size --buildable``'s rate scan) is ``[fn(x) for x in items]`` on threads: in order, the same
+    values as on one thread, and an error raised as such."""
+    import threading
+
+    from camdyn._core import sharding
+
+    seen = set()
+
+    def fn(x):
+        seen.add(threading.current_thread().name)
+        if x == 7:
+            raise ValueError("seven")
+        return float(np.sqrt(x))
+
+    monkeypatch.setattr(sharding, "_workers", lambda devices: 3)
+    items = [0, 1, 4, 9, 16, 25]
+    assert sharding.on_cores(fn, items) == [float(np.sqrt(x)) for x in items]
+    assert any(name.startswith("camdyn-core") for name in seen)
+    with pytest.raises(ValueError, match="seven"):
+        sharding.on_cores(fn, [1, 7, 2])
+    monkeypatch.setattr(sharding, "_workers", lambda devices: 1)
+    seen.clear()
+    assert sharding.on_cores(fn, items) == [float(np.sqrt(x)) for x in items]
+    assert seen == {threading.current_thread().name}
+
+
 def test_steady_state_on_the_step_grid_from_the_aliased_spectrum():
     """The gap stepping's steady state on every 5th angle (720 steps of 3600) from inverse FFTs of 720 points of the
     aliased spectrum equals the full inverse FFTs there, x and dx/dtheta, Nyquist bin included (numpy's irfft)."""

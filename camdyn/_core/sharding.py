@@ -85,6 +85,17 @@ def _workers(devices: tuple) -> int:
     return max(1, cores // len(devices))
 
 
+def on_cores(fn: Callable[[Any], Any], items: Sequence[Any]) -> list[Any]:
+    """``[fn(x) for x in items]`` on a thread per core the process may use, where JAX computes on CPUs (XLA runs one
+    program at a time per CPU device, on one core, and a running program releases the interpreter): for independent
+    evaluations that are mostly compiled work. In order; the first exception is raised."""
+    workers = min(_workers(tuple(jax.local_devices())[:1]), len(items))
+    if workers <= 1:
+        return [fn(x) for x in items]
+    with ThreadPoolExecutor(workers, thread_name_prefix="camdyn-core") as pool:
+        return list(pool.map(fn, items))
+
+
 def _padded(batched: list[np.ndarray], size: int) -> list[np.ndarray]:
     """``batched`` padded to ``size`` rows with copies of the first: one compiled shape for every chunk."""
     m = batched[0].shape[0]

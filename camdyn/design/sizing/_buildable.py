@@ -27,6 +27,7 @@ import numpy as np
 from scipy.optimize import OptimizeResult, minimize_scalar  # unannotated: cast its result
 
 from ..._core.errors import InputError
+from ..._core.sharding import on_cores
 from ..._core.units import RPM
 from ...model.case import Case
 from ...model.follower import follower_model
@@ -102,7 +103,7 @@ def buildable_answer(
             f"no buildable spring is as stiff as {p.kind.rate_from_si(p.k_lo):g}: camdyn's springs reach {hi:g}",
         )
     rates = np.geomspace(lo, hi, _N_SCAN)
-    peaks = np.array([peak(r) for r in rates])
+    peaks = np.array(on_cores(peak, rates))  # each rate a few steady-state programs: on a thread per core
     if not (peaks < _UNBUILDABLE).any():
         raise InputError(
             "spring",
