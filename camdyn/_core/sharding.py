@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import functools
 import os
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from concurrent.futures import ThreadPoolExecutor
 from typing import Any
 
@@ -85,10 +85,11 @@ def _workers(devices: tuple) -> int:
     return max(1, cores // len(devices))
 
 
-def on_cores(fn: Callable[[Any], Any], items: Sequence[Any]) -> list[Any]:
+def on_cores(fn: Callable[[Any], Any], items: Iterable[Any]) -> list[Any]:
     """``[fn(x) for x in items]`` on a thread per core the process may use, where JAX computes on CPUs (XLA runs one
     program at a time per CPU device, on one core, and a running program releases the interpreter): for independent
     evaluations that are mostly compiled work. In order; the first exception is raised."""
+    items = list(items)
     workers = min(_workers(tuple(jax.local_devices())[:1]), len(items))
     if workers <= 1:
         return [fn(x) for x in items]
