@@ -35,7 +35,7 @@ from ..._core.units import THETA_GRID
 from ...schema import FollowerSpec
 from ._analyze import _grid, geometry_columns
 from ._groove import Wall, _wall
-from ._kernel import _params, _pivot, _roller_centre, _rot, check_assembly, chunked, roller_point, with_breaks
+from ._kernel import _pivot, _roller_centre, _rot, check_assembly, chunked, follower_params, roller_point, with_breaks
 
 if TYPE_CHECKING:
     from ..motion import Motion
@@ -67,7 +67,7 @@ def _conjugate_params(f: FollowerSpec) -> np.ndarray:
         f.conjugate_arm_length or f.arm_length or 0.0,
         math.radians(f.conjugate_arm_angle or 0.0),
     ]
-    return np.concatenate([_params(f), second])
+    return np.concatenate([follower_params(f), second])
 
 
 def evaluate_conjugate(motion: Motion, f: FollowerSpec, theta_rad: ArrayLike) -> dict[str, np.ndarray]:

@@ -59,8 +59,9 @@ def check_dimensions(f: FollowerSpec) -> None:
             )
 
 
-def _params(f: FollowerSpec, base_radius: float | None = None) -> np.ndarray:
-    """Numeric follower parameters (dynamic under jit, so base-circle bisection does not recompile)."""
+def follower_params(f: FollowerSpec, base_radius: float | None = None) -> np.ndarray:
+    """The follower's dimensions as the geometry's programs take them (:func:`geometry_of`): an array, data of a
+    compiled program, so followers of one type share it and the base circle's bisection does not recompile."""
     rb = f.base_radius if base_radius is None else base_radius
     return np.array(
         [
@@ -214,12 +215,6 @@ def _geometry(p, theta, sv, ftype: FollowerType):
     return jax.vmap(lambda th, s: _point(ftype, p, th, s), in_axes=(0, 1))(theta, sv)
 
 
-def follower_params(f: FollowerSpec) -> np.ndarray:
-    """The follower's dimensions as :func:`geometry_of` takes them: an array (data of a compiled program, so
-    followers of one type share it)."""
-    return _params(f)
-
-
 def geometry_of(ftype: FollowerType, params: ArrayLike, theta: ArrayLike, sv: jax.Array) -> dict:
     """The geometry at cam angles ``theta`` (rad) from motion values ``sv`` = (s, s', s'', s''') of shape (4, n),
     as a traceable JAX function of ``sv``, for a follower of type ``ftype`` with dimensions ``params``
@@ -235,7 +230,7 @@ def evaluate_geometry(
     motion: Motion, f: FollowerSpec, theta_rad: ArrayLike, base_radius: float | None = None
 ) -> dict[str, np.ndarray]:
     """Evaluate at any number of angles (rad) in fixed-size chunks, so nothing recompiles per query size."""
-    p = _params(f, base_radius)
+    p = follower_params(f, base_radius)
     return chunked(motion, theta_rad, lambda theta, sv: _geometry(p, theta, sv, f.follower_type))
 
 
