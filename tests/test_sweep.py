@@ -6,6 +6,7 @@ import json
 import os
 import subprocess
 import sys
+import time
 from pathlib import Path
 
 import equinox as eqx
@@ -396,6 +397,17 @@ def test_on_cores_keeps_the_order_and_raises_the_first_error(monkeypatch):
     assert any(name.startswith("camdyn-core") for name in seen)
     with pytest.raises(ValueError, match="seven"):
         sharding.on_cores(fn, [1, 7, 2])
+    done = []
+
+    def slow(x):
+        done.append(x)
+        if x == 7:
+            raise ValueError("seven")
+        time.sleep(0.01)
+
+    with pytest.raises(ValueError, match="seven"):  # after an error the items not started are dropped
+        sharding.on_cores(slow, [7] + [1] * 200)
+    assert len(done) < 100
     monkeypatch.setattr(sharding, "_workers", lambda devices: 1)
     seen.clear()
     assert sharding.on_cores(fn, items) == [float(np.sqrt(x)) for x in items]
