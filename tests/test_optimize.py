@@ -357,6 +357,10 @@ MUST_IMPROVE = {(INDEXER2, "jump-speed"), (INDEXER2, "vibration"), (LECTURE, "sp
 def test_an_answer_is_never_worse_nor_invalid(capsys, tmp_path, path, objective):
     out = tmp_path / "out.toml"
     code, stdout, err = run(capsys, "optimize", path, "-o", out, "--objective", objective)
+    lines = [line.removeprefix("camdyn: ") for line in err.splitlines() if line.startswith("camdyn: ")]
+    started = {line.removesuffix(" ...") for line in lines if line.endswith(" ...")}
+    ended = {line.split(" done in ")[0] for line in lines if " done in " in line}
+    assert "optimize" in started and started <= ended, err  # on a pipe each phase it starts it says done
     original = load_case(path)
     margin = default_margin(original)
     if "cannot improve" in stdout:  # it says so, writes nothing, exits 1

@@ -17,7 +17,7 @@ from dataclasses import replace
 import numpy as np
 
 from ..._core.errors import InputError, NumericalError
-from ..._core.progress import Progress
+from ..._core.progress import Progress, phase
 from ..._core.results import finite_or_none
 from ..._core.units import RPM
 from ...model.case import Case, build_case
@@ -243,7 +243,8 @@ def optimize_case(
                 )
             z, _ = jump_speed(rows, w0, progress)
         elif objective == "vibration":
-            z = vibration(rows, rpm * RPM)
+            with phase(progress, "optimize"):
+                z = vibration(rows, rpm * RPM)
         else:
             w = case.limits.speed_margin * rpm * RPM * CLEAR
             rates = float(case.model.stiffness) * np.array([0.25, 0.5, 1.0, 2.0])
@@ -263,7 +264,8 @@ def optimize_case(
                     f"{float(np.min(floors)):.4g} {f} (the least interface force is at most its mean over a "
                     "revolution, k <s> + preload + external force)",
                 )
-            z, k, f0 = spring_force(rows, w, rates[hopeful])
+            with phase(progress, "optimize"):
+                z, k, f0 = spring_force(rows, w, rates[hopeful])
             keys = dynamics_keys(case.kind)
             dynamics = {
                 keys[1]: float(np.round(case.kind.rate_from_si(k), 6)),
@@ -273,23 +275,24 @@ def optimize_case(
         return _refused(
             objective, before, case, margin, control_points, t0, f"the optimizer found no answer: {err.message}"
         )
-    doc = _document(case, space, z, objective, name, source, dynamics)
-    new = resolve_spring(build_case(CaseSpec.model_validate(doc), case.source))
-    after_check = run_check(new, speed_rpm)
-    after = metrics(new, after_check, margin)
-    facts = None
-    if case.valvetrain is not None:
-        claimed, verification, refusals, facts = _valvetrain_verdict(new, space, before_check, after_check)
-    else:
-        claimed = after.margin_speed_rpm if objective == "jump-speed" else case.limits.speed_margin * rpm
-        checked = [w / RPM for w in _dips(new, claimed * RPM, _VERIFIED)] if not new.model.rigid else []
-        checked = sorted(
-            set(round(v, 1) for v in checked + [0.99 * claimed] + ([] if objective == "jump-speed" else [rpm]))
-        )
-        verification = verify(new, checked, margin)
-        refusals = _refusals(
-            objective, before_check, after_check, before, after, _motion_kept(new, space), verification
-        )
+    with phase(progress, "the answer's check and time-domain verification"):
+        doc = _document(case, space, z, objective, name, source, dynamics)
+        new = resolve_spring(build_case(CaseSpec.model_validate(doc), case.source))
+        after_check = run_check(new, speed_rpm)
+        after = metrics(new, after_check, margin)
+        facts = None
+        if case.valvetrain is not None:
+            claimed, verification, refusals, facts = _valvetrain_verdict(new, space, before_check, after_check)
+        else:
+            claimed = after.margin_speed_rpm if objective == "jump-speed" else case.limits.speed_margin * rpm
+            checked = [w / RPM for w in _dips(new, claimed * RPM, _VERIFIED)] if not new.model.rigid else []
+            checked = sorted(
+                set(round(v, 1) for v in checked + [0.99 * claimed] + ([] if objective == "jump-speed" else [rpm]))
+            )
+            verification = verify(new, checked, margin)
+            refusals = _refusals(
+                objective, before_check, after_check, before, after, _motion_kept(new, space), verification
+            )
     robust_claim = None
     if robust and not refusals:
         robust_claim = _robust_claim(new, progress)

@@ -89,6 +89,7 @@ def jump_speed(rows: Rows, w0: float, progress: Progress | None = None) -> tuple
         if hi is not None and (hi - lo) / RPM < _TOL_RPM:
             break
         w = 1.3 * lo if hi is None else 0.5 * (lo + hi)
+    tick.finish()
     return z, lo
 
 
