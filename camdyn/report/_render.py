@@ -145,7 +145,9 @@ def report_cases(
             )
         stems[stem] = str(p)
     out = []
-    tick = counter(progress, "cases", len(cases))
+    # several cases: a phase over them, said started before the first (one case: its own phases say it all)
+    tick = counter(progress if len(cases) > 1 else None, "cases", len(cases))
+    tick(0)
     for p, case in zip(paths, cases, strict=True):
         try:
             out.append(write_report(case, out_dir, speed_rpm=speed_rpm, progress=progress))
