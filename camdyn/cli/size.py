@@ -232,7 +232,8 @@ def run(args: argparse.Namespace) -> int:
     if case.follower is not None and case.follower.form_closed:  # no return spring: its largest backlash instead
         return size_groove(args, case)
     min_rate = 0.0 if args.min_rate is None else args.min_rate
-    sz = size_spring(case, args.max_speed, args.margin, min_rate, buildable=args.buildable)
+    with _console.progress_bar(args.quiet or not args.buildable) as progress:  # --buildable: seconds a round
+        sz = size_spring(case, args.max_speed, args.margin, min_rate, buildable=args.buildable, progress=progress)
     if args.json:
         print(_console.json_text(sz.json()))
     else:

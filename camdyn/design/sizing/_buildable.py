@@ -27,6 +27,7 @@ import numpy as np
 from scipy.optimize import OptimizeResult, minimize_scalar  # unannotated: cast its result
 
 from ..._core.errors import InputError
+from ..._core.progress import Progress, phase
 from ..._core.sharding import on_cores
 from ..._core.units import RPM
 from ...model.case import Case
@@ -141,21 +142,23 @@ def judged_as_written(case: Case, rate: float, preload: float, speed_rpm: float,
 
 
 def buildable_fixed_point(
-    case: Case, speed_rpm: float, margin: float, min_rate: float
+    case: Case, speed_rpm: float, margin: float, min_rate: float, progress: Progress | None = None
 ) -> tuple[Case, float, float, SpringDesign, Check]:
     """``size --buildable`` with the proposed spring's own mass: (the case, its own spring, with the proposed
     spring's mass in its model; rate and preload as written, the case's units; the part; check's speed-margin
-    verdict on the case with that spring). ``case`` is resolved (:func:`camdyn.design.parts.resolve_spring`)."""
+    verdict on the case with that spring). ``case`` is resolved (:func:`camdyn.design.parts.resolve_spring`).
+    ``progress``: a phase per round (a scan of the rates a spring can have, seconds each)."""
     model = case.spec.spring.model if case.spec.spring is not None else "lumped"
     spring = case.spring
     assert spring is not None  # the case is resolved (resolve_spring)
     target = margin * (1.0 + HEADROOM)
     size_margin, mass, check, rate, preload = target, 0.0, None, math.nan, math.nan
-    for _ in range(_ROUNDS):
+    for i in range(_ROUNDS):
         sd = spring.with_mass(mass, model)
         sized = replace(case, model=sd.follower(), spring=sd)
         p, grid = build_problem(sized, speed_rpm, size_margin, min_rate)
-        k, f0 = buildable_answer(sized, p, grid, None if p.rigid else Dynamic.of(p), margin * speed_rpm)
+        with phase(progress, f"buildable springs, round {i + 1} (spring mass {1000.0 * mass:.4g} g)"):
+            k, f0 = buildable_answer(sized, p, grid, None if p.rigid else Dynamic.of(p), margin * speed_rpm)
         rate, preload = written(p.kind.rate_from_si(k)), written(f0, up=True)
         part = design_case_spring(sized, rate=rate, preload=preload, surge="require", top_speed_rpm=margin * speed_rpm)
         if part.spring.mass > mass * (1.0 + 1e-9):

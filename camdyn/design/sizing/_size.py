@@ -9,6 +9,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ..._core.errors import InputError
+from ..._core.progress import Progress
 from ..._core.units import RPM
 from ..parts import resolve_spring
 from ._buildable import HEADROOM, WRITTEN_DIGITS, buildable_fixed_point
@@ -114,12 +115,13 @@ def size_spring(
     margin: float | None = None,
     min_rate: float = 0.0,
     buildable: bool = False,
+    progress: Progress | None = None,
 ) -> SpringSizing:
     """Size the return spring of ``case``: the (rate, preload) with the least peak spring force that keeps the
     interface force >= ``[limits] min_contact_force`` at every angle and every speed up to ``margin`` times
     ``max_speed_rpm`` (defaults: the case's speed and speed_margin); ``min_rate`` (N/mm, or N*m/rad for an
     oscillating follower) bounds the rate from below. ``buildable``: the least peak force over springs that can
-    be built within the case's ``[spring]`` table, and the part (:mod:`._buildable`). See
+    be built within the case's ``[spring]`` table, and the part (:mod:`._buildable`; ``progress``: its rounds). See
     :mod:`camdyn.design.sizing` for the method, the tie-break rule and the dynamic correction. Raises
     :class:`InputError` on bad input."""
     check_options(max_speed_rpm, margin, min_rate)
@@ -134,7 +136,7 @@ def size_spring(
     if buildable:
         speed = float(case.speed_rpm if max_speed_rpm is None else max_speed_rpm)
         top_margin = float(case.limits.speed_margin if margin is None else margin)
-        case, rate_w, f0_w, part, check = buildable_fixed_point(case, speed, top_margin, min_rate)
+        case, rate_w, f0_w, part, check = buildable_fixed_point(case, speed, top_margin, min_rate, progress)
     spring = case.spring
     assert spring is not None  # resolve_spring resolved it; buildable_fixed_point keeps it resolved
     p, grid = build_problem(case, max_speed_rpm, margin, min_rate)
