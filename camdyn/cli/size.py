@@ -221,7 +221,8 @@ def run(args: argparse.Namespace) -> int:
                 "size --buildable does not apply to a valvetrain: size proposes the valve spring's rate and "
                 "preload, and with a [spring] part designs the part for them",
             )
-        vs = size_valve_spring(case, args.max_speed, args.margin, args.min_rate)
+        with _console.progress_bar(args.quiet) as progress:  # seconds: the two-mass model at each preload tried
+            vs = size_valve_spring(case, args.max_speed, args.margin, args.min_rate, progress)
         if args.json:
             print(_console.json_text(vs.json()))
         else:

@@ -30,6 +30,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, replace
 
+from ..._core.progress import Progress, phase
 from ..._core.results import finite_or_none
 from ..._core.units import M_PER_MM, RPM
 from ...model import dynamics as dyn
@@ -47,6 +48,7 @@ from ._size import check_options
 _ROUNDS = 10
 _CLOSE = 0.01  # the search stops once the least speed is within 1 % above (1 + HEADROOM) x the top speed
 _ON_TRAIN = 1e-3  # of the peak spring force: the least train force over the valve event that keeps it on the train
+_SEARCH = "valve spring: preload search (two-mass model)"
 _TRAIN_WIDTH = 0.005  # relative width of the bisection for the least preload that keeps the valve on the train
 _TRAIN_ROUNDS = 30
 _PART_ROUNDS = 6
@@ -232,14 +234,19 @@ def _least_preload_on_train(case: Case, rate: float, start: float, valve_lift_mm
 
 
 def size_valve_spring(
-    case: Case, max_speed_rpm: float | None = None, margin: float | None = None, min_rate: float | None = None
+    case: Case,
+    max_speed_rpm: float | None = None,
+    margin: float | None = None,
+    min_rate: float | None = None,
+    progress: Progress | None = None,
 ) -> ValveSpringSizing:
     """The valve spring of a ``[valvetrain]`` case (rate and preload at the valve) with the least preload for its
     rate whose float and bounce speeds are at least ``margin`` x ``max_speed_rpm`` (defaults: the case's speed and
     speed_margin); ``min_rate`` (N/mm at the valve) bounds the rate from below (default: the case's own rate; 0
     lets the closed form choose, a constant-force spring where the rate only costs peak force). With a ``[spring]``
     part, the part designed for the proposal and its mass on the valve (:func:`_size_with_part`). The proposal is
-    judged by ``check`` as written (the part designed afresh for it). See the module's docstring for the method."""
+    judged by ``check`` as written (the part designed afresh for it). See the module's docstring for the method.
+    ``progress``: a phase per search (one per part round) and one for the check."""
     assert case.valvetrain is not None  # the caller's: a [valvetrain] case
     speed = float(case.speed_rpm if max_speed_rpm is None else max_speed_rpm)
     margin = float(case.limits.speed_margin if margin is None else margin)
@@ -254,11 +261,16 @@ def size_valve_spring(
         }
     )
     case = replace(case, spec=spec)
-    sizing = _size(case, min_rate) if case.spec.spring is None else _size_with_part(case, min_rate)
+    if case.spec.spring is None:
+        with phase(progress, _SEARCH):
+            sizing = _size(case, min_rate)
+    else:
+        sizing = _size_with_part(case, min_rate, progress)
     chosen = sizing.chosen
     unresolved = replace(case, spring=None)  # check designs the [spring] part for the proposal, as for the file
     as_written = with_valvetrain_keys(unresolved, dynamics={"spring_rate": chosen.rate, "preload": chosen.preload})
-    report = run_check(as_written)
+    with phase(progress, "the proposal's check"):
+        report = run_check(as_written)
     failing = [
         f"check {c.name} fails on the proposal as written ({c.value} > {c.limit:g} {c.unit}): the spring does not "
         "set it"
@@ -271,7 +283,7 @@ def size_valve_spring(
     return replace(sizing, checks=report.checks, warnings=sizing.warnings + tuple(failing))
 
 
-def _size_with_part(case: Case, min_rate: float) -> ValveSpringSizing:
+def _size_with_part(case: Case, min_rate: float, progress: Progress | None = None) -> ValveSpringSizing:
     """:func:`_size` with a ``[spring]`` part: its mass (a third on the valve, or its surge chain) depends on the
     rate and preload sized. A fixed point: sized with the case's own part's mass first, then with the mass of the
     part designed for the last proposal (:func:`camdyn.design.spring.design_case_spring`, as ``check`` designs it),
@@ -280,7 +292,8 @@ def _size_with_part(case: Case, min_rate: float) -> ValveSpringSizing:
     own = resolve_spring(case)  # the case's own part: the first round's mass, and its spring's judge
     assert own.spring is not None and case.spec.spring is not None  # resolved, of a case with a [spring] table
     mass, model = own.spring.mass_kg, case.spec.spring.model
-    sizing = first = _size(own, min_rate)
+    with phase(progress, f"{_SEARCH}, round 1"):
+        sizing = first = _size(own, min_rate)
     rounds: list[tuple[float, float]] = []
     warnings: list[str] = []
     for _ in range(_PART_ROUNDS):
@@ -291,7 +304,8 @@ def _size_with_part(case: Case, min_rate: float) -> ValveSpringSizing:
         if part.spring.mass == mass or moved <= _PART_CLOSE * preload:
             break
         mass = part.spring.mass
-        sizing = _size(with_spring_part(case, part), min_rate)
+        with phase(progress, f"{_SEARCH}, round {len(rounds) + 1} (spring mass {1000.0 * mass:.4g} g)"):
+            sizing = _size(with_spring_part(case, part), min_rate)
     else:
         warnings.append(
             f"the spring part's mass did not settle in {_PART_ROUNDS} rounds (last: {1e3 * mass:.4g} g, preload "
