@@ -283,6 +283,11 @@ def size_valve_spring(
     return replace(sizing, checks=report.checks, warnings=sizing.warnings + tuple(failing))
 
 
+def _search_round(i: int, mass_kg: float) -> str:
+    """The progress phase of the ``i``-th preload search, sized with the spring part's mass ``mass_kg``."""
+    return f"{_SEARCH}, round {i} (spring mass {1000.0 * mass_kg:.4g} g)"
+
+
 def _size_with_part(case: Case, min_rate: float, progress: Progress | None = None) -> ValveSpringSizing:
     """:func:`_size` with a ``[spring]`` part: its mass (a third on the valve, or its surge chain) depends on the
     rate and preload sized. A fixed point: sized with the case's own part's mass first, then with the mass of the
@@ -292,7 +297,7 @@ def _size_with_part(case: Case, min_rate: float, progress: Progress | None = Non
     own = resolve_spring(case)  # the case's own part: the first round's mass, and its spring's judge
     assert own.spring is not None and case.spec.spring is not None  # resolved, of a case with a [spring] table
     mass, model = own.spring.mass_kg, case.spec.spring.model
-    with phase(progress, f"{_SEARCH}, round 1"):
+    with phase(progress, _search_round(1, mass)):
         sizing = first = _size(own, min_rate)
     rounds: list[tuple[float, float]] = []
     warnings: list[str] = []
@@ -304,7 +309,7 @@ def _size_with_part(case: Case, min_rate: float, progress: Progress | None = Non
         if part.spring.mass == mass or moved <= _PART_CLOSE * preload:
             break
         mass = part.spring.mass
-        with phase(progress, f"{_SEARCH}, round {len(rounds) + 1} (spring mass {1000.0 * mass:.4g} g)"):
+        with phase(progress, _search_round(len(rounds) + 1, mass)):
             sizing = _size(with_spring_part(case, part), min_rate)
     else:
         warnings.append(
