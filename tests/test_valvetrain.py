@@ -20,6 +20,7 @@ from scipy.integrate import solve_ivp
 from camdyn import InputError
 from camdyn._core.units import RPM
 from camdyn.design.review import _least_event_force, force_vs_speed
+from camdyn.design.valvetrain import ramp_landings
 from camdyn.model.case import case_from_dict
 from camdyn.model.dynamics import (
     dynamic_jump_speed,
@@ -656,3 +657,47 @@ def test_cams_of_other_segment_counts_share_the_stretch_program():
     assert four.shape == five.shape == (32,)
     assert np.isfinite(four).sum() == 24 and np.isfinite(five).sum() == 30 and np.all(np.diff(five[:30]) > 0)
     assert np.isinf(five[30:]).all() and np.isinf(four[24:]).all()
+
+
+def _decelerating_ramp(tappet_force: float):
+    """The shipped valvetrain with an opening ramp that overshoots its end speed (0.15 mm in 15 deg ending at 0.5
+    mm/rad: it decelerates over its last 6 deg, s'' down to -5.3 mm/rad^2) while the lash is still open."""
+    raw = copy.deepcopy(SHIPPED)
+    raw["motion"]["segments"] = [
+        {"law": "dwell", "end": 40},
+        {"law": "polynomial", "end": 55, "lift": 0.15, "end_velocity": 0.5},
+        {"law": "polynomial", "end": 175, "lift": 7.0, "start_velocity": 0.5, "end_acceleration": -9.0},
+        {"law": "polynomial", "end": 300, "lift": -7.0, "start_acceleration": -9.0, "end_velocity": -0.5},
+        {"law": "polynomial", "end": 315, "lift": -0.15, "start_velocity": -0.5},
+        {"law": "dwell", "end": 360},
+    ]
+    raw["dynamics"]["speed"] = 2800
+    raw["valvetrain"]["tappet_force"] = tappet_force
+    return case_from_dict(raw)
+
+
+@pytest.mark.slow
+def test_a_follower_thrown_off_a_decelerating_ramp_is_a_warning():
+    """With the lash open only the tappet force holds the follower: it leaves a ramp that decelerates faster than
+    F_tappet / (m_c w^2) allows and lands back on the cam before the lash closes, which ``check`` says (angle and
+    impact speed). The threshold is the closed form's: no landing with a tappet force above m_c |s''|max w^2
+    (about 55 N here), landings with one below; none on the shipped ramps."""
+    w = 2800 * RPM
+    case = _decelerating_ramp(0.0)
+    theta = np.radians(np.arange(40.0, 55.0, 0.01))
+    s2 = np.asarray(case.motion.host(theta))[2] * 1e-3  # m/rad^2
+    hold = float(case.valvetrain.cam_side_mass) * float(-s2.min()) * w**2  # N: the least tappet force that holds it
+    assert 50.0 < hold < 60.0
+    for force, lands in ((0.0, True), (0.5 * hold, True), (1.2 * hold, False)):
+        case = _decelerating_ramp(force)
+        resp = valvetrain_response(case.motion, case.valvetrain, w)
+        line = ramp_landings(resp, force)
+        assert (line is not None) == lands, (force, line)
+        if lands:
+            leaves = math.degrees(theta[np.argmax(float(case.valvetrain.cam_side_mass) * s2 * w**2 + force < 0.0)])
+            lift = next(e.deg for e in resp.events if e.what == "valve-lift")
+            first = next(e for e in resp.events if e.what == "cam-landing")
+            assert leaves < first.deg < lift and first.speed > 0.0  # thrown off the ramp, back before the lash closes
+            assert f"{first.deg:.1f} deg ({first.speed:.3g} m/s)" in line and f"({force:.4g} N)" in line
+    shipped = case_from_dict(copy.deepcopy(SHIPPED))
+    assert ramp_landings(valvetrain_response(shipped.motion, shipped.valvetrain, 3000 * RPM), 0.0) is None

@@ -362,7 +362,7 @@ def run_check(case: Case, speed_rpm: float | None = None) -> CheckReport:
     least = resp.min_force if valve is None else valve.response.least_event_force  # a valve: over its event
     if valve is not None:
         w_dyn = valve.float_speed_rpm * RPM  # a valvetrain jumps where it floats
-        warnings += [valve.note(), *valve.response.warnings]
+        warnings += valve.warnings()
     checks = (
         CheckKind.CONTACT_FORCE.check(float(least), float(limits.min_contact_force)),
         speed_margin_check(w_dyn, omega, limits.speed_margin),

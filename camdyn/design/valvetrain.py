@@ -43,6 +43,7 @@ class ValvetrainResult:
     # ratio at the cam's lift, on response.theta_deg; None: the constant ratio's
     rocker_curves: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None
     coil_bind_lift_mm: float | None = None  # the valve's lift at which its designed spring ([spring]) is solid
+    tappet_force: float = 0.0  # N, valvetrain.tappet_force: what holds the follower on the cam while the lash is open
 
     @property
     def speeds_rpm(self) -> tuple[float, ...]:
@@ -139,6 +140,28 @@ class ValvetrainResult:
             "on the base circle the lash is open and only valvetrain.tappet_force holds the follower"
         )
 
+    def warnings(self) -> tuple[str, ...]:
+        """``check``'s lines on the valvetrain at the case speed: :meth:`note`, the follower's landings on the cam
+        outside the valve event (:func:`ramp_landings`) and the two-mass model's own."""
+        landings = ramp_landings(self.response, self.tappet_force)
+        return (self.note(), *(() if landings is None else (landings,)), *self.response.warnings)
+
+
+def ramp_landings(response: dyn.ValvetrainResponse, tappet_force: float) -> str | None:
+    """One line for the follower's landings back on the cam while the valve is seated (the lash open: only the
+    tappet force holds it there, and a ramp that decelerates throws it off), with their angles and impact speeds;
+    None where it never leaves the cam outside the valve event (a landing after a float is the float's)."""
+    n = len(response.theta_deg)
+    landings = [e for e in response.events if e.what == "cam-landing" and response.seated[round(e.deg / 360.0 * n) % n]]
+    if not landings:
+        return None
+    where = " and ".join(f"{e.deg:.1f} deg ({e.speed:.3g} m/s)" for e in landings)
+    rpm = response.omega / RPM
+    return (
+        f"valvetrain: at {rpm:.6g} rpm the follower leaves the cam with the lash open and lands back on it at {where}: "
+        f"valvetrain.tappet_force ({tappet_force:.4g} N) does not hold it where the ramp decelerates"
+    )
+
 
 def spring_notes(case: Case, study: str) -> tuple[str, ...]:
     """What a valvetrain study (``study``: "at every rate", "in every sample") carries of a resolved ``[spring]``
@@ -190,4 +213,5 @@ def analyze_valvetrain(case: Case, omega: float, margin: float) -> ValvetrainRes
         tuple(marched[w] for w in sorted(marched)),
         curves,
         None if case.spring is None else case.spring.travel_to_solid_mm,
+        float(vt.tappet_force),
     )
