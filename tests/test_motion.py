@@ -1,6 +1,7 @@
 """Motion laws and programs: closed forms against autodiff, published coefficients, the lecture's table."""
 
 import functools
+from pathlib import Path
 
 import jax
 import jax.numpy as jnp
@@ -8,6 +9,7 @@ import numpy as np
 import pytest
 
 from camdyn import LAWS, HermiteMotion, InputError, Program, law
+from camdyn.model.case import load_case
 from camdyn.model.motion import evaluate
 from camdyn.schema import LAW_NAMES
 
@@ -259,3 +261,31 @@ def test_hermite_table_derivatives_are_its_own():
 def test_the_schema_names_every_law_the_model_implements():
     """A law is added in two places (docs/extending.md): the model's pieces and the schema's name list."""
     assert tuple(LAW_NAMES) == tuple(LAWS)
+
+
+def _dense_program() -> Program:
+    """100 cycloids of 0.02 deg (+-0.01 mm) after a dwell: about 4.5 piece starts a bin of 4096."""
+    segs = [{"law": "dwell", "end": 10}]
+    segs += [{"law": "cycloidal", "end": round(10 + 0.02 * (k + 1), 6), "lift": 0.01 * (-1) ** k} for k in range(100)]
+    return Program.from_segments([*segs, {"law": "dwell", "end": 360}])
+
+
+@pytest.mark.parametrize("name", ["lecture", "polynomial", "lecture-optimized", "valvetrain", "dense"])
+def test_a_compiled_program_finds_each_angles_piece_as_the_search_does(name):
+    """In a compiled program the piece of an angle comes from a bin lookup, not numpy's search (issue 23): the same
+    row at every piece start, an ulp either side of it, every bin edge and an ulp either side, and 10^5 angles
+    between; a program of 100 segments in 2 deg gets 4 x the bins (16384)."""
+    if name == "dense":
+        table = _dense_program().jit_form()
+    else:
+        table = load_case(Path(__file__).resolve().parents[1] / "cases" / f"{name}.toml").motion.jit_form()
+    n_bins = table.bins.shape[0]
+    assert n_bins == (16384 if name == "dense" else 4096)
+    start = np.asarray(table.start)
+    marks = np.concatenate([start[np.isfinite(start)], np.arange(n_bins) * (2 * np.pi / n_bins)])
+    theta = np.concatenate(
+        [marks, np.nextafter(marks, -1.0), np.nextafter(marks, 10.0), np.linspace(0, 2 * np.pi, 10**5)]
+    )
+    theta = theta[(theta >= 0.0) & (theta < 2 * np.pi)]
+    found = np.asarray(jax.jit(lambda t: table.piece_index(jnp, t))(theta))
+    np.testing.assert_array_equal(found, table.piece_index(np, theta))
