@@ -289,3 +289,13 @@ def test_a_compiled_program_finds_each_angles_piece_as_the_search_does(name):
     theta = theta[(theta >= 0.0) & (theta < 2 * np.pi)]
     found = np.asarray(jax.jit(lambda t: table.piece_index(jnp, t))(theta))
     np.testing.assert_array_equal(found, table.piece_index(np, theta))
+
+
+def test_pieces_too_crowded_for_the_lookup_are_one_line():
+    """Ten dwells of 1e-10 deg in a row: no bins of the lookup separate them (8 starts at most within four bins, up
+    to 4.2 million bins); the program is refused with its key and angle, not looped over without end."""
+    segs = [{"law": "dwell", "end": 10}, {"law": "cycloidal", "end": 20, "lift": 5}]
+    segs += [{"law": "dwell", "end": 20 + 1e-10 * (k + 1)} for k in range(10)]
+    segs += [{"law": "cycloidal", "end": 40, "lift": -5}, {"law": "dwell", "end": 360}]
+    with pytest.raises(InputError, match=r"motion\.segments: more than 8 pieces .* near 20 deg: .* merge them"):
+        Program.from_segments(segs)

@@ -63,6 +63,7 @@ _PIECE_ROWS, _COEF_WIDTH = 1024, 8
 # compared at once. The bins are 2 pi / _BINS wide (4096, 4 x as many for a program with more than _WINDOW piece
 # starts within four bins in a row); the rows keep _WINDOW of +inf starts past the last piece.
 _BINS, _WINDOW = 4096, 8
+_MOST_BINS = _BINS * 4**5  # 4.2 million: 8 starts within 0.00034 deg
 
 
 class PieceTable(eqx.Module):
@@ -129,17 +130,25 @@ class PieceTable(eqx.Module):
 
 def _bins(start: np.ndarray) -> np.ndarray:
     """:attr:`PieceTable.bins` of the piece starts ``start`` (rad, ascending, +inf padded): the piece at each bin's
-    start, in the fewest bins (from :data:`_BINS`) that put at most :data:`_WINDOW` piece
-    starts within any four bins in a row (an angle rounded into the bin beside its own still finds its piece)."""
+    start, in the fewest bins (from :data:`_BINS`, at most :data:`_MOST_BINS`) that put at most :data:`_WINDOW`
+    piece starts within any four bins in a row (an angle rounded into the bin beside its own still finds its piece).
+    """
     finite = start[np.isfinite(start)]
     n = _BINS
-    while True:
+    while n <= _MOST_BINS:
         edges = np.arange(n) * (TWO_PI / n)
         first = np.clip(np.searchsorted(start, edges, side="right") - 1, 0, len(start) - 1)
         per_bin = np.bincount(np.minimum((finite * (n / TWO_PI)).astype(int), n - 1), minlength=n)
-        if np.max(np.convolve(np.r_[per_bin[-3:], per_bin], np.ones(4, int), "valid")) <= _WINDOW:
+        crowded = np.convolve(np.r_[per_bin[-3:], per_bin], np.ones(4, int), "valid")
+        if np.max(crowded) <= _WINDOW:
             return first.astype(np.int32)
         n *= 4
+    at = math.degrees(float(np.argmax(crowded)) * TWO_PI / (n // 4))
+    raise InputError(
+        "motion.segments",
+        f"more than {_WINDOW} pieces of the program start within {4 * 360.0 / (n // 4):.2g} deg near {at:.4g} deg: "
+        "segments (dwells among them) that short stand for one; merge them",
+    )
 
 
 class Program(Motion):
