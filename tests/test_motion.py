@@ -11,6 +11,8 @@ import pytest
 from camdyn import LAWS, HermiteMotion, InputError, Program, law
 from camdyn.model.case import load_case
 from camdyn.model.motion import evaluate
+from camdyn.model.motion._lookup import interval
+from camdyn.model.motion._program import PieceTable
 from camdyn.schema import LAW_NAMES
 
 X = np.linspace(0.0, 1.0, 2001)
@@ -270,25 +272,29 @@ def _dense_program() -> Program:
     return Program.from_segments([*segs, {"law": "dwell", "end": 360}])
 
 
-@pytest.mark.parametrize("name", ["lecture", "polynomial", "lecture-optimized", "valvetrain", "dense"])
-def test_a_compiled_program_finds_each_angles_piece_as_the_search_does(name):
-    """In a compiled program the piece of an angle comes from a bin lookup, not numpy's search (issue 23): the same
-    row at every piece start, an ulp either side of it, every bin edge and an ulp either side, and 10^5 angles
-    between; a program of 100 segments in 2 deg gets 4 x the bins (16384)."""
+@pytest.mark.parametrize(
+    "name",
+    ["lecture", "polynomial", "lecture-optimized", "valvetrain", "dense", "square", "valve-lift", "measured-cam"],
+)
+def test_a_compiled_program_finds_each_angles_interval_as_the_search_does(name):
+    """In a compiled program the piece of a motion program, or the interval of a quintic table (a path's, a lift
+    table's, a contour's), comes from a bin lookup, not numpy's search (issue 23): the same row at every start, an
+    ulp either side of it, every bin edge and an ulp either side, and 10^5 angles between; a program of 100
+    segments in 2 deg gets 4 x the bins (16384)."""
     if name == "dense":
-        table = _dense_program().jit_form()
+        form = _dense_program().jit_form()
     else:
-        table = load_case(Path(__file__).resolve().parents[1] / "cases" / f"{name}.toml").motion.jit_form()
-    n_bins = table.bins.shape[0]
+        form = load_case(Path(__file__).resolve().parents[1] / "cases" / f"{name}.toml").motion.jit_form()
+    starts = np.asarray(form.start if isinstance(form, PieceTable) else form.knots)
+    n_bins = form.bins.shape[0]
     assert n_bins == (16384 if name == "dense" else 4096)
-    start = np.asarray(table.start)
-    marks = np.concatenate([start[np.isfinite(start)], np.arange(n_bins) * (2 * np.pi / n_bins)])
+    marks = np.concatenate([starts[np.isfinite(starts)], np.arange(n_bins) * (2 * np.pi / n_bins)])
     theta = np.concatenate(
         [marks, np.nextafter(marks, -1.0), np.nextafter(marks, 10.0), np.linspace(0, 2 * np.pi, 10**5)]
     )
     theta = theta[(theta >= 0.0) & (theta < 2 * np.pi)]
-    found = np.asarray(jax.jit(lambda t: table.piece_index(jnp, t))(theta))
-    np.testing.assert_array_equal(found, table.piece_index(np, theta))
+    found = np.asarray(jax.jit(lambda t: interval(jnp, starts, form.bins, t))(theta))
+    np.testing.assert_array_equal(found, interval(np, starts, form.bins, theta))
 
 
 def test_pieces_too_crowded_for_the_lookup_are_one_line():

@@ -17,6 +17,7 @@ from jax.typing import ArrayLike
 from ..._core.jit import padded_length
 from ..._core.units import TWO_PI
 from ._base import Motion, evaluate
+from ._lookup import WINDOW, bin_table, interval
 
 
 def quintic_eval(
@@ -25,14 +26,20 @@ def quintic_eval(
     coef: np.ndarray | jax.Array,
     theta: ArrayLike,
     last: ArrayLike | None = None,
+    bins: ArrayLike | None = None,
 ) -> Any:
     """(s, s', s'', s''') of the piecewise quintic ``coef`` (m, 6) on ``knots`` (m + 1,) rad from 0 to 2 pi, at
-    theta (rad, any shape, periodic): one search for the interval and one gather, whatever the number of
+    theta (rad, any shape, periodic): one lookup of the interval and one gather, whatever the number of
     knots. ``xp`` is jax.numpy (traceable) or numpy (no dispatch or compile cost). ``last``: the last
-    interval's index where the tables are padded past it (knots +inf there)."""
+    interval's index where the tables are padded past it (knots +inf there). ``bins``: the knots' bin table
+    (:func:`._lookup.bin_table`: a compiled program then finds the interval without a search loop)."""
     theta = xp.asarray(theta, dtype=float)
     th = xp.mod(theta, TWO_PI)
-    i = xp.clip(xp.searchsorted(knots, th, side="right") - 1, 0, coef.shape[0] - 1 if last is None else last)
+    top = coef.shape[0] - 1 if last is None else last
+    if bins is None or xp is np:
+        i = xp.clip(xp.searchsorted(knots, th, side="right") - 1, 0, top)
+    else:
+        i = jnp.minimum(interval(jnp, knots, bins, th), top)
     t = th - knots[i]
     c = coef[i]  # (..., 6)
     c0, c1, c2, c3, c4, c5 = (c[..., k] for k in range(6))
@@ -60,6 +67,7 @@ class QuinticTable(eqx.Module):
     coef: jax.Array  # (P, 6); the last interval repeated past it
     last: jax.Array  # the last interval's index
     jumps: jax.Array  # breaks (rad), +inf past the last; empty where there are none
+    bins: jax.Array  # (B,) int32: the interval at each bin's start angle (:func:`._lookup.bin_table`)
     unit: str = eqx.field(static=True)
 
     @classmethod
@@ -87,17 +95,19 @@ class QuinticTable(eqx.Module):
     ) -> QuinticTable:
         xp = jnp if isinstance(coef, Tracer) else np  # numpy where it can: no eager dispatch
         knots, coef = xp.asarray(knots), xp.asarray(coef)
-        more = padded_length(coef.shape[0], _INTERVAL_ROWS) - coef.shape[0]
+        more = padded_length(coef.shape[0] + WINDOW, _INTERVAL_ROWS) - coef.shape[0]  # the lookup's +inf knots too
         breaks = np.deg2rad(np.asarray(breaks_deg, dtype=float))
         if breaks.size:
             breaks = np.pad(breaks, (0, padded_length(breaks.size, _BREAK_ROWS) - breaks.size), constant_values=np.inf)
         # host values are placed, not staged: jnp.asarray compiles a program a shape (JAX 0.10), in every process
         put = jnp.asarray if xp is jnp else jax.device_put
+        padded_knots = xp.pad(knots, (0, more), constant_values=np.inf)
         return cls(
-            knots=put(xp.pad(knots, (0, more), constant_values=np.inf)),
+            knots=put(padded_knots),
             coef=put(xp.pad(coef, [(0, more), (0, 0)], mode="edge")),
             last=put(np.asarray(coef.shape[0] - 1)),
             jumps=put(breaks),
+            bins=jax.device_put(bin_table(np.asarray(padded_knots))),  # the knots are data, never traced
             unit=unit,
         )
 
@@ -105,7 +115,7 @@ class QuinticTable(eqx.Module):
         return self.jumps
 
     def __call__(self, theta: ArrayLike) -> jax.Array:
-        return quintic_eval(jnp, self.knots, self.coef, theta, self.last)
+        return quintic_eval(jnp, self.knots, self.coef, theta, self.last, self.bins)
 
     def host(self, theta: ArrayLike) -> np.ndarray:
         return quintic_eval(np, np.asarray(self.knots), np.asarray(self.coef), theta, int(self.last))

@@ -22,6 +22,7 @@ from ...schema.motion import BSPLINE, POLYNOMIAL, BSplineSegmentSpec, Polynomial
 from ._base import Motion
 from ._bspline import bspline_table
 from ._laws import _LAW_TABLES, _NC, _LawTable, _piece_eval
+from ._lookup import WINDOW, bin_table, interval
 from ._polynomial import BoundaryPolynomial, polynomial_warnings, solve_polynomial
 
 
@@ -58,12 +59,6 @@ class Segment:
 # every program of a follower kind, whatever its segments, laws and angles. A longer search costs nothing measurable
 # against a trace and compile (about 10 s), which a new bucket would cost a new case.
 _PIECE_ROWS, _COEF_WIDTH = 1024, 8
-# A compiled program finds an angle's piece without a search (a loop of ten rounds in every evaluation of an ODE's
-# right-hand side): from the piece at the start of the bin before the angle's, _WINDOW more piece starts are
-# compared at once. The bins are 2 pi / _BINS wide (4096, 4 x as many for a program with more than _WINDOW piece
-# starts within four bins in a row); the rows keep _WINDOW of +inf starts past the last piece.
-_BINS, _WINDOW = 4096, 8
-_MOST_BINS = _BINS * 4**5  # 4.2 million: 8 starts within 0.00034 deg
 
 
 class PieceTable(eqx.Module):
@@ -92,7 +87,7 @@ class PieceTable(eqx.Module):
     y0: jax.Array  # (P,)
     v0: jax.Array  # (P,)
     jumps: jax.Array  # (P,) breaks, rad, ascending; +inf past the last
-    bins: jax.Array  # (B,) int32: the piece at each bin's start angle (see _BINS)
+    bins: jax.Array  # (B,) int32: the piece at each bin's start angle (:func:`._lookup.bin_table`)
 
     def jump_angles(self) -> jax.Array:
         return self.jumps
@@ -105,15 +100,8 @@ class PieceTable(eqx.Module):
 
     def piece_index(self, xp: ModuleType, theta: ArrayLike) -> np.ndarray | jax.Array:
         """The row of the piece each angle ``theta`` (rad, in [0, 2 pi)) lies in: numpy's search, or in a compiled
-        program the same row from the bin lookup (:data:`_BINS`), without the search's loop."""
-        start = xp.asarray(self.start)
-        if xp is np:
-            return np.clip(np.searchsorted(start, theta, side="right") - 1, 0, start.shape[0] - 1)
-        theta = jnp.asarray(theta)
-        n_bins = self.bins.shape[0]
-        b = jnp.clip(jnp.floor(theta * (n_bins / TWO_PI)).astype(jnp.int32) - 1, 0, n_bins - 1)
-        lo = self.bins[b]
-        return lo + jnp.sum(start[lo[..., None] + 1 + jnp.arange(_WINDOW)] <= theta[..., None], axis=-1)
+        program the same row from the bins (:func:`._lookup.interval`), without a search loop."""
+        return xp.minimum(interval(xp, self.start, self.bins, theta), self.start.shape[0] - 1)
 
     def _eval(self, xp, theta):
         """Evaluate with jax.numpy (traceable) or numpy (no dispatch or compile cost, for validation)."""
@@ -126,29 +114,6 @@ class PieceTable(eqx.Module):
             xp, x - g(self.x0), g(self.c), g(self.w), g(self.p1), g(self.p2), g(self.y0), g(self.v0)
         )
         return xp.stack([g(self.base) + lift * y, lift * v / beta, lift * a / beta**2, lift * j / beta**3])
-
-
-def _bins(start: np.ndarray) -> np.ndarray:
-    """:attr:`PieceTable.bins` of the piece starts ``start`` (rad, ascending, +inf padded): the piece at each bin's
-    start, in the fewest bins (from :data:`_BINS`, at most :data:`_MOST_BINS`) that put at most :data:`_WINDOW`
-    piece starts within any four bins in a row (an angle rounded into the bin beside its own still finds its piece).
-    """
-    finite = start[np.isfinite(start)]
-    n = _BINS
-    while n <= _MOST_BINS:
-        edges = np.arange(n) * (TWO_PI / n)
-        first = np.clip(np.searchsorted(start, edges, side="right") - 1, 0, len(start) - 1)
-        per_bin = np.bincount(np.minimum((finite * (n / TWO_PI)).astype(int), n - 1), minlength=n)
-        crowded = np.convolve(np.r_[per_bin[-3:], per_bin], np.ones(4, int), "valid")
-        if np.max(crowded) <= _WINDOW:
-            return first.astype(np.int32)
-        n *= 4
-    at = math.degrees(float(np.argmax(crowded)) * TWO_PI / (n // 4))
-    raise InputError(
-        "motion.segments",
-        f"more than {_WINDOW} pieces of the program start within {4 * 360.0 / (n // 4):.2g} deg near {at:.4g} deg: "
-        "segments (dwells among them) that short stand for one; merge them",
-    )
 
 
 class Program(Motion):
@@ -212,13 +177,18 @@ class Program(Motion):
                 for k in ("x0", "c", "w", "p1", "p2", "y0", "v0"):
                     cols[k].append(getattr(t, k)[i])
         breaks = tuple(sorted({round(math.degrees(a), 12) % 360.0 for a in cols["start"]}))
-        rows = padded_length(len(cols["start"]) + _WINDOW, _PIECE_ROWS)  # the window's +inf starts past the last
+        rows = padded_length(len(cols["start"]) + WINDOW, _PIECE_ROWS)  # the lookup's +inf starts past the last
         width = padded_length(max(len(c) for c in cols["c"]), _COEF_WIDTH, 2)  # the named laws' _NC, or a polynomial's
         cols["c"] = [np.pad(c, (0, width - len(c))) for c in cols["c"]]  # zero terms leave Horner's sums exact
         arrays = {k: np.array(v, dtype=float) for k, v in cols.items()}
         arrays = {k: _pad_rows(v, rows, np.inf if k == "start" else None) for k, v in arrays.items()}
         arrays["jumps"] = _pad_rows(np.deg2rad(np.asarray(breaks, dtype=float)), rows, np.inf)
-        arrays["bins"] = _bins(arrays["start"])
+        try:
+            arrays["bins"] = bin_table(arrays["start"])
+        except ValueError as err:
+            raise InputError(
+                "motion.segments", f"{err}: segments (dwells among them) that short stand for one; merge them"
+            ) from None
         table = PieceTable(unit=unit, **{k: jax.device_put(v) for k, v in arrays.items()})  # jnp.asarray compiles
         return cls(segments=segs, unit=unit, breaks_deg=breaks, table=table)
 
