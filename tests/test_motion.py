@@ -274,17 +274,20 @@ def _dense_program() -> Program:
 
 @pytest.mark.parametrize(
     "name",
-    ["lecture", "polynomial", "lecture-optimized", "valvetrain", "dense", "square", "valve-lift", "measured-cam"],
+    ["lecture", "polynomial", "lecture-optimized", "valvetrain", "dense", "hermite", "valve-lift", "measured-cam"],
 )
 def test_a_compiled_program_finds_each_angles_interval_as_the_search_does(name):
-    """In a compiled program the piece of a motion program, or the interval of a quintic table (a path's, a lift
-    table's, a contour's), comes from a bin lookup, not numpy's search (issue 23): the same row at every start, an
-    ulp either side of it, every bin edge and an ulp either side, and 10^5 angles between; a program of 100
-    segments in 2 deg gets 4 x the bins (16384)."""
+    """In a compiled program the piece of a motion program, or the interval of a quintic table (a path's tabulated
+    motion, here the lecture's with its breaks among the knots; a lift table's, a contour's), comes from a bin
+    lookup, not numpy's search (issue 23): the same row at every start, an ulp either side of it, every bin edge and
+    an ulp either side, and 10^5 angles between; a program of 100 segments in 2 deg gets 4 x the bins (16384)."""
+    cases = Path(__file__).resolve().parents[1] / "cases"
     if name == "dense":
         form = _dense_program().jit_form()
+    elif name == "hermite":
+        form = HermiteMotion.from_motion(load_case(cases / "lecture.toml").motion).jit_form()
     else:
-        form = load_case(Path(__file__).resolve().parents[1] / "cases" / f"{name}.toml").motion.jit_form()
+        form = load_case(cases / f"{name}.toml").motion.jit_form()
     starts = np.asarray(form.start if isinstance(form, PieceTable) else form.knots)
     n_bins = form.bins.shape[0]
     assert n_bins == (16384 if name == "dense" else 4096)
