@@ -14,6 +14,7 @@ import numpy as np
 from jax.core import Tracer
 from jax.typing import ArrayLike
 
+from ..._core.errors import NumericalError
 from ..._core.jit import padded_length
 from ..._core.units import TWO_PI
 from ._base import Motion, evaluate
@@ -102,12 +103,16 @@ class QuinticTable(eqx.Module):
         # host values are placed, not staged: jnp.asarray compiles a program a shape (JAX 0.10), in every process
         put = jnp.asarray if xp is jnp else jax.device_put
         padded_knots = xp.pad(knots, (0, more), constant_values=np.inf)
+        try:
+            bins = bin_table(np.asarray(padded_knots))  # the knots are data, never traced
+        except ValueError as err:  # uniform knots and a path's breaks among them: never seen
+            raise NumericalError("the motion's quintic table", f"{err}: its knots cannot be looked up") from None
         return cls(
             knots=put(padded_knots),
             coef=put(xp.pad(coef, [(0, more), (0, 0)], mode="edge")),
             last=put(np.asarray(coef.shape[0] - 1)),
             jumps=put(breaks),
-            bins=jax.device_put(bin_table(np.asarray(padded_knots))),  # the knots are data, never traced
+            bins=jax.device_put(bins),
             unit=unit,
         )
 
