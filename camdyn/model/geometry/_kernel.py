@@ -208,19 +208,19 @@ def _point(ftype: FollowerType, p, th0, sv):
     )
 
 
-@cached_jit
-def _geometry(p, theta, sv, ftype: FollowerType):
-    """Vectorised :func:`_point`, compiled once per follower type and array bucket whatever the motion (it is
-    evaluated apart), the rotation and the lengths: sweeps and base-circle bisection reuse it."""
-    return jax.vmap(lambda th, s: _point(ftype, p, th, s), in_axes=(0, 1))(theta, sv)
-
-
 def geometry_of(ftype: FollowerType, params: ArrayLike, theta: ArrayLike, sv: jax.Array) -> dict:
     """The geometry at cam angles ``theta`` (rad) from motion values ``sv`` = (s, s', s'', s''') of shape (4, n),
     as a traceable JAX function of ``sv``, for a follower of type ``ftype`` with dimensions ``params``
     (:func:`follower_params`): what the optimizer differentiates (pressure angle ``phi`` rad, ``kappa_pitch``
     1/mm, ``rho_contour`` mm, ``lever`` mm)."""
     return jax.vmap(lambda th, s: _point(ftype, jnp.asarray(params), th, s), in_axes=(0, 1))(theta, sv)
+
+
+@cached_jit
+def _geometry(p, theta, sv, ftype: FollowerType):
+    """:func:`geometry_of` as a stored program, compiled once per follower type and array bucket whatever the
+    motion (it is evaluated apart), the rotation and the lengths: sweeps and base-circle bisection reuse it."""
+    return geometry_of(ftype, p, theta, sv)
 
 
 _CHUNK = 4096  # angles per compiled call: a 3600-step revolution plus its breaks fits one
