@@ -114,15 +114,15 @@ def test_the_shape_space_reproduces_the_dwells_and_the_rise(lecture_rows):
 def test_autodiff_jacobian_matches_finite_differences(lecture_rows):
     z = np.asarray(lecture_rows.space.z0)
     speeds = jnp.asarray(np.full(32, 400.0 * RPM))
-    v, J = lecture_rows.force_jacobian(jnp.asarray(z), speeds, None)
+    v, J = lecture_rows.slack_jacobian(z, speeds)
     J = np.asarray(J)
     h = 1e-6
     for k in (0, 7, 13, 19):
         e = np.zeros_like(z)
         e[k] = h
         fd = (
-            np.asarray(lecture_rows.force_jacobian(jnp.asarray(z + e), speeds, None)[0])
-            - np.asarray(lecture_rows.force_jacobian(jnp.asarray(z - e), speeds, None)[0])
+            np.asarray(lecture_rows.slack_jacobian(z + e, speeds)[0])
+            - np.asarray(lecture_rows.slack_jacobian(z - e, speeds)[0])
         ) / (2 * h)
         assert np.allclose(J[:, k], fd, rtol=1e-6, atol=1e-6 * np.abs(fd).max())
 
@@ -135,10 +135,29 @@ def test_the_translating_force_is_affine_in_the_control_points(lecture_rows):
         np.asarray(lecture_rows.space.z0) + np.random.default_rng(0).normal(0.0, 0.05, lecture_rows.space.n_free), 0, 1
     )
     v, J = lecture_rows.force_values(speeds)(z)
-    v_ref, J_ref = (np.asarray(a) for a in lecture_rows.force_jacobian(jnp.asarray(z), speeds, None))
+    v_ref, J_ref = (np.asarray(a) for a in lecture_rows.slack_jacobian(z, speeds))
     scale = np.abs(v_ref).max()
     assert np.abs(z - lecture_rows.space.z0).max() > 0.05 and scale > 1.0
     np.testing.assert_allclose(v, v_ref, rtol=0, atol=1e-9 * scale)
+    np.testing.assert_allclose(J, J_ref, rtol=0, atol=1e-9 * np.abs(J_ref).max())
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("path", [LECTURE, ROOT / "cases" / "oscillating.toml"], ids=["translating", "arm"])
+def test_the_force_rows_are_affine_with_a_free_preload_and_an_arms_lever(path):
+    """With the preload free too (``spring-force``) the force rows from one Jacobian equal the slack differentiated
+    afresh far from where it was taken; for an arm, whose least force to keep moves with its lever arm, the rows
+    add that term's own Jacobian at each call (the force's is still taken once)."""
+    case = load_case(path)
+    rows = Rows(case, shape_space(case), margin=0.5)
+    speeds = jnp.asarray(np.linspace(50.0, 400.0, 32) * RPM)
+    x0 = np.r_[rows.space.z0, float(case.model.preload)]
+    step = np.r_[np.random.default_rng(1).normal(0.0, 0.05, rows.space.n_free), 0.3 * float(case.model.preload)]
+    x = np.r_[np.clip(x0[:-1] + step[:-1], 0, 1), x0[-1] + step[-1]]
+    v, J = rows.force_values(speeds, x0, preload_free=True)(x)
+    v_ref, J_ref = (np.asarray(a) for a in rows.slack_jacobian(x, speeds, preload_free=True))
+    assert np.abs(x - x0)[:-1].max() > 0.05 and np.abs(J_ref[:, -1]).min() > 0.0  # the preload moves every row
+    np.testing.assert_allclose(v, v_ref, rtol=0, atol=1e-9 * np.abs(v_ref).max())
     np.testing.assert_allclose(J, J_ref, rtol=0, atol=1e-9 * np.abs(J_ref).max())
 
 
@@ -154,7 +173,7 @@ def test_a_case_of_the_same_structure_loads_the_stored_row_programs(tmp_path, mo
 
     monkeypatch.setattr(programs, "_DIR", None)
     programs.enable(tmp_path)
-    for name in ("_force_jacobian", "_geometry_jacobian"):  # programs of their own, not the ones earlier tests hold
+    for name in ("_slack_jacobian", "_geometry_jacobian"):  # programs of their own, not the ones earlier tests hold
         monkeypatch.setattr(_rows, name, programs.cached_jit(getattr(_rows, name).__wrapped__))
     stored = lambda: {p for p in tmp_path.rglob(f"*.{programs.SUFFIX}") if "_jacobian-" in p.name}  # noqa: E731
     raw = tomllib.loads(LECTURE.read_text())
@@ -164,11 +183,11 @@ def test_a_case_of_the_same_structure_loads_the_stored_row_programs(tmp_path, mo
         case = case_from_dict(raw)
         rows = Rows(case, shape_space(case), margin=margin)
         z = jnp.asarray(rows.space.z0)
-        return rows, z, rows.force_jacobian(z, speeds, None), rows.geometry_jacobian(z)
+        return rows, z, rows.slack_jacobian(z, speeds), rows.geometry_jacobian(z)
 
     _, _, force, geometry = rows_of(raw, 1.5)
     first = stored()
-    assert sorted(p.name.split("-")[0] for p in first) == ["_force_jacobian", "_geometry_jacobian"]
+    assert sorted(p.name.split("-")[0] for p in first) == ["_geometry_jacobian", "_slack_jacobian"]
     raw["follower"] |= {"base_radius": 45.0, "roller_radius": 12.0, "offset": 3.0}
     raw["dynamics"] |= {"spring_rate": 2.5, "preload": 35.0}
     raw["limits"] |= {"min_contact_force": 2.0, "max_pressure_angle": 28.0, "min_curvature_ratio": 1.5}
@@ -178,7 +197,7 @@ def test_a_case_of_the_same_structure_loads_the_stored_row_programs(tmp_path, mo
         (*force2, *geometry2),
         (*force, *geometry),
         (
-            *eqx.filter_jit(_rows.value_and_jacobian)(rows.kernel.sampled_slack, z, speeds, None),
+            *eqx.filter_jit(_rows.value_and_jacobian)(rows.kernel.sampled_slack_of, z, speeds, False),
             *eqx.filter_jit(_rows.value_and_jacobian)(rows.kernel.geometry, z),
         ),
         strict=True,

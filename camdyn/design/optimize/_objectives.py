@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from collections.abc import Callable
 
 import jax
 import jax.numpy as jnp
@@ -22,7 +23,7 @@ from ..._core.progress import Progress, counter
 from ..._core.units import RPM
 from ...model.dynamics import static_position, steady_state
 from ..spring import min_preload
-from ._rows import FINE, Rows, speed_slots
+from ._rows import FINE, Rows, speed_slots, split_preload
 from ._slp import Step, maximize_least, with_jacobian
 
 RADIUS = 0.2  # first trust region of a control point (normalized lift)
@@ -35,7 +36,7 @@ def _speed_set(w: float) -> np.ndarray:
     return w * np.r_[np.linspace(0.05, 0.9, 18), np.linspace(0.92, 1.0, 5)]
 
 
-def least_slack(rows: Rows, z: ArrayLike, w_max: float, preload: float | None = None) -> tuple[float, float]:
+def least_slack(rows: Rows, z: ArrayLike, w_max: float, preload: ArrayLike | None = None) -> tuple[float, float]:
     """Least contact force over its margin (N; N*m for an arm, :meth:`Rows.slack`) over a fine scan of speeds up
     to ``w_max`` (rad/s) and every grid angle, and the speed where it occurs (rad/s); ``preload`` (SI) overrides
     the case's."""
@@ -104,28 +105,31 @@ def _held(
     every speed up to ``w`` (rad/s): the programs' speed set grows where a fine scan finds the force below it.
     ``x`` is the control points, and the preload (SI) after them where ``preload_free``."""
     scale = rows.scale
-    split = (lambda x: (x[:-1], x[-1])) if preload_free else (lambda x: (x, None))
+    objective_jac = with_jacobian(objective)
 
-    def limits(x: jax.Array, speeds: jax.Array, cushion: float) -> jax.Array:
-        z, f0 = split(x)
-        hold = (cushion - rows.slack(z, speeds, f0)[:, rows.sampled].ravel()) / scale
-        return jnp.concatenate([rows.geometry(z), hold])
+    def limits(x: np.ndarray, slack: Callable, cushion: float) -> tuple[np.ndarray, np.ndarray]:
+        x = np.asarray(x, dtype=float)
+        g, jac_g = (np.asarray(a) for a in rows.geometry_jacobian(jnp.asarray(split_preload(x, preload_free)[0])))
+        if preload_free:  # the geometry does not move with the preload
+            jac_g = np.c_[jac_g, np.zeros(g.size)]
+        v, jac_v = slack(x)
+        return np.r_[g, (cushion - v) / scale], np.r_[jac_g, -jac_v / scale]
 
-    limits_jac, objective_jac = with_jacobian(limits), with_jacobian(objective)
     # a cushion over the limit: an optimum holds many speeds at once right at it, where the check's own grid
     # would read a last-digit dip as the jump
     speeds, step, cushion = _speed_set(w), Step(x0, -math.inf, math.inf, 0), 1e-2 * scale
     for _ in range(8):
-        sp = jnp.asarray(speed_slots(speeds))
+        slack = rows.force_values(jnp.asarray(speed_slots(speeds)), x0, preload_free)
         step = maximize_least(
             objective_jac,
-            lambda x, sp=sp, cushion=cushion: limits_jac(x, sp, cushion),
+            lambda x, slack=slack, cushion=cushion: limits(x, slack, cushion),
             step.x,
             radius=radius,
             scale=scale,
             lower=lower,
         )
-        full, at = least_slack(rows, *split(step.x) if preload_free else (step.x,), w)
+        z, preload = split_preload(step.x, preload_free)
+        full, at = least_slack(rows, z, w, preload)
         if full >= 0.0:
             break
         if np.min(np.abs(speeds - at)) > 1e-9 * w:

@@ -9,6 +9,7 @@ import math
 from collections.abc import Callable
 from dataclasses import dataclass
 from functools import cached_property
+from typing import TypeVar
 
 import equinox as eqx
 import jax
@@ -31,6 +32,7 @@ EVERY = 4  # the linear programs see every 4th grid angle; a fine scan of each a
 _SAFETY = 1e-4  # the limits are met with this much to spare: the check reads them on another grid
 FINE = 400  # speeds of the scan that checks each answer between the programs' speeds
 SPEED_SLOTS = 32  # speeds per linear program (a fixed count: one compiled Jacobian per case)
+Variables = TypeVar("Variables", np.ndarray, jax.Array)  # an optimizer's: control points (and a preload)
 
 
 class RowsKernel(eqx.Module):
@@ -151,15 +153,20 @@ class RowsKernel(eqx.Module):
         e00, e01, e10, e11 = free_vibration(a, b, jnp.where(after, theta - at, 0.0))
         return jnp.where(after, e00 * h0 + e01 * h1, 0.0), jnp.where(after, e10 * h0 + e11 * h1, 0.0)
 
-    def slack(self, z: np.ndarray | jax.Array, omegas: jax.Array, preload: ArrayLike | None = None) -> jax.Array:
-        """:meth:`forces` over the least to keep (N; N*m for an arm): >= 0 where both the margin and the check's
-        ``min_contact_force`` (N at the contact; through the lever arm, which moves with s, for an arm) hold."""
+    def need(self, z: np.ndarray | jax.Array, at: np.ndarray | None = None) -> jax.Array:
+        """The least interface force to keep (N; N*m for an arm): the margin, or the check's ``min_contact_force``
+        (N at the contact) where it is more; for an arm through its lever arm, which moves with s (then one per grid
+        angle, or per grid index of ``at``; else a scalar)."""
         fmin = self.min_contact_force
-        need = jnp.maximum(self.margin, fmin)
-        if self.rotary:  # the least contact force through the lever arm, which moves with s
-            lever = self._geometry(z)["lever"]
-            need = jnp.maximum(self.margin, fmin / newton_per_torque(lever))
-        return self.forces(z, omegas, preload) - need
+        if self.rotary:
+            lever = self._geometry(z, at)["lever"]
+            return jnp.maximum(self.margin, fmin / newton_per_torque(lever))
+        return jnp.maximum(self.margin, fmin)
+
+    def slack(self, z: np.ndarray | jax.Array, omegas: jax.Array, preload: ArrayLike | None = None) -> jax.Array:
+        """:meth:`forces` over the least to keep (:meth:`need`): >= 0 where both the margin and the check's
+        ``min_contact_force`` hold."""
+        return self.forces(z, omegas, preload) - self.need(z)
 
     def geometry(self, z: np.ndarray | jax.Array) -> jax.Array:
         """The geometry constraints as ``g <= 0``, each scaled to its limit: |phi| / phi_max - 1 and, for a roller,
@@ -176,8 +183,13 @@ class RowsKernel(eqx.Module):
             rows.append(self.closing_speed(z) / self.seating[2] - 1.0)
         return jnp.concatenate(rows)
 
-    def _geometry(self, z: np.ndarray | jax.Array) -> dict:
-        return geometry_of(self.follower_type, self.follower, jnp.asarray(self.theta), self.values(z))
+    def _geometry(self, z: np.ndarray | jax.Array, at: np.ndarray | None = None) -> dict:
+        """The cam's geometry (:func:`~camdyn.model.geometry.geometry_of`) on the grid, or at its indices ``at`` (each
+        angle's is its own)."""
+        theta, values = jnp.asarray(self.theta), self.values(z)
+        if at is not None:
+            theta, values = theta[at], values[:, at]
+        return geometry_of(self.follower_type, self.follower, theta, values)
 
     def closing_speed(self, z: np.ndarray | jax.Array) -> jax.Array:
         """A valvetrain's valve speed toward its seat (m/s, the surrogate's steady state at ``seating``'s speed) at
@@ -194,12 +206,45 @@ class RowsKernel(eqx.Module):
         """:meth:`slack` at the angles the linear programs see, flat."""
         return self.slack(z, speeds, preload)[:, np.arange(0, self.theta.size, EVERY)].ravel()
 
+    def sampled_forces(self, x: jax.Array, speeds: jax.Array, preload_free: bool) -> jax.Array:
+        """:meth:`forces` at the angles the linear programs see, flat; ``x`` the control points, and the preload (SI)
+        after them where ``preload_free``."""
+        z, preload = split_preload(x, preload_free)
+        return self.forces(z, speeds, preload)[:, np.arange(0, self.theta.size, EVERY)].ravel()
+
+    def sampled_need(self, x: jax.Array, preload_free: bool) -> jax.Array:
+        """:meth:`need` at the angles the linear programs see (``x`` as :meth:`sampled_forces`')."""
+        at = np.arange(0, self.theta.size, EVERY)
+        return jnp.broadcast_to(self.need(split_preload(x, preload_free)[0], at), at.shape)
+
+    def sampled_slack_of(self, x: jax.Array, speeds: jax.Array, preload_free: bool) -> jax.Array:
+        """:meth:`sampled_slack` of ``x`` (:meth:`sampled_forces`')."""
+        z, preload = split_preload(x, preload_free)
+        return self.sampled_slack(z, speeds, preload)
+
+
+def split_preload(x: Variables, preload_free: bool) -> tuple[Variables, Variables | None]:
+    """The control points and the preload (SI; None: the case's) of an optimizer's variables ``x``."""
+    return (x[:-1], x[-1]) if preload_free else (x, None)
+
 
 @cached_jit
-def _force_jacobian(
-    kernel: RowsKernel, z: jax.Array, speeds: jax.Array, preload: ArrayLike | None
+def _forces_jacobian(
+    kernel: RowsKernel, x: jax.Array, speeds: jax.Array, preload_free: bool
 ) -> tuple[jax.Array, jax.Array]:
-    return value_and_jacobian(kernel.sampled_slack, z, speeds, preload)
+    return value_and_jacobian(kernel.sampled_forces, x, speeds, preload_free)
+
+
+@cached_jit
+def _need_jacobian(kernel: RowsKernel, x: jax.Array, preload_free: bool) -> tuple[jax.Array, jax.Array]:
+    return value_and_jacobian(kernel.sampled_need, x, preload_free)
+
+
+@cached_jit
+def _slack_jacobian(
+    kernel: RowsKernel, x: jax.Array, speeds: jax.Array, preload_free: bool
+) -> tuple[jax.Array, jax.Array]:
+    return value_and_jacobian(kernel.sampled_slack_of, x, speeds, preload_free)
 
 
 @cached_jit
@@ -291,25 +336,39 @@ class Rows:
         """The grid angles the linear programs see."""
         return np.arange(0, self.space.theta.size, EVERY)
 
-    def force_jacobian(
-        self, z: ArrayLike, speeds: jax.Array, preload: ArrayLike | None = None
+    def slack_jacobian(
+        self, x: ArrayLike, speeds: jax.Array, preload_free: bool = False
     ) -> tuple[jax.Array, jax.Array]:
-        """``(z, speeds[SPEED_SLOTS], preload) -> (slack at the sampled angles, d/dz)``, a stored program."""
-        return _force_jacobian(self.kernel, z, speeds, preload)
+        """``(x, speeds[SPEED_SLOTS]) -> (slack at the sampled angles, d/dx)`` differentiated at ``x`` (the control
+        points, and the preload after them where ``preload_free``), a stored program."""
+        return _slack_jacobian(self.kernel, jnp.asarray(x), speeds, preload_free)
 
     def force_values(
-        self, speeds: jax.Array
-    ) -> Callable[[np.ndarray], tuple[np.ndarray | jax.Array, np.ndarray | jax.Array]]:
-        """``z -> (slack at the sampled angles, d/dz)`` at the fixed ``speeds`` (:data:`SPEED_SLOTS`) for the linear
-        programs. Where the follower translates the slack is exactly affine in ``z`` (the steady state in contact is
-        linear in the motion, the motion in the control points), so the Jacobian is computed once and every later
-        value is one product; an arm's lever arm and a rocker's ratio move with ``z``, so there each call
-        differentiates again."""
-        if self.case.oscillating or self.rocker is not None:
-            return lambda z: self.force_jacobian(z, speeds, None)
-        z_ref = np.asarray(self.space.z0, dtype=float)
-        v_ref, jac = (np.asarray(a) for a in self.force_jacobian(jnp.asarray(z_ref), speeds, None))
-        return lambda z: (v_ref + np.einsum("ij,j->i", jac, np.asarray(z, dtype=float) - z_ref), jac)
+        self, speeds: jax.Array, x_ref: ArrayLike | None = None, preload_free: bool = False
+    ) -> Callable[[np.ndarray], tuple[np.ndarray, np.ndarray]]:
+        """``x -> (slack at the sampled angles, d/dx)`` at the fixed ``speeds`` (:data:`SPEED_SLOTS`) for the linear
+        programs; ``x`` the control points, and the preload (SI) after them where ``preload_free`` (``x_ref``: where
+        the Jacobian is taken, default the shape space's own). The force is exactly affine in ``x`` (the steady
+        state in contact is linear in the motion and the preload, the motion in the control points), so its
+        Jacobian is computed once and every later value is one product; what an arm must keep moves with its lever
+        arm, so there each call differentiates that alone (the geometry, not the force's speeds); a rocker's ratio
+        moves the force itself, so there each call differentiates again."""
+        if self.rocker is not None:
+            return lambda x: _numpy(self.slack_jacobian(x, speeds, preload_free))
+        x_ref = np.asarray(self.space.z0 if x_ref is None else x_ref, dtype=float)
+        f_ref, jac_f = _numpy(_forces_jacobian(self.kernel, jnp.asarray(x_ref), speeds, preload_free))
+        m = int(np.shape(speeds)[0])
+        need, jac_need = _numpy(_need_jacobian(self.kernel, jnp.asarray(x_ref), preload_free))
+        if not self.case.oscillating:  # the need is a constant: the slack itself is affine
+            v_ref = f_ref - np.tile(need, m)
+            return lambda x: (v_ref + np.einsum("ij,j->i", jac_f, np.asarray(x, dtype=float) - x_ref), jac_f)
+
+        def slack(x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+            need, jac_need = _numpy(_need_jacobian(self.kernel, jnp.asarray(x), preload_free))
+            dx = np.asarray(x, dtype=float) - x_ref
+            return f_ref + np.einsum("ij,j->i", jac_f, dx) - np.tile(need, m), jac_f - np.tile(jac_need, (m, 1))
+
+        return slack
 
     def least_on_scan(self, z: jax.Array, w_max: float, preload: ArrayLike | None = None) -> jax.Array:
         """The least slack at each of FINE speeds up to ``w_max`` (rad/s), a stored program; the speed and a preload
@@ -320,6 +379,10 @@ class Rows:
     def geometry_jacobian(self, z: jax.Array) -> tuple[jax.Array, jax.Array]:
         """``z -> (geometry constraints, d/dz)`` (:meth:`geometry`), a stored program."""
         return _geometry_jacobian(self.kernel, z)
+
+
+def _numpy(pair: tuple[jax.Array, jax.Array]) -> tuple[np.ndarray, np.ndarray]:
+    return np.asarray(pair[0]), np.asarray(pair[1])
 
 
 def speed_slots(speeds: ArrayLike) -> np.ndarray:
