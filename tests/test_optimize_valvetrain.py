@@ -208,6 +208,35 @@ def test_the_event_follower_is_the_two_mass_model_in_contact():
     )
 
 
+@pytest.mark.slow  # compiles three row programs of the valvetrain's structure
+def test_a_flat_faces_geometry_rows_from_one_jacobian_are_the_rows_differentiated_afresh(space):
+    """A translating flat face's limits are affine in the control points (its pressure angle 0, its contour's radius
+    R_b + s + s''), so ``Rows.geometry_values`` takes their Jacobian once; the seating rows (the valve's closing
+    speed, which moves with where it lifts off) it differentiates at each call. Both equal the whole geometry
+    differentiated afresh far from the case's own flanks."""
+    case = load_case(VALVETRAIN)
+    vt = vt_of(case)
+    surrogate, cam_mass = event_follower(vt)
+    idx = np.arange(2900, 2969)  # grid angles around a seating (the rows' window)
+    rows = Rows(
+        replace(case, model=surrogate),
+        space,
+        1.0,
+        cam_mass,
+        float(vt.tappet_force),
+        seating=(3000.0 * RPM, float(vt.ratio), idx, 0.5),
+        lift_off=lift_off(vt),
+    )
+    assert rows.kernel.affine_shape
+    z = np.clip(space.z0 + np.random.default_rng(2).normal(0.0, 0.03, space.n_free), 0.0, 1.0)
+    g, jac = rows.geometry_values(z)
+    g_ref, jac_ref = (np.asarray(a) for a in rows.geometry_jacobian(jnp.asarray(z)))
+    assert g.size == g_ref.size > idx.size and np.abs(z - space.z0).max() > 0.03
+    np.testing.assert_allclose(g, g_ref, rtol=0, atol=1e-9)  # the rows are scaled to their limits: O(1)
+    np.testing.assert_allclose(jac, jac_ref, rtol=0, atol=1e-9 * np.abs(jac_ref).max())
+    np.testing.assert_allclose(g[-idx.size :], g_ref[-idx.size :], rtol=0, atol=1e-12)  # differentiated afresh
+
+
 @pytest.mark.slow  # compiles the two-mass diffrax model
 def test_through_a_rockers_geometry_the_event_follower_is_the_two_mass_model():
     """With a bent rocker (its ratio moves with lift) the rows drive the event follower with the lift the rocker

@@ -55,7 +55,7 @@ def hold_to(rows: Rows, w: float, z0: np.ndarray) -> tuple[Step, float]:
     for _ in range(6):
         step = maximize_least(
             rows.force_values(jnp.asarray(speed_slots(speeds))),
-            rows.geometry_jacobian,
+            rows.geometry_values,
             step.x,
             radius=radius,
             scale=scale,
@@ -109,7 +109,7 @@ def _held(
 
     def limits(x: np.ndarray, slack: Callable, cushion: float) -> tuple[np.ndarray, np.ndarray]:
         x = np.asarray(x, dtype=float)
-        g, jac_g = (np.asarray(a) for a in rows.geometry_jacobian(jnp.asarray(split_preload(x, preload_free)[0])))
+        g, jac_g = rows.geometry_values(split_preload(x, preload_free)[0])
         if preload_free:  # the geometry does not move with the preload
             jac_g = np.c_[jac_g, np.zeros(g.size)]
         v, jac_v = slack(x)

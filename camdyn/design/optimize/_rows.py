@@ -169,9 +169,15 @@ class RowsKernel(eqx.Module):
         return self.forces(z, omegas, preload) - self.need(z)
 
     def geometry(self, z: np.ndarray | jax.Array) -> jax.Array:
-        """The geometry constraints as ``g <= 0``, each scaled to its limit: |phi| / phi_max - 1 and, for a roller,
-        kappa / kappa_max - 1 (the check's least contour radius over the roller radius), for a flat face
-        1 - rho / rho_min."""
+        """The geometry constraints as ``g <= 0``, each scaled to its limit: :meth:`shape_limits`, and a
+        valvetrain's :meth:`seating_limits`."""
+        if self.seating is None:
+            return self.shape_limits(z)
+        return jnp.concatenate([self.shape_limits(z), self.seating_limits(z)])
+
+    def shape_limits(self, z: np.ndarray | jax.Array) -> jax.Array:
+        """|phi| / phi_max - 1 and, for a roller, kappa / kappa_max - 1 (the check's least contour radius over the
+        roller radius), for a flat face 1 - rho / rho_min; and the control points' order."""
         geo = self._geometry(z)
         rows = [jnp.abs(geo["phi"]) / self.max_pressure_angle - 1.0 + _SAFETY]
         if self.roller:  # the pitch curve's curvature at most kappa_max
@@ -179,9 +185,18 @@ class RowsKernel(eqx.Module):
         else:  # the contour's radius at least rho_min
             rows.append(1.0 - geo["rho_contour"] / self.curvature_bound + _SAFETY)
         rows.append(control_order(z, self.moving, self.n_control, self.control_offset, self.control_matrix))
-        if self.seating is not None:
-            rows.append(self.closing_speed(z) / self.seating[2] - 1.0)
         return jnp.concatenate(rows)
+
+    def seating_limits(self, z: np.ndarray | jax.Array) -> jax.Array:
+        """A valvetrain's valve closing speed over the most it may have, less 1, at its seating's grid angles."""
+        assert self.seating is not None  # a valvetrain's rows
+        return self.closing_speed(z) / self.seating[2] - 1.0
+
+    @property
+    def affine_shape(self) -> bool:
+        """Whether :meth:`shape_limits` are affine in the control points: a translating flat face's (its pressure
+        angle 0, its contour's radius R_b + s + s'' linear in the lift; the order is linear for every follower)."""
+        return not self.roller and not self.rotary
 
     def _geometry(self, z: np.ndarray | jax.Array, at: np.ndarray | None = None) -> dict:
         """The cam's geometry (:func:`~camdyn.model.geometry.geometry_of`) on the grid, or at its indices ``at`` (each
@@ -250,6 +265,21 @@ def _slack_jacobian(
 @cached_jit
 def _geometry_jacobian(kernel: RowsKernel, z: jax.Array) -> tuple[jax.Array, jax.Array]:
     return value_and_jacobian(kernel.geometry, z)
+
+
+@cached_jit
+def _shape_jacobian(kernel: RowsKernel, z: jax.Array) -> tuple[jax.Array, jax.Array]:
+    return value_and_jacobian(kernel.shape_limits, z)
+
+
+@cached_jit
+def _seating_jacobian(kernel: RowsKernel, z: jax.Array) -> tuple[jax.Array, jax.Array]:
+    return value_and_jacobian(kernel.seating_limits, z)
+
+
+@cached_jit
+def _closing_speed(kernel: RowsKernel, z: jax.Array) -> jax.Array:
+    return kernel.closing_speed(z)
 
 
 @cached_jit
@@ -329,7 +359,8 @@ class Rows:
         return self.kernel.geometry(z)
 
     def closing_speed(self, z: np.ndarray | jax.Array) -> jax.Array:
-        return self.kernel.closing_speed(z)
+        """:meth:`RowsKernel.closing_speed`, a stored program."""
+        return _closing_speed(self.kernel, jnp.asarray(z))
 
     @cached_property
     def sampled(self) -> np.ndarray:
@@ -379,6 +410,26 @@ class Rows:
     def geometry_jacobian(self, z: jax.Array) -> tuple[jax.Array, jax.Array]:
         """``z -> (geometry constraints, d/dz)`` (:meth:`geometry`), a stored program."""
         return _geometry_jacobian(self.kernel, z)
+
+    @cached_property
+    def geometry_values(self) -> Callable[[np.ndarray], tuple[np.ndarray, np.ndarray]]:
+        """``z -> (geometry constraints, d/dz)`` (:meth:`geometry`) for the linear programs: differentiated at each
+        call, but where the shape's limits are affine (:attr:`RowsKernel.affine_shape`) from one Jacobian, with only
+        a valvetrain's seating rows differentiated at each call."""
+        kernel = self.kernel
+        if not kernel.affine_shape:
+            return lambda z: _numpy(self.geometry_jacobian(jnp.asarray(z)))
+        z_ref = np.asarray(self.space.z0, dtype=float)
+        g_ref, jac = _numpy(_shape_jacobian(kernel, jnp.asarray(z_ref)))
+
+        def values(z: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+            g = g_ref + np.einsum("ij,j->i", jac, np.asarray(z, dtype=float) - z_ref)
+            if kernel.seating is None:
+                return g, jac
+            seat, jac_seat = _numpy(_seating_jacobian(kernel, jnp.asarray(z)))
+            return np.r_[g, seat], np.r_[jac, jac_seat]
+
+        return values
 
 
 def _numpy(pair: tuple[jax.Array, jax.Array]) -> tuple[np.ndarray, np.ndarray]:

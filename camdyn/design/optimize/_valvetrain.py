@@ -6,11 +6,11 @@ from __future__ import annotations
 import math
 from dataclasses import asdict, dataclass, field, replace
 
-import jax.numpy as jnp
 import numpy as np
 
 from ..._core.results import finite_or_none
 from ..._core.units import RPM
+from ...model.motion import evaluate
 from ..checks import CheckReport
 from ._objectives import BETTER
 from ._rows import Rows
@@ -117,7 +117,7 @@ def seating_rows(rows: Rows, check: CheckReport, speed_rpm: float | None) -> tup
     width = math.floor(2.0 * SEAT_WINDOW_DEG / (deg[1] - deg[0])) + 1  # the most a window of the grid holds
     idx = np.nonzero(near)[0]
     idx = np.pad(idx, (0, width - idx.size), mode="edge")
-    s = np.asarray(rows.case.motion(rows.space.theta))[:, None]  # the case's own flanks, not their fit
+    s = np.asarray(evaluate(rows.case.motion, rows.space.theta))[:, None]  # the case's own flanks, not their fit
     own = replace(rows.space, offset=s[:, 0], matrix=np.zeros((4, s.shape[-1], 1)), z0=np.zeros(1))
     probe = replace(rows, space=own, seating=(omega, float(vt.ratio), idx, 1.0))
-    return omega, float(vt.ratio), idx, float(np.max(np.asarray(probe.closing_speed(jnp.zeros(1)))))
+    return omega, float(vt.ratio), idx, float(np.max(np.asarray(probe.closing_speed(np.zeros(1)))))
