@@ -243,38 +243,23 @@ def split_preload(x: Variables, preload_free: bool) -> tuple[Variables, Variable
     return (x[:-1], x[-1]) if preload_free else (x, None)
 
 
-@cached_jit
-def _forces_jacobian(
-    kernel: RowsKernel, x: jax.Array, speeds: jax.Array, preload_free: bool
-) -> tuple[jax.Array, jax.Array]:
-    return value_and_jacobian(kernel.sampled_forces, x, speeds, preload_free)
+def _jacobian_of(method: str, name: str) -> Callable:
+    """The stored program ``name``: ``(kernel, x, *args) -> (kernel.<method>(x, *args), d/dx)``
+    (:func:`value_and_jacobian`)."""
+
+    def program(kernel: RowsKernel, x: jax.Array, *args: object) -> tuple[jax.Array, jax.Array]:
+        return value_and_jacobian(getattr(kernel, method), x, *args)
+
+    program.__name__ = program.__qualname__ = name  # the stored program's key and file name
+    return cached_jit(program)
 
 
-@cached_jit
-def _need_jacobian(kernel: RowsKernel, x: jax.Array, preload_free: bool) -> tuple[jax.Array, jax.Array]:
-    return value_and_jacobian(kernel.sampled_need, x, preload_free)
-
-
-@cached_jit
-def _slack_jacobian(
-    kernel: RowsKernel, x: jax.Array, speeds: jax.Array, preload_free: bool
-) -> tuple[jax.Array, jax.Array]:
-    return value_and_jacobian(kernel.sampled_slack_of, x, speeds, preload_free)
-
-
-@cached_jit
-def _geometry_jacobian(kernel: RowsKernel, z: jax.Array) -> tuple[jax.Array, jax.Array]:
-    return value_and_jacobian(kernel.geometry, z)
-
-
-@cached_jit
-def _shape_jacobian(kernel: RowsKernel, z: jax.Array) -> tuple[jax.Array, jax.Array]:
-    return value_and_jacobian(kernel.shape_limits, z)
-
-
-@cached_jit
-def _seating_jacobian(kernel: RowsKernel, z: jax.Array) -> tuple[jax.Array, jax.Array]:
-    return value_and_jacobian(kernel.seating_limits, z)
+_forces_jacobian = _jacobian_of("sampled_forces", "_forces_jacobian")  # (kernel, x, speeds, preload_free)
+_need_jacobian = _jacobian_of("sampled_need", "_need_jacobian")  # (kernel, x, preload_free)
+_slack_jacobian = _jacobian_of("sampled_slack_of", "_slack_jacobian")  # (kernel, x, speeds, preload_free)
+_geometry_jacobian = _jacobian_of("geometry", "_geometry_jacobian")  # (kernel, z)
+_shape_jacobian = _jacobian_of("shape_limits", "_shape_jacobian")  # (kernel, z)
+_seating_jacobian = _jacobian_of("seating_limits", "_seating_jacobian")  # (kernel, z)
 
 
 @cached_jit
