@@ -374,9 +374,8 @@ class Rows:
         x_ref = np.asarray(self.space.z0 if x_ref is None else x_ref, dtype=float)
         f_ref, jac_f = _numpy(_forces_jacobian(self.kernel, jnp.asarray(x_ref), speeds, preload_free))
         m = int(np.shape(speeds)[0])
-        need, jac_need = _numpy(_need_jacobian(self.kernel, jnp.asarray(x_ref), preload_free))
-        if not self.case.oscillating:  # the need is a constant: the slack itself is affine
-            v_ref = f_ref - np.tile(need, m)
+        if not self.kernel.rotary:  # the need is a constant: the slack itself is affine
+            v_ref = f_ref - np.tile(_numpy(_need_jacobian(self.kernel, jnp.asarray(x_ref), preload_free))[0], m)
             return lambda x: (v_ref + np.einsum("ij,j->i", jac_f, np.asarray(x, dtype=float) - x_ref), jac_f)
 
         def slack(x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
