@@ -414,6 +414,48 @@ def test_an_answer_is_never_worse_nor_invalid(capsys, tmp_path, path, objective)
 
 
 @pytest.mark.slow
+def test_a_flat_faces_answer_keeps_the_contact_on_its_face(capsys, tmp_path):
+    """``optimize`` holds a flat face's contact travel within its ``face_width`` (check's limit, which it ignored:
+    the lecture on a 40 mm flat face, its own travel 40.47 mm, came back faster at 42.68 mm, failing by more): the
+    answer passes face_width with the rest of check, by the optimizer's margin, and holds faster."""
+    raw = tomllib.loads(LECTURE.read_text())
+    follower = {k: v for k, v in raw["follower"].items() if k not in ("roller_radius", "offset")}
+    raw["follower"] = follower | {"type": "translating-flat", "face_width": 40.0}
+    case, out = tmp_path / "flat.toml", tmp_path / "out.toml"
+    case.write_text(tomli_w.dumps(raw))
+    code, stdout, err = run(capsys, "optimize", case, "-o", out, "--objective", "jump-speed")
+    assert code == 0, stdout + err
+    before, after = run_check(load_case(case)), run_check(load_case(out))
+    width = lambda report: next(c for c in report.checks if c.name == "face_width")  # noqa: E731
+    assert not width(before).ok and width(before).value == pytest.approx(40.47, abs=0.01)
+    assert width(after).value <= 40.0 * (1.0 - 1e-4) and after.verdict == "pass"
+    assert after.dynamic.jump_speed_rpm > 1.3 * before.dynamic.jump_speed_rpm
+
+
+def test_an_answer_fails_no_check_by_more_than_its_input():
+    """Never worse than what the user gave: a check the input failed that the answer fails further from its limit
+    refuses the answer, as one it passed and the answer fails does; a failing check brought closer does not."""
+    from types import SimpleNamespace
+
+    from camdyn.design._check import Check
+    from camdyn.design.optimize import _broken_checks
+
+    def report(width: float, margin: float, force: float) -> SimpleNamespace:
+        checks = (Check("face_width", width, 40.0, "mm", "<="), Check("speed_margin", margin, 1.25, "x", ">="))
+        return SimpleNamespace(checks=(*checks, Check("contact_force", force, 0.0, "N", ">")))
+
+    before = report(40.47, 1.1, 5.0)
+    refused = _broken_checks(before, report(42.68, 1.05, -1.0))  # type: ignore[arg-type]
+    assert refused == [
+        "check face_width failed before and would fail by more (40.47 -> 42.68 against 40 mm)",
+        "check speed_margin failed before and would fail by more (1.1 -> 1.05 against 1.25 x)",
+        "check contact_force passed before and would fail (-1 against 0 N)",
+    ]
+    assert _broken_checks(before, report(40.2, 1.2, 3.0)) == []  # type: ignore[arg-type]
+    assert _broken_checks(before, report(39.0, 1.3, 3.0)) == []  # type: ignore[arg-type]
+
+
+@pytest.mark.slow
 def test_where_it_cannot_improve_it_writes_nothing(capsys, tmp_path):
     """A 100 N margin on the lecture (its preload is 30 N) asks for a stronger spring than the input's: no lighter
     one holds, so it says so, writes nothing and exits 1."""

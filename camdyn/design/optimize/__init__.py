@@ -26,6 +26,7 @@ from ...model.motion import evaluate
 from ...model.valvetrain import event_follower, lift_off
 from ...schema import CaseSpec
 from ...schema.dynamics import dynamics_keys
+from .._check import Check
 from ..checks import CheckReport, run_check
 from ..parts import resolve_spring
 from ._metrics import (
@@ -139,13 +140,34 @@ def _refusals(
 
 
 def _broken_checks(before: CheckReport, after: CheckReport) -> list[str]:
-    """The checks the input passed that the answer would fail."""
-    passed = {c.name for c in before.checks if c.ok}
-    return [
-        f"check {c.name} passed before and would fail ({c.value:.6g} against {c.limit:.6g} {c.unit})"
-        for c in after.checks
-        if c.name in passed and not c.ok
-    ]
+    """The checks the input passed that the answer would fail, and those it failed that the answer would fail by
+    more (never worse than what the user gave)."""
+    was = {c.name: c for c in before.checks}
+    out = []
+    for c in after.checks:
+        b = was.get(c.name)
+        if b is None or c.ok:
+            continue
+        if b.ok:
+            out.append(f"check {c.name} passed before and would fail ({_value(c)} against {c.limit:.6g} {c.unit})")
+        elif _further(b, c):
+            out.append(
+                f"check {c.name} failed before and would fail by more ({_value(b)} -> {_value(c)} against "
+                f"{c.limit:.6g} {c.unit})"
+            )
+    return out
+
+
+def _value(c: Check) -> str:
+    return "unbounded" if c.value is None else f"{c.value:.6g}"
+
+
+def _further(before: Check, after: Check) -> bool:
+    """Whether the failing ``after`` is further from its limit than the failing ``before`` (None: unbounded, worst
+    for an upper limit)."""
+    if after.sense == "<=":
+        return before.value is not None and (after.value is None or after.value > before.value)
+    return after.value is not None and before.value is not None and after.value < before.value
 
 
 def _pair(objective: str, b: Metrics, a: Metrics) -> str:

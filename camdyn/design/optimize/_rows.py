@@ -23,7 +23,7 @@ from ..._core.units import newton_per_torque
 from ...model.case import Case
 from ...model.dynamics import free_vibration, kinematic_force_of, steady_state, train_force
 from ...model.follower import FollowerModel
-from ...model.geometry import curvature_limit, follower_params, geometry_of
+from ...model.geometry import analyze, curvature_limit, follower_params, geometry_of
 from ...model.valvetrain import Rocker
 from ._shape import ShapeSpace, control_order, motion_values
 from ._slp import value_and_jacobian
@@ -54,6 +54,9 @@ class RowsKernel(eqx.Module):
     # () the curvature the check holds a roller's pitch curve to (1/mm, the largest), a flat face's contour to (mm,
     # the least radius)
     curvature_bound: np.ndarray
+    # a flat face of a given width: (the centre the contact's travel along it is held about, half its width), mm;
+    # None for a roller or a face of no given width
+    face: np.ndarray | None
     follower_type: FollowerType = eqx.field(static=True)
     roller: bool = eqx.field(static=True)
     rotary: bool = eqx.field(static=True)
@@ -177,13 +180,18 @@ class RowsKernel(eqx.Module):
 
     def shape_limits(self, z: np.ndarray | jax.Array) -> jax.Array:
         """|phi| / phi_max - 1 and, for a roller, kappa / kappa_max - 1 (the check's least contour radius over the
-        roller radius), for a flat face 1 - rho / rho_min; and the control points' order."""
+        roller radius), for a flat face 1 - rho / rho_min and, where its width is given, the contact's distance t
+        along it from the centre of the case's own travel within half that width (the check's face_width: the travel
+        at most the width); and the control points' order."""
         geo = self._geometry(z)
         rows = [jnp.abs(geo["phi"]) / self.max_pressure_angle - 1.0 + _SAFETY]
         if self.roller:  # the pitch curve's curvature at most kappa_max
             rows.append(geo["kappa_pitch"] / self.curvature_bound - 1.0 + _SAFETY)
         else:  # the contour's radius at least rho_min
             rows.append(1.0 - geo["rho_contour"] / self.curvature_bound + _SAFETY)
+        if self.face is not None:  # the contact within the face: two rows a side, each affine where t is
+            centre, half = self.face[0], self.face[1]
+            rows += [(geo["face_t"] - centre) / half - 1.0 + _SAFETY, (centre - geo["face_t"]) / half - 1.0 + _SAFETY]
         rows.append(control_order(z, self.moving, self.n_control, self.control_offset, self.control_matrix))
         return jnp.concatenate(rows)
 
@@ -316,6 +324,7 @@ class Rows:
                 math.radians(float(lim.max_pressure_angle or f.kind.default_max_pressure_angle_deg))
             ),
             curvature_bound=data(bound),
+            face=self._face,
             follower_type=f.follower_type,
             roller=f.roller_radius is not None,
             rotary=case.kind.rotary,
@@ -333,6 +342,17 @@ class Rows:
             rocker=self.rocker,
             rocker_ratio=data(self.rocker_ratio),
         )
+
+    @property
+    def _face(self) -> np.ndarray | None:
+        """:attr:`RowsKernel.face`: a flat face's travel held about the centre of the case's own (where its check
+        centres the face), within half its width (mm)."""
+        f = self.case.follower
+        if f.roller_radius is not None or f.face_width is None:
+            return None
+        centre = analyze(self.case.motion, f).extremes.face_centre_mm
+        assert centre is not None  # a flat face's travel
+        return np.array([centre, 0.5 * float(f.face_width)])
 
     def forces(self, z: np.ndarray | jax.Array, omegas: jax.Array, preload: ArrayLike | None = None) -> jax.Array:
         return self.kernel.forces(z, omegas, preload)
