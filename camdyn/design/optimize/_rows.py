@@ -189,7 +189,7 @@ class RowsKernel(eqx.Module):
             rows.append(geo["kappa_pitch"] / self.curvature_bound - 1.0 + _SAFETY)
         else:  # the contour's radius at least rho_min
             rows.append(1.0 - geo["rho_contour"] / self.curvature_bound + _SAFETY)
-        if self.face is not None:  # the contact within the face: two rows a side, each affine where t is
+        if self.face is not None:  # the contact within the face: a row for each side, each affine where t is
             centre, half = self.face[0], self.face[1]
             rows += [(geo["face_t"] - centre) / half - 1.0 + _SAFETY, (centre - geo["face_t"]) / half - 1.0 + _SAFETY]
         rows.append(control_order(z, self.moving, self.n_control, self.control_offset, self.control_matrix))
