@@ -36,11 +36,7 @@ def quintic_eval(
     (:func:`._lookup.bin_table`: a compiled program then finds the interval without a search loop)."""
     theta = xp.asarray(theta, dtype=float)
     th = xp.mod(theta, TWO_PI)
-    top = coef.shape[0] - 1 if last is None else last
-    if bins is None or xp is np:
-        i = xp.clip(xp.searchsorted(knots, th, side="right") - 1, 0, top)
-    else:
-        i = jnp.minimum(interval(jnp, knots, bins, th), top)
+    i = xp.minimum(interval(xp, knots, bins, th), coef.shape[0] - 1 if last is None else last)
     t = th - knots[i]
     c = coef[i]  # (..., 6)
     c0, c1, c2, c3, c4, c5 = (c[..., k] for k in range(6))

@@ -44,12 +44,12 @@ def bin_table(starts: np.ndarray) -> np.ndarray:
     raise ValueError(f"more than {WINDOW} pieces start within {4 * 360.0 / (n // 4):.2g} deg near {at:.4g} deg")
 
 
-def interval(xp: ModuleType, starts: ArrayLike, bins: ArrayLike, theta: ArrayLike) -> np.ndarray | jax.Array:
+def interval(xp: ModuleType, starts: ArrayLike, bins: ArrayLike | None, theta: ArrayLike) -> np.ndarray | jax.Array:
     """The interval of ``starts`` (ascending, +inf padded, at least :data:`WINDOW` of them past the last) that each
-    angle ``theta`` (rad, in [0, 2 pi)) lies in, 0 before the first: numpy's search, or in a compiled program the
-    same from ``bins`` (:func:`bin_table`)."""
-    if xp is np:
-        return np.maximum(np.searchsorted(np.asarray(starts), theta, side="right") - 1, 0)
+    angle ``theta`` (rad, in [0, 2 pi)) lies in, 0 before the first: a search (numpy's, or where there are no
+    ``bins`` JAX's), or in a compiled program the same from ``bins`` (:func:`bin_table`)."""
+    if xp is np or bins is None:
+        return xp.maximum(xp.searchsorted(xp.asarray(starts), theta, side="right") - 1, 0)
     starts, bins, theta = jnp.asarray(starts), jnp.asarray(bins), jnp.asarray(theta)
     n_bins = bins.shape[0]
     b = jnp.clip(jnp.floor(theta * (n_bins / TWO_PI)).astype(jnp.int32) - 1, 0, n_bins - 1)
