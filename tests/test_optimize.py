@@ -197,7 +197,7 @@ def test_a_case_of_the_same_structure_loads_the_stored_row_programs(tmp_path, mo
         (*force2, *geometry2),
         (*force, *geometry),
         (
-            *eqx.filter_jit(_rows.value_and_jacobian)(rows.kernel.sampled_slack_of, z, speeds, False),
+            *eqx.filter_jit(_rows.value_and_jacobian)(rows.kernel.sampled_slack, z, speeds, False),
             *eqx.filter_jit(_rows.value_and_jacobian)(rows.kernel.geometry, z),
         ),
         strict=True,

@@ -225,25 +225,26 @@ class RowsKernel(eqx.Module):
         _, x1 = self.in_contact(model, omega, d, d1)
         return -ratio * omega * x1[self.seating_idx]
 
-    def sampled_slack(self, z: jax.Array, speeds: jax.Array, preload: ArrayLike | None) -> jax.Array:
-        """:meth:`slack` at the angles the linear programs see, flat."""
-        return self.slack(z, speeds, preload)[:, np.arange(0, self.theta.size, EVERY)].ravel()
+    @property
+    def sampled(self) -> np.ndarray:
+        """The grid angles the linear programs see (indices)."""
+        return np.arange(0, self.theta.size, EVERY)
 
     def sampled_forces(self, x: jax.Array, speeds: jax.Array, preload_free: bool) -> jax.Array:
         """:meth:`forces` at the angles the linear programs see, flat; ``x`` the control points, and the preload (SI)
         after them where ``preload_free``."""
         z, preload = split_preload(x, preload_free)
-        return self.forces(z, speeds, preload)[:, np.arange(0, self.theta.size, EVERY)].ravel()
+        return self.forces(z, speeds, preload)[:, self.sampled].ravel()
 
     def sampled_need(self, x: jax.Array, preload_free: bool) -> jax.Array:
         """:meth:`need` at the angles the linear programs see (``x`` as :meth:`sampled_forces`')."""
-        at = np.arange(0, self.theta.size, EVERY)
+        at = self.sampled
         return jnp.broadcast_to(self.need(split_preload(x, preload_free)[0], at), at.shape)
 
-    def sampled_slack_of(self, x: jax.Array, speeds: jax.Array, preload_free: bool) -> jax.Array:
-        """:meth:`sampled_slack` of ``x`` (:meth:`sampled_forces`')."""
+    def sampled_slack(self, x: jax.Array, speeds: jax.Array, preload_free: bool) -> jax.Array:
+        """:meth:`slack` at the angles the linear programs see, flat (``x`` as :meth:`sampled_forces`')."""
         z, preload = split_preload(x, preload_free)
-        return self.sampled_slack(z, speeds, preload)
+        return self.slack(z, speeds, preload)[:, self.sampled].ravel()
 
 
 def split_preload(x: Variables, preload_free: bool) -> tuple[Variables, Variables | None]:
@@ -264,7 +265,7 @@ def _jacobian_of(method: str, name: str) -> Callable:
 
 _forces_jacobian = _jacobian_of("sampled_forces", "_forces_jacobian")  # (kernel, x, speeds, preload_free)
 _need_jacobian = _jacobian_of("sampled_need", "_need_jacobian")  # (kernel, x, preload_free)
-_slack_jacobian = _jacobian_of("sampled_slack_of", "_slack_jacobian")  # (kernel, x, speeds, preload_free)
+_slack_jacobian = _jacobian_of("sampled_slack", "_slack_jacobian")  # (kernel, x, speeds, preload_free)
 _geometry_jacobian = _jacobian_of("geometry", "_geometry_jacobian")  # (kernel, z)
 _shape_jacobian = _jacobian_of("shape_limits", "_shape_jacobian")  # (kernel, z)
 _seating_jacobian = _jacobian_of("seating_limits", "_seating_jacobian")  # (kernel, z)
@@ -357,9 +358,6 @@ class Rows:
     def forces(self, z: np.ndarray | jax.Array, omegas: jax.Array, preload: ArrayLike | None = None) -> jax.Array:
         return self.kernel.forces(z, omegas, preload)
 
-    def slack(self, z: np.ndarray | jax.Array, omegas: jax.Array, preload: ArrayLike | None = None) -> jax.Array:
-        return self.kernel.slack(z, omegas, preload)
-
     def geometry(self, z: np.ndarray | jax.Array) -> jax.Array:
         return self.kernel.geometry(z)
 
@@ -367,10 +365,10 @@ class Rows:
         """:meth:`RowsKernel.closing_speed`, a stored program."""
         return _closing_speed(self.kernel, jnp.asarray(z))
 
-    @cached_property
+    @property
     def sampled(self) -> np.ndarray:
-        """The grid angles the linear programs see."""
-        return np.arange(0, self.space.theta.size, EVERY)
+        """The grid angles the linear programs see (:attr:`RowsKernel.sampled`)."""
+        return self.kernel.sampled
 
     def slack_jacobian(
         self, x: ArrayLike, speeds: jax.Array, preload_free: bool = False
