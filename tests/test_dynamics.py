@@ -622,7 +622,8 @@ def test_shooting_that_does_not_converge_reports_its_best_revolution(lecture_fas
     case = lecture_fast_case
     r = dyn.compliant_response(case.motion, case.model, case.speed_rpm * RPM)
     assert len(revs) == 4 + _compliant._STALL_REVS
-    assert r.separations and r.periodicity_error == pytest.approx(0.6641865947111191, rel=1e-9)
+    # a bouncing that never settles parts from itself at the rounding's pace: 6e-6 between two CPUs (test_golden.py)
+    assert r.separations and r.periodicity_error == pytest.approx(0.66418, rel=1e-4)
     assert any(f"results are for revolution 4 of the {len(revs)} integrated" in w for w in r.warnings)
 
 

@@ -47,6 +47,25 @@ def test_penalty_is_the_integral_of_the_squared_jerk():
     assert penalty_stencil().sum() == pytest.approx(0.0, abs=1e-12)  # constants cost nothing
 
 
+def test_the_penalty_of_a_curve_far_from_zero_is_its_jerk_not_round_off():
+    """A constant (a cam's 50 mm radius) costs nothing: c'Pc from the third differences stays what it was, where
+    c'(Pc) carried the constant times the round-off (1e-3 of the penalty on a cam), enough to move REML's choice of
+    the smoothing from one CPU to another. So a change of the data at the last bit leaves that choice where it was."""
+    x = np.sort(np.random.default_rng(0).uniform(0, 2 * np.pi, 1500))
+    y = 50.0 + smooth(x)[0] + 0.002 * np.random.default_rng(1).standard_normal(1500)
+    prob = _Problem(x, y, 1500)
+    c = prob.solve(5.0)[0]
+    h = 2 * np.pi / 1500
+    g, w = np.polynomial.legendre.leggauss(4)
+    tau = (g + 1) / 2 * h
+    coef = piecewise(c)
+    jerk = sum(k * (k - 1) * (k - 2) * coef[:, k, None] * tau ** (k - 3) for k in range(3, 6))
+    assert prob.roughness(c) / h**5 == pytest.approx(float(np.sum(jerk**2 * w * h / 2)), rel=1e-6)
+    assert prob.roughness(c - 50.0) == pytest.approx(prob.roughness(c), rel=1e-9)
+    bumped = fit_periodic(x, y * (1.0 + 2e-16 * np.random.default_rng(2).standard_normal(1500)))
+    assert bumped.lam == pytest.approx(fit_periodic(x, y).lam, rel=1e-6)
+
+
 def test_banded_solve_and_log_determinant_match_dense_algebra():
     x = np.sort(np.random.default_rng(2).uniform(0, 2 * np.pi, 500))
     prob = _Problem(x, smooth(x)[0], 400)

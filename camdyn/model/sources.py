@@ -158,5 +158,7 @@ def contour_motion(
     name = spec.follower.contour
     derived = contact_motion(read_contour(data_file_path(name, source), name), spec.follower)
     unit = spec.kind.lift_unit
-    motion, fit = fit_motion(derived.theta_deg, derived.lift, unit=unit, source="contour", file=name)
+    motion, fit = fit_motion(
+        derived.theta_deg, derived.lift, unit=unit, source="contour", file=name, rounding=derived.rounding
+    )
     return motion, derived.follower, fit, derived.contour, list(derived.warnings) + fit_warnings(fit)

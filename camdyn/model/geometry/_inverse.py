@@ -79,6 +79,12 @@ class ContactMotion:
     contour: ContourFit
     warnings: tuple[str, ...]
 
+    # The samples' noise floor for their fit (mm, or deg of swing): closed-form contact is exact to round-off
+    # (about 1e-13 of the unit), below which REML would choose the smoothing by the CPU's rounding (the least
+    # contact force then differed by 1e-3 between two machines); a picometre (a nano-degree) floor is far below
+    # anything a cam's motion can show and gives every machine the same smoothing.
+    rounding: float = 1e-9
+
 
 def _first_crossing(xy: np.ndarray) -> tuple[int, int] | None:
     """The first pair of non-adjacent edges (i, i+1), (j, j+1) of a closed polygon that cross, if any."""
