@@ -34,6 +34,7 @@ def test_check_reports_drive_and_contact_stress(capsys, tmp_path):
     assert code == (0 if stress["ok"] else 1)
 
 
+@pytest.mark.slow
 def test_table_torque_is_force_times_follower_velocity(capsys):
     code, out, _ = run(capsys, "table", LECTURE)  # the default 1 deg step: the programs test_cli's tables compile
     header = out.splitlines()[0].split(",")

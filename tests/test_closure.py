@@ -257,6 +257,7 @@ def test_profile_writes_both_walls(tmp_path, capsys):
     assert code == 2 and "follower.closure" in err
 
 
+@pytest.mark.slow
 def test_check_json_of_a_groove_cam(tmp_path, capsys):
     """``check --json``: the closure block (the contract's keys), crossover_impact judged against
     max_impact_velocity, no speed_margin and no least contact force (said, not an infinite margin); a tighter limit

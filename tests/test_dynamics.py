@@ -296,6 +296,7 @@ def test_train_force_by_hand():
 
 
 # ============================================================================ 2. compliant model
+@pytest.mark.slow
 def test_stiff_train_tends_to_kinematic_force():
     """Eccentric cam (continuous acceleration) at 900 rpm: the compliant force converges to the kinematic one as
     1/k_f, with the first-order correction Fi_dyn ~ Fi_kin - (m w^2 Fi'' + c w Fi' + k Fi) / k_f

@@ -86,6 +86,7 @@ def test_a_train_compressed_by_more_than_the_lift_fails(capsys, tmp_path):
     assert doc["kinematic"]["min_contact_force_N"] < -1e6 and checks["train_deflection"]["value"] > 1.0
 
 
+@pytest.mark.slow
 def test_a_very_slow_cam_is_checked_in_the_frequency_domain(capsys):
     """At 1e-3 rpm the train vibrates two million times a revolution: no time integration resolves that, but the
     steady state in contact is exact in the frequency domain: quasi-static, k_f / (k + k_f) of the spring force."""

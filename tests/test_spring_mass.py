@@ -224,6 +224,7 @@ def test_plain_size_is_a_bound_not_a_spring(capsys):
     assert doc["bound"] is True and doc["buildable"] is False
 
 
+@pytest.mark.slow
 def test_plain_size_plot_draws_a_bound(lecture_case):
     import matplotlib
 

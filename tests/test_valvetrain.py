@@ -109,7 +109,8 @@ def test_stiff_train_floats_at_the_equivalent_followers_jump_speed_compliant_cam
     assert w_float / RPM == pytest.approx(w_jump / RPM, rel=5e-4)
 
 
-@pytest.mark.parametrize("stiffness", [pytest.param(1e6, marks=pytest.mark.slow), None])
+@pytest.mark.slow
+@pytest.mark.parametrize("stiffness", [1e6, None])
 def test_seating_velocity_at_low_speed_is_the_closing_ramps(stiffness):
     """The shipped case's closing ramp runs at 0.537148 mm/rad at the tappet: the valve lands at that times the
     ratio and the cam's angular speed (a stiff train, and a rigid one)."""
