@@ -82,6 +82,15 @@ def test_table_columns_and_values(capsys, tmp_path):
     assert run(capsys, "table", LECTURE, "-o", target, "--force")[0] == 0
 
 
+def test_an_error_naming_the_case_file_names_it_once(capsys, tmp_path):
+    """``-o`` the input case itself: one line that names the file once (it was printed twice)."""
+    case = tmp_path / "lecture.toml"
+    case.write_text(LECTURE.read_text())
+    for extra in ((), ("--force",)):
+        code, _, err = run(capsys, "optimize", case, "-o", case, *extra)
+        assert code == 2 and err.count(str(case)) == 1 and len(err.strip().splitlines()) == 1, err
+
+
 BAD = [
     ("[motion\nsegments = [", "TOML"),
     ("[dynamics]\nspeed = 300\nmas = 0.5\n", "did you mean 'mass'"),

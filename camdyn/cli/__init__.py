@@ -472,7 +472,8 @@ def _command(argv: list[str] | None) -> int:
     except CamdynError as err:
         if args.debug:
             traceback.print_exc()
-        print(f"camdyn: {source + ': ' if source else ''}{err}", file=sys.stderr)
+        named = source and str(err.where).startswith(source)  # the error names the case file itself: once
+        print(f"camdyn: {source + ': ' if source and not named else ''}{err}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:
         return 130
