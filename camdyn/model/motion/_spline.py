@@ -177,18 +177,11 @@ class _Problem:
             self.ab_g[self.u + r - c, c] += g[d]
             self.ab_p[self.u + r - c, c] += self.p[d]
 
-    def pen(self, c: np.ndarray) -> np.ndarray:
-        """P c (P the penalty matrix in units of h^-5), for c (m,) or (m, k)."""
-        out = self.p[0] * c
-        for d in range(1, _BAND + 1):
-            out = out + self.p[d] * (np.roll(c, -d, axis=0) + np.roll(c, d, axis=0))
-        return out
-
     def roughness(self, c: np.ndarray) -> float:
-        """c'Pc (units of h^-5) as (D c)' G2 (D c), D the third difference: a sum of small terms, where c'(P c) is
-        a sum of products of coefficients the size of the data with residues of cancellation, and carries the
-        data's magnitude times the round-off (1e-3 of the penalty on a cam's 50 mm radius, enough to move REML's
-        choice by 0.02 decades and the smoothing's result from one CPU to another)."""
+        """c'Pc (units of h^-5, P the penalty matrix) as (D c)' G2 (D c), D the third difference: a sum of small
+        terms, where c'(P c) is a sum of products of coefficients the size of the data with residues of
+        cancellation, and carries the data's magnitude times the round-off (1e-3 of the penalty on a cam's 50 mm
+        radius, enough to move REML's choice by 0.02 decades and the smoothing's result from one CPU to another)."""
         d3 = c - 3.0 * np.roll(c, -1) + 3.0 * np.roll(c, -2) - np.roll(c, -3)
         g2 = _gram2()
         g2d = g2[2] * d3 + g2[3] * (np.roll(d3, -1) + np.roll(d3, 1)) + g2[4] * (np.roll(d3, -2) + np.roll(d3, 2))
