@@ -225,7 +225,8 @@ def test_population_cam_sizing_agrees_with_the_exact_geometry(path_synthesis):
 @pytest.mark.parametrize("name", ["ellipse", "square"])
 def test_the_shipped_synthesized_cases_regenerate(tmp_path, capsys, name):
     """`camdyn synthesize cases/paths/NAME.toml` gives the shipped cases/NAME.toml again: the same seed gives the
-    same mechanism (issue 13, 8)."""
+    same mechanism (issue 13, 8) on the CPUs the suite ran on (AVX-512, AVX; without FMA the ellipse's differential
+    evolution takes another path: docs/guide.md)."""
     out = tmp_path / f"{name}.toml"
     code, _, err = run(capsys, "synthesize", ROOT / "cases" / "paths" / f"{name}.toml", "-o", out)
     assert code == 0, err
