@@ -355,6 +355,9 @@ class Rows:
         assert centre is not None  # a flat face's travel
         return np.array([centre, 0.5 * float(f.face_width)])
 
+    def forces(self, z: np.ndarray | jax.Array, omegas: jax.Array, preload: ArrayLike | None = None) -> jax.Array:
+        return self.kernel.forces(z, omegas, preload)
+
     def geometry(self, z: np.ndarray | jax.Array) -> jax.Array:
         return self.kernel.geometry(z)
 
