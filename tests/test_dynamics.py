@@ -563,6 +563,38 @@ def test_the_chunked_scan_finds_what_the_whole_scan_finds():
         dyn.first_zero_speed(lambda w: w * np.nan, 800.0, grid=2000, width_rpm=1e-3, points=16, where="t", chunk=256)
 
 
+def test_a_signed_force_is_refined_in_a_few_speeds_and_never_more_than_bisection_and_one():
+    """first_zero_speed(signed=True) refines the scan's first sign change by ITP: a smooth force's zero in four speeds
+    where bisection takes ten (a 623 rpm cell to 1 rpm), the bracket's midpoint within half the width of the zero; a
+    force that jumps through zero (nothing to interpolate) in at most bisection's count and one; a force of exactly
+    0 counts as reached, as in the scan."""
+    zero = 5920.06 * RPM
+    w_max = 40 * 623.0 * RPM
+    grid = 40
+
+    def run(force, signed):
+        seen = []
+
+        def least(ws):
+            seen.extend(np.atleast_1d(ws))
+            return force(np.atleast_1d(ws))
+
+        got = dyn.first_zero_speed(least, w_max, grid=grid, width_rpm=1.0, points=1, where="t", chunk=1, signed=signed)
+        return got, len(seen) - math.ceil(zero / (w_max / grid))  # the speeds after the scan's
+
+    smooth = lambda ws: 300.0 * (1.0 - (ws / zero) ** 2)  # noqa: E731  (a least force falls about as w^2)
+    got, n = run(smooth, True)
+    assert abs(got - zero) <= 0.5 * RPM and n <= 4
+    got_bisect, n_bisect = run(smooth, False)
+    assert abs(got_bisect - zero) <= 0.5 * RPM and n_bisect == 10
+    step = lambda ws: np.where(ws < zero, 1.0, -1e-9)  # noqa: E731
+    got, n = run(step, True)
+    assert abs(got - zero) <= 0.5 * RPM and n <= n_bisect + 1
+    plateau = lambda ws: np.maximum(0.0, 1.0 - ws / zero)  # noqa: E731  (0 past the zero: reached)
+    got, n = run(plateau, True)
+    assert abs(got - zero) <= 0.5 * RPM and n <= n_bisect + 1
+
+
 # ============================================================================ 6. residual vibration
 def test_residual_vibration(lecture, lecture_300, scipy_300):
     """Residual vibration in the dwells of the lecture case at 300 rpm.

@@ -139,9 +139,10 @@ def chain_jump_speed(
     **kw: Any,
 ) -> float:
     """Least cam speed (rad/s) at which the chain's steady-state least interface force reaches 0 (inf if none
-    up to ``w_max``): a scan over ``grid`` speeds, then bisection of the first sign change."""
+    up to ``w_max``): a scan over ``grid`` speeds, then the first sign change refined by interpolation (the force
+    is the steady state's with the contact held: signed and smooth through the jump)."""
     least = lambda ws: chain_min_force(motion, model, spring_mass, ws, **kw)  # noqa: E731
-    return first_zero_speed(least, w_max, grid=grid, width_rpm=tol_rpm, points=1, where="surge model")
+    return first_zero_speed(least, w_max, grid=grid, width_rpm=tol_rpm, points=1, where="surge model", signed=True)
 
 
 def _field(t, y, args):

@@ -71,6 +71,7 @@ def first_zero_speed(
     points: int,
     where: str,
     chunk: int | None = None,
+    signed: bool = False,
 ) -> float:
     """The jump-speed search, for every steady-state model: the least speed (rad/s) in (0, ``w_max``] at which
     ``least_force(omegas)`` (the least interface force at each speed, an array) reaches 0, inf if none. A scan
@@ -79,9 +80,14 @@ def first_zero_speed(
 
     ``chunk``: the scan runs ``chunk`` speeds at a time from the slowest (the last chunk padded with its top speed:
     one array shape) and stops at the first chunk that reaches 0; the same answer as the whole scan, which
-    computes every speed above the jump too (the jump is usually in the first quarter of the grid)."""
+    computes every speed above the jump too (the jump is usually in the first quarter of the grid).
+
+    ``signed``: the force is continuous through its zero (a force the model would need, negative past the jump,
+    not one clipped at 0), so one speed at a time refines it by interpolation (:func:`_itp`): a few speeds where
+    the force is smooth, never more than one more than bisection's."""
     speeds = scan_speeds(w_max, grid)
     step = chunk or grid
+    before = math.nan  # the force at the scan's speed below the chunk
     for start in range(0, grid, step):
         part = speeds[start : start + step]
         fmin = np.asarray(least_force(np.pad(part, (0, step - part.size), mode="edge")))[: part.size]
@@ -91,16 +97,55 @@ def first_zero_speed(
         hit = np.nonzero(fmin <= 0.0)[0]
         if hit.size:
             break
+        before = float(fmin[-1])
     else:
         return math.inf
     i = start + int(hit[0])
     lo, hi = (speeds[i - 1] if i > 0 else 0.0), speeds[i]
+    if signed and points == 1 and i > 0:
+        f_lo = float(fmin[hit[0] - 1]) if hit[0] > 0 else before
+        one = lambda w: float(np.asarray(least_force(np.array([w])))[0])  # noqa: E731
+        return _itp(one, lo, hi, f_lo, float(fmin[hit[0]]), width_rpm * RPM, where)
     while (hi - lo) / RPM > width_rpm:
         ws = np.linspace(lo, hi, points + 2)[1:-1]
         below = np.nonzero(least_force(ws) <= 0.0)[0]
         j = int(below[0]) if below.size else len(ws)
         lo, hi = (ws[j - 1] if j > 0 else lo), (ws[j] if j < len(ws) else hi)
     return float(0.5 * (lo + hi))
+
+
+def _itp(
+    force: Callable[[float], float], lo: float, hi: float, f_lo: float, f_hi: float, width: float, where: str
+) -> float:
+    """The midpoint of a bracket of ``force``'s zero at most ``width`` wide, from ``force(lo) = f_lo > 0 >= f_hi =
+    force(hi)``: the ITP method (interpolate, truncate, project; Oliveira & Takahashi, ACM TOMS 47, 2021) with its
+    usual constants (kappa1 = 0.2 / (hi - lo), kappa2 = 2, n0 = 1). Each speed is the regula falsi's, moved towards
+    the midpoint (by at least 0.45 ``width``) and kept within the bisection's worst case, so it takes at most one
+    speed more than bisection and, where the force is smooth, a few. A force of 0 counts as reached, as in the
+    scan; ``where`` names the model in a numerical error."""
+    n_max = max(0, math.ceil(math.log2((hi - lo) / width))) + 1
+    kappa1 = 0.2 / (hi - lo)
+    j = 0
+    while hi - lo > width * (1.0 + 1e-12):
+        mid, half = 0.5 * (lo + hi), 0.5 * (hi - lo)
+        radius = max(0.0, 0.5 * width * 2.0 ** (n_max - j) - half)  # how far from the midpoint keeps the worst case
+        falsi = (f_hi * lo - f_lo * hi) / (f_hi - f_lo)
+        toward = math.copysign(1.0, mid - falsi)
+        # kappa1's truncation, and at least 0.45 of the width: the next speeds fall either side of the zero, not
+        # on it, so two of them close a bracket narrower than the width (the regula falsi converges from one side)
+        delta = max(kappa1 * (hi - lo) ** 2, 0.45 * width)
+        x = falsi + toward * delta if delta <= abs(mid - falsi) else mid
+        if abs(x - mid) > radius:
+            x = mid - toward * radius
+        f = force(x)
+        if not math.isfinite(f):
+            raise NumericalError(f"{where} at {x / RPM:.1f} rpm", "the steady-state force is not finite")
+        if f <= 0.0:
+            hi, f_hi = x, f
+        else:
+            lo, f_lo = x, f
+        j += 1
+    return 0.5 * (lo + hi)
 
 
 def jump_search_limit(top_omega: float, kinematic_jump: float) -> float:

@@ -24,7 +24,7 @@ linear model stops holding before the revolution ends: the train unloads before 
 force comes within the sampling's bound of zero without a sure crossing, the valve lifts again after the
 seating, the follower leaves the cam on the ramps or the base circle, or the model is not this one (a compliant
 cam contact, a rigid train, a rocker's varying ratio, the spring's surge chain). Where the cam contact's force
-crosses zero on the exact solution before anything else opens, the valve floats there for sure: :data:`FLOATED`,
+crosses zero on the exact solution before anything else opens, the valve floats there for sure: :class:`Floated`,
 with what happens next left to the diffrax model.
 """
 
@@ -67,14 +67,15 @@ class ValveSummary:
     bounce_lift_mm: float = 0.0  # the valve's highest lift on the output grid after its seating, mm
 
 
-class _Floated:
-    """The exact solution's cam-contact force falls below zero before anything else opens: the valve floats."""
+@dataclass(frozen=True)
+class Floated:
+    """The exact solution's cam-contact force falls below zero before anything else opens: the valve floats.
+    ``least_force``: the least force (N, negative) the cam would have to pull with to hold the follower through the
+    event, the contact held: the float search's force past the float speed, continuous with the least force below
+    it (:func:`~camdyn.model.dynamics.float_speed` refines its zero by interpolation)."""
 
-    def __repr__(self) -> str:
-        return "FLOATED"
+    least_force: float
 
-
-FLOATED = _Floated()
 
 Index = int | float | np.ndarray  # fine steps, or angles into them (rad): one, or one per state
 Guard = Callable[[np.ndarray, Index, Index], np.ndarray]  # states, their steps and angles -> > 0 while a mode holds
@@ -291,8 +292,8 @@ def _lower_bound(f: np.ndarray) -> float:
 
 def fast_valve_summary(
     motion: Motion, vt: ValvetrainModel, omega: float, n: int = THETA_GRID
-) -> ValveSummary | _Floated | None:
-    """The :class:`ValveSummary` at cam speed ``omega`` (rad/s) on the fast path, :data:`FLOATED` where the valve
+) -> ValveSummary | Floated | None:
+    """The :class:`ValveSummary` at cam speed ``omega`` (rad/s) on the fast path, :class:`Floated` where the valve
     surely floats, or None where the fast path cannot say (the caller runs the diffrax model)."""
     if not vt.rigid_cam or vt.rigid_train or vt.rocker is not None or vt.coils is not None:
         return None
@@ -302,7 +303,7 @@ def fast_valve_summary(
         return None
 
 
-def _rigid_cam(motion: Motion, vt: ValvetrainModel, w: float, n: int) -> ValveSummary | _Floated:
+def _rigid_cam(motion: Motion, vt: ValvetrainModel, w: float, n: int) -> ValveSummary | Floated:
     """:func:`fast_valve_summary` of a rigid cam contact and a compliant train of constant ratio."""
     s_all, s1_all, s2_all = _fine(motion, n)
     nf = s_all.size
@@ -397,7 +398,8 @@ def _rigid_cam(motion: Motion, vt: ValvetrainModel, w: float, n: int) -> ValveSu
     train_open = np.nonzero((d[:q] <= 0.0) | (f_t[:q] < 0.0))[0]
     cam_open = np.nonzero(f_cam[:q] < -tol)[0]
     if cam_open.size and (not train_open.size or cam_open[0] < train_open[0]):
-        return FLOATED  # the exact solution's cam force crosses the diffrax model's threshold first: float
+        # the exact solution's cam force crosses the diffrax model's threshold first: float
+        return Floated(float(np.min(f_cam[:q])))
     if train_open.size or _lower_bound(f_cam[:q]) <= tol or _lower_bound(f_t[:q]) <= 0.0:
         raise _Unsure("the cam contact near opening, or the valve off the train, within the event")
     got = _cross(loaded, lift_step + q, 0.0, ys[q - 1], h, landing, False)

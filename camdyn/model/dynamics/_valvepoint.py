@@ -13,7 +13,7 @@ from ..._core.units import VALVE_BOUNCE_TOLERANCE_MM
 from ..motion import Motion
 from ..valvetrain import ValvetrainModel
 from ._response import first_zero_speed, scan_speeds
-from ._valvefast import FLOATED, ValveSummary, fast_valve_summary
+from ._valvefast import Floated, ValveSummary, fast_valve_summary
 from ._valveresponse import ValvetrainResponse
 from ._valvetrain import NO_EVENT, valvetrain_response
 
@@ -45,7 +45,7 @@ class ValvePoint:
         self._response: ValvetrainResponse | None = None
 
     @functools.cached_property
-    def _fast(self) -> ValveSummary | object | None:
+    def _fast(self) -> ValveSummary | Floated | None:
         """The fast path's answer (:func:`fast_valve_summary`), on first use."""
         return fast_valve_summary(self._motion, self._vt, self.omega)
 
@@ -67,11 +67,19 @@ class ValvePoint:
 
     @property
     def floated(self) -> bool:
-        return True if self._fast is FLOATED else bool(self._answer.floated)
+        return True if isinstance(self._fast, Floated) else bool(self._answer.floated)
 
     @property
     def least_event_force(self) -> float:
-        return 0.0 if self._fast is FLOATED else float(self._answer.least_event_force)
+        return 0.0 if isinstance(self._fast, Floated) else float(self._answer.least_event_force)
+
+    @property
+    def float_force(self) -> float:
+        """The float search's force (N): :attr:`least_event_force`, but where the fast path found the valve floating
+        the least force the cam would have to pull with to hold it (negative), continuous through the float speed
+        (the diffrax model's, where it answers, is 0 past it); NaN where the valve never lifts."""
+        fast = self._fast
+        return fast.least_force if isinstance(fast, Floated) else float(self._answer.least_event_force)
 
     least_event_force_deg = _read("least_event_force_deg")
     least_train_force = _read("least_train_force")
@@ -110,11 +118,18 @@ def float_speed(
     respond = respond or (lambda w: ValvePoint(motion, vt, w))
 
     def least(ws: np.ndarray) -> np.ndarray:  # a speed at which the valve does not lift has no event to float in
-        forces = [respond(float(w)).least_event_force - margin for w in np.atleast_1d(ws)]
+        forces = [respond(float(w)).float_force - margin for w in np.atleast_1d(ws)]
         return np.nan_to_num(forces, nan=NO_EVENT)
 
     return first_zero_speed(
-        least, w_max, grid=grid, width_rpm=width_rpm, points=1, where="valvetrain float search", chunk=_SCAN_CHUNK
+        least,
+        w_max,
+        grid=grid,
+        width_rpm=width_rpm,
+        points=1,
+        where="valvetrain float search",
+        chunk=_SCAN_CHUNK,
+        signed=True,
     )
 
 

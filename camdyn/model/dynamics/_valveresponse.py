@@ -63,6 +63,13 @@ class ValvetrainResponse:
         return 0.0 if self.floated else float(np.min(self.cam_force[self.in_event]))
 
     @property
+    def float_force(self) -> float:
+        """The float search's force (N): :attr:`least_event_force` (this model lets the contact open, so past the
+        float speed it is 0, where the fast path's :class:`~camdyn.model.dynamics.ValvePoint` gives the force the
+        cam would have to pull with)."""
+        return self.least_event_force
+
+    @property
     def least_event_force_deg(self) -> float:
         """Where the cam-contact force is least over the valve event, deg (NaN for a valve that never lifts)."""
         if not self.in_event.any():
