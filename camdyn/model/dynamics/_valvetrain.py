@@ -355,8 +355,11 @@ def valvetrain_response(motion: Motion, vt: ValvetrainModel, omega: float, n: in
                     in_event[ii] = first_seating is None and not modes[SEAT]
                     peak = max(peak, float(samples[2, : k1 - k_next + 1].max()))
                     k_next = k1 + 1
+                # a flight after the seating: its apex (the stretch run again on n angles), unless the cubic
+                # through its saved states stays well below the highest apex so far (a later, lower rebound)
                 if first_seating is not None and not modes[SEAT]:
-                    bounce = max(bounce, _apex(run, t0, t1, n))
+                    if modes[TRAIN] or not _below(_flight_top(t0, y, t1, np.asarray(y1), tt, samples), bounce):
+                        bounce = max(bounce, _apex(run, t0, t1, n))
                 if not hit:  # the revolution's end: the next one, if any, goes on from here
                     y = np.asarray(y1)
                     break
@@ -466,6 +469,37 @@ def _consistent(modes, t, y, motion, vt, w, force_tol, rigid_cam, rigid_train) -
         if not changed:
             return modes, conds
     return modes, conditions()
+
+
+def _flight_top(t0: float, y0: np.ndarray, t1: float, y1: np.ndarray, ts: np.ndarray, samples: np.ndarray) -> float:
+    """The highest lift (m) of the cubic Hermite interpolant through the valve's lift and speed at a free stretch's
+    start ``y0`` (``t0``), its samples (``samples`` rows 2 and 3 at ``ts``, those inside (t0, t1)) and its end
+    ``y1`` (``t1``): within a grid step's h^4 of the flight's apex (a free valve on its spring: 1e-11 m or less)."""
+    inside = (ts > t0) & (ts < t1)
+    t = np.concatenate([[t0], ts[inside], [t1]])
+    x = np.concatenate([[y0[2]], samples[2, inside], [y1[2]]])
+    v = np.concatenate([[y0[3]], samples[3, inside], [y1[3]]])
+    h = np.diff(t)
+    keep = h > 0.0
+    h, x0, x1, v0, v1 = h[keep], x[:-1][keep], x[1:][keep], v[:-1][keep], v[1:][keep]
+    slope = (x1 - x0) / h
+    c2, c3 = (3.0 * slope - 2.0 * v0 - v1) / h, (v0 + v1 - 2.0 * slope) / h**2
+    # p'(u) = v0 + 2 c2 u + 3 c3 u^2 on (0, h): its roots, where a cubic's top within a step can lie
+    a, b = 3.0 * c3, 2.0 * c2
+    disc = np.maximum(b * b - 4.0 * a * v0, 0.0)
+    q = -0.5 * (b + np.copysign(np.sqrt(disc), b))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        roots = np.stack([np.where(a != 0.0, q / a, -v0 / b), np.where(q != 0.0, v0 / q, np.nan)])
+    ok = np.isfinite(roots) & (roots > 0.0) & (roots < h)
+    u = np.where(ok, roots, 0.0)
+    top = np.where(ok, x0 + v0 * u + c2 * u**2 + c3 * u**3, -np.inf)
+    return float(max(np.max(x), np.max(top, initial=-np.inf)))
+
+
+def _below(top: float, bounce: float) -> bool:
+    """Whether a flight whose interpolated top is ``top`` (m) surely stays under the highest apex so far: by 1 % and
+    1e-9 m, a thousand times the interpolation's error."""
+    return top * 1.01 + 1e-9 < bounce
 
 
 def _apex(run, t0: float, t1: float, n: int) -> float:
