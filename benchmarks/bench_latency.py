@@ -42,7 +42,7 @@ from pathlib import Path
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
-from bench_dynamics import print_table  # noqa: E402  (the shared table printer)
+from bench_dynamics import print_table, with_bytecode  # noqa: E402  (the shared table printer, the bytecode)
 
 ROOT = HERE.parent
 BARE = "import jax, diffrax"
@@ -67,16 +67,10 @@ def _run(argv: list[str], env: dict, cwd: Path) -> tuple[float, float, int, str]
 
 def _env(source: Path, cache: Path) -> dict:
     """A fresh process's environment with its caches in ``cache``: JAX's and camdyn's programs (``XDG_CACHE_HOME``)
-    and Python's bytecode (``PYTHONPYCACHEPREFIX``, written even where ``PYTHONDONTWRITEBYTECODE`` is set): a user's
-    ``pip install .`` compiles camdyn's bytecode, and without it every run compiles camdyn's sources again (0.2 s of
-    a ``check`` measured on a 2-core machine). The bare import reads its bytecode from the same kind of cache."""
-    drop = ("CAMDYN_NO_CACHE", "PYTHONDONTWRITEBYTECODE")
-    env = {k: v for k, v in os.environ.items() if k not in drop}
-    return env | {
-        "PYTHONPATH": os.pathsep.join([str(source), env.get("PYTHONPATH", "")]),
-        "XDG_CACHE_HOME": str(cache),
-        "PYTHONPYCACHEPREFIX": str(cache / "bytecode"),
-    }
+    and Python's bytecode (:func:`bench_dynamics.with_bytecode`; the bare import's too)."""
+    env = {k: v for k, v in os.environ.items() if k != "CAMDYN_NO_CACHE"}
+    env |= {"PYTHONPATH": os.pathsep.join([str(source), env.get("PYTHONPATH", "")]), "XDG_CACHE_HOME": str(cache)}
+    return with_bytecode(env, cache / "bytecode")
 
 
 def _scaled(value: float, f: float, plus: float = 0.0) -> str:
