@@ -474,7 +474,7 @@ def _consistent(modes, t, y, motion, vt, w, force_tol, rigid_cam, rigid_train) -
 def _flight_top(t0: float, y0: np.ndarray, t1: float, y1: np.ndarray, ts: np.ndarray, samples: np.ndarray) -> float:
     """The highest lift (m) of the cubic Hermite interpolant through the valve's lift and speed at a free stretch's
     start ``y0`` (``t0``), its samples (``samples`` rows 2 and 3 at ``ts``, those inside (t0, t1)) and its end
-    ``y1`` (``t1``): within a grid step's h^4 of the flight's apex (a free valve on its spring: 1e-11 m or less)."""
+    ``y1`` (``t1``): an error of order a grid step's h^4 (within 3e-11 m of every apex on the shipped valvetrains)."""
     inside = (ts > t0) & (ts < t1)
     t = np.concatenate([[t0], ts[inside], [t1]])
     x = np.concatenate([[y0[2]], samples[2, inside], [y1[2]]])
@@ -498,7 +498,7 @@ def _flight_top(t0: float, y0: np.ndarray, t1: float, y1: np.ndarray, ts: np.nda
 
 def _below(top: float, bounce: float) -> bool:
     """Whether a flight whose interpolated top is ``top`` (m) surely stays under the highest apex so far: by 1 % and
-    1e-9 m, a thousand times the interpolation's error."""
+    1e-9 m, 30 times the interpolation's largest error measured (:func:`_flight_top`)."""
     return top * 1.01 + 1e-9 < bounce
 
 
