@@ -156,7 +156,7 @@ def _recur(lam: complex, g: np.ndarray, z0: complex) -> np.ndarray:
     k = 0
     while k < count:
         m = min(block, count - k)
-        powers = np.exp(np.arange(1, m + 1) * np.log(lam))  # lam ** k as numpy computes it, 7x faster than **
+        powers = np.exp(np.arange(1, m + 1) * np.log(lam))  # lam ** k: numpy's complex ** is 7x slower, no closer
         out[k + 1 : k + m + 1] = powers * (out[k] + np.cumsum(g[k : k + m] / powers))
         k += m
     return out
