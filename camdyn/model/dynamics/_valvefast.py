@@ -39,6 +39,7 @@ import numpy as np
 from ..._core.units import M_PER_MM, THETA_GRID, TWO_PI
 from ..motion import Motion
 from ..valvetrain import ValvetrainModel, static_valve_lift
+from ._cubic import hermite_taylor
 from ._valvetrain import GAP_EPS, landing_floor, start_angle
 
 REFINE = 2  # fine steps per output angle (0.05 deg): the cubic hold's error is of order h^4
@@ -122,15 +123,6 @@ def _expm(z: np.ndarray) -> np.ndarray:
         else:
             out[more] = out[more] @ out[more]
     return out
-
-
-def _hermite(u: np.ndarray, du: np.ndarray, h: float) -> np.ndarray:
-    """The cubic through each step's end values and slopes, as its Taylor coefficients at the step's start
-    (value, first, second, third derivative): (steps, 4)."""
-    u0, u1, d0, d1 = u[:-1], u[1:], du[:-1], du[1:]
-    c2 = (3.0 * (u1 - u0) / h - 2.0 * d0 - d1) / h
-    c3 = (d0 + d1 - 2.0 * (u1 - u0) / h) / h**2
-    return np.stack([u0, d0, 2.0 * c2, 6.0 * c3], axis=1)
 
 
 def _shift(taylor: np.ndarray, tau: float) -> np.ndarray:
@@ -361,13 +353,13 @@ def _rigid_cam(motion: Motion, vt: ValvetrainModel, w: float, n: int) -> ValveSu
     loaded = _Linear(
         np.array([[0.0, 1.0], [-(kt + k) / (m_v * w2), -(ct + c) / (m_v * w)]]),
         (-kt * lash - f0) / (m_v * w2),
-        _hermite((kt * r * s + ct * w * r * s1) / (m_v * w2), (kt * r * s1 + ct * w * r * s2) / (m_v * w2), h),
+        hermite_taylor((kt * r * s + ct * w * r * s1) / (m_v * w2), (kt * r * s1 + ct * w * r * s2) / (m_v * w2), h),
         h,
     )
     free = _Linear(
         np.array([[0.0, 1.0], [-k / (m_v * w2), -c / (m_v * w)]]), -f0 / (m_v * w2), np.zeros((nf, _ORDER)), h
     )
-    cam = _hermite(s, s1, h)  # the cam's lift between the fine angles, for the guards there
+    cam = hermite_taylor(s, s1, h)  # the cam's lift between the fine angles, for the guards there
 
     def train(ys: np.ndarray, steps: Index, taus: Index) -> tuple[np.ndarray, np.ndarray]:
         """The train's deflection (m) and its linear force (N) at states ``ys``, ``taus`` into fine ``steps``."""
