@@ -1,5 +1,5 @@
-"""The cubic Hermite interpolant of samples with their slopes, as Taylor coefficients per step: the valve fast
-path's input between its fine angles, and the diffrax model's flights between their saved angles."""
+"""The cubic Hermite interpolant of samples with their slopes: its Taylor coefficients per step (the valve fast
+path's input between its fine angles) and its highest point (a diffrax flight's top between its saved angles)."""
 
 from __future__ import annotations
 
@@ -13,3 +13,22 @@ def hermite_taylor(u: np.ndarray, du: np.ndarray, h: float | np.ndarray) -> np.n
     c2 = (3.0 * (u1 - u0) / h - 2.0 * d0 - d1) / h
     c3 = (d0 + d1 - 2.0 * (u1 - u0) / h) / h**2
     return np.stack([u0, d0, 2.0 * c2, 6.0 * c3], axis=1)
+
+
+def hermite_top(t: np.ndarray, x: np.ndarray, v: np.ndarray) -> float:
+    """The highest value of the cubic Hermite interpolant through ``x`` and its slopes ``v`` at increasing ``t``
+    (a repeated ``t`` counted once): the samples' and each step's interior maxima, where its derivative is 0."""
+    keep = np.append(np.diff(t) > 0.0, True)
+    t, x, v = t[keep], x[keep], v[keep]
+    h = np.diff(t)
+    x0, v0, x2, x3 = hermite_taylor(x, v, h).T
+    # p'(u) = v0 + x2 u + x3 u^2 / 2 on (0, h): its roots, where a cubic's top within a step can lie
+    a, b = 0.5 * x3, x2
+    disc = np.maximum(b * b - 4.0 * a * v0, 0.0)
+    q = -0.5 * (b + np.copysign(np.sqrt(disc), b))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        roots = np.stack([np.where(a != 0.0, q / a, -v0 / b), np.where(q != 0.0, v0 / q, np.nan)])
+    ok = np.isfinite(roots) & (roots > 0.0) & (roots < h)
+    u = np.where(ok, roots, 0.0)
+    top = np.where(ok, x0 + v0 * u + x2 * u**2 / 2.0 + x3 * u**3 / 6.0, -np.inf)
+    return float(max(np.max(x), np.max(top, initial=-np.inf)))

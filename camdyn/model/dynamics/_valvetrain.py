@@ -44,7 +44,7 @@ from ..._core.jit import cached_jit, padded_length
 from ..._core.units import M_PER_MM, RPM, THETA_GRID, TWO_PI
 from ..motion import Motion
 from ..valvetrain import ValvetrainModel, static_valve_lift
-from ._cubic import hermite_taylor
+from ._cubic import hermite_top
 from ._train import contact_force
 from ._valveresponse import ValveEvent, ValvetrainResponse
 
@@ -480,20 +480,7 @@ def _flight_top(t0: float, y0: np.ndarray, t1: float, y1: np.ndarray, ts: np.nda
     t = np.concatenate([[t0], ts[inside], [t1]])
     x = np.concatenate([[y0[2]], samples[2, inside], [y1[2]]])
     v = np.concatenate([[y0[3]], samples[3, inside], [y1[3]]])
-    keep = np.append(np.diff(t) > 0.0, True)  # repeated angles (a sample on an end) once
-    t, x, v = t[keep], x[keep], v[keep]
-    h = np.diff(t)
-    x0, v0, x2, x3 = hermite_taylor(x, v, h).T
-    # p'(u) = v0 + x2 u + x3 u^2 / 2 on (0, h): its roots, where a cubic's top within a step can lie
-    a, b = 0.5 * x3, x2
-    disc = np.maximum(b * b - 4.0 * a * v0, 0.0)
-    q = -0.5 * (b + np.copysign(np.sqrt(disc), b))
-    with np.errstate(divide="ignore", invalid="ignore"):
-        roots = np.stack([np.where(a != 0.0, q / a, -v0 / b), np.where(q != 0.0, v0 / q, np.nan)])
-    ok = np.isfinite(roots) & (roots > 0.0) & (roots < h)
-    u = np.where(ok, roots, 0.0)
-    top = np.where(ok, x0 + v0 * u + x2 * u**2 / 2.0 + x3 * u**3 / 6.0, -np.inf)
-    return float(max(np.max(x), np.max(top, initial=-np.inf)))
+    return hermite_top(t, x, v)
 
 
 def _below(top: float, bounce: float) -> bool:
