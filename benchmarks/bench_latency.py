@@ -228,7 +228,7 @@ def main() -> int:
             warm = best[f"camdyn check cases/{case}.toml, warm caches"][0]
             goal = f"{wall / warm:.2f} x the shipped case's warm check, goal <= {GOAL_NEW:g} x"
         else:
-            goal = f"goal < {GOAL_ERROR_S:g} s; exit {code}: {err[:70]}"
+            goal = f"goal < {GOAL_ERROR_S:g} s; exit {code}: {err.replace(f'{tmp}/', '')[:70]}"
         rows.append((name, f"{wall:.2f} s", f"{wall / bare:.2f} x the bare import, cpu {cpu:.2f} s; {goal}"))
     load = os.getloadavg()[0] if hasattr(os, "getloadavg") else float("nan")
     title = f"latency, fresh processes, best of {opts.repeat} (load average {load:.2f}, {os.cpu_count()} CPUs)"

@@ -238,6 +238,27 @@ def test_only_batched_commands_reach_for_an_accelerator(capsys, tmp_path, monkey
     assert run(capsys, "table", LECTURE, "--step", "30")[0] == 0 and os.environ["JAX_PLATFORMS"] == "cuda,cpu"
 
 
+def test_a_cpu_run_skips_the_discovery_of_accelerator_plugins():
+    """With JAX_PLATFORMS=cpu the command line tells JAX its plugins are registered before a backend starts (it would
+    import and initialize every one installed, for backends it never starts), and JAX still computes on the CPU;
+    another platform setting leaves the discovery to JAX. In a fresh process: JAX's backends start once."""
+    code = (
+        "import os, jax; from jax._src import xla_bridge as xb; from camdyn.cli import _cpu_only_backends; "
+        "_cpu_only_backends(); skipped = xb._plugins_registered; "
+        "print(skipped, jax.devices()[0].platform, float(jax.numpy.arange(4.0).sum()))"
+    )
+
+    import os
+
+    def run_with(platforms: str) -> list[str]:
+        env = os.environ | {"JAX_PLATFORMS": platforms}
+        out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True)
+        return out.stdout.split()
+
+    assert run_with("cpu") == ["True", "cpu", "6.0"]
+    assert run_with("")[:1] == ["False"]  # JAX's default: its discovery runs as JAX runs it
+
+
 @pytest.mark.slow  # the two-mass model's programs
 def test_a_valvetrains_map_runs_on_the_cpu(capsys, tmp_path, monkeypatch):
     """A valvetrain's ``sweep`` runs its two-mass model one point at a time: on the CPU, as every unbatched command."""

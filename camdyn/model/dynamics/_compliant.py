@@ -108,9 +108,10 @@ _rev_jit = cached_jit(_rev_with_sensitivity)
 
 
 _PLAIN_REVS = 60  # after Newton stalls (non-smooth bouncing): revolutions of plain iteration at most
-# Revolutions without a better residual after which an orbit already periodic to within PERIODIC_TOL stops: a
-# follower that taps the cam many times a revolution has a mismatch floor set by the solver's tolerances (1e-8 to
-# 1e-7 mm for a thousand 0.36 deg cycloids), far above the Newton tolerance, and revolutions more only add noise.
+# Revolutions without a better residual after which an orbit already periodic to within PERIODIC_TOL stops while
+# Newton may still step (past Newton's iterations, the first revolution within it ends the run): a follower that
+# taps the cam many times a revolution has a mismatch floor set by the solver's tolerances (1e-8 to 1e-6 mm for a
+# thousand 0.36 deg cycloids), far above the Newton tolerance, and revolutions more only add noise.
 _FLOOR_REVS = 2
 # Revolutions without a better residual after which a bouncing that is not periodic (a period-2 orbit, chatter)
 # stops: its best revolution is then the answer, and each revolution of a dense program costs seconds.
@@ -146,9 +147,10 @@ def periodic_orbit(motion: Motion, model: FollowerModel, omega: float, theta: Ar
     come from one diffrax solve of the state with its variational equations (the vector field's Jacobian by
     JAX autodiff). While the follower stays in contact the flow is affine and Newton converges in one step.
     Where a separation makes the flow non-smooth and a Newton step does not reduce the residual, the
-    iteration falls back to plain revolutions (the transient dies out revolution by revolution).
-    The iteration stops at a residual of 1e-10 (relative), or once the best residual is within
-    :func:`periodic_tol` and ``_FLOOR_REVS`` revolutions more have not lowered it (the solver's noise floor).
+    iteration falls back to plain revolutions (the transient dies out revolution by revolution). The iteration
+    stops at a residual of 1e-10 (relative), at the first revolution within :func:`periodic_tol` past Newton's
+    ``_NEWTON_ITERS``, or once the best residual is within it and ``_FLOOR_REVS`` revolutions more have not lowered
+    it (the solver's noise floor).
     Either way, ``_STALL_REVS`` revolutions without a lower residual end it (a bouncing that is not periodic).
     Returns the trajectory (x, dx/dtheta; motion units) on ``theta`` (n, 2) of the best iterate and its residual
     |Phi(z0) - z0|; NumericalError if a revolution does not integrate.
@@ -173,7 +175,10 @@ def _shoot(motion: Motion, model: FollowerModel, omega: float, theta):
         r = float(np.linalg.norm(phi - z))
         if r < best_r:
             best_traj, best_r, best_i = traj, r, i
-        if best_r <= tol or (best_r <= floor and i - best_i >= _FLOOR_REVS) or i - best_i >= _STALL_REVS:
+        # past Newton's iterations a revolution within the periodic tolerance is periodic by camdyn's own measure:
+        # revolutions more only move the mismatch about the solver's noise floor (Newton, converging, still steps)
+        at_floor = best_r <= floor and (i >= _NEWTON_ITERS or i - best_i >= _FLOOR_REVS)
+        if best_r <= tol or at_floor or i - best_i >= _STALL_REVS:
             break
         newton = i < _NEWTON_ITERS and r <= r_prev
         z = z - np.linalg.solve(mono - np.eye(2), phi - z) if newton else phi

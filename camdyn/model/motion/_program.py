@@ -213,10 +213,12 @@ class Program(Motion):
         lu, to_user = self.kind.lift_unit, self.kind.lift_per_motion
         # a jump is measured against the derivative's largest magnitude over the revolution (JUMP_RTOL)
         peak = np.max(np.abs(self._eval(np, np.linspace(0.0, TWO_PI, 3601))), axis=1)
+        # the right side of every boundary in one evaluation (one angle at a time: 0.3 ms each, 1000 segments)
+        rights = self._eval(np, np.deg2rad(np.array([seg.end % 360.0 for seg in self.segments])))
         for i, seg in enumerate(self.segments):
             nxt = self.segments[(i + 1) % n]
             left = self.segment_end(seg)
-            right = self._eval(np, np.deg2rad(seg.end % 360.0))
+            right = rights[:, i]
             for order, name, unit in ((1, "velocity", f"{lu}/rad"), (2, "acceleration", f"{lu}/rad^2")):
                 jump = right[order] - left[order]
                 if abs(jump) > JUMP_RTOL * max(float(peak[order]), abs(left[order]), abs(right[order])):
