@@ -197,8 +197,13 @@ def _stretch(motion, vt, omega, modes, force_tol, t0, t1, y0, jumps, ts):
     return t_end[0], y_end[0], (hit, ok), jax.vmap(one)(t_saved, y_saved)
 
 
+def _state_and_conditions(theta, y, args):
+    """:func:`_state`'s seven numbers and :func:`_conditions`' three in one array: where a stretch ends, one call."""
+    return jnp.concatenate([jnp.stack(_state(theta, y, args)), jnp.stack(_conditions(theta, y, args))])
+
+
 _conditions_jit = cached_jit(_conditions)
-_state_jit = cached_jit(_state)
+_state_and_conditions_jit = cached_jit(_state_and_conditions)
 
 
 def _jump_angles(motion: Motion) -> np.ndarray:
@@ -229,6 +234,7 @@ def prepare_valvetrain(motion: Motion, vt: ValvetrainModel, n: int = THETA_GRID)
     args = (motion, vt, one, _first_modes(vt), one)
     _stretch.prepare(*args, one, one, y, _jump_angles(motion), np.zeros(n))  # pyright: ignore[reportFunctionMemberAccess]
     _conditions_jit.prepare(one, y, args)  # pyright: ignore[reportFunctionMemberAccess]
+    _state_and_conditions_jit.prepare(one, y, args)  # pyright: ignore[reportFunctionMemberAccess]
 
 
 def landing_floor(vt: ValvetrainModel, omega: float) -> float:
@@ -247,16 +253,10 @@ def start_angle(s: np.ndarray) -> int:
     if low.all():
         return 0
     shift = int(np.argmin(low))  # a lifted angle: no run of base circle wraps the scan
-    f = np.append(low[(np.arange(n) + shift) % n], False)
-    best_end, best_len, start = 0, 0, None
-    for j, v in enumerate(f):
-        if v and start is None:
-            start = j
-        if not v and start is not None:
-            if j - start > best_len:
-                best_end, best_len = j - 1 - (j - start) // 2, j - start
-            start = None
-    return (shift + best_end) % n
+    edges = np.diff(np.concatenate([[0], low[(np.arange(n) + shift) % n].astype(np.int8), [0]]))
+    starts, ends = np.flatnonzero(edges == 1), np.flatnonzero(edges == -1)  # each run of base circle: [start, end)
+    k = int(np.argmax(ends - starts))  # the longest (the first of equals)
+    return int((shift + ends[k] - 1 - (ends[k] - starts[k]) // 2) % n)
 
 
 def valvetrain_response(motion: Motion, vt: ValvetrainModel, omega: float, n: int = THETA_GRID) -> ValvetrainResponse:
@@ -370,9 +370,9 @@ def valvetrain_response(motion: Motion, vt: ValvetrainModel, omega: float, n: in
                 break
             y1 = np.asarray(y1)
             args = (motion, vt, w, modes.copy(), force_tol)
-            st = np.asarray(_state_jit(np.asarray(t1), y1, args))
-            s, s1, _, xc, pc, xv, pv = (float(v) for v in st)
-            conds = np.asarray(_conditions_jit(np.asarray(t1), y1, args))
+            st = np.asarray(_state_and_conditions_jit(np.asarray(t1), y1, args))
+            s, s1, _, xc, pc, xv, pv = (float(v) for v in st[:7])
+            conds = st[7:]
             which = int(np.argmin(conds))  # the contact whose event function reached zero
             deg = math.degrees(t1) % 360.0
             y = np.concatenate([[xc, pc, xv, pv], y1[4:]])
