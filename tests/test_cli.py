@@ -243,20 +243,13 @@ def test_a_cpu_run_skips_the_discovery_of_accelerator_plugins():
     import and initialize every one installed, for backends it never starts), and JAX still computes on the CPU;
     another platform setting leaves the discovery to JAX. In a fresh process: JAX's backends start once."""
     code = (
-        "import os, jax; from jax._src import xla_bridge as xb; from camdyn.cli import _cpu_only_backends; "
-        "_cpu_only_backends(); skipped = xb._plugins_registered; "
-        "print(skipped, jax.devices()[0].platform, float(jax.numpy.arange(4.0).sum()))"
+        "import os, jax; from jax._src import xla_bridge as xb; from camdyn.cli import _cpu_only_backends\n"
+        "os.environ['JAX_PLATFORMS'] = 'cuda,cpu'; _cpu_only_backends(); left = xb._plugins_registered\n"
+        "os.environ['JAX_PLATFORMS'] = 'cpu'; _cpu_only_backends(); skipped = xb._plugins_registered\n"
+        "print(left, skipped, jax.devices()[0].platform, float(jax.numpy.arange(4.0).sum()))"
     )
-
-    import os
-
-    def run_with(platforms: str) -> list[str]:
-        env = os.environ | {"JAX_PLATFORMS": platforms}
-        out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True)
-        return out.stdout.split()
-
-    assert run_with("cpu") == ["True", "cpu", "6.0"]
-    assert run_with("")[:1] == ["False"]  # JAX's default: its discovery runs as JAX runs it
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.split() == ["False", "True", "cpu", "6.0"]
 
 
 @pytest.mark.slow  # the two-mass model's programs
