@@ -439,12 +439,17 @@ def _end_process(code: list[int]) -> None:
 
 
 def _cpu_only_backends() -> None:
-    """Where JAX runs on the CPU alone (``JAX_PLATFORMS=cpu``, as every command but a batch sets it), skip JAX's
-    discovery of accelerator plugins before its first backend starts: it imports and initializes every plugin
-    installed (JAX's CUDA plugin opens eleven NVIDIA libraries) and reads the entry points of every distribution in
-    the environment, for backends this setting never starts. JAX has no switch for it: its own record that discovery
-    has run is set, where this JAX keeps one (else nothing changes)."""
-    if os.environ.get("JAX_PLATFORMS", "").strip().lower() != "cpu":
+    """Where JAX runs on the CPU alone (its ``jax_platforms`` setting ``cpu``, from ``JAX_PLATFORMS=cpu`` as every
+    command but a batch sets it before JAX loads), skip JAX's discovery of accelerator plugins before its first
+    backend starts: it imports and initializes every plugin installed (JAX's CUDA plugin opens eleven NVIDIA
+    libraries) and reads the entry points of every distribution in the environment, for backends this setting never
+    starts. JAX has no switch for it: its own record that discovery has run is set, where this JAX keeps one (else
+    nothing changes). JAX's setting, not the environment, decides: a caller that loaded JAX before (a notebook calling
+    :func:`main`) keeps its accelerators."""
+    import jax
+
+    platforms = jax.config.jax_platforms  # pyright: ignore[reportAttributeAccessIssue] - a flag jax adds at run time
+    if (platforms or "").strip().lower() != "cpu":
         return
     from jax._src import xla_bridge
 
