@@ -246,8 +246,9 @@ def test_a_cpu_run_skips_the_discovery_of_accelerator_plugins():
     import os
 
     code = (
-        "import os, jax; from jax._src import xla_bridge as xb; from camdyn.cli import _cpu_only_backends\n"
-        "os.environ['JAX_PLATFORMS'] = 'cpu'; _cpu_only_backends(); skipped = xb._plugins_registered\n"
+        "import os, jax; from jax._src import xla_bridge as xb\n"
+        "from camdyn._core.backends import skip_accelerator_plugins\n"
+        "os.environ['JAX_PLATFORMS'] = 'cpu'; skip_accelerator_plugins(); skipped = xb._plugins_registered\n"
         "print(skipped, jax.devices()[0].platform, float(jax.numpy.arange(4.0).sum()))"
     )
 

@@ -438,25 +438,6 @@ def _end_process(code: list[int]) -> None:
     os._exit(code[0])
 
 
-def _cpu_only_backends() -> None:
-    """Where JAX runs on the CPU alone (its ``jax_platforms`` setting ``cpu``, from ``JAX_PLATFORMS=cpu`` as every
-    command but a batch sets it before JAX loads), skip JAX's discovery of accelerator plugins before its first
-    backend starts: it imports and initializes every plugin installed (JAX's CUDA plugin opens eleven NVIDIA
-    libraries) and reads the entry points of every distribution in the environment, for backends this setting never
-    starts. JAX has no switch for it: its own record that discovery has run is set, where this JAX keeps one (else
-    nothing changes). JAX's setting, not the environment, decides: a caller that loaded JAX before (a notebook calling
-    :func:`main`) keeps its accelerators."""
-    import jax
-
-    platforms = jax.config.jax_platforms  # pyright: ignore[reportAttributeAccessIssue] - a flag jax adds at run time
-    if (platforms or "").strip().lower() != "cpu":
-        return
-    from jax._src import xla_bridge
-
-    if getattr(xla_bridge, "_plugins_registered", None) is False:
-        xla_bridge._plugins_registered = True  # pyright: ignore[reportPrivateUsage]
-
-
 def main(argv: list[str] | None = None) -> int:
     """The command line (``argv`` None: the process's own arguments, and the process ends fast after it) or a
     call from Python with ``argv``; the exit code."""
@@ -479,10 +460,11 @@ def _command(argv: list[str] | None) -> int:
         _validate(args)
         if not _batched(args):
             os.environ.setdefault("JAX_PLATFORMS", "cpu")  # before JAX loads: it reads it then
+        from .._core.backends import skip_accelerator_plugins
         from .._core.precision import enable_x64  # loads JAX: only once the input is known to be valid
 
         enable_x64()  # before any model module loads: camdyn's models compute in float64
-        _cpu_only_backends()
+        skip_accelerator_plugins()
         # before equinox loads: its runtime checks otherwise embed host callbacks, which keep JAX from caching the
         # compiled diffrax solves on disk (camdyn checks every solver result itself, so NaN-on-error loses nothing)
         os.environ.setdefault("EQX_ON_ERROR", "nan")
