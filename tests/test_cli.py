@@ -166,6 +166,7 @@ def test_profile_writes_dxf_and_refuses_overwrite(capsys, tmp_path):
     assert code == 2 and "--force" in err
 
 
+@pytest.mark.slow
 def test_oscillating_case_forces_in_newton(capsys):
     from camdyn.model.case import load_case
     from camdyn.model.geometry import lever_arm_mm

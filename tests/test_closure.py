@@ -282,6 +282,7 @@ def test_check_json_of_a_groove_cam(tmp_path, capsys):
     assert run(capsys, "check", case_file)[0] == 1
 
 
+@pytest.mark.slow
 def test_table_contact_force_is_signed(tmp_path, capsys):
     """``table``: contact_force_N positive on the inner flank, negative on the outer; the dynamic column is zero
     while the follower crosses the backlash (60 to 68.8 deg)."""

@@ -155,7 +155,7 @@ def test_a_motions_form_is_made_once_for_all_the_calls_of_a_stored_program(tmp_p
     monkeypatch.setattr(programs, "_DIR", None)
     programs.enable(tmp_path)
     monkeypatch.setattr(_Squared, "made", [])
-    monkeypatch.setattr(programs, "_flat_form_memo", {})  # the session's earlier calls leave no eviction due
+    monkeypatch.setattr(programs, "_part_memo", {})  # the session's earlier calls leave no eviction due
     x = jnp.linspace(0.0, 2.0, 5)
     fn, one, two = programs.cached_jit(_at), _Squared(jnp.asarray(3.0)), _Squared(jnp.asarray(-2.0))
     for _ in range(5):
@@ -166,6 +166,35 @@ def test_a_motions_form_is_made_once_for_all_the_calls_of_a_stored_program(tmp_p
     assert _Squared.made == [one, two] and len(list(tmp_path.rglob("_at-*.jaxprogram"))) == 2
     # under a transformation the plain jit runs, on the form as well
     np.testing.assert_allclose(jax.vmap(lambda c: fn(_Squared(c), x))(jnp.arange(2.0)), [0.0 * x, x**2], rtol=1e-15)
+
+
+class _Scaled(eqx.Module):
+    """A stand-in for a follower model: an array field and a static one."""
+
+    gain: jax.Array
+    power: int = eqx.field(static=True)
+
+
+def _scaled(m, x):
+    return m.gain * x**m.power
+
+
+def test_a_module_is_flattened_once_and_keyed_by_its_structure(tmp_path, monkeypatch):
+    """A module argument (a follower model) is flattened once per object and its arrays passed on every call: other
+    numbers in the same structure run the same stored program, another static field compiles its own."""
+    monkeypatch.setattr(programs, "_DIR", None)
+    programs.enable(tmp_path)
+    monkeypatch.setattr(programs, "_part_memo", {})
+    x = np.linspace(0.0, 2.0, 5)
+    fn = programs.cached_jit(_scaled)
+    one, two, cube = _Scaled(jnp.asarray(2.0), 2), _Scaled(jnp.asarray(-1.5), 2), _Scaled(jnp.asarray(2.0), 3)
+    for _ in range(3):
+        np.testing.assert_allclose(fn(one, x), 2.0 * x**2, rtol=1e-15)
+    np.testing.assert_allclose(fn(two, x), -1.5 * x**2, rtol=1e-15)
+    assert len(list(tmp_path.rglob("_scaled-*.jaxprogram"))) == 1
+    assert [id(m) for m, _ in programs._part_memo.values()] == [id(one), id(two)]
+    np.testing.assert_allclose(fn(cube, x), 2.0 * x**3, rtol=1e-15)
+    assert len(list(tmp_path.rglob("_scaled-*.jaxprogram"))) == 2
 
 
 def _wave(x):

@@ -388,6 +388,7 @@ def test_profile_of_an_undercut_flat_cam_warns(capsys, tmp_path):
     assert code == 0 and out.startswith("wrote ") and "warning: undercut: the contour folds" in err
 
 
+@pytest.mark.slow
 def test_many_landings_of_a_rigid_follower_are_one_warning(tmp_path, capsys):
     """Forty 1 mm cycloids at 300 rpm: a rigid follower leaves the cam ten times; check says so in one line with
     the worst gap and impact (the JSON keeps each flight), not ten lines (1000 segments gave 400)."""

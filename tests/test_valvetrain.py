@@ -227,6 +227,7 @@ def test_a_lower_rebound_is_passed_over_and_the_bounce_height_is_the_same(monkey
     assert all(abs(t - a) < 1e-10 for t, a in pairs), max(abs(t - a) for t, a in pairs)
 
 
+@pytest.mark.slow
 def test_shipped_case_valve_event():
     """cases/valvetrain.toml at its speed: about 10 mm of valve lift, about 250 cam deg at 0.05 mm, seated at the
     ramp's speed within the dynamics (0.015 mm/deg x 18000 deg/s = 0.27 m/s), settled, no float."""
@@ -464,6 +465,7 @@ def test_optimize_of_a_valvetrain_reshapes_for_its_float_speed_only(capsys, tmp_
     assert not (tmp_path / "o.toml").exists()
 
 
+@pytest.mark.slow
 def test_rigid_train_takes_up_the_lash_at_the_ramps_speed():
     """A rigid train closes the lash on the opening ramp with a plastic impact: the cam holds the follower, so the
     valve leaves its seat at once at the ramp's speed times the ratio (0.537148 mm/rad x 1.6 x w), and the lash is

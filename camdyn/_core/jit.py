@@ -42,7 +42,7 @@ import time
 from collections.abc import Callable
 from importlib import metadata
 from pathlib import Path
-from typing import Any, TypeVar
+from typing import Any, NamedTuple, TypeVar
 
 import equinox as eqx
 import jax
@@ -246,41 +246,73 @@ def jit_forms(tree: T) -> T:
     return jax.tree.map(lambda x: x.jit_form() if _has_form(x) else x, tree, is_leaf=_has_form)
 
 
-_flat_form_memo: dict[int, tuple[Any, list, Any]] = {}
+def _flat_once(x: Any) -> bool:
+    """Whether ``x`` is flattened once and remembered (:func:`_part`): a motion (as its ``jit_form``) or another
+    equinox module. Both are immutable, and a search calls its programs hundreds of times with the same ones."""
+    return _has_form(x) or isinstance(x, eqx.Module)
 
 
-def _flat_form(x: Any) -> tuple[list, Any]:
-    """The leaves and treedef of ``x.jit_form()``, once per object (a motion is immutable, and a search calls its
-    programs hundreds of times with the same one; flattening a form costs tens of microseconds)."""
-    hit = _flat_form_memo.get(id(x))
-    if hit is None or hit[0] is not x:
-        if len(_flat_form_memo) > 64:
-            _flat_form_memo.clear()
-        hit = _flat_form_memo[id(x)] = (x, *jax.tree.flatten(x.jit_form()))
-    return hit[1], hit[2]
+class _Part(NamedTuple):
+    """One leaf of a call's arguments flattened with :func:`_flat_once` as leaves: its own leaves (a motion's form's,
+    a module's; itself for a plain leaf), the treedef that rebuilds it (None: a plain leaf), which leaves are
+    arrays, the others (static: part of the program's key), the arrays' (shape, dtype), and a token of all that
+    (equal tokens, equal keys: a dict lookup hashes it, not the part)."""
+
+    leaves: list
+    treedef: Any
+    is_array: tuple
+    static: tuple
+    avals: tuple
+    arrays: list
+    traced: bool
+    token: Any
 
 
-def _flat_forms(tree: Any) -> tuple[list, Any, tuple]:
-    """The leaves of :func:`jit_forms` of ``tree`` and what rebuilds it (:func:`_unflatten_forms`): the treedef with
-    each object that has a ``jit_form`` as one leaf, and per such leaf the treedef of its form (None for the other
-    leaves). Flattened once, no module rebuilt: a stored program's call costs microseconds, not a rebuilt tree."""
-    outer, treedef = jax.tree.flatten(tree, is_leaf=_has_form)
-    if not any(_has_form(x) for x in outer):
-        return outer, treedef, ()
-    leaves, forms = [], []
-    for x in outer:
-        if _has_form(x):
-            inner, inner_def = _flat_form(x)
-            leaves.extend(inner)
-            forms.append((inner_def, len(inner)))
-        else:
-            leaves.append(x)
-            forms.append(None)
-    return leaves, treedef, tuple(forms)
+_tokens: dict = {}
+_part_memo: dict[int, tuple[Any, _Part]] = {}
+
+
+def _token(sig: tuple) -> Any:
+    """A small key standing for ``sig`` (its hash computed once): the same for equal signatures."""
+    try:
+        return _tokens.setdefault(sig, len(_tokens))
+    except TypeError:  # an unhashable static value: keyed by its text (a millisecond, but once per object)
+        return _tokens.setdefault(repr(sig), len(_tokens))
+
+
+def _flat_part(leaves: list, treedef: Any) -> _Part:
+    is_array = tuple(eqx.is_array(x) for x in leaves)
+    arrays = [x for x, a in zip(leaves, is_array, strict=True) if a]
+    static = tuple(x for x, a in zip(leaves, is_array, strict=True) if not a)
+    avals = tuple((x.shape, x.dtype.str) for x in arrays)
+    traced = any(isinstance(x, Tracer) for x in arrays)
+    return _Part(leaves, treedef, is_array, static, avals, arrays, traced, _token((treedef, is_array, static, avals)))
+
+
+def _part(x: Any) -> _Part:
+    """:class:`_Part` of ``x``: a motion's (as its form) or a module's (a motion in it as its form: its
+    :func:`jit_forms`) once per object; a plain leaf's at each call (an array: its shape and dtype; else its value)."""
+    if not _flat_once(x):
+        if eqx.is_array(x):
+            sig = (x.shape, x.dtype.str)
+            return _Part([x], None, (True,), (), (sig,), [x], isinstance(x, Tracer), sig)
+        try:
+            token = ("static", x, type(x))
+            hash(token)
+        except TypeError:
+            token = ("static", repr(x))
+        return _Part([x], None, (False,), (x,), (), [], False, token)
+    hit = _part_memo.get(id(x))
+    if hit is None or hit[0] is not x:  # the memo holds x: its id is not reused while it is here
+        if len(_part_memo) > 64:
+            _part_memo.clear()
+        hit = _part_memo[id(x)] = (x, _flat_part(*jax.tree.flatten(x.jit_form() if _has_form(x) else jit_forms(x))))
+    return hit[1]
 
 
 def _unflatten_forms(treedef: Any, forms: tuple, leaves: list) -> Any:
-    """The tree :func:`_flat_forms` flattened, each object that has a ``jit_form`` as its form."""
+    """The arguments :func:`cached_jit` flattened into :class:`_Part` s (``forms``: each part's treedef and
+    number of leaves, None for a plain leaf), each object that has a ``jit_form`` as its form."""
     if not forms:
         return jax.tree.unflatten(treedef, leaves)
     outer, i = [], 0
@@ -417,25 +449,23 @@ def cached_jit(fn: Callable[..., T], compiler_options: tuple[tuple[str, Any], ..
         its :func:`jit_forms`."""
         if (root := _DIR) is None:
             return None
-        leaves, treedef, forms = _flat_forms(tree)
-        is_array = [eqx.is_array(x) for x in leaves]
-        arrays = [x for x, a in zip(leaves, is_array, strict=True) if a]
-        if any(isinstance(x, Tracer) for x in arrays):  # inside jit/vmap/grad: an exported program has
+        outer, treedef = jax.tree.flatten(tree, is_leaf=_flat_once)
+        parts = [_part(x) for x in outer]
+        if any(p.traced for p in parts):  # inside jit/vmap/grad: an exported program has
             return None  # no batching or differentiation rules; the outer trace is cached anyway
-        static = [x for x, a in zip(leaves, is_array, strict=True) if not a]
-        avals = tuple((x.shape, x.dtype.str) for x in arrays)
-        try:  # hashing the static part is cheap; its repr (the disk key) is not, for a motion of 1000 segments
-            key = (treedef, forms, tuple(is_array), tuple(static), avals)
-            program = programs.get(key)
-        except TypeError:  # an unhashable static value: key by its text
-            key = repr((treedef, forms, is_array, static, avals))
-            program = programs.get(key)
+        key = (treedef, tuple(p.token for p in parts))
+        program = programs.get(key)
         if program is None:
+            forms = tuple(None if p.treedef is None else (p.treedef, len(p.leaves)) for p in parts)
+            is_array = [a for p in parts for a in p.is_array]
+            static = [x for p in parts for x in p.static]
+            avals = tuple(v for p in parts for v in p.avals)
             with loading:
                 program = programs.get(key) or _load_or_compile(
                     root, fn, jitted, options, treedef, forms, is_array, static, avals
                 )
                 programs[key] = program
+        arrays = [x for p in parts for x in p.arrays]
         return program, arrays
 
     @functools.wraps(fn)

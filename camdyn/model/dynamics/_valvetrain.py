@@ -167,8 +167,9 @@ _EVENT = diffrax.Event(_first_change, root_finder=_Bracket(rtol=1e-14, atol=1e-1
 @cached_jit
 def _stretch(motion, vt, omega, modes, force_tol, t0, t1, y0, jumps, ts):
     """One stretch in a fixed mode from t0 until a contact opens or closes (an event) or t1, saved at ``ts``
-    (clipped into [t0, t1]; those past an event come back as inf) and at its end, with (F_cam, F_t) at each, and
-    whether it ended at an event and whether the solver succeeded."""
+    (clipped into [t0, t1]; those past an event come back as inf) and at its end, with (F_cam, F_t) at each,
+    whether it ended at an event and whether the solver succeeded, and :func:`_state_and_conditions` at its end
+    (what the transition there reads: one program call a stretch, not two)."""
     pid = diffrax.PIDController(rtol=_RTOL, atol=_ATOL)
     args = (motion, vt, omega, modes, force_tol)
     sol = diffrax.diffeqsolve(
@@ -194,7 +195,8 @@ def _stretch(motion, vt, omega, modes, force_tol, t0, t1, y0, jumps, ts):
     (t_saved, t_end), (y_saved, y_end) = sol.ts, sol.ys
     # the solver's result as two flags: a stored program (cached_jit) returns arrays, not equinox's enumeration
     hit, ok = sol.result == diffrax.RESULTS.event_occurred, sol.result == diffrax.RESULTS.successful
-    return t_end[0], y_end[0], (hit, ok), jax.vmap(one)(t_saved, y_saved)
+    end = _state_and_conditions(t_end[0], y_end[0], args)
+    return t_end[0], y_end[0], (hit, ok), jax.vmap(one)(t_saved, y_saved), end
 
 
 def _state_and_conditions(theta, y, args):
@@ -234,7 +236,6 @@ def prepare_valvetrain(motion: Motion, vt: ValvetrainModel, n: int = THETA_GRID)
     args = (motion, vt, one, _first_modes(vt), one)
     _stretch.prepare(*args, one, one, y, _jump_angles(motion), np.zeros(n))  # pyright: ignore[reportFunctionMemberAccess]
     _conditions_jit.prepare(one, y, args)  # pyright: ignore[reportFunctionMemberAccess]
-    _state_and_conditions_jit.prepare(one, y, args)  # pyright: ignore[reportFunctionMemberAccess]
 
 
 def landing_floor(vt: ValvetrainModel, omega: float) -> float:
@@ -314,7 +315,7 @@ def valvetrain_response(motion: Motion, vt: ValvetrainModel, omega: float, n: in
             def run(
                 ts: np.ndarray, m: Any = m, t0: float = t0, t_end: float = t_end, y: Any = y
             ) -> np.ndarray:  # this stretch again, saved at ts: (6, len(ts))
-                t1, _, _, out = _stretch(
+                t1, _, _, out, _ = _stretch(
                     motion, vt, w, m, force_tol, np.asarray(t0), np.asarray(t_end), np.asarray(y), jumps, ts
                 )
                 return np.asarray(out).T
@@ -325,10 +326,10 @@ def valvetrain_response(motion: Motion, vt: ValvetrainModel, omega: float, n: in
                 # a contact already past its change where the stretch would start (a grazing crossing the last
                 # one's root finder did not see): every event function would start below zero and the stretch
                 # would see none of them, so the change is made here, before marching on
-                t1, y1, hit = t0, y, True
+                t1, y1, hit, end = t0, y, True, None
             else:
                 tt = np.clip(t_start + np.arange(k_next, k_next + n) * (TWO_PI / n), t0, t_end)  # fixed shape
-                t1, y1, (hit, ok), samples = _stretch(
+                t1, y1, (hit, ok), samples, end = _stretch(
                     motion,
                     vt,
                     w,
@@ -369,8 +370,9 @@ def valvetrain_response(motion: Motion, vt: ValvetrainModel, omega: float, n: in
                 warnings.append(f"more than {_MAX_EVENTS} contact changes in a revolution at {omega / RPM:.1f} rpm")
                 break
             y1 = np.asarray(y1)
-            args = (motion, vt, w, modes.copy(), force_tol)
-            st = np.asarray(_state_and_conditions_jit(np.asarray(t1), y1, args))
+            if end is None:  # no stretch ran: the state and the conditions where it would have started
+                end = _state_and_conditions_jit(np.asarray(t1), y1, (motion, vt, w, modes.copy(), force_tol))
+            st = np.asarray(end)
             s, s1, _, xc, pc, xv, pv = (float(v) for v in st[:7])
             conds = st[7:]
             which = int(np.argmin(conds))  # the contact whose event function reached zero
