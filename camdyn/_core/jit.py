@@ -269,15 +269,19 @@ class _Part(NamedTuple):
 
 
 _tokens: dict = {}
+_tokens_lock = threading.Lock()  # the chunks of a batch call programs from a thread each
 _part_memo: dict[int, tuple[Any, _Part]] = {}
 
 
-def _token(sig: tuple) -> Any:
-    """A small key standing for ``sig`` (its hash computed once): the same for equal signatures."""
+def _token(sig: tuple) -> int:
+    """A number standing for ``sig`` (hashed once, not at every call): the same for equal signatures, and for no
+    other."""
     try:
-        return _tokens.setdefault(sig, len(_tokens))
+        hash(sig)
     except TypeError:  # an unhashable static value: keyed by its text (a millisecond, but once per object)
-        return _tokens.setdefault(repr(sig), len(_tokens))
+        sig = ("text", repr(sig))
+    with _tokens_lock:
+        return _tokens.setdefault(sig, len(_tokens))
 
 
 def _flat_part(leaves: list, treedef: Any) -> _Part:
