@@ -195,6 +195,12 @@ def test_a_module_is_flattened_once_and_keyed_by_its_structure(tmp_path, monkeyp
     assert [id(m) for m, _ in programs._part_memo.values()] == [id(one), id(two)]
     np.testing.assert_allclose(fn(cube, x), 2.0 * x**3, rtol=1e-15)
     assert len(list(tmp_path.rglob("_scaled-*.jaxprogram"))) == 2
+    # past the signatures it remembers, each is numbered afresh and no number is reused: the program a remembered
+    # part's number finds is still that part's (a reused number would run the square for the cube)
+    monkeypatch.setattr(programs, "_MAX_TOKENS", 1)
+    monkeypatch.setattr(programs, "_part_memo", {})
+    for m, power in ((one, 2), (cube, 3), (one, 2), (two, 2), (cube, 3)):
+        np.testing.assert_allclose(fn(m, x), float(m.gain) * x**power, rtol=1e-15)
 
 
 def _wave(x):

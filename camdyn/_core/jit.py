@@ -31,6 +31,7 @@ from __future__ import annotations
 import contextlib
 import functools
 import hashlib
+import itertools
 import math
 import os
 import pickle
@@ -269,19 +270,26 @@ class _Part(NamedTuple):
 
 
 _tokens: dict = {}
+_token_numbers = itertools.count()  # never reused: a program found by a number is that signature's
 _tokens_lock = threading.Lock()  # the chunks of a batch call programs from a thread each
+_MAX_TOKENS = 4096  # signatures remembered; past it they are numbered afresh (a program looked up again, not wrong)
 _part_memo: dict[int, tuple[Any, _Part]] = {}
 
 
 def _token(sig: tuple) -> int:
-    """A number standing for ``sig`` (hashed once, not at every call): the same for equal signatures, and for no
-    other."""
+    """A number standing for ``sig`` (hashed once, not at every call): the same for equal signatures while it is
+    remembered, and never for another."""
     try:
         hash(sig)
     except TypeError:  # an unhashable static value: keyed by its text (a millisecond, but once per object)
         sig = ("text", repr(sig))
     with _tokens_lock:
-        return _tokens.setdefault(sig, len(_tokens))
+        if len(_tokens) >= _MAX_TOKENS:
+            _tokens.clear()
+        number = _tokens.get(sig)
+        if number is None:
+            number = _tokens[sig] = next(_token_numbers)
+        return number
 
 
 def _flat_part(leaves: list, treedef: Any) -> _Part:
