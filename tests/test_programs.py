@@ -304,7 +304,7 @@ def test_fresh_check_processes_agree_with_and_without_the_caches(tmp_path):
     cmd = [sys.executable, "-m", "camdyn", "check", str(ROOT / "cases" / "lecture.toml"), "--json"]
     runs = [subprocess.run(cmd, env=env, capture_output=True, text=True, check=True) for _ in range(2)]
     plain = subprocess.run(cmd, env=env | {"CAMDYN_NO_CACHE": "1"}, capture_output=True, text=True, check=True)
-    assert list((tmp_path / "camdyn" / "programs").rglob("_rev_with_sensitivity-*.jaxprogram"))
+    assert list((tmp_path / "camdyn" / "programs").rglob("_rev_in_contact-*.jaxprogram"))
     docs = [json.loads(r.stdout) for r in (*runs, plain)]
     assert docs[0] == docs[1] == docs[2]
 

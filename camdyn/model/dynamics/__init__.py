@@ -22,6 +22,7 @@ from ._closure import ClosureResponse, Crossover, closure_response, preload_shar
 from ._compliant import compliant_response, min_contact_force, periodic_orbit, vector_field
 from ._harmonic import (
     linear_contact_force,
+    linear_least_force,
     linear_min_force,
     steady_force_at,
     steady_spectrum,
@@ -29,7 +30,7 @@ from ._harmonic import (
     steady_train_force,
 )
 from ._kinematic import kinematic_force, kinematic_force_jit, kinematic_force_of, kinematic_jump_speed
-from ._response import dynamic_jump_speed, first_zero_speed, jump_search_limit, linear_least_force, response
+from ._response import dynamic_jump_speed, first_zero_speed, jump_search_limit, response
 from ._result import Flight, Impact, Response, Separation
 from ._rigid import rigid_response
 from ._train import contact_force, free_vibration, preload_share, static_position, train_force

@@ -22,10 +22,10 @@ from ..._core.jit import cached_jit
 from ..._core.units import RPM, THETA_GRID, TWO_PI
 from ..follower import FollowerModel
 from ..motion import Motion
-from ._harmonic import steady_state
+from ._harmonic import linear_least_force, steady_state
 from ._kinematic import kinematic_force, kinematic_force_of
 from ._result import Response, residual_vibration, separations_from_mask
-from ._solver import ATOL, MAX_STEPS, RTOL
+from ._solver import ATOL, MAX_STEPS, RTOL, SMOOTH_ATOL, SMOOTH_RTOL
 from ._train import contact_force, static_position
 
 
@@ -40,9 +40,9 @@ def vector_field(theta: ArrayLike, y: jax.Array, args: Any) -> jax.Array:
     return jnp.stack([p, f_net / (model.mass * omega**2 * sc)])
 
 
-def _controller(motion: Motion, theta0, revs: float):
+def _controller(motion: Motion, theta0, revs: float, rtol: float = RTOL, atol: float = ATOL):
     breaks = motion.jump_angles()  # data padded with +inf for a program: the controller skips those
-    pid = diffrax.PIDController(rtol=RTOL, atol=ATOL)
+    pid = diffrax.PIDController(rtol=rtol, atol=atol)
     if np.size(breaks) == 0:
         return pid
     jumps = jnp.sort((jnp.asarray(breaks)[None, :] + TWO_PI * np.arange(-1, math.ceil(revs) + 2)[:, None]).ravel())
@@ -84,18 +84,19 @@ def _variational_field(theta, y, args):
     return jnp.concatenate([f(z), (jax.jacfwd(f)(z) @ m).ravel()])
 
 
-def _rev_with_sensitivity(motion, model, omega, z0, theta):
-    """One revolution from z0: the state on ``theta`` and at 2 pi, and d z(2 pi) / d z0."""
+def _revolution(solver, rtol: float, atol: float, motion, model, omega, z0, theta):
+    """One revolution from z0 by ``solver``: the state on ``theta`` and at 2 pi, d z(2 pi) / d z0, and whether the
+    solve succeeded."""
     sol = diffrax.diffeqsolve(
         diffrax.ODETerm(_variational_field),
-        diffrax.Tsit5(),
+        solver,
         t0=0.0,
         t1=TWO_PI,
         dt0=None,
         y0=jnp.concatenate([z0, jnp.eye(2).ravel()]),
         args=(motion, model, omega, True),
         saveat=diffrax.SaveAt(ts=theta, t1=True),
-        stepsize_controller=_controller(motion, 0.0, 1),
+        stepsize_controller=_controller(motion, 0.0, 1, rtol, atol),
         max_steps=MAX_STEPS,
         throw=False,
     )
@@ -104,7 +105,18 @@ def _rev_with_sensitivity(motion, model, omega, z0, theta):
     return ys[:-1, :2], ys[-1, :2], ys[-1, 2:].reshape(2, 2), sol.result == diffrax.RESULTS.successful
 
 
+def _rev_with_sensitivity(motion, model, omega, z0, theta):
+    """:func:`_revolution` by Tsit5: where the follower leaves the cam (its contact switches stepped through)."""
+    return _revolution(diffrax.Tsit5(), RTOL, ATOL, motion, model, omega, z0, theta)
+
+
+def _rev_in_contact(motion, model, omega, z0, theta):
+    """:func:`_revolution` by Dopri8 at :data:`SMOOTH_RTOL`: where the orbit is smooth (see :mod:`._solver`)."""
+    return _revolution(diffrax.Dopri8(), SMOOTH_RTOL, SMOOTH_ATOL, motion, model, omega, z0, theta)
+
+
 _rev_jit = cached_jit(_rev_with_sensitivity)
+_rev_smooth_jit = cached_jit(_rev_in_contact)
 
 
 _PLAIN_REVS = 60  # after Newton stalls (non-smooth bouncing): revolutions of plain iteration at most
@@ -166,9 +178,12 @@ def _shoot(motion: Motion, model: FollowerModel, omega: float, theta):
     z = np.array(_quasi_static(jax.device_get(model), omega, motion.host(np.zeros(()))))
     tol = 1e-10 * (1.0 + float(np.max(np.abs(z))))
     floor = periodic_tol(motion.host(theta)[0])
+    # where the frequency domain's steady state stays on the cam, so does the periodic orbit (the model is linear
+    # there): a smooth orbit, for the higher-order solver
+    revolution = _rev_smooth_jit if linear_least_force(motion, model, omega) > 0.0 else _rev_jit
     best_traj, best_r, best_i, r_prev = None, math.inf, 0, math.inf
     for i in range(_NEWTON_ITERS + _PLAIN_REVS):
-        traj, phi, mono, ok = _rev_jit(motion, model, w, z, theta)
+        traj, phi, mono, ok = revolution(motion, model, w, z, theta)
         phi, mono = np.asarray(phi), np.asarray(mono)
         if not bool(ok) or not np.all(np.isfinite(phi)):
             raise NumericalError(f"dynamics at {omega / RPM:.4g} rpm", _integration_failure(model, omega))

@@ -12,6 +12,7 @@ from collections.abc import Callable
 
 import jax
 import jax.numpy as jnp
+import numpy as np
 from jax.typing import ArrayLike
 
 from ..._core.jit import cached_jit, filter_jit
@@ -128,6 +129,15 @@ def linear_min_force(
 
     omegas = jnp.asarray(omegas, dtype=float)
     return jax.lax.map(one, omegas.ravel(), batch_size=64).reshape(omegas.shape)
+
+
+BISECT_POINTS = 16  # speeds per step of the jump-speed search's bisection (:func:`linear_min_force` calls)
+
+
+def linear_least_force(motion: Motion, model: FollowerModel, omega: float) -> float:
+    """:func:`linear_min_force` at one speed (rad/s), N: computed as one of the jump-speed bisection's speeds, a
+    program a ``check`` has loaded already (each program a fresh process loads costs milliseconds)."""
+    return float(np.asarray(linear_min_force(motion, model, np.full(BISECT_POINTS, float(omega))))[0])
 
 
 @filter_jit

@@ -12,14 +12,13 @@ from ..._core.units import JUMP_SEARCH_FACTOR, RPM, THETA_GRID
 from ..follower import FollowerModel
 from ..motion import Motion
 from ._compliant import compliant_response
-from ._harmonic import linear_min_force
+from ._harmonic import BISECT_POINTS, linear_min_force
 from ._kinematic import kinematic_jump_speed
 from ._result import Response
 from ._rigid import rigid_response
 
 # speeds of the linear model's jump-speed scan per call: four of linear_min_force's batches of 64
 SCAN_CHUNK = 256
-BISECT_POINTS = 16  # speeds per step of its bisection
 
 
 def response(motion: Motion, model: FollowerModel, omega: float, n: int = THETA_GRID) -> Response:
@@ -49,12 +48,6 @@ def dynamic_jump_speed(
         where="jump-speed search",
         chunk=SCAN_CHUNK,
     )
-
-
-def linear_least_force(motion: Motion, model: FollowerModel, omega: float) -> float:
-    """:func:`linear_min_force` at one speed (rad/s), N: computed as one of the jump-speed bisection's speeds, a
-    program a ``check`` has loaded already (each program a fresh process loads costs milliseconds)."""
-    return float(np.asarray(linear_min_force(motion, model, np.full(BISECT_POINTS, float(omega))))[0])
 
 
 def scan_speeds(w_max: float, grid: int) -> np.ndarray:
