@@ -178,8 +178,8 @@ def _shoot(motion: Motion, model: FollowerModel, omega: float, theta):
     z = np.array(_quasi_static(jax.device_get(model), omega, motion.host(np.zeros(()))))
     tol = 1e-10 * (1.0 + float(np.max(np.abs(z))))
     floor = periodic_tol(motion.host(theta)[0])
-    # where the frequency domain's steady state stays on the cam, so does the periodic orbit (the model is linear
-    # there): a smooth orbit, for the higher-order solver
+    # where the frequency domain's steady state stays on the cam it is a periodic orbit of the model, and a smooth
+    # one: the higher-order solver's (either integrates any orbit: the choice is one of speed)
     revolution = _rev_smooth_jit if linear_least_force(motion, model, omega) > 0.0 else _rev_jit
     best_traj, best_r, best_i, r_prev = None, math.inf, 0, math.inf
     for i in range(_NEWTON_ITERS + _PLAIN_REVS):
