@@ -36,7 +36,9 @@ def test_drive_of_the_check_response_is_the_generalized_one(checked):
     drive = case_drive(case, report.response)
     own = dyn.response(case.motion, case.model, report.speed_rpm * 2 * math.pi / 60)
     ref = response_drive(case.motion, own, scale=case.model.scale, speed_fluctuation=0.02)
-    np.testing.assert_allclose(drive.torque, ref.torque, rtol=1e-9, atol=1e-12 * np.max(np.abs(ref.torque)))
+    # two shootings at speeds a rounding apart (rpm * RPM against rpm * 2 pi / 60): their adaptive steps may part,
+    # which moves a value by the integrator's error, far below 1e-10 of the largest torque
+    np.testing.assert_allclose(drive.torque, ref.torque, rtol=1e-9, atol=1e-10 * np.max(np.abs(ref.torque)))
     assert drive.flywheel_inertia == pytest.approx(ref.energy_swing / (0.02 * drive.omega**2), rel=1e-12)
     assert drive.mean_power > 0  # the dampers take power
 

@@ -51,14 +51,15 @@ def _table(capsys, tmp_path, name, segments) -> np.ndarray:
 
 
 def test_no_options_is_345_and_zero_end_jerks_is_4567(capsys, tmp_path):
-    """`camdyn table` of the polynomial segments equals the named laws' column by column, to 1e-9."""
+    """`camdyn table` of the polynomial segments equals the named laws' column by column, to 1e-9; the dynamic
+    force to the integrator's accuracy (1e-7): two shootings of motions equal to a rounding, whose adaptive steps may
+    part (the lecture's least force is within 1.4e-6 N of a reference at rtol 1e-13, docs/benchmarks.md)."""
     head_a, a = _table(capsys, tmp_path, "named", NAMED)
     head_b, b = _table(capsys, tmp_path, "conditions", FROM_CONDITIONS)
     assert head_a == head_b and a.shape == b.shape
     for k, name in enumerate(head_a):
-        np.testing.assert_allclose(
-            b[:, k], a[:, k], rtol=1e-9, atol=1e-9 * max(1.0, np.abs(a[:, k]).max()), err_msg=name
-        )
+        tol = 1e-7 if name.startswith("dynamic") else 1e-9
+        np.testing.assert_allclose(b[:, k], a[:, k], rtol=tol, atol=tol * max(1.0, np.abs(a[:, k]).max()), err_msg=name)
 
 
 def test_degrees_follow_the_conditions():
