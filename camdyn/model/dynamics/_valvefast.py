@@ -40,7 +40,8 @@ from ..._core.units import M_PER_MM, THETA_GRID, TWO_PI
 from ..motion import Motion
 from ..valvetrain import ValvetrainModel, static_valve_lift
 from ._cubic import hermite_taylor
-from ._valvetrain import GAP_EPS, landing_floor, start_angle
+from ._valvefield import GAP_EPS
+from ._valvetrain import landing_floor, start_angle
 
 REFINE = 2  # fine steps per output angle (0.05 deg): the cubic hold's error is of order h^4
 _SPLIT = 64  # a contact change inside a step: the step cut in 64, twice over

@@ -1,211 +1,34 @@
 """The valvetrain in the time domain: two masses, the train and its lash, the cam contact and the valve's seat,
-event-driven on diffrax (float64), over one revolution at a constant cam speed.
+event-driven on diffrax (float64), over one revolution at a constant cam speed (the equations and the stretch between
+two contact changes: :mod:`._valvefield`).
 
-Equations (SI, time derivatives; x_c the follower's lift at the cam, x_v the valve's lift, g(x_c) the cam's lift
-at the valve through the rocker and r = dg/dx_c its ratio, constant or varying with lift)::
-
-    m_c x_c'' = F_cam - r F_t - F_hold
-    m_v x_v'' = F_t - (k x_v + F0 + c x_v') + F_seat
-
-* F_t, the train: ``train_force`` (the compliant contact's formula) on the deflection ``g(x_c) - lash - x_v``, in
-  compression only; a rigid train locks the two masses together once the lash closes (a plastic impact) and lets
-  go where its force would pull. Locked, x_v'' = r x_c'' + r' x_c'^2 (r' = dr/dx_c: 0 for a constant ratio).
-* The valve spring: ``k x_v + F0 + c x_v'``; with its coils as a chain of masses (``[spring] model = "surge"``,
-  :class:`~camdyn.model.valvetrain.Coils`) the last segment's spring and damper on the valve, the inner lumps in
-  the state after the four above, each between its neighbours (the head fixed).
-* F_cam, the cam contact: compliant (``train_force`` on ``s - x_c``) or rigid (x_c = s while F_cam > 0, a flight
-  when it falls to zero, a landing with the cam's restitution).
-* F_seat, the seat at zero valve lift: rigid, with ``seat_restitution``. A seat is one to two orders stiffer than
-  the train (a few 1e8 N/m against 1e7), so a compliant seat would set the integrator's step for no more
-  information than the restitution gives: the rebound speed. The valve rests on it while the spring's force
-  exceeds the train's.
-
-Between events every active contact's state is smooth, so each stretch is one diffrax solve (Tsit5, tight
-tolerances) with a terminating event for each contact that can open or close; the transitions (impacts, locks,
-releases) are applied on the host. The state is integrated in the cam angle (x and dx/dtheta, m and m/rad).
-The revolution starts on the base circle with the valve seated and at rest, so once the valve has seated and
-the follower is back on the cam before the revolution ends, that revolution is the periodic steady state.
+The revolution is marched stretch by stretch; at each stretch's end the contact that changed is changed on the host
+(:func:`_transition`: a landing with its restitution, the lash closing as a plastic impact, the valve lifted off or
+landing on its seat). The revolution starts on the base circle with the valve seated and at rest, so once the valve
+has seated and the follower is back on the cam before the revolution ends, that revolution is the periodic steady
+state.
 """
 
 from __future__ import annotations
 
 import math
-from typing import Any
+from typing import Any, NamedTuple
 
-import diffrax
-import jax
-import jax.numpy as jnp
 import numpy as np
-import optimistix as optx
-from jax.typing import ArrayLike
 
 from ..._core.errors import NumericalError
-from ..._core.jit import cached_jit, padded_length
+from ..._core.jit import padded_length
 from ..._core.units import M_PER_MM, RPM, THETA_GRID, TWO_PI
 from ..motion import Motion
 from ..valvetrain import ValvetrainModel, static_valve_lift
 from ._cubic import hermite_top
-from ._train import contact_force
+from ._valvefield import CAM, GAP_EPS, SEAT, TRAIN, conditions_at, state_and_conditions_at, stretch
 from ._valveresponse import ValveEvent, ValvetrainResponse
 
-_RTOL, _ATOL = 1e-10, 1e-14  # the state is in m and m/rad: lifts of 1e-2 m
-GAP_EPS = 1e-12  # m: a landing is detected this far below contact
-_MAX_STEPS = 1_000_000
 _MAX_EVENTS = 2000  # per revolution: bounces beyond it leave the valve or the follower not settled
 _REVS = 3  # revolutions at most to reach the periodic steady state
 _JUMP_ROWS = 32  # the stretches' jump times are padded to 32, 128, 512, ... (+inf)
 NO_EVENT = 1e300  # N: the float search's least force at a speed where the valve does not lift (it wants finite)
-CAM, TRAIN, SEAT = 0, 1, 2  # the contacts, in the mode vector and the event list
-
-
-def _state(theta, y, args):
-    """The positions and speeds the contacts see, with the locked ones taken from what locks them."""
-    motion, vt, omega, modes, _ = args
-    cam_locked, train_locked, seat_locked = modes[CAM], modes[TRAIN], modes[SEAT]
-    s, s1, s2, _ = motion(theta) * M_PER_MM
-    xc = jnp.where(cam_locked, s, y[0])
-    pc = jnp.where(cam_locked, s1, y[1])
-    g, r, _ = vt.lever(xc)
-    xv = jnp.where(train_locked, g - vt.lash, jnp.where(seat_locked, 0.0, y[2]))
-    pv = jnp.where(train_locked, r * pc, jnp.where(seat_locked, 0.0, y[3]))
-    return s, s1, s2, xc, pc, xv, pv
-
-
-def _dynamics(theta, y, args):
-    """(accelerations per rad^2 of the follower and the valve, F_cam, F_t, the seat's reaction) in this mode."""
-    motion, vt, omega, modes, _ = args
-    cam_locked, train_locked, seat_locked = modes[CAM], modes[TRAIN], modes[SEAT]
-    s, s1, s2, xc, pc, xv, pv = _state(theta, y, args)
-    w2 = omega**2
-    m_c, m_v = vt.cam_side_mass, vt.valve_mass
-    g, r, r1 = vt.lever(xc)
-    spring = _spring_force(vt, omega, xv, pv, y)
-    # the compliant contacts (0 for a rigid one, whose force is its constraint's): the cam's, and the train's on
-    # its deflection g(x_c) - lash - x_v
-    f_cam_c = jnp.where(jnp.isinf(vt.cam.train_stiffness), 0.0, contact_force(vt.cam, omega, s, s1, xc, pc))
-    f_t_c = jnp.where(
-        jnp.isinf(vt.train.train_stiffness), 0.0, contact_force(vt.train, omega, g - vt.lash, r * pc, xv, pv)
-    )
-    # the train locked: one body at the follower (mass m_c + m_v r^2), driven by the cam or flying on its contact;
-    # a varying ratio adds the valve's r' x_c'^2
-    turn = m_v * r * r1 * pc**2
-    a_body = (f_cam_c - r * spring - vt.tappet_force - turn * w2) / ((m_c + m_v * r**2) * w2)
-    a_c_locked_train = jnp.where(cam_locked, s2, a_body)
-    f_t_locked = m_v * r * a_c_locked_train * w2 + m_v * r1 * pc**2 * w2 + spring
-    f_t = jnp.where(train_locked, f_t_locked, f_t_c)
-    a_c_free = (f_cam_c - r * f_t - vt.tappet_force) / (m_c * w2)
-    a_c = jnp.where(cam_locked, s2, jnp.where(train_locked, a_body, a_c_free))
-    f_cam = jnp.where(cam_locked, m_c * s2 * w2 + r * f_t + vt.tappet_force, f_cam_c)
-    a_v = jnp.where(train_locked, r * a_c + r1 * pc**2, jnp.where(seat_locked, 0.0, (f_t - spring) / (m_v * w2)))
-    f_seat = jnp.where(seat_locked, spring - f_t, 0.0)
-    return a_c, a_v, f_cam, f_t, f_seat, (xc, pc, xv, pv, s, s1)
-
-
-def _spring_force(vt, omega, xv, pv, y):
-    """The valve spring's force on the valve (N): ``k x_v + F0 + c x_v'``, or with its coils as a chain the last
-    segment's (spring and damper) with the preload and the valve's damper."""
-    if vt.coils is None:
-        return vt.spring_rate * xv + vt.preload + vt.spring_damping * omega * pv
-    m = vt.coils.count - 1
-    u, p = y[4 + m - 1], y[4 + 2 * m - 1]  # the lump next to the valve
-    end = vt.coils.segment_rate * (xv - u) + vt.coils.segment_damping * omega * (pv - p)
-    return end + vt.preload + vt.spring_damping * omega * pv
-
-
-def _coils_accel(vt, omega, xv, pv, y):
-    """The inner lumps' accelerations per rad^2, each between its neighbours (the fixed head at 0, the valve)."""
-    c, m = vt.coils, vt.coils.count - 1
-    u, p = y[4 : 4 + m], y[4 + m :]
-    zero = jnp.zeros(1)
-    u_l, u_r = jnp.concatenate([zero, u[:-1]]), jnp.concatenate([u[1:], jnp.atleast_1d(xv)])
-    p_l, p_r = jnp.concatenate([zero, p[:-1]]), jnp.concatenate([p[1:], jnp.atleast_1d(pv)])
-    force = c.segment_rate * (u_l - 2 * u + u_r) + c.segment_damping * omega * (p_l - 2 * p + p_r)
-    return force / (c.lump_mass * omega**2)
-
-
-def _vector_field(theta, y, args):
-    a_c, a_v, *_, (xc, pc, xv, pv, s, s1) = _dynamics(theta, y, args)
-    vt, omega = args[1], args[2]
-    if vt.coils is None:
-        return jnp.stack([pc, a_c, pv, a_v])
-    m = vt.coils.count - 1
-    return jnp.concatenate([jnp.stack([pc, a_c, pv, a_v]), y[4 + m :], _coils_accel(vt, omega, xv, pv, y)])
-
-
-def _conditions(theta, y, args):
-    """Each contact's event function, positive while its mode holds: a locked contact's force, a free one's gap."""
-    _, vt, _, modes, force_tol = args
-    _, _, f_cam, f_t, f_seat, (xc, pc, xv, pv, s, s1) = _dynamics(theta, y, args)
-    cam = jnp.where(modes[CAM], f_cam + force_tol, jnp.where(jnp.isinf(vt.cam.train_stiffness), xc - s + GAP_EPS, 1.0))
-    lash_gap = vt.lash + xv - vt.lever(xc)[0]
-    train = jnp.where(
-        jnp.isinf(vt.train.train_stiffness), jnp.where(modes[TRAIN], f_t + force_tol, lash_gap + GAP_EPS), 1.0
-    )
-    seat = jnp.where(modes[SEAT], f_seat + force_tol, xv + GAP_EPS)
-    return cam, train, seat
-
-
-def _first_change(t, y, args, **kwargs):
-    """Positive while every contact keeps its mode: the least of the contacts' event functions (continuous, so a
-    bracketing root finder pins where the first one changes)."""
-    return jnp.min(jnp.stack(_conditions(t, y, args)))
-
-
-class _Bracket(optx.Bisection):
-    """Bisection that stops on the bracket's width alone: the event functions mix forces (N) and gaps (m), and
-    a force through a kink or a segment boundary need not come near zero at its crossing."""
-
-    def terminate(
-        self, fn: Any, y: Any, args: Any, options: Any, state: Any, tags: Any
-    ) -> tuple[jax.Array, optx.RESULTS]:
-        return jnp.abs(state.lower - state.upper) < self.atol + self.rtol * jnp.abs(y), optx.RESULTS.successful
-
-
-_EVENT = diffrax.Event(_first_change, root_finder=_Bracket(rtol=1e-14, atol=1e-12), direction=False)
-
-
-@cached_jit
-def _stretch(motion, vt, omega, modes, force_tol, t0, t1, y0, jumps, ts):
-    """One stretch in a fixed mode from t0 until a contact opens or closes (an event) or t1, saved at ``ts``
-    (clipped into [t0, t1]; those past an event come back as inf) and at its end, with (F_cam, F_t) at each,
-    whether it ended at an event and whether the solver succeeded, and :func:`_state_and_conditions` at its end
-    (what the transition there reads: one program call a stretch, not two)."""
-    pid = diffrax.PIDController(rtol=_RTOL, atol=_ATOL)
-    args = (motion, vt, omega, modes, force_tol)
-    sol = diffrax.diffeqsolve(
-        diffrax.ODETerm(_vector_field),
-        diffrax.Tsit5(),
-        t0=t0,
-        t1=t1,
-        dt0=None,
-        y0=y0,
-        args=args,
-        saveat=diffrax.SaveAt(subs=(diffrax.SubSaveAt(ts=ts), diffrax.SubSaveAt(t1=True))),
-        stepsize_controller=diffrax.ClipStepSizeController(pid, jump_ts=jumps),
-        event=_EVENT,
-        max_steps=_MAX_STEPS,
-        throw=False,
-    )
-
-    def one(t: ArrayLike, y: jax.Array) -> jax.Array:
-        _, _, f_cam, f_t, _, (xc, pc, xv, pv, _, _) = _dynamics(t, y, args)
-        return jnp.stack([xc, pc, xv, pv, f_cam, f_t])
-
-    assert sol.ts is not None and sol.ys is not None  # saved at ts and at the end
-    (t_saved, t_end), (y_saved, y_end) = sol.ts, sol.ys
-    # the solver's result as two flags: a stored program (cached_jit) returns arrays, not equinox's enumeration
-    hit, ok = sol.result == diffrax.RESULTS.event_occurred, sol.result == diffrax.RESULTS.successful
-    end = _state_and_conditions(t_end[0], y_end[0], args)
-    return t_end[0], y_end[0], (hit, ok), jax.vmap(one)(t_saved, y_saved), end
-
-
-def _state_and_conditions(theta, y, args):
-    """:func:`_state`'s seven numbers and :func:`_conditions`' three in one array: where a stretch ends, one call."""
-    return jnp.concatenate([jnp.stack(_state(theta, y, args)), jnp.stack(_conditions(theta, y, args))])
-
-
-_conditions_jit = cached_jit(_conditions)
-_state_and_conditions_jit = cached_jit(_state_and_conditions)
 
 
 def _jump_angles(motion: Motion) -> np.ndarray:
@@ -234,8 +57,8 @@ def prepare_valvetrain(motion: Motion, vt: ValvetrainModel, n: int = THETA_GRID)
     (:func:`camdyn._core.jit.in_background`)."""
     one, y = np.asarray(1.0), np.zeros(_state_size(vt))
     args = (motion, vt, one, _first_modes(vt), one)
-    _stretch.prepare(*args, one, one, y, _jump_angles(motion), np.zeros(n))  # pyright: ignore[reportFunctionMemberAccess]
-    _conditions_jit.prepare(one, y, args)  # pyright: ignore[reportFunctionMemberAccess]
+    stretch.prepare(*args, one, one, y, _jump_angles(motion), np.zeros(n))  # pyright: ignore[reportFunctionMemberAccess]
+    conditions_at.prepare(one, y, args)  # pyright: ignore[reportFunctionMemberAccess]
 
 
 def landing_floor(vt: ValvetrainModel, omega: float) -> float:
@@ -286,16 +109,12 @@ def valvetrain_response(motion: Motion, vt: ValvetrainModel, omega: float, n: in
     modes = _first_modes(vt)
     out = np.zeros((6, n))
     seated = np.ones(n, bool)
-    v_floor = landing_floor(vt, float(omega))
-    e_seat, e_cam = float(vt.seat_restitution), float(vt.cam_restitution)
+    impacts = _Impacts(
+        float(vt.cam_restitution), float(vt.seat_restitution), float(omega), landing_floor(vt, float(omega))
+    )
     # the valve's event ends where it lands after rising past half its static lift at the nose (the train and the
     # spring in balance): a landing before (the valve kicked off its seat as the lash closes) belongs to the opening
-
-    def lever(x_c: float) -> tuple[float, float]:  # the cam's lift at the valve (m) and the ratio at x_c (m)
-        g, ratio, _ = vt.host_lever(x_c)
-        return float(g), float(ratio)
-
-    reach = lever(float(s_si.max()))[0] - lever(float(s_si.min()))[0] - float(vt.lash)
+    reach = float(vt.host_lever(float(s_si.max()))[0]) - float(vt.host_lever(float(s_si.min()))[0]) - float(vt.lash)
     half_lift = 0.5 * static_valve_lift(
         reach, float(vt.preload), float(vt.train.train_stiffness), float(vt.spring_rate)
     )
@@ -315,13 +134,13 @@ def valvetrain_response(motion: Motion, vt: ValvetrainModel, omega: float, n: in
             def run(
                 ts: np.ndarray, m: Any = m, t0: float = t0, t_end: float = t_end, y: Any = y
             ) -> np.ndarray:  # this stretch again, saved at ts: (6, len(ts))
-                t1, _, _, out, _ = _stretch(
+                t1, _, _, out, _ = stretch(
                     motion, vt, w, m, force_tol, np.asarray(t0), np.asarray(t_end), np.asarray(y), jumps, ts
                 )
                 return np.asarray(out).T
 
             if start is None:  # a revolution's first stretch (after a transition _consistent gave them)
-                start = np.asarray(_conditions_jit(np.asarray(t0), np.asarray(y), (motion, vt, w, m, force_tol)))
+                start = np.asarray(conditions_at(np.asarray(t0), np.asarray(y), (motion, vt, w, m, force_tol)))
             if start.min() < 0.0:
                 # a contact already past its change where the stretch would start (a grazing crossing the last
                 # one's root finder did not see): every event function would start below zero and the stretch
@@ -329,7 +148,7 @@ def valvetrain_response(motion: Motion, vt: ValvetrainModel, omega: float, n: in
                 t1, y1, hit, end = t0, y, True, None
             else:
                 tt = np.clip(t_start + np.arange(k_next, k_next + n) * (TWO_PI / n), t0, t_end)  # fixed shape
-                t1, y1, (hit, ok), samples, end = _stretch(
+                t1, y1, (hit, ok), samples, end = stretch(
                     motion,
                     vt,
                     w,
@@ -371,52 +190,12 @@ def valvetrain_response(motion: Motion, vt: ValvetrainModel, omega: float, n: in
                 break
             y1 = np.asarray(y1)
             if end is None:  # no stretch ran: the state and the conditions where it would have started
-                end = _state_and_conditions_jit(np.asarray(t1), y1, (motion, vt, w, modes.copy(), force_tol))
-            st = np.asarray(end)
-            s, s1, _, xc, pc, xv, pv = (float(v) for v in st[:7])
-            conds = st[7:]
-            which = int(np.argmin(conds))  # the contact whose event function reached zero
-            deg = math.degrees(t1) % 360.0
-            y = np.concatenate([[xc, pc, xv, pv], y1[4:]])
-            if which == CAM and modes[CAM]:  # the cam lets go of the follower
-                modes[CAM] = False
-                if not modes[SEAT] and first_seating is None:
-                    events.append(ValveEvent("float", deg))
-            elif which == CAM:  # the follower lands on the cam
-                rel = pc - s1
-                events.append(ValveEvent("cam-landing", deg, abs(rel) * float(omega)))
-                y[1] = s1 - e_cam * rel
-                y[0] = s
-                if modes[TRAIN]:
-                    y[3] = lever(y[0])[1] * y[1]
-                if not (e_cam > 0.0 and abs(rel) > v_floor):
-                    y[1] = s1
-                    modes[CAM] = True
-            elif which == TRAIN and modes[TRAIN]:  # the rigid train lets go: the lash opens
-                modes[TRAIN] = False
-            elif which == TRAIN:  # the lash closes: the two masses meet (plastic), at the rocker's ratio there
-                g, r_here = lever(xc)
-                if modes[CAM]:
-                    y[3] = r_here * pc
-                else:
-                    m_c, m_v = float(vt.cam_side_mass), float(vt.valve_mass)
-                    y[1] = (m_c * pc + r_here * m_v * pv) / (m_c + m_v * r_here**2)
-                    y[3] = r_here * y[1]
-                y[2] = g - float(vt.lash)
-                modes[TRAIN], modes[SEAT] = True, False
-                events.append(ValveEvent("lash", deg))
-            elif which == SEAT and modes[SEAT]:  # the train lifts the valve
-                modes[SEAT] = False
-                y[2], y[3] = 0.0, 0.0
-                events.append(ValveEvent("valve-lift", deg))
-            else:  # the valve lands on its seat
-                events.append(ValveEvent("seating", deg, abs(pv) * float(omega)))
-                if first_seating is None and peak > half_lift:  # the landing that ends the event, not a rattle
-                    first_seating = t1
-                modes[TRAIN] = False
-                y[2], y[3] = 0.0, -e_seat * pv
-                if y[3] <= v_floor:
-                    modes[SEAT], y[3] = True, 0.0
+                end = state_and_conditions_at(np.asarray(t1), y1, (motion, vt, w, modes.copy(), force_tol))
+            event, modes, y = _transition(vt, impacts, modes, np.asarray(end), y1, t1)
+            if event is not None and not (event.what == "float" and first_seating is not None):
+                events.append(event)  # a float counts until the valve has first seated
+            if event is not None and event.what == "seating" and first_seating is None and peak > half_lift:
+                first_seating = t1  # the landing that ends the event, not a rattle
             modes, start = _consistent(modes, t1, y, motion, vt, w, force_tol, rigid_cam, rigid_train)
             t0 = t1
         settled = (
@@ -452,13 +231,77 @@ def valvetrain_response(motion: Motion, vt: ValvetrainModel, omega: float, n: in
     )
 
 
+class _Impacts(NamedTuple):
+    """What a contact change needs at one cam speed: the cam's and the seat's restitution, the speed (rad/s) and the
+    rebound speed (m/rad) at or below which a landing holds (:func:`landing_floor`)."""
+
+    e_cam: float
+    e_seat: float
+    omega: float
+    v_floor: float
+
+
+def _transition(
+    vt: ValvetrainModel, impacts: _Impacts, modes: np.ndarray, st: np.ndarray, y1: np.ndarray, t1: float
+) -> tuple[ValveEvent | None, np.ndarray, np.ndarray]:
+    """The contact change at a stretch's end ``t1`` (rad): ``st`` the state and the contacts' event functions there
+    (:func:`._valvefield.state_and_conditions_at`), ``y1`` the solver's state (its spring lumps go on), ``modes`` the
+    contacts' modes in the stretch. The change is the contact whose event function reached zero: a locked one lets go,
+    a free one closes (an impact: the cam's restitution, the lash's plastic meeting at the rocker's ratio, the seat's
+    restitution). Returns the event it makes (None: the cam or the train letting go makes none here) and the modes
+    and the state after it."""
+    modes = modes.copy()
+    s, s1, _, xc, pc, xv, pv = (float(v) for v in st[:7])
+    which = int(np.argmin(st[7:]))
+    deg = math.degrees(t1) % 360.0
+    y = np.concatenate([[xc, pc, xv, pv], y1[4:]])
+    event = None
+    if which == CAM and modes[CAM]:  # the cam lets go of the follower: a float if the valve is off its seat
+        modes[CAM] = False
+        event = None if modes[SEAT] else ValveEvent("float", deg)
+    elif which == CAM:  # the follower lands on the cam
+        rel = pc - s1
+        event = ValveEvent("cam-landing", deg, abs(rel) * impacts.omega)
+        y[1] = s1 - impacts.e_cam * rel
+        y[0] = s
+        if modes[TRAIN]:
+            y[3] = float(vt.host_lever(y[0])[1]) * y[1]
+        if not (impacts.e_cam > 0.0 and abs(rel) > impacts.v_floor):
+            y[1] = s1
+            modes[CAM] = True
+    elif which == TRAIN and modes[TRAIN]:  # the rigid train lets go: the lash opens
+        modes[TRAIN] = False
+    elif which == TRAIN:  # the lash closes: the two masses meet (plastic), at the rocker's ratio there
+        g, r_here, _ = (float(v) for v in vt.host_lever(xc))
+        if modes[CAM]:
+            y[3] = r_here * pc
+        else:
+            m_c, m_v = float(vt.cam_side_mass), float(vt.valve_mass)
+            y[1] = (m_c * pc + r_here * m_v * pv) / (m_c + m_v * r_here**2)
+            y[3] = r_here * y[1]
+        y[2] = g - float(vt.lash)
+        modes[TRAIN], modes[SEAT] = True, False
+        event = ValveEvent("lash", deg)
+    elif which == SEAT and modes[SEAT]:  # the train lifts the valve
+        modes[SEAT] = False
+        y[2], y[3] = 0.0, 0.0
+        event = ValveEvent("valve-lift", deg)
+    else:  # the valve lands on its seat
+        event = ValveEvent("seating", deg, abs(pv) * impacts.omega)
+        modes[TRAIN] = False
+        y[2], y[3] = 0.0, -impacts.e_seat * pv
+        if y[3] <= impacts.v_floor:
+            modes[SEAT], y[3] = True, 0.0
+    return event, modes, y
+
+
 def _consistent(modes, t, y, motion, vt, w, force_tol, rigid_cam, rigid_train) -> tuple[np.ndarray, np.ndarray]:
     """The modes after a transition, with every locked contact whose force already pulls released (its event
     would not see a crossing that starts below zero), and the contacts' event functions in those modes."""
     modes = modes.copy()
 
     def conditions() -> np.ndarray:
-        return np.asarray(_conditions_jit(np.asarray(t), np.asarray(y), (motion, vt, w, modes.copy(), force_tol)))
+        return np.asarray(conditions_at(np.asarray(t), np.asarray(y), (motion, vt, w, modes.copy(), force_tol)))
 
     for _ in range(4):
         conds = conditions()

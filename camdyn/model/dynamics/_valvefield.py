@@ -1,0 +1,208 @@
+"""The valvetrain's equations in one mode of its contacts, and the stretch: one diffrax solve (Tsit5, tight
+tolerances) until a contact opens or closes.
+
+Equations (SI, time derivatives; x_c the follower's lift at the cam, x_v the valve's lift, g(x_c) the cam's lift
+at the valve through the rocker and r = dg/dx_c its ratio, constant or varying with lift)::
+
+    m_c x_c'' = F_cam - r F_t - F_hold
+    m_v x_v'' = F_t - (k x_v + F0 + c x_v') + F_seat
+
+* F_t, the train: ``train_force`` (the compliant contact's formula) on the deflection ``g(x_c) - lash - x_v``, in
+  compression only; a rigid train locks the two masses together once the lash closes (a plastic impact) and lets
+  go where its force would pull. Locked, x_v'' = r x_c'' + r' x_c'^2 (r' = dr/dx_c: 0 for a constant ratio).
+* The valve spring: ``k x_v + F0 + c x_v'``; with its coils as a chain of masses (``[spring] model = "surge"``,
+  :class:`~camdyn.model.valvetrain.Coils`) the last segment's spring and damper on the valve, the inner lumps in
+  the state after the four above, each between its neighbours (the head fixed).
+* F_cam, the cam contact: compliant (``train_force`` on ``s - x_c``) or rigid (x_c = s while F_cam > 0, a flight
+  when it falls to zero, a landing with the cam's restitution).
+* F_seat, the seat at zero valve lift: rigid, with ``seat_restitution``. A seat is one to two orders stiffer than
+  the train (a few 1e8 N/m against 1e7), so a compliant seat would set the integrator's step for no more
+  information than the restitution gives: the rebound speed. The valve rests on it while the spring's force
+  exceeds the train's.
+
+Between events every active contact's state is smooth, so a stretch is one solve with a terminating event for each
+contact that can open or close. The state is integrated in the cam angle (x and dx/dtheta, m and m/rad).
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import diffrax
+import jax
+import jax.numpy as jnp
+import optimistix as optx
+from jax.typing import ArrayLike
+
+from ..._core.jit import cached_jit
+from ..._core.units import M_PER_MM
+from ..motion import Motion
+from ..valvetrain import ValvetrainModel
+from ._train import contact_force
+
+_RTOL, _ATOL = 1e-10, 1e-14  # the state is in m and m/rad: lifts of 1e-2 m
+GAP_EPS = 1e-12  # m: a landing is detected this far below contact
+_MAX_STEPS = 1_000_000
+CAM, TRAIN, SEAT = 0, 1, 2  # the contacts, in the mode vector and the event list
+
+
+def _state(theta, y, args):
+    """The positions and speeds the contacts see, with the locked ones taken from what locks them."""
+    motion, vt, omega, modes, _ = args
+    cam_locked, train_locked, seat_locked = modes[CAM], modes[TRAIN], modes[SEAT]
+    s, s1, s2, _ = motion(theta) * M_PER_MM
+    xc = jnp.where(cam_locked, s, y[0])
+    pc = jnp.where(cam_locked, s1, y[1])
+    g, r, _ = vt.lever(xc)
+    xv = jnp.where(train_locked, g - vt.lash, jnp.where(seat_locked, 0.0, y[2]))
+    pv = jnp.where(train_locked, r * pc, jnp.where(seat_locked, 0.0, y[3]))
+    return s, s1, s2, xc, pc, xv, pv
+
+
+def _dynamics(theta, y, args):
+    """(accelerations per rad^2 of the follower and the valve, F_cam, F_t, the seat's reaction) in this mode."""
+    motion, vt, omega, modes, _ = args
+    cam_locked, train_locked, seat_locked = modes[CAM], modes[TRAIN], modes[SEAT]
+    s, s1, s2, xc, pc, xv, pv = _state(theta, y, args)
+    w2 = omega**2
+    m_c, m_v = vt.cam_side_mass, vt.valve_mass
+    g, r, r1 = vt.lever(xc)
+    spring = _spring_force(vt, omega, xv, pv, y)
+    # the compliant contacts (0 for a rigid one, whose force is its constraint's): the cam's, and the train's on
+    # its deflection g(x_c) - lash - x_v
+    f_cam_c = jnp.where(jnp.isinf(vt.cam.train_stiffness), 0.0, contact_force(vt.cam, omega, s, s1, xc, pc))
+    f_t_c = jnp.where(
+        jnp.isinf(vt.train.train_stiffness), 0.0, contact_force(vt.train, omega, g - vt.lash, r * pc, xv, pv)
+    )
+    # the train locked: one body at the follower (mass m_c + m_v r^2), driven by the cam or flying on its contact;
+    # a varying ratio adds the valve's r' x_c'^2
+    turn = m_v * r * r1 * pc**2
+    a_body = (f_cam_c - r * spring - vt.tappet_force - turn * w2) / ((m_c + m_v * r**2) * w2)
+    a_c_locked_train = jnp.where(cam_locked, s2, a_body)
+    f_t_locked = m_v * r * a_c_locked_train * w2 + m_v * r1 * pc**2 * w2 + spring
+    f_t = jnp.where(train_locked, f_t_locked, f_t_c)
+    a_c_free = (f_cam_c - r * f_t - vt.tappet_force) / (m_c * w2)
+    a_c = jnp.where(cam_locked, s2, jnp.where(train_locked, a_body, a_c_free))
+    f_cam = jnp.where(cam_locked, m_c * s2 * w2 + r * f_t + vt.tappet_force, f_cam_c)
+    a_v = jnp.where(train_locked, r * a_c + r1 * pc**2, jnp.where(seat_locked, 0.0, (f_t - spring) / (m_v * w2)))
+    f_seat = jnp.where(seat_locked, spring - f_t, 0.0)
+    return a_c, a_v, f_cam, f_t, f_seat, (xc, pc, xv, pv, s, s1)
+
+
+def _spring_force(vt, omega, xv, pv, y):
+    """The valve spring's force on the valve (N): ``k x_v + F0 + c x_v'``, or with its coils as a chain the last
+    segment's (spring and damper) with the preload and the valve's damper."""
+    if vt.coils is None:
+        return vt.spring_rate * xv + vt.preload + vt.spring_damping * omega * pv
+    m = vt.coils.count - 1
+    u, p = y[4 + m - 1], y[4 + 2 * m - 1]  # the lump next to the valve
+    end = vt.coils.segment_rate * (xv - u) + vt.coils.segment_damping * omega * (pv - p)
+    return end + vt.preload + vt.spring_damping * omega * pv
+
+
+def _coils_accel(vt, omega, xv, pv, y):
+    """The inner lumps' accelerations per rad^2, each between its neighbours (the fixed head at 0, the valve)."""
+    c, m = vt.coils, vt.coils.count - 1
+    u, p = y[4 : 4 + m], y[4 + m :]
+    zero = jnp.zeros(1)
+    u_l, u_r = jnp.concatenate([zero, u[:-1]]), jnp.concatenate([u[1:], jnp.atleast_1d(xv)])
+    p_l, p_r = jnp.concatenate([zero, p[:-1]]), jnp.concatenate([p[1:], jnp.atleast_1d(pv)])
+    force = c.segment_rate * (u_l - 2 * u + u_r) + c.segment_damping * omega * (p_l - 2 * p + p_r)
+    return force / (c.lump_mass * omega**2)
+
+
+def _vector_field(theta, y, args):
+    a_c, a_v, *_, (xc, pc, xv, pv, s, s1) = _dynamics(theta, y, args)
+    vt, omega = args[1], args[2]
+    if vt.coils is None:
+        return jnp.stack([pc, a_c, pv, a_v])
+    m = vt.coils.count - 1
+    return jnp.concatenate([jnp.stack([pc, a_c, pv, a_v]), y[4 + m :], _coils_accel(vt, omega, xv, pv, y)])
+
+
+def _conditions(theta, y, args):
+    """Each contact's event function, positive while its mode holds: a locked contact's force, a free one's gap."""
+    _, vt, _, modes, force_tol = args
+    _, _, f_cam, f_t, f_seat, (xc, pc, xv, pv, s, s1) = _dynamics(theta, y, args)
+    cam = jnp.where(modes[CAM], f_cam + force_tol, jnp.where(jnp.isinf(vt.cam.train_stiffness), xc - s + GAP_EPS, 1.0))
+    lash_gap = vt.lash + xv - vt.lever(xc)[0]
+    train = jnp.where(
+        jnp.isinf(vt.train.train_stiffness), jnp.where(modes[TRAIN], f_t + force_tol, lash_gap + GAP_EPS), 1.0
+    )
+    seat = jnp.where(modes[SEAT], f_seat + force_tol, xv + GAP_EPS)
+    return cam, train, seat
+
+
+def _first_change(t, y, args, **kwargs):
+    """Positive while every contact keeps its mode: the least of the contacts' event functions (continuous, so a
+    bracketing root finder pins where the first one changes)."""
+    return jnp.min(jnp.stack(_conditions(t, y, args)))
+
+
+class _Bracket(optx.Bisection):
+    """Bisection that stops on the bracket's width alone: the event functions mix forces (N) and gaps (m), and
+    a force through a kink or a segment boundary need not come near zero at its crossing."""
+
+    def terminate(
+        self, fn: Any, y: Any, args: Any, options: Any, state: Any, tags: Any
+    ) -> tuple[jax.Array, optx.RESULTS]:
+        return jnp.abs(state.lower - state.upper) < self.atol + self.rtol * jnp.abs(y), optx.RESULTS.successful
+
+
+_EVENT = diffrax.Event(_first_change, root_finder=_Bracket(rtol=1e-14, atol=1e-12), direction=False)
+
+
+@cached_jit
+def stretch(
+    motion: Motion,
+    vt: ValvetrainModel,
+    omega: ArrayLike,
+    modes: ArrayLike,
+    force_tol: ArrayLike,
+    t0: jax.Array,
+    t1: jax.Array,
+    y0: ArrayLike,
+    jumps: jax.Array,
+    ts: jax.Array,
+) -> tuple[jax.Array, jax.Array, tuple[jax.Array, jax.Array], jax.Array, jax.Array]:
+    """One stretch in a fixed mode (``modes``: the contacts' locks, :data:`CAM`, :data:`TRAIN`, :data:`SEAT`) at cam
+    speed ``omega`` (rad/s) from t0 (rad) until a contact opens or closes (an event) or t1, saved at ``ts``
+    (clipped into [t0, t1]; those past an event come back as inf) and at its end, with (F_cam, F_t) at each,
+    whether it ended at an event and whether the solver succeeded, and :func:`_state_and_conditions` at its end
+    (what the transition there reads: one program call a stretch, not two)."""
+    pid = diffrax.PIDController(rtol=_RTOL, atol=_ATOL)
+    args = (motion, vt, omega, modes, force_tol)
+    sol = diffrax.diffeqsolve(
+        diffrax.ODETerm(_vector_field),
+        diffrax.Tsit5(),
+        t0=t0,
+        t1=t1,
+        dt0=None,
+        y0=y0,
+        args=args,
+        saveat=diffrax.SaveAt(subs=(diffrax.SubSaveAt(ts=ts), diffrax.SubSaveAt(t1=True))),
+        stepsize_controller=diffrax.ClipStepSizeController(pid, jump_ts=jumps),
+        event=_EVENT,
+        max_steps=_MAX_STEPS,
+        throw=False,
+    )
+
+    def one(t: ArrayLike, y: jax.Array) -> jax.Array:
+        _, _, f_cam, f_t, _, (xc, pc, xv, pv, _, _) = _dynamics(t, y, args)
+        return jnp.stack([xc, pc, xv, pv, f_cam, f_t])
+
+    assert sol.ts is not None and sol.ys is not None  # saved at ts and at the end
+    (t_saved, t_end), (y_saved, y_end) = sol.ts, sol.ys
+    # the solver's result as two flags: a stored program (cached_jit) returns arrays, not equinox's enumeration
+    hit, ok = sol.result == diffrax.RESULTS.event_occurred, sol.result == diffrax.RESULTS.successful
+    end = _state_and_conditions(t_end[0], y_end[0], args)
+    return t_end[0], y_end[0], (hit, ok), jax.vmap(one)(t_saved, y_saved), end
+
+
+def _state_and_conditions(theta, y, args):
+    """:func:`_state`'s seven numbers and :func:`_conditions`' three in one array: where a stretch ends, one call."""
+    return jnp.concatenate([jnp.stack(_state(theta, y, args)), jnp.stack(_conditions(theta, y, args))])
+
+
+conditions_at = cached_jit(_conditions)  # the contacts' event functions at one state
+state_and_conditions_at = cached_jit(_state_and_conditions)
