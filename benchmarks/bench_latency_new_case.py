@@ -8,10 +8,12 @@ or ``$XDG_CACHE_HOME/camdyn``), which are NOT cleared: the point is a cache warm
 (b) a never-seen case: the lecture's follower and dynamics with a random segment list (a seed taken from the clock,
     so the structure is new to the caches: 3-9 segments of random named laws, lifts and angles), its first ``check``;
 (c) the 1000-segment program: alternating cycloids of 0.36 deg each, +-1 mm give or take a random half millimetre
-    (so its numbers are new to the caches too), its first ``check``.
-Prints each wall time and its ratio to (a), and for (b) and (c) their ratio to a second ``check`` of the same case (its
-own warm check: what the caches leave of a first one, the case's own work apart). The machine may be shared: the load
-average is printed.
+    (so its numbers are new to the caches too), its first ``check``;
+(d) the same for a rigid follower (the lecture without its train's stiffness and damping): the rigid lecture warm,
+    then a never-seen rigid case (another random segment list), its first ``check``.
+Prints each wall time and its ratio to (a) (for (d), to the rigid lecture's warm check), and for (b), (c) and (d)
+their ratio to a second ``check`` of the same case (its own warm check: what the caches leave of a first one, the
+case's own work apart). The machine may be shared: the load average is printed.
 """
 
 from __future__ import annotations
@@ -36,6 +38,11 @@ def check_time(case: Path) -> tuple[float, int]:
         [sys.executable, "-m", "camdyn", "check", str(case)], cwd=ROOT, capture_output=True, text=True
     ).returncode
     return time.perf_counter() - t, rc
+
+
+def rigid(text: str) -> str:
+    """A case's text without its train's stiffness and damping: a rigid follower."""
+    return "".join(line for line in text.splitlines(True) if not line.startswith(("train_stiffness", "train_damping")))
 
 
 def lecture_with(segments: str, name: str) -> str:
@@ -82,6 +89,9 @@ def main() -> int:
     new, thousand = tmp / "new.toml", tmp / "thousand.toml"
     new.write_text(lecture_with(random_segments(rng), "never-seen"))
     thousand.write_text(lecture_with(thousand_segments(rng), "thousand"))
+    rigid_lecture, rigid_new = tmp / "lecture-rigid.toml", tmp / "new-rigid.toml"
+    rigid_lecture.write_text(rigid((ROOT / "cases" / "lecture.toml").read_text()))
+    rigid_new.write_text(rigid(lecture_with(random_segments(rng), "never-seen-rigid")))
 
     check_time(ROOT / "cases" / "lecture.toml")  # fills the caches if they are empty
     warm = min(check_time(ROOT / "cases" / "lecture.toml")[0] for _ in range(opts.repeat))
@@ -90,15 +100,24 @@ def main() -> int:
     # each case's own warm check: a failing case (the follower bouncing for dozens of revolutions of the shooting)
     # costs more than the lecture however warm the caches, and this ratio is the caches' share alone
     t_new2, t_10002 = check_time(new)[0], check_time(thousand)[0]
+    check_time(rigid_lecture)
+    warm_rigid = min(check_time(rigid_lecture)[0] for _ in range(opts.repeat))
+    t_rigid, rc_rigid = check_time(rigid_new)
+    t_rigid2 = check_time(rigid_new)[0]
     print(f"load average {os.getloadavg()[0]:.1f} on {os.cpu_count()} CPUs; cases in {tmp}")
     print(f"{'what':<52} {'wall':>8} {'/ warm':>8} {'/ its own warm':>15}")
     print(f"{'check cases/lecture.toml, warm caches':<52} {warm:7.2f}s {1.0:8.2f}")
-    for name, first, rc, again in (
-        ("a never-seen case", t_new, rc_new, t_new2),
-        ("1000 cycloids", t_1000, rc_1000, t_10002),
+    for name, first, rc, again, unit in (
+        ("a never-seen case", t_new, rc_new, t_new2, warm),
+        ("1000 cycloids", t_1000, rc_1000, t_10002, warm),
+        (None, warm_rigid, 0, warm_rigid, warm_rigid),
+        ("a never-seen rigid case", t_rigid, rc_rigid, t_rigid2, warm_rigid),
     ):
-        print(f"{f'first check of {name} (exit {rc})':<52} {first:7.2f}s {first / warm:8.2f} {first / again:15.2f}")
-        print(f"{'  its second check':<52} {again:7.2f}s {again / warm:8.2f}")
+        if name is None:
+            print(f"{'check of the lecture, rigid follower, warm caches':<52} {first:7.2f}s {1.0:8.2f}")
+            continue
+        print(f"{f'first check of {name} (exit {rc})':<52} {first:7.2f}s {first / unit:8.2f} {first / again:15.2f}")
+        print(f"{'  its second check':<52} {again:7.2f}s {again / unit:8.2f}")
     return 0
 
 

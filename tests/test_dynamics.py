@@ -15,8 +15,6 @@ from __future__ import annotations
 import functools
 import math
 
-import equinox as eqx
-import jax
 import jax.numpy as jnp
 import numpy as np
 import pytest
@@ -25,10 +23,12 @@ from scipy.optimize import brentq
 
 import camdyn.model  # noqa: F401  (float64)
 from camdyn._core.errors import NumericalError
+from camdyn._core.units import THETA_GRID
 from camdyn.design.checks import run_check
 from camdyn.model import dynamics as dyn
 from camdyn.model.case import case_from_dict
 from camdyn.model.dynamics import _compliant, _rigid
+from camdyn.model.dynamics._root import itp_zero
 from camdyn.model.follower import FollowerModel
 from camdyn.model.motion import Program
 
@@ -414,11 +414,14 @@ def test_free_flight_closed_form(lecture):
     omega = 600 * RPM
     t_lo = lift_off(model, omega, 130, 155)
     s0, s10, _ = lecture_motion(np.array([t_lo]))
-    # same argument types as rigid_response (strong float64): one compile shared with the rigid tests
-    sol = _rigid._flight(
-        motion, model, jnp.asarray(omega, dtype=float), jnp.asarray(t_lo, dtype=float), jnp.asarray([s0[0], s10[0]])
+    # the argument types of rigid_response's march (a flight leaving the cam at its speed): one program shared
+    t1, y1, s1, landed, tt, yy = (
+        np.asarray(a)
+        for a in _rigid._flight(
+            motion, model, np.asarray(omega), np.asarray(t_lo), np.asarray(0.0), np.asarray(t_lo + 7.0), THETA_GRID
+        )
     )
-    t1 = float(np.asarray(sol.ts)[-1])
+    t1 = float(t1)
     x_cf, _ = flight_closed_form(model, omega, t_lo, s0[0], s10[0])
     # landing where the closed-form x meets the cam again
     th = np.linspace(t_lo + 1e-3, t_lo + math.pi, 20001)
@@ -426,14 +429,35 @@ def test_free_flight_closed_form(lecture):
     j = int(np.nonzero(gap < 0)[0][0])
     t_land = brentq(lambda t: float(x_cf(t) - lecture_motion(np.array([t]))[0][0]), th[j - 1], th[j], xtol=1e-15)
     assert math.degrees(t_land - t_lo) > 20.0  # a real flight
-    assert abs(t1 - t_land) < 1e-8, (t1, t_land)
-    y1 = np.asarray(sol.ys)[-1]
+    assert bool(landed) and abs(t1 - t_land) < 1e-8, (t1, t_land)
     assert abs(y1[0] - lecture_motion(np.array([t1]))[0][0]) < 1e-8  # the event: x = s at the landing
-    # the dense solution against the closed form before the landing
-    angles = t_lo + (t1 - t_lo) * np.array([0.01, 0.1, 0.3, 0.5, 0.7, 0.9, 0.999])
-    got = np.asarray(eqx.filter_jit(lambda sol, t: jax.vmap(sol.evaluate)(t))(sol, angles))[:, 0]  # one compiled call
-    assert np.max(np.abs(got - x_cf(angles))) < 5e-8, np.abs(got - x_cf(angles))  # mm (measured 4e-9)
-    assert np.all(got > lecture_motion(angles)[0])  # airborne
+    assert np.allclose(s1, [a[0] for a in lecture_motion(np.array([t1]))[:2]], rtol=0, atol=1e-12)  # the cam there
+    # the dense solution on the grid's angles within the flight against the closed form (the rest clipped to t1)
+    inside = tt < t1
+    assert inside.sum() > 200 and np.all(tt[inside] >= t_lo) and np.all(tt[~inside] == t1)
+    assert np.allclose(np.diff(tt[inside]), 2 * math.pi / THETA_GRID, rtol=0, atol=1e-12)
+    got = yy[inside, 0]
+    assert np.max(np.abs(got - x_cf(tt[inside]))) < 5e-8, np.max(np.abs(got - x_cf(tt[inside])))  # mm
+    assert np.all(got[1:] > lecture_motion(tt[inside][1:])[0])  # airborne
+
+
+def test_itp_zero_brackets_the_zero_within_bisections_count():
+    """The bracketing root finder of the speed searches and the rigid lift-off: the zero of cos within half the width,
+    in a few evaluations (smooth: the regula falsi's pace); a step with no slope (a jump) never costs more than
+    bisection's count plus one; a non-finite value raises what the caller names."""
+    calls = []
+
+    def cos(x):
+        calls.append(x)
+        return math.cos(x)
+
+    z = itp_zero(cos, 0.0, 3.0, 1.0, math.cos(3.0), 1e-12, ValueError)
+    assert abs(z - math.pi / 2) <= 0.5e-12 and len(calls) <= 10
+    calls.clear()
+    z = itp_zero(lambda x: cos(0.0 if x < 0.3 else math.pi), 0.0, 1.0, 1.0, -1.0, 1e-9, ValueError)
+    assert abs(z - 0.3) <= 0.5e-9 and len(calls) <= math.ceil(math.log2(1.0 / 1e-9)) + 1
+    with pytest.raises(ValueError, match="0.5"):
+        itp_zero(lambda x: math.nan, 0.0, 1.0, 1.0, -1.0, 1e-6, lambda x: ValueError(f"not finite at {x}"))
 
 
 # ================================================================================= 4. rigid model

@@ -104,6 +104,27 @@ def test_prepare_compiles_without_running_and_threads_compile_at_once(tmp_path, 
     assert np.allclose(fns[0](np.arange(3.0)), [0.0, 2.0, 4.0]) and len(traced) == 2  # prepared: not traced again
 
 
+def test_store_compiles_a_missing_program_and_leaves_a_stored_one_unloaded(tmp_path, monkeypatch):
+    """``store`` compiles and stores a program no process has stored, which the call then runs without a second
+    trace; where it is stored, ``store`` neither loads nor traces it (a warm process pays a file's lookup)."""
+    monkeypatch.setattr(programs, "_DIR", None)
+    programs.enable(tmp_path)
+    traced = []
+
+    def halve(x):
+        traced.append(1)
+        return 0.5 * x
+
+    fn = programs.cached_jit(halve)
+    fn.store(np.ones(3))
+    assert len(traced) == 1 and len(list(tmp_path.rglob("halve-*.jaxprogram"))) == 1
+    assert np.allclose(fn(np.arange(3.0)), [0.0, 0.5, 1.0]) and len(traced) == 1  # stored and kept: no trace
+    again = programs.cached_jit(halve)  # as in a fresh process
+    monkeypatch.setattr(programs, "_load", lambda *_: pytest.fail("a stored program was loaded"))
+    again.store(np.ones(3))
+    assert len(traced) == 1
+
+
 def test_a_call_waits_for_the_head_start_that_loads_its_program(tmp_path, monkeypatch, capsys):
     """A program prepared on another thread (``in_background``) while the caller reaches its first call is traced
     and compiled once: the call waits for it instead of compiling it again. A head start that fails is ignored."""
@@ -298,15 +319,20 @@ def test_programs_are_stored_compiled_and_lapack_ones_exported(tmp_path, monkeyp
         assert np.allclose(got, np.linalg.solve(a, b) if want is None else want)
 
 
-@pytest.mark.slow  # three fresh processes, two of them compiling every program
+@pytest.mark.slow  # four fresh processes, two of them compiling every program
 def test_fresh_check_processes_agree_with_and_without_the_caches(tmp_path):
     env = {k: v for k, v in os.environ.items() if k != "CAMDYN_NO_CACHE"} | {"XDG_CACHE_HOME": str(tmp_path)}
     cmd = [sys.executable, "-m", "camdyn", "check", str(ROOT / "cases" / "lecture.toml"), "--json"]
     runs = [subprocess.run(cmd, env=env, capture_output=True, text=True, check=True) for _ in range(2)]
     plain = subprocess.run(cmd, env=env | {"CAMDYN_NO_CACHE": "1"}, capture_output=True, text=True, check=True)
-    assert list((tmp_path / "camdyn" / "programs").rglob("_rev_in_contact-*.jaxprogram"))
+    stored = sorted((tmp_path / "camdyn" / "programs").rglob("*.jaxprogram"))
+    # the follower stays on the cam (the smooth orbit's program), and the program of one that leaves it is stored
+    # on the side: a failing case after it compiles nothing (issue 23: a new case as fast as a stored one)
+    assert {p.name.split("-")[0] for p in stored} >= {"_rev_in_contact", "_rev_with_sensitivity"}
     docs = [json.loads(r.stdout) for r in (*runs, plain)]
     assert docs[0] == docs[1] == docs[2]
+    fast = subprocess.run([*cmd[:4], str(ROOT / "cases" / "lecture-fast.toml")], env=env, capture_output=True)
+    assert fast.returncode == 1 and sorted((tmp_path / "camdyn" / "programs").rglob("*.jaxprogram")) == stored
 
 
 def _kernel_key(motion):

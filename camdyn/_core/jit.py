@@ -398,17 +398,26 @@ def jit_with(fn: Callable, options: dict) -> Callable:
     return call
 
 
-def _load_or_compile(
-    root: Path, fn: Callable, jitted: Callable, options: dict, treedef, forms, is_array, static, avals
-) -> Callable:
-    """:func:`cached_jit`'s program for ``fn`` and these arguments: loaded from ``root``, or traced, compiled and
-    stored there (the plain ``jitted`` where it cannot be stored)."""
+def _program_name(fn: Callable, options: dict, treedef, forms, is_array, static, avals) -> str:
+    """The name of :func:`cached_jit`'s program for ``fn`` and these arguments (its file's, after ``fn``'s)."""
     # the static part as the treedefs (structure, static fields) and the static leaves say it: an equinox
     # module's own repr pretty-prints, a millisecond or more a program
     text = repr((fn.__module__, fn.__qualname__, _fingerprint(), treedef, forms, is_array, static, avals))
     text += repr(sorted(options.items())) if options else ""  # no options: the keys of before
-    name = hashlib.sha256(text.encode()).hexdigest()[:32]
-    file = _programs(root) / f"{fn.__name__}-{name}.{SUFFIX}"
+    return hashlib.sha256(text.encode()).hexdigest()[:32]
+
+
+def _program_file(root: Path, fn: Callable, name: str) -> Path:
+    """The file of :func:`cached_jit`'s program ``name`` for ``fn`` under ``root``."""
+    return _programs(root) / f"{fn.__name__}-{name}.{SUFFIX}"
+
+
+def _load_or_compile(
+    root: Path, name: str, fn: Callable, jitted: Callable, options: dict, treedef, forms, is_array, static, avals
+) -> Callable:
+    """:func:`cached_jit`'s program ``name`` for ``fn`` and these arguments: loaded from ``root``, or traced,
+    compiled and stored there (the plain ``jitted`` where it cannot be stored)."""
+    file = _program_file(root, fn, name)
     program = _load(file)
     if program is not None:
         return program
@@ -455,10 +464,10 @@ def cached_jit(fn: Callable[..., T], compiler_options: tuple[tuple[str, Any], ..
     # :func:`in_background`) waits for it instead of loading it a second time
     loading = threading.RLock()
 
-    def program_for(tree: tuple) -> tuple[Callable, list] | None:
+    def program_for(tree: tuple, load: bool = True) -> tuple[Callable, list] | None:
         """The program for these (args, kwargs), compiled or loaded, and their array leaves; None where the plain
-        ``jitted`` runs them (inside another trace, or with the cache not enabled). A motion is keyed and traced as
-        its :func:`jit_forms`."""
+        ``jitted`` runs them (inside another trace, or with the cache not enabled), and with ``load`` False where
+        the program is stored (it is not loaded). A motion is keyed and traced as its :func:`jit_forms`."""
         if (root := _DIR) is None:
             return None
         outer, treedef = jax.tree.flatten(tree, is_leaf=_flat_once)
@@ -473,10 +482,13 @@ def cached_jit(fn: Callable[..., T], compiler_options: tuple[tuple[str, Any], ..
             static = [x for p in parts for x in p.static]
             avals = tuple(v for p in parts for v in p.avals)
             with loading:
-                program = programs.get(key) or _load_or_compile(
-                    root, fn, jitted, options, treedef, forms, is_array, static, avals
-                )
-                programs[key] = program
+                program = programs.get(key)
+                if program is None:
+                    name = _program_name(fn, options, treedef, forms, is_array, static, avals)
+                    if not load and _program_file(root, fn, name).exists():
+                        return None
+                    program = _load_or_compile(root, name, fn, jitted, options, treedef, forms, is_array, static, avals)
+                    programs[key] = program
         arrays = [x for p in parts for x in p.arrays]
         return program, arrays
 
@@ -493,5 +505,11 @@ def cached_jit(fn: Callable[..., T], compiler_options: tuple[tuple[str, Any], ..
         not enabled)."""
         program_for((args, kwargs))
 
+    def store(*args: Any, **kwargs: Any) -> None:
+        """Compile and store the program for arguments like these where none is stored, without loading a stored
+        one (nothing where the cache is not enabled): for a later process's first call."""
+        program_for((args, kwargs), load=False)
+
     call.prepare = prepare  # pyright: ignore[reportAttributeAccessIssue]
+    call.store = store  # pyright: ignore[reportAttributeAccessIssue]
     return call

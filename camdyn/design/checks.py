@@ -328,6 +328,8 @@ def run_check(case: Case, speed_rpm: float | None = None) -> CheckReport:
         return _closure_check(case, rpm)
     omega = rpm * RPM
     motion, model, limits = case.motion, case.model, case.limits
+    # the programs of a follower of this kind that stays on its cam and of one that leaves it, stored on the side
+    jit.in_background(functools.partial(dyn.store_response, motion, model), "camdyn-store")
     warnings = list(case.warnings) + ([case.spring.note] if case.spring.note else [])
 
     resp = dyn.response(motion, model, omega)

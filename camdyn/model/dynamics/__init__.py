@@ -30,7 +30,7 @@ from ._harmonic import (
     steady_train_force,
 )
 from ._kinematic import kinematic_force, kinematic_force_jit, kinematic_force_of, kinematic_jump_speed
-from ._response import dynamic_jump_speed, first_zero_speed, jump_search_limit, response
+from ._response import dynamic_jump_speed, first_zero_speed, jump_search_limit, response, store_response
 from ._result import Flight, Impact, Response, Separation
 from ._rigid import rigid_response
 from ._train import contact_force, free_vibration, preload_share, static_position, train_force
@@ -64,6 +64,7 @@ __all__ = [
     "linear_min_force",
     "min_contact_force",
     "periodic_orbit",
+    "store_response",
     "preload_share",
     "response",
     "rigid_response",

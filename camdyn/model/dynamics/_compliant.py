@@ -119,6 +119,16 @@ _rev_jit = cached_jit(_rev_with_sensitivity)
 _rev_smooth_jit = cached_jit(_rev_in_contact)
 
 
+def store_shooting(motion: Motion, model: FollowerModel, n: int = THETA_GRID) -> None:
+    """Compile and store both shooting programs for ``motion``'s and ``model``'s kinds on ``n`` angles where either
+    is missing, without loading a stored one: the shooting runs one of them (:func:`_shoot`), and a later case of the
+    other kind (a follower that leaves its cam after one that stays on it, or the reverse) then finds its own
+    program stored instead of compiling it (about 1.5 s on a CPU). Nothing where the program cache is off."""
+    w, z, theta = np.asarray(1.0), np.zeros(2), np.zeros(n)
+    for program in (_rev_smooth_jit, _rev_jit):
+        program.store(motion, model, w, z, theta)  # pyright: ignore[reportFunctionMemberAccess]
+
+
 _PLAIN_REVS = 60  # after Newton stalls (non-smooth bouncing): revolutions of plain iteration at most
 # Revolutions without a better residual after which an orbit already periodic to within PERIODIC_TOL stops while
 # Newton may still step (past Newton's iterations, the first revolution within it ends the run): a follower that

@@ -53,6 +53,12 @@ def kinematic_force_jit(
     return on_angle_buckets(lambda t: _kinematic_force_program(motion, model, w, t), theta)
 
 
+def store_kinematic_force(motion: Motion, model: FollowerModel) -> None:
+    """Compile and store :func:`kinematic_force_jit`'s program at one angle (a lift-off's root search) where it is
+    missing, without loading a stored one (nothing where the program cache is off)."""
+    _kinematic_force_program.store(motion, model, np.asarray(1.0), np.zeros(()))  # pyright: ignore[reportFunctionMemberAccess]
+
+
 def _quadratic_jump_speed(a, b, c):
     """Least w > 0 with a w^2 + b w + c <= 0 given c > 0 (inf where none); vectorized numpy."""
     a, b, c = np.broadcast_arrays(np.asarray(a, float), np.asarray(b, float), np.asarray(c, float))

@@ -11,11 +11,12 @@ from ..._core.errors import NumericalError
 from ..._core.units import JUMP_SEARCH_FACTOR, RPM, THETA_GRID
 from ..follower import FollowerModel
 from ..motion import Motion
-from ._compliant import compliant_response
+from ._compliant import compliant_response, store_shooting
 from ._harmonic import BISECT_POINTS, linear_min_force
 from ._kinematic import kinematic_jump_speed
 from ._result import Response
-from ._rigid import rigid_response
+from ._rigid import rigid_response, store_flight
+from ._root import itp_zero
 
 # speeds of the linear model's jump-speed scan per call: four of linear_min_force's batches of 64
 SCAN_CHUNK = 256
@@ -24,6 +25,13 @@ SCAN_CHUNK = 256
 def response(motion: Motion, model: FollowerModel, omega: float, n: int = THETA_GRID) -> Response:
     """Steady-state response with the model the parameters call for (rigid if train_stiffness is inf)."""
     return rigid_response(motion, model, omega, n) if model.rigid else compliant_response(motion, model, omega, n)
+
+
+def store_response(motion: Motion, model: FollowerModel, n: int = THETA_GRID) -> None:
+    """Compile and store every program :func:`response` may run for this follower kind, where one is missing,
+    without loading the stored ones: whether the follower stays on its cam or leaves it, a later case of the same
+    kind finds its programs stored (issue 23: a new case as fast as a stored one). ``check`` runs it on the side."""
+    (store_flight if model.rigid else store_shooting)(motion, model, n)
 
 
 def dynamic_jump_speed(
@@ -110,35 +118,12 @@ def first_zero_speed(
 def _itp(
     force: Callable[[float], float], lo: float, hi: float, f_lo: float, f_hi: float, width: float, where: str
 ) -> float:
-    """The midpoint of a bracket of ``force``'s zero at most ``width`` wide, from ``force(lo) = f_lo > 0 >= f_hi =
-    force(hi)``: the ITP method (interpolate, truncate, project; Oliveira & Takahashi, ACM TOMS 47, 2021) with its
-    usual constants (kappa1 = 0.2 / (hi - lo), kappa2 = 2, n0 = 1). Each speed is the regula falsi's, moved towards
-    the midpoint (by at least 0.45 ``width``) and kept within the bisection's worst case, so it takes at most one
-    speed more than bisection and, where the force is smooth, a few. A force of 0 counts as reached, as in the
-    scan; ``where`` names the model in a numerical error."""
-    n_max = max(0, math.ceil(math.log2((hi - lo) / width))) + 1
-    kappa1 = 0.2 / (hi - lo)
-    j = 0
-    while hi - lo > width * (1.0 + 1e-12):
-        mid, half = 0.5 * (lo + hi), 0.5 * (hi - lo)
-        radius = max(0.0, 0.5 * width * 2.0 ** (n_max - j) - half)  # how far from the midpoint keeps the worst case
-        falsi = (f_hi * lo - f_lo * hi) / (f_hi - f_lo)
-        toward = math.copysign(1.0, mid - falsi)
-        # kappa1's truncation, and at least 0.45 of the width: the next speeds fall either side of the zero, not
-        # on it, so two of them close a bracket narrower than the width (the regula falsi converges from one side)
-        delta = max(kappa1 * (hi - lo) ** 2, 0.45 * width)
-        x = falsi + toward * delta if delta <= abs(mid - falsi) else mid
-        if abs(x - mid) > radius:
-            x = mid - toward * radius
-        f = force(x)
-        if not math.isfinite(f):
-            raise NumericalError(f"{where} at {x / RPM:.1f} rpm", "the steady-state force is not finite")
-        if f <= 0.0:
-            hi, f_hi = x, f
-        else:
-            lo, f_lo = x, f
-        j += 1
-    return 0.5 * (lo + hi)
+    """:func:`itp_zero` of the least force over speed (rad/s); ``where`` names the model in a numerical error."""
+
+    def not_finite(w: float) -> NumericalError:
+        return NumericalError(f"{where} at {w / RPM:.1f} rpm", "the steady-state force is not finite")
+
+    return itp_zero(force, lo, hi, f_lo, f_hi, width, not_finite)
 
 
 def jump_search_limit(top_omega: float, kinematic_jump: float) -> float:

@@ -5,23 +5,22 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import cast
 
 import diffrax
-import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
 import optimistix as optx
 
 from ..._core.errors import NumericalError
-from ..._core.jit import filter_jit
+from ..._core.jit import cached_jit
 from ..._core.units import THETA_GRID, TWO_PI
 from ..follower import FollowerModel
 from ..motion import Motion, evaluate
 from ._compliant import vector_field
-from ._kinematic import kinematic_force_jit
+from ._kinematic import kinematic_force_jit, store_kinematic_force
 from ._result import Response, Separation, residual_vibration
+from ._root import itp_zero
 from ._solver import ATOL, MAX_STEPS, RTOL
 
 _GAP_EPS = 1e-9  # motion units; a landing is detected this far below contact, so a flight starts above it
@@ -33,10 +32,16 @@ def _flight_event(t, y, args, **kwargs):
     return y[0] - motion(t)[0] + _GAP_EPS
 
 
-@filter_jit
-def _flight(motion, model, omega, theta0, y0):
-    """Free flight from theta0 until the follower lands on the cam (event) or 4 pi later."""
-    return diffrax.diffeqsolve(
+@cached_jit
+def _flight(motion, model, omega, theta0, dv, t_cap, n: int):
+    """Free flight from the cam at ``theta0`` (rad), leaving it ``dv`` (motion units per rad) faster than the cam,
+    until the follower lands on the cam (an event) or 4 pi later, and the flight on the grid of ``n`` angles a
+    revolution: the end ``t1`` (the landing, else the solve's end capped at ``t_cap``), the state and the cam's
+    (s, s') there, whether it landed, and the state at the ``2 n`` grid angles from the first at or after ``theta0``,
+    clipped into [theta0, t1] (one stored program: the flight's start on the cam, its solve and its samples)."""
+    s0 = motion(theta0)
+    y0 = jnp.stack([s0[0], s0[1] + dv])
+    sol = diffrax.diffeqsolve(
         diffrax.ODETerm(vector_field),
         diffrax.Tsit5(),
         t0=theta0,
@@ -50,26 +55,42 @@ def _flight(motion, model, omega, theta0, y0):
         max_steps=MAX_STEPS,
         throw=False,
     )
+    assert sol.ts is not None and sol.ys is not None  # saved at the end
+    landed = sol.result == diffrax.RESULTS.event_occurred
+    t1 = jnp.where(landed, sol.ts[-1], jnp.minimum(sol.ts[-1], t_cap))
+    h = TWO_PI / n
+    tt = jnp.clip((jnp.ceil(theta0 / h) + jnp.arange(2 * n)) * h, theta0, t1)
+    return t1, sol.ys[-1], motion(t1)[:2], landed, tt, jax.vmap(sol.evaluate)(tt)
 
 
-@eqx.filter_jit
-def _sample_dense(sol, ts):
-    return jax.vmap(sol.evaluate)(ts)
+_LIFT_OFF_WIDTH = 2e-13  # rad: the lift-off's bracket (its midpoint within 1e-13 rad of the zero)
 
 
 def _lift_off(fk, t_a: float, h: float, breaks_rad: np.ndarray) -> float:
     """The lift-off angle (rad) in the grid step [t_a, t_a + h] where the kinematic force ``fk`` falls to zero.
 
-    Where the force is continuous, Brent's root. Where the step holds a segment boundary at which the force jumps
-    from positive to non-positive (an acceleration jump), the follower leaves exactly there: the boundary, just
-    past it. The grid's own sign change may sit on either side of a boundary on the grid, so the step is widened
-    by a step each way before giving up.
+    Where the force is continuous, its zero (:func:`itp_zero`, to 1e-13 rad). Where the step holds a segment
+    boundary at which the force jumps from positive to non-positive (an acceleration jump), the follower leaves
+    exactly there: the boundary, just past it. The grid's own sign change may sit on either side of a boundary on
+    the grid, so the step is widened by a step each way before giving up.
     """
-    from scipy.optimize import brentq  # only a follower that leaves the cam gets here: scipy.optimize takes 0.2 s
+    where = f"lift-off near {math.degrees(t_a) % 360:.2f} deg"
+
+    def zero(lo: float, hi: float, f_lo: float, f_hi: float) -> float:
+        return itp_zero(
+            fk,
+            lo,
+            hi,
+            f_lo,
+            f_hi,
+            _LIFT_OFF_WIDTH,
+            lambda t: NumericalError(where, "the kinematic force is not finite"),
+        )
 
     a, b = t_a, t_a + h
-    if fk(a) > 0.0 >= fk(b):
-        return cast(float, brentq(fk, a, b, xtol=1e-13))  # unannotated: a float without full_output
+    f_a, f_b = fk(a), fk(b)
+    if f_a > 0.0 >= f_b:
+        return zero(a, b, f_a, f_b)
     for brk in breaks_rad:  # a jump at a segment boundary in or next to this step
         t_b = brk + TWO_PI * math.floor((t_a - brk) / TWO_PI + 0.5)
         if a - h - 1e-12 <= t_b <= b + h + 1e-12 and fk(t_b - _BREAK_EPS) > 0.0 >= fk(t_b + _BREAK_EPS):
@@ -78,11 +99,8 @@ def _lift_off(fk, t_a: float, h: float, breaks_rad: np.ndarray) -> float:
     fs = [fk(t) for t in ts]
     for k in range(32):
         if fs[k] > 0.0 >= fs[k + 1]:
-            return cast(float, brentq(fk, ts[k], ts[k + 1], xtol=1e-13))
-    raise NumericalError(
-        f"lift-off near {math.degrees(t_a) % 360:.2f} deg",
-        "no sign change of the kinematic force found in the step the grid flagged",
-    )
+            return zero(float(ts[k]), float(ts[k + 1]), fs[k], fs[k + 1])
+    raise NumericalError(where, "no sign change of the kinematic force found in the step the grid flagged")
 
 
 @dataclass
@@ -106,20 +124,17 @@ def _march(motion, model, omega, fk, t_lo, out, vals, n, max_bounces) -> _Flight
     h = TWO_PI / n
     w_sc = omega * model.scale
     e = float(model.restitution)
-    s_lo = np.asarray(evaluate(motion, jnp.asarray(t_lo)))
-    y = jnp.asarray([s_lo[0], s_lo[1]])
     fl = _Flight(end=t_lo)
-    t0 = t_lo
+    t0, dv = t_lo, 0.0  # each flight leaves the cam, dv faster than it
+    w, t_cap = np.asarray(omega, dtype=float), np.asarray(t_lo + TWO_PI - h)
     for _ in range(max_bounces + 2):
-        sol = _flight(motion, model, jnp.asarray(omega, dtype=float), jnp.asarray(t0, dtype=float), y)
-        landed = sol.result == diffrax.RESULTS.event_occurred
-        assert sol.ts is not None and sol.ys is not None  # _flight saves the states
-        t1 = float(sol.ts[-1]) if landed else min(float(sol.ts[-1]), t_lo + TWO_PI - h)
+        flight = _flight(motion, model, w, np.asarray(t0), np.asarray(dv), t_cap, n)
+        t1, y1, s1, landed, tt, yy = (np.asarray(a) for a in flight)
+        t1, landed = float(t1), bool(landed)
         k0, k1 = math.ceil(t0 / h), math.floor(t1 / h)
-        if k1 >= k0:  # sample the flight on the grid: the output arrays and the largest gap
+        if k1 >= k0:  # the flight on the grid: the output arrays and the largest gap
             count = k1 - k0 + 1
-            tt = np.clip(np.arange(k0, k0 + 2 * n) * h, t0, t1)  # fixed shape: one compile
-            yy = np.asarray(_sample_dense(sol, jnp.asarray(tt)))[:count]
+            yy = yy[:count]
             ii = np.arange(k0, k1 + 1) % n
             x[ii], p[ii], force[ii] = yy[:, 0], yy[:, 1], 0.0
             gaps = yy[:, 0] - vals[0][ii]
@@ -128,8 +143,6 @@ def _march(motion, model, omega, fk, t_lo, out, vals, n, max_bounces) -> _Flight
         if not landed or t1 - t_lo > TWO_PI - h:  # not back on the cam within a revolution of lift-off
             fl.end, fl.settled = t1, False
             return fl
-        y1 = np.asarray(sol.ys[-1])
-        s1 = np.asarray(evaluate(motion, jnp.asarray(t1)))
         rel = y1[1] - s1[1]  # per rad, negative: closing
         if fl.impact is None:
             fl.impact, fl.impact_at = abs(rel) * w_sc, t1
@@ -140,17 +153,27 @@ def _march(motion, model, omega, fk, t_lo, out, vals, n, max_bounces) -> _Flight
         v_floor = 10.0 * math.sqrt(2.0 * a_rel * _GAP_EPS)
         if e > 0.0 and abs(rel) > v_floor:
             fl.bounces += 1
-            y = jnp.asarray([s1[0], s1[1] - e * rel])
+            dv = -e * rel
             continue
         if fk(t1) <= 0.0:  # the cam is still pulling away: another flight right away
             fl.bounces += 1
-            y = jnp.asarray([s1[0], s1[1]])
+            dv = 0.0
             continue
         # the bounces left below the floor form a geometric sequence: flight times 2 e^k v / a, summed
         fl.end = t1 + (2.0 * e * abs(rel) / (a_rel * (1.0 - e)) if 0.0 < e < 1.0 and a_rel > 0.0 else 0.0)
         return fl
     fl.end, fl.settled = t0, False  # still bouncing after max_bounces
     return fl
+
+
+def store_flight(motion: Motion, model: FollowerModel, n: int = THETA_GRID) -> None:
+    """Compile and store the programs of a rigid follower that leaves its cam (the flight on ``n`` angles, the
+    kinematic force at one angle) where either is missing, without loading a stored one: a case whose follower
+    stays on the cam then stores them for a later one whose follower leaves it (about 2 s of compiles on a CPU).
+    Nothing where the program cache is off."""
+    w, t = np.asarray(1.0), np.asarray(0.0)
+    _flight.store(motion, model, w, t, t, t, n)  # pyright: ignore[reportFunctionMemberAccess]
+    store_kinematic_force(motion, model)
 
 
 def rigid_response(
@@ -175,8 +198,10 @@ def rigid_response(
             "rigid", float(omega), theta_deg, vals[0], vals[0].copy(), vals[1].copy(), kin, kin, (), 0.0, 0.0
         )
 
+    w = np.asarray(omega, dtype=float)
+
     def fk(t: float) -> float:
-        return float(kinematic_force_jit(motion, model, jnp.asarray(omega, dtype=float), jnp.asarray(t, dtype=float)))
+        return float(kinematic_force_jit(motion, model, w, np.asarray(t, dtype=float)))
 
     x, p, force = vals[0].copy(), vals[1].copy(), kin.copy()
     i_start = int(np.argmax(kin))
