@@ -40,7 +40,7 @@ import optimistix as optx
 from jax.typing import ArrayLike
 
 from ..._core.errors import NumericalError
-from ..._core.jit import filter_jit
+from ..._core.jit import cached_jit
 from ..._core.units import THETA_GRID, TWO_PI, newton_per_torque
 from ...schema import FollowerSpec
 from ..follower import FollowerModel
@@ -140,7 +140,7 @@ def _flight_field(t, y, args):
     return vector_field(t, y, (motion, model, omega, contact))
 
 
-@filter_jit
+@cached_jit
 def _cross(motion, model, omega, theta0, y0, side, gap):
     """Free flight from theta0 until a flank meets the roller: the other one across the gap (motion units) on
     ``side``, or the one it left. Returns the angle (rad) and state where it ended and whether a flank was met,
@@ -190,7 +190,7 @@ def _flank_field(t, y, args):
     )
 
 
-@filter_jit
+@cached_jit
 def _impact(motion, model, omega, theta0, y0, side, gap, span):
     """The follower from its landing (theta0, y0) on the flank on ``side`` over ``span`` rad of cam angle: its
     contact force there on :data:`IMPACT_SAMPLES` angles."""
