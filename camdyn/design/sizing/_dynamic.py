@@ -8,7 +8,6 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
-import jax.numpy as jnp
 import numpy as np
 
 from ..._core.errors import NumericalError
@@ -49,7 +48,7 @@ class Dynamic:
         """Frequency-domain steady-state interface force (N or N*m), shape (len(speeds), N_FFT)."""
         p = self.p
         out = np.asarray(
-            dyn.linear_contact_force(p.motion, p.with_spring(k, f0), jnp.asarray(speeds, dtype=float), _N_FFT)
+            dyn.linear_contact_force(p.motion, p.with_spring(k, f0), np.asarray(speeds, dtype=float), _N_FFT)
         )
         if not np.all(np.isfinite(out)):
             raise NumericalError(

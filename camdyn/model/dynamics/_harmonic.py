@@ -15,7 +15,7 @@ import jax.numpy as jnp
 import numpy as np
 from jax.typing import ArrayLike
 
-from ..._core.jit import cached_jit, filter_jit
+from ..._core.jit import cached_jit
 from ..._core.units import FFT_GRID, TWO_PI
 from ..follower import FollowerModel
 from ..motion import Motion
@@ -140,7 +140,7 @@ def linear_least_force(motion: Motion, model: FollowerModel, omega: float) -> fl
     return float(np.asarray(linear_min_force(motion, model, np.full(BISECT_POINTS, float(omega))))[0])
 
 
-@filter_jit
+@cached_jit
 def linear_contact_force(motion: Motion, model: FollowerModel, omegas: jax.Array, n: int = _FFT_N) -> jax.Array:
     """The whole interface force (N or N*m) of :func:`linear_min_force`'s steady state: shape (*omegas.shape, n).
 
