@@ -21,6 +21,14 @@ from camdyn.model.motion import _base as motion_base
 ROOT = Path(__file__).resolve().parents[1]
 
 
+@pytest.fixture
+def cache_dir(tmp_path, monkeypatch):
+    """This test's own folder, camdyn's program cache enabled afresh in it."""
+    monkeypatch.setattr(programs, "_DIR", None)
+    programs.enable(tmp_path)
+    return tmp_path
+
+
 class Poly(eqx.Module):
     coef: jax.Array
     power: int = eqx.field(static=True)
@@ -33,25 +41,23 @@ def _value(p, x, shift):
     return p(x) + shift
 
 
-def test_programs_persist_and_static_fields_are_part_of_the_key(tmp_path, monkeypatch):
-    monkeypatch.setattr(programs, "_DIR", None)
-    programs.enable(tmp_path)
+def test_programs_persist_and_static_fields_are_part_of_the_key(cache_dir):
     x = jnp.linspace(0.0, 2.0, 5)
     square, cube = Poly(jnp.asarray(3.0), 2), Poly(jnp.asarray(3.0), 3)
     first = programs.cached_jit(_value)
     assert np.allclose(first(square, x, 1.0), 3 * x**2 + 1) and np.allclose(first(cube, x, 1.0), 3 * x**3 + 1)
     assert np.allclose(first(cube, x, 2.0), 3 * x**3 + 2)  # a Python number is static: its own program
     assert np.allclose(first(cube, x, shift=jnp.asarray(2.0)), 3 * x**3 + 2)  # keywords too
-    assert len(list(tmp_path.rglob("_value-*.jaxprogram"))) == 4
+    assert len(list(cache_dir.rglob("_value-*.jaxprogram"))) == 4
     # a new wrapper (as in a fresh process) reads the programs back instead of tracing
     second = programs.cached_jit(_value)
     assert np.allclose(second(cube, x, 1.0), 3 * x**3 + 1) and np.allclose(
         second(Poly(jnp.asarray(-1.0), 2), x, 1.0), 1 - x**2
     )
-    assert len(list(tmp_path.rglob("_value-*.jaxprogram"))) == 4
+    assert len(list(cache_dir.rglob("_value-*.jaxprogram"))) == 4
     # under a transformation the plain jit runs (exported programs have no batching rule)
     assert np.allclose(jax.vmap(lambda c: second(Poly(c, 2), x, 0.0))(jnp.arange(3.0)), np.arange(3.0)[:, None] * x**2)
-    (next(tmp_path.rglob("_value-*.jaxprogram"))).write_bytes(b"truncated")  # a damaged file: trace afresh
+    (next(cache_dir.rglob("_value-*.jaxprogram"))).write_bytes(b"truncated")  # a damaged file: trace afresh
     assert np.allclose(programs.cached_jit(_value)(square, x, 1.0), 3 * x**2 + 1)
 
 
@@ -75,13 +81,11 @@ def test_programs_are_kept_per_fingerprint_and_unused_ones_removed(tmp_path, mon
     assert len(list(ours.glob("_value-*.jaxprogram"))) == 1 and (ours / programs._USED).exists()
 
 
-def test_prepare_compiles_without_running_and_threads_compile_at_once(tmp_path, monkeypatch):
+def test_prepare_compiles_without_running_and_threads_compile_at_once(cache_dir):
     """``prepare`` stores the program a later call runs (no second trace); two threads compiling two programs at
     once leave JAX's persistent-cache threshold as it was (each compile lifts it while it runs)."""
     import threading
 
-    monkeypatch.setattr(programs, "_DIR", None)
-    programs.enable(tmp_path)
     traced = []
 
     def double(x):
@@ -99,16 +103,14 @@ def test_prepare_compiles_without_running_and_threads_compile_at_once(tmp_path, 
         t.start()
     for t in both:
         t.join()
-    assert len(traced) == 2 and len(list(tmp_path.rglob("*.jaxprogram"))) == 2
+    assert len(traced) == 2 and len(list(cache_dir.rglob("*.jaxprogram"))) == 2
     assert jax.config.jax_persistent_cache_min_compile_time_secs == threshold
     assert np.allclose(fns[0](np.arange(3.0)), [0.0, 2.0, 4.0]) and len(traced) == 2  # prepared: not traced again
 
 
-def test_store_compiles_a_missing_program_and_leaves_a_stored_one_unloaded(tmp_path, monkeypatch):
+def test_store_compiles_a_missing_program_and_leaves_a_stored_one_unloaded(monkeypatch, cache_dir):
     """``store`` compiles and stores a program no process has stored, which the call then runs without a second
     trace; where it is stored, ``store`` neither loads nor traces it (a warm process pays a file's lookup)."""
-    monkeypatch.setattr(programs, "_DIR", None)
-    programs.enable(tmp_path)
     traced = []
 
     def halve(x):
@@ -117,7 +119,7 @@ def test_store_compiles_a_missing_program_and_leaves_a_stored_one_unloaded(tmp_p
 
     fn = programs.cached_jit(halve)
     fn.store(np.ones(3))
-    assert len(traced) == 1 and len(list(tmp_path.rglob("halve-*.jaxprogram"))) == 1
+    assert len(traced) == 1 and len(list(cache_dir.rglob("halve-*.jaxprogram"))) == 1
     assert np.allclose(fn(np.arange(3.0)), [0.0, 0.5, 1.0]) and len(traced) == 1  # stored and kept: no trace
     again = programs.cached_jit(halve)  # as in a fresh process
     monkeypatch.setattr(programs, "_load", lambda *_: pytest.fail("a stored program was loaded"))
@@ -125,13 +127,11 @@ def test_store_compiles_a_missing_program_and_leaves_a_stored_one_unloaded(tmp_p
     assert len(traced) == 1
 
 
-def test_a_call_waits_for_the_head_start_that_loads_its_program(tmp_path, monkeypatch, capsys):
+def test_a_call_waits_for_the_head_start_that_loads_its_program(capsys, cache_dir):
     """A program prepared on another thread (``in_background``) while the caller reaches its first call is traced
     and compiled once: the call waits for it instead of compiling it again. A head start that fails is ignored."""
     import threading
 
-    monkeypatch.setattr(programs, "_DIR", None)
-    programs.enable(tmp_path)
     traced, started = [], threading.Event()
 
     def slow_double(x):
@@ -145,7 +145,7 @@ def test_a_call_waits_for_the_head_start_that_loads_its_program(tmp_path, monkey
     assert started.wait(10.0)
     assert np.allclose(fn(np.arange(3.0)), [0.0, 2.0, 4.0])
     thread.join()
-    assert traced == ["head-start"] and len(list(tmp_path.rglob("slow_double-*.jaxprogram"))) == 1
+    assert traced == ["head-start"] and len(list(cache_dir.rglob("slow_double-*.jaxprogram"))) == 1
 
     def broken():
         raise RuntimeError("no head start")
@@ -169,12 +169,10 @@ def _at(p, x):
     return p(x)
 
 
-def test_a_motions_form_is_made_once_for_all_the_calls_of_a_stored_program(tmp_path, monkeypatch):
+def test_a_motions_form_is_made_once_for_all_the_calls_of_a_stored_program(monkeypatch, cache_dir):
     """Issue 23: a speed search calls its stored programs hundreds of times with one motion: its jit form is made
     (and flattened) once, not per call; another object of the same structure makes its own and runs the same
     program, with its own numbers."""
-    monkeypatch.setattr(programs, "_DIR", None)
-    programs.enable(tmp_path)
     monkeypatch.setattr(_Squared, "made", [])
     monkeypatch.setattr(programs, "_part_memo", {})  # the session's earlier calls leave no eviction due
     x = jnp.linspace(0.0, 2.0, 5)
@@ -184,7 +182,7 @@ def test_a_motions_form_is_made_once_for_all_the_calls_of_a_stored_program(tmp_p
     assert _Squared.made == [one]
     np.testing.assert_allclose(fn(two, x), -2.0 * x**2, rtol=1e-15)
     np.testing.assert_allclose(fn(one, x=x), 3.0 * x**2, rtol=1e-15)  # x as a keyword: a program of its own
-    assert _Squared.made == [one, two] and len(list(tmp_path.rglob("_at-*.jaxprogram"))) == 2
+    assert _Squared.made == [one, two] and len(list(cache_dir.rglob("_at-*.jaxprogram"))) == 2
     # under a transformation the plain jit runs, on the form as well
     np.testing.assert_allclose(jax.vmap(lambda c: fn(_Squared(c), x))(jnp.arange(2.0)), [0.0 * x, x**2], rtol=1e-15)
 
@@ -200,11 +198,9 @@ def _scaled(m, x):
     return m.gain * x**m.power
 
 
-def test_a_module_is_flattened_once_and_keyed_by_its_structure(tmp_path, monkeypatch):
+def test_a_module_is_flattened_once_and_keyed_by_its_structure(monkeypatch, cache_dir):
     """A module argument (a follower model) is flattened once per object and its arrays passed on every call: other
     numbers in the same structure run the same stored program, another static field compiles its own."""
-    monkeypatch.setattr(programs, "_DIR", None)
-    programs.enable(tmp_path)
     monkeypatch.setattr(programs, "_part_memo", {})
     x = np.linspace(0.0, 2.0, 5)
     fn = programs.cached_jit(_scaled)
@@ -212,10 +208,10 @@ def test_a_module_is_flattened_once_and_keyed_by_its_structure(tmp_path, monkeyp
     for _ in range(3):
         np.testing.assert_allclose(fn(one, x), 2.0 * x**2, rtol=1e-15)
     np.testing.assert_allclose(fn(two, x), -1.5 * x**2, rtol=1e-15)
-    assert len(list(tmp_path.rglob("_scaled-*.jaxprogram"))) == 1
+    assert len(list(cache_dir.rglob("_scaled-*.jaxprogram"))) == 1
     assert [id(m) for m, _ in programs._part_memo.values()] == [id(one), id(two)]
     np.testing.assert_allclose(fn(cube, x), 2.0 * x**3, rtol=1e-15)
-    assert len(list(tmp_path.rglob("_scaled-*.jaxprogram"))) == 2
+    assert len(list(cache_dir.rglob("_scaled-*.jaxprogram"))) == 2
     # past the signatures it remembers, each is numbered afresh and no number is reused: the program a remembered
     # part's number finds is still that part's (a reused number would run the square for the cube)
     monkeypatch.setattr(programs, "_MAX_TOKENS", 1)
@@ -301,16 +297,14 @@ def _solve(a, b):
     return jnp.linalg.solve(a, b)
 
 
-def test_programs_are_stored_compiled_and_lapack_ones_exported(tmp_path, monkeypatch):
+def test_programs_are_stored_compiled_and_lapack_ones_exported(monkeypatch, cache_dir):
     """A program loads as its compiled executable; one that calls LAPACK (whose kernels JAX registers only while
     lowering) as a ``jax.export`` program. Either gives what the plain jit gives."""
-    monkeypatch.setattr(programs, "_DIR", None)
-    programs.enable(tmp_path)
     x = jnp.linspace(0.0, 2.0, 5)
     a, b = jnp.asarray([[4.0, 1.0], [2.0, 3.0]]), jnp.asarray([1.0, 2.0])
     assert np.allclose(programs.cached_jit(_value)(Poly(jnp.asarray(2.0), 2), x, 1.0), 2 * x**2 + 1)
     assert np.allclose(programs.cached_jit(_solve)(a, b), np.linalg.solve(a, b))
-    kinds = {f.name.split("-")[0]: pickle.loads(f.read_bytes())[0] for f in tmp_path.rglob("*.jaxprogram")}
+    kinds = {f.name.split("-")[0]: pickle.loads(f.read_bytes())[0] for f in cache_dir.rglob("*.jaxprogram")}
     assert kinds == {"_value": "executable", "_solve": "exported"}
     for fn, args, want in ((_value, (Poly(jnp.asarray(2.0), 2), x, 1.0), 2 * x**2 + 1), (_solve, (a, b), None)):
         program = programs.cached_jit(fn)  # a fresh wrapper loads the file: nothing is traced
@@ -341,7 +335,7 @@ def _kernel_key(motion):
     return jax.tree.structure(static), jax.tree.leaves(static), [(x.shape, x.dtype) for x in jax.tree.leaves(dynamic)]
 
 
-def test_programs_of_other_segments_share_one_compiled_kernel_and_evaluate_alike(tmp_path, monkeypatch):
+def test_programs_of_other_segments_share_one_compiled_kernel_and_evaluate_alike(monkeypatch, cache_dir):
     from camdyn.model.motion import Program, evaluate
 
     lecture = Program.from_segments(
@@ -362,20 +356,18 @@ def test_programs_of_other_segments_share_one_compiled_kernel_and_evaluate_alike
         ]
     )
     assert _kernel_key(lecture) == _kernel_key(other)
-    monkeypatch.setattr(programs, "_DIR", None)
-    programs.enable(tmp_path)
     # a program of its own: not the one an earlier test of this process holds in memory for these angles' bucket
     monkeypatch.setattr(motion_base, "_evaluate", programs.cached_jit(motion_base._evaluate.__wrapped__))
     theta = jnp.asarray(np.linspace(-1.0, 7.5, 997))
     for prog in (lecture, other):  # the one program on disk; each agrees with the unpadded numpy evaluation
         assert np.allclose(evaluate(prog, theta), prog._eval(np, np.asarray(theta)), rtol=1e-12, atol=1e-9)
-    assert len(list(tmp_path.rglob("_evaluate-*.jaxprogram"))) == 1
+    assert len(list(cache_dir.rglob("_evaluate-*.jaxprogram"))) == 1
     # 2 pi is the start (the modified sine's jerk), just below it the closing dwell: padding rows are never read
     ends = np.asarray(evaluate(other, jnp.asarray([2 * np.pi, np.nextafter(2 * np.pi, 0)])))
     assert np.allclose(ends[:, 0], other.host(0.0)) and ends[3, 0] > 100.0 and np.all(ends[:, 1] == 0.0)
 
 
-def test_angles_of_other_counts_share_one_evaluate_program(tmp_path, monkeypatch):
+def test_angles_of_other_counts_share_one_evaluate_program(monkeypatch, cache_dir):
     """``evaluate`` pads a 1-D array of angles to the next power of two (at least 8): 300 and 500 angles run the one
     stored program of 512, the values those of the exact shape's program to the bit, numpy, as long as the angles."""
     from camdyn.model.motion import Program, evaluate
@@ -383,15 +375,13 @@ def test_angles_of_other_counts_share_one_evaluate_program(tmp_path, monkeypatch
     prog = Program.from_segments(
         [{"law": "cycloidal", "end": 180, "lift": 20}, {"law": "harmonic", "end": 360, "lift": -20}]
     )
-    monkeypatch.setattr(programs, "_DIR", None)
-    programs.enable(tmp_path)
     monkeypatch.setattr(motion_base, "_evaluate", programs.cached_jit(motion_base._evaluate.__wrapped__))
     for n in (300, 500):
         theta = np.linspace(0.0, 2 * np.pi, n)
         got = evaluate(prog, theta)
         assert isinstance(got, np.ndarray) and got.shape == (4, n)
         assert np.array_equal(got, np.asarray(jax.jit(motion_base._evaluate.__wrapped__)(prog, theta)))
-    assert len(list(tmp_path.rglob("_evaluate-*.jaxprogram"))) == 1
+    assert len(list(cache_dir.rglob("_evaluate-*.jaxprogram"))) == 1
     assert evaluate(prog, np.zeros(0)).shape == (4, 0) and evaluate(prog, 1.0).shape == (4,)
 
 
