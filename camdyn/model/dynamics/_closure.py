@@ -290,9 +290,9 @@ def _sign_changes(signs: np.ndarray) -> list[tuple[int, int]]:
 
 
 def _crossing_angles(fk, signs: np.ndarray, h: float, breaks: np.ndarray) -> list[tuple[float, bool]]:
-    """(angle in rad, leaving the inner flank) of every sign change of the force on the grid, in order: Brent's
-    root in a step, or a jump through zero at a break; where the force was zero between (a dwell without spring),
-    the last break there, else the step before it leaves zero."""
+    """(angle in rad, leaving the inner flank) of every sign change of the force on the grid, in order: its root in
+    a step (:func:`._rigid._lift_off`), or a jump through zero at a break; where the force was zero between (a dwell
+    without spring), the last break there, else the step before it leaves zero."""
     out = []
     for i, j in _sign_changes(signs):
         down = bool(signs[i] > 0)
