@@ -329,6 +329,29 @@ def test_fresh_check_processes_agree_with_and_without_the_caches(tmp_path):
     assert fast.returncode == 1 and sorted((tmp_path / "camdyn" / "programs").rglob("*.jaxprogram")) == stored
 
 
+@pytest.mark.slow  # two fresh processes, the first compiling every program of a rigid follower
+def test_a_rigid_check_stores_the_flight_its_bouncing_neighbour_runs(tmp_path):
+    """A rigid follower that stays on its cam stores on the side the programs of one that leaves it (the flight, the
+    kinematic force at one angle): the bouncing case's check after it compiles nothing."""
+
+    def rigid(name: str) -> Path:
+        text = (ROOT / "cases" / f"{name}.toml").read_text()
+        path = tmp_path / f"{name}-rigid.toml"
+        path.write_text(
+            "".join(x for x in text.splitlines(True) if not x.startswith(("train_stiffness", "train_damp")))
+        )
+        return path
+
+    env = {k: v for k, v in os.environ.items() if k != "CAMDYN_NO_CACHE"} | {"XDG_CACHE_HOME": str(tmp_path / "c")}
+    check = [sys.executable, "-m", "camdyn", "check"]
+    assert subprocess.run([*check, str(rigid("lecture"))], env=env, capture_output=True).returncode == 0
+    stored = sorted((tmp_path / "c").rglob("*.jaxprogram"))
+    assert {p.name.split("-")[0] for p in stored} >= {"_flight", "kinematic_force"}
+    bouncing = subprocess.run([*check, str(rigid("lecture-fast")), "--json"], env=env, capture_output=True, text=True)
+    assert bouncing.returncode == 1 and json.loads(bouncing.stdout)["dynamic"]["separations"]
+    assert sorted((tmp_path / "c").rglob("*.jaxprogram")) == stored
+
+
 def _kernel_key(motion):
     """What a compiled program is keyed by: the static part and the array shapes of the motion's jit form."""
     dynamic, static = eqx.partition(motion.jit_form(), eqx.is_array)
