@@ -16,6 +16,7 @@ import pytest
 
 import camdyn.model  # noqa: F401  (float64)
 from camdyn._core import jit as programs
+from camdyn._core import jitargs
 from camdyn.model.motion import _base as motion_base
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -174,7 +175,7 @@ def test_a_motions_form_is_made_once_for_all_the_calls_of_a_stored_program(monke
     (and flattened) once, not per call; another object of the same structure makes its own and runs the same
     program, with its own numbers."""
     monkeypatch.setattr(_Squared, "made", [])
-    monkeypatch.setattr(programs, "_part_memo", {})  # the session's earlier calls leave no eviction due
+    monkeypatch.setattr(jitargs, "_part_memo", {})  # the session's earlier calls leave no eviction due
     x = jnp.linspace(0.0, 2.0, 5)
     fn, one, two = programs.cached_jit(_at), _Squared(jnp.asarray(3.0)), _Squared(jnp.asarray(-2.0))
     for _ in range(5):
@@ -201,7 +202,7 @@ def _scaled(m, x):
 def test_a_module_is_flattened_once_and_keyed_by_its_structure(monkeypatch, cache_dir):
     """A module argument (a follower model) is flattened once per object and its arrays passed on every call: other
     numbers in the same structure run the same stored program, another static field compiles its own."""
-    monkeypatch.setattr(programs, "_part_memo", {})
+    monkeypatch.setattr(jitargs, "_part_memo", {})
     x = np.linspace(0.0, 2.0, 5)
     fn = programs.cached_jit(_scaled)
     one, two, cube = _Scaled(jnp.asarray(2.0), 2), _Scaled(jnp.asarray(-1.5), 2), _Scaled(jnp.asarray(2.0), 3)
@@ -209,13 +210,13 @@ def test_a_module_is_flattened_once_and_keyed_by_its_structure(monkeypatch, cach
         np.testing.assert_allclose(fn(one, x), 2.0 * x**2, rtol=1e-15)
     np.testing.assert_allclose(fn(two, x), -1.5 * x**2, rtol=1e-15)
     assert len(list(cache_dir.rglob("_scaled-*.jaxprogram"))) == 1
-    assert [id(m) for m, _ in programs._part_memo.values()] == [id(one), id(two)]
+    assert [id(m) for m, _ in jitargs._part_memo.values()] == [id(one), id(two)]
     np.testing.assert_allclose(fn(cube, x), 2.0 * x**3, rtol=1e-15)
     assert len(list(cache_dir.rglob("_scaled-*.jaxprogram"))) == 2
     # past the signatures it remembers, each is numbered afresh and no number is reused: the program a remembered
     # part's number finds is still that part's (a reused number would run the square for the cube)
-    monkeypatch.setattr(programs, "_MAX_TOKENS", 1)
-    monkeypatch.setattr(programs, "_part_memo", {})
+    monkeypatch.setattr(jitargs, "_MAX_TOKENS", 1)
+    monkeypatch.setattr(jitargs, "_part_memo", {})
     for m, power in ((one, 2), (cube, 3), (one, 2), (two, 2), (cube, 3)):
         np.testing.assert_allclose(fn(m, x), float(m.gain) * x**power, rtol=1e-15)
 

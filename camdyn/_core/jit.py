@@ -31,7 +31,6 @@ from __future__ import annotations
 import contextlib
 import functools
 import hashlib
-import itertools
 import math
 import os
 import pickle
@@ -43,7 +42,7 @@ import time
 from collections.abc import Callable
 from importlib import metadata
 from pathlib import Path
-from typing import Any, NamedTuple, TypeVar
+from typing import Any, TypeVar
 
 import equinox as eqx
 import jax
@@ -51,6 +50,8 @@ import numpy as np
 from jax import export
 from jax.core import Tracer
 from jax.experimental import serialize_executable
+
+from .jitargs import flat_once, jit_forms, part, unflatten_parts
 
 T = TypeVar("T")
 _DIR: Path | None = None
@@ -238,107 +239,6 @@ def device_array(x: Any) -> jax.Array:
     return jax.device_put(np.asarray(x, dtype=float))
 
 
-def _has_form(x) -> bool:
-    return hasattr(type(x), "jit_form")
-
-
-def jit_forms(tree: T) -> T:
-    """``tree`` with every object that has a ``jit_form`` method (a motion) replaced by ``x.jit_form()``."""
-    return jax.tree.map(lambda x: x.jit_form() if _has_form(x) else x, tree, is_leaf=_has_form)
-
-
-def _flat_once(x: Any) -> bool:
-    """Whether ``x`` is flattened once and remembered (:func:`_part`): a motion (as its ``jit_form``) or another
-    equinox module. Both are immutable, and a search calls its programs hundreds of times with the same ones."""
-    return _has_form(x) or isinstance(x, eqx.Module)
-
-
-class _Part(NamedTuple):
-    """One leaf of a call's arguments flattened with :func:`_flat_once` as leaves: its own leaves (a motion's form's,
-    a module's; itself for a plain leaf), the treedef that rebuilds it (None: a plain leaf), which leaves are
-    arrays, the others (static: part of the program's key), the arrays' (shape, dtype), and a token of all that
-    (equal tokens, equal keys: a dict lookup hashes it, not the part)."""
-
-    leaves: list
-    treedef: Any
-    is_array: tuple
-    static: tuple
-    avals: tuple
-    arrays: list
-    traced: bool
-    token: Any
-
-
-_tokens: dict = {}
-_token_numbers = itertools.count()  # never reused: a program found by a number is that signature's
-_tokens_lock = threading.Lock()  # the chunks of a batch call programs from a thread each
-_MAX_TOKENS = 4096  # signatures remembered; past it they are numbered afresh (a program looked up again, not wrong)
-_part_memo: dict[int, tuple[Any, _Part]] = {}
-
-
-def _token(sig: tuple) -> int:
-    """A number standing for ``sig`` (hashed once, not at every call): the same for equal signatures while it is
-    remembered, and never for another."""
-    try:
-        hash(sig)
-    except TypeError:  # an unhashable static value: keyed by its text (a millisecond, but once per object)
-        sig = ("text", repr(sig))
-    with _tokens_lock:
-        if len(_tokens) >= _MAX_TOKENS:
-            _tokens.clear()
-        number = _tokens.get(sig)
-        if number is None:
-            number = _tokens[sig] = next(_token_numbers)
-        return number
-
-
-def _flat_part(leaves: list, treedef: Any) -> _Part:
-    is_array = tuple(eqx.is_array(x) for x in leaves)
-    arrays = [x for x, a in zip(leaves, is_array, strict=True) if a]
-    static = tuple(x for x, a in zip(leaves, is_array, strict=True) if not a)
-    avals = tuple((x.shape, x.dtype.str) for x in arrays)
-    traced = any(isinstance(x, Tracer) for x in arrays)
-    return _Part(leaves, treedef, is_array, static, avals, arrays, traced, _token((treedef, is_array, static, avals)))
-
-
-def _part(x: Any) -> _Part:
-    """:class:`_Part` of ``x``: a motion's (as its form) or a module's (a motion in it as its form: its
-    :func:`jit_forms`) once per object; a plain leaf's at each call (an array: its shape and dtype; else its value)."""
-    if not _flat_once(x):
-        if eqx.is_array(x):
-            sig = (x.shape, x.dtype.str)
-            return _Part([x], None, (True,), (), (sig,), [x], isinstance(x, Tracer), sig)
-        try:
-            token = ("static", x, type(x))
-            hash(token)
-        except TypeError:
-            token = ("static", repr(x))
-        return _Part([x], None, (False,), (x,), (), [], False, token)
-    hit = _part_memo.get(id(x))
-    if hit is None or hit[0] is not x:  # the memo holds x: its id is not reused while it is here
-        if len(_part_memo) > 64:
-            _part_memo.clear()
-        hit = _part_memo[id(x)] = (x, _flat_part(*jax.tree.flatten(x.jit_form() if _has_form(x) else jit_forms(x))))
-    return hit[1]
-
-
-def _unflatten_forms(treedef: Any, forms: tuple, leaves: list) -> Any:
-    """The arguments :func:`cached_jit` flattened into :class:`_Part` s (``forms``: each part's treedef and
-    number of leaves, None for a plain leaf), each object that has a ``jit_form`` as its form."""
-    if not forms:
-        return jax.tree.unflatten(treedef, leaves)
-    outer, i = [], 0
-    for form in forms:
-        if form is None:
-            outer.append(leaves[i])
-            i += 1
-        else:
-            inner_def, count = form
-            outer.append(jax.tree.unflatten(inner_def, leaves[i : i + count]))
-            i += count
-    return jax.tree.unflatten(treedef, outer)
-
-
 def filter_jit(fn: Callable[..., T]) -> Callable[..., T]:
     """``equinox.filter_jit(fn)`` on the arguments' :func:`jit_forms`: compiled once per follower kind and bucket,
     not once per case (in-process only; :func:`cached_jit` also persists)."""
@@ -424,7 +324,7 @@ def _load_or_compile(
 
     def flat(*xs: Any) -> Any:
         it, fixed = iter(xs), iter(static)
-        a, kw = _unflatten_forms(treedef, forms, [next(it) if b else next(fixed) for b in is_array])
+        a, kw = unflatten_parts(treedef, forms, [next(it) if b else next(fixed) for b in is_array])
         return fn(*a, **kw)
 
     try:
@@ -470,8 +370,8 @@ def cached_jit(fn: Callable[..., T], compiler_options: tuple[tuple[str, Any], ..
         the program is stored (it is not loaded). A motion is keyed and traced as its :func:`jit_forms`."""
         if (root := _DIR) is None:
             return None
-        outer, treedef = jax.tree.flatten(tree, is_leaf=_flat_once)
-        parts = [_part(x) for x in outer]
+        outer, treedef = jax.tree.flatten(tree, is_leaf=flat_once)
+        parts = [part(x) for x in outer]
         if any(p.traced for p in parts):  # inside jit/vmap/grad: an exported program has
             return None  # no batching or differentiation rules; the outer trace is cached anyway
         key = (treedef, tuple(p.token for p in parts))
