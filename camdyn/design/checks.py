@@ -2,10 +2,8 @@
 
 from __future__ import annotations
 
-import dataclasses
 import functools
 import math
-from dataclasses import dataclass
 
 import numpy as np
 
@@ -14,243 +12,38 @@ from .._core.results import finite_or_none
 from .._core.units import JUMP_SEARCH_FACTOR, RPM
 from ..model import dynamics as dyn
 from ..model.case import Case
-from ..model.contact import ContactStress
-from ..model.drive import DriveTorque
-from ..model.geometry import CamGeometry, analyze, lever_arm_mm, newton_per_torque_at
-from ..model.surge import SpringInDynamics
-from ._check import Check, CheckKind, find
-from .closure import ClosureStudy, closure_study
+from ..model.geometry import analyze
+from ._check import Check, CheckKind
+from ._check_report import (
+    CheckReport,
+    ContactFlight,
+    ContactImpact,
+    ContactSeparation,
+    Dynamics,
+    Kinematics,
+    at_contact,
+    contact_flight,
+    contact_impact,
+    contact_separation,
+    forces_in_newton,
+)
+from ._closure_check import closure_check
 from .geometry import judge_geometry
 from .parts import case_contact, case_drive, contact_check, resolve_spring
 from .userdata import least_force_uncertainty, least_force_warning, unit_slip_warnings
-from .valvetrain import ValvetrainResult, analyze_valvetrain
+from .valvetrain import analyze_valvetrain
 
-SYNTHESIS_ARRAYS = ("theta_deg", "pitch", "contour", "path_xy", "traced_xy")  # check --json --arrays only
+__all__ = [
+    "Check",
+    "CheckKind",
+    "CheckReport",
+    "forces_in_newton",
+    "jump_speeds",
+    "run_check",
+    "speed_margin_check",
+]
+
 MAX_SEPARATION_NOTES = 4  # landed separations listed one per line; more are summed up in one
-
-
-@dataclass(frozen=True)
-class Kinematics:
-    """The rigid follower that never leaves the cam (``check --json`` ``kinematic``): its least contact force (N)
-    and where (cam deg), and its jump speed (rpm; None: none) and where (deg)."""
-
-    min_contact_force_N: float
-    min_contact_force_deg: float
-    jump_speed_rpm: float | None
-    jump_speed_at_deg: float | None
-
-    def json(self) -> dict:
-        return {
-            "min_contact_force_N": self.min_contact_force_N,
-            "min_contact_force_deg": self.min_contact_force_deg,
-            "jump_speed_rpm": self.jump_speed_rpm,
-            "jump_speed_at_deg": self.jump_speed_at_deg,
-        }
-
-
-@dataclass(frozen=True)
-class ContactSeparation:
-    """One separation at the contact: gap (mm) and impact speed (m/s) along the contact normal; an oscillating
-    follower's arm gap (rad) and speed (rad/s) beside them (None for a translating one)."""
-
-    start_deg: float
-    end_deg: float
-    max_gap_mm: float
-    impact_speed_m_s: float
-    bounces: int
-    settled: bool
-    max_gap_rad: float | None = None
-    impact_speed_rad_s: float | None = None
-
-    def json(self) -> dict:
-        out = {
-            "start_deg": self.start_deg,
-            "end_deg": self.end_deg,
-            "max_gap_mm": self.max_gap_mm,
-            "impact_speed_m_s": self.impact_speed_m_s,
-        }
-        if self.max_gap_rad is not None:
-            out |= {"max_gap_rad": self.max_gap_rad, "impact_speed_rad_s": self.impact_speed_rad_s}
-        return out | {"bounces": self.bounces, "settled": self.settled}
-
-
-@dataclass(frozen=True)
-class ContactFlight:
-    """One flight (a span of zero interface force): its largest gap at the contact (mm), and an oscillating
-    follower's arm gap (rad; None for a translating one)."""
-
-    leave_deg: float
-    land_deg: float
-    max_gap_mm: float
-    max_gap_rad: float | None = None
-
-    def json(self) -> dict:
-        out = {"leave_deg": self.leave_deg, "land_deg": self.land_deg, "max_gap_mm": self.max_gap_mm}
-        return out | ({"max_gap_rad": self.max_gap_rad} if self.max_gap_rad is not None else {})
-
-
-@dataclass(frozen=True)
-class ContactImpact:
-    """One landing: where (deg), and its peak contact force (N) and where (deg); None for a rigid impulse."""
-
-    deg: float
-    peak_force_N: float | None
-    peak_deg: float | None
-
-    def json(self) -> dict:
-        return {"deg": self.deg, "peak_force_N": self.peak_force_N, "peak_deg": self.peak_deg}
-
-
-@dataclass(frozen=True)
-class Dynamics:
-    """The follower as its model moves it (``check --json`` ``dynamic``), forces in N at the contact.
-
-    ``residual_vibration_mm`` is at the contact; an oscillating follower's arm swing (rad) is beside it in
-    ``residual_vibration_rad`` (None for a translating one). ``spring`` is the return spring's own mass as the
-    model weighs it."""
-
-    model: str
-    min_contact_force_N: float
-    min_contact_force_deg: float
-    min_contact_force_uncertainty_N: float | None
-    jump_speed_rpm: float | None
-    separations: tuple[ContactSeparation, ...]
-    flights: tuple[ContactFlight, ...]
-    impacts: tuple[ContactImpact, ...]
-    max_impact_force_N: float | None
-    residual_vibration_mm: float
-    periodicity_error: float
-    spring: SpringInDynamics
-    residual_vibration_rad: float | None = None
-
-    @property
-    def residual_vibration_deg(self) -> float | None:
-        """An oscillating follower's residual arm swing, deg (None for a translating one)."""
-        return None if self.residual_vibration_rad is None else math.degrees(self.residual_vibration_rad)
-
-    @property
-    def residual_vibration_as_lift(self) -> float:
-        """The residual vibration in the unit the lift is given in: an arm's swing in deg, else mm at the contact."""
-        deg = self.residual_vibration_deg
-        return self.residual_vibration_mm if deg is None else deg
-
-    def json(self) -> dict:
-        out = {
-            "model": self.model,
-            "min_contact_force_N": self.min_contact_force_N,
-            "min_contact_force_deg": finite_or_none(self.min_contact_force_deg),  # NaN: a valve that never opens
-            "min_contact_force_uncertainty_N": self.min_contact_force_uncertainty_N,
-            "jump_speed_rpm": self.jump_speed_rpm,
-            "separations": [s.json() for s in self.separations],
-            "flights": [f.json() for f in self.flights],
-            "impacts": [i.json() for i in self.impacts],
-            "max_impact_force_N": self.max_impact_force_N,
-            "residual_vibration_mm": self.residual_vibration_mm,
-            "periodicity_error": self.periodicity_error,
-        } | self.spring.json()
-        if self.residual_vibration_rad is not None:
-            out["residual_vibration_rad"] = self.residual_vibration_rad
-        return out
-
-
-@dataclass(frozen=True)
-class CheckReport:
-    """Everything ``camdyn check`` concludes about a case at one speed."""
-
-    case: Case
-    speed_rpm: float
-    checks: tuple[Check, ...]
-    kinematic: Kinematics
-    dynamic: Dynamics
-    response: dyn.Response  # forces in N (an oscillating arm's torques through its lever arm)
-    warnings: tuple[str, ...]
-    advice: tuple[str, ...] = ()
-    geometry: CamGeometry | None = None
-    drive: DriveTorque | None = None  # the camshaft torque of the dynamic forces
-    contact: ContactStress | None = None  # Hertz stress, where the case gives a contact width
-    valvetrain: ValvetrainResult | None = None  # a [valvetrain] case's two-mass model
-    closure: ClosureStudy | None = None  # a form-closed cam's crossovers and walls
-
-    @property
-    def verdict(self) -> str:
-        return "pass" if all(c.ok for c in self.checks) else "fail"
-
-    def find(self, kind: CheckKind) -> Check | None:
-        """The check of ``kind``, or None where this case has none."""
-        return find(self.checks, kind)
-
-    def json(self, arrays: bool = False) -> dict:
-        """The ``check --json`` document; a path case's synthesis carries its coordinate arrays only with ``arrays``."""
-        out = {
-            "case": self.case.name,
-            "verdict": self.verdict,
-            "speed_rpm": self.speed_rpm,
-            "checks": [c.json() for c in self.checks],
-            "kinematic": self.kinematic.json(),
-            "dynamic": self.dynamic.json(),
-            "warnings": list(self.warnings),
-            "advice": list(self.advice),
-        }
-        out["motion"] = self.case.motion_json()
-        if self.geometry is not None:
-            out["geometry"] = self.geometry.json()
-        if self.drive is not None:
-            out["drive"] = self.drive.json()
-        if self.contact is not None:
-            out["contact"] = self.contact.json()
-        if self.closure is not None:
-            out["closure"] = self.closure.json()
-        if self.valvetrain is not None:
-            out["valvetrain"] = self.valvetrain.json()
-        if self.case.synthesis is not None:
-            syn = self.case.synthesis.json()
-            out["synthesis"] = syn if arrays else {k: v for k, v in syn.items() if k not in SYNTHESIS_ARRAYS}
-        return out
-
-
-def _at_contact(case: Case, value_rad: float, deg: float) -> float:
-    """An arm-swing quantity (rad, rad/s) at the contact along its normal (mm, mm/s): times the lever arm there."""
-    if not math.isfinite(deg):
-        return 0.0 if value_rad == 0.0 else math.nan
-    return value_rad * float(lever_arm_mm(case.motion, case.follower, np.deg2rad([deg]))[0])
-
-
-def contact_separation(case: Case, sep: dyn.Separation) -> ContactSeparation:
-    """One separation at the contact: an oscillating follower's arm gap (rad) and speed (rad/s) carried out to the
-    contact (mm, m/s), the arm's own beside them."""
-    if case.oscillating:
-        return ContactSeparation(
-            sep.start_deg,
-            sep.end_deg,
-            _at_contact(case, sep.max_gap, sep.max_gap_deg),
-            _at_contact(case, sep.impact_speed, sep.impact_deg) / 1000.0,
-            sep.bounces,
-            sep.settled,
-            sep.max_gap,
-            sep.impact_speed,
-        )
-    return ContactSeparation(sep.start_deg, sep.end_deg, sep.max_gap, sep.impact_speed, sep.bounces, sep.settled)
-
-
-def contact_flight(case: Case, fl: dyn.Flight) -> ContactFlight:
-    """One flight at the contact: an arm's angular gap carried out to the contact point (mm), the arm's beside it."""
-    if case.oscillating:
-        return ContactFlight(fl.leave_deg, fl.land_deg, _at_contact(case, fl.max_gap, fl.max_gap_deg), fl.max_gap)
-    return ContactFlight(fl.leave_deg, fl.land_deg, fl.max_gap)
-
-
-def contact_impact(imp: dyn.Impact) -> ContactImpact:
-    """One landing: where, and its peak contact force (N; None for a rigid follower's impulse)."""
-    return ContactImpact(imp.deg, finite_or_none(imp.peak_force), finite_or_none(imp.peak_deg))
-
-
-def forces_in_newton(case: Case, resp: dyn.Response) -> dyn.Response:
-    """A response with an oscillating follower's torques (N*m) as contact forces (N) through the lever arm of
-    the contact normal; a translating follower's as it is."""
-    if not case.oscillating:
-        return resp
-    per_torque = newton_per_torque_at(case.motion, case.follower, np.deg2rad(resp.theta_deg))
-    return dataclasses.replace(resp, force=resp.force * per_torque, kinematic_force=resp.kinematic_force * per_torque)
 
 
 def _separation_note(sep: ContactSeparation, rpm: float, restitution: float) -> str:
@@ -325,7 +118,7 @@ def run_check(case: Case, speed_rpm: float | None = None) -> CheckReport:
         jit.in_background(functools.partial(dyn.prepare_valvetrain, case.motion, vt), "camdyn-valvetrain")
     rpm = float(speed_rpm if speed_rpm is not None else case.speed_rpm)
     if case.follower is not None and case.follower.form_closed:
-        return _closure_check(case, rpm)
+        return closure_check(case, rpm)
     omega = rpm * RPM
     motion, model, limits = case.motion, case.model, case.limits
     # the programs of a follower of this kind that stays on its cam and of one that leaves it, stored on the side
@@ -386,7 +179,7 @@ def run_check(case: Case, speed_rpm: float | None = None) -> CheckReport:
         impacts=tuple(contact_impact(i) for i in resp.impacts),
         max_impact_force_N=finite_or_none(resp.max_impact_force),
         residual_vibration_mm=(
-            _at_contact(case, resp.residual_vibration, resp.residual_vibration_deg) if osc else resp.residual_vibration
+            at_contact(case, resp.residual_vibration, resp.residual_vibration_deg) if osc else resp.residual_vibration
         ),
         periodicity_error=resp.periodicity_error,
         spring=case.spring,
@@ -430,77 +223,3 @@ def run_check(case: Case, speed_rpm: float | None = None) -> CheckReport:
     return CheckReport(
         case, rpm, checks, kinematic, dynamic, resp, tuple(warnings), tuple(advice), geo, drive, contact, valve
     )
-
-
-def _closure_check(case: Case, rpm: float) -> CheckReport:
-    """:func:`run_check` of a form-closed cam: the crossovers and their impacts judged, the geometry as any cam's;
-    no jump speed (it cannot jump) and no least contact force (signed by design)."""
-    assert case.follower is not None and case.spring is not None  # run_check: a groove cam, its spring resolved
-    study = closure_study(case, rpm)
-    resp = forces_in_newton(case, study.as_response(case))
-    drive = case_drive(case, resp)
-    resp = study.on_its_cam(case, resp)
-    warnings = list(case.warnings) + [study.not_applicable]
-    kin = resp.kinematic_force
-    i = int(kin.argmin())
-    kinematic = Kinematics(float(kin[i]), float(resp.theta_deg[i]), None, None)
-    dynamic = Dynamics(
-        resp.model,
-        resp.min_force,
-        resp.min_force_deg,
-        None,
-        None,
-        (),
-        (),
-        (),
-        study.response.max_impact_force_N,
-        0.0,
-        0.0,
-        case.spring,
-    )
-    geo = analyze(case.motion, case.follower)
-    lim = case.limits
-    geo_checks, geo_warnings, advice = judge_geometry(
-        geo, case.motion, max_pressure_angle=lim.max_pressure_angle, min_curvature_ratio=lim.min_curvature_ratio
-    )
-    checks = (study.check(lim.max_impact_velocity), *geo_checks)
-    checks += study.geometry_checks(geo_checks[0].limit, lim.min_curvature_ratio)
-    checks += study.preload_check(lim.min_contact_force)
-    warnings += geo_warnings
-    warnings += study.fold_warnings
-    contact = None
-    if case.spec.contact_width_mm is not None:
-        if study.walls.undercut:  # a folded wall: no radius of curvature to press on
-            what = "a groove wall" if study.loads is None else "the conjugate cam"
-            warnings.append(f"contact stress not computed: {what} is undercut")
-        else:
-            loads = None if study.loads is None else (study.loads.primary_N, study.loads.conjugate_N)
-            contact = case_contact(case, geo, resp, study.walls, cam_forces_N=loads)
-            if contact is not None and lim.max_contact_stress is not None:
-                checks += (contact_check(contact, lim.max_contact_stress),)
-    if study.response.crossovers:
-        warnings.append(_crossovers_note(study, case.follower.backlash))
-    return CheckReport(
-        case, rpm, checks, kinematic, dynamic, resp, tuple(warnings), tuple(advice), geo, drive, contact, closure=study
-    )
-
-
-def _crossovers_note(study: ClosureStudy, backlash_mm: float) -> str:
-    """Where the contact force changes flank, and with backlash where and how fast the other flank meets it."""
-    xs = study.response.crossovers
-    flank = "flank" if study.loads is None else "cam"
-    where = ", ".join(f"{c.deg:.1f}" for c in xs[:6]) + (", ..." if len(xs) > 6 else "")
-    if study.loads is not None and study.loads.preload_held:  # both rollers stay loaded: only the net force turns
-        note = (
-            f"the net contact force changes sign {len(xs)} times a revolution (at {where} deg); the preload keeps "
-            "both cams loaded all round"
-        )
-    else:
-        note = f"the contact force changes {flank} {len(xs)} times a revolution (at {where} deg)"
-    if backlash_mm > 0.0:
-        top = max(xs, key=lambda c: c.impact_velocity_m_per_s)
-        note += (
-            f"; across the {backlash_mm:g} mm backlash the {top.to_flank} {flank} meets the follower hardest at "
-            f"{top.land_deg:.1f} deg, {top.impact_velocity_m_per_s:.3g} m/s"
-        )
-    return note
