@@ -12,8 +12,8 @@ from .parts import case_contact, case_drive, contact_check
 
 
 def closure_check(case: Case, rpm: float) -> CheckReport:
-    """:func:`run_check` of a form-closed cam: the crossovers and their impacts judged, the geometry as any cam's;
-    no jump speed (it cannot jump) and no least contact force (signed by design)."""
+    """:func:`camdyn.design.checks.run_check` of a form-closed cam: the crossovers and their impacts judged, the
+    geometry as any cam's; no jump speed (it cannot jump) and no least contact force (signed by design)."""
     assert case.follower is not None and case.spring is not None  # run_check: a groove cam, its spring resolved
     study = closure_study(case, rpm)
     resp = forces_in_newton(case, study.as_response(case))
