@@ -57,6 +57,7 @@ def _lecture_sizing():
     return case, p, grid, Dynamic.of(p), margin * case.speed_rpm
 
 
+@pytest.mark.slow  # three sizings of the lecture, one verifying every scanned rate
 def test_a_verified_preload_past_its_springs_reach_gives_way_to_the_next_rate(monkeypatch):
     """The scan compares the preloads the search finds; the answer's is verified on more speeds. Where that raises
     it past what a spring of the rate can give, the best scanned rate whose verified preload still fits is the answer,
