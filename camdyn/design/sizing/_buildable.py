@@ -5,7 +5,8 @@ train), and the spring designer knows the largest preload a buildable spring of 
 (:func:`camdyn.design.spring.case_max_preload`; every lower preload is buildable too). A rate is feasible where
 the first does not exceed the second; the answer is the feasible rate with the least peak spring force
 ``k s_max + F0``: a scan over rates a spring can have (log-spaced), refined by golden section between the best
-scanned rate's neighbours. Only springs whose surge frequency is clear of the cam's strong harmonics at every
+scanned rate's neighbours (a compliant train's preloads as its search finds them; the answer's verified on more
+speeds, :func:`buildable_answer`). Only springs whose surge frequency is clear of the cam's strong harmonics at every
 speed up to the top one are buildable (:func:`camdyn.design.surge.surge_floor_hz`).
 
 **The spring's own mass** (:func:`buildable_fixed_point`): the part proposed has a mass, and a third of it moves
