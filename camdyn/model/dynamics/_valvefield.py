@@ -166,10 +166,11 @@ def stretch(
     ts: jax.Array,
 ) -> tuple[jax.Array, jax.Array, tuple[jax.Array, jax.Array], jax.Array, jax.Array]:
     """One stretch in a fixed mode (``modes``: the contacts' locks, :data:`CAM`, :data:`TRAIN`, :data:`SEAT`) at cam
-    speed ``omega`` (rad/s) from t0 (rad) until a contact opens or closes (an event) or t1, saved at ``ts``
-    (clipped into [t0, t1]; those past an event come back as inf) and at its end, with (F_cam, F_t) at each,
-    whether it ended at an event and whether the solver succeeded, and :func:`_state_and_conditions` at its end
-    (what the transition there reads: one program call a stretch, not two)."""
+    speed ``omega`` (rad/s) from t0 (rad) until a contact opens or closes (an event) or t1: the solver's state at
+    ``ts`` (clipped into [t0, t1]; those past an event come back as inf; :func:`rows_at` turns them into what the
+    contacts see) and at its end, whether it ended at an event and whether the solver succeeded, and
+    :func:`_state_and_conditions` at its end (what the transition there reads: one program call a stretch, not
+    two)."""
     pid = diffrax.PIDController(rtol=_RTOL, atol=_ATOL)
     args = (motion, vt, omega, modes, force_tol)
     sol = diffrax.diffeqsolve(
@@ -186,17 +187,34 @@ def stretch(
         max_steps=_MAX_STEPS,
         throw=False,
     )
-
-    def one(t: ArrayLike, y: jax.Array) -> jax.Array:
-        _, _, f_cam, f_t, _, (xc, pc, xv, pv, _, _) = _dynamics(t, y, args)
-        return jnp.stack([xc, pc, xv, pv, f_cam, f_t])
-
     assert sol.ts is not None and sol.ys is not None  # saved at ts and at the end
-    (t_saved, t_end), (y_saved, y_end) = sol.ts, sol.ys
+    (_, t_end), (y_saved, y_end) = sol.ts, sol.ys
     # the solver's result as two flags: a stored program (cached_jit) returns arrays, not equinox's enumeration
     hit, ok = sol.result == diffrax.RESULTS.event_occurred, sol.result == diffrax.RESULTS.successful
     end = _state_and_conditions(t_end[0], y_end[0], args)
-    return t_end[0], y_end[0], (hit, ok), jax.vmap(one)(t_saved, y_saved), end
+    return t_end[0], y_end[0], (hit, ok), y_saved, end
+
+
+@cached_jit
+def rows_at(
+    motion: Motion,
+    vt: ValvetrainModel,
+    omega: ArrayLike,
+    modes: ArrayLike,
+    force_tol: ArrayLike,
+    ts: jax.Array,
+    ys: jax.Array,
+) -> jax.Array:
+    """What the contacts see at the angles ``ts`` (rad) from the solver's states ``ys`` there (one row each), each
+    in its own contacts' ``modes`` (one row each): (x_c, x_c', x_v, x_v', F_cam, F_t), shape (6, len(ts)) (m, m/rad,
+    N). A revolution's angles in one call at its end: in each stretch, every saved angle's forces took a fifth of
+    the revolution's time."""
+
+    def one(t: ArrayLike, y: jax.Array, m: ArrayLike) -> jax.Array:
+        _, _, f_cam, f_t, _, (xc, pc, xv, pv, _, _) = _dynamics(t, y, (motion, vt, omega, m, force_tol))
+        return jnp.stack([xc, pc, xv, pv, f_cam, f_t])
+
+    return jax.vmap(one, out_axes=1)(ts, ys, modes)
 
 
 def _state_and_conditions(theta, y, args):

@@ -22,7 +22,7 @@ from ..._core.units import M_PER_MM, RPM, THETA_GRID, TWO_PI
 from ..motion import Motion
 from ..valvetrain import ValvetrainModel, static_valve_lift
 from ._cubic import hermite_top
-from ._valvefield import CAM, GAP_EPS, SEAT, TRAIN, conditions_at, state_and_conditions_at, stretch
+from ._valvefield import CAM, GAP_EPS, SEAT, TRAIN, conditions_at, rows_at, state_and_conditions_at, stretch
 from ._valveresponse import ValveEvent, ValvetrainResponse
 
 _MAX_EVENTS = 2000  # per revolution: bounces beyond it leave the valve or the follower not settled
@@ -53,12 +53,14 @@ def _first_modes(vt: ValvetrainModel) -> np.ndarray:
 def prepare_valvetrain(motion: Motion, vt: ValvetrainModel, n: int = THETA_GRID) -> None:
     """Load (or compile) the stored programs :func:`valvetrain_response` starts with, for ``motion`` and ``vt`` on
     ``n`` angles, without running them: the stretch's (a 1.6 MB executable: 0.16 s of a warm valvetrain ``check``
-    on a CPU) and the contacts' conditions. For a head start on another thread
+    on a CPU), the contacts' conditions and the revolution's rows. For a head start on another thread
     (:func:`camdyn._core.jit.in_background`)."""
     one, y = np.asarray(1.0), np.zeros(_state_size(vt))
     args = (motion, vt, one, _first_modes(vt), one)
     stretch.prepare(*args, one, one, y, _jump_angles(motion), np.zeros(n))  # pyright: ignore[reportFunctionMemberAccess]
     conditions_at.prepare(one, y, args)  # pyright: ignore[reportFunctionMemberAccess]
+    modes = np.broadcast_to(_first_modes(vt), (n, 3))
+    rows_at.prepare(motion, vt, one, modes, one, np.zeros(n), np.zeros((n, y.size)))  # pyright: ignore[reportFunctionMemberAccess]
 
 
 def landing_floor(vt: ValvetrainModel, omega: float) -> float:
@@ -107,7 +109,10 @@ def valvetrain_response(motion: Motion, vt: ValvetrainModel, omega: float, n: in
     y = np.zeros(_state_size(vt))  # the spring's inner lumps at rest
     y[:2] = s_si[i0] - deflect, vals[1][i0] * M_PER_MM
     modes = _first_modes(vt)
-    out = np.zeros((6, n))
+    # each grid angle's solver state, angle and contacts' modes as last marched: what the contacts see there is
+    # evaluated once, after the last revolution (:func:`._valvefield.rows_at`)
+    t_at, y_at, mode_at = np.zeros(n), np.zeros((n, y.size)), np.zeros((n, 3), bool)
+    filled = np.zeros(n, bool)
     seated = np.ones(n, bool)
     impacts = _Impacts(
         float(vt.cam_restitution), float(vt.seat_restitution), float(omega), landing_floor(vt, float(omega))
@@ -133,11 +138,11 @@ def valvetrain_response(motion: Motion, vt: ValvetrainModel, omega: float, n: in
 
             def run(
                 ts: np.ndarray, m: Any = m, t0: float = t0, t_end: float = t_end, y: Any = y
-            ) -> np.ndarray:  # this stretch again, saved at ts: (6, len(ts))
-                t1, _, _, out, _ = stretch(
+            ) -> np.ndarray:  # this stretch again, saved at ts: rows_at's (6, len(ts))
+                _, _, _, ys, _ = stretch(
                     motion, vt, w, m, force_tol, np.asarray(t0), np.asarray(t_end), np.asarray(y), jumps, ts
                 )
-                return np.asarray(out).T
+                return np.asarray(rows_at(motion, vt, w, np.broadcast_to(m, (len(ts), 3)), force_tol, ts, ys))
 
             if start is None:  # a revolution's first stretch (after a transition _consistent gave them)
                 start = np.asarray(conditions_at(np.asarray(t0), np.asarray(y), (motion, vt, w, m, force_tol)))
@@ -160,7 +165,7 @@ def valvetrain_response(motion: Motion, vt: ValvetrainModel, omega: float, n: in
                     jumps,
                     tt,
                 )
-                t1, samples = float(t1), np.asarray(samples).T
+                t1, samples = float(t1), np.asarray(samples)  # the solver's states at tt: (n, state)
                 hit = bool(hit)
                 if not (hit or bool(ok)):
                     raise NumericalError(
@@ -170,16 +175,17 @@ def valvetrain_response(motion: Motion, vt: ValvetrainModel, omega: float, n: in
                     )
                 k1 = min(math.floor((t1 - t_start) / (TWO_PI / n) + 1e-9), (rev + 1) * n - 1)
                 if k1 >= k_next:
-                    ii = (i0 + np.arange(k_next, k1 + 1)) % n
-                    out[:, ii] = samples[:, : k1 - k_next + 1]
+                    ii, count_ii = (i0 + np.arange(k_next, k1 + 1)) % n, k1 - k_next + 1
+                    t_at[ii], y_at[ii], mode_at[ii], filled[ii] = tt[:count_ii], samples[:count_ii], m, True
                     seated[ii] = bool(modes[SEAT])
                     in_event[ii] = first_seating is None and not modes[SEAT]
-                    peak = max(peak, float(samples[2, : k1 - k_next + 1].max()))
+                    # the valve's lift as integrated (what the locks give within the solver's tolerance)
+                    peak = max(peak, float(samples[:count_ii, 2].max()))
                     k_next = k1 + 1
                 # a flight after the seating: its apex (the stretch run again on n angles), unless the cubic
                 # through its saved states stays well below the highest apex so far (a later, lower rebound)
                 if first_seating is not None and not modes[SEAT]:
-                    if modes[TRAIN] or not _below(_flight_top(t0, y, t1, np.asarray(y1), tt, samples), bounce):
+                    if modes[TRAIN] or not _below(_flight_top(t0, y, t1, np.asarray(y1), tt, samples.T), bounce):
                         bounce = max(bounce, _apex(run, t0, t1, n))
                 if not hit:  # the revolution's end: the next one, if any, goes on from here
                     y = np.asarray(y1)
@@ -212,7 +218,9 @@ def valvetrain_response(motion: Motion, vt: ValvetrainModel, omega: float, n: in
             f"the valvetrain is not back at rest on the base circle after {_REVS} revolutions at "
             f"{omega / RPM:.1f} rpm: the last one is reported"
         )
-    xc, pc, xv, pv, f_cam, f_t = out
+    xc, pc, xv, pv, f_cam, f_t = np.where(
+        filled, np.asarray(rows_at(motion, vt, w, mode_at, force_tol, t_at, y_at)), 0.0
+    )
     return ValvetrainResponse(
         float(omega),
         np.degrees(theta),
