@@ -108,6 +108,7 @@ def test_the_lecture_fast_description_says_where_it_jumps(capsys):
 
 
 # ------------------------------------------------------------------------------------------- contracts
+@pytest.mark.slow  # a whole check of an arm that leaves its cam: the oscillating shooting and flight compile
 def test_oscillating_separations_carry_mm_and_rad(capsys, tmp_path):
     text = (ROOT / "cases" / "oscillating.toml").read_text()
     path = tmp_path / "osc.toml"
