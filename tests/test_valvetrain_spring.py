@@ -131,6 +131,24 @@ def test_check_reports_coil_bind_and_fails_a_flight_to_solid():
     assert not coil.ok and coil.value == pytest.approx(travel - fast.max_valve_lift_mm, rel=1e-12) and coil.value < 0
 
 
+@pytest.mark.slow  # a whole check of the two-mass model
+def test_a_valvetrains_check_judges_its_float_speed_without_its_equivalent_followers_jump(monkeypatch):
+    """``check`` judges a valvetrain's speed margin on its float speed; the equivalent follower's dynamic jump speed,
+    which no verdict reads, is not searched (with the spring's surge chain it was 5 s of an 8 s check)."""
+    from camdyn.design.checks import run_check
+    from camdyn.model.surge import SpringInDynamics
+
+    def refuse(*args, **kwargs):
+        raise AssertionError("the equivalent follower's jump speed was searched")
+
+    monkeypatch.setattr(SpringInDynamics, "jump_speed", refuse)
+    report = run_check(_shipped_with_spring())
+    assert report.valvetrain is not None and math.isfinite(report.valvetrain.float_speed_rpm)
+    assert report.dynamic.jump_speed_rpm == report.valvetrain.float_speed_rpm
+    margin = {c.name: c for c in report.checks}["speed_margin"]
+    assert margin.value == pytest.approx(report.valvetrain.float_speed_rpm / 3000.0, rel=1e-12)
+
+
 def test_a_rebuilt_valvetrain_keeps_its_springs_mass():
     """Sweep and tolerance rebuild the two-mass model per point (with_valvetrain_keys): a resolved case keeps the
     case's spring on the valve there, its lumped third (and its surge chain), as check carries it."""

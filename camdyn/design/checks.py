@@ -31,7 +31,7 @@ from ._closure_check import closure_check
 from .geometry import judge_geometry
 from .parts import case_contact, case_drive, contact_check, resolve_spring
 from .userdata import least_force_uncertainty, least_force_warning, unit_slip_warnings
-from .valvetrain import analyze_valvetrain
+from .valvetrain import ValvetrainResult, analyze_valvetrain
 
 __all__ = [
     "Check",
@@ -94,11 +94,17 @@ def _flights_note(flights: tuple[ContactFlight, ...], impacts: tuple[ContactImpa
     return note
 
 
-def jump_speeds(case: Case, omega: float, margin: float) -> tuple[float, float, float, float]:
+def jump_speeds(
+    case: Case, omega: float, margin: float, valve: ValvetrainResult | None = None
+) -> tuple[float, float, float, float]:
     """(kinematic jump speed rad/s, where deg, dynamic jump speed rad/s, the top of its search rad/s) of a case
-    whose spring is resolved (:func:`camdyn.design.parts.resolve_spring`): the dynamic one with its spring model."""
+    whose spring is resolved (:func:`camdyn.design.parts.resolve_spring`): the dynamic one with its spring model,
+    or a valvetrain's float speed (``valve``: its analysis, searched to the same top): a valvetrain jumps where it
+    floats, and its equivalent follower's jump speed, which no verdict reads, is not searched."""
     w_kin, at_kin = dyn.kinematic_jump_speed(case.motion, case.model)
     w_max = dyn.jump_search_limit(margin * omega, w_kin)
+    if valve is not None:
+        return w_kin, at_kin, valve.float_speed_rpm * RPM, w_max
     assert case.spring is not None  # resolved, as the docstring asks
     return w_kin, at_kin, case.spring.jump_speed(case.motion, w_max=w_max), w_max
 
@@ -126,10 +132,12 @@ def run_check(case: Case, speed_rpm: float | None = None) -> CheckReport:
     warnings = list(case.warnings) + ([case.spring.note] if case.spring.note else [])
 
     resp = dyn.response(motion, model, omega)
-    w_kin, at_kin, w_dyn, w_max = jump_speeds(case, omega, limits.speed_margin)
-    if not math.isfinite(w_dyn) and not model.rigid:
+    valve = None if case.valvetrain is None else analyze_valvetrain(case, omega, limits.speed_margin)
+    w_kin, at_kin, w_dyn, w_max = jump_speeds(case, omega, limits.speed_margin, valve)
+    if not math.isfinite(w_dyn) and (valve is not None or not model.rigid):
         searched = f"searched {JUMP_SEARCH_FACTOR:g}x beyond the margin"
-        warnings.append(f"no jump found up to {w_max / RPM:.0f} rpm ({searched})")
+        what = "jump" if valve is None else "valve float"
+        warnings.append(f"no {what} found up to {w_max / RPM:.0f} rpm ({searched})")
     warnings += unit_slip_warnings(case, rpm, finite_or_none((w_dyn if math.isfinite(w_dyn) else w_kin) / RPM))
     if not model.rigid and not resp.separations:
         # the frequency-domain steady state is exact without separation: an independent check of the solve
@@ -153,10 +161,8 @@ def run_check(case: Case, speed_rpm: float | None = None) -> CheckReport:
         checks_train = ()
     kin_force = resp.kinematic_force
     i_kin = int(kin_force.argmin())
-    valve = None if case.valvetrain is None else analyze_valvetrain(case, omega, limits.speed_margin)
     least = resp.min_force if valve is None else valve.response.least_event_force  # a valve: over its event
     if valve is not None:
-        w_dyn = valve.float_speed_rpm * RPM  # a valvetrain jumps where it floats
         warnings += valve.warnings()
     checks = (
         CheckKind.CONTACT_FORCE.check(float(least), float(limits.min_contact_force)),
