@@ -287,3 +287,28 @@ def test_check_json_and_figure_show_the_rockers_ratio():
     plot_valve_lift(ax, result)
     cam = np.array([planar(x * 1e-3) for x in result.response.cam_lift]) * 1e3 - 0.2
     assert np.allclose(ax.lines[0].get_ydata(), cam, atol=1e-9)
+
+
+@pytest.mark.slow  # the float search on the two-mass model (no fast path through a rocker)
+def test_through_a_rocker_the_float_search_interpolates_the_force_the_cam_would_pull_with():
+    """Past the float speed the diffrax model's float force is the least force a rigid cam contact would have to pull
+    with to keep the follower on it (the valve as it moves), not 0: continuous through the float speed, so the
+    search interpolates it (14 speeds through this rocker, where the clipped force took 21, halving like bisection),
+    and the valve floats 1 rpm above the answer and not 1 rpm below it, the force there a fraction of a newton."""
+    from camdyn.model.dynamics import ValvePoint, float_speed, jump_search_limit, kinematic_jump_speed
+
+    case = case_from_dict(_with_rocker(SHIPPED))
+    vt = case.valvetrain
+    w_max = jump_search_limit(1.25 * 3000.0 * RPM, kinematic_jump_speed(case.motion, case.model)[0])
+    asked = []
+
+    def at(w):
+        asked.append(w)
+        return ValvePoint(case.motion, vt, w)
+
+    w_float = float_speed(case.motion, vt, w_max, respond=at)
+    assert len(asked) <= 15
+    below, above = ValvePoint(case.motion, vt, w_float - RPM), ValvePoint(case.motion, vt, w_float + RPM)
+    assert not below.response.floated and above.response.floated
+    assert 0.0 < below.float_force < 2.0 and -2.0 < above.float_force < 0.0
+    assert below.float_force == below.least_event_force  # below the float speed: the contact's own least force

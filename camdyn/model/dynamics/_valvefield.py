@@ -206,15 +206,18 @@ def rows_at(
     ys: jax.Array,
 ) -> jax.Array:
     """What the contacts see at the angles ``ts`` (rad) from the solver's states ``ys`` there (one row each), each
-    in its own contacts' ``modes`` (one row each): (x_c, x_c', x_v, x_v', F_cam, F_t), shape (6, len(ts)) (m, m/rad,
-    N). A revolution's angles in one call at its end: in each stretch, every saved angle's forces took a fifth of
-    the revolution's time."""
+    in its own contacts' ``modes`` (one row each): (x_c, x_c', x_v, x_v', F_cam, F_t, F_hold), shape (7, len(ts))
+    (m, m/rad, N). ``F_hold``: the cam contact's force were it locked there, the valve as it moves: the force the
+    cam would have to give to keep the follower on it (F_cam where a rigid contact holds, negative in a float). A
+    revolution's angles in one call at its end: in each stretch, every saved angle's forces took a fifth of the
+    revolution's time."""
 
-    def one(t: ArrayLike, y: jax.Array, m: ArrayLike) -> jax.Array:
+    def one(t: ArrayLike, y: jax.Array, m: jax.Array) -> jax.Array:
         _, _, f_cam, f_t, _, (xc, pc, xv, pv, _, _) = _dynamics(t, y, (motion, vt, omega, m, force_tol))
-        return jnp.stack([xc, pc, xv, pv, f_cam, f_t])
+        f_hold = _dynamics(t, y, (motion, vt, omega, m.at[CAM].set(True), force_tol))[2]
+        return jnp.stack([xc, pc, xv, pv, f_cam, f_t, f_hold])
 
-    return jax.vmap(one, out_axes=1)(ts, ys, modes)
+    return jax.vmap(one, out_axes=1)(ts, ys, jnp.asarray(modes))
 
 
 def _state_and_conditions(theta, y, args):

@@ -75,11 +75,14 @@ class ValvePoint:
 
     @property
     def float_force(self) -> float:
-        """The float search's force (N): :attr:`least_event_force`, but where the fast path found the valve floating
-        the least force the cam would have to pull with to hold it (negative), continuous through the float speed
-        (the diffrax model's, where it answers, is 0 past it); NaN where the valve never lifts."""
+        """The float search's force (N): :attr:`least_event_force`, but where the valve floats the least force the
+        cam would have to pull with to hold the follower (negative: the fast path's, or the diffrax model's
+        :attr:`ValvetrainResponse.float_force` on a rigid cam contact), continuous through the float speed; NaN
+        where the valve never lifts."""
         fast = self._fast
-        return fast.least_force if isinstance(fast, Floated) else float(self._answer.least_event_force)
+        if isinstance(fast, Floated):
+            return fast.least_force
+        return float(fast.least_event_force if isinstance(fast, ValveSummary) else self.response.float_force)
 
     least_event_force_deg = _read("least_event_force_deg")
     least_train_force = _read("least_train_force")

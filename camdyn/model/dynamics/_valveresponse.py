@@ -44,6 +44,9 @@ class ValvetrainResponse:
     bounce_height_mm: float  # the valve's highest lift off its seat after it first seats, mm (0: never lifts again)
     settled: bool  # back at rest on the base circle within the revolutions simulated
     warnings: tuple[str, ...] = field(default=())
+    # N: the force a rigid cam contact would have to give at each angle to keep the follower on it, the valve as it
+    # moves (cam_force where the contact holds, negative in a float); None for a compliant contact
+    hold_force: np.ndarray | None = None
 
     @property
     def max_valve_lift_mm(self) -> float:
@@ -64,10 +67,14 @@ class ValvetrainResponse:
 
     @property
     def float_force(self) -> float:
-        """The float search's force (N): :attr:`least_event_force` (this model lets the contact open, so past the
-        float speed it is 0, where the fast path's :class:`~camdyn.model.dynamics.ValvePoint` gives the force the
-        cam would have to pull with)."""
-        return self.least_event_force
+        """The float search's force (N): :attr:`least_event_force`, but where a rigid cam contact opens, the least
+        force over the valve event that the cam would have to pull with to keep the follower on it
+        (:attr:`hold_force`, at most 0): continuous through the float speed, as the fast path's
+        :class:`~camdyn.model.dynamics.Floated` force, so the search refines it by interpolation."""
+        least = self.least_event_force
+        if self.hold_force is None or not self.floated or math.isnan(least):
+            return least
+        return min(float(np.min(self.hold_force[self.in_event])), 0.0)
 
     @property
     def least_event_force_deg(self) -> float:

@@ -218,7 +218,7 @@ def valvetrain_response(motion: Motion, vt: ValvetrainModel, omega: float, n: in
             f"the valvetrain is not back at rest on the base circle after {_REVS} revolutions at "
             f"{omega / RPM:.1f} rpm: the last one is reported"
         )
-    xc, pc, xv, pv, f_cam, f_t = np.where(
+    xc, pc, xv, pv, f_cam, f_t, f_hold = np.where(
         filled, np.asarray(rows_at(motion, vt, w, mode_at, force_tol, t_at, y_at)), 0.0
     )
     return ValvetrainResponse(
@@ -236,6 +236,7 @@ def valvetrain_response(motion: Motion, vt: ValvetrainModel, omega: float, n: in
         bounce / M_PER_MM,
         bool(settled),
         tuple(warnings),
+        f_hold if rigid_cam else None,  # a compliant contact's force is its spring's: no lock to hold it by
     )
 
 
