@@ -178,6 +178,25 @@ def test_check_imports_only_what_it_uses():
     assert proc.stdout.strip().splitlines()[-1] == "0 []", proc.stderr[-2000:]
 
 
+@pytest.mark.slow
+def test_a_stored_check_loads_no_ode_solver():
+    """Issue 23: a stored program is an executable, so a `check` whose programs are stored runs without diffrax,
+    optimistix and lineax (0.4 s of the 1 s that ``import jax, diffrax`` takes): they load where a program is
+    traced. The first process stores the programs of a compliant follower and of a valvetrain, the second checks
+    both."""
+    run = (
+        "from camdyn.cli import main\n"
+        "for case in ('lecture', 'valvetrain'):\n"
+        "    main(['check', f'cases/{case}.toml'])\n"
+    )
+    first = _fresh(run)
+    assert first.returncode == 0, first.stderr[-2000:]
+    solvers = "print(sorted(m for m in ('diffrax', 'optimistix', 'lineax') if m in sys.modules))"
+    second = _fresh("import sys\n" + run + solvers)
+    assert second.returncode == 0, second.stderr[-2000:]
+    assert second.stdout.strip().splitlines()[-1] == "[]", second.stderr[-2000:]
+
+
 # a check's results read as a JSON-shaped dict: by an output key, where a typed attribute says the unit
 OUTPUT_KEY_READ = re.compile(
     r"""\b(?:kinematic|dynamic)\s*\[|\b(?:kinematic|dynamic)\.get\(|\[\s*["'](?:kinematic|dynamic)["']\s*\]\s*[\[.]"""

@@ -27,7 +27,6 @@ from __future__ import annotations
 from dataclasses import dataclass, replace
 from typing import Any
 
-import diffrax
 import jax
 import jax.numpy as jnp
 import numpy as np
@@ -173,6 +172,8 @@ def chain_revolution(
     """diffrax: one revolution of a compliant follower with the chain, from nodes q0 and velocities v0 (SI, per
     second) at theta = 0; returns the nodes (len(theta), N), the interface force on ``theta`` (rad) and the
     state at 2 pi. Contact is unilateral: the follower may leave the cam."""
+    import diffrax  # a reference model's: loaded where it runs, not by every command that imports the surge model
+
     if model.rigid:
         raise InputError("dynamics.train_stiffness", "the time-domain chain needs a compliant follower train")
     mass, K, C = _matrices(model, spring_mass, segments, surge_damping)

@@ -3,7 +3,6 @@ linear steady state, tens of times slower than the exact stepping of :mod:`._exa
 
 from __future__ import annotations
 
-import diffrax
 import jax.numpy as jnp
 import numpy as np
 
@@ -31,6 +30,8 @@ def diffrax_gap_const(case, gap_weight_mm, spec):
 def diffrax_gap_kernel(const, omega, k):
     """Largest gap (weighted: mm) of the nonlinear compliant model over the last revolutions from the linear
     steady state at theta = 0; NaN on failure."""
+    import diffrax  # diffrax loads where a program is traced, not where a stored one runs
+
     motion, base, jumps, ts, s_ts, weight_ts, spec = const
     c = base.damping_at(k)
     md = with_spring_damping(base, k, c)

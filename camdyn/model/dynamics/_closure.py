@@ -33,10 +33,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-import diffrax
 import jax.numpy as jnp
 import numpy as np
-import optimistix as optx
 from jax.typing import ArrayLike
 
 from ..._core.errors import NumericalError
@@ -145,12 +143,17 @@ def _cross(motion, model, omega, theta0, y0, side, gap):
     """Free flight from theta0 until a flank meets the roller: the other one across the gap (motion units) on
     ``side``, or the one it left. Returns the angle (rad) and state where it ended and whether a flank was met,
     each read inside the program (an indexing or a comparison of its result outside compiles one of its own)."""
+    import diffrax  # diffrax loads where a program is traced, not where a stored one runs
+
     sol = _cross_solve(motion, model, omega, theta0, y0, side, gap)
     assert sol.ts is not None and sol.ys is not None
     return sol.ts[-1], sol.ys[-1], sol.result == diffrax.RESULTS.event_occurred
 
 
 def _cross_solve(motion, model, omega, theta0, y0, side, gap):
+    import diffrax
+    import optimistix as optx
+
     return diffrax.diffeqsolve(
         diffrax.ODETerm(_flight_field),
         diffrax.Tsit5(),
@@ -194,6 +197,8 @@ def _flank_field(t, y, args):
 def _impact(motion, model, omega, theta0, y0, side, gap, span):
     """The follower from its landing (theta0, y0) on the flank on ``side`` over ``span`` rad of cam angle: its
     contact force there on :data:`IMPACT_SAMPLES` angles."""
+    import diffrax
+
     ts = theta0 + span * jnp.linspace(0.0, 1.0, IMPACT_SAMPLES)
     sol = diffrax.diffeqsolve(
         diffrax.ODETerm(_flank_field),

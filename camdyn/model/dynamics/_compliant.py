@@ -10,7 +10,6 @@ from __future__ import annotations
 import math
 from typing import Any
 
-import diffrax
 import jax
 import jax.numpy as jnp
 import numpy as np
@@ -41,6 +40,8 @@ def vector_field(theta: ArrayLike, y: jax.Array, args: Any) -> jax.Array:
 
 
 def _controller(motion: Motion, theta0, revs: float, rtol: float = RTOL, atol: float = ATOL):
+    import diffrax  # diffrax loads where a program is traced, not where a stored one runs
+
     breaks = motion.jump_angles()  # data padded with +inf for a program: the controller skips those
     pid = diffrax.PIDController(rtol=rtol, atol=atol)
     if np.size(breaks) == 0:
@@ -87,6 +88,8 @@ def _variational_field(theta, y, args):
 def _revolution(solver, rtol: float, atol: float, motion, model, omega, z0, theta):
     """One revolution from z0 by ``solver``: the state on ``theta`` and at 2 pi, d z(2 pi) / d z0, and whether the
     solve succeeded."""
+    import diffrax
+
     sol = diffrax.diffeqsolve(
         diffrax.ODETerm(_variational_field),
         solver,
@@ -107,11 +110,15 @@ def _revolution(solver, rtol: float, atol: float, motion, model, omega, z0, thet
 
 def _rev_with_sensitivity(motion, model, omega, z0, theta):
     """:func:`_revolution` by Tsit5: where the follower leaves the cam (its contact switches stepped through)."""
+    import diffrax
+
     return _revolution(diffrax.Tsit5(), RTOL, ATOL, motion, model, omega, z0, theta)
 
 
 def _rev_in_contact(motion, model, omega, z0, theta):
     """:func:`_revolution` by Dopri8 at :data:`SMOOTH_RTOL`: where the orbit is smooth (see :mod:`._solver`)."""
+    import diffrax
+
     return _revolution(diffrax.Dopri8(), SMOOTH_RTOL, SMOOTH_ATOL, motion, model, omega, z0, theta)
 
 

@@ -6,11 +6,9 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-import diffrax
 import jax
 import jax.numpy as jnp
 import numpy as np
-import optimistix as optx
 
 from ..._core.errors import NumericalError
 from ..._core.jit import cached_jit
@@ -39,6 +37,9 @@ def _flight(motion, model, omega, theta0, dv, t_cap, n: int):
     revolution: the end ``t1`` (the landing, else the solve's end capped at ``t_cap``), the state and the cam's
     (s, s') there, whether it landed, and the state at the ``2 n`` grid angles from the first at or after ``theta0``,
     clipped into [theta0, t1] (one stored program: the flight's start on the cam, its solve and its samples)."""
+    import diffrax  # diffrax loads where a program is traced, not where a stored one runs
+    import optimistix as optx
+
     s0 = motion(theta0)
     y0 = jnp.stack([s0[0], s0[1] + dv])
     sol = diffrax.diffeqsolve(

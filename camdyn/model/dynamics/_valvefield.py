@@ -26,12 +26,11 @@ contact that can open or close. The state is integrated in the cam angle (x and 
 
 from __future__ import annotations
 
+import functools
 from typing import Any
 
-import diffrax
 import jax
 import jax.numpy as jnp
-import optimistix as optx
 from jax.typing import ArrayLike
 
 from ..._core.jit import cached_jit
@@ -139,17 +138,22 @@ def _first_change(t, y, args, **kwargs):
     return jnp.min(jnp.stack(_conditions(t, y, args)))
 
 
-class _Bracket(optx.Bisection):
-    """Bisection that stops on the bracket's width alone: the event functions mix forces (N) and gaps (m), and
-    a force through a kink or a segment boundary need not come near zero at its crossing."""
+@functools.cache
+def _event() -> Any:
+    """The stretch's event: the first contact change, its root bracketed by bisection that stops on the bracket's
+    width alone (the event functions mix forces (N) and gaps (m), and a force through a kink or a segment boundary
+    need not come near zero at its crossing). Built at the first trace: diffrax and optimistix load only where a
+    program is traced, not where a stored one runs (0.4 s of a warm ``check``)."""
+    import diffrax
+    import optimistix as optx
 
-    def terminate(
-        self, fn: Any, y: Any, args: Any, options: Any, state: Any, tags: Any
-    ) -> tuple[jax.Array, optx.RESULTS]:
-        return jnp.abs(state.lower - state.upper) < self.atol + self.rtol * jnp.abs(y), optx.RESULTS.successful
+    class Bracket(optx.Bisection):
+        def terminate(
+            self, fn: Any, y: Any, args: Any, options: Any, state: Any, tags: Any
+        ) -> tuple[jax.Array, optx.RESULTS]:
+            return jnp.abs(state.lower - state.upper) < self.atol + self.rtol * jnp.abs(y), optx.RESULTS.successful
 
-
-_EVENT = diffrax.Event(_first_change, root_finder=_Bracket(rtol=1e-14, atol=1e-12), direction=False)
+    return diffrax.Event(_first_change, root_finder=Bracket(rtol=1e-14, atol=1e-12), direction=False)
 
 
 @cached_jit
@@ -171,6 +175,8 @@ def stretch(
     contacts see) and at its end, whether it ended at an event and whether the solver succeeded, and
     :func:`_state_and_conditions` at its end (what the transition there reads: one program call a stretch, not
     two)."""
+    import diffrax  # at the trace only (:func:`_event`)
+
     pid = diffrax.PIDController(rtol=_RTOL, atol=_ATOL)
     args = (motion, vt, omega, modes, force_tol)
     sol = diffrax.diffeqsolve(
@@ -183,7 +189,7 @@ def stretch(
         args=args,
         saveat=diffrax.SaveAt(subs=(diffrax.SubSaveAt(ts=ts), diffrax.SubSaveAt(t1=True))),
         stepsize_controller=diffrax.ClipStepSizeController(pid, jump_ts=jumps),
-        event=_EVENT,
+        event=_event(),
         max_steps=_MAX_STEPS,
         throw=False,
     )
