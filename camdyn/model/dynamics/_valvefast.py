@@ -2,16 +2,19 @@
 
 From the valve's lift off its seat to its seating, with the cam contact rigid and closed (x_c = s), the lash
 closed and the train in compression, the valve's equation (SI, in the cam angle, ' = d/dtheta, omega the cam
-speed) is linear with constant coefficients for a constant ratio r::
+speed) is linear with constant coefficients::
 
-    m_v w^2 x'' + (c_t + c) w x' + (k_t + k) x = u(theta) - k_t lash - F0,   u = k_t r s + c_t w r s'
+    m_v w^2 x'' + (c_t + c) w x' + (k_t + k) x = u(theta) - k_t lash - F0,   u = k_t g + c_t w g'
 
-(the train's force ``k_t d + c_t w d'`` on its deflection ``d = r s - lash - x``, the valve spring
-``k x + F0 + c w x'``). Its exact solution over a step of a fixed angle grid (:data:`REFINE` steps per angle of
-the output grid) is a matrix exponential of the system augmented with the input's Taylor chain, the input held as
-the cubic through its values and slopes at both ends (``u'`` is known exactly from s' and s''), so the only
-approximation is that cubic, of order h^4. The steps are chained as a linear recurrence in the system's modes
-(a cumulative sum in blocks), contact changes located inside a step by the same exact propagator on finer angles.
+(the train's force ``k_t d + c_t w d'`` on its deflection ``d = g - lash - x``, the valve spring ``k x + F0 + c w
+x'``), where ``g(theta) = g(s(theta))`` is the cam's lift at the valve through the rocker: ``r s`` for a constant
+ratio, the rocker's lever of the cam's own lift otherwise (the follower moves with the cam, so a rocker's varying
+ratio is a known function of the angle, and the equation stays linear). Its exact solution over a step of a
+fixed angle grid (:data:`REFINE` steps per angle of the output grid) is a matrix exponential of the system
+augmented with the input's Taylor chain, the input held as the cubic through its values and slopes at both ends
+(``u'`` is known exactly from s' and s''), so the only approximation is that cubic, of order h^4. The steps are
+chained as a linear recurrence in the system's modes (a cumulative sum in blocks), contact changes located inside a
+step by the same exact propagator on finer angles.
 
 What comes out equals :func:`~camdyn.model.dynamics.valvetrain_response`'s: the valve lifts where the train's
 force on the seated valve reaches the preload (algebraic on a rigid cam), the least cam-contact and train forces
@@ -23,7 +26,7 @@ valve seated. The answer is ``None`` (the caller falls back on the diffrax model
 linear model stops holding before the revolution ends: the train unloads before the seating, the cam contact's
 force comes within the sampling's bound of zero without a sure crossing, the valve lifts again after the
 seating, the follower leaves the cam on the ramps or the base circle, or the model is not this one (a compliant
-cam contact, a rigid train, a rocker's varying ratio, the spring's surge chain). Where the cam contact's force
+cam contact, a rigid train, the spring's surge chain). Where the cam contact's force
 crosses zero on the exact solution before anything else opens, the valve floats there for sure: :class:`Floated`,
 with what happens next left to the diffrax model.
 """
@@ -296,7 +299,7 @@ def fast_valve_summary(
 ) -> ValveSummary | Floated | None:
     """The :class:`ValveSummary` at cam speed ``omega`` (rad/s) on the fast path, :class:`Floated` where the valve
     surely floats, or None where the fast path cannot say (the caller runs the diffrax model)."""
-    if not vt.rigid_cam or vt.rigid_train or vt.rocker is not None or vt.coils is not None:
+    if not vt.rigid_cam or vt.rigid_train or vt.coils is not None:
         return None
     try:
         return _rigid_cam(motion, vt, float(omega), n)
@@ -305,72 +308,78 @@ def fast_valve_summary(
 
 
 def _rigid_cam(motion: Motion, vt: ValvetrainModel, w: float, n: int) -> ValveSummary | Floated:
-    """:func:`fast_valve_summary` of a rigid cam contact and a compliant train of constant ratio."""
+    """:func:`fast_valve_summary` of a rigid cam contact and a compliant train."""
     s_all, s1_all, s2_all = _fine(motion, n)
     nf = s_all.size
     h = TWO_PI / nf
     w2 = w * w
-    r, lash = float(vt.ratio), float(vt.lash)
+    lash = float(vt.lash)
     m_c, m_v = float(vt.cam_side_mass), float(vt.valve_mass)
     kt, ct = float(vt.train.train_stiffness), float(vt.train.train_damping)
     k, c, f0, tappet = float(vt.spring_rate), float(vt.spring_damping), float(vt.preload), float(vt.tappet_force)
-    tol = 1e-6 * max(1.0, r * f0)  # the diffrax model's force tolerance on its events
+    tol = 1e-6 * max(1.0, float(vt.ratio) * f0)  # the diffrax model's force tolerance on its events
     i0 = start_angle(s_all[::REFINE] / M_PER_MM) * REFINE  # the diffrax model's revolution, from here
     order = (i0 + np.arange(nf + 1)) % nf
     s, s1, s2 = s_all[order], s1_all[order], s2_all[order]
     th0 = i0 * h
     deg = lambda step, tau: math.degrees(th0 + step * h + tau) % 360.0  # noqa: E731
     out_node = (np.arange(nf + 1) % REFINE) == 0  # the output grid's angles among the fine ones
+    # the cam's lift at the valve through the rocker (m) and its slope and curvature in the angle, and the ratio at
+    # the cam's lift: known functions of the angle, the follower moving with the cam
+    g, ratio, ratio1 = vt.host_lever(s)
+    g1, g2 = ratio * s1, ratio1 * s1**2 + ratio * s2
+    ratio = np.broadcast_to(ratio, s.shape)
 
     # the valve seated (x_v = 0): the train's force and the cam's, and where the train lifts the valve
-    seated_defl = r * s - lash
-    f_seated = np.where(seated_defl > 0.0, np.maximum(0.0, kt * seated_defl + ct * w * r * s1), 0.0)
+    seated_defl = g - lash
+    f_seated = np.where(seated_defl > 0.0, np.maximum(0.0, kt * seated_defl + ct * w * g1), 0.0)
     f_cam_bare = m_c * s2 * w2 + tappet  # the cam's force with no train force on the follower
     lifts = np.nonzero(f_seated - f0 - tol > 0.0)[0]
     if not lifts.size:  # the valve never lifts: no event, the follower held on the cam all the way round
-        if _lower_bound(f_cam_bare + r * f_seated) < -tol:
+        if _lower_bound(f_cam_bare + ratio * f_seated) < -tol:
             raise _Unsure("the follower leaves the cam")
         nan = math.nan
         return ValveSummary(w, nan, nan, nan, nan, nan, 0.0, 0.0)
     j = int(lifts[0])
-    if j == 0 or _lower_bound((f_cam_bare + r * f_seated)[: j + 1]) < -tol:
+    if j == 0 or _lower_bound((f_cam_bare + ratio * f_seated)[: j + 1]) < -tol:
         raise _Unsure("the follower leaves the cam before the valve lifts")
 
     def seated_force(theta: np.ndarray) -> np.ndarray:  # the train's on the seated valve, less F0 + tol
         v = np.asarray(motion.host(theta))[:2] * M_PER_MM
-        d = r * v[0] - lash
-        return np.where(d > 0.0, np.maximum(0.0, kt * d + ct * w * r * v[1]), 0.0) - f0 - tol
+        g_v, ratio_v, _ = vt.host_lever(v[0])
+        d = g_v - lash
+        return np.where(d > 0.0, np.maximum(0.0, kt * d + ct * w * ratio_v * v[1]), 0.0) - f0 - tol
 
     lo, hi = th0 + (j - 1) * h, th0 + j * h
     for _ in range(2):  # as _cross: twice cut in 64, then interpolated
         ts = np.linspace(lo, hi, _SPLIT + 1)
-        g = seated_force(ts)
-        i = int(np.argmax(g > 0.0))
+        excess = seated_force(ts)
+        i = int(np.argmax(excess > 0.0))
         lo, hi = ts[i - 1], ts[i]
-    f = min(max(g[i - 1] / (g[i - 1] - g[i]), 0.0), 1.0)
+    f = min(max(excess[i - 1] / (excess[i - 1] - excess[i]), 0.0), 1.0)
     lift_step, tau_lift = j - 1, lo + f * (hi - lo) - (th0 + (j - 1) * h)
 
     # the valve off its seat, on the train (loaded) or off it (free, on its spring alone): two linear systems
     loaded = _Linear(
         np.array([[0.0, 1.0], [-(kt + k) / (m_v * w2), -(ct + c) / (m_v * w)]]),
         (-kt * lash - f0) / (m_v * w2),
-        hermite_taylor((kt * r * s + ct * w * r * s1) / (m_v * w2), (kt * r * s1 + ct * w * r * s2) / (m_v * w2), h),
+        hermite_taylor((kt * g + ct * w * g1) / (m_v * w2), (kt * g1 + ct * w * g2) / (m_v * w2), h),
         h,
     )
     free = _Linear(
         np.array([[0.0, 1.0], [-k / (m_v * w2), -c / (m_v * w)]]), -f0 / (m_v * w2), np.zeros((nf, _ORDER)), h
     )
-    cam = hermite_taylor(s, s1, h)  # the cam's lift between the fine angles, for the guards there
+    cam = hermite_taylor(g, g1, h)  # the cam's lift at the valve between the fine angles, for the guards there
 
     def train(ys: np.ndarray, steps: Index, taus: Index) -> tuple[np.ndarray, np.ndarray]:
         """The train's deflection (m) and its linear force (N) at states ``ys``, ``taus`` into fine ``steps``."""
         taus = np.broadcast_to(taus, (len(ys),))
         steps = np.broadcast_to(steps, (len(ys),))
         a0, a1, a2, a3 = cam[np.minimum(steps, nf - 1)].T
-        at = np.where(taus > 0.0, a0 + a1 * taus + a2 * taus**2 / 2 + a3 * taus**3 / 6, s[steps])
-        at1 = np.where(taus > 0.0, a1 + a2 * taus + a3 * taus**2 / 2, s1[steps])
-        d = r * at - lash - ys[:, 0]
-        return d, kt * d + ct * w * (r * at1 - ys[:, 1])
+        at = np.where(taus > 0.0, a0 + a1 * taus + a2 * taus**2 / 2 + a3 * taus**3 / 6, g[steps])
+        at1 = np.where(taus > 0.0, a1 + a2 * taus + a3 * taus**2 / 2, g1[steps])
+        d = at - lash - ys[:, 0]
+        return d, kt * d + ct * w * (at1 - ys[:, 1])
 
     def on_train(ys: np.ndarray, steps: Index, taus: Index) -> np.ndarray:  # > 0 while the train pushes the valve (N)
         d, f_t = train(ys, steps, taus)
@@ -388,8 +397,8 @@ def _rigid_cam(motion: Motion, vt: ValvetrainModel, w: float, n: int) -> ValveSu
     ys = loaded.march(lift_step + 1, y_first)  # to the revolution's end: the seating is late in it
     idx = np.arange(lift_step + 1, nf + 1)
     d, f_t = train(ys, idx, 0.0)
-    f_cam = f_cam_bare[idx] + r * f_t
-    reach = r * (float(s.max()) - float(s.min())) - lash
+    f_cam = f_cam_bare[idx] + ratio[idx] * f_t
+    reach = float(g.max()) - float(g.min()) - lash
     half_lift = 0.5 * static_valve_lift(reach, f0, kt, k)
     risen = np.nonzero(ys[:, 0] > half_lift)[0]
     down = np.nonzero(ys[risen[0] :, 0] < -GAP_EPS)[0] if risen.size else risen
@@ -436,7 +445,7 @@ def _rigid_cam(motion: Motion, vt: ValvetrainModel, w: float, n: int) -> ValveSu
             bounce = max(bounce, float(np.max(along[:, 0])))
             grid = (taus == 0.0) & out_node[np.minimum(steps, nf)]  # the output grid's angles in the flight
             flight_lift = max(flight_lift, float(np.max(along[grid, 0], initial=0.0)))
-            held = np.maximum(r * s[steps[grid]] - lash, 0.0)
+            held = np.maximum(g[steps[grid]] - lash, 0.0)
             gap = max(gap, float(np.max(along[grid, 0] - held, initial=0.0)))
             if np.min(f_cam_bare[np.minimum(steps, nf)]) < -tol:
                 raise _Unsure("the follower leaves the cam while the valve rebounds")
@@ -448,7 +457,7 @@ def _rigid_cam(motion: Motion, vt: ValvetrainModel, w: float, n: int) -> ValveSu
         raise _Unsure("the valve rattles on its seat beyond the rebounds followed")
     # the valve held on its seat to the revolution's end: no re-lift, the follower on the cam
     rest = slice(step + 1, nf + 1)
-    if np.any(f_seated[rest] > f0) or _lower_bound((f_cam_bare + r * f_seated)[rest]) < -tol:
+    if np.any(f_seated[rest] > f0) or _lower_bound((f_cam_bare + ratio * f_seated)[rest]) < -tol:
         raise _Unsure("the valve re-lifted or the follower off the cam after the seating")
     return ValveSummary(
         w,
