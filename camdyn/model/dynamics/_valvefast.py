@@ -36,6 +36,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 
@@ -281,6 +282,18 @@ def _stretch(
     return nodes[:q], idx[:q], np.zeros(q), (step + q, got[0], got[1])
 
 
+def _rise(fn: Callable[[np.ndarray], np.ndarray], lo: float, hi: float) -> float:
+    """The angle (rad) in [lo, hi] where ``fn`` (of angles, on the host), below zero at ``lo``, first rises above
+    it: as :func:`_cross`, the span cut in 64 twice over, the root interpolated across the last cut."""
+    for _ in range(2):
+        ts = np.linspace(lo, hi, _SPLIT + 1)
+        vals = fn(ts)
+        i = int(np.argmax(vals > 0.0))
+        lo, hi = ts[i - 1], ts[i]
+    f = min(max(vals[i - 1] / (vals[i - 1] - vals[i]), 0.0), 1.0)
+    return lo + f * (hi - lo)
+
+
 def _lower_bound(f: np.ndarray) -> float:
     """A bound below a force sampled on the fine nodes, between them too: each step's lower end less twice the
     reach of its convexity (a second difference over 8), the least of the four second differences about the step
@@ -299,36 +312,98 @@ def fast_valve_summary(
 ) -> ValveSummary | Floated | None:
     """The :class:`ValveSummary` at cam speed ``omega`` (rad/s) on the fast path, :class:`Floated` where the valve
     surely floats, or None where the fast path cannot say (the caller runs the diffrax model)."""
-    if not vt.rigid_cam or vt.rigid_train or vt.coils is not None:
+    if not vt.rigid_cam or vt.coils is not None:
         return None
     try:
-        return _rigid_cam(motion, vt, float(omega), n)
+        return (_rigid_train if vt.rigid_train else _rigid_cam)(motion, vt, float(omega), n)
     except _Unsure:
         return None
 
 
-def _rigid_cam(motion: Motion, vt: ValvetrainModel, w: float, n: int) -> ValveSummary | Floated:
-    """:func:`fast_valve_summary` of a rigid cam contact and a compliant train."""
+class _Revolution(NamedTuple):
+    """One revolution on the fine grid (``h`` rad a step) from the diffrax model's start angle ``th0`` (rad), one
+    angle past its end: the cam's lift s, s', s'' (m, m/rad, m/rad^2) and its lift at the valve through the rocker
+    g, g', g'' with the ratio r and r' = dr/dx_c at the cam's lift (known functions of the angle: on the fast path
+    the follower moves with the cam)."""
+
+    s: np.ndarray
+    s1: np.ndarray
+    s2: np.ndarray
+    g: np.ndarray
+    g1: np.ndarray
+    g2: np.ndarray
+    ratio: np.ndarray
+    ratio1: np.ndarray
+    th0: float
+    h: float
+
+    @property
+    def out_node(self) -> np.ndarray:
+        """Whether each fine angle is one of the output grid's."""
+        return (np.arange(self.s.size) % REFINE) == 0
+
+    def deg(self, step: int, tau: float) -> float:
+        """The cam angle (deg, in [0, 360)) ``tau`` rad into fine step ``step``."""
+        return math.degrees(self.th0 + step * self.h + tau) % 360.0
+
+
+def _revolution(motion: Motion, vt: ValvetrainModel, n: int) -> _Revolution:
+    """The :class:`_Revolution` of ``motion`` through ``vt``'s lever on ``n * REFINE`` fine steps."""
     s_all, s1_all, s2_all = _fine(motion, n)
     nf = s_all.size
     h = TWO_PI / nf
-    w2 = w * w
-    lash = float(vt.lash)
-    m_c, m_v = float(vt.cam_side_mass), float(vt.valve_mass)
-    kt, ct = float(vt.train.train_stiffness), float(vt.train.train_damping)
-    k, c, f0, tappet = float(vt.spring_rate), float(vt.spring_damping), float(vt.preload), float(vt.tappet_force)
-    tol = 1e-6 * max(1.0, float(vt.ratio) * f0)  # the diffrax model's force tolerance on its events
     i0 = start_angle(s_all[::REFINE] / M_PER_MM) * REFINE  # the diffrax model's revolution, from here
     order = (i0 + np.arange(nf + 1)) % nf
     s, s1, s2 = s_all[order], s1_all[order], s2_all[order]
-    th0 = i0 * h
-    deg = lambda step, tau: math.degrees(th0 + step * h + tau) % 360.0  # noqa: E731
-    out_node = (np.arange(nf + 1) % REFINE) == 0  # the output grid's angles among the fine ones
-    # the cam's lift at the valve through the rocker (m) and its slope and curvature in the angle, and the ratio at
-    # the cam's lift: known functions of the angle, the follower moving with the cam
     g, ratio, ratio1 = vt.host_lever(s)
-    g1, g2 = ratio * s1, ratio1 * s1**2 + ratio * s2
-    ratio = np.broadcast_to(ratio, s.shape)
+    ratio, ratio1 = np.broadcast_to(ratio, s.shape), np.broadcast_to(ratio1, s.shape)
+    return _Revolution(s, s1, s2, g, ratio * s1, ratio1 * s1**2 + ratio * s2, ratio, ratio1, i0 * h, h)
+
+
+def _constants(vt: ValvetrainModel) -> tuple[float, ...]:
+    """The valvetrain's numbers the fast path reads (SI): the lash, the cam side's and the valve's masses, the valve
+    spring's rate, damping and preload, the tappet force and the diffrax model's force tolerance on its events."""
+    f0 = float(vt.preload)
+    tol = 1e-6 * max(1.0, float(vt.ratio) * f0)
+    masses = float(vt.cam_side_mass), float(vt.valve_mass)
+    return float(vt.lash), *masses, float(vt.spring_rate), float(vt.spring_damping), f0, float(vt.tappet_force), tol
+
+
+def _flight_reach(
+    rev: _Revolution, lash: float, along: np.ndarray, steps: np.ndarray, taus: np.ndarray
+) -> tuple[float, float]:
+    """A rebound's highest lift on the output grid and its largest gap at the valve above where the cam would hold
+    it (m), from its states ``along`` at fine ``steps`` and ``taus`` (rad) into them."""
+    grid = (taus == 0.0) & rev.out_node[np.minimum(steps, rev.g.size - 1)]  # the output grid's angles in the flight
+    held = np.maximum(rev.g[steps[grid]] - lash, 0.0)
+    return float(np.max(along[grid, 0], initial=0.0)), float(np.max(along[grid, 0] - held, initial=0.0))
+
+
+def _summary(
+    w: float, event: tuple[float, float, float, float, float], rebounds: tuple[float, float, float], max_lift: float
+) -> ValveSummary:
+    """The :class:`ValveSummary` at ``w`` (rad/s) from the event's (least cam force N, its angle deg, least train
+    force N, seating velocity m/s, seating angle deg), the rebounds' (highest apex, highest lift on the output grid,
+    largest gap at the valve; m) and the event's largest valve lift (m)."""
+    bounce, flight_lift, gap = rebounds
+    return ValveSummary(
+        w,
+        *event,
+        bounce / M_PER_MM,
+        max(max_lift, flight_lift) / M_PER_MM,
+        max_gap_mm=gap / M_PER_MM,
+        bounce_lift_mm=flight_lift / M_PER_MM,
+    )
+
+
+def _rigid_cam(motion: Motion, vt: ValvetrainModel, w: float, n: int) -> ValveSummary | Floated:
+    """:func:`fast_valve_summary` of a rigid cam contact and a compliant train."""
+    rev = _revolution(motion, vt, n)
+    s, s2, g, g1, g2, ratio = rev.s, rev.s2, rev.g, rev.g1, rev.g2, rev.ratio
+    th0, h, out_node = rev.th0, rev.h, rev.out_node
+    nf, w2, deg = s.size - 1, w * w, rev.deg
+    lash, m_c, m_v, k, c, f0, tappet, tol = _constants(vt)
+    kt, ct = float(vt.train.train_stiffness), float(vt.train.train_damping)
 
     # the valve seated (x_v = 0): the train's force and the cam's, and where the train lifts the valve
     seated_defl = g - lash
@@ -350,14 +425,8 @@ def _rigid_cam(motion: Motion, vt: ValvetrainModel, w: float, n: int) -> ValveSu
         d = g_v - lash
         return np.where(d > 0.0, np.maximum(0.0, kt * d + ct * w * ratio_v * v[1]), 0.0) - f0 - tol
 
-    lo, hi = th0 + (j - 1) * h, th0 + j * h
-    for _ in range(2):  # as _cross: twice cut in 64, then interpolated
-        ts = np.linspace(lo, hi, _SPLIT + 1)
-        excess = seated_force(ts)
-        i = int(np.argmax(excess > 0.0))
-        lo, hi = ts[i - 1], ts[i]
-    f = min(max(excess[i - 1] / (excess[i - 1] - excess[i]), 0.0), 1.0)
-    lift_step, tau_lift = j - 1, lo + f * (hi - lo) - (th0 + (j - 1) * h)
+    lift_step = j - 1
+    tau_lift = _rise(seated_force, th0 + lift_step * h, th0 + j * h) - (th0 + lift_step * h)
 
     # the valve off its seat, on the train (loaded) or off it (free, on its spring alone): two linear systems
     loaded = _Linear(
@@ -443,10 +512,8 @@ def _rigid_cam(motion: Motion, vt: ValvetrainModel, w: float, n: int) -> ValveSu
                 apex = _stretch(lin, step, tau, y, rising, fresh=first)[3]
                 bounce = max(bounce, float(apex[2][0]) if apex is not None else float(np.max(along[:, 0])))
             bounce = max(bounce, float(np.max(along[:, 0])))
-            grid = (taus == 0.0) & out_node[np.minimum(steps, nf)]  # the output grid's angles in the flight
-            flight_lift = max(flight_lift, float(np.max(along[grid, 0], initial=0.0)))
-            held = np.maximum(g[steps[grid]] - lash, 0.0)
-            gap = max(gap, float(np.max(along[grid, 0] - held, initial=0.0)))
+            lift_here, gap_here = _flight_reach(rev, lash, along, steps, taus)
+            flight_lift, gap = max(flight_lift, lift_here), max(gap, gap_here)
             if np.min(f_cam_bare[np.minimum(steps, nf)]) < -tol:
                 raise _Unsure("the follower leaves the cam while the valve rebounds")
             step, tau, y = end
@@ -459,15 +526,113 @@ def _rigid_cam(motion: Motion, vt: ValvetrainModel, w: float, n: int) -> ValveSu
     rest = slice(step + 1, nf + 1)
     if np.any(f_seated[rest] > f0) or _lower_bound((f_cam_bare + ratio * f_seated)[rest]) < -tol:
         raise _Unsure("the valve re-lifted or the follower off the cam after the seating")
-    return ValveSummary(
-        w,
-        least_force,
-        least_deg,
-        least_train,
-        seating_velocity,
-        seating_deg,
-        bounce / M_PER_MM,
-        max(max_lift, flight_lift) / M_PER_MM,
-        max_gap_mm=gap / M_PER_MM,
-        bounce_lift_mm=flight_lift / M_PER_MM,
+    event = (least_force, least_deg, least_train, seating_velocity, seating_deg)
+    return _summary(w, event, (bounce, flight_lift, gap), max_lift)
+
+
+def _rigid_train(motion: Motion, vt: ValvetrainModel, w: float, n: int) -> ValveSummary | Floated:
+    """:func:`fast_valve_summary` of a rigid cam contact and a rigid train: the lash closes as a plastic impact that
+    lifts the valve with the cam, which then moves with it (x_v = g - lash) to its seating, the train's and the
+    cam's forces algebraic in the angle; each rebound off the seat flies on the valve spring alone (the train open,
+    the cam's lift at the valve below the lash on its closing ramp): the same linear system as a compliant train's
+    flight off it. The diffrax model's events and tolerances: the lash closes GAP_EPS past the cam's reach, the
+    valve seats GAP_EPS below its seat."""
+    rev = _revolution(motion, vt, n)
+    s1, s2, g, g1, ratio, ratio1, th0, h = rev.s1, rev.s2, rev.g, rev.g1, rev.ratio, rev.ratio1, rev.th0, rev.h
+    nf, w2, deg, out_node = g.size - 1, w * w, rev.deg, rev.out_node
+    lash, m_c, m_v, k, c, f0, tappet, tol = _constants(vt)
+    f_cam_bare = m_c * s2 * w2 + tappet  # the cam's force with the train open
+
+    def cam_at_valve(theta: np.ndarray) -> tuple[np.ndarray, np.ndarray]:  # g (m) and g' (m/rad) at angles
+        v = np.asarray(motion.host(theta))[:2] * M_PER_MM
+        g_v, ratio_v, _ = vt.host_lever(v[0])
+        return g_v, ratio_v * v[1]
+
+    # the lash closes where the cam's lift at the valve passes it (the valve seated): the valve lifts with the cam
+    closed = np.nonzero(g - lash - GAP_EPS > 0.0)[0]
+    if not closed.size:  # the valve never lifts
+        if _lower_bound(f_cam_bare) < -tol:
+            raise _Unsure("the follower leaves the cam")
+        nan = math.nan
+        return ValveSummary(w, nan, nan, nan, nan, nan, 0.0, 0.0)
+    j = int(closed[0])
+    if j == 0 or _lower_bound(f_cam_bare[: j + 1]) < -tol:
+        raise _Unsure("the follower leaves the cam before the lash closes")
+
+    # the valve on the train, moving with the cam: its lift, the train's force and the cam's, to the seating after
+    # rising past half its lift (the diffrax model's rule)
+    x_v = g - lash
+    f_t = m_v * (ratio * s2 + ratio1 * s1**2) * w2 + k * x_v + f0 + c * w * ratio * s1
+    f_cam = f_cam_bare + ratio * f_t
+    half_lift = 0.5 * (float(g.max()) - float(g.min()) - lash)
+    risen = j + np.nonzero(x_v[j:] > half_lift)[0]
+    down = risen[0] + np.nonzero(x_v[risen[0] :] + GAP_EPS < 0.0)[0] if risen.size else risen
+    if not down.size:
+        raise _Unsure("no seating after the valve's rise")
+    q = int(down[0])  # the first fine angle below the seat
+    event = slice(j, q)
+    train_open = np.nonzero(f_t[event] < -tol)[0]
+    cam_open = np.nonzero(f_cam[event] < -tol)[0]
+    if cam_open.size and (not train_open.size or cam_open[0] < train_open[0]):
+        return Floated(float(np.min(f_cam[event])))
+    if train_open.size or _lower_bound(f_cam[event]) <= tol or _lower_bound(f_t[event]) <= tol:
+        raise _Unsure("the cam contact or the train near opening within the event")
+    grid = np.flatnonzero(out_node[event]) + j
+    least = int(grid[np.argmin(f_cam[grid])])
+    least_force, least_deg = float(f_cam[least]), deg(least, 0.0)
+    least_train = float(np.min(f_t[grid]))
+    max_lift = float(np.max(x_v[grid]))
+    th_seat = _rise(lambda t: -(cam_at_valve(t)[0] - lash + GAP_EPS), th0 + (q - 1) * h, th0 + q * h)
+    step, tau = q - 1, th_seat - (th0 + (q - 1) * h)
+    closing = float(cam_at_valve(np.array([th_seat]))[1][0])  # the valve's speed as it seats (m/rad, < 0)
+    seating_velocity, seating_deg = abs(closing) * w, deg(step, tau)
+
+    # the rebounds at seat_restitution x the landing speed, each a flight on the spring alone to the seat
+    free = _Linear(
+        np.array([[0.0, 1.0], [-k / (m_v * w2), -c / (m_v * w)]]), -f0 / (m_v * w2), np.zeros((nf, _ORDER)), h
     )
+    cam = hermite_taylor(g, g1, h)  # the cam's lift at the valve between the fine angles
+
+    def apart(ys: np.ndarray, steps: Index, taus: Index) -> np.ndarray:  # > 0 while the train stays open (m)
+        taus = np.broadcast_to(taus, (len(ys),))
+        steps = np.broadcast_to(steps, (len(ys),))
+        a0, a1, a2, a3 = cam[np.minimum(steps, nf - 1)].T
+        at = np.where(taus > 0.0, a0 + a1 * taus + a2 * taus**2 / 2 + a3 * taus**3 / 6, g[steps])
+        return lash + ys[:, 0] - at + GAP_EPS
+
+    def landing(ys: np.ndarray, steps: Index, taus: Index) -> np.ndarray:  # the valve above its seat (m)
+        return ys[:, 0] + GAP_EPS
+
+    def rising(ys: np.ndarray, steps: Index, taus: Index) -> np.ndarray:
+        return ys[:, 1]
+
+    def flight(ys: np.ndarray, steps: Index, taus: Index) -> np.ndarray:
+        return np.minimum(landing(ys, steps, taus), apart(ys, steps, taus))
+
+    floor, e_seat = landing_floor(vt, w), float(vt.seat_restitution)
+    bounce = gap = flight_lift = 0.0
+    speed = closing
+    for _ in range(_MAX_REBOUNDS):
+        v = -e_seat * speed
+        if v <= floor:
+            break
+        y = np.array([0.0, v])
+        along, steps, taus, end = _stretch(free, step, tau, y, flight, fresh=True)
+        if end is None or apart(end[2][None], end[0], end[1])[0] <= landing(end[2][None], end[0], end[1])[0]:
+            raise _Unsure("the valve in the air at the revolution's end, or meeting the train")
+        apex = _stretch(free, step, tau, y, rising, fresh=True)[3]
+        bounce = max(bounce, float(apex[2][0]) if apex is not None else 0.0, float(np.max(along[:, 0])))
+        lift_here, gap_here = _flight_reach(rev, lash, along, steps, taus)
+        flight_lift, gap = max(flight_lift, lift_here), max(gap, gap_here)
+        if np.min(f_cam_bare[np.minimum(steps, nf)]) < -tol:
+            raise _Unsure("the follower leaves the cam while the valve rebounds")
+        step, tau, y = end
+        speed = float(y[1])
+    else:
+        raise _Unsure("the valve rattles on its seat beyond the rebounds followed")
+    # the valve held on its seat to the revolution's end: the lash open, the follower on the cam
+    rest = slice(step + 1, nf + 1)
+    if np.any(g[rest] - lash - GAP_EPS > 0.0) or _lower_bound(f_cam_bare[rest]) < -tol:
+        raise _Unsure("the lash closed again or the follower off the cam after the seating")
+    event = (least_force, least_deg, least_train, seating_velocity, seating_deg)
+    return _summary(w, event, (bounce, flight_lift, gap), max_lift)
