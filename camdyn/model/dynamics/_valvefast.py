@@ -26,9 +26,10 @@ valve seated. The answer is ``None`` (the caller falls back on the diffrax model
 linear model stops holding before the revolution ends: the train unloads before the seating, the cam contact's
 force comes within the sampling's bound of zero without a sure crossing, the valve lifts again after the
 seating, the follower leaves the cam on the ramps or the base circle, or the model is not this one (a compliant
-cam contact, a rigid train, the spring's surge chain). Where the cam contact's force
-crosses zero on the exact solution before anything else opens, the valve floats there for sure: :class:`Floated`,
-with what happens next left to the diffrax model.
+cam contact, the spring's surge chain). Where the cam contact's force crosses zero on the exact solution before
+anything else opens, the valve floats there for sure: :class:`Floated`, with what happens next left to the diffrax
+model. A rigid train needs no integration in the event: the valve moves with the cam from the lash's closing to its
+seating, the forces algebraic in the angle (:func:`_rigid_train`); its rebounds fly on the spring alone.
 """
 
 from __future__ import annotations
