@@ -22,7 +22,8 @@ from camdyn.model.dynamics import (
     kinematic_jump_speed,
     valvetrain_response,
 )
-from camdyn.model.dynamics._valvefast import Floated, _expm
+from camdyn.model.dynamics._valvefast import Floated
+from camdyn.model.dynamics._valvelinear import batched_expm
 
 CASES = Path(__file__).resolve().parents[1] / "cases"
 SHIPPED = tomllib.loads((CASES / "valvetrain.toml").read_text())
@@ -203,7 +204,7 @@ def test_batched_matrix_exponential_against_scipy():
         z[1, 2], z[1, 6] = 1.0, -rng.uniform(1.0, 100.0)
         z[2, 3] = z[3, 4] = z[4, 5] = 1.0
         deltas = np.deg2rad(np.geomspace(1e-7, 0.05, 12))
-        ours = _expm(z[None] * deltas[:, None, None])
+        ours = batched_expm(z[None] * deltas[:, None, None])
         for d, e in zip(deltas, ours, strict=True):
             ref = expm(z * d)
             assert np.max(np.abs(e - ref)) <= 1e-12 * np.max(np.abs(ref))
@@ -213,7 +214,7 @@ def test_batched_matrix_exponential_against_scipy():
 def test_modal_recurrence_against_the_loop(lam):
     """The blocked cumulative sum that chains the steps against the recurrence stepped one at a time: a slowly and a
     quickly decaying mode (a stiff train: blocks of a few dozen steps), an undamped one, one gone within a step."""
-    from camdyn.model.dynamics._valvefast import _recur
+    from camdyn.model.dynamics._valvelinear import recur
 
     rng = np.random.default_rng(2)
     g = rng.normal(size=3000) + 1j * rng.normal(size=3000)
@@ -221,4 +222,4 @@ def test_modal_recurrence_against_the_loop(lam):
     want[0] = 0.3 - 0.2j
     for k in range(3000):
         want[k + 1] = lam * want[k] + g[k]
-    assert np.max(np.abs(_recur(lam, g, want[0]) - want)) <= 1e-11 * np.max(np.abs(want))
+    assert np.max(np.abs(recur(lam, g, want[0]) - want)) <= 1e-11 * np.max(np.abs(want))

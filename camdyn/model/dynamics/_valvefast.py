@@ -35,7 +35,6 @@ seating, the forces algebraic in the angle (:func:`_rigid_train`); its rebounds 
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
 from dataclasses import dataclass
 from typing import NamedTuple
 
@@ -46,13 +45,11 @@ from ..motion import Motion
 from ..valvetrain import ValvetrainModel, static_valve_lift
 from ._cubic import hermite_taylor
 from ._valvefield import GAP_EPS
+from ._valvelinear import ORDER, Index, Linear, Unsure, cross, lower_bound, rise, stretch_to
 from ._valvetrain import landing_floor, start_angle
 
 REFINE = 2  # fine steps per output angle (0.05 deg): the cubic hold's error is of order h^4
-_SPLIT = 64  # a contact change inside a step: the step cut in 64, twice over
 _MAX_REBOUNDS = 200
-_MARCH = 64  # a stretch's first chunk of fine steps (then four times what it has, to the revolution's end)
-_ORDER = 4  # the input's Taylor chain: value, slope, curvature, third derivative (a cubic)
 
 
 @dataclass(frozen=True)
@@ -84,9 +81,6 @@ class Floated:
     least_force: float
 
 
-Index = int | float | np.ndarray  # fine steps, or angles into them (rad): one, or one per state
-Guard = Callable[[np.ndarray, Index, Index], np.ndarray]  # states, their steps and angles -> > 0 while a mode holds
-
 _fine_cache: dict[int, tuple[Motion, int, np.ndarray]] = {}
 
 
@@ -104,210 +98,6 @@ def _fine(motion: Motion, n: int) -> np.ndarray:
     return vals
 
 
-def _expm(z: np.ndarray) -> np.ndarray:
-    """``exp`` of a stack of small matrices (..., m, m), batched: scaled to a norm below 1/4, a Taylor series to
-    the 12th power (a remainder below 3e-18), squared back. scipy's ``expm`` goes matrix by matrix (its Pade
-    step costs milliseconds for each of the thousands a speed asks for)."""
-    norm = np.max(np.sum(np.abs(z), axis=-1), axis=-1)
-    squarings = np.maximum(0, np.ceil(np.log2(np.maximum(norm, 1e-300)) + 2)).astype(int)
-    top = int(squarings.max()) if squarings.size else 0
-    a = z / (2.0**squarings)[..., None, None]
-    # the series to a^12 by Paterson-Stockmeyer: a^2, a^3, a^4, then Horner in a^4 over blocks of four terms
-    # (5 products, not 12: each is a numpy call on a stack of small matrices)
-    eye = np.broadcast_to(np.eye(z.shape[-1]), z.shape)
-    a2 = a @ a
-    a3 = a2 @ a
-    a4 = a3 @ a
-    c = [1.0 / math.factorial(k) for k in range(13)]
-    out = c[12] * a4 + (c[8] * eye + c[9] * a + c[10] * a2 + c[11] * a3)
-    for k in (4, 0):
-        out = out @ a4 + (c[k] * eye + c[k + 1] * a + c[k + 2] * a2 + c[k + 3] * a3)
-    for i in range(top):
-        more = squarings > i
-        if more.all():
-            out = out @ out
-        else:
-            out[more] = out[more] @ out[more]
-    return out
-
-
-def _shift(taylor: np.ndarray, tau: float) -> np.ndarray:
-    """A cubic's Taylor coefficients moved ``tau`` along its step."""
-    a0, a1, a2, a3 = taylor
-    return np.array(
-        [a0 + a1 * tau + a2 * tau**2 / 2 + a3 * tau**3 / 6, a1 + a2 * tau + a3 * tau**2 / 2, a2 + a3 * tau, a3]
-    )
-
-
-def _recur(lam: complex, g: np.ndarray, z0: complex) -> np.ndarray:
-    """``z[k + 1] = lam z[k] + g[k]`` from ``z[0] = z0``: (len(g) + 1,). In blocks short enough that ``lam``'s powers
-    within one stay within 1e3 of each other (a decaying mode), each block a cumulative sum:
-    ``z[k + i] = lam^i (z[k] + sum_{j < i} g[k + j] lam^-(j + 1))``."""
-    count = len(g)
-    out = np.empty(count + 1, complex)
-    out[0] = z0
-    size = abs(lam)
-    if size < 1e-12:  # a mode gone within a step
-        out[1:] = g
-        return out
-    block = count if size >= 1.0 else max(1, min(count, int(math.log(1e3) / -math.log(size))))
-    k = 0
-    while k < count:
-        m = min(block, count - k)
-        powers = np.exp(np.arange(1, m + 1) * np.log(lam))  # lam ** k: numpy's complex ** is 7x slower, no closer
-        out[k + 1 : k + m + 1] = powers * (out[k] + np.cumsum(g[k : k + m] / powers))
-        k += m
-    return out
-
-
-class _Linear:
-    """The valve's linear system ``y' = A y + e (w0 + b)`` (y = (x, x'), w0 the cubic input) and its exact
-    propagators: ``expm`` of the system augmented with the input's Taylor chain and the constant."""
-
-    def __init__(self, a: np.ndarray, b: float, taylor: np.ndarray, h: float) -> None:
-        n = a.shape[0]
-        z = np.zeros((n + _ORDER + 1, n + _ORDER + 1))
-        z[:n, :n] = a
-        z[n - 1, n] = 1.0  # the input drives the last state's derivative
-        z[n - 1, n + _ORDER] = b
-        for i in range(_ORDER - 1):
-            z[n + i, n + i + 1] = 1.0
-        self.z, self.n, self.taylor, self.h = z, n, taylor, h
-        self._step: tuple | None = None  # the full step's propagator and its modes, once
-        self._steps: dict[bytes, np.ndarray] = {}  # propagators by their angles
-
-    def steps(self, deltas: np.ndarray) -> np.ndarray:
-        """The augmented propagators over angles ``deltas`` (rad): (len, n, n + 5)."""
-        deltas = np.asarray(deltas, dtype=float)
-        key = deltas.tobytes()
-        if key not in self._steps:  # a step's cuts from its start recur: kept
-            if len(self._steps) > 64:
-                self._steps.clear()
-            self._steps[key] = _expm(self.z[None] * deltas[:, None, None])[:, : self.n, :]
-        return self._steps[key]
-
-    def advance(self, step: int, tau: float, y: np.ndarray, deltas: np.ndarray) -> np.ndarray:
-        """The states at ``deltas`` past angle ``tau`` into fine step ``step`` from ``y`` there: (len, n)."""
-        e = self.steps(deltas)
-        src = np.concatenate([y, _shift(self.taylor[step], tau), [1.0]])
-        return e @ src
-
-    def march(self, step: int, y: np.ndarray, count: int | None = None) -> np.ndarray:
-        """The states at the nodes from ``step`` (where the state is ``y``) to the last, or the next ``count`` steps
-        of them: (steps + 1, n)."""
-        if self._step is None:
-            e = self.steps(np.array([self.h]))[0]
-            phi = e[:, : self.n]
-            lam, vec = np.linalg.eig(phi)
-            self._step = (phi, e[:, self.n :], lam, vec, np.linalg.cond(vec) > 1e8)
-        phi, gam, lam, vec, repeated = self._step
-        taylor = self.taylor[step:] if count is None else self.taylor[step : step + count]
-        if not taylor.shape[0]:
-            return y[None]
-        forcing = np.concatenate([taylor, np.ones((taylor.shape[0], 1))], axis=1) @ gam.T  # (steps, n)
-        if repeated:  # (nearly) repeated modes: step by step
-            out = [y]
-            for g in forcing:
-                out.append(phi @ out[-1] + g)
-            return np.array(out)
-        modal = np.linalg.solve(vec, forcing.T.astype(complex))  # (n, steps)
-        z0 = np.linalg.solve(vec, y.astype(complex))
-        z = np.empty((self.n, taylor.shape[0] + 1), complex)
-        z[:, 0] = z0
-        for i in range(self.n):
-            z[i] = _recur(lam[i], modal[i], z0[i])
-        return np.real(vec @ z).T
-
-
-class _Unsure(Exception):
-    """The fast path cannot say: the caller runs the diffrax model."""
-
-
-def _cross(
-    lin: _Linear, step: int, tau: float, y: np.ndarray, span: float, guard: Guard, fresh: bool
-) -> tuple[float, np.ndarray] | None:
-    """The first angle past ``tau`` in fine step ``step`` (from state ``y``), within ``span`` (rad), where
-    ``guard(states, steps, taus)`` falls below zero: (delta, state) or None. The span cut in :data:`_SPLIT` finds
-    the first sign change (``fresh``: the guard starts at zero, a rebound off the seat: the cuts spaced
-    geometrically), that cut in :data:`_SPLIT` again, the guard interpolated linearly across the last (a width of
-    1/4096 of a fine step: an error of its square), and the state there from the exact propagator."""
-    lo, width, g_lo, g_hi = 0.0, span, 0.0, 0.0
-    for r in range(2):
-        if r == 0 and fresh:
-            ds = span * np.geomspace(1e-7, 1.0, _SPLIT)
-        else:
-            ds = lo + np.linspace(0.0, width, _SPLIT + 1)
-        ys = lin.advance(step, tau, y, ds)
-        g = guard(ys, step, tau + ds)
-        below = np.nonzero(g < 0.0)[0]
-        if r == 0 and not fresh:
-            below = below[below > 0]
-        if not below.size:
-            return None
-        j = int(below[0])
-        if j == 0:  # fresh: below at the first cut already
-            lo, g_lo, width = 0.0, 0.0, ds[0]
-        else:
-            lo, g_lo, width = ds[j - 1], float(g[j - 1]), ds[j] - ds[j - 1]
-        g_hi = float(g[j])
-    f = min(max(g_lo / (g_lo - g_hi), 0.0), 1.0) if g_lo != g_hi else 1.0
-    root = lo + f * width
-    return root, lin.advance(step, tau, y, np.array([root]))[0]
-
-
-def _stretch(
-    lin: _Linear, step: int, tau: float, y: np.ndarray, guard: Guard, fresh: bool = False
-) -> tuple[np.ndarray, np.ndarray, np.ndarray, tuple | None]:
-    """From angle ``tau`` into fine step ``step`` with state ``y`` on ``lin`` to where ``guard`` first falls below
-    zero: the states passed (at their fine steps and angles into them) and the event (step, tau, state), None where
-    the revolution ends first."""
-    h = lin.h
-    got = _cross(lin, step, tau, y, h - tau, guard, fresh)
-    if got is not None:
-        ds = np.linspace(0.0, got[0], 9)[1:]
-        return lin.advance(step, tau, y, ds), np.full(ds.size, step), tau + ds, (step, tau + got[0], got[1])
-    nodes = lin.march(step + 1, lin.advance(step, tau, y, np.array([h - tau]))[0], _MARCH)
-    last = len(lin.taylor)  # the last node: the revolution's end
-    while True:  # a chunk at a time: most stretches end within a few steps
-        idx = step + 1 + np.arange(len(nodes))
-        below = np.nonzero(guard(nodes, idx, np.zeros(len(nodes))) < 0.0)[0]
-        if below.size or idx[-1] >= last:
-            break
-        nodes = np.concatenate([nodes, lin.march(int(idx[-1]), nodes[-1], 4 * len(nodes))[1:]])
-    if not below.size:
-        return nodes, idx, np.zeros(len(nodes)), None
-    q = int(below[0])
-    got = _cross(lin, step + q, 0.0, nodes[q - 1], h, guard, False) if q > 0 else None
-    if got is None:
-        raise _Unsure("a contact change the bracketing lost")
-    return nodes[:q], idx[:q], np.zeros(q), (step + q, got[0], got[1])
-
-
-def _rise(fn: Callable[[np.ndarray], np.ndarray], lo: float, hi: float) -> float:
-    """The angle (rad) in [lo, hi] where ``fn`` (of angles, on the host), below zero at ``lo``, first rises above
-    it: as :func:`_cross`, the span cut in 64 twice over, the root interpolated across the last cut."""
-    for _ in range(2):
-        ts = np.linspace(lo, hi, _SPLIT + 1)
-        vals = fn(ts)
-        i = int(np.argmax(vals > 0.0))
-        lo, hi = ts[i - 1], ts[i]
-    f = min(max(vals[i - 1] / (vals[i - 1] - vals[i]), 0.0), 1.0)
-    return lo + f * (hi - lo)
-
-
-def _lower_bound(f: np.ndarray) -> float:
-    """A bound below a force sampled on the fine nodes, between them too: each step's lower end less twice the
-    reach of its convexity (a second difference over 8), the least of the four second differences about the step
-    (a jump at a segment's boundary is not a curvature)."""
-    if f.size < 4:
-        return float(np.min(f)) if f.size else math.inf
-    d2 = np.diff(f, 2)
-    curv = np.concatenate([d2[:1], d2, d2[-1:]])  # per node
-    pad = np.concatenate([curv[:1], curv, curv[-1:]])  # per node, one more each side
-    convex = np.maximum(0.0, np.min(np.stack([pad[:-3], pad[1:-2], pad[2:-1], pad[3:]]), axis=0))  # per step
-    return float(np.min(np.minimum(f[:-1], f[1:]) - 0.25 * convex))
-
-
 def fast_valve_summary(
     motion: Motion, vt: ValvetrainModel, omega: float, n: int = THETA_GRID
 ) -> ValveSummary | Floated | None:
@@ -317,7 +107,7 @@ def fast_valve_summary(
         return None
     try:
         return (_rigid_train if vt.rigid_train else _rigid_cam)(motion, vt, float(omega), n)
-    except _Unsure:
+    except Unsure:
         return None
 
 
@@ -380,6 +170,16 @@ def _flight_reach(
     return float(np.max(along[grid, 0], initial=0.0)), float(np.max(along[grid, 0] - held, initial=0.0))
 
 
+def _on_spring(vt: ValvetrainModel, w: float, steps: int, h: float) -> Linear:
+    """The valve off the train and off its seat at cam speed ``w`` (rad/s): on its spring alone, no input, over
+    ``steps`` fine steps of ``h`` rad (a rebound's flight)."""
+    m_v, k, c, f0 = float(vt.valve_mass), float(vt.spring_rate), float(vt.spring_damping), float(vt.preload)
+    w2 = w * w
+    return Linear(
+        np.array([[0.0, 1.0], [-k / (m_v * w2), -c / (m_v * w)]]), -f0 / (m_v * w2), np.zeros((steps, ORDER)), h
+    )
+
+
 def _summary(
     w: float, event: tuple[float, float, float, float, float], rebounds: tuple[float, float, float], max_lift: float
 ) -> ValveSummary:
@@ -412,13 +212,13 @@ def _rigid_cam(motion: Motion, vt: ValvetrainModel, w: float, n: int) -> ValveSu
     f_cam_bare = m_c * s2 * w2 + tappet  # the cam's force with no train force on the follower
     lifts = np.nonzero(f_seated - f0 - tol > 0.0)[0]
     if not lifts.size:  # the valve never lifts: no event, the follower held on the cam all the way round
-        if _lower_bound(f_cam_bare + ratio * f_seated) < -tol:
-            raise _Unsure("the follower leaves the cam")
+        if lower_bound(f_cam_bare + ratio * f_seated) < -tol:
+            raise Unsure("the follower leaves the cam")
         nan = math.nan
         return ValveSummary(w, nan, nan, nan, nan, nan, 0.0, 0.0)
     j = int(lifts[0])
-    if j == 0 or _lower_bound((f_cam_bare + ratio * f_seated)[: j + 1]) < -tol:
-        raise _Unsure("the follower leaves the cam before the valve lifts")
+    if j == 0 or lower_bound((f_cam_bare + ratio * f_seated)[: j + 1]) < -tol:
+        raise Unsure("the follower leaves the cam before the valve lifts")
 
     def seated_force(theta: np.ndarray) -> np.ndarray:  # the train's on the seated valve, less F0 + tol
         v = np.asarray(motion.host(theta))[:2] * M_PER_MM
@@ -427,18 +227,16 @@ def _rigid_cam(motion: Motion, vt: ValvetrainModel, w: float, n: int) -> ValveSu
         return np.where(d > 0.0, np.maximum(0.0, kt * d + ct * w * ratio_v * v[1]), 0.0) - f0 - tol
 
     lift_step = j - 1
-    tau_lift = _rise(seated_force, th0 + lift_step * h, th0 + j * h) - (th0 + lift_step * h)
+    tau_lift = rise(seated_force, th0 + lift_step * h, th0 + j * h) - (th0 + lift_step * h)
 
     # the valve off its seat, on the train (loaded) or off it (free, on its spring alone): two linear systems
-    loaded = _Linear(
+    loaded = Linear(
         np.array([[0.0, 1.0], [-(kt + k) / (m_v * w2), -(ct + c) / (m_v * w)]]),
         (-kt * lash - f0) / (m_v * w2),
         hermite_taylor((kt * g + ct * w * g1) / (m_v * w2), (kt * g1 + ct * w * g2) / (m_v * w2), h),
         h,
     )
-    free = _Linear(
-        np.array([[0.0, 1.0], [-k / (m_v * w2), -c / (m_v * w)]]), -f0 / (m_v * w2), np.zeros((nf, _ORDER)), h
-    )
+    free = _on_spring(vt, w, nf, h)
     cam = hermite_taylor(g, g1, h)  # the cam's lift at the valve between the fine angles, for the guards there
 
     def train(ys: np.ndarray, steps: Index, taus: Index) -> tuple[np.ndarray, np.ndarray]:
@@ -473,18 +271,18 @@ def _rigid_cam(motion: Motion, vt: ValvetrainModel, w: float, n: int) -> ValveSu
     risen = np.nonzero(ys[:, 0] > half_lift)[0]
     down = np.nonzero(ys[risen[0] :, 0] < -GAP_EPS)[0] if risen.size else risen
     if not down.size or np.any(ys[: risen[0], 0] < -GAP_EPS):
-        raise _Unsure("no seating after the valve's rise")
+        raise Unsure("no seating after the valve's rise")
     q = int(risen[0] + down[0])  # the first fine angle below the seat, counted from lift_step + 1
     train_open = np.nonzero((d[:q] <= 0.0) | (f_t[:q] < 0.0))[0]
     cam_open = np.nonzero(f_cam[:q] < -tol)[0]
     if cam_open.size and (not train_open.size or cam_open[0] < train_open[0]):
         # the exact solution's cam force crosses the diffrax model's threshold first: float
         return Floated(float(np.min(f_cam[:q])))
-    if train_open.size or _lower_bound(f_cam[:q]) <= tol or _lower_bound(f_t[:q]) <= 0.0:
-        raise _Unsure("the cam contact near opening, or the valve off the train, within the event")
-    got = _cross(loaded, lift_step + q, 0.0, ys[q - 1], h, landing, False)
+    if train_open.size or lower_bound(f_cam[:q]) <= tol or lower_bound(f_t[:q]) <= 0.0:
+        raise Unsure("the cam contact near opening, or the valve off the train, within the event")
+    got = cross(loaded, lift_step + q, 0.0, ys[q - 1], h, landing, False)
     if got is None:
-        raise _Unsure("the seating lost")
+        raise Unsure("the seating lost")
     event = out_node[idx[:q]]
     least = int(np.argmin(np.where(event, f_cam[:q], np.inf)))
     least_force, least_deg = float(f_cam[least]), deg(lift_step + 1 + least, 0.0)
@@ -506,27 +304,27 @@ def _rigid_cam(motion: Motion, vt: ValvetrainModel, w: float, n: int) -> ValveSu
         while True:  # the flight's stretches, each on one system
             lin, sign = (loaded, 1.0) if on_train(y[None], step, tau)[0] > 0.0 else (free, -1.0)
             guard = lambda ys, st, ta, sign=sign: np.minimum(landing(ys, st, ta), sign * on_train(ys, st, ta))  # noqa: E731
-            along, steps, taus, end = _stretch(lin, step, tau, y, guard, fresh=first)
+            along, steps, taus, end = stretch_to(lin, step, tau, y, guard, fresh=first)
             if end is None:
-                raise _Unsure("the valve in the air at the revolution's end")
+                raise Unsure("the valve in the air at the revolution's end")
             if y[1] > 0.0 and end[2][1] <= 0.0:  # the apex in this stretch
-                apex = _stretch(lin, step, tau, y, rising, fresh=first)[3]
+                apex = stretch_to(lin, step, tau, y, rising, fresh=first)[3]
                 bounce = max(bounce, float(apex[2][0]) if apex is not None else float(np.max(along[:, 0])))
             bounce = max(bounce, float(np.max(along[:, 0])))
             lift_here, gap_here = _flight_reach(rev, lash, along, steps, taus)
             flight_lift, gap = max(flight_lift, lift_here), max(gap, gap_here)
             if np.min(f_cam_bare[np.minimum(steps, nf)]) < -tol:
-                raise _Unsure("the follower leaves the cam while the valve rebounds")
+                raise Unsure("the follower leaves the cam while the valve rebounds")
             step, tau, y = end
             first = False
             if landing(y[None], step, tau)[0] <= kt * GAP_EPS * 1e-3:  # on the seat (not a change of system)
                 break
     else:
-        raise _Unsure("the valve rattles on its seat beyond the rebounds followed")
+        raise Unsure("the valve rattles on its seat beyond the rebounds followed")
     # the valve held on its seat to the revolution's end: no re-lift, the follower on the cam
     rest = slice(step + 1, nf + 1)
-    if np.any(f_seated[rest] > f0) or _lower_bound((f_cam_bare + ratio * f_seated)[rest]) < -tol:
-        raise _Unsure("the valve re-lifted or the follower off the cam after the seating")
+    if np.any(f_seated[rest] > f0) or lower_bound((f_cam_bare + ratio * f_seated)[rest]) < -tol:
+        raise Unsure("the valve re-lifted or the follower off the cam after the seating")
     event = (least_force, least_deg, least_train, seating_velocity, seating_deg)
     return _summary(w, event, (bounce, flight_lift, gap), max_lift)
 
@@ -552,13 +350,13 @@ def _rigid_train(motion: Motion, vt: ValvetrainModel, w: float, n: int) -> Valve
     # the lash closes where the cam's lift at the valve passes it (the valve seated): the valve lifts with the cam
     closed = np.nonzero(g - lash - GAP_EPS > 0.0)[0]
     if not closed.size:  # the valve never lifts
-        if _lower_bound(f_cam_bare) < -tol:
-            raise _Unsure("the follower leaves the cam")
+        if lower_bound(f_cam_bare) < -tol:
+            raise Unsure("the follower leaves the cam")
         nan = math.nan
         return ValveSummary(w, nan, nan, nan, nan, nan, 0.0, 0.0)
     j = int(closed[0])
-    if j == 0 or _lower_bound(f_cam_bare[: j + 1]) < -tol:
-        raise _Unsure("the follower leaves the cam before the lash closes")
+    if j == 0 or lower_bound(f_cam_bare[: j + 1]) < -tol:
+        raise Unsure("the follower leaves the cam before the lash closes")
 
     # the valve on the train, moving with the cam: its lift, the train's force and the cam's, to the seating after
     # rising past half its lift (the diffrax model's rule)
@@ -569,29 +367,27 @@ def _rigid_train(motion: Motion, vt: ValvetrainModel, w: float, n: int) -> Valve
     risen = j + np.nonzero(x_v[j:] > half_lift)[0]
     down = risen[0] + np.nonzero(x_v[risen[0] :] + GAP_EPS < 0.0)[0] if risen.size else risen
     if not down.size:
-        raise _Unsure("no seating after the valve's rise")
+        raise Unsure("no seating after the valve's rise")
     q = int(down[0])  # the first fine angle below the seat
     event = slice(j, q)
     train_open = np.nonzero(f_t[event] < -tol)[0]
     cam_open = np.nonzero(f_cam[event] < -tol)[0]
     if cam_open.size and (not train_open.size or cam_open[0] < train_open[0]):
         return Floated(float(np.min(f_cam[event])))
-    if train_open.size or _lower_bound(f_cam[event]) <= tol or _lower_bound(f_t[event]) <= tol:
-        raise _Unsure("the cam contact or the train near opening within the event")
+    if train_open.size or lower_bound(f_cam[event]) <= tol or lower_bound(f_t[event]) <= tol:
+        raise Unsure("the cam contact or the train near opening within the event")
     grid = np.flatnonzero(out_node[event]) + j
     least = int(grid[np.argmin(f_cam[grid])])
     least_force, least_deg = float(f_cam[least]), deg(least, 0.0)
     least_train = float(np.min(f_t[grid]))
     max_lift = float(np.max(x_v[grid]))
-    th_seat = _rise(lambda t: -(cam_at_valve(t)[0] - lash + GAP_EPS), th0 + (q - 1) * h, th0 + q * h)
+    th_seat = rise(lambda t: -(cam_at_valve(t)[0] - lash + GAP_EPS), th0 + (q - 1) * h, th0 + q * h)
     step, tau = q - 1, th_seat - (th0 + (q - 1) * h)
     closing = float(cam_at_valve(np.array([th_seat]))[1][0])  # the valve's speed as it seats (m/rad, < 0)
     seating_velocity, seating_deg = abs(closing) * w, deg(step, tau)
 
     # the rebounds at seat_restitution x the landing speed, each a flight on the spring alone to the seat
-    free = _Linear(
-        np.array([[0.0, 1.0], [-k / (m_v * w2), -c / (m_v * w)]]), -f0 / (m_v * w2), np.zeros((nf, _ORDER)), h
-    )
+    free = _on_spring(vt, w, nf, h)
     cam = hermite_taylor(g, g1, h)  # the cam's lift at the valve between the fine angles
 
     def apart(ys: np.ndarray, steps: Index, taus: Index) -> np.ndarray:  # > 0 while the train stays open (m)
@@ -618,22 +414,22 @@ def _rigid_train(motion: Motion, vt: ValvetrainModel, w: float, n: int) -> Valve
         if v <= floor:
             break
         y = np.array([0.0, v])
-        along, steps, taus, end = _stretch(free, step, tau, y, flight, fresh=True)
+        along, steps, taus, end = stretch_to(free, step, tau, y, flight, fresh=True)
         if end is None or apart(end[2][None], end[0], end[1])[0] <= landing(end[2][None], end[0], end[1])[0]:
-            raise _Unsure("the valve in the air at the revolution's end, or meeting the train")
-        apex = _stretch(free, step, tau, y, rising, fresh=True)[3]
+            raise Unsure("the valve in the air at the revolution's end, or meeting the train")
+        apex = stretch_to(free, step, tau, y, rising, fresh=True)[3]
         bounce = max(bounce, float(apex[2][0]) if apex is not None else 0.0, float(np.max(along[:, 0])))
         lift_here, gap_here = _flight_reach(rev, lash, along, steps, taus)
         flight_lift, gap = max(flight_lift, lift_here), max(gap, gap_here)
         if np.min(f_cam_bare[np.minimum(steps, nf)]) < -tol:
-            raise _Unsure("the follower leaves the cam while the valve rebounds")
+            raise Unsure("the follower leaves the cam while the valve rebounds")
         step, tau, y = end
         speed = float(y[1])
     else:
-        raise _Unsure("the valve rattles on its seat beyond the rebounds followed")
+        raise Unsure("the valve rattles on its seat beyond the rebounds followed")
     # the valve held on its seat to the revolution's end: the lash open, the follower on the cam
     rest = slice(step + 1, nf + 1)
-    if np.any(g[rest] - lash - GAP_EPS > 0.0) or _lower_bound(f_cam_bare[rest]) < -tol:
-        raise _Unsure("the lash closed again or the follower off the cam after the seating")
+    if np.any(g[rest] - lash - GAP_EPS > 0.0) or lower_bound(f_cam_bare[rest]) < -tol:
+        raise Unsure("the lash closed again or the follower off the cam after the seating")
     event = (least_force, least_deg, least_train, seating_velocity, seating_deg)
     return _summary(w, event, (bounce, flight_lift, gap), max_lift)

@@ -138,7 +138,7 @@ def valvetrain_response(motion: Motion, vt: ValvetrainModel, omega: float, n: in
 
             def run(
                 ts: np.ndarray, m: Any = m, t0: float = t0, t_end: float = t_end, y: Any = y
-            ) -> np.ndarray:  # this stretch again, saved at ts: rows_at's (6, len(ts))
+            ) -> np.ndarray:  # this stretch again, saved at ts: rows_at's (7, len(ts))
                 _, _, _, ys, _ = stretch(
                     motion, vt, w, m, force_tol, np.asarray(t0), np.asarray(t_end), np.asarray(y), jumps, ts
                 )
