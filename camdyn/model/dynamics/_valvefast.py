@@ -26,76 +26,48 @@ valve seated. The answer is ``None`` (the caller falls back on the diffrax model
 linear model stops holding before the revolution ends: the train unloads before the seating, the cam contact's
 force comes within the sampling's bound of zero without a sure crossing, the valve lifts again after the
 seating, the follower leaves the cam on the ramps or the base circle, or the model is not this one (a compliant
-cam contact, the spring's surge chain). Where the cam contact's force crosses zero on the exact solution before
-anything else opens, the valve floats there for sure: :class:`Floated`, with what happens next left to the diffrax
-model. A rigid train needs no integration in the event: the valve moves with the cam from the lash's closing to its
-seating, the forces algebraic in the angle (:func:`_rigid_train`); its rebounds fly on the spring alone.
+cam contact; a rigid train with the spring's surge chain). Where the cam contact's force crosses zero on the exact
+solution before anything else opens, the valve floats there for sure: :class:`Floated`, with what happens next left
+to the diffrax model. A rigid train needs no integration in the event: the valve moves with the cam from the lash's
+closing to its seating, the forces algebraic in the angle (:func:`_rigid_train`); its rebounds fly on the spring
+alone.
+
+With the spring's surge chain (``[spring] model = "surge"``) the valve's system carries the chain's inner lumps
+(:func:`._valveevent.valve_matrix`: still linear, one mode a lump more) and the chain rings on while the valve is
+seated (a third system, the valve held): the valve lifts where the train's force passes the chain's on the seat,
+no longer algebraic. The diffrax model reports the second revolution from rest (the first leaves the chain ringing),
+so the fast path solves two: the first for the chain's state at its end, the second from it; a valve that floats in
+the first goes to the diffrax model whole.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
-from typing import NamedTuple
 
 import numpy as np
 
-from ..._core.units import M_PER_MM, THETA_GRID, TWO_PI
+from ..._core.units import M_PER_MM, THETA_GRID
 from ..motion import Motion
 from ..valvetrain import ValvetrainModel, static_valve_lift
 from ._cubic import hermite_taylor
+from ._valveevent import (
+    MAX_REBOUNDS,
+    Floated,
+    ValveSummary,
+    constants,
+    flight_reach,
+    layout,
+    on_spring,
+    revolution,
+    seated,
+    summary,
+    valve_matrix,
+)
 from ._valvefield import GAP_EPS
-from ._valvelinear import ORDER, Index, Linear, Unsure, cross, lower_bound, rise, stretch_to
-from ._valvetrain import landing_floor, start_angle
+from ._valvelinear import Index, Linear, Unsure, cross, lower_bound, rise, stretch_to
+from ._valvetrain import landing_floor
 
-REFINE = 2  # fine steps per output angle (0.05 deg): the cubic hold's error is of order h^4
-_MAX_REBOUNDS = 200
-
-
-@dataclass(frozen=True)
-class ValveSummary:
-    """What the valvetrain's studies read of its revolution at cam speed ``omega`` (rad/s): forces in N, the seating
-    velocity in m/s, lifts in mm (the names and meanings of :class:`~camdyn.model.dynamics.ValvetrainResponse`'s).
-    ``least_event_force`` is NaN where the valve never lifts."""
-
-    omega: float
-    least_event_force: float
-    least_event_force_deg: float
-    least_train_force: float
-    seating_velocity: float
-    seating_deg: float
-    bounce_height_mm: float
-    max_valve_lift_mm: float
-    floated: bool = False
-    max_gap_mm: float = 0.0  # the valve above where the cam would hold it (off the train on a rebound), mm
-    bounce_lift_mm: float = 0.0  # the valve's highest lift on the output grid after its seating, mm
-
-
-@dataclass(frozen=True)
-class Floated:
-    """The exact solution's cam-contact force falls below zero before anything else opens: the valve floats.
-    ``least_force``: the least force (N, negative) the cam would have to pull with to hold the follower through the
-    event, the contact held: the float search's force past the float speed, continuous with the least force below
-    it (:func:`~camdyn.model.dynamics.float_speed` refines its zero by interpolation)."""
-
-    least_force: float
-
-
-_fine_cache: dict[int, tuple[Motion, int, np.ndarray]] = {}
-
-
-def _fine(motion: Motion, n: int) -> np.ndarray:
-    """s, s', s'' (m, m/rad, m/rad^2) on ``n * REFINE`` equal steps of one revolution: the motion evaluated once
-    per motion and grid (a speed search asks the same motion many times)."""
-    hit = _fine_cache.get(id(motion))
-    if hit is not None and hit[0] is motion and hit[1] == n:
-        return hit[2]
-    theta = np.arange(n * REFINE) * (TWO_PI / (n * REFINE))
-    vals = np.asarray(motion.host(theta))[:3] * M_PER_MM
-    if len(_fine_cache) > 16:
-        _fine_cache.clear()
-    _fine_cache[id(motion)] = (motion, n, vals)
-    return vals
+__all__ = ["Floated", "ValveSummary", "fast_valve_summary"]
 
 
 def fast_valve_summary(
@@ -103,7 +75,7 @@ def fast_valve_summary(
 ) -> ValveSummary | Floated | None:
     """The :class:`ValveSummary` at cam speed ``omega`` (rad/s) on the fast path, :class:`Floated` where the valve
     surely floats, or None where the fast path cannot say (the caller runs the diffrax model)."""
-    if not vt.rigid_cam or vt.coils is not None:
+    if not vt.rigid_cam or (vt.coils is not None and vt.rigid_train):
         return None
     try:
         return (_rigid_train if vt.rigid_train else _rigid_cam)(motion, vt, float(omega), n)
@@ -111,222 +83,224 @@ def fast_valve_summary(
         return None
 
 
-class _Revolution(NamedTuple):
-    """One revolution on the fine grid (``h`` rad a step) from the diffrax model's start angle ``th0`` (rad), one
-    angle past its end: the cam's lift s, s', s'' (m, m/rad, m/rad^2) and its lift at the valve through the rocker
-    g, g', g'' with the ratio r and r' = dr/dx_c at the cam's lift (known functions of the angle: on the fast path
-    the follower moves with the cam)."""
-
-    s: np.ndarray
-    s1: np.ndarray
-    s2: np.ndarray
-    g: np.ndarray
-    g1: np.ndarray
-    g2: np.ndarray
-    ratio: np.ndarray
-    ratio1: np.ndarray
-    th0: float
-    h: float
-
-    @property
-    def out_node(self) -> np.ndarray:
-        """Whether each fine angle is one of the output grid's."""
-        return (np.arange(self.s.size) % REFINE) == 0
-
-    def deg(self, step: int, tau: float) -> float:
-        """The cam angle (deg, in [0, 360)) ``tau`` rad into fine step ``step``."""
-        return math.degrees(self.th0 + step * self.h + tau) % 360.0
-
-
-def _revolution(motion: Motion, vt: ValvetrainModel, n: int) -> _Revolution:
-    """The :class:`_Revolution` of ``motion`` through ``vt``'s lever on ``n * REFINE`` fine steps."""
-    s_all, s1_all, s2_all = _fine(motion, n)
-    nf = s_all.size
-    h = TWO_PI / nf
-    i0 = start_angle(s_all[::REFINE] / M_PER_MM) * REFINE  # the diffrax model's revolution, from here
-    order = (i0 + np.arange(nf + 1)) % nf
-    s, s1, s2 = s_all[order], s1_all[order], s2_all[order]
-    g, ratio, ratio1 = vt.host_lever(s)
-    ratio, ratio1 = np.broadcast_to(ratio, s.shape), np.broadcast_to(ratio1, s.shape)
-    return _Revolution(s, s1, s2, g, ratio * s1, ratio1 * s1**2 + ratio * s2, ratio, ratio1, i0 * h, h)
-
-
-def _constants(vt: ValvetrainModel) -> tuple[float, ...]:
-    """The valvetrain's numbers the fast path reads (SI): the lash, the cam side's and the valve's masses, the valve
-    spring's rate, damping and preload, the tappet force and the diffrax model's force tolerance on its events."""
-    f0 = float(vt.preload)
-    tol = 1e-6 * max(1.0, float(vt.ratio) * f0)
-    masses = float(vt.cam_side_mass), float(vt.valve_mass)
-    return float(vt.lash), *masses, float(vt.spring_rate), float(vt.spring_damping), f0, float(vt.tappet_force), tol
-
-
-def _flight_reach(
-    rev: _Revolution, lash: float, along: np.ndarray, steps: np.ndarray, taus: np.ndarray
-) -> tuple[float, float]:
-    """A rebound's highest lift on the output grid and its largest gap at the valve above where the cam would hold
-    it (m), from its states ``along`` at fine ``steps`` and ``taus`` (rad) into them."""
-    grid = (taus == 0.0) & rev.out_node[np.minimum(steps, rev.g.size - 1)]  # the output grid's angles in the flight
-    held = np.maximum(rev.g[steps[grid]] - lash, 0.0)
-    return float(np.max(along[grid, 0], initial=0.0)), float(np.max(along[grid, 0] - held, initial=0.0))
-
-
-def _on_spring(vt: ValvetrainModel, w: float, steps: int, h: float) -> Linear:
-    """The valve off the train and off its seat at cam speed ``w`` (rad/s): on its spring alone, no input, over
-    ``steps`` fine steps of ``h`` rad (a rebound's flight)."""
-    m_v, k, c, f0 = float(vt.valve_mass), float(vt.spring_rate), float(vt.spring_damping), float(vt.preload)
-    w2 = w * w
-    return Linear(
-        np.array([[0.0, 1.0], [-k / (m_v * w2), -c / (m_v * w)]]), -f0 / (m_v * w2), np.zeros((steps, ORDER)), h
-    )
-
-
-def _summary(
-    w: float, event: tuple[float, float, float, float, float], rebounds: tuple[float, float, float], max_lift: float
-) -> ValveSummary:
-    """The :class:`ValveSummary` at ``w`` (rad/s) from the event's (least cam force N, its angle deg, least train
-    force N, seating velocity m/s, seating angle deg), the rebounds' (highest apex, highest lift on the output grid,
-    largest gap at the valve; m) and the event's largest valve lift (m)."""
-    bounce, flight_lift, gap = rebounds
-    return ValveSummary(
-        w,
-        *event,
-        bounce / M_PER_MM,
-        max(max_lift, flight_lift) / M_PER_MM,
-        max_gap_mm=gap / M_PER_MM,
-        bounce_lift_mm=flight_lift / M_PER_MM,
-    )
-
-
 def _rigid_cam(motion: Motion, vt: ValvetrainModel, w: float, n: int) -> ValveSummary | Floated:
-    """:func:`fast_valve_summary` of a rigid cam contact and a compliant train."""
-    rev = _revolution(motion, vt, n)
-    s, s2, g, g1, g2, ratio = rev.s, rev.s2, rev.g, rev.g1, rev.g2, rev.ratio
-    th0, h, out_node = rev.th0, rev.h, rev.out_node
-    nf, w2, deg = s.size - 1, w * w, rev.deg
-    lash, m_c, m_v, k, c, f0, tappet, tol = _constants(vt)
-    kt, ct = float(vt.train.train_stiffness), float(vt.train.train_damping)
+    """:func:`fast_valve_summary` of a rigid cam contact and a compliant train: one revolution from rest, or with the
+    spring's surge chain the second (the first for the chain's ringing at its end)."""
+    train = _CompliantTrain(motion, vt, w, n)
+    rest = np.zeros(2 * train.layout.lumps)
+    if not rest.size:
+        return train.revolution(rest)[0]
+    first, ringing = train.revolution(rest)
+    if isinstance(first, Floated):
+        raise Unsure("the valve floats in the revolution from rest: the next starts from the diffrax model's flight")
+    return train.revolution(ringing)[0]
 
-    # the valve seated (x_v = 0): the train's force and the cam's, and where the train lifts the valve
-    seated_defl = g - lash
-    f_seated = np.where(seated_defl > 0.0, np.maximum(0.0, kt * seated_defl + ct * w * g1), 0.0)
-    f_cam_bare = m_c * s2 * w2 + tappet  # the cam's force with no train force on the follower
-    lifts = np.nonzero(f_seated - f0 - tol > 0.0)[0]
-    if not lifts.size:  # the valve never lifts: no event, the follower held on the cam all the way round
-        if lower_bound(f_cam_bare + ratio * f_seated) < -tol:
-            raise Unsure("the follower leaves the cam")
-        nan = math.nan
-        return ValveSummary(w, nan, nan, nan, nan, nan, 0.0, 0.0)
-    j = int(lifts[0])
-    if j == 0 or lower_bound((f_cam_bare + ratio * f_seated)[: j + 1]) < -tol:
-        raise Unsure("the follower leaves the cam before the valve lifts")
 
-    def seated_force(theta: np.ndarray) -> np.ndarray:  # the train's on the seated valve, less F0 + tol
-        v = np.asarray(motion.host(theta))[:2] * M_PER_MM
-        g_v, ratio_v, _ = vt.host_lever(v[0])
-        d = g_v - lash
-        return np.where(d > 0.0, np.maximum(0.0, kt * d + ct * w * ratio_v * v[1]), 0.0) - f0 - tol
+class _CompliantTrain:
+    """A rigid cam contact and a compliant train at cam speed ``w`` (rad/s): the valve's linear systems on ``n`` x
+    :data:`REFINE` fine steps, the forces the seated valve sees, and the contacts' guards."""
 
-    lift_step = j - 1
-    tau_lift = rise(seated_force, th0 + lift_step * h, th0 + j * h) - (th0 + lift_step * h)
+    def __init__(self, motion: Motion, vt: ValvetrainModel, w: float, n: int) -> None:
+        self.motion, self.vt, self.w = motion, vt, w
+        self.rev = rev = revolution(motion, vt, n)
+        s, s2, g, g1, g2, ratio, h = rev.s, rev.s2, rev.g, rev.g1, rev.g2, rev.ratio, rev.h
+        self.nf, w2 = s.size - 1, w * w
+        self.lash, m_c, m_v, self.k, _, self.f0, tappet, self.tol = constants(vt)
+        self.kt, self.ct = kt, ct = float(vt.train.train_stiffness), float(vt.train.train_damping)
+        self.layout = layout(vt)
+        # the valve seated (x_v = 0): the train's force and the cam's with no train force on the follower
+        seated_defl = g - self.lash
+        self.f_seated = np.where(seated_defl > 0.0, np.maximum(0.0, kt * seated_defl + ct * w * g1), 0.0)
+        self.f_cam_bare = m_c * s2 * w2 + tappet
+        self.on_cam = self.f_cam_bare + ratio * self.f_seated  # the cam's force with the valve seated
+        # the valve off its seat, on the train (loaded) or off it (free, on its spring alone), and the chain ringing
+        # on the seated valve: linear systems
+        self.loaded = Linear(
+            valve_matrix(vt, w, kt, ct),
+            (-kt * self.lash - self.f0) / (m_v * w2),
+            hermite_taylor((kt * g + ct * w * g1) / (m_v * w2), (kt * g1 + ct * w * g2) / (m_v * w2), h),
+            h,
+        )
+        self.free = on_spring(vt, w, self.nf, h)
+        self.seated = seated(vt, w, self.nf, h) if self.layout.lumps else None
+        self.cam = hermite_taylor(g, g1, h)  # the cam's lift at the valve between the fine angles, for the guards
 
-    # the valve off its seat, on the train (loaded) or off it (free, on its spring alone): two linear systems
-    loaded = Linear(
-        np.array([[0.0, 1.0], [-(kt + k) / (m_v * w2), -(ct + c) / (m_v * w)]]),
-        (-kt * lash - f0) / (m_v * w2),
-        hermite_taylor((kt * g + ct * w * g1) / (m_v * w2), (kt * g1 + ct * w * g2) / (m_v * w2), h),
-        h,
-    )
-    free = _on_spring(vt, w, nf, h)
-    cam = hermite_taylor(g, g1, h)  # the cam's lift at the valve between the fine angles, for the guards there
+    def train(self, x: np.ndarray, p: np.ndarray, steps: Index, taus: Index) -> tuple[np.ndarray, np.ndarray]:
+        """The train's deflection (m) and its linear force (N) at valve lifts ``x`` and speeds ``p``, ``taus`` into
+        fine ``steps``."""
+        rev = self.rev
+        taus = np.broadcast_to(taus, x.shape)
+        steps = np.broadcast_to(steps, x.shape)
+        a0, a1, a2, a3 = self.cam[np.minimum(steps, self.nf - 1)].T
+        at = np.where(taus > 0.0, a0 + a1 * taus + a2 * taus**2 / 2 + a3 * taus**3 / 6, rev.g[steps])
+        at1 = np.where(taus > 0.0, a1 + a2 * taus + a3 * taus**2 / 2, rev.g1[steps])
+        d = at - self.lash - x
+        return d, self.kt * d + self.ct * self.w * (at1 - p)
 
-    def train(ys: np.ndarray, steps: Index, taus: Index) -> tuple[np.ndarray, np.ndarray]:
-        """The train's deflection (m) and its linear force (N) at states ``ys``, ``taus`` into fine ``steps``."""
-        taus = np.broadcast_to(taus, (len(ys),))
-        steps = np.broadcast_to(steps, (len(ys),))
-        a0, a1, a2, a3 = cam[np.minimum(steps, nf - 1)].T
-        at = np.where(taus > 0.0, a0 + a1 * taus + a2 * taus**2 / 2 + a3 * taus**3 / 6, g[steps])
-        at1 = np.where(taus > 0.0, a1 + a2 * taus + a3 * taus**2 / 2, g1[steps])
-        d = at - lash - ys[:, 0]
-        return d, kt * d + ct * w * (at1 - ys[:, 1])
+    def on_train(self, ys: np.ndarray, steps: Index, taus: Index) -> np.ndarray:
+        """> 0 while the train pushes the valve (N)."""
+        d, f_t = self.train(ys[:, self.layout.x], ys[:, self.layout.v], steps, taus)
+        return np.minimum(self.kt * d, f_t)
 
-    def on_train(ys: np.ndarray, steps: Index, taus: Index) -> np.ndarray:  # > 0 while the train pushes the valve (N)
-        d, f_t = train(ys, steps, taus)
-        return np.minimum(kt * d, f_t)
+    def landing(self, ys: np.ndarray, steps: Index, taus: Index) -> np.ndarray:
+        """The valve above its seat (N: as the train)."""
+        return self.kt * (ys[:, self.layout.x] + GAP_EPS)
 
-    def landing(ys: np.ndarray, steps: Index, taus: Index) -> np.ndarray:  # the valve above its seat (N: as the train)
-        return kt * (ys[:, 0] + GAP_EPS)
+    def rising(self, ys: np.ndarray, steps: Index, taus: Index) -> np.ndarray:
+        return ys[:, self.layout.v]
 
-    def rising(ys: np.ndarray, steps: Index, taus: Index) -> np.ndarray:
-        return ys[:, 1]
+    def holds(self, chains: np.ndarray, steps: Index, taus: Index) -> np.ndarray:
+        """> 0 while the seat holds the valve (N): the spring's force on it (the chain's last segment and the
+        preload) less the train's, with the diffrax model's tolerance. ``chains``: the seated system's states."""
+        m = self.layout.lumps
+        zero = np.zeros(len(chains))
+        d, f_t = self.train(zero, zero, steps, taus)
+        pushed = np.where(d > 0.0, np.maximum(0.0, f_t), 0.0)
+        coils = self.vt.coils
+        assert coils is not None  # the seated system is the chain's
+        k_s, c_s = float(coils.segment_rate), float(coils.segment_damping)
+        spring = self.f0 - k_s * chains[:, m - 1] - c_s * self.w * chains[:, 2 * m - 1]
+        return spring - pushed + self.tol
 
-    # the event: lifted by the train, to the seating after rising past half its static lift at the nose (a landing
-    # before belongs to the opening: the diffrax model's rule)
-    y_first = loaded.advance(lift_step, tau_lift, np.zeros(2), np.array([h - tau_lift]))[0]
-    ys = loaded.march(lift_step + 1, y_first)  # to the revolution's end: the seating is late in it
-    idx = np.arange(lift_step + 1, nf + 1)
-    d, f_t = train(ys, idx, 0.0)
-    f_cam = f_cam_bare[idx] + ratio[idx] * f_t
-    reach = float(g.max()) - float(g.min()) - lash
-    half_lift = 0.5 * static_valve_lift(reach, f0, kt, k)
-    risen = np.nonzero(ys[:, 0] > half_lift)[0]
-    down = np.nonzero(ys[risen[0] :, 0] < -GAP_EPS)[0] if risen.size else risen
-    if not down.size or np.any(ys[: risen[0], 0] < -GAP_EPS):
-        raise Unsure("no seating after the valve's rise")
-    q = int(risen[0] + down[0])  # the first fine angle below the seat, counted from lift_step + 1
-    train_open = np.nonzero((d[:q] <= 0.0) | (f_t[:q] < 0.0))[0]
-    cam_open = np.nonzero(f_cam[:q] < -tol)[0]
-    if cam_open.size and (not train_open.size or cam_open[0] < train_open[0]):
-        # the exact solution's cam force crosses the diffrax model's threshold first: float
-        return Floated(float(np.min(f_cam[:q])))
-    if train_open.size or lower_bound(f_cam[:q]) <= tol or lower_bound(f_t[:q]) <= 0.0:
-        raise Unsure("the cam contact near opening, or the valve off the train, within the event")
-    got = cross(loaded, lift_step + q, 0.0, ys[q - 1], h, landing, False)
-    if got is None:
-        raise Unsure("the seating lost")
-    event = out_node[idx[:q]]
-    least = int(np.argmin(np.where(event, f_cam[:q], np.inf)))
-    least_force, least_deg = float(f_cam[least]), deg(lift_step + 1 + least, 0.0)
-    least_train = float(np.min(f_t[:q][event]))
-    max_lift = float(np.max(ys[:q, 0][event]))
-    step, tau, y = lift_step + q, got[0], got[1]
-    seating_velocity, seating_deg = abs(float(y[1])) * w, deg(step, tau)
+    def _lift(self, chain0: np.ndarray) -> tuple[int, float, np.ndarray]:
+        """Where the train lifts the valve off its seat in a revolution that starts with the chain's state
+        ``chain0``: (fine step, rad into it, the chain's state there); the revolution's end (step ``nf``) where the
+        valve never lifts."""
+        rev, h, tol = self.rev, self.rev.h, self.tol
+        if not chain0.any():  # no chain, or one at rest (it stays so on the seated valve): algebraic
+            lifts = np.nonzero(self.f_seated - self.f0 - tol > 0.0)[0]
+            if not lifts.size:
+                return self.nf, 0.0, chain0
+            j = int(lifts[0])
+            if j == 0 or lower_bound(self.on_cam[: j + 1]) < -tol:
+                raise Unsure("the follower leaves the cam before the valve lifts")
+            motion, vt, lash, kt, ct, w, f0 = self.motion, self.vt, self.lash, self.kt, self.ct, self.w, self.f0
 
-    # the rebounds at seat_restitution x the landing speed, each a flight on the train or off it, to the speed
-    # below which the seat holds the valve; the bounce height is the highest apex
-    floor, e_seat = landing_floor(vt, w), float(vt.seat_restitution)
-    bounce = gap = flight_lift = 0.0  # the highest apex; above the cam's hold and off the seat on the output grid
-    for _ in range(_MAX_REBOUNDS):
-        v = -e_seat * float(y[1])
-        if v <= floor:
-            break
-        y = np.array([0.0, v])
-        first = True
-        while True:  # the flight's stretches, each on one system
-            lin, sign = (loaded, 1.0) if on_train(y[None], step, tau)[0] > 0.0 else (free, -1.0)
-            guard = lambda ys, st, ta, sign=sign: np.minimum(landing(ys, st, ta), sign * on_train(ys, st, ta))  # noqa: E731
-            along, steps, taus, end = stretch_to(lin, step, tau, y, guard, fresh=first)
-            if end is None:
-                raise Unsure("the valve in the air at the revolution's end")
-            if y[1] > 0.0 and end[2][1] <= 0.0:  # the apex in this stretch
-                apex = stretch_to(lin, step, tau, y, rising, fresh=first)[3]
-                bounce = max(bounce, float(apex[2][0]) if apex is not None else float(np.max(along[:, 0])))
-            bounce = max(bounce, float(np.max(along[:, 0])))
-            lift_here, gap_here = _flight_reach(rev, lash, along, steps, taus)
-            flight_lift, gap = max(flight_lift, lift_here), max(gap, gap_here)
-            if np.min(f_cam_bare[np.minimum(steps, nf)]) < -tol:
-                raise Unsure("the follower leaves the cam while the valve rebounds")
-            step, tau, y = end
-            first = False
-            if landing(y[None], step, tau)[0] <= kt * GAP_EPS * 1e-3:  # on the seat (not a change of system)
-                break
-    else:
+            def seated_force(theta: np.ndarray) -> np.ndarray:  # the train's on the seated valve, less F0 + tol
+                v = np.asarray(motion.host(theta))[:2] * M_PER_MM
+                g_v, ratio_v, _ = vt.host_lever(v[0])
+                d = g_v - lash
+                return np.where(d > 0.0, np.maximum(0.0, kt * d + ct * w * ratio_v * v[1]), 0.0) - f0 - tol
+
+            step = j - 1
+            tau = rise(seated_force, rev.th0 + step * h, rev.th0 + j * h) - (rev.th0 + step * h)
+            return step, tau, chain0
+        assert self.seated is not None  # a chain to ring
+        if self.holds(chain0[None], 0, 0.0)[0] <= 0.0:
+            raise Unsure("the valve off its seat as the revolution starts")
+        along, _, _, end = stretch_to(self.seated, 0, 0.0, chain0, self.holds)
+        if end is None:
+            return self.nf, 0.0, along[-1]
+        step, tau, chain = end
+        if step == 0 or lower_bound(self.on_cam[: step + 2]) < -tol:
+            raise Unsure("the follower leaves the cam before the valve lifts")
+        return step, tau, chain
+
+    def _held(self, step: int, tau: float, chain: np.ndarray) -> np.ndarray:
+        """The valve held on its seat from ``tau`` rad into fine ``step`` to the revolution's end, the follower on the
+        cam: the chain's state at the end (empty without one)."""
+        rest = slice(step + 1, self.nf + 1)
+        if self.seated is None:
+            if np.any(self.f_seated[rest] > self.f0) or lower_bound(self.on_cam[rest]) < -self.tol:
+                raise Unsure("the valve re-lifted or the follower off the cam after the seating")
+            return chain
+        if lower_bound(self.on_cam[rest]) < -self.tol:
+            raise Unsure("the follower off the cam after the seating")
+        along, _, _, end = stretch_to(self.seated, step, tau, chain, self.holds)
+        if end is not None:
+            raise Unsure("the valve re-lifted after the seating")
+        return along[-1]
+
+    def revolution(self, chain0: np.ndarray) -> tuple[ValveSummary | Floated, np.ndarray]:
+        """One revolution from rest on the base circle but for the surge chain's state ``chain0`` (its inner lumps'
+        lifts and speeds; empty without one): its summary, and the chain's state at its end (NaN where the valve
+        floats: what follows is the diffrax model's)."""
+        rev, lay, nf, h, w, tol, kt = self.rev, self.layout, self.nf, self.rev.h, self.w, self.tol, self.kt
+        loaded, deg, out_node = self.loaded, rev.deg, rev.out_node
+        lift_step, tau_lift, chain = self._lift(chain0)
+        if lift_step >= nf:  # the valve never lifts: no event, the follower held on the cam all the way round
+            if lower_bound(self.on_cam) < -tol:
+                raise Unsure("the follower leaves the cam")
+            nan = math.nan
+            return ValveSummary(w, nan, nan, nan, nan, nan, 0.0, 0.0), chain
+
+        # the event: lifted by the train, to the seating after rising past half its static lift at the nose (a landing
+        # before belongs to the opening: the diffrax model's rule)
+        y_first = loaded.advance(lift_step, tau_lift, lay.lifted(chain), np.array([h - tau_lift]))[0]
+        ys = loaded.march(lift_step + 1, y_first)  # to the revolution's end: the seating is late in it
+        idx = np.arange(lift_step + 1, nf + 1)
+        xv = ys[:, lay.x]
+        d, f_t = self.train(xv, ys[:, lay.v], idx, 0.0)
+        f_cam = self.f_cam_bare[idx] + rev.ratio[idx] * f_t
+        reach = float(rev.g.max()) - float(rev.g.min()) - self.lash
+        half_lift = 0.5 * static_valve_lift(reach, self.f0, kt, self.k)
+        risen = np.nonzero(xv > half_lift)[0]
+        down = np.nonzero(xv[risen[0] :] < -GAP_EPS)[0] if risen.size else risen
+        if not down.size or np.any(xv[: risen[0]] < -GAP_EPS):
+            raise Unsure("no seating after the valve's rise")
+        q = int(risen[0] + down[0])  # the first fine angle below the seat, counted from lift_step + 1
+        train_open = np.nonzero((d[:q] <= 0.0) | (f_t[:q] < 0.0))[0]
+        cam_open = np.nonzero(f_cam[:q] < -tol)[0]
+        if cam_open.size and (not train_open.size or cam_open[0] < train_open[0]):
+            # the exact solution's cam force crosses the diffrax model's threshold first: float
+            return Floated(float(np.min(f_cam[:q]))), np.full_like(chain0, np.nan)
+        if train_open.size or lower_bound(f_cam[:q]) <= tol or lower_bound(f_t[:q]) <= 0.0:
+            raise Unsure("the cam contact near opening, or the valve off the train, within the event")
+        got = cross(loaded, lift_step + q, 0.0, ys[q - 1], h, self.landing, False)
+        if got is None:
+            raise Unsure("the seating lost")
+        event = out_node[idx[:q]]
+        least = int(np.argmin(np.where(event, f_cam[:q], np.inf)))
+        least_force, least_deg = float(f_cam[least]), deg(lift_step + 1 + least, 0.0)
+        least_train = float(np.min(f_t[:q][event]))
+        max_lift = float(np.max(xv[:q][event]))
+        step, tau, y = lift_step + q, got[0], got[1]
+        seating_velocity, seating_deg = abs(float(y[lay.v])) * w, deg(step, tau)
+        step, tau, y, rebounds = self._rebounds(step, tau, y)
+        event_numbers = (least_force, least_deg, least_train, seating_velocity, seating_deg)
+        return summary(w, event_numbers, rebounds, max_lift), self._held(step, tau, lay.chain(y))
+
+    def _rebounds(
+        self, step: int, tau: float, y: np.ndarray
+    ) -> tuple[int, float, np.ndarray, tuple[float, float, float]]:
+        """The rebounds off the seat from the seating at ``tau`` rad into fine ``step`` (state ``y``), at
+        seat_restitution x the landing speed, each a flight on the train or off it, to the speed below which the seat
+        holds the valve: where it is held, the state there, and the highest apex (the bounce height), the highest
+        lift on the output grid and the largest gap at the valve above the cam's hold (m)."""
+        rev, lay, nf, tol = self.rev, self.layout, self.nf, self.tol
+        floor, e_seat = landing_floor(self.vt, self.w), float(self.vt.seat_restitution)
+        bounce = gap = flight_lift = 0.0
+        for _ in range(MAX_REBOUNDS):
+            v = -e_seat * float(y[lay.v])
+            if v <= floor:
+                return step, tau, y, (bounce, flight_lift, gap)
+            y = lay.lifted(lay.chain(y), 0.0, v)
+            first = True
+            while True:  # the flight's stretches, each on one system
+                lin, sign = (self.loaded, 1.0) if self.on_train(y[None], step, tau)[0] > 0.0 else (self.free, -1.0)
+
+                def guard(ys: np.ndarray, st: Index, ta: Index, sign: float = sign) -> np.ndarray:
+                    return np.minimum(self.landing(ys, st, ta), sign * self.on_train(ys, st, ta))
+
+                along, steps, taus, end = stretch_to(lin, step, tau, y, guard, fresh=first)
+                if end is None:
+                    raise Unsure("the valve in the air at the revolution's end")
+                if y[lay.v] > 0.0 and end[2][lay.v] <= 0.0:  # the apex in this stretch
+                    apex = stretch_to(lin, step, tau, y, self.rising, fresh=first)[3]
+                    top = float(apex[2][lay.x]) if apex is not None else float(np.max(along[:, lay.x]))
+                    bounce = max(bounce, top)
+                bounce = max(bounce, float(np.max(along[:, lay.x])))
+                lift_here, gap_here = flight_reach(rev, self.lash, along[:, lay.x], steps, taus)
+                flight_lift, gap = max(flight_lift, lift_here), max(gap, gap_here)
+                if np.min(self.f_cam_bare[np.minimum(steps, nf)]) < -tol:
+                    raise Unsure("the follower leaves the cam while the valve rebounds")
+                step, tau, y = end
+                first = False
+                if (
+                    self.landing(y[None], step, tau)[0] <= self.kt * GAP_EPS * 1e-3
+                ):  # on the seat: not a change of system
+                    break
         raise Unsure("the valve rattles on its seat beyond the rebounds followed")
-    # the valve held on its seat to the revolution's end: no re-lift, the follower on the cam
-    rest = slice(step + 1, nf + 1)
-    if np.any(f_seated[rest] > f0) or lower_bound((f_cam_bare + ratio * f_seated)[rest]) < -tol:
-        raise Unsure("the valve re-lifted or the follower off the cam after the seating")
-    event = (least_force, least_deg, least_train, seating_velocity, seating_deg)
-    return _summary(w, event, (bounce, flight_lift, gap), max_lift)
 
 
 def _rigid_train(motion: Motion, vt: ValvetrainModel, w: float, n: int) -> ValveSummary | Floated:
@@ -336,10 +310,10 @@ def _rigid_train(motion: Motion, vt: ValvetrainModel, w: float, n: int) -> Valve
     the cam's lift at the valve below the lash on its closing ramp): the same linear system as a compliant train's
     flight off it. The diffrax model's events and tolerances: the lash closes GAP_EPS past the cam's reach, the
     valve seats GAP_EPS below its seat."""
-    rev = _revolution(motion, vt, n)
+    rev = revolution(motion, vt, n)
     s1, s2, g, g1, ratio, ratio1, th0, h = rev.s1, rev.s2, rev.g, rev.g1, rev.ratio, rev.ratio1, rev.th0, rev.h
     nf, w2, deg, out_node = g.size - 1, w * w, rev.deg, rev.out_node
-    lash, m_c, m_v, k, c, f0, tappet, tol = _constants(vt)
+    lash, m_c, m_v, k, c, f0, tappet, tol = constants(vt)
     f_cam_bare = m_c * s2 * w2 + tappet  # the cam's force with the train open
 
     def cam_at_valve(theta: np.ndarray) -> tuple[np.ndarray, np.ndarray]:  # g (m) and g' (m/rad) at angles
@@ -387,7 +361,7 @@ def _rigid_train(motion: Motion, vt: ValvetrainModel, w: float, n: int) -> Valve
     seating_velocity, seating_deg = abs(closing) * w, deg(step, tau)
 
     # the rebounds at seat_restitution x the landing speed, each a flight on the spring alone to the seat
-    free = _on_spring(vt, w, nf, h)
+    free = on_spring(vt, w, nf, h)
     cam = hermite_taylor(g, g1, h)  # the cam's lift at the valve between the fine angles
 
     def apart(ys: np.ndarray, steps: Index, taus: Index) -> np.ndarray:  # > 0 while the train stays open (m)
@@ -409,7 +383,7 @@ def _rigid_train(motion: Motion, vt: ValvetrainModel, w: float, n: int) -> Valve
     floor, e_seat = landing_floor(vt, w), float(vt.seat_restitution)
     bounce = gap = flight_lift = 0.0
     speed = closing
-    for _ in range(_MAX_REBOUNDS):
+    for _ in range(MAX_REBOUNDS):
         v = -e_seat * speed
         if v <= floor:
             break
@@ -419,7 +393,7 @@ def _rigid_train(motion: Motion, vt: ValvetrainModel, w: float, n: int) -> Valve
             raise Unsure("the valve in the air at the revolution's end, or meeting the train")
         apex = stretch_to(free, step, tau, y, rising, fresh=True)[3]
         bounce = max(bounce, float(apex[2][0]) if apex is not None else 0.0, float(np.max(along[:, 0])))
-        lift_here, gap_here = _flight_reach(rev, lash, along, steps, taus)
+        lift_here, gap_here = flight_reach(rev, lash, along[:, 0], steps, taus)
         flight_lift, gap = max(flight_lift, lift_here), max(gap, gap_here)
         if np.min(f_cam_bare[np.minimum(steps, nf)]) < -tol:
             raise Unsure("the follower leaves the cam while the valve rebounds")
@@ -432,4 +406,4 @@ def _rigid_train(motion: Motion, vt: ValvetrainModel, w: float, n: int) -> Valve
     if np.any(g[rest] - lash - GAP_EPS > 0.0) or lower_bound(f_cam_bare[rest]) < -tol:
         raise Unsure("the lash closed again or the follower off the cam after the seating")
     event = (least_force, least_deg, least_train, seating_velocity, seating_deg)
-    return _summary(w, event, (bounce, flight_lift, gap), max_lift)
+    return summary(w, event, (bounce, flight_lift, gap), max_lift)

@@ -1,7 +1,7 @@
 """The valvetrain fast path's exact linear machinery: a linear system's propagators over a fixed angle grid (the
 matrix exponential of the system augmented with its input's cubic Taylor chain), the chained steps as a modal
 recurrence, and the first angle where a guard (a contact's condition) falls below zero, located on that exact
-solution (:mod:`._valvefast` builds the valve's systems and reads them)."""
+solution (:mod:`._valveevent` builds the valve's systems, :mod:`._valvefast` reads them)."""
 
 from __future__ import annotations
 
@@ -11,6 +11,7 @@ from collections.abc import Callable
 import numpy as np
 
 _SPLIT = 64  # a contact change inside a step: the step cut in 64, twice over
+_FRESH = 2.0 ** np.arange(-23, 1)  # a guard that starts at zero: the span's first cuts doubling from 1.2e-7 of it
 _MARCH = 64  # a stretch's first chunk of fine steps (then four times what it has, to the revolution's end)
 ORDER = 4  # the input's Taylor chain: value, slope, curvature, third derivative (a cubic)
 
@@ -53,24 +54,32 @@ def _shift(taylor: np.ndarray, tau: float) -> np.ndarray:
     )
 
 
-def recur(lam: complex, g: np.ndarray, z0: complex) -> np.ndarray:
-    """``z[k + 1] = lam z[k] + g[k]`` from ``z[0] = z0``: (len(g) + 1,). In blocks short enough that ``lam``'s powers
-    within one stay within 1e3 of each other (a decaying mode), each block a cumulative sum:
-    ``z[k + i] = lam^i (z[k] + sum_{j < i} g[k + j] lam^-(j + 1))``."""
-    count = len(g)
-    out = np.empty(count + 1, complex)
-    out[0] = z0
-    size = abs(lam)
-    if size < 1e-12:  # a mode gone within a step
-        out[1:] = g
-        return out
-    block = count if size >= 1.0 else max(1, min(count, int(math.log(1e3) / -math.log(size))))
+def recur(lam: np.ndarray, g: np.ndarray, z0: np.ndarray) -> np.ndarray:
+    """``z[:, k + 1] = lam z[:, k] + g[:, k]`` from ``z[:, 0] = z0`` for every mode at once (``lam`` and ``z0``:
+    (modes,), ``g``: (modes, steps)): (modes, steps + 1). In blocks short enough that every decaying mode's powers
+    within one stay within 1e3 of each other, each block a cumulative sum:
+    ``z[k + i] = lam^i (z[k] + sum_{j < i} g[k + j] lam^-(j + 1))``. A mode gone within a step (``|lam|`` below
+    1e-12) is its forcing."""
+    lam, g, z0 = np.asarray(lam, complex), np.asarray(g, complex), np.asarray(z0, complex)
+    count = g.shape[1]
+    out = np.empty((lam.size, count + 1), complex)
+    out[:, 0] = z0
+    size = np.abs(lam)
+    gone = size < 1e-12
+    live = np.where(gone, 1.0, lam)  # its powers stay finite; its rows are set apart below
+    least = float(np.min(size[~gone], initial=1.0))
+    block = count if least >= 1.0 else max(1, min(count, int(math.log(1e3) / -math.log(least))))
+    # lam ** k and lam ** -k, once for the blocks of one length: numpy's complex ** is 7x slower, no closer
+    exponent = np.arange(1, block + 1)[None, :] * np.log(live)[:, None]
+    full, inverse = np.exp(exponent), np.exp(-exponent)
     k = 0
     while k < count:
         m = min(block, count - k)
-        powers = np.exp(np.arange(1, m + 1) * np.log(lam))  # lam ** k: numpy's complex ** is 7x slower, no closer
-        out[k + 1 : k + m + 1] = powers * (out[k] + np.cumsum(g[k : k + m] / powers))
+        out[:, k + 1 : k + m + 1] = full[:, :m] * (
+            out[:, k : k + 1] + np.cumsum(g[:, k : k + m] * inverse[:, :m], axis=1)
+        )
         k += m
+    out[gone, 1:] = g[gone]
     return out
 
 
@@ -106,6 +115,32 @@ class Linear:
         src = np.concatenate([y, _shift(self.taylor[step], tau), [1.0]])
         return e @ src
 
+    def even(self, step: int, tau: float, y: np.ndarray, delta: float, count: int) -> np.ndarray:
+        """The states at ``0, delta, ..., count delta`` past angle ``tau`` into fine step ``step`` from ``y`` there:
+        (count + 1, n). One propagator and its powers by squaring (the augmented system is time-invariant: the
+        state ``i delta`` on is ``E(delta)^i`` of the augmented start), not an exponential per angle, which for the
+        surge chain's systems (37 x 37 augmented) cost a millisecond a cut."""
+        aug = np.concatenate([y, _shift(self.taylor[step], tau), [1.0]])[None]
+        power = batched_expm((self.z * delta)[None])[0].T
+        while len(aug) < count + 1:
+            more = aug[: count + 1 - len(aug)] @ power
+            aug = np.concatenate([aug, more])
+            if len(aug) < count + 1:
+                power = power @ power
+        return aug[:, : self.n]
+
+    def doubling(self, step: int, tau: float, y: np.ndarray, delta: float, count: int) -> np.ndarray:
+        """The states at ``delta, 2 delta, 4 delta, ...`` (``count`` of them) past angle ``tau`` into fine step
+        ``step`` from ``y`` there: (count, n). One propagator squared in turn."""
+        src = np.concatenate([y, _shift(self.taylor[step], tau), [1.0]])
+        power = batched_expm((self.z * delta)[None])[0]
+        out = np.empty((count, self.n))
+        for i in range(count):
+            out[i] = power[: self.n] @ src
+            if i + 1 < count:
+                power = power @ power
+        return out
+
     def march(self, step: int, y: np.ndarray, count: int | None = None) -> np.ndarray:
         """The states at the nodes from ``step`` (where the state is ``y``) to the last, or the next ``count`` steps
         of them: (steps + 1, n)."""
@@ -113,24 +148,28 @@ class Linear:
             e = self.steps(np.array([self.h]))[0]
             phi = e[:, : self.n]
             lam, vec = np.linalg.eig(phi)
-            self._step = (phi, e[:, self.n :], lam, vec, np.linalg.cond(vec) > 1e8)
-        phi, gam, lam, vec, repeated = self._step
+            inv = None if np.linalg.cond(vec) > 1e8 else np.linalg.inv(vec)
+            # a real system's complex modes come in conjugate pairs (LAPACK gives them so, the one with the positive
+            # imaginary part first): one of each pair, twice its real part
+            im = np.imag(lam)
+            paired = np.array_equal(lam[im < 0.0], np.conj(lam[im > 0.0])) and np.array_equal(
+                vec[:, im < 0.0], np.conj(vec[:, im > 0.0])
+            )
+            half = im >= 0.0 if paired else np.ones(lam.size, bool)
+            twice = np.where(im > 0.0, 2.0, 1.0)[half] if paired else 1.0
+            modes = (lam[half], vec[:, half] * twice, None if inv is None else inv[half])
+            self._step = (phi, e[:, self.n :], modes)
+        phi, gam, (lam, vec, inv) = self._step
         taylor = self.taylor[step:] if count is None else self.taylor[step : step + count]
         if not taylor.shape[0]:
             return y[None]
         forcing = np.concatenate([taylor, np.ones((taylor.shape[0], 1))], axis=1) @ gam.T  # (steps, n)
-        if repeated:  # (nearly) repeated modes: step by step
+        if inv is None:  # (nearly) repeated modes: step by step
             out = [y]
             for g in forcing:
                 out.append(phi @ out[-1] + g)
             return np.array(out)
-        modal = np.linalg.solve(vec, forcing.T.astype(complex))  # (n, steps)
-        z0 = np.linalg.solve(vec, y.astype(complex))
-        z = np.empty((self.n, taylor.shape[0] + 1), complex)
-        z[:, 0] = z0
-        for i in range(self.n):
-            z[i] = recur(lam[i], modal[i], z0[i])
-        return np.real(vec @ z).T
+        return np.real(vec @ recur(lam, inv @ forcing.T, inv @ y)).T
 
 
 class Unsure(Exception):
@@ -142,16 +181,17 @@ def cross(
 ) -> tuple[float, np.ndarray] | None:
     """The first angle past ``tau`` in fine step ``step`` (from state ``y``), within ``span`` (rad), where
     ``guard(states, steps, taus)`` falls below zero: (delta, state) or None. The span cut in :data:`_SPLIT` finds
-    the first sign change (``fresh``: the guard starts at zero, a rebound off the seat: the cuts spaced
-    geometrically), that cut in :data:`_SPLIT` again, the guard interpolated linearly across the last (a width of
-    1/4096 of a fine step: an error of its square), and the state there from the exact propagator."""
-    lo, width, g_lo, g_hi = 0.0, span, 0.0, 0.0
+    the first sign change (``fresh``: the guard starts at zero, a rebound off the seat: the cuts doubling from 1.2e-7
+    of the span, :data:`_FRESH`), that cut in :data:`_SPLIT` again, the guard interpolated linearly across the last
+    (a width of 1/4096 of a fine step: an error of its square), and the state there from the exact propagator."""
+    lo, width, g_lo, g_hi, y_lo = 0.0, span, 0.0, 0.0, y
     for r in range(2):
         if r == 0 and fresh:
-            ds = span * np.geomspace(1e-7, 1.0, _SPLIT)
+            ds = span * _FRESH
+            ys = lin.doubling(step, tau, y, float(ds[0]), _FRESH.size)
         else:
             ds = lo + np.linspace(0.0, width, _SPLIT + 1)
-        ys = lin.advance(step, tau, y, ds)
+            ys = lin.even(step, tau + lo, y_lo, width / _SPLIT, _SPLIT)
         g = guard(ys, step, tau + ds)
         below = np.nonzero(g < 0.0)[0]
         if r == 0 and not fresh:
@@ -160,9 +200,12 @@ def cross(
             return None
         j = int(below[0])
         if j == 0:  # fresh: below at the first cut already
-            lo, g_lo, width = 0.0, 0.0, ds[0]
+            lo, g_lo, width, y_lo = 0.0, 0.0, ds[0], y
         else:
             lo, g_lo, width = ds[j - 1], float(g[j - 1]), ds[j] - ds[j - 1]
+            # a doubling's states carry the rounding of its squarings (up to 2^24 eps): the next round starts from
+            # the exact propagator's
+            y_lo = lin.advance(step, tau, y, np.array([lo]))[0] if r == 0 and fresh else ys[j - 1]
         g_hi = float(g[j])
     f = min(max(g_lo / (g_lo - g_hi), 0.0), 1.0) if g_lo != g_hi else 1.0
     root = lo + f * width
@@ -179,7 +222,8 @@ def stretch_to(
     got = cross(lin, step, tau, y, h - tau, guard, fresh)
     if got is not None:
         ds = np.linspace(0.0, got[0], 9)[1:]
-        return lin.advance(step, tau, y, ds), np.full(ds.size, step), tau + ds, (step, tau + got[0], got[1])
+        along = lin.even(step, tau, y, got[0] / 8, 8)[1:]
+        return along, np.full(ds.size, step), tau + ds, (step, tau + got[0], got[1])
     nodes = lin.march(step + 1, lin.advance(step, tau, y, np.array([h - tau]))[0], _MARCH)
     last = len(lin.taylor)  # the last node: the revolution's end
     while True:  # a chunk at a time: most stretches end within a few steps
