@@ -146,6 +146,16 @@ def shipped(names: list[str]) -> list[str]:
     return sorted(p.stem for p in (ROOT / "cases").glob("*.toml")) if names == ["all"] else names
 
 
+def case_file(case: str) -> Path:
+    """A ``--cases`` name's file: ``cases/NAME.toml``, or a case file of the user's (a path ending in .toml)."""
+    return Path(case).resolve() if case.endswith(".toml") else ROOT / "cases" / f"{case}.toml"
+
+
+def case_label(case: str) -> str:
+    """How a ``--cases`` name's file is named in the table."""
+    return case if case.endswith(".toml") else f"cases/{case}.toml"
+
+
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--repeat", type=int, default=5, help="rounds; the best of each is shown (default 5)")
@@ -154,7 +164,7 @@ def main() -> int:
         nargs="+",
         default=["lecture", "oscillating"],
         metavar="NAME",
-        help="shipped cases/NAME.toml, or all (every one)",
+        help="shipped cases/NAME.toml, all (every one), or a case file's path (ending in .toml)",
     )
     ap.add_argument(
         "--new", action="store_true", help="also the first check of a never-seen variant of each case, every round"
@@ -178,13 +188,12 @@ def main() -> int:
         for tag, tree in trees:
             env = _env(tree, tmp / f"cache{len(jobs)}")
             for case in cases:
-                argv = [*py, "-m", "camdyn", "check", str(ROOT / "cases" / f"{case}.toml"), "--quiet"]
-                jobs[f"camdyn check cases/{case}.toml, warm caches{tag}"] = ([argv] * opts.repeat, env, True)
+                argv = [*py, "-m", "camdyn", "check", str(case_file(case)), "--quiet"]
+                jobs[f"camdyn check {case_label(case)}, warm caches{tag}"] = ([argv] * opts.repeat, env, True)
             if opts.new and not tag:  # this tree's: in the cache its shipped cases filled, a new variant each round
                 for case in cases:
                     argvs = [
-                        [*py, "-m", "camdyn", "check", str(variant(ROOT / "cases" / f"{case}.toml", f, new_cases))]
-                        + ["--quiet"]
+                        [*py, "-m", "camdyn", "check", str(variant(case_file(case), f, new_cases))] + ["--quiet"]
                         for f in [1.0 + 0.002 * (i + 1) for i in range(opts.repeat)]
                     ]
                     jobs[f"camdyn check, new {case} variant, first{tag}"] = (argvs, env, False)
@@ -225,7 +234,7 @@ def main() -> int:
             goal = f"goal <= {GOAL_CHECK:g} x"
         elif ", new " in name:
             case = name.split(", new ")[1].split(" variant")[0]
-            warm = best[f"camdyn check cases/{case}.toml, warm caches"][0]
+            warm = best[f"camdyn check {case_label(case)}, warm caches"][0]
             goal = f"{wall / warm:.2f} x the shipped case's warm check, goal <= {GOAL_NEW:g} x"
         else:
             goal = f"goal < {GOAL_ERROR_S:g} s; exit {code}: {err.replace(f'{tmp}/', '')[:70]}"

@@ -98,6 +98,7 @@ class Linear:
         self.z, self.n, self.taylor, self.h = z, n, taylor, h
         self._step: tuple | None = None  # the full step's propagator and its modes, once
         self._steps: dict[bytes, np.ndarray] = {}  # propagators by their angles
+        self._powers: dict[float, np.ndarray] = {}  # :meth:`even`'s propagators (transposed) by their angle
 
     def steps(self, deltas: np.ndarray) -> np.ndarray:
         """The augmented propagators over angles ``deltas`` (rad): (len, n, n + 5)."""
@@ -121,7 +122,11 @@ class Linear:
         state ``i delta`` on is ``E(delta)^i`` of the augmented start), not an exponential per angle, which for the
         surge chain's systems (37 x 37 augmented) cost a millisecond a cut."""
         aug = np.concatenate([y, _shift(self.taylor[step], tau), [1.0]])[None]
-        power = batched_expm((self.z * delta)[None])[0].T
+        power = self._powers.get(delta)
+        if power is None:  # a step's cuts from its start recur: kept
+            if len(self._powers) > 64:
+                self._powers.clear()
+            power = self._powers[delta] = batched_expm((self.z * delta)[None])[0].T
         while len(aug) < count + 1:
             more = aug[: count + 1 - len(aug)] @ power
             aug = np.concatenate([aug, more])
@@ -169,7 +174,15 @@ class Linear:
             for g in forcing:
                 out.append(phi @ out[-1] + g)
             return np.array(out)
-        return np.real(vec @ recur(lam, inv @ forcing.T, inv @ y)).T
+        z = recur(lam, _product(inv, forcing.T), inv @ y)
+        return np.real(_product(vec, z)).T
+
+
+def _product(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """``a @ b`` for a few modes' long rows: by einsum where ``a`` has a few columns (a BLAS product that long runs
+    on threads that then spin, twice the CPU for the same wall on a 2-core machine), by BLAS where it has many (the
+    surge chain's 16 modes)."""
+    return a @ b if a.shape[1] > 4 else np.einsum("ij,jk->ik", a, b)
 
 
 class Unsure(Exception):
