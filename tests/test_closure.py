@@ -413,6 +413,7 @@ def test_report_of_a_groove_cam(tmp_path, capsys):
     assert "Crossovers at 300 rpm" in text["crossovers"] and "return spring: none" in text["parts"]
 
 
+@pytest.mark.slow  # a whole check, a sweep and its plot
 def test_sweep_of_a_groove_cam_maps_the_impacts(tmp_path, capsys):
     """``sweep`` of a groove cam: the largest impact speed over speed x backlash. No spring: the flight across the
     gap takes the same cam angle at any speed, so the impact speed is proportional to the speed; at the case's
