@@ -165,7 +165,7 @@ def valve_matrix(vt: ValvetrainModel, w: float, kt: float = 0.0, ct: float = 0.0
     preload left out (:class:`Layout`'s order). The spring's force on the valve is ``k x + F0 + c x'``, or with the
     chain its last segment's ``k_s (x - u_m) + c_s w (x' - u_m')`` with the preload and the valve's damper."""
     m, m_v, c = layout(vt).lumps, float(vt.valve_mass), float(vt.spring_damping)
-    w2, n = w * w, 2 * (layout(vt).lumps + 1)
+    w2, n = w * w, 2 * (m + 1)
     a = np.zeros((n, n))
     a[: m + 1, m + 1 :] = np.eye(m + 1)
     if vt.coils is None:
