@@ -239,6 +239,27 @@ def test_only_batched_commands_reach_for_an_accelerator(capsys, tmp_path, monkey
     assert run(capsys, "table", LECTURE, "--step", "30")[0] == 0 and os.environ["JAX_PLATFORMS"] == "cuda,cpu"
 
 
+def test_blas_runs_on_one_thread_unless_the_user_says():
+    """camdyn's numpy work is small matrices, where BLAS threads only spin: a command line sets OpenBLAS to one
+    thread before numpy loads (it reads the setting then), unless the user set it; a caller that loaded numpy keeps
+    its own. Fresh processes (a bad option: nothing computed)."""
+    import os
+
+    code = (
+        "import os, sys\nfrom camdyn.cli import main\n"
+        "main(['check', 'case.toml', '--bogus']); print(os.environ.get('OPENBLAS_NUM_THREADS'), 'numpy' in sys.modules)"
+    )
+
+    def run_with(*env: tuple[str, str], before: str = "") -> list[str]:
+        base = {k: v for k, v in os.environ.items() if k != "OPENBLAS_NUM_THREADS"} | dict(env)
+        out = subprocess.run([sys.executable, "-c", before + code], env=base, capture_output=True, text=True)
+        return out.stdout.split()
+
+    assert run_with() == ["1", "False"]
+    assert run_with(("OPENBLAS_NUM_THREADS", "4")) == ["4", "False"]
+    assert run_with(before="import numpy\n") == ["None", "True"]
+
+
 def test_a_cpu_run_skips_the_discovery_of_accelerator_plugins():
     """Where JAX is set to the CPU alone (JAX_PLATFORMS=cpu before it loads), the command line tells JAX its plugins
     are registered before a backend starts (it would import and initialize every one installed, for backends it never

@@ -449,6 +449,10 @@ def main(argv: list[str] | None = None) -> int:
 
 
 def _command(argv: list[str] | None) -> int:
+    if "numpy" not in sys.modules:  # before numpy loads: OpenBLAS reads it then (a caller's numpy keeps its own)
+        # camdyn's numpy work is small matrices (a valvetrain's fast path: 37 x 37 propagators, 32 x 16 modes), where
+        # BLAS threads only spin: a surge chain's `size` took 123 s of CPU for 77 s of wall on two
+        os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
     try:
         args = build_parser().parse_args(argv)
     except SystemExit as exit_:  # --help, --version, or a usage error already reported in one line
