@@ -84,7 +84,8 @@ def recur(lam: np.ndarray, g: np.ndarray, z0: np.ndarray) -> np.ndarray:
 
 
 class Linear:
-    """The valve's linear system ``y' = A y + e (w0 + b)`` (y = (x, x'), w0 the cubic input) and its exact
+    """The valve's linear system ``y' = A y + e (w0 + b)`` (y: the valve's (x, x'), or with the spring's surge chain
+    its lumps' and the valve's lifts, then their speeds; e drives the last, w0 the cubic input) and its exact
     propagators: ``expm`` of the system augmented with the input's Taylor chain and the constant."""
 
     def __init__(self, a: np.ndarray, b: float, taylor: np.ndarray, h: float) -> None:
