@@ -267,3 +267,48 @@ def test_tolerance_carries_the_springs_third_as_a_hand_written_valve_mass_would(
     assert study.nominal_bounce_speed_rpm == pytest.approx(hand.bounce_speed_rpm, rel=1e-9)
     assert study.float_speed_rpm[0] == pytest.approx(hand.float_speed_rpm, rel=0.02)
     assert any("lumped third in every sample" in n for n in study.notes)
+
+
+def _sizing(preload: float):
+    """A stand-in for a preload search's answer proposing ``preload`` (N) at 40 N/mm."""
+    from camdyn.design.sizing._valvetrain import ValveSpringDesign, ValveSpringSizing
+
+    design = ValveSpringDesign(40.0, preload, 400.0 + preload, 5000.0, 6000.0, 9000.0, 0.3, 0.002, 300.0, 100.0)
+    numbers = ("v", 3000.0, 1.25, 3750.0, 40.0, 1.6, 0.2, 0.27, 10.0)
+    return ValveSpringSizing(*numbers, design, 4000.0, design, design, (), ())
+
+
+def test_a_part_mass_that_cycles_ends_on_a_search_that_carried_its_parts_mass(monkeypatch):
+    """The parts come in wire sizes and coil counts, so the fixed point on a [spring] part's mass may not exist: a
+    search with 96.05 g asks for 110.8 N, whose part weighs 97.34 g; a search with 97.34 g asks for 108.1 N, whose
+    part weighs 96.05 g (a surge chain's valvetrain did so). The loop stops at the cycle (no rounds to its budget),
+    proposes the search that carried at least its own part's mass (a lighter part floats and bounces later), and
+    reports the part designed for that proposal, its preload the proposal's. (The heaviest search of a cycle always
+    carried at least its part's mass: its part's mass is another of the cycle's.)"""
+    import types
+
+    import camdyn.design.sizing._valvetrain as vs
+
+    part_mass = {100.1: 0.09605, 110.8: 0.09734, 108.1: 0.09605}  # kg, of the part designed for each preload
+    preload_for = {0.1252: 100.1, 0.09605: 110.8, 0.09734: 108.1}  # N, of the search with each mass
+    searched: list[float] = []
+
+    def design(case, *, rate, preload):
+        return types.SimpleNamespace(spring=types.SimpleNamespace(mass=part_mass[preload]), preload=preload)
+
+    def size(case, min_rate):
+        mass = case.spring.mass_kg if isinstance(case, types.SimpleNamespace) else case[1]
+        searched.append(mass)
+        return _sizing(preload_for[mass])
+
+    own = types.SimpleNamespace(spring=types.SimpleNamespace(mass_kg=0.1252))
+    spec = types.SimpleNamespace(spring=types.SimpleNamespace(model="surge"))
+    monkeypatch.setattr(vs, "resolve_spring", lambda case: own)
+    monkeypatch.setattr(vs, "design_case_spring", design)
+    monkeypatch.setattr(vs, "with_spring_part", lambda case, part: ("sized with", part.spring.mass))
+    monkeypatch.setattr(vs, "_size", size)
+    sizing = vs._size_with_part(types.SimpleNamespace(spec=spec), 40.0)
+    assert searched == [0.1252, 0.09605, 0.09734]  # the cycle closed: 96.05 g is not searched again
+    assert sizing.chosen.preload == 108.1 and sizing.part.preload == 108.1 and sizing.spring_mass_kg == 0.09605
+    assert sizing.part_rounds[-1] == (0.09734, 108.1)
+    assert any("cycles between 96.05 g and 97.34 g" in w and "sized with 97.34 g" in w for w in sizing.warnings)

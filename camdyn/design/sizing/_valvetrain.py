@@ -293,12 +293,16 @@ def _size_with_part(case: Case, min_rate: float, progress: Progress | None = Non
     rate and preload sized. A fixed point: sized with the case's own part's mass first, then with the mass of the
     part designed for the last proposal (:func:`camdyn.design.spring.design_case_spring`, as ``check`` designs it),
     until that part's mass is the one sized with, or its change moves the preload by less than
-    :data:`_PART_CLOSE`. The case's own spring is judged with its own part."""
+    :data:`_PART_CLOSE`. The parts come in wire sizes and coil counts, so the masses may cycle instead (a part sized
+    with one mass asks for another, whose sizing asks for the first): then the proposal is one of the cycle sized
+    with at least its own part's mass (:func:`_cycle_proposal`). The part reported is always the one designed for
+    the proposal, as ``check`` designs it. The case's own spring is judged with its own part."""
     own = resolve_spring(case)  # the case's own part: the first round's mass, and its spring's judge
     assert own.spring is not None and case.spec.spring is not None  # resolved, of a case with a [spring] table
     mass, model = own.spring.mass_kg, case.spec.spring.model
     with phase(progress, _search_round(1, mass)):
         sizing = first = _size(own, min_rate)
+    searched = {mass: sizing}  # each search by the spring mass it was sized with, in order
     rounds: list[tuple[float, float]] = []
     warnings: list[str] = []
     for _ in range(_PART_ROUNDS):
@@ -308,13 +312,22 @@ def _size_with_part(case: Case, min_rate: float, progress: Progress | None = Non
         moved = abs(preload - rounds[-2][1]) if len(rounds) > 1 else math.inf
         if part.spring.mass == mass or moved <= _PART_CLOSE * preload:
             break
+        if part.spring.mass in searched:  # a cycle: its searches are done already
+            mass, sizing, part, note = _cycle_proposal(case, searched, part.spring.mass)
+            if rounds[-1] != (mass, sizing.chosen.preload):
+                rounds.append((mass, sizing.chosen.preload))
+            warnings.append(note)
+            break
         mass = part.spring.mass
         with phase(progress, _search_round(len(rounds) + 1, mass)):
-            sizing = _size(with_spring_part(case, part), min_rate)
+            sizing = searched[mass] = _size(with_spring_part(case, part), min_rate)
     else:
+        part = design_case_spring(case, rate=sizing.chosen.rate, preload=sizing.chosen.preload)  # the proposal's
+        rounds.append((mass, sizing.chosen.preload))
         warnings.append(
             f"the spring part's mass did not settle in {_PART_ROUNDS} rounds (last: {1e3 * mass:.4g} g, preload "
-            f"{sizing.chosen.preload:g} N): check judges the proposal with its own part"
+            f"{sizing.chosen.preload:g} N, its part {1e3 * part.spring.mass:.4g} g): check judges the proposal with "
+            "its own part"
         )
     return replace(
         sizing,
@@ -325,6 +338,28 @@ def _size_with_part(case: Case, min_rate: float, progress: Progress | None = Non
         spring_mass_kg=part.spring.mass,
         part_rounds=tuple(rounds),
     )
+
+
+def _cycle_proposal(
+    case: Case, searched: dict[float, ValveSpringSizing], start: float
+) -> tuple[float, ValveSpringSizing, SpringDesign, str]:
+    """The proposal of a cycle of the part's masses: the searches from the one sized with ``start`` (kg) on, each
+    sized with a mass whose proposal's part has another of the cycle. Of those sized with at least their own part's
+    mass (the part lighter than what the search carried: it floats and bounces later, not sooner; the heaviest
+    search is one), the least peak spring force. Returns the mass it was sized with, the search, its part, and the
+    note that says so."""
+    masses = list(searched)
+    cycle = masses[masses.index(start) :]
+    chosen = {m: searched[m].chosen for m in cycle}
+    parts = {m: design_case_spring(case, rate=chosen[m].rate, preload=chosen[m].preload) for m in cycle}
+    pick = min((m for m in cycle if parts[m].spring.mass <= m), key=lambda m: chosen[m].peak_spring)
+    grams = [f"{1e3 * m:.4g} g" for m in sorted(cycle)]
+    note = (
+        f"the spring part's mass cycles between {', '.join(grams[:-1])} and {grams[-1]} (the parts come in wire "
+        f"sizes and coil counts: no fixed point): the proposal is the one sized with {1e3 * pick:.4g} g, its own "
+        f"part lighter ({1e3 * parts[pick].spring.mass:.4g} g)"
+    )
+    return pick, searched[pick], parts[pick], note
 
 
 def _size(case: Case, min_rate: float) -> ValveSpringSizing:
