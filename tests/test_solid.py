@@ -114,6 +114,7 @@ def test_stl_volume_and_inch_step(capsys, tmp_path):
     assert bd.import_step(str(tmp_path / "cam-in.step")).volume == pytest.approx(expect, rel=1e-3)  # read back in mm
 
 
+@pytest.mark.slow  # the CAD kernel's import and the outline, as the solids above
 def test_a_bore_through_the_outline_is_refused(capsys, tmp_path):
     pytest.importorskip("build123d")
     code, _, err = run(
