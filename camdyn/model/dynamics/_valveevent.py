@@ -15,6 +15,7 @@ import numpy as np
 from ..._core.units import M_PER_MM, TWO_PI
 from ..motion import Motion
 from ..valvetrain import ValvetrainModel
+from ._cubic import hermite_taylor
 from ._valvelinear import ORDER, Linear
 from ._valvetrain import start_angle
 
@@ -72,7 +73,7 @@ class Revolution(NamedTuple):
     """One revolution on the fine grid (``h`` rad a step) from the diffrax model's start angle ``th0`` (rad), one
     angle past its end: the cam's lift s, s', s'' (m, m/rad, m/rad^2) and its lift at the valve through the rocker
     g, g', g'' with the ratio r and r' = dr/dx_c at the cam's lift (known functions of the angle: on the fast path
-    the follower moves with the cam)."""
+    the follower moves with the cam), and g's cubic Hermite on each fine step (Taylor coefficients)."""
 
     s: np.ndarray
     s1: np.ndarray
@@ -84,6 +85,15 @@ class Revolution(NamedTuple):
     ratio1: np.ndarray
     th0: float
     h: float
+    cam: np.ndarray
+
+    def at_valve(self, steps: np.ndarray, taus: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The cam's lift at the valve g (m) and its slope g' (m/rad) ``taus`` rad into fine ``steps`` (arrays of one
+        shape): sampled on the fine angles, on each step's cubic Hermite between them (where a guard is cut)."""
+        a0, a1, a2, a3 = self.cam[np.minimum(steps, self.g.size - 2)].T
+        at = np.where(taus > 0.0, a0 + a1 * taus + a2 * taus**2 / 2 + a3 * taus**3 / 6, self.g[steps])
+        at1 = np.where(taus > 0.0, a1 + a2 * taus + a3 * taus**2 / 2, self.g1[steps])
+        return at, at1
 
     @property
     def out_node(self) -> np.ndarray:
@@ -105,7 +115,16 @@ def revolution(motion: Motion, vt: ValvetrainModel, n: int) -> Revolution:
     s, s1, s2 = s_all[order], s1_all[order], s2_all[order]
     g, ratio, ratio1 = vt.host_lever(s)
     ratio, ratio1 = np.broadcast_to(ratio, s.shape), np.broadcast_to(ratio1, s.shape)
-    return Revolution(s, s1, s2, g, ratio * s1, ratio1 * s1**2 + ratio * s2, ratio, ratio1, i0 * h, h)
+    g1 = ratio * s1
+    return Revolution(s, s1, s2, g, g1, ratio1 * s1**2 + ratio * s2, ratio, ratio1, i0 * h, h, hermite_taylor(g, g1, h))
+
+
+def exact_at_valve(motion: Motion, vt: ValvetrainModel, theta: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The cam's lift at the valve g (m) and its slope g' (m/rad) at angles ``theta`` (rad), from the motion itself
+    (where an event is pinned between fine angles: the valve's lift, its seating on a rigid train)."""
+    v = np.asarray(motion.host(theta))[:2] * M_PER_MM
+    g, ratio, _ = vt.host_lever(v[0])
+    return g, ratio * v[1]
 
 
 def constants(vt: ValvetrainModel) -> tuple[float, ...]:

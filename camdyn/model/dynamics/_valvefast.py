@@ -46,7 +46,7 @@ import math
 
 import numpy as np
 
-from ..._core.units import M_PER_MM, THETA_GRID
+from ..._core.units import THETA_GRID
 from ..motion import Motion
 from ..valvetrain import ValvetrainModel, static_valve_lift
 from ._cubic import hermite_taylor
@@ -55,6 +55,7 @@ from ._valveevent import (
     Floated,
     ValveSummary,
     constants,
+    exact_at_valve,
     flight_reach,
     layout,
     on_spring,
@@ -123,17 +124,11 @@ class _CompliantTrain:
         )
         self.free = on_spring(vt, w, self.nf, h)
         self.seated = seated(vt, w, self.nf, h) if self.layout.lumps else None
-        self.cam = hermite_taylor(g, g1, h)  # the cam's lift at the valve between the fine angles, for the guards
 
     def train(self, x: np.ndarray, p: np.ndarray, steps: Index, taus: Index) -> tuple[np.ndarray, np.ndarray]:
         """The train's deflection (m) and its linear force (N) at valve lifts ``x`` and speeds ``p``, ``taus`` into
         fine ``steps``."""
-        rev = self.rev
-        taus = np.broadcast_to(taus, x.shape)
-        steps = np.broadcast_to(steps, x.shape)
-        a0, a1, a2, a3 = self.cam[np.minimum(steps, self.nf - 1)].T
-        at = np.where(taus > 0.0, a0 + a1 * taus + a2 * taus**2 / 2 + a3 * taus**3 / 6, rev.g[steps])
-        at1 = np.where(taus > 0.0, a1 + a2 * taus + a3 * taus**2 / 2, rev.g1[steps])
+        at, at1 = self.rev.at_valve(np.broadcast_to(steps, x.shape), np.broadcast_to(taus, x.shape))
         d = at - self.lash - x
         return d, self.kt * d + self.ct * self.w * (at1 - p)
 
@@ -177,10 +172,9 @@ class _CompliantTrain:
             motion, vt, lash, kt, ct, w, f0 = self.motion, self.vt, self.lash, self.kt, self.ct, self.w, self.f0
 
             def seated_force(theta: np.ndarray) -> np.ndarray:  # the train's on the seated valve, less F0 + tol
-                v = np.asarray(motion.host(theta))[:2] * M_PER_MM
-                g_v, ratio_v, _ = vt.host_lever(v[0])
+                g_v, g1_v = exact_at_valve(motion, vt, theta)
                 d = g_v - lash
-                return np.where(d > 0.0, np.maximum(0.0, kt * d + ct * w * ratio_v * v[1]), 0.0) - f0 - tol
+                return np.where(d > 0.0, np.maximum(0.0, kt * d + ct * w * g1_v), 0.0) - f0 - tol
 
             step = j - 1
             tau = rise(seated_force, rev.th0 + step * h, rev.th0 + j * h) - (rev.th0 + step * h)
@@ -311,15 +305,10 @@ def _rigid_train(motion: Motion, vt: ValvetrainModel, w: float, n: int) -> Valve
     flight off it. The diffrax model's events and tolerances: the lash closes GAP_EPS past the cam's reach, the
     valve seats GAP_EPS below its seat."""
     rev = revolution(motion, vt, n)
-    s1, s2, g, g1, ratio, ratio1, th0, h = rev.s1, rev.s2, rev.g, rev.g1, rev.ratio, rev.ratio1, rev.th0, rev.h
+    s1, s2, g, ratio, ratio1, th0, h = rev.s1, rev.s2, rev.g, rev.ratio, rev.ratio1, rev.th0, rev.h
     nf, w2, deg, out_node = g.size - 1, w * w, rev.deg, rev.out_node
     lash, m_c, m_v, k, c, f0, tappet, tol = constants(vt)
     f_cam_bare = m_c * s2 * w2 + tappet  # the cam's force with the train open
-
-    def cam_at_valve(theta: np.ndarray) -> tuple[np.ndarray, np.ndarray]:  # g (m) and g' (m/rad) at angles
-        v = np.asarray(motion.host(theta))[:2] * M_PER_MM
-        g_v, ratio_v, _ = vt.host_lever(v[0])
-        return g_v, ratio_v * v[1]
 
     # the lash closes where the cam's lift at the valve passes it (the valve seated): the valve lifts with the cam
     closed = np.nonzero(g - lash - GAP_EPS > 0.0)[0]
@@ -355,20 +344,16 @@ def _rigid_train(motion: Motion, vt: ValvetrainModel, w: float, n: int) -> Valve
     least_force, least_deg = float(f_cam[least]), deg(least, 0.0)
     least_train = float(np.min(f_t[grid]))
     max_lift = float(np.max(x_v[grid]))
-    th_seat = rise(lambda t: -(cam_at_valve(t)[0] - lash + GAP_EPS), th0 + (q - 1) * h, th0 + q * h)
+    th_seat = rise(lambda t: -(exact_at_valve(motion, vt, t)[0] - lash + GAP_EPS), th0 + (q - 1) * h, th0 + q * h)
     step, tau = q - 1, th_seat - (th0 + (q - 1) * h)
-    closing = float(cam_at_valve(np.array([th_seat]))[1][0])  # the valve's speed as it seats (m/rad, < 0)
+    closing = float(exact_at_valve(motion, vt, np.array([th_seat]))[1][0])  # the valve's speed as it seats (m/rad, < 0)
     seating_velocity, seating_deg = abs(closing) * w, deg(step, tau)
 
     # the rebounds at seat_restitution x the landing speed, each a flight on the spring alone to the seat
     free = on_spring(vt, w, nf, h)
-    cam = hermite_taylor(g, g1, h)  # the cam's lift at the valve between the fine angles
 
     def apart(ys: np.ndarray, steps: Index, taus: Index) -> np.ndarray:  # > 0 while the train stays open (m)
-        taus = np.broadcast_to(taus, (len(ys),))
-        steps = np.broadcast_to(steps, (len(ys),))
-        a0, a1, a2, a3 = cam[np.minimum(steps, nf - 1)].T
-        at = np.where(taus > 0.0, a0 + a1 * taus + a2 * taus**2 / 2 + a3 * taus**3 / 6, g[steps])
+        at, _ = rev.at_valve(np.broadcast_to(steps, (len(ys),)), np.broadcast_to(taus, (len(ys),)))
         return lash + ys[:, 0] - at + GAP_EPS
 
     def landing(ys: np.ndarray, steps: Index, taus: Index) -> np.ndarray:  # the valve above its seat (m)

@@ -111,18 +111,20 @@ class Linear:
             self._steps[key] = batched_expm(self.z[None] * deltas[:, None, None])[:, : self.n, :]
         return self._steps[key]
 
+    def _source(self, step: int, tau: float, y: np.ndarray) -> np.ndarray:
+        """The augmented state ``tau`` rad into fine step ``step``: ``y``, the input's Taylor chain there, 1."""
+        return np.concatenate([y, _shift(self.taylor[step], tau), [1.0]])
+
     def advance(self, step: int, tau: float, y: np.ndarray, deltas: np.ndarray) -> np.ndarray:
         """The states at ``deltas`` past angle ``tau`` into fine step ``step`` from ``y`` there: (len, n)."""
-        e = self.steps(deltas)
-        src = np.concatenate([y, _shift(self.taylor[step], tau), [1.0]])
-        return e @ src
+        return self.steps(deltas) @ self._source(step, tau, y)
 
     def even(self, step: int, tau: float, y: np.ndarray, delta: float, count: int) -> np.ndarray:
         """The states at ``0, delta, ..., count delta`` past angle ``tau`` into fine step ``step`` from ``y`` there:
         (count + 1, n). One propagator and its powers by squaring (the augmented system is time-invariant: the
         state ``i delta`` on is ``E(delta)^i`` of the augmented start), not an exponential per angle, which for the
         surge chain's systems (37 x 37 augmented) cost a millisecond a cut."""
-        aug = np.concatenate([y, _shift(self.taylor[step], tau), [1.0]])[None]
+        aug = self._source(step, tau, y)[None]
         power = self._powers.get(delta)
         if power is None:  # a step's cuts from its start recur: kept
             if len(self._powers) > 64:
@@ -138,7 +140,7 @@ class Linear:
     def doubling(self, step: int, tau: float, y: np.ndarray, delta: float, count: int) -> np.ndarray:
         """The states at ``delta, 2 delta, 4 delta, ...`` (``count`` of them) past angle ``tau`` into fine step
         ``step`` from ``y`` there: (count, n). One propagator squared in turn."""
-        src = np.concatenate([y, _shift(self.taylor[step], tau), [1.0]])
+        src = self._source(step, tau, y)
         power = batched_expm((self.z * delta)[None])[0]
         out = np.empty((count, self.n))
         for i in range(count):
