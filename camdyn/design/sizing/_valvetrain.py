@@ -303,17 +303,19 @@ def _size_with_part(case: Case, min_rate: float, progress: Progress | None = Non
     with phase(progress, _search_round(1, mass)):
         sizing = first = _size(own, min_rate)
     searched = {mass: sizing}  # each search by the spring mass it was sized with, in order
+    designed: dict[float, SpringDesign] = {}  # the part designed for each search's proposal, by the same mass
     rounds: list[tuple[float, float]] = []
     warnings: list[str] = []
     for _ in range(_PART_ROUNDS):
         rate, preload = sizing.chosen.rate, sizing.chosen.preload
-        part = design_case_spring(case, rate=rate, preload=preload)
+        part = designed[mass] = design_case_spring(case, rate=rate, preload=preload)
         rounds.append((mass, preload))
         moved = abs(preload - rounds[-2][1]) if len(rounds) > 1 else math.inf
         if part.spring.mass == mass or moved <= _PART_CLOSE * preload:
             break
         if part.spring.mass in searched:  # a cycle: its searches are done already
-            mass, sizing, part, note = _cycle_proposal(case, searched, part.spring.mass)
+            mass, note = _cycle_proposal(searched, designed, part.spring.mass)
+            sizing, part = searched[mass], designed[mass]
             if rounds[-1] != (mass, sizing.chosen.preload):
                 rounds.append((mass, sizing.chosen.preload))
             warnings.append(note)
@@ -341,25 +343,24 @@ def _size_with_part(case: Case, min_rate: float, progress: Progress | None = Non
 
 
 def _cycle_proposal(
-    case: Case, searched: dict[float, ValveSpringSizing], start: float
-) -> tuple[float, ValveSpringSizing, SpringDesign, str]:
+    searched: dict[float, ValveSpringSizing], designed: dict[float, SpringDesign], start: float
+) -> tuple[float, str]:
     """The proposal of a cycle of the part's masses: the searches from the one sized with ``start`` (kg) on, each
-    sized with a mass whose proposal's part has another of the cycle. Of those sized with at least their own part's
-    mass (the part lighter than what the search carried: it floats and bounces later, not sooner; the heaviest
-    search is one), the least peak spring force. Returns the mass it was sized with, the search, its part, and the
-    note that says so."""
+    sized with a mass whose proposal's part (``designed``) has another of the cycle. Of those sized with at least
+    their own part's mass (the part lighter than what the search carried: it floats and bounces later, not sooner;
+    the heaviest search is one), the least peak spring force. Returns the mass it was sized with and the note that
+    says so."""
     masses = list(searched)
     cycle = masses[masses.index(start) :]
-    chosen = {m: searched[m].chosen for m in cycle}
-    parts = {m: design_case_spring(case, rate=chosen[m].rate, preload=chosen[m].preload) for m in cycle}
-    pick = min((m for m in cycle if parts[m].spring.mass <= m), key=lambda m: chosen[m].peak_spring)
+    safe = (m for m in cycle if designed[m].spring.mass <= m)
+    pick = min(safe, key=lambda m: searched[m].chosen.peak_spring)
     grams = [f"{1e3 * m:.4g} g" for m in sorted(cycle)]
     note = (
         f"the spring part's mass cycles between {', '.join(grams[:-1])} and {grams[-1]} (the parts come in wire "
         f"sizes and coil counts: no fixed point): the proposal is the one sized with {1e3 * pick:.4g} g, its own "
-        f"part lighter ({1e3 * parts[pick].spring.mass:.4g} g)"
+        f"part lighter ({1e3 * designed[pick].spring.mass:.4g} g)"
     )
-    return pick, searched[pick], parts[pick], note
+    return pick, note
 
 
 def _size(case: Case, min_rate: float) -> ValveSpringSizing:
