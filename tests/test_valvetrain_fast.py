@@ -94,6 +94,22 @@ def test_fast_path_equals_the_diffrax_model_on_other_trains(valvetrain, rpm):
 
 
 @pytest.mark.slow
+@pytest.mark.parametrize("rpm", [3000.0, 5500.0])
+def test_fast_path_follows_rebounds_where_the_closing_ramp_decelerates(rpm):
+    """Every lift 1 % higher: the ramps' constant velocities no longer fit their lifts, so the closing ramp
+    decelerates (s'' down to -0.03 mm/rad^2) while the lash is still closed and the valve rebounds off its seat. With
+    no tappet force the follower's own force on the cam is negative there, but the train still presses it on: the
+    cam force the fast path judges a rebound by carries the train's share, and it answers as the diffrax model."""
+    raw = copy.deepcopy(SHIPPED)
+    raw["motion"]["segments"] = [
+        seg | {"lift": seg["lift"] * 1.01} if "lift" in seg else seg for seg in SHIPPED["motion"]["segments"]
+    ]
+    case = case_from_dict(raw)
+    fast, _ = _agrees(case, rpm)
+    assert fast.bounce_height_mm > 1e-3  # it rebounds
+
+
+@pytest.mark.slow
 def test_a_point_that_floats_falls_back(shipped):
     """At 6500 rpm the cam contact opens in the event: the exact solution says so (float, least force 0), and the
     rest (seating, bounce: a flight) is the diffrax model's, run for that point only."""

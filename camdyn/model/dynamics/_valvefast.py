@@ -254,6 +254,16 @@ class _CompliantTrain:
         event_numbers = (least_force, least_deg, least_train, seating_velocity, seating_deg)
         return summary(w, event_numbers, rebounds, max_lift), self._held(step, tau, lay.chain(y))
 
+    def _cam_force(self, ys: np.ndarray, steps: np.ndarray, taus: np.ndarray, loaded: bool) -> float:
+        """The least cam-contact force (N) at a rebound's states ``ys``: the follower's own (its mass on the cam, the
+        tappet force) and, while the valve flies on the train (``loaded``), the train's at the rocker's ratio (a
+        cam that decelerates on its closing ramp with the lash still closed is held there by the train)."""
+        at = np.minimum(steps, self.nf)
+        force = self.f_cam_bare[at]
+        if loaded:
+            force = force + self.rev.ratio[at] * self.train(ys[:, self.layout.x], ys[:, self.layout.v], steps, taus)[1]
+        return float(np.min(force, initial=math.inf))
+
     def _rebounds(
         self, step: int, tau: float, y: np.ndarray
     ) -> tuple[int, float, np.ndarray, tuple[float, float, float]]:
@@ -286,7 +296,7 @@ class _CompliantTrain:
                 bounce = max(bounce, float(np.max(along[:, lay.x])))
                 lift_here, gap_here = flight_reach(rev, self.lash, along[:, lay.x], steps, taus)
                 flight_lift, gap = max(flight_lift, lift_here), max(gap, gap_here)
-                if np.min(self.f_cam_bare[np.minimum(steps, nf)]) < -tol:
+                if self._cam_force(along, steps, taus, sign > 0.0) < -tol:
                     raise Unsure("the follower leaves the cam while the valve rebounds")
                 step, tau, y = end
                 first = False
