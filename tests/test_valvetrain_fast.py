@@ -68,6 +68,16 @@ def _agrees(case, rpm: float):
     return fast, resp
 
 
+def _scaled_lifts(factor: float, dynamics=None):
+    """The shipped case with every lift times ``factor``: its ramps' constant velocities no longer fit their lifts."""
+    raw = copy.deepcopy(SHIPPED)
+    raw["motion"]["segments"] = [
+        s | {"lift": s["lift"] * factor} if "lift" in s else s for s in raw["motion"]["segments"]
+    ]
+    raw["dynamics"] |= dynamics or {}
+    return case_from_dict(raw)
+
+
 @pytest.mark.slow
 @pytest.mark.parametrize("rpm", [1500.0, 3000.0, 5000.0, 5900.0])
 def test_fast_path_equals_the_diffrax_model_on_the_shipped_case(shipped, rpm):
@@ -100,13 +110,31 @@ def test_fast_path_follows_rebounds_where_the_closing_ramp_decelerates(rpm):
     decelerates (s'' down to -0.03 mm/rad^2) while the lash is still closed and the valve rebounds off its seat. With
     no tappet force the follower's own force on the cam is negative there, but the train still presses it on: the
     cam force the fast path judges a rebound by carries the train's share, and it answers as the diffrax model."""
-    raw = copy.deepcopy(SHIPPED)
-    raw["motion"]["segments"] = [
-        seg | {"lift": seg["lift"] * 1.01} if "lift" in seg else seg for seg in SHIPPED["motion"]["segments"]
-    ]
-    case = case_from_dict(raw)
-    fast, _ = _agrees(case, rpm)
+    fast, _ = _agrees(_scaled_lifts(1.01), rpm)
     assert fast.bounce_height_mm > 1e-3  # it rebounds
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize(("restitution", "rpm"), [(0.0, 1500.0), (0.0, 3000.0), (0.3, 1500.0)])
+def test_fast_path_follows_the_follower_off_the_cam_while_the_valve_is_seated(restitution, rpm):
+    """Every lift 2 % lower: the opening ramp decelerates (s'' down to -0.2 mm/rad^2) with the lash open and no
+    tappet force, so the follower leaves the cam at 42 deg, the lash closes under it in the air and the train
+    presses it back; it leaves the closing ramp again after the valve has seated. Each flight lands (rebounding at
+    the cam's restitution) before the valve lifts or the revolution ends: the valve's event is the one the diffrax
+    model gives, on the fast path."""
+    case = _scaled_lifts(0.98, {"restitution": restitution})
+    fast, resp = _agrees(case, rpm)
+    landings = [e for e in resp.events if e.what == "cam-landing"]
+    assert len(landings) >= (2 if restitution == 0.0 else 6)
+    assert min(e.deg for e in landings) < 60.0 < 300.0 < max(e.deg for e in landings)  # before and after the event
+
+
+@pytest.mark.slow
+def test_a_follower_off_the_cam_while_the_valve_rebounds_falls_back():
+    """At 4500 rpm the same follower leaves the closing ramp while the valve still rebounds off its seat (the two
+    flights meet through the train): the diffrax model's point."""
+    case = _scaled_lifts(0.98)
+    assert fast_valve_summary(case.motion, case.valvetrain, 4500.0 * RPM) is None
 
 
 @pytest.mark.slow

@@ -25,12 +25,14 @@ valve, their highest apex (the bounce height) and the gap at the valve, and the 
 valve seated. The answer is ``None`` (the caller falls back on the diffrax model for that point) wherever the
 linear model stops holding before the revolution ends: the train unloads before the seating, the cam contact's
 force comes within the sampling's bound of zero without a sure crossing, the valve lifts again after the
-seating, the follower leaves the cam on the ramps or the base circle, or the model is not this one (a compliant
-cam contact; a rigid train with the spring's surge chain). Where the cam contact's force crosses zero on the exact
-solution before anything else opens, the valve floats there for sure: :class:`Floated`, with what happens next left
-to the diffrax model. A rigid train needs no integration in the event: the valve moves with the cam from the lash's
-closing to its seating, the forces algebraic in the angle (:func:`_rigid_train`); its rebounds fly on the spring
-alone.
+seating, the follower leaves the cam while the valve rebounds (or at all, through a rocker or with the spring's
+surge chain), or the model is not this one (a compliant cam contact; a rigid train with the spring's surge chain).
+A flight of the follower off the cam while the valve sits on its seat (a ramp that decelerates faster than the
+tappet force pulls) is followed to its landing (:mod:`._valveflight`): the valve's event is unchanged. Where the cam
+contact's force crosses zero on the exact solution before anything else opens, the valve floats there for sure:
+:class:`Floated`, with what happens next left to the diffrax model. A rigid train needs no integration in the event:
+the valve moves with the cam from the lash's closing to its seating, the forces algebraic in the angle
+(:func:`_rigid_train`); its rebounds fly on the spring alone.
 
 With the spring's surge chain (``[spring] model = "surge"``) the valve's system carries the chain's inner lumps
 (:func:`._valveevent.valve_matrix`: still linear, one mode a lump more) and the chain rings on while the valve is
@@ -65,6 +67,7 @@ from ._valveevent import (
     valve_matrix,
 )
 from ._valvefield import GAP_EPS
+from ._valveflight import FollowerFlights
 from ._valvelinear import Index, Linear, Unsure, cross, lower_bound, rise, stretch_to
 from ._valvetrain import landing_floor
 
@@ -124,6 +127,16 @@ class _CompliantTrain:
         )
         self.free = on_spring(vt, w, self.nf, h)
         self.seated = seated(vt, w, self.nf, h) if self.layout.lumps else None
+        self.flights = FollowerFlights(motion, vt, w, rev, self.on_cam, constants(vt))
+
+    def _hold_follower(self, step: int, stop: int, why: str) -> None:
+        """The follower from fine angle ``step`` to ``stop`` with the valve seated: its flights off the cam followed
+        to their landings (:class:`FollowerFlights`); with the spring's surge chain, whose ringing the seat's hold
+        would carry, :class:`Unsure` (``why``) where it may leave the cam at all."""
+        if not self.layout.lumps:
+            self.flights.hold(step, stop)
+        elif lower_bound(self.on_cam[step : stop + 1]) < -self.tol:
+            raise Unsure(why)
 
     def train(self, x: np.ndarray, p: np.ndarray, steps: Index, taus: Index) -> tuple[np.ndarray, np.ndarray]:
         """The train's deflection (m) and its linear force (N) at valve lifts ``x`` and speeds ``p``, ``taus`` into
@@ -167,8 +180,9 @@ class _CompliantTrain:
             if not lifts.size:
                 return self.nf, 0.0, chain0
             j = int(lifts[0])
-            if j == 0 or lower_bound(self.on_cam[: j + 1]) < -tol:
-                raise Unsure("the follower leaves the cam before the valve lifts")
+            if j == 0:
+                raise Unsure("the valve lifts as the revolution starts")
+            self._hold_follower(0, j, "the follower leaves the cam before the valve lifts")
             motion, vt, lash, kt, ct, w, f0 = self.motion, self.vt, self.lash, self.kt, self.ct, self.w, self.f0
 
             def seated_force(theta: np.ndarray) -> np.ndarray:  # the train's on the seated valve, less F0 + tol
@@ -195,8 +209,9 @@ class _CompliantTrain:
         cam: the chain's state at the end (empty without one)."""
         rest = slice(step + 1, self.nf + 1)
         if self.seated is None:
-            if np.any(self.f_seated[rest] > self.f0) or lower_bound(self.on_cam[rest]) < -self.tol:
-                raise Unsure("the valve re-lifted or the follower off the cam after the seating")
+            if np.any(self.f_seated[rest] > self.f0):
+                raise Unsure("the valve re-lifted after the seating")
+            self._hold_follower(step + 1, self.nf, "the follower off the cam after the seating")
             return chain
         if lower_bound(self.on_cam[rest]) < -self.tol:
             raise Unsure("the follower off the cam after the seating")
@@ -213,8 +228,7 @@ class _CompliantTrain:
         loaded, deg, out_node = self.loaded, rev.deg, rev.out_node
         lift_step, tau_lift, chain = self._lift(chain0)
         if lift_step >= nf:  # the valve never lifts: no event, the follower held on the cam all the way round
-            if lower_bound(self.on_cam) < -tol:
-                raise Unsure("the follower leaves the cam")
+            self._hold_follower(0, nf, "the follower leaves the cam")
             nan = math.nan
             return ValveSummary(w, nan, nan, nan, nan, nan, 0.0, 0.0), chain
 
@@ -271,7 +285,7 @@ class _CompliantTrain:
         seat_restitution x the landing speed, each a flight on the train or off it, to the speed below which the seat
         holds the valve: where it is held, the state there, and the highest apex (the bounce height), the highest
         lift on the output grid and the largest gap at the valve above the cam's hold (m)."""
-        rev, lay, nf, tol = self.rev, self.layout, self.nf, self.tol
+        rev, lay, tol = self.rev, self.layout, self.tol
         floor, e_seat = landing_floor(self.vt, self.w), float(self.vt.seat_restitution)
         bounce = gap = flight_lift = 0.0
         for _ in range(MAX_REBOUNDS):

@@ -269,14 +269,21 @@ def rise(fn: Callable[[np.ndarray], np.ndarray], lo: float, hi: float) -> float:
     return lo + f * (hi - lo)
 
 
-def lower_bound(f: np.ndarray) -> float:
-    """A bound below a force sampled on the fine nodes, between them too: each step's lower end less twice the
-    reach of its convexity (a second difference over 8), the least of the four second differences about the step
-    (a jump at a segment's boundary is not a curvature)."""
+def step_bounds(f: np.ndarray) -> np.ndarray:
+    """Bounds below a force sampled on the fine nodes, one per step between them: the step's lower end less twice
+    the reach of its convexity (a second difference over 8), the least of the four second differences about the
+    step (a jump at a segment's boundary is not a curvature)."""
     if f.size < 4:
-        return float(np.min(f)) if f.size else math.inf
+        return np.minimum(f[:-1], f[1:])
     d2 = np.diff(f, 2)
     curv = np.concatenate([d2[:1], d2, d2[-1:]])  # per node
     pad = np.concatenate([curv[:1], curv, curv[-1:]])  # per node, one more each side
     convex = np.maximum(0.0, np.min(np.stack([pad[:-3], pad[1:-2], pad[2:-1], pad[3:]]), axis=0))  # per step
-    return float(np.min(np.minimum(f[:-1], f[1:]) - 0.25 * convex))
+    return np.minimum(f[:-1], f[1:]) - 0.25 * convex
+
+
+def lower_bound(f: np.ndarray) -> float:
+    """A bound below a force sampled on the fine nodes, between them too (:func:`step_bounds`' least)."""
+    if f.size < 2:
+        return float(np.min(f)) if f.size else math.inf
+    return float(np.min(step_bounds(f)))

@@ -1,0 +1,141 @@
+"""The valvetrain fast path's follower off the cam while the valve sits on its seat: where the cam decelerates faster
+than the tappet force (and the train, once the lash has closed) can pull the follower after it, on a ramp whose
+velocity is not constant, the follower flies and lands again before the valve lifts, or after it has seated.
+
+With the valve seated and a constant rocker ratio r the follower's flight is linear (SI, the cam angle, ' =
+d/dtheta)::
+
+    m_c w^2 x_c'' = -F_tappet - r F_t,   F_t = k_t (r x_c - lash) + c_t w r x_c'   (0 while the lash is open)
+
+so it runs on the fast path's exact propagators: on the tappet force alone, or pressed back by the train, each to
+the first of its guards (the landing on the cam, the train taking hold or letting go, the seat letting the valve
+go). A landing follows the diffrax model's rule: the follower rebounds at the cam's restitution, or stays where
+that rebound is below the seat's landing floor. The valve's event is not touched, so the fast path's summary holds
+as long as every flight lands before the valve lifts (or before the revolution ends) and the train never lifts the
+valve in one; anything else is :class:`~._valvelinear.Unsure`."""
+
+from __future__ import annotations
+
+import functools
+
+import numpy as np
+
+from ..._core.units import M_PER_MM
+from ..motion import Motion
+from ..valvetrain import ValvetrainModel
+from ._valvefield import GAP_EPS
+from ._valvelinear import ORDER, Index, Linear, Unsure, rise, step_bounds, stretch_to
+from ._valvetrain import landing_floor
+
+_MAX_FLIGHTS = 64  # flights (and rebounds off the cam) in one stretch on the cam: beyond, a chatter for diffrax
+_MIN_TRAIN, _OFF_CAM, _SEAT = 0, 1, 2  # the guards, in :meth:`FollowerFlights._guards`' order
+
+
+class FollowerFlights:
+    """The follower of a rigid cam contact and a compliant train at cam speed ``w`` (rad/s), the valve seated: its
+    flights off the cam followed to their landings (:meth:`hold`). ``rev``: the fast path's revolution
+    (:class:`~._valveevent.Revolution`); ``on_cam``: the cam's force on the follower at its fine angles with the valve
+    seated and the follower on the cam (N); ``numbers``: the valvetrain's (:func:`~._valveevent.constants`)."""
+
+    def __init__(self, motion: Motion, vt: ValvetrainModel, w: float, rev, on_cam: np.ndarray, numbers) -> None:
+        self.motion, self.vt, self.w, self.rev, self.on_cam = motion, vt, w, rev, on_cam
+        self.lash, self.m_c, _, _, _, self.f0, self.tappet, self.tol = numbers
+        self.kt, self.ct = float(vt.train.train_stiffness), float(vt.train.train_damping)
+        self.e_cam, self.floor = float(vt.cam_restitution), landing_floor(vt, w)
+        # a rocker's ratio varies with the follower's lift, which off the cam is no longer the cam's: not linear
+        self.r = None if vt.rocker is not None else float(vt.ratio)
+
+    @functools.cached_property
+    def _systems(self) -> tuple[Linear, Linear]:
+        """The follower's (x_c, x_c') off the cam: on the tappet force alone, and pressed back by the train too."""
+        r, kt, ct, w, h = self.r, self.kt, self.ct, self.w, self.rev.h
+        assert r is not None  # a constant ratio: :meth:`hold` checks it first
+        mw2, still = self.m_c * w * w, np.zeros((self.rev.g.size - 1, ORDER))
+        alone = Linear(np.array([[0.0, 1.0], [0.0, 0.0]]), -self.tappet / mw2, still, h)
+        train = np.array([[0.0, 1.0], [-r * r * kt / mw2, -r * r * ct / (self.m_c * w)]])
+        return alone, Linear(train, (r * kt * self.lash - self.tappet) / mw2, still, h)
+
+    def _cam(self, steps: Index, taus: Index, size: int) -> tuple[np.ndarray, np.ndarray]:
+        """The cam's lift s (m) and slope s' (m/rad) ``taus`` rad into fine ``steps``, from the revolution's cubic
+        of its lift at the valve (a constant ratio: g = r s)."""
+        at, at1 = self.rev.at_valve(np.broadcast_to(steps, (size,)), np.broadcast_to(taus, (size,)))
+        return at / self.r, at1 / self.r
+
+    def _guards(self, ys: np.ndarray, steps: Index, taus: Index) -> np.ndarray:
+        """(3, len(ys)), each > 0 while its mode holds (N): the train's hold on the follower (its least of the
+        spring's and the whole force, > 0 while it pushes), the follower above the cam, the seat holding the valve."""
+        r = float(self.r or 0.0)
+        s, _ = self._cam(steps, taus, len(ys))
+        d = r * ys[:, 0] - self.lash
+        f_t = self.kt * d + self.ct * self.w * r * ys[:, 1]
+        pushed = np.where(d > 0.0, np.maximum(0.0, f_t), 0.0)
+        return np.stack([np.minimum(self.kt * d, f_t), self.kt * (ys[:, 0] - s + GAP_EPS), self.f0 - pushed + self.tol])
+
+    def _cam_force(self, theta: np.ndarray) -> np.ndarray:
+        """The cam's force on the follower (N) at angles ``theta`` (rad), on the cam with the valve seated, from the
+        motion itself (where a flight begins between the fine angles)."""
+        s, s1, s2 = np.asarray(self.motion.host(theta))[:3] * M_PER_MM
+        g, ratio, _ = self.vt.host_lever(s)
+        d = g - self.lash
+        seated = np.where(d > 0.0, np.maximum(0.0, self.kt * d + self.ct * self.w * ratio * s1), 0.0)
+        return self.m_c * s2 * self.w**2 + self.tappet + ratio * seated
+
+    def hold(self, step: int, stop: int) -> None:
+        """The follower from fine angle ``step`` (on the cam) to fine angle ``stop``, the valve seated: each flight
+        where the cam's force falls below the diffrax model's threshold followed to its landing; :class:`Unsure`
+        where one is still in the air at ``stop``, the train lifts the valve in one, or they do not end."""
+        tol, h, th0 = self.tol, self.rev.h, self.rev.th0
+        lo = th0 + step * h
+        for _ in range(_MAX_FLIGHTS):
+            bounds = step_bounds(self.on_cam[step : stop + 1])
+            below = np.nonzero(bounds < -tol)[0]
+            if not below.size:
+                return
+            i = step + int(below[0])
+            start, end = max(lo, th0 + i * h), th0 + (i + 1) * h
+            force = self._cam_force(np.linspace(start, end, 65))
+            if np.all(force >= -tol):  # the bound's reach, not a crossing
+                step, lo = i + 1, end
+                if step >= stop:
+                    return
+                continue
+            if self.r is None:
+                raise Unsure("the follower leaves the cam through a rocker")
+            # where it leaves: at once (a landing where the cam still pulls away), or where its force crosses
+            theta = start if force[0] < -tol else rise(lambda t: -(self._cam_force(t) + tol), start, end)
+            step, tau = self._fly(i, theta - (th0 + i * h), stop)
+            lo = th0 + step * h + tau
+        raise Unsure("the follower chatters on the cam")
+
+    def _fly(self, step: int, tau: float, stop: int) -> tuple[int, float]:
+        """A flight from ``tau`` rad into fine ``step``, the follower leaving the cam with its speed: where it stays
+        on the cam again (fine step, rad into it)."""
+        (s,), (s1,) = self._cam(step, tau, 1)
+        y = np.array([s, s1])
+        fresh = True
+        sign = 1.0 if self._guards(y[None], step, tau)[_MIN_TRAIN, 0] > 0.0 else -1.0  # the train's hold, or not
+        for _ in range(_MAX_FLIGHTS):
+            lin = self._systems[1 if sign > 0.0 else 0]
+
+            def guard(ys: np.ndarray, st: Index, ta: Index, sign: float = sign) -> np.ndarray:
+                g = self._guards(ys, st, ta)
+                return np.minimum(np.minimum(sign * g[_MIN_TRAIN], g[_OFF_CAM]), g[_SEAT])
+
+            _, _, _, end = stretch_to(lin, step, tau, y, guard, fresh=fresh)
+            if end is None or end[0] >= stop:
+                raise Unsure("the follower in the air where the valve lifts or the revolution ends")
+            step, tau, y = end
+            fresh = False
+            at = self._guards(y[None], step, tau)[:, 0] * np.array([sign, 1.0, 1.0])
+            which = int(np.argmin(at))
+            if which == _SEAT:
+                raise Unsure("the train lifts the valve while the follower flies")
+            if which == _MIN_TRAIN:  # the train takes hold of the follower or lets it go
+                sign = -sign
+                continue
+            (s,), (s1,) = self._cam(step, tau, 1)  # the landing
+            rel = float(y[1]) - s1
+            if not (self.e_cam > 0.0 and abs(rel) > self.floor):
+                return step, tau
+            y, fresh = np.array([s, s1 - self.e_cam * rel]), True
+        raise Unsure("the follower rattles on the cam")
