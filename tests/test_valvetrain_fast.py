@@ -130,6 +130,29 @@ def test_fast_path_follows_the_follower_off_the_cam_while_the_valve_is_seated(re
 
 
 @pytest.mark.slow
+@pytest.mark.parametrize("rpm", [1500.0, 4500.0])
+def test_fast_path_on_a_valve_table_whose_follower_flies_over_the_revolutions_start(tmp_path, rpm):
+    """cases/valve-lift.csv as the lift at the valve through a 1.5 rocker: the fitted table's base circle and ramps
+    wave by a few um, and with no tappet force the follower hops along them, one flight over the revolution's
+    start, so the diffrax model never comes back to rest (its last revolution reported, with the flight carried into
+    it). The fast path carries that flight into the revolution's start, where it lands before the valve lifts: the
+    valve's event is the diffrax model's."""
+    (tmp_path / "valve.csv").write_text((CASES / "valve-lift.csv").read_text())
+    raw = copy.deepcopy(SHIPPED)
+    raw["motion"] = {"valve_table": str(tmp_path / "valve.csv")}
+    raw["valvetrain"] |= {"ratio": 1.5}
+    case = case_from_dict(raw)
+    vt, w = case.valvetrain, rpm * RPM
+    fast = fast_valve_summary(case.motion, vt, w)
+    assert isinstance(fast, ValveSummary)
+    resp = valvetrain_response(case.motion, vt, w)
+    assert not resp.settled and not resp.floated
+    assert sum(e.what == "cam-landing" for e in resp.events) >= 2
+    _same(fast, resp)
+    assert fast.max_gap_mm == pytest.approx(resp.max_gap_mm(vt), abs=1e-8)
+
+
+@pytest.mark.slow
 def test_a_follower_off_the_cam_while_the_valve_rebounds_falls_back():
     """At 4500 rpm the same follower leaves the closing ramp while the valve still rebounds off its seat (the two
     flights meet through the train): the diffrax model's point."""

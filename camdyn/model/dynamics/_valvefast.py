@@ -129,14 +129,16 @@ class _CompliantTrain:
         self.seated = seated(vt, w, self.nf, h) if self.layout.lumps else None
         self.flights = FollowerFlights(motion, vt, w, rev, self.on_cam, constants(vt))
 
-    def _hold_follower(self, step: int, stop: int, why: str) -> None:
+    def _hold_follower(self, step: int, stop: int, why: str, *, carry: bool = False) -> np.ndarray | None:
         """The follower from fine angle ``step`` to ``stop`` with the valve seated: its flights off the cam followed
-        to their landings (:class:`FollowerFlights`); with the spring's surge chain, whose ringing the seat's hold
-        would carry, :class:`Unsure` (``why``) where it may leave the cam at all."""
+        to their landings (:meth:`FollowerFlights.hold`: with ``carry`` one in the air at the revolution's end is
+        returned); with the spring's surge chain, whose ringing the seat's hold would carry, :class:`Unsure`
+        (``why``) where it may leave the cam at all."""
         if not self.layout.lumps:
-            self.flights.hold(step, stop)
-        elif lower_bound(self.on_cam[step : stop + 1]) < -self.tol:
+            return self.flights.hold(step, stop, carry=carry)
+        if lower_bound(self.on_cam[step : stop + 1]) < -self.tol:
             raise Unsure(why)
+        return None
 
     def train(self, x: np.ndarray, p: np.ndarray, steps: Index, taus: Index) -> tuple[np.ndarray, np.ndarray]:
         """The train's deflection (m) and its linear force (N) at valve lifts ``x`` and speeds ``p``, ``taus`` into
@@ -204,14 +206,17 @@ class _CompliantTrain:
             raise Unsure("the follower leaves the cam before the valve lifts")
         return step, tau, chain
 
-    def _held(self, step: int, tau: float, chain: np.ndarray) -> np.ndarray:
+    def _held(self, step: int, tau: float, chain: np.ndarray, lift_step: int) -> np.ndarray:
         """The valve held on its seat from ``tau`` rad into fine ``step`` to the revolution's end, the follower on the
-        cam: the chain's state at the end (empty without one)."""
+        cam or flying off it (a flight over the revolution's end goes on at its start, where it must land before the
+        valve lifts in fine step ``lift_step``): the chain's state at the end (empty without one)."""
         rest = slice(step + 1, self.nf + 1)
         if self.seated is None:
             if np.any(self.f_seated[rest] > self.f0):
                 raise Unsure("the valve re-lifted after the seating")
-            self._hold_follower(step + 1, self.nf, "the follower off the cam after the seating")
+            carried = self._hold_follower(step + 1, self.nf, "the follower off the cam after the seating", carry=True)
+            if carried is not None:  # the periodic revolution starts with the follower in the air
+                self.flights.hold(0, lift_step + 1, flying=carried)
             return chain
         if lower_bound(self.on_cam[rest]) < -self.tol:
             raise Unsure("the follower off the cam after the seating")
@@ -266,7 +271,7 @@ class _CompliantTrain:
         seating_velocity, seating_deg = abs(float(y[lay.v])) * w, deg(step, tau)
         step, tau, y, rebounds = self._rebounds(step, tau, y)
         event_numbers = (least_force, least_deg, least_train, seating_velocity, seating_deg)
-        return summary(w, event_numbers, rebounds, max_lift), self._held(step, tau, lay.chain(y))
+        return summary(w, event_numbers, rebounds, max_lift), self._held(step, tau, lay.chain(y), lift_step)
 
     def _cam_force(self, ys: np.ndarray, steps: np.ndarray, taus: np.ndarray, loaded: bool) -> float:
         """The least cam-contact force (N) at a rebound's states ``ys``: the follower's own (its mass on the cam, the

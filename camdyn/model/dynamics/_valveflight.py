@@ -80,39 +80,53 @@ class FollowerFlights:
         seated = np.where(d > 0.0, np.maximum(0.0, self.kt * d + self.ct * self.w * ratio * s1), 0.0)
         return self.m_c * s2 * self.w**2 + self.tappet + ratio * seated
 
-    def hold(self, step: int, stop: int) -> None:
-        """The follower from fine angle ``step`` (on the cam) to fine angle ``stop``, the valve seated: each flight
-        where the cam's force falls below the diffrax model's threshold followed to its landing; :class:`Unsure`
-        where one is still in the air at ``stop``, the train lifts the valve in one, or they do not end."""
+    def hold(
+        self, step: int, stop: int, *, tau: float = 0.0, flying: np.ndarray | None = None, carry: bool = False
+    ) -> np.ndarray | None:
+        """The follower from ``tau`` rad into fine ``step`` (on the cam, or in the air with the state ``flying``: m,
+        m/rad) to fine angle ``stop``, the valve seated: each flight where the cam's force falls below the diffrax
+        model's threshold followed to its landing. :class:`Unsure` where one is still in the air at ``stop`` (with
+        ``carry``, at the revolution's end: its state there is returned), the train lifts the valve in one, or
+        they do not end."""
         tol, h, th0 = self.tol, self.rev.h, self.rev.th0
-        lo = th0 + step * h
+        if flying is not None:
+            got = self._fly(step, tau, stop, flying, carry=False)
+            assert not isinstance(got, np.ndarray)  # landed, or Unsure
+            step, tau = got
+        lo = th0 + step * h + tau
         for _ in range(_MAX_FLIGHTS):
             bounds = step_bounds(self.on_cam[step : stop + 1])
             below = np.nonzero(bounds < -tol)[0]
             if not below.size:
-                return
+                return None
             i = step + int(below[0])
             start, end = max(lo, th0 + i * h), th0 + (i + 1) * h
             force = self._cam_force(np.linspace(start, end, 65))
             if np.all(force >= -tol):  # the bound's reach, not a crossing
                 step, lo = i + 1, end
                 if step >= stop:
-                    return
+                    return None
                 continue
             if self.r is None:
                 raise Unsure("the follower leaves the cam through a rocker")
             # where it leaves: at once (a landing where the cam still pulls away), or where its force crosses
             theta = start if force[0] < -tol else rise(lambda t: -(self._cam_force(t) + tol), start, end)
-            step, tau = self._fly(i, theta - (th0 + i * h), stop)
+            got = self._fly(i, theta - (th0 + i * h), stop, None, carry)
+            if isinstance(got, np.ndarray):
+                return got
+            step, tau = got
             lo = th0 + step * h + tau
         raise Unsure("the follower chatters on the cam")
 
-    def _fly(self, step: int, tau: float, stop: int) -> tuple[int, float]:
-        """A flight from ``tau`` rad into fine ``step``, the follower leaving the cam with its speed: where it stays
-        on the cam again (fine step, rad into it)."""
+    def _fly(
+        self, step: int, tau: float, stop: int, flying: np.ndarray | None, carry: bool
+    ) -> tuple[int, float] | np.ndarray:
+        """A flight from ``tau`` rad into fine ``step`` with the state ``flying`` (None: leaving the cam, with its
+        speed): where it stays on the cam again (fine step, rad into it), or with ``carry`` its state at the
+        revolution's end where it is still in the air there."""
+        fresh = flying is None
         (s,), (s1,) = self._cam(step, tau, 1)
-        y = np.array([s, s1])
-        fresh = True
+        y = np.array([s, s1]) if flying is None else flying
         sign = 1.0 if self._guards(y[None], step, tau)[_MIN_TRAIN, 0] > 0.0 else -1.0  # the train's hold, or not
         for _ in range(_MAX_FLIGHTS):
             lin = self._systems[1 if sign > 0.0 else 0]
@@ -121,7 +135,9 @@ class FollowerFlights:
                 g = self._guards(ys, st, ta)
                 return np.minimum(np.minimum(sign * g[_MIN_TRAIN], g[_OFF_CAM]), g[_SEAT])
 
-            _, _, _, end = stretch_to(lin, step, tau, y, guard, fresh=fresh)
+            along, _, _, end = stretch_to(lin, step, tau, y, guard, fresh=fresh)
+            if end is None and carry:
+                return along[-1]
             if end is None or end[0] >= stop:
                 raise Unsure("the follower in the air where the valve lifts or the revolution ends")
             step, tau, y = end
