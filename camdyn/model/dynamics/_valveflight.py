@@ -2,17 +2,18 @@
 than the tappet force (and the train, once the lash has closed) can pull the follower after it, on a ramp whose
 velocity is not constant, the follower flies and lands again before the valve lifts, or after it has seated.
 
-With the valve seated and a constant rocker ratio r the follower's flight is linear (SI, the cam angle, ' =
-d/dtheta)::
+With the valve seated the follower's flight is linear (SI, the cam angle, ' = d/dtheta): on the tappet force alone
+while the lash is open, pressed back by the train too once it closes under a constant rocker ratio r::
 
     m_c w^2 x_c'' = -F_tappet - r F_t,   F_t = k_t (r x_c - lash) + c_t w r x_c'   (0 while the lash is open)
 
-so it runs on the fast path's exact propagators: on the tappet force alone, or pressed back by the train, each to
-the first of its guards (the landing on the cam, the train taking hold or letting go, the seat letting the valve
-go). A landing follows the diffrax model's rule: the follower rebounds at the cam's restitution, or stays where
-that rebound is below the seat's landing floor. The valve's event is not touched, so the fast path's summary holds
-as long as every flight lands before the valve lifts (or before the revolution ends) and the train never lifts the
-valve in one; anything else is :class:`~._valvelinear.Unsure`."""
+(a rocker's ratio moves with the follower's lift: its train on a flying follower is not linear). So a flight runs
+on the fast path's exact propagators, each stretch to the first of its guards (the landing on the cam, the train
+taking hold or letting go, the seat letting the valve go). A landing follows the diffrax model's rule: the follower
+rebounds at the cam's restitution, or stays where that rebound is below the seat's landing floor. The valve's event
+is not touched, so the fast path's summary holds as long as every flight lands before the valve lifts (one over the
+revolution's end carried into its start) and the train never lifts the valve in one; anything else is
+:class:`~._valvelinear.Unsure`."""
 
 from __future__ import annotations
 
@@ -23,6 +24,7 @@ import numpy as np
 from ..._core.units import M_PER_MM
 from ..motion import Motion
 from ..valvetrain import ValvetrainModel
+from ._cubic import hermite_taylor
 from ._valvefield import GAP_EPS
 from ._valvelinear import ORDER, Index, Linear, Unsure, rise, step_bounds, stretch_to
 from ._valvetrain import landing_floor
@@ -42,32 +44,35 @@ class FollowerFlights:
         self.lash, self.m_c, _, _, _, self.f0, self.tappet, self.tol = numbers
         self.kt, self.ct = float(vt.train.train_stiffness), float(vt.train.train_damping)
         self.e_cam, self.floor = float(vt.cam_restitution), landing_floor(vt, w)
-        # a rocker's ratio varies with the follower's lift, which off the cam is no longer the cam's: not linear
+        # a rocker's ratio varies with the follower's lift, which off the cam is no longer the cam's: the train's
+        # push on a flying follower is not linear there
         self.r = None if vt.rocker is not None else float(vt.ratio)
+        self.cam = hermite_taylor(rev.s, rev.s1, rev.h)  # the cam's lift between the fine angles
 
     @functools.cached_property
     def _systems(self) -> tuple[Linear, Linear]:
         """The follower's (x_c, x_c') off the cam: on the tappet force alone, and pressed back by the train too."""
-        r, kt, ct, w, h = self.r, self.kt, self.ct, self.w, self.rev.h
-        assert r is not None  # a constant ratio: :meth:`hold` checks it first
+        r, kt, ct, w, h = float(self.r or 0.0), self.kt, self.ct, self.w, self.rev.h
         mw2, still = self.m_c * w * w, np.zeros((self.rev.g.size - 1, ORDER))
         alone = Linear(np.array([[0.0, 1.0], [0.0, 0.0]]), -self.tappet / mw2, still, h)
         train = np.array([[0.0, 1.0], [-r * r * kt / mw2, -r * r * ct / (self.m_c * w)]])
         return alone, Linear(train, (r * kt * self.lash - self.tappet) / mw2, still, h)
 
     def _cam(self, steps: Index, taus: Index, size: int) -> tuple[np.ndarray, np.ndarray]:
-        """The cam's lift s (m) and slope s' (m/rad) ``taus`` rad into fine ``steps``, from the revolution's cubic
-        of its lift at the valve (a constant ratio: g = r s)."""
-        at, at1 = self.rev.at_valve(np.broadcast_to(steps, (size,)), np.broadcast_to(taus, (size,)))
-        return at / self.r, at1 / self.r
+        """The cam's lift s (m) and slope s' (m/rad) ``taus`` rad into fine ``steps``: on the fine angles, on each
+        step's cubic Hermite between them."""
+        steps, taus = np.broadcast_to(steps, (size,)), np.broadcast_to(taus, (size,))
+        a0, a1, a2, a3 = self.cam[np.minimum(steps, len(self.cam) - 1)].T
+        s = np.where(taus > 0.0, a0 + a1 * taus + a2 * taus**2 / 2 + a3 * taus**3 / 6, self.rev.s[steps])
+        return s, np.where(taus > 0.0, a1 + a2 * taus + a3 * taus**2 / 2, self.rev.s1[steps])
 
     def _guards(self, ys: np.ndarray, steps: Index, taus: Index) -> np.ndarray:
         """(3, len(ys)), each > 0 while its mode holds (N): the train's hold on the follower (its least of the
         spring's and the whole force, > 0 while it pushes), the follower above the cam, the seat holding the valve."""
-        r = float(self.r or 0.0)
         s, _ = self._cam(steps, taus, len(ys))
-        d = r * ys[:, 0] - self.lash
-        f_t = self.kt * d + self.ct * self.w * r * ys[:, 1]
+        g, ratio, _ = self.vt.host_lever(ys[:, 0])
+        d = g - self.lash
+        f_t = self.kt * d + self.ct * self.w * ratio * ys[:, 1]
         pushed = np.where(d > 0.0, np.maximum(0.0, f_t), 0.0)
         return np.stack([np.minimum(self.kt * d, f_t), self.kt * (ys[:, 0] - s + GAP_EPS), self.f0 - pushed + self.tol])
 
@@ -107,8 +112,6 @@ class FollowerFlights:
                 if step >= stop:
                     return None
                 continue
-            if self.r is None:
-                raise Unsure("the follower leaves the cam through a rocker")
             # where it leaves: at once (a landing where the cam still pulls away), or where its force crosses
             theta = start if force[0] < -tol else rise(lambda t: -(self._cam_force(t) + tol), start, end)
             got = self._fly(i, theta - (th0 + i * h), stop, None, carry)
@@ -128,6 +131,8 @@ class FollowerFlights:
         (s,), (s1,) = self._cam(step, tau, 1)
         y = np.array([s, s1]) if flying is None else flying
         sign = 1.0 if self._guards(y[None], step, tau)[_MIN_TRAIN, 0] > 0.0 else -1.0  # the train's hold, or not
+        if sign > 0.0 and self.r is None:
+            raise Unsure("the train holds a flying follower through a rocker")
         for _ in range(_MAX_FLIGHTS):
             lin = self._systems[1 if sign > 0.0 else 0]
 
@@ -147,6 +152,8 @@ class FollowerFlights:
             if which == _SEAT:
                 raise Unsure("the train lifts the valve while the follower flies")
             if which == _MIN_TRAIN:  # the train takes hold of the follower or lets it go
+                if self.r is None:
+                    raise Unsure("the train takes hold of a flying follower through a rocker")
                 sign = -sign
                 continue
             (s,), (s1,) = self._cam(step, tau, 1)  # the landing
