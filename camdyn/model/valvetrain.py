@@ -11,6 +11,9 @@ valve is ``g(x_c) - lash - x_v`` (the lash is closed where it is positive); its 
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
+from types import SimpleNamespace
+from typing import Any
 
 import equinox as eqx
 import jax
@@ -54,6 +57,19 @@ class Rocker(eqx.Module):
         in every process."""
         fields = (self.cam_arm, self.valve_arm, self.cam_angle, self.valve_angle)
         return _rocker_lever(np, np.asarray(x_c, dtype=float), *(float(v) for v in fields))
+
+    def bound_lever(self, scalar: bool = False) -> Callable[[Any], tuple[Any, Any, Any]]:
+        """:meth:`host_lever` with the geometry read once (a call through the module reads each field again: tens of
+        microseconds), in numpy, or with ``scalar`` of one lift in plain floats (``math``: a numpy scalar's operation
+        costs a microsecond): for the thousands of calls of a sequential integration."""
+        fields = tuple(float(v) for v in (self.cam_arm, self.valve_arm, self.cam_angle, self.valve_angle))
+        if scalar:
+            return lambda x_c: _rocker_lever(_SCALAR, x_c, *fields)
+        return lambda x_c: _rocker_lever(np, np.asarray(x_c, dtype=float), *fields)
+
+
+# the array module's functions :func:`_rocker_lever` calls, for plain floats
+_SCALAR = SimpleNamespace(sin=math.sin, cos=math.cos, sqrt=math.sqrt, arcsin=math.asin)
 
 
 def _rocker_lever(xp, x_c, a, b, al, be):

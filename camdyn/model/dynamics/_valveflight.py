@@ -18,6 +18,7 @@ revolution's end carried into its start) and the train never lifts the valve in 
 from __future__ import annotations
 
 import functools
+import math
 
 import numpy as np
 
@@ -29,6 +30,9 @@ from ._valvefield import GAP_EPS
 from ._valvelinear import ORDER, Index, Linear, Unsure, rise, step_bounds, stretch_to
 from ._valvetrain import landing_floor
 
+_RK_PHASE = 0.01  # rad of the train's vibration per Runge-Kutta substep (a rocker's push on a flying follower)
+_CHUNK = 16  # fine steps a Runge-Kutta stretch takes before reading its guard
+_BISECT = 40  # halvings of a substep locating a guard's zero (to 1e-12 of it)
 _MAX_FLIGHTS = 64  # flights (and rebounds off the cam) in one stretch on the cam: beyond, a chatter for diffrax
 _MIN_TRAIN, _OFF_CAM, _SEAT = 0, 1, 2  # the guards, in :meth:`FollowerFlights._guards`' order
 
@@ -45,8 +49,10 @@ class FollowerFlights:
         self.kt, self.ct = float(vt.train.train_stiffness), float(vt.train.train_damping)
         self.e_cam, self.floor = float(vt.cam_restitution), landing_floor(vt, w)
         # a rocker's ratio varies with the follower's lift, which off the cam is no longer the cam's: the train's
-        # push on a flying follower is not linear there
+        # push on a flying follower is not linear there (:meth:`_pushed`)
         self.r = None if vt.rocker is not None else float(vt.ratio)
+        ratio = float(vt.ratio)
+        self.lever = vt.rocker.bound_lever() if vt.rocker is not None else (lambda x: (ratio * x, ratio, 0.0))
         self.cam = hermite_taylor(rev.s, rev.s1, rev.h)  # the cam's lift between the fine angles
 
     @functools.cached_property
@@ -70,7 +76,7 @@ class FollowerFlights:
         """(3, len(ys)), each > 0 while its mode holds (N): the train's hold on the follower (its least of the
         spring's and the whole force, > 0 while it pushes), the follower above the cam, the seat holding the valve."""
         s, _ = self._cam(steps, taus, len(ys))
-        g, ratio, _ = self.vt.host_lever(ys[:, 0])
+        g, ratio, _ = self.lever(ys[:, 0])
         d = g - self.lash
         f_t = self.kt * d + self.ct * self.w * ratio * ys[:, 1]
         pushed = np.where(d > 0.0, np.maximum(0.0, f_t), 0.0)
@@ -80,7 +86,7 @@ class FollowerFlights:
         """The cam's force on the follower (N) at angles ``theta`` (rad), on the cam with the valve seated, from the
         motion itself (where a flight begins between the fine angles)."""
         s, s1, s2 = np.asarray(self.motion.host(theta))[:3] * M_PER_MM
-        g, ratio, _ = self.vt.host_lever(s)
+        g, ratio, _ = self.lever(s)
         d = g - self.lash
         seated = np.where(d > 0.0, np.maximum(0.0, self.kt * d + self.ct * self.w * ratio * s1), 0.0)
         return self.m_c * s2 * self.w**2 + self.tappet + ratio * seated
@@ -131,16 +137,16 @@ class FollowerFlights:
         (s,), (s1,) = self._cam(step, tau, 1)
         y = np.array([s, s1]) if flying is None else flying
         sign = 1.0 if self._guards(y[None], step, tau)[_MIN_TRAIN, 0] > 0.0 else -1.0  # the train's hold, or not
-        if sign > 0.0 and self.r is None:
-            raise Unsure("the train holds a flying follower through a rocker")
         for _ in range(_MAX_FLIGHTS):
-            lin = self._systems[1 if sign > 0.0 else 0]
 
             def guard(ys: np.ndarray, st: Index, ta: Index, sign: float = sign) -> np.ndarray:
                 g = self._guards(ys, st, ta)
                 return np.minimum(np.minimum(sign * g[_MIN_TRAIN], g[_OFF_CAM]), g[_SEAT])
 
-            along, _, _, end = stretch_to(lin, step, tau, y, guard, fresh=fresh)
+            if sign > 0.0 and self.r is None:
+                along, end = self._pushed(step, tau, y, guard)
+            else:
+                along, _, _, end = stretch_to(self._systems[1 if sign > 0.0 else 0], step, tau, y, guard, fresh=fresh)
             if end is None and carry:
                 return along[-1]
             if end is None or end[0] >= stop:
@@ -152,8 +158,6 @@ class FollowerFlights:
             if which == _SEAT:
                 raise Unsure("the train lifts the valve while the follower flies")
             if which == _MIN_TRAIN:  # the train takes hold of the follower or lets it go
-                if self.r is None:
-                    raise Unsure("the train takes hold of a flying follower through a rocker")
                 sign = -sign
                 continue
             (s,), (s1,) = self._cam(step, tau, 1)  # the landing
@@ -162,3 +166,54 @@ class FollowerFlights:
                 return step, tau
             y, fresh = np.array([s, s1 - self.e_cam * rel]), True
         raise Unsure("the follower rattles on the cam")
+
+    def _pushed(self, step: int, tau: float, y: np.ndarray, guard) -> tuple[np.ndarray, tuple | None]:
+        """A stretch of the follower pushed back by the train through a rocker, whose push is not linear in the
+        follower's lift: classical Runge-Kutta on equal substeps of each fine step, each at most :data:`_RK_PHASE`
+        rad of the train's vibration (a local error of order its fifth power), from ``tau`` rad into fine ``step``
+        with the state ``y`` to where ``guard`` first falls below zero on them, located by bisection on a shortened
+        last substep: (the state at the revolution's end, None) or (the state there, (step, tau, state))."""
+        assert self.vt.rocker is not None  # a constant ratio's push is linear: :attr:`_systems`
+        lever = self.vt.rocker.bound_lever(scalar=True)
+        kt, ct, w, lash, tappet = self.kt, self.ct, self.w, self.lash, self.tappet
+        mw2, h, nf = self.m_c * w * w, self.rev.h, len(self.cam)
+
+        def acc(x: float, p: float) -> float:
+            g, r, _ = lever(x)
+            return -(tappet + r * (kt * (g - lash) + ct * w * r * p)) / mw2
+
+        def rk(x: float, p: float, d: float) -> tuple[float, float]:
+            a1 = acc(x, p)
+            p2 = p + 0.5 * d * a1
+            a2 = acc(x + 0.5 * d * p, p2)
+            p3 = p + 0.5 * d * a2
+            a3 = acc(x + 0.5 * d * p2, p3)
+            p4 = p + d * a3
+            a4 = acc(x + d * p3, p4)
+            return x + d * (p + 2.0 * p2 + 2.0 * p3 + p4) / 6.0, p + d * (a1 + 2.0 * a2 + 2.0 * a3 + a4) / 6.0
+
+        vibration = math.sqrt(kt * float(np.max(self.rev.ratio)) ** 2 / self.m_c) / w  # rad per cam rad
+        per_step = max(1, math.ceil(h * vibration / _RK_PHASE))
+        x, p = float(y[0]), float(y[1])
+        while step < nf:  # a chunk of fine steps at a time, the guard read once on all its substeps
+            starts: list[tuple[float, float, int, float]] = []  # each substep's start: state, fine step, angle
+            ends: list[tuple[float, float, int, float]] = []
+            for st in range(step, min(step + _CHUNK, nf)):
+                t0 = tau if st == step else 0.0
+                cuts = np.linspace(t0, h, max(1, math.ceil(per_step * (h - t0) / h)) + 1)
+                for a, b in zip(cuts[:-1], cuts[1:], strict=True):
+                    starts.append((x, p, st, float(a)))
+                    x, p = rk(x, p, float(b - a))
+                    ends.append((x, p, st, float(b)))
+            table = np.array(ends)
+            below = np.nonzero(guard(table[:, :2], table[:, 2].astype(int), table[:, 3]) < 0.0)[0]
+            if below.size:
+                x0, p0, st, lo = starts[int(below[0])]
+                t0, hi = lo, ends[int(below[0])][3]
+                for _ in range(_BISECT):
+                    mid = 0.5 * (lo + hi)
+                    lo, hi = (mid, hi) if guard(np.array([rk(x0, p0, mid - t0)]), st, mid)[0] >= 0.0 else (lo, mid)
+                end = np.array(rk(x0, p0, hi - t0))
+                return end[None], (st, hi, end)
+            step, tau = ends[-1][2] + 1, 0.0
+        return np.array([[x, p]]), None
