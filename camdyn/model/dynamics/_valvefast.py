@@ -129,16 +129,14 @@ class _CompliantTrain:
         self.seated = seated(vt, w, self.nf, h) if self.layout.lumps else None
         self.flights = FollowerFlights(motion, vt, w, rev, self.on_cam, constants(vt))
 
-    def _hold_follower(self, step: int, stop: int, why: str, *, carry: bool = False) -> np.ndarray | None:
+    def _hold_follower(self, step: int, stop: int, why: str) -> None:
         """The follower from fine angle ``step`` to ``stop`` with the valve seated: its flights off the cam followed
-        to their landings (:meth:`FollowerFlights.hold`: with ``carry`` one in the air at the revolution's end is
-        returned); with the spring's surge chain, whose ringing the seat's hold would carry, :class:`Unsure`
-        (``why``) where it may leave the cam at all."""
+        to their landings (:meth:`FollowerFlights.hold`); with the spring's surge chain, whose ringing the seat's
+        hold would carry, :class:`Unsure` (``why``) where it may leave the cam at all."""
         if not self.layout.lumps:
-            return self.flights.hold(step, stop, carry=carry)
-        if lower_bound(self.on_cam[step : stop + 1]) < -self.tol:
+            self.flights.hold(step, stop)
+        elif lower_bound(self.on_cam[step : stop + 1]) < -self.tol:
             raise Unsure(why)
-        return None
 
     def train(self, x: np.ndarray, p: np.ndarray, steps: Index, taus: Index) -> tuple[np.ndarray, np.ndarray]:
         """The train's deflection (m) and its linear force (N) at valve lifts ``x`` and speeds ``p``, ``taus`` into
@@ -184,7 +182,8 @@ class _CompliantTrain:
             j = int(lifts[0])
             if j == 0:
                 raise Unsure("the valve lifts as the revolution starts")
-            self._hold_follower(0, j, "the follower leaves the cam before the valve lifts")
+            if self.layout.lumps:  # without the chain, the flights before the lift are followed last (:meth:`_held`)
+                self._hold_follower(0, j, "the follower leaves the cam before the valve lifts")
             motion, vt, lash, kt, ct, w, f0 = self.motion, self.vt, self.lash, self.kt, self.ct, self.w, self.f0
 
             def seated_force(theta: np.ndarray) -> np.ndarray:  # the train's on the seated valve, less F0 + tol
@@ -214,9 +213,11 @@ class _CompliantTrain:
         if self.seated is None:
             if np.any(self.f_seated[rest] > self.f0):
                 raise Unsure("the valve re-lifted after the seating")
-            carried = self._hold_follower(step + 1, self.nf, "the follower off the cam after the seating", carry=True)
-            if carried is not None:  # the periodic revolution starts with the follower in the air
-                self.flights.hold(0, lift_step + 1, flying=carried)
+            # the follower's flights, followed once the valve's event is known (where that fails they are not
+            # needed): after the seating, and before the lift, from the revolution's start or from a flight over
+            # its end (the periodic revolution then starts with the follower in the air)
+            carried = self.flights.hold(step + 1, self.nf, carry=True)
+            self.flights.hold(0, lift_step + 1, flying=carried)
             return chain
         if lower_bound(self.on_cam[rest]) < -self.tol:
             raise Unsure("the follower off the cam after the seating")
