@@ -96,12 +96,14 @@ class FollowerFlights:
     ) -> np.ndarray | None:
         """The follower from ``tau`` rad into fine ``step`` (on the cam, or in the air with the state ``flying``: m,
         m/rad) to fine angle ``stop``, the valve seated: each flight where the cam's force falls below the diffrax
-        model's threshold followed to its landing. :class:`Unsure` where one is still in the air at ``stop`` (with
-        ``carry``, at the revolution's end: its state there is returned), the train lifts the valve in one, or
-        they do not end."""
+        model's threshold followed to its landing. :class:`Unsure` where one has not landed a fine step before
+        ``stop`` (the valve lifts in the step before it: a landing there could move the lift; with ``carry``, one in
+        the air at the revolution's end gives its state there), the train lifts the valve in one, or they do not
+        end."""
         tol, h, th0 = self.tol, self.rev.h, self.rev.th0
+        land_by = stop - 1
         if flying is not None:
-            got = self._fly(step, tau, stop, flying, carry=False)
+            got = self._fly(step, tau, land_by, flying, carry=False)
             assert not isinstance(got, np.ndarray)  # landed, or Unsure
             step, tau = got
         lo = th0 + step * h + tau
@@ -120,7 +122,7 @@ class FollowerFlights:
                 continue
             # where it leaves: at once (a landing where the cam still pulls away), or where its force crosses
             theta = start if force[0] < -tol else rise(lambda t: -(self._cam_force(t) + tol), start, end)
-            got = self._fly(i, theta - (th0 + i * h), stop, None, carry)
+            got = self._fly(i, theta - (th0 + i * h), land_by, None, carry)
             if isinstance(got, np.ndarray):
                 return got
             step, tau = got
