@@ -22,17 +22,17 @@ over the event on the output grid, the seating (x_v = 0 closing) and its speed, 
 ``seat_restitution`` x the landing speed) each a flight on the train or, where the train's force or deflection
 falls to zero, off it on the spring alone (a second linear system), to the speed below which the seat holds the
 valve, their highest apex (the bounce height) and the gap at the valve, and the rest of the revolution with the
-valve seated. The answer is ``None`` (the caller falls back on the diffrax model for that point) wherever the
-linear model stops holding before the revolution ends: the train unloads before the seating, the cam contact's
-force comes within the sampling's bound of zero without a sure crossing, the valve lifts again after the
-seating, the follower leaves the cam while the valve rebounds (or at all, through a rocker or with the spring's
-surge chain), or the model is not this one (a compliant cam contact; a rigid train with the spring's surge chain).
-A flight of the follower off the cam while the valve sits on its seat (a ramp that decelerates faster than the
-tappet force pulls) is followed to its landing (:mod:`._valveflight`): the valve's event is unchanged. Where the cam
-contact's force crosses zero on the exact solution before anything else opens, the valve floats there for sure:
-:class:`Floated`, with what happens next left to the diffrax model. A rigid train needs no integration in the event:
-the valve moves with the cam from the lash's closing to its seating, the forces algebraic in the angle
-(:func:`_rigid_train`); its rebounds fly on the spring alone.
+valve seated. The answer is ``None`` (the caller falls back on the diffrax model for that point) wherever the linear
+model stops holding before the revolution ends: the train unloads before the seating, the cam contact's force comes
+within the sampling's bound of zero without a sure crossing, the valve lifts again after the seating, the follower
+leaves the cam while the valve rebounds (or at all, with the spring's surge chain), or the model is not this one (a
+compliant cam contact; a rigid train with the spring's surge chain). A flight of the follower off the cam while the
+valve sits on its seat (a ramp that decelerates faster than the tappet force pulls) is followed to its landing
+(:mod:`._valveflight`): the valve's event is unchanged. Where the cam contact's force crosses zero on the exact
+solution before anything else opens, the valve floats there for sure: :class:`Floated`, with what happens next left
+to the diffrax model. A rigid train needs no integration in the event: the valve moves with the cam from the lash's
+closing to its seating, the forces algebraic in the angle (:func:`_rigid_train`); its rebounds fly on the spring
+alone.
 
 With the spring's surge chain (``[spring] model = "surge"``) the valve's system carries the chain's inner lumps
 (:func:`._valveevent.valve_matrix`: still linear, one mode a lump more) and the chain rings on while the valve is

@@ -7,13 +7,13 @@ while the lash is open, pressed back by the train too once it closes under a con
 
     m_c w^2 x_c'' = -F_tappet - r F_t,   F_t = k_t (r x_c - lash) + c_t w r x_c'   (0 while the lash is open)
 
-(a rocker's ratio moves with the follower's lift: its train on a flying follower is not linear). So a flight runs
-on the fast path's exact propagators, each stretch to the first of its guards (the landing on the cam, the train
-taking hold or letting go, the seat letting the valve go). A landing follows the diffrax model's rule: the follower
-rebounds at the cam's restitution, or stays where that rebound is below the seat's landing floor. The valve's event
-is not touched, so the fast path's summary holds as long as every flight lands before the valve lifts (one over the
-revolution's end carried into its start) and the train never lifts the valve in one; anything else is
-:class:`~._valvelinear.Unsure`."""
+(a rocker's ratio moves with the follower's lift: its train's push on a flying follower is not linear and runs by
+Runge-Kutta, :meth:`FollowerFlights._pushed`). So a flight runs on the fast path's exact propagators, each stretch
+to the first of its guards (the landing on the cam, the train taking hold or letting go, the seat letting the valve
+go). A landing follows the diffrax model's rule: the follower rebounds at the cam's restitution, or stays where that
+rebound is below the seat's landing floor. The valve's event is not touched, so the fast path's summary holds as
+long as every flight lands before the valve lifts (one over the revolution's end carried into its start) and the
+train never lifts the valve in one; anything else is :class:`~._valvelinear.Unsure`."""
 
 from __future__ import annotations
 
@@ -216,6 +216,6 @@ class FollowerFlights:
                     mid = 0.5 * (lo + hi)
                     lo, hi = (mid, hi) if guard(np.array([rk(x0, p0, mid - t0)]), st, mid)[0] >= 0.0 else (lo, mid)
                 end = np.array(rk(x0, p0, hi - t0))
-                return end[None], (st, hi, end)
+                return end[None], ((st, hi, end) if hi < h else (st + 1, 0.0, end))
             step, tau = ends[-1][2] + 1, 0.0
         return np.array([[x, p]]), None
