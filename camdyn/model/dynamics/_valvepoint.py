@@ -37,17 +37,19 @@ class ValvePoint:
     """The valvetrain at one cam speed as its studies read it: :func:`fast_valve_summary` where it answers, the
     diffrax model's :func:`~camdyn.model.dynamics.valvetrain_response` (run once, when first asked) for what it
     does not: everything where the fast path cannot say, all but the float verdict and the least force (0) where
-    the valve surely floats. The same names as the response's. Nothing is computed until a number is asked for."""
+    the valve surely floats. The same names as the response's. Nothing is computed until a number is asked for.
+    ``fast``: False leaves the fast path out (a speed past the float speed, where it would mostly say only that the
+    valve floats, and the diffrax model runs anyway)."""
 
-    def __init__(self, motion: Motion, vt: ValvetrainModel, omega: float) -> None:
+    def __init__(self, motion: Motion, vt: ValvetrainModel, omega: float, *, fast: bool = True) -> None:
         self.omega = float(omega)
-        self._motion, self._vt = motion, vt
+        self._motion, self._vt, self._try_fast = motion, vt, fast
         self._response: ValvetrainResponse | None = None
 
     @functools.cached_property
     def _fast(self) -> ValveSummary | Floated | None:
         """The fast path's answer (:func:`fast_valve_summary`), on first use."""
-        return fast_valve_summary(self._motion, self._vt, self.omega)
+        return fast_valve_summary(self._motion, self._vt, self.omega) if self._try_fast else None
 
     @property
     def fast(self) -> bool:
