@@ -194,6 +194,20 @@ def test_a_point_that_floats_falls_back(shipped):
 
 
 @pytest.mark.slow
+def test_check_leaves_the_fast_path_out_of_the_bounce_search_past_the_float_speed(shipped):
+    """The bounce search's speeds past the float speed are the diffrax model's at once (the fast path would mostly
+    say only that the valve floats); those below, and the float search's, are the fast path's."""
+    from camdyn.design.valvetrain import analyze_valvetrain
+
+    result = analyze_valvetrain(shipped, shipped.speed_rpm * RPM, 1.25)
+    diffrax_only = [p for p in result.marched if not p._try_fast]
+    assert len(diffrax_only) >= 5 and all(p.omega / RPM > result.float_speed_rpm for p in diffrax_only)
+    assert all(p._response is not None and not p.fast for p in diffrax_only)
+    assert sum(p.fast for p in result.marched if p.omega / RPM < result.float_speed_rpm) >= 8
+    assert result.bounce_speed_rpm == pytest.approx(6625.9, abs=0.5)
+
+
+@pytest.mark.slow
 def test_float_and_bounce_speeds_equal_the_diffrax_models(shipped):
     """The searches on the fast path (the diffrax model where the valve floats) give the speeds the diffrax model
     alone gives: the bounce search to 0.1 rpm (the same bisection: every speed's verdict agrees); the float search's
