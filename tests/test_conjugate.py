@@ -477,6 +477,7 @@ def test_size_of_conjugate_cams_gives_the_least_preload(tmp_path, capsys):
     assert code == 2 and "conjugate cams have no return spring" in err and "least preload" in err
 
 
+@pytest.mark.slow  # a whole size search and a check (9 s of a worker)
 def test_size_of_conjugate_cams_with_backlash_gives_the_largest_backlash(tmp_path, capsys):
     """With backlash (no preload) ``size`` is the groove's: the largest backlash whose impact at the conjugate cam
     stays 2 % under max_impact_velocity; check of the case written with it passes."""
