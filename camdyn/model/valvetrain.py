@@ -55,8 +55,7 @@ class Rocker(eqx.Module):
     def host_lever(self, x_c: ArrayLike) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """:meth:`lever` on the host, in numpy: outside a trace each jax operation is a program of its own, compiled
         in every process."""
-        fields = (self.cam_arm, self.valve_arm, self.cam_angle, self.valve_angle)
-        return _rocker_lever(np, np.asarray(x_c, dtype=float), *(float(v) for v in fields))
+        return self.bound_lever()(x_c)
 
     def bound_lever(self, scalar: bool = False) -> Callable[[Any], tuple[Any, Any, Any]]:
         """:meth:`host_lever` with the geometry read once (a call through the module reads each field again: tens of
