@@ -1,5 +1,6 @@
 """The cubic Hermite interpolant of samples with their slopes: its Taylor coefficients per step (the valve fast
-path's input between its fine angles) and its highest point (a diffrax flight's top between its saved angles)."""
+path's input between its fine angles), its value and slope inside a step, and its highest point (a diffrax flight's
+top between its saved angles)."""
 
 from __future__ import annotations
 
@@ -13,6 +14,17 @@ def hermite_taylor(u: np.ndarray, du: np.ndarray, h: float | np.ndarray) -> np.n
     c2 = (3.0 * (u1 - u0) / h - 2.0 * d0 - d1) / h
     c3 = (d0 + d1 - 2.0 * (u1 - u0) / h) / h**2
     return np.stack([u0, d0, 2.0 * c2, 6.0 * c3], axis=1)
+
+
+def hermite_at(
+    taylor: np.ndarray, u: np.ndarray, du: np.ndarray, steps: np.ndarray, taus: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """The value and slope ``taus`` into ``steps`` (arrays of one shape) of the cubic Hermite whose Taylor
+    coefficients per step are ``taylor`` (:func:`hermite_taylor` of the samples ``u`` and slopes ``du``): the samples
+    themselves on the nodes (``taus`` 0), each step's cubic between them."""
+    a0, a1, a2, a3 = taylor[np.minimum(steps, len(taylor) - 1)].T
+    value = np.where(taus > 0.0, a0 + a1 * taus + a2 * taus**2 / 2 + a3 * taus**3 / 6, u[steps])
+    return value, np.where(taus > 0.0, a1 + a2 * taus + a3 * taus**2 / 2, du[steps])
 
 
 def hermite_top(t: np.ndarray, x: np.ndarray, v: np.ndarray) -> float:

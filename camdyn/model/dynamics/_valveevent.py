@@ -15,7 +15,7 @@ import numpy as np
 from ..._core.units import M_PER_MM, TWO_PI
 from ..motion import Motion
 from ..valvetrain import ValvetrainModel
-from ._cubic import hermite_taylor
+from ._cubic import hermite_at, hermite_taylor
 from ._valvelinear import ORDER, Linear
 from ._valvetrain import start_angle
 
@@ -90,10 +90,7 @@ class Revolution(NamedTuple):
     def at_valve(self, steps: np.ndarray, taus: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """The cam's lift at the valve g (m) and its slope g' (m/rad) ``taus`` rad into fine ``steps`` (arrays of one
         shape): sampled on the fine angles, on each step's cubic Hermite between them (where a guard is cut)."""
-        a0, a1, a2, a3 = self.cam[np.minimum(steps, self.g.size - 2)].T
-        at = np.where(taus > 0.0, a0 + a1 * taus + a2 * taus**2 / 2 + a3 * taus**3 / 6, self.g[steps])
-        at1 = np.where(taus > 0.0, a1 + a2 * taus + a3 * taus**2 / 2, self.g1[steps])
-        return at, at1
+        return hermite_at(self.cam, self.g, self.g1, steps, taus)
 
     @property
     def out_node(self) -> np.ndarray:

@@ -25,7 +25,7 @@ import numpy as np
 from ..._core.units import M_PER_MM
 from ..motion import Motion
 from ..valvetrain import ValvetrainModel
-from ._cubic import hermite_taylor
+from ._cubic import hermite_at, hermite_taylor
 from ._valvefield import GAP_EPS
 from ._valvelinear import ORDER, Index, Linear, Unsure, rise, step_bounds, stretch_to
 from ._valvetrain import landing_floor
@@ -68,9 +68,7 @@ class FollowerFlights:
         """The cam's lift s (m) and slope s' (m/rad) ``taus`` rad into fine ``steps``: on the fine angles, on each
         step's cubic Hermite between them."""
         steps, taus = np.broadcast_to(steps, (size,)), np.broadcast_to(taus, (size,))
-        a0, a1, a2, a3 = self.cam[np.minimum(steps, len(self.cam) - 1)].T
-        s = np.where(taus > 0.0, a0 + a1 * taus + a2 * taus**2 / 2 + a3 * taus**3 / 6, self.rev.s[steps])
-        return s, np.where(taus > 0.0, a1 + a2 * taus + a3 * taus**2 / 2, self.rev.s1[steps])
+        return hermite_at(self.cam, self.rev.s, self.rev.s1, steps, taus)
 
     def _guards(self, ys: np.ndarray, steps: Index, taus: Index) -> np.ndarray:
         """(3, len(ys)), each > 0 while its mode holds (N): the train's hold on the follower (its least of the
