@@ -193,17 +193,78 @@ def test_a_point_that_floats_falls_back(shipped):
     assert point.max_gap_mm() == resp.max_gap_mm(vt)
 
 
+def _same_through_float(fast, resp, vt) -> None:
+    """:func:`_same`, for a valve that floated: the float search's force (the least the cam would have to pull
+    with) to 1e-5 N of the forces' 1e3, the gap at the valve to 1e-8 mm."""
+    assert isinstance(fast, ValveSummary) and fast.floated and resp.floated
+    _same(fast, resp)
+    assert fast.hold_force == pytest.approx(resp.float_force, abs=1e-5)
+    assert fast.max_gap_mm == pytest.approx(resp.max_gap_mm(vt), abs=1e-8)
+
+
 @pytest.mark.slow
-def test_check_leaves_the_fast_path_out_of_the_bounce_search_past_the_float_speed(shipped):
-    """The bounce search's speeds past the float speed are the diffrax model's at once (the fast path would mostly
-    say only that the valve floats); those below, and the float search's, are the fast path's."""
+@pytest.mark.parametrize(
+    ("dynamics", "valvetrain", "rpm", "floats"),
+    [
+        ({}, {}, 6000.0, 1),  # one float near the nose, the follower landing on the flank
+        ({}, {}, 6625.0, 2),  # two, the second 75 deg long; back on the cam the train lets the valve go
+        ({"restitution": 0.3}, {}, 6400.0, 1),  # the follower rebounds off the cam
+        ({}, {"tappet_force": 20.0}, 6800.0, 1),  # a tappet spring pulls the follower back in its flight
+    ],
+)
+def test_fast_path_follows_the_valve_through_its_float(dynamics, valvetrain, rpm, floats):
+    """Past the float speed the two masses fly on the train (or off it) and the follower lands on the cam again
+    before the valve seats: the fast path follows them (``floats``) and gives the diffrax model's event, seating,
+    bounce, gap and float force."""
+    case = _variant(dynamics, valvetrain)
+    vt, w = case.valvetrain, rpm * RPM
+    resp = valvetrain_response(case.motion, vt, w)
+    assert sum(e.what == "float" for e in resp.events) == floats
+    _same_through_float(fast_valve_summary(case.motion, vt, w, floats=True), resp, vt)
+    assert isinstance(fast_valve_summary(case.motion, vt, w), Floated)  # the float search's answer stays the same
+    point = ValvePoint(case.motion, vt, w, floats=True)
+    assert point.fast and point.floated and point.float_force == pytest.approx(resp.float_force, abs=1e-5)
+
+
+@pytest.mark.slow
+def test_fast_path_follows_a_float_before_the_valve_has_risen(tmp_path):
+    """cases/valve-lift.csv as the valve's lift through a 1.5 ratio at 4800 rpm: the cam lets go of the follower 13
+    deg into the valve's lift, before the valve has risen past half its lift, while the follower also hops along
+    the table's base circle: the event, followed through the float, is the diffrax model's."""
+    (tmp_path / "valve.csv").write_text((CASES / "valve-lift.csv").read_text())
+    raw = copy.deepcopy(SHIPPED)
+    raw["motion"] = {"valve_table": str(tmp_path / "valve.csv")}
+    raw["valvetrain"] |= {"ratio": 1.5}
+    case = case_from_dict(raw)
+    vt, w = case.valvetrain, 4800.0 * RPM
+    resp = valvetrain_response(case.motion, vt, w)
+    lift, float_at = (next(e.deg for e in resp.events if e.what == what) for what in ("valve-lift", "float"))
+    assert float_at - lift < 20.0
+    _same_through_float(fast_valve_summary(case.motion, vt, w, floats=True), resp, vt)
+
+
+@pytest.mark.slow
+def test_a_valve_that_seats_while_the_follower_flies_falls_back(shipped):
+    """At 6850 rpm the valve seats while the follower is still in the air: the diffrax model's point; a rocker's
+    float (its ratio moves with the flying follower) is the diffrax model's at once."""
+    vt, w = shipped.valvetrain, 6850.0 * RPM
+    assert fast_valve_summary(shipped.motion, vt, w, floats=True) is None
+    case = _scaled_lifts(1.0, rocker=ROCKER)
+    point = ValvePoint(case.motion, case.valvetrain, w, floats=True)
+    assert point.floated and not point.fast
+
+
+@pytest.mark.slow
+def test_check_follows_the_float_on_the_fast_path_past_the_float_speed(shipped):
+    """The bounce search's speeds past the float speed follow the float on the fast path (those below, and the float
+    search's, stop at it: its force is the search's); where that cannot say, the diffrax model's."""
     from camdyn.design.valvetrain import analyze_valvetrain
 
     result = analyze_valvetrain(shipped, shipped.speed_rpm * RPM, 1.25)
-    diffrax_only = [p for p in result.marched if not p._try_fast]
-    assert len(diffrax_only) >= 5 and all(p.omega / RPM > result.float_speed_rpm for p in diffrax_only)
-    assert all(p._response is not None and not p.fast for p in diffrax_only)
-    assert sum(p.fast for p in result.marched if p.omega / RPM < result.float_speed_rpm) >= 8
+    through = [p for p in result.marched if p._floats]  # the bounce search's past the float speed
+    assert len(through) >= 8 and all(p.omega / RPM > result.float_speed_rpm for p in through)
+    assert sum(p.fast for p in through) >= 4  # answered through the float
+    assert all(p._response is not None for p in through if not p.fast)
     assert result.bounce_speed_rpm == pytest.approx(6625.9, abs=0.5)
 
 
@@ -233,6 +294,17 @@ def test_float_and_bounce_speeds_equal_the_diffrax_models(shipped):
         ref = search(shipped.motion, vt, w_max, respond=diffrax_only)
         assert search(shipped.motion, vt, w_max, respond=points) / RPM == pytest.approx(ref / RPM, abs=within)
     w_float = float_speed(shipped.motion, vt, w_max, respond=points)
+    # the bounce search as check runs it: past the float speed through the floats on the fast path
+    through = {w: p for w, p in fast.items() if w <= w_float}
+
+    def as_check(w):
+        if w not in through:
+            through[w] = ValvePoint(shipped.motion, vt, w, floats=w > w_float)
+        return through[w]
+
+    ref = bounce_speed(shipped.motion, vt, w_max, respond=diffrax_only)
+    assert bounce_speed(shipped.motion, vt, w_max, respond=as_check) / RPM == pytest.approx(ref / RPM, abs=0.1)
+    assert sum(p.fast for w, p in through.items() if w > w_float) >= 4
     assert w_float / RPM == pytest.approx(5920.06, abs=0.5)
     assert not diffrax_only(w_float - 0.5 * RPM).floated and diffrax_only(w_float + 0.5 * RPM).floated
     assert sum(p.fast for p in fast.values()) >= 8  # the speeds below float, on the fast path

@@ -186,15 +186,14 @@ def analyze_valvetrain(case: Case, omega: float, margin: float) -> ValvetrainRes
     w_max = dyn.jump_search_limit(margin * omega, w_kin)
     marched: dict[float, dyn.ValvePoint] = {}
 
-    def at(w: float, fast: bool = True) -> dyn.ValvePoint:  # the fast path where every contact stays closed
+    def at(w: float, floats: bool = False) -> dyn.ValvePoint:  # the fast path where it can say
         if w not in marched:
-            marched[w] = dyn.ValvePoint(case.motion, vt, w, fast=fast)
+            marched[w] = dyn.ValvePoint(case.motion, vt, w, floats=floats)
         return marched[w]
 
     w_float = dyn.float_speed(case.motion, vt, w_max, respond=at)
-    # the bounce search's speeds past the float speed go to the diffrax model at once: the fast path would mostly
-    # say only that the valve floats there (5-20 ms a speed)
-    w_bounce = dyn.bounce_speed(case.motion, vt, w_max, respond=lambda w: at(w, fast=w <= w_float))
+    # past the float speed the bounce search's fast path follows the float through (the float search's stops at it)
+    w_bounce = dyn.bounce_speed(case.motion, vt, w_max, respond=lambda w: at(w, floats=w > w_float))
     here = at(float(omega)).response  # the whole revolution at the case speed: the diffrax model's
     top = _seating_curve_top(float(omega), w_float)
     for w in dyn.valve_scan_speeds(w_max):  # the seating curve's scan beyond the searches', to its first past the top

@@ -248,9 +248,9 @@ def valvetrain_tolerance_study(
         assert vt is not None  # with_valvetrain_keys rebuilds it
         memo: dict[float, dyn.ValvePoint] = {}
 
-        def at(w: float, vt: ValvetrainModel = vt, memo: dict = memo, fast: bool = True) -> dyn.ValvePoint:
+        def at(w: float, vt: ValvetrainModel = vt, memo: dict = memo, floats: bool = False) -> dyn.ValvePoint:
             if w not in memo:
-                memo[w] = dyn.ValvePoint(case.motion, vt, w, fast=fast)
+                memo[w] = dyn.ValvePoint(case.motion, vt, w, floats=floats)
             return memo[w]
 
         here = at(float(vals["speed"][i]) * RPM)
@@ -258,10 +258,9 @@ def valvetrain_tolerance_study(
         floated[i], bounced[i] = here.floated, here.bounced
         seat_v[i], height[i] = here.seating_velocity, here.bounce_height_mm
         w_float[i] = _first_speed(lambda w, at=at: at(w).floated, w_float0, w_top) / RPM
-        # past the sample's float speed the diffrax model answers at once (as in check: the fast path would mostly
-        # say only that the valve floats)
+        # past the sample's float speed the fast path follows the float through (as in check)
         past = w_float[i] * RPM
-        w_bounce[i] = _first_speed(lambda w, at=at, past=past: at(w, fast=w <= past).bounced, w_bounce0, w_top) / RPM
+        w_bounce[i] = _first_speed(lambda w, at=at, past=past: at(w, floats=w > past).bounced, w_bounce0, w_top) / RPM
         tick(1)
     margin = np.minimum(w_float, w_bounce) / case.speed_rpm
     given = [t.key for t in tols]

@@ -21,6 +21,7 @@ from ._valvetrain import start_angle
 
 REFINE = 2  # fine steps per output angle (0.05 deg): the cubic hold's error is of order h^4
 MAX_REBOUNDS = 200
+MAX_SWITCHES = 16  # the train taking hold and letting go in one rebound: beyond, a chatter for the diffrax model
 
 
 @dataclass(frozen=True)
@@ -40,6 +41,9 @@ class ValveSummary:
     floated: bool = False
     max_gap_mm: float = 0.0  # the valve above where the cam would hold it (off the train on a rebound), mm
     bounce_lift_mm: float = 0.0  # the valve's highest lift on the output grid after its seating, mm
+    # the least force over the event that would hold the follower on the cam (N, at most 0) where the valve floated:
+    # the float search's force (:attr:`~camdyn.model.dynamics.ValvetrainResponse.float_force`)
+    hold_force: float = math.nan
 
 
 @dataclass(frozen=True)

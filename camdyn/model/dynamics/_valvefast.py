@@ -45,15 +45,17 @@ the first goes to the diffrax model whole.
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import numpy as np
 
-from ..._core.units import THETA_GRID
+from ..._core.units import M_PER_MM, THETA_GRID
 from ..motion import Motion
 from ..valvetrain import ValvetrainModel, static_valve_lift
 from ._cubic import hermite_taylor
 from ._valveevent import (
     MAX_REBOUNDS,
+    MAX_SWITCHES,
     Floated,
     ValveSummary,
     constants,
@@ -68,29 +70,34 @@ from ._valveevent import (
 )
 from ._valvefield import GAP_EPS
 from ._valveflight import FollowerFlights
-from ._valvelinear import Index, Linear, Unsure, cross, lower_bound, rise, stretch_to
+from ._valvefloat import EventRows, ValveFloats, float_start, least_rows
+from ._valvelinear import Index, Linear, Unsure, cross, lower_bound, rise, step_bounds, stretch_to
 from ._valvetrain import landing_floor
 
 __all__ = ["Floated", "ValveSummary", "fast_valve_summary"]
 
 
 def fast_valve_summary(
-    motion: Motion, vt: ValvetrainModel, omega: float, n: int = THETA_GRID
+    motion: Motion, vt: ValvetrainModel, omega: float, n: int = THETA_GRID, *, floats: bool = False
 ) -> ValveSummary | Floated | None:
     """The :class:`ValveSummary` at cam speed ``omega`` (rad/s) on the fast path, :class:`Floated` where the valve
-    surely floats, or None where the fast path cannot say (the caller runs the diffrax model)."""
+    surely floats, or None where the fast path cannot say (the caller runs the diffrax model). ``floats``: a float
+    is followed through (:mod:`._valvefloat`, a compliant train of constant ratio) to a summary, not cut short at
+    :class:`Floated` (whose force is the float search's)."""
     if not vt.rigid_cam or (vt.coils is not None and vt.rigid_train):
         return None
     try:
-        return (_rigid_train if vt.rigid_train else _rigid_cam)(motion, vt, float(omega), n)
+        if vt.rigid_train:
+            return _rigid_train(motion, vt, float(omega), n)
+        return _rigid_cam(motion, vt, float(omega), n, floats)
     except Unsure:
         return None
 
 
-def _rigid_cam(motion: Motion, vt: ValvetrainModel, w: float, n: int) -> ValveSummary | Floated:
+def _rigid_cam(motion: Motion, vt: ValvetrainModel, w: float, n: int, floats: bool) -> ValveSummary | Floated:
     """:func:`fast_valve_summary` of a rigid cam contact and a compliant train: one revolution from rest, or with the
     spring's surge chain the second (the first for the chain's ringing at its end)."""
-    train = _CompliantTrain(motion, vt, w, n)
+    train = _CompliantTrain(motion, vt, w, n, floats)
     rest = np.zeros(2 * train.layout.lumps)
     if not rest.size:
         return train.revolution(rest)[0]
@@ -104,8 +111,8 @@ class _CompliantTrain:
     """A rigid cam contact and a compliant train at cam speed ``w`` (rad/s): the valve's linear systems on ``n`` x
     :data:`REFINE` fine steps, the forces the seated valve sees, and the contacts' guards."""
 
-    def __init__(self, motion: Motion, vt: ValvetrainModel, w: float, n: int) -> None:
-        self.motion, self.vt, self.w = motion, vt, w
+    def __init__(self, motion: Motion, vt: ValvetrainModel, w: float, n: int, floats: bool = False) -> None:
+        self.motion, self.vt, self.w, self.follow_floats = motion, vt, w, floats
         self.rev = rev = revolution(motion, vt, n)
         s, s2, g, g1, g2, ratio, h = rev.s, rev.s2, rev.g, rev.g1, rev.g2, rev.ratio, rev.h
         self.nf, w2 = s.size - 1, w * w
@@ -257,7 +264,9 @@ class _CompliantTrain:
         cam_open = np.nonzero(f_cam[:q] < -tol)[0]
         if cam_open.size and (not train_open.size or cam_open[0] < train_open[0]):
             # the exact solution's cam force crosses the diffrax model's threshold first: float
-            return Floated(float(np.min(f_cam[:q]))), np.full_like(chain0, np.nan)
+            if not self.follow_floats:
+                return Floated(float(np.min(f_cam[:q]))), np.full_like(chain0, np.nan)
+            return self._through_float(lift_step, ys, (idx, xv, f_t, f_cam), half_lift, int(cam_open[0]))
         if train_open.size or lower_bound(f_cam[:q]) <= tol or lower_bound(f_t[:q]) <= 0.0:
             raise Unsure("the cam contact near opening, or the valve off the train, within the event")
         got = cross(loaded, lift_step + q, 0.0, ys[q - 1], h, self.landing, False)
@@ -273,6 +282,33 @@ class _CompliantTrain:
         step, tau, y, rebounds = self._rebounds(step, tau, y)
         event_numbers = (least_force, least_deg, least_train, seating_velocity, seating_deg)
         return summary(w, event_numbers, rebounds, max_lift), self._held(step, tau, lay.chain(y), lift_step)
+
+    def _through_float(
+        self, lift_step: int, ys: np.ndarray, marched: tuple[np.ndarray, ...], half_lift: float, opens: int
+    ) -> tuple[ValveSummary, np.ndarray]:
+        """The revolution of a valve that floats: its event followed through its floats (:mod:`._valvefloat`) from
+        the lift at fine ``lift_step`` (``ys``: the valve's states on its train from the next fine angle, with
+        ``marched``: their fine angles, lifts, train and cam forces), the cam letting go before fine angle
+        ``opens`` of them, to its seating past ``half_lift`` (m); then its rebounds and the rest of the revolution
+        as the fast path's."""
+        idx, xv, f_t, f_cam = marched
+        if opens == 0:
+            raise Unsure("the cam lets go as the valve lifts")
+        if np.min(step_bounds(f_cam[:opens] + self.tol), initial=np.inf) < 0.0 or lower_bound(f_t[:opens]) <= 0.0:
+            raise Unsure("the cam contact or the train near opening before the float")
+        floats = ValveFloats(self.motion, self.vt, self.w, self.rev, (self.loaded, self.free), constants(self.vt))
+        rows = EventRows()
+        floats.rows_on_cam(rows, ys[:opens], idx[:opens], np.zeros(opens))
+        tau, y = float_start(floats, int(idx[opens]) - 1, ys[opens - 1])
+        step, tau, y = floats.event(int(idx[opens]) - 1, tau, y, rows, half_lift)
+        least_force, least_deg, least_train, hold, max_lift = least_rows(rows)
+        seating = (abs(float(y[1])) * self.w, self.rev.deg(step, tau))
+        step, tau, y, (bounce, flight_lift, gap) = self._rebounds(step, tau, y)
+        gap = max(gap, float(np.max(rows.joined("gap"), initial=0.0)))
+        got = summary(self.w, (least_force, least_deg, least_train, *seating), (bounce, flight_lift, gap), max_lift)
+        # the float's lifts bound the gap as the rebounds' do (a coil bind below them: the diffrax model's)
+        got = replace(got, floated=True, hold_force=hold, bounce_lift_mm=max(got.bounce_lift_mm, max_lift / M_PER_MM))
+        return got, self._held(step, tau, self.layout.chain(y), lift_step)
 
     def _cam_force(self, ys: np.ndarray, steps: np.ndarray, taus: np.ndarray, loaded: bool) -> float:
         """The least cam-contact force (N) at a rebound's states ``ys``: the follower's own (its mass on the cam, the
@@ -300,7 +336,7 @@ class _CompliantTrain:
                 return step, tau, y, (bounce, flight_lift, gap)
             y = lay.lifted(lay.chain(y), 0.0, v)
             first = True
-            while True:  # the flight's stretches, each on one system
+            for _ in range(MAX_SWITCHES):  # the flight's stretches, each on one system
                 lin, sign = (self.loaded, 1.0) if self.on_train(y[None], step, tau)[0] > 0.0 else (self.free, -1.0)
 
                 def guard(ys: np.ndarray, st: Index, ta: Index, sign: float = sign) -> np.ndarray:
@@ -324,6 +360,8 @@ class _CompliantTrain:
                     self.landing(y[None], step, tau)[0] <= self.kt * GAP_EPS * 1e-3
                 ):  # on the seat: not a change of system
                     break
+            else:  # the train's force dithering about zero (a stiff train): the diffrax model's
+                raise Unsure("the train takes hold of the rebounding valve and lets it go beyond count")
         raise Unsure("the valve rattles on its seat beyond the rebounds followed")
 
 

@@ -86,14 +86,18 @@ def recur(lam: np.ndarray, g: np.ndarray, z0: np.ndarray) -> np.ndarray:
 class Linear:
     """The valve's linear system ``y' = A y + e (w0 + b)`` (y: the valve's (x, x'), or with the spring's surge chain
     its lumps' and the valve's lifts, then their speeds; e drives the last, w0 the cubic input) and its exact
-    propagators: ``expm`` of the system augmented with the input's Taylor chain and the constant."""
+    propagators: ``expm`` of the system augmented with the input's Taylor chain and the constant. ``b`` an array: a
+    constant in each state's derivative (``y' = A y + b + e w0``)."""
 
-    def __init__(self, a: np.ndarray, b: float, taylor: np.ndarray, h: float) -> None:
+    def __init__(self, a: np.ndarray, b: float | np.ndarray, taylor: np.ndarray, h: float) -> None:
         n = a.shape[0]
         z = np.zeros((n + ORDER + 1, n + ORDER + 1))
         z[:n, :n] = a
         z[n - 1, n] = 1.0  # the input drives the last state's derivative
-        z[n - 1, n + ORDER] = b
+        if np.ndim(b):  # a constant in every derivative (two masses flying together)
+            z[:n, n + ORDER] = b
+        else:
+            z[n - 1, n + ORDER] = b
         for i in range(ORDER - 1):
             z[n + i, n + i + 1] = 1.0
         self.z, self.n, self.taylor, self.h = z, n, taylor, h

@@ -14,6 +14,7 @@ from ..motion import Motion
 from ..valvetrain import ValvetrainModel
 from ._response import first_zero_speed, scan_speeds
 from ._valvefast import Floated, ValveSummary, fast_valve_summary
+from ._valvefloat import follows_floats
 from ._valveresponse import ValvetrainResponse
 from ._valvetrain import NO_EVENT, valvetrain_response
 
@@ -38,18 +39,26 @@ class ValvePoint:
     diffrax model's :func:`~camdyn.model.dynamics.valvetrain_response` (run once, when first asked) for what it
     does not: everything where the fast path cannot say, all but the float verdict and the least force (0) where
     the valve surely floats. The same names as the response's. Nothing is computed until a number is asked for.
-    ``fast``: False leaves the fast path out (a speed past the float speed, where it would mostly say only that the
-    valve floats, and the diffrax model runs anyway)."""
+    ``fast``: False leaves the fast path out. ``floats``: a speed past the float speed, where the fast path follows
+    the float through (:func:`fast_valve_summary`'s ``floats``) instead of saying only that the valve floats."""
 
-    def __init__(self, motion: Motion, vt: ValvetrainModel, omega: float, *, fast: bool = True) -> None:
+    def __init__(
+        self, motion: Motion, vt: ValvetrainModel, omega: float, *, fast: bool = True, floats: bool = False
+    ) -> None:
         self.omega = float(omega)
-        self._motion, self._vt, self._try_fast = motion, vt, fast
+        # past the float speed a valvetrain whose floats the fast path cannot follow goes to the diffrax model at
+        # once: the fast path would say only that the valve floats
+        floats = bool(floats)
+        self._try_fast, self._floats = fast and (follows_floats(vt) or not floats), floats
+        self._motion, self._vt = motion, vt
         self._response: ValvetrainResponse | None = None
 
     @functools.cached_property
     def _fast(self) -> ValveSummary | Floated | None:
         """The fast path's answer (:func:`fast_valve_summary`), on first use."""
-        return fast_valve_summary(self._motion, self._vt, self.omega) if self._try_fast else None
+        if not self._try_fast:
+            return None
+        return fast_valve_summary(self._motion, self._vt, self.omega, floats=self._floats)
 
     @property
     def fast(self) -> bool:
@@ -84,7 +93,9 @@ class ValvePoint:
         fast = self._fast
         if isinstance(fast, Floated):
             return fast.least_force
-        return float(fast.least_event_force if isinstance(fast, ValveSummary) else self.response.float_force)
+        if isinstance(fast, ValveSummary):
+            return float(fast.hold_force if fast.floated else fast.least_event_force)
+        return float(self.response.float_force)
 
     least_event_force_deg = _read("least_event_force_deg")
     least_train_force = _read("least_train_force")
