@@ -70,7 +70,7 @@ from ._valveevent import (
 )
 from ._valvefield import GAP_EPS
 from ._valveflight import FollowerFlights
-from ._valvefloat import EventRows, ValveFloats, float_start, least_rows
+from ._valvefloat import EventRows, ValveFloats, least_rows
 from ._valvelinear import Index, Linear, Unsure, cross, lower_bound, rise, step_bounds, stretch_to
 from ._valvetrain import landing_floor
 
@@ -299,7 +299,7 @@ class _CompliantTrain:
         floats = ValveFloats(self.motion, self.vt, self.w, self.rev, (self.loaded, self.free), constants(self.vt))
         rows = EventRows()
         floats.rows_on_cam(rows, ys[:opens], idx[:opens], np.zeros(opens))
-        tau, y = float_start(floats, int(idx[opens]) - 1, ys[opens - 1])
+        tau, y = floats.start(int(idx[opens]) - 1, ys[opens - 1])
         step, tau, y = floats.event(int(idx[opens]) - 1, tau, y, rows, half_lift)
         least_force, least_deg, least_train, hold, max_lift = least_rows(rows)
         seating = (abs(float(y[1])) * self.w, self.rev.deg(step, tau))

@@ -10,11 +10,11 @@ a linear system in (x_c, x_c', x_v, x_v') while the train pushes, and two uncoup
 force, the valve on its spring) while it does not. So a float runs on the fast path's exact propagators, each
 stretch to the first of its guards (the follower landing on the cam, the train taking hold or letting go), and the
 landing follows the diffrax model's rule (the cam's restitution, or held where the rebound is below the landing
-floor); back on the cam the valve rides its train again (the fast path's own system) to the next float or to its
-seating. What the diffrax model's revolution gives of the event (its least forces on the output grid, the valve's
-largest lift and gap, the seating) is gathered on the way. Anything else (the valve seating or the train lifting
-it while the follower flies, a rocker, whose ratio moves with the flying follower, the spring's surge chain) is
-:class:`~._valvelinear.Unsure`: the diffrax model's."""
+floor); back on the cam the valve rides its train, or flies off it on its spring (the fast path's own systems), to
+the next float or to its seating. What the diffrax model's revolution gives of the event (its least forces on the
+output grid, the valve's largest lift and gap, the seating) is gathered on the way. Anything else (the valve seating
+or the train lifting it while the follower flies, a rocker, whose ratio moves with the flying follower, the spring's
+surge chain, a chatter of the train about zero force) is :class:`~._valvelinear.Unsure`: the diffrax model's."""
 
 from __future__ import annotations
 
@@ -98,8 +98,8 @@ class ValveFloats:
         b_pushed = np.array([0.0, (r * kt * self.lash - self.tappet) / mc, 0.0, (-kt * self.lash - self.f0) / mv])
         b_apart = np.array([0.0, -self.tappet / mc, 0.0, -self.f0 / mv])
         self.systems = {True: Linear(pushed, b_pushed, still, rev.h), False: Linear(apart, b_apart, still, rev.h)}
-        # the cam's lift and its slope between the fine angles
         self.stretches = 0  # :meth:`_stretch`'s count
+        # the cam's lift and its slope between the fine angles
         self.cam, self.slope = hermite_taylor(rev.s, rev.s1, rev.h), hermite_taylor(rev.s1, rev.s2, rev.h)
 
     def _stretch(self, lin: Linear, step: int, tau: float, y: np.ndarray, guard, fresh: bool = False):
@@ -175,6 +175,14 @@ class ValveFloats:
         return np.degrees(self.rev.th0 + steps * self.rev.h) % 360.0
 
     # -- the event --------------------------------------------------------------------------------------------------
+
+    def start(self, step: int, y: np.ndarray) -> tuple[float, np.ndarray]:
+        """Where in fine ``step`` (from the valve's state ``y`` at its start, on its train) the cam's force falls
+        below the diffrax model's threshold: (rad into the step, the valve's state there)."""
+        got = cross(self.loaded, step, 0.0, y, self.rev.h, lambda ys, st, ta: self._on_cam(ys, st, ta)[0], False)
+        if got is None:
+            raise Unsure("the float's start lost")
+        return got
 
     def event(
         self, step: int, tau: float, y: np.ndarray, rows: EventRows, half_lift: float
@@ -252,19 +260,6 @@ class ValveFloats:
                 return step, tau, z[_X_V:]
             pushing = bool(self._train(z[_X_C], z[_P_C], z[_X_V], z[_P_V])[0] > 0.0)
         raise Unsure("the follower rattles on the cam")
-
-
-def float_start(floats: ValveFloats, step: int, y: np.ndarray) -> tuple[float, np.ndarray]:
-    """Where in fine ``step`` (from the valve's state ``y`` at its start, on its train) the cam's force falls below
-    the diffrax model's threshold: (rad into the step, the valve's state there)."""
-
-    def guard(ys: np.ndarray, st: Index, ta: Index) -> np.ndarray:
-        return floats._on_cam(ys, st, ta)[0]
-
-    got = cross(floats.loaded, step, 0.0, y, floats.rev.h, guard, False)
-    if got is None:
-        raise Unsure("the float's start lost")
-    return got
 
 
 def least_rows(rows: EventRows) -> tuple[float, float, float, float, float]:
