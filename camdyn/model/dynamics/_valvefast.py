@@ -30,9 +30,10 @@ compliant cam contact; a rigid train with the spring's surge chain). A flight of
 valve sits on its seat (a ramp that decelerates faster than the tappet force pulls) is followed to its landing
 (:mod:`._valveflight`): the valve's event is unchanged. Where the cam contact's force crosses zero on the exact
 solution before anything else opens, the valve floats there for sure: :class:`Floated`, with what happens next left
-to the diffrax model. A rigid train needs no integration in the event: the valve moves with the cam from the lash's
-closing to its seating, the forces algebraic in the angle (:func:`_rigid_train`); its rebounds fly on the spring
-alone.
+to the diffrax model, or with ``floats`` (the bounce search past the float speed) followed through its flights and
+landings (:mod:`._valvefloat`). A rigid train needs no integration in the event: the valve moves with the cam from
+the lash's closing to its seating, the forces algebraic in the angle (:func:`_rigid_train`); its rebounds fly on the
+spring alone.
 
 With the spring's surge chain (``[spring] model = "surge"``) the valve's system carries the chain's inner lumps
 (:func:`._valveevent.valve_matrix`: still linear, one mode a lump more) and the chain rings on while the valve is
