@@ -77,7 +77,7 @@ class Revolution(NamedTuple):
     """One revolution on the fine grid (``h`` rad a step) from the diffrax model's start angle ``th0`` (rad), one
     angle past its end: the cam's lift s, s', s'' (m, m/rad, m/rad^2) and its lift at the valve through the rocker
     g, g', g'' with the ratio r and r' = dr/dx_c at the cam's lift (known functions of the angle: on the fast path
-    the follower moves with the cam), and g's cubic Hermite on each fine step (Taylor coefficients)."""
+    the follower moves with the cam), and the cubic Hermites of g and of s on each fine step (Taylor coefficients)."""
 
     s: np.ndarray
     s1: np.ndarray
@@ -90,11 +90,17 @@ class Revolution(NamedTuple):
     th0: float
     h: float
     cam: np.ndarray
+    lift: np.ndarray
 
     def at_valve(self, steps: np.ndarray, taus: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """The cam's lift at the valve g (m) and its slope g' (m/rad) ``taus`` rad into fine ``steps`` (arrays of one
         shape): sampled on the fine angles, on each step's cubic Hermite between them (where a guard is cut)."""
         return hermite_at(self.cam, self.g, self.g1, steps, taus)
+
+    def at_cam(self, steps: np.ndarray, taus: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The cam's own lift s (m) and slope s' (m/rad) ``taus`` rad into fine ``steps``, as :meth:`at_valve`
+        (where a flying follower's landing is cut)."""
+        return hermite_at(self.lift, self.s, self.s1, steps, taus)
 
     @property
     def out_node(self) -> np.ndarray:
@@ -117,7 +123,10 @@ def revolution(motion: Motion, vt: ValvetrainModel, n: int) -> Revolution:
     g, ratio, ratio1 = vt.host_lever(s)
     ratio, ratio1 = np.broadcast_to(ratio, s.shape), np.broadcast_to(ratio1, s.shape)
     g1 = ratio * s1
-    return Revolution(s, s1, s2, g, g1, ratio1 * s1**2 + ratio * s2, ratio, ratio1, i0 * h, h, hermite_taylor(g, g1, h))
+    g2 = ratio1 * s1**2 + ratio * s2
+    return Revolution(
+        s, s1, s2, g, g1, g2, ratio, ratio1, i0 * h, h, hermite_taylor(g, g1, h), hermite_taylor(s, s1, h)
+    )
 
 
 def exact_at_valve(motion: Motion, vt: ValvetrainModel, theta: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

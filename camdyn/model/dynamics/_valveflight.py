@@ -25,7 +25,6 @@ import numpy as np
 from ..._core.units import M_PER_MM
 from ..motion import Motion
 from ..valvetrain import ValvetrainModel
-from ._cubic import hermite_at, hermite_taylor
 from ._valvefield import GAP_EPS
 from ._valvelinear import ORDER, Index, Linear, Unsure, rise, step_bounds, stretch_to
 from ._valvetrain import landing_floor
@@ -53,7 +52,6 @@ class FollowerFlights:
         self.r = None if vt.rocker is not None else float(vt.ratio)
         ratio = float(vt.ratio)
         self.lever = vt.rocker.bound_lever() if vt.rocker is not None else (lambda x: (ratio * x, ratio, 0.0))
-        self.cam = hermite_taylor(rev.s, rev.s1, rev.h)  # the cam's lift between the fine angles
 
     @functools.cached_property
     def _systems(self) -> tuple[Linear, Linear]:
@@ -68,7 +66,7 @@ class FollowerFlights:
         """The cam's lift s (m) and slope s' (m/rad) ``taus`` rad into fine ``steps``: on the fine angles, on each
         step's cubic Hermite between them."""
         steps, taus = np.broadcast_to(steps, (size,)), np.broadcast_to(taus, (size,))
-        return hermite_at(self.cam, self.rev.s, self.rev.s1, steps, taus)
+        return self.rev.at_cam(steps, taus)
 
     def _guards(self, ys: np.ndarray, steps: Index, taus: Index) -> np.ndarray:
         """(3, len(ys)), each > 0 while its mode holds (N): the train's hold on the follower (its least of the
@@ -176,7 +174,7 @@ class FollowerFlights:
         assert self.vt.rocker is not None  # a constant ratio's push is linear: :attr:`_systems`
         lever = self.vt.rocker.bound_lever(scalar=True)
         kt, ct, w, lash, tappet = self.kt, self.ct, self.w, self.lash, self.tappet
-        mw2, h, nf = self.m_c * w * w, self.rev.h, len(self.cam)
+        mw2, h, nf = self.m_c * w * w, self.rev.h, len(self.rev.lift)
 
         def acc(x: float, p: float) -> float:
             g, r, _ = lever(x)

@@ -99,8 +99,7 @@ class ValveFloats:
         b_apart = np.array([0.0, -self.tappet / mc, 0.0, -self.f0 / mv])
         self.systems = {True: Linear(pushed, b_pushed, still, rev.h), False: Linear(apart, b_apart, still, rev.h)}
         self.stretches = 0  # :meth:`_stretch`'s count
-        # the cam's lift and its slope between the fine angles
-        self.cam, self.slope = hermite_taylor(rev.s, rev.s1, rev.h), hermite_taylor(rev.s1, rev.s2, rev.h)
+        self.slope = hermite_taylor(rev.s1, rev.s2, rev.h)  # the cam's slope between the fine angles
 
     def _stretch(self, lin: Linear, step: int, tau: float, y: np.ndarray, guard, fresh: bool = False):
         """:func:`~._valvelinear.stretch_to`, counted against the event's :data:`_MAX_STRETCHES`."""
@@ -119,8 +118,8 @@ class ValveFloats:
         rev = self.rev
         if not taus.any():  # the fine angles themselves (a stretch's march)
             return rev.s[steps], rev.s1[steps], rev.s2[steps]
-        s, s1 = hermite_at(self.cam, self.rev.s, self.rev.s1, steps, taus)
-        _, s2 = hermite_at(self.slope, self.rev.s1, self.rev.s2, steps, taus)
+        s, s1 = rev.at_cam(steps, taus)
+        _, s2 = hermite_at(self.slope, rev.s1, rev.s2, steps, taus)
         return s, s1, s2
 
     def _train(self, xc, pc, xv, pv) -> tuple[np.ndarray, np.ndarray]:

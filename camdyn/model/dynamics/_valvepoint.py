@@ -39,17 +39,15 @@ class ValvePoint:
     diffrax model's :func:`~camdyn.model.dynamics.valvetrain_response` (run once, when first asked) for what it
     does not: everything where the fast path cannot say, all but the float verdict and the least force (0) where
     the valve surely floats. The same names as the response's. Nothing is computed until a number is asked for.
-    ``fast``: False leaves the fast path out. ``floats``: a speed past the float speed, where the fast path follows
-    the float through (:func:`fast_valve_summary`'s ``floats``) instead of saying only that the valve floats."""
+    ``floats``: a speed past the float speed, where the fast path follows the float through
+    (:func:`fast_valve_summary`'s ``floats``) instead of saying only that the valve floats."""
 
-    def __init__(
-        self, motion: Motion, vt: ValvetrainModel, omega: float, *, fast: bool = True, floats: bool = False
-    ) -> None:
+    def __init__(self, motion: Motion, vt: ValvetrainModel, omega: float, *, floats: bool = False) -> None:
         self.omega = float(omega)
         # past the float speed a valvetrain whose floats the fast path cannot follow goes to the diffrax model at
         # once: the fast path would say only that the valve floats
         floats = bool(floats)
-        self._try_fast, self._floats = fast and (follows_floats(vt) or not floats), floats
+        self._try_fast, self._floats = follows_floats(vt) or not floats, floats
         self._motion, self._vt = motion, vt
         self._response: ValvetrainResponse | None = None
 
