@@ -49,9 +49,9 @@ CASE = HERE.parent / "cases" / "lecture.toml"
 def gradient_rows(rows: Rows) -> list[tuple[str, str, str]]:
     z = jnp.asarray(rows.space.z0)
     sp = jnp.asarray(speed_slots(_speed_set(500.0 * RPM)))
-    rows.force_jacobian(z, sp, None)[1].block_until_ready()  # compile
-    t_ad, (_, J) = timed(lambda: [a.block_until_ready() for a in rows.force_jacobian(z, sp, None)], repeat=5)
-    f = jax.jit(lambda x: rows.forces(x, sp)[:, rows.sampled].ravel())  # the force alone, compiled
+    rows.slack_jacobian(z, sp)[1].block_until_ready()  # compile (or load the stored program)
+    t_ad, (_, J) = timed(lambda: [a.block_until_ready() for a in rows.slack_jacobian(z, sp)], repeat=5)
+    f = jax.jit(lambda x: rows.kernel.sampled_slack(x, sp, False))  # the force over its margin alone, compiled
     f(z).block_until_ready()
     h = 1e-6
 
@@ -78,14 +78,14 @@ def inner_rows(rows: Rows, rpm: float) -> list[tuple[str, str, str]]:
     w = rpm * RPM
     sp = jnp.asarray(speed_slots(_speed_set(w)))
     scale = float(rows.case.model.preload)
-    values = lambda z: rows.force_jacobian(z, sp, None)  # noqa: E731
+    values = lambda z: rows.slack_jacobian(z, sp)  # noqa: E731
     values(jnp.asarray(rows.space.z0))
     rows.geometry_jacobian(jnp.asarray(rows.space.z0))
     t_slp, step = timed(lambda: maximize_least(values, rows.geometry_jacobian, rows.space.z0, radius=0.2, scale=scale))
     slp_full = least_slack(rows, step.x, w)[0]
 
     every = np.arange(0, rows.space.theta.size, 16)
-    fz = with_jacobian(lambda z: rows.forces(z, sp)[:, every].ravel())
+    fz = with_jacobian(lambda z: rows.kernel.slack(z, sp)[:, every].ravel())
     gz = rows.geometry_jacobian
     n = rows.space.n_free
     cache: dict = {}
