@@ -2,13 +2,14 @@
 
 from __future__ import annotations
 
-import io
 import re
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING
 
 import matplotlib
+import numpy as np
+from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.backends.backend_pdf import PdfPages
 from matplotlib.figure import Figure
 from PIL import Image, PngImagePlugin
@@ -21,7 +22,7 @@ from ..design.review import Review, design_review
 from ..model.case import build_case, load_case
 from ._data import ReportData
 from ._layout import camdyn_version, header
-from ._style import A4, DPI, style
+from ._style import A4, DPI, plain_ticks, style
 from .pages import PAGES, Page
 
 if TYPE_CHECKING:
@@ -75,6 +76,7 @@ def render(review: Review, out_dir: Path, *, progress: Progress | None = None) -
             fig = Figure(figsize=A4)
             header(fig, data, page.title, i, len(pages))
             page.draw(fig, data)
+            plain_ticks(fig)
             pdf.savefig(fig)
             png = out_dir / png_names[i - 1]
             _save_png(fig, png, version)
@@ -86,16 +88,21 @@ def render(review: Review, out_dir: Path, *, progress: Progress | None = None) -
     return Written(out_dir / pdf_name, tuple(pngs), tuple(p.title for p in pages), data.check.verdict)
 
 
-def _save_png(fig, path: Path, version: str) -> None:
-    """The page as a full-colour RGB PNG (the PDF's colours exactly: no palette), without the alpha channel."""
-    buf = io.BytesIO()
-    fig.savefig(buf, dpi=DPI, format="png")
-    buf.seek(0)
-    with Image.open(buf) as im:
-        rgb = im.convert("RGB")
+def _save_png(fig: Figure, path: Path, version: str) -> None:
+    """The page as a full-colour RGB PNG (the PDF's colours exactly: no palette), without the alpha channel: drawn
+    at :data:`DPI` into Agg's buffer and written once by PIL at zlib's default level (matplotlib's own PNG, read
+    back, and PIL's ``optimize`` took half of a report's writing for files 2-5 % smaller)."""
+    dpi = fig.dpi
+    fig.dpi = DPI
+    try:
+        canvas = FigureCanvasAgg(fig)
+        canvas.draw()
+        rgb = Image.fromarray(np.asarray(canvas.buffer_rgba())).convert("RGB")
+    finally:
+        fig.dpi = dpi
     info = PngImagePlugin.PngInfo()
     info.add_text("Software", f"camdyn {version}")
-    rgb.save(path, format="PNG", optimize=True, pnginfo=info)
+    rgb.save(path, format="PNG", pnginfo=info)
 
 
 def write_report(

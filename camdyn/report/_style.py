@@ -7,6 +7,8 @@ from contextlib import contextmanager
 from typing import Any
 
 import matplotlib
+from matplotlib.figure import Figure
+from matplotlib.ticker import ScalarFormatter
 from matplotlib.typing import RcKeyType
 
 from ..plot import PALETTE as C  # noqa: F401  (one meaning per colour, on every page)
@@ -48,6 +50,27 @@ STYLE: dict[RcKeyType, Any] = {
     "axes.formatter.limits": (-4, 5),
     "svg.hashsalt": "camdyn",
 }
+
+
+_MATH = r"$\mathdefault{"  # how ScalarFormatter wraps a label it typesets as mathematics
+
+
+class PlainTicks(ScalarFormatter):
+    """The style's tick labels as plain text: ``axes.formatter.use_mathtext`` is for the offset's "x 10^n", but it
+    typesets every tick label as mathematics too (a tenth of a report's drawing time), in the same glyphs."""
+
+    def __call__(self, x: float, pos: int | None = None) -> str:
+        label = super().__call__(x, pos)
+        return label[len(_MATH) : -2] if label.startswith(_MATH) and label.endswith("}$") else label
+
+
+def plain_ticks(fig: Figure) -> None:
+    """Every axis of ``fig`` that labels its ticks with matplotlib's default formatter labels them with
+    :class:`PlainTicks` (called within :func:`style`, whose settings the new formatters take)."""
+    for ax in fig.axes:
+        for axis in (ax.xaxis, ax.yaxis):
+            if type(axis.get_major_formatter()) is ScalarFormatter:
+                axis.set_major_formatter(PlainTicks())
 
 
 @contextmanager
