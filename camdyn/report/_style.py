@@ -67,7 +67,10 @@ class PlainTicks(ScalarFormatter):
 def plain_ticks(fig: Figure) -> None:
     """Every axis of ``fig`` that labels its ticks with matplotlib's default formatter labels them with
     :class:`PlainTicks` (called within :func:`style`, whose settings the new formatters take)."""
-    for ax in fig.axes:
+    axes = list(fig.axes)
+    while axes:
+        ax = axes.pop()
+        axes.extend(ax.child_axes)  # a secondary axis (another unit on the same scale)
         for axis in (ax.xaxis, ax.yaxis):
             if type(axis.get_major_formatter()) is ScalarFormatter:
                 axis.set_major_formatter(PlainTicks())
