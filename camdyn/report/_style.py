@@ -67,7 +67,7 @@ class PlainTicks(ScalarFormatter):
 def plain_ticks(fig: Figure) -> None:
     """Every axis of ``fig`` that labels its ticks with matplotlib's default formatter labels them with
     :class:`PlainTicks` (called within :func:`style`, whose settings the new formatters take)."""
-    axes = list(fig.axes)
+    axes: list[Any] = list(fig.axes)  # Axes, and their children (matplotlib types those as its private base)
     while axes:
         ax = axes.pop()
         axes.extend(ax.child_axes)  # a secondary axis (another unit on the same scale)
