@@ -674,8 +674,9 @@ def test_a_valve_far_past_float_never_goes_through_its_seat():
 
 
 def test_cams_of_other_segment_counts_share_the_stretch_program():
-    """The stretches' jump times (every break over the revolutions marched) are padded with +inf to 32, 128, ...:
-    cams of four and of five segments give the stretch's stored program arguments of one shape."""
+    """The stretches' jump times (every break over the revolutions marched) are padded with +inf to 512, 2048, ...:
+    cams of four, five, eight (the shipped valvetrain's) and 28 segments (its optimized B-spline's breaks) give the
+    stretch's stored program arguments of one shape (a valve cam of five segments compiled its own: 3 s)."""
     from camdyn.model.dynamics._valvetrain import _jump_angles
     from camdyn.model.motion import Program
 
@@ -689,10 +690,12 @@ def test_cams_of_other_segment_counts_share_the_stretch_program():
             ]
         )
 
-    four, five = _jump_angles(cam(4)), _jump_angles(cam(5))
-    assert four.shape == five.shape == (32,)
+    four, five, eight, many = (_jump_angles(cam(n)) for n in (4, 5, 8, 28))
+    assert four.shape == five.shape == eight.shape == many.shape == (512,)
     assert np.isfinite(four).sum() == 24 and np.isfinite(five).sum() == 30 and np.all(np.diff(five[:30]) > 0)
-    assert np.isinf(five[30:]).all() and np.isinf(four[24:]).all()
+    assert np.isfinite(many).sum() == 168 and np.all(np.diff(many[:168]) > 0)
+    assert np.isinf(five[30:]).all() and np.isinf(four[24:]).all() and np.isinf(many[168:]).all()
+    assert _jump_angles(cam(90)).shape == (2048,)  # past 85 segments, the next bucket
 
 
 def _decelerating_ramp(tappet_force: float):

@@ -27,14 +27,16 @@ from ._valveresponse import ValveEvent, ValvetrainResponse
 
 _MAX_EVENTS = 2000  # per revolution: bounces beyond it leave the valve or the follower not settled
 _REVS = 3  # revolutions at most to reach the periodic steady state
-_JUMP_ROWS = 32  # the stretches' jump times are padded to 32, 128, 512, ... (+inf)
+_JUMP_ROWS = 512  # the stretches' jump times are padded to 512, 2048, ... (+inf): any cam of up to 85 segments
 NO_EVENT = 1e300  # N: the float search's least force at a speed where the valve does not lift (it wants finite)
 
 
 def _jump_angles(motion: Motion) -> np.ndarray:
     """The motion's segment boundaries (rad) over every revolution a response marches: the stretches' jump times,
-    padded with +inf to a bucket of lengths (32, 128, ...), so that cams with other numbers of segments share the
-    stretch's stored program (a compile of about 3 s)."""
+    padded with +inf to a bucket of lengths (512, 2048, ...), so that cams with other numbers of segments share the
+    stretch's stored program (a compile of about 3 s). One bucket up to 85 segments: a valve cam of five segments
+    (32 angles once) compiled a program of its own where the shipped ones have 8 and 28; the controller finds its
+    next jump from the last (diffrax's hint), so the padding costs nothing a step."""
     breaks = np.deg2rad(np.asarray(motion.breaks_deg, dtype=float))
     jumps = np.sort((breaks[None, :] + TWO_PI * np.arange(-1, _REVS + 2)[:, None]).ravel())
     return np.pad(jumps, (0, padded_length(jumps.size, _JUMP_ROWS) - jumps.size), constant_values=np.inf)
