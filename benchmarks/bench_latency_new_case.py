@@ -10,10 +10,13 @@ or ``$XDG_CACHE_HOME/camdyn``), which are NOT cleared: the point is a cache warm
 (c) the 1000-segment program: alternating cycloids of 0.36 deg each, +-1 mm give or take a random half millimetre
     (so its numbers are new to the caches too), its first ``check``;
 (d) the same for a rigid follower (the lecture without its train's stiffness and damping): the rigid lecture warm,
-    then a never-seen rigid case (another random segment list), its first ``check``.
-Prints each wall time and its ratio to (a) (for (d), to the rigid lecture's warm check), and for (b), (c) and (d)
-their ratio to a second ``check`` of the same case (its own warm check: what the caches leave of a first one, the
-case's own work apart). The machine may be shared: the load average is printed.
+    then a never-seen rigid case (another random segment list), its first ``check``;
+(e) a new user's valve cam: ``cases/valvetrain.toml`` warm, then its train under a random segment list;
+(f) and indexer: ``cases/oscillating.toml`` warm, then its arm under a random segment list.
+Prints each wall time and its ratio to its shipped case's warm check ((a), the rigid lecture's, the valvetrain's, the
+oscillating case's), and for the never-seen cases their ratio to a second ``check`` of the same case (its own warm
+check: what the caches leave of a first one, the case's own work apart). The machine may be shared: the load average
+is printed.
 """
 
 from __future__ import annotations
@@ -45,12 +48,12 @@ def rigid(text: str) -> str:
     return "".join(line for line in text.splitlines(True) if not line.startswith(("train_stiffness", "train_damping")))
 
 
-def lecture_with(segments: str, name: str) -> str:
-    """cases/lecture.toml with its segment list replaced."""
-    text = (ROOT / "cases" / "lecture.toml").read_text()
+def lecture_with(segments: str, name: str, shipped: str = "lecture") -> str:
+    """cases/<shipped>.toml with its segment list replaced."""
+    text = (ROOT / "cases" / f"{shipped}.toml").read_text()
     head, rest = text.split("segments = [", 1)
     tail = rest.split("]\n", 1)[1]
-    return head.replace('name = "lecture"', f'name = "{name}"') + "segments = [\n" + segments + "]\n" + tail
+    return head.replace(f'name = "{shipped}"', f'name = "{name}"') + "segments = [\n" + segments + "]\n" + tail
 
 
 def random_segments(rng: random.Random) -> str:
@@ -92,32 +95,50 @@ def main() -> int:
     rigid_lecture, rigid_new = tmp / "lecture-rigid.toml", tmp / "new-rigid.toml"
     rigid_lecture.write_text(rigid((ROOT / "cases" / "lecture.toml").read_text()))
     rigid_new.write_text(rigid(lecture_with(random_segments(rng), "never-seen-rigid")))
+    valve, indexer = tmp / "new-valve.toml", tmp / "new-indexer.toml"
+    valve.write_text(lecture_with(random_segments(rng), "never-seen-valve", "valvetrain"))
+    indexer.write_text(lecture_with(random_segments(rng), "never-seen-indexer", "oscillating"))
 
-    check_time(ROOT / "cases" / "lecture.toml")  # fills the caches if they are empty
-    warm = min(check_time(ROOT / "cases" / "lecture.toml")[0] for _ in range(opts.repeat))
-    t_new, rc_new = check_time(new)
-    t_1000, rc_1000 = check_time(thousand)
-    # each case's own warm check: a failing case (the follower bouncing for dozens of revolutions of the shooting)
-    # costs more than the lecture however warm the caches, and this ratio is the caches' share alone
-    t_new2, t_10002 = check_time(new)[0], check_time(thousand)[0]
-    check_time(rigid_lecture)
-    warm_rigid = min(check_time(rigid_lecture)[0] for _ in range(opts.repeat))
-    t_rigid, rc_rigid = check_time(rigid_new)
-    t_rigid2 = check_time(rigid_new)[0]
+    def warm_check(case: Path) -> float:
+        check_time(case)  # fills the caches if they are empty
+        return min(check_time(case)[0] for _ in range(opts.repeat))
+
+    def first_check(case: Path) -> tuple[float, int, float]:
+        """A never-seen case's first check (wall, exit code) and its second (its own warm check)."""
+        first, rc = check_time(case)
+        return first, rc, check_time(case)[0]
+
+    # (label of the shipped case's warm check, its wall, [(never-seen case, first, exit, its own warm)])
+    groups = []
+    for label, shipped, news in (
+        (
+            "check cases/lecture.toml, warm caches",
+            ROOT / "cases" / "lecture.toml",
+            [("a never-seen case", new), ("1000 cycloids", thousand)],
+        ),
+        ("check of the lecture, rigid follower, warm caches", rigid_lecture, [("a never-seen rigid case", rigid_new)]),
+        (
+            "check cases/valvetrain.toml, warm caches",
+            ROOT / "cases" / "valvetrain.toml",
+            [("a never-seen valve", valve)],
+        ),
+        (
+            "check cases/oscillating.toml, warm caches",
+            ROOT / "cases" / "oscillating.toml",
+            [("a never-seen indexer", indexer)],
+        ),
+    ):
+        # each case's own warm check: a failing case (the follower bouncing for dozens of revolutions of the
+        # shooting) costs more than its shipped case however warm the caches, and this ratio is the caches' share
+        unit = warm_check(shipped)
+        groups.append((label, unit, [(name, *first_check(case)) for name, case in news]))
     print(f"load average {os.getloadavg()[0]:.1f} on {os.cpu_count()} CPUs; cases in {tmp}")
     print(f"{'what':<52} {'wall':>8} {'/ warm':>8} {'/ its own warm':>15}")
-    print(f"{'check cases/lecture.toml, warm caches':<52} {warm:7.2f}s {1.0:8.2f}")
-    for name, first, rc, again, unit in (
-        ("a never-seen case", t_new, rc_new, t_new2, warm),
-        ("1000 cycloids", t_1000, rc_1000, t_10002, warm),
-        (None, warm_rigid, 0, warm_rigid, warm_rigid),
-        ("a never-seen rigid case", t_rigid, rc_rigid, t_rigid2, warm_rigid),
-    ):
-        if name is None:
-            print(f"{'check of the lecture, rigid follower, warm caches':<52} {first:7.2f}s {1.0:8.2f}")
-            continue
-        print(f"{f'first check of {name} (exit {rc})':<52} {first:7.2f}s {first / unit:8.2f} {first / again:15.2f}")
-        print(f"{'  its second check':<52} {again:7.2f}s {again / unit:8.2f}")
+    for label, unit, news in groups:
+        print(f"{label:<52} {unit:7.2f}s {1.0:8.2f}")
+        for name, first, rc, again in news:
+            print(f"{f'first check of {name} (exit {rc})':<52} {first:7.2f}s {first / unit:8.2f} {first / again:15.2f}")
+            print(f"{'  its second check':<52} {again:7.2f}s {again / unit:8.2f}")
     return 0
 
 
