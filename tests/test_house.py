@@ -179,6 +179,20 @@ def test_check_imports_only_what_it_uses():
 
 
 @pytest.mark.slow
+def test_sweep_imports_only_what_it_uses():
+    """`camdyn sweep` draws a map: it loads matplotlib, not the design review, the tolerance studies (scipy.stats,
+    1 s) nor the spring sizing (scipy.optimize), which the plot package's modules once imported for their results'
+    types and the form-closed cams' sweep for their tolerance study."""
+    proc = _fresh(
+        "import sys\nimport camdyn.cli.sweep\n"
+        "heavy = ('scipy.stats', 'scipy.optimize', 'camdyn.design.review', 'camdyn.design.tolerance',"
+        " 'camdyn.design.sizing', 'camdyn.report')\n"
+        "print('matplotlib' in sys.modules, sorted(m for m in heavy if m in sys.modules))"
+    )
+    assert proc.stdout.strip().splitlines()[-1] == "True []", proc.stderr[-2000:]
+
+
+@pytest.mark.slow
 def test_a_stored_check_loads_no_ode_solver():
     """Issue 23: a stored program is an executable, so a `check` whose programs are stored runs without diffrax,
     optimistix and lineax (0.4 s of the 1 s that ``import jax, diffrax`` takes): they load where a program is

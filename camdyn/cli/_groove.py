@@ -1,7 +1,7 @@
-"""``sweep`` and ``tolerance`` of a form-closed cam (``[follower] closure = "groove"`` or ``"conjugate"``): its
-crossover impacts over cam speed x backlash, and their distribution over the built cams, or conjugate cams' least
-cam force and least holding preload over cam speed, in place of the jump map and the probability of separation of a
-spring-held follower (a form-closed cam cannot jump)."""
+"""``sweep`` of a form-closed cam (``[follower] closure = "groove"`` or ``"conjugate"``): its crossover impacts over
+cam speed x backlash, or conjugate cams' least cam force and least holding preload over cam speed, in place of the
+jump map of a spring-held follower (a form-closed cam cannot jump); ``tolerance``'s is in :mod:`.tolerance`, which
+alone loads the tolerance studies (scipy.stats)."""
 
 from __future__ import annotations
 
@@ -13,13 +13,12 @@ import numpy as np
 from .._core.errors import InputError
 from .._core.outputs import output_dir, output_file, safe_stem, write_new
 from ..design.closure import impact_map, preload_map
-from ..design.tolerance import impact_tolerance_study
 from ..model.case import Case
-from ..plot import save_impact_histogram_png, save_impact_png, save_preload_png
-from ._console import console, json_text, progress_bar, table
+from ..plot import save_impact_png, save_preload_png
+from ._console import progress_bar
 
 
-def _outputs(args: argparse.Namespace, case: Case, suffix: str, what: str) -> tuple[Path, Path]:
+def groove_outputs(args: argparse.Namespace, case: Case, suffix: str, what: str) -> tuple[Path, Path]:
     """DIR/<case>-<suffix>.csv and .png, checked writable (and not there, without --force) before the work."""
     stem = safe_stem(case.name)  # the case's name is data, not a path: the files stay in the folder named
     paths = Path(args.output) / f"{stem}-{suffix}.csv", Path(args.output) / f"{stem}-{suffix}.png"
@@ -43,7 +42,7 @@ def sweep_groove(args: argparse.Namespace, case: Case, speeds: np.ndarray, gaps:
         return sweep_preload(args, case, speeds)
     if gaps is None:
         gaps = np.array([case.follower.backlash])
-    csv_path, png_path = _outputs(args, case, "sweep", "impact map")
+    csv_path, png_path = groove_outputs(args, case, "sweep", "impact map")
     with progress_bar(args.quiet) as progress:
         im = impact_map(case, speeds, gaps, progress=progress)
     write_new(csv_path, im.csv, True)
@@ -68,7 +67,7 @@ def sweep_groove(args: argparse.Namespace, case: Case, speeds: np.ndarray, gaps:
 def sweep_preload(args: argparse.Namespace, case: Case, speeds: np.ndarray) -> int:
     """``camdyn sweep`` of conjugate cams without backlash: DIR/<case>-sweep.csv (the least cam force and the least
     holding preload at each speed) and DIR/<case>-sweep.png."""
-    csv_path, png_path = _outputs(args, case, "sweep", "preload sweep")
+    csv_path, png_path = groove_outputs(args, case, "sweep", "preload sweep")
     with progress_bar(args.quiet) as progress:
         pm = preload_map(case, speeds, progress=progress)
     write_new(csv_path, pm.csv, True)
@@ -92,57 +91,4 @@ def sweep_preload(args: argparse.Namespace, case: Case, speeds: np.ndarray) -> i
             f"that holds there: {float(pm.least_preload[np.argmin(held)]):.4g} {unit})"
         )
     print(f"wrote {csv_path} and {png_path}")
-    return 0
-
-
-def tolerance_groove(args: argparse.Namespace, case: Case) -> int:
-    """``camdyn tolerance`` of a form-closed cam: DIR/<case>-tolerance.csv and .png of the built cams' crossover
-    impacts (conjugate cams under a preload: their least cam force) and a summary (``--json``: the document of
-    docs/contracts.md); no worst samples as case files."""
-    csv_path, png_path = _outputs(args, case, "tolerance", "tolerance study")
-    with progress_bar(args.quiet) as progress:
-        samples = 10000 if args.samples is None else args.samples
-        result = impact_tolerance_study(case, samples, args.seed, progress=progress)
-    write_new(csv_path, result.csv, True)
-    save_impact_histogram_png(result, png_path)
-    if args.json:
-        print(json_text(result.json()))
-        return 0
-    con = console()
-    lo, hi = result.confidence_interval
-    held = result.least_cam_force_N
-    if held is not None:  # conjugate cams under a preload: no impacts, whether a roller unloads
-        lo, hi = result.unloaded_interval
-        q = result.json()["least_cam_force_N"]
-        con.print(
-            f"{case.name}: {result.samples} built conjugate cams (seed {result.seed}) at {result.speed_rpm:g} rpm "
-            f"under the preload {result.preload:g} {'N*m' if case.kind.rotary else 'N'}; they cannot jump: the study "
-            "is of the least force on either cam"
-        )
-        con.print(
-            f"probability that a roller unloads: {result.unloaded_probability:.4g} (95% interval {lo:.4g} to "
-            f"{hi:.4g}); least cam force P1 {q['p1']:.4g} N, P50 {q['p50']:.4g} N, least {q['min']:.4g} N"
-        )
-        con.print(f"wrote {csv_path} and {png_path}")
-        return 0
-    con.print(
-        f"{case.name}: {result.samples} built {result.closure} cams (seed {result.seed}) at {result.speed_rpm:g} rpm; "
-        f"a {result.closure} cam cannot jump: the study is of the impacts where the follower crosses the backlash"
-    )
-    con.print(
-        f"probability of an impact speed above max_impact_velocity {result.max_impact_velocity:g} m/s: "
-        f"{result.probability:.4g} (95% interval {lo:.4g} to {hi:.4g})"
-    )
-    t = table(
-        ("quantity", "left"), ("P50", "right"), ("P95", "right"), ("P99", "right"), ("max", "right"), ("unit", "left")
-    )
-    for name, vals, unit in (
-        ("impact speed", result.impact_velocity_m_per_s, "m/s"),
-        ("impact force", result.max_impact_force_N, "N"),
-    ):
-        q = result.percentiles(vals)
-        if q is not None:
-            t.add_row(name, *(f"{q[k]:.4g}" for k in ("p50", "p95", "p99", "max")), unit)
-    con.print(t)
-    con.print(f"wrote {csv_path} and {png_path}")
     return 0

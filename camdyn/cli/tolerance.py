@@ -15,16 +15,17 @@ from .._core.outputs import output_dir, output_file, safe_stem, write_new
 from ..design.tolerance import (
     DEFAULT_VALVETRAIN_SAMPLES,
     MAX_SAMPLES,
+    impact_tolerance_study,
     tolerance_study,
     valvetrain_tolerance_study,
     worst_case_docs,
     worst_valvetrain_docs,
 )
 from ..export.toml import dumps_case
-from ..model.case import build_case
-from ..plot import save_tolerance_png, save_valve_tolerance_png
+from ..model.case import Case, build_case
+from ..plot import save_impact_histogram_png, save_tolerance_png, save_valve_tolerance_png
 from ._console import console, json_text, progress_bar, table
-from ._groove import tolerance_groove
+from ._groove import groove_outputs
 
 if TYPE_CHECKING:
     from ..design.tolerance import ToleranceResult, ValveToleranceResult
@@ -229,3 +230,56 @@ def _print_valvetrain(case, result: ValveToleranceResult, elapsed, paths, worst_
     for note in result.notes:
         con.print(f"note: {note}")
     con.print(f"wrote {paths['csv']}, {paths['png']} and the worst samples {', '.join(str(p) for p in worst_files)}")
+
+
+def tolerance_groove(args: argparse.Namespace, case: Case) -> int:
+    """``camdyn tolerance`` of a form-closed cam: DIR/<case>-tolerance.csv and .png of the built cams' crossover
+    impacts (conjugate cams under a preload: their least cam force) and a summary (``--json``: the document of
+    docs/contracts.md); no worst samples as case files."""
+    csv_path, png_path = groove_outputs(args, case, "tolerance", "tolerance study")
+    with progress_bar(args.quiet) as progress:
+        samples = 10000 if args.samples is None else args.samples
+        result = impact_tolerance_study(case, samples, args.seed, progress=progress)
+    write_new(csv_path, result.csv, True)
+    save_impact_histogram_png(result, png_path)
+    if args.json:
+        print(json_text(result.json()))
+        return 0
+    con = console()
+    lo, hi = result.confidence_interval
+    held = result.least_cam_force_N
+    if held is not None:  # conjugate cams under a preload: no impacts, whether a roller unloads
+        lo, hi = result.unloaded_interval
+        q = result.json()["least_cam_force_N"]
+        con.print(
+            f"{case.name}: {result.samples} built conjugate cams (seed {result.seed}) at {result.speed_rpm:g} rpm "
+            f"under the preload {result.preload:g} {'N*m' if case.kind.rotary else 'N'}; they cannot jump: the study "
+            "is of the least force on either cam"
+        )
+        con.print(
+            f"probability that a roller unloads: {result.unloaded_probability:.4g} (95% interval {lo:.4g} to "
+            f"{hi:.4g}); least cam force P1 {q['p1']:.4g} N, P50 {q['p50']:.4g} N, least {q['min']:.4g} N"
+        )
+        con.print(f"wrote {csv_path} and {png_path}")
+        return 0
+    con.print(
+        f"{case.name}: {result.samples} built {result.closure} cams (seed {result.seed}) at {result.speed_rpm:g} rpm; "
+        f"a {result.closure} cam cannot jump: the study is of the impacts where the follower crosses the backlash"
+    )
+    con.print(
+        f"probability of an impact speed above max_impact_velocity {result.max_impact_velocity:g} m/s: "
+        f"{result.probability:.4g} (95% interval {lo:.4g} to {hi:.4g})"
+    )
+    t = table(
+        ("quantity", "left"), ("P50", "right"), ("P95", "right"), ("P99", "right"), ("max", "right"), ("unit", "left")
+    )
+    for name, vals, unit in (
+        ("impact speed", result.impact_velocity_m_per_s, "m/s"),
+        ("impact force", result.max_impact_force_N, "N"),
+    ):
+        q = result.percentiles(vals)
+        if q is not None:
+            t.add_row(name, *(f"{q[k]:.4g}" for k in ("p50", "p95", "p99", "max")), unit)
+    con.print(t)
+    con.print(f"wrote {csv_path} and {png_path}")
+    return 0

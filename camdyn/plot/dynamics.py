@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
+from typing import TYPE_CHECKING
 
 import numpy as np
 from matplotlib.axes import Axes
@@ -12,10 +13,12 @@ from matplotlib.axes import Axes
 from .._core.kinds import kind_of_motion
 from .._core.results import Unavailable
 from .._core.units import RPM
-from ..design.review import Review
 from ..model.dynamics import Response
 from ._common import C, deg_ticks, legend_above_data, legend_clear, mark_breaks, shade_separations
 from .motion import display_scale, display_unit
+
+if TYPE_CHECKING:  # the results' types: a command that draws one loads no other's design module
+    from ..design.review import Review
 
 
 def flights_by_gap(response: Response) -> list:

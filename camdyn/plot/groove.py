@@ -7,6 +7,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 from matplotlib.axes import Axes
@@ -16,8 +17,6 @@ from matplotlib.patches import Circle, Polygon
 
 from .._core.units import DEFAULT_MIN_CURVATURE_RATIO
 from ..design.checks import CheckKind, CheckReport
-from ..design.closure import ClosureStudy, ImpactMap, PreloadMap
-from ..design.tolerance import ImpactToleranceResult
 from ..model.geometry import ConjugateGeometry
 from ._common import C, deg_ticks, legend_above_data, mark_breaks, sample_histogram
 from .cam import (
@@ -29,6 +28,10 @@ from .cam import (
     plot_follower,
     plot_pressure_angle,
 )
+
+if TYPE_CHECKING:  # the results' types: a command that draws one loads no other's design module
+    from ..design.closure import ClosureStudy, ImpactMap, PreloadMap
+    from ..design.tolerance import ImpactToleranceResult
 
 WALL_COLOURS = {"inner": C["dyn"], "outer": C["advice"]}
 CAM_COLOURS = {"primary": C["dyn"], "conjugate": C["iso"]}

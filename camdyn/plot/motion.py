@@ -11,10 +11,10 @@ from matplotlib.axes import Axes
 
 from .._core.kinds import kind_of_motion
 from .._core.units import RPM
-from ..design.review import MotionSamples
 from ._common import C, deg_ticks, mark_breaks
 
-if TYPE_CHECKING:
+if TYPE_CHECKING:  # the results' types: a command that draws one loads no other's design module
+    from ..design.review import MotionSamples
     from ..model.geometry import ContourFit
     from ..model.motion import MotionFit
 

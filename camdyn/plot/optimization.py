@@ -4,18 +4,21 @@ force against cam speed of both with their jump speeds."""
 from __future__ import annotations
 
 from collections.abc import Sequence
+from typing import TYPE_CHECKING
 
 import numpy as np
 from matplotlib.axes import Axes
 
 from .._core.results import Unavailable
-from ..design.review import Original, Review
 from ._common import C, deg_ticks, mark_breaks
 from .motion import display_scale, svaj_quantities
 
+if TYPE_CHECKING:  # the results' types: a command that draws one loads no other's design module
+    from ..design.review import Original, Review
+
 
 def _original(review: Review) -> Original:
-    if not isinstance(review.original, Original):
+    if review.original is None or isinstance(review.original, Unavailable):
         raise ValueError(f"no original to compare {review.case.name} with: {review.original}")
     return review.original
 

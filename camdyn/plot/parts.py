@@ -2,14 +2,18 @@
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
 from matplotlib.axes import Axes
 from matplotlib.patches import Circle
 
-from ..design.spring import SpringDesign
 from ..model.contact import ContactStress
 from ..model.drive import DriveTorque
 from ._common import C, deg_ticks, mark_mean_and_peak_torque
+
+if TYPE_CHECKING:  # the results' types: a command that draws one loads no other's design module
+    from ..design.spring import SpringDesign
 
 
 def _coil_positions(design: SpringDesign) -> np.ndarray:

@@ -2,10 +2,14 @@
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
 from matplotlib.axes import Axes
 
-from ..design.sizing import SpringSizing
+if TYPE_CHECKING:  # the results' types: a command that draws one loads no other's design module
+    from ..design.sizing import SpringSizing
+
 
 # colours of plot_feasible_region by role
 PLOT_COLORS = {

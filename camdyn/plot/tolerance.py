@@ -5,13 +5,16 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 
-from ..design.tolerance import ToleranceResult, ValveToleranceResult
 from ._common import PALETTE, sample_histogram
+
+if TYPE_CHECKING:  # the results' types: a command that draws one loads no other's design module
+    from ..design.tolerance import ToleranceResult, ValveToleranceResult
 
 
 def plot_jump_speed_histogram(ax: Axes, result: ToleranceResult) -> None:
