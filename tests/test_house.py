@@ -180,9 +180,10 @@ def test_check_imports_only_what_it_uses():
 
 @pytest.mark.slow
 def test_sweep_imports_only_what_it_uses():
-    """`camdyn sweep` draws a map: it loads matplotlib, not the design review, the tolerance studies (scipy.stats,
-    1 s) nor the spring sizing (scipy.optimize), which the plot package's modules once imported for their results'
-    types and the form-closed cams' sweep for their tolerance study."""
+    """`camdyn sweep` draws a map: it loads matplotlib, not the design review, the tolerance studies (scipy.stats for
+    an interval, 1 s, until the interval's beta quantiles came from scipy.special) nor the spring sizing
+    (scipy.optimize), which the plot package's modules once imported for their results' types and the form-closed
+    cams' sweep for their tolerance study."""
     proc = _fresh(
         "import sys\nimport camdyn.cli.sweep\n"
         "heavy = ('scipy.stats', 'scipy.optimize', 'camdyn.design.review', 'camdyn.design.tolerance',"

@@ -213,3 +213,24 @@ def test_two_processes_write_the_same_csv(tmp_path):
     name = "lecture-tolerances-tolerance.csv"
     assert (tmp_path / "two" / name).read_bytes() == (tmp_path / "one" / name).read_bytes()
     assert json.loads(one.stdout)["probability_of_separation"] == doc["probability_of_separation"]
+
+
+@pytest.mark.parametrize(
+    "hits, samples", [(0, 300), (1, 300), (7, 300), (299, 300), (300, 300), (3, 10**6), (1, 100000)]
+)
+def test_the_exact_interval_is_scipys_clopper_pearson(hits, samples):
+    """The studies' interval on a probability, beta quantiles by scipy.special (scipy.stats loads 0.5-1 s later), is
+    binomtest's exact interval, which root-finds the same equations: equal to 1e-5 (its root finding's tolerance
+    near zero), and each end solves its binomial tail equation to 1e-11 (binomtest's own ends: to 4e-8 at 1 in 1e5)."""
+    from scipy.stats import binom, binomtest
+
+    from camdyn.design.tolerance._interval import exact_interval
+
+    lo, hi = exact_interval(hits, samples)
+    ci = binomtest(hits, samples).proportion_ci(0.95, method="exact")
+    assert lo == pytest.approx(ci.low, rel=1e-5, abs=1e-300) and hi == pytest.approx(ci.high, rel=1e-5)
+    assert (lo == 0.0) == (hits == 0) and (hi == 1.0) == (hits == samples)
+    if hits:
+        assert abs(binom.sf(hits - 1, samples, lo) - 0.025) < 1e-11
+    if hits < samples:
+        assert abs(binom.cdf(hits, samples, hi) - 0.025) < 1e-11

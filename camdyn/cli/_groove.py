@@ -1,7 +1,7 @@
 """``sweep`` of a form-closed cam (``[follower] closure = "groove"`` or ``"conjugate"``): its crossover impacts over
 cam speed x backlash, or conjugate cams' least cam force and least holding preload over cam speed, in place of the
 jump map of a spring-held follower (a form-closed cam cannot jump); ``tolerance``'s is in :mod:`.tolerance`, which
-alone loads the tolerance studies (scipy.stats)."""
+alone loads the tolerance studies."""
 
 from __future__ import annotations
 

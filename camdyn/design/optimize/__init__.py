@@ -184,7 +184,7 @@ def _robust_claim(case: Case, progress: Progress | None) -> RobustClaim:
         raise InputError(
             "--robust", "the case has no [tolerances]: give them to claim a speed at P(separation) <= 1e-3"
         )
-    from ..tolerance import tolerance_study  # scipy.stats and the sampling kernels load only with --robust
+    from ..tolerance import tolerance_study  # the sampling kernels load only with --robust
 
     study = tolerance_study(case, ROBUST_SAMPLES, progress=progress)
     jumps = np.asarray(study.jump_speed_rpm, dtype=float)

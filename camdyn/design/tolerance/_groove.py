@@ -19,7 +19,6 @@ from typing import TYPE_CHECKING
 
 import jax.numpy as jnp
 import numpy as np
-from scipy.stats import binomtest
 
 from ..._core.errors import InputError
 from ..._core.kinds import FollowerKind
@@ -28,10 +27,11 @@ from ..._core.units import PROFILE_ERROR_HARMONICS, tolerance_unit
 from ...model import dynamics as dyn
 from ...schema import resolve_tolerances
 from ..closure import cam_loads
+from ._interval import CONFIDENCE, exact_interval
 from ._kernel import Sample, sample_model
 from ._result import csv_columns
 from ._sampling import SCALAR_KEYS, draw_samples, spreads
-from ._study import CONFIDENCE, MAX_SAMPLES, WORST, _nominal, _to_si, describe
+from ._study import MAX_SAMPLES, WORST, _nominal, _to_si, describe
 
 if TYPE_CHECKING:
     from ...model.case import Case
@@ -209,16 +209,16 @@ def impact_tolerance_study(
         tick()
     lim = float(case.limits.max_impact_velocity)
     over = int(np.count_nonzero(v > lim))
-    ci = binomtest(over, samples).proportion_ci(CONFIDENCE, method="exact")
+    ci = exact_interval(over, samples)
     more = {}
     if held is not None:
         unloaded = int(np.count_nonzero(held <= 0.0))
-        u_ci = binomtest(unloaded, samples).proportion_ci(CONFIDENCE, method="exact")
+        u_ci = exact_interval(unloaded, samples)
         more = {
             "preload": float(f.pair_preload),
             "least_cam_force_N": held,
             "unloaded_probability": unloaded / samples,
-            "unloaded_interval": (float(u_ci.low), float(u_ci.high)),
+            "unloaded_interval": u_ci,
         }
     worst = np.argsort(held, kind="stable") if held is not None else np.argsort(-v, kind="stable")
     return ImpactToleranceResult(
@@ -232,7 +232,7 @@ def impact_tolerance_study(
         max_impact_velocity=lim,
         tolerances={t.key: describe(t, spread[t.key], kind.rotary) for t in tols},
         probability=over / samples,
-        confidence_interval=(float(ci.low), float(ci.high)),
+        confidence_interval=ci,
         worst=tuple(int(i) for i in worst[:WORST]),
         closure=f.closure,
         **more,

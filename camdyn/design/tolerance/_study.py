@@ -9,7 +9,6 @@ from typing import TYPE_CHECKING
 
 import jax
 import numpy as np
-from scipy.stats import binomtest
 
 from ..._core.errors import InputError
 from ..._core.jit import device_array
@@ -20,6 +19,7 @@ from ...model import dynamics as dyn
 from ...model.geometry import contact_per_force
 from ...schema import Tolerance, resolve_tolerances
 from ..parts import resolve_spring
+from ._interval import exact_interval
 from ._kernel import Sample, make_grid, rigid_tolerance_kernel, tolerance_kernel
 from ._result import ToleranceResult
 from ._sampling import SCALAR_KEYS, Spread, draw_samples, spreads
@@ -30,7 +30,6 @@ if TYPE_CHECKING:
 
 SCAN_GRID = 512  # angles of the jump-speed search (the least force at the case speed uses THETA_GRID)
 CHUNK_SAMPLES = 256  # samples per device per compiled call
-CONFIDENCE = 0.95  # of the interval on the probability of separation (Clopper-Pearson)
 WORST = 3  # samples written out as case files
 MAX_SAMPLES = 10_000_000
 
@@ -115,7 +114,7 @@ def tolerance_study(
         kernel, (base, fine, scan, device_array(w_max)), _to_si(case, vals), CHUNK_SAMPLES, tick, devices
     )
     sep = int(np.count_nonzero(force <= 0.0))
-    ci = binomtest(sep, samples).proportion_ci(CONFIDENCE, method="exact")
+    ci = exact_interval(sep, samples)
     jump_rpm = np.asarray(jump) / RPM
     params = {k: vals[k] for k in SCALAR_KEYS} | {
         "profile_error": np.sqrt(0.5 * np.sum(vals["profile_coeffs"] ** 2, axis=1))
@@ -131,7 +130,7 @@ def tolerance_study(
         jump_speed_rpm=jump_rpm,
         tolerances={t.key: describe(t, spread[t.key], kind.rotary) for t in tols},
         probability=sep / samples,
-        confidence_interval=(float(ci.low), float(ci.high)),
+        confidence_interval=ci,
         sensitivities=sens,
         nominal_jump_speed_rpm=w_star / RPM,
         worst=tuple(int(i) for i in np.argsort(force, kind="stable")[:WORST]),

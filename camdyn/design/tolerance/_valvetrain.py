@@ -25,7 +25,6 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.stats import binomtest
 
 from ..._core.errors import InputError
 from ..._core.progress import Progress, counter
@@ -36,6 +35,7 @@ from ...model.valvetrain import ValvetrainModel
 from ...schema import resolve_tolerances
 from ..parts import resolve_spring
 from ..valvetrain import analyze_valvetrain, spring_notes
+from ._interval import exact_interval
 from ._sampling import spreads
 from ._sensitivity import variance_shares
 from ._study import describe
@@ -65,7 +65,6 @@ CSV_COLUMNS = (
 MAX_VALVETRAIN_SAMPLES = 5000  # the two-mass model runs per sample, about a second each with the searches
 DEFAULT_VALVETRAIN_SAMPLES = 50
 _STEP, _WIDTH = 1.1, 0.01  # the local speed searches: bracketing factor, relative width
-_CONFIDENCE = 0.95
 _WORST = 3
 
 
@@ -97,8 +96,7 @@ class ValveToleranceResult:
 
     def probability(self, hit: np.ndarray) -> tuple[float, tuple[float, float]]:
         """The fraction of samples where ``hit`` and its Clopper-Pearson interval at 95 %."""
-        ci = binomtest(int(hit.sum()), hit.size).proportion_ci(_CONFIDENCE, method="exact")
-        return float(hit.mean()), (float(ci.low), float(ci.high))
+        return float(hit.mean()), exact_interval(int(hit.sum()), hit.size)
 
     @property
     def least_speed_rpm(self) -> np.ndarray:
