@@ -34,8 +34,8 @@ NO_EVENT = 1e300  # N: the float search's least force at a speed where the valve
 def _jump_angles(motion: Motion) -> np.ndarray:
     """The motion's segment boundaries (rad) over every revolution a response marches: the stretches' jump times,
     padded with +inf to a bucket of lengths (512, 2048, ...), so that cams with other numbers of segments share the
-    stretch's stored program (a compile of about 3 s). One bucket up to 85 segments: a valve cam of five segments
-    (32 angles once) compiled a program of its own where the shipped ones have 8 and 28; the controller finds its
+    stretch's stored program (a compile of about 3 s). One bucket up to 85 segments, so that a new valve cam finds
+    the program the shipped ones stored (smaller buckets split cams of 5 and 8 segments); the controller finds its
     next jump from the last (diffrax's hint), so the padding costs nothing a step."""
     breaks = np.deg2rad(np.asarray(motion.breaks_deg, dtype=float))
     jumps = np.sort((breaks[None, :] + TWO_PI * np.arange(-1, _REVS + 2)[:, None]).ravel())
