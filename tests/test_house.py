@@ -194,6 +194,17 @@ def test_sweep_imports_only_what_it_uses():
 
 
 @pytest.mark.slow
+def test_size_imports_no_scipy_optimize():
+    """`camdyn size` (and the report's review, which sizes) solves its linear program through camdyn's HiGHS
+    program and its one-dimensional searches by camdyn's port of scipy's bounded Brent: no scipy.optimize (0.5 s)."""
+    proc = _fresh(
+        "import sys\nimport camdyn.cli.size, camdyn.design.review\n"
+        "print(sorted(m for m in ('scipy.optimize', 'scipy.stats') if m in sys.modules))"
+    )
+    assert proc.stdout.strip().splitlines()[-1] == "[]", proc.stderr[-2000:]
+
+
+@pytest.mark.slow
 def test_a_stored_check_loads_no_ode_solver():
     """Issue 23: a stored program is an executable, so a `check` whose programs are stored runs without diffrax,
     optimistix and lineax (0.4 s of the 1 s that ``import jax, diffrax`` takes): they load where a program is

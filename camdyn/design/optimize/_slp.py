@@ -9,14 +9,14 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Any, NamedTuple
+from typing import Any
 
-import highspy
 import jax
 import jax.numpy as jnp
 import numpy as np
 import numpy.typing as npt
-from highspy._core import _Highs  # highspy.__all__ exports it; its stub names it here only
+
+from ..._core.linprog import FAILED, INFEASIBLE, OPTIMAL, Answer, LinearProgram
 
 _MAX_STEPS = 30
 _FIRST_ROWS = 200  # rows of a linear program's first round
@@ -55,48 +55,6 @@ def _matvec(a: np.ndarray, x: np.ndarray) -> np.ndarray:
     return np.einsum("ij,j->i", a, x)
 
 
-OPTIMAL, INFEASIBLE, FAILED = 0, 2, 4  # an answer's status (scipy's ``linprog`` codes)
-
-
-class Answer(NamedTuple):
-    """A linear program's answer: its status (:data:`OPTIMAL`, :data:`INFEASIBLE` or :data:`FAILED`) and the
-    variables (NaN unless optimal)."""
-
-    status: int
-    x: np.ndarray
-
-
-class _Program:
-    """``min cost @ x`` subject to rows ``a @ x <= b`` added in rounds, within bounds on ``x``; each :meth:`solve`
-    starts from the basis of the last (HiGHS' dual simplex: the rows a round adds cost a few pivots, where a new
-    program would start over: a fifth of the time of ``scipy.optimize.linprog`` on ``optimize``'s programs)."""
-
-    def __init__(self, cost: np.ndarray, lower: np.ndarray, upper: np.ndarray) -> None:
-        # the binding's class: highspy.Highs adds Python callbacks and prints HiGHS' banner on stdout (where a
-        # --json document goes)
-        self._h = _Highs()
-        self._h.setOptionValue("output_flag", False)
-        self._n = cost.size
-        self._h.addVars(self._n, lower, upper)
-        self._h.changeColsCost(self._n, np.arange(self._n, dtype=np.int32), cost)
-
-    def add(self, a: np.ndarray, b: np.ndarray) -> None:
-        """The rows ``a @ x <= b`` (dense)."""
-        m = a.shape[0]
-        if m:
-            starts = np.arange(m, dtype=np.int32) * self._n
-            index = np.tile(np.arange(self._n, dtype=np.int32), m)
-            self._h.addRows(m, np.full(m, -np.inf), b, m * self._n, starts, index, np.ravel(a))
-
-    def solve(self) -> Answer:
-        self._h.run()
-        status = self._h.getModelStatus()
-        if status == highspy.HighsModelStatus.kOptimal:
-            return Answer(OPTIMAL, np.asarray(self._h.getSolution().col_value))
-        code = INFEASIBLE if status == highspy.HighsModelStatus.kInfeasible else FAILED
-        return Answer(code, np.full(self._n, np.nan))
-
-
 def _split_bounds(lower: np.ndarray, upper: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Bounds of ``(p, q)`` with ``dx = p - q``, ``p, q >= 0``, for ``lower <= dx <= upper``."""
     return np.r_[np.maximum(lower, 0.0), np.maximum(-upper, 0.0)], np.r_[
@@ -110,7 +68,7 @@ def _least_violation(Jg: np.ndarray, g: np.ndarray, lower: np.ndarray, upper: np
     g + Jg dx <= s, s >= 0. Its ``x`` is (dx, s)."""
     n = Jg.shape[1]
     lo, hi = _split_bounds(lower, upper)
-    lp = _Program(np.r_[tie, tie, 1.0], np.r_[lo, 0.0], np.r_[hi, np.inf])
+    lp = LinearProgram(np.r_[tie, tie, 1.0], np.r_[lo, 0.0], np.r_[hi, np.inf])
     lp.add(np.c_[Jg, -Jg, -np.ones(g.size)], -g)
     answer = lp.solve()
     return Answer(answer.status, np.r_[answer.x[:n] - answer.x[n : 2 * n], answer.x[-1]])
@@ -142,7 +100,7 @@ def _linear_step(v, Jv, g, Jg, bounds, seed=None, tie=0.0) -> tuple[Answer, tupl
         kg = np.union1d(kg, np.nonzero(np.isin(kg_all, seed[1]))[0])
     move = np.divide(tie, half, out=np.zeros(n), where=half > 0)
     lo, hi = _split_bounds(lo_dx, hi_dx)
-    lp = _Program(np.r_[move, move, -1.0], np.r_[lo, -np.inf], np.r_[hi, np.inf])
+    lp = LinearProgram(np.r_[move, move, -1.0], np.r_[lo, -np.inf], np.r_[hi, np.inf])
     new_v, new_g = kv, kg
     answer = Answer(FAILED, np.full(n + 1, np.nan))
     for _ in range(50):

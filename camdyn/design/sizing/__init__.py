@@ -10,7 +10,7 @@ stress, the wear and the drive torque). k >= ``min_rate`` (default 0); F0 is fre
 angle it is a quadratic in w, so its least value over [0, W] is closed form: at w = 0, at w = W, or at the vertex
 w = -c s' / (2 m s'') where m s'' > 0 > c s'. So every angle gives one constraint, exact for all speeds at once:
 ``s_i k + F0 >= r_i``, ``r_i = F_min - F_ext - min_w (m w^2 s''_i + c w s'_i)``. On 3600 angles (and both sides
-of every segment boundary) this is a linear program in (k, F0), solved by ``scipy.optimize.linprog`` (HiGHS);
+of every segment boundary) this is a linear program in (k, F0), solved by HiGHS (:mod:`camdyn._core.linprog`);
 the angles between grid points where the answer would be violated are found by local minimization and added as
 cutting planes until none is violated by more than 1e-9 of the force scale.
 

@@ -22,12 +22,11 @@ from __future__ import annotations
 
 import math
 from dataclasses import replace
-from typing import cast
 
 import numpy as np
-from scipy.optimize import OptimizeResult, minimize_scalar  # unannotated: cast its result
 
 from ..._core.errors import InputError
+from ..._core.minimize import minimize_bounded
 from ..._core.progress import Progress, phase
 from ..._core.sharding import on_cores
 from ..._core.units import RPM
@@ -113,11 +112,8 @@ def buildable_answer(
     if (peaks < _UNBUILDABLE).any():
         i = int(np.nanargmin(peaks))
         a, b = math.log(rates[max(i - 1, 0)]), math.log(rates[min(i + 1, len(rates) - 1)])
-        res = cast(
-            OptimizeResult,
-            minimize_scalar(lambda u: peak(math.exp(u)), bounds=(a, b), method="bounded", options={"xatol": 1e-4}),
-        )
-        best = math.exp(res.x) if res.fun < peaks[i] else rates[i]
+        u, peak_u, _ = minimize_bounded(lambda u: peak(math.exp(u)), a, b, xatol=1e-4)
+        best = math.exp(u) if peak_u < peaks[i] else rates[i]
         fits = [rates[j] for j in np.argsort(peaks) if peaks[j] < _UNBUILDABLE]  # the scan's, best first
         for rate in [best, *fits]:
             k_si = p.kind.rate_to_si(rate)

@@ -4,9 +4,9 @@ its closed form, and the tie-break in closed form."""
 from __future__ import annotations
 
 import numpy as np
-from scipy.optimize import linprog
 
 from ..._core.errors import NumericalError
+from ..._core.linprog import OPTIMAL, LinearProgram
 from ._kinematic import preload_kinematic, required, worst_between
 from ._problem import Grid, Problem
 
@@ -27,16 +27,18 @@ def _solve(p: Problem, grid: Grid, c) -> tuple[float, float]:
     s = grid.s
     r, _ = required(p, grid, c)
     a_ub = -np.column_stack([s / p.s_max, np.ones_like(s)])  # variables: k s_max (N), F0 (N)
-    bounds = [(p.k_lo * p.s_max, None), (None if p.f0_lo == -np.inf else p.f0_lo, None)]
-    res = linprog([1.0, 1.0], A_ub=a_ub, b_ub=-r, bounds=bounds, method="highs", options=_LP_OPTIONS)
-    if res.status != 0:
-        raise NumericalError("sizing", f"the linear program failed: {res.message}")
+    program = LinearProgram(np.ones(2), np.array([p.k_lo * p.s_max, p.f0_lo]), np.full(2, np.inf), _LP_OPTIONS)
+    program.add(a_ub, -r)
+    answer = program.solve()
+    if answer.status != OPTIMAL:
+        raise NumericalError("sizing", f"the linear program failed (HiGHS' status {answer.status}, scipy's codes)")
+    fun = float(np.sum(answer.x))
     gap = p.s_max - s
     peak_req = float(np.max(r + p.k_lo * gap))
     peak = max(peak_req, p.k_lo * p.s_max + p.f0_lo)  # min_preload: the peak k s_max + F0 grows with k at F0 = f0_lo
-    if abs(float(res.fun) - peak) > 1e-7 * max(1.0, abs(peak)):
+    if abs(fun - peak) > 1e-7 * max(1.0, abs(peak)):
         raise NumericalError(
-            "sizing", f"the linear program's least peak force {res.fun:.10g} disagrees with the closed form {peak:.10g}"
+            "sizing", f"the linear program's least peak force {fun:.10g} disagrees with the closed form {peak:.10g}"
         )
     tie = gap > 1e-12 * p.s_max
     k = max(p.k_lo, float(np.min((peak - r[tie]) / gap[tie]))) if tie.any() else p.k_lo

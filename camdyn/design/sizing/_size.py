@@ -24,10 +24,7 @@ from ._sqrt_k import ratio_answer
 if TYPE_CHECKING:
     from ...model.case import Case
 
-_LP_METHOD = (
-    "linear program (scipy linprog, HiGHS) with cutting planes, checked against its closed form; tie-break in "
-    "closed form"
-)
+_LP_METHOD = "linear program (HiGHS) with cutting planes, checked against its closed form; tie-break in closed form"
 _SQRT_K_METHOD = "exact minimization of the peak force in sqrt(k) (bounded Brent; ties to the largest k)"
 _DYNAMIC_METHOD = (
     "; dynamic correction: exact least preload per rate (frequency-domain steady state, affine in F0) minimized "

@@ -6,11 +6,10 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Sequence
-from typing import cast
 
 import numpy as np
-from scipy.optimize import OptimizeResult, minimize_scalar  # unannotated: cast its result
 
+from ..._core.minimize import minimize_bounded
 from ._kinematic import preload_kinematic
 from ._lp import cut
 from ._problem import Grid, Problem
@@ -81,11 +80,7 @@ def minimize_in_sqrt_k(
 
     a, b = _bracket(f, u_lo, u_hi, scan, seeds)
     if b > a:
-        res = cast(
-            OptimizeResult,
-            minimize_scalar(f, bounds=(a, b), method="bounded", options={"xatol": 1e-10 * max(1.0, u_hi)}),
-        )
-        f(res.x)
+        f(minimize_bounded(f, a, b, xatol=1e-10 * max(1.0, u_hi))[0])
     for u in (u_lo, u_hi, *seeds):
         f(u)
     u_best = min(cache, key=lambda u: (cache[u], -u))
