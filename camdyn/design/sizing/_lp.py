@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..._core.errors import NumericalError
-from ..._core.linprog import OPTIMAL, LinearProgram
+from ..._core.linprog import INFEASIBLE, OPTIMAL, LinearProgram
 from ._kinematic import preload_kinematic, required, worst_between
 from ._problem import Grid, Problem
 
@@ -31,7 +31,8 @@ def _solve(p: Problem, grid: Grid, c) -> tuple[float, float]:
     program.add(a_ub, -r)
     answer = program.solve()
     if answer.status != OPTIMAL:
-        raise NumericalError("sizing", f"the linear program failed (HiGHS' status {answer.status}, scipy's codes)")
+        what = "infeasible" if answer.status == INFEASIBLE else "not solvable (numerical trouble)"
+        raise NumericalError("sizing", f"the linear program failed: HiGHS found it {what}")
     fun = float(np.sum(answer.x))
     gap = p.s_max - s
     peak_req = float(np.max(r + p.k_lo * gap))
