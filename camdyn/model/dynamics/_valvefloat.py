@@ -134,8 +134,17 @@ class ValveFloats:
         diffrax model's tolerance, the train's hold, the valve above its seat, the cam's force, the train's), N."""
         s, s1, s2 = self._motion(steps, taus, len(ys))
         hold, f_t = self._train(s, s1, ys[:, 0], ys[:, 1])
-        f_cam = self.m_c * s2 * self.w**2 + self.tappet + self.r * f_t
+        f_cam = self._cam_force(s2, f_t)
         return f_cam + self.tol, hold, self.kt * (ys[:, 0] + GAP_EPS), f_cam, f_t
+
+    def _cam_force(self, s2: np.ndarray, f_t: np.ndarray) -> np.ndarray:
+        """The cam contact's force (N) with the follower on the cam (its acceleration ``s2``, m/rad^2) and the train
+        pushing the valve with ``f_t`` (N)."""
+        return self.m_c * s2 * self.w**2 + self.tappet + self.r * f_t
+
+    def _gap(self, steps: np.ndarray, x_v: np.ndarray) -> np.ndarray:
+        """The valve's lift ``x_v`` above where the cam would hold it at fine ``steps`` (m)."""
+        return x_v - np.maximum(self.rev.g[steps] - self.lash, 0.0)
 
     def _flying(self, ys: np.ndarray, steps: Index, taus: Index) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """The flight's states ``ys``: (the follower above the cam, the train's hold, the valve above its seat), N."""
@@ -156,7 +165,7 @@ class ValveFloats:
             return
         _, _, _, f_cam, f_t = self._on_cam(ys[on], steps[on], 0.0)
         at = steps[on]
-        rows.add(f_cam, f_cam, f_t, ys[on, 0], ys[on, 0] - np.maximum(self.rev.g[at] - self.lash, 0.0), self._deg(at))
+        rows.add(f_cam, f_cam, f_t, ys[on, 0], self._gap(at, ys[on, 0]), self._deg(at))
 
     def _rows_flying(self, rows: EventRows, ys: np.ndarray, steps: np.ndarray, taus: np.ndarray) -> None:
         on = self._grid(steps, taus)
@@ -166,9 +175,14 @@ class ValveFloats:
         _, f_t = self._train(y[:, _X_C], y[:, _P_C], y[:, _X_V], y[:, _P_V])
         # the hold: the cam's force were the follower on it (at the cam's lift and speed), the valve as it moves
         _, held = self._train(self.rev.s[at], self.rev.s1[at], y[:, _X_V], y[:, _P_V])
-        hold = self.m_c * self.rev.s2[at] * self.w**2 + self.tappet + self.r * held
-        gap = y[:, _X_V] - np.maximum(self.rev.g[at] - self.lash, 0.0)
-        rows.add(np.zeros(at.size), hold, f_t, y[:, _X_V], gap, self._deg(at))
+        rows.add(
+            np.zeros(at.size),
+            self._cam_force(self.rev.s2[at], held),
+            f_t,
+            y[:, _X_V],
+            self._gap(at, y[:, _X_V]),
+            self._deg(at),
+        )
 
     def _deg(self, steps: np.ndarray) -> np.ndarray:
         return np.degrees(self.rev.th0 + steps * self.rev.h) % 360.0
