@@ -248,6 +248,64 @@ def test_no_output_key_is_read_downstream(tmp_path):
     assert len(output_key_reads(tmp_path)) == 3
 
 
+def json_document_reads(root: Path = PACKAGE) -> list[str]:
+    """Every place under ``root`` that reads a result's JSON document by key, directly (``res.json()["x"]``) or
+    through a name it was bound to in the same function (``j = fit.json()`` then ``j["points"]`` or ``j.get``):
+    what a document holds is read from the typed result it came from."""
+
+    def is_json_call(node: ast.AST) -> bool:
+        return isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute) and node.func.attr == "json"
+
+    found = []
+    for path in sorted(root.rglob("*.py")):
+        tree = ast.parse(path.read_text(encoding="utf-8"))
+        functions = [n for n in ast.walk(tree) if isinstance(n, ast.FunctionDef | ast.AsyncFunctionDef)]
+        # a result's own ``json`` (or ``_part_json``) composes its document from its parts' documents: not downstream
+        writers = {id(n) for f in functions if f.name.endswith("json") for n in ast.walk(f)}
+        for scope in functions:
+            if id(scope) in writers:
+                continue
+            docs = {
+                t.id
+                for n in ast.walk(scope)
+                if isinstance(n, ast.Assign) and is_json_call(n.value)
+                for t in n.targets
+                if isinstance(t, ast.Name)
+            }
+            for n in ast.walk(scope):
+                read = None
+                if isinstance(n, ast.Subscript) and isinstance(n.ctx, ast.Load):
+                    if is_json_call(n.value) or (isinstance(n.value, ast.Name) and n.value.id in docs):
+                        read = n
+                elif isinstance(n, ast.Call) and isinstance(n.func, ast.Attribute) and n.func.attr == "get":
+                    if is_json_call(n.func.value) or (isinstance(n.func.value, ast.Name) and n.func.value.id in docs):
+                        read = n
+                if read is not None and id(read) not in writers:
+                    found.append(f"{path.relative_to(root.parent)}:{read.lineno}: {ast.unparse(read)}")
+    return sorted(set(found))
+
+
+def test_no_json_document_is_read_by_key(tmp_path):
+    """The CLI, the report and the plots read typed results (``vt.float_speed_rpm``), never the JSON a result writes
+    (the valvetrain page read ``vt.json()["float_speed_rpm"]``, ``tolerance`` a study's ``doc[...]``)."""
+    assert json_document_reads() == []
+    (tmp_path / "bad.py").write_text(
+        "def json(self):\n"
+        "    part = self.part.json()\n"
+        "    return part | {'sum': part['a'] + 1}\n"
+        "def f(res, fit):\n"
+        "    j = fit.json()\n"
+        "    out = {'fit': fit.json()}\n"
+        "    out['x'] = 1\n"
+        "    return res.json()['a'], j['points'], j.get('noise'), out['fit']\n"
+    )
+    assert [line.split(": ", 1)[1] for line in json_document_reads(tmp_path)] == [
+        "j.get('noise')",
+        "j['points']",
+        "res.json()['a']",
+    ]
+
+
 def follower_type_tests() -> list[str]:
     """Code that tells follower kinds apart by their type-name strings (``type.startswith("translating")``,
     ``kind == "translating-flat"``) instead of reading :mod:`camdyn._core.kinds`' attributes (``f.kind.rotary``,

@@ -126,7 +126,8 @@ def _print(case, result, elapsed, paths, worst_files) -> None:
         f"on {result.devices} device(s), {result.processes} process(es)"
     )
     con.print(
-        f"probability of separation {result.probability:.4g} (95% interval {lo:.4g} to {hi:.4g}); nominal jump speed "
+        f"probability of separation {result.probability:.4g} ({result.confidence:.0%} interval {lo:.4g} to {hi:.4g}); "
+        f"nominal jump speed "
         f"{result.nominal_jump_speed_rpm:.1f} rpm"
     )
     t = table(("quantity", "left"), ("P1", "right"), ("P5", "right"), ("P50", "right"), ("unit", "left"))
@@ -200,28 +201,30 @@ def valvetrain_json_doc(result: ValveToleranceResult, worst_files: list[Path], e
 
 def _print_valvetrain(case, result: ValveToleranceResult, elapsed, paths, worst_files) -> None:
     con = console()
-    doc = result.json()
     con.print(
         f"{case.name}: {result.samples} built valvetrains (seed {result.seed}) at {result.speed_rpm:g} rpm, two-mass "
         f"model, {elapsed:.1f} s"
     )
-    for what in ("float", "bounce"):
-        lo, hi = doc[f"{what}_confidence_interval"]
+    for what, hit, nominal in (
+        ("float", result.floated, result.nominal_float_speed_rpm),
+        ("bounce", result.bounced, result.nominal_bounce_speed_rpm),
+    ):
+        p, (lo, hi) = result.probability(hit)
         con.print(
-            f"probability of {what} at the sample's speed {doc[f'probability_of_{what}']:.4g} (95% interval {lo:.4g} "
-            f"to {hi:.4g}); nominal {what} speed {doc[f'nominal_{what}_speed_rpm']:.1f} rpm"
+            f"probability of {what} at the sample's speed {p:.4g} ({result.confidence:.0%} interval {lo:.4g} "
+            f"to {hi:.4g}); nominal {what} speed {nominal:.1f} rpm"
         )
     t = table(("quantity", "left"), ("P1", "right"), ("P5", "right"), ("P50", "right"), ("unit", "left"))
-    for name, key in (("float speed", "float_speed_rpm"), ("bounce speed", "bounce_speed_rpm")):
-        q = doc[key]
+    for name, speeds in (("float speed", result.float_speed_rpm), ("bounce speed", result.bounce_speed_rpm)):
+        q = result.low(speeds)
         t.add_row(name, *(f"{q[k]:.5g}" for k in ("p1", "p5", "p50")), "rpm")
     con.print(t)
     t = table(("quantity", "left"), ("P50", "right"), ("P95", "right"), ("P99", "right"), ("unit", "left"))
-    for name, key, unit in (
-        ("seating velocity", "seating_velocity_m_per_s", "m/s"),
-        ("bounce height", "bounce_height_mm", "mm"),
+    for name, values, unit in (
+        ("seating velocity", result.seating_velocity, "m/s"),
+        ("bounce height", result.bounce_height, "mm"),
     ):
-        q = doc[key]
+        q = result.high(values)
         t.add_row(name, *(f"{q[k]:.4g}" for k in ("p50", "p95", "p99")), unit)
     con.print(t)
     shares = ", ".join(f"{k} {v:.0%}" for k, v in result.shares.items() if math.isfinite(v))
@@ -247,18 +250,17 @@ def tolerance_groove(args: argparse.Namespace, case: Case) -> int:
         return 0
     con = console()
     lo, hi = result.confidence_interval
-    held = result.least_cam_force_N
-    if held is not None:  # conjugate cams under a preload: no impacts, whether a roller unloads
+    q = result.least_cam_force_low
+    if q is not None:  # conjugate cams under a preload: no impacts, whether a roller unloads
         lo, hi = result.unloaded_interval
-        q = result.json()["least_cam_force_N"]
         con.print(
             f"{case.name}: {result.samples} built conjugate cams (seed {result.seed}) at {result.speed_rpm:g} rpm "
             f"under the preload {result.preload:g} {'N*m' if case.kind.rotary else 'N'}; they cannot jump: the study "
             "is of the least force on either cam"
         )
         con.print(
-            f"probability that a roller unloads: {result.unloaded_probability:.4g} (95% interval {lo:.4g} to "
-            f"{hi:.4g}); least cam force P1 {q['p1']:.4g} N, P50 {q['p50']:.4g} N, least {q['min']:.4g} N"
+            f"probability that a roller unloads: {result.unloaded_probability:.4g} ({result.confidence:.0%} interval "
+            f"{lo:.4g} to {hi:.4g}); least cam force P1 {q['p1']:.4g} N, P50 {q['p50']:.4g} N, least {q['min']:.4g} N"
         )
         con.print(f"wrote {csv_path} and {png_path}")
         return 0
@@ -268,7 +270,7 @@ def tolerance_groove(args: argparse.Namespace, case: Case) -> int:
     )
     con.print(
         f"probability of an impact speed above max_impact_velocity {result.max_impact_velocity:g} m/s: "
-        f"{result.probability:.4g} (95% interval {lo:.4g} to {hi:.4g})"
+        f"{result.probability:.4g} ({result.confidence:.0%} interval {lo:.4g} to {hi:.4g})"
     )
     t = table(
         ("quantity", "left"), ("P50", "right"), ("P95", "right"), ("P99", "right"), ("max", "right"), ("unit", "left")

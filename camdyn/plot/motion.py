@@ -116,14 +116,13 @@ def plot_fit(ax_lift: Axes, ax_residual: Axes, fit: MotionFit, contour: ContourF
         zorder=4,
     )
     ax_lift.legend(fontsize=7, loc="upper right")
+    shown_fit = fit if contour is None else contour  # whose residuals the panel draws
     if contour is not None:
-        res, unit, x = contour.residual, "mm", contour.angle_deg
-        j = contour.json()
-        at, what, where = j["max_residual_at_polar_deg"], f"outline ({j['points']} points) - fit, radial", "polar angle"
+        x, at, where = contour.angle_deg, contour.max_residual_at_polar_deg, "polar angle"
+        what = f"outline ({contour.point_count} points) - fit, radial"
     else:
-        res, unit, x = fit.residual, fit.unit, th
-        j = fit.json()
-        at, what, where = j["max_residual_at_deg"], "data - fit", "cam angle"
+        x, at, what, where = th, fit.max_residual_at_deg, "data - fit", "cam angle"
+    res, unit = shown_fit.residual, shown_fit.unit
     scale, shown = (1000.0, "\u00b5m") if unit == "mm" and np.max(np.abs(res)) < 0.5 else (1.0, unit)
     ax_residual.plot(x, res * scale, lw=0.7, color=C["limit"])
     ax_residual.axhline(0.0, color="#888888", lw=0.6)
@@ -132,8 +131,8 @@ def plot_fit(ax_lift: Axes, ax_residual: Axes, fit: MotionFit, contour: ContourF
             ax_residual.axhline(sign * fit.tolerance * scale, color=C["grey"], lw=0.8, ls="--")
     ax_residual.set_ylabel(f"{'data' if contour is None else 'radial'} - fit\n({shown})")
     ax_residual.set_title(
-        f"{what}: largest {j['max_residual'] * scale:.3g} {shown} at {where} {at:.1f}\u00b0, rms "
-        f"{j['rms_residual'] * scale:.3g} {shown}",
+        f"{what}: largest {shown_fit.max_residual * scale:.3g} {shown} at {where} {at:.1f}\u00b0, rms "
+        f"{shown_fit.rms_residual * scale:.3g} {shown}",
         fontsize=8,
     )
     deg_ticks(ax_residual, 45.0)

@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import io
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, ClassVar
 
 import jax.numpy as jnp
 import numpy as np
@@ -55,6 +55,7 @@ class ImpactToleranceResult:
     tolerances: dict[str, dict]
     probability: float  # of an impact speed above the limit
     confidence_interval: tuple[float, float]
+    confidence: ClassVar[float] = CONFIDENCE  # of the intervals
     worst: tuple[int, ...]  # the samples of the fastest impacts, fastest first (the least cam force, least first)
     closure: str = "groove"  # or "conjugate"
     preload: float | None = None  # conjugate cams under a preload: N, or N*m about the pivot
@@ -112,7 +113,7 @@ class ImpactToleranceResult:
             "max_impact_velocity": self.max_impact_velocity,
             "probability_over_limit": self.probability,
             "confidence_interval": list(self.confidence_interval),
-            "confidence": CONFIDENCE,
+            "confidence": self.confidence,
             "impact_velocity_m_per_s": self.percentiles(self.impact_velocity_m_per_s),
             "max_impact_force_N": self.percentiles(self.max_impact_force_N),
             "tolerances": self.tolerances,
@@ -133,16 +134,24 @@ class ImpactToleranceResult:
 
     def _preload_json(self) -> dict:
         """Conjugate cams under a preload: the preload, the least cam force's low tail and P(a roller unloads)."""
-        held = self.least_cam_force_N
-        if held is None:
+        low = self.least_cam_force_low
+        if low is None:
             return {}
-        q = np.percentile(held, (1, 5, 50), method="inverted_cdf")
         return {
             "preload_N" if not self.kind.rotary else "preload_torque_N_m": self.preload,
             "probability_unloaded": self.unloaded_probability,
             "unloaded_confidence_interval": list(self.unloaded_interval),
-            "least_cam_force_N": {"p1": float(q[0]), "p5": float(q[1]), "p50": float(q[2]), "min": float(held.min())},
+            "least_cam_force_N": low,
         }
+
+    @property
+    def least_cam_force_low(self) -> dict[str, float] | None:
+        """Conjugate cams under a preload: the low tail of the least force on either cam (N: P1, P5, P50, least)."""
+        held = self.least_cam_force_N
+        if held is None:
+            return None
+        q = np.percentile(held, (1, 5, 50), method="inverted_cdf")
+        return {"p1": float(q[0]), "p5": float(q[1]), "p50": float(q[2]), "min": float(held.min())}
 
 
 def impact_tolerance_study(

@@ -12,10 +12,12 @@ from __future__ import annotations
 
 import io
 from dataclasses import dataclass, field
+from typing import ClassVar
 
 import numpy as np
 
 from ..._core.kinds import TRANSLATING, FollowerKind
+from ._interval import CONFIDENCE
 
 PARAM_KEYS = ("spring_rate", "preload", "mass", "train_stiffness", "speed", "profile_error")
 
@@ -50,6 +52,7 @@ class ToleranceResult:
     tolerances: dict[str, dict]  # key -> {"tolerance", "unit", "relative", "distribution", "sigma"}
     probability: float
     confidence_interval: tuple[float, float]
+    confidence: ClassVar[float] = CONFIDENCE  # of the interval
     sensitivities: dict[str, dict] = field(
         default_factory=dict
     )  # key -> {"gradient_sigma", "share_linear", "share_monte_carlo"}

@@ -23,6 +23,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from typing import ClassVar
 
 import numpy as np
 
@@ -35,7 +36,7 @@ from ...model.valvetrain import ValvetrainModel
 from ...schema import resolve_tolerances
 from ..parts import resolve_spring
 from ..valvetrain import analyze_valvetrain, spring_notes
-from ._interval import exact_interval
+from ._interval import CONFIDENCE, exact_interval
 from ._sampling import spreads
 from ._sensitivity import variance_shares
 from ._study import describe
@@ -89,13 +90,14 @@ class ValveToleranceResult:
     nominal_bounce_speed_rpm: float
     shares: dict[str, float] = field(default_factory=dict)  # first-order share of the least speed's variance
     notes: tuple[str, ...] = ()  # what the study carries beyond the keys (a [spring] part's mass)
+    confidence: ClassVar[float] = CONFIDENCE  # of the intervals
 
     @property
     def samples(self) -> int:
         return self.least_force.size
 
     def probability(self, hit: np.ndarray) -> tuple[float, tuple[float, float]]:
-        """The fraction of samples where ``hit`` and its Clopper-Pearson interval at 95 %."""
+        """The fraction of samples where ``hit`` and its Clopper-Pearson interval at :attr:`confidence`."""
         return float(hit.mean()), exact_interval(int(hit.sum()), hit.size)
 
     @property

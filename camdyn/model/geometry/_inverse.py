@@ -24,13 +24,14 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import ClassVar
 
 import numpy as np
 
 from ..._core.errors import InputError
 from ...schema import FollowerSpec
 from ..datafiles import MAX_GAP_DEG, Samples
-from ..motion import ACCEL_NOISE_SHARE, SplineFit, fit_periodic
+from ..motion import ACCEL_NOISE_SHARE, FitResiduals, SplineFit, fit_periodic
 from ._kernel import check_dimensions
 
 _DENSE = 16384  # samples of the fitted outline, evenly in polar angle
@@ -39,7 +40,7 @@ _BRIDGE_MM = 1e-3  # a bridged stretch shallower than this (and than 3 sigma of 
 
 
 @dataclass(frozen=True)
-class ContourFit:
+class ContourFit(FitResiduals):
     """An outline and its fitted radius r(polar angle) (mm, cam frame; the points in counterclockwise order)."""
 
     file: str
@@ -47,6 +48,7 @@ class ContourFit:
     spline: SplineFit  # r(alpha), mm
     base_radius: float  # least radius of the fitted outline, mm
     repeats: int = 0  # points dropped from the file for exactly repeating the one before them
+    unit: ClassVar[str] = "mm"  # of the residuals and the noise
 
     @property
     def angle_deg(self) -> np.ndarray:
@@ -57,13 +59,23 @@ class ContourFit:
         """Radial departure of the points from the fitted outline, mm (outward positive)."""
         return self.spline.residual
 
+    @property
+    def max_residual_at_polar_deg(self) -> float:
+        return float(self.angle_deg[self.spline.worst])
+
+    @property
+    def point_count(self) -> int:
+        return int(len(self.points))
+
+    @property
+    def method(self) -> str:
+        """How the outline was fitted, in words."""
+        return self.spline.method(" of the radius over the polar angle")
+
     def json(self) -> dict:
-        out = self.spline.summary(" of the radius over the polar angle")
-        i = out.pop("worst")
-        return out | {
-            "points": int(len(self.points)),
-            "unit": "mm",
-            "max_residual_at_polar_deg": float(self.angle_deg[i]),
+        """``check --json``'s ``motion.contour``: the outline's fit, its residuals and noise (mm)."""
+        return self.residuals_json() | {
+            "max_residual_at_polar_deg": self.max_residual_at_polar_deg,
             "repeats_dropped": self.repeats,
         }
 

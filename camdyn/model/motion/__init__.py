@@ -8,7 +8,7 @@ from ._fitted import ACCEL_NOISE_SHARE, FittedMotion, MotionFit, fit_motion, fit
 from ._hermite import HermiteMotion
 from ._laws import LAWS, law
 from ._program import Program, Segment
-from ._spline import SplineFit, fit_periodic
+from ._spline import FitResiduals, SplineFit, fit_periodic
 
 __all__ = [
     "ACCEL_NOISE_SHARE",
@@ -20,6 +20,7 @@ __all__ = [
     "MotionFit",
     "Program",
     "Segment",
+    "FitResiduals",
     "SplineFit",
     "bspline_basis",
     "evaluate",

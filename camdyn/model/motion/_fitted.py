@@ -19,7 +19,7 @@ from ..._core.kinds import kind_of_lift
 from ..._core.units import TWO_PI
 from ._base import Motion
 from ._hermite import QuinticTable, quintic_eval
-from ._spline import SplineFit, fit_periodic
+from ._spline import FitResiduals, SplineFit, fit_periodic
 
 # The fitted s'' is called meaningless when the noise alone moves it by more than a tenth of its peak (two
 # standard deviations, 95 %): the jump speed goes as |s''|^(-1/2), so it would be uncertain by over 5 %, more
@@ -47,7 +47,7 @@ class FittedMotion(Motion):
 
 
 @dataclass(frozen=True)
-class MotionFit:
+class MotionFit(FitResiduals):
     """A fitted motion's data and how far the fit departs from it, in the data's unit (mm, or deg of swing).
 
     ``theta_deg`` and ``data`` are the samples the spline was fitted to (a lift table's rows, or the exact-contact
@@ -78,8 +78,20 @@ class MotionFit:
         return self.data - self.fitted
 
     @property
-    def max_residual(self) -> float:
-        return float(np.max(np.abs(self.residual)))
+    def max_residual_at_deg(self) -> float:
+        """The cam angle of the largest residual, deg in [0, 360)."""
+        return float(self.theta_deg[int(np.argmax(np.abs(self.residual)))] % 360.0)
+
+    @property
+    def point_count(self) -> int:
+        return int(len(self.data))
+
+    @property
+    def method(self) -> str:
+        """How the fit was made, in words."""
+        return self.spline.method(
+            "" if self.follower_data is None else " to the follower's lift (the table's through the rocker)"
+        )
 
     @property
     def data_at_follower(self) -> np.ndarray:
@@ -87,20 +99,12 @@ class MotionFit:
         return self.data * self.follower_per_data if self.follower_data is None else self.follower_data
 
     def json(self) -> dict:
-        sp = self.spline
-        out = sp.summary(
-            "" if self.follower_data is None else " to the follower's lift (the table's through the rocker)"
-        )
-        out |= {"max_residual": self.max_residual, "rms_residual": float(np.sqrt(np.mean(self.residual**2)))}
-        i = int(np.argmax(np.abs(self.residual)))
-        del out["worst"]
-        return out | {
-            "points": int(len(self.data)),
-            "unit": self.unit,
-            "max_residual_at_deg": float(self.theta_deg[i] % 360.0),
+        """``check --json``'s ``motion.fit``: the method, the residuals and the noise (the data's unit)."""
+        return self.residuals_json() | {
+            "max_residual_at_deg": self.max_residual_at_deg,
             "tolerance": self.tolerance,
-            "smoothing": sp.lam,
-            "acceleration_std": sp.accel_std,
+            "smoothing": self.spline.lam,
+            "acceleration_std": self.spline.accel_std,
             "repeats_dropped": self.repeats,
         }
 

@@ -88,8 +88,22 @@ def piecewise(c: np.ndarray) -> np.ndarray:
     return np.einsum("ik...,kp->ip...", shifted, _pieces()) * scale
 
 
+class Residuals:
+    """The largest and the RMS of a fit's ``residual`` (data - fit), the data's unit."""
+
+    residual: np.ndarray
+
+    @property
+    def max_residual(self) -> float:
+        return float(np.max(np.abs(self.residual)))
+
+    @property
+    def rms_residual(self) -> float:
+        return float(np.sqrt(np.mean(self.residual**2)))
+
+
 @dataclass(frozen=True)
-class SplineFit:
+class SplineFit(Residuals):
     """A fitted periodic quintic spline and how it departs from its data (values in the data's unit)."""
 
     coef: np.ndarray  # (m, 6): s(knots[i] + tau) = sum_p coef[i, p] tau^p, tau rad, knots uniform over 2 pi
@@ -121,25 +135,40 @@ class SplineFit:
         return self.y - self.fitted
 
     @property
-    def max_residual(self) -> float:
-        return float(np.max(np.abs(self.residual)))
+    def worst(self) -> int:
+        """The index of the largest residual."""
+        return int(np.argmax(np.abs(self.residual)))
+
+    def method(self, of: str = "") -> str:
+        """How the fit was made, in words; ``of`` says what was fitted against what (" of the radius over the polar
+        angle")."""
+        return f"periodic quintic smoothing spline{of}, {self.coef.shape[0]} knots, smoothing by {self.criterion}"
+
+
+class FitResiduals(Residuals):
+    """What a fit to a user's data (a lift table's, an outline's) says of itself, for the reports and the JSON: its
+    residuals and its data's noise, in the data's unit. Mixed into a result with a ``spline`` (its
+    :class:`SplineFit`), ``residual`` (data - fit), the ``unit``, the ``point_count`` and the ``method`` in words."""
+
+    spline: SplineFit
+    unit: str
+    point_count: int
+    method: str
 
     @property
-    def rms_residual(self) -> float:
-        return float(np.sqrt(np.mean(self.residual**2)))
+    def noise(self) -> float:
+        """The data's noise: REML's estimate, or the data's rounding where that is larger."""
+        return self.spline.sigma
 
-    def summary(self, of: str = "") -> dict:
-        """The fit as JSON (``check --json`` ``motion.fit``): method, residuals, noise; ``of`` says what was fitted
-        against what (" of the radius over the polar angle"). ``worst`` indexes the largest residual."""
+    def residuals_json(self) -> dict:
+        """The keys a fit's JSON starts with: how it was made, its points, residuals, noise and their unit."""
         return {
-            "method": (
-                f"periodic quintic smoothing spline{of}, {self.coef.shape[0]} knots, smoothing by {self.criterion}"
-            ),
-            "points": int(len(self.y)),
+            "method": self.method,
+            "points": self.point_count,
             "max_residual": self.max_residual,
             "rms_residual": self.rms_residual,
-            "noise": self.sigma,
-            "worst": int(np.argmax(np.abs(self.residual))),
+            "noise": self.noise,
+            "unit": self.unit,
         }
 
 

@@ -239,8 +239,8 @@ def decision_facts(data: ReportData) -> list[str]:
         lo, hi = tol.confidence_interval
         p1 = tol.percentiles(tol.jump_speed_rpm)["p1"]
         out.append(
-            f"tolerances: P(separation) at {tol.speed_rpm:g} rpm = {tol.probability:.3g} (95 % interval {lo:.3g} to "
-            f"{hi:.3g}, {tol.samples} built cams); 1 % of the cams jump below {p1:.1f} rpm"
+            f"tolerances: P(separation) at {tol.speed_rpm:g} rpm = {tol.probability:.3g} ({100 * tol.confidence:g} % "
+            f"interval {lo:.3g} to {hi:.3g}, {tol.samples} built cams); 1 % of the cams jump below {p1:.1f} rpm"
         )
     names = svaj_quantities(data.case.motion.unit)
     for order, what, cause in ((1, "velocity", "acceleration"), (2, "acceleration", "jerk")):

@@ -141,19 +141,19 @@ def input_columns(data: ReportData) -> list[tuple[str, list[tuple[str, str]]]]:
 
 def _fit_rows(case) -> list[tuple[str, str]]:
     """The data file a table or contour case was fitted to, and how closely the fit follows it."""
-    fit = (case.contour or case.fit).json()
+    fit = case.contour or case.fit
     motion = case.spec.motion
     file = {"table": motion and motion.table, "valve_table": motion and motion.valve_table}.get(
         case.motion_source, case.spec.follower.contour
     )
-    unit = fit["unit"]
+    unit = fit.unit
     return [
         ("file", str(file)),
-        ("points", f"{fit['points']}"),
-        ("max residual", f"{fmt(fit['max_residual'])} {unit}"),
-        ("rms residual", f"{fmt(fit['rms_residual'])} {unit}"),
-        ("noise", f"{fmt(fit['noise'])} {unit}"),
-    ] + ([("repeats dropped", f"{fit['repeats_dropped']}")] if fit["repeats_dropped"] else [])
+        ("points", f"{fit.point_count}"),
+        ("max residual", f"{fmt(fit.max_residual)} {unit}"),
+        ("rms residual", f"{fmt(fit.rms_residual)} {unit}"),
+        ("noise", f"{fmt(fit.noise)} {unit}"),
+    ] + ([("repeats dropped", f"{fit.repeats}")] if fit.repeats else [])
 
 
 def _mechanism_rows(data: ReportData) -> list[tuple[str, str]]:

@@ -126,16 +126,15 @@ def _note(fig, data: ReportData, compact: bool) -> None:
     elif data.breaks_deg:
         note += f" Velocity and acceleration are continuous at every one of the {what}."
     if data.case.fit is not None:
-        j = data.case.fit.json()
+        method = data.case.fit.method
         if data.case.contour is not None:
-            c = data.case.contour.json()
             note += (
-                f" Red dots: the lift at exact contact with the outline fitted to the {c['points']} points of "
-                f"{data.case.contour.file}; the curves are its fit ({j['method']}). The residual panel is the "
+                f" Red dots: the lift at exact contact with the outline fitted to the {data.case.contour.point_count} "
+                f"points of {data.case.contour.file}; the curves are its fit ({method}). The residual panel is the "
                 "outline's (radial, against polar angle)."
             )
         else:
-            note += f" Red dots: the {data.case.fit.source}'s points; the curves are its fit ({j['method']})."
+            note += f" Red dots: the {data.case.fit.source}'s points; the curves are its fit ({method})."
     if data.case.kind.rotary:
         note += " The swing is in degrees per radian of cam angle."
     fig.text(

@@ -25,8 +25,8 @@ def draw_tolerances(fig: Figure, data: ReportData) -> None:
     lo, hi = res.confidence_interval
     colour = C["ok"] if hi < 0.01 else (C["warn"] if res.probability < 0.05 else C["fail"])
     flow.para(
-        f"Probability of separation at {res.speed_rpm:g} rpm: {res.probability:.3g} (95% interval {lo:.3g} to "
-        f"{hi:.3g}), {res.samples} built cams (seed {res.seed})",
+        f"Probability of separation at {res.speed_rpm:g} rpm: {res.probability:.3g} ({res.confidence:.0%} interval "
+        f"{lo:.3g} to {hi:.3g}), {res.samples} built cams (seed {res.seed})",
         size=9,
         weight="bold",
         color=colour,

@@ -4,6 +4,8 @@ bounce speeds, and a rocker's ratio against cam angle, from ``check``'s two-mass
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 from matplotlib.figure import Figure
 
 from ...plot import plot_rocker_ratio, plot_seating_velocity, plot_valve_lift, plot_valve_velocity
@@ -11,17 +13,19 @@ from .._data import ReportData
 from .._layout import Flow, fmt
 from .._style import LEFT, C
 
+if TYPE_CHECKING:
+    from ...design.valvetrain import ValvetrainResult
+
 
 def draw_valvetrain(fig: Figure, data: ReportData) -> None:
     vt = data.check.valvetrain
     assert vt is not None  # the page applies to [valvetrain] cases only
-    j = vt.json()
     flow = Flow(fig, 0.94)
     flow.para(
-        f"Rocker ratio {_ratio(vt, j)}, lash {vt.lash_mm:g} mm; valve lift {fmt(j['max_valve_lift_mm'])} mm, seats at "
-        f"{fmt(j['seating_velocity_m_per_s'])} m/s; float at {fmt(j['float_speed_rpm'])} rpm, bounce at "
-        f"{fmt(j['bounce_speed_rpm'])} rpm (searched to {vt.search_top_rpm:.0f} rpm); bounce height "
-        f"{fmt(j['bounce_height_mm'])} mm at {data.check.speed_rpm:g} rpm{_coil_bind(j)}.",
+        f"Rocker ratio {_ratio(vt)}, lash {vt.lash_mm:g} mm; valve lift {fmt(vt.response.max_valve_lift_mm)} mm, seats "
+        f"at {fmt(vt.seating_velocity)} m/s; float at {fmt(vt.float_speed_rpm)} rpm, bounce at "
+        f"{fmt(vt.bounce_speed_rpm)} rpm (searched to {vt.search_top_rpm:.0f} rpm); bounce height "
+        f"{fmt(vt.response.bounce_height_mm)} mm at {data.check.speed_rpm:g} rpm{_coil_bind(vt)}.",
         size=8.5,
         width=115,
         color=C["ink"],
@@ -45,18 +49,19 @@ def draw_valvetrain(fig: Figure, data: ReportData) -> None:
         plot_rocker_ratio(fig.add_axes((0.66, 0.06, 0.29, 0.19)), vt)
 
 
-def _coil_bind(j: dict) -> str:
+def _coil_bind(vt: ValvetrainResult) -> str:
     """The spring's coil bind, where a designed spring gives it."""
-    if j["coil_bind_lift_mm"] is None:
+    if vt.coil_bind_lift_mm is None:
         return ""
     return (
-        f"; the spring goes solid at {fmt(j['coil_bind_lift_mm'])} mm of valve lift, "
-        f"{fmt(j['coil_bind_clearance_mm'])} mm beyond the valve's largest"
+        f"; the spring goes solid at {fmt(vt.coil_bind_lift_mm)} mm of valve lift, "
+        f"{fmt(vt.coil_bind_clearance_mm)} mm beyond the valve's largest"
     )
 
 
-def _ratio(vt, j: dict) -> str:
+def _ratio(vt: ValvetrainResult) -> str:
     """The constant ratio, or a rocker's range over the lift and its value at peak lift."""
     if vt.rocker_curves is None:
         return f"{vt.ratio:g}"
-    return f"{j['ratio_min']:.4g} to {j['ratio_max']:.4g} from the rocker's geometry ({vt.ratio:.4g} at peak lift)"
+    ratios = vt.ratios
+    return f"{ratios.min():.4g} to {ratios.max():.4g} from the rocker's geometry ({vt.ratio:.4g} at peak lift)"
