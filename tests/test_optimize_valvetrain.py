@@ -25,7 +25,7 @@ from camdyn import InputError
 from camdyn._core.units import M_PER_MM, RPM
 from camdyn.cli import main
 from camdyn.design.optimize._rows import Rows
-from camdyn.design.optimize._shape import flank_space
+from camdyn.design.optimize._shape import _in_order, flank_space
 from camdyn.design.optimize._valvetrain import ValveFacts, valve_refusals
 from camdyn.model.case import case_from_dict, load_case
 from camdyn.model.dynamics import linear_min_force, train_force, valvetrain_response
@@ -56,6 +56,20 @@ def assert_c2(program: Program, deg: float) -> None:
 @pytest.fixture(scope="module")
 def space():
     return flank_space(load_case(VALVETRAIN))
+
+
+def test_control_points_out_of_order_are_moved_least_into_order(space):
+    """A start whose control points are out of order (a least-squares fit can give one) is moved into order by the
+    least largest change of a control point (a linear program through HiGHS): in order, and no farther from the
+    start than the case's own flanks fitted in order."""
+    assert space.control_matrix is not None and space.control_offset is not None
+    z = space.z0 + np.random.default_rng(1).normal(0.0, 0.3, space.z0.shape)
+    assert np.max(np.asarray(space.order(jnp.asarray(z)))) > 1e-3  # out of order
+    fixed = _in_order(space, z)
+    assert np.max(np.asarray(space.order(jnp.asarray(fixed)))) <= 1e-9
+    moved = np.abs(space.control_matrix @ (fixed - z)).max()
+    assert 0.0 < moved <= np.abs(space.control_matrix @ (space.z0 - z)).max()
+    assert np.abs(_in_order(space, fixed) - fixed).max() <= 1e-9  # in order (to round-off): it stays
 
 
 def motion_of(case) -> Program:

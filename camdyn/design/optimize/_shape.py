@@ -16,9 +16,10 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 from scipy.linalg import null_space
-from scipy.optimize import isotonic_regression, linprog
+from scipy.optimize import isotonic_regression
 
 from ..._core.errors import InputError
+from ..._core.linprog import OPTIMAL, LinearProgram
 from ..._core.units import FFT_GRID, M_PER_MM, TWO_PI
 from ...model.case import Case
 from ...model.motion import BSPLINE_CLAMPED as CLAMPED
@@ -282,5 +283,7 @@ def _in_order(space: ShapeSpace, z: np.ndarray) -> np.ndarray:
     one = np.ones((K * m, 1))
     A = np.vstack([np.c_[M, -one], np.c_[-M, -one], np.c_[D @ M, np.zeros((K * (m - 1), 1))]])
     b = np.r_[M @ z, -(M @ z), -(D @ c0)]
-    lp = linprog(np.r_[np.zeros(f), 1.0], A_ub=A, b_ub=b, bounds=[(None, None)] * (f + 1), method="highs")
-    return lp.x[:f] if lp.status == 0 else z
+    lp = LinearProgram(np.r_[np.zeros(f), 1.0], np.full(f + 1, -np.inf), np.full(f + 1, np.inf))
+    lp.add(A, b)
+    answer = lp.solve()
+    return answer.x[:f] if answer.status == OPTIMAL else z
