@@ -150,6 +150,7 @@ _STALL_REVS = 10
 # to where that geometric series ends (Aitken's extrapolation along the last step; Newton's monodromy is no guide
 # across the contact's switches); a jump that does not halve the mismatch goes back to where it left.
 _SETTLING, _SETTLING_REVS = 0.9, 3
+_LANDED = 0.5  # a jump that lands cuts the mismatch by this factor at least (the series' dominant term gone)
 _ALIGNED = 0.999  # the cosine between the last two steps above which they are one direction shrinking
 PERIODIC_TOL = 1e-6  # mismatch, times the largest lift (or 1, motion units), above which the orbit is not periodic
 
@@ -182,7 +183,8 @@ def periodic_orbit(motion: Motion, model: FollowerModel, omega: float, theta: Ar
     come from one diffrax solve of the state with its variational equations (the vector field's Jacobian by
     JAX autodiff). While the follower stays in contact the flow is affine and Newton converges in one step.
     Where a separation makes the flow non-smooth and a Newton step does not reduce the residual, the
-    iteration falls back to plain revolutions (the transient dies out revolution by revolution). The iteration
+    iteration falls back to plain revolutions (the transient dies out revolution by revolution; where it dies out
+    by a steady ratio, the iteration jumps to the end of that series, :func:`_rest_of_series`). The iteration
     stops at a residual of 1e-10 (relative), at the first revolution within :func:`periodic_tol` past Newton's
     ``_NEWTON_ITERS``, or once the best residual is within it and ``_FLOOR_REVS`` revolutions more have not lowered
     it (the solver's noise floor).
@@ -220,7 +222,7 @@ def _shoot(motion: Motion, model: FollowerModel, omega: float, theta):
         at_floor = best_r <= floor and (i >= _NEWTON_ITERS or i - best_i >= _FLOOR_REVS)
         if best_r <= tol or at_floor or i - best_i >= _STALL_REVS:
             break
-        if left is not None and r > 0.5 * left[1]:  # the jump missed (a sum that lands halves the mismatch at least)
+        if left is not None and r > _LANDED * left[1]:  # the jump missed: on from where it left
             z, r_prev, left = left[0], left[1], None
             continue
         steps.append(phi - z)
