@@ -127,8 +127,7 @@ def _print(case, result, elapsed, paths, worst_files) -> None:
     )
     con.print(
         f"probability of separation {result.probability:.4g} ({result.confidence:.0%} interval {lo:.4g} to {hi:.4g}); "
-        f"nominal jump speed "
-        f"{result.nominal_jump_speed_rpm:.1f} rpm"
+        f"nominal jump speed {result.nominal_jump_speed_rpm:.1f} rpm"
     )
     t = table(("quantity", "left"), ("P1", "right"), ("P5", "right"), ("P50", "right"), ("unit", "left"))
     for name, vals, unit in (

@@ -13,6 +13,7 @@ from ._spline import FitResiduals, SplineFit, fit_periodic
 __all__ = [
     "ACCEL_NOISE_SHARE",
     "BSPLINE_CLAMPED",
+    "FitResiduals",
     "FittedMotion",
     "HermiteMotion",
     "LAWS",
@@ -20,7 +21,6 @@ __all__ = [
     "MotionFit",
     "Program",
     "Segment",
-    "FitResiduals",
     "SplineFit",
     "bspline_basis",
     "evaluate",
