@@ -76,16 +76,21 @@ def render(review: Review, out_dir: Path, *, progress: Progress | None = None) -
             fig = Figure(figsize=A4)
             header(fig, data, page.title, i, len(pages))
             page.draw(fig, data)
-            plain_ticks(fig)
-            pdf.savefig(fig)
             png = out_dir / png_names[i - 1]
-            _save_png(fig, png, version)
+            write_page(pdf, fig, png, version)
             pngs.append(png)
             tick()
     for old in _own_pngs(out_dir, stem):
         if old.name not in png_names:
             old.unlink()
     return Written(out_dir / pdf_name, tuple(pngs), tuple(p.title for p in pages), data.check.verdict)
+
+
+def write_page(pdf: PdfPages, fig: Figure, png: Path, version: str) -> None:
+    """A drawn page into ``pdf`` and as the PNG ``png``, its tick labels as plain text (:func:`plain_ticks`)."""
+    plain_ticks(fig)
+    pdf.savefig(fig)
+    _save_png(fig, png, version)
 
 
 def _save_png(fig: Figure, path: Path, version: str) -> None:

@@ -22,7 +22,7 @@ from ..plot.machine import (
 )
 from ..schema.machine import machine_stem
 from ._layout import Flow, camdyn_version, fmt, page_frame, verdict_block
-from ._render import Written, _save_png
+from ._render import Written, write_page
 from ._style import A4, LEFT, C, style
 
 PAGES = (("summary", "Machine and timing"), ("drive", "Shaft torque and flywheel"))
@@ -165,8 +165,7 @@ def write_machine_report(result: MachineResult, out_dir: str | Path, *, progress
             fig = Figure(figsize=A4)
             _header(fig, result, title, i)
             DRAW[slug](fig, result)
-            pdf.savefig(fig)
-            _save_png(fig, out_dir / png, version)
+            write_page(pdf, fig, out_dir / png, version)
             pngs.append(out_dir / png)
             tick()
     return Written(out_dir / pdf_name, tuple(pngs), tuple(t for _, t in PAGES), result.verdict)
