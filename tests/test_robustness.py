@@ -307,6 +307,20 @@ def test_a_case_name_is_data_not_a_path(capsys, tmp_path, name):
     assert written and all(out in p.parents or p == out for p in written), written
 
 
+@pytest.mark.parametrize("law", ["3", "inf", None])
+def test_a_segment_whose_law_is_not_a_name_is_told_so(capsys, tmp_path, law):
+    """A polynomial segment's law mistyped or missing: the law is named, not the boundary conditions it decides."""
+    text = (ROOT / "cases" / "polynomial.toml").read_text()
+    old = '{ law = "polynomial", end = 80,'
+    assert old in text
+    path = tmp_path / "bad.toml"
+    path.write_text(text.replace(old, "{ end = 80," if law is None else f"{{ law = {law}, end = 80,", 1))
+    code, _, err = run(capsys, "check", path)
+    assert one_line_error(code, err) and "motion.segments[0]" in err
+    assert "only a law" not in err  # not "start_jerk: only a law = polynomial segment takes ... (this one is 3)"
+    assert ("law: Input should be a valid string" in err) if law else ("valid keys: law, end, lift" in err)
+
+
 # ----------------------------------------------------------------------------------------------- fuzz
 _MUTATIONS = ("drop", math.nan, math.inf, -math.inf, 1e12, -1e12, 0, -1, True, "x", [1, 2], {"a": 1})
 

@@ -21,6 +21,7 @@ with the numbers as printed there:
 from __future__ import annotations
 
 import math
+import warnings
 
 import numpy as np
 import pytest
@@ -247,6 +248,15 @@ def test_an_impossible_rate_is_refused_with_its_reason():
         design_spring(0.5, 10.0, 40.0)
     with pytest.raises(InputError, match="installed_length"):
         design_spring(2.0, 30.0, 20.0, SpringSpec(installed_length=30.0))
+
+
+def test_a_rate_only_a_solid_bar_would_give_is_refused_without_a_numpy_warning():
+    """A stiff rate (an arm's 0.5 mm lever) sends some candidates' index through the stress factors' poles (C =
+    0.75 and 1): they are refused by the index's limit, and nothing but the one-line reason reaches the user."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        with pytest.raises(InputError, match="spring index at least 4: best 1.02"):
+            design_spring(2e4, 4000.0, 0.1309)
 
 
 def test_max_buildable_preload_bounds_the_preload():

@@ -164,12 +164,15 @@ def _candidates(
         L0 = Ls + (1.0 + rules.clash_allowance) * y1 * (1.0 + 2 * _MARGIN)
     ssy = sp.torsional_yield(wire, d)
     f1 = preload + rate * lift
-    tau_a, tau_m = sp.shear_stress(0.5 * rate * lift, D, d), sp.shear_stress(preload + 0.5 * rate * lift, D, d)
-    fatigue = sp.fatigue_safety(tau_a, tau_m, sp.tensile_strength(wire, d), rules.criterion, rules.peened)
+    # a pair whose coil is hardly wider than its wire (index near 1: the stress factors' poles) is refused by the
+    # index's limits, and a spring shorter than solid at its free length has no stress to judge: no warnings
+    with np.errstate(divide="ignore", invalid="ignore"):
+        tau_a, tau_m = sp.shear_stress(0.5 * rate * lift, D, d), sp.shear_stress(preload + 0.5 * rate * lift, D, d)
+        fatigue = sp.fatigue_safety(tau_a, tau_m, sp.tensile_strength(wire, d), rules.criterion, rules.peened)
+        solid = ssy / sp.shear_stress(rate * (L0 - Ls), D, d)
+        full_lift = ssy / sp.shear_stress(f1, D, d)
     fatigue = np.where(d <= sp.ZIMMERLI_MAX_WIRE_MM, fatigue, np.nan)
     Lcr = sp.critical_free_length(D, sp.elastic_modulus(wire, d), G, rules.alpha)
-    with np.errstate(divide="ignore"):  # a spring shorter than solid at its free length has no stress to judge
-        solid = ssy / sp.shear_stress(rate * (L0 - Ls), D, d)
     return {
         "d": d,
         "D": D,
@@ -183,7 +186,7 @@ def _candidates(
         "od": D + d,
         "clash": (L0 - Ls) / y1 - 1.0,
         "solid": np.where(L0 > Ls, solid, -np.inf),
-        "full_lift": ssy / sp.shear_stress(f1, D, d),
+        "full_lift": full_lift,
         "fatigue": fatigue,
         "buckling": Lcr - L0,
     }

@@ -62,7 +62,9 @@ class SegmentSpec(Table):
     @classmethod
     def _no_boundary_conditions(cls, raw: Any) -> Any:
         if isinstance(raw, dict):
-            if isinstance(raw.get("law"), str) and raw["law"] not in SEGMENT_LAWS:  # the law first: it decides the keys
+            if not isinstance(raw.get("law"), str):  # the law first: it decides the keys
+                return raw  # missing or not a string: the field says so
+            if raw["law"] not in SEGMENT_LAWS:
                 raise _unknown_law("law", raw["law"])
             if "coefficients" in raw:
                 raise ValueError(
