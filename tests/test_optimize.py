@@ -25,6 +25,7 @@ from camdyn import InputError
 from camdyn._core.units import RPM
 from camdyn.design.checks import run_check
 from camdyn.design.optimize import _robust_claim, default_margin
+from camdyn.design.optimize._metrics import least_force_at_rest
 from camdyn.design.optimize._objectives import hold_to, least_slack, peak_spring_force_floor
 from camdyn.design.optimize._rows import Rows
 from camdyn.design.optimize._shape import shape_space
@@ -453,6 +454,38 @@ def test_an_answer_fails_no_check_by_more_than_its_input():
     ]
     assert _broken_checks(before, report(40.2, 1.2, 3.0)) == []  # type: ignore[arg-type]
     assert _broken_checks(before, report(39.0, 1.3, 3.0)) == []  # type: ignore[arg-type]
+
+
+def test_a_margin_the_cam_does_not_hold_at_rest_is_refused_before_the_work(capsys, tmp_path):
+    """A --min-force above the least contact force at rest (the lecture's 30 N preload on its base circle) cannot
+    be held at any speed by reshaping the rises and returns: jump-speed and vibration refuse it at once, naming the
+    flag (jump-speed ran the optimizer, then verified its claim of 0 rpm: an internal division by zero)."""
+    out = tmp_path / "out.toml"
+    assert least_force_at_rest(load_case(LECTURE)) == pytest.approx(30.0, abs=1e-9)
+    for objective, margin in (("jump-speed", "1e9"), ("vibration", "30")):
+        code, _, err = run(capsys, "optimize", LECTURE, "-o", out, "--objective", objective, "--min-force", margin)
+        assert code == 2 and len(err.strip().splitlines()) == 1 and not out.exists(), err
+        assert "--min-force:" in err and "the least contact force at rest is 30 N" in err, err
+
+
+def test_a_faster_margin_with_a_slower_jump_is_refused_as_worse():
+    """The answer's margin speed up, its jump speed down: refused, and the reason says which went down (it said
+    "no better on jump-speed: the speed holding the force margin would go 19.68 -> 226.8")."""
+    from types import SimpleNamespace
+
+    from camdyn.design.optimize import Metrics, _refusals
+
+    b = Metrics(484.8, 19.68, 20.4, 1.0, 19.0, 30.0, 70.0, 0.01, "pass")
+    a = dataclasses.replace(b, jump_speed_rpm=305.5, margin_speed_rpm=226.8)
+    nothing = SimpleNamespace(checks=(), broken_at_rpm=[])
+    why = _refusals("jump-speed", nothing, nothing, b, a, [], nothing)  # type: ignore[arg-type]
+    assert why == [
+        "worse on jump-speed: the dynamic jump speed would fall 484.8 -> 305.5 rpm (the speed holding the force "
+        "margin would go 19.68 -> 226.8)"
+    ]
+    assert (
+        _refusals("jump-speed", nothing, nothing, b, dataclasses.replace(b, margin_speed_rpm=226.8), [], nothing) == []
+    )  # type: ignore[arg-type]
 
 
 @pytest.mark.slow

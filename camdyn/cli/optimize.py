@@ -19,7 +19,9 @@ if TYPE_CHECKING:
     from ..design.optimize import Optimization
 
 
-def print_optimization(res: Optimization, output: Path) -> None:
+def print_optimization(res: Optimization, output: Path, original: str) -> None:
+    """The before/after table, the time-domain verification and the claim, or why nothing was written;
+    ``original``: the input case's name (the answer takes the output file's)."""
     con = _console.console()
     u, f = res.unit, res.force_unit
     con.print(
@@ -72,9 +74,7 @@ def print_optimization(res: Optimization, output: Path) -> None:
         con.print(f"claimed: the margin holds at every speed up to {floor_rpm(res.claimed_speed_rpm):.1f} rpm")
         con.print(f"wrote {output} in {res.time_s:.1f} s; next: camdyn check {output}")
     else:
-        con.print(
-            f"[bold]cannot improve[/bold] {res.case.name} for {res.objective}; wrote nothing ({res.time_s:.1f} s):"
-        )
+        con.print(f"[bold]cannot improve[/bold] {original} for {res.objective}; wrote nothing ({res.time_s:.1f} s):")
         for why in res.refusals:
             con.print(f"  - {why}")
 
@@ -102,5 +102,5 @@ def run(args: argparse.Namespace) -> int:
     if args.json:
         print(_console.json_text(res.json() | {"output": str(out) if res.written else None}))
     else:
-        print_optimization(res, out)
+        print_optimization(res, out, case.name)
     return 0 if res.written and res.after.verdict == "pass" else 1

@@ -7,6 +7,7 @@ from pathlib import Path
 from typing import Any
 
 import equinox as eqx
+import jax
 import jax.numpy as jnp
 import numpy as np
 
@@ -15,6 +16,7 @@ from .._core.kinds import FollowerKind
 from .._core.precision import require_x64
 from .._core.units import M_PER_MM, MAX_ROCKER_RATIO, MIN_STATIC_VALVE_LIFT, THETA_GRID
 from ..schema import CaseSpec, FollowerSpec, LimitsSpec, ValvetrainSpec, dynamics_keys, load_case_spec, parse
+from .dynamics import static_force
 from .follower import FollowerModel, follower_model
 from .geometry import ContourFit
 from .motion import Motion, MotionFit, Program
@@ -240,8 +242,7 @@ def _check_valve_lifts(motion: Motion, spec: CaseSpec, vt_model: ValvetrainModel
 
 def _check_holds_at_rest(motion: Motion, model: FollowerModel, preload_key: str, unit: str) -> None:
     theta_deg = np.arange(THETA_GRID) * (360.0 / THETA_GRID)
-    vals = motion.host(np.deg2rad(theta_deg))
-    at_rest = float(model.stiffness) * vals[0] * model.scale + float(model.preload) + float(model.external)
+    at_rest = np.asarray(static_force(jax.device_get(model), motion.host(np.deg2rad(theta_deg))[0], model.scale))
     i = int(at_rest.argmin())
     if at_rest[i] <= 0.0:
         raise InputError(

@@ -35,6 +35,7 @@ from ._metrics import (
     default_margin,
     floor_rpm,
     follower_margin_speed,
+    least_force_at_rest,
     margin_speed,
     metrics,
     search_top,
@@ -122,7 +123,7 @@ def _refusals(
     failing, the motion leaving its range, or the time-domain model finding the margin broken."""
     out = []
     worse = {
-        "jump-speed": a.margin_speed_rpm <= b.margin_speed_rpm * (1.0 + BETTER) or a.jump_speed_rpm < b.jump_speed_rpm,
+        "jump-speed": a.margin_speed_rpm <= b.margin_speed_rpm * (1.0 + BETTER),
         "vibration": a.residual_vibration >= b.residual_vibration * (1.0 - BETTER),
         "spring-force": a.peak_spring_force >= b.peak_spring_force * (1.0 - BETTER),
     }[objective]
@@ -133,6 +134,11 @@ def _refusals(
             "spring-force": "the peak spring force",
         }
         out.append(f"no better on {objective}: {what[objective]} would go {_pair(objective, b, a)}")
+    elif objective == "jump-speed" and a.jump_speed_rpm < b.jump_speed_rpm:  # the margin held faster, the jump not
+        out.append(
+            f"worse on jump-speed: the dynamic jump speed would fall {b.jump_speed_rpm:.4g} -> "
+            f"{a.jump_speed_rpm:.4g} rpm (the speed holding the force margin would go {_pair(objective, b, a)})"
+        )
     out += _broken_checks(before, after)
     out += kept
     out += [f"the time-domain model finds the margin broken at {rpm:.1f} rpm" for rpm in verification.broken_at_rpm]
@@ -230,6 +236,17 @@ def optimize_case(
     margin = default_margin(case) if min_force is None else float(min_force)
     if not math.isfinite(margin) or margin < 0.0:
         raise InputError("--min-force", f"must be a finite force >= 0, got {margin:g}")
+    if case.valvetrain is None and objective != "spring-force":  # spring-force may raise the preload
+        at_rest, f = least_force_at_rest(case), case.kind.force_unit
+        if margin >= at_rest:
+            given = "" if min_force is not None else f" (the default, {MARGIN_OF_PRELOAD:.0%} of the preload)"
+            raise InputError(
+                "--min-force",
+                f"a force margin of {margin:.4g} {f}{given} is not held even with the cam turned slowly: the least "
+                f"contact force at rest is {at_rest:.4g} {f} (the spring and the external load at the lowest lift), "
+                "which reshaping the rises and returns does not change; give a smaller margin, or optimize for "
+                "spring-force",
+            )
     t0 = time.perf_counter()
     case = resolve_spring(case)  # the model check judges: with the spring's own mass where [spring] gives the part
     control_points = N_CONTROL if control_points is None else control_points
@@ -308,9 +325,8 @@ def optimize_case(
         else:
             claimed = after.margin_speed_rpm if objective == "jump-speed" else case.limits.speed_margin * rpm
             checked = [w / RPM for w in _dips(new, claimed * RPM, _VERIFIED)] if not new.model.rigid else []
-            checked = sorted(
-                set(round(v, 1) for v in checked + [0.99 * claimed] + ([] if objective == "jump-speed" else [rpm]))
-            )
+            candidates = checked + [0.99 * claimed] + ([] if objective == "jump-speed" else [rpm])
+            checked = sorted(set(round(v, 1) for v in candidates if round(v, 1) > 0.0))  # a cam at rest: no dynamics
             verification = verify(new, checked, margin)
             refusals = _refusals(
                 objective, before_check, after_check, before, after, _motion_kept(new, space), verification

@@ -50,6 +50,13 @@ def static_position(model: FollowerModel, s: Values, unit: Values = 1.0) -> jax.
     return (kf * s - model.preload - model.external) / (k + kf)
 
 
+def static_force(model: FollowerModel, s: Values, unit: Values = 1.0) -> Values:
+    """The load the follower rests on a cam standing at lift ``s`` with, ``k s + F0 + F_ext`` (N, or N*m for an
+    arm; ``s`` in the unit whose SI value is ``unit``, as :func:`train_force`): the interface force as the speed
+    goes to 0, whatever the train. Pure arithmetic: numpy in, numpy out."""
+    return model.stiffness * unit * s + model.preload + model.external
+
+
 def preload_share(stiffness: Num, train_stiffness: Num) -> Num:
     """How much of a preload change reaches the cam in contact, ``dF_i / dF0 = k_f / (k + k_f)`` (1): the
     in-contact steady state is affine in the preload, which moves the follower by ``-dF0 / (k + k_f)`` at every
