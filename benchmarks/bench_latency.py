@@ -9,8 +9,9 @@ Fresh processes, round-robin (one of each per round, so a change in the machine'
 * ``camdyn check cases/<case>.toml`` with warm caches (a private cache directory, filled by one run first: JAX's
   and camdyn's programs and Python's bytecode, as a user's install has them);
   goal (issue 23): at most 1.5 x the bare import;
-* a bad option (``check cases/lecture.toml --bogus``) and a case whose ``[motion] table`` names a missing file:
-  goal, reported (exit 2) before JAX loads, under 0.5 s;
+* a bad option (``check cases/lecture.toml --bogus``), a case whose ``[motion] table`` names a missing file and
+  options whose values are out of bounds or do not apply (:data:`BAD_VALUES`): goal, reported (exit 2) before JAX
+  loads, under 0.5 s;
 * with ``--new``, the first ``check`` of a never-seen variant of each case, in the cache the shipped cases filled:
   a copy with one set of numbers changed, new every round, so that its structure is the case's and its values
   new (:func:`variant`: a program's lifts and B-spline control points, a lift table's or a contour's values, a
@@ -49,6 +50,13 @@ BARE = "import jax, diffrax"
 GOAL_CHECK = 1.5  # x the bare import (issue 23)
 GOAL_NEW = 2.0  # x the warm check of the case (issue 23)
 GOAL_ERROR_S = 0.5
+# options whose values a user mistypes, each refused in one line before JAX loads ({tmp}: the run's own folder)
+BAD_VALUES = {
+    "camdyn table cases/lecture.toml --step 0": ["table", "--step", "0"],
+    "camdyn sweep cases/lecture.toml --speeds 700:100:3": ["sweep", "--speeds", "700:100:3"],
+    "camdyn profile cases/lecture.toml -o cam.nc (no --cutter-radius)": ["profile", "-o", "{tmp}/cam.nc"],
+    "camdyn size cases/lecture.toml --margin -1": ["size", "--margin", "-1"],
+}
 PATH_SIZES = ("radius", "width", "height", "straight", "corner_radius")  # a path's size keys, scaled by a variant
 
 
@@ -205,6 +213,10 @@ def main() -> int:
             env,
             True,
         )
+        lecture = str(ROOT / "cases" / "lecture.toml")
+        for label, argv in BAD_VALUES.items():  # an option's value out of bounds, or an option that does not apply
+            args = [a.format(tmp=tmp) for a in argv]
+            jobs[label] = ([[*py, "-m", "camdyn", args[0], lecture, *args[1:]]] * opts.repeat, env, True)
 
         def run(name: str, argv: list[str], env: dict) -> tuple[float, float, int, str]:
             """One timed run: a check gives a verdict (exit 0 or 1), a refused input exit 2."""

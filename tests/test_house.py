@@ -117,18 +117,29 @@ def test_help_and_version_do_not_load_jax():
         ("lecture.toml", "mass = 0.5", "mas = 0.5", [], "dynamics.mas: unknown key (did you mean 'mass'?)"),
         ("valve-lift.toml", "valve-lift.csv", "nope.csv", [], "nope.csv: no such file ("),
         ("lecture.toml", "", "", ["--bogus"], "unrecognized arguments: --bogus"),
+        ("lecture.toml", "", "", ["table", "--step", "0"], "--step: must be in (0, 360] deg (got 0)"),
+        ("lecture.toml", "", "", ["table", "--ecam", "1"], "--ecam: must be between 2 and 100,000"),
+        ("lecture.toml", "", "", ["profile", "-o", "{tmp}/cam.nc"], "--cutter-radius: a cutter path (.nc) needs"),
+        ("lecture.toml", "", "", ["profile", "-o", "{tmp}/cam.dxf", "--tolerance", "0"], "--tolerance: must be"),
+        ("lecture.toml", "", "", ["profile", "-o", "{tmp}/cam.xyz"], "unknown format '.xyz'"),
+        ("lecture.toml", "", "", ["sweep", "--speeds", "700:100:3"], "--speeds: A must not exceed B"),
+        ("lecture.toml", "", "", ["sweep", "--speeds", "100:1e6:3"], "--speeds: at most 100000 rpm"),
+        ("lecture.toml", "", "", ["size", "--margin", "-1"], "--margin: must be a positive number (got -1)"),
+        ("lecture-tolerances.toml", "", "", ["tolerance", "--samples", "0"], "--samples: must be from 1 to"),
+        ("lecture.toml", "", "", ["optimize", "-o", "{tmp}/o.toml", "--min-force", "-1"], "--min-force: must be"),
     ],
 )
 def test_bad_input_is_reported_before_jax_loads(tmp_path, name, old, new, options, message):
-    """A typo, a missing data file, an unknown option: one line, exit 2, and JAX never loads."""
+    """A typo, a missing data file, an unknown option, an option's value out of its bounds or an option that does
+    not apply (``check`` unless a command is named first): one line, exit 2, and JAX never loads."""
     case = tmp_path / name
     case.write_text((ROOT / "cases" / name).read_text().replace(old, new))
-    proc = _fresh(
-        f"import sys\nfrom camdyn.cli import main\ncode = main(['check', {str(case)!r}, *{options!r}])\n"
-        "print(code, 'jax' in sys.modules)"
-    )
+    command, options = (options[0], options[1:]) if options and not options[0].startswith("-") else ("check", options)
+    argv = [command, str(case), *(o.format(tmp=tmp_path) for o in options)]
+    proc = _fresh(f"import sys\nfrom camdyn.cli import main\ncode = main({argv!r})\nprint(code, 'jax' in sys.modules)")
     assert proc.stdout.strip().splitlines()[-1] == "2 False", proc.stderr
     assert len(proc.stderr.strip().splitlines()) == 1 and message in proc.stderr, proc.stderr
+    assert not list(tmp_path.glob("cam.*")) and not (tmp_path / "o.toml").exists()  # nothing written
 
 
 def private_crossings() -> list[str]:

@@ -269,7 +269,7 @@ def test_grid_beyond_the_budget_is_refused(lecture, capsys):
         "sweep",
         str(LECTURE),
         "--speeds",
-        "1:1e6:1000000000",
+        "1:1e5:1000000000",
         "--spring-rates",
         "1:2:1000000",
         "-o",

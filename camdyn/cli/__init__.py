@@ -15,6 +15,7 @@ import math
 import os
 import sys
 import traceback
+from collections.abc import Callable
 from importlib import import_module
 from importlib.metadata import PackageNotFoundError, version
 from pathlib import Path
@@ -64,6 +65,33 @@ def _positive_rpm(text: str) -> float:
     if value > MAX_SPEED_RPM:
         raise argparse.ArgumentTypeError(f"at most {MAX_SPEED_RPM:g} rpm (got {text})")
     return value
+
+
+def _grid(most: float = math.inf, unit: str = "") -> Callable[[str], tuple[float, float, int]]:
+    """An argparse type: ``A:B:N`` -> (A, B, N) for N equally spaced values from A to B (positive, at most ``most``
+    ``unit``, A <= B, N >= 1), so a bad grid is reported before JAX loads."""
+
+    def parse(text: str) -> tuple[float, float, int]:
+        parts = text.split(":")
+        if len(parts) != 3:
+            raise argparse.ArgumentTypeError(f"expected A:B:N (from A to B in N values, e.g. 100:700:61), got {text!r}")
+        try:
+            a, b, n = float(parts[0]), float(parts[1]), int(parts[2])
+        except ValueError:
+            raise argparse.ArgumentTypeError(
+                f"expected A:B:N with numbers A and B and a whole number N, got {text!r}"
+            ) from None
+        if not (math.isfinite(a) and math.isfinite(b) and a > 0 and b > 0):
+            raise argparse.ArgumentTypeError(f"A and B must be positive numbers, got {text!r}")
+        if b > most:
+            raise argparse.ArgumentTypeError(f"at most {most:g} {unit} (got {text!r})")
+        if a > b:
+            raise argparse.ArgumentTypeError(f"A must not exceed B, got {text!r}")
+        if n < 1 or (n == 1 and a != b):
+            raise argparse.ArgumentTypeError(f"N must be at least 1 (and N = 1 needs A = B), got {text!r}")
+        return a, b, n
+
+    return parse
 
 
 class _Parser(argparse.ArgumentParser):
@@ -227,9 +255,16 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = command("sweep", "jump map over speeds x spring rates: DIR/<case>-sweep.csv and DIR/<case>-sweep.png")
     p.add_argument("case", help="case file (TOML)")
-    p.add_argument("--speeds", required=True, metavar="A:B:N", help="cam speeds, rpm: N values from A to B")
+    p.add_argument(
+        "--speeds",
+        required=True,
+        type=_grid(MAX_SPEED_RPM, "rpm"),
+        metavar="A:B:N",
+        help="cam speeds, rpm: N values from A to B",
+    )
     p.add_argument(
         "--spring-rates",
+        type=_grid(),
         metavar="A:B:N",
         help=(
             "spring rates, N/mm (N*m/rad oscillating): N values from A to B (default: the case's); "
@@ -238,6 +273,7 @@ def build_parser() -> argparse.ArgumentParser:
     )
     p.add_argument(
         "--backlash",
+        type=_grid(),
         metavar="A:B:N",
         help="a groove cam: backlashes, mm: N values from A to B (default: the case's); the map is of the impacts",
     )
@@ -383,6 +419,7 @@ def _validate(args) -> None:
     """Read and validate the input files before any model is built: a typo is reported before JAX loads."""
     from .._core.errors import CamdynError
     from ..schema import load_case_spec, load_path_file
+    from ._options import check_options
 
     if args.command == "synthesize":
         args.spec = load_path_file(args.case)
@@ -401,6 +438,7 @@ def _validate(args) -> None:
         args.spec = load_case_spec(args.case)
     if args.command in _SPRING_HELD:
         _refuse_form_closed([args.spec], [""], args.command)
+    check_options(args)
 
 
 def _refuse_form_closed(specs, paths, command: str) -> None:

@@ -18,8 +18,7 @@ from .._core.outputs import output_file, write_new
 from .._core.units import MM_PER_INCH
 from ..design.geometry import judge_geometry
 from ..design.table import table_angles
-from ..export import FORMATS, write_profile
-from ..export.profile import MAX_TOLERANCE_MM, MIN_TOLERANCE_MM
+from ..export import write_profile
 from ..model.case import build_case
 from ..model.geometry import WALLS, analyze, conjugate, groove
 from . import _version
@@ -27,71 +26,14 @@ from . import _version
 _DENSE_CURVATURE = 20_000  # angles on which a tool's fit in every concave stretch is judged (0.018 deg)
 
 
-def _option_errors(args, suffix: str) -> None:
-    """Refuse an option that does not apply to the file asked for: nothing the user gave is silently ignored."""
-    grind = args.grinder_wheel_radius is not None
-    given = {
-        "--cutter-radius": args.cutter_radius is not None,
-        "--feed": args.feed is not None,
-        "--arcs": args.arcs,
-        "--climb/--conventional": args.conventional or args.climb,
-        "--grinder-wheel-radius": grind,
-        "--follower-lift": args.follower_lift,
-        "--step": args.step is not None,
-        "--thickness": args.thickness is not None,
-        "--bore": args.bore is not None,
-        "--keyway": args.keyway is not None,
-    }
-    takes = {
-        ".nc": {"--cutter-radius", "--feed", "--arcs", "--climb/--conventional"},
-        ".csv": {"--grinder-wheel-radius", "--follower-lift", "--step"},
-        ".step": {"--thickness", "--bore", "--keyway"},
-        ".stl": {"--thickness", "--bore", "--keyway"},
-    }.get(suffix, set())
-    for flag, on in given.items():
-        if on and flag not in takes:
-            what = {".nc": "a cutter path", ".csv": "an outline or grinder CSV", ".step": "a solid", ".stl": "a solid"}
-            raise InputError(flag, f"does not apply to {what.get(suffix, 'an outline')} ({args.output})")
-    if suffix == ".nc" and args.cutter_radius is None:
-        raise InputError("--cutter-radius", "a cutter path (.nc) needs the cutter radius, mm")
-    if suffix in (".step", ".stl") and args.thickness is None:
-        raise InputError("--thickness", f"a solid ({suffix}) needs the plate's thickness, mm")
-    if grind and args.follower_lift:
-        raise InputError("--follower-lift", "write the wheel-centre table and the lift table one at a time")
-    if args.step is not None and not (grind or args.follower_lift):
-        raise InputError("--step", "is the angle step of a grinder table (--grinder-wheel-radius or --follower-lift)")
-    if not MIN_TOLERANCE_MM <= args.tolerance <= MAX_TOLERANCE_MM:
-        raise InputError(
-            "--tolerance",
-            f"must be between {MIN_TOLERANCE_MM:g} and {MAX_TOLERANCE_MM:g} mm, got {args.tolerance:g} mm",
-        )
-    if args.step is not None:
-        table_angles(args.step)
-    for flag, value in (
-        ("--cutter-radius", args.cutter_radius),
-        ("--grinder-wheel-radius", args.grinder_wheel_radius),
-        ("--feed", args.feed),
-        ("--thickness", args.thickness),
-        ("--bore", args.bore),
-    ):
-        if value is not None and not (0 < value < 1e6):
-            raise InputError(flag, f"must be a positive number (got {value:g})")
-
-
 def run(args: argparse.Namespace) -> int:
     out = Path(args.output)
     suffix = out.suffix.lower()
-    if out.is_dir():
-        raise InputError(str(out), f"is a folder: give a file name ({', '.join('cam' + f for f in FORMATS)})")
-    if suffix not in FORMATS:
-        raise InputError(str(out), f"unknown format {suffix or '(no suffix)'!r}: use one of {', '.join(FORMATS)}")
-    _option_errors(args, suffix)
+    # the file name and the options were checked before JAX loaded (camdyn.cli._options)
     if suffix in (".step", ".stl"):
         # the optional extra: say how to get it before any work
         from ..export import solid
 
-        if args.keyway:
-            solid.parse_keyway(args.keyway)  # a typo is refused before the model is built or build123d loads
         solid.require_cad()
     grind = args.grinder_wheel_radius is not None or args.follower_lift
     if suffix in (".nc", ".step", ".stl") or grind:  # checked before the work (write_profile checks its own)

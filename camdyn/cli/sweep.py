@@ -20,37 +20,17 @@ from ._console import progress_bar
 from ._groove import sweep_groove
 
 
-def _parse_grid(flag: str, text: str) -> tuple[float, float, int]:
-    """``A:B:N`` -> (A, B, N) for N equally spaced values from A to B (positive, A <= B, N >= 1); InputError naming
-    the flag."""
-    parts = text.split(":")
-    if len(parts) != 3:
-        raise InputError(flag, f"expected A:B:N (from A to B in N values, e.g. 100:700:61), got {text!r}")
-    try:
-        a, b, n = float(parts[0]), float(parts[1]), int(parts[2])
-    except ValueError:
-        raise InputError(flag, f"expected A:B:N with numbers A and B and a whole number N, got {text!r}") from None
-    if not (math.isfinite(a) and math.isfinite(b) and a > 0 and b > 0):
-        raise InputError(flag, f"A and B must be positive numbers, got {text!r}")
-    if a > b:
-        raise InputError(flag, f"A must not exceed B, got {text!r}")
-    if n < 1 or (n == 1 and a != b):
-        raise InputError(flag, f"N must be at least 1 (and N = 1 needs A = B), got {text!r}")
-    return a, b, n
-
-
 def run(args: argparse.Namespace) -> int:
     if args.spec.follower is not None and args.spec.follower.form_closed:  # a groove cam: its impacts, not jumps
-        speeds = np.linspace(*_parse_grid("--speeds", args.speeds))
-        gaps = None if args.backlash is None else np.linspace(*_parse_grid("--backlash", args.backlash))
+        speeds = np.linspace(*args.speeds)  # (A, B, N), parsed and checked with the options
+        gaps = None if args.backlash is None else np.linspace(*args.backlash)
         initialize(args.coordinator, args.num_processes, args.process_id, auto=args.distributed)
         if not is_writer():  # not sharded: process 0 does the work
             return 0
         return sweep_groove(args, build_case(args.spec, source=Path(args.case)), speeds, gaps)
     if args.backlash is not None:
         raise InputError("--backlash", 'only a groove cam ([follower] closure = "groove") has a backlash')
-    speed_grid = _parse_grid("--speeds", args.speeds)
-    rate_grid = _parse_grid("--spring-rates", args.spring_rates) if args.spring_rates is not None else None
+    speed_grid, rate_grid = args.speeds, args.spring_rates
     check_grid_size(
         speed_grid[2], 1 if rate_grid is None else rate_grid[2], "--speeds x --spring-rates"
     )  # before allocating it

@@ -10,11 +10,9 @@ from pathlib import Path
 from typing import TYPE_CHECKING, TypeVar
 
 from .._core.distributed import initialize, is_writer
-from .._core.errors import InputError
 from .._core.outputs import output_dir, output_file, safe_stem, write_new
 from ..design.tolerance import (
     DEFAULT_VALVETRAIN_SAMPLES,
-    MAX_SAMPLES,
     impact_tolerance_study,
     tolerance_study,
     valvetrain_tolerance_study,
@@ -73,8 +71,6 @@ def json_doc(result: ToleranceResult, worst_files: list[Path], elapsed: float) -
 
 
 def run(args: argparse.Namespace) -> int:
-    if args.samples is not None and not 1 <= args.samples <= MAX_SAMPLES:  # before any work or any folder is made
-        raise InputError("--samples", f"must be from 1 to {MAX_SAMPLES}, got {args.samples}")
     initialize(args.coordinator, args.num_processes, args.process_id, auto=args.distributed)
     case = build_case(args.spec, source=Path(args.case))
     if case.follower is not None and case.follower.form_closed:  # a groove cam: its impacts, not its jumps

@@ -7,7 +7,7 @@ import io
 import jax.numpy as jnp
 import numpy as np
 
-from .._core.errors import InputError
+from .._core.limits import check_ecam_points, check_table_step
 from .._core.units import RPM
 from ..model import dynamics as dyn
 from ..model.case import Case
@@ -17,21 +17,11 @@ from ..model.motion import evaluate
 from .checks import forces_in_newton
 from .closure import closure_study
 
-MAX_ROWS = 1_000_000  # a table is read by people and spreadsheets: a million rows is already more than either wants
-
 
 def table_angles(step_deg: float) -> np.ndarray:
     """Cam angles (deg) from 0 in steps of ``step_deg`` below 360; :class:`InputError` for a step that is not in
-    (0, 360] or makes more than :data:`MAX_ROWS` rows."""
-    if not 0 < step_deg <= 360:
-        raise InputError("--step", f"must be in (0, 360] deg (got {step_deg:g})")
-    rows = 360.0 / step_deg
-    if rows > MAX_ROWS:
-        raise InputError(
-            "--step",
-            f"{step_deg:g} deg makes {rows:.3g} rows; a table has at most {MAX_ROWS:,} (a step of at least "
-            f"{360.0 / MAX_ROWS:g} deg)",
-        )
+    (0, 360] or makes more than :data:`~camdyn._core.limits.MAX_ROWS` rows."""
+    check_table_step(step_deg)
     return np.arange(0.0, 360.0 - 1e-9, step_deg)
 
 
@@ -76,15 +66,11 @@ def motion_table(case: Case, step_deg: float = 1.0, speed_rpm: float | None = No
     return cols
 
 
-MAX_ECAM_POINTS = 100_000  # a servo drive's cam table holds a few thousand points at most
-
-
 def ecam_table(case: Case, n: int) -> tuple[dict[str, np.ndarray], str]:
     """A servo e-cam table: ``n`` evenly spaced master angles (deg, from 0 below 360) and the follower's position,
     velocity and acceleration per master degree (mm, mm/deg, mm/deg^2; oscillating deg, deg/deg, deg/deg^2), the
     units a drive's cam table takes (slave units per master unit). Returns the columns and a line naming the units."""
-    if not 2 <= n <= MAX_ECAM_POINTS:
-        raise InputError("--ecam", f"must be between 2 and {MAX_ECAM_POINTS:,} master angles (got {n})")
+    check_ecam_points(n)
     master = np.arange(n) * (360.0 / n)
     s, v, a, _ = np.asarray(evaluate(case.motion, jnp.asarray(np.deg2rad(master))))
     rad = np.pi / 180.0  # per master degree: d/d(deg) = (pi / 180) d/d(rad)

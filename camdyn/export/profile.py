@@ -16,6 +16,7 @@ from pathlib import Path
 import numpy as np
 
 from .._core.errors import InputError, NumericalError
+from .._core.limits import check_chord_tolerance
 from .._core.outputs import output_file
 from .._core.units import MM_PER_INCH
 
@@ -25,8 +26,6 @@ OUTLINE_FORMATS = (".dxf", ".csv", ".svg")  # the outline itself (write_profile)
 _PROBES = 15  # interior samples per interval for its chord deviation; odd, so the midpoint is one
 _START = 64  # initial equal intervals in u
 _MAX_POINTS = 200_000
-MIN_TOLERANCE_MM = 1e-6  # a nanometre: finer is below any machine's resolution (and would need millions of points)
-MAX_TOLERANCE_MM = 10.0
 
 
 def _spline(xy: np.ndarray) -> Callable[[np.ndarray], np.ndarray]:
@@ -148,10 +147,7 @@ def write_profile(
         raise InputError(str(path), f"unknown format {suffix or '(no suffix)'!r}: use one of {known}")
     if units not in ("mm", "in"):
         raise InputError("--units", f"must be mm or in, got {units!r}")
-    if not MIN_TOLERANCE_MM <= tolerance <= MAX_TOLERANCE_MM:
-        raise InputError(
-            "--tolerance", f"must be between {MIN_TOLERANCE_MM:g} and {MAX_TOLERANCE_MM:g} mm, got {tolerance:g} mm"
-        )
+    check_chord_tolerance(tolerance)
     path = output_file(path, force, "contour")
     if isinstance(contour_xy, dict):
         curves = contour_xy

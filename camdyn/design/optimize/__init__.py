@@ -17,6 +17,7 @@ from dataclasses import replace
 import numpy as np
 
 from ..._core.errors import InputError, NumericalError
+from ..._core.limits import check_min_force
 from ..._core.progress import Progress, phase
 from ..._core.results import finite_or_none
 from ..._core.units import RPM
@@ -234,8 +235,7 @@ def optimize_case(
             "--robust", "the case has no [tolerances]: give them to claim a speed at P(separation) <= 1e-3"
         )
     margin = default_margin(case) if min_force is None else float(min_force)
-    if not math.isfinite(margin) or margin < 0.0:
-        raise InputError("--min-force", f"must be a finite force >= 0, got {margin:g}")
+    check_min_force(margin)
     if case.valvetrain is None and objective != "spring-force":  # spring-force may raise the preload
         at_rest, f = least_force_at_rest(case), case.kind.force_unit
         if margin >= at_rest:

@@ -9,6 +9,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ..._core.errors import InputError
+from ..._core.limits import check_sizing
 from ..._core.progress import Progress
 from ..._core.units import RPM
 from ..parts import resolve_spring
@@ -44,14 +45,6 @@ def _kinematic_answer(p: Problem, grid: Grid) -> tuple[float, float, str, str, G
         "and the peak force, convex in sqrt(k), is minimized exactly in sqrt(k) (not a frozen-c LP)"
     )
     return k, f0, note, _SQRT_K_METHOD, grid
-
-
-def check_options(max_speed_rpm: float | None, margin: float | None, min_rate: float) -> None:
-    for name, v in (("--max-speed", max_speed_rpm), ("--margin", margin)):
-        if v is not None and not (math.isfinite(v) and v > 0):
-            raise InputError(name, f"must be a positive number (got {v:g})")
-    if not (math.isfinite(min_rate) and min_rate >= 0):
-        raise InputError("--min-rate", f"must be a number >= 0 (got {min_rate:g})")
 
 
 def _at_full_lift(p: Problem, bind) -> bool:
@@ -121,7 +114,7 @@ def size_spring(
     be built within the case's ``[spring]`` table, and the part (:mod:`._buildable`; ``progress``: its rounds). See
     :mod:`camdyn.design.sizing` for the method, the tie-break rule and the dynamic correction. Raises
     :class:`InputError` on bad input."""
-    check_options(max_speed_rpm, margin, min_rate)
+    check_sizing(max_speed_rpm, margin, min_rate)
     if case.valvetrain is not None:  # the equivalent single follower has no lash, seat or float
         raise InputError(
             "valvetrain",

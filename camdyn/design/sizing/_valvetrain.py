@@ -30,6 +30,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, replace
 
+from ..._core.limits import check_sizing
 from ..._core.progress import Progress, phase
 from ..._core.results import finite_or_none
 from ..._core.units import M_PER_MM, RPM
@@ -43,7 +44,6 @@ from ..valvetrain import ValvetrainResult, analyze_valvetrain
 from ._buildable import HEADROOM, WRITTEN_DIGITS, written
 from ._lp import lp
 from ._problem import build_problem
-from ._size import check_options
 
 _ROUNDS = 10
 _CLOSE = 0.01  # the search stops once the least speed is within 1 % above (1 + HEADROOM) x the top speed
@@ -252,7 +252,7 @@ def size_valve_spring(
     margin = float(case.limits.speed_margin if margin is None else margin)
     own_rate = float(case.spec.dynamics.spring_rate or 0.0)
     min_rate = own_rate if min_rate is None else float(min_rate)
-    check_options(max_speed_rpm, margin, min_rate)
+    check_sizing(max_speed_rpm, margin, min_rate)
     # the case is judged at its speed with the sizing's top: check at max_speed_rpm with the margin asked
     spec = case.spec.model_copy(
         update={

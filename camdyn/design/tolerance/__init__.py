@@ -16,7 +16,7 @@ sample's speed, its float and bounce speeds and seating velocity.
 from ._groove import ImpactToleranceResult, impact_tolerance_study
 from ._interval import CONFIDENCE
 from ._result import CSV_COLUMNS, PARAM_KEYS, ToleranceResult, csv_columns
-from ._study import CHUNK_SAMPLES, MAX_SAMPLES, SCAN_GRID, WORST, tolerance_study
+from ._study import CHUNK_SAMPLES, SCAN_GRID, WORST, tolerance_study
 from ._valvetrain import (
     DEFAULT_VALVETRAIN_SAMPLES,
     MAX_VALVETRAIN_SAMPLES,
@@ -33,7 +33,6 @@ __all__ = [
     "MAX_VALVETRAIN_SAMPLES",
     "ImpactToleranceResult",
     "impact_tolerance_study",
-    "MAX_SAMPLES",
     "PARAM_KEYS",
     "SCAN_GRID",
     "ToleranceResult",

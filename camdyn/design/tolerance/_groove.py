@@ -22,6 +22,7 @@ import numpy as np
 
 from ..._core.errors import InputError
 from ..._core.kinds import FollowerKind
+from ..._core.limits import check_samples
 from ..._core.progress import Progress, counter
 from ..._core.units import PROFILE_ERROR_HARMONICS, tolerance_unit
 from ...model import dynamics as dyn
@@ -31,7 +32,7 @@ from ._interval import CONFIDENCE, exact_interval
 from ._kernel import Sample, sample_model
 from ._result import csv_columns
 from ._sampling import SCALAR_KEYS, draw_samples, spreads
-from ._study import MAX_SAMPLES, WORST, _nominal, _to_si, describe
+from ._study import WORST, _nominal, _to_si, describe
 
 if TYPE_CHECKING:
     from ...model.case import Case
@@ -160,8 +161,7 @@ def impact_tolerance_study(
     """Monte Carlo study of the form-closed cam ``case``'s ``[tolerances]`` (``backlash`` among them) over ``samples``
     built cams drawn from ``seed``: their largest crossover impact at their speed, and conjugate cams' least cam
     force under their preload."""
-    if not 1 <= samples <= MAX_SAMPLES:
-        raise InputError("--samples", f"must be from 1 to {MAX_SAMPLES}, got {samples}")
+    check_samples(samples)
     f = case.follower
     assert f is not None and f.form_closed  # the caller asks only of a form-closed cam
     kind, base = case.kind, case.model

@@ -12,6 +12,7 @@ import numpy as np
 
 from ..._core.errors import InputError
 from ..._core.jit import device_array
+from ..._core.limits import check_samples
 from ..._core.progress import Progress, counter
 from ..._core.sharding import run_batched
 from ..._core.units import PROFILE_ERROR_HARMONICS, RPM, THETA_GRID, tolerance_unit
@@ -31,7 +32,6 @@ if TYPE_CHECKING:
 SCAN_GRID = 512  # angles of the jump-speed search (the least force at the case speed uses THETA_GRID)
 CHUNK_SAMPLES = 256  # samples per device per compiled call
 WORST = 3  # samples written out as case files
-MAX_SAMPLES = 10_000_000
 
 
 def _nominal(case) -> dict[str, float]:
@@ -77,8 +77,7 @@ def tolerance_study(
 
     ``devices``: the JAX devices to shard the samples over (default: every device of every process, the global
     mesh after :func:`camdyn._core.distributed.initialize`); the result does not depend on them."""
-    if not 1 <= samples <= MAX_SAMPLES:
-        raise InputError("--samples", f"must be from 1 to {MAX_SAMPLES}, got {samples}")
+    check_samples(samples)
     if case.valvetrain is not None:  # the equivalent single follower has no lash, seat or float
         raise InputError(
             "valvetrain",

@@ -1,0 +1,91 @@
+"""The options' own checks, run before JAX loads (:func:`camdyn.cli._validate`): a bad value, an option that does not
+apply, a file name of unknown format is one line at once, not after the seconds it takes to load the models. The
+bounds are :mod:`camdyn._core.limits`', the ones the library checks its arguments with."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+from .._core.errors import InputError
+from .._core.limits import (
+    check_chord_tolerance,
+    check_ecam_points,
+    check_min_force,
+    check_samples,
+    check_sizing,
+    check_table_step,
+)
+from ..export import FORMATS
+from ..export.solid import parse_keyway
+
+
+def check_options(args: argparse.Namespace) -> None:
+    """:class:`InputError` for the first option of ``args.command`` that is out of its bounds or does not apply."""
+    if args.command == "table":
+        check_table_step(args.step)
+        if args.ecam is not None:
+            check_ecam_points(args.ecam)
+    elif args.command == "profile":
+        out = Path(args.output)
+        if out.is_dir():
+            raise InputError(str(out), f"is a folder: give a file name ({', '.join('cam' + f for f in FORMATS)})")
+        suffix = out.suffix.lower()
+        if suffix not in FORMATS:
+            raise InputError(str(out), f"unknown format {suffix or '(no suffix)'!r}: use one of {', '.join(FORMATS)}")
+        _profile_options(args, suffix)
+        if args.keyway:
+            parse_keyway(args.keyway)
+    elif args.command == "tolerance" and args.samples is not None:
+        check_samples(args.samples)
+    elif args.command == "size":
+        check_sizing(args.max_speed, args.margin, 0.0 if args.min_rate is None else args.min_rate)
+    elif args.command == "optimize" and args.min_force is not None:
+        check_min_force(args.min_force)
+
+
+def _profile_options(args, suffix: str) -> None:
+    """Refuse an option that does not apply to the file asked for: nothing the user gave is silently ignored."""
+    grind = args.grinder_wheel_radius is not None
+    given = {
+        "--cutter-radius": args.cutter_radius is not None,
+        "--feed": args.feed is not None,
+        "--arcs": args.arcs,
+        "--climb/--conventional": args.conventional or args.climb,
+        "--grinder-wheel-radius": grind,
+        "--follower-lift": args.follower_lift,
+        "--step": args.step is not None,
+        "--thickness": args.thickness is not None,
+        "--bore": args.bore is not None,
+        "--keyway": args.keyway is not None,
+    }
+    takes = {
+        ".nc": {"--cutter-radius", "--feed", "--arcs", "--climb/--conventional"},
+        ".csv": {"--grinder-wheel-radius", "--follower-lift", "--step"},
+        ".step": {"--thickness", "--bore", "--keyway"},
+        ".stl": {"--thickness", "--bore", "--keyway"},
+    }.get(suffix, set())
+    for flag, on in given.items():
+        if on and flag not in takes:
+            what = {".nc": "a cutter path", ".csv": "an outline or grinder CSV", ".step": "a solid", ".stl": "a solid"}
+            raise InputError(flag, f"does not apply to {what.get(suffix, 'an outline')} ({args.output})")
+    if suffix == ".nc" and args.cutter_radius is None:
+        raise InputError("--cutter-radius", "a cutter path (.nc) needs the cutter radius, mm")
+    if suffix in (".step", ".stl") and args.thickness is None:
+        raise InputError("--thickness", f"a solid ({suffix}) needs the plate's thickness, mm")
+    if grind and args.follower_lift:
+        raise InputError("--follower-lift", "write the wheel-centre table and the lift table one at a time")
+    if args.step is not None and not (grind or args.follower_lift):
+        raise InputError("--step", "is the angle step of a grinder table (--grinder-wheel-radius or --follower-lift)")
+    check_chord_tolerance(args.tolerance)
+    if args.step is not None:
+        check_table_step(args.step)
+    for flag, value in (
+        ("--cutter-radius", args.cutter_radius),
+        ("--grinder-wheel-radius", args.grinder_wheel_radius),
+        ("--feed", args.feed),
+        ("--thickness", args.thickness),
+        ("--bore", args.bore),
+    ):
+        if value is not None and not (0 < value < 1e6):
+            raise InputError(flag, f"must be a positive number (got {value:g})")
