@@ -73,6 +73,8 @@ speed_fluctuation = 0.04
         (('between = ["a", "b"]', 'between = ["a", "a"]'), "clearance[0].between", "two different cams"),
         (("speed_fluctuation = 0.04", "speed_fluctuation = 1.5"), "drive.speed_fluctuation", "less than 1"),
         (("phase = 37.25", 'phase = "late"'), "cam[2].phase", "valid number"),
+        (('between = ["a", "b"]', 'between = ["a"]'), "clearance[0].between", "expected 2 values, got 1 (['a'])"),
+        (('between = ["a", "b"]', "between = []"), "clearance[0].between", "expected 2 values, got 0 ([])"),
     ],
 )
 def test_machine_file_errors_name_the_key(tmp_path, change, where, message):

@@ -146,6 +146,11 @@ def validation_error(err: ValidationError, cls: type[BaseModel], table: str = ""
             return InputError(where, f"unknown table [{loc[-1]}]{mean}{valid}")
         valid = f"; valid keys: {', '.join(owner.model_fields)}" if owner and not hint else ""
         return InputError(where, "unknown key" + (f" (did you mean {hint[0]!r}?)" if hint else "") + valid)
+    if e["type"] == "missing" and loc and isinstance(loc[-1], int) and isinstance(e.get("input"), list):
+        # a position of a fixed-length list (a pair of names or numbers): name the list and what it holds
+        where = ".".join(filter(None, (table, _where(loc[:-1])))) or "case"
+        same = [int(x["loc"][-1]) for x in errors if x["type"] == "missing" and x["loc"][:-1] == e["loc"][:-1]]
+        return InputError(where, f"expected {max(same) + 1} values, got {len(e['input'])} ({e['input']!r})")
     if e["type"] == "missing":
         return InputError(where, "required key is missing")
     if "input" in e and not isinstance(e["input"], dict | list) and not keyed:
