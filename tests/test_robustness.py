@@ -88,7 +88,7 @@ def test_a_train_compressed_by_more_than_the_lift_fails(capsys, tmp_path):
 
 @pytest.mark.slow
 def test_a_very_slow_cam_is_checked_in_the_frequency_domain(capsys):
-    """At 1e-3 rpm the train vibrates two million times a revolution: no time integration resolves that, but the
+    """At 1e-3 rpm the train vibrates 13.5 million times a revolution: no time integration resolves that, but the
     steady state in contact is exact in the frequency domain: quasi-static, k_f / (k + k_f) of the spring force."""
     code, out, err = run(capsys, "check", LECTURE, "--speed", 0.001, "--json")
     assert code == 0, err

@@ -16,8 +16,6 @@ from .._core.limits import (
     check_sizing,
     check_table_step,
 )
-from ..export import FORMATS
-from ..export.solid import parse_keyway
 
 
 def check_options(args: argparse.Namespace) -> None:
@@ -27,6 +25,9 @@ def check_options(args: argparse.Namespace) -> None:
         if args.ecam is not None:
             check_ecam_points(args.ecam)
     elif args.command == "profile":
+        from ..export import FORMATS  # the writers' module (and numpy) load for profile only
+        from ..export.solid import parse_keyway
+
         out = Path(args.output)
         if out.is_dir():
             raise InputError(str(out), f"is a folder: give a file name ({', '.join('cam' + f for f in FORMATS)})")

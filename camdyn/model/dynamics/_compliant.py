@@ -155,6 +155,14 @@ _ALIGNED = 0.999  # the cosine between the last two steps above which they are o
 PERIODIC_TOL = 1e-6  # mismatch, times the largest lift (or 1, motion units), above which the orbit is not periodic
 
 
+# The train's vibrations a revolution (its contact mode over the cam speed) above which the time integration is not
+# run where the frequency domain's steady state stays on the cam and the ringing it leaves out (:func:`_ringing`) is
+# within the periodic tolerance: Dopri8 takes about 60 steps a vibration, so 2000 (the lecture below 6.8 rpm,
+# ringing 5.6e-6 mm against 2e-5 mm) is 1.7 s of shooting on a CPU; a check at 1 rpm took 7.8 s, at 0.001 rpm 12.5 s
+# (the integration ran out of steps first). The shipped cases run at 23 to 503.
+_SLOW_RATIO = 2000.0
+
+
 def _contact_mode(model: FollowerModel) -> float:
     """The angular frequency (rad/s) of the follower's vibration on the cam: sqrt((k + k_f) / m)."""
     return math.sqrt((float(model.stiffness) + float(model.train_stiffness)) / float(model.mass))
@@ -162,12 +170,12 @@ def _contact_mode(model: FollowerModel) -> float:
 
 def _integration_failure(model: FollowerModel, omega: float) -> str:
     """Why the time integration of the compliant model can fail, in the case file's terms."""
-    ratio = _contact_mode(model) / omega  # contact-mode vibration periods (x 2 pi) per revolution
+    ratio = _contact_mode(model) / omega  # contact-mode vibration periods per revolution
     what = "the compliant-model integration failed (solver out of steps or NaN)"
     if ratio > 1e3:
         hz = _contact_mode(model) / TWO_PI
         return (
-            f"{what}: the follower train vibrates at {hz:.4g} Hz, {ratio / TWO_PI:.3g} times per cam revolution; "
+            f"{what}: the follower train vibrates at {hz:.4g} Hz, {ratio:.3g} times per cam revolution; "
             "a slower time integration cannot resolve it: check dynamics.train_stiffness, dynamics.mass and the speed"
         )
     return (
@@ -280,25 +288,56 @@ def _in_contact(motion: Motion, model: FollowerModel, omega, n: int):
     return steady_state(jnp.fft.rfft(s), omega, model, model.stiffness, model.damping, n, unit=model.scale)
 
 
+def _ringing(motion: Motion, ratio: float) -> float:
+    """The largest free vibration (motion units) the cam's jumps leave in a follower train that vibrates ``ratio``
+    times a revolution: a step of the cam's velocity rings with ``|ds'| / ratio``, of its acceleration with
+    ``|ds''| / ratio**2`` (the quasi-static lag of the train, m a / (k + k_f), jumps). The frequency domain on
+    ``THETA_GRID`` angles leaves it out where the mode is past the grid's harmonics."""
+    jumps = np.asarray(motion.jump_angles(), dtype=float)
+    jumps = jumps[np.isfinite(jumps)]
+    if not jumps.size:
+        return 0.0
+    step = np.abs(motion.host((jumps + 1e-9) % TWO_PI) - motion.host((jumps - 1e-9) % TWO_PI))
+    return float(max(np.max(step[1]) / ratio, np.max(step[2]) / ratio**2))
+
+
+def _on_cam(
+    motion: Motion, model: FollowerModel, w: np.ndarray, theta: np.ndarray
+) -> tuple[np.ndarray, np.ndarray] | None:
+    """The frequency domain's steady state (x, dx/dtheta on ``theta``, numpy) where its interface force stays
+    positive all round: then it is the compliant model's periodic orbit, exactly; else None."""
+    x, p = (np.asarray(a) for a in _in_contact(motion, model, w, theta.size))
+    return (x, p) if float(np.min(_contact_force_jit(motion, model, w, theta, x, p))) > 0.0 else None
+
+
 def compliant_response(motion: Motion, model: FollowerModel, omega: float, n: int = THETA_GRID) -> Response:
     """Periodic steady state of the compliant follower at cam speed omega (rad/s)."""
     # numpy between the compiled programs: an eager jax op compiles a program of its own
     theta = np.arange(n) * (TWO_PI / n)
     w = np.asarray(omega, dtype=float)
     notes = []
-    try:
-        traj, residual, best_rev, revs = _shoot(motion, model, float(omega), theta)
-        x, p = np.asarray(traj).T
-    except NumericalError as err:
-        # Far below resonance (a very slow cam) the time integration must resolve millions of train vibrations;
-        # the steady state in contact is exact in the frequency domain, and it is the answer if it stays in contact.
-        x, p = (np.asarray(a) for a in _in_contact(motion, model, w, n))
-        if float(np.min(_contact_force_jit(motion, model, w, theta, x, p))) <= 0.0:
-            raise err from None
-        residual, best_rev, revs = 0.0, 0, 0
+    # Far below resonance (a slow cam) the time integration must step through every vibration of the train, thousands
+    # to millions a revolution; the steady state in contact is exact in the frequency domain, and it is the answer
+    # wherever it stays on the cam.
+    ratio = _contact_mode(model) / omega
+    ringing = _ringing(motion, ratio)
+    slow = ratio > _SLOW_RATIO and ringing <= periodic_tol(motion.host(theta)[0])
+    on_cam = _on_cam(motion, model, w, theta) if slow else None
+    if on_cam is None:
+        try:
+            traj, residual, best_rev, revs = _shoot(motion, model, float(omega), theta)
+            x, p = np.asarray(traj).T
+        except NumericalError as err:
+            on_cam = _on_cam(motion, model, w, theta)
+            if on_cam is None:
+                raise err from None
+    if on_cam is not None:
+        (x, p), residual, best_rev, revs = on_cam, 0.0, 0, 0
         notes.append(
-            f"at {omega / RPM:.4g} rpm the steady state comes from the frequency domain (exact in contact): the time "
-            "integration cannot resolve the train's vibration"
+            f"at {omega / RPM:.4g} rpm the steady state comes from the frequency domain (in contact): the follower "
+            f"train vibrates {ratio:.3g} times a revolution, more than the time integration resolves; the ringing "
+            f"of that mode where the cam's velocity or acceleration jumps, at most {ringing:.2g} {motion.unit}, is "
+            "left out"
         )
     fi, vals, kin = (np.asarray(a) for a in _response_arrays(motion, model, w, theta, x, p))
     theta_deg = np.degrees(theta)
@@ -309,7 +348,7 @@ def compliant_response(motion: Motion, model: FollowerModel, omega: float, n: in
     seps = separations_from_mask(theta_deg, flying, x - vals[0], rel, merge_deg)
     # in numpy on the host, like the rest of the response (XLA's division differs from numpy's in the last bit)
     x_static = static_position(jax.device_get(model), vals[0], model.scale)
-    resid, resid_deg = residual_vibration(motion, theta_deg, x - x_static)
+    resid, resid_deg = residual_vibration(motion, theta_deg, np.asarray(x - x_static))
     warnings = notes
     if float(residual) > periodic_tol(vals[0]):
         warnings.append(
