@@ -4,6 +4,7 @@ command line that answers without loading JAX until it must."""
 from __future__ import annotations
 
 import ast
+import json
 import re
 import subprocess
 import sys
@@ -111,34 +112,45 @@ def test_help_and_version_do_not_load_jax():
     assert proc.stdout.strip().splitlines()[-1] == "False False"
 
 
-@pytest.mark.parametrize(
-    "name, old, new, options, message",
-    [
-        ("lecture.toml", "mass = 0.5", "mas = 0.5", [], "dynamics.mas: unknown key (did you mean 'mass'?)"),
-        ("valve-lift.toml", "valve-lift.csv", "nope.csv", [], "nope.csv: no such file ("),
-        ("lecture.toml", "", "", ["--bogus"], "unrecognized arguments: --bogus"),
-        ("lecture.toml", "", "", ["table", "--step", "0"], "--step: must be in (0, 360] deg (got 0)"),
-        ("lecture.toml", "", "", ["table", "--ecam", "1"], "--ecam: must be between 2 and 100,000"),
-        ("lecture.toml", "", "", ["profile", "-o", "{tmp}/cam.nc"], "--cutter-radius: a cutter path (.nc) needs"),
-        ("lecture.toml", "", "", ["profile", "-o", "{tmp}/cam.dxf", "--tolerance", "0"], "--tolerance: must be"),
-        ("lecture.toml", "", "", ["profile", "-o", "{tmp}/cam.xyz"], "unknown format '.xyz'"),
-        ("lecture.toml", "", "", ["sweep", "--speeds", "700:100:3"], "--speeds: A must not exceed B"),
-        ("lecture.toml", "", "", ["sweep", "--speeds", "100:1e6:3"], "--speeds: at most 100000 rpm"),
-        ("lecture.toml", "", "", ["size", "--margin", "-1"], "--margin: must be a positive number (got -1)"),
-        ("lecture-tolerances.toml", "", "", ["tolerance", "--samples", "0"], "--samples: must be from 1 to"),
-        ("lecture.toml", "", "", ["optimize", "-o", "{tmp}/o.toml", "--min-force", "-1"], "--min-force: must be"),
-    ],
-)
-def test_bad_input_is_reported_before_jax_loads(tmp_path, name, old, new, options, message):
+BAD_INPUTS = [  # (case, (old, new) in its text, the command line after "camdyn", the message)
+    ("lecture.toml", ("mass = 0.5", "mas = 0.5"), ["check"], "dynamics.mas: unknown key (did you mean 'mass'?)"),
+    ("valve-lift.toml", ("valve-lift.csv", "nope.csv"), ["check"], "nope.csv: no such file ("),
+    ("lecture.toml", None, ["check", "--bogus"], "unrecognized arguments: --bogus"),
+    ("lecture.toml", None, ["table", "--step", "0"], "--step: must be in (0, 360] deg (got 0)"),
+    ("lecture.toml", None, ["table", "--ecam", "1"], "--ecam: must be between 2 and 100,000"),
+    ("lecture.toml", None, ["profile", "-o", "{tmp}/cam.nc"], "--cutter-radius: a cutter path (.nc) needs"),
+    ("lecture.toml", None, ["profile", "-o", "{tmp}/cam.dxf", "--tolerance", "0"], "--tolerance: must be"),
+    ("lecture.toml", None, ["profile", "-o", "{tmp}/cam.xyz"], "unknown format '.xyz'"),
+    ("lecture.toml", None, ["sweep", "--speeds", "700:100:3"], "--speeds: A must not exceed B"),
+    ("lecture.toml", None, ["sweep", "--speeds", "100:1e6:3"], "--speeds: at most 100000 rpm"),
+    ("lecture.toml", None, ["size", "--margin", "-1"], "--margin: must be a positive number (got -1)"),
+    ("lecture-tolerances.toml", None, ["tolerance", "--samples", "0"], "--samples: must be from 1 to"),
+    ("lecture.toml", None, ["optimize", "-o", "{tmp}/o.toml", "--min-force", "-1"], "--min-force: must be"),
+]
+
+
+def test_bad_input_is_reported_before_jax_loads(tmp_path):
     """A typo, a missing data file, an unknown option, an option's value out of its bounds or an option that does
-    not apply (``check`` unless a command is named first): one line, exit 2, and JAX never loads."""
-    case = tmp_path / name
-    case.write_text((ROOT / "cases" / name).read_text().replace(old, new))
-    command, options = (options[0], options[1:]) if options and not options[0].startswith("-") else ("check", options)
-    argv = [command, str(case), *(o.format(tmp=tmp_path) for o in options)]
-    proc = _fresh(f"import sys\nfrom camdyn.cli import main\ncode = main({argv!r})\nprint(code, 'jax' in sys.modules)")
-    assert proc.stdout.strip().splitlines()[-1] == "2 False", proc.stderr
-    assert len(proc.stderr.strip().splitlines()) == 1 and message in proc.stderr, proc.stderr
+    not apply: one line, exit 2, nothing written, and JAX never loads (each in turn in one fresh process: the
+    first that loaded JAX is named)."""
+    argvs = []
+    for i, (name, change, command, _) in enumerate(BAD_INPUTS):
+        case = tmp_path / f"{i}-{name}"
+        case.write_text((ROOT / "cases" / name).read_text().replace(*(change or ("", ""))))
+        argvs.append([command[0], str(case), *(o.format(tmp=tmp_path) for o in command[1:])])
+    proc = _fresh(
+        "import contextlib, io, json, sys\nfrom camdyn.cli import main\n"
+        f"for argv in {argvs!r}:\n"
+        "    err = io.StringIO()\n"
+        "    with contextlib.redirect_stderr(err):\n        code = main(argv)\n"
+        "    print(json.dumps([code, 'jax' in sys.modules, err.getvalue()]))"
+    )
+    results = [json.loads(line) for line in proc.stdout.strip().splitlines()]
+    assert len(results) == len(BAD_INPUTS), proc.stderr
+    for (name, _, command, message), (code, jax_loaded, err) in zip(BAD_INPUTS, results, strict=True):
+        where = f"camdyn {command[0]} {name} {' '.join(command[1:])}: {err}"
+        assert code == 2 and not jax_loaded, where
+        assert len(err.strip().splitlines()) == 1 and message in err, where
     assert not list(tmp_path.glob("cam.*")) and not (tmp_path / "o.toml").exists()  # nothing written
 
 
