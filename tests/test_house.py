@@ -126,6 +126,9 @@ BAD_INPUTS = [  # (case, (old, new) in its text, the command line after "camdyn"
     ("lecture.toml", None, ["size", "--margin", "-1"], "--margin: must be a positive number (got -1)"),
     ("lecture-tolerances.toml", None, ["tolerance", "--samples", "0"], "--samples: must be from 1 to"),
     ("lecture.toml", None, ["optimize", "-o", "{tmp}/o.toml", "--min-force", "-1"], "--min-force: must be"),
+    ("lecture.toml", None, ["optimize", "-o", "{tmp}"], "is a folder: give a file name for the case file"),
+    ("lecture.toml", None, ["table", "-o", "{tmp}"], "is a folder: give a file name for the table"),
+    ("lecture.toml", None, ["table", "--ecam", "8", "--speed", "100"], "--speed: does not apply to an e-cam table"),
 ]
 
 

@@ -16,6 +16,7 @@ from .._core.limits import (
     check_sizing,
     check_table_step,
 )
+from .._core.outputs import output_file
 
 
 def check_options(args: argparse.Namespace) -> None:
@@ -24,6 +25,10 @@ def check_options(args: argparse.Namespace) -> None:
         check_table_step(args.step)
         if args.ecam is not None:
             check_ecam_points(args.ecam)
+            if args.speed is not None:
+                raise InputError("--speed", "does not apply to an e-cam table (positions per master angle, no forces)")
+        if args.output:
+            output_file(args.output, args.force, "table")
     elif args.command == "profile":
         from ..export import FORMATS  # the writers' module (and numpy) load for profile only
         from ..export.solid import parse_keyway
@@ -41,8 +46,12 @@ def check_options(args: argparse.Namespace) -> None:
         check_samples(args.samples)
     elif args.command == "size":
         check_sizing(args.max_speed, args.margin, 0.0 if args.min_rate is None else args.min_rate)
-    elif args.command == "optimize" and args.min_force is not None:
-        check_min_force(args.min_force)
+    elif args.command == "optimize":
+        if args.min_force is not None:
+            check_min_force(args.min_force)
+        out = output_file(args.output, args.force, "case file")  # before the work, not after
+        if out.resolve() == Path(args.case).resolve():
+            raise InputError(str(out), "is the input case; write the optimized case to another file")
 
 
 def _profile_options(args, suffix: str) -> None:

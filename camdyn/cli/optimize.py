@@ -9,8 +9,7 @@ from dataclasses import fields
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from .._core.errors import InputError
-from .._core.outputs import output_file, write_new
+from .._core.outputs import write_new
 from ..design.optimize import floor_rpm, optimize_case
 from ..model.case import build_case
 from . import _console
@@ -80,9 +79,7 @@ def print_optimization(res: Optimization, output: Path, original: str) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    out = output_file(args.output, args.force, "case file")  # before the work, not after
-    if out.resolve() == Path(args.case).resolve():
-        raise InputError(str(out), "is the input case; write the optimized case to another file")
+    out = Path(args.output)  # checked before JAX loaded (camdyn.cli._options): a new file, not the input
     case = build_case(args.spec, source=Path(args.case))
     with _console.progress_bar(args.quiet) as progress:
         source = Path(os.path.relpath(Path(args.case).resolve(), out.resolve().parent)).as_posix()
