@@ -7,7 +7,6 @@ from pathlib import Path
 from typing import Any
 
 import equinox as eqx
-import jax
 import jax.numpy as jnp
 import numpy as np
 
@@ -16,7 +15,7 @@ from .._core.kinds import FollowerKind
 from .._core.precision import require_x64
 from .._core.units import M_PER_MM, MAX_ROCKER_RATIO, MIN_STATIC_VALVE_LIFT, THETA_GRID
 from ..schema import CaseSpec, FollowerSpec, LimitsSpec, ValvetrainSpec, dynamics_keys, load_case_spec, parse
-from .dynamics import static_force
+from .dynamics import least_static_force
 from .follower import FollowerModel, follower_model
 from .geometry import ContourFit
 from .motion import Motion, MotionFit, Program
@@ -241,12 +240,10 @@ def _check_valve_lifts(motion: Motion, spec: CaseSpec, vt_model: ValvetrainModel
 
 
 def _check_holds_at_rest(motion: Motion, model: FollowerModel, preload_key: str, unit: str) -> None:
-    theta_deg = np.arange(THETA_GRID) * (360.0 / THETA_GRID)
-    at_rest = np.asarray(static_force(jax.device_get(model), motion.host(np.deg2rad(theta_deg))[0], model.scale))
-    i = int(at_rest.argmin())
-    if at_rest[i] <= 0.0:
+    least, at = least_static_force(motion, model)
+    if least <= 0.0:
         raise InputError(
             f"dynamics.{preload_key}",
-            f"the spring cannot hold the follower on the cam even at rest: spring + external load is {at_rest[i]:.4g} "
-            f"{unit} at {theta_deg[i]:g} deg",
+            f"the spring cannot hold the follower on the cam even at rest: spring + external load is {least:.4g} "
+            f"{unit} at {at:g} deg",
         )

@@ -7,13 +7,12 @@ import math
 from dataclasses import dataclass, field
 
 import equinox as eqx
-import jax
 import numpy as np
 
 from ..._core.results import finite_or_none
-from ..._core.units import RPM, THETA_GRID
+from ..._core.units import RPM
 from ...model.case import Case
-from ...model.dynamics import dynamic_jump_speed, float_speed, preload_share, static_force
+from ...model.dynamics import dynamic_jump_speed, float_speed, least_static_force, preload_share
 from ...model.follower import FollowerModel
 from ...model.motion import evaluate
 from ..checks import CheckReport, run_check
@@ -71,9 +70,7 @@ def default_margin(case: Case) -> float:
 def least_force_at_rest(case: Case) -> float:
     """The least interface force (N; N*m for an arm) of the follower on a cam turned slowly: the spring and the
     external load at the lowest lift. Reshaping the rises and returns between the dwells does not change it."""
-    theta = np.arange(THETA_GRID) * (2 * math.pi / THETA_GRID)
-    model = jax.device_get(case.model)
-    return float(np.min(static_force(model, case.motion.host(theta)[0], model.scale)))
+    return least_static_force(case.motion, case.model)[0]
 
 
 def _less_preload(model: FollowerModel, margin: float) -> FollowerModel:

@@ -33,7 +33,15 @@ from ._kinematic import kinematic_force, kinematic_force_jit, kinematic_force_of
 from ._response import dynamic_jump_speed, first_zero_speed, jump_search_limit, response, store_response
 from ._result import Flight, Impact, Response, Separation
 from ._rigid import rigid_response
-from ._train import contact_force, free_vibration, preload_share, static_force, static_position, train_force
+from ._train import (
+    contact_force,
+    free_vibration,
+    least_static_force,
+    preload_share,
+    static_force,
+    static_position,
+    train_force,
+)
 from ._valvefast import ValveSummary, fast_valve_summary
 from ._valvepoint import ValvePoint, bounce_speed, float_speed, valve_scan_speeds
 from ._valveresponse import ValveEvent, ValvetrainResponse
@@ -64,6 +72,7 @@ __all__ = [
     "linear_min_force",
     "min_contact_force",
     "periodic_orbit",
+    "least_static_force",
     "preload_share",
     "response",
     "rigid_response",
