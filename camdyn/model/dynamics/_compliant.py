@@ -305,7 +305,8 @@ def _on_cam(
     motion: Motion, model: FollowerModel, w: np.ndarray, theta: np.ndarray
 ) -> tuple[np.ndarray, np.ndarray] | None:
     """The frequency domain's steady state (x, dx/dtheta on ``theta``, numpy) where its interface force stays
-    positive all round: then it is the compliant model's periodic orbit, exactly; else None."""
+    positive all round: then it is the compliant model's periodic orbit but for the ringing of the train's mode past
+    the grid's harmonics (:func:`_ringing`); else None."""
     x, p = (np.asarray(a) for a in _in_contact(motion, model, w, theta.size))
     return (x, p) if float(np.min(_contact_force_jit(motion, model, w, theta, x, p))) > 0.0 else None
 
@@ -317,11 +318,10 @@ def compliant_response(motion: Motion, model: FollowerModel, omega: float, n: in
     w = np.asarray(omega, dtype=float)
     notes = []
     # Far below resonance (a slow cam) the time integration must step through every vibration of the train, thousands
-    # to millions a revolution; the steady state in contact is exact in the frequency domain, and it is the answer
-    # wherever it stays on the cam.
+    # to millions a revolution; the frequency domain's steady state is the answer where it stays on the cam and the
+    # ringing it misses is within the periodic tolerance (and, past the integration's reach, wherever it stays on).
     ratio = _contact_mode(model) / omega
-    ringing = _ringing(motion, ratio)
-    slow = ratio > _SLOW_RATIO and ringing <= periodic_tol(motion.host(theta)[0])
+    slow = ratio > _SLOW_RATIO and _ringing(motion, ratio) <= periodic_tol(motion.host(theta)[0])
     on_cam = _on_cam(motion, model, w, theta) if slow else None
     if on_cam is None:
         try:
@@ -336,7 +336,8 @@ def compliant_response(motion: Motion, model: FollowerModel, omega: float, n: in
         notes.append(
             f"at {omega / RPM:.4g} rpm the steady state comes from the frequency domain (in contact): the follower "
             f"train vibrates {ratio:.3g} times a revolution, more than the time integration resolves; the ringing "
-            f"of that mode where the cam's velocity or acceleration jumps, at most {ringing:.2g} {motion.unit}, is "
+            f"of that mode where the cam's velocity or acceleration jumps, at most {_ringing(motion, ratio):.2g} "
+            f"{motion.unit}, is "
             "left out"
         )
     fi, vals, kin = (np.asarray(a) for a in _response_arrays(motion, model, w, theta, x, p))
