@@ -754,8 +754,9 @@ def test_a_slow_cam_takes_the_frequency_domain_within_the_ringing_it_leaves_out(
     mode = _compliant._contact_mode(model)
     w_shot, w_fd = mode / (0.95 * _compliant._SLOW_RATIO), mode / (1.05 * _compliant._SLOW_RATIO)
     shot, fd = (dyn.compliant_response(motion, model, w) for w in (w_shot, w_fd))
-    assert not any("frequency domain" in w for w in shot.warnings)
+    assert not any("frequency domain" in w for w in shot.warnings) and shot.domain == "time"
     assert any("frequency domain (in contact)" in w and "is left out" in w for w in fd.warnings)
+    assert fd.domain == "frequency"  # the report's operating point says so
     theta = np.arange(THETA_GRID) * (2 * math.pi / THETA_GRID)
     on_cam = _compliant._on_cam(motion, model, np.asarray(w_shot), theta)
     assert on_cam is not None

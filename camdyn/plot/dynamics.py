@@ -213,7 +213,7 @@ def plot_force_vs_speed(ax: Axes, review: Review) -> None:
         color=C["dyn"] if chk.verdict == "pass" else C["fail"],
         ms=6,
         zorder=5,
-        label=f"operating point ({rpm:g} rpm, time domain)",
+        label=f"operating point ({rpm:g} rpm, {chk.response.domain} domain)",
     )
     ax.set_ylim(ymin, ymax)
     ax.set_xlim(0.0, v[-1])

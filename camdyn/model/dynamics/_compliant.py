@@ -372,4 +372,5 @@ def compliant_response(motion: Motion, model: FollowerModel, omega: float, n: in
         tuple(warnings),
         resid_deg,
         merge_deg,
+        "time" if on_cam is None else "frequency",
     )

@@ -78,6 +78,7 @@ class Response:
     warnings: tuple[str, ...] = field(default=())
     residual_vibration_deg: float = float("nan")  # where the residual vibration peaks
     contact_period_deg: float = float("nan")  # the contact mode's period in cam degrees (compliant; an impact's span)
+    domain: str = "time"  # where the steady state was solved: "time", or "frequency" (a slow compliant cam)
 
     @property
     def flights(self) -> tuple[Flight, ...]:
