@@ -547,3 +547,14 @@ def test_spring_force_keeps_the_seat_load(capsys, tmp_path):
     written = tomllib.loads(out.read_text())
     assert written["dynamics"]["preload"] >= 40.0
     assert peak_spring(load_case(out)) < peak_spring(load_case(case_file))
+
+
+def test_a_verified_speed_says_the_domain_that_solved_it():
+    """At 1 rpm the lecture's train vibrates 13,500 times a revolution: its steady state is the frequency domain's,
+    and the verification says so (its line read "time domain at ..." whatever solved it)."""
+    from camdyn.design.optimize._verification import VerifiedSpeed, verify
+
+    (slow,) = verify(load_case(LECTURE), [1.0], 1.5).points
+    assert slow.domain == "frequency" and VerifiedSpeed(300.0, 1.0, 1.0, False, True).domain == "time"
+    assert slow.time_domain_least_force == pytest.approx(slow.frequency_domain_least_force, rel=1e-6)
+    assert slow.json("N")["domain"] == "frequency" and slow.margin_held

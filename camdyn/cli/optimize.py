@@ -54,10 +54,8 @@ def print_optimization(res: Optimization, output: Path, original: str) -> None:
             )
             continue
         said = ", separates" if p.separated else ("" if p.margin_held else f", under the {res.margin:.4g} {f} margin")
-        con.print(
-            f"[dim]time domain at {p.speed_rpm:.1f} rpm: least force {td:.4g} {f} "
-            f"(frequency domain {fd:.4g} {f}){said}[/dim]"
-        )
+        beside = f" (frequency domain {fd:.4g} {f})" if p.domain == "time" else ""  # else it is the frequency domain's
+        con.print(f"[dim]{p.domain} domain at {p.speed_rpm:.1f} rpm: least force {td:.4g} {f}{beside}{said}[/dim]")
     if (rob := res.robust) is not None:  # no speed: none of the built cams jumps within the search
         up_to = "at every speed searched" if rob.speed_rpm is None else f"up to {floor_rpm(rob.speed_rpm):.1f} rpm"
         con.print(

@@ -18,13 +18,16 @@ from ...model.dynamics import linear_min_force, response, valvetrain_response
 class VerifiedSpeed:
     """One speed of the verification: the time-domain least force (N; N*m for an arm) and, where the model has one,
     the frequency domain's (None: no frequency domain through a valvetrain's lash and seat; nan: a rigid
-    follower), whether the follower separates (a valve floats) and whether the claim's margin held there."""
+    follower), whether the follower separates (a valve floats) and whether the claim's margin held there.
+    ``domain``: where the model of record solved it, "time", or "frequency" where a slow cam's train vibrates past
+    the time integration's reach (:mod:`camdyn.model.dynamics`): its least force is then the frequency domain's."""
 
     speed_rpm: float
     time_domain_least_force: float
     frequency_domain_least_force: float | None
     separated: bool
     margin_held: bool
+    domain: str = "time"
 
     def json(self, suffix: str) -> dict:
         return {
@@ -33,6 +36,7 @@ class VerifiedSpeed:
             f"frequency_domain_least_force_{suffix}": self.frequency_domain_least_force,
             "separated": self.separated,
             "margin_held": self.margin_held,
+            "domain": self.domain,
         }
 
 
@@ -83,7 +87,7 @@ def verify(case: Case, speeds_rpm: list[float], margin: float) -> Verification:
             else float(np.asarray(linear_min_force(case.motion, case.model, np.array([w])))[0])
         )
         held = bool(r.min_force >= margin - 1e-3 * float(np.abs(r.force).max())) and not r.separations
-        points.append(VerifiedSpeed(rpm, float(r.min_force), fd, bool(r.separations), held))
+        points.append(VerifiedSpeed(rpm, float(r.min_force), fd, bool(r.separations), held, r.domain))
     return Verification("rigid" if case.model.rigid else "compliant", tuple(points), case.kind.force_unit)
 
 
