@@ -333,12 +333,11 @@ def compliant_response(motion: Motion, model: FollowerModel, omega: float, n: in
                 raise err from None
     if on_cam is not None:
         (x, p), residual, best_rev, revs = on_cam, 0.0, 0, 0
+        ring = _ringing(motion, ratio)
         notes.append(
             f"at {omega / RPM:.4g} rpm the steady state comes from the frequency domain (in contact): the follower "
-            f"train vibrates {ratio:.3g} times a revolution, more than the time integration resolves; the ringing "
-            f"of that mode where the cam's velocity or acceleration jumps, at most {_ringing(motion, ratio):.2g} "
-            f"{motion.unit}, is "
-            "left out"
+            f"train vibrates {ratio:.3g} times a revolution, more than the time integration resolves; the ringing of "
+            f"that mode where the cam's velocity or acceleration jumps, at most {ring:.2g} {motion.unit}, is left out"
         )
     fi, vals, kin = (np.asarray(a) for a in _response_arrays(motion, model, w, theta, x, p))
     theta_deg = np.degrees(theta)
