@@ -11,17 +11,16 @@ from __future__ import annotations
 
 import argparse
 import atexit
-import math
 import os
 import sys
 import traceback
-from collections.abc import Callable
 from importlib import import_module
 from importlib.metadata import PackageNotFoundError, version
 from pathlib import Path
 from typing import NoReturn
 
 from .._core.units import DEFAULT_PROFILE_TOLERANCE_MM, MAX_SPEED_RPM
+from ._options import check_options, grid, positive_rpm
 
 # The commands whose work is one batch an accelerator speeds up (a jump map, a Monte Carlo study): they run on every
 # device JAX finds, but for a valvetrain, whose maps and studies run its two-mass model one point at a time. Every
@@ -55,45 +54,6 @@ class _VersionAction(argparse.Action):
         parser.exit()
 
 
-def _positive_rpm(text: str) -> float:
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"must be a positive number of rpm (got {text!r})") from None
-    if not (value > 0 and math.isfinite(value)):
-        raise argparse.ArgumentTypeError(f"must be a positive number of rpm (got {text})")
-    if value > MAX_SPEED_RPM:
-        raise argparse.ArgumentTypeError(f"at most {MAX_SPEED_RPM:g} rpm (got {text})")
-    return value
-
-
-def _grid(most: float = math.inf, unit: str = "") -> Callable[[str], tuple[float, float, int]]:
-    """An argparse type: ``A:B:N`` -> (A, B, N) for N equally spaced values from A to B (positive, at most ``most``
-    ``unit``, A <= B, N >= 1), so a bad grid is reported before JAX loads."""
-
-    def parse(text: str) -> tuple[float, float, int]:
-        parts = text.split(":")
-        if len(parts) != 3:
-            raise argparse.ArgumentTypeError(f"expected A:B:N (from A to B in N values, e.g. 100:700:61), got {text!r}")
-        try:
-            a, b, n = float(parts[0]), float(parts[1]), int(parts[2])
-        except ValueError:
-            raise argparse.ArgumentTypeError(
-                f"expected A:B:N with numbers A and B and a whole number N, got {text!r}"
-            ) from None
-        if not (math.isfinite(a) and math.isfinite(b) and a > 0 and b > 0):
-            raise argparse.ArgumentTypeError(f"A and B must be positive numbers, got {text!r}")
-        if b > most:
-            raise argparse.ArgumentTypeError(f"at most {most:g} {unit} (got {text!r})")
-        if a > b:
-            raise argparse.ArgumentTypeError(f"A must not exceed B, got {text!r}")
-        if n < 1 or (n == 1 and a != b):
-            raise argparse.ArgumentTypeError(f"N must be at least 1 (and N = 1 needs A = B), got {text!r}")
-        return a, b, n
-
-    return parse
-
-
 class _Parser(argparse.ArgumentParser):
     """argparse with camdyn's error format: one line on stderr, exit code 2."""
 
@@ -120,7 +80,7 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = command("check", "stability margins and a verdict (exit 0 pass, 1 fail, 2 error)")
     p.add_argument("case", help="case file (TOML)")
-    p.add_argument("--speed", type=_positive_rpm, metavar="RPM", help="cam speed, rpm (default: the case's)")
+    p.add_argument("--speed", type=positive_rpm, metavar="RPM", help="cam speed, rpm (default: the case's)")
     p.add_argument("--json", action="store_true", help="print one JSON document")
     p.add_argument(
         "--arrays",
@@ -143,13 +103,13 @@ def build_parser() -> argparse.ArgumentParser:
         metavar="DIR",
         help="output folder (default: reports); camdyn's own report files there are overwritten",
     )
-    p.add_argument("--speed", type=_positive_rpm, metavar="RPM", help="cam speed, rpm (default: each case's)")
+    p.add_argument("--speed", type=positive_rpm, metavar="RPM", help="cam speed, rpm (default: each case's)")
 
     p = command("table", "CSV per angle: follower motion, contact force (kinematic and dynamic), cam geometry")
     p.add_argument("case", help="case file (TOML)")
     p.add_argument("--step", type=float, default=1.0, metavar="DEG", help="angle step, deg (default 1)")
     p.add_argument(
-        "--speed", type=_positive_rpm, metavar="RPM", help="cam speed for the forces, rpm (default: the case's)"
+        "--speed", type=positive_rpm, metavar="RPM", help="cam speed for the forces, rpm (default: the case's)"
     )
     p.add_argument("-o", "--output", metavar="FILE", help="write to FILE instead of standard output")
     p.add_argument("--force", action="store_true", help="overwrite FILE if it exists")
@@ -258,13 +218,13 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument(
         "--speeds",
         required=True,
-        type=_grid(MAX_SPEED_RPM, "rpm"),
+        type=grid(MAX_SPEED_RPM, "rpm"),
         metavar="A:B:N",
         help="cam speeds, rpm: N values from A to B",
     )
     p.add_argument(
         "--spring-rates",
-        type=_grid(),
+        type=grid(),
         metavar="A:B:N",
         help=(
             "spring rates, N/mm (N*m/rad oscillating): N values from A to B (default: the case's); "
@@ -273,7 +233,7 @@ def build_parser() -> argparse.ArgumentParser:
     )
     p.add_argument(
         "--backlash",
-        type=_grid(),
+        type=grid(),
         metavar="A:B:N",
         help="a groove cam: backlashes, mm: N values from A to B (default: the case's); the map is of the impacts",
     )
@@ -328,7 +288,7 @@ def build_parser() -> argparse.ArgumentParser:
         default="jump-speed",
         help="what to optimize (default: jump-speed)",
     )
-    p.add_argument("--speed", type=_positive_rpm, metavar="RPM", help="design speed, rpm (default: the case's)")
+    p.add_argument("--speed", type=positive_rpm, metavar="RPM", help="design speed, rpm (default: the case's)")
     p.add_argument(
         "--min-force",
         type=float,
@@ -419,7 +379,6 @@ def _validate(args) -> None:
     """Read and validate the input files before any model is built: a typo is reported before JAX loads."""
     from .._core.errors import CamdynError
     from ..schema import load_case_spec, load_path_file
-    from ._options import check_options
 
     if args.command == "synthesize":
         args.spec = load_path_file(args.case)

@@ -1,10 +1,13 @@
-"""The options' own checks, run before JAX loads (:func:`camdyn.cli._validate`): a bad value, an option that does not
-apply, a file name of unknown format is one line at once, not after the seconds it takes to load the models. The
+"""The options' own checks, run before JAX loads: argparse's types (a speed, an ``A:B:N`` grid) as the line is parsed,
+and each command's rules (:func:`check_options`, from :func:`camdyn.cli._validate`): a bad value, an option that does
+not apply, a file name of unknown format is one line at once, not after the seconds it takes to load the models. The
 bounds are :mod:`camdyn._core.limits`', the ones the library checks its arguments with."""
 
 from __future__ import annotations
 
 import argparse
+import math
+from collections.abc import Callable
 from pathlib import Path
 
 from .._core.errors import InputError
@@ -17,6 +20,47 @@ from .._core.limits import (
     check_table_step,
 )
 from .._core.outputs import output_file
+from .._core.units import MAX_SPEED_RPM
+
+
+def positive_rpm(text: str) -> float:
+    """An argparse type: a cam speed (rpm), positive and at most the schema's."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"must be a positive number of rpm (got {text!r})") from None
+    if not (value > 0 and math.isfinite(value)):
+        raise argparse.ArgumentTypeError(f"must be a positive number of rpm (got {text})")
+    if value > MAX_SPEED_RPM:
+        raise argparse.ArgumentTypeError(f"at most {MAX_SPEED_RPM:g} rpm (got {text})")
+    return value
+
+
+def grid(most: float = math.inf, unit: str = "") -> Callable[[str], tuple[float, float, int]]:
+    """An argparse type: ``A:B:N`` -> (A, B, N) for N equally spaced values from A to B (positive, at most ``most``
+    ``unit``, A <= B, N >= 1), so a bad grid is reported before JAX loads."""
+
+    def parse(text: str) -> tuple[float, float, int]:
+        parts = text.split(":")
+        if len(parts) != 3:
+            raise argparse.ArgumentTypeError(f"expected A:B:N (from A to B in N values, e.g. 100:700:61), got {text!r}")
+        try:
+            a, b, n = float(parts[0]), float(parts[1]), int(parts[2])
+        except ValueError:
+            raise argparse.ArgumentTypeError(
+                f"expected A:B:N with numbers A and B and a whole number N, got {text!r}"
+            ) from None
+        if not (math.isfinite(a) and math.isfinite(b) and a > 0 and b > 0):
+            raise argparse.ArgumentTypeError(f"A and B must be positive numbers, got {text!r}")
+        if b > most:
+            raise argparse.ArgumentTypeError(f"at most {most:g} {unit} (got {text!r})")
+        if a > b:
+            raise argparse.ArgumentTypeError(f"A must not exceed B, got {text!r}")
+        if n < 1 or (n == 1 and a != b):
+            raise argparse.ArgumentTypeError(f"N must be at least 1 (and N = 1 needs A = B), got {text!r}")
+        return a, b, n
+
+    return parse
 
 
 def check_options(args: argparse.Namespace) -> None:
