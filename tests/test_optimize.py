@@ -25,14 +25,13 @@ from camdyn import InputError
 from camdyn._core.units import RPM
 from camdyn.design.checks import run_check
 from camdyn.design.optimize import _robust_claim, default_margin
-from camdyn.design.optimize._metrics import least_force_at_rest
 from camdyn.design.optimize._objectives import hold_to, least_slack, peak_spring_force_floor
 from camdyn.design.optimize._rows import Rows
 from camdyn.design.optimize._shape import shape_space
 from camdyn.design.optimize._slp import maximize_least, with_jacobian
 from camdyn.design.tolerance import tolerance_study
 from camdyn.model.case import case_from_dict, load_case
-from camdyn.model.dynamics import linear_min_force
+from camdyn.model.dynamics import least_static_force, linear_min_force
 from camdyn.model.motion import Program, evaluate
 from camdyn.model.motion._bspline import fit_law
 
@@ -461,7 +460,8 @@ def test_a_margin_the_cam_does_not_hold_at_rest_is_refused_before_the_work(capsy
     be held at any speed by reshaping the rises and returns: jump-speed and vibration refuse it at once, naming the
     flag (jump-speed ran the optimizer, then verified its claim of 0 rpm: an internal division by zero)."""
     out = tmp_path / "out.toml"
-    assert least_force_at_rest(load_case(LECTURE)) == pytest.approx(30.0, abs=1e-9)
+    case = load_case(LECTURE)
+    assert least_static_force(case.motion, case.model) == pytest.approx((30.0, 0.0), abs=1e-9)
     for objective, margin in (("jump-speed", "1e9"), ("vibration", "30")):
         code, _, err = run(capsys, "optimize", LECTURE, "-o", out, "--objective", objective, "--min-force", margin)
         assert code == 2 and len(err.strip().splitlines()) == 1 and not out.exists(), err

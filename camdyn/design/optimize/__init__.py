@@ -22,7 +22,7 @@ from ..._core.progress import Progress, phase
 from ..._core.results import finite_or_none
 from ..._core.units import RPM
 from ...model.case import Case, build_case
-from ...model.dynamics import linear_min_force
+from ...model.dynamics import least_static_force, linear_min_force
 from ...model.motion import evaluate
 from ...model.valvetrain import event_follower, lift_off
 from ...schema import CaseSpec
@@ -36,7 +36,6 @@ from ._metrics import (
     default_margin,
     floor_rpm,
     follower_margin_speed,
-    least_force_at_rest,
     margin_speed,
     metrics,
     search_top,
@@ -237,7 +236,8 @@ def optimize_case(
     margin = default_margin(case) if min_force is None else float(min_force)
     check_min_force(margin)
     if case.valvetrain is None and objective != "spring-force":  # spring-force may raise the preload
-        at_rest, f = least_force_at_rest(case), case.kind.force_unit
+        # the least force at rest: reshaping the rises and returns between the dwells does not change it
+        at_rest, f = least_static_force(case.motion, case.model)[0], case.kind.force_unit
         if margin >= at_rest:
             given = "" if min_force is not None else f" (the default, {MARGIN_OF_PRELOAD:.0%} of the preload)"
             raise InputError(

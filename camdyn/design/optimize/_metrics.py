@@ -12,7 +12,7 @@ import numpy as np
 from ..._core.results import finite_or_none
 from ..._core.units import RPM
 from ...model.case import Case
-from ...model.dynamics import dynamic_jump_speed, float_speed, least_static_force, preload_share
+from ...model.dynamics import dynamic_jump_speed, float_speed, preload_share
 from ...model.follower import FollowerModel
 from ...model.motion import evaluate
 from ..checks import CheckReport, run_check
@@ -65,12 +65,6 @@ def floor_rpm(rpm: float) -> float:
 def default_margin(case: Case) -> float:
     """The force margin to keep when none is given: :data:`MARGIN_OF_PRELOAD` of the static preload (N; N*m)."""
     return MARGIN_OF_PRELOAD * abs(float(case.model.preload))
-
-
-def least_force_at_rest(case: Case) -> float:
-    """The least interface force (N; N*m for an arm) of the follower on a cam turned slowly: the spring and the
-    external load at the lowest lift. Reshaping the rises and returns between the dwells does not change it."""
-    return least_static_force(case.motion, case.model)[0]
 
 
 def _less_preload(model: FollowerModel, margin: float) -> FollowerModel:

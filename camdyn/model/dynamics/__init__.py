@@ -29,19 +29,17 @@ from ._harmonic import (
     steady_state,
     steady_train_force,
 )
-from ._kinematic import kinematic_force, kinematic_force_jit, kinematic_force_of, kinematic_jump_speed
+from ._kinematic import (
+    kinematic_force,
+    kinematic_force_jit,
+    kinematic_force_of,
+    kinematic_jump_speed,
+    least_static_force,
+)
 from ._response import dynamic_jump_speed, first_zero_speed, jump_search_limit, response, store_response
 from ._result import Flight, Impact, Response, Separation
 from ._rigid import rigid_response
-from ._train import (
-    contact_force,
-    free_vibration,
-    least_static_force,
-    preload_share,
-    static_force,
-    static_position,
-    train_force,
-)
+from ._train import contact_force, free_vibration, preload_share, static_position, train_force
 from ._valvefast import ValveSummary, fast_valve_summary
 from ._valvepoint import ValvePoint, bounce_speed, float_speed, valve_scan_speeds
 from ._valveresponse import ValveEvent, ValvetrainResponse
@@ -78,7 +76,6 @@ __all__ = [
     "rigid_response",
     "steady_force_at",
     "vector_field",
-    "static_force",
     "static_position",
     "steady_spectrum",
     "steady_state",

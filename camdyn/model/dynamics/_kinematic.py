@@ -10,7 +10,7 @@ from jax.typing import ArrayLike
 
 from ..._core.jit import cached_jit, on_angle_buckets
 from ..._core.minimize import minimize_bounded
-from ..._core.units import TWO_PI
+from ..._core.units import THETA_GRID, TWO_PI
 from ..follower import FollowerModel
 from ..motion import Motion
 
@@ -41,6 +41,17 @@ def kinematic_force_of(
 
 
 _kinematic_force_program = cached_jit(kinematic_force)
+
+
+def least_static_force(motion: Motion, model: FollowerModel) -> tuple[float, float]:
+    """The least kinematic force at rest round the cam, ``k s + F0 + F_ext`` (N, or N*m), on ``THETA_GRID`` angles,
+    and its angle (deg): the interface force of a cam turned slowly where it is lowest (at the lowest lift for a
+    positive spring rate), whatever the train. numpy on the host: no program to compile."""
+    theta_deg = np.arange(THETA_GRID) * (360.0 / THETA_GRID)
+    host = jax.device_get(model)
+    at_rest = np.asarray(kinematic_force_of(host, 0.0, motion.host(np.deg2rad(theta_deg))[0] * host.scale, 0.0, 0.0))
+    i = int(at_rest.argmin())
+    return float(at_rest[i]), float(theta_deg[i])
 
 
 def kinematic_force_jit(

@@ -10,13 +10,12 @@ from typing import TYPE_CHECKING
 
 import jax
 import jax.numpy as jnp
-import numpy as np
 
-from ..._core.units import THETA_GRID
 from ..follower import FollowerModel
-from ..motion import Motion
 
 if TYPE_CHECKING:
+    import numpy as np
+
     from ..._core.units import Num
 
     Values = float | np.ndarray | jax.Array  # floats, numpy or JAX arrays alike: the same arithmetic
@@ -49,23 +48,6 @@ def static_position(model: FollowerModel, s: Values, unit: Values = 1.0) -> jax.
     :func:`train_force`). The reference the residual vibration in a dwell is measured from."""
     kf, k = model.train_stiffness * unit, model.stiffness * unit
     return (kf * s - model.preload - model.external) / (k + kf)
-
-
-def static_force(model: FollowerModel, s: Values, unit: Values = 1.0) -> Values:
-    """The load the follower rests on a cam standing at lift ``s`` with, ``k s + F0 + F_ext`` (N, or N*m for an
-    arm; ``s`` in the unit whose SI value is ``unit``, as :func:`train_force`): the interface force as the speed
-    goes to 0, whatever the train. Pure arithmetic: numpy in, numpy out."""
-    return model.stiffness * unit * s + model.preload + model.external
-
-
-def least_static_force(motion: Motion, model: FollowerModel) -> tuple[float, float]:
-    """The least of :func:`static_force` round the cam (N, or N*m) on ``THETA_GRID`` angles, and its angle (deg): the
-    interface force of a cam turned slowly where it is lowest (at the lowest lift for a positive spring rate)."""
-    theta_deg = np.arange(THETA_GRID) * (360.0 / THETA_GRID)
-    host = jax.device_get(model)
-    at_rest = np.asarray(static_force(host, motion.host(np.deg2rad(theta_deg))[0], host.scale))
-    i = int(at_rest.argmin())
-    return float(at_rest[i]), float(theta_deg[i])
 
 
 def preload_share(stiffness: Num, train_stiffness: Num) -> Num:
