@@ -142,11 +142,9 @@ def residual_vibration(motion: Motion, theta_deg: np.ndarray, deviation: np.ndar
 
 
 def _dwell_mask(motion: Motion, theta_deg: np.ndarray) -> np.ndarray:
-    segs = getattr(motion, "segments", ())
     mask = np.zeros(theta_deg.shape, bool)
-    for seg in segs:
-        if seg.law == "dwell":
-            mask |= (theta_deg >= seg.start) & (theta_deg < seg.end)
+    for start, end in motion.dwells_deg:
+        mask |= (theta_deg >= start) & (theta_deg < end)
     return mask
 
 

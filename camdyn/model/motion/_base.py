@@ -34,6 +34,12 @@ class Motion(eqx.Module):
         raise NotImplementedError
 
     @property
+    def dwells_deg(self) -> tuple[tuple[float, float], ...]:
+        """Where the follower dwells: (start, end) cam angles (deg, end > start, within 0-360), in which its
+        residual vibration is judged; none unless the motion says so."""
+        return ()
+
+    @property
     def kind(self) -> FollowerKind:
         """The kind of follower this motion drives (its ``unit``: mm translating, rad oscillating)."""
         return kind_of_motion(self.unit)

@@ -35,6 +35,13 @@ class FittedMotion(Motion):
     coef: jax.Array  # (m, 6): s = sum coef[i, k] t^k, t = theta - knots[i] (rad), the motion's unit
     unit: str = eqx.field(static=True)
     breaks_deg: tuple[float, ...] = eqx.field(static=True)  # none: a quintic spline is C4
+    flat_deg: tuple[tuple[float, float], ...] = eqx.field(static=True, default=())  # the data's equal runs
+
+    @property
+    def dwells_deg(self) -> tuple[tuple[float, float], ...]:
+        """Where the data dwell: runs of rows of one value as written (:func:`flat_runs`: a lift table's base
+        circle of 0.000 mm); a noisy measurement has none."""
+        return self.flat_deg
 
     def jit_form(self) -> QuinticTable:
         return QuinticTable.padded(self.knots, self.coef, self.breaks_deg, self.unit)
@@ -109,6 +116,30 @@ class MotionFit(FitResiduals):
         }
 
 
+DWELL_ROWS, DWELL_DEG = 3, 5.0  # a table's dwell: at least 3 rows of one value over at least 5 deg
+
+
+def flat_runs(theta_deg: ArrayLike, data: ArrayLike) -> tuple[tuple[float, float], ...]:
+    """(first, last) cam angle (deg, 0-360) of every run of at least :data:`DWELL_ROWS` consecutive rows (by angle,
+    round the revolution) over at least :data:`DWELL_DEG` whose values are equal as written (a few equal rows of
+    noisy data are chance); a run through 360 deg is split there."""
+    theta = np.mod(np.asarray(theta_deg, dtype=float), 360.0)
+    order = np.argsort(theta, kind="stable")
+    theta, values = theta[order], np.asarray(data, dtype=float)[order]
+    n = theta.size
+    same = values == np.roll(values, -1)  # row i equals row i + 1 (the last: the first, round the revolution)
+    if n < DWELL_ROWS or same.all():
+        return ((0.0, 360.0),) if n >= DWELL_ROWS else ()
+    ends = np.flatnonzero(~same)  # the last row of each run
+    runs: list[tuple[float, float]] = []
+    for before, last in zip(np.roll(ends, 1), ends, strict=True):
+        first = (before + 1) % n
+        a, b = float(theta[first]), float(theta[last])
+        if (last - first) % n + 1 >= DWELL_ROWS and (b - a) % 360.0 >= DWELL_DEG:
+            runs += [(a, b)] if b > a else [(a, 360.0), (0.0, b)]
+    return tuple(sorted(runs))
+
+
 def fit_motion(
     theta_deg: ArrayLike,
     data: ArrayLike,
@@ -134,6 +165,7 @@ def fit_motion(
         coef=device_array(kind.lift_to_motion(spline.coef)),
         unit=kind.motion_unit,
         breaks_deg=(),
+        flat_deg=flat_runs(theta_deg, data),
     )
     return motion, MotionFit(source, file, unit, theta_deg, data, spline, tolerance, repeats)
 

@@ -128,6 +128,11 @@ class Program(Motion):
     breaks_deg: tuple[float, ...] = eqx.field(static=True)
     table: PieceTable
 
+    @property
+    def dwells_deg(self) -> tuple[tuple[float, float], ...]:
+        """The dwell segments' (start, end) (deg)."""
+        return tuple((seg.start, seg.end) for seg in self.segments if seg.law == "dwell")
+
     @classmethod
     def from_segments(cls, segments: list, key: str = "motion.segments", unit: str = "mm") -> Program:
         """A program from ``[{law, end, lift}, ...]`` (or :class:`camdyn.schema.SegmentSpec`): ends in deg, lifts in

@@ -76,8 +76,11 @@ def key_results(data: ReportData) -> list[tuple[str, str]]:
             )
     else:
         rows.append(("flights", "none: in contact all round"))
-    rv = chk.response.residual_vibration * data.to_display
-    rows.append(("residual vibration", f"{rv:.3g} {data.unit}"))
+    if data.case.motion.dwells_deg:
+        rv = chk.response.residual_vibration * data.to_display
+        rows.append(("residual vibration", f"{rv:.3g} {data.unit}"))
+    else:  # it is judged in the dwells: 0 would read as a measurement
+        rows.append(("residual vibration", "none: no dwell to judge it in"))
     return rows + _geometry_results(data)
 
 
