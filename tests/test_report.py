@@ -480,3 +480,19 @@ def test_an_optimized_case_is_compared_with_its_original(shipped_check):
         "before: jump speed 485 rpm" in text["optimization"]
         and f"after: jump speed {review.check.dynamic.jump_speed_rpm:.0f} rpm" in text["optimization"]
     )
+
+
+@pytest.mark.slow  # 137 pages to decode
+def test_no_shipped_page_draws_past_its_margins():
+    """Nothing on a page of the shipped reports reaches the paper's edge: no ink within 1 % of it on the left or 3 %
+    on the right (the flow's margin is 6 %; a legend four columns wide, a long key result and three plot titles ran
+    off the page)."""
+    pages = sorted((ROOT / "reports").glob("*.png"))
+    assert len(pages) > 100
+    off = []
+    for page in pages:
+        ink = np.flatnonzero((np.asarray(Image.open(page).convert("L")) < 200).any(axis=0))
+        width = Image.open(page).size[0]
+        if ink[0] < 0.01 * width or ink[-1] > 0.97 * width:
+            off.append(f"{page.name}: ink from {ink[0] / width:.3f} to {ink[-1] / width:.3f} of the width")
+    assert off == []

@@ -10,6 +10,7 @@ from pathlib import Path
 import matplotlib
 import numpy as np
 import pytest
+from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
 from camdyn._core.results import Unavailable
@@ -21,8 +22,8 @@ from camdyn.export import FORMATS
 from camdyn.model.case import case_from_dict, load_case
 from camdyn.model.dynamics import Response
 from camdyn.plot import flight_spans, plot_contact_force, plot_follower
-from camdyn.report import A4, PAGES, STYLE, ReportData
-from camdyn.report._layout import header
+from camdyn.report import A4, DPI, PAGES, STYLE, ReportData
+from camdyn.report._layout import Flow, header, text_width
 from camdyn.report.pages._facts import decision_facts, key_results
 from camdyn.report.pages._inputs import DIMENSIONLESS, UNITS, _kv_lines
 from camdyn.report.pages.dynamics import _force_panels
@@ -339,3 +340,51 @@ def test_every_key_input_on_page_one_has_its_unit():
         ("min_preload", "2 N\u00b7m"),
         ("max_contact_stress", "unbounded"),
     ]
+
+
+def _extent(fig, t) -> tuple[float, float]:
+    """Where a figure text starts and ends across the page as the PNG draws it (fractions of its width)."""
+    fig.set_dpi(DPI)
+    box = t.get_window_extent(FigureCanvasAgg(fig).get_renderer())
+    w = DPI * fig.get_figwidth()
+    return box.x0 / w, box.x1 / w
+
+
+def test_a_cell_too_long_for_its_column_wraps_within_it():
+    """A flow row's left-aligned cell wraps where it would run into the next cell or past the flow's right edge
+    (the shipped flat-face cases' "contact on the face" ran off the page); a cell that fits is one line as before."""
+    long = "t = -8.60 to +10.78 mm (face centred at +1.09 mm)"
+    with matplotlib.rc_context(STYLE):
+        fig = Figure(figsize=A4)
+        flow = Flow(fig, 0.9)
+        y0 = flow.y
+        flow.row([(0.0, "a label", {}), (0.2, long, {}), (0.5, "next", {}), (0.7, long, {})], size=8.2)
+        texts = {t.get_text(): _extent(fig, t) for t in fig.texts}
+    lines = [t for t in fig.texts if t.get_text() not in ("a label", "next")]
+    assert len(lines) == 4 and " ".join(t.get_text() for t in lines[:2]) == long  # two lines in each column
+    x_next = texts["next"][0]
+    assert all(_extent(fig, t)[1] < x_next for t in lines[:2])
+    assert all(_extent(fig, t)[1] <= flow.right for t in lines[2:])
+    assert y0 - flow.y == pytest.approx(flow.h(8.2) * (1 + 1.3 / 1.45))  # as tall as two lines
+    lo, hi = texts["a label"]
+    assert text_width(fig, "a label", {"size": 8.2}) == pytest.approx(hi - lo, rel=1e-6)  # measured as the PNG draws
+
+
+@pytest.mark.slow
+def test_page_one_stays_on_the_page_and_says_where_there_is_no_dwell(shipped_check, racetrack_case, racetrack_check):
+    """Page 1 of a flat-faced valve-lift table (its longest key result) keeps every text within the page's margins;
+    its table's base circle is a dwell, so it has a residual vibration; a path's mechanism has no dwell, and page 1
+    says so instead of a residual vibration of 0."""
+    case, check = shipped_check("valve-lift")
+    data = ReportData(light_review(case, check))
+    with matplotlib.rc_context(STYLE):
+        fig = Figure(figsize=A4)
+        header(fig, data, PAGES[0].title, 1, 7)
+        draw_summary(fig, data)
+        spans = [_extent(fig, t) for t in fig.texts if t.get_text().strip()]
+    assert all(0.05 <= lo and hi <= 0.945 for lo, hi in spans), max(hi for _, hi in spans)
+    rows = dict(key_results(data))
+    assert rows["residual vibration"] == f"{check.response.residual_vibration:.3g} mm" and case.motion.dwells_deg
+    assert check.response.residual_vibration > 0.0
+    path = dict(key_results(ReportData(light_review(racetrack_case, racetrack_check))))
+    assert path["residual vibration"] == "none: no dwell to judge it in"

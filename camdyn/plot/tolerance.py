@@ -59,7 +59,7 @@ def plot_tolerance_tornado(ax: Axes, result: ToleranceResult) -> None:
             fontsize=7,
         )
     ax.set_xlabel("change of the jump-speed margin per sigma (x); profile error: RMS over its harmonics")
-    ax.set_title("sensitivities at the nominal design (JAX gradients) and Monte Carlo variance shares", fontsize=9)
+    ax.set_title("sensitivities at the nominal design (JAX gradients), Monte Carlo shares", fontsize=9)
 
 
 def _save_side_by_side(left: Callable, right: Callable, result: object, path: str | Path) -> None:

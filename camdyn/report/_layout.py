@@ -2,16 +2,20 @@
 
 from __future__ import annotations
 
+import functools
 import math
 import textwrap
 from importlib.metadata import PackageNotFoundError, version
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
+from matplotlib.backends.backend_agg import RendererAgg
 from matplotlib.figure import Figure
+from matplotlib.font_manager import FontProperties
 from matplotlib.lines import Line2D
+from matplotlib.textpath import TextPath
 
-from ._style import C
+from ._style import DPI, C
 
 if TYPE_CHECKING:
     from ._data import ReportData
@@ -109,15 +113,78 @@ class Flow:
         self.y -= self.h(10.5) * 0.15
 
     def row(self, cells: list[tuple[float, str, dict]], size: float = 8.0) -> None:
-        """cells: (x as a fraction of the flow width, text, text kwargs)."""
-        for x, text, kw in cells:
-            self.fig.text(self.left + x * (self.right - self.left), self.y, text, **({"size": size, "va": "top"} | kw))
-        self.y -= self.h(size)
+        """cells: (x as a fraction of the flow width, text, text kwargs). A left-aligned one-line cell that would
+        run into the next cell (or past the flow's right edge) is wrapped to the room it has, a line under the
+        other, and the row is as tall as its most lines."""
+        width = self.right - self.left
+        placed = [(self.left + x * width, text, {"size": size, "va": "top"} | kw) for x, text, kw in cells]
+        starts = [_span(self.fig, x, text, kw)[0] for x, text, kw in placed]
+        step = self.h(size) * _LINESPACING / 1.45
+        most = 1
+        for x, text, kw in placed:
+            lines = [text]
+            if kw.get("ha", "left") == "left" and "\n" not in text:
+                after = [lo - _GAP for lo in starts if lo > x + 1e-9]
+                lines = fit_lines(self.fig, text, min(after, default=self.right) - x, kw)
+            for k, line in enumerate(lines):
+                self.fig.text(x, self.y - k * step, line, **kw)
+            most = max(most, len(lines))
+        self.y -= self.h(size) + (most - 1) * step
 
     def para(self, text: str, size: float = 8.0, width: int = 118, indent: float = 0.0, **kw: Any) -> None:
-        lines = textwrap.wrap(text, width) or [""]
+        """``text`` wrapped at ``width`` characters, or narrower where a line would pass the flow's right edge."""
+        room = self.right - self.left - indent
+        lines = fit_lines(self.fig, text, room, {"size": size} | kw, width) or [""]
         self.fig.text(self.left + indent, self.y, "\n".join(lines), size=size, va="top", linespacing=1.3, **kw)
         self.y -= self.h(size, len(lines)) * 0.93
+
+
+_GAP = 0.004  # of the figure's width: the least space between a cell and the next
+_LINESPACING = 1.3  # of a wrapped cell's lines, as a paragraph's
+
+
+def _font(kw: dict) -> FontProperties:
+    """The font a ``fig.text`` with these keywords draws in."""
+    return FontProperties(family=kw.get("family"), size=kw.get("size"), weight=kw.get("weight"), style=kw.get("style"))
+
+
+@functools.cache
+def _png_renderer() -> RendererAgg:
+    """A renderer at the PNG pages' resolution, to measure text with."""
+    return RendererAgg(1, 1, DPI)
+
+
+def text_width(fig: Figure, text: str, kw: dict) -> float:
+    """The width of one line of ``text`` drawn with the ``fig.text`` keywords ``kw``, a fraction of the figure's:
+    the wider of the PDF's (the glyphs' outlines) and the PNG's (hinted to whole pixels at :data:`DPI`: a line of
+    small text comes out up to 8 % wider or narrower than in the PDF, and another resolution differs again)."""
+    if not text:
+        return 0.0
+    font = _font(kw)
+    png, _, _ = _png_renderer().get_text_width_height_descent(text, font, ismath=False)
+    # a TextPath reads $...$ as mathematics, which the pages never draw: the PNG's width alone there
+    vector = (
+        0.0 if "$" in text or not text.strip() else TextPath((0.0, 0.0), text, prop=font).get_extents().width / 72.0
+    )
+    return max(vector, png / DPI) / fig.get_figwidth()
+
+
+def _span(fig: Figure, x: float, text: str, kw: dict) -> tuple[float, float]:
+    """Where a text placed at ``x`` with these keywords starts and ends across the figure (its widest line)."""
+    w = max(text_width(fig, line, kw) for line in text.split("\n"))
+    ha = kw.get("ha", kw.get("horizontalalignment", "left"))
+    return {"left": (x, x + w), "right": (x - w, x), "center": (x - w / 2, x + w / 2)}[ha]
+
+
+def fit_lines(fig: Figure, text: str, room: float, kw: dict, width: int | None = None) -> list[str]:
+    """``text`` wrapped at ``width`` characters (None: one line), then narrower until every line fits ``room``
+    (a fraction of the figure's width) in the font of ``kw``; a word longer than the room stays whole."""
+    lines = textwrap.wrap(text, width) if width else [text]
+    chars = max((len(line) for line in lines), default=0)
+    while chars > 1 and any(text_width(fig, line, kw) > room for line in lines):
+        chars -= 1
+        lines = textwrap.wrap(text, chars, break_long_words=False, break_on_hyphens=False)
+    return lines
 
 
 def verdict_block(fig: Figure, flow: Flow, passed: bool, headline: str, subline: str) -> None:

@@ -12,7 +12,7 @@ from ..._core.results import Unavailable
 from ...design.sizing import SpringSizing
 from ...plot import plot_feasible_region, plot_jump_map
 from .._data import ReportData
-from .._layout import Flow, fmt, pretty_unit
+from .._layout import Flow, fit_lines, fmt, pretty_unit
 from .._style import LEFT, C
 
 MAP_TOP = 0.25  # the top of the jump map's axes (figure fraction)
@@ -22,6 +22,15 @@ DASH = "\u2013"
 def _small(x: float, scale: float) -> str:
     """``x`` to 4 digits, and 0 where it is round-off against ``scale`` (a zero rate from the LP: 1e-17)."""
     return fmt(0.0 if abs(x) <= 1e-9 * max(1.0, abs(scale)) else x)
+
+
+def _missed(x: float, limit: float) -> str:
+    """A force ``x`` that misses ``limit``, to 4 digits or as many more (up to 7) as show it below the limit."""
+    for digits in range(4, 8):
+        text = f"{x:.{digits}g}"
+        if float(text) < limit:
+            return text
+    return text
 
 
 def _jump(rpm: float) -> str:
@@ -64,7 +73,8 @@ def _caption(fig, sz: SpringSizing) -> None:
         f"follower. Each grey line is one cam angle's constraint {constraint} (shown: the envelope and the binding "
         "angles); the springs above all of them hold."
     )
-    fig.text(0.06, 0.94, "\n".join(textwrap.wrap(caption, 140)), size=7.5, color=C["grey"], va="top", linespacing=1.3)
+    lines = fit_lines(fig, caption, 0.88, {"size": 7.5}, 140)  # 140 characters, or fewer where they pass the margin
+    fig.text(0.06, 0.94, "\n".join(lines), size=7.5, color=C["grey"], va="top", linespacing=1.3)
 
 
 def _feasible_region(fig, sz: SpringSizing) -> None:
@@ -89,7 +99,7 @@ def _feasible_region(fig, sz: SpringSizing) -> None:
     for line in ax.lines:  # a spring at the least rate (often 0) sits on the left edge: draw it whole
         if line.get_marker() not in (None, "None", ""):
             line.set_clip_on(False)
-    ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.12), ncol=4, fontsize=7)
+    ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.12), ncol=3, fontsize=7)
 
 
 def _holds(sz: SpringSizing, d) -> bool:
@@ -135,7 +145,7 @@ def _springs_compared(flow: Flow, sz: SpringSizing) -> None:
         (
             "least contact force (N)",
             [
-                _small(d.least_force, d.peak_contact) if h else f"{d.least_force:.7g}"
+                _small(d.least_force, d.peak_contact) if h else _missed(d.least_force, sz.min_contact_force)
                 for (_, d), h in zip(designs, holds, strict=True)
             ],
         ),
@@ -196,7 +206,11 @@ def _notes(flow: Flow, sz: SpringSizing) -> None:
         notes.append((correction, C["grey"], 2))
     notes += [(f"Warning: {w}.", C["warn"], 1) for w in sz.warnings]
     size, width = 7.6, 124
-    height = lambda text: flow.h(size, len(textwrap.wrap(text, width))) * 0.93 + flow.h(size) * 0.25  # noqa: E731
+
+    def height(text: str) -> float:  # as flow.para wraps it
+        lines = fit_lines(flow.fig, text, flow.right - flow.left, {"size": size}, width)
+        return flow.h(size, len(lines)) * 0.93 + flow.h(size) * 0.25
+
     room = flow.y - (MAP_TOP + 0.03)
     for prio in sorted({p for _, _, p in notes}, reverse=True):
         if sum(height(t) for t, _, _ in notes) <= room:
