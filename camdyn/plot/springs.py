@@ -58,9 +58,8 @@ def plot_feasible_region(ax: Axes, sizing: SpringSizing, colors: dict | None = N
     peaks = sorted({round(d.peak_spring, 9) for d in pts})
     labelled: list[float] = []
     for n, peak in enumerate(peaks):
-        ax.plot(
-            k, peak - k * s_max, color=col["iso"], lw=0.8, ls=":", label="iso peak spring force" if n == 0 else None
-        )
+        label = f"iso peak spring {sizing.kind.force_word}" if n == 0 else None  # an arm's spring: a torque
+        ax.plot(k, peak - k * s_max, color=col["iso"], lw=0.8, ls=":", label=label)
         if any(abs(peak - q) <= 0.03 * max(abs(peak), abs(q), 1e-300) for q in labelled):
             continue  # one label for iso-lines that nearly coincide
         # the label on the part of the line inside the plot, staggered along it from one line to the next
@@ -93,7 +92,7 @@ def plot_feasible_region(ax: Axes, sizing: SpringSizing, colors: dict | None = N
             [sizing.chosen.rate], [sizing.chosen.preload], "*", color=col["chosen"], ms=12, label="chosen (buildable)"
         )
     else:  # the least peak force any spring needs: a bound, maybe no spring at all
-        label = "bound: least peak force (not a part; size --buildable)"
+        label = f"bound: least peak {sizing.kind.force_word} (not a part; size --buildable)"
         ax.plot([sizing.chosen.rate], [sizing.chosen.preload], "D", mfc="none", mec=col["chosen"], ms=8, label=label)
     ax.plot(
         [sizing.current.rate],
