@@ -58,7 +58,8 @@ def plot_tolerance_tornado(ax: Axes, result: ToleranceResult) -> None:
             va="center",
             fontsize=7,
         )
-    ax.set_xlabel("change of the jump-speed margin per sigma (x); profile error: RMS over its harmonics")
+    # two lines: as one it was wider than the axes and ran off the side-by-side PNG
+    ax.set_xlabel("change of the jump-speed margin per sigma (x)\nprofile error: per RMS over its harmonics")
     ax.set_title("sensitivities at the nominal design (JAX gradients), Monte Carlo shares", fontsize=9)
 
 
