@@ -32,14 +32,12 @@ def draw_tolerances(fig: Figure, data: ReportData) -> None:
         color=colour,
     )
     q, f = res.percentiles(res.jump_speed_rpm), res.percentiles(res.least_force)
-    flow.para(
+    for line in (  # a line each: as one sentence its last word wrapped alone
         f"Dynamic jump speed P1 {q['p1']:.1f}, P5 {q['p5']:.1f}, P50 {q['p50']:.1f} rpm (nominal "
-        f"{res.nominal_jump_speed_rpm:.1f} rpm); least contact force P1 {f['p1']:.4g}, P5 {f['p5']:.4g}, P50 "
-        f"{f['p50']:.4g} N.",
-        size=8,
-        width=130,
-        color=C["ink"],
-    )
+        f"{res.nominal_jump_speed_rpm:.1f} rpm).",
+        f"Least contact force P1 {f['p1']:.4g}, P5 {f['p5']:.4g}, P50 {f['p50']:.4g} N.",
+    ):
+        flow.para(line, size=8, width=130, color=C["ink"])
     given = ", ".join(f"{k} {t['tolerance']:g} {t['unit']} ({t['distribution']})" for k, t in res.tolerances.items())
     flow.para(
         f"Tolerances: {given or 'none'}. Normal: the tolerance is 3 sigma; uniform: the half-width; profile error: "
