@@ -491,8 +491,8 @@ def test_no_shipped_page_draws_past_its_margins():
     assert len(pages) > 100
     off = []
     for page in pages:
-        ink = np.flatnonzero((np.asarray(Image.open(page).convert("L")) < 200).any(axis=0))
-        width = Image.open(page).size[0]
+        with Image.open(page) as image:
+            width, ink = image.size[0], np.flatnonzero((np.asarray(image.convert("L")) < 200).any(axis=0))
         if ink[0] < 0.01 * width or ink[-1] > 0.97 * width:
             off.append(f"{page.name}: ink from {ink[0] / width:.3f} to {ink[-1] / width:.3f} of the width")
     assert off == []
