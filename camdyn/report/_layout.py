@@ -118,14 +118,14 @@ class Flow:
         other, and the row is as tall as its most lines."""
         width = self.right - self.left
         placed = [(self.left + x * width, text, {"size": size, "va": "top"} | kw) for x, text, kw in cells]
-        starts = [_span(self.fig, x, text, kw)[0] for x, text, kw in placed]
+        spans = [_span(self.fig, x, text, kw) for x, text, kw in placed]
         step = self.h(size) * _LINESPACING / 1.45
         most = 1
-        for x, text, kw in placed:
+        for (x, text, kw), (_, end) in zip(placed, spans, strict=True):
             lines = [text]
-            if kw.get("ha", "left") == "left" and "\n" not in text:
-                after = [lo - _GAP for lo in starts if lo > x + 1e-9]
-                lines = fit_lines(self.fig, text, min(after, default=self.right) - x, kw)
+            room = min((lo - _GAP for lo, _ in spans if lo > x + 1e-9), default=self.right) - x
+            if kw.get("ha", "left") == "left" and "\n" not in text and end - x > room:
+                lines = fit_lines(self.fig, text, room, kw)
             for k, line in enumerate(lines):
                 self.fig.text(x, self.y - k * step, line, **kw)
             most = max(most, len(lines))
@@ -133,10 +133,19 @@ class Flow:
 
     def para(self, text: str, size: float = 8.0, width: int = 118, indent: float = 0.0, **kw: Any) -> None:
         """``text`` wrapped at ``width`` characters, or narrower where a line would pass the flow's right edge."""
-        room = self.right - self.left - indent
-        lines = fit_lines(self.fig, text, room, {"size": size} | kw, width) or [""]
+        lines = self._para_lines(text, size, width, indent, kw)
         self.fig.text(self.left + indent, self.y, "\n".join(lines), size=size, va="top", linespacing=1.3, **kw)
-        self.y -= self.h(size, len(lines)) * 0.93
+        self.y -= self._para_height(size, lines)
+
+    def para_height(self, text: str, size: float = 8.0, width: int = 118, indent: float = 0.0, **kw: Any) -> float:
+        """How far :meth:`para` with these arguments moves the flow down (figure fraction)."""
+        return self._para_height(size, self._para_lines(text, size, width, indent, kw))
+
+    def _para_lines(self, text: str, size: float, width: int, indent: float, kw: dict) -> list[str]:
+        return fit_lines(self.fig, text, self.right - self.left - indent, {"size": size} | kw, width) or [""]
+
+    def _para_height(self, size: float, lines: list[str]) -> float:
+        return self.h(size, len(lines)) * 0.93
 
 
 _GAP = 0.004  # of the figure's width: the least space between a cell and the next

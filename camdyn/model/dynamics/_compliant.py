@@ -321,7 +321,8 @@ def compliant_response(motion: Motion, model: FollowerModel, omega: float, n: in
     # to millions a revolution; the frequency domain's steady state is the answer where it stays on the cam and the
     # ringing it misses is within the periodic tolerance (and, past the integration's reach, wherever it stays on).
     ratio = _contact_mode(model) / omega
-    slow = ratio > _SLOW_RATIO and _ringing(motion, ratio) <= periodic_tol(motion.host(theta)[0])
+    ring = _ringing(motion, ratio) if ratio > _SLOW_RATIO else None
+    slow = ring is not None and ring <= periodic_tol(motion.host(theta)[0])
     on_cam = _on_cam(motion, model, w, theta) if slow else None
     if on_cam is None:
         try:
@@ -333,7 +334,7 @@ def compliant_response(motion: Motion, model: FollowerModel, omega: float, n: in
                 raise err from None
     if on_cam is not None:
         (x, p), residual, best_rev, revs = on_cam, 0.0, 0, 0
-        ring = _ringing(motion, ratio)
+        ring = _ringing(motion, ratio) if ring is None else ring  # past the integration's reach: not yet known
         notes.append(
             f"at {omega / RPM:.4g} rpm the steady state comes from the frequency domain (in contact): the follower "
             f"train vibrates {ratio:.3g} times a revolution, more than the time integration resolves; the ringing of "

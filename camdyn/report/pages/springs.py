@@ -206,11 +206,7 @@ def _notes(flow: Flow, sz: SpringSizing) -> None:
         notes.append((correction, C["grey"], 2))
     notes += [(f"Warning: {w}.", C["warn"], 1) for w in sz.warnings]
     size, width = 7.6, 124
-
-    def height(text: str) -> float:  # as flow.para wraps it
-        lines = fit_lines(flow.fig, text, flow.right - flow.left, {"size": size}, width)
-        return flow.h(size, len(lines)) * 0.93 + flow.h(size) * 0.25
-
+    height = lambda text: flow.para_height(text, size=size, width=width) + flow.h(size) * 0.25  # noqa: E731
     room = flow.y - (MAP_TOP + 0.03)
     for prio in sorted({p for _, _, p in notes}, reverse=True):
         if sum(height(t) for t, _, _ in notes) <= room:
