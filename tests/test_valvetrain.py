@@ -196,6 +196,39 @@ def test_two_mass_flight_and_seat_against_solve_ivp():
 
 
 @pytest.mark.slow
+def test_a_cam_that_lets_go_at_an_acceleration_jump_floats_there():
+    """A harmonic return straight after a 3-4-5 one: the cam's acceleration jumps at 210 deg, and with it the force a
+    rigid cam contact holds the follower by, from +1243 N to -407 N at 3000 rpm. The float starts there. Diffrax
+    steps to the float before the jump and reads the event past it, outside the step's bracket: the stretch once
+    ended 0.04 deg short, where nothing had changed, and the march took it for a seating 12 mm up (a 25 m/s seating,
+    a 137 mm bounce). Bounds from the valve's energy alone (the train pushes the valve open, never shut): it lands
+    no faster than its spring's preload and rate and its speed at the float give, and rebounds at seat_restitution
+    x that no higher than its spring's energy allows."""
+    raw = copy.deepcopy(SHIPPED)
+    raw["motion"] = {
+        "segments": [
+            {"law": "modified-trapezoid", "end": 90, "lift": 7.737},
+            {"law": "polynomial-345", "end": 130, "lift": 5.395},
+            {"law": "polynomial-345", "end": 210, "lift": -5.395},
+            {"law": "harmonic", "end": 240, "lift": -7.737},
+            {"law": "dwell", "end": 360},
+        ]
+    }
+    case = case_from_dict(raw)
+    vt = case.valvetrain
+    resp = valvetrain_response(case.motion, vt, 3000 * RPM)
+    floats = [e.deg for e in resp.events if e.what == "float"]
+    assert any(abs(d - 210.0) < 1e-9 for d in floats), resp.events
+    assert resp.settled and not resp.warnings
+    m, k, f0, e = (float(v) for v in (vt.valve_mass, vt.spring_rate, vt.preload, vt.seat_restitution))
+    at = int(np.searchsorted(resp.theta_deg, 210.0))  # the grid angle at the float (0.1 deg)
+    x0, v0 = resp.valve_lift[at] * 1e-3, resp.valve_velocity[at]  # 12.08 mm, 0.12 m/s
+    assert resp.seating_velocity <= math.sqrt(v0**2 + (2 * f0 * x0 + k * x0**2) / m)  # 10.09 <= 13.7 m/s
+    energy = 0.5 * m * (e * resp.seating_velocity) ** 2
+    assert 0.0 < resp.bounce_height_mm * 1e-3 <= (math.sqrt(f0**2 + 2 * k * energy) - f0) / k  # 0.963 <= 1.002 mm
+
+
+@pytest.mark.slow
 def test_a_lower_rebound_is_passed_over_and_the_bounce_height_is_the_same(monkeypatch):
     """A flight after the seating is run again on fine angles for its apex (``_apex``) unless the cubic through its
     saved states stays 1 % and 1e-9 m under the highest apex so far. That cubic is within 1e-10 m of every apex of

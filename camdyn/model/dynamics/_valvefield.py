@@ -29,6 +29,7 @@ from __future__ import annotations
 import functools
 from typing import Any
 
+import equinox as eqx
 import jax
 import jax.numpy as jnp
 from jax.typing import ArrayLike
@@ -143,17 +144,38 @@ def _event() -> Any:
     """The stretch's event: the first contact change, its root bracketed by bisection that stops on the bracket's
     width alone (the event functions mix forces (N) and gaps (m), and a force through a kink or a segment boundary
     need not come near zero at its crossing). Built at the first trace: diffrax and optimistix load only where a
-    program is traced, not where a stored one runs (0.4 s of a warm ``check``)."""
+    program is traced, not where a stored one runs (0.4 s of a warm ``check``).
+
+    A change that the step does not bracket is at the angle the step ends on: where the cam's acceleration jumps
+    (a segment boundary, one of the controller's ``jump_ts``) a locked cam contact's force jumps with it; the
+    step ends on the float before the jump, and diffrax reads the event function where the next step starts, the
+    float after it, past the step's bracket (optimistix's bisection would stop with an error, or under
+    ``EQX_ON_ERROR=nan`` return a time inside the step, where no contact changes). The root is then that angle."""
     import diffrax
     import optimistix as optx
 
     class Bracket(optx.Bisection):
+        def init(self, fn: Any, y: Any, args: Any, options: Any, f_struct: Any, aux_struct: Any, tags: Any) -> Any:
+            state = super().init(fn, y, args, options, f_struct, aux_struct, tags)  # flip given: no evaluation
+            lower_val, upper_val = fn(state.lower, args)[0], fn(state.upper, args)[0]
+            inside = (lower_val < 0) != (upper_val < 0)  # else the change is past the step's end: collapse there
+            lower = jnp.where(inside, state.lower, state.upper)
+            return eqx.tree_at(lambda s: (s.lower, s.flip), state, (lower, lower_val > upper_val))
+
+        def step(self, fn: Any, y: Any, args: Any, options: Any, state: Any, tags: Any) -> tuple[Any, Any, Any]:
+            collapsed = state.lower == state.upper
+            new_y, new_state, aux = super().step(fn, y, args, options, state, tags)
+            past = jnp.nextafter(jnp.nextafter(state.upper, jnp.inf), jnp.inf)  # where diffrax read the change
+            return jnp.where(collapsed, past, new_y), new_state, aux
+
         def terminate(
             self, fn: Any, y: Any, args: Any, options: Any, state: Any, tags: Any
         ) -> tuple[jax.Array, optx.RESULTS]:
-            return jnp.abs(state.lower - state.upper) < self.atol + self.rtol * jnp.abs(y), optx.RESULTS.successful
+            # after one step at least (the initial error is inf): the first guess is the step's end, not the root
+            narrow = jnp.abs(state.lower - state.upper) < self.atol + self.rtol * jnp.abs(y)
+            return narrow & jnp.isfinite(state.error), optx.RESULTS.successful
 
-    return diffrax.Event(_first_change, root_finder=Bracket(rtol=1e-14, atol=1e-12), direction=False)
+    return diffrax.Event(_first_change, root_finder=Bracket(rtol=1e-14, atol=1e-12, flip=False), direction=False)
 
 
 @cached_jit
