@@ -229,6 +229,33 @@ def test_a_cam_that_lets_go_at_an_acceleration_jump_floats_there():
 
 
 @pytest.mark.slow
+@pytest.mark.parametrize(
+    "segments",
+    [
+        # the cam lets go at 130 deg, a grid angle: the solver's root a float past it, the grid angle unsaved (inf)
+        [("polynomial-4567", 80, 8.194), ("polynomial-345", 130, 8.141), ("harmonic", 140, -8.141)]
+        + [("dwell", 340, None), ("cycloidal", 360, -8.194)],
+        # a rebound in the air at the revolution's end, a jump there: its apex's run again a float short of it (inf)
+        [("polynomial-4567", 20, 7.932), ("dwell", 100, None), ("harmonic", 120, 5.91), ("modified-sine", 250, 4.57)]
+        + [("polynomial-4567", 260, -4.57), ("modified-trapezoid", 320, -5.91), ("modified-trapezoid", 360, -7.932)],
+    ],
+    ids=["float-on-a-grid-angle", "apex-at-the-end"],
+)
+def test_a_valve_thrown_about_by_its_cam_has_finite_numbers(segments):
+    """Two cams that throw the valve about at 3000 rpm (jumps of acceleration where the solver stops a float short):
+    every number of the revolution is finite (a bounce of inf mm and a valve lift of inf once came out)."""
+    raw = copy.deepcopy(SHIPPED)
+    raw["motion"] = {
+        "segments": [{"law": law, "end": end} | ({} if lift is None else {"lift": lift}) for law, end, lift in segments]
+    }
+    case = case_from_dict(raw)
+    resp = valvetrain_response(case.motion, case.valvetrain, 3000 * RPM)
+    arrays = (resp.cam_lift, resp.follower_lift, resp.valve_lift, resp.valve_velocity, resp.cam_force, resp.train_force)
+    assert all(np.all(np.isfinite(a)) for a in arrays)
+    assert math.isfinite(resp.bounce_height_mm) and math.isfinite(resp.seating_velocity)
+
+
+@pytest.mark.slow
 def test_a_lower_rebound_is_passed_over_and_the_bounce_height_is_the_same(monkeypatch):
     """A flight after the seating is run again on fine angles for its apex (``_apex``) unless the cubic through its
     saved states stays 1 % and 1e-9 m under the highest apex so far. That cubic is within 1e-10 m of every apex of

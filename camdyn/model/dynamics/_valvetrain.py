@@ -176,6 +176,9 @@ def valvetrain_response(motion: Motion, vt: ValvetrainModel, omega: float, n: in
                         "stiffnesses",
                     )
                 k1 = min(math.floor((t1 - t_start) / (TWO_PI / n) + 1e-9), (rev + 1) * n - 1)
+                # an angle the solver did not save (inf: a hair past its root at an event on a grid angle, or at a
+                # jump on the revolution's end) is the next stretch's to fill
+                k1 = min(k1, k_next + int(np.isfinite(samples[:, 0]).sum()) - 1)
                 if k1 >= k_next:
                     ii, count_ii = (i0 + np.arange(k_next, k1 + 1)) % n, k1 - k_next + 1
                     t_at[ii], y_at[ii], mode_at[ii], filled[ii] = tt[:count_ii], samples[:count_ii], m, True
@@ -350,8 +353,9 @@ def _apex(run, t0: float, t1: float, n: int) -> float:
     refined by the parabola through the highest sample and its neighbours."""
     ts = np.linspace(t0, t1, n)
     xv = run(ts)[2]
+    xv = np.where(np.isfinite(xv), xv, -np.inf)  # the end, where a jump there kept the solver a float short of it
     j = int(np.argmax(xv))
-    if 0 < j < n - 1:
+    if 0 < j < n - 1 and np.isfinite(xv[j + 1]):
         a, b, c = xv[j - 1], xv[j], xv[j + 1]
         den = a - 2.0 * b + c
         if den < 0.0:
