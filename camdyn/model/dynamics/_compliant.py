@@ -193,9 +193,9 @@ def periodic_orbit(motion: Motion, model: FollowerModel, omega: float, theta: Ar
     Where a separation makes the flow non-smooth and a Newton step does not reduce the residual, the
     iteration falls back to plain revolutions (the transient dies out revolution by revolution; where it dies out
     by a steady ratio, the iteration jumps to the end of that series, :func:`_rest_of_series`). The iteration
-    stops at a residual of 1e-10 (relative), at the first revolution within :func:`periodic_tol` past Newton's
-    ``_NEWTON_ITERS``, or once the best residual is within it and ``_FLOOR_REVS`` revolutions more have not lowered
-    it (the solver's noise floor).
+    stops at a residual of 1e-10 (relative), at the first revolution within :func:`periodic_tol` where the
+    frequency domain's steady state leaves the cam or past Newton's ``_NEWTON_ITERS``, or once the best residual is
+    within it and ``_FLOOR_REVS`` revolutions more have not lowered it (the solver's noise floor).
     Either way, ``_STALL_REVS`` revolutions without a lower residual end it (a bouncing that is not periodic).
     Returns the trajectory (x, dx/dtheta; motion units) on ``theta`` (n, 2) of the best iterate and its residual
     |Phi(z0) - z0|; NumericalError if a revolution does not integrate.
@@ -213,7 +213,8 @@ def _shoot(motion: Motion, model: FollowerModel, omega: float, theta):
     floor = periodic_tol(motion.host(theta)[0])
     # where the frequency domain's steady state stays on the cam it is a periodic orbit of the model, and a smooth
     # one: the higher-order solver's (either integrates any orbit: the choice is one of speed)
-    revolution = _rev_smooth_jit if linear_least_force(motion, model, omega) > 0.0 else _rev_jit
+    smooth = linear_least_force(motion, model, omega) > 0.0
+    revolution = _rev_smooth_jit if smooth else _rev_jit
     best_traj, best_r, best_i, r_prev = None, math.inf, 0, math.inf
     steps: list[np.ndarray] = []  # each revolution's phi - z since the last Newton step or jump
     left = None  # (where a settling jump left from: the plain iteration's next start, its mismatch)
@@ -225,9 +226,10 @@ def _shoot(motion: Motion, model: FollowerModel, omega: float, theta):
         r = float(np.linalg.norm(phi - z))
         if r < best_r:
             best_traj, best_r, best_i = traj, r, i
-        # past Newton's iterations a revolution within the periodic tolerance is periodic by camdyn's own measure:
-        # revolutions more only move the mismatch about the solver's noise floor (Newton, converging, still steps)
-        at_floor = best_r <= floor and (i >= _NEWTON_ITERS or i - best_i >= _FLOOR_REVS)
+        # a revolution within the periodic tolerance is periodic by camdyn's own measure where the follower leaves the
+        # cam (Newton converges only linearly across the contact's switches, to the solver's noise floor) and past
+        # Newton's iterations; on a smooth orbit Newton, converging quadratically, steps on to its own tolerance
+        at_floor = best_r <= floor and (not smooth or i >= _NEWTON_ITERS or i - best_i >= _FLOOR_REVS)
         if best_r <= tol or at_floor or i - best_i >= _STALL_REVS:
             break
         if left is not None and r > _LANDED * left[1]:  # the jump missed: on from where it left
