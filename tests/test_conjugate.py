@@ -300,6 +300,27 @@ def test_check_json_of_the_shipped_conjugate_cam(capsys):
     assert pa["value"] == pytest.approx(cl["conjugate_cam"]["max_pressure_angle_deg"]) and pa["limit"] == 35.0
 
 
+def test_an_undercut_primary_cam_fails_with_no_contact_stress(tmp_path, capsys):
+    """The shipped rocker with a swing its primary cam cannot follow (a 7.1 deg cycloidal rise over 40 deg folds
+    its contour at 65 deg; the conjugate cam does not fold): a FAIL with the contact stress not computed, as a single
+    cam's, not an error on the primary's Hertz strip (it once exited 2)."""
+    text = Path(EXAMPLE).read_text()
+    head, rest = text.split("segments = [", 1)
+    segments = (
+        '{ law = "dwell", end = 50 }, { law = "polynomial-4567", end = 70, lift = 4.533 },'
+        '{ law = "modified-trapezoid", end = 90, lift = 5.151 }, { law = "cycloidal", end = 130, lift = 7.143 },'
+        '{ law = "modified-trapezoid", end = 170, lift = -7.143 }, { law = "harmonic", end = 300, lift = -5.151 },'
+        '{ law = "polynomial-345", end = 360, lift = -4.533 }'
+    )
+    case = write_case(tmp_path, "folded.toml", head + "segments = [" + segments + "]\n" + rest.split("]\n", 1)[1])
+    code, out, err = run(capsys, "check", case, "--json")
+    doc = json.loads(out)
+    assert code == 1 and doc["verdict"] == "fail" and not err
+    assert doc["geometry"]["undercut"] and not doc["closure"]["conjugate_cam"]["undercut"]
+    assert "contact stress not computed: the cam is undercut" in doc["warnings"]
+    assert "contact_stress" not in [c["name"] for c in doc["checks"]]
+
+
 # slow: compiles the rocker's flight across the backlash alone (seconds); the quick set keeps the yoke's flight
 # (test_flight_across_the_conjugate_backlash_uses_the_conjugate_cams_lever) and the rocker's forces
 @pytest.mark.slow

@@ -49,9 +49,18 @@ def closure_check(case: Case, rpm: float) -> CheckReport:
     warnings += study.fold_warnings
     contact = None
     if case.spec.contact_width_mm is not None:
-        if study.walls.undercut:  # a folded wall: no radius of curvature to press on
-            what = "a groove wall" if study.loads is None else "the conjugate cam"
-            warnings.append(f"contact stress not computed: {what} is undercut")
+        # a folded wall or cam: no radius of curvature to press on (a groove's walls are its contact; conjugate cams
+        # press on both, the case's own contour too)
+        if study.loads is None:
+            folded = ["a groove wall"] if study.walls.undercut else []
+        else:
+            folded = [
+                what for what, bad in (("the cam", geo.undercut), ("the conjugate cam", study.walls.undercut)) if bad
+            ]
+        if folded:
+            warnings.append(
+                f"contact stress not computed: {' and '.join(folded)} {'are' if len(folded) > 1 else 'is'} undercut"
+            )
         else:
             loads = None if study.loads is None else (study.loads.primary_N, study.loads.conjugate_N)
             contact = case_contact(case, geo, resp, study.walls, cam_forces_N=loads)
