@@ -22,6 +22,7 @@ from camdyn.cli import main
 from camdyn.design.sweep import CSV_COLUMNS, MAX_GRID_POINTS, jump_map
 from camdyn.model import dynamics as dyn
 from camdyn.model.case import load_case
+from camdyn.model.dynamics import _compliant
 from camdyn.model.motion import evaluate
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -117,7 +118,8 @@ def test_steady_state_vs_diffrax(lecture, small_map):
 def test_gap_vs_diffrax_shooting(lecture, small_map):
     """A periodic bounce (520 rpm, 2 N/mm): the map's largest gap against the diffrax periodic orbit."""
     resp = dyn.compliant_response(lecture.motion, lecture.model, 520.0 * RPM)
-    assert resp.separations and resp.periodicity_error < 1e-6
+    # periodic by camdyn's own measure (1e-6 of the 20 mm lift): the shooting stops at the first revolution within it
+    assert resp.separations and resp.periodicity_error <= _compliant.periodic_tol(resp.s)
     gap = max(s.max_gap for s in resp.separations)
     assert small_map.separated[1, 1] and small_map.max_gap[1, 1] == pytest.approx(gap, abs=1e-3)
 
