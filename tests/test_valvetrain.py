@@ -605,6 +605,41 @@ def test_size_valve_spring_passes_check_as_written(capsys, tmp_path):
     assert closed["preload_N"] == pytest.approx(40.0 * 0.2) and not closed["holds"]
 
 
+@pytest.mark.slow
+def test_size_of_a_valve_cam_no_spring_holds_stays_within_what_the_train_lifts(capsys, tmp_path):
+    """A 23 mm lift in 120 deg at 3000 rpm through the 1.6 rocker: no valve spring keeps the valve on this cam to
+    3750 rpm. The search once ran the preload up to 3.9e8 N, where the 8000 N/mm train no longer lifts the valve (a
+    case with it is refused), and size --json stopped on the NaN of a valve that never lifts; now it stops at the
+    most the train lifts the valve half its stroke under, says none holds, and proposes the nearest, which comes
+    nearer than the case's own spring."""
+    text = (CASES / "valvetrain.toml").read_text()
+    head, rest = text.split("segments = [", 1)
+    segments = (
+        '{ law = "harmonic", end = 20, lift = 7.118 }, { law = "dwell", end = 40 },'
+        '{ law = "polynomial-345", end = 50, lift = 7.599 }, { law = "polynomial-4567", end = 120, lift = 8.428 },'
+        '{ law = "modified-trapezoid", end = 150, lift = -8.428 },'
+        '{ law = "polynomial-4567", end = 220, lift = -7.599 }, { law = "dwell", end = 310 },'
+        '{ law = "polynomial-4567", end = 360, lift = -7.118 }'
+    )
+    case = tmp_path / "steep.toml"
+    case.write_text(head + "segments = [" + segments + "]\n" + rest.split("]\n", 1)[1])
+    code, out, err = run(capsys, "size", case, "--json", "--quiet")
+    assert code == 0, err
+    doc = json.loads(out)
+    assert not doc["holds"] and doc["valvetrain"]["check"]["verdict"] == "fail"
+    stroke, kt = doc["valvetrain"]["valve_lift_mm"], 8000.0
+    ceiling = (kt - 0.5 * (kt + 40.0)) * stroke  # N: the valve lifts half its stroke under it
+    assert max(s["preload_N"] for s in doc["valvetrain"]["search"]) <= ceiling
+    assert any("no preload found up to" in w for w in doc["warnings"])
+    least = min(doc["float_speed_rpm"], doc["bounce_speed_rpm"])
+    assert least > min(doc["current"]["float_speed_rpm"], doc["current"]["bounce_speed_rpm"])
+    # the proposal is a case check accepts
+    text = re.sub(r"^preload = .*$", f"preload = {doc['preload_N']!r}", case.read_text(), flags=re.M)
+    case.write_text(text)
+    code, out, err = run(capsys, "check", case, "--json")
+    assert code == 1 and json.loads(out)["verdict"] == "fail", err
+
+
 def test_size_buildable_is_refused_for_a_valvetrain(capsys):
     code, out, err = run(capsys, "size", CASES / "valvetrain.toml", "--buildable")
     assert code == 2 and len(err.strip().splitlines()) == 1 and "--buildable" in err

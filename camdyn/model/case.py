@@ -13,7 +13,7 @@ import numpy as np
 from .._core.errors import InputError
 from .._core.kinds import FollowerKind
 from .._core.precision import require_x64
-from .._core.units import M_PER_MM, MAX_ROCKER_RATIO, MIN_STATIC_VALVE_LIFT, THETA_GRID
+from .._core.units import M_PER_MM, MAX_ROCKER_RATIO, THETA_GRID
 from ..schema import CaseSpec, FollowerSpec, LimitsSpec, ValvetrainSpec, dynamics_keys, load_case_spec, parse
 from .dynamics import least_static_force
 from .follower import FollowerModel, follower_model
@@ -25,6 +25,7 @@ from .valvetrain import (
     ValvetrainModel,
     coils_model,
     equivalent_follower,
+    max_lifting_preload,
     rocker_model,
     rocker_reach,
     static_valve_lift,
@@ -206,15 +207,22 @@ def _check_rocker(vt: ValvetrainSpec, lifts: np.ndarray) -> None:
         )
 
 
+def valve_stroke_mm(motion: Motion, vt_model: ValvetrainModel) -> float:
+    """The cam's whole lift at the valve (through the rocker) less the lash (mm): how far a rigid train would move
+    the valve (0 or less: it never lifts)."""
+    lifts = _lifts(motion)
+    at_valve = vt_model.at_valve_mm(np.array([lifts.min(), lifts.max()]))[0]
+    return float(at_valve[1] - at_valve[0]) - float(vt_model.lash) / M_PER_MM
+
+
 def _check_valve_lifts(motion: Motion, spec: CaseSpec, vt_model: ValvetrainModel) -> None:
     """The cam's lift at the valve (its lift through the rocker) must take up the lash, and a compliant train
     compressed by the rest must carry more than the spring's preload, or the valve never moves (statically)."""
     vt, preload = spec.valvetrain, spec.dynamics.preload
     assert vt is not None and preload is not None  # the caller's; CaseSpec: a valvetrain's spring has a preload
-    lifts = _lifts(motion)
-    at_valve = vt_model.at_valve_mm(np.array([lifts.min(), lifts.max()]))[0]
-    reach = float(at_valve[1] - at_valve[0])
-    if reach <= vt.lash:
+    stroke = valve_stroke_mm(motion, vt_model)  # mm the cam would move the valve through a rigid train
+    reach = stroke + vt.lash
+    if stroke <= 0.0:
         raise InputError(
             "valvetrain.lash",
             f"the valve never lifts: the cam's lift at the valve (through the rocker: {reach:.4g} mm) does not take up "
@@ -222,7 +230,6 @@ def _check_valve_lifts(motion: Motion, spec: CaseSpec, vt_model: ValvetrainModel
         )
     if vt.stiffness is None:
         return
-    stroke = reach - vt.lash  # mm the cam would move the valve through a rigid train
     if vt.stiffness * stroke <= preload:
         raise InputError(
             "valvetrain.stiffness",
@@ -230,8 +237,9 @@ def _check_valve_lifts(motion: Motion, spec: CaseSpec, vt_model: ValvetrainModel
             f"valve less the lash ({stroke:.4g} mm) carries {vt.stiffness * stroke:.4g} N, not "
             f"the spring's preload ({preload:g} N): is the stiffness in N/mm, at the valve?",
         )
-    lifted = static_valve_lift(stroke, preload, vt.stiffness, spec.dynamics.spring_rate or 0.0)  # at full lift
-    if lifted < MIN_STATIC_VALVE_LIFT * stroke:
+    rate = spec.dynamics.spring_rate or 0.0
+    if preload > max_lifting_preload(stroke, vt.stiffness, rate):
+        lifted = static_valve_lift(stroke, preload, vt.stiffness, rate)  # at full lift
         raise InputError(
             "valvetrain.stiffness",
             f"the valve lifts only {lifted:.3g} mm of the cam's {stroke:.4g} mm at the valve, turned slowly: the train "

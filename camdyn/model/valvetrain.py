@@ -23,7 +23,7 @@ from jax.typing import ArrayLike
 
 from .._core.jit import device_array
 from .._core.kinds import TRANSLATING
-from .._core.units import M_PER_MM, damping_from_ratio
+from .._core.units import M_PER_MM, MIN_STATIC_VALVE_LIFT, damping_from_ratio
 from ..schema import DynamicsSpec, RockerSpec, ValvetrainSpec
 from .follower import FollowerModel
 from .spring import DEFAULT_SEGMENTS, DEFAULT_SURGE_DAMPING, chain_segments
@@ -275,6 +275,15 @@ def static_valve_lift(stroke: float, preload: float, train_rate: float, spring_r
     if math.isinf(train_rate):
         return stroke
     return (train_rate * stroke - preload) / (train_rate + spring_rate)
+
+
+def max_lifting_preload(stroke: float, train_rate: float, spring_rate: float) -> float:
+    """The largest preload with which the valve still lifts :data:`MIN_STATIC_VALVE_LIFT` of ``stroke`` with the cam
+    turned slowly (:func:`static_valve_lift`): what a case accepts; inf for a rigid train (``train_rate`` inf). Any
+    consistent units."""
+    if math.isinf(train_rate):
+        return math.inf
+    return (train_rate - MIN_STATIC_VALVE_LIFT * (train_rate + spring_rate)) * stroke
 
 
 def lift_with_ramps(theta_deg: np.ndarray, lift: np.ndarray, lash: float, ramp_velocity: float) -> np.ndarray:

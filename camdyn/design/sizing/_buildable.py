@@ -66,12 +66,14 @@ WRITTEN_DIGITS = 4  # significant digits the proposal is written (and judged) wi
 _ROUNDS = 8
 
 
-def written(x: float, up: bool = False) -> float:
-    """``x`` to :data:`WRITTEN_DIGITS` significant digits (``up``: rounded up), as ``size`` writes it."""
+def written(x: float, up: bool = False, down: bool = False) -> float:
+    """``x`` to :data:`WRITTEN_DIGITS` significant digits (``up``: rounded up; ``down``: rounded down), as ``size``
+    writes it."""
     if x == 0.0 or not math.isfinite(x):
         return x
     q = 10.0 ** (math.floor(math.log10(abs(x))) - WRITTEN_DIGITS + 1)
-    return float(f"{(math.ceil(x / q - 1e-9) if up else round(x / q)) * q:.{WRITTEN_DIGITS + 2}g}")
+    n = math.ceil(x / q - 1e-9) if up else math.floor(x / q + 1e-9) if down else round(x / q)
+    return float(f"{n * q:.{WRITTEN_DIGITS + 2}g}")
 
 
 def buildable_answer(

@@ -12,7 +12,9 @@ equivalent's jump speed, and bounce is the two-mass model's alone. A light prelo
 train as the lash closes (tossed off the rocker on the opening ramp, the cam contact then unloaded on the
 constant-velocity ramp, a knife-edge the float search need not see): so the least preload that keeps the train's
 force on the valve above 0.1 % of the peak spring force over the event at the top speed is found first (bisected
-to 0.5 %), and bounds the search below. The rate is kept and the preload is searched:
+to 0.5 %), and bounds the search below; above, the largest preload with which the train still lifts the valve
+half its stroke turned slowly (what a case accepts, :func:`~camdyn.model.valvetrain.max_lifting_preload`): a
+preload past it keeps the valve shut, a float and a bounce never seen. The rate is kept and the preload is searched:
 the float and bounce speeds (:func:`~camdyn.design.valvetrain.analyze_valvetrain`, the searches ``check`` runs)
 of the spring as written (4 significant digits, the preload rounded up) are driven to (1 + HEADROOM) x the top
 speed by secant steps on the least of the two speeds squared (the equivalent's jump speed squared is affine in the
@@ -35,7 +37,8 @@ from ..._core.progress import Progress, phase
 from ..._core.results import finite_or_none
 from ..._core.units import M_PER_MM, RPM
 from ...model import dynamics as dyn
-from ...model.case import Case, with_valvetrain_keys
+from ...model.case import Case, valve_stroke_mm, with_valvetrain_keys
+from ...model.valvetrain import max_lifting_preload
 from .._check import Check
 from ..checks import run_check
 from ..parts import resolve_spring, with_spring_part
@@ -208,23 +211,25 @@ def _judge(case: Case, rate: float, preload: float, valve_lift_mm: float) -> Val
     )
 
 
-def _least_preload_on_train(case: Case, rate: float, start: float, valve_lift_mm: float) -> float:
+def _least_preload_on_train(case: Case, rate: float, start: float, valve_lift_mm: float, ceiling: float) -> float:
     """The least preload (N, to :data:`_TRAIN_WIDTH`) at or above ``start`` with which the valve stays on the train
     over its event at the top speed (:attr:`ValveSpringDesign.on_train`): doubled from ``start`` until it holds,
-    then bisected (the train's least force grows with the preload)."""
+    then bisected (the train's least force grows with the preload); ``ceiling`` where none up to it holds."""
     top = case.limits.speed_margin * case.speed_rpm * RPM
 
     def holds(f0: float) -> bool:
         sized = with_valvetrain_keys(case, dynamics={"spring_rate": rate, "preload": f0})
         return _least_train_force(sized, top) > _ON_TRAIN * (rate * valve_lift_mm + f0)
 
-    lo, hi = math.nan, start
+    lo, hi = math.nan, min(start, ceiling)
     for _ in range(_TRAIN_ROUNDS):
         if holds(hi):
             break
-        lo, hi = hi, 2.0 * hi + rate * valve_lift_mm
+        if hi >= ceiling:
+            return ceiling
+        lo, hi = hi, min(2.0 * hi + rate * valve_lift_mm, ceiling)
     if math.isnan(lo):
-        return start
+        return hi
     for _ in range(_TRAIN_ROUNDS):
         if hi - lo <= _TRAIN_WIDTH * hi:
             break
@@ -272,8 +277,8 @@ def size_valve_spring(
     with phase(progress, "the proposal's check"):
         report = run_check(as_written)
     failing = [
-        f"check {c.name} fails on the proposal as written ({c.value} > {c.limit:g} {c.unit}): the spring does not "
-        "set it"
+        f"check {c.name} fails on the proposal as written ({_shown(c.value)} {c.unit}, not {c.sense} {c.limit:g}): "
+        "the spring does not set it"
         for c in report.checks
         if not c.ok and c.name != "speed_margin"
     ]
@@ -281,6 +286,11 @@ def size_valve_spring(
     if current.holds(sizing.top_speed_rpm) and current.peak_spring < chosen.peak_spring:
         failing.insert(0, f"the case's own spring holds with a lower peak force ({current.peak_spring:.4g} N): keep it")
     return replace(sizing, checks=report.checks, warnings=sizing.warnings + tuple(failing))
+
+
+def _shown(value: float | None) -> str:
+    """A check's value in a sentence: 4 significant digits ("unbounded" for None)."""
+    return "unbounded" if value is None else f"{value:.4g}"
 
 
 def _search_round(i: int, mass_kg: float) -> str:
@@ -382,6 +392,9 @@ def _size(case: Case, min_rate: float) -> ValveSpringSizing:
     rate = written(max(p.kind.rate_from_si(k_eq) / r**2, min_rate))
     seat_load = case.limits.min_preload if case.limits.min_preload is not None else 0.0
     f0_closed = max(p_eq / r + rate * lash_mm, seat_load, 0.0)
+    # the most the train lifts the valve under (a case refuses more): the search's top, as written
+    train_rate = float(vt.train.train_stiffness) * M_PER_MM  # N/mm at the valve; inf: a rigid train
+    ceiling = written(max_lifting_preload(valve_stroke_mm(case.motion, vt), train_rate, rate), down=True)
     closed = _judge(case, rate, written(f0_closed, up=True), valve_lift_mm)
     w_eq = _equivalent_jump(case, rate, closed.preload)
 
@@ -398,7 +411,10 @@ def _size(case: Case, min_rate: float) -> ValveSpringSizing:
     if same_rate:
         judged.setdefault(current.preload, current)
     # the valve on the train at the top speed: below this preload it is tossed off as the lash closes
-    floor = max(written(_least_preload_on_train(case, rate, closed.preload, valve_lift_mm), up=True), seat_load)
+    floor = max(
+        written(_least_preload_on_train(case, rate, closed.preload, valve_lift_mm, ceiling), up=True), seat_load
+    )
+    floor = min(floor, ceiling)
     lo: ValveSpringDesign | None = None  # the highest preload that fails
     hi = current if same_rate and current.least_speed_rpm >= need and current.on_train else None  # least that holds
     prev, d = (current if same_rate else None), (closed if floor <= closed.preload else judge(floor))
@@ -410,22 +426,28 @@ def _size(case: Case, min_rate: float) -> ValveSpringSizing:
                 break
         else:
             lo = d if lo is None or d.preload > lo.preload else lo
-        f0 = written(_next_preload(d, prev, lo, hi, target, floor), up=True)
+        f0 = min(written(_next_preload(d, prev, lo, hi, target, floor), up=True), ceiling)
         if f0 in judged:  # the written digits cannot get closer
-            if hi is not None:
+            if hi is not None or f0 >= ceiling:  # or no preload the train lifts the valve under holds
                 break
-            f0 = written(f0 * 1.001, up=True)
+            f0 = min(written(f0 * 1.001, up=True), ceiling)
         prev, d = d, judge(f0)
     rounds = tuple((f0, dd.least_speed_rpm) for f0, dd in judged.items() if dd.rate == rate)
     warnings: list[str] = []
-    if hi is None:
-        hi = d
-        warnings.append(
-            f"no preload found in {_ROUNDS} rounds whose float and bounce speeds reach {need:.5g} rpm with the valve "
-            f"on the train (last: "
-            f"{d.preload:g} N, {d.least_speed_rpm:.5g} rpm): the proposal does not hold"
+    if hi is None:  # none holds: the nearest judged, never one the case's own spring comes nearer than
+        how = (
+            f"up to {ceiling:g} N (the most under which the train lifts the valve half its stroke)"
+            if d.preload >= ceiling
+            else f"in {_ROUNDS} rounds"
         )
-    chosen = judged[hi.preload]
+        near = max((dd for dd in judged.values() if dd.rate == rate), key=lambda dd: dd.least_speed_rpm)
+        hi = current if current.least_speed_rpm >= near.least_speed_rpm else near
+        what = "the case's own spring comes nearest: keep it" if hi is current else "the proposal does not hold"
+        warnings.append(
+            f"no preload found {how} whose float and bounce speeds reach {need:.5g} rpm with the valve on the train "
+            f"(the nearest: {hi.preload:g} N, {hi.least_speed_rpm:.5g} rpm): {what}"
+        )
+    chosen = hi
     if min_rate > 0.0 and min_rate == own_rate:
         warnings.append(
             f"the rate is the case's own ({own_rate:g} N/mm): pass --min-rate for another least rate (0: the closed "
