@@ -155,6 +155,13 @@ def _grinder(args, case, geo, out: Path) -> str:
 def _solid(args, geo, out: Path) -> str:
     from ..export import solid
 
+    ext = geo.extremes
+    if ext.cusp:  # no plate has a folded outline: its spline would only stray from a contour that crosses itself
+        raise InputError(
+            f"theta = {ext.min_radius_of_curvature_at_deg:.4g} deg",
+            f"the contour folds (undercut; least radius {ext.min_radius_of_curvature_mm:.4g} mm): a plate cut to it "
+            "is not this cam, so no solid is written; a larger base radius unfolds it (camdyn check advises one)",
+        )
     keyway = solid.parse_keyway(args.keyway) if args.keyway else None
     info = solid.write_solid(
         geo.contour_fn(),
