@@ -34,10 +34,9 @@ def print_check(report: CheckReport) -> None:
         ("check", "left"), ("value", "right"), ("", "center"), ("limit", "right"), ("unit", "left"), ("result", "left")
     )
     for c in report.checks:
-        value = "unbounded" if c.value is None else f"{c.value:.4g}"
         result = "[green]pass[/green]" if c.ok else "[bold red]FAIL[/bold red]"
         limit = f"{c.limit:g}" + (" (no cusp)" if c.kind is CheckKind.CURVATURE and c.unit == "mm" else "")
-        t.add_row(c.name, value, c.sense, limit, c.unit, result)
+        t.add_row(c.name, c.value_text(), c.sense, limit, c.unit, result)
     con.print(t)
     notes(con, "warning", "yellow", report.warnings)
     notes(con, "advice", "cyan", report.advice)

@@ -43,8 +43,7 @@ def print_machine(result: MachineResult) -> None:
         )
     con.print(t)
     fails = [
-        f"{cam.name}: {c.name} {'unbounded' if c.value is None else f'{c.value:.4g}'} {c.unit}, "
-        f"needs {c.sense} {c.limit:g}"
+        f"{cam.name}: {c.name} {c.value_text()} {c.unit}, needs {c.sense} {c.limit:g}"
         for cam in result.cams
         for c in cam.check.checks
         if not c.ok

@@ -59,10 +59,9 @@ def print_spring(case_name: str, d: SpringDesign, lever_arm: float | None) -> No
         ("check", "left"), ("value", "right"), ("", "center"), ("limit", "right"), ("unit", "left"), ("result", "left")
     )
     for chk in d.checks:
-        value = "unbounded" if chk.value is None else f"{chk.value:.4g}"
         c.add_row(
             chk.name,
-            value,
+            chk.value_text(),
             chk.sense,
             f"{chk.limit:.4g}",
             chk.unit,

@@ -115,6 +115,10 @@ class Check:
         """What the value is, in words: its kind's label (a flat face's curvature is a radius, mm)."""
         return FLAT_CURVATURE_LABEL if self.kind is CheckKind.CURVATURE and self.unit == "mm" else self.kind.label
 
+    def value_text(self, digits: int = 4) -> str:
+        """The value in a table or a sentence: ``digits`` significant digits ("unbounded" for None)."""
+        return "unbounded" if self.value is None else f"{self.value:.{digits}g}"
+
     @property
     def margin(self) -> float | None:
         """How far the value is from the limit, in the check's unit, positive where it passes; None: unbounded."""

@@ -155,17 +155,15 @@ def _broken_checks(before: CheckReport, after: CheckReport) -> list[str]:
         if b is None or c.ok:
             continue
         if b.ok:
-            out.append(f"check {c.name} passed before and would fail ({_value(c)} against {c.limit:.6g} {c.unit})")
+            out.append(
+                f"check {c.name} passed before and would fail ({c.value_text(6)} against {c.limit:.6g} {c.unit})"
+            )
         elif _further(b, c):
             out.append(
-                f"check {c.name} failed before and would fail by more ({_value(b)} -> {_value(c)} against "
+                f"check {c.name} failed before and would fail by more ({b.value_text(6)} -> {c.value_text(6)} against "
                 f"{c.limit:.6g} {c.unit})"
             )
     return out
-
-
-def _value(c: Check) -> str:
-    return "unbounded" if c.value is None else f"{c.value:.6g}"
 
 
 def _further(before: Check, after: Check) -> bool:

@@ -277,7 +277,7 @@ def size_valve_spring(
     with phase(progress, "the proposal's check"):
         report = run_check(as_written)
     failing = [
-        f"check {c.name} fails on the proposal as written ({_shown(c.value)} {c.unit}, not {c.sense} {c.limit:g}): "
+        f"check {c.name} fails on the proposal as written ({c.value_text()} {c.unit}, not {c.sense} {c.limit:g}): "
         "the spring does not set it"
         for c in report.checks
         if not c.ok and c.name != "speed_margin"
@@ -286,11 +286,6 @@ def size_valve_spring(
     if current.holds(sizing.top_speed_rpm) and current.peak_spring < chosen.peak_spring:
         failing.insert(0, f"the case's own spring holds with a lower peak force ({current.peak_spring:.4g} N): keep it")
     return replace(sizing, checks=report.checks, warnings=sizing.warnings + tuple(failing))
-
-
-def _shown(value: float | None) -> str:
-    """A check's value in a sentence: 4 significant digits ("unbounded" for None)."""
-    return "unbounded" if value is None else f"{value:.4g}"
 
 
 def _search_round(i: int, mass_kg: float) -> str:

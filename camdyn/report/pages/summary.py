@@ -107,13 +107,12 @@ def _checks_table(data: ReportData, flow: Flow) -> None:
         ]
     )
     for c in data.check.checks:
-        value = "unbounded" if c.value is None else f"{c.value:.4g}"
         ok_kw = {"color": C["ok"] if c.ok else C["fail"], "weight": "bold", "ha": "right"}
         flow.row(
             [
                 (0.0, c.name, {"family": "DejaVu Sans Mono", "size": min(7.8, 132.0 / len(c.name))}),  # fits its column
                 (0.165, c.label, {"color": C["grey"]}),
-                (0.6, value, {"ha": "right"}),
+                (0.6, c.value_text(), {"ha": "right"}),
                 (0.625, {">=": "\u2265", "<=": "\u2264", ">": ">"}.get(c.sense, c.sense), {"ha": "center"}),
                 (0.74, f"{c.limit:g} {c.unit}", {"ha": "right"}),
                 (0.78, _margin(c), {"color": C["ok"] if c.ok else C["fail"]}),
