@@ -4,6 +4,7 @@ and the flight across the backlash."""
 import copy
 import json
 import tomllib
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -26,6 +27,8 @@ from camdyn import InputError
 from camdyn.model.case import case_from_dict
 from camdyn.model.dynamics import closure_response
 from camdyn.model.geometry import analyze, groove
+
+ROOT = Path(__file__).resolve().parents[1]
 
 GROOVE_TOML = """
 name = "groove"
@@ -312,6 +315,30 @@ def test_spring_held_studies_refuse_a_groove_cam(tmp_path, capsys, argv):
     assert code == 2 and len(err.strip().splitlines()) == 1 and "no return spring" in err
     assert "follower.closure" in err or "--buildable" in err
     assert not (tmp_path / "r").exists()
+
+
+@pytest.mark.parametrize(
+    "case, old, new, argv",
+    [
+        ("machines/infeed.toml", "arm_length = 150", "arm_length = 75", ["check"]),
+        ("machines/infeed.toml", "arm_length = 150", "arm_length = 75", ["table", "-o", "t.csv"]),
+        ("oscillating.toml", "arm_length = 90", "arm_length = 50", ["spring"]),
+    ],
+)
+def test_an_arm_that_cannot_reach_its_cam_is_refused_by_every_command(tmp_path, capsys, case, old, new, argv):
+    """The infeed's groove cam with its arm shortened to 75 mm on a 180 mm pivot: the roller's centre comes no
+    nearer the cam's than 105 mm, its prime circle is 90 mm. One line naming follower.arm_length, as `profile`
+    gave; `check` and `table` ran the groove's dynamics first and stopped on "crossover at 90.00 deg: the follower
+    never met the other flank", and `spring` designed a return spring for such an arm."""
+    text = (ROOT / "cases" / case).read_text()
+    assert old in text
+    case_file = tmp_path / "short-arm.toml"
+    case_file.write_text(text.replace(old, new, 1))
+    argv = [tmp_path / a if a == "t.csv" else a for a in argv]
+    code, _, err = run(capsys, argv[0], case_file, *argv[1:])
+    assert code == 2 and len(err.strip().splitlines()) == 1, err
+    assert ": follower.arm_length: the roller cannot reach the prime circle" in err
+    assert not (tmp_path / "t.csv").exists()
 
 
 # slow: the oscillating groove's flight compiles alone (seconds); the quick set keeps the translating groove's

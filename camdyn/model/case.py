@@ -17,7 +17,7 @@ from .._core.units import M_PER_MM, MAX_ROCKER_RATIO, THETA_GRID
 from ..schema import CaseSpec, FollowerSpec, LimitsSpec, ValvetrainSpec, dynamics_keys, load_case_spec, parse
 from .dynamics import least_static_force
 from .follower import FollowerModel, follower_model
-from .geometry import ContourFit
+from .geometry import ContourFit, check_assembly
 from .motion import Motion, MotionFit, Program
 from .sources import contour_motion, table_motion
 from .surge import SpringInDynamics
@@ -149,6 +149,9 @@ def build_case(spec: CaseSpec, source: Path | None = None) -> Case:
         synthesis = synthesize_motion(spec.path, spec.mechanism, reuse=True)
         motion, follower = synthesis.tabulated, synthesis.follower
         warnings += list(synthesis.warnings)
+    # a follower that cannot be assembled on its cam is the case's error whatever the command (a groove cam's check
+    # reaches its dynamics before its geometry, and `spring` none at all)
+    check_assembly(motion, follower)
     valvetrain = None
     if spec.valvetrain is not None:
         lifts = _lifts(motion)
