@@ -27,7 +27,6 @@ ATOL = 1e-7  # in the value's unit (N, mm, rad, rpm, ...): a round-off-sized num
 TABLE_ATOL = 1e-7  # of the column's largest magnitude: a cell beside a zero crossing
 JERK_ATOL = 1e-4  # of the column's largest magnitude, in a jerk column
 JERK_COLUMN = re.compile(r"^(j|phi3)_")
-CASE_LOOSER = {"lecture-fast": 300.0}  # bounces without settling: rounding moves its revolutions apart the more
 ERROR_MEASURES = {"motion_table_error", "periodicity_error"}  # within a factor of 2 (or both round-off)
 EXTREME_AT = re.compile(r"(_at_deg|^(min|least|peak)_contact_force_deg)$")  # an angle, wherever on a plateau
 
@@ -97,7 +96,7 @@ def _assert_table(got: list, want: list, where: str, rtol: float) -> None:
 def test_golden(case):
     want = json.loads(gzip.decompress(golden_file(case).read_bytes()))
     name = golden_name(case)
-    assert_same(snapshot(case), want, name, rtol=CASE_LOOSER.get(name, 1.0) * RTOL)
+    assert_same(snapshot(case), want, name)
 
 
 def test_assert_same_fails_on_a_change():

@@ -74,7 +74,7 @@ class Response:
     kinematic_force: np.ndarray
     separations: tuple[Separation, ...]
     residual_vibration: float  # largest |x - x_static| in the dwells (static equilibrium), motion units
-    periodicity_error: float  # |Phi(y0) - y0| of the shooting, motion units
+    periodicity_error: float  # |Phi(y0) - y0| of the shooting over its period (1 or 2 revolutions), motion units
     warnings: tuple[str, ...] = field(default=())
     residual_vibration_deg: float = float("nan")  # where the residual vibration peaks
     contact_period_deg: float = float("nan")  # the contact mode's period in cam degrees (compliant; an impact's span)
