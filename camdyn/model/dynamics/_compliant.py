@@ -161,7 +161,7 @@ _ALIGNED = 0.999  # the cosine between the last two steps above which they are o
 # Revolutions more at most after which a bouncing is not of period two, and the revolutions in which its
 # two-revolution mismatch must halve (a bouncing that settles into period two: the lecture cam at 600 rpm takes 0.72 a
 # revolution; where it does not halve, the bouncing is not settling into it and the search ends)
-_PERIOD2_REVS, _PERIOD2_CHECK = 24, 6
+_PERIOD2_REVS, _PERIOD2_CHECK = 24, 4
 PERIODIC_TOL = 1e-6  # mismatch, times the largest lift (or 1, motion units), above which the orbit is not periodic
 
 
@@ -297,7 +297,7 @@ def _period_two(revolution, starts, trajs, floor: float, peak_force):
     where the mismatch does not halve in :data:`_PERIOD2_CHECK` revolutions or :data:`_PERIOD2_REVS` run out; and
     how many revolutions ran here."""
     xs, ts = list(starts), list(trajs)
-    mark = math.inf  # the two-revolution mismatch (the lower of the last two) at the last checkpoint
+    mark = math.inf  # the two-revolution mismatch (the larger of the last two) at the last checkpoint
     for k in range(_PERIOD2_REVS + 1):
         if len(xs) >= 3:
             r2 = float(np.linalg.norm(xs[-1] - xs[-3]))
@@ -305,7 +305,7 @@ def _period_two(revolution, starts, trajs, floor: float, peak_force):
                 higher = int(peak_force(ts[-1]) >= peak_force(ts[-2]))
                 return (ts[-2 + higher], r2, k - 1 + higher), k
         if k % _PERIOD2_CHECK == 0 and len(xs) >= 4:  # settling into period two halves the mismatch in that time
-            now = min(float(np.linalg.norm(xs[-1] - xs[-3])), float(np.linalg.norm(xs[-2] - xs[-4])))
+            now = max(float(np.linalg.norm(xs[-1] - xs[-3])), float(np.linalg.norm(xs[-2] - xs[-4])))
             if now > 0.5 * mark:
                 return None, k
             mark = now
