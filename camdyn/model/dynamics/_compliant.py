@@ -245,7 +245,7 @@ def _shoot(motion: Motion, model: FollowerModel, omega: float, theta):
     trajs: list[Any] = []  # and each one's trajectory
     for i in range(_NEWTON_ITERS + _PLAIN_REVS):
         traj, phi, mono = revolution(z)
-        if not (starts and starts[-1] is z):  # a Newton step or a jump: a new run of plain revolutions
+        if not (starts and starts[-1] is z):  # a Newton step, a jump or the way back: a new run of plain revolutions
             starts, trajs = [z], []
         starts.append(phi)
         trajs.append(traj)
