@@ -693,6 +693,7 @@ def test_shooting_that_does_not_converge_reports_its_best_revolution(monkeypatch
     r = dyn.compliant_response(case.motion, case.model, case.speed_rpm * RPM)
     assert len(revs) == 1 + _compliant._STALL_REVS + _compliant._PERIOD2_CHECK
     assert r.separations and r.periodicity_error == pytest.approx(15.2602, rel=1e-4)
+    assert r.period_revolutions is None  # check --json: "period_revolutions": null
     assert any(f"results are for revolution 1 of the {len(revs)} integrated" in w for w in r.warnings)
 
 
@@ -717,6 +718,7 @@ def test_lecture_fast_bounces_the_same_every_other_revolution(lecture_fast_case)
     r = dyn.compliant_response(case.motion, case.model, w, n=N)
     assert any("repeats every other revolution" in x for x in r.warnings)
     assert not any("no exactly periodic" in x for x in r.warnings)
+    assert r.period_revolutions == 2 and r.periodicity_error == pytest.approx(residual, rel=1e-12)
 
 
 # a never-seen lecture-like cam whose bouncing dies out slowly: the start of a revolution swings to either side of
@@ -774,6 +776,7 @@ def test_thousand_segment_program_gets_a_verdict(monkeypatch):
     # see the floor, 68 before it
     assert _compliant._NEWTON_ITERS < len(revs) <= 12
     assert report.response.periodicity_error <= _compliant.periodic_tol(report.response.s)
+    assert report.dynamic.json()["period_revolutions"] == 1
     assert len(report.response.flights) == 500 and len(report.response.impacts) == 500
     assert any("leaves the cam 500 times a revolution" in w for w in report.warnings)
 

@@ -116,6 +116,7 @@ class Dynamics:
     periodicity_error: float
     spring: SpringInDynamics
     residual_vibration_rad: float | None = None
+    period_revolutions: int | None = 1  # the steady state's period (2: period two); None: not periodic
 
     @property
     def residual_vibration_deg(self) -> float | None:
@@ -141,6 +142,7 @@ class Dynamics:
             "max_impact_force_N": self.max_impact_force_N,
             "residual_vibration_mm": self.residual_vibration_mm,
             "periodicity_error": self.periodicity_error,
+            "period_revolutions": self.period_revolutions,
         } | self.spring.json()
         if self.residual_vibration_rad is not None:
             out["residual_vibration_rad"] = self.residual_vibration_rad

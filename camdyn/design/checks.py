@@ -190,6 +190,7 @@ def run_check(case: Case, speed_rpm: float | None = None) -> CheckReport:
         periodicity_error=resp.periodicity_error,
         spring=case.spring,
         residual_vibration_rad=resp.residual_vibration if osc else None,
+        period_revolutions=resp.period_revolutions,
     )
     advice: list[str] = []
     geo = None

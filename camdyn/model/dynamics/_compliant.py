@@ -453,4 +453,5 @@ def compliant_response(motion: Motion, model: FollowerModel, omega: float, n: in
         resid_deg,
         merge_deg,
         "time" if on_cam is None else "frequency",
+        period if float(residual) <= periodic_tol(vals[0]) else None,
     )

@@ -79,6 +79,9 @@ class Response:
     residual_vibration_deg: float = float("nan")  # where the residual vibration peaks
     contact_period_deg: float = float("nan")  # the contact mode's period in cam degrees (compliant; an impact's span)
     domain: str = "time"  # where the steady state was solved: "time", or "frequency" (a slow compliant cam)
+    # the revolutions after which the steady state repeats within the periodic tolerance: 1, 2 (a bouncing of period
+    # two), None (a compliant bouncing that is not periodic: this is its least-mismatch revolution)
+    period_revolutions: int | None = 1
 
     @property
     def flights(self) -> tuple[Flight, ...]:
