@@ -7,10 +7,14 @@ from __future__ import annotations
 import numpy as np
 
 
-def hermite_taylor(u: np.ndarray, du: np.ndarray, h: float | np.ndarray) -> np.ndarray:
+def hermite_taylor(
+    u: np.ndarray, du: np.ndarray, h: float | np.ndarray, du_end: np.ndarray | None = None
+) -> np.ndarray:
     """The cubic through each step's end values ``u`` and slopes ``du`` (steps ``h`` wide: one width, or one per
-    step), as its Taylor coefficients at the step's start (value, first, second, third derivative): (steps, 4)."""
-    u0, u1, d0, d1 = u[:-1], u[1:], du[:-1], du[1:]
+    step), as its Taylor coefficients at the step's start (value, first, second, third derivative): (steps, 4).
+    ``du_end``: the slopes as the steps ending at each sample see them, where the slope jumps there (``du`` the
+    slopes past it)."""
+    u0, u1, d0, d1 = u[:-1], u[1:], du[:-1], (du if du_end is None else du_end)[1:]
     c2 = (3.0 * (u1 - u0) / h - 2.0 * d0 - d1) / h
     c3 = (d0 + d1 - 2.0 * (u1 - u0) / h) / h**2
     return np.stack([u0, d0, 2.0 * c2, 6.0 * c3], axis=1)

@@ -60,13 +60,19 @@ _fine_cache: dict[int, tuple[Motion, int, np.ndarray]] = {}
 
 
 def _fine(motion: Motion, n: int) -> np.ndarray:
-    """s, s', s'' (m, m/rad, m/rad^2) on ``n * REFINE`` equal steps of one revolution: the motion evaluated once
-    per motion and grid (a speed search asks the same motion many times)."""
+    """s, s', s'' (m, m/rad, m/rad^2) on ``n * REFINE`` equal steps of one revolution, and s'' as the step ending
+    at each angle sees it (where it jumps there, at a segment's end; else s''): the motion evaluated once per motion
+    and grid (a speed search asks the same motion many times)."""
     hit = _fine_cache.get(id(motion))
     if hit is not None and hit[0] is motion and hit[1] == n:
         return hit[2]
     theta = np.arange(n * REFINE) * (TWO_PI / (n * REFINE))
     vals = np.asarray(motion.host(theta))[:3] * M_PER_MM
+    # an angle on a break is its next segment's: the limit from below, 1e-7 of a step before it, where it differs by
+    # more than the jerk moves it there (a smooth s'' moves 1e-7 x h x s''', far below 1e-6 of its largest)
+    before = np.asarray(motion.host(theta - 1e-7 * (theta[1] - theta[0])))[2] * M_PER_MM
+    jumps = np.abs(before - vals[2]) > 1e-6 * float(np.max(np.abs(vals[2])))
+    vals = np.concatenate([vals, np.where(jumps, before, vals[2])[None]])
     if len(_fine_cache) > 16:
         _fine_cache.clear()
     _fine_cache[id(motion)] = (motion, n, vals)
@@ -91,6 +97,8 @@ class Revolution(NamedTuple):
     h: float
     cam: np.ndarray
     lift: np.ndarray
+    s2_before: np.ndarray  # s'' and g'' as the step ending at each fine angle sees them (they jump at a segment's end)
+    g2_before: np.ndarray
 
     def at_valve(self, steps: np.ndarray, taus: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """The cam's lift at the valve g (m) and its slope g' (m/rad) ``taus`` rad into fine ``steps`` (arrays of one
@@ -114,19 +122,19 @@ class Revolution(NamedTuple):
 
 def revolution(motion: Motion, vt: ValvetrainModel, n: int) -> Revolution:
     """The :class:`Revolution` of ``motion`` through ``vt``'s lever on ``n * REFINE`` fine steps."""
-    s_all, s1_all, s2_all = _fine(motion, n)
+    s_all, s1_all, s2_all, s2_before_all = _fine(motion, n)
     nf = s_all.size
     h = TWO_PI / nf
     i0 = start_angle(s_all[::REFINE] / M_PER_MM) * REFINE  # the diffrax model's revolution, from here
     order = (i0 + np.arange(nf + 1)) % nf
-    s, s1, s2 = s_all[order], s1_all[order], s2_all[order]
+    s, s1, s2, s2_before = s_all[order], s1_all[order], s2_all[order], s2_before_all[order]
     g, ratio, ratio1 = vt.host_lever(s)
     ratio, ratio1 = np.broadcast_to(ratio, s.shape), np.broadcast_to(ratio1, s.shape)
     g1 = ratio * s1
     g2 = ratio1 * s1**2 + ratio * s2
-    return Revolution(
-        s, s1, s2, g, g1, g2, ratio, ratio1, i0 * h, h, hermite_taylor(g, g1, h), hermite_taylor(s, s1, h)
-    )
+    g2_before = ratio1 * s1**2 + ratio * s2_before
+    cam, lift = hermite_taylor(g, g1, h), hermite_taylor(s, s1, h)
+    return Revolution(s, s1, s2, g, g1, g2, ratio, ratio1, i0 * h, h, cam, lift, s2_before, g2_before)
 
 
 def exact_at_valve(motion: Motion, vt: ValvetrainModel, theta: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

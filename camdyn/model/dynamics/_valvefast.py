@@ -12,28 +12,30 @@ ratio, the rocker's lever of the cam's own lift otherwise (the follower moves wi
 ratio is a known function of the angle, and the equation stays linear). Its exact solution over a step of a
 fixed angle grid (:data:`REFINE` steps per angle of the output grid) is a matrix exponential of the system
 augmented with the input's Taylor chain, the input held as the cubic through its values and slopes at both ends
-(``u'`` is known exactly from s' and s''), so the only approximation is that cubic, of order h^4. The steps are
-chained as a linear recurrence in the system's modes (a cumulative sum in blocks), contact changes located inside a
-step by the same exact propagator on finer angles.
+(``u'`` is known exactly from s' and s'', each step's from its own side of a segment's end where s'' jumps), so the
+only approximation is that cubic, of order h^4. The steps are chained as a linear recurrence in the system's modes (a
+cumulative sum in blocks), contact changes located inside a step by the same exact propagator on finer angles.
 
-What comes out equals :func:`~camdyn.model.dynamics.valvetrain_response`'s: the valve lifts where the train's
-force on the seated valve reaches the preload (algebraic on a rigid cam), the least cam-contact and train forces
-over the event on the output grid, the seating (x_v = 0 closing) and its speed, the rebounds off the seat (at
-``seat_restitution`` x the landing speed) each a flight on the train or, where the train's force or deflection
-falls to zero, off it on the spring alone (a second linear system), to the speed below which the seat holds the
-valve, their highest apex (the bounce height) and the gap at the valve, and the rest of the revolution with the
-valve seated. The answer is ``None`` (the caller falls back on the diffrax model for that point) wherever the linear
-model stops holding before the revolution ends: the train unloads before the seating, the cam contact's force comes
-within the sampling's bound of zero without a sure crossing, the valve lifts again after the seating, the follower
-leaves the cam while the valve rebounds (or at all, with the spring's surge chain), or the model is not this one (a
-compliant cam contact; a rigid train with the spring's surge chain). A flight of the follower off the cam while the
-valve sits on its seat (a ramp that decelerates faster than the tappet force pulls) is followed to its landing
-(:mod:`._valveflight`): the valve's event is unchanged. Where the cam contact's force crosses zero on the exact
-solution before anything else opens, the valve floats there for sure: :class:`Floated`, with what happens next left
-to the diffrax model, or with ``floats`` (the bounce search past the float speed) followed through its flights and
-landings (:mod:`._valvefloat`). A rigid train needs no integration in the event: the valve moves with the cam from
-the lash's closing to its seating, the forces algebraic in the angle (:func:`_rigid_train`); its rebounds fly on the
-spring alone.
+What comes out equals :func:`~camdyn.model.dynamics.valvetrain_response`'s: the valve lifts where the train's force on
+the seated valve reaches the preload (algebraic on a rigid cam), the least cam-contact and train forces over the event
+on the output grid, the seating (x_v = 0 closing) and its speed, the rebounds off the seat (at ``seat_restitution`` x
+the landing speed) each a flight on the train or, where the train's force or deflection falls to zero, off it on the
+spring alone (a second linear system), to the speed below which the seat holds the valve, their highest apex (the bounce
+height) and the gap at the valve, and the rest of the revolution with the valve seated. A valve that outruns its train
+within the event (a steep opening flank throws it off, or its spring cannot follow the closing one) flies on its spring
+alone until the train takes hold of it again, each stretch on its linear system (:meth:`~._valvefloat.ValveFloats.ride`;
+a constant ratio and no surge chain, else the diffrax model's). The answer is ``None`` (the caller falls back on the
+diffrax model for that point) wherever the linear model stops holding before the revolution ends: the train unloads
+before the seating (through a rocker or with the surge chain), the cam contact's force comes within the sampling's bound
+of zero without a sure crossing, the valve lifts again after the seating, the follower leaves the cam while the valve
+rebounds (or at all, with the spring's surge chain), or the model is not this one (a compliant cam contact; a rigid
+train with the spring's surge chain). A flight of the follower off the cam while the valve sits on its seat (a ramp that
+decelerates faster than the tappet force pulls) is followed to its landing (:mod:`._valveflight`): the valve's event is
+unchanged. Where the cam contact's force crosses zero on the exact solution before anything else opens, the valve floats
+there for sure: :class:`Floated`, with what happens next left to the diffrax model, or with ``floats`` (the bounce
+search past the float speed) followed through its flights and landings (:mod:`._valvefloat`). A rigid train needs no
+integration in the event: the valve moves with the cam from the lash's closing to its seating, the forces algebraic in
+the angle (:func:`_rigid_train`); its rebounds fly on the spring alone.
 
 With the spring's surge chain (``[spring] model = "surge"``) the valve's system carries the chain's inner lumps
 (:func:`._valveevent.valve_matrix`: still linear, one mode a lump more) and the chain rings on while the valve is
@@ -71,7 +73,7 @@ from ._valveevent import (
 )
 from ._valvefield import GAP_EPS
 from ._valveflight import FollowerFlights
-from ._valvefloat import EventRows, ValveFloats, least_rows
+from ._valvefloat import EventRows, ValveFloats, follows_floats, least_rows
 from ._valvelinear import Index, Linear, Unsure, cross, lower_bound, rise, step_bounds, stretch_to
 from ._valvetrain import landing_floor
 
@@ -130,7 +132,12 @@ class _CompliantTrain:
         self.loaded = Linear(
             valve_matrix(vt, w, kt, ct),
             (-kt * self.lash - self.f0) / (m_v * w2),
-            hermite_taylor((kt * g + ct * w * g1) / (m_v * w2), (kt * g1 + ct * w * g2) / (m_v * w2), h),
+            hermite_taylor(
+                (kt * g + ct * w * g1) / (m_v * w2),
+                (kt * g1 + ct * w * g2) / (m_v * w2),
+                h,
+                (kt * g1 + ct * w * rev.g2_before) / (m_v * w2),
+            ),
             h,
         )
         self.free = on_spring(vt, w, self.nf, h)
@@ -268,6 +275,8 @@ class _CompliantTrain:
             if not self.follow_floats:
                 return Floated(float(np.min(f_cam[:q]))), np.full_like(chain0, np.nan)
             return self._through_float(lift_step, ys, (idx, xv, f_t, f_cam), half_lift, int(cam_open[0]))
+        if (train_open.size or lower_bound(f_t[:q]) <= 0.0) and follows_floats(self.vt):
+            return self._off_the_train(lift_step, tau_lift, chain, half_lift)
         if train_open.size or lower_bound(f_cam[:q]) <= tol or lower_bound(f_t[:q]) <= 0.0:
             raise Unsure("the cam contact near opening, or the valve off the train, within the event")
         got = cross(loaded, lift_step + q, 0.0, ys[q - 1], h, self.landing, False)
@@ -297,18 +306,58 @@ class _CompliantTrain:
             raise Unsure("the cam lets go as the valve lifts")
         if np.min(step_bounds(f_cam[:opens] + self.tol), initial=np.inf) < 0.0 or lower_bound(f_t[:opens]) <= 0.0:
             raise Unsure("the cam contact or the train near opening before the float")
-        floats = ValveFloats(self.motion, self.vt, self.w, self.rev, (self.loaded, self.free), constants(self.vt))
+        floats = self._floats()
         rows = EventRows()
         floats.rows_on_cam(rows, ys[:opens], idx[:opens], np.zeros(opens))
         tau, y = floats.start(int(idx[opens]) - 1, ys[opens - 1])
-        step, tau, y = floats.event(int(idx[opens]) - 1, tau, y, rows, half_lift)
-        least_force, least_deg, least_train, hold, max_lift = least_rows(rows)
-        seating = (abs(float(y[1])) * self.w, self.rev.deg(step, tau))
+        seated_at = floats.event(int(idx[opens]) - 1, tau, y, rows, half_lift)
+        return self._event_summary(rows, seated_at, lift_step, floated=True)
+
+    def _off_the_train(
+        self, lift_step: int, tau_lift: float, chain: np.ndarray, half_lift: float
+    ) -> tuple[ValveSummary | Floated, np.ndarray]:
+        """The revolution of a valve that leaves its train within its event (a steep ramp throws it past the train's
+        reach, or its spring cannot follow the closing flank) from its lift ``tau_lift`` rad into fine ``lift_step``
+        (the chain's state ``chain``): each stretch on the train or off it on the spring alone, the follower on the
+        cam, to the seating past ``half_lift`` (m) (:meth:`ValveFloats.ride`). Where the cam lets go on the way the
+        valve floats: :class:`Floated` (the force the cam would pull with, the follower held to the seating), or the
+        float followed through (``floats``). Then the rebounds and the rest of the revolution as the fast path's."""
+        floats, rows, y = self._floats(), EventRows(), self.layout.lifted(chain)
+        step, tau, y, let_go, least = floats.ride(lift_step, tau_lift, y, rows, half_lift, True, not self.follow_floats)
+        if not self.follow_floats and least < -self.tol:
+            return Floated(least), np.full_like(chain, np.nan)
+        if let_go:
+            seated_at = floats.event(step, tau, y, rows, half_lift)
+            return self._event_summary(rows, seated_at, lift_step, floated=True)
+        return self._event_summary(rows, (step, tau, y), lift_step, floated=False)
+
+    def _floats(self) -> ValveFloats:
+        """The valve's and the follower's systems through the contacts' changes (:mod:`._valvefloat`)."""
+        return ValveFloats(self.motion, self.vt, self.w, self.rev, (self.loaded, self.free), constants(self.vt))
+
+    def _event_summary(
+        self, rows: EventRows, seated_at: tuple[int, float, np.ndarray], lift_step: int, floated: bool
+    ) -> tuple[ValveSummary, np.ndarray]:
+        """The summary of an event followed stretch by stretch (its output grid's ``rows``, the valve seated at
+        ``seated_at``: fine step, rad into it, state), ``floated`` or not; then its rebounds and the rest of the
+        revolution as the fast path's."""
+        step, tau, y = seated_at
+        if floated:
+            least_force, least_deg, least_train, hold, max_lift = least_rows(rows)
+        else:
+            cam = rows.joined("cam")
+            least = int(np.argmin(cam))
+            least_force, least_deg = float(cam[least]), float(rows.joined("deg")[least])
+            least_train, hold = float(np.min(rows.joined("train"))), math.nan
+            max_lift = float(np.max(rows.joined("lift")))
+        seating = (abs(float(y[self.layout.v])) * self.w, self.rev.deg(step, tau))
         step, tau, y, (bounce, flight_lift, gap) = self._rebounds(step, tau, y)
+        # the valve above where the cam would hold it in the event, as on the rebounds
         gap = max(gap, float(np.max(rows.joined("gap"), initial=0.0)))
         got = summary(self.w, (least_force, least_deg, least_train, *seating), (bounce, flight_lift, gap), max_lift)
-        # the float's lifts bound the gap as the rebounds' do (a coil bind below them: the diffrax model's)
-        got = replace(got, floated=True, hold_force=hold, bounce_lift_mm=max(got.bounce_lift_mm, max_lift / M_PER_MM))
+        if floated:  # the float's lifts bound the gap as the rebounds' do (a coil bind below them: the diffrax model's)
+            bounce_lift = max(got.bounce_lift_mm, max_lift / M_PER_MM)
+            got = replace(got, floated=True, hold_force=hold, bounce_lift_mm=bounce_lift)
         return got, self._held(step, tau, self.layout.chain(y), lift_step)
 
     def _cam_force(self, ys: np.ndarray, steps: np.ndarray, taus: np.ndarray, loaded: bool) -> float:

@@ -121,13 +121,19 @@ def _vector_field(theta, y, args):
 
 
 def _conditions(theta, y, args):
-    """Each contact's event function, positive while its mode holds: a locked contact's force, a free one's gap."""
+    """Each contact's event function, positive while its mode holds: a locked contact's force, a free one's gap; +inf
+    for a compliant contact, which has no modes. (Not a finite constant: the transition takes the least of the three
+    where a stretch ends as the contact that changed, and a seat force that jumps through zero there, the damping of a
+    compliant train closing its lash fast, still reads its value before the jump: 1.0 N was once taken for the lash,
+    locking the compliant train rigid.)"""
     _, vt, _, modes, force_tol = args
     _, _, f_cam, f_t, f_seat, (xc, pc, xv, pv, s, s1) = _dynamics(theta, y, args)
-    cam = jnp.where(modes[CAM], f_cam + force_tol, jnp.where(jnp.isinf(vt.cam.train_stiffness), xc - s + GAP_EPS, 1.0))
+    cam = jnp.where(
+        modes[CAM], f_cam + force_tol, jnp.where(jnp.isinf(vt.cam.train_stiffness), xc - s + GAP_EPS, jnp.inf)
+    )
     lash_gap = vt.lash + xv - vt.lever(xc)[0]
     train = jnp.where(
-        jnp.isinf(vt.train.train_stiffness), jnp.where(modes[TRAIN], f_t + force_tol, lash_gap + GAP_EPS), 1.0
+        jnp.isinf(vt.train.train_stiffness), jnp.where(modes[TRAIN], f_t + force_tol, lash_gap + GAP_EPS), jnp.inf
     )
     seat = jnp.where(modes[SEAT], f_seat + force_tol, xv + GAP_EPS)
     return cam, train, seat

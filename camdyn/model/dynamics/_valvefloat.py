@@ -99,7 +99,7 @@ class ValveFloats:
         b_apart = np.array([0.0, -self.tappet / mc, 0.0, -self.f0 / mv])
         self.systems = {True: Linear(pushed, b_pushed, still, rev.h), False: Linear(apart, b_apart, still, rev.h)}
         self.stretches = 0  # :meth:`_stretch`'s count
-        self.slope = hermite_taylor(rev.s1, rev.s2, rev.h)  # the cam's slope between the fine angles
+        self.slope = hermite_taylor(rev.s1, rev.s2, rev.h, rev.s2_before)  # the cam's slope between the fine angles
 
     def _stretch(self, lin: Linear, step: int, tau: float, y: np.ndarray, guard, fresh: bool = False):
         """:func:`~._valvelinear.stretch_to`, counted against the event's :data:`_MAX_STRETCHES`."""
@@ -208,33 +208,51 @@ class ValveFloats:
         for _ in range(_MAX_STRETCHES):
             step, tau, y = self._flight(step, tau, y, rows)
             pushing = bool(self._on_cam(y[None], step, tau)[1][0] > 0.0)
-            for _ in range(_MAX_STRETCHES):  # on the cam, the train pushing the valve or not
-                sign = 1.0 if pushing else -1.0
-
-                def guard(ys: np.ndarray, st: Index, ta: Index, sign: float = sign) -> np.ndarray:
-                    cam, hold, seat, _, _ = self._on_cam(ys, st, ta)
-                    return np.minimum(np.minimum(cam, sign * hold), seat)
-
-                along, steps, taus, end = self._stretch(self.loaded if pushing else self.free, step, tau, y, guard)
-                if end is None:
-                    raise Unsure("the valve in the air at the revolution's end")
-                on = taus == 0.0
-                if float(np.min(step_bounds(self._on_cam(along[on], steps[on], 0.0)[0]), initial=np.inf)) < 0.0:
-                    raise Unsure("the cam contact's force near its threshold between the fine angles")
-                self.rows_on_cam(rows, along, steps, taus)
-                step, tau, y = end
-                cam, hold, seat, _, _ = (float(v[0]) for v in self._on_cam(y[None], step, tau))
-                which = int(np.argmin([cam, sign * hold, seat]))
-                if which == 2:  # seated: the rebounds are the fast path's
-                    if not float(np.max(rows.joined("lift"), initial=0.0)) > half_lift:
-                        raise Unsure("the valve back on its seat before it rose past half its lift")
-                    return step, tau, y
-                if which == 0:
-                    break  # the cam lets go again
-                pushing = not pushing  # the train's hold crossed zero: read at the root it is zero, not its sign
-            else:
-                raise Unsure("the train takes hold of the valve and lets it go beyond count")
+            step, tau, y, let_go, _ = self.ride(step, tau, y, rows, half_lift, pushing)
+            if not let_go:  # seated: the rebounds are the fast path's
+                return step, tau, y
         raise Unsure("the follower chatters on the cam within the event")
+
+    def ride(
+        self, step: int, tau: float, y: np.ndarray, rows: EventRows, half_lift: float, pushing: bool, held: bool = False
+    ) -> tuple[int, float, np.ndarray, bool, float]:
+        """The follower on the cam from ``tau`` rad into fine ``step``, the valve (state ``y``) on its train where
+        ``pushing``, else off it on its spring, each stretch to the train taking hold or letting go, to the valve's
+        seating (once it has risen past ``half_lift``, m) or the cam letting go; the output grid's rows added to
+        ``rows``. Returns (fine step, rad into it, the valve's state there, whether the cam let go, the least cam
+        force on the fine angles passed, N). ``held``: the follower held on the cam to the seating whatever the cam's
+        force (the force it would then pull with: :class:`~._valveevent.Floated`'s), whose lower bound between the
+        fine angles must stay clear of the threshold (else :class:`~._valvelinear.Unsure`) unless the force falls
+        below it on them."""
+        least = bound = np.inf
+        for _ in range(_MAX_STRETCHES):
+            sign = 1.0 if pushing else -1.0
+
+            def guard(ys: np.ndarray, st: Index, ta: Index, sign: float = sign) -> np.ndarray:
+                cam, hold, seat, _, _ = self._on_cam(ys, st, ta)
+                return np.minimum(np.minimum(np.inf if held else cam, sign * hold), seat)
+
+            along, steps, taus, end = self._stretch(self.loaded if pushing else self.free, step, tau, y, guard)
+            if end is None:
+                raise Unsure("the valve in the air at the revolution's end")
+            on = taus == 0.0
+            cam_tol = self._on_cam(along[on], steps[on], 0.0)[0]  # the cam's force + the diffrax model's threshold
+            least = min(least, float(np.min(cam_tol, initial=np.inf)) - self.tol)
+            bound = min(bound, float(np.min(step_bounds(cam_tol), initial=np.inf)))
+            if bound < 0.0 and not (held and least < -self.tol):
+                raise Unsure("the cam contact's force near its threshold between the fine angles")
+            self.rows_on_cam(rows, along, steps, taus)
+            step, tau, y = end
+            cam, hold, seat, _, _ = (float(v[0]) for v in self._on_cam(y[None], step, tau))
+            which = int(np.argmin([np.inf if held else cam, sign * hold, seat]))
+            if which == 2:
+                if not float(np.max(rows.joined("lift"), initial=0.0)) > half_lift:
+                    raise Unsure("the valve back on its seat before it rose past half its lift")
+                return step, tau, y, False, least
+            if which == 0:
+                return step, tau, y, True, least
+            pushing = not pushing  # the train's hold crossed zero: read at the root it is zero, not its sign
+        raise Unsure("the train takes hold of the valve and lets it go beyond count")
 
     def _flight(self, step: int, tau: float, y: np.ndarray, rows: EventRows) -> tuple[int, float, np.ndarray]:
         """A flight from the cam letting go ``tau`` rad into fine ``step`` (the valve's state ``y``) to where the
