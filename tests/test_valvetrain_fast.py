@@ -25,7 +25,9 @@ from camdyn.model.dynamics import (
 )
 from camdyn.model.dynamics._valveevent import revolution
 from camdyn.model.dynamics._valvefast import Floated
+from camdyn.model.dynamics._valvefield import CAM, SEAT, TRAIN
 from camdyn.model.dynamics._valvelinear import batched_expm
+from camdyn.model.dynamics._valvetrain import _Impacts, _transition
 
 CASES = Path(__file__).resolve().parents[1] / "cases"
 SHIPPED = tomllib.loads((CASES / "valvetrain.toml").read_text())
@@ -302,6 +304,22 @@ def test_a_lash_closed_fast_lifts_the_valve_off_its_seat_in_the_diffrax_model():
     assert fast.seating_deg == pytest.approx(resp.seating_deg, abs=2e-3)
     assert fast.seating_velocity == pytest.approx(resp.seating_velocity, rel=1e-3)
     assert fast.bounce_height_mm == pytest.approx(resp.bounce_height_mm, rel=1e-3)
+
+
+def test_a_contact_whose_condition_jumps_through_zero_is_the_one_that_changed(shipped):
+    """Where a stretch ends, the diffrax model reads each contact's event function there and a hair past it: a seat
+    force that jumps through zero (300 N before, -500 N after: a compliant train's damping as it closes the lash
+    fast) is the change, though the locked cam's force (100 N) reads less before it; the valve lifts, the cam
+    holds."""
+
+    modes = np.array([True, False, True])  # the cam locked, the train compliant, the valve seated
+    state = np.array([1e-3, 0.01, 1e-3, 0.01, 0.0, 0.0, 0.0])  # s, s', x_c, x_c', x_v, x_v' (m, m/rad), spare
+    before, after = np.array([100.0, np.inf, 300.0]), np.array([100.0, np.inf, -500.0])
+    impacts = _Impacts(0.0, 0.3, 300.0, 1e-6)
+    y = np.zeros(4)
+    event, changed, _ = _transition(shipped.valvetrain, impacts, modes, np.concatenate([state, before]), y, 1.2, after)
+    assert event is not None and event.what == "valve-lift"
+    assert changed[CAM] and not changed[TRAIN] and not changed[SEAT]
 
 
 class _Diffrax:

@@ -27,6 +27,9 @@ from ._valveresponse import ValveEvent, ValvetrainResponse
 
 _MAX_EVENTS = 2000  # per revolution: bounces beyond it leave the valve or the follower not settled
 _REVS = 3  # revolutions at most to reach the periodic steady state
+# How far past a stretch's end (rad) the contacts' event functions are read again: past the root finder's 1e-12 rad
+# (an event function that jumps through zero reads its value after the jump there), within a hair of it for the rest
+_PAST = 1e-9
 _JUMP_ROWS = 512  # the stretches' jump times are padded to 512, 2048, ... (+inf): any cam of up to 85 segments
 NO_EVENT = 1e300  # N: the float search's least force at a speed where the valve does not lift (it wants finite)
 
@@ -202,7 +205,8 @@ def valvetrain_response(motion: Motion, vt: ValvetrainModel, omega: float, n: in
             y1 = np.asarray(y1)
             if end is None:  # no stretch ran: the state and the conditions where it would have started
                 end = state_and_conditions_at(np.asarray(t1), y1, (motion, vt, w, modes.copy(), force_tol))
-            event, modes, y = _transition(vt, impacts, modes, np.asarray(end), y1, t1)
+            after = conditions_at(np.asarray(t1 + _PAST), y1, (motion, vt, w, modes.copy(), force_tol))
+            event, modes, y = _transition(vt, impacts, modes, np.asarray(end), y1, t1, np.asarray(after))
             if event is not None and not (event.what == "float" and first_seating is not None):
                 events.append(event)  # a float counts until the valve has first seated
             if event is not None and event.what == "seating" and first_seating is None and peak > half_lift:
@@ -256,17 +260,26 @@ class _Impacts(NamedTuple):
 
 
 def _transition(
-    vt: ValvetrainModel, impacts: _Impacts, modes: np.ndarray, st: np.ndarray, y1: np.ndarray, t1: float
+    vt: ValvetrainModel,
+    impacts: _Impacts,
+    modes: np.ndarray,
+    st: np.ndarray,
+    y1: np.ndarray,
+    t1: float,
+    after: np.ndarray,
 ) -> tuple[ValveEvent | None, np.ndarray, np.ndarray]:
     """The contact change at a stretch's end ``t1`` (rad): ``st`` the state and the contacts' event functions there
-    (:func:`._valvefield.state_and_conditions_at`), ``y1`` the solver's state (its spring lumps go on), ``modes`` the
-    contacts' modes in the stretch. The change is the contact whose event function reached zero: a locked one lets go,
+    (:func:`._valvefield.state_and_conditions_at`), ``after`` the event functions :data:`_PAST` later (the same
+    state), ``y1`` the solver's state (its spring lumps go on), ``modes`` the contacts' modes in the stretch. The change
+    is the contact whose event function reached zero (the least of each one's two values: one that jumps through zero
+    there, a seat force as a compliant train closes its lash fast, reads its value before the jump at ``t1`` and its
+    value after it past it): a locked one lets go,
     a free one closes (an impact: the cam's restitution, the lash's plastic meeting at the rocker's ratio, the seat's
     restitution). Returns the event it makes (None: the cam or the train letting go makes none here) and the modes
     and the state after it."""
     modes = modes.copy()
     s, s1, _, xc, pc, xv, pv = (float(v) for v in st[:7])
-    which = int(np.argmin(st[7:]))
+    which = int(np.argmin(np.minimum(st[7:], after)))
     deg = math.degrees(t1) % 360.0
     y = np.concatenate([[xc, pc, xv, pv], y1[4:]])
     event = None
