@@ -269,14 +269,13 @@ def _transition(
     after: np.ndarray,
 ) -> tuple[ValveEvent | None, np.ndarray, np.ndarray]:
     """The contact change at a stretch's end ``t1`` (rad): ``st`` the state and the contacts' event functions there
-    (:func:`._valvefield.state_and_conditions_at`), ``after`` the event functions :data:`_PAST` later (the same
-    state), ``y1`` the solver's state (its spring lumps go on), ``modes`` the contacts' modes in the stretch. The change
-    is the contact whose event function reached zero (the least of each one's two values: one that jumps through zero
-    there, a seat force as a compliant train closes its lash fast, reads its value before the jump at ``t1`` and its
-    value after it past it): a locked one lets go,
-    a free one closes (an impact: the cam's restitution, the lash's plastic meeting at the rocker's ratio, the seat's
-    restitution). Returns the event it makes (None: the cam or the train letting go makes none here) and the modes
-    and the state after it."""
+    (:func:`._valvefield.state_and_conditions_at`), ``after`` the event functions :data:`_PAST` later (the same state),
+    ``y1`` the solver's state (its spring lumps go on), ``modes`` the contacts' modes in the stretch. The change is the
+    contact whose event function reached zero (the least of each one's two values: one that jumps through zero there, a
+    seat force as a compliant train closes its lash fast, reads its value before the jump at ``t1``, after it past it):
+    a locked one lets go, a free one closes (an impact: the cam's restitution, the lash's plastic meeting at the
+    rocker's ratio, the seat's restitution). Returns the event it makes (None: the cam or the train letting go makes
+    none here) and the modes and the state after it."""
     modes = modes.copy()
     s, s1, _, xc, pc, xv, pv = (float(v) for v in st[:7])
     which = int(np.argmin(np.minimum(st[7:], after)))
