@@ -219,7 +219,8 @@ def periodic_orbit(motion: Motion, model: FollowerModel, omega: float, theta: Ar
 
 def _shoot(motion: Motion, model: FollowerModel, omega: float, theta):
     """:func:`periodic_orbit`, which revolution (1-based) it returns of how many it integrated, and the steady
-    state's period in revolutions (2: a bouncing that repeats every other revolution, :func:`_period_two`)."""
+    state's period in revolutions (2: a bouncing that repeats every other revolution, :func:`_period_two`; None where
+    no revolution came back within :func:`periodic_tol`)."""
     # the start and the Newton bookkeeping are numpy: eager jax ops would each compile a tiny program on first use
     w = np.asarray(omega, dtype=float)
     z = np.array(_quasi_static(jax.device_get(model), omega, motion.host(np.zeros(()))))
@@ -284,7 +285,7 @@ def _shoot(motion: Motion, model: FollowerModel, omega: float, theta):
             traj, r2, which = two
             return traj, r2, revs + which, revs + more, 2
         revs += more
-    return best_traj, best_r, best_i + 1, revs, 1
+    return best_traj, best_r, best_i + 1, revs, 1 if best_r <= floor else None
 
 
 def _period_two(revolution, starts, trajs, floor: float, peak_force):
@@ -431,7 +432,7 @@ def compliant_response(motion: Motion, model: FollowerModel, omega: float, n: in
             f"for revolution {best_rev} of the {revs} integrated from the quasi-static start, the one of the two with "
             "the higher peak contact force"
         )
-    elif float(residual) > periodic_tol(vals[0]):
+    elif period is None:
         warnings.append(
             f"no exactly periodic steady state at {omega / RPM:.1f} rpm (revolution-to-revolution mismatch "
             f"{float(residual):.2g} {motion.unit}): the follower's bouncing is not periodic; results are for "
@@ -453,5 +454,5 @@ def compliant_response(motion: Motion, model: FollowerModel, omega: float, n: in
         resid_deg,
         merge_deg,
         "time" if on_cam is None else "frequency",
-        period if float(residual) <= periodic_tol(vals[0]) else None,
+        period,
     )

@@ -342,14 +342,7 @@ class _CompliantTrain:
         ``seated_at``: fine step, rad into it, state), ``floated`` or not; then its rebounds and the rest of the
         revolution as the fast path's."""
         step, tau, y = seated_at
-        if floated:
-            least_force, least_deg, least_train, hold, max_lift = least_rows(rows)
-        else:
-            cam = rows.joined("cam")
-            least = int(np.argmin(cam))
-            least_force, least_deg = float(cam[least]), float(rows.joined("deg")[least])
-            least_train, hold = float(np.min(rows.joined("train"))), math.nan
-            max_lift = float(np.max(rows.joined("lift")))
+        least_force, least_deg, least_train, hold, max_lift = least_rows(rows, floated)
         seating = (abs(float(y[self.layout.v])) * self.w, self.rev.deg(step, tau))
         step, tau, y, (bounce, flight_lift, gap) = self._rebounds(step, tau, y)
         # the valve above where the cam would hold it in the event, as on the rebounds

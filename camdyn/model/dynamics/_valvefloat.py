@@ -18,6 +18,7 @@ surge chain, a chatter of the train about zero force) is :class:`~._valvelinear.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -293,15 +294,16 @@ class ValveFloats:
         raise Unsure("the follower rattles on the cam")
 
 
-def least_rows(rows: EventRows) -> tuple[float, float, float, float, float]:
-    """(the least cam force over the event: 0 in a float, its angle, the least train force, the least force that
-    would hold the follower on the cam (at most 0), the valve's largest lift m) of a floated event's rows."""
+def least_rows(rows: EventRows, floated: bool) -> tuple[float, float, float, float, float]:
+    """(the least cam force over the event: 0 where it ``floated``, its angle, the least train force, the least force
+    that would hold the follower on the cam (at most 0; NaN where it did not float), the valve's largest lift m) of an
+    event's rows."""
     cam = rows.joined("cam")
     i = int(np.argmin(cam))
     return (
-        0.0,
+        0.0 if floated else float(cam[i]),
         float(rows.joined("deg")[i]),
         float(np.min(rows.joined("train"))),
-        min(float(np.min(rows.joined("hold"))), 0.0),
+        min(float(np.min(rows.joined("hold"))), 0.0) if floated else math.nan,
         float(np.max(rows.joined("lift"))),
     )
