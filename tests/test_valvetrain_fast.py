@@ -211,11 +211,16 @@ THROWN = [
 ]
 
 
+def _with_segments(segments):
+    """The shipped case with another segment list."""
+    raw = copy.deepcopy(SHIPPED)
+    raw["motion"]["segments"] = segments
+    return case_from_dict(raw)
+
+
 @pytest.fixture(scope="module")
 def thrown():
-    raw = copy.deepcopy(SHIPPED)
-    raw["motion"]["segments"] = THROWN
-    return case_from_dict(raw)
+    return _with_segments(THROWN)
 
 
 @pytest.mark.slow
@@ -290,9 +295,7 @@ def test_a_lash_closed_fast_lifts_the_valve_off_its_seat_in_the_diffrax_model():
     of a rigid train and locked the train rigid through the event (the valve to 19.3 mm, where the fast path's
     exact solution lifts it to 24.9). Now the seat lets the valve go, and the two agree through the floats that
     follow (three landings with the cam's restitution: the seating's speed to 4e-4 of itself)."""
-    raw = copy.deepcopy(SHIPPED)
-    raw["motion"]["segments"] = SLAMMED
-    case = case_from_dict(raw)
+    case = _with_segments(SLAMMED)
     vt, w = case.valvetrain, 2450.0 * RPM
     resp = valvetrain_response(case.motion, vt, w)
     whats = [e.what for e in resp.events]
