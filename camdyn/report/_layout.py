@@ -13,6 +13,7 @@ from matplotlib.backends.backend_agg import RendererAgg
 from matplotlib.figure import Figure
 from matplotlib.font_manager import FontProperties
 from matplotlib.lines import Line2D
+from matplotlib.path import Path
 from matplotlib.textpath import TextPath
 
 from ._style import DPI, C
@@ -172,10 +173,66 @@ def text_width(fig: Figure, text: str, kw: dict) -> float:
     font = _font(kw)
     png, _, _ = _png_renderer().get_text_width_height_descent(text, font, ismath=False)
     # a TextPath reads $...$ as mathematics, which the pages never draw: the PNG's width alone there
-    vector = (
-        0.0 if "$" in text or not text.strip() else TextPath((0.0, 0.0), text, prop=font).get_extents().width / 72.0
-    )
+    vector = 0.0 if "$" in text or not text.strip() else ink_width(TextPath((0.0, 0.0), text, prop=font)) / 72.0
     return max(vector, png / DPI) / fig.get_figwidth()
+
+
+def ink_width(path: Path) -> float:
+    """How wide a path's outline is (its unit): :meth:`matplotlib.path.Path.get_extents`' width, the same to the
+    bit, vectorized (the curves' extrema in x, the quadratic and cubic Beziers at once: matplotlib's goes segment by
+    segment in Python, 11 ms for a line of text and a third of a report's time)."""
+    codes, x = path.codes, path.vertices[:, 0]
+    if codes is None:
+        return float(np.ptp(x))
+    quad, cube = codes == Path.CURVE3, codes == Path.CURVE4
+    in_quad, in_cube = _run_position(quad), _run_position(cube)
+    # a curve's points: its control points, then its end; the point before the first is its start
+    ends = np.isin(codes, (Path.MOVETO, Path.LINETO)) | (quad & (in_quad % 2 == 1)) | (cube & (in_cube % 3 == 2))
+    xs = [x[ends]]
+    i = np.nonzero(quad & (in_quad % 2 == 0))[0]
+    p0, p1, p2 = x[i - 1], x[i], x[i + 1]
+    xs += [_bezier(t, (p0, p1, p2)) for t in _unit_roots(np.zeros_like(p0), p0 - 2.0 * p1 + p2, p1 - p0)]
+    i = np.nonzero(cube & (in_cube % 3 == 0))[0]
+    p0, p1, p2, p3 = x[i - 1], x[i], x[i + 1], x[i + 2]
+    # dB/dt / 3 = a t^2 + b t + c
+    a, b, c = -p0 + 3.0 * p1 - 3.0 * p2 + p3, 2.0 * (p0 - 2.0 * p1 + p2), p1 - p0
+    xs += [_bezier(t, (p0, p1, p2, p3)) for t in _unit_roots(a, b, c)]
+    every = np.concatenate(xs)
+    return float(np.ptp(every)) if every.size else 0.0
+
+
+def _run_position(flag: np.ndarray) -> np.ndarray:
+    """Each index's position within its run of consecutive ``True`` (where ``flag``; elsewhere meaningless)."""
+    idx = np.arange(flag.size)
+    starts = flag & ~np.concatenate([[False], flag[:-1]])
+    return idx - np.maximum.accumulate(np.where(starts, idx, 0))
+
+
+def _unit_roots(a: np.ndarray, b: np.ndarray, c: np.ndarray) -> list[tuple[np.ndarray, np.ndarray]]:
+    """The real roots in (0, 1) of ``a t^2 + b t + c`` (elementwise; linear where ``a`` is 0): (t, which) pairs,
+    ``which`` the polynomials' indices."""
+    with np.errstate(divide="ignore", invalid="ignore"):
+        disc = np.sqrt(b * b - 4.0 * a * c)
+        linear = np.where(b != 0.0, -c / b, np.nan)
+        roots = [
+            np.where(a != 0.0, (-b + disc) / (2.0 * a), linear),
+            np.where(a != 0.0, (-b - disc) / (2.0 * a), np.nan),
+        ]
+    out = []
+    for t in roots:
+        which = np.nonzero((t > 0.0) & (t < 1.0))[0]
+        out.append((t[which], which))
+    return out
+
+
+def _bezier(root: tuple[np.ndarray, np.ndarray], points: tuple[np.ndarray, ...]) -> np.ndarray:
+    """The Bezier curves of control values ``points`` (each an array over the curves) at ``root`` = (t, which):
+    de Casteljau, degree as many points less one."""
+    t, which = root
+    level = [p[which] for p in points]
+    while len(level) > 1:
+        level = [(1.0 - t) * u + t * v for u, v in zip(level[:-1], level[1:], strict=True)]
+    return level[0]
 
 
 def _span(fig: Figure, x: float, text: str, kw: dict) -> tuple[float, float]:
