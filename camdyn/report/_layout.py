@@ -181,9 +181,10 @@ def ink_width(path: Path) -> float:
     """How wide a path's outline is (its unit): :meth:`matplotlib.path.Path.get_extents`' width, the same to the
     bit, vectorized (the curves' extrema in x, the quadratic and cubic Beziers at once: matplotlib's goes segment by
     segment in Python, 11 ms for a line of text and a third of a report's time)."""
-    codes, x = path.codes, path.vertices[:, 0]
-    if codes is None:
+    x = np.asarray(path.vertices, dtype=float)[:, 0]
+    if path.codes is None:
         return float(np.ptp(x))
+    codes = np.asarray(path.codes)
     quad, cube = codes == Path.CURVE3, codes == Path.CURVE4
     in_quad, in_cube = _run_position(quad), _run_position(cube)
     # a curve's points: its control points, then its end; the point before the first is its start
