@@ -772,9 +772,10 @@ def test_thousand_segment_program_gets_a_verdict(monkeypatch):
     revs = _counting_revolutions(monkeypatch)
     report = run_check(case)
     assert report.verdict == "fail" and report.response.min_force == 0.0
-    # 8 Newton revolutions and 2 plain ones, the second within the periodic tolerance; 15 when 2 more had to
-    # see the floor, 68 before it
-    assert _compliant._NEWTON_ITERS < len(revs) <= 12
+    # a plain revolution where the monodromy from the quasi-static start is near-singular (cond 5e9), then Newton
+    # steps: the 8th within the periodic tolerance; 10 when that first Newton step threw the start 25 mm off, 15
+    # when 2 more had to see the floor, 68 before it
+    assert len(revs) <= 8
     assert report.response.periodicity_error <= _compliant.periodic_tol(report.response.s)
     assert report.dynamic.json()["period_revolutions"] == 1
     assert len(report.response.flights) == 500 and len(report.response.impacts) == 500
