@@ -206,7 +206,8 @@ def periodic_orbit(motion: Motion, model: FollowerModel, omega: float, theta: Ar
     come from one diffrax solve of the state with its variational equations (the vector field's Jacobian by
     JAX autodiff). While the follower stays in contact the flow is affine and Newton converges in one step.
     Where the follower lands, that Jacobian misses the landings' saltation (:func:`_variational_field`), so Newton
-    converges at best linearly there; where a Newton step does not reduce the residual, the
+    converges at best linearly there, and a step whose system is near-singular (:data:`_ILL_POSED`) is a plain
+    revolution instead; where a Newton step does not reduce the residual, the
     iteration falls back to plain revolutions (the transient dies out revolution by revolution; where it dies out
     by a steady ratio, the iteration jumps to the end of that series, :func:`_rest_of_series`). The iteration
     stops at a residual of 1e-10 (relative), at the first revolution within :func:`periodic_tol` where the
