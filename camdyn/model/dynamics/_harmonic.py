@@ -44,8 +44,8 @@ def steady_spectrum(
     mm or rad), which the static load is divided by.
     ``X_k = (k_f + i k w c_f) S_k / (k + k_f - m (k w)^2 + i k w (c + c_f))``; ``X_0`` carries the static load.
     ``conjugate``: divide as a product with the conjugate over the squared modulus, 5-10x faster than XLA's
-    (overflow-guarded) complex division and the same to rounding (the jump maps; ``check``, sizing and the
-    optimizer keep the division, so their numbers stay bit for bit).
+    (overflow-guarded) complex division and the same to rounding (the jump maps and sizing's
+    :func:`linear_contact_force`; ``check``'s jump speed and the optimizer keep the division).
     """
     k = jnp.arange(spec.shape[0])
     m, kf, cf = model.mass, model.train_stiffness, model.train_damping
@@ -146,6 +146,15 @@ def linear_contact_force(motion: Motion, model: FollowerModel, omegas: jax.Array
 
     Angles ``theta_j = 2 pi j / n``. Exact wherever it stays positive; affine in the preload (raising F0 adds
     ``k_f / (k + k_f) * dF0`` at every angle and speed), which is what spring sizing (:mod:`camdyn.design.sizing`) uses.
+    By :func:`steady_train_force` (one inverse FFT a speed, the conjugate division): 1.9 x as fast as
+    :func:`steady_force_at`'s, the same to 1.2e-13 of the largest force (the lecture on 161 speeds).
     """
+    theta = jnp.arange(n) * (TWO_PI / n)
+    s, s1, _, _ = motion(theta) * model.scale
+    spec = jnp.fft.rfft(s)
+
+    def force(omega: jax.Array) -> jax.Array:
+        return steady_train_force(spec, omega, model, model.stiffness, model.damping, s, s1)
+
     omegas = jnp.asarray(omegas, dtype=float)
-    return jax.lax.map(steady_force_at(motion, model, n), omegas.ravel(), batch_size=64).reshape(omegas.shape + (n,))
+    return jax.lax.map(force, omegas.ravel(), batch_size=64).reshape(omegas.shape + (n,))
