@@ -95,12 +95,16 @@ def steady_train_force(
     return train_force(model, omega, s, s1, 0.0, 0.0) + jnp.fft.irfft(follower, n)
 
 
+def _on_grid(motion: Motion, model: FollowerModel, n: int) -> tuple[jax.Array, jax.Array, jax.Array]:
+    """The cam's lift and its d/dtheta (SI) on ``theta_k = 2 pi k / n``, and the lift's rfft."""
+    s, s1, _, _ = motion(jnp.arange(n) * (TWO_PI / n)) * model.scale
+    return s, s1, jnp.fft.rfft(s)
+
+
 def steady_force_at(motion: Motion, model: FollowerModel, n: int) -> Callable[[float | jax.Array], jax.Array]:
     """``omega -> interface force`` on the grid ``theta_k = 2 pi k / n`` of the compliant model's periodic orbit
     while it stays on the cam (harmonic balance by FFT, :func:`steady_state`)."""
-    theta = jnp.arange(n) * (TWO_PI / n)
-    s, s1, _, _ = motion(theta) * model.scale
-    spec = jnp.fft.rfft(s)
+    s, s1, spec = _on_grid(motion, model, n)
 
     def force(omega: float | jax.Array) -> jax.Array:
         x, x1 = steady_state(spec, omega, model, model.stiffness, model.damping, n)
@@ -149,9 +153,7 @@ def linear_contact_force(motion: Motion, model: FollowerModel, omegas: jax.Array
     By :func:`steady_train_force` (one inverse FFT a speed, the conjugate division): 1.9 x as fast as
     :func:`steady_force_at`'s, the same to 1.2e-13 of the largest force (the lecture on 161 speeds).
     """
-    theta = jnp.arange(n) * (TWO_PI / n)
-    s, s1, _, _ = motion(theta) * model.scale
-    spec = jnp.fft.rfft(s)
+    s, s1, spec = _on_grid(motion, model, n)
 
     def force(omega: jax.Array) -> jax.Array:
         return steady_train_force(spec, omega, model, model.stiffness, model.damping, s, s1)
