@@ -109,6 +109,23 @@ def test_prepare_compiles_without_running_and_threads_compile_at_once(cache_dir)
     assert np.allclose(fns[0](np.arange(3.0)), [0.0, 2.0, 4.0]) and len(traced) == 2  # prepared: not traced again
 
 
+def test_caches_turned_on_mid_compile_keep_the_stored_program_out_of_jax_cache(tmp_path):
+    """The CLI turns the caches on at each command; in one process (the tests) a program may then still be compiling
+    to be stored, on a thread. JAX's threshold comes back only when that compile is done: set at once, the program
+    went into JAX's cache, and a second worker compiling it stored the copy that cache deserialized, which ran
+    without some of its functions ("negate_bitcast_fusion not found")."""
+    before = jax.config.jax_compilation_cache_dir, jax.config.jax_persistent_cache_min_compile_time_secs
+    try:
+        with programs._outside_jax_cache():
+            programs.keep_in_jax_cache(tmp_path, 0.25)
+            assert jax.config.jax_persistent_cache_min_compile_time_secs == float("inf")
+        assert jax.config.jax_persistent_cache_min_compile_time_secs == 0.25
+        assert jax.config.jax_compilation_cache_dir == str(tmp_path)
+    finally:
+        jax.config.update("jax_compilation_cache_dir", before[0])
+        jax.config.update("jax_persistent_cache_min_compile_time_secs", before[1])
+
+
 def test_store_compiles_a_missing_program_and_leaves_a_stored_one_unloaded(monkeypatch, cache_dir):
     """``store`` compiles and stores a program no process has stored, which the call then runs without a second
     trace; where it is stored, ``store`` neither loads nor traces it (a warm process pays a file's lookup)."""

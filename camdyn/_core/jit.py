@@ -129,6 +129,19 @@ _OUTSIDE = threading.Lock()
 _outside: list = [0, None]  # compilations under way outside JAX's cache, and the threshold they replaced
 
 
+def keep_in_jax_cache(directory: str | Path, min_compile_secs: float) -> None:
+    """JAX's persistent compilation cache in ``directory``, keeping compiles of ``min_compile_secs`` or longer. While
+    a thread compiles a program to store (:func:`_outside_jax_cache`) the threshold takes effect when the last such
+    compile is done: set at once it let that program into JAX's cache, and a process that compiled it again (a second
+    test worker) stored the copy JAX's cache deserialized, which runs without some of its functions."""
+    jax.config.update("jax_compilation_cache_dir", str(directory))
+    with _OUTSIDE:
+        if _outside[0]:
+            _outside[1] = min_compile_secs
+        else:
+            jax.config.update("jax_persistent_cache_min_compile_time_secs", min_compile_secs)
+
+
 @contextlib.contextmanager
 def _outside_jax_cache():
     """JAX's persistent cache keeps nothing compiled inside (its threshold infinite), while any thread compiles

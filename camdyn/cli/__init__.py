@@ -366,12 +366,9 @@ def _enable_caches() -> None:
         (root / "jax").mkdir(parents=True, exist_ok=True)
     except OSError:
         return
-    import jax
-
     from .._core import jit
 
-    jax.config.update("jax_compilation_cache_dir", str(root / "jax"))
-    jax.config.update("jax_persistent_cache_min_compile_time_secs", 0.1)
+    jit.keep_in_jax_cache(root / "jax", 0.1)
     jit.enable(root / "programs")  # and the stored data fits (camdyn._core.stored), beside the programs
 
 

@@ -2,11 +2,13 @@
 
 ``m x'' = Fi - (k x + F0) - c x' - F_ext`` with ``Fi = max(0, k_f (s - x) + c_f (w s' - x'))`` while s > x,
 integrated in the cam angle (state: x and dx/dtheta in the motion's unit), so segment boundaries are fixed
-angles that the step-size controller is told about (``jump_ts``).
+angles that the step-size controller is told about (``jump_ts``). Where the follower leaves the cam a revolution is
+integrated in pieces between the contact's switches (:func:`_rev_with_sensitivity`).
 """
 
 from __future__ import annotations
 
+import functools
 import math
 from typing import Any
 
@@ -25,7 +27,7 @@ from ._harmonic import linear_least_force, steady_state
 from ._kinematic import kinematic_force, kinematic_force_of
 from ._result import Response, residual_vibration, separations_from_mask
 from ._solver import ATOL, MAX_STEPS, RTOL, SMOOTH_ATOL, SMOOTH_RTOL
-from ._train import contact_force, static_position
+from ._train import contact_force, static_position, train_force
 
 
 def vector_field(theta: ArrayLike, y: jax.Array, args: Any) -> jax.Array:
@@ -77,20 +79,13 @@ def _quasi_static(model, omega, sv):
 
 _NEWTON_ITERS = 8
 # The condition number of the Newton system (monodromy less identity) past which a step where the follower leaves the
-# cam is not taken: the variational equations miss the landings' saltation, and where a revolution starts far from
-# the orbit they can be near-singular (5e9 from the quasi-static start of a thousand 0.36 deg cycloids, whose Newton
-# step threw the start 25 mm off and cost 2-3 revolutions of 0.8 s to come back); a plain revolution instead.
+# cam is not taken (a multiplier at 1: the step's length is noise); a plain revolution instead.
 _ILL_POSED = 1e8
 
 
 def _variational_field(theta, y, args):
-    """State and monodromy sensitivities: d/dtheta (z, M) = (f(z), J_f(z) M), J_f by JAX autodiff.
-
-    Exact while the follower stays on the cam. Where it lands, the train's damping force jumps from 0 to
-    ``c_f w (s' - x')`` and the flow's Jacobian takes a saltation these equations do not see: ``M <- S M`` with
-    ``S = [[1, 0], [-c_f / (m w), 1]]`` at each landing (checked against central differences of the flow at four
-    bouncing orbits: the same to 4 digits, where ``M`` alone differs even in sign). Newton's steps across landings are
-    therefore only a guide (see :func:`periodic_orbit`)."""
+    """State and monodromy sensitivities: d/dtheta (z, M) = (f(z), J_f(z) M), J_f by JAX autodiff. Exact while the
+    follower stays on the cam (the smooth orbits' solve); across its switches see :func:`_saltation`."""
     z, m = y[:2], y[2:].reshape(2, 2)
     f = lambda z_: vector_field(theta, z_, args)  # noqa: E731
     return jnp.concatenate([f(z), (jax.jacfwd(f)(z) @ m).ravel()])
@@ -119,11 +114,175 @@ def _revolution(solver, rtol: float, atol: float, motion, model, omega, z0, thet
     return ys[:-1, :2], ys[-1, :2], ys[-1, 2:].reshape(2, 2), sol.result == diffrax.RESULTS.successful
 
 
+def _mode_field(theta, y, args):
+    """d/dtheta of (x, p) with the follower's mode held (:data:`_ON` and the flights below): the train's linear force
+    on the cam, else none. Smooth across the switches, where :func:`_rev_with_sensitivity` stops each piece of a
+    revolution (and the solver's interpolation, on which a switch is found, sees no kink)."""
+    motion, model, omega, mode = args
+    x, p = y[0], y[1]
+    s, s1, _, _ = motion(theta)
+    sc = model.scale
+    fi = jnp.where(mode == _ON, train_force(model, omega, s, s1, x, p, sc), 0.0)
+    f_net = fi - (model.stiffness * sc * x + model.preload) - model.damping * omega * sc * p - model.external
+    return jnp.stack([p, f_net / (model.mass * omega**2 * sc)])
+
+
+def _mode_variational(theta, y, args):
+    """:func:`_mode_field` with the monodromy's sensitivities, as :func:`_variational_field`."""
+    z, m = y[:2], y[2:].reshape(2, 2)
+    f = lambda z_: _mode_field(theta, z_, args)  # noqa: E731
+    return jnp.concatenate([f(z), (jax.jacfwd(f)(z) @ m).ravel()])
+
+
+# The follower's modes in a revolution's pieces: clear of the cam (s <= x), flying within its profile (s > x, the
+# train's force negative: just after leaving it) and on the cam. The vector field is that of flight in the first two.
+_CLEAR, _WITHIN, _ON = 0, 1, 2
+
+
+def _overlap_and_force(theta, z, motion, model, omega):
+    """The follower at ``z`` = (x, dx/dtheta) against the cam at ``theta``: the overlap ``s - x`` and the train's
+    force over its stiffness (both motion units), each with its gradient (d/dtheta, d/dz). They touch where both are
+    positive (the unilateral :func:`contact_force`)."""
+    s, s1, s2, _ = motion(theta)
+    lag = model.train_damping * omega / model.train_stiffness  # the damper's share, rad
+    overlap, force = s - z[0], s - z[0] + lag * (s1 - z[1])
+    return (overlap, s1, jnp.stack([-1.0, 0.0])), (force, s1 + lag * s2, jnp.stack([-1.0, -lag]))
+
+
+def _mode_of(theta, z, motion, model, omega):
+    """The mode of the follower at ``z`` on ``theta`` (:data:`_ON`, :data:`_WITHIN` or :data:`_CLEAR`)."""
+    (overlap, _, _), (force, _, _) = _overlap_and_force(theta, z, motion, model, omega)
+    return jnp.where(overlap > 0.0, jnp.where(force > 0.0, _ON, _WITHIN), _CLEAR)
+
+
+def _switch(theta, z, motion, model, omega, mode):
+    """The function whose rise through zero ends a piece in ``mode``, with its gradient (d/dtheta, d/dz): clear of
+    the cam, the overlap (a landing: the train's force is ``c_f w (s' - x') >= 0`` there); on it, the force's fall
+    (it reaches zero before the overlap does, the train's damping pulling back); within its profile, the first of
+    the force's rise (the cam catches the follower again) and the overlap's fall (the follower clears it)."""
+    overlap, force = _overlap_and_force(theta, z, motion, model, omega)
+    clearing = [-a for a in overlap]
+    caught = force[0] >= clearing[0]
+    return tuple(
+        jnp.where(mode == _CLEAR, o, jnp.where(mode == _ON, -f, jnp.where(caught, f, c)))
+        for o, f, c in zip(overlap, force, clearing, strict=True)
+    )
+
+
+def _next_mode(theta, z, motion, model, omega, mode):
+    """The mode after :func:`_switch` rose through zero at ``theta``."""
+    (overlap, _, _), (force, _, _) = _overlap_and_force(theta, z, motion, model, omega)
+    leaving = jnp.where(overlap > 0.0, _WITHIN, _CLEAR)
+    within = jnp.where(-overlap >= force, _CLEAR, _ON)
+    return jnp.where(mode == _CLEAR, _ON, jnp.where(mode == _ON, leaving, within))
+
+
+def _piece_ends(t, y, args, **_):
+    """:func:`_switch` as diffrax's event calls it, on the state with its sensitivities ``y``."""
+    motion, model, omega, mode = args
+    return _switch(t, y[:2], motion, model, omega, mode)[0]
+
+
+def _saltation(theta, z, m, motion, model, omega, mode, after):
+    """The monodromy ``m`` across a switch at ``theta`` (:func:`_switch` in ``mode``) to mode ``after``:
+    ``(I + (f+ - f-) dg/dz^T / (dg/dtheta along f-)) m``, g the switch. A landing with the train's damping changes
+    the field (its force jumps from 0 to ``c_f w (s' - x')``); leaving the cam, where the force is zero, does not.
+    A grazing switch (no transversal crossing) is left as it is."""
+    before = _mode_field(theta, z, (motion, model, omega, mode))
+    jump = _mode_field(theta, z, (motion, model, omega, after)) - before
+    _, g_theta, g_z = _switch(theta, z, motion, model, omega, mode)
+    rate = g_theta + g_z @ before
+    scale = jnp.abs(g_theta) + jnp.abs(g_z) @ jnp.abs(before)
+    transversal = jnp.abs(rate) > 1e-9 * scale
+    return jnp.where(transversal, m + jnp.outer(jump, g_z) @ m / jnp.where(transversal, rate, 1.0), m)
+
+
+@functools.cache
+def _past_the_switch():
+    """Bisection for a switch's angle (to :data:`ATOL`, the switch rising from below zero to above it) that returns
+    the bracket's upper end, where the switch has risen: the next piece's own switch then starts below zero, as it
+    must to be seen rising (from the midpoint, a flight that started with the train's force at +1e-11 mm never saw
+    the follower clear the cam, nor land on it again)."""
+    import optimistix as optx
+
+    class PastTheSwitch(optx.Bisection):
+        def postprocess(  # optimistix calls it so
+            self, fn: Any, y: Any, aux: Any, args: Any, options: Any, state: Any, tags: Any, result: Any
+        ) -> tuple[Any, Any, dict]:
+            return state.upper, aux, {}
+
+    return PastTheSwitch(rtol=0.0, atol=ATOL, flip=False)
+
+
+# A piece of a revolution (between the contact's switches) runs past this many of the motion's jumps at most (the
+# step-size controller is told only these: it sorts them at each start) and past this many angles of the trajectory.
+_JUMP_WINDOW, _SAVE_WINDOW = 8, 64
+_MAX_PIECES = 50_000  # switches and windows a revolution: a follower that chatters past it fails (NumericalError)
+
+
 def _rev_with_sensitivity(motion, model, omega, z0, theta):
-    """:func:`_revolution` by Tsit5: where the follower leaves the cam (its contact switches stepped through)."""
+    """One revolution from z0 where the follower may leave the cam, as :func:`_revolution`: in pieces between the
+    contact's switches, each found as the root of the switch on Tsit5's interpolation (diffrax's event, by
+    bisection), with the contact held in each piece (a smooth field: stepping through the contact's kink cost
+    about 40 rejected steps a switch) and the monodromy carried across each switch by its saltation matrix (so that
+    Newton's steps see the landings)."""
     import diffrax
 
-    return _revolution(diffrax.Tsit5(), RTOL, ATOL, motion, model, omega, z0, theta)
+    n = theta.shape[0]
+    jumps = jnp.sort(jnp.asarray(motion.jump_angles(), dtype=float).ravel())
+    jumps = jnp.concatenate([jumps, jnp.full(_JUMP_WINDOW, jnp.inf)])
+    angles = jnp.concatenate([theta, jnp.full(_SAVE_WINDOW, TWO_PI)])
+    pid = diffrax.PIDController(rtol=RTOL, atol=ATOL)
+    event = diffrax.Event(_piece_ends, _past_the_switch(), direction=True)
+    term = diffrax.ODETerm(_mode_variational)
+
+    def _piece(carry):
+        t, y, mode, traj, pieces, steps, ok = carry
+        window = jax.lax.dynamic_slice(jumps, (jnp.searchsorted(jumps, t, side="right"),), (_JUMP_WINDOW,))
+        first = jnp.searchsorted(theta, t, side="left").astype(int)
+        at = jax.lax.dynamic_slice(angles, (first,), (_SAVE_WINDOW,))
+        t_end = jnp.minimum(jnp.minimum(window[-1], at[-1]), TWO_PI)
+        sol = diffrax.diffeqsolve(
+            term,
+            diffrax.Tsit5(),
+            t0=t,
+            t1=t_end,
+            dt0=None,
+            y0=y,
+            args=(motion, model, omega, mode),
+            saveat=diffrax.SaveAt(ts=jnp.clip(at, t, t_end), t1=True),
+            stepsize_controller=diffrax.ClipStepSizeController(pid, jump_ts=window),
+            event=event,
+            max_steps=MAX_STEPS,
+            throw=False,
+        )
+        ts, ys = sol.ts, sol.ys
+        assert ts is not None and ys is not None  # SaveAt(ts=..., t1=True) saves the states
+        # the end is saved after the angles reached (at an event diffrax deletes the rest: +inf), not in the last row
+        end = jnp.sum(jnp.isfinite(ts)) - 1
+        t1, y1 = ts[end], ys[end]
+        switched = sol.result == diffrax.RESULTS.event_occurred
+        ok = ok & (switched | (sol.result == diffrax.RESULTS.successful)) & jnp.all(jnp.isfinite(y1))
+        saved = (at >= t) & (at <= t1) & (first + jnp.arange(_SAVE_WINDOW) < n)
+        corner = (first, jnp.zeros_like(first))
+        kept = jax.lax.dynamic_slice(traj, corner, (_SAVE_WINDOW, 2))
+        traj = jax.lax.dynamic_update_slice(traj, jnp.where(saved[:, None], ys[:-1, :2], kept), corner)
+        z1, m1 = y1[:2], y1[2:].reshape(2, 2)
+        after = jnp.where(switched, _next_mode(t1, z1, motion, model, omega, mode), mode)
+        m1 = jnp.where(switched, _saltation(t1, z1, m1, motion, model, omega, mode, after), m1)
+        stats = sol.stats["num_accepted_steps"] + sol.stats["num_rejected_steps"]
+        return t1, jnp.concatenate([z1, m1.ravel()]), after, traj, pieces + 1, steps + stats, ok
+
+    def _more(carry):
+        t, _, _, _, pieces, steps, ok = carry
+        return ok & (t < TWO_PI) & (pieces < _MAX_PIECES) & (steps < MAX_STEPS)
+
+    y0 = jnp.concatenate([z0, jnp.eye(2).ravel()])
+    traj0 = jnp.zeros((n + _SAVE_WINDOW, 2))
+    mode0 = _mode_of(jnp.zeros(()), z0, motion, model, omega)
+    start = (jnp.zeros(()), y0, mode0, traj0, 0, 0, jnp.asarray(True))
+    t, y, _, traj, _, _, ok = jax.lax.while_loop(_more, _piece, start)
+    return traj[:n], y[:2], y[2:].reshape(2, 2), ok & (t >= TWO_PI)
 
 
 def _rev_in_contact(motion, model, omega, z0, theta):
@@ -205,10 +364,12 @@ def periodic_orbit(motion: Motion, model: FollowerModel, omega: float, theta: Ar
     Newton on ``Phi(z0) - z0 = 0``, where the one-revolution flow Phi and its Jacobian (the monodromy matrix)
     come from one diffrax solve of the state with its variational equations (the vector field's Jacobian by
     JAX autodiff). While the follower stays in contact the flow is affine and Newton converges in one step.
-    Where the follower lands, that Jacobian misses the landings' saltation (:func:`_variational_field`), so Newton
-    converges at best linearly there, and a step whose system is near-singular (:data:`_ILL_POSED`) is a plain
-    revolution instead; where a Newton step does not reduce the residual, the
-    iteration falls back to plain revolutions (the transient dies out revolution by revolution; where it dies out
+    Where the follower leaves the cam the monodromy takes each switch's saltation (:func:`_rev_with_sensitivity`),
+    and Newton steps only where the flow contracts (no Floquet multiplier outside the unit circle: it would home in
+    on a repelling orbit as readily, :func:`_unstable`) and the system is not near-singular (:data:`_ILL_POSED`);
+    a step that does not reduce the residual goes back to where it left (the next one half as long), and an orbit
+    reached that repels all the same is set aside for plain revolutions from the first one's end. Elsewhere the
+    iteration takes plain revolutions (the transient dies out revolution by revolution; where it dies out
     by a steady ratio, the iteration jumps to the end of that series, :func:`_rest_of_series`). The iteration
     stops at a residual of 1e-10 (relative), at the first revolution within :func:`periodic_tol` where the
     frequency domain's steady state leaves the cam or past Newton's ``_NEWTON_ITERS``, or once the best residual is
@@ -245,9 +406,12 @@ def _shoot(motion: Motion, model: FollowerModel, omega: float, theta):
             raise NumericalError(f"dynamics at {omega / RPM:.4g} rpm", _integration_failure(model, omega))
         return traj, phi, mono
 
-    best_traj, best_r, best_i, r_prev = None, math.inf, 0, math.inf
+    best_traj, best_r, best_i, best_mono, r_prev = None, math.inf, 0, None, math.inf
+    newton_ok, first_end = True, None  # Newton's steps allowed; the first revolution's end (a restart's start)
     steps: list[np.ndarray] = []  # each revolution's phi - z since the last Newton step or jump
-    left = None  # (where a settling jump left from: the plain iteration's next start, its mismatch)
+    left = None  # (where a settling jump or a Newton step left from: the plain iteration's next start, its mismatch,
+    # the factor by which the step must cut it)
+    damping = 1.0  # the share of a Newton step taken where the follower leaves the cam: halved by each that missed
     starts: list[np.ndarray] = []  # the plain revolutions' run: each one's start, and the last one's end
     trajs: list[Any] = []  # and each one's trajectory
     for i in range(_NEWTON_ITERS + _PLAIN_REVS):
@@ -257,25 +421,41 @@ def _shoot(motion: Motion, model: FollowerModel, omega: float, theta):
         starts.append(phi)
         trajs.append(traj)
         r = float(np.linalg.norm(phi - z))
+        first_end = phi if first_end is None else first_end
         if r < best_r:
-            best_traj, best_r, best_i = traj, r, i
+            best_traj, best_r, best_i, best_mono = traj, r, i, mono
         # a revolution within the periodic tolerance is periodic by camdyn's own measure where the follower leaves the
         # cam (Newton converges only linearly across the contact's switches, to the solver's noise floor) and past
         # Newton's iterations; on a smooth orbit Newton, converging quadratically, steps on to its own tolerance
         at_floor = best_r <= floor and (not smooth or i >= _NEWTON_ITERS or i - best_i >= _FLOOR_REVS)
+        if (best_r <= tol or at_floor) and not smooth and newton_ok and best_mono is not None and _unstable(best_mono):
+            # Newton's steps found a periodic orbit the follower does not settle into (its bouncing grows away from
+            # it): plain revolutions from the first one's end instead, which settle only where it does
+            newton_ok, z, r_prev, left, steps = False, first_end, math.inf, None, []
+            best_traj, best_r, best_i = None, math.inf, i
+            continue
         if best_r <= tol or at_floor or i - best_i >= _STALL_REVS:
             break
-        if left is not None and r > _LANDED * left[1]:  # the jump missed: on from where it left
+        if left is not None and r > left[2] * left[1]:  # the jump or Newton step missed: on from where it left
             z, r_prev, left = left[0], left[1], None
+            damping *= 0.5
             continue
+        if left is not None and left[2] == 1.0:  # a Newton step that cut the mismatch: the next one whole again
+            damping = min(1.0, 2.0 * damping)
         steps.append(phi - z)
-        rest = _rest_of_series(steps) if i >= _NEWTON_ITERS else None
-        newton = i < _NEWTON_ITERS and r <= r_prev and (smooth or np.linalg.cond(mono - np.eye(2)) < _ILL_POSED)
-        left = None if rest is None else (phi, r)
+        rest = _rest_of_series(steps) if i >= _NEWTON_ITERS or not newton_ok else None
+        # where the follower leaves the cam, Newton only where the flow contracts: it would home in on a repelling orbit
+        # as readily as on an attracting one (where the bouncing settles, which plain revolutions reach anyway)
+        newton = newton_ok and i < _NEWTON_ITERS and r <= r_prev
+        newton = newton and (smooth or (np.linalg.cond(mono - np.eye(2)) < _ILL_POSED and not _unstable(mono)))
+        left = None if rest is None else (phi, r, _LANDED)
         if newton or rest is not None:
             steps = []
         if newton:
-            z = z - np.linalg.solve(mono - np.eye(2), phi - z)
+            step = np.linalg.solve(mono - np.eye(2), phi - z)
+            if not smooth:  # the map is not affine: a step that does not cut the mismatch is not kept
+                step, left = damping * step, (phi, r, 1.0)
+            z = z - step
         else:
             z = phi if rest is None else phi + rest
         r_prev = r
@@ -292,6 +472,12 @@ def _shoot(motion: Motion, model: FollowerModel, omega: float, theta):
             return traj, r2, revs + which, revs + more, 2
         revs += more
     return best_traj, best_r, best_i + 1, revs, 1 if best_r <= floor else None
+
+
+def _unstable(mono: np.ndarray) -> bool:
+    """Whether the periodic orbit of monodromy ``mono`` repels a follower (a Floquet multiplier outside the unit
+    circle): Newton converges to such an orbit as readily as to a stable one, but no bouncing settles into it."""
+    return bool(np.max(np.abs(np.linalg.eigvals(mono))) > 1.0)
 
 
 def _period_two(revolution, starts, trajs, floor: float, peak_force):
