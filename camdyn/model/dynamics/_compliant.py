@@ -27,7 +27,7 @@ from ._harmonic import linear_least_force, steady_state
 from ._kinematic import kinematic_force, kinematic_force_of
 from ._result import Response, residual_vibration, separations_from_mask
 from ._solver import ATOL, MAX_STEPS, RTOL, SMOOTH_ATOL, SMOOTH_RTOL
-from ._train import contact_force, static_position, train_force
+from ._train import contact_force, free_vibration, static_position, train_force
 
 
 def vector_field(theta: ArrayLike, y: jax.Array, args: Any) -> jax.Array:
@@ -127,11 +127,15 @@ def _mode_field(theta, y, args):
     return jnp.stack([p, f_net / (model.mass * omega**2 * sc)])
 
 
-def _mode_variational(theta, y, args):
-    """:func:`_mode_field` with the monodromy's sensitivities, as :func:`_variational_field`."""
-    z, m = y[:2], y[2:].reshape(2, 2)
-    f = lambda z_: _mode_field(theta, z_, args)  # noqa: E731
-    return jnp.concatenate([f(z), (jax.jacfwd(f)(z) @ m).ravel()])
+def _mode_flow(model, omega, mode, span):
+    """The monodromy of a piece of ``span`` rad in ``mode``: the field is affine in the state there, ``z' = J z +
+    g(theta)`` with ``J = [[0, 1], [-a, -b]]``, ``a = (k + k_f) / (m w^2)``, ``b = (c + c_f) / (m w)`` on the cam
+    (without the train's terms in flight), so the variational equations' solution is ``exp(J span)``, closed form."""
+    on = mode == _ON
+    a = (model.stiffness + jnp.where(on, model.train_stiffness, 0.0)) / (model.mass * omega**2)
+    b = (model.damping + jnp.where(on, model.train_damping, 0.0)) / (model.mass * omega)
+    e00, e01, e10, e11 = free_vibration(a, b, span)
+    return jnp.stack([jnp.stack([e00, e01]), jnp.stack([e10, e11])])
 
 
 # The follower's modes in a revolution's pieces: clear of the cam (s <= x), flying within its profile (s > x, the
@@ -178,9 +182,9 @@ def _next_mode(theta, z, motion, model, omega, mode):
 
 
 def _piece_ends(t, y, args, **_):
-    """:func:`_switch` as diffrax's event calls it, on the state with its sensitivities ``y``."""
+    """:func:`_switch` as diffrax's event calls it."""
     motion, model, omega, mode = args
-    return _switch(t, y[:2], motion, model, omega, mode)[0]
+    return _switch(t, y, motion, model, omega, mode)[0]
 
 
 def _saltation(theta, z, m, motion, model, omega, mode, after):
@@ -224,8 +228,8 @@ def _rev_with_sensitivity(motion, model, omega, z0, theta):
     """One revolution from z0 where the follower may leave the cam, as :func:`_revolution`: in pieces between the
     contact's switches, each found as the root of the switch on Tsit5's interpolation (diffrax's event, by
     bisection), with the contact held in each piece (a smooth field: stepping through the contact's kink cost
-    about 40 rejected steps a switch) and the monodromy carried across each switch by its saltation matrix (so that
-    Newton's steps see the landings)."""
+    about 40 rejected steps a switch), the monodromy through each piece in closed form (:func:`_mode_flow`) and
+    across each switch by its saltation matrix (so that Newton's steps see the landings)."""
     import diffrax
 
     n = theta.shape[0]
@@ -234,10 +238,10 @@ def _rev_with_sensitivity(motion, model, omega, z0, theta):
     angles = jnp.concatenate([theta, jnp.full(_SAVE_WINDOW, TWO_PI)])
     pid = diffrax.PIDController(rtol=RTOL, atol=ATOL)
     event = diffrax.Event(_piece_ends, _past_the_switch(), direction=True)
-    term = diffrax.ODETerm(_mode_variational)
+    term = diffrax.ODETerm(_mode_field)
 
     def _piece(carry):
-        t, y, mode, traj, pieces, steps, ok = carry
+        t, z, m, mode, traj, pieces, steps, ok = carry
         window = jax.lax.dynamic_slice(jumps, (jnp.searchsorted(jumps, t, side="right"),), (_JUMP_WINDOW,))
         first = jnp.searchsorted(theta, t, side="left").astype(int)
         at = jax.lax.dynamic_slice(angles, (first,), (_SAVE_WINDOW,))
@@ -248,7 +252,7 @@ def _rev_with_sensitivity(motion, model, omega, z0, theta):
             t0=t,
             t1=t_end,
             dt0=None,
-            y0=y,
+            y0=z,
             args=(motion, model, omega, mode),
             saveat=diffrax.SaveAt(ts=jnp.clip(at, t, t_end), t1=True),
             stepsize_controller=diffrax.ClipStepSizeController(pid, jump_ts=window),
@@ -266,23 +270,22 @@ def _rev_with_sensitivity(motion, model, omega, z0, theta):
         saved = (at >= t) & (at <= t1) & (first + jnp.arange(_SAVE_WINDOW) < n)
         corner = (first, jnp.zeros_like(first))
         kept = jax.lax.dynamic_slice(traj, corner, (_SAVE_WINDOW, 2))
-        traj = jax.lax.dynamic_update_slice(traj, jnp.where(saved[:, None], ys[:-1, :2], kept), corner)
-        z1, m1 = y1[:2], y1[2:].reshape(2, 2)
-        after = jnp.where(switched, _next_mode(t1, z1, motion, model, omega, mode), mode)
-        m1 = jnp.where(switched, _saltation(t1, z1, m1, motion, model, omega, mode, after), m1)
+        traj = jax.lax.dynamic_update_slice(traj, jnp.where(saved[:, None], ys[:-1], kept), corner)
+        m1 = _mode_flow(model, omega, mode, t1 - t) @ m
+        after = jnp.where(switched, _next_mode(t1, y1, motion, model, omega, mode), mode)
+        m1 = jnp.where(switched, _saltation(t1, y1, m1, motion, model, omega, mode, after), m1)
         stats = sol.stats["num_accepted_steps"] + sol.stats["num_rejected_steps"]
-        return t1, jnp.concatenate([z1, m1.ravel()]), after, traj, pieces + 1, steps + stats, ok
+        return t1, y1, m1, after, traj, pieces + 1, steps + stats, ok
 
     def _more(carry):
-        t, _, _, _, pieces, steps, ok = carry
+        t, _, _, _, _, pieces, steps, ok = carry
         return ok & (t < TWO_PI) & (pieces < _MAX_PIECES) & (steps < MAX_STEPS)
 
-    y0 = jnp.concatenate([z0, jnp.eye(2).ravel()])
     traj0 = jnp.zeros((n + _SAVE_WINDOW, 2))
     mode0 = _mode_of(jnp.zeros(()), z0, motion, model, omega)
-    start = (jnp.zeros(()), y0, mode0, traj0, 0, 0, jnp.asarray(True))
-    t, y, _, traj, _, _, ok = jax.lax.while_loop(_more, _piece, start)
-    return traj[:n], y[:2], y[2:].reshape(2, 2), ok & (t >= TWO_PI)
+    start = (jnp.zeros(()), z0 + 0.0 * omega, jnp.eye(2), mode0, traj0, 0, 0, jnp.asarray(True))
+    t, z, m, _, traj, _, _, ok = jax.lax.while_loop(_more, _piece, start)
+    return traj[:n], z, m, ok & (t >= TWO_PI)
 
 
 def _rev_in_contact(motion, model, omega, z0, theta):
@@ -425,10 +428,11 @@ def _shoot(motion: Motion, model: FollowerModel, omega: float, theta):
         if r < best_r:
             best_traj, best_r, best_i, best_mono = traj, r, i, mono
         # a revolution within the periodic tolerance is periodic by camdyn's own measure where the follower leaves the
-        # cam (Newton converges only linearly across the contact's switches, to the solver's noise floor) and past
-        # Newton's iterations; on a smooth orbit Newton, converging quadratically, steps on to its own tolerance
+        # cam (the switches' located angles set a noise floor far above Newton's tolerance) and past Newton's
+        # iterations; on a smooth orbit Newton, converging quadratically, steps on to its own tolerance
         at_floor = best_r <= floor and (not smooth or i >= _NEWTON_ITERS or i - best_i >= _FLOOR_REVS)
-        if (best_r <= tol or at_floor) and not smooth and newton_ok and best_mono is not None and _unstable(best_mono):
+        unstable = not smooth and newton_ok and best_mono is not None and _unstable(best_mono)
+        if (best_r <= tol or at_floor) and unstable and i + 1 < _NEWTON_ITERS + _PLAIN_REVS:
             # Newton's steps found a periodic orbit the follower does not settle into (its bouncing grows away from
             # it): plain revolutions from the first one's end instead, which settle only where it does
             newton_ok, z, r_prev, left, steps = False, first_end, math.inf, None, []
