@@ -83,37 +83,6 @@ _NEWTON_ITERS = 8
 _ILL_POSED = 1e8
 
 
-def _variational_field(theta, y, args):
-    """State and monodromy sensitivities: d/dtheta (z, M) = (f(z), J_f(z) M), J_f by JAX autodiff. Exact while the
-    follower stays on the cam (the smooth orbits' solve); across its switches see :func:`_saltation`."""
-    z, m = y[:2], y[2:].reshape(2, 2)
-    f = lambda z_: vector_field(theta, z_, args)  # noqa: E731
-    return jnp.concatenate([f(z), (jax.jacfwd(f)(z) @ m).ravel()])
-
-
-def _revolution(solver, rtol: float, atol: float, motion, model, omega, z0, theta):
-    """One revolution from z0 by ``solver``: the state on ``theta`` and at 2 pi, d z(2 pi) / d z0, and whether the
-    solve succeeded."""
-    import diffrax
-
-    sol = diffrax.diffeqsolve(
-        diffrax.ODETerm(_variational_field),
-        solver,
-        t0=0.0,
-        t1=TWO_PI,
-        dt0=None,
-        y0=jnp.concatenate([z0, jnp.eye(2).ravel()]),
-        args=(motion, model, omega, True),
-        saveat=diffrax.SaveAt(ts=theta, t1=True),
-        stepsize_controller=_controller(motion, 0.0, 1, rtol, atol),
-        max_steps=MAX_STEPS,
-        throw=False,
-    )
-    ys = sol.ys
-    assert ys is not None  # SaveAt(ts=..., t1=True) saves the states
-    return ys[:-1, :2], ys[-1, :2], ys[-1, 2:].reshape(2, 2), sol.result == diffrax.RESULTS.successful
-
-
 def _mode_field(theta, y, args):
     """d/dtheta of (x, p) with the follower's mode held (:data:`_ON` and the flights below): the train's linear force
     on the cam, else none. Smooth across the switches, where :func:`_rev_with_sensitivity` stops each piece of a
@@ -225,7 +194,7 @@ _MAX_PIECES = 50_000  # switches and windows a revolution: a follower that chatt
 
 
 def _rev_with_sensitivity(motion, model, omega, z0, theta):
-    """One revolution from z0 where the follower may leave the cam, as :func:`_revolution`: in pieces between the
+    """One revolution from z0 where the follower may leave the cam, as :func:`_rev_in_contact`: in pieces between the
     contact's switches, each found as the root of the switch on Tsit5's interpolation (diffrax's event, by
     bisection), with the contact held in each piece (a smooth field: stepping through the contact's kink cost
     about 40 rejected steps a switch), the monodromy through each piece in closed form (:func:`_mode_flow`) and
@@ -289,10 +258,29 @@ def _rev_with_sensitivity(motion, model, omega, z0, theta):
 
 
 def _rev_in_contact(motion, model, omega, z0, theta):
-    """:func:`_revolution` by Dopri8 at :data:`SMOOTH_RTOL`: where the orbit is smooth (see :mod:`._solver`)."""
+    """One revolution from z0 where the orbit is smooth (the follower on the cam all round): Dopri8 at
+    :data:`SMOOTH_RTOL` (see :mod:`._solver`). Returns the state on ``theta`` and at 2 pi, the monodromy of the flow on
+    the cam, ``exp(J 2 pi)`` in closed form (:func:`_mode_flow`: that flow is affine, so from anywhere one Newton step
+    lands on its orbit, even where a revolution from the start leaves the cam), and whether the solve succeeded."""
     import diffrax
 
-    return _revolution(diffrax.Dopri8(), SMOOTH_RTOL, SMOOTH_ATOL, motion, model, omega, z0, theta)
+    sol = diffrax.diffeqsolve(
+        diffrax.ODETerm(vector_field),
+        diffrax.Dopri8(),
+        t0=0.0,
+        t1=TWO_PI,
+        dt0=None,
+        y0=z0,
+        args=(motion, model, omega, True),
+        saveat=diffrax.SaveAt(ts=theta, t1=True),
+        stepsize_controller=_controller(motion, 0.0, 1, SMOOTH_RTOL, SMOOTH_ATOL),
+        max_steps=MAX_STEPS,
+        throw=False,
+    )
+    ys = sol.ys
+    assert ys is not None  # SaveAt(ts=..., t1=True) saves the states
+    mono = _mode_flow(model, omega, _ON, TWO_PI)
+    return ys[:-1], ys[-1], mono, sol.result == diffrax.RESULTS.successful
 
 
 _rev_jit = cached_jit(_rev_with_sensitivity)
@@ -364,15 +352,15 @@ def _integration_failure(model: FollowerModel, omega: float) -> str:
 def periodic_orbit(motion: Motion, model: FollowerModel, omega: float, theta: ArrayLike) -> tuple[PyTree, float]:
     """Periodic steady state of the compliant model at cam speed ``omega`` (rad/s) by shooting.
 
-    Newton on ``Phi(z0) - z0 = 0``, where the one-revolution flow Phi and its Jacobian (the monodromy matrix)
-    come from one diffrax solve of the state with its variational equations (the vector field's Jacobian by
-    JAX autodiff). While the follower stays in contact the flow is affine and Newton converges in one step.
-    Where the follower leaves the cam the monodromy takes each switch's saltation (:func:`_rev_with_sensitivity`),
-    and Newton steps only where the flow contracts (no Floquet multiplier outside the unit circle: it would home in
-    on a repelling orbit as readily, :func:`_unstable`) and the system is not near-singular (:data:`_ILL_POSED`);
-    a step that does not reduce the residual goes back to where it left (the next one half as long), and an orbit
-    reached that repels all the same is set aside for plain revolutions from the first one's end. Elsewhere the
-    iteration takes plain revolutions (the transient dies out revolution by revolution; where it dies out
+    Newton on ``Phi(z0) - z0 = 0``, the one-revolution flow Phi by one diffrax solve and its Jacobian (the
+    monodromy matrix) in closed form within each of the follower's modes (:func:`_mode_flow`). While the follower
+    stays in contact the flow is affine and Newton converges in one step. Where the follower leaves the cam the
+    monodromy takes each switch's saltation (:func:`_rev_with_sensitivity`), and Newton steps only where the flow
+    contracts (no Floquet multiplier outside the unit circle: it would home in on a repelling orbit as readily,
+    :func:`_unstable`) and the system is not near-singular (:data:`_ILL_POSED`); a step that does not reduce the
+    residual goes back to where it left (the next one half as long), and an orbit reached that repels all the same
+    is set aside for plain revolutions from the first one's end. Elsewhere the iteration takes plain revolutions
+    (the transient dies out revolution by revolution; where it dies out
     by a steady ratio, the iteration jumps to the end of that series, :func:`_rest_of_series`). The iteration
     stops at a residual of 1e-10 (relative), at the first revolution within :func:`periodic_tol` where the
     frequency domain's steady state leaves the cam or past Newton's ``_NEWTON_ITERS``, or once the best residual is
