@@ -42,6 +42,15 @@ def contact_force(
     return jnp.where(s > x, jnp.maximum(0.0, train_force(model, omega, s, s1, x, x1, unit)), 0.0)
 
 
+def follower_rates(model: FollowerModel, omega: Values, x: Values, p: Values, fi: Values) -> jax.Array:
+    """d/dtheta of the follower's (x, p = dx/dtheta), motion units, under the interface force ``fi`` (N, or N*m for
+    an arm): ``m w^2 x'' = fi - (k x + F0) - c w x' - F_ext`` in the cam angle (``omega`` rad/s), the follower's
+    equation of motion wherever it flies or rides the cam."""
+    sc = model.scale
+    f_net = fi - (model.stiffness * sc * x + model.preload) - model.damping * omega * sc * p - model.external
+    return jnp.stack([p, f_net / (model.mass * omega**2 * sc)])
+
+
 def static_position(model: FollowerModel, s: Values, unit: Values = 1.0) -> jax.Array:
     """Where the compliant follower rests on a cam standing at lift ``s``: ``k_f (s - x) = k x + F0 + F_ext``, so
     ``x = (k_f s - F0 - F_ext) / (k + k_f)``, in the unit of ``s`` whose SI value is ``unit`` (as
