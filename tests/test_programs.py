@@ -6,6 +6,7 @@ import os
 import pickle
 import subprocess
 import sys
+import threading
 from pathlib import Path
 
 import equinox as eqx
@@ -257,6 +258,38 @@ def test_compiler_options_are_part_of_the_key_and_unknown_ones_dropped(tmp_path,
     np.testing.assert_allclose(optioned(x), plain(x), rtol=1e-14)
     assert len(list(tmp_path.rglob("_wave-*.jaxprogram"))) == 2
     np.testing.assert_allclose(programs.cached_jit(_wave, unknown)(x), plain(x), rtol=1e-14)  # compiled without it
+
+
+def _cube(x):
+    return x**3 + 1.0
+
+
+def test_a_program_another_process_compiles_is_waited_for_and_loaded(cache_dir, monkeypatch):
+    """Where another process is compiling a program (it holds the program's lock), a process that needs the same
+    program waits for it and loads what it stored, rather than compile it a second time (two test workers, two
+    commands at once). Another "process" here is a thread: the lock is per open file, so they exclude each other."""
+    x = jnp.linspace(0.0, 1.0, 5)
+    programs.cached_jit(_cube)(x)  # the program, compiled and stored
+    (file,) = cache_dir.rglob("_cube-*.jaxprogram")
+    blob = file.read_bytes()
+    file.unlink()
+    compiled = []
+    monkeypatch.setattr(programs, "_compile", lambda *a: compiled.append(a) or pytest.fail("compiled again"))
+    holding, release = threading.Event(), threading.Event()
+
+    def other_process():
+        with programs._compiling(file):
+            holding.set()
+            release.wait(30.0)
+            programs._save(file, blob)
+
+    other = threading.Thread(target=other_process)
+    other.start()
+    assert holding.wait(30.0)
+    threading.Timer(0.3, release.set).start()  # the other "compile" ends after this one started to wait
+    np.testing.assert_array_equal(programs.cached_jit(_cube)(x), np.asarray(x) ** 3 + 1.0)
+    other.join()
+    assert compiled == []
 
 
 def test_a_stored_result_is_read_back_and_a_failure_is_not_stored(tmp_path, monkeypatch):

@@ -53,6 +53,11 @@ from jax.experimental import serialize_executable
 
 from .jitargs import flat_once, jit_forms, part, unflatten_parts
 
+try:
+    import fcntl
+except ImportError:  # not POSIX: processes that need one program at once each compile it
+    fcntl = None
+
 T = TypeVar("T")
 _DIR: Path | None = None
 SUFFIX = "jaxprogram"  # the stored programs' file names end so
@@ -204,6 +209,37 @@ def _save(file: Path, blob: bytes) -> None:
         tmp.unlink(missing_ok=True)
 
 
+_WAIT_S = 120.0  # the longest a process waits for another's compile of a program before compiling it itself
+
+
+@contextlib.contextmanager
+def _compiling(file: Path):
+    """Held while this process compiles the program of ``file``: another process that needs the same program (a
+    second test worker, two ``camdyn`` commands at once) waits for it and loads it, instead of compiling it a second
+    time (each 1-10 s). An advisory lock on a file beside it; after :data:`_WAIT_S` (a lock never released) or where
+    files cannot be locked, each compiles its own."""
+    try:
+        fd = os.open(file.with_suffix(".lock"), os.O_RDWR | os.O_CREAT, 0o644) if fcntl else None
+    except OSError:
+        fd = None
+    if fd is None or fcntl is None:
+        yield
+        return
+    try:
+        deadline = time.monotonic() + _WAIT_S
+        while True:
+            try:
+                fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+                break
+            except OSError:
+                if time.monotonic() > deadline:
+                    break
+                time.sleep(0.02)
+        yield
+    finally:
+        os.close(fd)  # and with it the lock
+
+
 def stored(name: str, key: str, compute: Callable[[], T]) -> T:
     """``compute()``, or what an earlier process stored for the same ``key`` (the text of every input) under the
     same camdyn source, JAX stack and machine (:func:`_fingerprint`: the same programs, so the same numbers);
@@ -340,12 +376,16 @@ def _load_or_compile(
         a, kw = unflatten_parts(treedef, forms, [next(it) if b else next(fixed) for b in is_array])
         return fn(*a, **kw)
 
-    try:
-        program, blob = _compile(flat, avals, name, options)
-    except Exception:  # e.g. a host callback, which cannot be serialized: plain jit
-        return jitted
-    _prune(root)
-    _save(file, blob)
+    with _compiling(file):
+        program = _load(file)  # stored by another process while this one waited
+        if program is not None:
+            return program
+        try:
+            program, blob = _compile(flat, avals, name, options)
+        except Exception:  # e.g. a host callback, which cannot be serialized: plain jit
+            return jitted
+        _prune(root)
+        _save(file, blob)
     return program
 
 

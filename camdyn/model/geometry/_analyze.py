@@ -13,7 +13,7 @@ from jax.typing import ArrayLike
 from ..._core.errors import InputError, NumericalError
 from ..._core.units import CUSP_MM, THETA_GRID, newton_per_torque
 from ...schema import FollowerSpec
-from ._kernel import check_assembly, evaluate_geometry, with_breaks
+from ._kernel import MotionSamples, check_assembly, evaluate_geometry, geometry_on, sample_motion, with_breaks
 
 if TYPE_CHECKING:
     from ..motion import Motion
@@ -82,12 +82,22 @@ def _extremes(f: FollowerSpec, theta_rad: np.ndarray, ev: dict[str, np.ndarray])
 
 
 def extremes(
-    motion: Motion, follower: FollowerSpec, *, base_radius: float | None = None, n: int = THETA_GRID
+    motion: Motion | MotionSamples,
+    follower: FollowerSpec,
+    *,
+    base_radius: float | None = None,
+    n: int = THETA_GRID,
 ) -> GeometryExtremes:
     """The geometry's extremes on n equal steps plus both sides of every break, with the follower's own base
-    radius or ``base_radius`` (mm; the base-circle search varies it without rebuilding the follower)."""
-    th = with_breaks(motion, _grid(n))
-    return _extremes(follower, th, evaluate_geometry(motion, follower, th, base_radius))
+    radius or ``base_radius`` (mm; the base-circle search varies it without rebuilding the follower). ``motion`` may
+    be :func:`extremes_samples` of the motion, the same angles sampled once for many base radii."""
+    samples = motion if isinstance(motion, MotionSamples) else extremes_samples(motion, n)
+    return _extremes(follower, samples.theta, geometry_on(samples, follower, base_radius))
+
+
+def extremes_samples(motion: Motion, n: int = THETA_GRID) -> MotionSamples:
+    """The motion on the angles :func:`extremes` judges (n equal steps plus both sides of every break)."""
+    return sample_motion(motion, with_breaks(motion, _grid(n)))
 
 
 def geometry_columns(ev: dict[str, np.ndarray]) -> dict[str, np.ndarray]:

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
+from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 import jax
@@ -230,26 +231,51 @@ def evaluate_geometry(
     motion: Motion, f: FollowerSpec, theta_rad: ArrayLike, base_radius: float | None = None
 ) -> dict[str, np.ndarray]:
     """Evaluate at any number of angles (rad) in fixed-size chunks, so nothing recompiles per query size."""
+    return geometry_on(sample_motion(motion, theta_rad), f, base_radius)
+
+
+def geometry_on(samples: MotionSamples, f: FollowerSpec, base_radius: float | None = None) -> dict[str, np.ndarray]:
+    """:func:`evaluate_geometry` on a motion already sampled (:func:`sample_motion`) at its angles."""
     p = follower_params(f, base_radius)
-    return chunked(motion, theta_rad, lambda theta, sv: _geometry(p, theta, sv, f.follower_type))
+    return on_samples(samples, lambda theta, sv: _geometry(p, theta, sv, f.follower_type))
+
+
+@dataclass(frozen=True)
+class MotionSamples:
+    """A motion's values (s and its first three derivatives) at angles, in the fixed-size chunks of :data:`_CHUNK`
+    angles the geometry programs take: sampled once where several geometries of one motion are evaluated (the
+    base-circle search evaluates some 70)."""
+
+    theta: np.ndarray  # the angles (rad), any shape
+    chunks: tuple[tuple[np.ndarray, np.ndarray], ...]  # (angles, values (4, n)) of each chunk, zero-padded
+
+
+def sample_motion(motion: Motion, theta_rad: ArrayLike) -> MotionSamples:
+    """``motion`` at any number of angles (rad), in :data:`_CHUNK`-angle chunks."""
+    theta_rad = np.asarray(theta_rad, dtype=float)
+    flat = np.atleast_1d(theta_rad).ravel()
+    padded = np.zeros(max(1, -(-flat.size // _CHUNK)) * _CHUNK)
+    padded[: flat.size] = flat
+    # numpy between the programs: an eager jax op compiles one of its own
+    chunks = tuple((theta, np.asarray(evaluate(motion, theta))) for theta in padded.reshape(-1, _CHUNK))
+    return MotionSamples(theta_rad, chunks)
+
+
+def on_samples(samples: MotionSamples, program: Callable[[np.ndarray, np.ndarray], dict]) -> dict[str, np.ndarray]:
+    """``program(theta, sv)`` (a compiled geometry of :data:`_CHUNK` angles) over the sampled angles, plus the
+    motion ``s``, each shaped as the angles."""
+    n, shape = samples.theta.size, samples.theta.shape
+    parts = [program(theta, sv) | {"s": sv[0]} for theta, sv in samples.chunks]
+    out = {k: np.concatenate([np.asarray(part[k]) for part in parts])[:n] for k in parts[0]}
+    return {k: v.reshape(shape + v.shape[1:]) for k, v in out.items()}
 
 
 def chunked(
-    motion: Motion, theta_rad: ArrayLike, program: Callable[[np.ndarray, jax.Array | np.ndarray], dict]
+    motion: Motion, theta_rad: ArrayLike, program: Callable[[np.ndarray, np.ndarray], dict]
 ) -> dict[str, np.ndarray]:
     """``program(theta, sv)`` (a compiled geometry of :data:`_CHUNK` angles) over any number of angles (rad), in
     fixed-size chunks, plus the motion ``s``."""
-    theta_rad = np.asarray(theta_rad, dtype=float)
-    flat = np.atleast_1d(theta_rad).ravel()
-    n = flat.size
-    padded = np.zeros(max(1, -(-n // _CHUNK)) * _CHUNK)
-    padded[:n] = flat
-    parts = []
-    for theta in padded.reshape(-1, _CHUNK):  # numpy between the programs: an eager jax op compiles one of its own
-        sv = evaluate(motion, theta)
-        parts.append(program(theta, sv) | {"s": np.asarray(sv)[0]})
-    out = {k: np.concatenate([np.asarray(part[k]) for part in parts])[:n] for k in parts[0]}
-    return {k: v.reshape(theta_rad.shape + v.shape[1:]) for k, v in out.items()}
+    return on_samples(sample_motion(motion, theta_rad), program)
 
 
 def with_breaks(motion: Motion, theta_rad: np.ndarray) -> np.ndarray:
