@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import functools
 import math
+from typing import NamedTuple
 
 import jax.numpy as jnp
 import numpy as np
@@ -34,6 +35,7 @@ from camdyn.model.motion import Program
 
 RPM = 2 * math.pi / 60
 N = 4096  # one grid for every compliant_response / linear_min_force call (one compile per structure)
+ONE = np.asarray(1.0)  # a revolution at the shooting's full tolerances (not loosened)
 
 LECTURE = {
     "name": "lecture",
@@ -360,7 +362,7 @@ def test_diffrax_vs_solve_ivp_with_separation(lecture):
     xs, ps, _ = scipy_revolutions(model, omega, z0, revs=3, rtol=1e-10, atol=1e-12)
     z = jnp.asarray(z0)
     for rev in range(3):
-        traj, z, _, ok = _compliant._rev_jit(motion, model, jnp.asarray(omega), z, jnp.asarray(theta))
+        traj, z, _, ok = _compliant._rev_jit(motion, model, jnp.asarray(omega), z, jnp.asarray(theta), ONE)
         traj = np.asarray(traj)
         assert bool(ok)
         f = contact_force_np(model, omega, theta, traj[:, 0], traj[:, 1])
@@ -380,16 +382,18 @@ def test_bouncing_monodromy_is_the_flows_jacobian(lecture):
     omega, theta = jnp.asarray(600 * RPM), jnp.asarray(np.arange(N) * (2 * math.pi / N))
     z = jnp.asarray([-30.0 / 1e3, 0.0])
     for _ in range(3):
-        traj, z, mono, ok = _compliant._rev_jit(motion, model, omega, z, theta)
+        traj, z, mono, ok = _compliant._rev_jit(motion, model, omega, z, theta, ONE)
         assert bool(ok)
     f = contact_force_np(model, float(omega), np.asarray(theta), *np.asarray(traj).T)
     landings = int(np.sum((f[1:] > 0.0) & (f[:-1] <= 0.0)))
     assert landings >= 5  # it does bounce
-    _, _, mono, _ = _compliant._rev_jit(motion, model, omega, z, theta)
+    _, _, mono, _ = _compliant._rev_jit(motion, model, omega, z, theta, ONE)
     h = 1e-5
     columns = []
     for e in np.eye(2):
-        ends = [np.asarray(_compliant._rev_jit(motion, model, omega, z + sign * h * e, theta)[1]) for sign in (1, -1)]
+        ends = [
+            np.asarray(_compliant._rev_jit(motion, model, omega, z + sign * h * e, theta, ONE)[1]) for sign in (1, -1)
+        ]
         columns.append((ends[0] - ends[1]) / (2 * h))
     fd = np.stack(columns, axis=1)
     assert np.max(np.abs(np.asarray(mono) - fd)) <= 1e-4 * np.max(np.abs(fd)), (np.asarray(mono), fd)  # 2.9e-6
@@ -681,15 +685,20 @@ def test_residual_vibration(lecture, lecture_300, scipy_300):
     assert ring[0] > 1e-3 and ring[1] < 0.1 * ring[0] and ring[2] < 0.1 * ring[1], ring  # dies out much faster
 
 
-def _counting_revolutions(monkeypatch) -> list[float]:
-    """Counts the shooting's one-revolution solves (``_compliant._rev_jit`` calls) into the returned list: each
-    one's mismatch |Phi(z) - z| (motion units)."""
-    calls: list[float] = []
+class Revolution(NamedTuple):
+    mismatch: float  # |Phi(z) - z|, motion units
+    loose: bool  # at the tolerances loosened (a revolution that steers the shooting)
+    start: np.ndarray  # z
+
+
+def _counting_revolutions(monkeypatch) -> list[Revolution]:
+    """Counts the shooting's one-revolution solves (``_compliant._rev_jit`` calls) into the returned list."""
+    calls: list[Revolution] = []
     solve = _compliant._rev_jit
 
-    def counted(motion, model, omega, z, theta):
-        out = solve(motion, model, omega, z, theta)
-        calls.append(float(np.linalg.norm(np.asarray(out[1]) - np.asarray(z))))
+    def counted(motion, model, omega, z, theta, loosen):
+        out = solve(motion, model, omega, z, theta, loosen)
+        calls.append(Revolution(float(np.linalg.norm(np.asarray(out[1]) - np.asarray(z))), loosen > 1, np.asarray(z)))
         return out
 
     monkeypatch.setattr(_compliant, "_rev_jit", counted)
@@ -710,9 +719,10 @@ UNSETTLED_SEGMENTS = [
 
 @pytest.mark.slow
 def test_shooting_that_does_not_converge_reports_its_best_revolution(monkeypatch):
-    """A cam whose follower bounces without settling, not even every other revolution: the revolution reported is
-    the one of least mismatch, ten revolutions more without a lower one end the run, and the search for a bouncing
-    that repeats every other revolution gives up at a checkpoint (the two-revolution mismatch did not halve)."""
+    """A cam whose follower bounces without settling, not even every other revolution: ten revolutions without a
+    lower mismatch end the run, which steers at loose tolerances while its mismatch is large; the revolution reported
+    is the start of least mismatch run again at the full ones; and the search for a bouncing that repeats every other
+    revolution gives up at a checkpoint (the two-revolution mismatch did not halve)."""
     revs = _counting_revolutions(monkeypatch)
     case = case_from_dict(LECTURE | {"motion": {"segments": UNSETTLED_SEGMENTS}})
     r = dyn.compliant_response(case.motion, case.model, case.speed_rpm * RPM)
@@ -720,10 +730,13 @@ def test_shooting_that_does_not_converge_reports_its_best_revolution(monkeypatch
     which = said.split("results are for revolution ")[1].split(" integrated")[0]
     best, total = (int(x) for x in which.split(" of the "))
     assert total == len(revs)
-    run = revs[: best + _compliant._STALL_REVS]  # the shooting's own; the period-two search's follow
-    assert r.separations and r.periodicity_error == revs[best - 1] == min(run) > _compliant.periodic_tol(r.s)
-    searched = total - len(run)
-    assert searched > 0 and searched % _compliant._PERIOD2_CHECK == 0, (best, total)
+    run, again = revs[: best - 1], revs[best - 1]  # the shooting's own, and its best start at the full tolerances
+    least = min(range(len(run)), key=lambda i: run[i].mismatch)
+    assert all(rev.loose for rev in run) and len(run) == least + 1 + _compliant._STALL_REVS
+    assert not again.loose and np.array_equal(again.start, run[least].start)
+    assert r.separations and r.periodicity_error == again.mismatch > _compliant.periodic_tol(r.s)
+    searched = total - best  # the period-two search's, at the full tolerances
+    assert searched > 0 and searched % _compliant._PERIOD2_CHECK == 0 and not any(x.loose for x in revs[best:])
     assert r.period_revolutions is None  # check --json: "period_revolutions": null
 
 
@@ -807,6 +820,8 @@ def test_thousand_segment_program_gets_a_verdict(monkeypatch):
     # periodic tolerance (8 when the monodromy missed the saltation, 10 when a first Newton step threw the start 25 mm
     # off, 15 when 2 more had to see the floor, 68 before it)
     assert len(revs) <= 6
+    # all but the last steer at loosened tolerances (under half the steps each); the last, at the full ones, is judged
+    assert [rev.loose for rev in revs] == [True] * (len(revs) - 1) + [False]
     assert report.response.periodicity_error <= _compliant.periodic_tol(report.response.s)
     assert report.dynamic.json()["period_revolutions"] == 1
     assert len(report.response.flights) == 500 and len(report.response.impacts) == 500

@@ -128,9 +128,10 @@ _JUMP_WINDOW, _SAVE_WINDOW = 8, 64
 _MAX_PIECES = 50_000  # switches and windows a revolution: a follower that chatters past it fails (NumericalError)
 
 
-def _rev_with_sensitivity(motion, model, omega, z0, theta):
+def _rev_with_sensitivity(motion, model, omega, z0, theta, loosen):
     """One revolution from z0 where the follower may leave the cam, as ``_compliant._rev_in_contact`` where it stays
-    on: the state on ``theta`` and at 2 pi, the monodromy and whether the solve succeeded. In pieces between the
+    on: the state on ``theta`` and at 2 pi, the monodromy and whether the solve succeeded; at the step-size
+    controller's tolerances times ``loosen`` (1: :data:`RTOL`, :data:`ATOL`). In pieces between the
     contact's switches, each found as the root of the switch on Tsit5's interpolation (diffrax's event, by
     bisection), with the contact held in each piece (a smooth field: stepping through the contact's kink cost
     about 40 rejected steps a switch), the monodromy through each piece in closed form (:func:`_mode_flow`) and
@@ -141,7 +142,7 @@ def _rev_with_sensitivity(motion, model, omega, z0, theta):
     jumps = jnp.sort(jnp.asarray(motion.jump_angles(), dtype=float).ravel())
     jumps = jnp.concatenate([jumps, jnp.full(_JUMP_WINDOW, jnp.inf)])
     angles = jnp.concatenate([theta, jnp.full(_SAVE_WINDOW, TWO_PI)])
-    pid = diffrax.PIDController(rtol=RTOL, atol=ATOL)
+    pid = diffrax.PIDController(rtol=RTOL * loosen, atol=ATOL * loosen)
     event = diffrax.Event(_piece_ends, _past_the_switch(), direction=True)
     term = diffrax.ODETerm(_mode_field)
 
