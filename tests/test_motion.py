@@ -174,6 +174,21 @@ def test_smooth_program_has_no_warnings():
     assert prog.continuity_warnings() == []
 
 
+@pytest.mark.parametrize("name", ["lecture-optimized", "valvetrain", "polynomial", "oscillating"])
+def test_every_segments_end_at_once_is_its_left_limit(name):
+    """The left side of every boundary in one evaluation (the continuity check of 1000 segments: 0.15 -> 0.016 s;
+    B-splines, boundary polynomials and named laws alike) is the program just before the boundary, by its piece
+    table: within 1e-6 of each derivative's largest magnitude at 1e-8 rad before it."""
+    program = load_case(Path(__file__).resolve().parents[1] / "cases" / f"{name}.toml").motion
+    assert isinstance(program, Program)
+    ends = program.segment_ends()
+    assert ends.shape == (4, len(program.segments))
+    peak = np.max(np.abs(program.host(np.linspace(0.0, 2 * np.pi, 3601))), axis=1)
+    before = program.host(np.deg2rad(np.array([seg.end for seg in program.segments])) - 1e-8)
+    assert np.all(np.abs(ends - before) <= 1e-6 * peak[:, None])
+    assert np.array_equal(ends[:, 1], program.segment_end(program.segments[1]))
+
+
 def test_velocity_jump_is_reported():
     prog = Program.from_segments(
         [{"law": "constant-velocity", "end": 180, "lift": 10}, {"law": "constant-velocity", "end": 360, "lift": -10}]

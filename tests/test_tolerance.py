@@ -150,13 +150,16 @@ def _free_port() -> int:
         return s.getsockname()[1]
 
 
-ENV = {**os.environ, "JAX_PLATFORMS": "cpu", "CAMDYN_NO_CACHE": "1", "XLA_FLAGS": ""}
+# the one process loads the session's stored programs; the two trace their own (a stored program runs on the first of
+# the devices, and with two processes the first may be the other's)
+ENV_ONE = {**os.environ, "JAX_PLATFORMS": "cpu", "XLA_FLAGS": ""}
+ENV = ENV_ONE | {"CAMDYN_NO_CACHE": "1"}
 
 
 def _one_and_two(args: list[str], tmp_path: Path):
     """Run ``args`` as 1 process into tmp/one and as 2 processes (localhost coordinator) into tmp/two: (the one's
     stdout, the two's (stdout, stderr) per process)."""
-    one = subprocess.run([*args, "-o", str(tmp_path / "one")], env=ENV, capture_output=True, text=True, timeout=300)
+    one = subprocess.run([*args, "-o", str(tmp_path / "one")], env=ENV_ONE, capture_output=True, text=True, timeout=300)
     assert one.returncode == 0, one.stderr
     port = _free_port()
     procs = [

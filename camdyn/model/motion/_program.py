@@ -220,10 +220,10 @@ class Program(Motion):
         peak = np.max(np.abs(self._eval(np, np.linspace(0.0, TWO_PI, 3601))), axis=1)
         # the right side of every boundary in one evaluation (one angle at a time: 0.3 ms each, 1000 segments)
         rights = self._eval(np, np.deg2rad(np.array([seg.end % 360.0 for seg in self.segments])))
+        lefts = self.segment_ends()
         for i, seg in enumerate(self.segments):
             nxt = self.segments[(i + 1) % n]
-            left = self.segment_end(seg)
-            right = rights[:, i]
+            left, right = lefts[:, i], rights[:, i]
             for order, name, unit in ((1, "velocity", f"{lu}/rad"), (2, "acceleration", f"{lu}/rad^2")):
                 jump = right[order] - left[order]
                 if abs(jump) > JUMP_RTOL * max(float(peak[order]), abs(left[order]), abs(right[order])):
@@ -247,13 +247,23 @@ class Program(Motion):
     def segment_end(self, seg: Segment) -> np.ndarray:
         """s and its first three derivatives at ``seg``'s end by its own law (the motion's unit per rad^d): the
         left side of the boundary, where the program evaluated there gives the next segment's start."""
-        t, lift = seg.table(self.kind.motion_per_lift)
-        u = np.array(1.0 - t.x0[-1])
-        vals = _piece_eval(np, u, t.c[-1], t.w[-1], t.p1[-1], t.p2[-1], t.y0[-1], t.v0[-1])
-        beta = math.radians(seg.end - seg.start)
-        return np.array(
-            [seg.base + lift * vals[0], lift * vals[1] / beta, lift * vals[2] / beta**2, lift * vals[3] / beta**3]
-        )
+        return self._ends((seg,))[:, 0]
+
+    def segment_ends(self) -> np.ndarray:
+        """:meth:`segment_end` of every segment, (4, segments), in one evaluation (1000 segments: 0.1 s one by
+        one)."""
+        return self._ends(self.segments)
+
+    def _ends(self, segments: tuple[Segment, ...]) -> np.ndarray:
+        tables = [seg.table(self.kind.motion_per_lift) for seg in segments]
+        width = max(t.c.shape[-1] for t, _ in tables)
+        c = np.stack([np.pad(t.c[-1], (0, width - t.c.shape[-1])) for t, _ in tables])
+        last = {k: np.array([getattr(t, k)[-1] for t, _ in tables]) for k in ("x0", "w", "p1", "p2", "y0", "v0")}
+        y, v, a, j = _piece_eval(np, 1.0 - last["x0"], c, last["w"], last["p1"], last["p2"], last["y0"], last["v0"])
+        lift = np.array([lift for _, lift in tables])
+        base = np.array([seg.base for seg in segments])
+        beta = np.radians(np.array([seg.end - seg.start for seg in segments]))
+        return np.stack([base + lift * y, lift * v / beta, lift * a / beta**2, lift * j / beta**3])
 
 
 def _pad_rows(a: np.ndarray, rows: int, fill: float | None = None) -> np.ndarray:
