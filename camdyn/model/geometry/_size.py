@@ -53,9 +53,10 @@ def min_base_radius(
     """The least base radius (mm) meeting the pressure-angle (deg) and curvature limits, to 1e-6 mm.
 
     The pressure angle falls and the pitch curve flattens as the base circle grows, so the limits hold above
-    one threshold; a coarse scan first finds a passing radius (guarding against non-monotone oscillating
-    layouts), then bisection. ``min_curvature_ratio`` None judges the pressure angle alone (:func:`passes`).
-    Oscillating layouts bound Rb by the pivot and arm; raises :class:`NumericalError` if no admissible base
+    one threshold: bisection between a radius that fails and one that holds (for an oscillating layout, which need
+    not be monotone, the first that holds in a coarse scan of the admissible radii and the one before it).
+    ``min_curvature_ratio`` None judges the pressure angle alone (:func:`passes`). Oscillating layouts bound Rb by
+    the pivot and arm; raises :class:`NumericalError` if no admissible base
     radius passes.
     """
     f = follower
@@ -96,16 +97,21 @@ def min_base_radius(
         lo, hi = lo + 1e-6 * (hi - lo), hi - 1e-6 * (hi - lo)
         if hi <= lo:
             raise NumericalError("follower.base_radius", "no admissible base radius for this pivot and arm")
-    grid = np.linspace(lo, hi, 33)
-    good = [i for i, rb in enumerate(grid) if ok(rb)]
-    if not good:
-        raise NumericalError(
-            "follower.base_radius",
-            f"no base radius in ({lo:.4g}, {hi:.4g}) mm meets the limits; move the pivot or change the arm",
-        )
-    if good[0] == 0:
-        return float(grid[0])
-    a, b = grid[good[0] - 1], grid[good[0]]
+    if f.translating:  # the limits hold above one radius (hi holds): bisect between lo and hi
+        if ok(lo):
+            return float(lo)
+        a, b = lo, hi
+    else:  # the first of a coarse scan that holds (an oscillating layout need not be monotone), then bisect
+        grid = np.linspace(lo, hi, 33)
+        first = next((i for i, rb in enumerate(grid) if ok(rb)), None)
+        if first is None:
+            raise NumericalError(
+                "follower.base_radius",
+                f"no base radius in ({lo:.4g}, {hi:.4g}) mm meets the limits; move the pivot or change the arm",
+            )
+        if first == 0:
+            return float(grid[0])
+        a, b = grid[first - 1], grid[first]
     for _ in range(200):  # halves down to 1e-6 mm from any bracket a float can hold
         if b - a <= 1e-6:
             break
