@@ -240,7 +240,7 @@ def _shoot(motion: Motion, model: FollowerModel, omega: float, theta):
     damping = 1.0  # the share of a Newton step taken where the follower leaves the cam: halved by each that missed
     starts: list[np.ndarray] = []  # the plain revolutions' run: each one's start, and the last one's end
     trajs: list[Any] = []  # and each one's trajectory
-    # far from the orbit a revolution only steers the iteration: at looser tolerances, a third of the steps
+    # far from the orbit a revolution only steers the iteration: at looser tolerances, in under half the steps
     last_r, run_loose, best_loose, best_start = math.inf, not smooth, False, z
     for i in range(_NEWTON_ITERS + _PLAIN_REVS):
         loose = run_loose and last_r > _TIGHTEN * floor  # tightened once, for good: no steering back and forth

@@ -56,8 +56,7 @@ def min_base_radius(
     one threshold: bisection between a radius that fails and one that holds (for an oscillating layout, which need
     not be monotone, the first that holds in a coarse scan of the admissible radii and the one before it).
     ``min_curvature_ratio`` None judges the pressure angle alone (:func:`passes`). Oscillating layouts bound Rb by
-    the pivot and arm; raises :class:`NumericalError` if no admissible base
-    radius passes.
+    the pivot and arm; raises :class:`NumericalError` if no admissible base radius passes.
     """
     f = follower
     max_pa = f.kind.default_max_pressure_angle_deg if max_pressure_angle is None else max_pressure_angle
