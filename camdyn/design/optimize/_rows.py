@@ -21,7 +21,7 @@ from ..._core.jit import cached_jit
 from ..._core.kinds import FollowerType
 from ..._core.units import newton_per_torque
 from ...model.case import Case
-from ...model.dynamics import free_vibration, kinematic_force_of, steady_state, train_force
+from ...model.dynamics import free_vibration, kinematic_force_of, steady_state, train_force, vibration_coefficients
 from ...model.follower import FollowerModel
 from ...model.geometry import analyze, curvature_limit, follower_params, geometry_of
 from ...model.valvetrain import Rocker
@@ -148,9 +148,8 @@ class RowsKernel(eqx.Module):
         at = theta[i - 1] + u * (theta[i] - theta[i - 1])
         h0 = x_seat - (x[i - 1] + u * (x[i] - x[i - 1]))
         h1 = -(x1[i - 1] + u * (x1[i] - x1[i - 1]))
-        mw2 = model.mass * w**2
-        a = (model.train_stiffness + model.stiffness) / mw2
-        b = (model.train_damping + model.damping) * w / mw2
+        k, c = model.train_stiffness + model.stiffness, model.train_damping + model.damping
+        a, b = vibration_coefficients(model.mass, k, c, w)
         # an event that runs through theta = 0 (its valve up where the grid starts) keeps the steady state alone
         after = (theta >= at) & jnp.any(up) & ~up[0]
         e00, e01, e10, e11 = free_vibration(a, b, jnp.where(after, theta - at, 0.0))

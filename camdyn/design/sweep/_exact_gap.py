@@ -23,7 +23,7 @@ import jax
 import jax.numpy as jnp
 
 from ..._core.units import TWO_PI
-from ...model.dynamics import free_vibration, steady_spectrum
+from ...model.dynamics import free_vibration, steady_spectrum, vibration_coefficients
 from ._grid import GAP_LAST, GAP_REVS
 
 _ILLINOIS = 3  # iterations locating a contact switch within a step
@@ -176,14 +176,11 @@ def _gap(const, omega, k, gather: bool):
     n_fft = 2 * (spec.shape[0] - 1)
     m_steps = s_tab.shape[0]
     h = TWO_PI / m_steps
-    mw2 = base.mass * omega**2
     c = base.damping_at(k)
     md = _Modes(
-        k / mw2,
-        c / (base.mass * omega),
-        base.train_stiffness / mw2,
-        base.train_damping / (base.mass * omega),
-        (base.preload + base.external) / (mw2 * base.scale),
+        *vibration_coefficients(base.mass, k, c, omega),
+        *vibration_coefficients(base.mass, base.train_stiffness, base.train_damping, omega),
+        (base.preload + base.external) / (base.mass * omega**2 * base.scale),
     )
     x_spec = steady_spectrum(spec, omega[:, None], base, k[:, None], c[:, None], n_fft, base.scale, conjugate=True)
     xl, pl = _on_steps(x_spec, n_fft, m_steps)

@@ -39,7 +39,14 @@ from ._kinematic import (
 from ._response import dynamic_jump_speed, first_zero_speed, jump_search_limit, response, store_response
 from ._result import Flight, Impact, Response, Separation
 from ._rigid import rigid_response
-from ._train import contact_force, free_vibration, preload_share, static_position, train_force
+from ._train import (
+    contact_force,
+    free_vibration,
+    preload_share,
+    static_position,
+    train_force,
+    vibration_coefficients,
+)
 from ._valvefast import ValveSummary, fast_valve_summary
 from ._valvepoint import ValvePoint, bounce_speed, float_speed, valve_scan_speeds
 from ._valveresponse import ValveEvent, ValvetrainResponse
@@ -82,6 +89,7 @@ __all__ = [
     "steady_train_force",
     "store_response",
     "train_force",
+    "vibration_coefficients",
     "ValveEvent",
     "ValvetrainResponse",
     "ValvePoint",

@@ -26,7 +26,7 @@ from ._harmonic import linear_least_force, steady_state
 from ._kinematic import kinematic_force, kinematic_force_of
 from ._pieces import _ON, _mode_flow, _rev_with_sensitivity
 from ._result import Response, residual_vibration, separations_from_mask
-from ._solver import ATOL, MAX_STEPS, RTOL, SMOOTH_ATOL, SMOOTH_RTOL
+from ._solver import MAX_STEPS, SMOOTH_ATOL, SMOOTH_RTOL
 from ._train import contact_force, follower_rates, static_position
 
 
@@ -39,15 +39,16 @@ def vector_field(theta: ArrayLike, y: jax.Array, args: Any) -> jax.Array:
     return follower_rates(model, omega, x, p, fi)
 
 
-def _controller(motion: Motion, theta0, revs: float, rtol: float = RTOL, atol: float = ATOL):
+def _controller(motion: Motion, rtol: float, atol: float):
+    """The step-size controller of a revolution from theta = 0, told the motion's breaks (and their images a
+    revolution either side)."""
     import diffrax  # diffrax loads where a program is traced, not where a stored one runs
 
     breaks = motion.jump_angles()  # data padded with +inf for a program: the controller skips those
     pid = diffrax.PIDController(rtol=rtol, atol=atol)
     if np.size(breaks) == 0:
         return pid
-    jumps = jnp.sort((jnp.asarray(breaks)[None, :] + TWO_PI * np.arange(-1, math.ceil(revs) + 2)[:, None]).ravel())
-    jumps = jumps + 0.0 * theta0
+    jumps = jnp.sort((jnp.asarray(breaks)[None, :] + TWO_PI * np.arange(-1, 3)[:, None]).ravel())
     return diffrax.ClipStepSizeController(pid, jump_ts=jumps)
 
 
@@ -97,7 +98,7 @@ def _rev_in_contact(motion, model, omega, z0, theta):
         y0=z0,
         args=(motion, model, omega, True),
         saveat=diffrax.SaveAt(ts=theta, t1=True),
-        stepsize_controller=_controller(motion, 0.0, 1, SMOOTH_RTOL, SMOOTH_ATOL),
+        stepsize_controller=_controller(motion, SMOOTH_RTOL, SMOOTH_ATOL),
         max_steps=MAX_STEPS,
         throw=False,
     )

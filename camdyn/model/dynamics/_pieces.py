@@ -17,7 +17,7 @@ import jax.numpy as jnp
 
 from ..._core.units import TWO_PI
 from ._solver import ATOL, MAX_STEPS, RTOL
-from ._train import follower_rates, free_vibration, train_force
+from ._train import follower_rates, free_vibration, train_force, vibration_coefficients
 
 
 def _mode_field(theta, y, args):
@@ -36,8 +36,8 @@ def _mode_flow(model, omega, mode, span):
     g(theta)`` with ``J = [[0, 1], [-a, -b]]``, ``a = (k + k_f) / (m w^2)``, ``b = (c + c_f) / (m w)`` on the cam
     (without the train's terms in flight), so the variational equations' solution is ``exp(J span)``, closed form."""
     on = mode == _ON
-    a = (model.stiffness + jnp.where(on, model.train_stiffness, 0.0)) / (model.mass * omega**2)
-    b = (model.damping + jnp.where(on, model.train_damping, 0.0)) / (model.mass * omega)
+    k = model.stiffness + jnp.where(on, model.train_stiffness, 0.0)
+    a, b = vibration_coefficients(model.mass, k, model.damping + jnp.where(on, model.train_damping, 0.0), omega)
     e00, e01, e10, e11 = free_vibration(a, b, span)
     return jnp.stack([jnp.stack([e00, e01]), jnp.stack([e10, e11])])
 

@@ -66,6 +66,14 @@ def preload_share(stiffness: Num, train_stiffness: Num) -> Num:
     return train_stiffness / (stiffness + train_stiffness)
 
 
+def vibration_coefficients(
+    mass: Values, stiffness: Values, damping: Values, omega: Values
+) -> tuple[jax.Array, jax.Array]:
+    """A linear follower's ``a = k / (m w^2)`` and ``b = c / (m w)`` (SI), its stiffness and damping per unit mass in
+    cam-angle time: :func:`free_vibration`'s coefficients (in a compiled program: eagerly each is a program)."""
+    return jnp.asarray(stiffness / (mass * omega**2)), jnp.asarray(damping / (mass * omega))
+
+
 def free_vibration(a: Values, b: Values, t: Values) -> tuple[jax.Array, jax.Array, jax.Array, jax.Array]:
     """exp(A t) for A = [[0, 1], [-a, -b]] in closed form (under-, critically or over-damped): (e00, e01, e10,
     e11). The free motion of a linear follower, ``y'' = -a y - b y'``, over ``t`` (any consistent units: the cam
