@@ -70,7 +70,7 @@ def vibration_coefficients(
     mass: Values, stiffness: Values, damping: Values, omega: Values
 ) -> tuple[jax.Array, jax.Array]:
     """A linear follower's ``a = k / (m w^2)`` and ``b = c / (m w)`` (SI), its stiffness and damping per unit mass in
-    cam-angle time: :func:`free_vibration`'s coefficients (in a compiled program: eagerly each is a program)."""
+    cam-angle time: :func:`free_vibration`'s coefficients, as JAX arrays (for compiled programs)."""
     return jnp.asarray(stiffness / (mass * omega**2)), jnp.asarray(damping / (mass * omega))
 
 

@@ -82,16 +82,16 @@ def _extremes(f: FollowerSpec, theta_rad: np.ndarray, ev: dict[str, np.ndarray])
 
 
 def extremes(
-    motion: Motion | MotionSamples,
-    follower: FollowerSpec,
-    *,
-    base_radius: float | None = None,
-    n: int = THETA_GRID,
+    motion: Motion, follower: FollowerSpec, *, base_radius: float | None = None, n: int = THETA_GRID
 ) -> GeometryExtremes:
     """The geometry's extremes on n equal steps plus both sides of every break, with the follower's own base
-    radius or ``base_radius`` (mm; the base-circle search varies it without rebuilding the follower). ``motion`` may
-    be :func:`extremes_samples` of the motion, the same angles sampled once for many base radii."""
-    samples = motion if isinstance(motion, MotionSamples) else extremes_samples(motion, n)
+    radius or ``base_radius`` (mm; the base-circle search varies it without rebuilding the follower)."""
+    return extremes_on(extremes_samples(motion, n), follower, base_radius)
+
+
+def extremes_on(samples: MotionSamples, follower: FollowerSpec, base_radius: float | None = None) -> GeometryExtremes:
+    """:func:`extremes` on the motion already sampled at their angles (:func:`extremes_samples`): once for the many
+    base radii of the base-circle search."""
     return _extremes(follower, samples.theta, geometry_on(samples, follower, base_radius))
 
 

@@ -11,7 +11,7 @@ import numpy as np
 from ..._core.errors import NumericalError
 from ..._core.units import CUSP_MM, DEFAULT_MIN_CURVATURE_RATIO, THETA_GRID
 from ...schema import FollowerSpec
-from ._analyze import GeometryExtremes, extremes, extremes_samples
+from ._analyze import GeometryExtremes, extremes_on, extremes_samples
 from ._kernel import check_assembly
 
 if TYPE_CHECKING:
@@ -67,11 +67,11 @@ def min_base_radius(
 
     def ok(rb: float) -> bool:
         try:
-            return passes(f, extremes(samples, f, base_radius=rb), max_pa, min_curvature_ratio)
+            return passes(f, extremes_on(samples, f, rb), max_pa, min_curvature_ratio)
         except NumericalError:  # a degenerate layout at this radius: not a solution
             return False
 
-    span = max(extremes(samples, f).lift_range, 1e-3)  # lift (mm): a scale for the search
+    span = max(extremes_on(samples, f).lift_range, 1e-3)  # lift (mm): a scale for the search
     if f.translating and f.roller:
         lo = max(abs(f.offset) - rr, 0.0) * (1 + 1e-9) + 1e-9
         hi = max(f.base_radius, lo, span)
