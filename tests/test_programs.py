@@ -18,6 +18,7 @@ import pytest
 import camdyn.model  # noqa: F401  (float64)
 from camdyn._core import jit as programs
 from camdyn._core import jitargs
+from camdyn.model.dynamics import _harmonic
 from camdyn.model.motion import _base as motion_base
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -442,21 +443,37 @@ def test_programs_of_other_segments_share_one_compiled_kernel_and_evaluate_alike
 
 
 def test_angles_of_other_counts_share_one_evaluate_program(monkeypatch, cache_dir):
-    """``evaluate`` pads a 1-D array of angles to the next power of two (at least 8): 300 and 500 angles run the one
-    stored program of 512, the values those of the exact shape's program to the bit, numpy, as long as the angles."""
+    """``evaluate`` pads a 1-D array of angles to the next bucket (8, 32, ..., 8192): 300 and 500 angles run the one
+    stored program of 512, and 20000 the one of 8192 three times, the values those of the exact shape's program to
+    the bit, numpy, as long as the angles."""
     from camdyn.model.motion import Program, evaluate
 
     prog = Program.from_segments(
         [{"law": "cycloidal", "end": 180, "lift": 20}, {"law": "harmonic", "end": 360, "lift": -20}]
     )
     monkeypatch.setattr(motion_base, "_evaluate", programs.cached_jit(motion_base._evaluate.__wrapped__))
-    for n in (300, 500):
+    for n in (300, 500, 20000):
         theta = np.linspace(0.0, 2 * np.pi, n)
         got = evaluate(prog, theta)
         assert isinstance(got, np.ndarray) and got.shape == (4, n)
         assert np.array_equal(got, np.asarray(jax.jit(motion_base._evaluate.__wrapped__)(prog, theta)))
-    assert len(list(cache_dir.rglob("_evaluate-*.jaxprogram"))) == 1
+    assert len(list(cache_dir.rglob("_evaluate-*.jaxprogram"))) == 2
     assert evaluate(prog, np.zeros(0)).shape == (4, 0) and evaluate(prog, 1.0).shape == (4,)
+
+
+def test_speeds_of_other_counts_share_the_least_force_programs(monkeypatch, cache_dir, lecture_case):
+    """``linear_min_force`` pads a 1-D array of speeds to a bucket (16, 64, 256, 1024; longer in pieces of 1024):
+    one speed, 600 and 2000 run two stored programs, each value the exact shape's program's to round-off (lax.map
+    batches the speeds by 64 in both, its last partial batch where the lengths differ)."""
+    exact = jax.jit(_harmonic._linear_min_force.__wrapped__, static_argnums=3)
+    monkeypatch.setattr(_harmonic, "_linear_min_force", programs.cached_jit(_harmonic._linear_min_force.__wrapped__))
+    motion, model = lecture_case.motion, lecture_case.model
+    for n in (1, 600, 2000):
+        speeds = np.linspace(10.0, 80.0, n)
+        got = _harmonic.linear_min_force(motion, model, speeds)
+        assert isinstance(got, np.ndarray) and got.shape == (n,)
+        assert np.allclose(got, np.asarray(exact(motion, model, speeds, _harmonic._FFT_N, None)), rtol=1e-12, atol=1e-9)
+    assert len(list(cache_dir.rglob("_linear_min_force-*.jaxprogram"))) == 2
 
 
 def test_a_thousand_segments_fill_one_bucket():

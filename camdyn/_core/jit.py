@@ -46,6 +46,7 @@ from typing import Any, TypeVar
 
 import equinox as eqx
 import jax
+import jax.numpy as jnp
 import numpy as np
 from jax import export
 from jax.core import Tracer
@@ -265,21 +266,33 @@ def padded_length(n: int, least: int, factor: int = 4) -> int:
     return size
 
 
-_LEAST_ANGLES = 8  # the smallest bucket of angles :func:`on_angle_buckets` compiles for
+def on_buckets(program: Callable[[Any], Any], x: Any, *, least: int, largest: int) -> Any:
+    """``program(x)`` of a program that is elementwise in ``x`` (its output's last axis), compiled for a few lengths
+    only: a 1-D array of numbers is padded (with its last value) to ``least * 4**k`` (at most ``largest``, itself
+    such a bucket) and a longer one runs in pieces of ``largest``, so one compiled program per bucket serves every
+    length, and the output comes back as numpy cut to ``x``'s length (a traced output stays traced). Inside a
+    trace, or for other shapes, ``program(x)`` as it is. Padding and pieces change no value: each element is
+    computed alone."""
+    if isinstance(x, Tracer) or np.ndim(x) != 1:
+        return program(x)
+    t = np.asarray(x, dtype=float)
+    n = t.size
+    if n <= largest:
+        size = padded_length(n, least)
+        out = program(np.pad(t, (0, size - n), mode="edge") if n else np.zeros(size))
+        return out[..., :n] if isinstance(out, Tracer) else np.asarray(out)[..., :n]
+    pieces = [on_buckets(program, t[i : i + largest], least=least, largest=largest) for i in range(0, n, largest)]
+    traced = any(isinstance(piece, Tracer) for piece in pieces)
+    return jnp.concatenate(pieces, axis=-1) if traced else np.concatenate(pieces, axis=-1)
+
+
+_ANGLE_BUCKETS = {"least": 8, "largest": 8192}  # 8, 32, ..., 8192 angles: six programs per motion form at most
 
 
 def on_angle_buckets(program: Callable[[Any], Any], theta: Any) -> Any:
-    """``program(theta)`` of a program that is elementwise in the angles (its output's last axis): a 1-D array of
-    numbers is padded (with its last angle) to the next power of two, at least 8, so one compiled program serves
-    every length in the bucket, and the output comes back as numpy cut to ``theta``'s length. Inside a trace, or for
-    other shapes, ``program(theta)`` as it is."""
-    if isinstance(theta, Tracer) or np.ndim(theta) != 1:
-        return program(theta)
-    t = np.asarray(theta, dtype=float)
-    n = t.size
-    size = padded_length(n, _LEAST_ANGLES, factor=2)
-    out = program(np.pad(t, (0, size - n), mode="edge") if n else np.zeros(size))
-    return out[..., :n] if isinstance(out, Tracer) else np.asarray(out)[..., :n]  # a traced motion: traced values
+    """:func:`on_buckets` for a program elementwise in the angles ``theta`` (rad): one of six programs serves every
+    number of angles."""
+    return on_buckets(program, theta, **_ANGLE_BUCKETS)
 
 
 def device_array(x: Any) -> jax.Array:

@@ -15,7 +15,7 @@ import jax.numpy as jnp
 import numpy as np
 from jax.typing import ArrayLike
 
-from ..._core.jit import cached_jit
+from ..._core.jit import cached_jit, on_buckets
 from ..._core.units import FFT_GRID, TWO_PI
 from ..follower import FollowerModel
 from ..motion import Motion
@@ -113,10 +113,13 @@ def steady_force_at(motion: Motion, model: FollowerModel, n: int) -> Callable[[f
     return force
 
 
-@cached_jit
+BISECT_POINTS = 16  # speeds per step of the jump-speed search's bisection (:func:`linear_min_force` calls)
+_SPEED_BUCKETS = {"least": BISECT_POINTS, "largest": 1024}  # 16, 64, 256, 1024 speeds: four programs at most
+
+
 def linear_min_force(
-    motion: Motion, model: FollowerModel, omegas: jax.Array, n: int = _FFT_N, weight: ArrayLike | None = None
-) -> jax.Array:
+    motion: Motion, model: FollowerModel, omegas: ArrayLike, n: int = _FFT_N, weight: ArrayLike | None = None
+) -> jax.Array | np.ndarray:
     """Least interface force (N) of the compliant model's periodic orbit if it never separates, per speed.
 
     While the follower stays on the cam the model is linear and time-invariant with a periodic input, so its
@@ -124,7 +127,17 @@ def linear_min_force(
     true steady state for every speed whose least force is positive, which is all the jump speed needs. Vectorized
     over ``omegas`` (any shape). ``weight``: optional (n,) factor per angle theta_k = 2 pi k / n applied before
     the minimum (``1000 / lever_arm_mm`` turns an oscillating follower's torque into its contact force in N).
+    A 1-D array of speeds on the host runs a program compiled for a bucket of lengths (:func:`on_buckets`) and
+    comes back as numpy.
     """
+    return on_buckets(lambda w: _linear_min_force(motion, model, w, n, weight), omegas, **_SPEED_BUCKETS)
+
+
+@cached_jit
+def _linear_min_force(
+    motion: Motion, model: FollowerModel, omegas: jax.Array, n: int, weight: ArrayLike | None
+) -> jax.Array:
+    """:func:`linear_min_force`'s program, for any shape of ``omegas``."""
     force = steady_force_at(motion, model, n)
 
     def one(omega: float | jax.Array) -> jax.Array:
@@ -133,9 +146,6 @@ def linear_min_force(
 
     omegas = jnp.asarray(omegas, dtype=float)
     return jax.lax.map(one, omegas.ravel(), batch_size=64).reshape(omegas.shape)
-
-
-BISECT_POINTS = 16  # speeds per step of the jump-speed search's bisection (:func:`linear_min_force` calls)
 
 
 def linear_least_force(motion: Motion, model: FollowerModel, omega: float) -> float:
