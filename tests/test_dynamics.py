@@ -34,7 +34,7 @@ from camdyn.model.follower import FollowerModel
 from camdyn.model.motion import Program
 
 RPM = 2 * math.pi / 60
-N = 4096  # one grid for every compliant_response / linear_min_force call (one compile per structure)
+N = THETA_GRID  # the grid check runs the dynamics on: the programs the rest of the suite compiles serve these tests
 ONE = np.asarray(1.0)  # a revolution at the shooting's full tolerances (not loosened)
 
 LECTURE = {
