@@ -271,8 +271,9 @@ def on_buckets(program: Callable[[Any], Any], x: Any, *, least: int, largest: in
     only: a 1-D array of numbers is padded (with its last value) to ``least * 4**k`` (at most ``largest``, itself
     such a bucket) and a longer one runs in pieces of ``largest``, so one compiled program per bucket serves every
     length, and the output comes back as numpy cut to ``x``'s length (a traced output stays traced). Inside a
-    trace, or for other shapes, ``program(x)`` as it is. Padding and pieces change no value: each element is
-    computed alone."""
+    trace, or for other shapes, ``program(x)`` as it is. The values are the program's on each element: to the bit
+    where it computes each alone (the motion's evaluation), to round-off where it batches them (the least steady
+    force's ``lax.map``)."""
     if isinstance(x, Tracer) or np.ndim(x) != 1:
         return program(x)
     t = np.asarray(x, dtype=float)
