@@ -443,8 +443,8 @@ def test_programs_of_other_segments_share_one_compiled_kernel_and_evaluate_alike
 
 
 def test_angles_of_other_counts_share_one_evaluate_program(monkeypatch, cache_dir):
-    """``evaluate`` pads a 1-D array of angles to the next bucket (8, 32, ..., 8192): 300 and 500 angles run the one
-    stored program of 512, and 20000 the one of 8192 three times, the values those of the exact shape's program to
+    """``evaluate`` pads a 1-D array of angles to the next bucket (8, 64, 512, 4096): 300 and 500 angles run the one
+    stored program of 512, and 20000 the one of 4096 five times, the values those of the exact shape's program to
     the bit, numpy, as long as the angles."""
     from camdyn.model.motion import Program, evaluate
 

@@ -266,9 +266,9 @@ def padded_length(n: int, least: int, factor: int = 4) -> int:
     return size
 
 
-def on_buckets(program: Callable[[Any], Any], x: Any, *, least: int, largest: int) -> Any:
+def on_buckets(program: Callable[[Any], Any], x: Any, *, least: int, factor: int, largest: int) -> Any:
     """``program(x)`` of a program that is elementwise in ``x`` (its output's last axis), compiled for a few lengths
-    only: a 1-D array of numbers is padded (with its last value) to ``least * 4**k`` (at most ``largest``, itself
+    only: a 1-D array of numbers is padded (with its last value) to ``least * factor**k`` (at most ``largest``, itself
     such a bucket) and a longer one runs in pieces of ``largest``, so one compiled program per bucket serves every
     length, and the output comes back as numpy cut to ``x``'s length (a traced output stays traced). Inside a
     trace, or for other shapes, ``program(x)`` as it is. The values are the program's on each element: to the bit
@@ -279,19 +279,24 @@ def on_buckets(program: Callable[[Any], Any], x: Any, *, least: int, largest: in
     t = np.asarray(x, dtype=float)
     n = t.size
     if n <= largest:
-        size = padded_length(n, least)
+        size = padded_length(n, least, factor)
         out = program(np.pad(t, (0, size - n), mode="edge") if n else np.zeros(size))
         return out[..., :n] if isinstance(out, Tracer) else np.asarray(out)[..., :n]
-    pieces = [on_buckets(program, t[i : i + largest], least=least, largest=largest) for i in range(0, n, largest)]
+    pieces = [
+        on_buckets(program, t[i : i + largest], least=least, factor=factor, largest=largest)
+        for i in range(0, n, largest)
+    ]
     traced = any(isinstance(piece, Tracer) for piece in pieces)
     return jnp.concatenate(pieces, axis=-1) if traced else np.concatenate(pieces, axis=-1)
 
 
-_ANGLE_BUCKETS = {"least": 8, "largest": 8192}  # 8, 32, ..., 8192 angles: six programs per motion form at most
+# 8, 64, 512, 4096 angles: four programs per motion form, a revolution of 3600 and its breaks (the geometry's chunk)
+# in one
+_ANGLE_BUCKETS = {"least": 8, "factor": 8, "largest": 4096}
 
 
 def on_angle_buckets(program: Callable[[Any], Any], theta: Any) -> Any:
-    """:func:`on_buckets` for a program elementwise in the angles ``theta`` (rad): one of six programs serves every
+    """:func:`on_buckets` for a program elementwise in the angles ``theta`` (rad): one of four programs serves every
     number of angles."""
     return on_buckets(program, theta, **_ANGLE_BUCKETS)
 
