@@ -27,6 +27,7 @@ def lecture_json():
     return code, json.loads(buf.getvalue())
 
 
+@pytest.mark.slow  # a whole check: it compiles its shooting and stores the other (25 s of compile)
 def test_check_lecture_passes_with_contract_keys(lecture_json):
     code, doc = lecture_json
     assert code == 0 and doc["verdict"] == "pass" and doc["case"] == "lecture" and doc["speed_rpm"] == 300
@@ -48,6 +49,7 @@ def test_check_lecture_passes_with_contract_keys(lecture_json):
     assert any("240 deg" in w for w in doc["warnings"])
 
 
+@pytest.mark.slow  # a separating check: the shooting with sensitivities (12 s of compile)
 def test_check_fast_case_fails_with_separation(capsys):
     code, out, _ = run(capsys, "check", ROOT / "cases" / "lecture-fast.toml", "--json")
     doc = json.loads(out)
@@ -57,11 +59,13 @@ def test_check_fast_case_fails_with_separation(capsys):
     assert max(s["max_gap_mm"] for s in seps) > 0.1
 
 
+@pytest.mark.slow  # a whole check
 def test_check_speed_override_and_text_output(capsys):
     code, out, _ = run(capsys, "check", LECTURE, "--speed", "200")
     assert code == 0 and "contact_force" in out and "PASS" in out
 
 
+@pytest.mark.slow  # its contact force is the dynamic response's: compiles the shooting (9 s)
 def test_table_columns_and_values(capsys, tmp_path):
     code, out, _ = run(capsys, "table", LECTURE, "--step", "10")
     assert code == 0
@@ -140,6 +144,7 @@ def test_missing_file_and_bad_speed(capsys):
     assert code == 2 and "--speed" in err
 
 
+@pytest.mark.slow  # a whole check in a fresh process
 def test_console_script_fresh_process():
     proc = subprocess.run(
         [sys.executable, "-m", "camdyn", "check", str(LECTURE)], capture_output=True, text=True, timeout=300
@@ -234,9 +239,10 @@ def test_only_batched_commands_reach_for_an_accelerator(capsys, tmp_path, monkey
     monkeypatch.delenv("JAX_PLATFORMS", raising=False)
     sweep = ["sweep", LECTURE, "--speeds", "200:300:2", "--spring-rates", "1:2:2", "-o", tmp_path, "--quiet"]
     assert run(capsys, *sweep)[0] == 0 and "JAX_PLATFORMS" not in os.environ
-    assert run(capsys, "table", LECTURE, "--step", "30")[0] == 0 and os.environ["JAX_PLATFORMS"] == "cpu"
+    profile = ["profile", LECTURE, "-o", tmp_path / "cam.csv", "--force"]  # the cam's contour: no dynamics to compile
+    assert run(capsys, *profile)[0] == 0 and os.environ["JAX_PLATFORMS"] == "cpu"
     monkeypatch.setenv("JAX_PLATFORMS", "cuda,cpu")
-    assert run(capsys, "table", LECTURE, "--step", "30")[0] == 0 and os.environ["JAX_PLATFORMS"] == "cuda,cpu"
+    assert run(capsys, *profile)[0] == 0 and os.environ["JAX_PLATFORMS"] == "cuda,cpu"
 
 
 def test_blas_runs_on_one_thread_unless_the_user_says():

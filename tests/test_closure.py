@@ -512,6 +512,7 @@ def test_a_backlash_tolerance_needs_a_groove():
         case_from_dict(raw)
 
 
+@pytest.mark.slow  # a groove's crossing and impact programs and three checks (11 s of compile)
 def test_size_of_a_groove_cam_gives_the_largest_backlash(tmp_path, capsys):
     """``size``: no spring to size; the largest backlash (to 0.001 mm) whose impact speed stays 2 % under the limit:
     check passes at it (away from the at-limit band), and 0.002 mm more would not keep that margin."""

@@ -210,6 +210,7 @@ def test_crossovers_fall_at_mid_rise_and_the_preload_is_shared():
         assert held.all() == (preload > peak / 2)
 
 
+@pytest.mark.slow  # compiles the crossing and the impact (11 s)
 def test_flight_across_the_conjugate_backlash_uses_the_conjugate_cams_lever():
     """Backlash b is the clearance at the conjugate cam: across it at constant velocity, the gap along the axis is
     b / cos(phi2) with tan(phi2) = s' / (D - Rp - s) (the second roller below the cam centre), not the primary's
@@ -516,6 +517,7 @@ def test_size_of_conjugate_cams_with_backlash_gives_the_largest_backlash(tmp_pat
     assert impact <= 0.98 * 0.1
 
 
+@pytest.mark.slow  # compiles the crossing and the impact (13 s)
 def test_sweep_of_conjugate_cams(tmp_path, capsys):
     """``sweep`` of the preloaded rocker: the least holding preload over speed, max |F| / 2, grows as the speed
     squared (an inertia force) and is size's at the case's speed; the preload holds (least cam force > 0) exactly

@@ -330,6 +330,7 @@ def test_stiff_train_tends_to_kinematic_force():
     assert np.all(np.array(first_order) < 0.1 * errs)  # and it is the predicted O(1/k_f) term
 
 
+@pytest.mark.slow  # compiles the shooting
 def test_diffrax_vs_solve_ivp_periodic(lecture, lecture_300, scipy_300):
     motion, model = lecture
     r = lecture_300
@@ -352,6 +353,7 @@ def test_diffrax_vs_solve_ivp_periodic(lecture, lecture_300, scipy_300):
     assert np.max(np.abs(r.kinematic_force - kin_force_np(model, omega, theta))) < 1e-9
 
 
+@pytest.mark.slow  # compiles the shooting with sensitivities (11 s)
 def test_diffrax_vs_solve_ivp_with_separation(lecture):
     """Lecture cam at 600 rpm (above the jump speed): three plain revolutions from the quasi-static start, with
     lift-offs and landings, by diffrax (camdyn's one-revolution solve, chained) and by solve_ivp."""
@@ -373,6 +375,7 @@ def test_diffrax_vs_solve_ivp_with_separation(lecture):
         assert f_err < 1e-3, (rev, f_err)  # N (1e-5 .. 4e-5)
 
 
+@pytest.mark.slow  # compiles the shooting with sensitivities (11 s)
 def test_bouncing_monodromy_is_the_flows_jacobian(lecture):
     """Where the follower leaves the cam, one revolution's monodromy matrix (each piece's in closed form, with each
     switch's saltation matrix) is the flow's Jacobian by central differences of the same revolution: the lecture cam
@@ -497,6 +500,7 @@ def rigid_600(lecture):
     return rigid, omega, dyn.rigid_response(motion, rigid, omega, n=N)
 
 
+@pytest.mark.slow  # rigid_600 compiles the rigid follower's flight
 def test_rigid_lift_off_and_landing(lecture, rigid_600):
     motion, _ = lecture
     rigid, omega, r = rigid_600
@@ -530,6 +534,7 @@ def test_rigid_lift_off_and_landing(lecture, rigid_600):
     assert np.all(r.force[fly] == 0.0) and np.all(r.x[~fly] == r.s[~fly])
 
 
+@pytest.mark.slow  # rigid_600 compiles the rigid follower's flight
 def test_rigid_restitution_bounces(lecture, rigid_600):
     motion, _ = lecture
     rigid, omega, r0 = rigid_600
@@ -542,6 +547,7 @@ def test_rigid_restitution_bounces(lecture, rigid_600):
     assert s5.end_deg > s0.end_deg  # bouncing lasts beyond the first touchdown
 
 
+@pytest.mark.slow  # rigid_600 compiles the rigid follower's flight
 def test_rigid_bouncing_dies_out(lecture, rigid_600):
     """e = 0.5: impact speeds halve per bounce, 0.65 m/s -> 1e-6 m/s in ~20 bounces (Zeno: finite total time).
     The bounce count and the end of the separation must not depend on the safety cap ``max_bounces``."""
@@ -554,6 +560,7 @@ def test_rigid_bouncing_dies_out(lecture, rigid_600):
     assert free.bounces == capped.bounces and free.end_deg == pytest.approx(capped.end_deg, abs=1e-9)
 
 
+@pytest.mark.slow  # compiles the rigid follower's flight
 def test_rigid_jump_speed(lecture):
     motion, model = lecture
     rigid = with_(model, train_stiffness=math.inf, train_damping=0.0)
@@ -576,6 +583,7 @@ def test_linear_min_force_vs_diffrax(lecture):
     assert np.max(np.abs(lin - td)) < 1e-4, np.abs(lin - td)  # N (measured <= 6e-6)
 
 
+@pytest.mark.slow  # bisects on the shooting with sensitivities (11 s of compile)
 def test_dynamic_jump_speed_vs_bisection(lecture):
     motion, model = lecture
     w_kin, _ = dyn.kinematic_jump_speed(motion, model)

@@ -326,7 +326,8 @@ def test_ecam_velocity_and_acceleration_are_the_derivatives_of_position(capsys, 
     assert np.max(np.abs(dv - v)) <= 5e-4 * np.max(np.abs(v))  # at a break too: velocity is continuous
 
 
-@pytest.mark.parametrize("name", ["lecture.toml", pytest.param("oscillating.toml", marks=pytest.mark.slow)])
+@pytest.mark.slow  # the table's dynamic columns compile the shooting
+@pytest.mark.parametrize("name", ["lecture.toml", "oscillating.toml"])
 def test_ecam_equals_the_tables_columns_per_master_degree(capsys, tmp_path, name):
     _, (m, s, v, a) = _ecam(capsys, tmp_path, CASES / name, 360)
     code, out, err = run(capsys, "table", CASES / name, "--step", 1)

@@ -18,24 +18,32 @@ from camdyn.schema import LAW_NAMES
 X = np.linspace(0.0, 1.0, 2001)
 
 
+@jax.jit
+def _every_law_at(x):
+    return jnp.stack([law(name, x) for name in LAWS])
+
+
 @functools.cache
 def every_law(n: int = X.size) -> dict[str, np.ndarray]:
     """Each law's (y, y', y'', y''), shape (4, n), at n points spread over [0, 1]: every law in one compiled program
-    (a program a law and a grid compiled for seconds; eager jax.numpy, one a law and an operation)."""
+    (a program a law and a grid compiled for seconds; eager jax.numpy, one a law and an operation), on pieces of
+    ``X.size`` points whatever ``n`` (one compile for every grid)."""
     x = np.linspace(0.0, 1.0, n)
-    return dict(zip(LAWS, np.asarray(jax.jit(lambda x: jnp.stack([law(name, x) for name in LAWS]))(x)), strict=True))
+    pieces = np.concatenate([x, np.ones(-n % X.size)]).reshape(-1, X.size)
+    values = np.concatenate([np.asarray(_every_law_at(piece)) for piece in pieces], axis=-1)[..., :n]
+    return dict(zip(LAWS, values, strict=True))
 
 
 def _autodiff(name, x):
     """The first three derivatives of law ``name``'s y at each x, by forward-mode autodiff (the law is elementwise,
-    so a tangent of ones gives each point's derivative): shape (3, *x.shape)."""
+    so a tangent of ones gives each point's derivative): shape (3, *x.shape). One nested evaluation gives all
+    three (a third of the program of one for each order: half the suite's compile of it)."""
 
-    def derivative(f):
-        return lambda t: jax.jvp(f, (t,), (jnp.ones_like(t),))[1]
+    def with_derivative(f):  # t -> (f(t), f'(t))
+        return lambda t: jax.jvp(f, (t,), (jnp.ones_like(t),))
 
-    d1 = derivative(lambda t: law(name, t)[0])
-    d2 = derivative(d1)
-    return jnp.stack([d1(x), d2(x), derivative(d2)(x)])
+    ((_, d1), (_, d2)), (_, (_, d3)) = with_derivative(with_derivative(with_derivative(lambda t: law(name, t)[0])))(x)
+    return jnp.stack([d1, d2, d3])
 
 
 @functools.cache

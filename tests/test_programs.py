@@ -463,16 +463,19 @@ def test_angles_of_other_counts_share_one_evaluate_program(monkeypatch, cache_di
 
 def test_speeds_of_other_counts_share_the_least_force_programs(monkeypatch, cache_dir, lecture_case):
     """``linear_min_force`` pads a 1-D array of speeds to a bucket (16, 64, 256, 1024; longer in pieces of 1024):
-    one speed, 600 and 2000 run two stored programs, each value the exact shape's program's to round-off (lax.map
-    batches the speeds by 64 in both, its last partial batch where the lengths differ)."""
-    exact = jax.jit(_harmonic._linear_min_force.__wrapped__, static_argnums=3)
+    the first one, 600 and 2000 of 2000 speeds run two stored programs, each value that of one unpadded program of
+    all 2000 to round-off (lax.map batches the speeds by 64 in both, its last partial batch where the lengths
+    differ)."""
     monkeypatch.setattr(_harmonic, "_linear_min_force", programs.cached_jit(_harmonic._linear_min_force.__wrapped__))
     motion, model = lecture_case.motion, lecture_case.model
+    speeds = np.linspace(10.0, 80.0, 2000)
+    exact = jax.jit(_harmonic._linear_min_force.__wrapped__, static_argnums=3)(
+        motion, model, speeds, _harmonic._FFT_N, None
+    )
     for n in (1, 600, 2000):
-        speeds = np.linspace(10.0, 80.0, n)
-        got = _harmonic.linear_min_force(motion, model, speeds)
+        got = _harmonic.linear_min_force(motion, model, speeds[:n])
         assert isinstance(got, np.ndarray) and got.shape == (n,)
-        assert np.allclose(got, np.asarray(exact(motion, model, speeds, _harmonic._FFT_N, None)), rtol=1e-12, atol=1e-9)
+        assert np.allclose(got, np.asarray(exact)[:n], rtol=1e-12, atol=1e-9)
     assert len(list(cache_dir.rglob("_linear_min_force-*.jaxprogram"))) == 2
 
 

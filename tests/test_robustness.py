@@ -97,6 +97,7 @@ def test_a_very_slow_cam_is_checked_in_the_frequency_domain(capsys):
     assert any("frequency domain" in w for w in doc["warnings"])
 
 
+@pytest.mark.slow  # a whole check of a follower that leaves its cam
 def test_the_lecture_fast_description_says_where_it_jumps(capsys):
     """The shipped failing case says where the follower leaves the cam, and check agrees (the cycloidal rise)."""
     code, out, _ = run(capsys, "check", ROOT / "cases" / "lecture-fast.toml", "--json")

@@ -115,6 +115,7 @@ def test_steady_state_vs_diffrax(lecture, small_map):
     assert 0.0 < resp.min_force < 2.0 and jm.min_force[0, 0] == pytest.approx(resp.min_force, abs=0.01)
 
 
+@pytest.mark.slow  # compiles the shooting with sensitivities
 def test_gap_vs_diffrax_shooting(lecture, small_map):
     """A periodic bounce (520 rpm, 2 N/mm): the map's largest gap against the diffrax periodic orbit."""
     resp = dyn.compliant_response(lecture.motion, lecture.model, 520.0 * RPM)
