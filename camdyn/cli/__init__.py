@@ -15,7 +15,6 @@ import os
 import sys
 import traceback
 from importlib import import_module
-from importlib.metadata import PackageNotFoundError, version
 from pathlib import Path
 from typing import NoReturn
 
@@ -36,6 +35,9 @@ def _batched(args) -> bool:
 
 
 def _version() -> str:
+    # the installed distributions' metadata loads for --version only (60 ms of every other command's first line)
+    from importlib.metadata import PackageNotFoundError, version
+
     try:
         return version("camdyn")
     except PackageNotFoundError:  # a source tree on sys.path
@@ -373,7 +375,9 @@ def _enable_caches() -> None:
 
 
 def _validate(args) -> None:
-    """Read and validate the input files before any model is built: a typo is reported before JAX loads."""
+    """Check the options, then read and validate the input files, before any model is built: a typo is reported
+    before JAX loads, and an option's before the case schema loads (pydantic: 0.3 s on a slow machine)."""
+    check_options(args)
     from .._core.errors import CamdynError
     from ..schema import load_case_spec, load_path_file
 
@@ -394,7 +398,6 @@ def _validate(args) -> None:
         args.spec = load_case_spec(args.case)
     if args.command in _SPRING_HELD:
         _refuse_form_closed([args.spec], [""], args.command)
-    check_options(args)
 
 
 def _refuse_form_closed(specs, paths, command: str) -> None:
