@@ -153,9 +153,9 @@ def _linear_min_force(
 
 
 def linear_least_force(motion: Motion, model: FollowerModel, omega: float) -> float:
-    """:func:`linear_min_force` at one speed (rad/s), N: computed as one of the jump-speed bisection's speeds, a
-    program a ``check`` has loaded already (each program a fresh process loads costs milliseconds)."""
-    return float(np.asarray(linear_min_force(motion, model, np.full(BISECT_POINTS, float(omega))))[0])
+    """:func:`linear_min_force` at one speed (rad/s), N: padded to the least bucket of speeds, the jump-speed
+    bisection's, a program a ``check`` has loaded already (each program a fresh process loads costs milliseconds)."""
+    return float(np.asarray(linear_min_force(motion, model, np.array([float(omega)])))[0])
 
 
 @cached_jit
