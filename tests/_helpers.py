@@ -1,15 +1,32 @@
-"""Helpers the test modules share: the CLI run in-process, the reproducer cases of issue 13, and the form-closed
-cams' scaffolding (test_closure.py, test_conjugate.py)."""
+"""Helpers the test modules share: the CLI run in-process, the reproducer cases of issue 13, the form-closed
+cams' scaffolding (test_closure.py, test_conjugate.py), and the first three derivatives by autodiff."""
 
 import json
 from pathlib import Path
 
+import jax
+import jax.numpy as jnp
 import numpy as np
 import pytest
 from scipy.optimize import brentq
 
 from camdyn import InputError
 from camdyn.cli import main
+
+
+def up_to_third_derivative(f):
+    """``t -> (f, f', f'', f''')`` at each element of ``t``, for an elementwise ``f``, by forward-mode autodiff (a
+    tangent of ones gives each point's derivative): one nested evaluation for the three orders, half the trace and
+    compile of one for each order, a third of nested ``grad``'s."""
+
+    def with_derivative(g):
+        return lambda t: jax.jvp(g, (t,), (jnp.ones_like(t),))
+
+    def values(t):
+        ((f0, f1), (_, f2)), (_, (_, f3)) = with_derivative(with_derivative(with_derivative(f)))(t)
+        return f0, f1, f2, f3
+
+    return values
 
 
 def run(capsys, *argv):

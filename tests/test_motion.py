@@ -7,6 +7,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 import pytest
+from _helpers import up_to_third_derivative
 
 from camdyn import LAWS, HermiteMotion, InputError, Program, law
 from camdyn.model.case import load_case
@@ -25,7 +26,7 @@ def _every_law_at(x):
 
 @functools.cache
 def every_law(n: int = X.size) -> dict[str, np.ndarray]:
-    """Each law's (y, y', y'', y''), shape (4, n), at n points spread over [0, 1]: every law in one compiled program
+    """Each law's (y, y', y'', y'''), shape (4, n), at n points spread over [0, 1]: every law in one compiled program
     (a program a law and a grid compiled for seconds; eager jax.numpy, one a law and an operation), on pieces of
     ``X.size`` points whatever ``n`` (one compile for every grid)."""
     x = np.linspace(0.0, 1.0, n)
@@ -35,15 +36,8 @@ def every_law(n: int = X.size) -> dict[str, np.ndarray]:
 
 
 def _autodiff(name, x):
-    """The first three derivatives of law ``name``'s y at each x, by forward-mode autodiff (the law is elementwise,
-    so a tangent of ones gives each point's derivative): shape (3, *x.shape). One nested evaluation gives all
-    three (a third of the program of one for each order: half the suite's compile of it)."""
-
-    def with_derivative(f):  # t -> (f(t), f'(t))
-        return lambda t: jax.jvp(f, (t,), (jnp.ones_like(t),))
-
-    ((_, d1), (_, d2)), (_, (_, d3)) = with_derivative(with_derivative(with_derivative(lambda t: law(name, t)[0])))(x)
-    return jnp.stack([d1, d2, d3])
+    """The first three derivatives of law ``name``'s y at each x, by forward-mode autodiff: shape (3, *x.shape)."""
+    return jnp.stack(up_to_third_derivative(lambda t: law(name, t)[0])(x)[1:])
 
 
 @functools.cache

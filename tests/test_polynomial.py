@@ -8,6 +8,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 import pytest
+from _helpers import up_to_third_derivative
 
 from camdyn import InputError, Program
 from camdyn.cli import main
@@ -102,15 +103,7 @@ def test_every_condition_is_met_by_autodiff_of_the_program():
     """Values at the ends and points, velocities, accelerations and given jerks, per rad of cam angle, through
     the program's own evaluation differentiated by JAX (not the solve's matrix)."""
     prog = Program.from_segments(SEGMENTS)
-
-    def with_derivative(f):  # t -> (f(t), f'(t)), forward mode: a third of the program of nested grads to compile
-        return lambda t: jax.jvp(f, (t,), (jnp.ones_like(t),))
-
-    def all_four(t):
-        ((s0, s1), (_, s2)), (_, (_, s3)) = with_derivative(with_derivative(with_derivative(lambda t: prog(t)[0])))(t)
-        return jnp.stack([s0, s1, s2, s3])
-
-    derivatives = jax.jit(all_four)
+    derivatives = jax.jit(lambda t: jnp.stack(up_to_third_derivative(lambda t: prog(t)[0])(t)))
     d = [lambda t, k=k: np.asarray(derivatives(t))[k] for k in range(4)]  # one compiled program for the four
     base, start = 0.0, 0.0
     eps = 1e-9
