@@ -114,11 +114,8 @@ def steady_force_at(motion: Motion, model: FollowerModel, n: int) -> Callable[[f
 
 
 BISECT_POINTS = 16  # speeds per step of the jump-speed search's bisection (:func:`linear_min_force` calls)
-_SPEED_BUCKETS = {
-    "least": BISECT_POINTS,
-    "factor": 4,
-    "largest": 1024,
-}  # 16, 64, 256, 1024 speeds: four programs at most
+# 16, 64, 256, 1024 speeds: four programs at most (longer arrays in pieces of 1024)
+_SPEED_BUCKETS = {"least": BISECT_POINTS, "factor": 4, "largest": 1024}
 
 
 def linear_min_force(
