@@ -437,6 +437,11 @@ def test_report_of_conjugate_cams(tmp_path, capsys):
     least = min(cams["primary"]["min_force_N"], cams["conjugate"]["min_force_N"])
     assert doc["closure"]["preload_held"] and rows["preload"] == "40 N\u00b7m: held"
     assert rows["least cam force"].startswith(f"{least:.4g} N (the primary cam's)")
+    # each cam carries the preload's share and half the net force: the signed rows say they are the net force, and
+    # the largest force on a cam (the one its contact stress takes) is above the least, not a fifth of it
+    top = max(cams["primary"]["max_force_N"], cams["conjugate"]["max_force_N"])
+    assert rows["largest cam force"].startswith(f"{top:.4g} N at ") and top > least
+    assert rows["net force, primary cam"].startswith("up to ") and "force, primary cam" not in rows
     assert rows["crossovers"] == "2, at 90.0, 270.0\u00b0" and rows["jump speed"] == "none: form-closed"
     second = doc["closure"]["conjugate_cam"]
     assert rows["conjugate, max angle"].startswith(f"{second['max_pressure_angle_deg']:.2f}\u00b0")

@@ -248,3 +248,20 @@ def test_nothing_is_overwritten_without_force_and_the_report_is_deterministic(ma
     assert {
         name: (out / name).read_bytes() for name in sorted(p.name for p in out.iterdir())
     } == before  # the same bytes
+
+
+def test_a_cams_line_names_the_check_nearest_its_limit():
+    """Page 1 of the machine report gives each cam the passing check nearest its limit, relative to the limit (a
+    groove's crossover impact or a contact stress that page would otherwise leave out); a failing check is said as
+    failing, and a limit of 0 (the least contact force, said anyway) has no relative margin."""
+    from camdyn.design.checks import Check
+    from camdyn.report.machine import _nearest_its_limit
+
+    angle = Check("pressure_angle", 27.5, 35.0, "deg", "<=")  # 21 % to spare
+    impact = Check("crossover_impact", 0.0117, 0.1, "m/s", "<=")  # 88 %
+    curvature = Check("curvature", 3.5, 1.5, "ratio", ">=")  # 133 %
+    force = Check("contact_force", 0.5, 0.0, "N", ">")
+    failing = Check("contact_stress", 1300.0, 1200.0, "MPa", "<=")
+    assert _nearest_its_limit((impact, curvature, angle, force, failing)) is angle
+    assert _nearest_its_limit((impact, curvature)) is impact
+    assert _nearest_its_limit((force, failing, Check("speed_margin", None, 1.25, "x"))) is None

@@ -152,13 +152,10 @@ def legend_clear(ax: Axes, places: Sequence[str] = LEGEND_PLACES, **kw: Any) -> 
 
 def mark_mean_and_peak_torque(ax: Axes, theta_deg: np.ndarray, drive: DriveTorque, mean_colour: str) -> None:
     """A drive torque's mean (dashed, with the mean power) and its peak (a dot), both named in the legend."""
-    ax.axhline(
-        drive.mean_torque,
-        color=mean_colour,
-        lw=0.8,
-        ls="--",
-        label=f"mean {drive.mean_torque:.3g} N\u00b7m ({drive.mean_power:.3g} W)",
-    )
+    # a mean within the peak's round-off (a drive that stores and returns all it takes: no damper, no external load)
+    # is named 0, not 1.26e-16 N*m
+    mean = 0.0 if abs(drive.mean_torque) <= 1e-12 * drive.peak_torque else drive.mean_torque
+    ax.axhline(mean, color=mean_colour, lw=0.8, ls="--", label=f"mean {mean:.3g} N\u00b7m ({mean * drive.omega:.3g} W)")
     i = int(np.argmax(np.abs(drive.torque)))
     ax.plot(
         [theta_deg[i]],

@@ -5,6 +5,7 @@ summary line and the timing diagram; page 2 the shaft torque, the energy and fly
 from __future__ import annotations
 
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import matplotlib
 from matplotlib.backends.backend_pdf import PdfPages
@@ -25,6 +26,9 @@ from ._layout import Flow, camdyn_version, fmt, page_frame, verdict_block
 from ._render import Written, write_page
 from ._style import A4, LEFT, C, style
 
+if TYPE_CHECKING:
+    from ..design.checks import Check
+
 PAGES = (("summary", "Machine and timing"), ("drive", "Shaft torque and flywheel"))
 
 
@@ -41,21 +45,38 @@ def _header(fig, result: MachineResult, title: str, number: int) -> None:
     )
 
 
+_SENSE = {">=": "\u2265", "<=": "\u2264", ">": ">"}
+
+
+def _nearest_its_limit(checks: tuple[Check, ...]) -> Check | None:
+    """The passing check with the least margin relative to its limit (a limit of 0, the least contact force's, has
+    no relative margin: that force is said anyway)."""
+    near = [c for c in checks if c.ok and c.margin is not None and c.limit != 0.0]
+    return min(near, key=lambda c: (c.margin or 0.0) / abs(c.limit), default=None)
+
+
 def cam_line(cam: MachineCam) -> str:
-    """One cam's summary: its least contact force, speed margin, peak torque and what fails."""
+    """One cam's summary: its least contact force (a form-closed cam's: its crossovers, as its force is signed),
+    speed margin, peak torque, the check nearest its limit and what fails."""
     chk = cam.check
     dyn = chk.dynamic
-    text = (
-        f"least contact force {dyn.min_contact_force_N:.3g} N at cam {dyn.min_contact_force_deg:.1f}\u00b0, "
-        + (
-            "form-closed (cannot jump), "
-            if chk.closure is not None
-            else f"speed margin {fmt(cam.speed_margin, 3)}\u00d7, "
+    if chk.closure is not None:
+        n = len(chk.closure.response.crossovers)
+        text = f"form-closed (cannot jump), the force changes flank {n} time{'s' if n != 1 else ''} a turn, "
+    else:
+        text = (
+            f"least contact force {dyn.min_contact_force_N:.3g} N at cam {dyn.min_contact_force_deg:.1f}\u00b0, "
+            f"speed margin {fmt(cam.speed_margin, 3)}\u00d7, "
         )
-        + f"peak torque {cam.peak_torque:.3g} N\u00b7m at {cam.peak_torque_at_deg:.1f}\u00b0"
-    )
+    text += f"peak torque {cam.peak_torque:.3g} N\u00b7m at {cam.peak_torque_at_deg:.1f}\u00b0"
     if dyn.separations:
         text += f", leaves the cam ({len(dyn.separations)} flights)"
+    near = _nearest_its_limit(chk.checks)
+    if near is not None:
+        text += (
+            f"; nearest its limit: {near.name} {near.value_text(3)} {_SENSE.get(near.sense, near.sense)} "
+            f"{near.limit:g} {near.unit}"
+        )
     return text + (f"; fails {', '.join(cam.failed)}" if cam.failed else "")
 
 

@@ -132,9 +132,13 @@ def _groove_results(data: ReportData) -> list[tuple[str, str]]:
     r, force, th = chk.closure.response, chk.response.force, chk.response.theta_deg
     i, j = int(np.argmax(force)), int(np.argmin(force))
     plus, minus = flank_names(chk)
+    loads = chk.closure.loads
+    preloaded = loads is not None and r.backlash_mm == 0.0  # a preload and a backlash exclude each other
+    # preloaded cams each carry the preload plus or minus half the signed force: that one is the net force
+    signed = "net force" if preloaded else "force"
     rows = [
-        (f"force, {plus}", f"up to {force[i]:.4g} N at {th[i]:.1f}\u00b0"),
-        (f"force, {minus}", f"up to {-force[j]:.4g} N at {th[j]:.1f}\u00b0" if force[j] < 0.0 else "never"),
+        (f"{signed}, {plus}", f"up to {force[i]:.4g} N at {th[i]:.1f}\u00b0"),
+        (f"{signed}, {minus}", f"up to {-force[j]:.4g} N at {th[j]:.1f}\u00b0" if force[j] < 0.0 else "never"),
         ("jump speed", "none: form-closed"),
         (
             "crossovers",
@@ -147,11 +151,14 @@ def _groove_results(data: ReportData) -> list[tuple[str, str]]:
         rows.append(("largest impact", f"{top.impact_velocity_m_per_s:.3g} m/s at {top.land_deg:.1f}\u00b0"))
         f = r.max_impact_force_N
         rows.append(("impact force", "impulse (rigid train)" if f is None else f"up to {f:.4g} N"))
-    loads = chk.closure.loads
-    if loads is not None and r.backlash_mm == 0.0:  # a preload and a backlash exclude each other
+    if preloaded:
+        assert loads is not None  # preloaded says so
         unit = "N" if loads.translating else "N\u00b7m"
-        k, cam = min((float(np.min(v)), n) for n, v in (("primary", loads.primary_N), ("conjugate", loads.conjugate_N)))
+        cams = (("primary", loads.primary_N), ("conjugate", loads.conjugate_N))
+        k, cam = min((float(np.min(v)), n) for n, v in cams)
+        top, at, top_cam = max((float(np.max(v)), float(loads.theta_deg[np.argmax(v)]), n) for n, v in cams)
         rows.append(("preload", f"{loads.preload:g} {unit}: " + ("held" if loads.preload_held else "NOT held")))
+        rows.append(("largest cam force", f"{top:.4g} N at {at:.1f}\u00b0 (the {top_cam} cam's)"))
         rows.append(("least cam force", f"{k:.4g} N (the {cam} cam's)"))
     return rows
 
