@@ -161,6 +161,39 @@ def test_the_force_rows_are_affine_with_a_free_preload_and_an_arms_lever(path):
     np.testing.assert_allclose(J, J_ref, rtol=0, atol=1e-9 * np.abs(J_ref).max())
 
 
+@pytest.mark.slow  # compiles the rows' programs of two objectives
+@pytest.mark.parametrize("preload_free", [False, True])
+def test_the_head_start_compiles_the_programs_the_linear_programs_call(tmp_path, monkeypatch, preload_free):
+    """``Rows.prepare`` (``optimize``'s head start while it checks the case) stores every program the linear programs
+    then call, for arguments of their shapes: the jump-speed and vibration objectives' and, with the preload free,
+    the spring-force objective's. Nothing is traced after it."""
+    from camdyn._core import jit as programs
+    from camdyn.design.optimize import _rows
+
+    monkeypatch.setattr(programs, "_DIR", None)
+    programs.enable(tmp_path)
+    for name in ("_forces_jacobian", "_need_jacobian", "_geometry_jacobian", "_least_on_scan"):
+        monkeypatch.setattr(_rows, name, programs.cached_jit(getattr(_rows, name).__wrapped__))
+    stored = lambda: {p.name for p in tmp_path.rglob(f"*.{programs.SUFFIX}")}  # noqa: E731
+    case = load_case(LECTURE)
+    rows = Rows(case, shape_space(case), margin=1.5)
+    rows.prepare(preload_free)
+    before = stored()
+    assert {name.split("-")[0] for name in before} >= {
+        "_forces_jacobian",
+        "_geometry_jacobian",
+        "_least_on_scan",
+        "_need_jacobian",
+    }
+    z = rows.space.z0
+    x = np.r_[z, 30.0] if preload_free else z
+    slack = rows.force_values(jnp.asarray(_rows.speed_slots(np.linspace(10.0, 50.0, 23))), x, preload_free)
+    slack(x)
+    rows.geometry_values(z)
+    least_slack(rows, z, 50.0, 30.0 if preload_free else None)
+    assert stored() == before
+
+
 @pytest.mark.slow
 def test_a_case_of_the_same_structure_loads_the_stored_row_programs(tmp_path, monkeypatch):
     """The follower's dimensions, the spring, the limits and the margin are data of the rows' programs, not constants

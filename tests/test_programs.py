@@ -462,7 +462,7 @@ def test_angles_of_other_counts_share_one_evaluate_program(monkeypatch, cache_di
 
 
 def test_speeds_of_other_counts_share_the_least_force_programs(monkeypatch, cache_dir, lecture_case):
-    """``linear_min_force`` pads a 1-D array of speeds to a bucket (16, 64, 256, 1024; longer in pieces of 1024):
+    """``linear_min_force`` pads a 1-D array of speeds to a bucket (16, 64, 256; longer in pieces of 256):
     the first one, 600 and 2000 of 2000 speeds run two stored programs, each value that of one unpadded program of
     all 2000 to round-off (lax.map batches the speeds by 64 in both, its last partial batch where the lengths
     differ)."""

@@ -115,9 +115,11 @@ def speed_margin_check(w_dyn: float, omega: float, margin: float) -> Check:
     return CheckKind.SPEED_MARGIN.check(finite_or_none(w_dyn / omega), float(margin))
 
 
-def run_check(case: Case, speed_rpm: float | None = None) -> CheckReport:
+def run_check(case: Case, speed_rpm: float | None = None, *, store_programs: bool = True) -> CheckReport:
     """Kinematic and dynamic interface force, jump speeds, separations and the verdict at ``speed_rpm``, with the
-    spring's own mass as ``[spring] model`` asks (:func:`camdyn.design.parts.resolve_spring`)."""
+    spring's own mass as ``[spring] model`` asks (:func:`camdyn.design.parts.resolve_spring`). ``store_programs``:
+    compile on the side, for later processes, the programs of a follower of this kind that leaves its cam where this
+    one stays on it, and the reverse (``optimize`` keeps that core for its own programs)."""
     case = resolve_spring(case)
     assert case.spring is not None  # resolve_spring resolved it
     if (vt := case.valvetrain) is not None:  # its two-mass programs load while the equivalent follower is judged
@@ -127,8 +129,8 @@ def run_check(case: Case, speed_rpm: float | None = None) -> CheckReport:
         return closure_check(case, rpm)
     omega = rpm * RPM
     motion, model, limits = case.motion, case.model, case.limits
-    # the programs of a follower of this kind that stays on its cam and of one that leaves it, stored on the side
-    jit.in_background(functools.partial(dyn.store_response, motion, model), "camdyn-store")
+    if store_programs:  # the programs of a follower of this kind that stays on its cam and of one that leaves it
+        jit.in_background(functools.partial(dyn.store_response, motion, model), "camdyn-store")
     warnings = list(case.warnings) + ([case.spring.note] if case.spring.note else [])
 
     resp = dyn.response(motion, model, omega)

@@ -10,6 +10,7 @@ two-mass model's float and bounce speeds and seating velocity (``check``'s), non
 
 from __future__ import annotations
 
+import functools
 import math
 import time
 from dataclasses import replace
@@ -17,6 +18,7 @@ from dataclasses import replace
 import numpy as np
 
 from ..._core.errors import InputError, NumericalError
+from ..._core.jit import in_background
 from ..._core.limits import check_min_force
 from ..._core.progress import Progress, phase
 from ..._core.results import finite_or_none
@@ -249,8 +251,10 @@ def optimize_case(
     case = resolve_spring(case)  # the model check judges: with the spring's own mass where [spring] gives the part
     control_points = N_CONTROL if control_points is None else control_points
     space = (flank_space if case.valvetrain is not None else shape_space)(case, n_control=control_points)
-    before_check = run_check(case, speed_rpm)
     rows = Rows(case, space, margin)
+    if case.valvetrain is None:  # the linear programs' programs compile on the side while the case is checked
+        in_background(functools.partial(rows.prepare, objective == "spring-force"), "camdyn-rows")
+    before_check = run_check(case, speed_rpm, store_programs=False)
     if case.valvetrain is not None:  # the event's single follower: the train's compliance, the lash taken up
         vt = case.valvetrain
         surrogate, cam_mass = event_follower(vt)
@@ -315,7 +319,7 @@ def optimize_case(
     with phase(progress, "the answer's check and time-domain verification"):
         doc = _document(case, space, z, objective, name, source, dynamics)
         new = resolve_spring(build_case(CaseSpec.model_validate(doc), case.source))
-        after_check = run_check(new, speed_rpm)
+        after_check = run_check(new, speed_rpm, store_programs=False)
         after = metrics(new, after_check, margin)
         facts = None
         if case.valvetrain is not None:

@@ -402,6 +402,27 @@ class Rows:
 
         return slack
 
+    def prepare(self, preload_free: bool = False) -> None:
+        """Compile (or load) the stored programs the linear programs call, for arguments shaped as theirs (numpy: a
+        program is keyed by the shapes, and no transfer is compiled), without running them: ``optimize`` does it on
+        the side while it checks the case (seconds of compiling in a first run). ``preload_free``: with the preload
+        among the variables (the spring-force objective)."""
+        kernel, z = self.kernel, np.asarray(self.space.z0, dtype=float)
+        x, speeds = (np.r_[z, 0.0] if preload_free else z), np.zeros(SPEED_SLOTS)
+        if self.rocker is None:  # as force_values calls them
+            _forces_jacobian.prepare(kernel, x, speeds, preload_free)  # pyright: ignore[reportFunctionMemberAccess]
+            _need_jacobian.prepare(kernel, x, preload_free)  # pyright: ignore[reportFunctionMemberAccess]
+        else:
+            _slack_jacobian.prepare(kernel, x, speeds, preload_free)  # pyright: ignore[reportFunctionMemberAccess]
+        if not kernel.affine_shape:  # as geometry_values calls them
+            _geometry_jacobian.prepare(kernel, z)  # pyright: ignore[reportFunctionMemberAccess]
+        else:
+            _shape_jacobian.prepare(kernel, z)  # pyright: ignore[reportFunctionMemberAccess]
+            if kernel.seating is not None:
+                _seating_jacobian.prepare(kernel, z)  # pyright: ignore[reportFunctionMemberAccess]
+        preload = np.zeros(()) if preload_free else None  # as least_on_scan calls it
+        _least_on_scan.prepare(kernel, z, np.ones(()), preload)  # pyright: ignore[reportFunctionMemberAccess]
+
     def least_on_scan(self, z: jax.Array, w_max: float, preload: ArrayLike | None = None) -> jax.Array:
         """The least slack at each of FINE speeds up to ``w_max`` (rad/s), a stored program; the speed and a preload
         go in as data (a Python float would be a static argument: a program for every value)."""

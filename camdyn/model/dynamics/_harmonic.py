@@ -114,8 +114,11 @@ def steady_force_at(motion: Motion, model: FollowerModel, n: int) -> Callable[[f
 
 
 BISECT_POINTS = 16  # speeds per step of the jump-speed search's bisection (:func:`linear_min_force` calls)
-# 16, 64, 256, 1024 speeds: four programs at most (longer arrays in pieces of 1024)
-_SPEED_BUCKETS = {"least": BISECT_POINTS, "factor": 4, "largest": 1024}
+# the most speeds a program of linear_min_force takes (longer arrays in pieces), and the jump-speed scan's chunk: a
+# first ``optimize``, whose verification looks for dips among 1000 speeds, compiled a fourth program for them (1.3 s)
+SPEED_PIECE = 256
+# 16, 64, 256 speeds: three programs at most
+_SPEED_BUCKETS = {"least": BISECT_POINTS, "factor": 4, "largest": SPEED_PIECE}
 
 
 def linear_min_force(

@@ -12,14 +12,11 @@ from ..._core.units import JUMP_SEARCH_FACTOR, RPM, THETA_GRID
 from ..follower import FollowerModel
 from ..motion import Motion
 from ._compliant import compliant_response, store_shooting
-from ._harmonic import BISECT_POINTS, linear_min_force
+from ._harmonic import BISECT_POINTS, SPEED_PIECE, linear_min_force
 from ._kinematic import kinematic_jump_speed
 from ._result import Response
 from ._rigid import rigid_response, store_flight
 from ._root import itp_zero
-
-# speeds of the linear model's jump-speed scan per call: four of linear_min_force's batches of 64
-SCAN_CHUNK = 256
 
 
 def response(motion: Motion, model: FollowerModel, omega: float, n: int = THETA_GRID) -> Response:
@@ -54,7 +51,7 @@ def dynamic_jump_speed(
         width_rpm=tol_rpm / 10,
         points=BISECT_POINTS,
         where="jump-speed search",
-        chunk=SCAN_CHUNK,
+        chunk=SPEED_PIECE,  # a program's most speeds: four of its lax.map batches of 64
     )
 
 
