@@ -127,6 +127,9 @@ def test_bad_input_one_line_exit_2(capsys, tmp_path, text, expected):
         (("end = 360, lift = -20", "end = 350, lift = -20"), "not 360"),
         (("damping_ratio = 0.05\ntrain", "damping_ratio = 0.05\ndamping = 3\ntrain"), "not both"),
         (("spring_rate = 2.0", "spring_rate = 2.0\ntorsion_rate = 3"), "dynamics.torsion_rate"),
+        # limits that would pass a follower that leaves its cam: a least force below 0, a jump speed below the speed
+        (("min_contact_force = 0", "min_contact_force = -50"), "limits.min_contact_force"),
+        (("speed_margin = 1.25", "speed_margin = 0.5"), "limits.speed_margin"),
     ],
 )
 def test_bad_case_values(capsys, tmp_path, replace, expected):

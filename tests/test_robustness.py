@@ -423,3 +423,38 @@ def test_many_landings_of_a_rigid_follower_are_one_warning(tmp_path, capsys):
     assert notes[0].startswith(f"the follower leaves the cam {len(seps)} times a revolution at 300 rpm")
     assert f"gap up to {max(s['max_gap_mm'] for s in seps):.3g} mm" in notes[0]
     assert f"impacts up to {max(s['impact_speed_m_s'] for s in seps):.3g} m/s" in notes[0]
+
+
+@pytest.mark.parametrize(
+    ("extra", "key"),
+    [
+        (["--coordinator", "foo"], "--coordinator: expected the coordinator's address as host:port"),
+        (["--coordinator", "localhost:9999"], "--num-processes: several processes need it"),
+        (["--coordinator", "localhost:9999", "--num-processes", "2"], "--process-id: several processes need it"),
+    ],
+)
+def test_a_coordinator_without_its_processes_is_one_line(capsys, tmp_path, extra, key):
+    """Several processes need the coordinator as host:port and each process's count and id: said before JAX's
+    runtime is asked (it failed with 'Number of processes must be defined', an internal error)."""
+    code, _, err = run(capsys, "sweep", LECTURE, "--speeds", "100:200:2", "-o", tmp_path, *extra)
+    assert code == 2 and key in err and len(err.strip().splitlines()) == 1, err
+
+
+def test_the_ringing_of_a_train_at_a_vanishing_speed_is_no_overflow():
+    """At 1e-300 rpm the train vibrates 1e304 times a revolution: its ringing vanishes, not an OverflowError of a
+    float's square (an internal error of ``check --speed 1e-300``)."""
+    from camdyn.model.dynamics._compliant import _ringing
+
+    motion = load_case(LECTURE).motion
+    assert _ringing(motion, 1e304) < 1e-300 and 0.0 < _ringing(motion, 10.0) < 1.0
+
+
+def test_a_long_name_makes_a_stem_a_file_system_takes():
+    """A case name of 300 characters made a file name past the 255 bytes a file system takes (an internal error of
+    ``sweep``): a stem is cut at MAX_STEM with a digest of the whole name, so two names that differ past the cut still
+    name two files; a short one is as it was."""
+    from camdyn._core.outputs import MAX_STEM, safe_stem
+
+    a, b = safe_stem("a" * 300), safe_stem("a" * 299 + "b")
+    assert len(a) <= MAX_STEM and len(b) <= MAX_STEM and a != b and a.startswith("a" * 80)
+    assert safe_stem("../lecture cam") == "lecture-cam" and safe_stem("x" * MAX_STEM) == "x" * MAX_STEM

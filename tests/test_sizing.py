@@ -373,6 +373,10 @@ def test_cli_size_json_and_table(tmp_path, capsys):
         ({}, ["--margin", "0"], "--margin"),
         ({}, ["--max-speed", "nan"], "--max-speed"),
         ({}, ["--min-rate", "-1"], "--min-rate"),
+        ({}, ["--min-rate", "1e12"], "--min-rate"),  # past any case's spring rate
+        ({}, ["--margin", "0.5"], "--margin"),  # as speed_margin: at least 1
+        ({}, ["--margin", "1e9"], "--margin"),
+        ({}, ["--max-speed", "1e9"], "--max-speed"),  # past any case's speed
     ],
 )
 def test_cli_size_bad_input(tmp_path, capsys, change, args, needle):

@@ -60,6 +60,14 @@ def initialize(
         return jax.process_count()
     if coordinator is None and not detected:
         raise InputError("--coordinator", "several processes need the coordinator's address, host:port")
+    if not detected:  # a cluster JAX detects supplies what is not given; elsewhere the command line must
+        assert coordinator is not None  # refused above
+        host, colon, port = coordinator.rpartition(":")
+        if not (colon and host and port.isdigit() and 0 < int(port) < 65536):
+            raise InputError("--coordinator", f"expected the coordinator's address as host:port, got {coordinator!r}")
+        for flag, value in (("--num-processes", num_processes), ("--process-id", process_id)):
+            if value is None:
+                raise InputError(flag, "several processes need it beside --coordinator (each process its own id)")
     if num_processes is not None and process_id is not None and process_id >= num_processes:
         raise InputError("--process-id", f"must be below --num-processes ({num_processes}), got {process_id}")
     # before initialize, without asking for a backend (that would start it); only CPU devices use it

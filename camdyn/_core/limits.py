@@ -7,6 +7,7 @@ from __future__ import annotations
 import math
 
 from .errors import InputError
+from .units import MAX_RATE_N_PER_MM, MAX_SPEED_RPM
 
 MAX_ROWS = 1_000_000  # a table is read by people and spreadsheets: a million rows is already more than either wants
 MAX_ECAM_POINTS = 100_000  # a servo drive's cam table holds a few thousand points at most
@@ -50,12 +51,16 @@ def check_samples(samples: int) -> None:
 
 
 def check_sizing(max_speed_rpm: float | None, margin: float | None, min_rate: float) -> None:
-    """``size``'s top speed (rpm) and margin (positive where given) and least spring rate (>= 0)."""
-    for name, v in (("--max-speed", max_speed_rpm), ("--margin", margin)):
-        if v is not None and not (math.isfinite(v) and v > 0):
-            raise InputError(name, f"must be a positive number (got {v:g})")
-    if not (math.isfinite(min_rate) and min_rate >= 0):
-        raise InputError("--min-rate", f"must be a number >= 0 (got {min_rate:g})")
+    """``size``'s top speed (rpm, up to a case's largest speed), margin (x, as ``[limits] speed_margin``: 1 to 100)
+    and least spring rate (>= 0, up to a case's largest), where given."""
+    if max_speed_rpm is not None and not (math.isfinite(max_speed_rpm) and 0 < max_speed_rpm <= MAX_SPEED_RPM):
+        raise InputError(
+            "--max-speed", f"must be a speed above 0 and at most {MAX_SPEED_RPM:g} rpm (got {max_speed_rpm:g})"
+        )
+    if margin is not None and not (math.isfinite(margin) and 1.0 <= margin <= 100.0):
+        raise InputError("--margin", f"must be a multiple of the speed from 1 to 100, as speed_margin (got {margin:g})")
+    if not (math.isfinite(min_rate) and 0 <= min_rate <= MAX_RATE_N_PER_MM):
+        raise InputError("--min-rate", f"must be a number from 0 to {MAX_RATE_N_PER_MM:g} (got {min_rate:g})")
 
 
 def check_min_force(margin: float) -> None:

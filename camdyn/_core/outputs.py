@@ -7,16 +7,26 @@ folder the user named (no separators, no ``..``, no leading dot). Commands check
 
 from __future__ import annotations
 
+import hashlib
 import os
 import re
 from pathlib import Path
 
 from .errors import InputError
 
+# the longest stem made from user data: with the suffixes a command adds ("-machine-1-summary.png") far below the 255
+# bytes a file name may have on common file systems
+MAX_STEM = 96
+
 
 def safe_stem(name: str) -> str:
-    """A file-name stem from user data (a case name): letters, digits, ``._-``; never empty, never hidden."""
+    """A file-name stem from user data (a case name): letters, digits, ``._-``; never empty, never hidden, at most
+    :data:`MAX_STEM` characters (a longer one cut, with a digest of the whole name, so that two names that differ
+    only past the cut still name two files)."""
     s = re.sub(r"[^A-Za-z0-9._-]+", "-", name).strip("-.")
+    if len(s) > MAX_STEM:
+        digest = hashlib.sha256(name.encode("utf-8", "surrogatepass")).hexdigest()[:8]
+        s = f"{s[: MAX_STEM - 9].rstrip('-.')}-{digest}"
     return s or "case"
 
 

@@ -23,15 +23,21 @@ class LimitsSpec(Table):
 
     speed_margin: Real = Field(
         default=DEFAULT_SPEED_MARGIN,
-        gt=0,
+        ge=1,
         le=100,
-        description="the dynamic jump speed must be at least this times the speed",
+        description=(
+            "the dynamic jump speed must be at least this times the speed (at least 1: below it the follower jumps at "
+            "its own speed)"
+        ),
     )
     min_contact_force: Real = Field(
         default=DEFAULT_MIN_CONTACT_FORCE_N,
-        ge=-MAX_FORCE_N,
+        ge=0,
         le=MAX_FORCE_N,
-        description="the least interface force over a revolution must exceed this, N",
+        description=(
+            "the least interface force over a revolution must exceed this, N (at least 0: a follower that leaves the "
+            "cam has none, so a negative limit would pass it)"
+        ),
     )
     max_pressure_angle: Real | None = Field(
         default=None, gt=0, lt=90, description="deg; default 30 for translating, 35 for oscillating followers"

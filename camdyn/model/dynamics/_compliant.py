@@ -401,7 +401,7 @@ def _ringing(motion: Motion, ratio: float) -> float:
     if not jumps.size:
         return 0.0
     step = np.abs(motion.host((jumps + 1e-9) % TWO_PI) - motion.host((jumps - 1e-9) % TWO_PI))
-    return float(max(np.max(step[1]) / ratio, np.max(step[2]) / ratio**2))
+    return float(max(np.max(step[1]) / ratio, np.max(step[2]) / (ratio * ratio)))  # a float's ** overflows, * gives inf
 
 
 def _on_cam(
