@@ -410,7 +410,7 @@ def test_plot_mechanism_draws_a_path_case(path_case):
 def test_cli_report_is_deterministic_and_keeps_foreign_files(lecture, tmp_path, capsys):
     out = tmp_path / "reports"
     out.mkdir()
-    (out / "lecture-9-old.png").write_bytes(b"stale page of an earlier run")
+    (out / "lecture-9-old.png").write_bytes(b"tEXtSoftware\x00camdyn 0.1.0: a stale page of an earlier run")
     (out / "notes.txt").write_text("not ours")
     (out / "lecture-summary.png").write_bytes(b"not named like a camdyn page")
     code = main(["report", str(LECTURE), "-o", str(out)])
@@ -429,6 +429,18 @@ def test_cli_check_report_keeps_json_on_stdout(tmp_path, capsys):
     assert code == 0 and json.loads(out)["verdict"] == "pass"
     assert "lecture.pdf" in err
     assert sorted(p.name for p in (tmp_path / "r").iterdir())[-1] == "lecture.pdf"
+
+
+@pytest.mark.parametrize("name", ["lecture.pdf", "lecture-1-summary.png", "lecture-9-old.png"])
+def test_cli_report_never_overwrites_a_file_camdyn_did_not_write(tmp_path, capsys, name):
+    """A report rewrites its own PDF and pages of an earlier run (camdyn's mark in them) and removes its stale pages;
+    a user's file under one of those names is refused before the case is checked, one line, and left as it was."""
+    mine = tmp_path / name
+    mine.write_text("mine")
+    code = main(["report", str(LECTURE), "-o", str(tmp_path)])
+    err = capsys.readouterr().err
+    assert code == 2 and name in err and "not a file camdyn wrote" in err and len(err.strip().splitlines()) == 1
+    assert mine.read_text() == "mine" and [p.name for p in tmp_path.iterdir()] == [name]
 
 
 def test_cli_report_bad_input(tmp_path, capsys):

@@ -10,6 +10,7 @@ from __future__ import annotations
 import hashlib
 import os
 import re
+from collections.abc import Iterable
 from pathlib import Path
 
 from .errors import InputError
@@ -69,6 +70,33 @@ def refuse_overwrite(path: Path, force: bool) -> None:
     """:class:`InputError` if ``path`` exists and ``force`` is not given."""
     if path.exists() and not force:
         raise InputError(str(path), "exists; pass --force to overwrite it")
+
+
+# what marks a file camdyn wrote: a report's PDF (its Creator) and PNG pages (their Software text chunk)
+CAMDYN_MARKS = (b"/Creator (camdyn)", b"tEXtSoftware\x00camdyn")
+_MARKED_BYTES = 64 * 2**20  # a file larger than this is no page of camdyn's
+
+
+def refuse_foreign(paths: Iterable[Path]) -> None:
+    """:class:`InputError` for the first of ``paths`` that exists and is not a file camdyn wrote (no
+    :data:`CAMDYN_MARKS` in it): a report rewrites its own files of an earlier run, never a user's of the same name."""
+    for path in paths:
+        if not path.exists():
+            continue
+        try:
+            ours = (
+                path.is_file()
+                and path.stat().st_size <= _MARKED_BYTES
+                and any(mark in path.read_bytes() for mark in CAMDYN_MARKS)
+            )
+        except OSError:
+            ours = False
+        if not ours:
+            raise InputError(
+                str(path),
+                "exists and is not a file camdyn wrote: move it, or give another folder (a report rewrites "
+                "only its own files)",
+            )
 
 
 def write_new(path: Path, text: str, force: bool) -> None:

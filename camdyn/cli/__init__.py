@@ -103,7 +103,10 @@ def build_parser() -> argparse.ArgumentParser:
         "--output",
         default="reports",
         metavar="DIR",
-        help="output folder (default: reports); camdyn's own report files there are overwritten",
+        help=(
+            "output folder (default: reports); the report files camdyn wrote there are rewritten, a file of another "
+            "under their names is refused"
+        ),
     )
     p.add_argument("--speed", type=positive_rpm, metavar="RPM", help="cam speed, rpm (default: each case's)")
 

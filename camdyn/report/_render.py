@@ -15,7 +15,7 @@ from matplotlib.figure import Figure
 from PIL import Image, PngImagePlugin
 
 from .._core.errors import CamdynError, InputError
-from .._core.outputs import output_dir, safe_stem
+from .._core.outputs import output_dir, refuse_foreign, safe_stem
 from .._core.progress import Progress, counter
 from ..design.checks import run_check
 from ..design.review import Review, design_review
@@ -52,6 +52,13 @@ def _own_pngs(out_dir: Path, stem: str) -> list[Path]:
     return sorted(p for p in out_dir.glob(f"{stem}-*.png") if pat.match(p.name))
 
 
+def _refuse_foreign_pages(out_dir: Path, stem: str) -> None:
+    """:func:`refuse_foreign` of what a report of ``stem`` writes or removes in ``out_dir``: its PDF and every page
+    PNG under its names (a page that no longer applies is removed)."""
+    if out_dir.is_dir():
+        refuse_foreign([out_dir / f"{stem}.pdf", *_own_pngs(out_dir, stem)])
+
+
 def render(review: Review, out_dir: Path, *, progress: Progress | None = None) -> Written:
     """Draw every page that applies to the review's case into ``out_dir``: the PDF and one PNG per page. Stale
     ``<case>-<n>-<page>.png`` pages of an earlier run are removed; nothing else is touched."""
@@ -60,6 +67,7 @@ def render(review: Review, out_dir: Path, *, progress: Progress | None = None) -
     pages = [p for p in PAGES if p.applies(data)]
     pdf_name, png_names = output_names(data.case.name, pages)
     stem = pdf_name[:-4]
+    _refuse_foreign_pages(out_dir, stem)
     version = camdyn_version()
     meta = {
         "Title": f"camdyn design review: {data.case.name}",
@@ -156,6 +164,10 @@ def report_cases(
                 f"case name {c.name!r} is also the name of {stems[stem]}: their reports would overwrite each other",
             )
         stems[stem] = str(p)
+        try:  # before any case is checked: not after minutes of work
+            _refuse_foreign_pages(Path(out_dir), stem)
+        except CamdynError as err:
+            raise _named(p, err) from None
     out = []
     # several cases: a phase over them, said started before the first (one case: its own phases say it all)
     tick = counter(progress if len(cases) > 1 else None, "cases", len(cases))
