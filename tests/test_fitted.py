@@ -148,6 +148,8 @@ GOOD = ["theta_deg,lift_mm"] + [f"{a},{5 * (1 - math.cos(math.radians(a))):.4f}"
         (GOOD + ["400,0"], "lift.csv line 38", "more than one revolution"),
         (GOOD[:4] + ["30,nan"] + GOOD[5:], "lift.csv line 5", "lift_mm = nan is not a finite number"),
         (GOOD[:4] + ["30,"] + GOOD[5:], "lift.csv line 5", "lift_mm is missing"),
+        # a row with fields past its header (a shifted or pasted row); trailing empty ones are a spreadsheet's
+        (GOOD[:4] + ["30,0.6699,oops,!!"] + GOOD[5:], "lift.csv line 5", "4 fields where the header names 2"),
         (GOOD[:8], "lift.csv", "has 7 data rows: at least 8"),
         (["theta_deg,swing_deg"] + GOOD[1:], "lift.csv line 1", "gives lift_mm, not swing_deg"),
         (GOOD[:4] + ["30,-2"] + GOOD[5:], "lift.csv line 5", "below zero by more than 1 %"),
@@ -261,3 +263,12 @@ def test_shipped_cases_pass_and_match_the_designs_they_were_made_from(shipped_ch
     noise_N = report["dynamic"]["min_contact_force_uncertainty_N"]
     if noise_N is not None:  # the stated uncertainty covers the least force of the design the data were made from
         assert abs(report["dynamic"]["min_contact_force_N"] - design["dynamic"]["min_contact_force_N"]) <= noise_N
+
+
+def test_trailing_empty_fields_of_a_spreadsheet_are_no_data(tmp_path):
+    """``30,0.6699,,`` (a spreadsheet's export of a wider sheet) reads as its two named fields."""
+    from camdyn.model.datafiles import read_csv
+
+    (tmp_path / "lift.csv").write_text("\n".join(GOOD[:1] + [f"{row},," for row in GOOD[1:]]) + "\n")
+    got = read_csv(tmp_path / "lift.csv", "lift.csv", ("theta_deg", "lift_mm"))
+    assert got.values.shape == (36, 2) and got.values[3, 0] == 30.0

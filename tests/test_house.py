@@ -130,7 +130,7 @@ BAD_INPUTS = [  # (case, (old, new) in its text, the command line after "camdyn"
     ("lecture.toml", None, ["profile", "-o", "{tmp}/cam.xyz"], "unknown format '.xyz'"),
     ("lecture.toml", None, ["sweep", "--speeds", "700:100:3"], "--speeds: A must not exceed B"),
     ("lecture.toml", None, ["sweep", "--speeds", "100:1e6:3"], "--speeds: at most 100000 rpm"),
-    ("lecture.toml", None, ["size", "--margin", "-1"], "--margin: must be a multiple of the speed from 1 to 100, as speed_margin (got -1)"),
+    ("lecture.toml", None, ["size", "--margin", "-1"], "--margin: must be a multiple of the speed from 1 to 100"),
     ("lecture-tolerances.toml", None, ["tolerance", "--samples", "0"], "--samples: must be from 1 to"),
     ("lecture.toml", None, ["optimize", "-o", "{tmp}/o.toml", "--min-force", "-1"], "--min-force: must be"),
     ("lecture.toml", None, ["optimize", "-o", "{tmp}"], "is a folder: give a file name for the case file"),

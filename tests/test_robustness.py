@@ -458,3 +458,15 @@ def test_a_long_name_makes_a_stem_a_file_system_takes():
     a, b = safe_stem("a" * 300), safe_stem("a" * 299 + "b")
     assert len(a) <= MAX_STEM and len(b) <= MAX_STEM and a != b and a.startswith("a" * 80)
     assert safe_stem("../lecture cam") == "lecture-cam" and safe_stem("x" * MAX_STEM) == "x" * MAX_STEM
+
+
+def test_a_case_written_elsewhere_names_its_data_files_from_there(tmp_path):
+    """``tolerance`` writes its worst samples as case files in its output folder: a data file the case names by a
+    relative path is named from there (``check`` of a worst sample said 'valve-lift.csv: no such file'); an absolute
+    one as it is; the case's own document is not changed."""
+    from camdyn.schema import moved_data_files
+
+    doc = {"motion": {"table": "lift.csv"}, "follower": {"contour": "/abs/cam.csv", "type": "flat"}, "dynamics": {}}
+    out = moved_data_files(doc, tmp_path / "in", tmp_path / "in" / "out" / "deep")
+    assert out["motion"]["table"] == "../../lift.csv" and out["follower"]["contour"] == "/abs/cam.csv"
+    assert doc["motion"]["table"] == "lift.csv" and out["dynamics"] is doc["dynamics"]

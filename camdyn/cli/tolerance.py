@@ -22,6 +22,7 @@ from ..design.tolerance import (
 from ..export.toml import dumps_case
 from ..model.case import Case, build_case
 from ..plot import save_impact_histogram_png, save_tolerance_png, save_valve_tolerance_png
+from ..schema import moved_data_files
 from ._console import console, json_text, progress_bar, table
 from ._groove import groove_outputs
 
@@ -107,6 +108,8 @@ def _write(args, case, result: R, elapsed: float, paths, save, docs, as_json, sh
     write_new(paths["csv"], result.csv, True)
     save(result, paths["png"])
     for (doc, header), path in zip(docs(case, result), worst_files, strict=True):
+        if case.source is not None:  # the data files it names, as the written case finds them
+            doc = moved_data_files(doc, case.source.parent, path.parent)
         write_new(path, dumps_case(doc, header), True)
     if args.json:
         print(json_text(as_json(result, worst_files, elapsed)))

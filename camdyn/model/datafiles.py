@@ -84,6 +84,8 @@ def read_csv(path: Path, shown: str, columns: tuple[str, ...], hints: dict[str, 
     values, rows, decimals = [], [], 0
     for n, line in body[1:]:
         cells = [c.strip() for c in line.split(",")]
+        if any(cells[len(names) :]):  # a row past its header: a shifted or pasted row, whose columns are not named
+            raise InputError(f"{shown} line {n}", f"{len(cells)} fields where the header names {len(names)}")
         row = []
         for col, i in zip(columns, index, strict=True):
             cell = cells[i] if i < len(cells) else ""

@@ -16,7 +16,7 @@ from pathlib import Path
 from .._core.errors import InputError
 from .._core.files import check_file, data_file_path, read_text_file
 from ._base import Table, parse, validation_error
-from .case import SCHEMA_VERSION, CaseSpec
+from .case import DATA_FILE_KEYS, SCHEMA_VERSION, CaseSpec, moved_data_files
 from .drive import DriveSpec
 from .dynamics import LINEAR_KEYS, ROTARY_KEYS, DynamicsSpec, dynamics_keys
 from .follower import FOLLOWER_TYPES, FollowerSpec
@@ -32,6 +32,7 @@ from .valvetrain import RockerSpec, ValvetrainSpec
 
 __all__ = [
     "CaseSpec",
+    "DATA_FILE_KEYS",
     "DriveSpec",
     "DynamicsSpec",
     "END_TYPES",
@@ -59,6 +60,7 @@ __all__ = [
     "dynamics_keys",
     "load_case_spec",
     "load_path_file",
+    "moved_data_files",
     "parse",
     "read_toml",
     "validation_error",

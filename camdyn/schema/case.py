@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import os
+from pathlib import Path
 from typing import Literal
 
 from pydantic import Field, model_validator
@@ -143,9 +145,21 @@ class CaseSpec(Table):
     def data_files(self) -> tuple[str, ...]:
         """The data files the case names (``[motion] table`` or ``valve_table``, ``[follower] contour``), relative to
         the case file."""
-        names = (
-            self.motion.table if self.motion is not None else None,
-            self.motion.valve_table if self.motion is not None else None,
-            self.follower.contour if self.follower is not None else None,
-        )
+        names = (getattr(getattr(self, table), key, None) for table, key in DATA_FILE_KEYS)
         return tuple(name for name in names if name is not None)
+
+
+# the keys whose values name a data file, relative to the case file's folder: (table, key)
+DATA_FILE_KEYS = (("motion", "table"), ("motion", "valve_table"), ("follower", "contour"))
+
+
+def moved_data_files(doc: dict, source: Path, destination: Path) -> dict:
+    """A case file's document ``doc``, read from folder ``source``, as a case file written into folder
+    ``destination`` needs it: each data file it names by a relative path named relative to ``destination``."""
+    out = dict(doc)
+    for table, key in DATA_FILE_KEYS:
+        name = out.get(table, {}).get(key)
+        if isinstance(name, str) and not Path(name).is_absolute():
+            where = os.path.relpath((source / name).resolve(), destination.resolve())
+            out[table] = {**out[table], key: Path(where).as_posix()}
+    return out
