@@ -9,6 +9,7 @@ import math
 import os
 import random
 import tomllib
+import warnings
 from pathlib import Path
 
 import pytest
@@ -470,3 +471,17 @@ def test_a_case_written_elsewhere_names_its_data_files_from_there(tmp_path):
     out = moved_data_files(doc, tmp_path / "in", tmp_path / "in" / "out" / "deep")
     assert out["motion"]["table"] == "../../lift.csv" and out["follower"]["contour"] == "/abs/cam.csv"
     assert doc["motion"]["table"] == "lift.csv" and out["dynamics"] is doc["dynamics"]
+
+
+def test_a_name_the_plot_font_cannot_draw_leaves_a_quiet_run_quiet(capsys, tmp_path):
+    """A case named in characters DejaVu Sans lacks (CJK, an emoji): its plots draw boxes, and ``--quiet`` prints
+    nothing on stderr (matplotlib warned of each glyph in two lines of its own source)."""
+    case = tmp_path / "c.toml"
+    case.write_text(
+        LECTURE.read_text().replace('name = "lecture"', 'name = "Nocke \u00fc \u2014 \u51f8\u8f6e \U0001f680"')
+    )
+    with warnings.catch_warnings(record=True) as caught:  # as a process shows them, not as pytest collects them
+        warnings.simplefilter("always")
+        code, _, err = run(capsys, "sweep", case, "--speeds", "300:300:1", "-o", tmp_path / "out", "--quiet")
+    assert code == 0 and err == "", err
+    assert not [w for w in caught if "missing from" in str(w.message)]

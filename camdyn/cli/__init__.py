@@ -14,6 +14,7 @@ import atexit
 import os
 import sys
 import traceback
+import warnings
 from importlib import import_module
 from pathlib import Path
 from typing import NoReturn
@@ -472,6 +473,9 @@ def _command(argv: list[str] | None) -> int:
         # before equinox loads: its runtime checks otherwise embed host callbacks, which keep JAX from caching the
         # compiled diffrax solves on disk (camdyn checks every solver result itself, so NaN-on-error loses nothing)
         os.environ.setdefault("EQX_ON_ERROR", "nan")
+        # a case name's characters the plots' font lacks are drawn as boxes; matplotlib's warning of each (two lines
+        # of its source per glyph) would be the only text on stderr of a --quiet run
+        warnings.filterwarnings("ignore", message=r"Glyph \d+ .*missing from", category=UserWarning)
         run = import_module(f".{args.command}", __name__).run
         _enable_caches()
         return run(args)
