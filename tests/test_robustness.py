@@ -485,3 +485,18 @@ def test_a_name_the_plot_font_cannot_draw_leaves_a_quiet_run_quiet(capsys, tmp_p
         code, _, err = run(capsys, "sweep", case, "--speeds", "300:300:1", "-o", tmp_path / "out", "--quiet")
     assert code == 0 and err == "", err
     assert not [w for w in caught if "missing from" in str(w.message)]
+
+
+def test_a_lift_below_zero_names_the_segment_not_the_spring(capsys, tmp_path):
+    """A polynomial whose boundary conditions send it 69 mm below the base circle leaves the spring pulling the
+    follower off the cam at rest: the segment is named (it was blamed on ``dynamics.preload``); a spring too weak for
+    a motion that stays above zero is still the preload's."""
+    text = (ROOT / "cases" / "polynomial.toml").read_text()
+    old = "end_acceleration = -40 }"
+    assert old in text
+    (tmp_path / "under.toml").write_text(text.replace(old, "end_acceleration = -4000 }", 1))
+    code, _, err = run(capsys, "check", tmp_path / "under.toml")
+    assert one_line_error(code, err) and "motion.segments[0]: the lift goes below zero, to -69.12 mm" in err, err
+    (tmp_path / "weak.toml").write_text(LECTURE.read_text().replace("preload = 30", "preload = -10"))
+    code, _, err = run(capsys, "check", tmp_path / "weak.toml")
+    assert one_line_error(code, err) and "dynamics.preload: the spring cannot hold" in err, err

@@ -162,7 +162,7 @@ def build_case(spec: CaseSpec, source: Path | None = None) -> Case:
     else:
         model = equivalent_follower(valvetrain)
     if not follower.form_closed:  # a groove holds the follower both ways: it needs no spring to stay on
-        _check_holds_at_rest(motion, model, dynamics_keys(spec.kind)[2], spec.kind.force_unit)
+        _check_holds_at_rest(motion, model, spec)
     if valvetrain is not None:
         _check_valve_lifts(motion, spec, valvetrain)
     return Case(
@@ -250,11 +250,30 @@ def _check_valve_lifts(motion: Motion, spec: CaseSpec, vt_model: ValvetrainModel
         )
 
 
-def _check_holds_at_rest(motion: Motion, model: FollowerModel, preload_key: str, unit: str) -> None:
+_BELOW_ZERO = 0.01  # a lift below zero by more than this share of the largest is the motion's, not a fit's ripple
+
+
+def _check_holds_at_rest(motion: Motion, model: FollowerModel, spec: CaseSpec) -> None:
+    """The spring and the external load keep the follower on its cam turned slowly; where they do not because the
+    lift goes below zero (a polynomial's boundary conditions that overshoot), the motion is named, not the spring."""
     least, at = least_static_force(motion, model)
-    if least <= 0.0:
+    if least > 0.0:
+        return
+    kind, unit = spec.kind, spec.kind.force_unit
+    held = f"spring + external load is {least:.4g} {unit} at {at:g} deg"
+    theta_deg = np.arange(THETA_GRID) * (360.0 / THETA_GRID)
+    lift = kind.motion_to_lift(np.asarray(motion.host(np.deg2rad(theta_deg))[0]))
+    i = int(np.argmin(lift))
+    if lift[i] < -_BELOW_ZERO * float(np.max(np.abs(lift))):
+        where = "motion"
+        if spec.motion is not None and spec.motion.segments:
+            k = next((k for k, seg in enumerate(spec.motion.segments) if seg.end > theta_deg[i]), 0)
+            where = f"motion.segments[{k}]"
         raise InputError(
-            f"dynamics.{preload_key}",
-            f"the spring cannot hold the follower on the cam even at rest: spring + external load is {least:.4g} "
-            f"{unit} at {at:g} deg",
+            where,
+            f"the lift goes below zero, to {lift[i]:.4g} {kind.lift_unit} at {theta_deg[i]:.1f} deg, so the spring "
+            f"pulls the follower off the cam even at rest ({held}): check its lift and boundary conditions",
         )
+    raise InputError(
+        f"dynamics.{dynamics_keys(kind)[2]}", f"the spring cannot hold the follower on the cam even at rest: {held}"
+    )
