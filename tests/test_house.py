@@ -128,6 +128,8 @@ BAD_INPUTS = [  # (case, (old, new) in its text, the command line after "camdyn"
     ("lecture.toml", None, ["profile", "-o", "{tmp}/cam.nc"], "--cutter-radius: a cutter path (.nc) needs"),
     ("lecture.toml", None, ["profile", "-o", "{tmp}/cam.dxf", "--tolerance", "0"], "--tolerance: must be"),
     ("lecture.toml", None, ["profile", "-o", "{tmp}/cam.xyz"], "unknown format '.xyz'"),
+    ("lecture.toml", None, ["profile", "-o", "{tmp}/.dxf"], ".dxf: a format without a file name: give one, as cam.dxf"),
+    ("lecture.toml", None, ["profile", "-o", "{tmp}/cam.nc", "--cutter-radius", "1e9"], "positive number below 1e6"),
     ("lecture.toml", None, ["sweep", "--speeds", "700:100:3"], "--speeds: A must not exceed B"),
     ("lecture.toml", None, ["sweep", "--speeds", "100:1e6:3"], "--speeds: at most 100000 rpm"),
     ("lecture.toml", None, ["size", "--margin", "-1"], "--margin: must be a multiple of the speed from 1 to 100"),

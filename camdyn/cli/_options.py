@@ -81,6 +81,8 @@ def check_options(args: argparse.Namespace) -> None:
         if out.is_dir():
             raise InputError(str(out), f"is a folder: give a file name ({', '.join('cam' + f for f in FORMATS)})")
         suffix = out.suffix.lower()
+        if not suffix and out.name.lower() in FORMATS:  # ".dxf": a suffix without a name (Python reads a hidden file)
+            raise InputError(str(out), f"a format without a file name: give one, as cam{out.name}")
         if suffix not in FORMATS:
             raise InputError(str(out), f"unknown format {suffix or '(no suffix)'!r}: use one of {', '.join(FORMATS)}")
         _profile_options(args, suffix)
@@ -142,4 +144,4 @@ def _profile_options(args, suffix: str) -> None:
         ("--bore", args.bore),
     ):
         if value is not None and not (0 < value < 1e6):
-            raise InputError(flag, f"must be a positive number (got {value:g})")
+            raise InputError(flag, f"must be a positive number below 1e6 (got {value:g})")
