@@ -407,3 +407,20 @@ def test_page_one_stays_on_the_page_and_says_where_there_is_no_dwell(shipped_che
     assert check.response.residual_vibration > 0.0
     path = dict(key_results(ReportData(light_review(racetrack_case, racetrack_check))))
     assert path["residual vibration"] == "none: no dwell to judge it in"
+
+
+@pytest.mark.slow  # a valvetrain's check
+def test_key_inputs_list_only_the_limits_a_check_judges(shipped_check):
+    """Page 1's key inputs leave out a default limit no check of the case judges: a valvetrain on a rigid cam contact
+    has no train deflection, and its flat face is held above a cusp, not to a roller's curvature ratio (the page
+    listed both beside a curvature check 'above 1e-06 mm'); the lecture's compliant roller has both."""
+    from types import SimpleNamespace
+
+    from camdyn.report.pages._inputs import input_columns
+
+    both = {"max_train_deflection", "min_curvature_ratio"}
+    for name, listed in (("valvetrain", set()), ("lecture", both)):
+        case, check = shipped_check(name)
+        data = SimpleNamespace(case=case, check=check, oscillating=case.kind.rotary)
+        rows = {key for key, _ in input_columns(data)[-1][1]}  # type: ignore[arg-type]  (the fields it reads)
+        assert rows & both == listed, (name, rows)

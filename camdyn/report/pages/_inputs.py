@@ -66,6 +66,7 @@ _LIMIT_OF_CHECK = {
     "max_impact_velocity": CheckKind.CROSSOVER_IMPACT,
     "max_path_error": CheckKind.PATH_ERROR,
     "min_transmission_angle": CheckKind.TRANSMISSION_ANGLE,
+    "max_train_deflection": CheckKind.TRAIN_DEFLECTION,  # a compliant train's
 }
 
 # limits that judge a follower held on by a spring (it may jump): a groove cam has none of their checks
@@ -131,6 +132,9 @@ def input_columns(data: ReportData) -> list[tuple[str, list[tuple[str, str]]]]:
     for key, kind in _LIMIT_OF_CHECK.items():
         if data.check.find(kind) is None and key not in spec.limits.model_fields_set:
             lim.pop(key, None)
+    curvature = data.check.find(CheckKind.CURVATURE)
+    if curvature is not None and curvature.unit == "mm" and "min_curvature_ratio" not in spec.limits.model_fields_set:
+        lim.pop("min_curvature_ratio", None)  # a flat face's contour is held above a cusp, not to a roller's ratio
     if data.check.closure is not None:
         for key in _SPRING_HELD_LIMITS:
             lim.pop(key, None)
