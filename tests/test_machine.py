@@ -265,3 +265,17 @@ def test_a_cams_line_names_the_check_nearest_its_limit():
     assert _nearest_its_limit((impact, curvature, angle, force, failing)) is angle
     assert _nearest_its_limit((impact, curvature)) is impact
     assert _nearest_its_limit((force, failing, Check("speed_margin", None, 1.25, "x"))) is None
+
+
+def test_a_machine_reports_pages_name_the_files_they_review(tmp_path):
+    """The machine report's feet give its machine file's SHA-256 and each cam's line its case file's, as a case
+    report's feet do (the five files behind the cartoner's pages could not be traced); none for a machine built in
+    memory."""
+    import hashlib
+
+    from camdyn.report._data import file_sha256
+
+    path = tmp_path / "m.toml"
+    path.write_bytes(b"name = 'm'\n")
+    assert file_sha256(path) == hashlib.sha256(b"name = 'm'\n").hexdigest()
+    assert file_sha256(None) is None and file_sha256(tmp_path / "gone.toml") is None and file_sha256(tmp_path) is None

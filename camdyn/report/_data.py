@@ -20,6 +20,14 @@ if TYPE_CHECKING:
     from ..model.case import Case
 
 
+def file_sha256(path: Path | None) -> str | None:
+    """The SHA-256 (hex) of a file the user gave (a case or machine file), for the pages' feet: which file they
+    review; None where there is none (built in memory)."""
+    if path is None or not Path(path).is_file():
+        return None
+    return hashlib.sha256(Path(path).read_bytes()).hexdigest()
+
+
 @dataclass(frozen=True)
 class ReportData:
     """A review as the pages see it."""
@@ -37,10 +45,7 @@ class ReportData:
     @cached_property
     def case_sha256(self) -> str | None:
         """The SHA-256 (hex) of the case file as it was read; None for a case built in memory."""
-        src = self.case.source
-        if src is None or not Path(src).is_file():
-            return None
-        return hashlib.sha256(Path(src).read_bytes()).hexdigest()
+        return file_sha256(self.case.source)
 
     @property
     def oscillating(self) -> bool:

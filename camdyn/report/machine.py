@@ -22,6 +22,7 @@ from ..plot.machine import (
     plot_timing_diagram,
 )
 from ..schema.machine import machine_stem
+from ._data import file_sha256
 from ._layout import Flow, camdyn_version, fmt, page_frame, verdict_block
 from ._render import Written, write_page
 from ._style import A4, LEFT, C, style
@@ -40,6 +41,8 @@ def machine_output_names(machine_name: str) -> tuple[str, list[str]]:
 
 def _header(fig, result: MachineResult, title: str, number: int) -> None:
     src = result.source.name if result.source is not None else result.name
+    sha = file_sha256(result.source)
+    src += f"  \u00b7  sha256 {sha[:12]}" if sha else ""
     page_frame(
         fig, result.name, title, number, len(PAGES), f"machine review  \u00b7  {src}  \u00b7  {result.speed_rpm:g} rpm"
     )
@@ -80,6 +83,12 @@ def cam_line(cam: MachineCam) -> str:
     return text + (f"; fails {', '.join(cam.failed)}" if cam.failed else "")
 
 
+def _sha(cam: MachineCam) -> str:
+    """`` (sha256 <12 hex>)`` of the cam's case file as it was read: which file its line reviews."""
+    sha = file_sha256(cam.check.case.source)
+    return f" (sha256 {sha[:12]})" if sha else ""
+
+
 def _summary(fig, result: MachineResult) -> None:
     flow = Flow(fig, 0.93)
     if result.description:
@@ -101,7 +110,7 @@ def _summary(fig, result: MachineResult) -> None:
         flow.row(
             [
                 (0.0, cam.name, {"weight": "bold", "color": cam_colour(i)}),
-                (0.16, f"{cam.case_file}, phase {cam.phase_deg:g}\u00b0", {"color": C["grey"]}),
+                (0.16, f"{cam.case_file}{_sha(cam)}, phase {cam.phase_deg:g}\u00b0", {"color": C["grey"]}),
                 (
                     1.0,
                     "pass" if ok else "FAIL",
