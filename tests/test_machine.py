@@ -267,10 +267,10 @@ def test_a_cams_line_names_the_check_nearest_its_limit():
     assert _nearest_its_limit((force, failing, Check("speed_margin", None, 1.25, "x"))) is None
 
 
-def test_a_machine_reports_pages_name_the_files_they_review(tmp_path):
-    """The machine report's feet give its machine file's SHA-256 and each cam's line its case file's, as a case
-    report's feet do (the five files behind the cartoner's pages could not be traced); none for a machine built in
-    memory."""
+def test_the_sha256_a_report_names_its_files_by(tmp_path):
+    """``file_sha256``: what a case report's feet, the machine report's feet and each of its cam lines print of the
+    file they review (the five files behind the cartoner's pages could not be traced before); none for a case or
+    machine built in memory, or a file gone."""
     import hashlib
 
     from camdyn.report._data import file_sha256
