@@ -154,8 +154,9 @@ def mark_mean_and_peak_torque(ax: Axes, theta_deg: np.ndarray, drive: DriveTorqu
     """A drive torque's mean (dashed, with the mean power) and its peak (a dot), both named in the legend."""
     # a mean within the peak's round-off (a drive that stores and returns all it takes: no damper, no external load)
     # is named 0, not 1.26e-16 N*m
-    mean = 0.0 if abs(drive.mean_torque) <= 1e-12 * drive.peak_torque else drive.mean_torque
-    ax.axhline(mean, color=mean_colour, lw=0.8, ls="--", label=f"mean {mean:.3g} N\u00b7m ({mean * drive.omega:.3g} W)")
+    zero = abs(drive.mean_torque) <= 1e-12 * drive.peak_torque
+    mean, power = (0.0, 0.0) if zero else (drive.mean_torque, drive.mean_power)
+    ax.axhline(mean, color=mean_colour, lw=0.8, ls="--", label=f"mean {mean:.3g} N\u00b7m ({power:.3g} W)")
     i = int(np.argmax(np.abs(drive.torque)))
     ax.plot(
         [theta_deg[i]],
