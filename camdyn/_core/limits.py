@@ -7,7 +7,7 @@ from __future__ import annotations
 import math
 
 from .errors import InputError
-from .units import MAX_RATE_N_PER_MM, MAX_SPEED_RPM
+from .units import MAX_RATE_N_PER_MM, MAX_SPEED_RPM, SPEED_MARGIN_RANGE
 
 MAX_ROWS = 1_000_000  # a table is read by people and spreadsheets: a million rows is already more than either wants
 MAX_ECAM_POINTS = 100_000  # a servo drive's cam table holds a few thousand points at most
@@ -57,8 +57,11 @@ def check_sizing(max_speed_rpm: float | None, margin: float | None, min_rate: fl
         raise InputError(
             "--max-speed", f"must be a speed above 0 and at most {MAX_SPEED_RPM:g} rpm (got {max_speed_rpm:g})"
         )
-    if margin is not None and not (math.isfinite(margin) and 1.0 <= margin <= 100.0):
-        raise InputError("--margin", f"must be a multiple of the speed from 1 to 100, as speed_margin (got {margin:g})")
+    lo, hi = SPEED_MARGIN_RANGE
+    if margin is not None and not (math.isfinite(margin) and lo <= margin <= hi):
+        raise InputError(
+            "--margin", f"must be a multiple of the speed from {lo:g} to {hi:g}, as speed_margin (got {margin:g})"
+        )
     if not (math.isfinite(min_rate) and 0 <= min_rate <= MAX_RATE_N_PER_MM):
         raise InputError("--min-rate", f"must be a number from 0 to {MAX_RATE_N_PER_MM:g} (got {min_rate:g})")
 

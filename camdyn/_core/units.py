@@ -39,6 +39,7 @@ DEFAULT_PROFILE_TOLERANCE_MM = 0.01  # chord tolerance of `camdyn profile`
 
 # defaults of the [limits] table
 DEFAULT_SPEED_MARGIN = 1.25
+SPEED_MARGIN_RANGE = (1, 100)  # [limits] speed_margin and size --margin: below 1 the follower jumps at its speed
 JUMP_SEARCH_FACTOR = 4.0  # every dynamic jump-speed search reaches this many times the top speed a verdict needs
 DEFAULT_MIN_CONTACT_FORCE_N = 0.0
 DEFAULT_MAX_PRESSURE_ANGLE_DEG = {"translating": 30.0, "oscillating": 35.0}

@@ -261,17 +261,17 @@ def _check_holds_at_rest(motion: Motion, model: FollowerModel, spec: CaseSpec) -
         return
     kind, unit = spec.kind, spec.kind.force_unit
     held = f"spring + external load is {least:.4g} {unit} at {at:g} deg"
-    theta_deg = np.arange(THETA_GRID) * (360.0 / THETA_GRID)
-    lift = kind.motion_to_lift(np.asarray(motion.host(np.deg2rad(theta_deg))[0]))
+    lift = kind.motion_to_lift(np.asarray(_lifts(motion)))
     i = int(np.argmin(lift))
+    deg = i * (360.0 / THETA_GRID)  # _lifts' grid
     if lift[i] < -_BELOW_ZERO * float(np.max(np.abs(lift))):
         where = "motion"
         if spec.motion is not None and spec.motion.segments:
-            k = next((k for k, seg in enumerate(spec.motion.segments) if seg.end > theta_deg[i]), 0)
+            k = next((k for k, seg in enumerate(spec.motion.segments) if seg.end > deg), 0)
             where = f"motion.segments[{k}]"
         raise InputError(
             where,
-            f"the lift goes below zero, to {lift[i]:.4g} {kind.lift_unit} at {theta_deg[i]:.1f} deg, so the spring "
+            f"the lift goes below zero, to {lift[i]:.4g} {kind.lift_unit} at {deg:.1f} deg, so the spring "
             f"pulls the follower off the cam even at rest ({held}): check its lift and boundary conditions",
         )
     raise InputError(

@@ -14,6 +14,7 @@ from .._core.units import (
     DEFAULT_MIN_TRANSMISSION_ANGLE_DEG,
     DEFAULT_SPEED_MARGIN,
     MAX_FORCE_N,
+    SPEED_MARGIN_RANGE,
 )
 from ._base import Real, Table
 
@@ -23,8 +24,8 @@ class LimitsSpec(Table):
 
     speed_margin: Real = Field(
         default=DEFAULT_SPEED_MARGIN,
-        ge=1,
-        le=100,
+        ge=SPEED_MARGIN_RANGE[0],
+        le=SPEED_MARGIN_RANGE[1],
         description=(
             "the dynamic jump speed must be at least this times the speed (at least 1: below it the follower jumps at "
             "its own speed)"

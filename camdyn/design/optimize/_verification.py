@@ -11,7 +11,7 @@ import numpy as np
 
 from ..._core.units import RPM
 from ...model.case import Case
-from ...model.dynamics import linear_min_force, response, valvetrain_response
+from ...model.dynamics import linear_least_force, response, valvetrain_response
 
 
 @dataclass(frozen=True)
@@ -81,11 +81,7 @@ def verify(case: Case, speeds_rpm: list[float], margin: float) -> Verification:
     for rpm in speeds_rpm:
         w = rpm * RPM
         r = response(case.motion, case.model, w)
-        fd = (
-            math.nan
-            if case.model.rigid
-            else float(np.asarray(linear_min_force(case.motion, case.model, np.array([w])))[0])
-        )
+        fd = math.nan if case.model.rigid else linear_least_force(case.motion, case.model, w)
         held = bool(r.min_force >= margin - 1e-3 * float(np.abs(r.force).max())) and not r.separations
         points.append(VerifiedSpeed(rpm, float(r.min_force), fd, bool(r.separations), held, r.domain))
     return Verification("rigid" if case.model.rigid else "compliant", tuple(points), case.kind.force_unit)
