@@ -31,7 +31,7 @@ from camdyn.model.case import case_from_dict
 from camdyn.model.dynamics import _compliant, _rigid
 from camdyn.model.dynamics._root import itp_zero
 from camdyn.model.follower import FollowerModel
-from camdyn.model.motion import Program
+from camdyn.model.motion import Motion, Program
 
 RPM = 2 * math.pi / 60
 N = THETA_GRID  # the grid check runs the dynamics on: the programs the rest of the suite compiles serve these tests
@@ -571,6 +571,63 @@ def test_rigid_jump_speed(lecture):
     assert not below.separations and below.min_force > 0.0
     assert len(above.separations) == 1
     assert above.separations[0].start_deg < at < above.separations[0].end_deg
+
+
+_STEPPED = [  # a constant-velocity rise between dwells: its velocity steps up at 90 deg and down at 180 deg
+    {"law": "dwell", "end": 90},
+    {"law": "constant-velocity", "end": 180, "lift": 20},
+    {"law": "dwell", "end": 240},
+    {"law": "cycloidal", "end": 360, "lift": -20},
+]
+
+
+def test_a_step_in_the_cams_velocity_is_a_jump_at_any_speed(lecture):
+    """The constant-velocity rise's steps, v = 20 mm / (pi / 2) either way, read exactly from its segments and again
+    from either side of its breaks; a rigid follower's kinematic jump speed is 0 at the drop (180 deg), whatever its
+    restitution; the rise (90 deg) strikes it and throws it off only with a restitution."""
+    _, model = lecture
+    motion = Program.from_segments(_STEPPED)
+    v = 20.0 / (math.pi / 2)
+    assert np.allclose(motion.velocity_jumps(), [(90.0, v), (180.0, -v)], rtol=1e-12, atol=0)
+    generic = Motion.derivative_jumps(motion)  # one-sided values at the breaks
+    assert [(d, o) for d, o, _ in generic] == [(d, o) for d, o, _ in motion.derivative_jumps()]
+    assert np.allclose([j for *_, j in generic], [j for *_, j in motion.derivative_jumps()], rtol=1e-6)
+    rigid = with_(model, train_stiffness=math.inf, train_damping=0.0)
+    assert dyn.kinematic_jump_speed(motion, rigid) == (0.0, pytest.approx(180.0))
+    assert np.allclose(dyn.velocity_steps(motion, 0.0), [(math.pi, v)], rtol=1e-12, atol=0)
+    assert np.allclose(dyn.velocity_steps(motion, 0.5), [(math.pi / 2, 0.5 * v), (math.pi, v)], rtol=1e-12, atol=0)
+    assert dyn.kinematic_jump_speed(Program.from_segments(LECTURE["motion"]["segments"]), rigid)[0] > 0.0
+
+
+@pytest.mark.slow  # compiles the rigid follower's flight
+def test_a_rigid_follower_leaves_a_cam_whose_velocity_drops_and_flies_in_closed_form(lecture):
+    """At 30 rpm, far below any acceleration's jump speed, the rigid follower leaves the constant-velocity rise's end
+    at the cam's speed before the step, v w, and flies under its undamped spring from the dwell's lift h:
+    X'' = -w_n^2 X - a0 (a0 = (k h + F0) / m) lands after t = 2 atan(v w w_n / a0) / w_n, at the speed it left at;
+    the largest gap on the grid is below the closed form's (sqrt(a0^2 + (v w w_n)^2) - a0) / w_n^2. ``check``
+    fails it (force and margin), and the rise, where the cam strikes it, is no flight."""
+    _, model = lecture
+    motion = Program.from_segments(_STEPPED)
+    rigid = with_(model, train_stiffness=math.inf, train_damping=0.0, damping=0.0)
+    omega = 30 * RPM
+    r = dyn.rigid_response(motion, rigid, omega, n=N)
+    assert len(r.separations) == 1
+    sep = r.separations[0]
+    v = 20.0 / (math.pi / 2) * 1e-3 * omega  # m/s
+    m, k, f0 = float(rigid.mass), float(rigid.stiffness), float(rigid.preload)
+    a0, wn = (k * 0.020 + f0) / m, math.sqrt(k / m)
+    t_land = 2.0 * math.atan(v * wn / a0) / wn
+    assert sep.start_deg == pytest.approx(180.0, abs=1e-8) and sep.bounces == 0
+    assert sep.end_deg == pytest.approx(180.0 + math.degrees(omega * t_land), abs=1e-7)
+    assert sep.impact_speed == pytest.approx(v, rel=1e-6)
+    assert 0.0 < sep.max_gap * 1e-3 <= (math.hypot(a0, v * wn) - a0) / wn**2
+    fly = (r.theta_deg > 180.0) & (r.theta_deg < sep.end_deg)
+    assert fly.any() and np.all(r.force[fly] == 0.0) and np.all(r.x[~fly] == r.s[~fly])
+    dynamics = {key: x for key, x in LECTURE["dynamics"].items() if not key.startswith("train_")} | {"speed": 30}
+    case = case_from_dict(LECTURE | {"motion": {"segments": _STEPPED}, "dynamics": dynamics})
+    report = run_check(case)
+    failed = {c.name for c in report.checks if not c.ok}
+    assert report.verdict == "fail" and failed == {"contact_force", "speed_margin"}, failed
 
 
 # ============================================================== 5. frequency domain and jump speed

@@ -377,6 +377,18 @@ def test_cli_size_json_and_table(tmp_path, capsys):
         ({}, ["--margin", "0.5"], "--margin"),  # as speed_margin: at least 1
         ({}, ["--margin", "1e9"], "--margin"),
         ({}, ["--max-speed", "1e9"], "--max-speed"),  # past any case's speed
+        (  # a rigid follower leaves a cam whose velocity drops (here at 180 deg) at any speed: no spring holds it
+            {
+                "motion": {
+                    "segments": [
+                        {"law": "constant-velocity", "end": 180, "lift": 10},
+                        {"law": "cycloidal", "end": 360, "lift": -10},
+                    ]
+                }
+            },
+            [],
+            "no spring holds a rigid follower on this cam: its velocity steps at 180 deg",
+        ),
     ],
 )
 def test_cli_size_bad_input(tmp_path, capsys, change, args, needle):

@@ -51,6 +51,8 @@ def _write(tmp_path: Path, raw: dict, name: str = "case.toml") -> Path:
         ({"preload": "2 kg"}, [], "tolerances.preload: unit 'kg' not known here"),
         ({"mass": {"value": "3%", "distribution": "triangular"}}, [], "tolerances.mass.distribution"),
         ({"spring_rate": "5%"}, ["--samples", "0"], "--samples: must be from 1"),
+        ({}, [], "tolerances: the case gives no tolerances"),
+        ({"distribution": "uniform"}, [], "tolerances: the case gives no tolerances"),
     ],
 )
 def test_bad_input_one_line_exit_2(tmp_path, capsys, tolerances, argv, message):

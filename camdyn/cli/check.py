@@ -26,10 +26,12 @@ def print_check(report: CheckReport) -> None:
     )
     if report.closure is not None:  # form-closed: the force is signed, negative on the outer flank
         least = f"form-closed, signed contact force: {least}"
-    con.print(
-        f"speed {report.speed_rpm:g} rpm, {dyn.model} follower; {least} "
-        f"(kinematic {kin.min_contact_force_N:.4g} N at {kin.min_contact_force_deg:.1f} deg)"
+    kinematic = (
+        f"kinematic: it leaves the cam at any speed, at {kin.jump_speed_at_deg:.1f} deg, where the cam's velocity steps"
+        if kin.jump_speed_rpm == 0.0 and kin.jump_speed_at_deg is not None
+        else f"kinematic {kin.min_contact_force_N:.4g} N at {kin.min_contact_force_deg:.1f} deg"
     )
+    con.print(f"speed {report.speed_rpm:g} rpm, {dyn.model} follower; {least} ({kinematic})")
     t = table(
         ("check", "left"), ("value", "right"), ("", "center"), ("limit", "right"), ("unit", "left"), ("result", "left")
     )

@@ -13,6 +13,7 @@ from .._core.distributed import initialize, is_writer
 from .._core.outputs import output_dir, output_file, safe_stem, write_new
 from ..design.tolerance import (
     DEFAULT_VALVETRAIN_SAMPLES,
+    case_tolerances,
     impact_tolerance_study,
     tolerance_study,
     valvetrain_tolerance_study,
@@ -74,6 +75,7 @@ def json_doc(result: ToleranceResult, worst_files: list[Path], elapsed: float) -
 def run(args: argparse.Namespace) -> int:
     initialize(args.coordinator, args.num_processes, args.process_id, auto=args.distributed)
     case = build_case(args.spec, source=Path(args.case))
+    case_tolerances(case)  # a case that gives none is refused before anything is written
     if case.follower is not None and case.follower.form_closed:  # a groove cam: its impacts, not its jumps
         return tolerance_groove(args, case) if is_writer() else 0  # not sharded: process 0 does the work
     writer = is_writer()

@@ -9,9 +9,7 @@ from functools import cached_property
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-import numpy as np
-
-from .._core.units import JUMP_RTOL, RPM
+from .._core.units import RPM
 from ..design.review import Review
 from ..plot.motion import display_scale, display_unit
 
@@ -77,14 +75,6 @@ class ReportData:
     @cached_property
     def jumps(self) -> list[tuple[float, int, float]]:
         """(angle deg, order 1 or 2, jump in display units) of the velocity and acceleration jumps at the
-        boundaries: those above :data:`~camdyn._core.units.JUMP_RTOL` of the derivative's largest magnitude."""
-        out = []
+        boundaries, by angle (:meth:`camdyn.model.motion.Motion.derivative_jumps`)."""
         k = self.to_display
-        peak = np.max(np.abs(self.review.motion.values), axis=1) * k
-        for deg in np.asarray(self.breaks_deg, dtype=float):
-            left, right = (v * k for v in self.review.motion.one_sided(deg))
-            for order in (1, 2):
-                jump = right[order] - left[order]
-                if abs(jump) > JUMP_RTOL * max(float(peak[order]), abs(left[order]), abs(right[order])):
-                    out.append((float(deg), order, float(jump)))
-        return out
+        return sorted((deg, order, jump * k) for deg, order, jump in self.case.motion.derivative_jumps())

@@ -12,6 +12,7 @@ from ..._core.errors import InputError
 from ..._core.limits import check_sizing
 from ..._core.progress import Progress
 from ..._core.units import RPM
+from ...model.dynamics import velocity_steps
 from ..parts import resolve_spring
 from ._buildable import HEADROOM, WRITTEN_DIGITS, buildable_fixed_point
 from ._design import design
@@ -122,6 +123,13 @@ def size_spring(
             "model (size_valve_spring)",
         )
     case = resolve_spring(case)
+    if case.model.rigid and (steps := velocity_steps(case.motion, float(case.model.restitution))):
+        raise InputError(
+            "motion",
+            f"no spring holds a rigid follower on this cam: its velocity steps at {math.degrees(steps[0][0]):g} deg, "
+            "which throws the follower off at any speed; join the segments with a continuous velocity (or give "
+            "[dynamics] train_stiffness: a compliant train takes up the step)",
+        )
     part = check = None
     if buildable:
         speed = float(case.speed_rpm if max_speed_rpm is None else max_speed_rpm)

@@ -108,6 +108,8 @@ def _rigid_map(case, pts: _Points, angles, gaps: bool, progress, devices):
         devices,
     )
     why = {int(i): "the kinematic force is not finite" for i in np.nonzero(~np.isfinite(signed))[0]}
+    if dyn.velocity_steps(case.motion, float(case.model.restitution)):  # thrown off at any speed: no force holds
+        signed = np.minimum(signed, 0.0)
     separated = signed <= 0.0
     idx = np.nonzero(separated)[0] if gaps else np.zeros(0, dtype=int)
     gap, why_gap = _rigid_gaps(case, pts, idx, progress)

@@ -16,6 +16,7 @@ sample's speed, its float and bounce speeds and seating velocity.
 from ._groove import ImpactToleranceResult, impact_tolerance_study
 from ._interval import CONFIDENCE
 from ._result import CSV_COLUMNS, PARAM_KEYS, ToleranceResult, csv_columns
+from ._sampling import case_tolerances
 from ._study import CHUNK_SAMPLES, SCAN_GRID, WORST, tolerance_study
 from ._valvetrain import (
     DEFAULT_VALVETRAIN_SAMPLES,
@@ -38,6 +39,7 @@ __all__ = [
     "ToleranceResult",
     "ValveToleranceResult",
     "WORST",
+    "case_tolerances",
     "csv_columns",
     "tolerance_study",
     "valvetrain_tolerance_study",

@@ -26,12 +26,11 @@ from ..._core.limits import check_samples
 from ..._core.progress import Progress, counter
 from ..._core.units import PROFILE_ERROR_HARMONICS, tolerance_unit
 from ...model import dynamics as dyn
-from ...schema import resolve_tolerances
 from ..closure import cam_loads
 from ._interval import CONFIDENCE, exact_interval
 from ._kernel import Sample, sample_model
 from ._result import csv_columns
-from ._sampling import SCALAR_KEYS, draw_samples, spreads
+from ._sampling import SCALAR_KEYS, case_tolerances, draw_samples, spreads
 from ._study import WORST, _nominal, _to_si, describe
 
 if TYPE_CHECKING:
@@ -165,7 +164,7 @@ def impact_tolerance_study(
     f = case.follower
     assert f is not None and f.form_closed  # the caller asks only of a form-closed cam
     kind, base = case.kind, case.model
-    tols = resolve_tolerances(case.spec.tolerances, kind=kind) if case.spec.tolerances is not None else ()
+    tols = case_tolerances(case)
     keys = {t.key for t in tols}
     if "profile_error" in keys:
         raise InputError(

@@ -14,8 +14,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..._core.errors import InputError
 from ..._core.units import NORMAL_TOLERANCE_SIGMAS, PROFILE_ERROR_HARMONICS
-from ...schema import Tolerance
+from ...model.case import Case
+from ...schema import Tolerance, resolve_tolerances
 
 SCALAR_KEYS = ("spring_rate", "preload", "mass", "train_stiffness", "speed")
 
@@ -41,6 +43,19 @@ class Spread:
         if self.distribution == "normal":
             return self.sigma * rng.standard_normal(shape)
         return rng.uniform(-math.sqrt(3.0) * self.sigma, math.sqrt(3.0) * self.sigma, shape)
+
+
+def case_tolerances(case: Case) -> tuple[Tolerance, ...]:
+    """The case's ``[tolerances]``, resolved; an InputError where it gives none: every built cam would be the case
+    itself."""
+    tols = () if case.spec.tolerances is None else resolve_tolerances(case.spec.tolerances, kind=case.kind)
+    if not tols:
+        raise InputError(
+            "tolerances",
+            "the case gives no tolerances, so every built cam would be the case itself: add a [tolerances] table, "
+            'e.g. spring_rate = "10%" and preload = "2 N" (docs/guide.md, camdyn tolerance)',
+        )
+    return tols
 
 
 def spreads(tolerances: tuple[Tolerance, ...], nominal: dict[str, float]) -> dict[str, Spread]:

@@ -18,12 +18,12 @@ from ..._core.sharding import run_batched
 from ..._core.units import PROFILE_ERROR_HARMONICS, RPM, THETA_GRID, tolerance_unit
 from ...model import dynamics as dyn
 from ...model.geometry import contact_per_force
-from ...schema import Tolerance, resolve_tolerances
+from ...schema import Tolerance
 from ..parts import resolve_spring
 from ._interval import exact_interval
 from ._kernel import Sample, make_grid, rigid_tolerance_kernel, tolerance_kernel
 from ._result import ToleranceResult
-from ._sampling import SCALAR_KEYS, Spread, draw_samples, spreads
+from ._sampling import SCALAR_KEYS, Spread, case_tolerances, draw_samples, spreads
 from ._sensitivity import gradient_sensitivities, variance_shares
 
 if TYPE_CHECKING:
@@ -87,7 +87,7 @@ def tolerance_study(
     devices = tuple(jax.devices() if devices is None else devices)
     case = resolve_spring(case)  # [spring] model: the spring's own mass (its lumped third) in the nominal mass
     kind, base = case.kind, case.model
-    tols = resolve_tolerances(case.spec.tolerances, kind=kind) if case.spec.tolerances is not None else ()
+    tols = case_tolerances(case)
     if base.rigid and any(t.key == "train_stiffness" for t in tols):
         raise InputError(
             "tolerances.train_stiffness",
@@ -112,6 +112,9 @@ def tolerance_study(
     force, jump = run_batched(
         kernel, (base, fine, scan, device_array(w_max)), _to_si(case, vals), CHUNK_SAMPLES, tick, devices
     )
+    thrown = base.rigid and bool(dyn.velocity_steps(case.motion, float(base.restitution)))
+    if thrown:  # a step in the cam's velocity throws a rigid follower off at any speed; the samples keep the step
+        force, jump = np.minimum(np.asarray(force), 0.0), np.zeros_like(np.asarray(jump))
     sep = int(np.count_nonzero(force <= 0.0))
     ci = exact_interval(sep, samples)
     jump_rpm = np.asarray(jump) / RPM
@@ -119,6 +122,7 @@ def tolerance_study(
         "profile_error": np.sqrt(0.5 * np.sum(vals["profile_coeffs"] ** 2, axis=1))
     }
     sens, w_star = _sensitivities(case, base, scan, w_max, nominal, spread, vals, jump_rpm)
+    w_star = 0.0 if thrown else w_star
     return ToleranceResult(
         case=case.name,
         kind=kind,

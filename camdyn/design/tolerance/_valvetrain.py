@@ -33,11 +33,10 @@ from ..._core.units import RPM, tolerance_unit
 from ...model import dynamics as dyn
 from ...model.case import Case, with_valvetrain_keys
 from ...model.valvetrain import ValvetrainModel
-from ...schema import resolve_tolerances
 from ..parts import resolve_spring
 from ..valvetrain import analyze_valvetrain, spring_notes
 from ._interval import CONFIDENCE, exact_interval
-from ._sampling import spreads
+from ._sampling import case_tolerances, spreads
 from ._sensitivity import variance_shares
 from ._study import describe
 
@@ -214,7 +213,7 @@ def valvetrain_tolerance_study(
             f"a valvetrain runs the two-mass model per sample: from 1 to {MAX_VALVETRAIN_SAMPLES}, got {samples}",
         )
     case = resolve_spring(case)  # [spring]: the valve spring's own mass on the valve and its coil bind, as check
-    tols = resolve_tolerances(case.spec.tolerances, kind=case.kind) if case.spec.tolerances is not None else ()
+    tols = case_tolerances(case)
     nominal = _nominal(case)
     if any(t.key == "train_stiffness" for t in tols) and math.isinf(nominal["train_stiffness"]):
         raise InputError(

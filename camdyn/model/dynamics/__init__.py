@@ -35,6 +35,7 @@ from ._kinematic import (
     kinematic_force_of,
     kinematic_jump_speed,
     least_static_force,
+    velocity_steps,
 )
 from ._response import dynamic_jump_speed, first_zero_speed, jump_search_limit, response, store_response
 from ._result import Flight, Impact, Response, Separation
@@ -99,4 +100,5 @@ __all__ = [
     "float_speed",
     "valve_scan_speeds",
     "valvetrain_response",
+    "velocity_steps",
 ]

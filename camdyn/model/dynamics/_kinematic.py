@@ -70,6 +70,18 @@ def store_kinematic_force(motion: Motion, model: FollowerModel) -> None:
     _kinematic_force_program.store(motion, model, np.asarray(1.0), np.zeros(()))  # pyright: ignore[reportFunctionMemberAccess]
 
 
+def velocity_steps(motion: Motion, restitution: float) -> list[tuple[float, float]]:
+    """(cam angle rad, how much faster than the cam the follower leaves it, motion units per rad) at each step of
+    the cam's velocity (:meth:`camdyn.model.motion.Motion.velocity_jumps`) that throws a rigid follower off: a drop
+    leaves it moving at the cam's speed before; a rise strikes it, and it rebounds by the restitution."""
+    out = []
+    for deg, jump in motion.velocity_jumps():
+        dv = -jump if jump < 0.0 else restitution * jump
+        if dv > 0.0:
+            out.append((math.radians(deg), dv))
+    return out
+
+
 def _quadratic_jump_speed(a, b, c):
     """Least w > 0 with a w^2 + b w + c <= 0 given c > 0 (inf where none); vectorized numpy."""
     a, b, c = np.broadcast_arrays(np.asarray(a, float), np.asarray(b, float), np.asarray(c, float))
@@ -93,8 +105,11 @@ def kinematic_jump_speed(motion: Motion, model: FollowerModel, n: int = 7200) ->
 
     At each angle Fi is the quadratic ``(m s'') w^2 + (c s') w + (k s + F0 + F_ext)`` in w, whose least
     positive root is closed form; the minimum over angles is taken on an n-point grid and polished with a
-    bounded scalar minimization of the same closed form. ``(inf, nan)`` when no speed makes it jump.
+    bounded scalar minimization of the same closed form. ``(inf, nan)`` when no speed makes it jump; ``(0, the
+    angle)`` where a step in the cam's velocity throws the follower off at any speed (:func:`velocity_steps`).
     """
+    if steps := velocity_steps(motion, float(model.restitution)):
+        return 0.0, math.degrees(steps[0][0])
     m, c, k = (float(model.mass), float(model.damping), float(model.stiffness))
     f0 = float(model.preload) + float(model.external)
 

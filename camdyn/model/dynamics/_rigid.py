@@ -16,7 +16,7 @@ from ..._core.units import THETA_GRID, TWO_PI
 from ..follower import FollowerModel
 from ..motion import Motion, evaluate
 from ._compliant import vector_field
-from ._kinematic import kinematic_force_jit, store_kinematic_force
+from ._kinematic import kinematic_force_jit, store_kinematic_force, velocity_steps
 from ._result import Response, Separation, residual_vibration
 from ._root import itp_zero
 from ._solver import ATOL, MAX_STEPS, RTOL
@@ -117,16 +117,17 @@ class _Flight:
     settled: bool = True
 
 
-def _march(motion, model, omega, fk, t_lo, out, vals, n, max_bounces) -> _Flight:
-    """Flights from lift-off ``t_lo`` (rad) until the follower is back in contact for good, writing the flying
-    grid points into ``out = (x, p, force)``. Bounces end when the relative speed falls below what the landing
+def _march(motion, model, omega, fk, t_lo, out, vals, n, max_bounces, dv0: float = 0.0) -> _Flight:
+    """Flights from lift-off ``t_lo`` (rad), the first leaving the cam ``dv0`` faster than it (motion units per
+    rad: a step in the cam's velocity), until the follower is back in contact for good, writing the flying grid
+    points into ``out = (x, p, force)``. Bounces end when the relative speed falls below what the landing
     tolerance itself adds; the rest of the geometric bounce sequence then adds its accumulation time."""
     x, p, force = out
     h = TWO_PI / n
     w_sc = omega * model.scale
     e = float(model.restitution)
     fl = _Flight(end=t_lo)
-    t0, dv = t_lo, 0.0  # each flight leaves the cam, dv faster than it
+    t0, dv = t_lo, dv0  # each flight leaves the cam, dv faster than it
     w, t_cap = np.asarray(omega, dtype=float), np.asarray(t_lo + TWO_PI - h)
     for _ in range(max_bounces + 2):
         flight = _flight(motion, model, w, np.asarray(t0), np.asarray(dv), t_cap, n)
@@ -194,7 +195,8 @@ def rigid_response(
     # numpy arguments: jnp.asarray outside a compiled program compiles one of its own
     vals = np.asarray(evaluate(motion, theta))
     kin = np.asarray(kinematic_force_jit(motion, model, np.asarray(omega, dtype=float), theta))
-    if kin.min() > 0.0:
+    steps = velocity_steps(motion, float(model.restitution))
+    if kin.min() > 0.0 and not steps:
         return Response(
             "rigid", float(omega), theta_deg, vals[0], vals[0].copy(), vals[1].copy(), kin, kin, (), 0.0, 0.0
         )
@@ -211,14 +213,19 @@ def rigid_response(
     ks = kin[(np.arange(n) + i_start) % n]
     crossings = [j for j in range(1, n) if ks[j - 1] > 0.0 >= ks[j]]
     breaks = np.deg2rad(np.asarray(motion.breaks_deg, dtype=float))
+    # where the force falls through zero (the grid's step before it), and where the cam's velocity steps, in turn
+    unwrap = lambda t: theta_start + (t - theta_start) % TWO_PI  # noqa: E731
+    starts = sorted(
+        [(theta_start + (j - 1) * TWO_PI / n, None) for j in crossings]
+        + [(unwrap(t) + _BREAK_EPS, dv) for t, dv in steps]
+    )
     seps: list[Separation] = []
     t_end_prev = theta_start
-    for j in crossings:
-        t_a = theta_start + (j - 1) * TWO_PI / n
+    for t_a, dv0 in starts:
         if t_a < t_end_prev:
             continue  # this zero lies inside the previous flight
-        t_lo = _lift_off(fk, t_a, TWO_PI / n, breaks)
-        fl = _march(motion, model, omega, fk, t_lo, (x, p, force), vals, n, max_bounces)
+        t_lo = _lift_off(fk, t_a, TWO_PI / n, breaks) if dv0 is None else t_a
+        fl = _march(motion, model, omega, fk, t_lo, (x, p, force), vals, n, max_bounces, dv0 or 0.0)
         deg = lambda t: math.degrees(t) % 360.0  # noqa: E731
         seps.append(
             Separation(

@@ -16,7 +16,9 @@ from jax.typing import ArrayLike
 
 from ..._core.jit import cached_jit, on_angle_buckets
 from ..._core.kinds import FollowerKind, kind_of_motion
-from ..._core.units import THETA_GRID
+from ..._core.units import JUMP_RTOL, THETA_GRID, TWO_PI
+
+_SIDE = 1e-9  # rad: a break's one-sided values are taken this far either side of it
 
 
 class Motion(eqx.Module):
@@ -55,6 +57,27 @@ class Motion(eqx.Module):
         the breaks) where they are data."""
         return np.deg2rad(np.asarray(self.breaks_deg, dtype=float))
 
+    def derivative_jumps(self) -> tuple[tuple[float, int, float], ...]:
+        """(cam angle deg, order 1 or 2, jump) where the velocity (order 1, the motion's unit per rad) or the
+        acceleration (order 2, per rad^2) jumps at a break: by more than ``JUMP_RTOL`` of its largest magnitude
+        round the cam or of either side (the fundamental law of cam design). From the values either side of each
+        break; a motion that knows its pieces' ends may give them exactly."""
+        breaks = np.deg2rad(np.asarray(self.breaks_deg, dtype=float))
+        left, right = self.host(breaks - _SIDE), self.host(breaks + _SIDE)
+        peak = np.max(np.abs(self.host(np.linspace(0.0, TWO_PI, 3601))), axis=1)
+        return tuple(
+            (float(deg) % 360.0, order, float(right[order, i] - left[order, i]))
+            for i, deg in enumerate(self.breaks_deg)
+            for order in (1, 2)
+            if derivative_jumps_at(right[order, i] - left[order, i], peak[order], left[order, i], right[order, i])
+        )
+
+    def velocity_jumps(self) -> tuple[tuple[float, float], ...]:
+        """(cam angle deg, jump of ds/dtheta in the motion's unit per rad) where the velocity jumps
+        (:meth:`derivative_jumps`): a follower held on by a spring leaves a cam whose velocity drops there, at any
+        speed, and the cam strikes one where it rises."""
+        return tuple((deg, jump) for deg, order, jump in self.derivative_jumps() if order == 1)
+
     def host(self, theta: ArrayLike) -> np.ndarray:
         """s and its first three derivatives at ``theta`` (rad) as a numpy array of shape (4, *theta.shape): the
         compiled evaluation here; motions with a numpy form override it (no dispatch or compile cost)."""
@@ -64,6 +87,12 @@ class Motion(eqx.Module):
         """(theta_deg, values) on ``n`` equal steps of [0, 360); values has shape (4, n)."""
         theta_deg = np.arange(n) * (360.0 / n)
         return theta_deg, self.host(np.deg2rad(theta_deg))
+
+
+def derivative_jumps_at(jump: float, peak: float, left: float, right: float) -> bool:
+    """Whether a derivative's ``jump`` at a break (from ``left`` to ``right``) is one: more than ``JUMP_RTOL`` of
+    the derivative's largest magnitude round the cam (``peak``) or either side."""
+    return abs(jump) > JUMP_RTOL * max(float(peak), abs(left), abs(right))
 
 
 @cached_jit

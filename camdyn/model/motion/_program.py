@@ -16,10 +16,10 @@ from jax.typing import ArrayLike
 from ..._core.errors import InputError
 from ..._core.jit import padded_length
 from ..._core.kinds import kind_of_motion
-from ..._core.units import JUMP_RTOL, TWO_PI
+from ..._core.units import TWO_PI
 from ...schema import SegmentSpec, check_segments, parse
 from ...schema.motion import BSPLINE, POLYNOMIAL, BSplineSegmentSpec, PolynomialSegmentSpec
-from ._base import Motion
+from ._base import Motion, derivative_jumps_at
 from ._bspline import bspline_table
 from ._laws import _LAW_TABLES, _NC, _LawTable, _piece_eval
 from ._lookup import WINDOW, bin_table, interval
@@ -209,29 +209,38 @@ class Program(Motion):
     def _eval(self, xp, theta):
         return self.table._eval(xp, theta)
 
+    def derivative_jumps(self) -> tuple[tuple[float, int, float], ...]:
+        """:meth:`Motion.derivative_jumps` at the segment boundaries, exactly: each segment's end by its own law
+        against the next one's start."""
+        return tuple((self.segments[i].end % 360.0, order, jump) for i, order, jump in self._boundary_jumps())
+
     def continuity_warnings(self) -> list[str]:
         """Velocity and acceleration jumps at segment boundaries (the fundamental law of cam design)."""
-        out = []
-        n = len(self.segments)
         # the jump in the units the segments' lift was given in: mm, or deg of arm swing (an oscillating
         # follower's motion is in rad); per radian of cam angle, as the SVAJ page plots it
         lu, to_user = self.kind.lift_unit, self.kind.lift_per_motion
-        # a jump is measured against the derivative's largest magnitude over the revolution (JUMP_RTOL)
+        out = []
+        for i, order, jump in self._boundary_jumps():
+            seg, nxt = self.segments[i], self.segments[(i + 1) % len(self.segments)]
+            name, unit = ("velocity", f"{lu}/rad") if order == 1 else ("acceleration", f"{lu}/rad^2")
+            out.append(
+                f"{name} jumps by {jump * to_user:+.4g} {unit} at {seg.end % 360.0:g} deg "
+                f"({seg.law} -> {nxt.law}): infinite {'acceleration' if order == 1 else 'jerk'}"
+            )
+        return out
+
+    def _boundary_jumps(self) -> list[tuple[int, int, float]]:
+        """(index of the segment whose end it is, order 1 or 2, jump per rad^order) of every jump at a boundary."""
         peak = np.max(np.abs(self._eval(np, np.linspace(0.0, TWO_PI, 3601))), axis=1)
         # the right side of every boundary in one evaluation (one angle at a time: 0.3 ms each, 1000 segments)
         rights = self._eval(np, np.deg2rad(np.array([seg.end % 360.0 for seg in self.segments])))
         lefts = self.segment_ends()
-        for i, seg in enumerate(self.segments):
-            nxt = self.segments[(i + 1) % n]
-            left, right = lefts[:, i], rights[:, i]
-            for order, name, unit in ((1, "velocity", f"{lu}/rad"), (2, "acceleration", f"{lu}/rad^2")):
-                jump = right[order] - left[order]
-                if abs(jump) > JUMP_RTOL * max(float(peak[order]), abs(left[order]), abs(right[order])):
-                    out.append(
-                        f"{name} jumps by {jump * to_user:+.4g} {unit} at {seg.end % 360.0:g} deg "
-                        f"({seg.law} -> {nxt.law}): infinite {'acceleration' if order == 1 else 'jerk'}"
-                    )
-        return out
+        return [
+            (i, order, float(rights[order, i] - lefts[order, i]))
+            for i in range(len(self.segments))
+            for order in (1, 2)
+            if derivative_jumps_at(rights[order, i] - lefts[order, i], peak[order], lefts[order, i], rights[order, i])
+        ]
 
     def polynomial_warnings(self) -> list[str]:
         """Polynomial segments that overshoot the range their conditions span, or whose system is
