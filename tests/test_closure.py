@@ -3,6 +3,7 @@ and the flight across the backlash."""
 
 import copy
 import json
+import math
 import tomllib
 from pathlib import Path
 
@@ -129,6 +130,23 @@ def test_groove_wall_undercut_where_the_pitch_curve_turns_tighter_than_the_wall(
     assert g.outer_wall.min_convex_radius_mm < 0 < g.inner_wall.min_convex_radius_mm
     rho_p = analyze(case.motion, case.follower, n=3600).rho_pitch_mm  # the spring cam's pitch curve
     assert g.outer_wall.min_convex_radius_mm == pytest.approx(np.max(rho_p[rho_p < 0]) * -1 - 10.025, abs=1e-3)
+
+
+@pytest.mark.slow  # compiles the groove's model
+def test_a_grooves_curvature_check_judges_both_walls():
+    """The groove whose outer wall folds (above): ``check``'s curvature is the least convex radius of either wall
+    over the roller radius, the outer wall's (negative: folded), not the spring cam's contour's."""
+    from camdyn.design.checks import run_check
+
+    raw = _with("follower", base_radius=25, roller_radius=10)
+    raw["motion"]["segments"][0] = {"law": "cycloidal", "end": 40, "lift": 20}
+    raw["motion"]["segments"][1] = {"law": "dwell", "end": 180}
+    report = run_check(case_from_dict(raw))
+    curvature = next(c for c in report.checks if c.name == "curvature")
+    assert report.closure is not None and report.geometry is not None and curvature.value is not None
+    walls = report.closure.groove
+    assert curvature.value == pytest.approx(walls.outer_wall.min_convex_radius_mm / 10.0, rel=1e-12)
+    assert curvature.value < 0 < report.geometry.extremes.curvature and not curvature.ok
 
 
 def _groove_case(backlash: float, fall: str = "polynomial-345", **dynamics):
@@ -420,6 +438,11 @@ def test_report_of_a_groove_cam(tmp_path, capsys):
     data = ReportData(design_review(case, run_check(case)))
     rows = dict(key_results(data))
     assert rows["jump speed"] == "none: form-closed" and "jump speed, dynamic" not in rows
+    walls = doc["closure"]["walls"]  # the inner wall lies b/2 inside the cam's contour: page 1 gives the wall's
+    inner, outer = (walls[w]["min_radius_of_curvature_mm"] for w in ("inner", "outer"))
+    assert rows["inner wall, least radius"].startswith(f"{inner:.4g} mm at")
+    curvature = next(c for c in doc["checks"] if c["name"] == "curvature")
+    assert curvature["value"] == pytest.approx(min(inner, outer or math.inf) / 12.0, rel=1e-12)
     top = doc["closure"]["max_impact_velocity_m_per_s"]
     assert rows["largest impact"].startswith(f"{top:.3g} m/s")
     facts = decision_facts(data)

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 from ..model.case import Case
 from ..model.geometry import analyze
+from ._check import CheckKind
 from ._check_report import CheckReport, Dynamics, Kinematics, forces_in_newton
 from .closure import ClosureStudy, closure_study
 from .geometry import judge_geometry
@@ -42,6 +43,7 @@ def closure_check(case: Case, rpm: float) -> CheckReport:
     geo_checks, geo_warnings, advice = judge_geometry(
         geo, case.motion, max_pressure_angle=lim.max_pressure_angle, min_curvature_ratio=lim.min_curvature_ratio
     )
+    geo_checks = [study.judged_curvature(c) if c.kind is CheckKind.CURVATURE else c for c in geo_checks]
     checks = (study.check(lim.max_impact_velocity), *geo_checks)
     checks += study.geometry_checks(geo_checks[0].limit, lim.min_curvature_ratio)
     checks += study.preload_check(lim.min_contact_force)

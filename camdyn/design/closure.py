@@ -145,6 +145,17 @@ class ClosureStudy:
             CheckKind.CONJUGATE_CURVATURE.check(w.curvature, float(min_curvature_ratio)),
         )
 
+    def judged_curvature(self, cam: Check) -> Check:
+        """The ``curvature`` check of the cam (``cam``: its contour's), or for a groove of the walls the roller
+        presses on: the least radius where either wall is convex towards the roller over the roller radius (the
+        inner wall is the cam's contour moved b/2 in; the outer wall is convex where the pitch curve is concave)."""
+        w = self.walls
+        if not isinstance(w, GrooveGeometry):
+            return cam
+        least = min(w.inner_wall.min_convex_radius_mm, w.outer_wall.min_convex_radius_mm)
+        roller = w.wall_offset_mm - 0.5 * w.backlash_mm
+        return CheckKind.CURVATURE.check(least / roller, cam.limit)
+
     def on_its_cam(self, case: Case, resp: dyn.Response) -> dyn.Response:
         """A response in N (:func:`camdyn.design.checks.forces_in_newton`, through the primary's lever) with a
         conjugate rocker's negative forces through the conjugate cam's lever instead: each force on its cam."""

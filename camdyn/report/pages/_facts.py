@@ -10,6 +10,7 @@ import numpy as np
 
 from ..._core.results import Unavailable
 from ..._core.units import AT_LIMIT_RTOL
+from ...model.geometry import GrooveGeometry
 from ...plot import flank_names, flight_summary, flights_by_gap, square_face, svaj_quantities
 from .._data import ReportData
 from .._layout import fmt
@@ -186,11 +187,14 @@ def _geometry_results(data: ReportData) -> list[tuple[str, str]]:
                     f"t = {t_lo:+.2f} to {t_hi:+.2f} mm (face centred at {geo.extremes.face_centre_mm:+.2f})",
                 )
             )
+        least, at, folded = geo.min_radius_of_curvature_mm, geo.min_radius_of_curvature_at_deg, geo.undercut
+        if chk.closure is not None and isinstance(chk.closure.walls, GrooveGeometry):  # b/2 inside the cam contour
+            inner = chk.closure.groove.inner_wall
+            least, at, folded = inner.min_convex_radius_mm, inner.min_convex_radius_at_deg, inner.undercut
         rows.append(
             (
                 "least radius of curvature" if chk.closure is None else f"{_flanks(data)[0]}, least radius",
-                f"{geo.min_radius_of_curvature_mm:.4g} mm at {geo.min_radius_of_curvature_at_deg:.1f}\u00b0"
-                + ("  (undercut)" if geo.undercut else ""),
+                f"{least:.4g} mm at {at:.1f}\u00b0" + ("  (undercut)" if folded else ""),
             )
         )
     if chk.closure is not None:  # the outer wall (convex where the pitch curve is concave), or the conjugate cam
