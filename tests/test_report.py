@@ -337,6 +337,26 @@ def test_roller_cam_page_labels_do_not_overlap(lecture_review):
     assert len(boxes) == 2 and not boxes["contact normal"].overlaps(boxes["follower motion"])
 
 
+def test_a_legend_keeps_clear_of_the_curves_of_a_twin_axis():
+    """A legend over an axes and its ``twinx``: both axes' curves end below the legend's lower edge (the valvetrain
+    page's velocity and cam force panel had its force curve under the legend)."""
+    from camdyn.plot._common import legend_above_data
+
+    fig = Figure(figsize=(6, 3))
+    ax = fig.add_subplot()
+    x = np.linspace(0.0, 1.0, 50)
+    ax.plot(x, np.sin(3 * x), label="low")
+    twin = ax.twinx()
+    twin.plot(x, np.full_like(x, 5.0), color="C1", label="high on the twin")
+    twin.set_ylim(0.0, 5.2)
+    legend_above_data(ax, twins=(twin,), handles=ax.lines + twin.lines, labels=["low", "high on the twin"])
+    fig.canvas.draw()
+    bottom = ax.get_legend().get_window_extent().y0
+    for a in (ax, twin):
+        top = max(a.transData.transform(np.column_stack([x, ln.get_ydata()]))[:, 1].max() for ln in a.lines)
+        assert top < bottom, (a, top, bottom)
+
+
 # ------------------------------------------------------------------------------------ figures in a notebook
 @pytest.mark.slow
 def test_plot_functions_draw_public_results(lecture_review):

@@ -73,18 +73,29 @@ def shade_separations(ax: Axes, response: Response, label: bool = False) -> None
         )
 
 
-def legend_above_data(ax: Axes, margin: float = 0.04, also: Iterable[float] = (), **kw: Any) -> Legend:
+def legend_above_data(
+    ax: Axes, margin: float = 0.04, also: Iterable[float] = (), twins: Iterable[Axes] = (), **kw: Any
+) -> Legend:
     """A legend in the upper right, with the y axis raised so that no line's data (within the x limits) reaches
     up into it: a legend never covers a curve. ``also``: more heights (data units) to keep clear, e.g. of
-    horizontal reference lines. ``kw``: the legend's keywords (ncol, fontsize, ...)."""
+    horizontal reference lines; ``twins``: axes drawn over ``ax`` (``twinx``), whose lines are kept clear too.
+    ``kw``: the legend's keywords (ncol, fontsize, ...)."""
     leg = ax.legend(**({"loc": "upper right"} | kw))
     fig = ax.figure
     renderer = fig._get_renderer()  # pyright: ignore[reportAttributeAccessIssue] - matplotlib's, not in its stubs
     box, frame = leg.get_window_extent(renderer), ax.get_window_extent(renderer)
     below = (box.y0 - frame.y0) / max(frame.height, 1.0)  # the legend's lower edge, a fraction of the axes' height
+    _clear_below(ax, below - margin, max(also, default=-math.inf))
+    for twin in twins:
+        _clear_below(twin, below - margin, -math.inf)
+    return leg
+
+
+def _clear_below(ax: Axes, fraction: float, top: float) -> None:
+    """Raise ``ax``'s upper y limit so that its lines' data (within the x limits) and ``top`` stay under
+    ``fraction`` of its height."""
     lo, hi = ax.get_ylim()
     x0, x1 = ax.get_xlim()
-    top = max(also, default=-math.inf)
     for line in ax.lines:
         if line.get_transform() != ax.transData:  # axhline, axvline: not data
             continue
@@ -93,11 +104,10 @@ def legend_above_data(ax: Axes, margin: float = 0.04, also: Iterable[float] = ()
             inside = (x >= min(x0, x1)) & (x <= max(x0, x1)) & np.isfinite(y)
             if inside.any():
                 top = max(top, float(y[inside].max()))
-    if math.isfinite(top) and below - margin > 0.2:
-        need = lo + (top - lo) / (below - margin)
+    if math.isfinite(top) and fraction > 0.2:
+        need = lo + (top - lo) / fraction
         if need > hi:
             ax.set_ylim(lo, need)
-    return leg
 
 
 def rotate(angle_rad: float, xy: np.ndarray) -> np.ndarray:

@@ -327,7 +327,7 @@ def plot_wall_curvature(
         f"radius of curvature of {what}, as its roller sees it (convex > 0; |\u03c1| > {cap:.0f} mm not drawn)",
         fontsize=9,
     )
-    ax.legend(loc="upper right", fontsize=7, ncol=2)
+    ax.legend(loc="best", fontsize=7, ncol=2)  # the curves run off the top and bottom: the emptiest corner
 
 
 def plot_cam_pressure_angles(ax: Axes, check: CheckReport, *, breaks_deg: Sequence[float] = ()) -> None:

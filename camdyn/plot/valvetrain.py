@@ -84,7 +84,7 @@ def plot_valve_velocity(ax: Axes, result: ValvetrainResult) -> None:
     ax.set_title("valve velocity and cam contact force", fontsize=9)
     h1, l1 = ax.get_legend_handles_labels()
     h2, l2 = twin.get_legend_handles_labels()
-    legend_above_data(ax, fontsize=7, handles=h1 + h2, labels=l1 + l2)
+    legend_above_data(ax, fontsize=7, twins=(twin,), handles=h1 + h2, labels=l1 + l2)
 
 
 def plot_seating_velocity(ax: Axes, result: ValvetrainResult, max_seating_velocity: float | None = None) -> None:
