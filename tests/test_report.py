@@ -337,6 +337,29 @@ def test_roller_cam_page_labels_do_not_overlap(lecture_review):
     assert len(boxes) == 2 and not boxes["contact normal"].overlaps(boxes["follower motion"])
 
 
+def test_segment_laws_are_named_only_between_their_boundaries():
+    """Along the lift panel's top: a law's whole name where it fits between its segment's boundaries, else its
+    short name, else none (the valvetrain's 18 deg ramps had "polynomial" struck through by their boundaries)."""
+    from types import SimpleNamespace
+
+    from camdyn.report.pages.svaj import _segment_laws
+
+    with matplotlib.rc_context(STYLE):
+        fig = Figure(figsize=A4)
+        ax = fig.add_axes((0.1, 0.5, 0.8, 0.3))
+        ax.set_xlim(0.0, 360.0)
+        ends = [0.0, 12.0, 30.0, 90.0, 360.0]
+        segs = [SimpleNamespace(start=a, end=b, law="polynomial") for a, b in zip(ends[:-1], ends[1:], strict=True)]
+        _segment_laws(ax, segs)
+        fig.canvas.draw()
+    named = {(t.get_position()[0], t.get_text()): t.get_window_extent() for t in ax.texts}
+    assert [text for _, text in named] == ["poly", "polynomial", "polynomial"]  # none in 0-12 deg
+    for (mid, _), box in named.items():
+        seg = next(s for s in segs if s.start < mid < s.end)
+        (x0, _), (x1, _) = ax.transData.transform([[seg.start, 0.0], [seg.end, 0.0]])
+        assert x0 < box.x0 and box.x1 < x1
+
+
 def test_a_legend_keeps_clear_of_the_curves_of_a_twin_axis():
     """A legend over an axes and its ``twinx``: both axes' curves end below the legend's lower edge (the valvetrain
     page's velocity and cam force panel had its force curve under the legend)."""

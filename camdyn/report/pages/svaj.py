@@ -36,13 +36,20 @@ def draw_svaj(fig: Figure, data: ReportData) -> None:
 
 
 def _segment_laws(ax, segs) -> None:
-    """The law of each segment wide enough to name, along the top of the lift panel."""
+    """The law of each segment along the top of the lift panel, shortened where the whole name does not fit
+    between the segment's boundaries, and left out where neither does (a boundary's line would strike it)."""
     ymax = ax.get_ylim()[1]
+    renderer = ax.figure._get_renderer()  # pyright: ignore[reportAttributeAccessIssue] - matplotlib's, not in its stubs
+    to_deg = ax.transData.inverted()
     for seg in segs:
-        span = seg.end - seg.start
-        if span >= 18.0:
-            label = seg.law if span >= 40 else seg.law.replace("polynomial-", "poly-").replace("modified-", "mod-")
-            ax.text(0.5 * (seg.start + seg.end), ymax, label, ha="center", va="top", size=7.2, color=C["grey"])
+        short = seg.law.replace("polynomial-", "poly-").replace("modified-", "mod-").replace("polynomial", "poly")
+        for label in dict.fromkeys((seg.law, short)):
+            t = ax.text(0.5 * (seg.start + seg.end), ymax, label, ha="center", va="top", size=7.2, color=C["grey"])
+            box = t.get_window_extent(renderer)
+            width = float(np.ptp(to_deg.transform([[box.x0, box.y0], [box.x1, box.y0]])[:, 0]))
+            if width <= 0.9 * (seg.end - seg.start):
+                break
+            t.remove()
 
 
 def _is_compact(jumps) -> bool:
