@@ -409,6 +409,21 @@ def test_page_one_stays_on_the_page_and_says_where_there_is_no_dwell(shipped_che
     assert path["residual vibration"] == "none: no dwell to judge it in"
 
 
+@pytest.mark.slow  # the session's racetrack check: a synthesis and a whole check
+def test_key_inputs_give_the_spring_part_the_user_gave(racetrack_case, racetrack_check):
+    """``[spring]``'s keys the user gave are page 1's key inputs, under the dynamics they change (the racetrack's
+    lever_arm: where the spring acts on the arm, which sets its rate and its mass at the arm)."""
+    from types import SimpleNamespace
+
+    from camdyn.report.pages._inputs import input_columns
+
+    data = SimpleNamespace(case=racetrack_case, check=racetrack_check, oscillating=True)
+    rows = dict(input_columns(data)[-1][1])  # type: ignore[arg-type]  (the fields it reads)
+    assert rows["spring.lever_arm"] == "50 mm" and not any(
+        k.startswith("spring.") and k != "spring.lever_arm" for k in rows
+    )
+
+
 @pytest.mark.slow  # a valvetrain's check
 def test_key_inputs_list_only_the_limits_a_check_judges(shipped_check):
     """Page 1's key inputs leave out a default limit no check of the case judges: a valvetrain on a rigid cam contact

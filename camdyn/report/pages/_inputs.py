@@ -50,6 +50,9 @@ UNITS = {
     "stiffness": "N/mm",
     "ramp_velocity": "mm/deg",
     "tappet_force": "N",
+    "outside_diameter_max": "mm",  # [spring]
+    "installed_length": "mm",
+    "lever_arm": "mm",
     "cam_arm": "mm",  # [valvetrain.rocker]
     "valve_arm": "mm",
     "cam_arm_angle": "deg",
@@ -59,6 +62,7 @@ UNITS = {
 DIMENSIONLESS = frozenset(
     {"damping_ratio", "train_damping_ratio", "restitution", "seat_restitution", "ratio", "min_curvature_ratio"}
     | {"max_train_deflection", "type", "rotation", "closure", "contour"}
+    | {"material", "end_type", "model", "max_active_coils"}  # [spring]
 )
 # limits of checks only some cases have: listed where the case has the check or the user set the limit
 _LIMIT_OF_CHECK = {
@@ -124,6 +128,9 @@ def input_columns(data: ReportData) -> list[tuple[str, list[tuple[str, str]]]]:
         vt = _kv_lines(given) + ([] if rocker is None else [("\x00rocker", ""), *_kv_lines(rocker)])
         columns[-1] = (title, [*rows, ("", ""), ("\x00valvetrain", ""), *vt])
     dyn_rows = _kv_lines(spec.dynamics.model_dump(exclude_unset=True), data.oscillating)
+    if spec.spring is not None:  # the spring as a part: its keys the user gave, under the dynamics they change
+        part = spec.spring.model_dump(exclude_unset=True)
+        dyn_rows += [(f"spring.{k}", v) for k, v in _kv_lines(part)]
     lim = spec.limits.model_dump()
     pa_check = data.check.find(CheckKind.PRESSURE_ANGLE)
     pa = None if pa_check is None else pa_check.limit

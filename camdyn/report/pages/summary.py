@@ -217,7 +217,7 @@ def _draw_inputs(data: ReportData, flow: Flow) -> None:
 def _glance(fig, data: ReportData, top: float) -> None:
     """Thumbnails in the space left at the bottom of the summary: the cam and the interface force."""
     bottom = 0.065
-    if top - bottom < 0.12:
+    if top - bottom < 0.11:  # thumbnails under 0.08 of the page say nothing
         return
     h = min(top - bottom - 0.03, 0.26)
     y0 = top - 0.03 - h
