@@ -19,6 +19,7 @@ from camdyn._core.units import RPM
 from camdyn.design.userdata import (
     least_force_uncertainty,
     least_force_warning,
+    lift_within_noise,
     unit_slip_warnings,
 )
 from camdyn.model import datafiles
@@ -75,6 +76,22 @@ def test_a_contour_with_repeated_points_is_fitted_as_without_them(tmp_path):
     assert repeated.contour.json()["points"] == original.contour.json()["points"] == 1500
     np.testing.assert_array_equal(np.asarray(repeated.motion.coef), np.asarray(original.motion.coef))
     assert repeated.motion_json()["fit"]["repeats_dropped"] == 4
+
+
+def test_a_round_contour_within_its_noise_is_not_judged_by_its_lift(tmp_path):
+    """A circle measured to 4 decimals: the follower's lift is the outline's noise (about 1.4e-5 mm), so the
+    train's compression over it (2111 x) says nothing: train_deflection is not judged, and a warning says why;
+    the shipped measured cam (a real lift) keeps it."""
+    theta = np.linspace(0.0, 2 * np.pi, 1500, endpoint=False)
+    rows = [f"{50 * math.sin(t):.4f},{50 * math.cos(t):.4f}" for t in theta]
+    (tmp_path / "circle.csv").write_text("x_mm,y_mm\n" + "\n".join(rows) + "\n")
+    text = (CASES / "measured-cam.toml").read_text().replace('"measured-cam.csv"', '"circle.csv"')
+    (tmp_path / "circle.toml").write_text(text)
+    circle, measured = load_case(tmp_path / "circle.toml"), load_case(CASES / "measured-cam.toml")
+    lift = float(np.ptp(circle.motion.sample()[1][0]))
+    assert 0.0 < lift < 10 * circle.contour.noise
+    assert "barely moves, so train_deflection" in (lift_within_noise(circle, lift) or "")
+    assert lift_within_noise(measured, float(np.ptp(measured.motion.sample()[1][0]))) is None
 
 
 def test_a_table_row_written_twice_is_dropped_but_a_clash_is_refused(tmp_path, capsys):

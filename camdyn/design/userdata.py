@@ -95,6 +95,32 @@ def least_force_warning(case: Case, least_force_N: float, uncertainty_N: float |
     ]
 
 
+STILL_NOISE_MULTIPLE = 10.0  # a data case's lift within this many times its noise: the follower barely moves
+
+
+def lift_within_noise(case: Case, lift: float) -> str | None:
+    """A warning where the follower's lift (``lift``, the motion's unit) is within :data:`STILL_NOISE_MULTIPLE`
+    times its table's or contour's noise (a round contour): the follower barely moves, and the train's compression
+    over that lift says nothing; None otherwise (and for a motion not fitted to data)."""
+    fit = case.fit
+    if fit is None:
+        return None
+    if case.contour is not None:  # the outline's radial noise (mm) against the lift at the contact
+        noise, unit = case.contour.noise, case.contour.unit
+        assert case.follower is not None  # a contour is a follower's cam
+        lift_data = lift * (case.follower.arm_length if case.kind.rotary and case.follower.arm_length else 1.0)
+    else:
+        noise, unit = fit.noise, fit.unit
+        lift_data = lift * case.kind.lift_per_motion / fit.follower_per_data
+    if noise <= 0.0 or lift_data > STILL_NOISE_MULTIPLE * noise:
+        return None
+    return (
+        f"{fit.file}: the follower's lift, {lift_data:.2g} {unit}, is within {STILL_NOISE_MULTIPLE:g} times the "
+        f"data's noise ({noise:.2g} {unit}): it barely moves, so train_deflection (the train's compression over the "
+        "lift) is not judged"
+    )
+
+
 def unit_slip_warnings(case: Case, rpm: float, jump_rpm: float | None) -> list[str]:
     """Warnings for the case's speed and spring rate where their magnitude is almost surely a unit slip:
     ``speed`` in rev/s for rpm (checked at the case's own speed), ``spring_rate`` in N/m for N/mm
