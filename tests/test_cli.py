@@ -4,6 +4,7 @@ import json
 import re
 import subprocess
 import sys
+from contextlib import chdir
 from pathlib import Path
 
 import numpy as np
@@ -84,6 +85,9 @@ def test_table_columns_and_values(capsys, tmp_path):
     code, _, err = run(capsys, "table", LECTURE, "-o", target)
     assert code == 2 and "--force" in err
     assert run(capsys, "table", LECTURE, "-o", target, "--force")[0] == 0
+    with chdir(tmp_path):  # "-o -": standard output, as without -o (it wrote a file named "-")
+        code, dash, _ = run(capsys, "table", LECTURE, "--step", "10", "-o", "-")
+    assert code == 0 and dash == out and not (tmp_path / "-").exists()
 
 
 def test_an_error_naming_the_case_file_names_it_once(capsys, tmp_path):

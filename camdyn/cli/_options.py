@@ -71,6 +71,8 @@ def check_options(args: argparse.Namespace) -> None:
             check_ecam_points(args.ecam)
             if args.speed is not None:
                 raise InputError("--speed", "does not apply to an e-cam table (positions per master angle, no forces)")
+        if args.output == "-":  # the usual name of standard output, where the table goes without -o
+            args.output = None
         if args.output:
             output_file(args.output, args.force, "table")
     elif args.command == "profile":
