@@ -623,6 +623,7 @@ def test_a_rigid_follower_leaves_a_cam_whose_velocity_drops_and_flies_in_closed_
     assert 0.0 < sep.max_gap * 1e-3 <= (math.hypot(a0, v * wn) - a0) / wn**2
     fly = (r.theta_deg > 180.0) & (r.theta_deg < sep.end_deg)
     assert fly.any() and np.all(r.force[fly] == 0.0) and np.all(r.x[~fly] == r.s[~fly])
+    assert r.flights[0].leave_deg == 180.0  # the grid angle on the step is the flight's first, as the separation's
     dynamics = {key: x for key, x in LECTURE["dynamics"].items() if not key.startswith("train_")} | {"speed": 30}
     case = case_from_dict(LECTURE | {"motion": {"segments": _STEPPED}, "dynamics": dynamics})
     report = run_check(case)

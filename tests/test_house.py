@@ -356,18 +356,18 @@ def follower_type_tests() -> list[str]:
     for path in sorted(PACKAGE.rglob("*.py")):
         if path == PACKAGE / "_core" / "kinds.py":
             continue
+        rel = path.relative_to(ROOT)  # once a file: a path operation per syntax node took seconds
         for node in ast.walk(parsed(path)):
-            where = f"{path.relative_to(ROOT)}:{getattr(node, 'lineno', 0)}"
             if isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute):
                 if node.func.attr in ("startswith", "endswith") and any(
                     isinstance(a, ast.Constant) and isinstance(a.value, str) and (a.value in parts or a.value in names)
                     for a in node.args
                 ):
-                    found.append(f"{where}: {node.func.attr}({ast.unparse(node.args[0])})")
+                    found.append(f"{rel}:{node.lineno}: {node.func.attr}({ast.unparse(node.args[0])})")
             elif isinstance(node, ast.Compare):
                 consts = [c for c in (node.left, *node.comparators) if isinstance(c, ast.Constant)]
                 if any(isinstance(c.value, str) and c.value in names for c in consts):
-                    found.append(f"{where}: {ast.unparse(node)}")
+                    found.append(f"{rel}:{node.lineno}: {ast.unparse(node)}")
     return found
 
 

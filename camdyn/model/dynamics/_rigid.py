@@ -226,6 +226,9 @@ def rigid_response(
             continue  # this zero lies inside the previous flight
         t_lo = _lift_off(fk, t_a, TWO_PI / n, breaks) if dv0 is None else t_a
         fl = _march(motion, model, omega, fk, t_lo, (x, p, force), vals, n, max_bounces, dv0 or 0.0)
+        on_grid = (t_lo - _BREAK_EPS) * n / TWO_PI
+        if dv0 is not None and abs(on_grid - round(on_grid)) < 1e-6:  # a step on a grid angle: its flight's first
+            force[round(on_grid) % n] = 0.0
         deg = lambda t: math.degrees(t) % 360.0  # noqa: E731
         seps.append(
             Separation(
