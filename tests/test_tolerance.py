@@ -12,6 +12,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from _helpers import run
 from scipy.stats import norm
 
 from camdyn.cli import main
@@ -124,6 +125,24 @@ def test_zero_tolerances_agree_with_check(speed):
     assert (speed > 500) == fails
     # the nominal jump speed agrees with check's (a 512-angle scan grid against check's 4096)
     assert result.nominal_jump_speed_rpm == pytest.approx(report.json()["dynamic"]["jump_speed_rpm"], rel=2e-4)
+
+
+@pytest.mark.slow
+def test_a_rigid_follower_thrown_off_by_a_velocity_step_separates_in_every_built_cam(tmp_path, capsys):
+    """A constant-velocity rise between dwells on a rigid follower: the step at its end throws it off at any speed,
+    in every built cam (the tolerances keep the step): P(separation) 1, jump speeds 0, and no tolerance moves the
+    margin (gradients 0, shares null in --json: it failed on their NaN after writing its files)."""
+    raw = _lecture({"spring_rate": "10%", "preload": "2 N"})
+    raw["motion"]["segments"][1]["law"] = "constant-velocity"
+    raw["dynamics"] = {k: v for k, v in raw["dynamics"].items() if not k.startswith("train_")}
+    path = _write(tmp_path, raw)
+    code, out, err = run(capsys, "tolerance", path, "--samples", "64", "-o", tmp_path / "out", "--json", "--quiet")
+    assert code == 0, err
+    doc = json.loads(out)
+    assert doc["probability_of_separation"] == 1.0 and doc["nominal_jump_speed_rpm"] == 0.0
+    assert doc["jump_speed_rpm"]["p50"] == 0.0 and doc["least_contact_force_N"]["p50"] <= 0.0
+    for s in doc["sensitivities"].values():
+        assert s == {"gradient_sigma": 0.0, "share_linear": None, "share_monte_carlo": None}
 
 
 @pytest.mark.slow

@@ -28,7 +28,7 @@ def print_check(report: CheckReport) -> None:
         least = f"form-closed, signed contact force: {least}"
     kinematic = (
         f"kinematic: it leaves the cam at any speed, at {kin.jump_speed_at_deg:.1f} deg, where the cam's velocity steps"
-        if kin.jump_speed_rpm == 0.0 and kin.jump_speed_at_deg is not None
+        if kin.thrown_off
         else f"kinematic {kin.min_contact_force_N:.4g} N at {kin.min_contact_force_deg:.1f} deg"
     )
     con.print(f"speed {report.speed_rpm:g} rpm, {dyn.model} follower; {least} ({kinematic})")

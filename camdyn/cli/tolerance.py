@@ -11,6 +11,7 @@ from typing import TYPE_CHECKING, TypeVar
 
 from .._core.distributed import initialize, is_writer
 from .._core.outputs import output_dir, output_file, safe_stem, write_new
+from .._core.results import finite_or_none
 from ..design.tolerance import (
     DEFAULT_VALVETRAIN_SAMPLES,
     case_tolerances,
@@ -51,7 +52,9 @@ def json_doc(result: ToleranceResult, worst_files: list[Path], elapsed: float) -
         "confidence_interval": list(result.confidence_interval),
         "jump_speed_rpm": result.percentiles(result.jump_speed_rpm),
         "least_contact_force_N": result.percentiles(result.least_force),
-        "sensitivities": result.sensitivities,
+        "sensitivities": {  # null: a share or gradient not computed (no spread to share, no jump speed)
+            k: {name: finite_or_none(v) for name, v in s.items()} for k, s in result.sensitivities.items()
+        },
         "worst": [
             {
                 "sample": i,

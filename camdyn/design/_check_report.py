@@ -33,6 +33,12 @@ class Kinematics:
     jump_speed_rpm: float | None
     jump_speed_at_deg: float | None
 
+    @property
+    def thrown_off(self) -> bool:
+        """Whether a step in the cam's velocity throws the follower off at any speed (its jump speed 0, where the
+        step is): its least force is then the smooth motion's, without the step's infinite pull."""
+        return self.jump_speed_rpm == 0.0 and self.jump_speed_at_deg is not None
+
     def json(self) -> dict:
         return {
             "min_contact_force_N": self.min_contact_force_N,

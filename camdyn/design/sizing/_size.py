@@ -28,6 +28,13 @@ if TYPE_CHECKING:
 
 _LP_METHOD = "linear program (HiGHS) with cutting planes, checked against its closed form; tie-break in closed form"
 _SQRT_K_METHOD = "exact minimization of the peak force in sqrt(k) (bounded Brent; ties to the largest k)"
+_SMOOTH_THE_STEP = {  # how to remove a step in the cam's velocity, by where the motion comes from
+    "segments": "join the segments with a continuous velocity",
+    "path": "give the path's corners a radius ([path] corner_radius)",
+    "table": "tabulate a lift whose velocity is continuous there",
+    "valve_table": "tabulate a lift whose velocity is continuous there",
+    "contour": "measure or smooth the contour there",
+}
 _DYNAMIC_METHOD = (
     "; dynamic correction: exact least preload per rate (frequency-domain steady state, affine in F0) minimized "
     "over sqrt(k)"
@@ -127,7 +134,7 @@ def size_spring(
         raise InputError(
             "motion",
             f"no spring holds a rigid follower on this cam: its velocity steps at {math.degrees(steps[0][0]):g} deg, "
-            "which throws the follower off at any speed; join the segments with a continuous velocity (or give "
+            f"which throws the follower off at any speed; {_SMOOTH_THE_STEP[case.motion_source]} (or give "
             "[dynamics] train_stiffness: a compliant train takes up the step)",
         )
     part = check = None

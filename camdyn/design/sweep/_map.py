@@ -91,7 +91,9 @@ def _rigid_gaps(case, pts: _Points, idx, progress) -> tuple[np.ndarray, dict[int
             gap[i], why[int(i)] = np.nan, f"internal error in the flight model: {type(err).__name__}: {err}"
         else:
             w = _gap_weight_mm(case, np.deg2rad(r.theta_deg))
-            gap[i] = max(0.0, float(np.max((r.x - r.s) * w)))
+            # the grid's, and each flight's apex between the grid's angles (a short flight has none on it)
+            apexes = [sep.max_gap * _gap_weight_mm(case, np.deg2rad(sep.max_gap_deg)) for sep in r.separations]
+            gap[i] = max(0.0, float(np.max((r.x - r.s) * w)), *(float(a) for a in apexes))
         step(1)
     return gap, why
 

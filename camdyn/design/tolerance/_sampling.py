@@ -53,7 +53,8 @@ def case_tolerances(case: Case) -> tuple[Tolerance, ...]:
         raise InputError(
             "tolerances",
             "the case gives no tolerances, so every built cam would be the case itself: add a [tolerances] table, "
-            'e.g. spring_rate = "10%" and preload = "2 N" (docs/guide.md, camdyn tolerance)',
+            f'e.g. spring_rate = "10%" and preload = "{"0.2 N*m" if case.kind.rotary else "2 N"}" (docs/guide.md, '
+            "camdyn tolerance)",
         )
     return tols
 

@@ -23,6 +23,7 @@ from ._solver import ATOL, MAX_STEPS, RTOL
 
 _GAP_EPS = 1e-9  # motion units; a landing is detected this far below contact, so a flight starts above it
 _BREAK_EPS = 1e-10  # rad: just past a segment boundary, on its far side
+_APEX_SAMPLES = 65  # angles spread over a flight for its largest gap, beside the grid's
 
 
 def _flight_event(t, y, args, **kwargs):
@@ -36,7 +37,9 @@ def _flight(motion, model, omega, theta0, dv, t_cap, n: int):
     until the follower lands on the cam (an event) or 4 pi later, and the flight on the grid of ``n`` angles a
     revolution: the end ``t1`` (the landing, else the solve's end capped at ``t_cap``), the state and the cam's
     (s, s') there, whether it landed, and the state at the ``2 n`` grid angles from the first at or after ``theta0``,
-    clipped into [theta0, t1] (one stored program: the flight's start on the cam, its solve and its samples)."""
+    clipped into [theta0, t1], and the largest gap over the cam at ``_APEX_SAMPLES`` angles spread over the
+    flight and its angle (a flight shorter than the grid's step has no grid angle in it) (one stored program: the
+    flight's start on the cam, its solve and its samples)."""
     import diffrax  # diffrax loads where a program is traced, not where a stored one runs
     import optimistix as optx
 
@@ -61,7 +64,10 @@ def _flight(motion, model, omega, theta0, dv, t_cap, n: int):
     t1 = jnp.where(landed, sol.ts[-1], jnp.minimum(sol.ts[-1], t_cap))
     h = TWO_PI / n
     tt = jnp.clip((jnp.ceil(theta0 / h) + jnp.arange(2 * n)) * h, theta0, t1)
-    return t1, sol.ys[-1], motion(t1)[:2], landed, tt, jax.vmap(sol.evaluate)(tt)
+    ta = theta0 + (t1 - theta0) * jnp.linspace(0.0, 1.0, _APEX_SAMPLES)
+    gaps = jax.vmap(sol.evaluate)(ta)[:, 0] - motion(ta)[0]
+    i = jnp.argmax(gaps)
+    return t1, sol.ys[-1], motion(t1)[:2], landed, tt, jax.vmap(sol.evaluate)(tt), gaps[i], ta[i]
 
 
 _LIFT_OFF_WIDTH = 2e-13  # rad: the lift-off's bracket (its midpoint within 1e-13 rad of the zero)
@@ -131,7 +137,9 @@ def _march(motion, model, omega, fk, t_lo, out, vals, n, max_bounces, dv0: float
     w, t_cap = np.asarray(omega, dtype=float), np.asarray(t_lo + TWO_PI - h)
     for _ in range(max_bounces + 2):
         flight = _flight(motion, model, w, np.asarray(t0), np.asarray(dv), t_cap, n)
-        t1, y1, s1, landed, tt, yy = (np.asarray(a) for a in flight)
+        t1, y1, s1, landed, tt, yy, apex, apex_at = (np.asarray(a) for a in flight)
+        if apex > fl.max_gap:  # between the grid's angles (all of a flight shorter than their step)
+            fl.max_gap, fl.max_gap_at = float(apex), float(apex_at)
         t1, landed = float(t1), bool(landed)
         k0, k1 = math.ceil(t0 / h), math.floor(t1 / h)
         if k1 >= k0:  # the flight on the grid: the output arrays and the largest gap

@@ -49,7 +49,12 @@ def key_results(data: ReportData) -> list[tuple[str, str]]:
         least = f"{dyn.min_contact_force_N:.4g} N at {dyn.min_contact_force_deg:.1f}\u00b0"
     rows = [
         ("least force, dynamic", least),
-        ("least force, kinematic", f"{kin.min_contact_force_N:.4g} N at {kin.min_contact_force_deg:.1f}\u00b0"),
+        (
+            "least force, kinematic",
+            f"none: the cam's velocity steps at {kin.jump_speed_at_deg:.1f}\u00b0 (an infinite pull)"
+            if kin.thrown_off
+            else f"{kin.min_contact_force_N:.4g} N at {kin.min_contact_force_deg:.1f}\u00b0",
+        ),
         ("jump speed, dynamic", f"{fmt(dyn.jump_speed_rpm)} rpm"),
         (
             "jump speed, rigid",
