@@ -272,3 +272,18 @@ def test_trailing_empty_fields_of_a_spreadsheet_are_no_data(tmp_path):
     (tmp_path / "lift.csv").write_text("\n".join(GOOD[:1] + [f"{row},," for row in GOOD[1:]]) + "\n")
     got = read_csv(tmp_path / "lift.csv", "lift.csv", ("theta_deg", "lift_mm"))
     assert got.values.shape == (36, 2) and got.values[3, 0] == 30.0
+
+
+def test_the_noise_on_a_fits_acceleration_is_put_against_its_peak_in_words():
+    """A fit's 95 % band on s'' against its peak: none below a tenth of it; else its share, and for a lift that does
+    not move (peak 0) words, not a 300-digit percentage."""
+    from types import SimpleNamespace
+
+    from camdyn.model.motion import acceleration_noise
+
+    def fit(peak: float, std: float) -> SimpleNamespace:
+        return SimpleNamespace(coef=np.array([[0.0, 0.0, peak / 2.0]]), accel_std=std)
+
+    assert acceleration_noise(fit(1.0, 0.04)) is None  # band 0.08 < 0.1
+    assert acceleration_noise(fit(1.0, 0.25)) == (0.5, "50 % of its peak", 1.0)
+    assert acceleration_noise(fit(0.0, 1e-4)) == (2e-4, "over 1000 times its peak", 0.0)

@@ -31,7 +31,7 @@ import numpy as np
 from ..._core.errors import InputError
 from ...schema import FollowerSpec
 from ..datafiles import MAX_GAP_DEG, Samples
-from ..motion import ACCEL_NOISE_SHARE, FitResiduals, SplineFit, fit_periodic
+from ..motion import FitResiduals, SplineFit, acceleration_noise, fit_periodic
 from ._kernel import check_dimensions
 
 _DENSE = 16384  # samples of the fitted outline, evenly in polar angle
@@ -330,12 +330,11 @@ def _noise_warning(contour: ContourFit) -> list[str]:
     """The outline's measurement noise, where it leaves its curvature (and so the follower's acceleration)
     uncertain by more than :data:`camdyn.model.motion.ACCEL_NOISE_SHARE` of the largest."""
     sp = contour.spline
-    peak = float(np.max(np.abs(2.0 * sp.coef[:, 2])))
-    band = 2.0 * sp.accel_std
-    if band <= ACCEL_NOISE_SHARE * peak:
+    if (noisy := acceleration_noise(sp)) is None:
         return []
+    band, share, _ = noisy
     return [
         f"{contour.file}: the outline's noise (about {sp.sigma:.2g} mm) leaves its radius's second derivative "
-        f"uncertain by +-{band:.3g} mm/rad^2 (95 %), {100 * band / max(peak, 1e-300):.0f} % of its peak: the "
-        "follower's acceleration, jump speeds and forces rest on the smoothing, not on the measurement"
+        f"uncertain by +-{band:.3g} mm/rad^2 (95 %), {share}: the follower's acceleration, jump speeds and forces "
+        "rest on the smoothing, not on the measurement"
     ]

@@ -4,7 +4,7 @@ from boundary conditions), tabulated motions and motions fitted to data."""
 from ._base import Motion, evaluate
 from ._bspline import CLAMPED as BSPLINE_CLAMPED
 from ._bspline import basis as bspline_basis
-from ._fitted import ACCEL_NOISE_SHARE, FittedMotion, MotionFit, fit_motion, fit_warnings
+from ._fitted import ACCEL_NOISE_SHARE, FittedMotion, MotionFit, acceleration_noise, fit_motion, fit_warnings
 from ._hermite import HermiteMotion
 from ._laws import LAWS, law
 from ._program import Program, Segment
@@ -12,6 +12,7 @@ from ._spline import FitResiduals, SplineFit, fit_periodic
 
 __all__ = [
     "ACCEL_NOISE_SHARE",
+    "acceleration_noise",
     "BSPLINE_CLAMPED",
     "FitResiduals",
     "FittedMotion",

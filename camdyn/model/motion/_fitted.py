@@ -170,17 +170,28 @@ def fit_motion(
     return motion, MotionFit(source, file, unit, theta_deg, data, spline, tolerance, repeats)
 
 
+def acceleration_noise(spline: SplineFit) -> tuple[float, str, float] | None:
+    """Where a fit's noise leaves its second derivative meaningless (a 95 % band over :data:`ACCEL_NOISE_SHARE` of
+    its peak): the band (the data's unit per rad^2), how it compares with the peak in words, and the peak; None
+    where it does not."""
+    peak = float(np.max(np.abs(2.0 * spline.coef[:, 2])))
+    band = 2.0 * spline.accel_std
+    if band <= ACCEL_NOISE_SHARE * peak:
+        return None
+    share = f"{100 * band / peak:.0f} % of its peak" if band < 1e3 * peak else "over 1000 times its peak"
+    return band, share, peak
+
+
 def fit_warnings(fit: MotionFit) -> list[str]:
     """What a designer must know about a fit: noise that makes the acceleration meaningless
     (:data:`ACCEL_NOISE_SHARE`), and a tolerance that made the fit follow the noise."""
     sp, u = fit.spline, fit.unit
     out = []
-    peak = float(np.max(np.abs(2.0 * sp.coef[:, 2])))
-    band = 2.0 * sp.accel_std
-    if band > ACCEL_NOISE_SHARE * peak:
+    if (noisy := acceleration_noise(sp)) is not None:
+        band, share, peak = noisy
         out.append(
             f"{fit.file}: the data's noise (about {sp.sigma:.2g} {u}) leaves the fitted acceleration uncertain by "
-            f"+-{band:.3g} {u}/rad^2 (95 %), {100 * band / max(peak, 1e-300):.0f} % of its peak {peak:.4g} {u}/rad^2: "
+            f"+-{band:.3g} {u}/rad^2 (95 %), {share} {peak:.4g} {u}/rad^2: "
             "jump speeds and forces rest on the smoothing, not on the data; measure the lift finer or with less noise"
         )
     if sp.criterion == "tolerance":
