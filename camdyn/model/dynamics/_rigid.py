@@ -225,7 +225,8 @@ def rigid_response(
     unwrap = lambda t: theta_start + (t - theta_start) % TWO_PI  # noqa: E731
     starts = sorted(
         [(theta_start + (j - 1) * TWO_PI / n, None) for j in crossings]
-        + [(unwrap(t) + _BREAK_EPS, dv) for t, dv in steps]
+        + [(unwrap(t) + _BREAK_EPS, dv) for t, dv in steps],
+        key=lambda start: start[0],
     )
     seps: list[Separation] = []
     t_end_prev = theta_start
