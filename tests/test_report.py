@@ -360,6 +360,15 @@ def test_segment_laws_are_named_only_between_their_boundaries():
         assert x0 < box.x0 and box.x1 < x1
 
 
+def test_jumps_closer_than_a_label_are_marked_by_their_values_alone():
+    """A label in words ("velocity jumps +12.7 mm/rad") takes about 100 deg of the page: jumps 90 deg apart (a
+    constant-velocity rise's two steps) ran into each other; the lecture's, 120 deg apart, keep their words."""
+    from camdyn.report.pages.svaj import _is_compact
+
+    assert _is_compact([(90.0, 1, 12.7), (180.0, 1, -12.7), (240.0, 2, -22.5), (0.0, 2, -22.5)])
+    assert not _is_compact([(240.0, 2, -22.5), (0.0, 2, -22.5)])
+
+
 def test_a_legend_keeps_clear_of_the_curves_of_a_twin_axis():
     """A legend over an axes and its ``twinx``: both axes' curves end below the legend's lower edge (the valvetrain
     page's velocity and cam force panel had its force curve under the legend)."""

@@ -53,10 +53,11 @@ def _segment_laws(ax, segs) -> None:
 
 
 def _is_compact(jumps) -> bool:
-    """Many jumps or close ones: values only on the plot, listed in the note."""
+    """Many jumps or close ones: values only on the plot, listed in the note (a label in words takes about 100 deg
+    of the page's width: closer jumps would run into each other)."""
     degs = sorted({d for d, _, _ in jumps})
     gaps = np.diff(degs + [degs[0] + 360.0]) if degs else np.array([360.0])
-    return len(degs) > 4 or float(gaps.min()) < 50.0
+    return len(degs) > 4 or float(gaps.min()) < 100.0
 
 
 def _mark_jumps(axes, data: ReportData) -> bool:
