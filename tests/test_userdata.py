@@ -200,6 +200,10 @@ def test_unit_slips_are_warned(tmp_path):
         and "given in rev/s (Hz)? 5 rev/s is 300 rpm" in w
     )
     assert unit_slip_warnings(hz, 5.0, 180.0) == [] and unit_slip_warnings(hz, 300.0, 484.8) == []
+    # where check found no dynamic jump speed it compares the kinematic one, and says which (a round contour's
+    # warning quoted "the jump speed" beside "no jump found")
+    (w,) = unit_slip_warnings(hz, 5.0, 484.8, "the kinematic jump speed")
+    assert w.startswith("dynamics.speed = 5 rpm is 1/97 of the kinematic jump speed (484.8 rpm)")
     nm = load_case(_case_with(tmp_path, "spring_rate = 2.0 ", "spring_rate = 2000 "))
     (w,) = unit_slip_warnings(nm, 300.0, None)
     assert w.startswith("dynamics.spring_rate = 2000 N/mm") and "was it given in N/m? 2000 N/m is 2 N/mm" in w

@@ -140,7 +140,10 @@ def run_check(case: Case, speed_rpm: float | None = None, *, store_programs: boo
         searched = f"searched {JUMP_SEARCH_FACTOR:g}x beyond the margin"
         what = "jump" if valve is None else "valve float"
         warnings.append(f"no {what} found up to {w_max / RPM:.0f} rpm ({searched})")
-    warnings += unit_slip_warnings(case, rpm, finite_or_none((w_dyn if math.isfinite(w_dyn) else w_kin) / RPM))
+    if math.isfinite(w_dyn):
+        warnings += unit_slip_warnings(case, rpm, finite_or_none(w_dyn / RPM))
+    else:  # none found up to the search's top: the rigid follower's says how far it is
+        warnings += unit_slip_warnings(case, rpm, finite_or_none(w_kin / RPM), "the kinematic jump speed")
     if not model.rigid and not resp.separations:
         # the frequency-domain steady state is exact without separation: an independent check of the solve
         f_lin = dyn.linear_least_force(motion, model, omega)

@@ -121,14 +121,14 @@ def lift_within_noise(case: Case, lift: float) -> str | None:
     )
 
 
-def unit_slip_warnings(case: Case, rpm: float, jump_rpm: float | None) -> list[str]:
+def unit_slip_warnings(case: Case, rpm: float, jump_rpm: float | None, jump_name: str = "the jump speed") -> list[str]:
     """Warnings for the case's speed and spring rate where their magnitude is almost surely a unit slip:
-    ``speed`` in rev/s for rpm (checked at the case's own speed), ``spring_rate`` in N/m for N/mm
-    (``torsion_rate`` in N*mm/rad for N*m/rad)."""
+    ``speed`` in rev/s for rpm (checked at the case's own speed against ``jump_rpm``, which ``jump_name`` names),
+    ``spring_rate`` in N/m for N/mm (``torsion_rate`` in N*mm/rad for N*m/rad)."""
     out = []
     if jump_rpm is not None and rpm == case.speed_rpm and jump_rpm > HZ_SLIP_RATIO * rpm:
         out.append(
-            f"dynamics.speed = {rpm:g} rpm is 1/{jump_rpm / rpm:.0f} of the jump speed ({jump_rpm:.4g} rpm): "
+            f"dynamics.speed = {rpm:g} rpm is 1/{jump_rpm / rpm:.0f} of {jump_name} ({jump_rpm:.4g} rpm): "
             f"was it given in rev/s (Hz)? {rpm:g} rev/s is {60.0 * rpm:g} rpm"
         )
     model = case.model
