@@ -157,14 +157,15 @@ def run_check(case: Case, speed_rpm: float | None = None, *, store_programs: boo
     noise_N = None if resp.separations else least_force_uncertainty(case, omega)  # a table's noise, in contact only
     warnings += least_force_warning(case, resp.min_force, noise_N)
 
-    lift = float(np.ptp(resp.s))
     checks_train = ()
-    if not model.rigid and (still := lift_within_noise(case, lift)) is not None:
-        warnings.append(still)
-    elif not model.rigid:  # a train compressed by much of the lift no longer drives the follower: a verdict
-        # compression only: where the follower flies above the cam (x > s) the train is unloaded, not stretched
-        deflection = float(np.max(np.clip(resp.s - resp.x, 0.0, None))) / lift if lift > 0.0 else 0.0
-        checks_train = (CheckKind.TRAIN_DEFLECTION.check(deflection, float(limits.max_train_deflection)),)
+    if not model.rigid:  # a train compressed by much of the lift no longer drives the follower: a verdict
+        lift = float(np.ptp(resp.s))
+        if (still := lift_within_noise(case, lift)) is not None:  # a lift of noise: the ratio says nothing
+            warnings.append(still)
+        else:
+            # compression only: where the follower flies above the cam (x > s) the train is unloaded, not stretched
+            deflection = float(np.max(np.clip(resp.s - resp.x, 0.0, None))) / lift if lift > 0.0 else 0.0
+            checks_train = (CheckKind.TRAIN_DEFLECTION.check(deflection, float(limits.max_train_deflection)),)
     kin_force = resp.kinematic_force
     i_kin = int(kin_force.argmin())
     least = resp.min_force if valve is None else valve.response.least_event_force  # a valve: over its event

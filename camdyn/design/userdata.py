@@ -107,8 +107,13 @@ def lift_within_noise(case: Case, lift: float) -> str | None:
         return None
     if case.contour is not None:  # the outline's radial noise (mm) against the lift at the contact
         noise, unit = case.contour.noise, case.contour.unit
-        assert case.follower is not None  # a contour is a follower's cam
-        lift_data = lift * (case.follower.arm_length if case.kind.rotary and case.follower.arm_length else 1.0)
+        f = case.follower
+        assert f is not None  # a contour is a follower's cam
+        arm_mm = 1.0
+        if case.kind.rotary:  # an arm's swing (rad) at its roller
+            assert f.arm_length is not None  # the schema requires an arm's length
+            arm_mm = float(f.arm_length)
+        lift_data = lift * arm_mm
     else:
         noise, unit = fit.noise, fit.unit
         lift_data = lift * case.kind.lift_per_motion / fit.follower_per_data

@@ -121,10 +121,11 @@ def tolerance_study(
     params = {k: vals[k] for k in SCALAR_KEYS} | {
         "profile_error": np.sqrt(0.5 * np.sum(vals["profile_coeffs"] ** 2, axis=1))
     }
-    sens, w_star = _sensitivities(case, base, scan, w_max, nominal, spread, vals, jump_rpm)
     if thrown:  # the margin is 0 whatever the tolerances: none of them moves it
-        sens = {k: {"gradient_sigma": 0.0, "share_linear": math.nan, "share_monte_carlo": math.nan} for k in sens}
+        sens = {k: {"gradient_sigma": 0.0, "share_linear": math.nan, "share_monte_carlo": math.nan} for k in spread}
         w_star = 0.0
+    else:
+        sens, w_star = _sensitivities(case, base, scan, w_max, nominal, spread, vals, jump_rpm)
     return ToleranceResult(
         case=case.name,
         kind=kind,

@@ -235,11 +235,12 @@ class Program(Motion):
         # the right side of every boundary in one evaluation (one angle at a time: 0.3 ms each, 1000 segments)
         rights = self._eval(np, np.deg2rad(np.array([seg.end % 360.0 for seg in self.segments])))
         lefts = self.segment_ends()
+        jumps = rights - lefts
         return [
-            (i, order, float(rights[order, i] - lefts[order, i]))
+            (i, order, float(jumps[order, i]))
             for i in range(len(self.segments))
             for order in (1, 2)
-            if derivative_jumps_at(rights[order, i] - lefts[order, i], peak[order], lefts[order, i], rights[order, i])
+            if derivative_jumps_at(jumps[order, i], peak[order], lefts[order, i], rights[order, i])
         ]
 
     def polynomial_warnings(self) -> list[str]:
