@@ -245,18 +245,20 @@ def _wave(x):
 
 
 def test_compiler_options_are_part_of_the_key_and_unknown_ones_dropped(tmp_path, monkeypatch):
-    """XLA options (the jump map's kernels compile with some) key a program of their own and apply whether or not
-    the cache is enabled; an option this XLA does not know is dropped, not an error."""
+    """XLA options (camdyn's programs compile with :data:`XLA_OPTIONS` by default) key a program of their own and
+    apply whether or not the cache is enabled; an option this XLA does not know is dropped, not an error."""
     monkeypatch.setattr(programs, "_DIR", None)
-    opts, unknown = (("xla_cpu_use_fusion_emitters", False),), (("xla_camdyn_no_such_option", True),)
+    opts, unknown = programs.XLA_OPTIONS, (("xla_camdyn_no_such_option", True),)
     x = np.linspace(0.0, 2.0, 7)
     np.testing.assert_allclose(programs.cached_jit(_wave, unknown)(x), np.exp(-x) * np.cos(3.0 * x), rtol=1e-14)
     uncached = np.asarray(programs.cached_jit(_wave, opts)(x))  # no cache: compiled with the options all the same
     programs.enable(tmp_path)
-    plain, optioned = programs.cached_jit(_wave), programs.cached_jit(_wave, opts)
+    plain, optioned = programs.cached_jit(_wave, ()), programs.cached_jit(_wave, opts)
     np.testing.assert_allclose(plain(x), np.exp(-x) * np.cos(3.0 * x), rtol=1e-14)
     np.testing.assert_array_equal(optioned(x), uncached)
     np.testing.assert_allclose(optioned(x), plain(x), rtol=1e-14)
+    assert len(list(tmp_path.rglob("_wave-*.jaxprogram"))) == 2
+    np.testing.assert_array_equal(programs.cached_jit(_wave)(x), uncached)  # the default: XLA_OPTIONS
     assert len(list(tmp_path.rglob("_wave-*.jaxprogram"))) == 2
     np.testing.assert_allclose(programs.cached_jit(_wave, unknown)(x), plain(x), rtol=1e-14)  # compiled without it
 

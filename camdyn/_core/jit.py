@@ -307,19 +307,13 @@ def device_array(x: Any) -> jax.Array:
     return jax.device_put(np.asarray(x, dtype=float))
 
 
-def filter_jit(fn: Callable[..., T]) -> Callable[..., T]:
-    """``equinox.filter_jit(fn)`` on the arguments' :func:`jit_forms`: compiled once per follower kind and bucket,
-    not once per case (in-process only; :func:`cached_jit` also persists)."""
-    jitted = eqx.filter_jit(fn)
-
-    @functools.wraps(fn)
-    def call(*args: Any, **kwargs: Any) -> T:
-        args, kwargs = jit_forms((args, kwargs))
-        return jitted(*args, **kwargs)
-
-    return call
-
-
+# XLA compiles camdyn's programs with its CPU loop emitters, not its newer fusion emitters: about 40 % less compile
+# (the oscillating case's shooting 2.2 -> 1.2 s of XLA, its sensitivity shooting 6.3 -> 3.9 s, the jump map's gap
+# stepping 1.06 -> 0.63 s of CPU), the same numbers to rounding. The price, where a program runs long: the map's gap
+# stepping about 15 % slower over 10^4 designs; a warm `check`, `optimize` or `tolerance` within the machine's noise
+# (docs/benchmarks.md, session 36). A CPU option (an accelerator's XLA ignores it); dropped where an XLA no longer
+# knows it.
+XLA_OPTIONS: tuple[tuple[str, Any], ...] = (("xla_cpu_use_fusion_emitters", False),)
 _UNKNOWN_OPTION = "No such compile option"  # XLA's error for an option it does not know (one a later XLA dropped)
 
 
@@ -334,8 +328,10 @@ def _jit_compile(flat: Callable, options: dict, *specs: Any) -> Any:
         return jax.jit(flat).lower(*specs).compile()
 
 
-def jit_with(fn: Callable, options: dict) -> Callable:
-    """``equinox.filter_jit(fn)``, compiled with the XLA compiler ``options`` (equinox takes none)."""
+def jit_with(fn: Callable, options: dict | None = None) -> Callable:
+    """``equinox.filter_jit(fn)``, compiled with the XLA compiler ``options`` (equinox takes none; default
+    :data:`XLA_OPTIONS`)."""
+    options = dict(XLA_OPTIONS) if options is None else options
     if not options:
         return eqx.filter_jit(fn)
     traced: dict = {}
@@ -425,8 +421,9 @@ def in_background(prepare: Callable[[], object], name: str) -> threading.Thread:
     return thread
 
 
-def cached_jit(fn: Callable[..., T], compiler_options: tuple[tuple[str, Any], ...] = ()) -> Callable[..., T]:
-    """:func:`filter_jit` whose traced programs persist across processes once :func:`enable` is called.
+def cached_jit(fn: Callable[..., T], compiler_options: tuple[tuple[str, Any], ...] = XLA_OPTIONS) -> Callable[..., T]:
+    """``equinox.filter_jit(fn)`` on the arguments' :func:`jit_forms` (compiled once per follower kind and bucket, not
+    once per case), whose traced programs persist across processes once :func:`enable` is called.
     ``compiler_options``: XLA options as (name, value) pairs, for every compile of ``fn``, cached or not (and
     part of the key); dropped where this XLA does not know them."""
     options = dict(compiler_options)

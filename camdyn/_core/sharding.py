@@ -41,7 +41,7 @@ def _shard_map(f, mesh, in_specs, out_specs):
 
 
 @functools.cache
-def _sharded(kernel: Callable, devices: tuple, per_point: bool, options: tuple = ()):
+def _sharded(kernel: Callable, devices: tuple, per_point: bool):
     """``kernel(const, *point)`` vmapped over grid points (``per_point``; else the kernel takes a device's points
     as arrays itself) and sharded over ``devices``, compiled; in one process
     through :func:`camdyn._core.jit.cached_jit`, so a later process loads the traced program instead of tracing it."""
@@ -53,11 +53,11 @@ def _sharded(kernel: Callable, devices: tuple, per_point: bool, options: tuple =
         return _shard_map(body, mesh, (PartitionSpec(), *([spec] * len(batched))), spec)(const, *batched)
 
     if jax.process_count() > 1:  # global arrays over several processes: traced in each
-        return jit_with(run, dict(options)), mesh
+        return jit_with(run), mesh
     # the disk key names the kernel and the devices (cached_jit keys by the wrapped function's name)
     run.__module__ = kernel.__module__
     run.__qualname__ = run.__name__ = f"{kernel.__qualname__}-on-{len(devices)}-{devices[0].platform}"
-    return cached_jit(run, options), mesh
+    return cached_jit(run), mesh
 
 
 def _global(x, mesh, spec):
@@ -110,7 +110,6 @@ def prepare_batched(
     chunk: int,
     devices: tuple,
     per_point: bool = True,
-    options: tuple = (),
 ) -> None:
     """Trace and compile (or load) the program :func:`run_batched` will run ``kernel`` with, for grid points like
     ``point`` (one row of each batched input is enough), without running it: another thread can do this while
@@ -118,7 +117,7 @@ def prepare_batched(
     cache's (several processes, or the cache not enabled: then the first call compiles)."""
     if jax.process_count() > 1:
         return
-    fn, _ = _sharded(kernel, devices, per_point, options)
+    fn, _ = _sharded(kernel, devices, per_point)
     prepare = getattr(fn, "prepare", None)
     if prepare is not None:
         prepare(const, *_padded([np.asarray(p)[:1] for p in point], _chunk_size(chunk, devices)))
@@ -137,14 +136,12 @@ def run_batched(
     progress: Callable[[int], None] | None,
     devices: tuple,
     per_point: bool = True,
-    options: tuple = (),
 ) -> Any:
     """Run ``kernel`` over the rows of ``batched`` in chunks of ``chunk`` points per device (padded); ``per_point``:
-    the kernel computes one point (vmapped here), else a device's chunk of points at once. ``options``: XLA
-    compiler options of its program, as (name, value) pairs (:func:`camdyn._core.jit.cached_jit`)."""
+    the kernel computes one point (vmapped here), else a device's chunk of points at once."""
     size = _chunk_size(chunk, devices)
     n = batched[0].shape[0]
-    fn, mesh = _sharded(kernel, devices, per_point, options)
+    fn, mesh = _sharded(kernel, devices, per_point)
     multi = jax.process_count() > 1
 
     def one(start: int) -> tuple[Any, int]:

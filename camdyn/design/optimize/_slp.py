@@ -16,6 +16,7 @@ import jax.numpy as jnp
 import numpy as np
 import numpy.typing as npt
 
+from ..._core.jit import jit_with
 from ..._core.linprog import FAILED, INFEASIBLE, OPTIMAL, Answer, LinearProgram
 
 _MAX_STEPS = 30
@@ -41,7 +42,7 @@ def value_and_jacobian(fn: Callable, x: jax.Array, *args: Any) -> tuple[jax.Arra
 
 def with_jacobian(fn: Callable) -> Callable:
     """``x -> (fn(x), dfn/dx)`` compiled once (:func:`value_and_jacobian`)."""
-    return jax.jit(lambda x, *args: value_and_jacobian(fn, x, *args))
+    return jit_with(lambda x, *args: value_and_jacobian(fn, x, *args))
 
 
 def _value_and_jacobian(fn: Callable, x: np.ndarray):

@@ -13,13 +13,6 @@ GAP_SAMPLES = 1440  # diffrax: samples per revolution for the largest gap (0.25 
 GAP_STRIDE = 5  # exact stepping: a step of GAP_STRIDE points of the GRID_N grid (0.5 deg)
 GAP_RTOL, GAP_ATOL = 1e-8, 1e-9  # diffrax tolerances of the gap integration (motion units)
 GAP_MAX_STEPS = 400_000
-# XLA compiles the compliant map's kernels (steady state, exact gap stepping) with its CPU loop emitters, not its
-# newer fusion emitters: 40 % less compile of the gap stepping (1.06 -> 0.63 s of CPU) and a third less of the
-# steady state's, the same numbers to rounding (least forces within 1e-11 N; gaps within 1e-9 mm but at chaotic
-# bounces, which any change of rounding moves). The price: the gap stepping runs about 15 % slower in a map of 10^4
-# designs (0.39 -> 0.47 s of CPU), so a first map gains more than a warm one loses. A CPU option (not measured on an
-# accelerator); dropped where an XLA no longer knows it.
-XLA_OPTIONS = (("xla_cpu_use_fusion_emitters", False),)
 LINEAR_CHUNK = 256  # grid points per device per chunk (frequency-domain steady state)
 GAP_CHUNK = 1024  # separated points per device per chunk (nonlinear integration; a scan step costs per call: wide)
 

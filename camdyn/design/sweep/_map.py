@@ -22,7 +22,7 @@ from ..parts import resolve_spring, spring_mass_notes
 from ._contact import damping_kernel, kinematic_kernel, linear_kernel, with_spring_damping
 from ._diffrax_gap import diffrax_gap_const, diffrax_gap_kernel
 from ._exact_gap import gap_kernel
-from ._grid import GAP_CHUNK, GAP_STRIDE, GRID_N, LINEAR_CHUNK, XLA_OPTIONS, check_grid_size
+from ._grid import GAP_CHUNK, GAP_STRIDE, GRID_N, LINEAR_CHUNK, check_grid_size
 from ._result import STATUS_OK, JumpMap, failed
 from ._valvetrain import valvetrain_map
 
@@ -123,7 +123,7 @@ def _compliant_map(case, pts: _Points, angles, gaps: bool, gap_method: str, prog
     theta, vals, weight = angles
     const = (base, vals[0], vals[1], np.fft.rfft(vals[0]), weight)  # numpy: no transfer or FFT program to compile
     tick = counter(progress, "steady state (frequency domain)", pts.omega.size)
-    signed = run_batched(linear_kernel, const, [pts.omega, pts.k], LINEAR_CHUNK, tick, devices, options=XLA_OPTIONS)
+    signed = run_batched(linear_kernel, const, [pts.omega, pts.k], LINEAR_CHUNK, tick, devices)
     why = {int(i): "the frequency-domain steady state is not finite" for i in np.nonzero(~np.isfinite(signed))[0]}
     separated = signed <= 0.0
     gap = np.zeros(pts.omega.size)
@@ -140,7 +140,7 @@ def _compliant_map(case, pts: _Points, angles, gaps: bool, gap_method: str, prog
         kernel = gap_kernel(accelerated(devices))
         if head_start is not None:
             head_start.join()  # its program, not a second compile of it here
-        g = run_batched(kernel, gconst, point, GAP_CHUNK, tick, devices, per_point=False, options=XLA_OPTIONS)
+        g = run_batched(kernel, gconst, point, GAP_CHUNK, tick, devices, per_point=False)
     else:
         gconst = diffrax_gap_const(case, lambda t: _gap_weight_mm(case, t), spec_unit)
         g = run_batched(diffrax_gap_kernel, gconst, point, GAP_CHUNK, tick, devices)
@@ -163,7 +163,7 @@ def _prepare_gaps(base, devices) -> threading.Thread:
     kernel = gap_kernel(accelerated(devices))
     point = [np.ones(1), np.ones(1)]
     return in_background(
-        lambda: prepare_batched(kernel, _gap_const_like(base), point, GAP_CHUNK, devices, False, XLA_OPTIONS),
+        lambda: prepare_batched(kernel, _gap_const_like(base), point, GAP_CHUNK, devices, False),
         "camdyn-prepare-gaps",
     )
 
