@@ -260,6 +260,8 @@ def test_compiler_options_are_part_of_the_key_and_unknown_ones_dropped(tmp_path,
     assert len(list(tmp_path.rglob("_wave-*.jaxprogram"))) == 2
     np.testing.assert_array_equal(programs.cached_jit(_wave)(x), uncached)  # the default: XLA_OPTIONS
     assert len(list(tmp_path.rglob("_wave-*.jaxprogram"))) == 2
+    inside = jax.jit(jax.vmap(programs.cached_jit(_wave)))  # options go to the outer program only (JAX refuses them
+    np.testing.assert_allclose(inside(x[:, None])[:, 0], plain(x), rtol=1e-14)  # on a nested one)
     np.testing.assert_allclose(programs.cached_jit(_wave, unknown)(x), plain(x), rtol=1e-14)  # compiled without it
 
 

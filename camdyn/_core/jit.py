@@ -315,6 +315,7 @@ def device_array(x: Any) -> jax.Array:
 # knows it.
 XLA_OPTIONS: tuple[tuple[str, Any], ...] = (("xla_cpu_use_fusion_emitters", False),)
 _UNKNOWN_OPTION = "No such compile option"  # XLA's error for an option it does not know (one a later XLA dropped)
+_NESTED = "can only be passed to top-level"  # JAX's error for options on a program called inside another's trace
 
 
 def _jit_compile(flat: Callable, options: dict, *specs: Any) -> Any:
@@ -332,8 +333,9 @@ def jit_with(fn: Callable, options: dict | None = None) -> Callable:
     """``equinox.filter_jit(fn)``, compiled with the XLA compiler ``options`` (equinox takes none; default
     :data:`XLA_OPTIONS`)."""
     options = dict(XLA_OPTIONS) if options is None else options
+    plain = eqx.filter_jit(fn)
     if not options:
-        return eqx.filter_jit(fn)
+        return plain
     traced: dict = {}
 
     def call(*args: Any, **kwargs: Any) -> Any:
@@ -353,10 +355,12 @@ def jit_with(fn: Callable, options: dict | None = None) -> Callable:
             traced[key] = jax.jit(flat, compiler_options=options)
         try:
             return traced[key](*leaves)
-        except Exception as err:  # an option this XLA does not know: compiled as XLA compiles by default
+        except Exception as err:
+            if _NESTED in str(err):  # called inside another program's trace: XLA compiles that one, with its options
+                return plain(*args, **kwargs)
             if _UNKNOWN_OPTION not in str(err):
                 raise
-            traced[key] = jax.jit(traced[key].__wrapped__)
+            traced[key] = jax.jit(traced[key].__wrapped__)  # an option this XLA does not know: XLA's defaults
             return traced[key](*leaves)
 
     return call
