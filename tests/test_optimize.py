@@ -25,7 +25,7 @@ from camdyn import InputError
 from camdyn._core.units import RPM
 from camdyn.design.checks import run_check
 from camdyn.design.optimize import _robust_claim, default_margin
-from camdyn.design.optimize._objectives import _next_speed, hold_to, least_slack, peak_spring_force_floor
+from camdyn.design.optimize._objectives import hold_to, least_slack, peak_spring_force_floor
 from camdyn.design.optimize._rows import Rows
 from camdyn.design.optimize._shape import shape_space
 from camdyn.design.optimize._slp import maximize_least, with_jacobian
@@ -251,18 +251,6 @@ def test_reshaped_lecture_holds_at_every_speed_to_130_percent(lecture_rows):
     assert full >= 0.0 and full == least_slack(lecture_rows, step.x, w)[0]
     assert np.max(np.asarray(lecture_rows.geometry(jnp.asarray(step.x)))) <= 0.0  # pressure angle and curvature
     assert all(0.0 < d <= 1.0 for d in dips)  # the speeds held beyond the set, as fractions of w
-
-
-def test_the_jump_speed_search_steps_up_along_the_slack_then_bisects():
-    """Below a bracket the next trial speed is 2 % past where the line through the last two held speeds' slacks
-    crosses zero, within 1.05 to 1.6 x the highest held; 1.3 x from one held speed, or where the slack did not fall;
-    in a bracket its middle."""
-    assert _next_speed(100.0, None, [(100.0, 5.0)]) == pytest.approx(130.0)
-    assert _next_speed(100.0, None, [(80.0, 3.0), (100.0, 1.0)]) == pytest.approx(1.02 * 110.0)
-    assert _next_speed(100.0, None, [(99.0, 3.0), (100.0, 1.0)]) == pytest.approx(105.0)
-    assert _next_speed(100.0, None, [(50.0, 3.0), (100.0, 2.0)]) == pytest.approx(160.0)
-    assert _next_speed(100.0, None, [(80.0, 1.0), (100.0, 3.0)]) == pytest.approx(130.0)
-    assert _next_speed(100.0, 120.0, [(80.0, 3.0), (100.0, 1.0)]) == pytest.approx(110.0)
 
 
 # ---------------------------------------------------------------------------------- the shipped case
