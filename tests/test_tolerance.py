@@ -157,6 +157,8 @@ def test_a_compliant_train_struck_by_a_velocity_step_has_the_checks_jump_speed()
     raw["motion"]["segments"][1]["law"] = "constant-velocity"
     case = case_from_dict(raw)
     assert scan_grid(case) == FFT_GRID and scan_grid(case_from_dict(_lecture(zeros, 30.0))) == SCAN_GRID
+    rigid = {**raw, "dynamics": {k: v for k, v in raw["dynamics"].items() if not k.startswith("train_")}}
+    assert scan_grid(case_from_dict(rigid)) == SCAN_GRID  # thrown off at the step: no search to resolve it
     want = run_check(case).json()["dynamic"]["jump_speed_rpm"]
     assert want == pytest.approx(40.33, abs=0.05)
     assert tolerance_study(case, 16, seed=3).nominal_jump_speed_rpm == pytest.approx(want, rel=2e-4)

@@ -311,8 +311,8 @@ def device_array(x: Any) -> jax.Array:
 # (the oscillating case's shooting 2.2 -> 1.2 s of XLA, its sensitivity shooting 6.3 -> 3.9 s, the jump map's gap
 # stepping 1.06 -> 0.63 s of CPU), the same numbers to rounding. The price, where a program runs long: the map's gap
 # stepping about 15 % slower over 10^4 designs; a warm `check`, `optimize` or `tolerance` within the machine's noise
-# (docs/benchmarks.md, session 36). A CPU option (an accelerator's XLA ignores it); dropped where an XLA no longer
-# knows it.
+# (docs/benchmarks.md, session 36). A CPU option (the jump map compiled with it on an H100 in sessions 17 and 22);
+# dropped where an XLA no longer knows it.
 XLA_OPTIONS: tuple[tuple[str, Any], ...] = (("xla_cpu_use_fusion_emitters", False),)
 _UNKNOWN_OPTION = "No such compile option"  # XLA's error for an option it does not know (one a later XLA dropped)
 _NESTED = "can only be passed to top-level"  # JAX's error for options on a program called inside another's trace
