@@ -92,8 +92,11 @@ def _rigid_gaps(case, pts: _Points, idx, progress) -> tuple[np.ndarray, dict[int
         else:
             w = _gap_weight_mm(case, np.deg2rad(r.theta_deg))
             # the grid's, and each flight's apex between the grid's angles (a short flight has none on it)
-            apexes = [sep.max_gap * _gap_weight_mm(case, np.deg2rad(sep.max_gap_deg)) for sep in r.separations]
-            gap[i] = max(0.0, float(np.max((r.x - r.s) * w)), *(float(a) for a in apexes))
+            apex = 0.0
+            if r.separations:
+                at = np.deg2rad([sep.max_gap_deg for sep in r.separations])
+                apex = float(np.max(np.array([sep.max_gap for sep in r.separations]) * _gap_weight_mm(case, at)))
+            gap[i] = max(0.0, float(np.max((r.x - r.s) * w)), apex)
         step(1)
     return gap, why
 
