@@ -9,6 +9,8 @@ import sys
 from importlib import import_module
 from pathlib import Path
 
+import pytest
+
 import camdyn
 
 PUBLIC = [
@@ -109,6 +111,7 @@ def test_the_type_stub_names_each_public_name_from_its_module():
         assert hasattr(import_module(module, "camdyn"), name), name
 
 
+@pytest.mark.slow  # a fresh Python loading JAX and a case (3 s)
 def test_the_library_changes_no_global_setting_and_refuses_float32():
     """Importing camdyn's models leaves JAX's 64-bit mode alone (as diffrax does); building a case without it is
     refused in one line rather than computed in float32."""

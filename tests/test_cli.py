@@ -234,6 +234,7 @@ def test_sharp_square_gets_the_corner_radius_that_passes(capsys, tmp_path, monke
     assert fails < 5.0 < passes <= 20.0 and force >= 2.0  # the shipped 5 mm fillets pass; min_contact_force 2 N
 
 
+@pytest.mark.slow  # a sweep's kernels and two profiles (4 s)
 def test_only_batched_commands_reach_for_an_accelerator(capsys, tmp_path, monkeypatch):
     """``sweep`` and ``tolerance`` run on every device JAX finds (but for a valvetrain, a point at a time); every
     other command on the CPU (JAX_PLATFORMS=cpu before JAX loads: a GPU's start alone is longer than a check),
@@ -273,6 +274,7 @@ def test_blas_runs_on_one_thread_unless_the_user_says():
     assert run_with(before="import numpy\n") == ["None", "True"]
 
 
+@pytest.mark.slow  # two fresh Pythons loading JAX (4 s)
 def test_a_cpu_run_skips_the_discovery_of_accelerator_plugins():
     """Where JAX is set to the CPU alone (JAX_PLATFORMS=cpu before it loads), the command line tells JAX its plugins
     are registered before a backend starts (it would import and initialize every one installed, for backends it never
@@ -306,6 +308,7 @@ def test_a_valvetrains_map_runs_on_the_cpu(capsys, tmp_path, monkeypatch):
     assert run(capsys, *valve)[0] == 0 and os.environ["JAX_PLATFORMS"] == "cpu"
 
 
+@pytest.mark.slow  # a sweep's kernels (2-4 s)
 def test_long_runs_say_each_phase_on_a_pipe_unless_quiet(capsys, tmp_path):
     """Where stderr is no terminal (a pipe, a log, CI), a long command still says what it is doing, one line per
     phase; --quiet silences it (issue 23)."""

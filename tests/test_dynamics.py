@@ -636,6 +636,7 @@ def test_a_rigid_follower_leaves_a_cam_whose_velocity_drops_and_flies_in_closed_
 
 
 # ============================================================== 5. frequency domain and jump speed
+@pytest.mark.slow  # compiles the diffrax response at four speeds (6 s)
 def test_linear_min_force_vs_diffrax(lecture):
     motion, model = lecture
     rpms = np.array([120.0, 250.0, 380.0, 470.0])
@@ -718,6 +719,7 @@ def test_a_signed_force_is_refined_in_a_few_speeds_and_never_more_than_bisection
 
 
 # ============================================================================ 6. residual vibration
+@pytest.mark.slow  # lecture_300 compiles the shooting
 def test_residual_vibration(lecture, lecture_300, scipy_300):
     """Residual vibration in the dwells of the lecture case at 300 rpm.
 

@@ -40,6 +40,7 @@ def _module(path: Path) -> str:
     return ".".join(parts[:-1] if parts[-1] == "__init__" else parts)
 
 
+@functools.cache
 def import_graph() -> dict[str, set[str]]:
     """camdyn module -> the camdyn modules it imports (anywhere in the file, function-local imports included)."""
     modules = {_module(p): p for p in PACKAGE.rglob("*.py")}

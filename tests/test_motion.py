@@ -53,6 +53,7 @@ def call(motion, theta):
     return motion(theta)
 
 
+@pytest.mark.slow  # every law's third derivative by autodiff, one program (3-5 s of compile)
 @pytest.mark.parametrize("name", LAWS)
 def test_law_derivatives_match_autodiff(name):
     vals = every_law()[name]

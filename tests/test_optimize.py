@@ -583,6 +583,7 @@ def test_spring_force_keeps_the_seat_load(capsys, tmp_path):
     assert peak_spring(load_case(out)) < peak_spring(load_case(case_file))
 
 
+@pytest.mark.slow  # the shooting of the verification (2.5 s of compile)
 def test_a_verified_speed_says_the_domain_that_solved_it():
     """At 1 rpm the lecture's train vibrates 13,500 times a revolution: its steady state is the frequency domain's,
     and the verification says so (its line read "time domain at ..." whatever solved it)."""

@@ -67,7 +67,14 @@ PATHS = {
 }
 
 
-@pytest.mark.parametrize("name", PATHS)
+# each path compiles its own program (about 1 s): the quick set keeps the cheap ones and the racetrack, which the
+# seed's numbers compile anyway
+_COMPILED_ALONE = {"ellipse", "rectangle", "eight", "points"}
+
+
+@pytest.mark.parametrize(
+    "name", [pytest.param(n, marks=pytest.mark.slow) if n in _COMPILED_ALONE else n for n in PATHS]
+)
 def test_closed_and_derivatives_match_finite_differences(name):
     path = build_path(PATHS[name])
     assert np.allclose(*np.asarray(points(path, np.array([[0.0, 1.0], [1.0, 2.0]]))), atol=1e-9)

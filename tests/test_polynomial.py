@@ -51,6 +51,7 @@ def _table(capsys, tmp_path, name, segments) -> np.ndarray:
     return out[0].split(","), np.loadtxt(out[1:], delimiter=",")
 
 
+@pytest.mark.slow  # two tables' dynamic columns compile the shooting (5-7 s)
 def test_no_options_is_345_and_zero_end_jerks_is_4567(capsys, tmp_path):
     """`camdyn table` of the polynomial segments equals the named laws' column by column, to 1e-9; the dynamic
     force to the integrator's accuracy (1e-7): two shootings of motions equal to a rounding, whose adaptive steps may

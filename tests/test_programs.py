@@ -446,6 +446,7 @@ def test_programs_of_other_segments_share_one_compiled_kernel_and_evaluate_alike
     assert np.allclose(ends[:, 0], other.host(0.0)) and ends[3, 0] > 100.0 and np.all(ends[:, 1] == 0.0)
 
 
+@pytest.mark.slow  # evaluate compiled for four shapes (4 s)
 def test_angles_of_other_counts_share_one_evaluate_program(monkeypatch, cache_dir):
     """``evaluate`` pads a 1-D array of angles to the next bucket (8, 64, 512, 4096): 300 and 500 angles run the one
     stored program of 512, and 20000 the one of 4096 five times, the values those of the exact shape's program to
@@ -465,6 +466,7 @@ def test_angles_of_other_counts_share_one_evaluate_program(monkeypatch, cache_di
     assert evaluate(prog, np.zeros(0)).shape == (4, 0) and evaluate(prog, 1.0).shape == (4,)
 
 
+@pytest.mark.slow  # the least-force programs of three shapes (4 s)
 def test_speeds_of_other_counts_share_the_least_force_programs(monkeypatch, cache_dir, lecture_case):
     """``linear_min_force`` pads a 1-D array of speeds to a bucket (16, 64, 256; longer in pieces of 256):
     the first one, 600 and 2000 of 2000 speeds run two stored programs, each value that of one unpadded program of
