@@ -254,7 +254,8 @@ def optimize_case(
     rows = Rows(case, space, margin)
     if case.valvetrain is None:  # the linear programs' programs compile on the side while the case is checked
         in_background(functools.partial(rows.prepare, objective == "spring-force"), "camdyn-rows")
-    before_check = run_check(case, speed_rpm, store_programs=False)
+    with phase(progress, "the input's check"):  # cold, most of the run: the check's programs compile
+        before_check = run_check(case, speed_rpm, store_programs=False)
     if case.valvetrain is not None:  # the event's single follower: the train's compliance, the lash taken up
         vt = case.valvetrain
         surrogate, cam_mass = event_follower(vt)

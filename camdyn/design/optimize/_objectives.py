@@ -84,6 +84,7 @@ def jump_speed(rows: Rows, w0: float, progress: Progress | None = None) -> tuple
     lecture) and regula falsi in the bracket (more trials) were tried and dropped."""
     z = rows.space.z0
     tick = counter(progress, "optimize", 12)
+    tick(0)  # the phase starts with the first trial, not the first of the twelve
     lo, hi = 0.95 * w0, None
     step, full, dips = hold_to(rows, lo, z)
     if full < 0.0 or step.violation > 1e-6:
