@@ -16,7 +16,7 @@ from PIL import Image, PngImagePlugin
 
 from .._core.errors import CamdynError, InputError
 from .._core.outputs import output_dir, refuse_foreign, safe_stem
-from .._core.progress import Progress, counter
+from .._core.progress import Progress, counter, phase
 from ..design.checks import run_check
 from ..design.review import Review, design_review
 from ..model.case import build_case, load_case
@@ -65,6 +65,8 @@ def render(review: Review, out_dir: Path, *, progress: Progress | None = None) -
     data = ReportData(review)
     out_dir = output_dir(out_dir, "report")
     pages = [p for p in PAGES if p.applies(data)]
+    tick = counter(progress, f"{data.case.name}: report pages", len(pages))
+    tick(0)  # said before the first page, which waits on the figure machinery
     pdf_name, png_names = output_names(data.case.name, pages)
     stem = pdf_name[:-4]
     _refuse_foreign_pages(out_dir, stem)
@@ -78,7 +80,6 @@ def render(review: Review, out_dir: Path, *, progress: Progress | None = None) -
         "ModDate": None,
     }
     pngs = []
-    tick = counter(progress, f"{data.case.name}: report pages", len(pages))
     with style(), PdfPages(out_dir / pdf_name, metadata=meta) as pdf:
         for i, page in enumerate(pages, start=1):
             fig = Figure(figsize=A4)
@@ -129,7 +130,8 @@ def write_report(
     """Check ``case`` (unless ``check``, a :class:`camdyn.design.checks.CheckReport`, is given), review it and
     write its report."""
     if check is None:
-        check = run_check(case, speed_rpm)
+        with phase(progress, f"{case.name}: check"):  # cold, the programs compile: the longest silence of a report
+            check = run_check(case, speed_rpm)
     return render(design_review(case, check, progress=progress), Path(out_dir), progress=progress)
 
 

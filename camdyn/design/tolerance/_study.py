@@ -13,7 +13,7 @@ import numpy as np
 from ..._core.errors import InputError
 from ..._core.jit import device_array
 from ..._core.limits import check_samples
-from ..._core.progress import Progress, counter
+from ..._core.progress import Progress, counter, phase
 from ..._core.sharding import run_batched
 from ..._core.units import FFT_GRID, PROFILE_ERROR_HARMONICS, RPM, THETA_GRID, tolerance_unit
 from ...model import dynamics as dyn
@@ -113,12 +113,14 @@ def tolerance_study(
                 f"the tolerance reaches a value <= 0 {tolerance_unit(key, kind.rotary)} in some samples: give a "
                 "smaller one",
             )
-    weight = lambda t: contact_per_force(case.motion, case.follower, t)  # noqa: E731
-    fine = make_grid(case, THETA_GRID, PROFILE_ERROR_HARMONICS, weight)
-    scan = make_grid(case, scan_grid(case), PROFILE_ERROR_HARMONICS, lambda t: np.ones_like(t))
-    w_max = _search_limit(case)
+    with phase(progress, "the nominal cam (grids, the search's speed limit)"):
+        weight = lambda t: contact_per_force(case.motion, case.follower, t)  # noqa: E731
+        fine = make_grid(case, THETA_GRID, PROFILE_ERROR_HARMONICS, weight)
+        scan = make_grid(case, scan_grid(case), PROFILE_ERROR_HARMONICS, lambda t: np.ones_like(t))
+        w_max = _search_limit(case)
     kernel = rigid_tolerance_kernel if base.rigid else tolerance_kernel
     tick = counter(progress, "built cams (steady state, jump speed)", samples)
+    tick(0)  # said before the first chunk, which waits on the kernel's compile
     force, jump = run_batched(
         kernel, (base, fine, scan, device_array(w_max)), _to_si(case, vals), CHUNK_SAMPLES, tick, devices
     )
@@ -135,7 +137,8 @@ def tolerance_study(
         sens = {k: {"gradient_sigma": 0.0, "share_linear": math.nan, "share_monte_carlo": math.nan} for k in spread}
         w_star = 0.0
     else:
-        sens, w_star = _sensitivities(case, base, scan, w_max, nominal, spread, vals, jump_rpm)
+        with phase(progress, "sensitivities"):
+            sens, w_star = _sensitivities(case, base, scan, w_max, nominal, spread, vals, jump_rpm)
     return ToleranceResult(
         case=case.name,
         kind=kind,
