@@ -75,6 +75,20 @@ def hold_to(
     return step, full, dipped
 
 
+def margin_speed_of_fit(rows: Rows, w_first: float) -> float:
+    """The last speed (rad/s) of the rows' fine scan (:data:`FINE` speeds) at which the shape space's fit of the
+    input still holds its margin, looking up to ``w_first``, then 2, 4 and 8 times it; NaN where it holds at every
+    speed scanned or at none. The search's start while the input's own check (whose margin speed it approximates to
+    a scan step) is still running."""
+    z, w_top = jnp.asarray(rows.space.z0), float(w_first)
+    for _ in range(4):
+        below = np.nonzero(np.asarray(rows.least_on_scan(z, w_top)) < 0.0)[0]
+        if below.size:
+            return w_top * below[0] / FINE if below[0] > 0 else math.nan
+        w_top *= 2.0
+    return math.nan
+
+
 def jump_speed(rows: Rows, w0: float, progress: Progress | None = None) -> tuple[np.ndarray, float]:
     """The reshaped control points and the largest speed (rad/s) up to which they hold, from the case's own ``w0``
     (its dynamic jump speed, or the speed where its force first falls to the limit): trial speeds 1.3 x up from it
