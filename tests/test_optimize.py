@@ -594,3 +594,24 @@ def test_a_verified_speed_says_the_domain_that_solved_it():
     assert slow.domain == "frequency" and VerifiedSpeed(300.0, 1.0, 1.0, False, True).domain == "time"
     assert slow.time_domain_least_force == pytest.approx(slow.frequency_domain_least_force, rel=1e-6)
     assert slow.json("N")["domain"] == "frequency" and slow.margin_held
+
+
+@pytest.mark.slow  # the linear programs' programs compile on the search's thread
+def test_a_check_that_fails_stops_the_search_beside_it(monkeypatch):
+    """The jump-speed search runs beside the input's check; where the check raises, the error is the caller's at once
+    and the search stops at its next trial (the error is not held back until a search nobody reads has ended)."""
+    import threading
+
+    import camdyn.design.optimize as optimize
+    from camdyn import NumericalError
+
+    def failing(*args, **kwargs):
+        raise NumericalError("theta = 12.0 deg", "the shooting did not converge")
+
+    monkeypatch.setattr(optimize, "run_check", failing)
+    phases: list[tuple[str, int, int]] = []
+    with pytest.raises(NumericalError, match="did not converge"):
+        optimize.optimize_case(load_case(LECTURE), progress=lambda *p: phases.append(p))
+    for thread in [t for t in threading.enumerate() if t.name.startswith("camdyn-search")]:
+        thread.join()
+    assert phases == [("the input's check", 0, 1)]  # no trial of the search reported, none finished

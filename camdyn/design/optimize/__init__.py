@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import functools
 import math
+import threading
 import time
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import replace
@@ -263,17 +264,22 @@ def optimize_case(
     space = (flank_space if case.valvetrain is not None else shape_space)(case, n_control=control_points)
     rows = Rows(case, space, margin)
     with phase(progress, "the input's check"):  # cold, most of the run: the check's programs compile
-        searched = None
+        searched, stop = None, threading.Event()
         if case.valvetrain is None and objective == "jump-speed":
             # the search runs beside the check, from the margin speed of the input's fit: its programs and linear
-            # programs (mostly outside the interpreter's lock) beside the check's tracing (cold 23 -> 19 s)
+            # programs (mostly outside the interpreter's lock) beside the check's tracing (a first oscillating
+            # optimize 23.5 -> 21.2 s)
             beside = ThreadPoolExecutor(1, thread_name_prefix="camdyn-search")
             w_first = 2.0 * case.limits.speed_margin * float(speed_rpm or case.speed_rpm) * RPM
-            searched = beside.submit(_search_from_fit, rows, w_first, progress)
+            searched = beside.submit(_search_from_fit, rows, w_first, _until(stop, progress))
             beside.shutdown(wait=False)  # its one thread ends with the search; the answer waits in ``searched``
         elif case.valvetrain is None:  # the linear programs' programs compile on the side
             in_background(functools.partial(rows.prepare, objective == "spring-force"), "camdyn-rows")
-        before_check = run_check(case, speed_rpm, store_programs=False)
+        try:
+            before_check = run_check(case, speed_rpm, store_programs=False)
+        except BaseException:
+            stop.set()  # the error is reported at once, not after the search
+            raise
     if case.valvetrain is not None:  # the event's single follower: the train's compliance, the lash taken up
         vt = case.valvetrain
         surrogate, cam_mass = event_follower(vt)
@@ -373,6 +379,22 @@ def optimize_case(
         robust_claim,
         facts,
     )
+
+
+class _Stopped(Exception):
+    """The search beside the input's check stopped: the check failed (no one reads its answer)."""
+
+
+def _until(stop: threading.Event, progress: Progress | None) -> Progress:
+    """``progress``, raising :class:`_Stopped` at the search's next trial once ``stop`` is set."""
+
+    def report(phase: str, done: int, total: int) -> None:  # the protocol names its first argument so
+        if stop.is_set():
+            raise _Stopped
+        if progress is not None:
+            progress(phase, done, total)
+
+    return report
 
 
 def _search_from_fit(rows: Rows, w_first: float, progress: Progress | None) -> np.ndarray | None:

@@ -90,8 +90,8 @@ def margin_speed_of_fit(rows: Rows, w_first: float) -> float:
 
 
 def jump_speed(rows: Rows, w0: float, progress: Progress | None = None) -> tuple[np.ndarray, float]:
-    """The reshaped control points and the largest speed (rad/s) up to which they hold, from the case's own ``w0``
-    (its dynamic jump speed, or the speed where its force first falls to the limit): trial speeds 1.3 x up from it
+    """The reshaped control points and the largest speed (rad/s) up to which they hold, from ``w0``, where the input's
+    force first falls to the limit (:func:`margin_speed_of_fit`, or its check's): trial speeds 1.3 x up from it
     until one fails, then bisection to :data:`_TOL_RPM`. Each trial holds from the start the speeds where the last
     ones' answers dipped (:func:`hold_to`): the lecture's search 6.4 -> 5.5 s, the oscillating case's 10.1 -> 7.1 s.
     Trial speeds up along the line of the last two held speeds' slacks (6.2 s on the oscillating case, 9.4 s on the
