@@ -552,3 +552,27 @@ def test_size_of_a_groove_cam_gives_the_largest_backlash(tmp_path, capsys):
         impacts.append(check_value(json.loads(out), "crossover_impact"))
     assert impacts[0] <= 0.98 * 0.1 < impacts[1]
     assert doc["impact_velocity_at_max_backlash_m_per_s"] == pytest.approx(impacts[0], rel=1e-12)
+
+
+def test_each_groove_walls_least_circle_osculates_it():
+    """The groove whose outer wall folds (above): each wall's least convex radius is drawn as a circle at its point
+    on the exact wall, centred on the pitch curve's centre of curvature (|rho| + d from the pitch curve: the walls
+    are its parallel curves), and the wall near it lies on that circle."""
+    from camdyn.model.geometry import WALLS
+
+    raw = _with("follower", base_radius=25, roller_radius=10)
+    raw["motion"]["segments"][0] = {"law": "cycloidal", "end": 40, "lift": 20}
+    raw["motion"]["segments"][1] = {"law": "dwell", "end": 180}
+    case = case_from_dict(raw)
+    g = groove(case.motion, case.follower, n=3600)
+    for name in WALLS:
+        point, centre, rho = g.least_circle(name)
+        assert rho == getattr(g, f"{name}_wall").min_convex_radius_mm
+        u = getattr(g, f"{name}_wall").min_convex_radius_at_deg / 360.0
+        on = g.wall_fn(name)(np.array([u - 1e-4, u, u + 1e-4]))
+        np.testing.assert_allclose(point, on[:, 1], atol=1e-9)
+        pitch = 0.5 * (g.wall_fn("inner")(np.array([u])) + g.wall_fn("outer")(np.array([u])))[:, 0]
+        assert np.hypot(*(centre - pitch)) == pytest.approx(abs(rho + g.wall_offset_mm), rel=1e-9)
+        assert np.hypot(*(centre - point)) == pytest.approx(abs(rho), rel=1e-9)
+        assert np.max(np.abs(np.hypot(*(on.T - centre).T) - abs(rho))) < 1e-4 * abs(rho)  # osculates: O(s^3)
+    assert g.least_circle("outer")[2] < 0 < g.least_circle("inner")[2]  # the outer wall folds

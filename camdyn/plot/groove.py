@@ -17,7 +17,7 @@ from matplotlib.patches import Circle, Polygon
 
 from .._core.units import DEFAULT_MIN_CURVATURE_RATIO
 from ..design.checks import CheckKind, CheckReport
-from ..model.geometry import ConjugateGeometry
+from ..model.geometry import WALLS, ConjugateGeometry, GrooveGeometry
 from ._common import C, deg_ticks, legend_above_data, mark_breaks, sample_histogram
 from .cam import (
     _curvature_mark,
@@ -86,8 +86,8 @@ def plot_groove_cam(
     """The form-closed cam in its frame: a groove's slot between the inner and the outer wall (the cam's face
     shaded, the slot white), or both conjugate cams (the primary shaded, the conjugate outlined over it), the pitch
     curve(s), the roller(s) at ``angles`` (grey); with ``marks`` the roller where each crossover's flight lands (on
-    the flank it lands on), the largest pressure angle and the (primary or inner) least radius of curvature, and
-    the legend."""
+    the flank it lands on), the largest pressure angle and the least radius of curvature (a groove's on each wall
+    convex towards its roller, conjugate cams' on the primary), and the legend."""
     study, geo = _study(check), check.geometry
     assert geo is not None  # check computes a form-closed cam's geometry
     walls, f = study.walls, geo.follower
@@ -165,9 +165,25 @@ def plot_groove_cam(
             ax.plot([], [], "o", mfc="none", color=colour, label="roller where a flight\nacross the backlash lands")
     r_all = float(np.hypot(*geo.pitch).max()) + (f.roller_radius or 0.0)
     _pressure_angle_mark(ax, geo, check_colour(check, CheckKind.PRESSURE_ANGLE, C["margin"]), r_all)
-    _curvature_mark(ax, geo, check_colour(check, CheckKind.CURVATURE, C["advice"]), r_all)
+    colour = check_colour(check, CheckKind.CURVATURE, C["advice"])
+    if conj:
+        _curvature_mark(ax, geo, colour, r_all)
+    else:
+        _wall_curvature_marks(ax, walls, colour, r_all)
     _rotation_arrow(ax, f)
     ax.legend(loc="upper left", bbox_to_anchor=(1.0, 1.0), fontsize=7, framealpha=0.9)
+
+
+def _wall_curvature_marks(ax: Axes, walls: GrooveGeometry, colour: str, r_all: float) -> None:
+    """Each groove wall's point of least convex radius of curvature and its osculating circle there (dashed), where
+    the wall is convex towards the roller anywhere."""
+    for name in WALLS:
+        if (least := walls.least_circle(name)) is None:
+            continue
+        point, centre, rho = least
+        if abs(rho) < 3 * r_all:  # a folded wall's radius is negative: its loop's circle
+            ax.add_patch(Circle(tuple(centre), abs(rho), fill=False, ec=colour, lw=0.9, ls="--", zorder=5))
+        ax.plot(*point, marker="o", ms=5, color=colour, zorder=7)
 
 
 def plot_flank_force(

@@ -77,6 +77,19 @@ class GrooveGeometry:
 
         return curve
 
+    def least_circle(self, wall: str) -> tuple[np.ndarray, np.ndarray, float] | None:
+        """Where ``wall`` (``"inner"`` or ``"outer"``) is most sharply convex towards the roller: the point on it and
+        the centre of its osculating circle there (mm, cam frame), and the signed radius (mm, negative where the wall
+        folds); None where it never is. The walls are parallel curves of the pitch curve, so the centre is the pitch
+        curve's centre of curvature: inward of the inner wall, outward of the outer (across a fold, the other way)."""
+        w = getattr(self, f"{wall}_wall")
+        if not np.isfinite(w.min_convex_radius_mm):
+            return None
+        side = {"inner": -1.0, "outer": 1.0}[wall]
+        ev = self._evaluate(np.deg2rad(np.array([w.min_convex_radius_at_deg])))
+        point = ev["pitch"][0] + side * self.wall_offset_mm * ev["normal"][0]
+        return point, point + side * w.min_convex_radius_mm * ev["normal"][0], w.min_convex_radius_mm
+
     def json(self) -> dict:
         return {
             "backlash_mm": self.backlash_mm,

@@ -58,7 +58,7 @@ def draw_groove(fig: Figure, data: ReportData) -> None:
         0.906,
         "\u25cf least convex radius of curvature: "
         + ("; ".join(least) or "neither wall is convex anywhere")
-        + " (the inner wall's osculating circle dashed)",
+        + " (osculating circles dashed)",
         size=7.8,
         color=check_colour(chk, CheckKind.CURVATURE, C["advice"]),
         va="top",
