@@ -65,11 +65,11 @@ def render(review: Review, out_dir: Path, *, progress: Progress | None = None) -
     data = ReportData(review)
     out_dir = output_dir(out_dir, "report")
     pages = [p for p in PAGES if p.applies(data)]
-    tick = counter(progress, f"{data.case.name}: report pages", len(pages))
-    tick(0)  # said before the first page, which waits on the figure machinery
     pdf_name, png_names = output_names(data.case.name, pages)
     stem = pdf_name[:-4]
     _refuse_foreign_pages(out_dir, stem)
+    tick = counter(progress, f"{data.case.name}: report pages", len(pages))
+    tick(0)  # said before the first page, which waits on the figure machinery
     version = camdyn_version()
     meta = {
         "Title": f"camdyn design review: {data.case.name}",
