@@ -277,6 +277,7 @@ def optimize_case(
             in_background(functools.partial(rows.prepare, objective == "spring-force"), "camdyn-rows")
         try:
             before_check = run_check(case, speed_rpm, store_programs=False)
+            before = metrics(case, before_check, margin)
         except BaseException:
             stop.set()  # the error is reported at once, not after the search
             raise
@@ -295,7 +296,6 @@ def optimize_case(
             rocker_ratio=float(vt.ratio),
         )
         rows = replace(rows, seating=seating_rows(rows, before_check, speed_rpm))
-    before = metrics(case, before_check, margin)
     rpm = float(speed_rpm if speed_rpm is not None else case.speed_rpm)
     dynamics: dict = {}
     try:
