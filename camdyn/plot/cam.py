@@ -301,9 +301,15 @@ def _curvature_mark(ax, geo: CamGeometry, colour: str, r_all: float) -> None:
     at_r = follower_pose(geo, geo.min_radius_of_curvature_at_deg)
     p = at_r["contact"]
     if math.isfinite(rho):
-        if abs(rho) < 3 * r_all:
-            ax.add_patch(Circle(p - at_r["normal"] * rho, abs(rho), fill=False, ec=colour, lw=0.9, ls="--", zorder=5))
-        ax.plot(*p, marker="o", ms=5, color=colour, zorder=7)
+        _osculating_mark(ax, p, p - at_r["normal"] * rho, rho, colour, r_all)
+
+
+def _osculating_mark(ax, point, centre, rho: float, colour: str, r_all: float) -> None:
+    """A point of least radius of curvature ``rho`` (mm, signed) and its osculating circle about ``centre``, dashed
+    (left out where it is over three times ``r_all``, the drawing's reach: it would leave the axes)."""
+    if abs(rho) < 3 * r_all:
+        ax.add_patch(Circle(tuple(centre), abs(rho), fill=False, ec=colour, lw=0.9, ls="--", zorder=5))
+    ax.plot(*point, marker="o", ms=5, color=colour, zorder=7)
 
 
 def _rotation_arrow(ax, f) -> None:

@@ -21,6 +21,7 @@ from ..model.geometry import WALLS, ConjugateGeometry, GrooveGeometry
 from ._common import C, deg_ticks, legend_above_data, mark_breaks, sample_histogram
 from .cam import (
     _curvature_mark,
+    _osculating_mark,
     _pressure_angle_mark,
     _rotation_arrow,
     check_colour,
@@ -180,10 +181,7 @@ def _wall_curvature_marks(ax: Axes, walls: GrooveGeometry, colour: str, r_all: f
     for name in WALLS:
         if (least := walls.least_circle(name)) is None:
             continue
-        point, centre, rho = least
-        if abs(rho) < 3 * r_all:  # a folded wall's radius is negative: its loop's circle
-            ax.add_patch(Circle(tuple(centre), abs(rho), fill=False, ec=colour, lw=0.9, ls="--", zorder=5))
-        ax.plot(*point, marker="o", ms=5, color=colour, zorder=7)
+        _osculating_mark(ax, *least, colour, r_all)  # a folded wall's radius is negative: its loop's circle
 
 
 def plot_flank_force(

@@ -24,6 +24,7 @@ from ._analyze import _grid
 from ._kernel import check_assembly, evaluate_geometry, with_breaks
 
 WALLS = ("inner", "outer")
+_SIDE = {"inner": -1.0, "outer": 1.0}  # each wall's side of the pitch curve, along its normal
 
 
 @dataclass(frozen=True)
@@ -69,7 +70,7 @@ class GrooveGeometry:
     def wall_fn(self, wall: str) -> Callable[[np.ndarray], np.ndarray]:
         """The exact wall ``"inner"`` or ``"outer"`` as a closed curve u in [0, 1] -> (2, m) mm (as
         :meth:`CamGeometry.contour_fn`)."""
-        side = {"inner": -1.0, "outer": 1.0}[wall] * self.wall_offset_mm
+        side = _SIDE[wall] * self.wall_offset_mm
 
         def curve(u):
             ev = self._evaluate(2 * np.pi * np.asarray(u, dtype=float))
@@ -85,7 +86,7 @@ class GrooveGeometry:
         w = getattr(self, f"{wall}_wall")
         if not np.isfinite(w.min_convex_radius_mm):
             return None
-        side = {"inner": -1.0, "outer": 1.0}[wall]
+        side = _SIDE[wall]
         ev = self._evaluate(np.deg2rad(np.array([w.min_convex_radius_at_deg])))
         point = ev["pitch"][0] + side * self.wall_offset_mm * ev["normal"][0]
         return point, point + side * w.min_convex_radius_mm * ev["normal"][0], w.min_convex_radius_mm
