@@ -221,7 +221,14 @@ def _wheel_reach(outline: np.ndarray, theta_deg: np.ndarray, rw: float, sigma: f
     return out
 
 
-@pytest.mark.parametrize("name, rw", [("lecture.toml", 150.0), ("oscillating.toml", 10.0), ("valve-lift.toml", 200.0)])
+@pytest.mark.parametrize(
+    "name, rw",
+    [
+        ("lecture.toml", 150.0),
+        pytest.param("oscillating.toml", 10.0, marks=pytest.mark.slow),  # its geometry's own programs: 2 s
+        ("valve-lift.toml", 200.0),
+    ],
+)
 def test_grinder_wheel_touches_the_turned_cam_and_cuts_nowhere(capsys, tmp_path, name, rw):
     src = _case_file(tmp_path, name)
     case, geo = _geometry(src)

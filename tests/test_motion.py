@@ -12,6 +12,7 @@ from _helpers import up_to_third_derivative
 from camdyn import LAWS, HermiteMotion, InputError, Program, law
 from camdyn.model.case import load_case
 from camdyn.model.motion import evaluate
+from camdyn.model.motion._laws import law_host
 from camdyn.model.motion._lookup import interval
 from camdyn.model.motion._program import PieceTable
 from camdyn.schema import LAW_NAMES
@@ -19,20 +20,12 @@ from camdyn.schema import LAW_NAMES
 X = np.linspace(0.0, 1.0, 2001)
 
 
-@jax.jit
-def _every_law_at(x):
-    return jnp.stack([law(name, x) for name in LAWS])
-
-
 @functools.cache
 def every_law(n: int = X.size) -> dict[str, np.ndarray]:
-    """Each law's (y, y', y'', y'''), shape (4, n), at n points spread over [0, 1]: every law in one compiled program
-    (a program a law and a grid compiled for seconds; eager jax.numpy, one a law and an operation), on pieces of
-    ``X.size`` points whatever ``n`` (one compile for every grid)."""
+    """Each law's (y, y', y'', y'''), shape (4, n), at n points spread over [0, 1], by :func:`law_host` (the closed
+    forms in numpy: nothing to compile; :func:`test_law_in_jax_is_law_host` holds JAX's route to them)."""
     x = np.linspace(0.0, 1.0, n)
-    pieces = np.concatenate([x, np.ones(-n % X.size)]).reshape(-1, X.size)
-    values = np.concatenate([np.asarray(_every_law_at(piece)) for piece in pieces], axis=-1)[..., :n]
-    return dict(zip(LAWS, values, strict=True))
+    return {name: law_host(name, x) for name in LAWS}
 
 
 def _autodiff(name, x):
@@ -61,6 +54,12 @@ def test_law_derivatives_match_autodiff(name):
     derivatives = every_law_autodiff()[name]
     for k in (1, 2, 3):
         np.testing.assert_allclose(derivatives[k - 1], vals[k, 1:-1], rtol=1e-9, atol=1e-8, err_msg=f"{name} order {k}")
+
+
+@pytest.mark.slow  # every law in one program (2 s of compile)
+def test_law_in_jax_is_law_host():
+    got = jax.jit(lambda x: jnp.stack([law(name, x) for name in LAWS]))(X)
+    np.testing.assert_allclose(got, np.stack(list(every_law().values())), rtol=1e-12, atol=1e-11)
 
 
 @pytest.mark.parametrize("name", [n for n in LAWS if n != "dwell"])

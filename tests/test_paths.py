@@ -67,14 +67,9 @@ PATHS = {
 }
 
 
-# each path compiles its own program (about 1 s): the quick set keeps the cheap ones and the racetrack, which the
-# seed's numbers compile anyway
-_COMPILED_ALONE = {"ellipse", "rectangle", "eight", "points"}
-
-
-@pytest.mark.parametrize(
-    "name", [pytest.param(n, marks=pytest.mark.slow) if n in _COMPILED_ALONE else n for n in PATHS]
-)
+# each path compiles its own programs (1-1.6 s a test): the quick set keeps the seed's numbers (the racetrack)
+@pytest.mark.slow
+@pytest.mark.parametrize("name", list(PATHS))
 def test_closed_and_derivatives_match_finite_differences(name):
     path = build_path(PATHS[name])
     assert np.allclose(*np.asarray(points(path, np.array([[0.0, 1.0], [1.0, 2.0]]))), atol=1e-9)
@@ -94,6 +89,7 @@ def test_closed_and_derivatives_match_finite_differences(name):
             assert np.max(np.abs(fd - d[k])) < 1e-6 * scale * 10 ** (k - 1), (name, k, fd, d[k])
 
 
+@pytest.mark.slow
 def test_precision_points_are_passed_exactly_in_order():
     path = build_path(PATHS["points"])
     pts = np.column_stack([TABLE_I_X, TABLE_I_Y])[:-1].astype(float)
@@ -125,6 +121,7 @@ def test_racetrack_is_ye_smith_eq9():
     assert path.breaks_u == (0.0, 0.25, 0.5, 0.75)
 
 
+@pytest.mark.slow
 def test_rectangle_corners():
     sharp = build_path(dict(type="rectangle", center=[0, 0], width=40, height=20))
     round_ = build_path(dict(type="rectangle", center=[0, 0], width=40, height=20, corner_radius=4))

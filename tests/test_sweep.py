@@ -53,6 +53,7 @@ def _rows(csv_text: str) -> tuple[list[str], list[dict[str, str]]]:
     return list(reader.fieldnames), list(reader)
 
 
+@pytest.mark.slow  # the map's gap stepping compiles for 3 s
 def test_csv_columns_and_rows(small_map):
     header, rows = _rows(small_map.csv)
     assert tuple(header) == CSV_COLUMNS
@@ -285,6 +286,7 @@ def test_grid_beyond_the_budget_is_refused(lecture, capsys):
         jump_map(lecture, np.linspace(100.0, 200.0, 1001), np.linspace(1.0, 2.0, MAX_GRID_POINTS // 1000))
 
 
+@pytest.mark.slow  # the map's gap stepping compiles for 3 s
 def test_absurd_spring_rates_separate_in_the_train(lecture):
     """Issue 13, 14: with a spring rate 1e8 times the train's the spring, not the cam, holds the follower: the cam
     sees only the train, ``k_f s + c_f w s'``, which reaches zero near the end of the return (the train's damper
