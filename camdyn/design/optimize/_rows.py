@@ -21,7 +21,14 @@ from ..._core.jit import cached_jit
 from ..._core.kinds import FollowerType
 from ..._core.units import newton_per_torque
 from ...model.case import Case
-from ...model.dynamics import free_vibration, kinematic_force_of, steady_state, train_force, vibration_coefficients
+from ...model.dynamics import (
+    free_vibration,
+    kinematic_force_of,
+    steady_state,
+    steady_train_force,
+    train_force,
+    vibration_coefficients,
+)
 from ...model.follower import FollowerModel
 from ...model.geometry import analyze, curvature_limit, follower_params, geometry_of
 from ...model.valvetrain import Rocker
@@ -95,8 +102,11 @@ class RowsKernel(eqx.Module):
             force = kinematic_force_of(model, omegas[:, None], s, s1, s2)
         else:
             d, d1, factor = self.drive(s, s1)
+            spec = jnp.fft.rfft(d)
 
             def one(w: float | jax.Array) -> jax.Array:
+                if self.lift_off is None:  # the force's own spectrum, one inverse FFT: a fine scan 54 -> 16 ms
+                    return factor * steady_train_force(spec, w, model, model.stiffness, model.damping, d, d1)
                 return factor * train_force(model, w, d, d1, *self.in_contact(model, w, d, d1))
 
             force = jax.vmap(one)(omegas)

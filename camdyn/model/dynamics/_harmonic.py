@@ -45,7 +45,7 @@ def steady_spectrum(
     ``X_k = (k_f + i k w c_f) S_k / (k + k_f - m (k w)^2 + i k w (c + c_f))``; ``X_0`` carries the static load.
     ``conjugate``: divide as a product with the conjugate over the squared modulus, 5-10x faster than XLA's
     (overflow-guarded) complex division and the same to rounding (the jump maps and sizing's
-    :func:`linear_contact_force`; ``check``'s jump speed and the optimizer keep the division).
+    :func:`linear_contact_force`, the optimizer's rows; ``check``'s jump speed keeps the division).
     """
     k = jnp.arange(spec.shape[0])
     m, kf, cf = model.mass, model.train_stiffness, model.train_damping
