@@ -28,7 +28,7 @@ from camdyn.design.optimize import _robust_claim, default_margin
 from camdyn.design.optimize._objectives import hold_to, least_slack, peak_spring_force_floor
 from camdyn.design.optimize._rows import Rows
 from camdyn.design.optimize._shape import shape_space
-from camdyn.design.optimize._slp import maximize_least, with_jacobian
+from camdyn.design.optimize._slp import _linear_step, _troughs, maximize_least, with_jacobian
 from camdyn.design.tolerance import tolerance_study
 from camdyn.model.case import case_from_dict, load_case
 from camdyn.model.dynamics import least_static_force, linear_min_force
@@ -361,6 +361,26 @@ def test_the_shipped_optimized_lecture_stays_within_its_lift_and_keeps_a_margin(
     speeds = np.linspace(claim / 400.0, claim - 0.01, 400) * RPM  # the search knows the claim to 0.01 rpm
     assert default_margin(case) == pytest.approx(1.5)  # 5 % of the 30 N preload
     assert np.min(np.asarray(linear_min_force(case.motion, case.model, speeds))) >= (1.0 - 1e-6) * default_margin(case)
+
+
+def test_the_first_rows_change_how_fast_a_linear_program_is_solved_not_its_answer():
+    """Rows generated in rounds: whichever rows a program starts from (the lowest, the force's troughs at each speed,
+    an earlier program's), its answer is the whole program's, and it says which rows bind it."""
+    assert _troughs(np.array([3.0, 1.0, 2.0, 0.0, 5.0, 4.0]), 3).tolist() == [1, 3]  # each speed around the cam
+    rng = np.random.default_rng(7)
+    speeds, angles, n = 6, 90, 5
+    theta = np.linspace(0.0, 2.0 * np.pi, angles, endpoint=False)
+    # a force with troughs at several angles and speeds, as the slack of a cam at a set of speeds is
+    v = (3.0 + np.cos(3.0 * theta)[None, :] - 0.3 * np.arange(speeds)[:, None] * np.cos(theta)[None, :]).ravel()
+    Jv, g, Jg = rng.normal(size=(v.size, n)), rng.uniform(-1.0, -0.1, 8), rng.normal(size=(8, n))
+    bounds = [(-0.5, 0.5)] * n
+    plain, bound = _linear_step(v, Jv, g, Jg, bounds)
+    for seed, block in ((None, angles), (bound, None), (bound, angles)):
+        other, _ = _linear_step(v, Jv, g, Jg, bounds, seed, block=block)
+        assert other.status == plain.status == 0 and other.x[-1] == pytest.approx(plain.x[-1], abs=1e-9)
+    t = plain.x[-1]
+    assert bound is not None and bound[0].size > 0  # the rows that bind it, each at the least value t
+    assert np.allclose((v + Jv @ plain.x[:n])[bound[0]], t, atol=1e-8)
 
 
 def test_a_rejected_step_shrinks_a_trust_region_given_as_one_number():

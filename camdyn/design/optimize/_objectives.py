@@ -55,7 +55,7 @@ def hold_to(
     below both zero and the programs' answer joins the set. ``dips``: an earlier call's, held from the start (a
     search's speeds near its end differ by a fraction of a percent, and so do the dips: each found again cost a
     round of programs). ``seed``: the rows that bound an earlier call's last program (:attr:`Step.bound`; the
-    oscillating case's search 6.8 -> 5.7 s with the dips' rows of :func:`maximize_least`)."""
+    oscillating case's search 6.8 -> 5.7 s with the troughs' rows of :func:`maximize_least`)."""
     dipped = tuple(dips[-_CARRIED:])
     speeds = np.r_[_speed_set(w), w * np.asarray(dipped, dtype=float)]
     scale = rows.scale

@@ -21,7 +21,7 @@ from ..._core.linprog import FAILED, INFEASIBLE, OPTIMAL, Answer, LinearProgram
 
 _MAX_STEPS = 30
 _FIRST_ROWS = 200  # rows of a linear program's first round
-_FIRST_DIPS = 100  # and of the force's dips over each speed's angles, the lowest (where an optimum binds: fewer rounds)
+_FIRST_TROUGHS = 100  # and of the force's troughs over each speed's angles, the lowest (where an optimum binds)
 _ADDED_ROWS = 100  # rows joining it per round at most, the most broken first
 _TIE = 1e-7  # the least move's weight (of the objective's scale) per half-width of the trust region moved
 _PENALTY = 1e3  # merit per unit of scaled geometry violation, relative to the objective's own scale
@@ -80,7 +80,7 @@ def _least_violation(Jg: np.ndarray, g: np.ndarray, lower: np.ndarray, upper: np
     return Answer(answer.status, np.r_[answer.x[:n] - answer.x[n : 2 * n], answer.x[-1]])
 
 
-def _dips(v: np.ndarray, block: int) -> np.ndarray:
+def _troughs(v: np.ndarray, block: int) -> np.ndarray:
     """The rows of ``v`` (``block`` angles a speed, around the cam) each at most its neighbours at its speed."""
     vb = v.reshape(-1, block)
     return np.nonzero(((vb <= np.roll(vb, 1, axis=1)) & (vb <= np.roll(vb, -1, axis=1))).ravel())[0]
@@ -96,7 +96,7 @@ def _linear_step(
     generated: HiGHS sees the lowest rows (and ``seed``'s, the rows that bound the previous step) first, and the
     rows the answer breaks most join, re-solved from the last basis, until none is broken (the answer is that of
     the whole program). ``block``: the value rows come ``block`` angles a speed, and the first round holds the
-    lowest of the force's dips over the angles too (a dip at a lower speed binds the optimum as well: on the
+    lowest of the force's troughs over the angles too (a trough at a lower speed binds the optimum as well: on the
     oscillating case 126 solves where 196 were). Returns the program's answer, its ``x`` (dx, t), and the rows
     that bound it (the next step's ``seed``)."""
     n = Jv.shape[1]
@@ -111,8 +111,8 @@ def _linear_step(
     # positions within the candidates: the lowest, and the seed's that are still candidates
     kv = np.argsort(v_all)[:_FIRST_ROWS]
     if block:
-        dips = _dips(v, block)
-        kv = np.union1d(kv, np.nonzero(np.isin(kv_all, dips[np.argsort(v[dips])][:_FIRST_DIPS]))[0])
+        troughs = _troughs(v, block)
+        kv = np.union1d(kv, np.nonzero(np.isin(kv_all, troughs[np.argsort(v[troughs])][:_FIRST_TROUGHS]))[0])
     kg = np.argsort(-g_all)[:_FIRST_ROWS]
     if seed is not None:
         kv = np.union1d(kv, np.nonzero(np.isin(kv_all, seed[0]))[0])
