@@ -265,6 +265,25 @@ def test_compiler_options_are_part_of_the_key_and_unknown_ones_dropped(tmp_path,
     np.testing.assert_allclose(programs.cached_jit(_wave, unknown)(x), plain(x), rtol=1e-14)  # compiled without it
 
 
+def test_an_option_xla_refused_is_not_passed_again(tmp_path, monkeypatch):
+    """An option this XLA does not know (JAX 0.11's XLA no longer knows ``xla_cpu_use_fusion_emitters``) is refused
+    once a process: every later compile leaves it out instead of lowering the program twice, with and without."""
+    monkeypatch.setattr(programs, "_REFUSED", set())
+    refusals = []
+    refused = programs._refused
+    monkeypatch.setattr(programs, "_refused", lambda err: refusals.append(str(err)) or refused(err))
+    two = (("xla_camdyn_no_such_option", True), ("xla_camdyn_nor_this_one", 1))
+    x = np.linspace(0.0, 2.0, 7)
+    expected = np.exp(-x) * np.cos(3.0 * x)
+    programs.enable(tmp_path)
+    np.testing.assert_allclose(programs.cached_jit(_wave, two)(x), expected, rtol=1e-14)  # stored: refused twice
+    assert programs._REFUSED == {"xla_camdyn_no_such_option", "xla_camdyn_nor_this_one"} and len(refusals) == 2
+    monkeypatch.setattr(programs, "_DIR", None)
+    np.testing.assert_allclose(programs.cached_jit(_cube, two)(x), x**3 + 1.0, rtol=1e-14)  # the plain route
+    np.testing.assert_allclose(programs.cached_jit(_wave, two)(2 * x), np.exp(-2 * x) * np.cos(6.0 * x), rtol=1e-14)
+    assert len(refusals) == 2  # neither compile asked for them again
+
+
 def _cube(x):
     return x**3 + 1.0
 

@@ -359,6 +359,22 @@ def test_one_test_of_the_platform_decides_batch_width_and_gap_kernel():
     assert _exact_gap.gap_kernel(accelerated(gpu)) is _exact_gap.exact_gap_kernel_every
 
 
+def test_cpu_threads_only_where_jax_runs_programs_from_several(monkeypatch):
+    """A thread per core the process may use, on a JAX whose CPU client runs programs from several threads at once;
+    one where it does not (JAX 0.11's never finished the jump map's so) and on accelerators."""
+    import os
+
+    from camdyn._core import sharding
+
+    cpu = tuple(jax.devices("cpu")[:1])
+    cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count()
+    assert sharding.CPU_THREADS == (jax.__version_info__ < (0, 11))
+    monkeypatch.setattr(sharding, "CPU_THREADS", True)
+    assert sharding._workers(cpu) == cores and sharding._workers(cpu * 2) == max(1, cores // 2)
+    monkeypatch.setattr(sharding, "CPU_THREADS", False)
+    assert sharding._workers(cpu) == 1
+
+
 def test_cpu_chunks_on_threads_equal_one_thread(monkeypatch):
     """On CPUs the chunks run on a thread per core (XLA runs one program at a time per CPU device): the rows come
     back in order, each chunk's padding dropped, progress told in order, the same numbers as on one thread."""

@@ -35,6 +35,7 @@ import math
 import os
 import pickle
 import platform
+import re
 import shutil
 import sys
 import threading
@@ -314,19 +315,37 @@ def device_array(x: Any) -> jax.Array:
 # (docs/benchmarks.md, session 36). A CPU option (the jump map compiled with it on an H100 in sessions 17 and 22);
 # dropped where an XLA no longer knows it.
 XLA_OPTIONS: tuple[tuple[str, Any], ...] = (("xla_cpu_use_fusion_emitters", False),)
-_UNKNOWN_OPTION = "No such compile option"  # XLA's error for an option it does not know (one a later XLA dropped)
+_UNKNOWN_OPTION = re.compile(r"No such compile option: '([^']+)'")  # XLA's error for an option it does not know
 _NESTED = "can only be passed to top-level"  # JAX's error for options on a program called inside another's trace
+# the options this process's XLA refused (JAX 0.11's no longer knows xla_cpu_use_fusion_emitters): not passed again,
+# so that each program is lowered once, not once with them and once without
+_REFUSED: set[str] = set()
+
+
+def _known(options: dict) -> dict:
+    """``options`` without those this XLA refused."""
+    return {k: v for k, v in options.items() if k not in _REFUSED}
+
+
+def _refused(err: Exception) -> bool:
+    """Whether ``err`` is XLA refusing an option it does not know (one a later XLA dropped); that option is then
+    left out of every later compile of this process (False for one already left out: the error is another's)."""
+    found = _UNKNOWN_OPTION.search(str(err))
+    if found is None or found.group(1) in _REFUSED:
+        return False
+    _REFUSED.add(found.group(1))
+    return True
 
 
 def _jit_compile(flat: Callable, options: dict, *specs: Any) -> Any:
-    """``jax.jit(flat)`` lowered for ``specs`` and compiled with the XLA ``options``, or without them where this XLA
-    does not know one."""
+    """``jax.jit(flat)`` lowered for ``specs`` and compiled with the XLA ``options`` this XLA knows."""
+    known = _known(options)
     try:
-        return jax.jit(flat, compiler_options=options or None).lower(*specs).compile()
+        return jax.jit(flat, compiler_options=known or None).lower(*specs).compile()
     except Exception as err:
-        if not options or _UNKNOWN_OPTION not in str(err):
+        if not known or not _refused(err):
             raise
-        return jax.jit(flat).lower(*specs).compile()
+        return _jit_compile(flat, options, *specs)
 
 
 def jit_with(fn: Callable, options: dict | None = None) -> Callable:
@@ -352,16 +371,16 @@ def jit_with(fn: Callable, options: dict | None = None) -> Callable:
                 a, kw = eqx.combine(jax.tree.unflatten(treedef, xs), static)
                 return fn(*a, **kw)
 
-            traced[key] = jax.jit(flat, compiler_options=options)
+            traced[key] = jax.jit(flat, compiler_options=_known(options) or None)
         try:
             return traced[key](*leaves)
         except Exception as err:
             if _NESTED in str(err):  # called inside another program's trace: XLA compiles that one, with its options
                 return plain(*args, **kwargs)
-            if _UNKNOWN_OPTION not in str(err):
+            if not _refused(err):
                 raise
-            traced[key] = jax.jit(traced[key].__wrapped__)  # an option this XLA does not know: XLA's defaults
-            return traced[key](*leaves)
+            traced[key] = jax.jit(traced[key].__wrapped__, compiler_options=_known(options) or None)
+            return call(*args, **kwargs)
 
     return call
 

@@ -3,7 +3,8 @@ over the JAX devices (``jax.shard_map`` on a one-axis mesh), run chunk by chunk 
 
 On CPUs the chunks run on a thread per core: XLA runs one program at a time per CPU device, each on one core, so
 chunks dispatched from one thread wait for each other (a 100 x 100 jump map's gap stepping: 0.28 s on one of two
-cores, 0.15 s on both). Accelerators take them from one thread: their dispatch does not wait.
+cores, 0.15 s on both). Accelerators take them from one thread: their dispatch does not wait. So does JAX 0.11's CPU
+client (:data:`CPU_THREADS`).
 
 With several processes (:func:`camdyn._core.distributed.initialize`) the devices are every process's: each
 process holds the same inputs, gives the mesh its own devices' shards of them (``jax.make_array_from_callback``)
@@ -77,9 +78,17 @@ def _chunk_size(chunk: int, devices: tuple) -> int:
     return chunk * len(devices) * (16 if accelerated(devices) else 1)
 
 
+# Whether programs may run on a CPU device from several threads at once. JAX 0.11's CPU client never finished two of
+# the jump map's programs started together from two threads (JAX 0.11.2 on a 16-core machine, pinned to 2 cores or
+# not, session 39: its steady state or its gap stepping waited for 40 s and more, where one thread took 0.8 s), when a
+# plain loop's program ran so; JAX 0.10 runs them side by side, a core each.
+CPU_THREADS = jax.__version_info__ < (0, 11)
+
+
 def _workers(devices: tuple) -> int:
-    """Threads that run chunks at once: the cores this process may use per CPU device (1 on accelerators)."""
-    if accelerated(devices):
+    """Threads that run chunks at once: the cores this process may use per CPU device (1 on accelerators, and where
+    JAX's CPU client cannot take programs from several threads: :data:`CPU_THREADS`)."""
+    if accelerated(devices) or not CPU_THREADS:
         return 1
     cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
     return max(1, cores // len(devices))
