@@ -635,3 +635,18 @@ def test_a_check_that_fails_stops_the_search_beside_it(monkeypatch):
     for thread in [t for t in threading.enumerate() if t.name.startswith("camdyn-search")]:
         thread.join()
     assert phases == [("the input's check", 0, 1)]  # no trial of the search reported, none finished
+
+
+@pytest.mark.slow
+def test_the_search_after_the_check_finds_what_the_search_beside_it_finds(monkeypatch):
+    """Where JAX's CPU client cannot run programs from two threads (JAX 0.11: ``sharding.CPU_THREADS``), the
+    jump-speed search runs after the input's check rather than beside it: the same search, the same answer."""
+    import camdyn.design.optimize as optimize
+    from camdyn._core import sharding
+
+    case = load_case(LECTURE)
+    beside = optimize.optimize_case(case)
+    monkeypatch.setattr(sharding, "CPU_THREADS", False)
+    after = optimize.optimize_case(case)
+    assert after.claimed_speed_rpm == beside.claimed_speed_rpm and not after.refusals
+    assert after.document == beside.document

@@ -19,6 +19,7 @@ from dataclasses import replace
 
 import numpy as np
 
+from ..._core import sharding
 from ..._core.errors import InputError, NumericalError
 from ..._core.jit import in_background
 from ..._core.limits import check_min_force
@@ -264,15 +265,20 @@ def optimize_case(
     space = (flank_space if case.valvetrain is not None else shape_space)(case, n_control=control_points)
     rows = Rows(case, space, margin)
     with phase(progress, "the input's check"):  # cold, most of the run: the check's programs compile
-        searched, stop = None, threading.Event()
+        search, searched, stop = None, None, threading.Event()
         if case.valvetrain is None and objective == "jump-speed":
-            # the search runs beside the check, from the margin speed of the input's fit: its programs and linear
-            # programs (mostly outside the interpreter's lock) beside the check's tracing (a first oscillating
-            # optimize 23.5 -> 21.2 s)
-            beside = ThreadPoolExecutor(1, thread_name_prefix="camdyn-search")
+            # the search starts from the margin speed of the input's fit, and runs beside the check: its programs and
+            # linear programs (mostly outside the interpreter's lock) beside the check's tracing (a first oscillating
+            # optimize 23.5 -> 21.2 s); after it, with its programs compiled beside it, where JAX's CPU client
+            # cannot run programs from two threads at once
             w_first = 2.0 * case.limits.speed_margin * float(speed_rpm or case.speed_rpm) * RPM
-            searched = beside.submit(_search_from_fit, rows, w_first, _until(stop, progress))
-            beside.shutdown(wait=False)  # its one thread ends with the search; the answer waits in ``searched``
+            search = functools.partial(_search_from_fit, rows, w_first, _until(stop, progress))
+            if sharding.CPU_THREADS:
+                beside = ThreadPoolExecutor(1, thread_name_prefix="camdyn-search")
+                searched = beside.submit(search)
+                beside.shutdown(wait=False)  # its one thread ends with the search; the answer waits in ``searched``
+            else:
+                in_background(rows.prepare, "camdyn-rows")
         elif case.valvetrain is None:  # the linear programs' programs compile on the side
             in_background(functools.partial(rows.prepare, objective == "spring-force"), "camdyn-rows")
         try:
@@ -299,7 +305,8 @@ def optimize_case(
     rpm = float(speed_rpm if speed_rpm is not None else case.speed_rpm)
     dynamics: dict = {}
     try:
-        if searched is not None and (found := searched.result()) is not None:
+        found = None if search is None else search() if searched is None else searched.result()
+        if found is not None:
             z = found
         elif objective == "jump-speed":
             w0 = before.margin_speed_rpm * RPM
