@@ -139,6 +139,8 @@ BAD_INPUTS = [  # (case, (old, new) in its text, the command line after "camdyn"
     ("lecture.toml", None, ["optimize", "-o", "{tmp}"], "is a folder: give a file name for the case file"),
     ("lecture.toml", None, ["table", "-o", "{tmp}"], "is a folder: give a file name for the table"),
     ("lecture.toml", None, ["table", "--ecam", "8", "--speed", "100"], "--speed: does not apply to an e-cam table"),
+    ("lecture.toml", None, ["tolerance", "-o", "{tmp}/t"], "tolerances: the case gives no tolerances"),
+    ("lecture.toml", None, ["optimize", "-o", "{tmp}/o.toml", "--robust"], "--robust: the case gives no tolerances"),
 ]
 
 

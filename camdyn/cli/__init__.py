@@ -385,7 +385,7 @@ def _validate(args) -> None:
     before JAX loads, and an option's before the case schema loads (pydantic: 0.3 s on a slow machine)."""
     check_options(args)
     from .._core.errors import CamdynError
-    from ..schema import load_case_spec, load_path_file
+    from ..schema import load_case_spec, load_path_file, require_tolerances
 
     if args.command == "synthesize":
         args.spec = load_path_file(args.case)
@@ -401,7 +401,10 @@ def _validate(args) -> None:
             except CamdynError as err:  # name the file among several
                 raise type(err)(f"{p}: {err.where}" if err.where else str(p), err.message) from None
     else:
-        args.spec = load_case_spec(args.case)
+        spec = args.spec = load_case_spec(args.case)
+        if args.command == "tolerance" or (args.command == "optimize" and args.robust):  # the file's question
+            key = "--robust" if args.command == "optimize" else "tolerances"
+            require_tolerances(spec.tolerances, kind=spec.kind, key=key)
     if args.command in _SPRING_HELD:
         _refuse_form_closed([args.spec], [""], args.command)
 

@@ -27,7 +27,15 @@ from .motion import LAW_NAMES, MotionSpec, SegmentSpec, check_segments
 from .path import PATH_TYPES, PathSpec
 from .pathfile import PathFileSpec, SynthesisSpec
 from .spring import END_TYPES, SPRING_MODELS, SpringSpec
-from .tolerances import DISTRIBUTIONS, TOLERANCE_KEYS, Tolerance, TolerancesSpec, ToleranceValue, resolve_tolerances
+from .tolerances import (
+    DISTRIBUTIONS,
+    TOLERANCE_KEYS,
+    Tolerance,
+    TolerancesSpec,
+    ToleranceValue,
+    require_tolerances,
+    resolve_tolerances,
+)
 from .valvetrain import RockerSpec, ValvetrainSpec
 
 __all__ = [
@@ -69,6 +77,7 @@ __all__ = [
     "Tolerance",
     "TolerancesSpec",
     "ToleranceValue",
+    "require_tolerances",
     "resolve_tolerances",
     "RockerSpec",
     "ValvetrainSpec",

@@ -18,6 +18,7 @@ from typing import Annotated, Literal
 
 from pydantic import Discriminator, Field, Tag, model_validator
 
+from .._core.errors import InputError
 from .._core.kinds import FollowerKind
 from .._core.units import TOLERANCE_UNITS, VALVETRAIN_TOLERANCE_KEYS, tolerance_to_case_unit
 from ._base import Real, Table
@@ -148,6 +149,19 @@ def _split(key: str, raw) -> tuple[float, str | None]:
     if unit == "%" and number >= 100:
         raise ValueError(f"{key}: a relative tolerance must be under 100%, got {raw!r}")
     return number, unit
+
+
+def require_tolerances(spec: TolerancesSpec | None, *, kind: FollowerKind, key: str = "tolerances") -> None:
+    """InputError (at ``key``: ``--robust`` for optimize's option) where ``spec`` gives no tolerance: every built cam
+    would be the case itself. A question of the file alone, so the command line asks it before JAX loads."""
+    if spec is not None and any(getattr(spec, k) is not None for k in TOLERANCE_KEYS):
+        return
+    raise InputError(
+        key,
+        "the case gives no tolerances, so every built cam would be the case itself: add a [tolerances] table, "
+        f'e.g. spring_rate = "10%" and preload = "{"0.2 N*m" if kind.rotary else "2 N"}" (docs/guide.md, '
+        "camdyn tolerance)",
+    )
 
 
 def resolve_tolerances(spec: TolerancesSpec, *, kind: FollowerKind) -> tuple[Tolerance, ...]:

@@ -30,7 +30,7 @@ from ...model.case import Case, build_case
 from ...model.dynamics import least_static_force, linear_min_force
 from ...model.motion import evaluate
 from ...model.valvetrain import event_follower, lift_off
-from ...schema import CaseSpec
+from ...schema import CaseSpec, require_tolerances
 from ...schema.dynamics import dynamics_keys
 from .._check import Check
 from ..checks import CheckReport, run_check
@@ -198,10 +198,6 @@ def _pair(objective: str, b: Metrics, a: Metrics) -> str:
 def _robust_claim(case: Case, progress: Progress | None) -> RobustClaim:
     """The speed up to which P(separation) <= :data:`ROBUST_SEPARATION` over the case's ``[tolerances]``: that
     quantile of the built cams' jump speeds (the tolerance study's kernel)."""
-    if case.spec.tolerances is None:
-        raise InputError(
-            "--robust", "the case has no [tolerances]: give them to claim a speed at P(separation) <= 1e-3"
-        )
     from ..tolerance import tolerance_study  # the sampling kernels load only with --robust
 
     study = tolerance_study(case, ROBUST_SAMPLES, progress=progress)
@@ -241,10 +237,8 @@ def optimize_case(
             f"{objective}: a valvetrain is optimized for its float speed (jump-speed) only; camdyn size sizes its "
             "valve spring",
         )
-    if robust and case.spec.tolerances is None:
-        raise InputError(
-            "--robust", "the case has no [tolerances]: give them to claim a speed at P(separation) <= 1e-3"
-        )
+    if robust:
+        require_tolerances(case.spec.tolerances, kind=case.kind, key="--robust")
     margin = default_margin(case) if min_force is None else float(min_force)
     check_min_force(margin)
     if case.valvetrain is None and objective != "spring-force":  # spring-force may raise the preload

@@ -14,10 +14,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..._core.errors import InputError
 from ..._core.units import NORMAL_TOLERANCE_SIGMAS, PROFILE_ERROR_HARMONICS
 from ...model.case import Case
-from ...schema import Tolerance, resolve_tolerances
+from ...schema import Tolerance, require_tolerances, resolve_tolerances
 
 SCALAR_KEYS = ("spring_rate", "preload", "mass", "train_stiffness", "speed")
 
@@ -48,15 +47,9 @@ class Spread:
 def case_tolerances(case: Case) -> tuple[Tolerance, ...]:
     """The case's ``[tolerances]``, resolved; an InputError where it gives none: every built cam would be the case
     itself."""
-    tols = () if case.spec.tolerances is None else resolve_tolerances(case.spec.tolerances, kind=case.kind)
-    if not tols:
-        raise InputError(
-            "tolerances",
-            "the case gives no tolerances, so every built cam would be the case itself: add a [tolerances] table, "
-            f'e.g. spring_rate = "10%" and preload = "{"0.2 N*m" if case.kind.rotary else "2 N"}" (docs/guide.md, '
-            "camdyn tolerance)",
-        )
-    return tols
+    require_tolerances(case.spec.tolerances, kind=case.kind)
+    assert case.spec.tolerances is not None  # required above
+    return resolve_tolerances(case.spec.tolerances, kind=case.kind)
 
 
 def spreads(tolerances: tuple[Tolerance, ...], nominal: dict[str, float]) -> dict[str, Spread]:
