@@ -3,6 +3,7 @@ import os
 os.environ.setdefault("EQX_ON_ERROR", "nan")  # as the CLI runs: solver results are checked explicitly
 
 import shutil  # noqa: E402
+import sys  # noqa: E402
 import tempfile  # noqa: E402
 import tomllib  # noqa: E402
 from pathlib import Path  # noqa: E402
@@ -36,10 +37,18 @@ def _controller(config) -> bool:
     return not hasattr(config, "workerinput") and bool(getattr(config.option, "numprocesses", None))
 
 
+@pytest.hookimpl(trylast=True)
 def pytest_unconfigure(config):
     made = getattr(config, "_camdyn_cache_made", None)
     if made:
         shutil.rmtree(made, ignore_errors=True)
+    if hasattr(config, "workerinput"):
+        # an xdist worker has sent its results (at sessionfinish) and the controller waits for it to end: the
+        # interpreter's teardown of JAX's runtime and every module took 2.5-3 s at the end of each run. Ended here,
+        # as the command line ends (camdyn.cli._end_process)
+        sys.stdout.flush()
+        sys.stderr.flush()
+        os._exit(0)
 
 
 # shared cases, built once per session
