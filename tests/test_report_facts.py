@@ -308,6 +308,26 @@ def test_dynamics_page_force_panels_legends_cover_no_curve(fast_review):
         assert not ax.texts
 
 
+@pytest.mark.slow  # a valvetrain's check
+def test_a_valvetrains_dynamics_page_marks_the_two_mass_least_force(shipped_check):
+    """Page 4 of the valvetrain: the force judged (page 1's, the valvetrain page's) is the two-mass model's over the
+    valve event, and its least is the one marked; the equivalent single follower's curves are drawn, named so, and
+    their least (480 N, where the two masses give 242 N) is not marked as if it were the verdict's."""
+    case, check = shipped_check("valvetrain")
+    least = check.valvetrain.response.least_event_force
+    with matplotlib.rc_context(STYLE):
+        fig = Figure(figsize=A4)
+        ax_f, ax_m = fig.subplots(2, 1)
+        _force_panels(ax_f, ax_m, ReportData(light_review(case, check, margin=True)))
+        top = [t.get_text() for t in ax_f.get_legend().get_texts()]
+        margin = [t.get_text() for t in ax_m.get_legend().get_texts()]
+    marked = [t for t in top + margin if t.startswith("least ")]
+    assert marked == [f"least {least:.3g} N at {marked[0].split(' at ')[1]}"] and 200.0 < least < 300.0, top
+    assert "two masses, valve event" in top and "one equivalent mass (rigid)" in top
+    assert "one equivalent mass (rigid)" in margin and "two masses" in ax_f.get_title(loc="left")
+    assert_legend_clear(ax_f)
+
+
 @pytest.mark.slow
 def test_verdict_on_every_page_and_page_one_says_what_it_did_not_evaluate(fast_review):
     """The header of every page carries the verdict and the case file's hash; page 1 says the contact stress is

@@ -49,7 +49,13 @@ from .tolerance import (
     save_tolerance_png,
     save_valve_tolerance_png,
 )
-from .valvetrain import plot_rocker_ratio, plot_seating_velocity, plot_valve_lift, plot_valve_velocity
+from .valvetrain import (
+    plot_event_cam_force,
+    plot_rocker_ratio,
+    plot_seating_velocity,
+    plot_valve_lift,
+    plot_valve_velocity,
+)
 
 __all__ = [
     "flank_names",
@@ -65,6 +71,7 @@ __all__ = [
     "save_preload_png",
     "plot_seating_velocity",
     "plot_rocker_ratio",
+    "plot_event_cam_force",
     "plot_valve_lift",
     "plot_valve_velocity",
     "plot_motion_before_after",

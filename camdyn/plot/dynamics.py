@@ -34,22 +34,25 @@ def plot_contact_force(
     title: str | None = None,
     breaks_deg: Sequence[float] = (),
     legend: bool = True,
+    label: str | None = None,
+    mark_least: bool = True,
 ) -> None:
     """The interface force (N) over a revolution, dynamic against kinematic, shaded exactly where the force is
     zero; marked: where the follower leaves the cam (a triangle per flight) and each impact's peak force, or the
-    least force. What the marks mean is in the legend (no label on the plot covers the curve). ``response``:
-    forces in N (as :class:`~camdyn.design.checks.CheckReport` holds it). ``legend=False``: the caller places
-    the legend (:func:`~camdyn.plot.legend_above_data` once the y limits are final)."""
+    least force (``mark_least``: not where another model's least is the one judged, a valvetrain's). What the marks
+    mean is in the legend (no label on the plot covers the curve). ``response``: forces in N (as
+    :class:`~camdyn.design.checks.CheckReport` holds it); ``label``: the dynamic curve's. ``legend=False``: the
+    caller places the legend (:func:`~camdyn.plot.legend_above_data` once the y limits are final)."""
     th = response.theta_deg
     ax.plot(th, response.kinematic_force, color=C["kin"], lw=1.0, ls="--", label="kinematic (rigid, never leaves)")
-    ax.plot(th, response.force, color=colour, lw=1.3, label=f"dynamic ({response.model})")
+    ax.plot(th, response.force, color=colour, lw=1.3, label=label or f"dynamic ({response.model})")
     ax.axhline(0.0, color=C["ink"], lw=0.8)
     shade_separations(ax, response, label=True)
     mark_breaks(ax, breaks_deg)
     flights = response.flights
     if flights:
         _mark_flights(ax, response, colour)
-    else:
+    elif mark_least:
         i = int(np.argmin(response.force))
         ax.plot(
             th[i],

@@ -87,6 +87,26 @@ def plot_valve_velocity(ax: Axes, result: ValvetrainResult) -> None:
     legend_above_data(ax, fontsize=7, twins=(twin,), handles=h1 + h2, labels=l1 + l2)
 
 
+def plot_event_cam_force(ax: Axes, result: ValvetrainResult) -> None:
+    """The two-mass model's cam contact force (N) over the valve event, its least marked: what a valvetrain's
+    contact force and float speed are judged by, drawn over a plot of the equivalent single follower's force."""
+    resp = result.response
+    if not resp.in_event.any():
+        return
+    force = np.where(resp.in_event, resp.cam_force, np.nan)
+    ax.plot(resp.theta_deg, force, color=C["margin"], lw=1.3, label="two masses, valve event")
+    i = int(np.nanargmin(force))
+    least = resp.least_event_force
+    ax.plot(
+        resp.theta_deg[i],
+        least,
+        "o",
+        color=C["margin"],
+        ms=4,
+        label=f"least {least:.3g} N at {resp.theta_deg[i]:.1f}\u00b0",
+    )
+
+
 def plot_seating_velocity(ax: Axes, result: ValvetrainResult, max_seating_velocity: float | None = None) -> None:
     """The valve's seating velocity against cam speed (the speeds the float and bounce searches marched, and their
     scan on to the result's ``seating_curve_top_rpm``), the limit, the case speed and the float and bounce speeds

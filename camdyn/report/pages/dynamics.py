@@ -6,7 +6,14 @@ from __future__ import annotations
 from matplotlib.figure import Figure
 
 from ..._core.results import Unavailable
-from ...plot import legend_above_data, plot_contact_force, plot_displacement, plot_force_vs_speed, plot_vibration
+from ...plot import (
+    legend_above_data,
+    plot_contact_force,
+    plot_displacement,
+    plot_event_cam_force,
+    plot_force_vs_speed,
+    plot_vibration,
+)
 from .._data import ReportData
 from .._style import LEFT, C
 
@@ -31,20 +38,28 @@ def draw_dynamics(fig: Figure, data: ReportData) -> None:
     plot_force_vs_speed(ax_w, rv)
 
 
+_TWO_MASSES = ": two masses over the valve event, one equivalent mass all round"
+
+
 def _force_panels(ax_f, ax_m, data: ReportData) -> None:
     """The contact force at the case speed and at speed_margin x speed, on one force scale."""
-    rpm, rv = data.check.speed_rpm, data.review
+    rpm, rv, valve = data.check.speed_rpm, data.review, data.check.valvetrain
     osc = " (contact force: torque / lever arm)" if data.case.kind.rotary else ""
-    if data.check.valvetrain is not None:  # page 1 and the valvetrain page give the two-mass model's force
-        osc += ", one equivalent mass (the valve event's force: the valvetrain page)"
+    # a valvetrain is judged by its two-mass model over the valve event (page 1, the valvetrain page): its force and
+    # least over the equivalent single follower's, whose own least is not marked (it is not the one judged)
+    equivalent = None if valve is None else f"one equivalent mass ({data.check.response.model})"
     plot_contact_force(
         ax_f,
         data.check.response,
         colour=C["dyn"],
-        title=f"interface force at {rpm:g} rpm{osc}",
+        title=f"interface force at {rpm:g} rpm{osc}" + ("" if valve is None else _TWO_MASSES),
         breaks_deg=data.breaks_deg,
         legend=False,
+        label=equivalent,
+        mark_least=valve is None,
     )
+    if valve is not None:
+        plot_event_cam_force(ax_f, valve)
     m = data.case.limits.speed_margin
     if isinstance(rv.margin_response, Unavailable):
         ax_m.text(
@@ -68,9 +83,11 @@ def _force_panels(ax_f, ax_m, data: ReportData) -> None:
         rv.margin_response,
         colour=C["margin"],
         title=f"interface force at speed_margin {m:g} \u00d7 speed = {rv.margin_rpm:g} rpm"
-        + ("" if data.check.valvetrain is None else ", one equivalent mass"),
+        + ("" if valve is None else ", one equivalent mass"),
         breaks_deg=data.breaks_deg,
         legend=False,
+        label=equivalent,
+        mark_least=valve is None,
     )
     for _ in range(2):  # one force scale, raised until neither legend covers its curve
         lo = min(ax_f.get_ylim()[0], ax_m.get_ylim()[0])
