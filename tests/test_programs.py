@@ -271,7 +271,7 @@ def test_an_option_xla_refused_is_not_passed_again(tmp_path, monkeypatch):
     monkeypatch.setattr(programs, "_REFUSED", set())
     refusals = []
     refused = programs._refused
-    monkeypatch.setattr(programs, "_refused", lambda err: refusals.append(str(err)) or refused(err))
+    monkeypatch.setattr(programs, "_refused", lambda err, passed: refusals.append(str(err)) or refused(err, passed))
     two = (("xla_camdyn_no_such_option", True), ("xla_camdyn_nor_this_one", 1))
     x = np.linspace(0.0, 2.0, 7)
     expected = np.exp(-x) * np.cos(3.0 * x)
@@ -282,6 +282,10 @@ def test_an_option_xla_refused_is_not_passed_again(tmp_path, monkeypatch):
     np.testing.assert_allclose(programs.cached_jit(_cube, two)(x), x**3 + 1.0, rtol=1e-14)  # the plain route
     np.testing.assert_allclose(programs.cached_jit(_wave, two)(2 * x), np.exp(-2 * x) * np.cos(6.0 * x), rtol=1e-14)
     assert len(refusals) == 2  # neither compile asked for them again
+    # a compile that passed an option another thread had meanwhile found refused retries without it too; an error
+    # naming an option this compile did not pass is not this one's to retry
+    err = RuntimeError("INVALID_ARGUMENT: No such compile option: 'xla_camdyn_no_such_option'")
+    assert refused(err, dict(two)) and not refused(err, {}) and not refused(RuntimeError("other"), dict(two))
 
 
 def _cube(x):

@@ -327,11 +327,11 @@ def _known(options: dict) -> dict:
     return {k: v for k, v in options.items() if k not in _REFUSED}
 
 
-def _refused(err: Exception) -> bool:
-    """Whether ``err`` is XLA refusing an option it does not know (one a later XLA dropped); that option is then
-    left out of every later compile of this process (False for one already left out: the error is another's)."""
+def _refused(err: Exception, passed: dict) -> bool:
+    """Whether ``err`` is XLA refusing one of the options ``passed`` (one a later XLA dropped); that option is then
+    left out of every later compile of this process, whichever thread compiles it."""
     found = _UNKNOWN_OPTION.search(str(err))
-    if found is None or found.group(1) in _REFUSED:
+    if found is None or found.group(1) not in passed:
         return False
     _REFUSED.add(found.group(1))
     return True
@@ -343,7 +343,7 @@ def _jit_compile(flat: Callable, options: dict, *specs: Any) -> Any:
     try:
         return jax.jit(flat, compiler_options=known or None).lower(*specs).compile()
     except Exception as err:
-        if not known or not _refused(err):
+        if not _refused(err, known):
             raise
         return _jit_compile(flat, options, *specs)
 
@@ -377,7 +377,7 @@ def jit_with(fn: Callable, options: dict | None = None) -> Callable:
         except Exception as err:
             if _NESTED in str(err):  # called inside another program's trace: XLA compiles that one, with its options
                 return plain(*args, **kwargs)
-            if not _refused(err):
+            if not _refused(err, options):
                 raise
             traced[key] = jax.jit(traced[key].__wrapped__, compiler_options=_known(options) or None)
             return call(*args, **kwargs)
