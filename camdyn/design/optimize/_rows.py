@@ -102,14 +102,12 @@ class RowsKernel(eqx.Module):
             force = kinematic_force_of(model, omegas[:, None], s, s1, s2)
         else:
             d, d1, factor = self.drive(s, s1)
-            spec = jnp.fft.rfft(d)
-
-            def one(w: float | jax.Array) -> jax.Array:
-                if self.lift_off is None:  # the force's own spectrum, one inverse FFT: a fine scan 54 -> 16 ms
-                    return factor * steady_train_force(spec, w, model, model.stiffness, model.damping, d, d1)
-                return factor * train_force(model, w, d, d1, *self.in_contact(model, w, d, d1))
-
-            force = jax.vmap(one)(omegas)
+            if self.lift_off is None:  # the force's own spectrum, one inverse FFT a speed: a fine scan 54 -> 16 ms
+                spec = jnp.fft.rfft(d)
+                one = lambda w: steady_train_force(spec, w, model, model.stiffness, model.damping, d, d1)  # noqa: E731
+            else:
+                one = lambda w: train_force(model, w, d, d1, *self.in_contact(model, w, d, d1))  # noqa: E731
+            force = factor * jax.vmap(one)(omegas)
         if self.event:
             force = force + self.cam_mass * omegas[:, None] ** 2 * s2 + self.cam_load
         return force
